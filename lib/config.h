@@ -1,0 +1,83 @@
+/* Scene configuration: INI files (parsed with inih) plus `--set` overrides.
+ *
+ * Every key lives in one table (config.c) with its type, unit, default and
+ * documentation; the parser, the validator, `simulate --help-config` and the
+ * README's config reference all come from that table. An unknown key, a bad
+ * value or a missing file is an error naming file, line and key. */
+#ifndef CB_CONFIG_H
+#define CB_CONFIG_H
+
+#include <stdio.h>
+
+#define CB_NAME_LEN 32
+#define CB_PATH_LEN 1024
+#define CB_PINS_LEN 4096
+
+typedef struct cb_config {
+  /* [mesh] */
+  char mesh_type[CB_NAME_LEN];     /* grid | obj */
+  int mesh_n, mesh_m;              /* grid vertices per side; m = 0 means m = n */
+  double mesh_size[2];             /* grid side lengths, m */
+  char mesh_plane[CB_NAME_LEN];    /* xy | xz | yz */
+  char mesh_diagonal[CB_NAME_LEN]; /* regular | alternating */
+  char mesh_file[CB_PATH_LEN];     /* OBJ path, resolved against the config's folder */
+  /* [material] */
+  double density;                  /* kg/m^2, for area-lumped masses */
+  double vertex_mass;              /* kg per vertex; 0 = use density */
+  double stretch_k;                /* N/m */
+  char bend[CB_NAME_LEN];          /* none | spring */
+  double bend_k;                   /* N/m */
+  /* [scene] */
+  double gravity[3];               /* m/s^2 */
+  char pins[CB_PINS_LEN];          /* named set or index list */
+  double initial_scale;            /* initial positions scaled about the centroid */
+  /* [integrator] */
+  char method[CB_NAME_LEN];        /* explicit | newton */
+  double dt;                       /* s */
+  int steps;
+  int max_iters;
+  double tol;                      /* relative |grad F| */
+  double tol_dx;                   /* m, max-norm of the Newton step; 0 = off */
+  char definiteness[CB_NAME_LEN];  /* none | drop | ... */
+  char init[CB_NAME_LEN];          /* x0 | predict */
+  int line_search;                 /* 0 | 1 */
+  double diverge_ratio;            /* energy-growth bound, see README */
+  /* [solver] */
+  char solver[CB_NAME_LEN];        /* cholmod | ... */
+  double solver_tol;               /* relative residual */
+  int solver_max_iters;
+  double solver_alpha;             /* Jacobi weight */
+  double solver_rho;               /* Chebyshev spectral radius; 0 = auto */
+
+  /* Where each key's value came from, for error messages (index = key). */
+  struct { int line; char source; } where[64];
+  char path[CB_PATH_LEN];          /* config file ("" if none) */
+  char overrides[CB_PINS_LEN];     /* the --set arguments, space separated */
+} cb_config;
+
+/* All defaults (no file). */
+void cb_config_defaults(cb_config *c);
+
+/* Defaults, then the INI file. Errors: "file:line: section.key: reason". */
+int cb_config_load(const char *path, cb_config *c);
+
+/* Applies one "section.key=value" override (from --set). */
+int cb_config_set(cb_config *c, const char *assignment);
+
+/* Cross-key checks (mesh.file given for obj, enum values known to the
+ * registries, ...). Call after all overrides. */
+int cb_config_validate(const cb_config *c);
+
+/* "file:line" (or "--set", or "default") for the key "section.key". */
+const char *cb_config_where(const cb_config *c, const char *key, char *buf, size_t n);
+
+/* Writes "section.key=value" for every key, separated by sep. */
+void cb_config_write(const cb_config *c, FILE *f, const char *sep);
+
+/* Markdown table of every key: key, type, unit, default, meaning. */
+void cb_config_write_reference(FILE *f);
+
+/* Parses a solver rho ("auto" -> 0) etc. Exposed for experiments that sweep keys. */
+int cb_parse_double(const char *s, double *out);
+
+#endif

@@ -1,0 +1,146 @@
+#include "eigen.h"
+
+#include <gsl/gsl_cblas.h> /* cblas_* prototypes; OpenBLAS provides them at link time */
+#include <gsl/gsl_eigen.h>
+#include <gsl/gsl_matrix.h>
+#include <gsl/gsl_sort_vector.h>
+#include <gsl/gsl_vector.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "status.h"
+
+cb_lanczos_params cb_lanczos_params_default(void) {
+  cb_lanczos_params p = {.max_steps = 300, .tol = 1e-8, .seed = 1};
+  return p;
+}
+
+void cb_scaled_op_apply(void *ctx, const double *x, double *y) {
+  cb_scaled_op *o = ctx;
+  int n = o->A->n;
+  if (!o->d) {
+    cb_sparse_matvec(o->A, x, y);
+    return;
+  }
+  for (int i = 0; i < n; i++) o->work[i] = o->d[i] * x[i];
+  cb_sparse_matvec(o->A, o->work, y);
+  for (int i = 0; i < n; i++) y[i] *= o->d[i]; /* y = D A D x */
+}
+
+/* Eigen-decomposition of the k x k Lanczos tridiagonal T (alpha, beta). */
+static int ritz(int k, const double *alpha, const double *beta, double beta_k, gsl_eigen_symmv_workspace *ws,
+                gsl_matrix *T, gsl_vector *ev, gsl_matrix *V, cb_eig_result *r) {
+  gsl_matrix_view Tk = gsl_matrix_submatrix(T, 0, 0, (size_t)k, (size_t)k);
+  gsl_matrix_set_zero(&Tk.matrix);
+  for (int i = 0; i < k; i++) {
+    gsl_matrix_set(&Tk.matrix, (size_t)i, (size_t)i, alpha[i]);
+    if (i + 1 < k) {
+      gsl_matrix_set(&Tk.matrix, (size_t)i, (size_t)i + 1, beta[i]);
+      gsl_matrix_set(&Tk.matrix, (size_t)i + 1, (size_t)i, beta[i]);
+    }
+  }
+  gsl_vector_view evk = gsl_vector_subvector(ev, 0, (size_t)k);
+  gsl_matrix_view Vk = gsl_matrix_submatrix(V, 0, 0, (size_t)k, (size_t)k);
+  if (gsl_eigen_symmv(&Tk.matrix, &evk.vector, &Vk.matrix, ws)) return cb_fail("lanczos: tridiagonal eigensolve failed");
+  size_t imin = 0, imax = 0;
+  for (size_t i = 1; i < (size_t)k; i++) {
+    if (gsl_vector_get(&evk.vector, i) < gsl_vector_get(&evk.vector, imin)) imin = i;
+    if (gsl_vector_get(&evk.vector, i) > gsl_vector_get(&evk.vector, imax)) imax = i;
+  }
+  r->lmin = gsl_vector_get(&evk.vector, imin);
+  r->lmax = gsl_vector_get(&evk.vector, imax);
+  /* residual of Ritz pair (theta, V s) is |beta_k| |s_k| (last component) */
+  r->res_min = fabs(beta_k * gsl_matrix_get(&Vk.matrix, (size_t)k - 1, imin));
+  r->res_max = fabs(beta_k * gsl_matrix_get(&Vk.matrix, (size_t)k - 1, imax));
+  return CB_OK;
+}
+
+int cb_lanczos(int n, cb_linop op, void *ctx, const cb_lanczos_params *pp, cb_eig_result *out) {
+  cb_lanczos_params p = pp ? *pp : cb_lanczos_params_default();
+  memset(out, 0, sizeof *out);
+  double t0 = cb_now_ms();
+  int m = p.max_steps < n ? p.max_steps : n;
+  if (m < 1) return cb_fail("lanczos: empty operator");
+  int reorth = (double)n * (m + 1) * sizeof(double) <= 1073741824.0;
+  double *Q = cb_malloc((size_t)(reorth ? m + 1 : 3) * (size_t)n, sizeof(double));
+  double *w = cb_malloc((size_t)n, sizeof(double));
+  double *alpha = cb_calloc((size_t)m + 1, sizeof(double)), *beta = cb_calloc((size_t)m + 1, sizeof(double));
+  gsl_matrix *T = gsl_matrix_alloc((size_t)m, (size_t)m), *V = gsl_matrix_alloc((size_t)m, (size_t)m);
+  gsl_vector *ev = gsl_vector_alloc((size_t)m);
+  gsl_eigen_symmv_workspace *ws = gsl_eigen_symmv_alloc((size_t)m);
+  int st = (!Q || !w || !alpha || !beta || !T || !V || !ev || !ws) ? cb_fail_status(CB_ENOMEM, "lanczos: out of memory") : CB_OK;
+  if (st == CB_OK) {
+    /* deterministic pseudo-random start vector (64-bit LCG) */
+    unsigned long long s = 0x9E3779B97F4A7C15ULL * (p.seed + 1);
+    for (int i = 0; i < n; i++) {
+      s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+      Q[i] = (double)(s >> 11) / 9007199254740992.0 - 0.5;
+    }
+    double nq = cblas_dnrm2(n, Q, 1);
+    cblas_dscal(n, 1.0 / nq, Q, 1);
+  }
+  int k = 0;
+  out->status = CB_NOT_CONVERGED;
+  for (; st == CB_OK && k < m; k++) {
+    double *q = reorth ? Q + (size_t)k * n : Q + (size_t)(k % 3) * n;
+    double *qprev = k == 0 ? NULL : reorth ? Q + (size_t)(k - 1) * n : Q + (size_t)((k + 2) % 3) * n;
+    op(ctx, q, w);                                     /* w = Op q_k */
+    if (qprev) cblas_daxpy(n, -beta[k - 1], qprev, 1, w, 1); /* w -= beta_{k-1} q_{k-1} */
+    alpha[k] = cblas_ddot(n, q, 1, w, 1);              /* alpha_k = q_k . w */
+    cblas_daxpy(n, -alpha[k], q, 1, w, 1);             /* w -= alpha_k q_k */
+    if (reorth)                                        /* full reorthogonalisation, twice is enough */
+      for (int pass = 0; pass < 2; pass++)
+        for (int j = 0; j <= k; j++) {
+          double c = cblas_ddot(n, Q + (size_t)j * n, 1, w, 1);
+          cblas_daxpy(n, -c, Q + (size_t)j * n, 1, w, 1);
+        }
+    beta[k] = cblas_dnrm2(n, w, 1);
+    if (!isfinite(alpha[k]) || !isfinite(beta[k])) { st = cb_fail_status(CB_DIVERGED, "lanczos: NaN in operator"); break; }
+    int invariant = beta[k] <= 1e-14 * fabs(alpha[k]); /* Krylov space is invariant: Ritz values exact */
+    int last = k + 1 == m || invariant;
+    if (last || (k + 1) % 10 == 0) {
+      st = ritz(k + 1, alpha, beta, beta[k], ws, T, ev, V, out);
+      if (st) break;
+      double scale = fmax(fabs(out->lmin), fabs(out->lmax));
+      int converged = invariant || k + 1 == n || (out->res_min <= p.tol * scale && out->res_max <= p.tol * scale);
+      if (converged || last) {
+        out->status = converged ? CB_OK : CB_NOT_CONVERGED;
+        k++;
+        break;
+      }
+    }
+    double *qnext = reorth ? Q + (size_t)(k + 1) * n : Q + (size_t)((k + 1) % 3) * n;
+    for (int i = 0; i < n; i++) qnext[i] = w[i] / beta[k]; /* q_{k+1} = w / beta_k */
+  }
+  out->steps = k;
+  out->ms = cb_now_ms() - t0;
+  free(Q); free(w); free(alpha); free(beta);
+  gsl_matrix_free(T); gsl_matrix_free(V); gsl_vector_free(ev);
+  if (ws) gsl_eigen_symmv_free(ws);
+  return st;
+}
+
+int cb_dense_eigenvalues(const cb_sparse *A, const double *d, double *eval) {
+  size_t n = (size_t)A->n;
+  gsl_matrix *D = gsl_matrix_calloc(n, n);
+  gsl_vector *ev = gsl_vector_alloc(n);
+  gsl_eigen_symm_workspace *ws = gsl_eigen_symm_alloc(n);
+  if (!D || !ev || !ws) {
+    gsl_matrix_free(D); gsl_vector_free(ev);
+    if (ws) gsl_eigen_symm_free(ws);
+    return cb_fail_status(CB_ENOMEM, "dense eigenvalues: out of memory for n = %zu", n);
+  }
+  for (int j = 0; j < A->n; j++)
+    for (int q = A->colp[j]; q < A->colp[j + 1]; q++) {
+      int i = A->rowi[q];
+      gsl_matrix_set(D, (size_t)i, (size_t)j, A->val[q] * (d ? d[i] * d[j] : 1.0));
+    }
+  int st = gsl_eigen_symm(D, ev, ws) ? cb_fail("gsl_eigen_symm failed") : CB_OK;
+  if (st == CB_OK) {
+    gsl_sort_vector(ev);
+    for (size_t i = 0; i < n; i++) eval[i] = gsl_vector_get(ev, i);
+  }
+  gsl_matrix_free(D); gsl_vector_free(ev); gsl_eigen_symm_free(ws);
+  return st;
+}

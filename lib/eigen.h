@@ -1,0 +1,48 @@
+/* Extreme eigenvalues of symmetric operators: Lanczos for large sparse
+ * problems, GSL's dense symmetric eigensolver for small ones (and to check
+ * Lanczos where both run). Used for the spectral radius of Jacobi's
+ * iteration matrix, the explicit stability limit 2/omega_max, and the
+ * smallest eigenvalue of Newton's matrix. */
+#ifndef CB_EIGEN_H
+#define CB_EIGEN_H
+
+#include "sparse.h"
+
+/* y = Op x for a symmetric operator of size n. */
+typedef void (*cb_linop)(void *ctx, const double *x, double *y);
+
+typedef struct cb_lanczos_params {
+  int max_steps;  /* Krylov dimension at most (capped at n). Default 300 */
+  double tol;     /* stop when both extreme Ritz residuals |beta_k s_k| <= tol |theta|. Default 1e-8 */
+  unsigned seed;  /* start vector seed; fixed for reproducibility. Default 1 */
+} cb_lanczos_params;
+
+cb_lanczos_params cb_lanczos_params_default(void);
+
+typedef struct cb_eig_result {
+  double lmin, lmax;  /* extreme Ritz values */
+  double res_min, res_max; /* their residual bounds |beta_k s_k| */
+  int steps;          /* Lanczos steps taken */
+  int status;         /* CB_OK, or CB_NOT_CONVERGED if max_steps was reached */
+  double ms;          /* wall time */
+} cb_eig_result;
+
+/* Lanczos with full reorthogonalisation (when the basis fits in 1 GiB;
+ * otherwise none, which still converges to the extreme eigenvalues). */
+int cb_lanczos(int n, cb_linop op, void *ctx, const cb_lanczos_params *p, cb_eig_result *out);
+
+/* Operators on a cb_sparse A with a positive diagonal scaling d (length n):
+ * y = diag(d) A diag(d) x. With d = D^-1/2 this has the eigenvalues of
+ * D^-1 A; with d = M^-1/2 those of M^-1 A. d = NULL means plain A. */
+typedef struct cb_scaled_op {
+  const cb_sparse *A;
+  const double *d;
+  double *work;   /* n doubles */
+} cb_scaled_op;
+void cb_scaled_op_apply(void *ctx, const double *x, double *y);
+
+/* All eigenvalues (ascending) of diag(d) A diag(d) by GSL's dense symmetric
+ * solver; eval has n entries. Intended for n up to a few thousand. */
+int cb_dense_eigenvalues(const cb_sparse *A, const double *d, double *eval);
+
+#endif

@@ -1,0 +1,79 @@
+/* Stackable energy terms. "As long as we have E(x), we can calculate force and
+ * Hessian. Forces and Hessians are stackable." (lecture, summary slide)
+ *
+ * A term is a plug-in described by a cb_term_type table, in the manner of
+ * gsl_multiroot_fsolver_type. It computes E, adds its gradient, declares the
+ * 3x3 blocks of its Hessian once, looks up their slots once, and then adds
+ * Hessian values into the fixed-pattern matrix without allocating. */
+#ifndef CB_ENERGY_H
+#define CB_ENERGY_H
+
+#include "mesh.h"
+#include "sparse.h"
+#include "topology.h"
+
+/* How a compressed spring's Hessian is treated (integrator.definiteness).
+ * The spring Hessian is H_e = k uu^T + k(1 - L/l)(I - uu^T); its transverse
+ * eigenvalue k(1 - L/l) is negative when l < L. Implemented once, in
+ * definiteness.c, and applied by every term that has such an eigenvalue. */
+typedef enum {
+  CB_DEF_NONE = 0, /* exact Hessian */
+  CB_DEF_DROP,     /* drop k(1 - L/l)(I - uu^T) when l < L: clamps the eigenvalue at 0 */
+  CB_DEF_COUNT
+} cb_definiteness;
+
+extern const char *const cb_definiteness_names[]; /* NULL-terminated, by enum value */
+int cb_definiteness_from_name(const char *name, cb_definiteness *out);
+
+/* The transverse coefficient k(1 - L/l) after the policy. */
+double cb_definiteness_transverse(cb_definiteness d, double coef);
+
+/* What terms are built from. Pinned vertices have free_index -1: their rows
+ * and columns are eliminated from the matrix (not penalised). */
+typedef struct cb_model {
+  const cb_mesh *mesh;     /* rest positions in mesh->x */
+  const cb_topology *topo;
+  const double *mass;      /* nv, kg */
+  const int *free_index;   /* nv: block index in the matrix, or -1 if pinned */
+  int nfree;
+} cb_model;
+
+typedef struct cb_term cb_term;
+
+typedef struct cb_term_type {
+  const char *name;
+  /* Returns E(x) in J and, if grad != NULL, adds dE/dx (3*nv). */
+  double (*energy)(const cb_term *t, const double *x, double *grad);
+  /* Declares the blocks its Hessian writes; NULL if the Hessian is zero. */
+  int (*pattern)(const cb_term *t, cb_pattern *p);
+  /* Looks up the slots of those blocks in the finalised matrix. */
+  int (*bind)(cb_term *t, const cb_sparse *A);
+  /* Adds its Hessian at x to the matrix values (only free-free blocks). */
+  void (*hessian)(const cb_term *t, const double *x, cb_definiteness def, double *val);
+  void (*free)(cb_term *t);
+} cb_term_type;
+
+struct cb_term {
+  const cb_term_type *type;
+  const cb_model *model;
+  char label[32]; /* role in the scene: "stretch", "bend", "gravity" */
+};
+
+extern const cb_term_type *const cb_term_spring;
+extern const cb_term_type *const cb_term_gravity;
+
+/* Springs between vertex pairs ends[2s], ends[2s+1], stiffness k (N/m), rest
+ * lengths measured on the model's rest mesh. Zero rest length is rejected. */
+int cb_spring_term_alloc(const cb_model *m, const char *label, int ns, const int *ends, double k, cb_term **out);
+
+/* E = -sum_i m_i g . x_i */
+int cb_gravity_term_alloc(const cb_model *m, const double g[3], cb_term **out);
+
+void cb_term_free(cb_term *t);
+
+/* Bending models selectable by material.bend (NULL-terminated names; "none"
+ * is first and builds nothing). */
+extern const char *const cb_bend_names[];
+int cb_bend_term_alloc(const char *name, const cb_model *m, double bend_k, cb_term **out);
+
+#endif

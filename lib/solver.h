@@ -1,0 +1,77 @@
+/* Linear solvers for A dx = b behind one interface, as a table of plug-ins
+ * (gsl_multiroot_fsolver_type style): analyze(pattern) once per run, then
+ * factor(values) once per Newton iteration, then solve(b, x).
+ *
+ * For iterative solvers `factor` builds the diagonal or preconditioner. Every
+ * solver fills the same statistics: iterations, residual history, times and a
+ * status. A matrix that is not positive definite, a breakdown or a divergence
+ * is a positive status, never a crash. */
+#ifndef CB_SOLVER_H
+#define CB_SOLVER_H
+
+#include "config.h"
+#include "sparse.h"
+
+typedef struct cb_solver_params {
+  double tol;       /* relative residual |b - Ax| / |b| to stop at (iterative). Default 1e-8 */
+  int max_iters;    /* iterations at most (iterative). Default 1000 */
+  double alpha;     /* Jacobi weight. Default 1 */
+  double rho;       /* Chebyshev spectral radius; 0 = estimate at run time. Default 0 */
+  int history_cap;  /* residuals kept per solve (0 = none). Default 0 */
+} cb_solver_params;
+
+cb_solver_params cb_solver_params_default(void);
+cb_solver_params cb_solver_params_from_config(const cb_config *c);
+
+typedef struct cb_solve_stats {
+  int status;          /* CB_OK, CB_NOT_SPD, CB_NOT_CONVERGED, CB_DIVERGED, CB_INDEFINITE */
+  int iters;           /* iterations of the last solve (1 for a direct solve) */
+  double rel_residual; /* |b - Ax| / |b| after the last solve */
+  double analyze_ms;   /* symbolic analysis (once) */
+  double factor_ms;    /* last numeric factorisation / preconditioner set-up */
+  double solve_ms;     /* last solve */
+  double setup_ms;     /* other one-off set-up of the last factor (e.g. rho estimate) */
+  double factor_nnz;   /* nonzeros of the factor L (direct solvers) */
+  int history_len;     /* residuals recorded in history */
+  double *history;     /* rel. residual after each iteration (history_cap entries) */
+} cb_solve_stats;
+
+typedef struct cb_solver cb_solver;
+
+typedef struct cb_solver_type {
+  const char *name;
+  int (*alloc)(cb_solver *s, int n);
+  int (*analyze)(cb_solver *s, const cb_sparse *A);
+  int (*factor)(cb_solver *s, const cb_sparse *A);
+  int (*solve)(cb_solver *s, const cb_sparse *A, const double *b, double *x);
+  void (*free)(cb_solver *s);
+} cb_solver_type;
+
+struct cb_solver {
+  const cb_solver_type *type;
+  cb_solver_params params;
+  cb_solve_stats stats;
+  int n;
+  void *work;
+};
+
+/* The registry: one entry per plug-in file (solver_<name>.c), NULL-terminated.
+ * solver.method in a config names one of them; tests loop over all. */
+extern const cb_solver_type cb_solver_cholmod;
+extern const cb_solver_type *const cb_solver_types[];
+/* i-th registered name, or NULL past the end (used for config choices). */
+const char *cb_solver_name(int i);
+
+const cb_solver_type *cb_solver_type_find(const char *name);
+int cb_solver_alloc(const char *name, const cb_solver_params *p, int n, cb_solver **out);
+int cb_solver_analyze(cb_solver *s, const cb_sparse *A);
+int cb_solver_factor(cb_solver *s, const cb_sparse *A);
+/* x holds the initial guess on entry for iterative solvers (set it to 0 for
+ * the lecture's choice) and the solution on return. */
+int cb_solver_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x);
+void cb_solver_free(cb_solver *s);
+
+/* |b - A x| / |b| (|b| = 0 gives |A x|). Uses work (n doubles). */
+double cb_relative_residual(const cb_sparse *A, const double *b, const double *x, double *work);
+
+#endif

@@ -1,0 +1,136 @@
+#include "sparse.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "status.h"
+
+int cb_pattern_init(cb_pattern *p, int nblk) {
+  memset(p, 0, sizeof *p);
+  p->nblk = nblk;
+  p->cap = 1024;
+  p->ij = cb_malloc((size_t)2 * p->cap, sizeof(int));
+  return p->ij ? CB_OK : CB_ENOMEM;
+}
+
+void cb_pattern_free(cb_pattern *p) {
+  free(p->ij);
+  memset(p, 0, sizeof *p);
+}
+
+static int push(cb_pattern *p, int bi, int bj) {
+  if (p->n == p->cap) {
+    int *n = realloc(p->ij, (size_t)4 * p->cap * sizeof(int));
+    if (!n) return cb_fail_status(CB_ENOMEM, "out of memory building the sparsity pattern");
+    p->ij = n;
+    p->cap *= 2;
+  }
+  p->ij[2 * p->n] = bi;
+  p->ij[2 * p->n + 1] = bj;
+  p->n++;
+  return CB_OK;
+}
+
+int cb_pattern_add(cb_pattern *p, int bi, int bj) {
+  if (bi < 0 || bj < 0 || bi == bj) return CB_OK;
+  if (bi >= p->nblk || bj >= p->nblk) return cb_fail("pattern block (%d,%d) out of range %d", bi, bj, p->nblk);
+  int st = push(p, bi, bj);
+  return st ? st : push(p, bj, bi);
+}
+
+static int cmp_pair_colmajor(const void *a, const void *b) {
+  const int *p = a, *q = b; /* sort by column bj, then row bi */
+  if (p[1] != q[1]) return p[1] < q[1] ? -1 : 1;
+  return (p[0] > q[0]) - (p[0] < q[0]);
+}
+
+void cb_sparse_free(cb_sparse *A) {
+  if (!A) return;
+  free(A->colp); free(A->rowi); free(A->val); free(A->bcolp); free(A->brow);
+  memset(A, 0, sizeof *A);
+}
+
+int cb_sparse_from_pattern(const cb_pattern *p, cb_sparse *A) {
+  memset(A, 0, sizeof *A);
+  int nb = p->nblk;
+  int total = p->n + nb;
+  int *ij = cb_malloc((size_t)2 * total, sizeof(int));
+  if (!ij) return CB_ENOMEM;
+  memcpy(ij, p->ij, (size_t)2 * p->n * sizeof(int));
+  for (int bi = 0; bi < nb; bi++) { ij[2 * (p->n + bi)] = bi; ij[2 * (p->n + bi) + 1] = bi; }
+  qsort(ij, (size_t)total, 2 * sizeof(int), cmp_pair_colmajor);
+  int nuniq = 0;
+  for (int k = 0; k < total; k++)
+    if (nuniq == 0 || ij[2 * k] != ij[2 * (nuniq - 1)] || ij[2 * k + 1] != ij[2 * (nuniq - 1) + 1]) {
+      ij[2 * nuniq] = ij[2 * k];
+      ij[2 * nuniq + 1] = ij[2 * k + 1];
+      nuniq++;
+    }
+  if ((long)nuniq * 9 > 2000000000L) { free(ij); return cb_fail("matrix too large for 32-bit indices"); }
+  A->nblk = nb;
+  A->n = 3 * nb;
+  A->nnz = 9 * nuniq;
+  A->bcolp = cb_calloc((size_t)nb + 1, sizeof(int));
+  A->brow = cb_malloc((size_t)nuniq, sizeof(int));
+  A->colp = cb_malloc((size_t)A->n + 1, sizeof(int));
+  A->rowi = cb_malloc((size_t)A->nnz, sizeof(int));
+  A->val = cb_calloc((size_t)A->nnz, sizeof(double));
+  if (!A->bcolp || !A->brow || !A->colp || !A->rowi || !A->val) {
+    free(ij);
+    cb_sparse_free(A);
+    return CB_ENOMEM;
+  }
+  for (int k = 0; k < nuniq; k++) {
+    A->brow[k] = ij[2 * k];
+    A->bcolp[ij[2 * k + 1] + 1]++;
+  }
+  for (int bj = 0; bj < nb; bj++) A->bcolp[bj + 1] += A->bcolp[bj];
+  int q = 0;
+  for (int bj = 0; bj < nb; bj++) {
+    int nbj = A->bcolp[bj + 1] - A->bcolp[bj];
+    for (int c = 0; c < 3; c++) {
+      A->colp[3 * bj + c] = q;
+      for (int k = A->bcolp[bj]; k < A->bcolp[bj + 1]; k++)
+        for (int r = 0; r < 3; r++) A->rowi[q++] = 3 * A->brow[k] + r;
+    }
+    (void)nbj;
+  }
+  A->colp[A->n] = q;
+  free(ij);
+  return CB_OK;
+}
+
+int cb_sparse_block_slot(const cb_sparse *A, int bi, int bj, int *slot, int *stride) {
+  *slot = -1;
+  *stride = 0;
+  if (bi < 0 || bj < 0 || bi >= A->nblk || bj >= A->nblk) return -1;
+  int lo = A->bcolp[bj], hi = A->bcolp[bj + 1] - 1;
+  while (lo <= hi) { /* binary search for bi in block column bj */
+    int mid = (lo + hi) / 2;
+    if (A->brow[mid] < bi) lo = mid + 1;
+    else if (A->brow[mid] > bi) hi = mid - 1;
+    else {
+      int k = mid - A->bcolp[bj];
+      *stride = 3 * (A->bcolp[bj + 1] - A->bcolp[bj]);
+      *slot = A->colp[3 * bj] + 3 * k;
+      return *slot;
+    }
+  }
+  return -1;
+}
+
+int cb_sparse_diag_index(const cb_sparse *A, int i) {
+  int slot, stride;
+  if (cb_sparse_block_slot(A, i / 3, i / 3, &slot, &stride) < 0) return -1;
+  return slot + (i % 3) * stride + i % 3;
+}
+
+void cb_sparse_matvec(const cb_sparse *A, const double *restrict x, double *restrict y) {
+  const int *colp = A->colp, *rowi = A->rowi;
+  const double *val = A->val;
+  for (int j = 0; j < A->n; j++) { /* symmetric: column j of A is row j */
+    double s = 0.0;
+    for (int p = colp[j]; p < colp[j + 1]; p++) s += val[p] * x[rowi[p]];
+    y[j] = s; /* y(j) = sum_i A(i,j) x(i) = (A x)(j) */
+  }
+}

@@ -1,0 +1,63 @@
+/* A symmetric sparse matrix of 3x3 blocks with a pattern fixed at set-up.
+ *
+ * Storage is compressed sparse column (CSC) holding BOTH triangles, with
+ * sorted row indices. Because the matrix is symmetric, the same arrays read as
+ * CSR, so the matrix-vector product is a gather (no scatter), and CHOLMOD can
+ * use the arrays directly with stype = +1 (it reads the upper triangle only).
+ *
+ * Energy terms declare which block pairs (bi, bj) they touch; finalising builds
+ * the pattern once. A term then asks for the slot of each of its blocks:
+ * entry (r, c) of block (bi, bj) lives at val[slot + c*stride + r], because the
+ * three columns of block column bj share one pattern. Assembly writes numbers
+ * into those slots and never allocates (CHOLMOD's analyse/factorise split
+ * applied to our own matrix). */
+#ifndef CB_SPARSE_H
+#define CB_SPARSE_H
+
+typedef struct cb_sparse {
+  int n;        /* rows = columns = 3 * nblk */
+  int nnz;      /* stored entries (both triangles) */
+  int *colp;    /* n+1 column pointers */
+  int *rowi;    /* nnz row indices, sorted within each column */
+  double *val;  /* nnz values */
+  int nblk;     /* block rows = block columns */
+  int *bcolp;   /* nblk+1: block column pointers into brow */
+  int *brow;    /* block row indices, sorted within each block column */
+} cb_sparse;
+
+/* Collects block pairs before the pattern is built. */
+typedef struct cb_pattern {
+  int nblk;
+  int n, cap;
+  int *ij; /* 2*n block pairs */
+} cb_pattern;
+
+int cb_pattern_init(cb_pattern *p, int nblk);
+/* Declares block (bi, bj) and, by symmetry, (bj, bi). Negative indices (pinned,
+ * eliminated vertices) are ignored. Diagonal blocks are always present. */
+int cb_pattern_add(cb_pattern *p, int bi, int bj);
+void cb_pattern_free(cb_pattern *p);
+
+/* Builds the CSC pattern (values zeroed). */
+int cb_sparse_from_pattern(const cb_pattern *p, cb_sparse *A);
+void cb_sparse_free(cb_sparse *A);
+
+/* Slot and stride of block (bi, bj): entry (r, c) is val[slot + c*stride + r].
+ * Returns -1 (and slot = -1) if either index is negative or the block is
+ * absent. */
+int cb_sparse_block_slot(const cb_sparse *A, int bi, int bj, int *slot, int *stride);
+
+/* Index into val of the diagonal entry (i, i), or -1. */
+int cb_sparse_diag_index(const cb_sparse *A, int i);
+
+/* y = A x */
+void cb_sparse_matvec(const cb_sparse *A, const double *x, double *y);
+
+/* Adds the 3x3 row-major block s*H to block (bi, bj) given by (slot, stride). */
+static inline void cb_sparse_add_block(double *val, int slot, int stride, const double H[9], double s) {
+  if (slot < 0) return;
+  for (int c = 0; c < 3; c++)
+    for (int r = 0; r < 3; r++) val[slot + c * stride + r] += s * H[3 * r + c];
+}
+
+#endif

@@ -1,0 +1,21 @@
+/* Helpers shared by the Criterion tests. */
+#ifndef CB_TEST_SUPPORT_H
+#define CB_TEST_SUPPORT_H
+
+#include <gsl/gsl_matrix.h>
+
+#include "clothbench.h"
+
+/* Defaults, then each "section.key=value" of the NULL-terminated list.
+ * Aborts the test with the library's message on error. */
+void test_config(cb_config *c, const char *const *sets);
+/* test_config + cb_scene_build. */
+cb_scene *test_scene(const char *const *sets);
+
+/* Writes text to a fresh temporary file; returns its path (static buffer). */
+const char *test_tmpfile(const char *suffix, const char *text);
+
+/* Dense copy of a cb_sparse (caller frees with gsl_matrix_free). */
+gsl_matrix *test_dense(const cb_sparse *A);
+
+#endif
