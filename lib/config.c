@@ -13,7 +13,7 @@
 
 typedef enum { T_INT, T_DOUBLE, T_SIZE, T_VEC3, T_ENUM, T_PATH, T_PINS, T_BOOL, T_RHO } ktype;
 
-static const char *const mesh_types[] = {"grid", "obj", NULL};
+static const char *const mesh_types[] = {"grid", "chain", "obj", NULL};
 static const char *const planes[] = {"xy", "xz", "yz", NULL};
 static const char *const diagonals[] = {"regular", "alternating", NULL};
 static const char *const inits[] = {"predict", "x0", NULL};
@@ -34,15 +34,15 @@ typedef struct {
 #define O(f) offsetof(cb_config, f)
 static const keydef keys[] = {
   {"mesh.type", T_ENUM, O(mesh_type), "grid", "-", 0, 0, 0, mesh_types, NULL,
-   "`grid` builds an n x m grid; `obj` reads `mesh.file`."},
+   "`grid` builds an n x m grid; `chain` a line of n vertices (n-1 springs, no triangles: set `material.vertex_mass`); `obj` reads `mesh.file`."},
   {"mesh.n", T_INT, O(mesh_n), "21", "vertices", 2, 100000, 0, NULL, NULL,
-   "Grid vertices along the first axis of the plane."},
+   "Grid (or chain) vertices along the first axis of the plane."},
   {"mesh.m", T_INT, O(mesh_m), "0", "vertices", 0, 100000, 0, NULL, NULL,
    "Grid vertices along the second axis; 0 means the same as `mesh.n`."},
   {"mesh.size", T_SIZE, O(mesh_size), "10", "m", 0, 1e9, 1, NULL, NULL,
-   "Grid side length, or two lengths (first axis, second axis)."},
+   "Grid side length, or two lengths (first axis, second axis); a chain's length."},
   {"mesh.plane", T_ENUM, O(mesh_plane), "xz", "-", 0, 0, 0, planes, NULL,
-   "Plane of the grid; `xz` is horizontal when gravity points along -y. Row j = m-1 (the largest second coordinate) is the top edge."},
+   "Plane of the grid; `xz` is horizontal when gravity points along -y. Row j = m-1 (the largest second coordinate) is the top edge; a chain lies along the first axis (`yz`: vertical, vertex n-1 on top)."},
   {"mesh.diagonal", T_ENUM, O(mesh_diagonal), "regular", "-", 0, 0, 0, diagonals, NULL,
    "Quad split: `regular` (every quad along the same diagonal) or `alternating` (checkerboard)."},
   {"mesh.file", T_PATH, O(mesh_file), "", "path", 0, 0, 0, NULL, NULL,

@@ -19,6 +19,7 @@ void cb_mesh_free(cb_mesh *m) {
   if (!m) return;
   free(m->x);
   free(m->tri);
+  free(m->lines);
   memset(m, 0, sizeof *m);
 }
 
@@ -75,11 +76,37 @@ int cb_mesh_grid(const cb_grid_params *p, cb_mesh *out) {
   return CB_OK;
 }
 
+int cb_mesh_chain(int n, double length, cb_plane plane, cb_mesh *out) {
+  memset(out, 0, sizeof *out);
+  if (n < 2) return cb_fail("chain needs at least 2 vertices, got %d", n);
+  if (n > 50000000) return cb_fail("chain of %d vertices is too long", n);
+  if (!(length > 0) || !isfinite(length)) return cb_fail("chain length must be positive and finite, got %g", length);
+  out->nv = n;
+  out->nl = n - 1;
+  out->grid_n = n;
+  out->grid_m = 1;
+  out->x = cb_calloc((size_t)3 * n, sizeof(double));
+  out->tri = cb_malloc(1, sizeof(int));
+  out->lines = cb_malloc((size_t)2 * (n - 1), sizeof(int));
+  if (!out->x || !out->tri || !out->lines) {
+    cb_mesh_free(out);
+    return CB_ENOMEM;
+  }
+  int a = plane == CB_PLANE_YZ ? 1 : 0;
+  for (int i = 0; i < n; i++) out->x[3 * i + a] = length * ((double)i / (n - 1) - 0.5);
+  for (int i = 0; i + 1 < n; i++) {
+    out->lines[2 * i] = i;
+    out->lines[2 * i + 1] = i + 1;
+  }
+  return CB_OK;
+}
+
 /* ---- OBJ reader ---------------------------------------------------------- */
 
 typedef struct {
   double *x; int nv, capv;
   int *tri, *line; int nt, capt;
+  int *seg, *segline; int ns, caps; /* line segments and their source lines */
 } objbuf;
 
 static int push_vertex(objbuf *b, const double v[3]) {
@@ -105,6 +132,21 @@ static int push_tri(objbuf *b, int i0, int i1, int i2, int line) {
   }
   b->tri[3 * b->nt] = i0; b->tri[3 * b->nt + 1] = i1; b->tri[3 * b->nt + 2] = i2;
   b->line[b->nt++] = line;
+  return CB_OK;
+}
+
+static int push_seg(objbuf *b, int i0, int i1, int line) {
+  if (b->ns == b->caps) {
+    int cap = b->caps ? 2 * b->caps : 64;
+    int *ns = realloc(b->seg, (size_t)cap * 2 * sizeof(int));
+    if (!ns) return cb_fail_status(CB_ENOMEM, "out of memory reading OBJ");
+    b->seg = ns;
+    int *nl = realloc(b->segline, (size_t)cap * sizeof(int));
+    if (!nl) return cb_fail_status(CB_ENOMEM, "out of memory reading OBJ");
+    b->segline = nl; b->caps = cap;
+  }
+  b->seg[2 * b->ns] = i0; b->seg[2 * b->ns + 1] = i1;
+  b->segline[b->ns++] = line;
   return CB_OK;
 }
 
@@ -174,6 +216,19 @@ int cb_mesh_read_obj(const char *path, cb_mesh *out) {
         count++;
       }
       if (st == CB_OK && count < 3) st = cb_fail("%s:%d: face has %d vertices, needs at least 3", path, line, count);
+    } else if (s[0] == 'l' && is_space(s[1])) {
+      s += 2;
+      int count = 0;
+      long c = 0, prev = 0;
+      for (s = skip_space(s); *s && st == CB_OK; s = skip_space(s)) {
+        st = parse_corner(&s, b.nv, &c, path, line);
+        if (st) break;
+        if (c > 2147483646L) st = cb_fail("%s:%d: line index too large", path, line);
+        else if (count > 0) st = push_seg(&b, (int)prev, (int)c, line);
+        prev = c;
+        count++;
+      }
+      if (st == CB_OK && count < 2) st = cb_fail("%s:%d: line element has %d vertices, needs at least 2", path, line, count);
     }
     /* everything else (vt, vn, o, g, s, usemtl, mtllib, l, p, ...) is ignored */
   }
@@ -181,8 +236,18 @@ int cb_mesh_read_obj(const char *path, cb_mesh *out) {
   if (st == CB_OK && ferror(f)) st = cb_fail_status(CB_EIO, "%s: read error", path);
   fclose(f);
   if (st == CB_OK && b.nv == 0) st = cb_fail("%s: no vertices", path);
-  if (st == CB_OK && b.nt == 0) st = cb_fail("%s: no faces", path);
+  if (st == CB_OK && b.nt == 0 && b.ns == 0) st = cb_fail("%s: no faces or line elements", path);
+  if (!b.tri) b.tri = malloc(sizeof(int));
   out->nv = b.nv; out->nt = b.nt; out->x = b.x; out->tri = b.tri;
+  out->nl = b.ns; out->lines = b.seg;
+  for (int k = 0; st == CB_OK && k < b.ns; k++) {
+    int p0 = b.seg[2 * k], p1 = b.seg[2 * k + 1];
+    if (p0 < 0 || p0 >= b.nv || p1 < 0 || p1 >= b.nv)
+      st = cb_fail("%s:%d: line element refers to vertex %d, but the file has %d vertices", path, b.segline[k],
+                   (p0 < 0 || p0 >= b.nv ? p0 : p1) + 1, b.nv);
+    else if (p0 == p1) st = cb_fail("%s:%d: degenerate line segment (repeated vertex %d)", path, b.segline[k], p0 + 1);
+  }
+  free(b.segline);
   for (int t = 0; st == CB_OK && t < b.nt; t++) {
     int *v = b.tri + 3 * t;
     for (int k = 0; k < 3; k++)
@@ -219,5 +284,6 @@ int cb_mesh_write_obj(const cb_mesh *m, const double *x, const char *path) {
     fprintf(o.f, "v %.17g %.17g %.17g\n", x[3 * i], x[3 * i + 1], x[3 * i + 2]);
   for (int t = 0; t < m->nt; t++)
     fprintf(o.f, "f %d %d %d\n", m->tri[3 * t] + 1, m->tri[3 * t + 1] + 1, m->tri[3 * t + 2] + 1);
+  for (int k = 0; k < m->nl; k++) fprintf(o.f, "l %d %d\n", m->lines[2 * k] + 1, m->lines[2 * k + 1] + 1);
   return cb_outfile_commit(&o);
 }

@@ -8,8 +8,13 @@ typedef struct cb_mesh {
   int nt;      /* number of triangles */
   double *x;   /* 3*nv positions, m, flat: x[3i+0..2] */
   int *tri;    /* 3*nt vertex indices (0-based), counter-clockwise */
-  /* Grid meshes only (grid_n > 0): vertex (i, j) has index j*grid_n + i. */
+  /* Grid meshes only (grid_n > 0): vertex (i, j) has index j*grid_n + i.
+   * A chain is a grid with grid_m = 1. */
   int grid_n, grid_m;
+  /* Line elements (OBJ `l`, or a chain): nl segments, 2*nl vertex indices.
+   * They carry springs like triangle edges but no area. */
+  int nl;
+  int *lines;
 } cb_mesh;
 
 typedef enum { CB_PLANE_XY = 0, CB_PLANE_XZ = 1, CB_PLANE_YZ = 2 } cb_plane;
@@ -31,9 +36,16 @@ cb_grid_params cb_grid_params_default(void);
  * alternating flips the diagonal in a checkerboard. */
 int cb_mesh_grid(const cb_grid_params *p, cb_mesh *out);
 
+/* A chain of n >= 2 vertices (n-1 segments, no triangles) of the given
+ * length along the first axis of the plane, centred on the origin; vertex n-1
+ * is the top end (largest coordinate). The lab-free way to get a single
+ * spring (n = 2) or a hanging chain. */
+int cb_mesh_chain(int n, double length, cb_plane plane, cb_mesh *out);
+
 /* Reads `v` and `f` statements. Faces may use v, v/vt, v//vn, v/vt/vn, 1-based
  * or negative (relative) indices; polygons are fan-triangulated. Other
- * statements (vt, vn, o, g, s, usemtl, mtllib, ...) are ignored. Errors name
+ * `l` polylines become line segments. Other statements (vt, vn, o, g, s,
+ * usemtl, mtllib, ...) are ignored. Errors name
  * file:line. Rejects non-finite coordinates, out-of-range indices, faces with
  * fewer than 3 vertices, and zero-area triangles. */
 int cb_mesh_read_obj(const char *path, cb_mesh *out);

@@ -101,12 +101,22 @@ static int build_mesh(const cb_config *c, cb_mesh *mesh) {
     }
     return CB_OK;
   }
+  cb_plane plane = strcmp(c->mesh_plane, "xy") == 0 ? CB_PLANE_XY : strcmp(c->mesh_plane, "yz") == 0 ? CB_PLANE_YZ : CB_PLANE_XZ;
+  if (strcmp(c->mesh_type, "chain") == 0) {
+    int st = cb_mesh_chain(c->mesh_n, c->mesh_size[0], plane, mesh);
+    if (st) {
+      char msg[512];
+      snprintf(msg, sizeof msg, "%s", cb_error_message());
+      return cb_fail_status(st, "%s: mesh: %s", cb_config_where(c, "mesh.n", w, sizeof w), msg);
+    }
+    return CB_OK;
+  }
   cb_grid_params g = cb_grid_params_default();
   g.n = c->mesh_n;
   g.m = c->mesh_m > 0 ? c->mesh_m : c->mesh_n;
   g.size[0] = c->mesh_size[0];
   g.size[1] = c->mesh_size[1];
-  g.plane = strcmp(c->mesh_plane, "xy") == 0 ? CB_PLANE_XY : strcmp(c->mesh_plane, "yz") == 0 ? CB_PLANE_YZ : CB_PLANE_XZ;
+  g.plane = plane;
   g.diagonal = strcmp(c->mesh_diagonal, "alternating") == 0 ? CB_DIAG_ALTERNATING : CB_DIAG_REGULAR;
   int st = cb_mesh_grid(&g, mesh);
   if (st) {
@@ -166,7 +176,8 @@ int cb_scene_build(const cb_config *cfg, cb_scene **out) {
         continue;
       }
       if (!(s->mass[i] > 0)) {
-        st = cb_fail("vertex %d has no mass: it belongs to no triangle (remove it, pin it, or set material.vertex_mass)", i);
+        st = cb_fail("vertex %d has no mass: it belongs to no triangle (remove it, pin it, or set material.vertex_mass; "
+                     "chains and line elements always need material.vertex_mass)", i);
         break;
       }
       s->free_vertex[nfree] = i;

@@ -28,7 +28,9 @@ static int opposite(const int *tri, int a, int b) {
 
 int cb_topology_build(const cb_mesh *m, cb_topology *out) {
   memset(out, 0, sizeof *out);
-  int n3 = 3 * m->nt;
+  /* line segments join as triples with a negative "triangle" so that they
+   * sort first in their run and count towards edges but not faces */
+  int n3 = 3 * m->nt + m->nl;
   triple *tr = cb_malloc((size_t)n3, sizeof *tr);
   if (!tr) return CB_ENOMEM;
   for (int t = 0; t < m->nt; t++)
@@ -36,6 +38,10 @@ int cb_topology_build(const cb_mesh *m, cb_topology *out) {
       int a = m->tri[3 * t + k], b = m->tri[3 * t + (k + 1) % 3];
       tr[3 * t + k] = (triple){a < b ? a : b, a < b ? b : a, t}; /* (i < j, triangle) */
     }
+  for (int k = 0; k < m->nl; k++) {
+    int a = m->lines[2 * k], b = m->lines[2 * k + 1];
+    tr[3 * m->nt + k] = (triple){a < b ? a : b, a < b ? b : a, -1};
+  }
   qsort(tr, (size_t)n3, sizeof *tr, cmp_triple);
   /* count runs first, then fill */
   int ne = 0, nb = 0, np = 0, nonman = 0;
@@ -43,9 +49,11 @@ int cb_topology_build(const cb_mesh *m, cb_topology *out) {
     int e = s + 1;
     while (e < n3 && tr[e].i == tr[s].i && tr[e].j == tr[s].j) e++;
     ne++;
-    if (e - s == 1) nb++;
-    else if (e - s == 2) np++;
-    else nonman++;
+    int f = s;
+    while (f < e && tr[f].t < 0) f++; /* skip line segments: faces are tr[f..e) */
+    if (e - f == 1) nb++;
+    else if (e - f == 2) np++;
+    else if (e - f > 2) nonman++;
     s = e;
   }
   out->edge = cb_malloc((size_t)2 * ne, sizeof(int));
@@ -65,13 +73,15 @@ int cb_topology_build(const cb_mesh *m, cb_topology *out) {
     while (e < n3 && tr[e].i == tr[s].i && tr[e].j == tr[s].j) e++;
     out->edge[2 * e_idx] = tr[s].i;
     out->edge[2 * e_idx + 1] = tr[s].j;
-    if (e - s == 1) out->boundary[b_idx++] = e_idx;
-    else if (e - s == 2) {
-      out->pair_tri[2 * p_idx] = tr[s].t;
-      out->pair_tri[2 * p_idx + 1] = tr[s + 1].t;
+    int f = s;
+    while (f < e && tr[f].t < 0) f++;
+    if (e - f == 1) out->boundary[b_idx++] = e_idx;
+    else if (e - f == 2) {
+      out->pair_tri[2 * p_idx] = tr[f].t;
+      out->pair_tri[2 * p_idx + 1] = tr[f + 1].t;
       out->pair_edge[p_idx] = e_idx;
-      out->pair_opp[2 * p_idx] = opposite(m->tri + 3 * tr[s].t, tr[s].i, tr[s].j);
-      out->pair_opp[2 * p_idx + 1] = opposite(m->tri + 3 * tr[s + 1].t, tr[s].i, tr[s].j);
+      out->pair_opp[2 * p_idx] = opposite(m->tri + 3 * tr[f].t, tr[f].i, tr[f].j);
+      out->pair_opp[2 * p_idx + 1] = opposite(m->tri + 3 * tr[f + 1].t, tr[f].i, tr[f].j);
       p_idx++;
     }
     e_idx++;

@@ -1,7 +1,8 @@
 /* Mesh topology by sorting edge triples (i < j, triangle), as on the
  * lecture's "Topological Construction" slide: after sorting, equal (i, j)
  * runs give the unique edges; a run of two gives a pair of neighbouring
- * triangles (used by bending); a run of one is a boundary edge. */
+ * triangles (used by bending); a run of one is a boundary edge. Line
+ * segments (chains, OBJ `l`) add edges but no faces. */
 #ifndef CB_TOPOLOGY_H
 #define CB_TOPOLOGY_H
 
