@@ -20,7 +20,7 @@ WARN := -std=c11 -Wall -Wextra -Wpedantic -Wshadow -Wmissing-prototypes
 ifeq ($(WERROR),1)
 WARN += -Werror
 endif
-CPPFLAGS := -D_POSIX_C_SOURCE=200809L -Ilib -I/usr/include/suitesparse $(if $(OPENBLAS_INC),-I$(OPENBLAS_INC))
+CPPFLAGS := -D_POSIX_C_SOURCE=200809L -Ilib -Iclaims -I/usr/include/suitesparse $(if $(OPENBLAS_INC),-I$(OPENBLAS_INC))
 CFLAGS   := $(OPT) -g $(WARN) $(SAN)
 LDFLAGS  := $(SAN)
 # GSL is linked statically: Debian's libgsl.so pulls in libgslcblas, and we
@@ -35,6 +35,8 @@ EXP_SRC  := $(sort $(wildcard experiments/*.c))
 EXPS     := $(EXP_SRC:experiments/%.c=$(BUILD)/%)
 BENCH_SRC:= $(sort $(wildcard bench/*.c))
 BENCHES  := $(BENCH_SRC:bench/%.c=$(BUILD)/%)
+REPORT_SRC := $(filter-out claims/main.c,$(sort $(wildcard claims/*.c)))
+REPORT_LIB := $(BUILD)/libreport.a
 TEST_SRC := $(sort $(wildcard tests/test_*.c))
 TESTS    := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 TEST_OBJ := $(BUILD)/tests/support.o
@@ -42,7 +44,7 @@ TEST_OBJ := $(BUILD)/tests/support.o
 .PHONY: all test check experiments run-experiments plots report bench san deps clean distclean FORCE
 .DEFAULT_GOAL := all
 
-all: $(LIB) $(TOOLS) $(EXPS) $(BENCHES)
+all: $(LIB) $(TOOLS) $(EXPS) $(BENCHES) $(BUILD)/report
 
 deps:
 	@scripts/deps.sh
@@ -63,6 +65,13 @@ $(LIB): $(LIB_OBJ)
 	@rm -f $@
 	ar rcs $@ $^
 
+$(REPORT_LIB): $(REPORT_SRC:%.c=$(BUILD)/%.o)
+	@rm -f $@
+	ar rcs $@ $^
+
+$(BUILD)/report: $(BUILD)/claims/main.o $(REPORT_LIB) $(LIB)
+	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
+
 $(BUILD)/simulate: $(BUILD)/tools/simulate.o $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
@@ -76,7 +85,7 @@ $(BUILD)/tests/support.o: tests/support.c
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(CFLAGS) -MMD -MP -c $< -o $@
 
-$(BUILD)/tests/%: $(BUILD)/tests/%.o $(TEST_OBJ) $(LIB)
+$(BUILD)/tests/%: $(BUILD)/tests/%.o $(TEST_OBJ) $(REPORT_LIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -lcriterion -o $@
 
 # ---- tests -------------------------------------------------------------------
