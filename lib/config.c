@@ -82,9 +82,9 @@ static const keydef keys[] = {
   {"integrator.line_search", T_BOOL, O(line_search), "0", "-", 0, 0, 0, NULL, NULL,
    "Backtracking (Armijo) line search on F in every Newton iteration (0 or 1)."},
   {"integrator.diverge_ratio", T_DOUBLE, O(diverge_ratio), "10", "-", 0, 1e300, 1, NULL, NULL,
-   "A run is `diverged` when a position is NaN/Inf, or when the total energy rises above its initial value by more than diverge_ratio x S, S = initial kinetic + elastic energy + (sum m_i |g|) x (rest bounding-box diagonal) + 1e-12 J."},
+   "A run is `diverged` when a position is NaN/Inf, or when the total energy rises above its initial value by more than diverge_ratio x S, S = initial kinetic + elastic energy + (sum m_i |g|) x (rest bounding-box diagonal) x max(1, initial_scale) + 1e-12 J."},
   {"solver.method", T_ENUM, O(solver), "cholmod", "-", 0, 0, 0, NULL, cb_solver_name,
-   "Linear solver for Newton's system: `cholmod` (sparse Cholesky)."},
+   "Linear solver for Newton's system (`cholmod`: sparse Cholesky, exact)."},
   {"solver.tol", T_DOUBLE, O(solver_tol), "1e-8", "-", 0, 1, 0, NULL, NULL,
    "Iterative solvers stop at relative residual |b - Ax| / |b| <= tol."},
   {"solver.max_iters", T_INT, O(solver_max_iters), "1000", "iterations", 1, 2000000000, 0, NULL, NULL,
@@ -374,11 +374,19 @@ void cb_config_write(const cb_config *c, FILE *f, const char *sep) {
   }
 }
 
+static void put_escaped(const char *s, FILE *f) { /* '|' would end a Markdown table cell */
+  for (; *s; s++) {
+    if (*s == '|') fputc('\\', f);
+    fputc(*s, f);
+  }
+}
+
 void cb_config_write_reference(FILE *f) {
   fputs("| key | unit | default | meaning |\n|---|---|---|---|\n", f);
   for (int i = 0; i < NKEYS; i++) {
     const keydef *k = &keys[i];
-    fprintf(f, "| `%s` | %s | `%s` | %s", k->key, k->unit, k->def[0] ? k->def : "(none)", k->doc);
+    fprintf(f, "| `%s` | %s | `%s` | ", k->key, k->unit, k->def[0] ? k->def : "(none)");
+    put_escaped(k->doc, f);
     if (k->type == T_ENUM) {
       fputs(" Choices:", f);
       for (int j = 0; choice_at(k, j); j++) fprintf(f, " `%s`", choice_at(k, j));
