@@ -1,5 +1,6 @@
 #include "sparse.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -123,6 +124,20 @@ int cb_sparse_diag_index(const cb_sparse *A, int i) {
   int slot, stride;
   if (cb_sparse_block_slot(A, i / 3, i / 3, &slot, &stride) < 0) return -1;
   return slot + (i % 3) * stride + i % 3;
+}
+
+double cb_sparse_residual(const cb_sparse *A, const double *restrict b, const double *restrict x, double *restrict r) {
+  const int *colp = A->colp, *rowi = A->rowi;
+  const double *val = A->val;
+  double rr = 0.0;
+  for (int j = 0; j < A->n; j++) {
+    double s = 0.0;
+    for (int p = colp[j]; p < colp[j + 1]; p++) s += val[p] * x[rowi[p]];
+    double rj = b[j] - s; /* r(j) = b(j) - (A x)(j) */
+    r[j] = rj;
+    rr += rj * rj;
+  }
+  return sqrt(rr);
 }
 
 void cb_sparse_matvec(const cb_sparse *A, const double *restrict x, double *restrict y) {

@@ -53,6 +53,9 @@ int cb_sparse_diag_index(const cb_sparse *A, int i);
 /* y = A x */
 void cb_sparse_matvec(const cb_sparse *A, const double *x, double *y);
 
+/* r = b - A x in one pass; returns |r|_2. */
+double cb_sparse_residual(const cb_sparse *A, const double *b, const double *x, double *r);
+
 /* Adds the 3x3 row-major block s*H to block (bi, bj) given by (slot, stride). */
 static inline void cb_sparse_add_block(double *val, int slot, int stride, const double H[9], double s) {
   if (slot < 0) return;
