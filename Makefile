@@ -140,3 +140,4 @@ distclean: clean
 	rm -rf results plots/out
 
 -include $(shell find $(BUILD) -name '*.d' 2>/dev/null)
+.SECONDARY:

@@ -74,7 +74,7 @@ static const keydef keys[] = {
   {"integrator.max_iters", T_INT, O(max_iters), "50", "iterations", 1, 1000000, 0, NULL, NULL,
    "Newton iterations per step at most; 1 is Baraff-Witkin's single linear solve."},
   {"integrator.tol", T_DOUBLE, O(tol), "1e-8", "-", 0, 1, 0, NULL, NULL,
-   "Newton stops when |grad F(x)| <= tol |grad F(x(0))|, x(0) being the step's initial guess."},
+   "Newton stops when |grad F(x)| <= tol |grad F(x(0))|, x(0) being the step's initial guess. Below about 1e-11 the tolerance may be under round-off (e.g. a step from rest, where grad F(x(0)) is gravity alone): pair it with `tol_dx`."},
   {"integrator.tol_dx", T_DOUBLE, O(tol_dx), "0", "m", 0, 1e9, 0, NULL, NULL,
    "Newton also stops when the largest component of the step |dx| is <= tol_dx; 0 turns this test off."},
   {"integrator.definiteness", T_ENUM, O(definiteness), "drop", "-", 0, 0, 0, cb_definiteness_names, NULL,
