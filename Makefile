@@ -99,7 +99,7 @@ DETERMINISM_EXP ?= topology
 
 check: $(TESTS) $(TOOLS) $(BUILD)/$(DETERMINISM_EXP)
 	@scripts/check-blas.sh $(BUILD)/simulate
-	@set -e; for t in $(TESTS); do echo "== $$t"; CB_QUIET=1 $$t --jobs 2 --short-filename; done
+	@set -e; for t in $(TESTS); do echo "== $$t"; CB_QUIET=1 CB_SIMULATE=$(BUILD)/simulate $$t --jobs 2 --short-filename; done
 	@BUILD=$(BUILD) tests/cli.sh
 	@BUILD=$(BUILD) tests/determinism.sh $(DETERMINISM_EXP)
 	@echo "all tests passed"

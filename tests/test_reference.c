@@ -19,6 +19,7 @@
  *   - explicit symplectic Euler: v += dt M^-1 f(x); x += dt v.
  * None of the library's energy, system or integrator functions is called
  * inside the reference. */
+#define _DEFAULT_SOURCE /* mkdtemp */
 #include <criterion/criterion.h>
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_linalg.h>
@@ -28,6 +29,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "support.h"
 
@@ -532,4 +534,79 @@ Test(reference, explicit_steps_agree, .init = setup) {
     cb_scene_free(s);
   }
   cr_log_info("explicit vs reference: worst relative difference %.3g\n", worst);
+}
+
+/* ---- as a new user would: the CLI on a config file -------------------------------------- */
+
+/* Reads an OBJ as simulate writes it ("v x y z" and "f a b c" lines). */
+static void read_obj(const char *path, int *nv, double **x, int *nt, int **tri) {
+  FILE *f = fopen(path, "r");
+  cr_assert(f, "cannot open %s", path);
+  int cv = 0, ct = 0, capv = 64, capt = 64;
+  *x = malloc((size_t)3 * capv * sizeof(double));
+  *tri = malloc((size_t)3 * capt * sizeof(int));
+  char line[512];
+  while (fgets(line, sizeof line, f)) {
+    if (line[0] == 'v' && line[1] == ' ') {
+      if (cv == capv) { capv *= 2; *x = realloc(*x, (size_t)3 * capv * sizeof(double)); }
+      cr_assert_eq(sscanf(line + 2, "%lf %lf %lf", *x + 3 * cv, *x + 3 * cv + 1, *x + 3 * cv + 2), 3);
+      cv++;
+    } else if (line[0] == 'f' && line[1] == ' ') {
+      if (ct == capt) { capt *= 2; *tri = realloc(*tri, (size_t)3 * capt * sizeof(int)); }
+      int a, b, c;
+      cr_assert_eq(sscanf(line + 2, "%d %d %d", &a, &b, &c), 3);
+      (*tri)[3 * ct] = a - 1; (*tri)[3 * ct + 1] = b - 1; (*tri)[3 * ct + 2] = c - 1;
+      ct++;
+    }
+  }
+  fclose(f);
+  *nv = cv;
+  *nt = ct;
+}
+
+Test(reference, simulate_cli_matches_the_reference, .init = setup) {
+  const char *sim = getenv("CB_SIMULATE");
+  if (!sim || access(sim, X_OK) != 0) cr_skip_test("CB_SIMULATE is not set to the simulate binary (make check sets it)");
+  /* a user's config: a 5x4 cloth, lumped masses, bending springs, two pins */
+  const char *ini = "[mesh]\ntype = grid\nn = 5\nm = 4\nsize = 2 1.5\nplane = xz\ndiagonal = alternating\n"
+                    "[material]\ndensity = 0.3\nstretch_k = 600\nbend = spring\nbend_k = 30\n"
+                    "[scene]\ngravity = 0 -9.8 0\npins = 15 19\n"
+                    "[integrator]\nmethod = newton\ndt = 1/50\nsteps = 6\ntol = 1e-12\ntol_dx = 1e-13\nmax_iters = 100\n"
+                    "definiteness = drop\n[solver]\nmethod = cholmod\n";
+  char dir[] = "/tmp/cbuserXXXXXX";
+  cr_assert(mkdtemp(dir));
+  char cfg[256], obj0[256], obj[256], csv[256], cmd[1200];
+  snprintf(cfg, sizeof cfg, "%s/cloth.ini", dir);
+  snprintf(obj0, sizeof obj0, "%s/rest.obj", dir);
+  snprintf(obj, sizeof obj, "%s/final.obj", dir);
+  snprintf(csv, sizeof csv, "%s/run.csv", dir);
+  FILE *f = fopen(cfg, "w");
+  cr_assert(f);
+  fputs(ini, f);
+  fclose(f);
+  snprintf(cmd, sizeof cmd, "%s %s --steps 0 --obj %s --csv %s --quiet", sim, cfg, obj0, csv);
+  cr_assert_eq(system(cmd), 0, "%s failed", cmd);
+  snprintf(cmd, sizeof cmd, "%s %s --obj %s --csv %s --quiet", sim, cfg, obj, csv);
+  cr_assert_eq(system(cmd), 0, "%s failed", cmd);
+  int nv, nt, nv1, nt1, *tri, *tri1;
+  double *X, *x1;
+  read_obj(obj0, &nv, &X, &nt, &tri);
+  read_obj(obj, &nv1, &x1, &nt1, &tri1);
+  cr_assert_eq(nv, 20);
+  cr_assert_eq(nv1, nv);
+  /* the reference, built from the rest mesh simulate wrote and the config's numbers */
+  rcase c = {5, 4, "alternating", "xz", {2, 1.5}, 600, 30, 0.3, 0, 1.0, "15 19", {15, 19}, 2, 1.0 / 50, {0, -9.8, 0}};
+  ref_model r;
+  ref_build(&r, nv, X, nt, tri, &c);
+  double *x = malloc((size_t)3 * nv * sizeof(double)), *v = malloc((size_t)3 * nv * sizeof(double));
+  ref_initial(&r, 1.0, x, v);
+  for (int k = 0; k < 6; k++) ref_implicit_step(&r, x, v);
+  double d = maxdiff(x, x1, 3 * nv);
+  cr_log_info("simulate CLI vs reference after 6 steps: max |dx| = %.3g m\n", d);
+  cr_expect(d <= 1e-9, "simulate's final mesh differs from the reference by %.3g m", d);
+  cr_expect(maxdiff(x1, X, 3 * nv) > 1e-3, "nothing moved");
+  free(x); free(v); free(X); free(x1); free(tri); free(tri1);
+  ref_free(&r);
+  snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+  cr_expect_eq(system(cmd), 0);
 }
