@@ -42,21 +42,28 @@ static double median(double *v, int n) {
 }
 
 /* STREAM triad a = b + s c over arrays far larger than the caches; bytes
- * counted as STREAM does: 3 x 8 per element (no write-allocate). GB/s. */
-static double triad_gbs(int reps) {
-  size_t n = (size_t)1 << 25; /* 32M doubles = 256 MiB per array */
-  double *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b), *c = malloc(n * sizeof *c);
-  if (!a || !b || !c) { free(a); free(b); free(c); return 0; }
-  for (size_t i = 0; i < n; i++) { a[i] = 0; b[i] = 1.0; c[i] = 2.0; }
-  double t[32];
-  for (int r = 0; r < reps; r++) {
-    double t0 = cb_now_ms();
-    for (size_t i = 0; i < n; i++) a[i] = b[i] + 3.0 * c[i];
-    t[r] = cb_now_ms() - t0;
-  }
-  double sink = a[n / 2];
-  free(a); free(b); free(c);
-  return 24.0 * (double)n / (median(t, reps) * 1e-3) / 1e9 + 0 * sink;
+ * counted as STREAM does: 3 x 8 per element (no write-allocate). */
+typedef struct {
+  size_t n;
+  double *a, *b, *c;
+} triad_arrays;
+
+static int triad_alloc(triad_arrays *t) {
+  t->n = (size_t)1 << 25; /* 32M doubles = 256 MiB per array */
+  t->a = malloc(t->n * sizeof(double));
+  t->b = malloc(t->n * sizeof(double));
+  t->c = malloc(t->n * sizeof(double));
+  if (!t->a || !t->b || !t->c) return -1;
+  for (size_t i = 0; i < t->n; i++) { t->a[i] = 0; t->b[i] = 1.0; t->c[i] = 2.0; }
+  return 0;
+}
+
+/* One triad pass; returns GB/s. */
+static double triad_once(triad_arrays *t) {
+  double t0 = cb_now_ms();
+  for (size_t i = 0; i < t->n; i++) t->a[i] = t->b[i] + 3.0 * t->c[i];
+  double ms = cb_now_ms() - t0;
+  return 24.0 * (double)t->n / (ms * 1e-3) / 1e9;
 }
 
 int main(int argc, char **argv) {
@@ -70,13 +77,14 @@ int main(int argc, char **argv) {
                         "# bytes moved by one SpMV (cb_sparse_matvec_bytes): 8 nnz (values) + 4 nnz/9 (block-row indices) + 4 (n/3+1) + 16 n (x read, y written)\n"
                         "# allocs_*: heap allocations inside one step after warm-up; newton_cg uses CG as the inner solver (our code only),\n"
                         "#   newton_cholmod adds CHOLMOD's own (its permuted copy of A, workspace, and libgomp's per-parallel-region teams)\n"
-                        "# triad: a = b + s c over 3 arrays of 2^25 doubles, 24 bytes per element (STREAM convention)\n",
+                        "# triad: a = b + s c over 3 arrays of 2^25 doubles, 24 bytes per element (STREAM convention), median of passes interleaved with the SpMV samples\n",
                         "n,dofs,nnz_a,nnz_l,explicit_step_ms,assemble_ms,factor_ms,solve_ms,newton_iter_ms,"
                         "assemble_over_factor,allocs_explicit_step,allocs_newton_cg_step,allocs_newton_cholmod_step,spmv_ms,spmv_gbs,triad_gbs,spmv_over_triad,status")) {
     fprintf(stderr, "bench_core: %s\n", cb_error_message());
     return 2;
   }
-  double triad = triad_gbs(e.quick ? 3 : 9);
+  triad_arrays ta;
+  if (triad_alloc(&ta)) { fprintf(stderr, "bench_core: out of memory for the triad arrays\n"); return 1; }
   cb_progress_start(&e.progress, "bench_core", nsizes);
   for (int si = 0; si < nsizes; si++) {
     int n = sizes[si];
@@ -143,13 +151,17 @@ int main(int argc, char **argv) {
       if (status == CB_OK) status = cb_solver_solve(nt->solver, A, b, dx);
       tso[k] = cb_now_ms() - t0;
     }
-    /* SpMV: enough products per sample for ~20 ms */
+    /* SpMV (enough products per sample for ~20 ms), interleaved with triad
+     * passes so that both see the same machine */
     int inner = 1 + (int)(2e7 / (double)A->nnz);
+    double ttr[16];
     for (int k = 0; k < reps; k++) {
+      ttr[k] = triad_once(&ta);
       double t0 = cb_now_ms();
       for (int q = 0; q < inner; q++) cb_sparse_matvec(A, q & 1 ? y : b, q & 1 ? dx : y);
       tmv[k] = (cb_now_ms() - t0) / inner;
     }
+    double triad = median(ttr, reps);
     double mas = median(tas, reps), mfa = median(tfa, reps), mso = median(tso, reps), mmv = median(tmv, reps);
     double bytes = (double)cb_sparse_matvec_bytes(A);
     double gbs = bytes / (mmv * 1e-3) / 1e9;
@@ -165,6 +177,7 @@ int main(int argc, char **argv) {
     cb_progress_update(&e.progress, si + 1);
   }
   cb_progress_end(&e.progress);
+  free(ta.a); free(ta.b); free(ta.c);
   if (cb_outfile_commit(&csv)) { fprintf(stderr, "bench_core: %s\n", cb_error_message()); return 2; }
   fprintf(stderr, "bench_core: wrote %s\n", e.out);
   return 0;
