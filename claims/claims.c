@@ -7,13 +7,15 @@
 #include "status.h"
 
 /* Checkers live in claims/check_<experiment>.c; declare them here. */
+void cb_check_T1(const cb_table *t, const char *results_dir, cb_claim_result *out);
+void cb_check_T2(const cb_table *t, const char *results_dir, cb_claim_result *out);
 
 const cb_claim cb_claims[] = {
-  {"T1", NULL, "Sorting edge triples (i<j, triangle) gives the unique edge list and the neighbouring-triangle pairs.",
+  {"T1", "topology", "Sorting edge triples (i<j, triangle) gives the unique edge list and the neighbouring-triangle pairs.",
    "On the lecture's 5-vertex example: edges {0,1},{0,3},{0,4},{1,2},{1,3},{2,3},{3,4}; neighbour pairs {1,2},{0,1}.",
-   NULL, NULL},
-  {"T2", NULL, "A manifold disk mesh has #edges = 3 #vertices - 3 - #boundary_edges; with every edge a hard constraint only 3 + #boundary_edges DoFs remain.",
-   "Counted on grids and on unstructured meshes.", NULL, NULL},
+   NULL, cb_check_T1},
+  {"T2", "topology", "A manifold disk mesh has #edges = 3 #vertices - 3 - #boundary_edges; with every edge a hard constraint only 3 + #boundary_edges DoFs remain.",
+   "Counted on grids and on unstructured meshes; the DoFs as 3#V - rank of the rigidity matrix at a generic embedding.", NULL, cb_check_T2},
   {"E1", NULL, "Explicit integration becomes unstable when k and/or dt are too large.",
    "(k, dt) stability map; measured critical dt within 15% of 2/omega_max; slope of log dt_crit vs log k is -1/2 +- 0.05.",
    NULL, NULL},

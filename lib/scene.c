@@ -15,7 +15,9 @@ static int cmp_int(const void *a, const void *b) {
 int cb_pins_resolve(const char *spec, const cb_mesh *m, int **out, int *n) {
   *out = NULL;
   *n = 0;
-  int *list = cb_malloc((size_t)m->nv + 8, sizeof(int));
+  if (!*spec) return cb_fail("scene.pins: empty; use `none` for no pins");
+  /* an index list has at most strlen(spec) entries; a named set at most nv */
+  int *list = cb_malloc((size_t)m->nv + strlen(spec) + 8, sizeof(int));
   if (!list) return CB_ENOMEM;
   int cnt = 0, gn = m->grid_n, gm = m->grid_m;
   int named = strcmp(spec, "none") == 0 || strcmp(spec, "corners") == 0 || strcmp(spec, "top-corners") == 0 ||
@@ -24,7 +26,10 @@ int cb_pins_resolve(const char *spec, const cb_mesh *m, int **out, int *n) {
     free(list);
     return cb_fail("scene.pins: named set '%s' needs a grid mesh; give vertex indices for an OBJ mesh", spec);
   }
-  if (strcmp(spec, "corners") == 0) {
+  if (named && gm == 1) { /* a chain: its top is vertex n-1, its corners are its two ends */
+    if (strcmp(spec, "corners") == 0) list[cnt++] = 0;
+    if (strcmp(spec, "none") != 0) list[cnt++] = gn - 1;
+  } else if (strcmp(spec, "corners") == 0) {
     list[cnt++] = 0; list[cnt++] = gn - 1; list[cnt++] = (gm - 1) * gn; list[cnt++] = gm * gn - 1;
   } else if (strcmp(spec, "top-corners") == 0) {
     list[cnt++] = (gm - 1) * gn; list[cnt++] = gm * gn - 1;
@@ -50,7 +55,6 @@ int cb_pins_resolve(const char *spec, const cb_mesh *m, int **out, int *n) {
         free(list);
         return cb_fail("scene.pins: vertex %ld out of range (the mesh has %d vertices, 0-based)", v, m->nv);
       }
-      if (cnt == m->nv + 8) break;
       list[cnt++] = (int)v;
       p = end;
     }

@@ -8,7 +8,8 @@
 
 #include "status.h"
 
-const cb_solver_type *const cb_solver_types[] = {&cb_solver_cholmod, NULL};
+const cb_solver_type *const cb_solver_types[] = {&cb_solver_cholmod, &cb_solver_jacobi, &cb_solver_chebyshev,
+                                                 &cb_solver_cg, &cb_solver_pcg, NULL};
 
 const char *cb_solver_name(int i) {
   for (int k = 0; k <= i; k++)

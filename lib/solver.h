@@ -28,9 +28,11 @@ typedef struct cb_solve_stats {
   int iters;           /* iterations of the last solve (1 for a direct solve) */
   double rel_residual; /* |b - Ax| / |b| after the last solve */
   double analyze_ms;   /* symbolic analysis (once) */
-  double factor_ms;    /* last numeric factorisation / preconditioner set-up */
+  double factor_ms;    /* last numeric factorisation / preconditioner set-up (includes setup_ms) */
   double solve_ms;     /* last solve */
-  double setup_ms;     /* other one-off set-up of the last factor (e.g. rho estimate) */
+  double setup_ms;     /* part of factor_ms spent estimating rho (Chebyshev with rho = auto) */
+  double rho;          /* Chebyshev: the rho used (estimated or given) */
+  int rho_steps;       /* Lanczos steps of the rho estimate */
   double factor_nnz;   /* nonzeros of the factor L (direct solvers) */
   int history_len;     /* residuals recorded in history */
   double *history;     /* rel. residual after each iteration (history_cap entries) */
@@ -58,6 +60,10 @@ struct cb_solver {
 /* The registry: one entry per plug-in file (solver_<name>.c), NULL-terminated.
  * solver.method in a config names one of them; tests loop over all. */
 extern const cb_solver_type cb_solver_cholmod;
+extern const cb_solver_type cb_solver_jacobi;
+extern const cb_solver_type cb_solver_chebyshev;
+extern const cb_solver_type cb_solver_cg;
+extern const cb_solver_type cb_solver_pcg;
 extern const cb_solver_type *const cb_solver_types[];
 /* i-th registered name, or NULL past the end (used for config choices). */
 const char *cb_solver_name(int i);
@@ -70,6 +76,10 @@ int cb_solver_factor(cb_solver *s, const cb_sparse *A);
  * the lecture's choice) and the solution on return. */
 int cb_solver_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x);
 void cb_solver_free(cb_solver *s);
+
+/* rho(I - alpha D^-1 A) estimated by Lanczos on D^-1/2 A D^-1/2 (dhalf =
+ * D^-1/2), widened by the Ritz residual bounds; steps = Lanczos steps. */
+int cb_jacobi_spectral_radius(const cb_sparse *A, const double *dhalf, double alpha, double *rho, int *steps);
 
 /* |b - A x| / |b| (|b| = 0 gives |A x|). Uses work (n doubles). */
 double cb_relative_residual(const cb_sparse *A, const double *b, const double *x, double *work);
