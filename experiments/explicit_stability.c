@@ -77,13 +77,14 @@ static int scene_config(const cb_experiment *e, const scene_def *d, int n, doubl
   return cb_experiment_config(e, d->file, sets, c);
 }
 
+/* window: the requested energy-loss window (mark_time), 0 if none. */
 static void cell_row(const char *kind, const char *cas, const char *method, const cb_cell_result *r, double pred,
-                     double meas, double kinetic0, const char *note) {
+                     double meas, double kinetic0, double window, const char *note) {
   double loss = r->t_mark > 0 ? (r->energy0 - r->energy_mark) / r->t_mark : NAN; /* W: J per simulated s */
   fprintf(fmain, "%s,%s,%s,%d,%.17g,%.17g,%s,%s,%.17g,%.17g,%ld,%.17g,%.6f,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,"
-          "%ld,%d,%ld,%s,%s\n", kind, cas, cur_scene, cur_nv, cur_k, r->dt, method, cb_cell_class_name(r->cls),
+          "%.17g,%ld,%d,%ld,%s,%s\n", kind, cas, cur_scene, cur_nv, cur_k, r->dt, method, cb_cell_class_name(r->cls),
           r->max_energy_ratio, r->final_energy_ratio, r->steps, r->t_end, r->wall_ms, pred, meas, r->energy0,
-          r->energy_end, r->energy_scale, kinetic0, r->t_mark, loss, r->newton_iters, r->max_newton_iters,
+          r->energy_end, r->energy_scale, kinetic0, window, r->t_mark, loss, r->newton_iters, r->max_newton_iters,
           r->not_converged_steps, cb_status_name(r->step_status), note);
 }
 
@@ -94,10 +95,12 @@ static void keep(void *ctx, const cb_cell_result *r) {
 }
 
 /* E2: wall time to simulate 1 s from the case's start state; best of up to 3
- * runs while a run is under 300 ms. methods: 1 explicit, 2 newton, 4 newton_bw. */
+ * runs while a run is under 300 ms. methods: 1 explicit, 2 newton, 4 newton_bw.
+ * Converged Newton on 41^2 and 81^2 (20-30 solves a step, ~2.5 min for 1 s of
+ * 81^2) runs 10 steps (1/3 s); wall_ms_per_s scales every row to 1 s. */
 static int timing(cb_stability_case *c, double meas, int methods) {
   cb_stability_params p = cb_stability_params_default();
-  p.sim_time = 1.0; p.min_steps = 1; p.max_steps = 0; p.energy_every = 0;
+  p.min_steps = 1; p.max_steps = 0; p.energy_every = 0;
   cb_integrator_params ip;
   cb_solver_params sp = cb_solver_params_from_config(&c->scene->cfg);
   int st = cb_integrator_params_from_config(&c->scene->cfg, &ip);
@@ -109,6 +112,7 @@ static int timing(cb_stability_case *c, double meas, int methods) {
     static const char *const name[] = {"explicit", "newton", "newton_bw"};
     cb_integrator *it = m == 0 ? c->expl : m == 1 ? c->newton : bw;
     double dt = m == 0 ? 0.9 * meas : 1.0 / 30.0; /* explicit at 0.9 x its measured dt_crit; implicit at 1/30 s */
+    p.sim_time = m == 1 && cur_nv > 441 ? 1.0 / 3.0 : 1.0;
     cb_cell_result r, best;
     int reps = 0;
     do {
@@ -116,8 +120,8 @@ static int timing(cb_stability_case *c, double meas, int methods) {
       if (reps == 0 || r.wall_ms < best.wall_ms) best = r;
     } while (++reps < 3 && r.wall_ms < 300);
     if (st == CB_OK)
-      fprintf(ftime, "%s,%d,%.17g,%s,%.17g,%ld,%.17g,%.6f,%d,%s,%s,%ld,%.17g,%.17g\n", cur_scene, cur_nv, cur_k, name[m],
-              dt, best.steps, best.t_end, best.wall_ms, reps, cb_cell_class_name(best.cls),
+      fprintf(ftime, "%s,%d,%.17g,%s,%.17g,%ld,%.17g,%.6f,%.6f,%d,%s,%s,%ld,%.17g,%.17g\n", cur_scene, cur_nv, cur_k, name[m],
+              dt, best.steps, best.t_end, best.wall_ms, best.wall_ms / best.t_end, reps, cb_cell_class_name(best.cls),
               cb_status_name(best.step_status), best.newton_iters, meas, c->pred.dt_crit);
   }
   cb_integrator_free(bw);
@@ -133,6 +137,7 @@ static int run_case(const cb_experiment *e, const plan *p, const scene_def *d, i
   cb_case_params cp = cb_case_params_default();
   /* dense GSL on the chains, and on cloth21 at three k to check Lanczos; Lanczos otherwise */
   cp.eig = n == 0 || (n == 21 && ik % ((p->nk - 1) / 2) == 0) ? CB_EIG_BOTH : CB_EIG_LANCZOS;
+  cp.predict_rest = grid;
   cb_stability_case c;
   int st = scene_config(e, d, n, k, NULL, &cfg);
   if (st == CB_OK) st = cb_stability_case_init(&c, &cfg, &cp);
@@ -160,9 +165,9 @@ static int run_case(const cb_experiment *e, const plan *p, const scene_def *d, i
     if (j % sd == (p->ndt - 1) % sd && ik % d->nt_k_stride[q] == 0 && p->dt[j] >= d->nt_dt_min * 0.999)
       st = cb_stability_cell(c.newton, p->dt[j], c.x_start, c.v_start, c.S, &pn, &c.work, &newton.r[newton.n++]);
   double meas = st == CB_OK ? b.dt_stable : NAN;
-  for (int i = 0; st == CB_OK && i < sweep.n; i++) cell_row("sweep", "map", "explicit", &sweep.r[i], c.pred.dt_crit, meas, c.kinetic0, "");
-  for (int i = 0; st == CB_OK && i < bis.n; i++) cell_row("bisect", "boundary", "explicit", &bis.r[i], c.pred.dt_crit, meas, c.kinetic0, "");
-  for (int i = 0; st == CB_OK && i < newton.n; i++) cell_row("sweep", "map", "newton", &newton.r[i], c.pred.dt_crit, meas, c.kinetic0, "");
+  for (int i = 0; st == CB_OK && i < sweep.n; i++) cell_row("sweep", "map", "explicit", &sweep.r[i], c.pred.dt_crit, meas, c.kinetic0, 0, "");
+  for (int i = 0; st == CB_OK && i < bis.n; i++) cell_row("bisect", "boundary", "explicit", &bis.r[i], c.pred.dt_crit, meas, c.kinetic0, 0, "");
+  for (int i = 0; st == CB_OK && i < newton.n; i++) cell_row("sweep", "map", "newton", &newton.r[i], c.pred.dt_crit, meas, c.kinetic0, pn.mark_time, "");
   const cb_prediction *pr = &c.pred;
   if (st == CB_OK)
     fprintf(fbound, "%s,%d,%d,%.17g,%.17g,%.17g,%d,%s,%.17g,%.17g,%.17g,%s,%.17g,%.17g,%d,%s,%.17g,%.17g,%.17g,%.17g,"
@@ -217,7 +222,7 @@ static int extremes(const cb_experiment *e, const plan *p) {
       char msg[1024];
       snprintf(msg, sizeof msg, "%s: rejected when the scene is built: %s", x[i].note, cb_error_message());
       for (char *s = msg; *s; s++) if (*s == ',' || *s == '\n') *s = ';';
-      fprintf(fmain, "extreme,%s,cloth21,0,%.17g,nan,explicit,rejected,nan,nan,0,0,0,nan,nan,nan,nan,nan,nan,nan,nan,"
+      fprintf(fmain, "extreme,%s,cloth21,0,%.17g,nan,explicit,rejected,nan,nan,0,0,0,nan,nan,nan,nan,nan,nan,0,nan,nan,"
               "0,0,0,invalid_input,%s\n", x[i].cas, x[i].k, msg);
       continue;
     }
@@ -229,7 +234,7 @@ static int extremes(const cb_experiment *e, const plan *p) {
       if (m == 2) dt = !strcmp(x[i].cas, "dt_0.1") ? 0.1 : 1.0 / 30.0;
       if (!(dt > 0)) continue;
       st = cb_stability_cell(m == 2 ? c.newton : c.expl, dt, c.x_start, c.v_start, c.S, m == 2 ? &pn : &pe, &c.work, &r);
-      if (st == CB_OK) cell_row("extreme", x[i].cas, m == 2 ? "newton" : "explicit", &r, c.pred.dt_crit, NAN, c.kinetic0, x[i].note);
+      if (st == CB_OK) cell_row("extreme", x[i].cas, m == 2 ? "newton" : "explicit", &r, c.pred.dt_crit, NAN, c.kinetic0, 0, x[i].note);
     }
     cb_stability_case_free(&c);
     if (st) return st;
@@ -272,7 +277,7 @@ int main(int argc, char **argv) {
   cb_outfile ob, ot;
   if (cb_experiment_csv(&e, &e.csv, NULL, info,
         "kind,case,scene,n_vertices,k,dt,method,status,max_energy_ratio,final_energy_ratio,steps,t_end_s,wall_ms,"
-        "dt_crit_pred,dt_crit_meas,energy0_j,energy_end_j,energy_scale_j,kinetic0_j,t_mark_s,energy_loss_w,newton_iters,"
+        "dt_crit_pred,dt_crit_meas,energy0_j,energy_end_j,energy_scale_j,kinetic0_j,window_s,t_mark_s,energy_loss_w,newton_iters,"
         "max_newton_iters,not_converged_steps,step_status,note") ||
       cb_experiment_csv(&e, &ob, pb, info,
         "scene,n_vertices,n_free,k,vertex_mass_kg,equilibrium_residual,equilibrium_steps,equilibrium_status,max_strain,"
@@ -280,7 +285,7 @@ int main(int argc, char **argv) {
         "lambda_max_rest_per_s2,dt_crit_pred,dt_crit_pred_rest,dt_stable_grid,dt_unstable_grid,grid_monotone,dt_crit_meas,"
         "dt_crit_meas_hi,bisect_runs,bisect_status,equilibrium_ms,predict_ms") ||
       cb_experiment_csv(&e, &ot, pt, info,
-        "scene,n_vertices,k,method,dt,steps,sim_time_s,wall_ms,repeats,status,step_status,newton_iters,dt_crit_meas,"
+        "scene,n_vertices,k,method,dt,steps,sim_time_s,wall_ms,wall_ms_per_s,wall_repeats,status,step_status,newton_iters,dt_crit_meas,"
         "dt_crit_pred")) {
     fprintf(stderr, "explicit_stability: %s\n", cb_error_message());
     return 2;
