@@ -60,7 +60,7 @@ unset logscale y
 set format y '%.2f'
 set yrange [0.8:1.2]
 set key bottom right
-plot 0.85 with lines dt 3 lc rgb 'gray' title '±15%', 1.15 with lines dt 3 lc rgb 'gray' notitle, \
+plot 0.85 with lines dt 2 lw 2 lc rgb '#c05050' title '±15%', 1.15 with lines dt 2 lw 2 lc rgb '#c05050' notitle, \
      for [sc in 'spring chain20 cloth21 cloth41 cloth81'] bound using (is('scene',sc) ? column('k') : NaN): \
        (column('dt_crit_meas')/column('dt_crit_pred')) with linespoints lw 2 pt 7 title sc.' (hanging)', \
      for [sc in 'cloth21 cloth41'] bound using (is('scene',sc) ? column('k') : NaN): \
