@@ -156,10 +156,11 @@ static int pair_sweep(cb_experiment *e, FILE *f) {
     for (size_t r = 0; st == CB_OK && r < sizeof ratios / sizeof ratios[0]; r++) {
       double q = ratios[r], x[9] = {-q, 0, 0, 0, 0, 0, q, 0, 0}, m = s->mass[1], s2 = 1.0 / (cfg.dt * cfg.dt);
       double k = cfg.stretch_k, along = k, tr = k * (1 - 1 / q), Eb, dEb, d2Eb; /* one spring: k, k(1 - L/l) */
-      if (def == CB_DEF_CHOI_KO && q < 1) {
-        cb_choi_ko_response(1.0, q, cfg.buckling_kb, &Eb, &dEb, &d2Eb);
-        along = d2Eb;
-        tr = dEb / q;
+      cb_choi_ko ck;
+      if (def == CB_DEF_CHOI_KO && (st = cb_choi_ko_init(&ck, k, 1.0, cfg.buckling_kb)) == CB_OK) {
+        cb_choi_ko_eval(&ck, q, &Eb, &dEb, &d2Eb);
+        along = d2Eb; /* E''(l) */
+        tr = dEb / q; /* E'(l)/l */
       }
       tr = cb_definiteness_transverse(def, tr);
       for (int dim = 1; dim <= 3 && st == CB_OK; dim++) {

@@ -36,8 +36,21 @@ double cb_definiteness_transverse(cb_definiteness d, double coef);
 /* Choi & Ko's immediate-buckling response of a spring of rest length L
  * compressed to 0 < l < L, with bending stiffness kb (N m^2): its energy E (J),
  * dE/dl (N, negative: it pushes the ends apart) and d2E/dl^2 (N/m). Formulas
- * in definiteness.c. Returns theta = kappa L / 2. */
+ * in definiteness.c. Returns theta = kappa L / 2. Zeros for l >= L. */
 double cb_choi_ko_response(double L, double l, double kb, double *E, double *dE, double *d2E);
+
+/* The compressed spring as the choi-ko policy models it (definiteness.c):
+ * the linear spring k (l - L) while its push k (L - l) is below the buckling
+ * force f_b(l), the buckled arc beyond that, so the force is continuous. */
+typedef struct cb_choi_ko {
+  double k, L, kb; /* N/m, m, N m^2 */
+  double lc;       /* compression L - l* at which the spring buckles, m (L: never) */
+  double Ec;       /* buckling energy E_b(l*) at that point, J */
+} cb_choi_ko;
+/* Fails unless k > 12 pi^2 kb / L^3 (the buckled branch softer than the spring). */
+int cb_choi_ko_init(cb_choi_ko *c, double k, double L, double kb);
+/* E(l), dE/dl, d2E/dl^2 for any l > 0 (the linear spring for l >= L - lc). */
+void cb_choi_ko_eval(const cb_choi_ko *c, double l, double *E, double *dE, double *d2E);
 
 /* What terms are built from. Pinned vertices have free_index -1: their rows
  * and columns are eliminated from the matrix (not penalised). */

@@ -13,9 +13,10 @@
  * `diverged` rather than inventing a direction.
  *
  * Compressed response (cb_spring_term_set_response): with the Choi-Ko policy
- * a compressed spring (l < L) has instead the immediate-buckling energy
- * E_b(l) of definiteness.c, and then
- *   dE/dx_i = E_b'(l) u,   H_e = E_b''(l) uu^T + (E_b'(l)/l)(bi - uu^T),
+ * a compressed spring has instead the energy E(l) of cb_choi_ko_eval
+ * (definiteness.c: linear until it buckles, then the immediate-buckling arc),
+ * and then
+ *   dE/dx_i = E'(l) u,   H_e = E''(l) uu^T + (E'(l)/l)(bi - uu^T),
  * the same form as above with k -> E'' and k(1 - L/l) -> E'/l. */
 #include <math.h>
 #include <stdio.h>
@@ -31,8 +32,7 @@ typedef struct {
   int *ends;    /* 2*ns vertex indices */
   double *rest; /* ns rest lengths L, m */
   double k;     /* N/m */
-  int choi_ko;  /* compressed springs buckle (Choi & Ko 2002) instead of shortening */
-  double kb;    /* bending stiffness of the buckled spring, N m^2 */
+  cb_choi_ko *ck; /* ns: Choi-Ko response of each spring, or NULL (linear springs) */
   int *slot;    /* 8*ns: (slot, stride) of blocks ii, ij, ji, jj; slot -1 if pinned */
 } spring_term;
 
@@ -45,11 +45,11 @@ static double spring_energy(const cb_term *t, const double *x, double *grad) {
     double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     double stretch = l - s->rest[e];
     double c = s->k * stretch / l; /* dE/dx_i = k (l - L) x_ij / l */
-    if (s->choi_ko && stretch < 0) {
+    if (s->ck && stretch < 0) {
       double Eb, dEb, d2Eb;
-      cb_choi_ko_response(s->rest[e], l, s->kb, &Eb, &dEb, &d2Eb);
-      E += Eb;       /* E = E_b(l) */
-      c = dEb / l;   /* dE/dx_i = E_b'(l) x_ij / l */
+      cb_choi_ko_eval(&s->ck[e], l, &Eb, &dEb, &d2Eb);
+      E += Eb;       /* E = E(l) */
+      c = dEb / l;   /* dE/dx_i = E'(l) x_ij / l */
     } else {
       E += 0.5 * s->k * stretch * stretch; /* E = k/2 (l - L)^2 */
     }
@@ -98,11 +98,11 @@ static void spring_hessian(const cb_term *t, const double *x, cb_definiteness de
     double d[3] = {x[3 * i] - x[3 * j], x[3 * i + 1] - x[3 * j + 1], x[3 * i + 2] - x[3 * j + 2]};
     double l2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], l = sqrt(l2);
     double along = s->k, tr = s->k * (1.0 - s->rest[e] / l); /* k, k(1 - L/l) */
-    if (s->choi_ko && l < s->rest[e]) {
+    if (s->ck && l < s->rest[e]) {
       double Eb, dEb, d2Eb;
-      cb_choi_ko_response(s->rest[e], l, s->kb, &Eb, &dEb, &d2Eb);
-      along = d2Eb;   /* E_b''(l) */
-      tr = dEb / l;   /* E_b'(l) / l */
+      cb_choi_ko_eval(&s->ck[e], l, &Eb, &dEb, &d2Eb);
+      along = d2Eb;   /* E''(l) */
+      tr = dEb / l;   /* E'(l) / l */
     }
     tr = cb_definiteness_transverse(def, tr);
     double H[9];
@@ -123,6 +123,7 @@ static void spring_free(cb_term *t) {
   free(s->ends);
   free(s->rest);
   free(s->slot);
+  free(s->ck);
   free(s);
 }
 
@@ -171,8 +172,21 @@ int cb_spring_term_set_response(cb_term *t, cb_definiteness def, double kb) {
   if (def == CB_DEF_CHOI_KO && !(kb > 0 && isfinite(kb)))
     return cb_fail("%s springs: Choi-Ko bending stiffness must be > 0, got %g", t->label, kb);
   spring_term *s = (spring_term *)t;
-  s->choi_ko = def == CB_DEF_CHOI_KO;
-  s->kb = kb;
+  free(s->ck);
+  s->ck = NULL;
+  if (def != CB_DEF_CHOI_KO) return CB_OK;
+  s->ck = cb_malloc((size_t)(s->ns > 0 ? s->ns : 1), sizeof *s->ck);
+  if (!s->ck) return CB_ENOMEM;
+  for (int e = 0; e < s->ns; e++) {
+    int st = cb_choi_ko_init(&s->ck[e], s->k, s->rest[e], kb);
+    if (st) {
+      char msg[512];
+      snprintf(msg, sizeof msg, "%s", cb_error_message());
+      free(s->ck);
+      s->ck = NULL;
+      return cb_fail("%s spring %d: %s", t->label, e, msg);
+    }
+  }
   return CB_OK;
 }
 
@@ -191,7 +205,7 @@ int cb_spring_term_count_compressed(const cb_term *t, const double *x, int *nspr
 }
 
 int cb_spring_term_is_choi_ko(const cb_term *t) {
-  return t && t->type == &spring_type && ((const spring_term *)t)->choi_ko;
+  return t && t->type == &spring_type && ((const spring_term *)t)->ck;
 }
 
 void cb_term_free(cb_term *t) {

@@ -206,8 +206,11 @@ int cb_scene_build(const cb_config *cfg, cb_scene **out) {
   for (int k = 0; st == CB_OK && k < nterms; k++)
     if (terms[k]->type == cb_term_spring) {
       st = cb_spring_term_set_response(terms[k], def, cfg->buckling_kb);
-      if (st) st = cb_fail("%s: material.buckling_kb: %s", cb_config_where(cfg, "material.buckling_kb", w, sizeof w),
-                           cb_error_message());
+      if (st) {
+        char msg[1024];
+        snprintf(msg, sizeof msg, "%s", cb_error_message());
+        st = cb_fail("%s: material.buckling_kb: %s", cb_config_where(cfg, "material.buckling_kb", w, sizeof w), msg);
+      }
     }
   if (st == CB_OK) st = cb_system_init(&s->sys, &s->model, terms, nterms);
   else
