@@ -29,7 +29,7 @@ static const scene_def scenes[NSCENE] = {
   "cg_breakdowns,mu_max,factorizations,wall_ms,probe_ms,final_f_j,final_energy_j,final_rel_grad," \
   "shape_diff_none_m,shape_diff_drop_m,status"
 
-static void put_row(FILE *f, const char *sc, const char *pol, int step, const cb_trace_row *r, int exact_run) {
+static void put_row(FILE *f, const char *sc, const char *pol, int step, const cb_newton_trace_row *r, int exact_run) {
   fprintf(f, "%s,%s,%d,%d,%d,", sc, pol, step, r->iter, r->system);
   if (r->system) {
     const cb_spd_probe_result *u = &r->used, *x = exact_run ? &r->used : &r->exact;
@@ -63,14 +63,15 @@ typedef struct {
 static int run_policy(cb_experiment *e, const scene_def *sd, int p, FILE *it, FILE *stp, tally *t, int *nv) {
   char pol[64];
   snprintf(pol, sizeof pol, "integrator.definiteness=%s", policies[p]);
-  const char *sets[10], *refsets[10];
+  const char *sets[12], *refsets[12];
   int n = 0, steps = e->quick ? sd->quick_steps : sd->steps;
   for (; sd->sets[n]; n++) sets[n] = refsets[n] = sd->sets[n];
-  sets[n] = pol; refsets[n] = "integrator.definiteness=none"; sets[n + 1] = refsets[n + 1] = NULL;
+  sets[n] = refsets[n] = "integrator.tol_dx=1e-9"; /* |grad F(x0)| can be tiny at rest: stop at round-off */
+  sets[n + 1] = pol; refsets[n + 1] = "integrator.definiteness=none"; sets[n + 2] = refsets[n + 2] = NULL;
   cb_config cfg, rcfg;
   cb_scene *s = NULL, *ref = NULL; /* ref: linear springs, for the exact (none) matrix at our iterates */
   cb_integrator *integ = NULL;
-  cb_trace tr = {0};
+  cb_newton_trace tr = {0};
   cb_run run = {0};
   cb_integrator_params ip;
   int st = cb_experiment_config(e, "hanging.ini", sets, &cfg);
@@ -78,23 +79,23 @@ static int run_policy(cb_experiment *e, const scene_def *sd, int p, FILE *it, FI
   if (st == CB_OK && p > 0) st = cb_experiment_config(e, "hanging.ini", refsets, &rcfg);
   if (st == CB_OK && p > 0) st = cb_scene_build(&rcfg, &ref);
   if (st == CB_OK) st = cb_integrator_params_from_config(&cfg, &ip);
-  if (st == CB_OK) st = cb_trace_init(&tr, s, ref ? &ref->sys : NULL, ip.dt, ip.max_iters + 1,
+  if (st == CB_OK) st = cb_newton_trace_init(&tr, s, ref ? &ref->sys : NULL, ip.dt, ip.max_iters + 1,
                                       CB_PROBE_EIG | CB_PROBE_CG, CB_PROBE_CHOLMOD | CB_PROBE_EIG, NULL);
-  ip.hook = cb_trace_hook;
+  ip.hook = cb_newton_trace_hook;
   ip.hook_ctx = &tr;
   cb_solver_params sp = cb_solver_params_from_config(&cfg);
   if (st == CB_OK) st = cb_integrator_alloc(cfg.method, s, &ip, cfg.solver, &sp, &integ);
   if (st == CB_OK) st = cb_run_init(&run, s, integ);
   for (int k = 0; st == CB_OK && k < steps; k++) {
-    cb_trace_begin_step(&tr);
+    cb_newton_trace_begin_step(&tr);
     t->status = cb_run_step(&run);
-    cb_trace_end_step(&tr, t->status);
+    cb_newton_trace_end_step(&tr, t->status);
     if ((st = tr.error)) break;
     const cb_step_stats *ss = &run.last;
-    const cb_trace_row *fin = &tr.rows[tr.nrows - 1];
+    const cb_newton_trace_row *fin = &tr.rows[tr.nrows - 1];
     double wall = ss->wall_ms - tr.probe_ms; /* the integrator's time, probes excluded */
     for (int r = 0; r < tr.nrows; r++) {
-      const cb_trace_row *w = &tr.rows[r];
+      const cb_newton_trace_row *w = &tr.rows[r];
       put_row(it, sd->name, policies[p], run.step, w, p == 0);
       t->systems += w->system;
       t->not_spd += w->system && w->status == CB_NOT_SPD;
@@ -127,7 +128,7 @@ static int run_policy(cb_experiment *e, const scene_def *sd, int p, FILE *it, FI
   }
   cb_run_free(&run);
   cb_integrator_free(integ);
-  cb_trace_free(&tr);
+  cb_newton_trace_free(&tr);
   cb_scene_free(s);
   cb_scene_free(ref);
   return st;

@@ -16,7 +16,7 @@ double cb_compressed_fraction(const cb_system *sys, const double *x) {
   return n > 0 ? (double)c / n : 0.0;
 }
 
-int cb_trace_init(cb_trace *t, const cb_scene *scene, cb_system *ref, double dt, int cap, unsigned what_used,
+int cb_newton_trace_init(cb_newton_trace *t, const cb_scene *scene, cb_system *ref, double dt, int cap, unsigned what_used,
                   unsigned what_exact, const cb_spd_probe_params *params) {
   memset(t, 0, sizeof *t);
   t->scene = scene;
@@ -29,11 +29,11 @@ int cb_trace_init(cb_trace *t, const cb_scene *scene, cb_system *ref, double dt,
   if (!t->rows) return CB_ENOMEM;
   int st = cb_spd_probe_alloc(&scene->sys.A, params, &t->probe);
   if (st == CB_OK && ref) st = cb_spd_probe_alloc(&ref->A, params, &t->probe_ref);
-  if (st) cb_trace_free(t);
+  if (st) cb_newton_trace_free(t);
   return st;
 }
 
-void cb_trace_free(cb_trace *t) {
+void cb_newton_trace_free(cb_newton_trace *t) {
   cb_spd_probe_free(t->probe);
   cb_spd_probe_free(t->probe_ref);
   free(t->rows);
@@ -42,13 +42,13 @@ void cb_trace_free(cb_trace *t) {
 
 /* Closes the open row: its wall time is the time since it was opened minus
  * the probe time spent since then. */
-static void close_row(cb_trace *t, double now) {
+static void close_row(cb_newton_trace *t, double now) {
   if (!t->open) return;
   t->rows[t->nrows - 1].wall_ms = (now - t->t_mark) - (t->probe_ms - t->probe_ms_mark);
   t->open = 0;
 }
 
-void cb_trace_begin_step(cb_trace *t) {
+void cb_newton_trace_begin_step(cb_newton_trace *t) {
   t->nrows = 0;
   t->open = 0;
   t->probe_ms = 0;
@@ -56,19 +56,19 @@ void cb_trace_begin_step(cb_trace *t) {
   t->probe_ms_mark = 0;
 }
 
-void cb_trace_end_step(cb_trace *t, int status) {
+void cb_newton_trace_end_step(cb_newton_trace *t, int status) {
   close_row(t, cb_now_ms());
   if (t->nrows > 0 && !t->rows[t->nrows - 1].system) t->rows[t->nrows - 1].status = status;
 }
 
-void cb_trace_hook(void *ctx, int event, const cb_newton_event *ev) {
-  cb_trace *t = ctx;
+void cb_newton_trace_hook(void *ctx, int event, const cb_newton_event *ev) {
+  cb_newton_trace *t = ctx;
   double now = cb_now_ms();
   if (event == CB_NEWTON_GRADIENT) {
     double mark = t->nrows == 0 ? t->t_mark : now; /* row 0 includes the first gradient */
     close_row(t, now);
     if (t->nrows == t->cap) return; /* cannot happen with cap = max_iters + 1 */
-    cb_trace_row *r = &t->rows[t->nrows++];
+    cb_newton_trace_row *r = &t->rows[t->nrows++];
     memset(r, 0, sizeof *r);
     r->iter = ev->iter;
     r->rel_grad = ev->rel_grad;
@@ -85,7 +85,7 @@ void cb_trace_hook(void *ctx, int event, const cb_newton_event *ev) {
     return;
   }
   if (event != CB_NEWTON_SOLVED || t->nrows == 0) return;
-  cb_trace_row *r = &t->rows[t->nrows - 1];
+  cb_newton_trace_row *r = &t->rows[t->nrows - 1];
   r->system = 1;
   r->status = ev->status;
   r->mu = ev->shift_mu;
