@@ -230,11 +230,13 @@ void cb_check_h2(const cb_table *csv, const char *dir, cb_claim_result *out) {
     int bd = si >= 0 && pi >= 0 ? d->sc[si].cg_bd[pi] : 0;
     double steps = cb_table_num(&runs, r, rc[2]), done = cb_table_num(&runs, r, rc[3]), conv = cb_table_num(&runs, r, rc[4]);
     double per = done > 0 ? 1.0 / done : NAN;
+    char dn[32] = "-", dd[32] = "-"; /* shape differences, when the reference run finished */
+    if (!isnan(cb_table_num(&runs, r, rc[8]))) snprintf(dn, sizeof dn, "%.3g", cb_table_num(&runs, r, rc[8]));
+    if (!isnan(cb_table_num(&runs, r, rc[9]))) snprintf(dd, sizeof dd, "%.3g", cb_table_num(&runs, r, rc[9]));
     cb_claim_numbers(out, "| %s | %s | %d / %d | %d | %.0f (%.0f) / %.0f | %.2f | %.2f | %.1f | %.3g | %s | %s | %.6g |\n", sn,
                      pn, fail, sys, bd, done, conv, steps, cb_table_num(&runs, r, rc[5]) * per,
                      cb_table_num(&runs, r, rc[6]) * per, cb_table_num(&runs, r, rc[7]) * per,
-                     cb_table_num(&runs, r, rc[11]), cb_table_str(&runs, r, rc[8])[0] ? cb_table_str(&runs, r, rc[8]) : "-",
-                     cb_table_str(&runs, r, rc[9])[0] ? cb_table_str(&runs, r, rc[9]) : "-", cb_table_num(&runs, r, rc[10]));
+                     cb_table_num(&runs, r, rc[11]), dn, dd, cb_table_num(&runs, r, rc[10]));
     if (f < 0) continue;
     seen[f] = 1;
     if (fail > 0 || bd > 0 || !(done == steps) || sys == 0) ok[f] = 0;

@@ -92,7 +92,8 @@ static int run_policy(cb_experiment *e, const scene_def *sd, int p, FILE *it, FI
     cb_newton_trace_end_step(&tr, t->status);
     if ((st = tr.error)) break;
     const cb_step_stats *ss = &run.last;
-    const cb_newton_trace_row *fin = &tr.rows[tr.nrows - 1];
+    cb_newton_trace_row none_seen = {.energy = NAN, .compressed_frac = NAN}; /* F was NaN before any hook */
+    const cb_newton_trace_row *fin = tr.nrows ? &tr.rows[tr.nrows - 1] : &none_seen;
     double wall = ss->wall_ms - tr.probe_ms; /* the integrator's time, probes excluded */
     for (int r = 0; r < tr.nrows; r++) {
       const cb_newton_trace_row *w = &tr.rows[r];

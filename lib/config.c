@@ -58,7 +58,7 @@ static const keydef keys[] = {
   {"material.bend_k", T_DOUBLE, O(bend_k), "100", "N/m", 0, 1e15, 0, NULL, NULL,
    "Stiffness of the bending springs."},
   {"material.buckling_kb", T_DOUBLE, O(buckling_kb), "0.01", "N m^2", 0, 1e15, 1, NULL, NULL,
-   "Bending stiffness k_b of Choi & Ko's immediate-buckling response, used by every spring when `integrator.definiteness = choi-ko`: a compressed spring (|x| < L) bends into an arc of length L with energy k_b L kappa^2 / 2 instead of shortening (its push is 12 k_b/L^2 at the onset of compression)."},
+   "Bending stiffness k_b of Choi & Ko's immediate-buckling response, used by every spring when `integrator.definiteness = choi-ko`: a compressed spring (|x| < L) bends into an arc of length L with energy k_b L kappa^2 / 2 instead of shortening, once its linear push k(L - |x|) reaches the arc's push f_b >= 12 k_b/L^2 (so the force stays continuous). Needs k > 12 pi^2 k_b / L^3."},
   {"scene.gravity", T_VEC3, O(gravity), "0 -9.8 0", "m/s^2", -1e6, 1e6, 0, NULL, NULL,
    "Gravitational acceleration (3 numbers); `0 0 0` leaves the gravity term out."},
   {"scene.pins", T_PINS, O(pins), "top-corners", "-", 0, 0, 0, NULL, NULL,
