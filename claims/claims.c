@@ -9,6 +9,8 @@
 /* Checkers live in claims/check_<experiment>.c; declare them here. */
 void cb_check_T1(const cb_table *t, const char *results_dir, cb_claim_result *out);
 void cb_check_T2(const cb_table *t, const char *results_dir, cb_claim_result *out);
+void cb_check_h1(const cb_table *csv, const char *dir, cb_claim_result *out);
+void cb_check_h2(const cb_table *csv, const char *dir, cb_claim_result *out);
 
 const cb_claim cb_claims[] = {
   {"T1", "topology", "Sorting edge triples (i<j, triangle) gives the unique edge list and the neighbouring-triangle pairs.",
@@ -29,10 +31,10 @@ const cb_claim cb_claims[] = {
   {"I3", NULL, "Baraff-Witkin's single Newton iteration is fast but can fail to converge.",
    "Step error and wall time for K = 1, 2, 3, 5, 10 and converged; the (dt, k, stretch) regime where K = 1 has error above 1% or diverges.",
    NULL, NULL},
-  {"H1", NULL, "A spring's Hessian is SPD when stretched and may be indefinite when compressed; A = M/dt^2 + H can then be indefinite.",
-   "Fraction of Newton iterations with indefinite A on compression scenes.", NULL, NULL},
-  {"H2", NULL, "Dropping the (1 - L/|x|) term when |x| < L restores definiteness; other fixes work at different costs.",
-   "Per fix: SPD rate, CG breakdowns, Newton iterations, wall time, final energy.", NULL, NULL},
+  {"H1", "definiteness", "A spring's Hessian is SPD when stretched and may be indefinite when compressed; A = M/dt^2 + H can then be indefinite.",
+   "Fraction of Newton iterations with indefinite A on compression scenes.", "definiteness_h1.png", cb_check_h1},
+  {"H2", "definiteness", "Dropping the (1 - L/|x|) term when |x| < L restores definiteness; other fixes work at different costs.",
+   "Per fix: SPD rate, CG breakdowns, Newton iterations, wall time, final energy.", "definiteness_residual.png", cb_check_h2},
   {"J1", NULL, "Vanilla Jacobi needs A diagonally dominant; alpha < 2/lambda_max(D^-1 A) makes it converge for any SPD A.",
    "alpha sweep on a non-diagonally-dominant SPD A: divergence at alpha = 1 where predicted, convergence for small alpha, measured rate matches rho(I - alpha D^-1 A).",
    NULL, NULL},
