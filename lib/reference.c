@@ -23,7 +23,7 @@ struct cb_reference {
 };
 
 cb_reference_params cb_reference_params_default(void) {
-  cb_reference_params p = {.dt = 1.0 / 30, .tol = 1e-12, .tol_dx = 0, .max_iters = 200, .log = NULL, .log_ctx = NULL};
+  cb_reference_params p = {.dt = 1.0 / 30, .tol = 1e-12, .tol_dx = 0, .max_iters = 500, .log = NULL, .log_ctx = NULL};
   return p;
 }
 
