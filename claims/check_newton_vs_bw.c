@@ -63,7 +63,7 @@ static const int I2_LS[I2_VARIANTS] = {1, 1, 0, 1, 0};
 typedef struct {
   int runs, ok, with_order, ls_steps, ls_iters, shifted_iters;
   double orders[I2_MAXSTEPS];
-  char fails[256];
+  char fails[256], ls_where[256];
 } i2_stat;
 
 void cb_check_newton_vs_bw_i2(const cb_table *main_csv, const char *dir, cb_claim_result *out) {
@@ -105,6 +105,9 @@ void cb_check_newton_vs_bw_i2(const cb_table *main_csv, const char *dir, cb_clai
                  s->fails[0] ? "; " : "", status, cb_table_str(&t, r, cs));
       s->ls_iters += reduced;
       s->ls_steps += reduced > 0;
+      if (reduced && strlen(s->ls_where) < sizeof s->ls_where - 24)
+        snprintf(s->ls_where + strlen(s->ls_where), sizeof s->ls_where - strlen(s->ls_where), "%s%s (%d)",
+                 s->ls_where[0] ? ", " : "", cb_table_str(&t, r, cs), reduced);
       double p;
       if (s->with_order < I2_MAXSTEPS && cb_convergence_order(g, use, n, I2_LOCAL, I2_FLOOR, &p, NULL) == 0)
         s->orders[s->with_order++] = p;
@@ -130,6 +133,9 @@ void cb_check_newton_vs_bw_i2(const cb_table *main_csv, const char *dir, cb_clai
                      s->with_order ? s->orders[0] : NAN, s->with_order ? s->orders[s->with_order - 1] : NAN,
                      s->ls_steps, s->ls_iters, s->shifted_iters);
   }
+  for (int v = 0; v < I2_VARIANTS; v++)
+    if (S[v].ls_where[0])
+      cb_claim_numbers(out, "\n%s, line search: alpha < 1 at steps (iterations): %s.\n", I2_DEF[v], S[v].ls_where);
   for (int v = 1; v < I2_VARIANTS; v++)
     if (S[v].fails[0]) cb_claim_numbers(out, "\n%s Hessian, line search %s, did not converge: %s.\n", I2_DEF[v],
                                         I2_LS[v] ? "on" : "off", S[v].fails);
@@ -197,6 +203,51 @@ static int i3_points(const cb_table *t, const char *scene, i3_point *P) {
 }
 
 static const char *const I3_SCENES[] = {"lab", "grid64", "stiff"};
+
+/* Trajectory summary (reported, not part of the verdict): per method the RMS
+ * position error against the converged trajectory at the end, the first
+ * failing step, and the time-discretisation error at the same time. */
+static void trajectories(const char *dir, cb_claim_result *out) {
+  cb_table t, d;
+  char path[4096];
+  snprintf(path, sizeof path, "%s/newton_vs_bw_traj.csv", dir);
+  if (cb_table_read(path, &t)) return;
+  int cm = cb_table_col(&t, "method"), ci = cb_table_col(&t, "inner_solver"), cl = cb_table_col(&t, "line_search"),
+      cs = cb_table_col(&t, "step"), ct = cb_table_col(&t, "t_s"), ce = cb_table_col(&t, "pos_error_m"),
+      cst = cb_table_col(&t, "status"), cE = cb_table_col(&t, "energy_j"), cR = cb_table_col(&t, "ref_energy_j");
+  if (cm < 0 || ci < 0 || cl < 0 || cs < 0 || ct < 0 || ce < 0 || cst < 0 || cE < 0 || cR < 0) {
+    cb_table_free(&t);
+    return;
+  }
+  cb_claim_numbers(out, "\nTrajectories of the lab scene against the converged trajectory at the same dt:\n\n"
+                        "| method | inner | line search | t end (s) | RMS position error at the end (m) | max (m) | "
+                        "E - E_ref at the end (J) | first failing step |\n|---|---|---|---|---|---|---|---|\n");
+  double tend = 0;
+  for (int r = 0; r < t.nrows; r++) {
+    int last = r + 1 == t.nrows || cb_table_num(&t, r + 1, cs) == 0;
+    if (!last || !strcmp(cb_table_str(&t, r, cm), "reference")) continue;
+    int r0 = r;
+    while (r0 > 0 && cb_table_num(&t, r0, cs) > 0) r0--;
+    double emax = 0;
+    for (int q = r0; q <= r; q++)
+      if (cb_table_num(&t, q, ce) > emax) emax = cb_table_num(&t, q, ce);
+    const char *st = cb_table_str(&t, r, cst);
+    int failed = strcmp(st, "ok") && strcmp(st, "max_iters");
+    if (cb_table_num(&t, r, ct) > tend) tend = cb_table_num(&t, r, ct);
+    cb_claim_numbers(out, "| %s | %s | %s | %.3g | %.2e | %.2e | %.3g | %s%s%s |\n", cb_table_str(&t, r, cm),
+                     cb_table_str(&t, r, ci), cb_table_num(&t, r, cl) > 0 ? "yes" : "no", cb_table_num(&t, r, ct),
+                     cb_table_num(&t, r, ce), emax, cb_table_num(&t, r, cE) - cb_table_num(&t, r, cR),
+                     failed ? cb_table_str(&t, r, cs) : "-", failed ? " " : "", failed ? st : "");
+  }
+  cb_table_free(&t);
+  snprintf(path, sizeof path, "%s/newton_vs_bw_dt.csv", dir);
+  if (cb_table_read(path, &d)) return;
+  int dt_ = cb_table_col(&d, "t_s"), de = cb_table_col(&d, "pos_error_m");
+  if (dt_ >= 0 && de >= 0 && d.nrows > 0)
+    cb_claim_numbers(out, "\nTime-discretisation error (converged implicit Euler at dt against dt/16), RMS position: "
+                          "%.2e m at t = %.3g s.\n", cb_table_num(&d, d.nrows - 1, de), cb_table_num(&d, d.nrows - 1, dt_));
+  cb_table_free(&d);
+}
 
 void cb_check_newton_vs_bw_i3(const cb_table *t, const char *dir, cb_claim_result *out) {
   static i3_point P[I3_MAXM];
@@ -270,6 +321,7 @@ void cb_check_newton_vs_bw_i3(const cb_table *t, const char *dir, cb_claim_resul
   cb_table_free(&rg);
   cb_claim_numbers(out, "\n%d of %d cells fail (%d diverge); the reference did not converge in %d cells.\n", fails,
                    cells, diverged, ref_bad);
+  trajectories(dir, out);
   int can_fail = fails > 0;
   if (scenes == 0 || cells == 0) {
     out->verdict = CB_NOT_RUN;

@@ -98,8 +98,11 @@ int main(int argc, char **argv) {
       nm = methods(KS, 6, NOCHEB, 3, 0, M);
       nm += methods(KS, 2, CHEB, sc == 0 ? 2 : 1, sc == 0, M + nm);
       states = ST_LAB_Q, ns = 1;
+    } else if (sc == 2) { /* stiff: Chebyshev up to K = 5 (inexact Newton with it needs ~100 Lanczos runs) */
+      nm = methods(KS, 6, NOCHEB, 3, 0, M);
+      nm += methods(KS, 4, CHEB, 2, 0, M + nm);
     } else {
-      nm = methods(KS, 6, ALL, 5, sc == 0, M);
+      nm = methods(KS, 6, ALL, 5, 1, M);
     }
     cb_progress_start(&e.progress, SCENES[sc].label, (long)nm * ns);
     st = cb_study_steps(s, SCENES[sc].label, s->cfg.dt, states, ns, M, nm, csv.f, &e.progress, P);

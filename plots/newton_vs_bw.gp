@@ -25,17 +25,20 @@ finite(e) = (e == e && e < 1e300) ? e : NaN
 
 set output out.'/newton_vs_bw_pareto.'.ext
 set terminal push
-if (ext eq 'svg') { set terminal svg size 1500,560 dynamic enhanced font 'sans,11' background rgb 'white' } \
-else { set terminal pngcairo size 1500,560 enhanced font 'sans,10' }
-set multiplot layout 1,3 title 'I3: step error against run time (one implicit Euler step, error vs converged x*)'
+if (ext eq 'svg') { set terminal svg size 1500,640 dynamic enhanced font 'sans,11' background rgb 'white' } \
+else { set terminal pngcairo size 1500,640 enhanced font 'sans,10' }
+set multiplot title 'I3: step error against run time (one implicit Euler step, error vs converged x*)'
 set logscale xy
 set format y '10^{%L}'
 set format x '10^{%L}'
 set xlabel 'wall time per step (ms, median over start states)'
 set ylabel 'step error |x - x*|_M / |x* - x^0|_M (max over states)'
 set yrange [1e-12:100]
+unset key
 do for [s = 1:3] {
   set title STITLE[s]
+  set origin (s - 1) / 3.0, 0.16
+  set size 1 / 3.0, 0.78
   # (common.gp reads the first row of every data source as its header: give $FRONT one)
   set print $FRONT
   print 'wall_ms,step_error_max'
@@ -43,23 +46,47 @@ do for [s = 1:3] {
   set table $FRONT append separator comma
   plot pareto using 'wall_ms':'step_error_max' with table if (strcol('scene') eq SCENE[s] && column('on_front') == 1)
   unset table
-  if (s == 1) { set key top right font ',8' maxrows 8 width -2 opaque } else { unset key }
   plot pareto using (strcol('scene') eq SCENE[s] ? column('wall_ms') : NaN):(finite(column('step_error_max'))): \
          (k_pt(column('k_index'), column('line_search'))):(inner_col(column('inner_index'))) \
-         with points pt variable ps 1.1 lc rgb variable notitle, \
-       $FRONT using 1:2 with lines lw 2 lc rgb 'black' title 'Pareto front', \
+         with points pt variable ps 1.1 lc rgb variable, \
+       $FRONT using 1:2 with lines lw 2 lc rgb 'black', \
        pareto using (strcol('scene') eq SCENE[s] && column('inner_index') == 2 ? column('wall_no_setup_ms') : NaN):(finite(column('step_error_max'))) \
-         with points pt 1 ps 0.8 lc rgb '#2ca02c' title 'cheb32 without {/Symbol r} set-up', \
-       for [i = 1:6] NaN with points pt 7 lc rgb COLOR[i] title INNER[i], \
-       for [k = 1:6] NaN with points pt PT_FILLED[k] lc rgb 'black' title KNAME[k], \
-       NaN with points pt 6 lc rgb 'black' title 'open: line search', \
+         with points pt 1 ps 0.8 lc rgb '#2ca02c', \
        pareto using (strcol('scene') eq SCENE[s] && column('failed') > 0 ? column('wall_ms') : NaN):(30): \
-         (inner_col(column('inner_index'))) with points pt 2 ps 1.5 lw 2 lc rgb variable title 'step failed (plotted at 30)', \
-       1e-2 with lines dt 2 lc rgb 'gray' title '1%'
+         (inner_col(column('inner_index'))) with points pt 2 ps 1.5 lw 2 lc rgb variable, \
+       1e-2 with lines dt 2 lc rgb 'gray'
 }
-set key
+# the legend, in a strip below the panels
+set origin 0, 0
+set size 1, 0.15
+unset border
+unset tics
+unset xlabel
+unset ylabel
+unset title
+unset grid
+unset logscale
+set xrange [0:1]
+set yrange [0:1]
+set key at screen 0.5, 0.08 center center horizontal maxcols 8 font ',9' noopaque nobox
+plot NaN with lines lw 2 lc rgb 'black' title 'Pareto front', \
+     for [i = 1:6] NaN with points pt 7 lc rgb COLOR[i] title INNER[i], \
+     NaN with points pt 1 lc rgb '#2ca02c' title 'cheb32 without {/Symbol r} set-up', \
+     for [k = 1:6] NaN with points pt PT_FILLED[k] lc rgb 'black' title KNAME[k], \
+     NaN with points pt 6 lc rgb 'black' title 'open symbol: line search', \
+     NaN with points pt 2 lw 2 lc rgb 'black' title 'step failed (drawn at 30)', \
+     NaN with lines dt 2 lc rgb 'gray' title 'error 1%'
+set border
+set tics
+set grid
+set xrange [*:*]
+set yrange [*:*]
 unset multiplot
 set terminal pop
+set key default
+set key box opaque
+set origin 0, 0
+set size 1, 1
 unset logscale
 set format x '% g'
 set format y '% g'
@@ -109,11 +136,11 @@ set output out.'/newton_vs_bw_convergence.'.ext
 set title "I2: Newton's convergence on the stretched hanging cloth (initial scale 1.5, k = 8000 N/m, dt = 1/30 s)"
 set logscale y
 set format y '10^{%L}'
-set xlabel 'Newton iteration' offset 0,0.6
+set xlabel 'Newton iteration'
 set ylabel 'relative |{/Symbol \321}F| = |{/Symbol \321}F(x^{(k)})| / |{/Symbol \321}F(x^{(0)})|'
-set yrange [1e-16:10]
+set yrange [1e-16:1e7]
 set xrange [0:*]
-set key outside bottom center horizontal maxrows 4 font ',9'
+set key inside top right font ',9'
 array SHOW[3] = [0, 2, 4]
 run(def, ls, st) = (strcol('definiteness') eq def && column('line_search') == ls && column('step') == st)
 plot for [j = 1:3] i2 using (run('exact_or_shift', 1, SHOW[j]) ? column('iter') : NaN):'rel_grad' \
@@ -125,7 +152,6 @@ unset logscale
 set format y '% g'
 set yrange [*:*]
 set xrange [*:*]
-set xlabel offset 0,0
 
 # ---- trajectories: position error against the converged trajectory ---------
 set output out.'/newton_vs_bw_trajectory.'.ext
@@ -134,16 +160,17 @@ set logscale y
 set format y '10^{%L}'
 set xlabel 'time t (s)'
 set ylabel 'RMS position error |x - x_{ref}|_M / M^{1/2} (m)'
-set yrange [1e-12:10]
-set key inside bottom right font ',9'
+set yrange [1e-12:1e6]
+set key inside top left maxrows 5 font ',9'
 array TDASH[8] = [1, 1, 1, 1, 1, 1, 2, 2]
+array TCOL[8] = [0x9400d3, 0x009e73, 0x56b4e9, 0xe69f00, 0xd4c000, 0x0072b2, 0xe51e10, 0x7f7f7f]
 tr(m, inn, ls) = (strcol('method') eq m && strcol('inner_solver') eq inn && column('line_search') == ls)
 array TM[8] = ['newton_k1', 'newton_k2', 'newton_k3', 'newton_k5', 'newton_k10', 'newton_converged', 'newton_k1', 'newton_k1']
 array TI[8] = ['cholmod', 'cholmod', 'cholmod', 'cholmod', 'cholmod', 'cholmod', 'cg32', 'cheb32']
 array TT[8] = ['K = 1 (Baraff-Witkin), CHOLMOD', 'K = 2, CHOLMOD', 'K = 3, CHOLMOD', 'K = 5, CHOLMOD', 'K = 10, CHOLMOD', \
                'converged (tol 1e-8), CHOLMOD', 'K = 1, CG cut at 32', 'K = 1, Chebyshev-Jacobi cut at 32']
 plot for [j = 1:8] traj using (tr(TM[j], TI[j], 0) && column('step') > 0 ? column('t_s') : NaN):(finite(column('pos_error_m'))) \
-       with lines lw 2 lc j dashtype TDASH[j] title TT[j], \
+       with lines lw 2 lc rgb TCOL[j] dashtype TDASH[j] title TT[j], \
      dterr using 't_s':'pos_error_m' with lines lw 3 dt 2 lc rgb 'black' title 'time-discretisation error: dt against dt/16 (converged)'
 unset logscale
 set format y '% g'
@@ -160,7 +187,7 @@ set xlabel 'time t (s)'
 set ylabel 'E(t) - E(0) (J)'
 set key inside bottom left font ',9'
 plot traj using (strcol('method') eq 'reference' ? column('t_s') : NaN):'energy_drift_j' with lines lw 4 lc rgb 'black' title 'converged (reference)', \
-     traj using (tr(TM[1], TI[1], 0) ? column('t_s') : NaN):'energy_drift_j' with lines lw 2 lc 1 title TT[1]
+     traj using (tr(TM[1], TI[1], 0) ? column('t_s') : NaN):'energy_drift_j' with lines lw 2 lc rgb TCOL[1] title TT[1]
 set title 'energy difference to the converged trajectory'
 set logscale y
 set format y '10^{%L}'
@@ -168,6 +195,6 @@ set ylabel '|E(t) - E_{ref}(t)| (J)'
 set yrange [1e-10:1e4]
 set key inside bottom right font ',8' maxrows 4
 plot for [j = 1:8] traj using (tr(TM[j], TI[j], 0) && column('step') > 0 ? column('t_s') : NaN): \
-       (abs(column('energy_j') - column('ref_energy_j'))) with lines lw 1.5 lc j dashtype TDASH[j] title TT[j]
+       (abs(column('energy_j') - column('ref_energy_j'))) with lines lw 1.5 lc rgb TCOL[j] dashtype TDASH[j] title TT[j]
 unset multiplot
 set terminal pop
