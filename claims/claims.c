@@ -11,6 +11,8 @@ void cb_check_T1(const cb_table *t, const char *results_dir, cb_claim_result *ou
 void cb_check_T2(const cb_table *t, const char *results_dir, cb_claim_result *out);
 void cb_check_h1(const cb_table *csv, const char *dir, cb_claim_result *out);
 void cb_check_h2(const cb_table *csv, const char *dir, cb_claim_result *out);
+void cb_check_newton_vs_bw_i2(const cb_table *csv, const char *results_dir, cb_claim_result *out);
+void cb_check_newton_vs_bw_i3(const cb_table *csv, const char *results_dir, cb_claim_result *out);
 
 const cb_claim cb_claims[] = {
   {"T1", "topology", "Sorting edge triples (i<j, triangle) gives the unique edge list and the neighbouring-triangle pairs.",
@@ -26,11 +28,12 @@ const cb_claim cb_claims[] = {
    NULL, NULL},
   {"I1", NULL, "Implicit Euler (converged Newton) stays stable for every (k, dt) in the same sweep; its price is numerical damping.",
    "Same sweep: no divergence; energy lost per simulated second as a function of dt.", NULL, NULL},
-  {"I2", NULL, "Implicit Euler is x1 = argmin F(x), solved by Newton's method, which converges quadratically near the solution.",
-   "Measured convergence order from the |grad F| sequence is at least 1.8.", NULL, NULL},
-  {"I3", NULL, "Baraff-Witkin's single Newton iteration is fast but can fail to converge.",
+  {"I2", "newton_vs_bw", "Implicit Euler is x1 = argmin F(x), solved by Newton's method, which converges quadratically near the solution.",
+   "Measured convergence order from the |grad F| sequence is at least 1.8.", "newton_vs_bw_convergence.png",
+   cb_check_newton_vs_bw_i2},
+  {"I3", "newton_vs_bw", "Baraff-Witkin's single Newton iteration is fast but can fail to converge.",
    "Step error and wall time for K = 1, 2, 3, 5, 10 and converged; the (dt, k, stretch) regime where K = 1 has error above 1% or diverges.",
-   NULL, NULL},
+   "newton_vs_bw_pareto.png", cb_check_newton_vs_bw_i3},
   {"H1", "definiteness", "A spring's Hessian is SPD when stretched and may be indefinite when compressed; A = M/dt^2 + H can then be indefinite.",
    "Fraction of Newton iterations with indefinite A on compression scenes.", "definiteness_h1.png", cb_check_h1},
   {"H2", "definiteness", "Dropping the (1 - L/|x|) term when |x| < L restores definiteness; other fixes work at different costs.",
