@@ -113,6 +113,13 @@ static int run(ctx *c, const char *sweep, const char *solver, double alpha, doub
   return CB_OK;
 }
 
+/* A scene whose capture or spectrum failed (e.g. the run diverged, A not SPD) keeps its row. */
+static int failed(cb_outfile *sc, const scene_def *d, int status) {
+  fprintf(sc->f, "%s,%d,,,,,,,,,,,,,,,,,,,,,,,,,,,%s\n", d->name, d->n, cb_status_name(status));
+  fprintf(stderr, "linear_solvers: scene %s: %s (kept as a row)\n", d->name, cb_error_message());
+  return CB_OK;
+}
+
 /* Capture, spectra and the scenes row; then the runs the scene's role asks for. */
 static int scene(ctx *c, const scene_def *d, cb_outfile *sc) {
   char sets[6][64];
@@ -129,6 +136,7 @@ static int scene(ctx *c, const scene_def *d, cb_outfile *sc) {
   cb_parse_double(d->dt, &dt);
   cb_capture cap;
   st = cb_capture_newton_system(&cfg, (int)lround(d->t_capture / dt), 0, &cap);
+  if (st > 0) return failed(sc, d, st);
   if (st) return st;
   int n = cap.A.n, bad;
   double ratio, *dh = cb_malloc((size_t)n, sizeof(double)), *xref = cb_malloc((size_t)n, sizeof(double));
@@ -140,6 +148,7 @@ static int scene(ctx *c, const scene_def *d, cb_outfile *sc) {
   for (int i = 0; st == CB_OK && i < n; i++) dh[i] = 1 / sqrt(clab);
   if (st == CB_OK) st = cb_spectrum_lanczos(&cap.A, dh, &lab);
   if (st == CB_OK) st = cb_trace_reference(&cap.A, cap.b, xref);
+  if (st > 0) { st = failed(sc, d, st); goto done; }
   if (st) goto done;
   cb_diag_dominance(&cap.A, &bad, &ratio);
   int dense = !isnan(de.lmin);
@@ -150,7 +159,7 @@ static int scene(ctx *c, const scene_def *d, cb_outfile *sc) {
           mass, cap.t_s, cap.step, cap.sim_ms, bad, ratio);
   fprintf(sc->f, "%.17g,%.17g,%.17g,%.17g,%d,%d,%.17g,%.17g,%.17g,%.17g,%s,", lz.lmin, lz.lmax, lz.res_min,
           lz.res_max, lz.steps_min, lz.steps_max, lz.ms, de.lmin, de.lmax, de.ms, dense ? "dense" : "lanczos");
-  fprintf(sc->f, "%.17g,%.17g,%.17g,%.17g,%.17g\n", amax, astar, cb_jacobi_rho(c->lmin, c->lmax, 1.0),
+  fprintf(sc->f, "%.17g,%.17g,%.17g,%.17g,%.17g,ok\n", amax, astar, cb_jacobi_rho(c->lmin, c->lmax, 1.0),
           cb_jacobi_rho(c->lmin, c->lmax, astar), cb_jacobi_rho(lab.lmin, lab.lmax, 1.0));
   if (d->role == SPECTRUM_ONLY) goto done;
   c->scene = d->name;
@@ -206,7 +215,7 @@ int main(int argc, char **argv) {
                                    "scene,grid_n,n_dofs,nnz,stretch_k_n_per_m,dt_s,vertex_mass_kg,capture_t_s,"
                                    "capture_step,capture_ms,non_dd_rows,max_offdiag_ratio,lmin_lanczos,lmax_lanczos,"
                                    "lmin_bound,lmax_bound,lmin_steps,lmax_steps,lanczos_ms,lmin_dense,lmax_dense,"
-                                   "dense_ms,spectrum,alpha_max,alpha_star,rho_vanilla,rho_star,rho_lab");
+                                   "dense_ms,spectrum,alpha_max,alpha_star,rho_vanilla,rho_star,rho_lab,status");
   rc = rc ? rc : cb_experiment_csv(&c.e, &c.runs, path[1], extra,
                                    "scene,sweep,solver,alpha,alpha_over_max,rho,rho_predicted,iters,rel_residual,rate,iters_1e6,"
                                    "wall_ms_1e6,setup_ms,rho_ms,wall_ms,status");
