@@ -79,7 +79,7 @@ static int run(ctx *c, const char *sweep, const char *solver, double alpha, doub
   }
   if (st) return st;
   if (!strcmp(solver, "chebyshev")) rho = t.rho; /* the estimate when rho = auto */
-  char a[32], an[32], r[32], pr[32], rt[32];
+  char a[32], an[32], r[32], pr[32], rt[32], rp[32];
   fmt(a, sizeof a, alpha);
   fmt(r, sizeof r, rho);
   const char *status = cb_status_name(t.status);
@@ -94,8 +94,9 @@ static int run(ctx *c, const char *sweep, const char *solver, double alpha, doub
   fmt(pr, sizeof pr, isnan(alpha) ? NAN : cb_jacobi_rho(c->lmin, c->lmax, alpha));
   fmt(an, sizeof an, alpha * c->lmax / 2);
   fmt(rt, sizeof rt, cb_trace_rate(t.rows, t.nrows, 0.25));
-  fprintf(c->runs.f, "%s,%s,%s,%s,%s,%s,%s,%d,%.17g,%s,", c->scene, sweep, solver, a, an, r, pr, t.iters,
-          last ? last->rel_residual : NAN, rt);
+  fmt(rp, sizeof rp, cb_trace_rate_window(t.rows, t.nrows, 0.5, 0.75));
+  fprintf(c->runs.f, "%s,%s,%s,%s,%s,%s,%s,%d,%.17g,%s,%s,", c->scene, sweep, solver, a, an, r, pr, t.iters,
+          last ? last->rel_residual : NAN, rt, rp);
   if (hit) fprintf(c->runs.f, "%d,%.17g,", hit->iter, hit->wall_ms);
   else fputs(",,", c->runs.f);
   fprintf(c->runs.f, "%.17g,%.17g,%.17g,%s\n", t.setup_ms, t.rho_ms, t.wall_ms, status);
@@ -217,7 +218,7 @@ int main(int argc, char **argv) {
                                    "lmin_bound,lmax_bound,lmin_steps,lmax_steps,lanczos_ms,lmin_dense,lmax_dense,"
                                    "dense_ms,spectrum,alpha_max,alpha_star,rho_vanilla,rho_star,rho_lab,status");
   rc = rc ? rc : cb_experiment_csv(&c.e, &c.runs, path[1], extra,
-                                   "scene,sweep,solver,alpha,alpha_over_max,rho,rho_predicted,iters,rel_residual,rate,iters_1e6,"
+                                   "scene,sweep,solver,alpha,alpha_over_max,rho,rho_predicted,iters,rel_residual,rate,rate_prev,iters_1e6,"
                                    "wall_ms_1e6,setup_ms,rho_ms,wall_ms,status");
   rc = rc ? rc : cb_experiment_csv(&c.e, &c.newton, path[2], extra,
                                    "scene,solver,alpha,rho,k,iters,rel_residual,step_error,wall_ms,status");

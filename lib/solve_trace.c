@@ -153,12 +153,18 @@ int cb_trace_reference(const cb_sparse *A, const double *b, double *xref) {
   return st;
 }
 
-double cb_trace_rate(const cb_trace_row *rows, int nrows, double tail) {
+double cb_trace_rate_window(const cb_trace_row *rows, int nrows, double f0, double f1) {
   if (nrows < 2) return NAN;
-  const cb_trace_row *last = &rows[nrows - 1], *from = NULL;
-  double k0 = (1.0 - tail) * last->iter;
-  for (int i = 0; i < nrows - 1; i++)
-    if (rows[i].iter <= k0) from = &rows[i];
-  if (!from || from->iter >= last->iter || !(from->rel_residual > 0)) return NAN;
-  return pow(last->rel_residual / from->rel_residual, 1.0 / (last->iter - from->iter)); /* (r_N / r_j)^(1/(N-j)) */
+  double n = rows[nrows - 1].iter;
+  const cb_trace_row *from = NULL, *to = NULL;
+  for (int i = 0; i < nrows; i++) {
+    if (rows[i].iter <= f0 * n) from = &rows[i];
+    if (rows[i].iter <= f1 * n) to = &rows[i];
+  }
+  if (!from || !to || to->iter <= from->iter || !(from->rel_residual > 0)) return NAN;
+  return pow(to->rel_residual / from->rel_residual, 1.0 / (to->iter - from->iter)); /* (r_m / r_j)^(1/(m-j)) */
+}
+
+double cb_trace_rate(const cb_trace_row *rows, int nrows, double tail) {
+  return cb_trace_rate_window(rows, nrows, 1.0 - tail, 1.0);
 }

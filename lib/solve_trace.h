@@ -71,6 +71,12 @@ int cb_trace_reference(const cb_sparse *A, const double *b, double *xref);
  * NaN if the run has fewer than 2 iterations. */
 double cb_trace_rate(const cb_trace_row *rows, int nrows, double tail);
 
+/* The same over a window: rows j and m = the last kept iterations <= f0 N
+ * and <= f1 N (0 <= f0 < f1 <= 1), rate (r_m / r_j)^(1/(m - j)). A run has
+ * settled on its asymptotic rate when the windows [1/2, 3/4] and [3/4, 1]
+ * agree. NaN if the window holds no iteration. */
+double cb_trace_rate_window(const cb_trace_row *rows, int nrows, double f0, double f1);
+
 /* The row at iteration k, or the last row before it (NULL if none). */
 const cb_trace_row *cb_trace_at(const cb_trace *t, int k);
 
