@@ -95,10 +95,13 @@ $(BUILD)/tests/%: $(BUILD)/tests/%.o $(TEST_OBJ) $(REPORT_LIB) $(LIB)
 test: deps
 	@$(MAKE) --no-print-directory check
 
-check: $(TESTS) $(TOOLS)
+DETERMINISM_EXP ?= topology
+
+check: $(TESTS) $(TOOLS) $(BUILD)/$(DETERMINISM_EXP)
 	@scripts/check-blas.sh $(BUILD)/simulate
-	@set -e; for t in $(TESTS); do echo "== $$t"; CB_QUIET=1 $$t --jobs 2 --short-filename; done
+	@set -e; for t in $(TESTS); do echo "== $$t"; CB_QUIET=1 CB_SIMULATE=$(BUILD)/simulate $$t --jobs 2 --short-filename; done
 	@BUILD=$(BUILD) tests/cli.sh
+	@BUILD=$(BUILD) tests/determinism.sh $(DETERMINISM_EXP)
 	@echo "all tests passed"
 
 san: deps
@@ -137,3 +140,4 @@ distclean: clean
 	rm -rf results plots/out
 
 -include $(shell find $(BUILD) -name '*.d' 2>/dev/null)
+.SECONDARY:

@@ -7,17 +7,21 @@
 #include "status.h"
 
 /* Checkers live in claims/check_<experiment>.c; declare them here. */
+void cb_check_T1(const cb_table *t, const char *results_dir, cb_claim_result *out);
+void cb_check_T2(const cb_table *t, const char *results_dir, cb_claim_result *out);
+void cb_check_h1(const cb_table *csv, const char *dir, cb_claim_result *out);
+void cb_check_h2(const cb_table *csv, const char *dir, cb_claim_result *out);
 void cb_check_j1(const cb_table *csv, const char *dir, cb_claim_result *out);
 void cb_check_j2(const cb_table *csv, const char *dir, cb_claim_result *out);
 void cb_check_j3(const cb_table *csv, const char *dir, cb_claim_result *out);
 void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out);
 
 const cb_claim cb_claims[] = {
-  {"T1", NULL, "Sorting edge triples (i<j, triangle) gives the unique edge list and the neighbouring-triangle pairs.",
+  {"T1", "topology", "Sorting edge triples (i<j, triangle) gives the unique edge list and the neighbouring-triangle pairs.",
    "On the lecture's 5-vertex example: edges {0,1},{0,3},{0,4},{1,2},{1,3},{2,3},{3,4}; neighbour pairs {1,2},{0,1}.",
-   NULL, NULL},
-  {"T2", NULL, "A manifold disk mesh has #edges = 3 #vertices - 3 - #boundary_edges; with every edge a hard constraint only 3 + #boundary_edges DoFs remain.",
-   "Counted on grids and on unstructured meshes.", NULL, NULL},
+   NULL, cb_check_T1},
+  {"T2", "topology", "A manifold disk mesh has #edges = 3 #vertices - 3 - #boundary_edges; with every edge a hard constraint only 3 + #boundary_edges DoFs remain.",
+   "Counted on grids and on unstructured meshes; the DoFs as 3#V - rank of the rigidity matrix at a generic embedding.", NULL, cb_check_T2},
   {"E1", NULL, "Explicit integration becomes unstable when k and/or dt are too large.",
    "(k, dt) stability map; measured critical dt within 15% of 2/omega_max; slope of log dt_crit vs log k is -1/2 +- 0.05.",
    NULL, NULL},
@@ -31,10 +35,10 @@ const cb_claim cb_claims[] = {
   {"I3", NULL, "Baraff-Witkin's single Newton iteration is fast but can fail to converge.",
    "Step error and wall time for K = 1, 2, 3, 5, 10 and converged; the (dt, k, stretch) regime where K = 1 has error above 1% or diverges.",
    NULL, NULL},
-  {"H1", NULL, "A spring's Hessian is SPD when stretched and may be indefinite when compressed; A = M/dt^2 + H can then be indefinite.",
-   "Fraction of Newton iterations with indefinite A on compression scenes.", NULL, NULL},
-  {"H2", NULL, "Dropping the (1 - L/|x|) term when |x| < L restores definiteness; other fixes work at different costs.",
-   "Per fix: SPD rate, CG breakdowns, Newton iterations, wall time, final energy.", NULL, NULL},
+  {"H1", "definiteness", "A spring's Hessian is SPD when stretched and may be indefinite when compressed; A = M/dt^2 + H can then be indefinite.",
+   "Fraction of Newton iterations with indefinite A on compression scenes.", "definiteness_h1.png", cb_check_h1},
+  {"H2", "definiteness", "Dropping the (1 - L/|x|) term when |x| < L restores definiteness; other fixes work at different costs.",
+   "Per fix: SPD rate, CG breakdowns, Newton iterations, wall time, final energy.", "definiteness_residual.png", cb_check_h2},
   {"J1", "linear_solvers", "Vanilla Jacobi needs A diagonally dominant; alpha < 2/lambda_max(D^-1 A) makes it converge for any SPD A.",
    "alpha sweep on a non-diagonally-dominant SPD A: divergence at alpha = 1 where predicted, convergence for small alpha, measured rate matches rho(I - alpha D^-1 A).",
    "linear_solvers_j1_alpha.png", cb_check_j1},

@@ -1,10 +1,12 @@
 #include "config.h"
 
+#include <errno.h>
 #include <ini.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "energy.h"
 #include "integrator.h"
@@ -57,12 +59,16 @@ static const keydef keys[] = {
    "Bending model: `none`, or `spring` (a spring across each pair of neighbouring triangles)."},
   {"material.bend_k", T_DOUBLE, O(bend_k), "100", "N/m", 0, 1e15, 0, NULL, NULL,
    "Stiffness of the bending springs."},
+  {"material.buckling_kb", T_DOUBLE, O(buckling_kb), "0.01", "N m^2", 0, 1e15, 1, NULL, NULL,
+   "Bending stiffness k_b of Choi & Ko's immediate-buckling response, used by every spring when `integrator.definiteness = choi-ko`: a compressed spring (|x| < L) bends into an arc of length L with energy k_b L kappa^2 / 2 instead of shortening, once its linear push k(L - |x|) reaches the arc's push f_b >= 12 k_b/L^2 (so the force stays continuous). Needs k > 12 pi^2 k_b / L^3."},
   {"scene.gravity", T_VEC3, O(gravity), "0 -9.8 0", "m/s^2", -1e6, 1e6, 0, NULL, NULL,
    "Gravitational acceleration (3 numbers); `0 0 0` leaves the gravity term out."},
   {"scene.pins", T_PINS, O(pins), "top-corners", "-", 0, 0, 0, NULL, NULL,
-   "Pinned vertices: `none`, `corners`, `top-corners` (both ends of the top edge), `top-edge`, or 0-based vertex indices separated by spaces or commas. Named sets other than `none` need a grid mesh."},
+   "Pinned vertices: `none`, `corners`, `top-corners` (both ends of the top edge), `top-edge`, or 0-based vertex indices separated by spaces or commas. Named sets other than `none` need a grid or chain mesh."},
   {"scene.initial_scale", T_DOUBLE, O(initial_scale), "1", "-", 0, 1e6, 1, NULL, NULL,
    "Initial positions are the rest positions scaled by this factor about their centroid (2 = stretched to twice the rest size, 0.5 = compressed)."},
+  {"scene.pin_squeeze", T_VEC3, O(pin_squeeze), "0 0 0", "m/s", -1e6, 1e6, 0, NULL, NULL,
+   "Driven pins (3 numbers s): pinned vertex i moves at the constant velocity -sign((p_i - c).s) s, c being the centroid of the pins' initial positions p_i, so pins on the two sides of c close in on each other at 2|s| (pins with (p_i - c).s = 0 stay). Its prescribed position x0 + t v enters every step (implicit: through x0 + dt v0; explicit: x += dt v). `0 0 0`: pins are fixed."},
   {"integrator.method", T_ENUM, O(method), "newton", "-", 0, 0, 0, NULL, cb_integrator_name,
    "`explicit` (symplectic Euler) or `newton` (implicit Euler by Newton's method)."},
   {"integrator.dt", T_DOUBLE, O(dt), "1/30", "s", 0, 1e6, 1, NULL, NULL,
@@ -72,11 +78,11 @@ static const keydef keys[] = {
   {"integrator.max_iters", T_INT, O(max_iters), "50", "iterations", 1, 1000000, 0, NULL, NULL,
    "Newton iterations per step at most; 1 is Baraff-Witkin's single linear solve."},
   {"integrator.tol", T_DOUBLE, O(tol), "1e-8", "-", 0, 1, 0, NULL, NULL,
-   "Newton stops when |grad F(x)| <= tol |grad F(x(0))|, x(0) being the step's initial guess."},
+   "Newton stops when |grad F(x)| <= tol |grad F(x(0))|, x(0) being the step's initial guess. Below about 1e-11 the tolerance may be under round-off (e.g. a step from rest, where grad F(x(0)) is gravity alone): pair it with `tol_dx`."},
   {"integrator.tol_dx", T_DOUBLE, O(tol_dx), "0", "m", 0, 1e9, 0, NULL, NULL,
    "Newton also stops when the largest component of the step |dx| is <= tol_dx; 0 turns this test off."},
   {"integrator.definiteness", T_ENUM, O(definiteness), "drop", "-", 0, 0, 0, cb_definiteness_names, NULL,
-   "Spring Hessian treatment when a spring is compressed: `none` keeps the exact Hessian; `drop` drops the k(1 - L/|x|) term when |x| < L (the lecture's fix)."},
+   "Spring Hessian treatment when a spring is compressed: `none` keeps the exact Hessian; `drop` drops the k(1 - L/|x|) term when |x| < L (the lecture's fix; the transverse eigenvalue clamped at 0); `mirror` uses |1 - L/|x||; `shift` keeps the exact Hessian and adds mu I to Newton's matrix, raising mu until Cholesky (or CG) succeeds; `choi-ko` replaces the compressed spring by Choi & Ko's (2002) immediate-buckling response (see `material.buckling_kb`), a different energy, with its exact Hessian."},
   {"integrator.init", T_ENUM, O(init), "predict", "-", 0, 0, 0, inits, NULL,
    "Newton's initial guess: `predict` (x0 + dt v0) or `x0`."},
   {"integrator.line_search", T_BOOL, O(line_search), "0", "-", 0, 0, 0, NULL, NULL,
@@ -208,8 +214,8 @@ static int assign(cb_config *c, const keydef *k, const char *value, char *why, s
   case T_BOOL: {
     static const char *const t[] = {"1", "true", "yes", "on"}, *const f[] = {"0", "false", "no", "off"};
     for (int i = 0; i < 4; i++) {
-      if (strcmp(value, t[i]) == 0) { *(int *)field = 1; return 0; }
-      if (strcmp(value, f[i]) == 0) { *(int *)field = 0; return 0; }
+      if (strcasecmp(value, t[i]) == 0) { *(int *)field = 1; return 0; }
+      if (strcasecmp(value, f[i]) == 0) { *(int *)field = 0; return 0; }
     }
     snprintf(why, nwhy, "'%s' is not a boolean (0/1, true/false, yes/no, on/off)", value);
     return -1;
@@ -245,20 +251,50 @@ typedef struct {
   FILE *f;
   int line;        /* lines handed to inih so far */
   int failed;      /* first error recorded */
+  int failed_line; /* its line */
   int too_long;
   char seen[64];   /* keys set by this file */
 } parse_ctx;
 
 /* inih reader: counts lines so the handler knows where it is. */
+static void fail_at(parse_ctx *ctx) {
+  ctx->failed = 1;
+  ctx->failed_line = ctx->line;
+}
+
+static int known_section(const char *name, size_t len) {
+  for (int k = 0; k < NKEYS; k++)
+    if (strncmp(keys[k].key, name, len) == 0 && keys[k].key[len] == '.') return 1;
+  return 0;
+}
+
+/* inih reader: counts lines so the handler knows where it is, and checks
+ * what inih does not report: over-long lines and unknown empty sections. */
 static char *reader(char *str, int num, void *stream) {
   parse_ctx *ctx = stream;
   char *r = fgets(str, num, ctx->f);
   if (!r) return NULL;
   ctx->line++;
   size_t n = strlen(str);
-  if (n == (size_t)num - 1 && str[n - 1] != '\n' && !feof(ctx->f) && !ctx->failed) {
-    ctx->failed = 1;
+  if (ctx->failed) return r;
+  if (n == (size_t)num - 1 && str[n - 1] != '\n' && !feof(ctx->f)) {
+    fail_at(ctx);
     cb_fail("%s:%d: line longer than %d characters", ctx->path, ctx->line, num - 2);
+    return r;
+  }
+  const char *p = str;
+  while (*p == ' ' || *p == '\t') p++;
+  const char *close = *p == '[' ? strchr(p, ']') : NULL;
+  if (close) {
+    const char *name = p + 1;
+    while (*name == ' ' || *name == '\t') name++;
+    size_t len = (size_t)(close - name);
+    while (len && (name[len - 1] == ' ' || name[len - 1] == '\t')) len--;
+    if (!known_section(name, len)) {
+      fail_at(ctx);
+      cb_fail("%s:%d: unknown section [%.*s] (sections: mesh, material, scene, integrator, solver)", ctx->path,
+              ctx->line, (int)len, name);
+    }
   }
   return r;
 }
@@ -270,24 +306,20 @@ static int handler(void *user, const char *section, const char *name, const char
   snprintf(key, sizeof key, "%s.%s", section, name);
   int i = find_key(key);
   if (i < 0) {
-    int known_section = 0;
-    size_t sl = strlen(section);
-    for (int k = 0; k < NKEYS; k++)
-      if (strncmp(keys[k].key, section, sl) == 0 && keys[k].key[sl] == '.') known_section = 1;
-    ctx->failed = 1;
+    fail_at(ctx);
     if (!section[0]) cb_fail("%s:%d: %s: key outside any section", ctx->path, ctx->line, name);
-    else if (!known_section) cb_fail("%s:%d: %s: unknown section [%s]", ctx->path, ctx->line, key, section);
+    else if (!known_section(section, strlen(section))) cb_fail("%s:%d: %s: unknown section [%s]", ctx->path, ctx->line, key, section);
     else cb_fail("%s:%d: %s: unknown key", ctx->path, ctx->line, key);
     return 1;
   }
   if (ctx->seen[i]) {
-    ctx->failed = 1;
+    fail_at(ctx);
     cb_fail("%s:%d: %s: set twice (first at line %d; an indented line continues the previous key)",
             ctx->path, ctx->line, key, ctx->c->where[i].line);
     return 1;
   }
   if (assign(ctx->c, &keys[i], value, why, sizeof why)) {
-    ctx->failed = 1;
+    fail_at(ctx);
     cb_fail("%s:%d: %s: %s", ctx->path, ctx->line, key, why);
     return 1;
   }
@@ -302,11 +334,13 @@ int cb_config_load(const char *path, cb_config *c) {
   if (copy_str(c->path, sizeof c->path, path)) return cb_fail("%s: path too long", path);
   parse_ctx ctx = {.c = c, .path = path};
   ctx.f = fopen(path, "r");
-  if (!ctx.f) return cb_fail("%s: cannot open config file", path);
+  if (!ctx.f) return cb_fail_status(CB_EIO, "%s: cannot open config file: %s", path, strerror(errno));
   int r = ini_parse_stream(reader, &ctx, handler, &ctx);
   fclose(ctx.f);
+  /* inih reports the line of its first error; ours may come later or earlier */
+  if (r > 0 && (!ctx.failed || r < ctx.failed_line))
+    return cb_fail("%s:%d: syntax error (expected [section], key = value, or a comment)", path, r);
   if (ctx.failed) return CB_EINVAL;
-  if (r > 0) return cb_fail("%s:%d: syntax error (expected [section], key = value, or a comment)", path, r);
   if (r < 0) return cb_fail("%s: cannot parse (error %d)", path, r);
   return CB_OK;
 }
@@ -315,9 +349,11 @@ int cb_config_set(cb_config *c, const char *assignment) {
   const char *eq = strchr(assignment, '=');
   if (!eq) return cb_fail("--set %s: expected section.key=value", assignment);
   char key[160], value[CB_PINS_LEN], why[512];
-  size_t kl = (size_t)(eq - assignment);
+  const char *k0 = assignment;
+  while (*k0 == ' ' || *k0 == '\t') k0++;
+  size_t kl = (size_t)(eq - k0);
   if (kl >= sizeof key || strlen(eq + 1) >= sizeof value) return cb_fail("--set %s: too long", assignment);
-  memcpy(key, assignment, kl);
+  memcpy(key, k0, kl);
   key[kl] = '\0';
   /* trim spaces around key and value */
   while (kl && (key[kl - 1] == ' ' || key[kl - 1] == '\t')) key[--kl] = '\0';

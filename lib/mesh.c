@@ -162,8 +162,15 @@ static int parse_corner(char **s, int nv, long *out, const char *path, int line)
   long k = strtol(p, &end, 10);
   if (end == p || errno) return cb_fail("%s:%d: bad face vertex index near '%.20s'", path, line, p);
   if (k == 0) return cb_fail("%s:%d: face vertex index 0 (OBJ indices start at 1)", path, line);
-  /* skip optional /vt and /vn parts */
-  while (*end == '/' || (*end >= '0' && *end <= '9') || *end == '-') end++;
+  /* optional "/vt", "/vt/vn" or "//vn": at most two slashes, each followed by
+   * an optional (possibly negative) integer */
+  for (int slashes = 0; *end == '/' && slashes < 2; slashes++) {
+    char *q = end + 1;
+    if (*q == '-' || (*q >= '0' && *q <= '9')) {
+      strtol(q, &end, 10);
+      if (end == q) break;
+    } else end = q;
+  }
   if (*end && !is_space(*end)) return cb_fail("%s:%d: bad face vertex '%.20s'", path, line, p);
   *out = k > 0 ? k - 1 : nv + k; /* negative: relative to the vertices read so far */
   if (k < 0 && *out < 0) return cb_fail("%s:%d: relative index %ld reaches before the first vertex", path, line, k);

@@ -15,7 +15,9 @@ static int cmp_int(const void *a, const void *b) {
 int cb_pins_resolve(const char *spec, const cb_mesh *m, int **out, int *n) {
   *out = NULL;
   *n = 0;
-  int *list = cb_malloc((size_t)m->nv + 8, sizeof(int));
+  if (!*spec) return cb_fail("scene.pins: empty; use `none` for no pins");
+  /* an index list has at most strlen(spec) entries; a named set at most nv */
+  int *list = cb_malloc((size_t)m->nv + strlen(spec) + 8, sizeof(int));
   if (!list) return CB_ENOMEM;
   int cnt = 0, gn = m->grid_n, gm = m->grid_m;
   int named = strcmp(spec, "none") == 0 || strcmp(spec, "corners") == 0 || strcmp(spec, "top-corners") == 0 ||
@@ -24,7 +26,10 @@ int cb_pins_resolve(const char *spec, const cb_mesh *m, int **out, int *n) {
     free(list);
     return cb_fail("scene.pins: named set '%s' needs a grid mesh; give vertex indices for an OBJ mesh", spec);
   }
-  if (strcmp(spec, "corners") == 0) {
+  if (named && gm == 1) { /* a chain: its top is vertex n-1, its corners are its two ends */
+    if (strcmp(spec, "corners") == 0) list[cnt++] = 0;
+    if (strcmp(spec, "none") != 0) list[cnt++] = gn - 1;
+  } else if (strcmp(spec, "corners") == 0) {
     list[cnt++] = 0; list[cnt++] = gn - 1; list[cnt++] = (gm - 1) * gn; list[cnt++] = gm * gn - 1;
   } else if (strcmp(spec, "top-corners") == 0) {
     list[cnt++] = (gm - 1) * gn; list[cnt++] = gm * gn - 1;
@@ -50,7 +55,6 @@ int cb_pins_resolve(const char *spec, const cb_mesh *m, int **out, int *n) {
         free(list);
         return cb_fail("scene.pins: vertex %ld out of range (the mesh has %d vertices, 0-based)", v, m->nv);
       }
-      if (cnt == m->nv + 8) break;
       list[cnt++] = (int)v;
       p = end;
     }
@@ -200,6 +204,18 @@ int cb_scene_build(const cb_config *cfg, cb_scene **out) {
     st = cb_gravity_term_alloc(&s->model, cfg->gravity, &terms[nterms]);
     if (st == CB_OK) nterms++;
   }
+  /* compressed-spring response of every spring term (Choi-Ko changes the energy) */
+  cb_definiteness def = CB_DEF_DROP;
+  if (st == CB_OK) st = cb_definiteness_from_name(cfg->definiteness, &def);
+  for (int k = 0; st == CB_OK && k < nterms; k++)
+    if (terms[k]->type == cb_term_spring) {
+      st = cb_spring_term_set_response(terms[k], def, cfg->buckling_kb);
+      if (st) {
+        char msg[1024];
+        snprintf(msg, sizeof msg, "%s", cb_error_message());
+        st = cb_fail("%s: material.buckling_kb: %s", cb_config_where(cfg, "material.buckling_kb", w, sizeof w), msg);
+      }
+    }
   if (st == CB_OK) st = cb_system_init(&s->sys, &s->model, terms, nterms);
   else
     for (int k = 0; k < nterms; k++) cb_term_free(terms[k]);
@@ -215,6 +231,19 @@ int cb_scene_build(const cb_config *cfg, cb_scene **out) {
         if (xi > hi[a]) hi[a] = xi;
       }
     for (int i = 0; i < 3 * nv; i++) s->x0[i] = c[i % 3] + cfg->initial_scale * (s->mesh.x[i] - c[i % 3]);
+    /* driven pins: v_i = -sign((p_i - pc).sq) sq, pc = centroid of the pins' initial positions */
+    const double *sq = cfg->pin_squeeze;
+    if (s->npinned > 0 && (sq[0] != 0 || sq[1] != 0 || sq[2] != 0)) {
+      double pc[3] = {0, 0, 0};
+      for (int k = 0; k < s->npinned; k++)
+        for (int a = 0; a < 3; a++) pc[a] += s->x0[3 * s->pinned[k] + a] / s->npinned;
+      for (int k = 0; k < s->npinned; k++) {
+        const double *p = s->x0 + 3 * s->pinned[k];
+        double side = (p[0] - pc[0]) * sq[0] + (p[1] - pc[1]) * sq[1] + (p[2] - pc[2]) * sq[2];
+        double sg = side > 0 ? -1.0 : side < 0 ? 1.0 : 0.0;
+        for (int a = 0; a < 3; a++) s->v0[3 * s->pinned[k] + a] = sg * sq[a];
+      }
+    }
     double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
     double gnorm = sqrt(cfg->gravity[0] * cfg->gravity[0] + cfg->gravity[1] * cfg->gravity[1] + cfg->gravity[2] * cfg->gravity[2]);
     double msum = 0;

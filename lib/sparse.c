@@ -126,26 +126,45 @@ int cb_sparse_diag_index(const cb_sparse *A, int i) {
   return slot + (i % 3) * stride + i % 3;
 }
 
+/* The kernel behind A x and b - A x. A is symmetric, so column j of A is row
+ * j: (A x)(j) = sum_i A(i,j) x(i), a gather. The three columns of block column
+ * bj share one block pattern, so they are done together: each block reads one
+ * block-row index and three x values for nine matrix values. */
+static inline void block_column(const cb_sparse *A, int bj, const double *restrict x, double out[3]) {
+  int k0 = A->bcolp[bj], nb = A->bcolp[bj + 1] - k0;
+  const int *brow = A->brow + k0;
+  const double *v0 = A->val + A->colp[3 * bj], *v1 = v0 + 3 * nb, *v2 = v1 + 3 * nb;
+  double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+  for (int k = 0; k < nb; k++) {
+    const double *xb = x + 3 * brow[k];
+    double x0 = xb[0], x1 = xb[1], x2 = xb[2];
+    s0 += v0[3 * k] * x0 + v0[3 * k + 1] * x1 + v0[3 * k + 2] * x2;
+    s1 += v1[3 * k] * x0 + v1[3 * k + 1] * x1 + v1[3 * k + 2] * x2;
+    s2 += v2[3 * k] * x0 + v2[3 * k + 1] * x1 + v2[3 * k + 2] * x2;
+  }
+  out[0] = s0;
+  out[1] = s1;
+  out[2] = s2;
+}
+
 double cb_sparse_residual(const cb_sparse *A, const double *restrict b, const double *restrict x, double *restrict r) {
-  const int *colp = A->colp, *rowi = A->rowi;
-  const double *val = A->val;
-  double rr = 0.0;
-  for (int j = 0; j < A->n; j++) {
-    double s = 0.0;
-    for (int p = colp[j]; p < colp[j + 1]; p++) s += val[p] * x[rowi[p]];
-    double rj = b[j] - s; /* r(j) = b(j) - (A x)(j) */
-    r[j] = rj;
-    rr += rj * rj;
+  double rr = 0.0, ax[3];
+  for (int bj = 0; bj < A->nblk; bj++) {
+    block_column(A, bj, x, ax);
+    for (int c = 0; c < 3; c++) {
+      double rj = b[3 * bj + c] - ax[c]; /* r = b - A x */
+      r[3 * bj + c] = rj;
+      rr += rj * rj;
+    }
   }
   return sqrt(rr);
 }
 
 void cb_sparse_matvec(const cb_sparse *A, const double *restrict x, double *restrict y) {
-  const int *colp = A->colp, *rowi = A->rowi;
-  const double *val = A->val;
-  for (int j = 0; j < A->n; j++) { /* symmetric: column j of A is row j */
-    double s = 0.0;
-    for (int p = colp[j]; p < colp[j + 1]; p++) s += val[p] * x[rowi[p]];
-    y[j] = s; /* y(j) = sum_i A(i,j) x(i) = (A x)(j) */
-  }
+  for (int bj = 0; bj < A->nblk; bj++) block_column(A, bj, x, y + 3 * bj); /* y = A x */
+}
+
+size_t cb_sparse_matvec_bytes(const cb_sparse *A) {
+  /* values, block-row indices, block column pointers, x read once, y written */
+  return (size_t)A->nnz * 8 + (size_t)(A->nnz / 9) * 4 + (size_t)(A->nblk + 1) * 4 + (size_t)A->n * 16;
 }

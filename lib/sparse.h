@@ -14,6 +14,8 @@
 #ifndef CB_SPARSE_H
 #define CB_SPARSE_H
 
+#include <stddef.h>
+
 typedef struct cb_sparse {
   int n;        /* rows = columns = 3 * nblk */
   int nnz;      /* stored entries (both triangles) */
@@ -52,6 +54,10 @@ int cb_sparse_diag_index(const cb_sparse *A, int i);
 
 /* y = A x */
 void cb_sparse_matvec(const cb_sparse *A, const double *x, double *y);
+
+/* Bytes one matrix-vector product must move (values, block-row indices,
+ * block pointers, x once, y once): the numerator of its achieved bandwidth. */
+size_t cb_sparse_matvec_bytes(const cb_sparse *A);
 
 /* r = b - A x in one pass; returns |r|_2. */
 double cb_sparse_residual(const cb_sparse *A, const double *b, const double *x, double *r);

@@ -1,5 +1,297 @@
 #!/bin/sh
 # End-to-end checks of build/simulate as a user runs it.
+#
+# Run from the repository root (make check does: BUILD=<dir> tests/cli.sh).
+# Every check prints what failed; the script exits non-zero if any failed.
 set -u
+
 B=${BUILD:-build}
-echo "cli: ok (placeholder)"
+ROOT=$(pwd)
+SIM=$ROOT/$B/simulate
+case $B in /*) SIM=$B/simulate ;; esac
+CONFIG=$ROOT/configs/hanging.ini
+
+if [ ! -x "$SIM" ]; then
+  echo "cli: FAIL: $SIM not found or not executable (build it first)"
+  exit 1
+fi
+if [ ! -f "$CONFIG" ]; then
+  echo "cli: FAIL: $CONFIG not found (run from the repository root)"
+  exit 1
+fi
+
+T=$(mktemp -d "${TMPDIR:-/tmp}/cbcli.XXXXXX") || { echo "cli: FAIL: mktemp"; exit 1; }
+trap 'rm -rf "$T"' EXIT INT TERM
+
+failures=0
+checks=0
+
+fail() {
+  echo "cli: FAIL: $*"
+  failures=$((failures + 1))
+}
+
+# check DESCRIPTION COMMAND...: runs a test command, records a failure if it is false
+check() {
+  desc=$1
+  shift
+  checks=$((checks + 1))
+  if ! "$@"; then fail "$desc"; fi
+}
+
+# sim NAME ARGS...: runs simulate with stdout/stderr in $T/NAME.out/.err; rc in $rc
+sim() {
+  name=$1
+  shift
+  "$SIM" "$@" >"$T/$name.out" 2>"$T/$name.err"
+  rc=$?
+}
+
+expect_rc() { # NAME WANT
+  checks=$((checks + 1))
+  if [ "$rc" -ne "$2" ]; then
+    fail "$1: exit code $rc, expected $2; stderr:"
+    sed 's/^/    /' "$T/$1.err" | head -n 20
+  fi
+}
+
+expect_err() { # NAME FIXED-STRING: stderr of run NAME contains the string
+  checks=$((checks + 1))
+  if ! grep -Fq -- "$2" "$T/$1.err"; then
+    fail "$1: stderr does not mention '$2'; stderr:"
+    sed 's/^/    /' "$T/$1.err" | head -n 20
+  fi
+}
+
+data_rows() { grep -v '^#' "$1" | tail -n +2; }          # CSV rows after the header
+header_of() { grep -v '^#' "$1" | head -n 1; }           # CSV header row
+last_field() { data_rows "$1" | tail -n 1 | awk -F, '{print $NF}'; }
+
+# col FILE NAME: the 1-based index of column NAME in the CSV header
+col() { header_of "$1" | tr ',' '\n' | grep -nx -- "$2" | cut -d: -f1; }
+
+# ---- a normal run: configs/hanging.ini --steps 60 ------------------------------------
+
+sim hang "$CONFIG" --steps 60 --csv "$T/hang/out.csv" --obj "$T/hang/out.obj"
+expect_rc hang 0
+check "hang: CSV written (into a directory that did not exist)" test -s "$T/hang/out.csv"
+check "hang: OBJ written" test -s "$T/hang/out.obj"
+if [ -s "$T/hang/out.csv" ]; then
+  csv=$T/hang/out.csv
+  n=$(data_rows "$csv" | wc -l | tr -d ' ')
+  check "hang: $n data rows, expected 61 (step 0 and 60 steps)" test "$n" -eq 61
+  hdr=$(header_of "$csv")
+  case $hdr in
+    step,t_s,kinetic_j,potential_j,*,status) : ;;
+    *) fail "hang: header '$hdr' does not run step,t_s,kinetic_j,potential_j,...,status" ;;
+  esac
+  checks=$((checks + 1))
+  for c in step t_s kinetic_j potential_j elastic_j total_j newton_iters wall_ms status; do
+    check "hang: header lacks column $c" test -n "$(col "$csv" "$c")"
+  done
+  # the provenance block: every line before the header starts with '#'
+  pre=$(awk '/^#/ {next} {print NR; exit}' "$csv")
+  check "hang: no provenance lines before the header" test "${pre:-1}" -gt 1
+  bad=$(head -n $((${pre:-1} - 1)) "$csv" | grep -vc '^#')
+  check "hang: a line before the header does not start with '#'" test "$bad" -eq 0
+  check "hang: provenance lacks '# git_revision:'" grep -q '^# git_revision:' "$csv"
+  check "hang: provenance lacks '# config:'" grep -q '^# config:' "$csv"
+  check "hang: provenance lacks '# blas_threads:'" grep -q '^# blas_threads:' "$csv"
+  check "hang: a '#' line after the header" test "$(grep -v '^#' "$csv" | grep -c '^#')" -eq 0
+  # every row has as many fields as the header
+  nf=$(echo "$hdr" | awk -F, '{print NF}')
+  badrows=$(data_rows "$csv" | awk -F, -v nf="$nf" 'NF != nf' | wc -l | tr -d ' ')
+  check "hang: $badrows rows with a field count other than $nf" test "$badrows" -eq 0
+  # steps 0..60 in order, t_s = step/30, statuses ok (or max_iters, not fatal)
+  sc=$(col "$csv" step)
+  tc=$(col "$csv" t_s)
+  badsteps=$(data_rows "$csv" | awk -F, -v s="$sc" -v t="$tc" \
+    '{ if ($s != NR - 1) print; d = $t - (NR - 1) / 30; if (d < -1e-12 || d > 1e-12) print }' | wc -l | tr -d ' ')
+  check "hang: $badsteps rows with a wrong step or t_s" test "$badsteps" -eq 0
+  badstat=$(data_rows "$csv" | awk -F, '$NF != "ok" && $NF != "max_iters"' | wc -l | tr -d ' ')
+  check "hang: $badstat rows with a fatal status" test "$badstat" -eq 0
+  # the cloth falls: potential energy at the end is below the start
+  pc=$(col "$csv" potential_j)
+  fell=$(data_rows "$csv" | awk -F, -v p="$pc" 'NR == 1 {p0 = $p} END {print ($p < p0 - 1) ? 1 : 0}')
+  check "hang: potential energy did not decrease" test "$fell" -eq 1
+fi
+if [ -s "$T/hang/out.obj" ]; then
+  nv=$(grep -c '^v ' "$T/hang/out.obj")
+  nf=$(grep -c '^f ' "$T/hang/out.obj")
+  check "hang: OBJ has $nv vertices, expected 441" test "$nv" -eq 441
+  check "hang: OBJ has $nf faces, expected 800" test "$nf" -eq 800
+  # the pinned top corners (vertices 421 and 441, 1-based) stay at z = 5, x = -5 and 5
+  pin=$(grep '^v ' "$T/hang/out.obj" | awk 'NR == 421 || NR == 441 {
+          ex = (NR == 421) ? -5 : 5; if (($2 - ex)^2 + $3^2 + ($4 - 5)^2 > 1e-20) bad++ } END {print bad + 0}')
+  check "hang: pinned corners moved" test "$pin" -eq 0
+fi
+
+# ---- --steps 0 writes the initial mesh ---------------------------------------------------
+
+sim zero "$CONFIG" --steps 0 --quiet --csv "$T/zero.csv" --obj "$T/zero.obj"
+expect_rc zero 0
+if [ -s "$T/zero.csv" ] && [ -s "$T/zero.obj" ]; then
+  check "zero: CSV should have exactly one row (step 0)" test "$(data_rows "$T/zero.csv" | wc -l | tr -d ' ')" -eq 1
+  check "zero: row 0 should be step 0" test "$(data_rows "$T/zero.csv" | cut -d, -f1)" = 0
+  check "zero: OBJ vertex count" test "$(grep -c '^v ' "$T/zero.obj")" -eq 441
+  # the 21 x 21 grid on 10 m x 10 m in the xz plane: vertex (i, j) = (-5 + i/2, 0, -5 + j/2)
+  off=$(grep '^v ' "$T/zero.obj" | awk '{ k = NR - 1; i = k % 21; j = int(k / 21);
+          d = ($2 - (-5 + i / 2))^2 + $3^2 + ($4 - (-5 + j / 2))^2; if (d > 1e-20) bad++ } END {print bad + 0}')
+  check "zero: $off OBJ vertices differ from the initial grid" test "$off" -eq 0
+else
+  fail "zero: CSV or OBJ missing"
+fi
+check "zero: --quiet still printed to stderr" test ! -s "$T/zero.err"
+
+# default output paths: results/<config name>.csv and .obj, relative to the working directory
+mkdir -p "$T/cwd"
+(cd "$T/cwd" && "$SIM" "$CONFIG" --steps 1 --quiet >"$T/cwd.out" 2>"$T/cwd.err")
+rc=$?
+expect_rc cwd 0
+check "default paths: results/hanging.csv not written" test -s "$T/cwd/results/hanging.csv"
+check "default paths: results/hanging.obj not written" test -s "$T/cwd/results/hanging.obj"
+
+# ---- bad input: exit 1, with file:line and the key ------------------------------------
+
+printf '[mesh]\nn = 5\nsides = 4\n' >"$T/bad_key.ini"
+sim bad_key "$T/bad_key.ini" --csv "$T/bad_key.csv" --obj "$T/bad_key.obj"
+expect_rc bad_key 1
+expect_err bad_key "bad_key.ini:3"
+expect_err bad_key "mesh.sides"
+check "bad_key: a CSV was written for a config that does not load" test ! -e "$T/bad_key.csv"
+
+printf '; dt must be positive\n[integrator]\nmethod = newton\ndt = -1\n' >"$T/bad_value.ini"
+sim bad_value "$T/bad_value.ini" --csv "$T/bad_value.csv" --obj "$T/bad_value.obj"
+expect_rc bad_value 1
+expect_err bad_value "bad_value.ini:4"
+expect_err bad_value "integrator.dt"
+
+printf '[mesh]\nplane = xw\n' >"$T/bad_enum.ini"
+sim bad_enum "$T/bad_enum.ini" --csv "$T/bad_enum.csv" --obj "$T/bad_enum.obj"
+expect_rc bad_enum 1
+expect_err bad_enum "bad_enum.ini:2"
+expect_err bad_enum "mesh.plane"
+
+printf '[scene]\npins = 0 9999\n' >"$T/bad_pins.ini"
+sim bad_pins "$T/bad_pins.ini" --csv "$T/bad_pins.csv" --obj "$T/bad_pins.obj"
+expect_rc bad_pins 1
+expect_err bad_pins "scene.pins"
+
+sim missing "$T/no-such-config.ini" --csv "$T/missing.csv"
+expect_rc missing 1
+expect_err missing "no-such-config.ini"
+
+sim unknown_opt "$CONFIG" --frobnicate --csv "$T/u.csv" --obj "$T/u.obj"
+expect_rc unknown_opt 1
+expect_err unknown_opt "--frobnicate"
+
+sim set_unknown "$CONFIG" --set material.nope=1 --csv "$T/s.csv" --obj "$T/s.obj"
+expect_rc set_unknown 1
+expect_err set_unknown "material.nope"
+
+sim set_range "$CONFIG" --set mesh.n=1 --csv "$T/s.csv" --obj "$T/s.obj"
+expect_rc set_range 1
+expect_err set_range "mesh.n"
+
+sim set_noeq "$CONFIG" --set mesh.n --csv "$T/s.csv" --obj "$T/s.obj"
+expect_rc set_noeq 1
+
+sim set_noval "$CONFIG" --set
+expect_rc set_noval 1
+
+sim steps_neg "$CONFIG" --steps -3 --csv "$T/s.csv" --obj "$T/s.obj"
+expect_rc steps_neg 1
+sim steps_word "$CONFIG" --steps ten --csv "$T/s.csv" --obj "$T/s.obj"
+expect_rc steps_word 1
+
+sim no_config
+expect_rc no_config 1
+
+sim two_configs "$CONFIG" "$CONFIG" --csv "$T/s.csv" --obj "$T/s.obj"
+expect_rc two_configs 1
+
+check "bad input runs wrote $T/s.csv" test ! -e "$T/s.csv"
+
+# an output path that cannot be created: exit 2
+: >"$T/plainfile"
+sim unwritable "$CONFIG" --steps 1 --quiet --csv "$T/plainfile/sub/out.csv" --obj "$T/uw.obj"
+expect_rc unwritable 2
+
+# ---- numerical failures: exit 3 (diverged) and 4 (not SPD), CSV kept ---------------------
+
+sim diverge "$CONFIG" --quiet --set integrator.method=explicit --set integrator.dt=0.05 \
+  --csv "$T/diverge.csv" --obj "$T/diverge.obj"
+expect_rc diverge 3
+expect_err diverge diverged
+if [ -s "$T/diverge.csv" ]; then
+  check "diverge: last CSV status is '$(last_field "$T/diverge.csv")', expected diverged" \
+    test "$(last_field "$T/diverge.csv")" = diverged
+  nd=$(data_rows "$T/diverge.csv" | wc -l | tr -d ' ')
+  check "diverge: only the last row may be diverged" \
+    test "$(data_rows "$T/diverge.csv" | head -n $((nd - 1)) | grep -c ',diverged$')" -eq 0
+else
+  fail "diverge: no CSV written"
+fi
+check "diverge: no OBJ written" test -s "$T/diverge.obj"
+
+sim notspd "$CONFIG" --quiet --set integrator.definiteness=none --set scene.initial_scale=0.5 \
+  --csv "$T/notspd.csv" --obj "$T/notspd.obj"
+expect_rc notspd 4
+expect_err notspd not_spd
+if [ -s "$T/notspd.csv" ]; then
+  check "notspd: last CSV status is '$(last_field "$T/notspd.csv")', expected not_spd" \
+    test "$(last_field "$T/notspd.csv")" = not_spd
+else
+  fail "notspd: no CSV written"
+fi
+
+# ---- no temporary files left anywhere --------------------------------------------------
+
+left=$(find "$T" -name '*.tmp.*' | head -n 5)
+check "temporary files left behind: $left" test -z "$left"
+
+# ---- --help and --help-config -----------------------------------------------------------
+
+sim help --help
+expect_rc help 0
+for opt in --set --steps --csv --obj --quiet --help --help-config; do
+  check "--help does not mention $opt" grep -Fq -- "$opt" "$T/help.out"
+done
+for code in 0 1 2 3 4; do
+  check "--help does not document exit code $code" grep -Eq "(^|[^0-9])$code [a-z]" "$T/help.out"
+done
+
+sim helpcfg --help-config
+expect_rc helpcfg 0
+for key in mesh.type mesh.n mesh.m mesh.size mesh.plane mesh.diagonal mesh.file \
+  material.density material.vertex_mass material.stretch_k material.bend material.bend_k \
+  scene.gravity scene.pins scene.initial_scale \
+  integrator.method integrator.dt integrator.steps integrator.max_iters integrator.tol \
+  integrator.tol_dx integrator.definiteness integrator.init integrator.line_search integrator.diverge_ratio \
+  solver.method solver.tol solver.max_iters solver.alpha solver.rho; do
+  check "--help-config lacks $key" grep -Fq -- "| \`$key\` |" "$T/helpcfg.out"
+done
+
+if [ -f "$ROOT/README.md" ]; then
+  missing=0
+  while IFS= read -r line; do
+    case $line in
+      '| `'*)
+        if ! grep -Fxq -- "$line" "$ROOT/README.md"; then
+          fail "README.md lacks the --help-config row: $line"
+          missing=$((missing + 1))
+        fi
+        ;;
+    esac
+  done <"$T/helpcfg.out"
+  checks=$((checks + 1))
+else
+  echo "cli: notice: README.md does not exist yet; skipping the config-reference check"
+fi
+
+if [ "$failures" -ne 0 ]; then
+  echo "cli: $failures of $checks checks failed"
+  exit 1
+fi
+echo "cli: ok ($checks checks)"
+exit 0

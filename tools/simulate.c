@@ -90,20 +90,18 @@ int main(int argc, char **argv) {
 
   cb_scene *scene = NULL;
   cb_integrator *integ = NULL;
-  if (cb_scene_build(&cfg, &scene) || cb_integrator_from_config(scene, &integ)) {
+  cb_run run = {0};
+  cb_outfile csv = {0};
+  int rc = EXIT_OK;
+  if (cb_scene_build(&cfg, &scene) || cb_integrator_from_config(scene, &integ) || cb_run_init(&run, scene, integ)) {
     fprintf(stderr, "simulate: %s\n", cb_error_message());
-    cb_scene_free(scene);
-    return EXIT_USAGE;
+    rc = EXIT_USAGE;
+    goto done;
   }
-  cb_run run;
-  if (cb_run_init(&run, scene, integ)) {
-    fprintf(stderr, "simulate: %s\n", cb_error_message());
-    return EXIT_USAGE;
-  }
-  cb_outfile csv;
   if (cb_outfile_open(&csv, csv_path)) {
     fprintf(stderr, "simulate: %s\n", cb_error_message());
-    return EXIT_IO;
+    rc = EXIT_IO;
+    goto done;
   }
   cb_provenance_write(csv.f, "simulate", argc, argv, &cfg);
   fprintf(csv.f, "# scene: %d vertices, %d triangles, %d edges, %d pinned, %d dofs, %d nonzeros\n", scene->mesh.nv,
@@ -126,7 +124,6 @@ int main(int argc, char **argv) {
     }
   }
   cb_progress_end(&prog);
-  int rc = EXIT_OK;
   if (cb_outfile_commit(&csv)) { fprintf(stderr, "simulate: %s\n", cb_error_message()); rc = EXIT_IO; }
   if (cb_mesh_write_obj(&scene->mesh, run.x, obj_path)) { fprintf(stderr, "simulate: %s\n", cb_error_message()); rc = EXIT_IO; }
   if (cb_status_is_fatal(status)) {
@@ -137,6 +134,8 @@ int main(int argc, char **argv) {
             run.step, run.t, run.kinetic + run.potential, run.kinetic, run.potential,
             worst == CB_NOT_CONVERGED ? ", some steps stopped at max_iters" : "", csv_path, obj_path);
   }
+done:
+  cb_outfile_abort(&csv);
   cb_run_free(&run);
   cb_integrator_free(integ);
   cb_scene_free(scene);

@@ -1,0 +1,32 @@
+#!/bin/sh
+# Re-running an experiment gives the same CSV apart from the date and the
+# timing columns. Runs build/<experiment> --quick twice and compares.
+# Timing columns: names ending in _ms, or containing wall, time or speedup
+# (the naming convention for every wall-clock-derived column; see README).
+set -u
+B=${BUILD:-build}
+exp=${1:?usage: tests/determinism.sh EXPERIMENT}
+T=$(mktemp -d "${TMPDIR:-/tmp}/cbdet.XXXXXX") || exit 1
+trap 'rm -rf "$T"' EXIT INT TERM
+strip() { # drop '# date:' and '# command:' lines; blank timing columns
+  awk -F, -v OFS=, '
+    /^# (date|command):/ { next }
+    /^#/ { print; next }
+    !hdr { hdr = 1; for (i = 1; i <= NF; i++) if ($i ~ /_ms$|wall|time|speedup/) t[i] = 1; print; next }
+    { for (i in t) $i = "-"; print }' "$1"
+}
+for k in 1 2; do
+  CB_QUIET=1 OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 "$B/$exp" --quick --out "$T/run$k.csv" >/dev/null 2>"$T/err$k" ||
+    { echo "determinism: $exp run $k failed:"; cat "$T/err$k"; exit 1; }
+  strip "$T/run$k.csv" > "$T/s$k.csv"
+  for side in "$T"/run"$k"_*.csv; do [ -f "$side" ] && strip "$side" > "$T/s$k.$(basename "$side" | sed "s/^run$k//")"; done
+done
+fail=0
+for f in "$T"/s1*; do
+  g=$T/s2${f#"$T"/s1}
+  if ! cmp -s "$f" "$g"; then
+    echo "determinism: $exp: $(basename "$f") differs between two runs:"; diff "$f" "$g" | head -10; fail=1
+  fi
+done
+[ $fail = 0 ] && echo "determinism: $exp --quick gives identical CSV twice (apart from date and timing columns)"
+exit $fail

@@ -1,0 +1,526 @@
+/* Integrators: explicit (symplectic Euler) and implicit Euler by Newton.
+ *
+ *  - both are first order, so their trajectories approach each other like dt;
+ *  - Newton converges quadratically (order >= 1.8) near the solution;
+ *  - max_iters = 1 (Baraff-Witkin) is one linear solve and reports max_iters;
+ *  - a converged step solves M(x1 - x0 - dt v0)/dt^2 + dE/dx(x1) = 0 on the
+ *    free DOFs (residual computed here), and v1 = (x1 - x0)/dt;
+ *  - divergence is detected; pinned vertices never move;
+ *  - the line search makes F decrease monotonically. */
+#include <criterion/criterion.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "support.h"
+
+/* ---- helpers ------------------------------------------------------------------ */
+
+typedef struct {
+  int n;
+  double F[512], g[512];   /* per CB_NEWTON_GRADIENT event */
+  int iter[512];
+  int systems, solves;     /* CB_NEWTON_SYSTEM / CB_NEWTON_SOLVED events */
+  int solve_status[512];
+} trace;
+
+static void record(void *ctx, int event, const cb_newton_event *ev) {
+  trace *t = ctx;
+  if (event == CB_NEWTON_GRADIENT && t->n < 512) {
+    t->F[t->n] = ev->F;
+    t->g[t->n] = ev->grad_norm;
+    t->iter[t->n] = ev->iter;
+    t->n++;
+  } else if (event == CB_NEWTON_SYSTEM) {
+    t->systems++;
+  } else if (event == CB_NEWTON_SOLVED) {
+    if (t->solves < 512) t->solve_status[t->solves] = ev->status;
+    t->solves++;
+  }
+}
+
+/* Integrator from the scene's config, with an optional hook. */
+static cb_integrator *make_integrator(cb_scene *s, cb_newton_hook hook, void *ctx) {
+  cb_integrator_params p;
+  cr_assert_eq(cb_integrator_params_from_config(&s->cfg, &p), CB_OK, "%s", cb_error_message());
+  p.hook = hook;
+  p.hook_ctx = ctx;
+  cb_solver_params sp = cb_solver_params_from_config(&s->cfg);
+  cb_integrator *it = NULL;
+  int st = cb_integrator_alloc(s->cfg.method, s, &p, s->cfg.solver, &sp, &it);
+  cr_assert_eq(st, CB_OK, "integrator: %s", cb_error_message());
+  return it;
+}
+
+static double *copy(const double *x, int n) {
+  double *y = malloc((size_t)n * sizeof(double));
+  cr_assert(y);
+  memcpy(y, x, (size_t)n * sizeof(double));
+  return y;
+}
+
+/* Runs a scene (given overrides plus method/dt) from its initial state to time
+ * T; returns the final positions (caller frees). */
+static double *run_to(const char *const *base, const char *method, double dt, double T, int *status) {
+  const char *sets[32];
+  int n = 0;
+  for (; base[n]; n++) sets[n] = base[n];
+  char m[64], d[64];
+  snprintf(m, sizeof m, "integrator.method=%s", method);
+  snprintf(d, sizeof d, "integrator.dt=%.17g", dt);
+  sets[n++] = m;
+  sets[n++] = d;
+  sets[n] = NULL;
+  cb_scene *s = test_scene(sets);
+  cb_integrator *it = make_integrator(s, NULL, NULL);
+  int n3 = 3 * s->mesh.nv, steps = (int)lround(T / dt);
+  cr_assert(fabs(steps * dt - T) <= 1e-12 * T, "T is not a multiple of dt");
+  double *x = copy(s->x0, n3), *v = copy(s->v0, n3);
+  *status = CB_OK;
+  for (int k = 0; k < steps; k++) {
+    cb_step_stats st;
+    int r = cb_integrator_step(it, x, v, &st);
+    if (r != CB_OK) {
+      *status = r;
+      break;
+    }
+  }
+  free(v);
+  cb_integrator_free(it);
+  cb_scene_free(s);
+  return x;
+}
+
+static double max_abs_diff(const double *a, const double *b, int n) {
+  double m = 0;
+  for (int i = 0; i < n; i++) m = fmax(m, fabs(a[i] - b[i]));
+  return m;
+}
+
+/* ---- explicit and implicit Euler converge to each other ----------------------------- */
+
+Test(integrator, explicit_and_implicit_trajectories_converge_at_first_order) {
+  /* 6x6 cloth, 10 m, 0.1 kg per vertex, k = 100 N/m, hanging from two corners,
+   * released flat. Explicit is stable for dt < 2/omega_max ~ 0.02 s. */
+  const char *base[] = {"mesh.n=6", "material.stretch_k=100", "material.vertex_mass=0.1", "scene.pins=top-corners",
+                        "integrator.tol=1e-10", "integrator.tol_dx=1e-13", "integrator.max_iters=100",
+                        "integrator.definiteness=drop", NULL};
+  const double T = 0.5, dt0 = 1.0 / 100;
+  const int levels = 5;
+  double diff[8];
+  int n3 = 3 * 36;
+  for (int l = 0; l < levels; l++) {
+    double dt = dt0 / (1 << l);
+    int se, si;
+    double *xe = run_to(base, "explicit", dt, T, &se), *xi = run_to(base, "newton", dt, T, &si);
+    cr_assert_eq(se, CB_OK, "explicit dt=%g: %s", dt, cb_status_name(se));
+    cr_assert_eq(si, CB_OK, "newton dt=%g: %s", dt, cb_status_name(si));
+    diff[l] = max_abs_diff(xe, xi, n3);
+    cr_log_info("dt = %.6g: max |x_explicit - x_implicit| = %.6g m\n", dt, diff[l]);
+    free(xe);
+    free(xi);
+  }
+  for (int l = 1; l < levels; l++) {
+    double ratio = diff[l - 1] / diff[l];
+    cr_log_info("ratio dt=%.6g / dt=%.6g: %.4f\n", dt0 / (1 << (l - 1)), dt0 / (1 << l), ratio);
+    /* the first halving may still be pre-asymptotic; from then on about 2 */
+    if (l >= 2) cr_expect(ratio >= 1.6 && ratio <= 2.5, "difference ratio %.4f at level %d", ratio, l);
+    else cr_expect(ratio > 1.2, "difference ratio %.4f at level %d", ratio, l);
+  }
+  /* the cloth falls ~1.2 m in 0.5 s; the two methods agree to within a few cm at the finest dt */
+  cr_expect(diff[levels - 1] < 0.05, "final difference %.4g m", diff[levels - 1]);
+}
+
+/* ---- Newton's convergence order --------------------------------------------------- */
+
+/* Order estimates p_k = log(g_{k+1}/g_k) / log(g_k/g_{k-1}) over the iterations
+ * whose gradient norms are well above the round-off floor. Returns the
+ * estimate from the last such triple, or 0 if there is none. */
+static double newton_order(const trace *t, double floor, double *all, int *nall) {
+  double last = 0;
+  *nall = 0;
+  for (int k = 1; k + 1 < t->n; k++) {
+    double g0 = t->g[k - 1], g1 = t->g[k], g2 = t->g[k + 1];
+    if (!(g2 > floor)) break;
+    if (!(g1 < g0)) continue; /* not yet in the convergent regime */
+    double p = log(g2 / g1) / log(g1 / g0);
+    all[(*nall)++] = p;
+    last = p;
+  }
+  return last;
+}
+
+static void order_case(const char *const *sets, const char *label) {
+  cb_scene *s = test_scene(sets);
+  trace t;
+  memset(&t, 0, sizeof t);
+  cb_integrator *it = make_integrator(s, record, &t);
+  int n3 = 3 * s->mesh.nv;
+  double *x = copy(s->x0, n3), *v = copy(s->v0, n3);
+  cb_step_stats st;
+  int r = cb_integrator_step(it, x, v, &st);
+  cr_assert_eq(r, CB_OK, "%s: step status %s (%s)", label, cb_status_name(r), cb_error_message());
+  cr_assert_geq(t.n, 4, "%s: only %d Newton iterations", label, t.n);
+  char buf[2048];
+  size_t used = 0;
+  for (int k = 0; k < t.n; k++) used += (size_t)snprintf(buf + used, sizeof buf - used, " %.3e", t.g[k]);
+  cr_log_info("%s: |grad F| per iteration:%s\n", label, buf);
+  /* round-off floor: a few thousand ulps of the initial gradient */
+  double floor = 1e-12 * t.g[0], ps[64];
+  int np;
+  double p = newton_order(&t, floor, ps, &np);
+  used = 0;
+  for (int k = 0; k < np; k++) used += (size_t)snprintf(buf + used, sizeof buf - used, " %.3f", ps[k]);
+  cr_log_info("%s: order estimates:%s\n", label, buf);
+  cr_assert_gt(np, 0, "%s: no informative iteration triple", label);
+  cr_expect_geq(p, 1.8, "%s: Newton order %.3f on the last informative iterations", label, p);
+  /* the hook saw what the stats report */
+  cr_expect_eq(t.n, st.newton_iters + 1);
+  cr_expect_eq(t.solves, st.newton_iters);
+  cr_expect(st.rel_grad <= 1e-12, "%s: rel_grad %.3g", label, st.rel_grad);
+  cr_expect(fabs(st.grad_norm - t.g[t.n - 1]) <= 1e-15 * t.g[0]);
+  free(x);
+  free(v);
+  cb_integrator_free(it);
+  cb_scene_free(s);
+}
+
+Test(integrator, newton_converges_quadratically_on_a_stretched_cloth) {
+  const char *none[] = {"mesh.n=10", "material.vertex_mass=1", "scene.initial_scale=1.5", "scene.pins=top-corners",
+                        "integrator.definiteness=none", "integrator.tol=1e-12", "integrator.max_iters=100", NULL};
+  order_case(none, "stretched 1.5, none");
+  /* exact Hessian: with drop, springs that end up compressed make the
+   * Hessian inexact and the convergence linear */
+  const char *bend[] = {"mesh.n=8", "mesh.m=6", "material.bend=spring", "scene.initial_scale=1.4",
+                        "scene.pins=none", "integrator.definiteness=none", "integrator.tol=1e-12",
+                        "integrator.max_iters=100", "integrator.dt=0.1", NULL};
+  order_case(bend, "stretched 1.4, none, bending, no pins, dt 0.1");
+}
+
+/* ---- Baraff-Witkin ------------------------------------------------------------------ */
+
+Test(integrator, baraff_witkin_is_one_linear_solve_and_reports_max_iters) {
+  const char *sets[] = {"mesh.n=11", "material.vertex_mass=1", "scene.initial_scale=1.2", "integrator.max_iters=1",
+                        "integrator.tol=1e-8", NULL};
+  cb_scene *s = test_scene(sets);
+  trace t;
+  memset(&t, 0, sizeof t);
+  cb_integrator *it = make_integrator(s, record, &t);
+  int n3 = 3 * s->mesh.nv;
+  double *x = copy(s->x0, n3), *v = copy(s->v0, n3);
+  for (int step = 0; step < 3; step++) {
+    memset(&t, 0, sizeof t);
+    cb_step_stats st;
+    int r = cb_integrator_step(it, x, v, &st);
+    cr_expect_eq(r, CB_NOT_CONVERGED, "step %d: status %s", step, cb_status_name(r));
+    cr_expect_eq(st.status, CB_NOT_CONVERGED);
+    cr_expect_str_eq(cb_status_name(st.status), "max_iters");
+    cr_expect_eq(st.newton_iters, 1, "step %d: %d linear solves", step, st.newton_iters);
+    cr_expect_eq(t.systems, 1);
+    cr_expect_eq(t.solves, 1);
+    cr_expect_eq(t.solve_status[0], CB_OK);
+    cr_expect_eq(t.n, 2, "gradient evaluated at the guess and after the update");
+    cr_expect(st.rel_grad > 1e-8 && st.rel_grad < 1, "step %d: rel_grad %.3g", step, st.rel_grad);
+    cr_expect(!cb_status_is_fatal(st.status), "max_iters must not end a trajectory");
+  }
+  free(x); free(v);
+  cb_integrator_free(it);
+  cb_scene_free(s);
+}
+
+/* ---- a converged step solves the implicit Euler equations ---------------------------------- */
+
+/* m_i = density * (sum of adjacent rest triangle areas) / 3 */
+static void lumped_masses(const cb_mesh *m, double density, double *mass) {
+  memset(mass, 0, (size_t)m->nv * sizeof(double));
+  for (int t = 0; t < m->nt; t++) {
+    const int *v = m->tri + 3 * t;
+    const double *a = m->x + 3 * v[0], *b = m->x + 3 * v[1], *c = m->x + 3 * v[2];
+    double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    double area = 0.5 * sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+    for (int k = 0; k < 3; k++) mass[v[k]] += density * area / 3.0;
+  }
+}
+
+static int is_pinned(const int *pins, int np, int v) {
+  for (int k = 0; k < np; k++)
+    if (pins[k] == v) return 1;
+  return 0;
+}
+
+static void implicit_equation_case(const char *const *sets, double density, const int *pins, int npins,
+                                   const char *label) {
+  cb_scene *s = test_scene(sets);
+  cb_integrator *it = make_integrator(s, NULL, NULL);
+  int nv = s->mesh.nv, n3 = 3 * nv;
+  double *mass = malloc((size_t)nv * sizeof(double)), *g = malloc((size_t)n3 * sizeof(double));
+  cr_assert(mass && g);
+  if (density > 0) lumped_masses(&s->mesh, density, mass);
+  else
+    for (int i = 0; i < nv; i++) mass[i] = -density; /* uniform vertex mass */
+  double dt = it->params.dt;
+  double *x = copy(s->x0, n3), *v = copy(s->v0, n3);
+  double worst = 0;
+  for (int step = 0; step < 4; step++) {
+    double *x0 = copy(x, n3), *v0 = copy(v, n3);
+    cb_step_stats st;
+    int r = cb_integrator_step(it, x, v, &st);
+    cr_assert_eq(r, CB_OK, "%s step %d: %s", label, step, cb_status_name(r));
+    cb_system_energy(&s->sys, x, g, NULL); /* dE/dx(x1), gravity included */
+    double rn = 0, in = 0, gn = 0;
+    for (int i = 0; i < nv; i++) {
+      for (int a = 0; a < 3; a++) {
+        int q = 3 * i + a;
+        if (is_pinned(pins, npins, i)) {
+          cr_expect(x[q] == x0[q], "%s: pinned vertex %d moved", label, i);
+          cr_expect(v[q] == 0.0, "%s: pinned vertex %d has velocity", label, i);
+          continue;
+        }
+        double inertia = mass[i] * (x[q] - x0[q] - dt * v0[q]) / (dt * dt); /* M(x1 - x0 - dt v0)/dt^2 */
+        double res = inertia + g[q];
+        rn += res * res;
+        in += inertia * inertia;
+        gn += g[q] * g[q];
+        /* v1 = (x1 - x0)/dt */
+        double v1 = (x[q] - x0[q]) / dt;
+        cr_expect(fabs(v[q] - v1) <= 1e-14 * (fabs(v1) + 1e-12 / dt), "%s: v1 != (x1 - x0)/dt at %d", label, q);
+      }
+    }
+    rn = sqrt(rn);
+    double scale = sqrt(in) + sqrt(gn);
+    worst = fmax(worst, rn / scale);
+    cr_expect(rn <= 1e-10 * scale, "%s step %d: |residual| = %.3g, scale %.3g", label, step, rn, scale);
+    /* the library's own |grad F| is this residual */
+    cr_expect(fabs(st.grad_norm - rn) <= 1e-9 * scale, "%s: grad_norm %.3g vs residual %.3g", label, st.grad_norm, rn);
+    free(x0);
+    free(v0);
+  }
+  cr_log_info("%s: worst |implicit Euler residual| / scale = %.3g\n", label, worst);
+  free(mass); free(g); free(x); free(v);
+  cb_integrator_free(it);
+  cb_scene_free(s);
+}
+
+Test(integrator, converged_step_solves_the_implicit_euler_equation) {
+  const char *a[] = {"mesh.n=7", "mesh.m=5", "material.vertex_mass=0.3", "scene.pins=top-corners",
+                     "integrator.tol=1e-12", "integrator.tol_dx=1e-13", "integrator.max_iters=100", NULL};
+  const int pa[] = {28, 34};
+  implicit_equation_case(a, -0.3, pa, 2, "uniform mass, top corners");
+  const char *b[] = {"mesh.n=5", "mesh.m=6", "mesh.diagonal=alternating", "material.density=0.7",
+                     "material.bend=spring", "material.bend_k=20", "scene.pins=3 11 29", "scene.initial_scale=1.1",
+                     "integrator.tol=1e-12", "integrator.tol_dx=1e-13", "integrator.max_iters=100", "integrator.dt=0.05",
+                     NULL};
+  const int pb[] = {3, 11, 29};
+  implicit_equation_case(b, 0.7, pb, 3, "lumped mass, bending, index pins");
+  const char *c[] = {"mesh.n=6", "material.vertex_mass=0.5", "scene.pins=none", "scene.initial_scale=0.8",
+                     "integrator.tol=1e-12", "integrator.tol_dx=1e-13", "integrator.max_iters=100",
+                     "integrator.definiteness=drop", "integrator.init=x0", NULL};
+  implicit_equation_case(c, -0.5, NULL, 0, "compressed, no pins, init x0");
+}
+
+/* ---- divergence, pins ---------------------------------------------------------------- */
+
+Test(integrator, explicit_with_too_large_dt_is_reported_diverged) {
+  /* k = 8000 N/m, 1 kg: omega_max ~ sqrt(8 k / m) ~ 250 rad/s, so dt = 1/30 is
+   * ~8x past the stability limit 2/omega_max. */
+  const char *sets[] = {"mesh.n=11", "material.vertex_mass=1", "integrator.method=explicit", "integrator.dt=1/30",
+                        NULL};
+  cb_scene *s = test_scene(sets);
+  cb_integrator *it = make_integrator(s, NULL, NULL);
+  cb_run r;
+  cr_assert_eq(cb_run_init(&r, s, it), CB_OK);
+  int st = CB_OK, steps = 0;
+  while (steps < 200 && st == CB_OK) {
+    st = cb_run_step(&r);
+    steps++;
+  }
+  cr_log_info("explicit dt=1/30: %s after %d steps\n", cb_status_name(st), steps);
+  cr_expect_eq(st, CB_DIVERGED, "status %s after %d steps", cb_status_name(st), steps);
+  cr_expect_leq(steps, 100, "divergence detected only after %d steps", steps);
+  cr_expect(cb_status_is_fatal(st));
+  cr_expect_eq(r.last.status, CB_DIVERGED);
+  /* pinned vertices stayed put even so */
+  for (int k = 0; k < s->npinned; k++)
+    for (int a = 0; a < 3; a++) cr_expect(r.x[3 * s->pinned[k] + a] == s->x0[3 * s->pinned[k] + a]);
+  cb_run_free(&r);
+  cb_integrator_free(it);
+  cb_scene_free(s);
+}
+
+Test(integrator, stable_explicit_run_is_not_reported_diverged_and_keeps_energy) {
+  /* dt = 1/2000 is well inside the limit: symplectic Euler keeps the total
+   * energy within O(dt) of its initial value, far inside the bound. */
+  const char *sets[] = {"mesh.n=11", "material.vertex_mass=1", "integrator.method=explicit", "integrator.dt=1/2000",
+                        NULL};
+  cb_scene *s = test_scene(sets);
+  cb_integrator *it = make_integrator(s, NULL, NULL);
+  cb_run r;
+  cr_assert_eq(cb_run_init(&r, s, it), CB_OK);
+  double drift = 0, pe0 = r.potential;
+  for (int k = 0; k < 600; k++) {
+    int st = cb_run_step(&r);
+    cr_assert_eq(st, CB_OK, "step %d: %s", k, cb_status_name(st));
+    drift = fmax(drift, fabs(r.kinetic + r.potential - r.total0));
+  }
+  /* 0.3 s of falling: the potential drops by a lot; the total barely moves */
+  double fall = pe0 - r.potential;
+  cr_log_info("explicit dt=1/2000: potential drop %.4g J, max |total - total0| %.4g J\n", fall, drift);
+  cr_expect(fall > 100, "the cloth should have fallen (potential drop %.3g J)", fall);
+  cr_expect(drift < 0.02 * fall, "energy drift %.4g J vs potential drop %.4g J", drift, fall);
+  cb_run_free(&r);
+  cb_integrator_free(it);
+  cb_scene_free(s);
+}
+
+Test(integrator, implicit_euler_does_not_gain_energy) {
+  /* Implicit Euler is dissipative (run.h: "implicit Euler only loses energy"):
+   * for convex E, K1 + E1 <= K0 + E0 - 1/2 |v1 - v0|_M^2. Springs under
+   * compression are not convex, so allow a small tolerance. */
+  const char *sets[] = {"mesh.n=11", "material.vertex_mass=1", "integrator.tol=1e-10", "integrator.tol_dx=1e-12",
+                        NULL};
+  cb_scene *s = test_scene(sets);
+  cb_integrator *it = make_integrator(s, NULL, NULL);
+  cb_run r;
+  cr_assert_eq(cb_run_init(&r, s, it), CB_OK);
+  double prev = r.total0, worst_rise = 0, pe0 = r.potential;
+  for (int k = 0; k < 60; k++) {
+    int st = cb_run_step(&r);
+    cr_assert_eq(st, CB_OK, "step %d: %s", k, cb_status_name(st));
+    double total = r.kinetic + r.potential;
+    worst_rise = fmax(worst_rise, total - prev);
+    prev = total;
+  }
+  double lost = r.total0 - prev;
+  cr_log_info("implicit Euler 60 steps: lost %.6g J of %.6g J potential drop; worst one-step rise %.3g J\n", lost,
+              pe0 - r.potential, worst_rise);
+  cr_expect(lost > 0, "no energy lost");
+  cr_expect(worst_rise <= 1e-6 * s->energy_scale, "total energy rose by %.3g J in one step (S = %.3g J)", worst_rise,
+            s->energy_scale);
+  cb_run_free(&r);
+  cb_integrator_free(it);
+  cb_scene_free(s);
+}
+
+Test(integrator, pinned_vertices_never_move_and_newton_velocity_is_the_difference_quotient) {
+  const char *methods[] = {"newton", "explicit"};
+  for (int mth = 0; mth < 2; mth++) {
+    char m[64];
+    snprintf(m, sizeof m, "integrator.method=%s", methods[mth]);
+    const char *sets[] = {"mesh.n=9", "material.vertex_mass=1", "scene.pins=0 4 8 80", "material.bend=spring", m,
+                          mth ? "integrator.dt=1/1000" : "integrator.dt=1/30", NULL};
+    cb_scene *s = test_scene(sets);
+    cr_assert_eq(s->npinned, 4);
+    cb_integrator *it = make_integrator(s, NULL, NULL);
+    int n3 = 3 * s->mesh.nv;
+    double *x = copy(s->x0, n3), *v = copy(s->v0, n3);
+    double moved = 0;
+    for (int step = 0; step < 40; step++) {
+      double *xp = copy(x, n3);
+      cb_step_stats st;
+      int r = cb_integrator_step(it, x, v, &st);
+      cr_assert(r == CB_OK || r == CB_NOT_CONVERGED, "%s step %d: %s", methods[mth], step, cb_status_name(r));
+      const int pins[] = {0, 4, 8, 80};
+      for (int k = 0; k < 4; k++)
+        for (int a = 0; a < 3; a++) {
+          cr_expect(x[3 * pins[k] + a] == s->x0[3 * pins[k] + a], "%s: pin %d moved", methods[mth], pins[k]);
+          cr_expect(v[3 * pins[k] + a] == 0.0, "%s: pin %d has velocity", methods[mth], pins[k]);
+        }
+      if (mth == 0)
+        for (int q = 0; q < n3; q++) {
+          double v1 = (x[q] - xp[q]) / it->params.dt;
+          cr_expect(fabs(v[q] - v1) <= 1e-13 * (1 + fabs(v1)), "newton: v1 != (x1 - x0)/dt at %d", q);
+        }
+      moved = fmax(moved, max_abs_diff(x, s->x0, n3));
+      free(xp);
+    }
+    cr_expect(moved > (mth ? 0.005 : 0.5), "%s: the free vertices should move (max %.3g m)", methods[mth], moved);
+    free(x); free(v);
+    cb_integrator_free(it);
+    cb_scene_free(s);
+  }
+}
+
+/* ---- line search ------------------------------------------------------------------------ */
+
+/* One Newton step of an 8x8 cloth, 1 kg per vertex, k = 8000 N/m, drop. */
+static int newton_step_trace(const char *scale, const char *dt, const char *tol, int line_search, trace *t,
+                             cb_step_stats *st) {
+  char a[64], b[64], c[64], d[64];
+  snprintf(a, sizeof a, "scene.initial_scale=%s", scale);
+  snprintf(b, sizeof b, "integrator.dt=%s", dt);
+  snprintf(c, sizeof c, "integrator.tol=%s", tol);
+  snprintf(d, sizeof d, "integrator.line_search=%d", line_search);
+  const char *sets[] = {"mesh.n=8", "material.vertex_mass=1", "scene.pins=top-corners", "integrator.definiteness=drop",
+                        "integrator.max_iters=300", a, b, c, d, NULL};
+  cb_scene *s = test_scene(sets);
+  memset(t, 0, sizeof *t);
+  cb_integrator *it = make_integrator(s, record, t);
+  int n3 = 3 * s->mesh.nv;
+  double *x = copy(s->x0, n3), *v = copy(s->v0, n3);
+  int status = cb_integrator_step(it, x, v, st);
+  free(x); free(v);
+  cb_integrator_free(it);
+  cb_scene_free(s);
+  return status;
+}
+
+/* Increases of F by more than its round-off (1e-12 |F|). */
+static int count_increases(const trace *t, double *worst) {
+  int up = 0;
+  *worst = 0;
+  for (int k = 1; k < t->n; k++)
+    if (t->F[k] > t->F[k - 1] + 1e-12 * fabs(t->F[k - 1])) {
+      up++;
+      *worst = fmax(*worst, t->F[k] - t->F[k - 1]);
+    }
+  return up;
+}
+
+Test(integrator, line_search_decreases_F_monotonically) {
+  /* (scale, dt): a cloth crushed to half its size with a 0.2 s step, and one
+   * stretched to twice its size with a 2 s step. Plain Newton's F rises in
+   * both (checked, so the cases stay hard); with the line search it never does. */
+  const char *cases[][2] = {{"0.5", "0.2"}, {"2", "2"}};
+  for (int c = 0; c < 2; c++) {
+    trace t;
+    cb_step_stats st;
+    double worst;
+    int status = newton_step_trace(cases[c][0], cases[c][1], "1e-8", 0, &t, &st);
+    int up = count_increases(&t, &worst);
+    cr_log_info("scale %s dt %s, line search off: %d iterations, status %s, F rose %d times (by up to %.3g J)\n",
+                cases[c][0], cases[c][1], st.newton_iters, cb_status_name(status), up, worst);
+    cr_assert_gt(up, 0, "test case too easy: plain Newton decreased F monotonically");
+    status = newton_step_trace(cases[c][0], cases[c][1], "1e-8", 1, &t, &st);
+    cr_log_info("scale %s dt %s, line search on: %d iterations, %d backtracks, status %s, F %.17g -> %.17g\n",
+                cases[c][0], cases[c][1], st.newton_iters, st.ls_backtracks, cb_status_name(status), t.F[0],
+                t.F[t.n - 1]);
+    cr_expect(status == CB_OK || status == CB_NOT_CONVERGED, "status %s", cb_status_name(status));
+    cr_expect_gt(st.ls_backtracks, 0, "the line search never backtracked");
+    for (int k = 1; k < t.n; k++)
+      cr_expect(t.F[k] <= t.F[k - 1], "scale %s: F rose at iteration %d: %.17g -> %.17g", cases[c][0], t.iter[k],
+                t.F[k - 1], t.F[k]);
+    if (c == 0) cr_expect_eq(status, CB_OK, "the crushed cloth converges with the line search");
+  }
+}
+
+/* Where plain Newton reaches the tolerance, Newton with the line search must
+ * too: near the solution the full step is accepted by any sound line search. */
+Test(integrator, line_search_reaches_the_tolerance_plain_newton_reaches) {
+  trace t;
+  cb_step_stats st;
+  int status = newton_step_trace("4", "0.2", "1e-10", 0, &t, &st);
+  cr_log_info("scale 4 dt 0.2 tol 1e-10, line search off: %s after %d iterations, |grad F| %.3g\n",
+              cb_status_name(status), st.newton_iters, st.grad_norm);
+  cr_assert_eq(status, CB_OK, "plain Newton should converge here");
+  int plain_iters = st.newton_iters;
+  status = newton_step_trace("4", "0.2", "1e-10", 1, &t, &st);
+  cr_log_info("scale 4 dt 0.2 tol 1e-10, line search on: %s after %d iterations, %d backtracks, rel_grad %.3g\n",
+              cb_status_name(status), st.newton_iters, st.ls_backtracks, st.rel_grad);
+  cr_expect_eq(status, CB_OK,
+               "line search: status %s after %d iterations (%d backtracks), stuck at rel_grad %.3g, while plain "
+               "Newton converged in %d iterations",
+               cb_status_name(status), st.newton_iters, st.ls_backtracks, st.rel_grad, plain_iters);
+}
