@@ -54,6 +54,7 @@ unset xrange; unset yrange
 set output out.'/linear_solvers_j1_rates.'.ext
 set title "J1: measured asymptotic rate against predicted rho(I - alpha D^{-1}A), every Jacobi run"
 set logscale xy
+set format xy '10^{%T}'
 set xlabel '|ln rho| predicted (GSL dense or Lanczos)'
 set ylabel '|ln rate| measured (last quarter of the run)'
 set key top left
@@ -63,7 +64,7 @@ plot x with lines lc 'black' title 'measured = predicted', \
      for [pass = 0:1] runs using (is('solver', 'jacobi') && column('rate') > 0 && settled(column('rate'), column('rate_prev')) == pass ? \
        abs(log(column('rho_predicted'))) : NaN):(abs(log(column('rate')))) with points pt (pass ? 7 : 6) ps 1.1 \
        lc rgb (pass ? '#1f77b4' : '#999999') title (pass ? 'rate settled by the end of the run' : 'rate not settled (last two quarters differ > 5%)')
-unset logscale
+unset logscale; set format xy '%g'
 
 # ---- J2: iterations and time to 1e-6 per scene and solver ----------------------------
 set output out.'/linear_solvers_j2_speedup.'.ext
