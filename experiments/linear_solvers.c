@@ -201,15 +201,14 @@ int main(int argc, char **argv) {
   c.max_iters = c.e.quick ? 20000 : 1000000;
   c.sweep_iters = c.e.quick ? 1500 : 4000;
   char path[3][2200], extra[512];
-  cb_experiment_side_path(&c.e, "scenes.csv", path[0], sizeof path[0]);
-  cb_experiment_side_path(&c.e, "runs.csv", path[1], sizeof path[1]);
-  cb_experiment_side_path(&c.e, "newton.csv", path[2], sizeof path[2]);
+  const char *side[] = {"scenes.csv", "runs.csv", "newton.csv"};
+  for (int i = 0; i < 3; i++) cb_experiment_side_path(&c.e, side[i], path[i], sizeof path[i]);
   snprintf(extra, sizeof extra,
            "# capture: first Newton iteration of the step at t_capture; %d Newton iterations per step before it\n"
            "# solves: x0 = 0, tol = %g, max_iters = %d (sweeps %d); jacobi/chebyshev main runs at alpha* = "
            "2/(lmin+lmax) of D^-1 A\n# reference x*: CHOLMOD refined once; wall_ms includes set-up, not CHOLMOD's "
            "symbolic analysis\n", PRE_NEWTON_ITERS, TOL, c.max_iters, c.sweep_iters);
-  cb_outfile sc;
+  cb_outfile sc = {0}; /* zeroed: safe to abort if never opened */
   rc = cb_experiment_csv(&c.e, &c.e.csv, NULL, extra,
                          "scene,sweep,solver,alpha,rho,iter,rel_residual,wall_ms,status,error");
   rc = rc ? rc : cb_experiment_csv(&c.e, &sc, path[0], extra,
@@ -222,11 +221,11 @@ int main(int argc, char **argv) {
                                    "wall_ms_1e6,setup_ms,rho_ms,wall_ms,status");
   rc = rc ? rc : cb_experiment_csv(&c.e, &c.newton, path[2], extra,
                                    "scene,solver,alpha,rho,k,iters,rel_residual,step_error,wall_ms,status");
-  int total = 0, done = 0;
-  for (size_t i = 0; i < sizeof scenes / sizeof *scenes; i++) total += !!(scenes[i].when & (c.e.quick ? QUICK : FULL));
+  int total = 0, done = 0, mode = c.e.quick ? QUICK : FULL, nsc = (int)(sizeof scenes / sizeof *scenes);
+  for (int i = 0; i < nsc; i++) total += !!(scenes[i].when & mode);
   cb_progress_start(&c.e.progress, "linear_solvers", total);
-  for (size_t i = 0; rc == CB_OK && i < sizeof scenes / sizeof *scenes; i++) {
-    if (!(scenes[i].when & (c.e.quick ? QUICK : FULL))) continue;
+  for (int i = 0; rc == CB_OK && i < nsc; i++) {
+    if (!(scenes[i].when & mode)) continue;
     rc = scene(&c, &scenes[i], &sc);
     if (rc) fprintf(stderr, "linear_solvers: scene %s: %s\n", scenes[i].name, cb_error_message());
     cb_progress_update(&c.e.progress, ++done);
