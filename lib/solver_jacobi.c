@@ -91,6 +91,12 @@ int cb_jacobi_spectral_radius(const cb_sparse *A, const double *dhalf, double al
   free(work);
   if (st) return st;
   double lo = er.lmin - er.res_min, hi = er.lmax + er.res_max;
+  /* D^-1 A of an SPD A has a positive spectrum. A residual bound larger than
+   * the smallest Ritz value means Lanczos has not resolved the bottom of the
+   * spectrum (very ill-conditioned A): widening would give lo <= 0, rho >= 1
+   * and a false "Jacobi diverges". Keep the Ritz value instead (Chebyshev
+   * with a slightly underestimated rho < 1 still converges, only slower). */
+  if (!(lo > 0) && er.lmin > 0) lo = er.lmin;
   *rho = fmax(fabs(1.0 - alpha * lo), fabs(1.0 - alpha * hi));
   *steps = er.steps;
   return CB_OK;
@@ -132,7 +138,7 @@ static int jw_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x
   for (int i = 0; i < n; i++) bnorm += b[i] * b[i];
   bnorm = sqrt(bnorm);
   double r0 = cb_sparse_residual(A, b, x, w->r); /* r = b - A dx */
-  if (cb_iter_stop(s, 0, r0, r0, bnorm, &status)) return status;
+  if (cb_iter_stop(s, 0, r0, r0, bnorm, x, &status)) return status;
   status = CB_NOT_CONVERGED;
   memcpy(w->last, x, (size_t)n * sizeof(double));
   for (int k = 0; k < s->params.max_iters; k++) {
@@ -144,7 +150,7 @@ static int jw_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x
       x[i] = xn;
     }
     double rn = cb_sparse_residual(A, b, x, w->r);
-    if (cb_iter_stop(s, k + 1, rn, r0, bnorm, &status)) return status;
+    if (cb_iter_stop(s, k + 1, rn, r0, bnorm, x, &status)) return status;
     status = CB_NOT_CONVERGED;
   }
   return status;
