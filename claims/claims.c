@@ -12,6 +12,14 @@ void cb_check_T2(const cb_table *t, const char *results_dir, cb_claim_result *ou
 void cb_check_E1(const cb_table *t, const char *results_dir, cb_claim_result *out);
 void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *out);
 void cb_check_I1(const cb_table *t, const char *results_dir, cb_claim_result *out);
+void cb_check_h1(const cb_table *csv, const char *dir, cb_claim_result *out);
+void cb_check_h2(const cb_table *csv, const char *dir, cb_claim_result *out);
+void cb_check_newton_vs_bw_i2(const cb_table *csv, const char *results_dir, cb_claim_result *out);
+void cb_check_newton_vs_bw_i3(const cb_table *csv, const char *results_dir, cb_claim_result *out);
+void cb_check_j1(const cb_table *csv, const char *dir, cb_claim_result *out);
+void cb_check_j2(const cb_table *csv, const char *dir, cb_claim_result *out);
+void cb_check_j3(const cb_table *csv, const char *dir, cb_claim_result *out);
+void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out);
 
 const cb_claim cb_claims[] = {
   {"T1", "topology", "Sorting edge triples (i<j, triangle) gives the unique edge list and the neighbouring-triangle pairs.",
@@ -28,24 +36,25 @@ const cb_claim cb_claims[] = {
   {"I1", "explicit_stability", "Implicit Euler (converged Newton) stays stable for every (k, dt) in the same sweep; its price is numerical damping.",
    "Same sweep: no divergence; energy lost per simulated second as a function of dt.", "explicit_stability_damping.png",
    cb_check_I1},
-  {"I2", NULL, "Implicit Euler is x1 = argmin F(x), solved by Newton's method, which converges quadratically near the solution.",
-   "Measured convergence order from the |grad F| sequence is at least 1.8.", NULL, NULL},
-  {"I3", NULL, "Baraff-Witkin's single Newton iteration is fast but can fail to converge.",
+  {"I2", "newton_vs_bw", "Implicit Euler is x1 = argmin F(x), solved by Newton's method, which converges quadratically near the solution.",
+   "Measured convergence order from the |grad F| sequence is at least 1.8.", "newton_vs_bw_convergence.png",
+   cb_check_newton_vs_bw_i2},
+  {"I3", "newton_vs_bw", "Baraff-Witkin's single Newton iteration is fast but can fail to converge.",
    "Step error and wall time for K = 1, 2, 3, 5, 10 and converged; the (dt, k, stretch) regime where K = 1 has error above 1% or diverges.",
-   NULL, NULL},
-  {"H1", NULL, "A spring's Hessian is SPD when stretched and may be indefinite when compressed; A = M/dt^2 + H can then be indefinite.",
-   "Fraction of Newton iterations with indefinite A on compression scenes.", NULL, NULL},
-  {"H2", NULL, "Dropping the (1 - L/|x|) term when |x| < L restores definiteness; other fixes work at different costs.",
-   "Per fix: SPD rate, CG breakdowns, Newton iterations, wall time, final energy.", NULL, NULL},
-  {"J1", NULL, "Vanilla Jacobi needs A diagonally dominant; alpha < 2/lambda_max(D^-1 A) makes it converge for any SPD A.",
+   "newton_vs_bw_pareto.png", cb_check_newton_vs_bw_i3},
+  {"H1", "definiteness", "A spring's Hessian is SPD when stretched and may be indefinite when compressed; A = M/dt^2 + H can then be indefinite.",
+   "Fraction of Newton iterations with indefinite A on compression scenes.", "definiteness_h1.png", cb_check_h1},
+  {"H2", "definiteness", "Dropping the (1 - L/|x|) term when |x| < L restores definiteness; other fixes work at different costs.",
+   "Per fix: SPD rate, CG breakdowns, Newton iterations, wall time, final energy.", "definiteness_residual.png", cb_check_h2},
+  {"J1", "linear_solvers", "Vanilla Jacobi needs A diagonally dominant; alpha < 2/lambda_max(D^-1 A) makes it converge for any SPD A.",
    "alpha sweep on a non-diagonally-dominant SPD A: divergence at alpha = 1 where predicted, convergence for small alpha, measured rate matches rho(I - alpha D^-1 A).",
-   NULL, NULL},
-  {"J2", NULL, "Chebyshev acceleration makes Jacobi much faster (Wang 2015: at least an order of magnitude).",
-   "Iterations and wall time to relative residual 1e-6, Jacobi against Chebyshev-Jacobi on the same A.", NULL, NULL},
-  {"J3", NULL, "Chebyshev needs an estimate of rho, and an overestimate diverges; the lab default 0.995 is reported to diverge where about 0.95 works.",
-   "rho sweep 0.9 to 0.9999: divergence boundary, and the automatic estimate.", NULL, NULL},
-  {"J4", NULL, "Direct solvers are one-shot, exact and expensive; iterative solvers are cheaper per iteration and their accuracy is controllable.",
-   "Error against run time for CHOLMOD, Jacobi, Chebyshev, CG and PCG on the same Newton systems, at three mesh sizes.", NULL, NULL},
+   "linear_solvers_j1_alpha.png", cb_check_j1},
+  {"J2", "linear_solvers", "Chebyshev acceleration makes Jacobi much faster (Wang 2015: at least an order of magnitude).",
+   "Iterations and wall time to relative residual 1e-6, Jacobi against Chebyshev-Jacobi on the same A.", "linear_solvers_j2_speedup.png", cb_check_j2},
+  {"J3", "linear_solvers", "Chebyshev needs an estimate of rho, and an overestimate diverges; the lab default 0.995 is reported to diverge where about 0.95 works.",
+   "rho sweep 0.9 to 0.9999: divergence boundary, and the automatic estimate.", "linear_solvers_j3_rho.png", cb_check_j3},
+  {"J4", "linear_solvers", "Direct solvers are one-shot, exact and expensive; iterative solvers are cheaper per iteration and their accuracy is controllable.",
+   "Error against run time for CHOLMOD, Jacobi, Chebyshev, CG and PCG on the same Newton systems, at three mesh sizes.", "linear_solvers_j4_error_time.png", cb_check_j4},
   {"B1", NULL, "A bending spring offers little resistance when the cloth is nearly planar.",
    "Restoring force against fold angle near 0, bending springs against the dihedral model.", NULL, NULL},
   {"B2", NULL, "The quadratic bending model has a constant Hessian and makes simulation up to 3x faster than the nonlinear hinge model.",

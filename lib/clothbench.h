@@ -3,6 +3,7 @@
 #define CLOTHBENCH_H
 
 #include "config.h"
+#include "definiteness.h"
 #include "eigen.h"
 #include "energy.h"
 #include "experiment.h"

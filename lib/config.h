@@ -27,10 +27,12 @@ typedef struct cb_config {
   double stretch_k;                /* N/m */
   char bend[CB_NAME_LEN];          /* none | spring */
   double bend_k;                   /* N/m */
+  double buckling_kb;              /* N m^2, Choi-Ko bending stiffness of a buckled spring */
   /* [scene] */
   double gravity[3];               /* m/s^2 */
   char pins[CB_PINS_LEN];          /* named set or index list */
   double initial_scale;            /* initial positions scaled about the centroid */
+  double pin_squeeze[3];           /* m/s, pinned vertices driven toward each other */
   /* [integrator] */
   char method[CB_NAME_LEN];        /* explicit | newton */
   double dt;                       /* s */
@@ -38,7 +40,7 @@ typedef struct cb_config {
   int max_iters;
   double tol;                      /* relative |grad F| */
   double tol_dx;                   /* m, max-norm of the Newton step; 0 = off */
-  char definiteness[CB_NAME_LEN];  /* none | drop | ... */
+  char definiteness[CB_NAME_LEN];  /* none | drop | mirror | shift | choi-ko */
   char init[CB_NAME_LEN];          /* x0 | predict */
   int line_search;                 /* 0 | 1 */
   double diverge_ratio;            /* energy-growth bound, see README */

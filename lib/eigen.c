@@ -12,7 +12,7 @@
 #include "status.h"
 
 cb_lanczos_params cb_lanczos_params_default(void) {
-  cb_lanczos_params p = {.max_steps = 300, .tol = 1e-8, .seed = 1};
+  cb_lanczos_params p = {.max_steps = 300, .tol = 1e-8, .seed = 1, .reorth = 1, .done = NULL, .done_ctx = NULL};
   return p;
 }
 
@@ -28,31 +28,32 @@ void cb_scaled_op_apply(void *ctx, const double *x, double *y) {
   for (int i = 0; i < n; i++) y[i] *= o->d[i]; /* y = D A D x */
 }
 
-/* Eigen-decomposition of the k x k Lanczos tridiagonal T (alpha, beta). */
-static int ritz(int k, const double *alpha, const double *beta, double beta_k, gsl_eigen_symmv_workspace *ws,
-                gsl_matrix *T, gsl_vector *ev, gsl_matrix *V, cb_eig_result *r) {
-  gsl_matrix_view Tk = gsl_matrix_submatrix(T, 0, 0, (size_t)k, (size_t)k);
-  gsl_matrix_set_zero(&Tk.matrix);
-  for (int i = 0; i < k; i++) {
-    gsl_matrix_set(&Tk.matrix, (size_t)i, (size_t)i, alpha[i]);
-    if (i + 1 < k) {
-      gsl_matrix_set(&Tk.matrix, (size_t)i, (size_t)i + 1, beta[i]);
-      gsl_matrix_set(&Tk.matrix, (size_t)i + 1, (size_t)i, beta[i]);
-    }
+/* LAPACK (OpenBLAS provides it): selected eigenpairs of a symmetric
+ * tridiagonal matrix by the MRRR algorithm. */
+extern void dstevr_(const char *jobz, const char *range, const int *n, double *d, double *e, const double *vl,
+                    const double *vu, const int *il, const int *iu, const double *abstol, int *m, double *w, double *z,
+                    const int *ldz, int *isuppz, double *work, const int *lwork, int *iwork, const int *liwork, int *info,
+                    size_t jobz_len, size_t range_len);
+
+/* The extreme eigenpairs of the k x k Lanczos tridiagonal T (alpha, beta):
+ * O(k) each with dstevr, where a dense eigendecomposition would be O(k^3).
+ * work: 23k doubles, iwork: 10k ints (dstevr wants 20k and 10k). */
+static int ritz(int k, const double *alpha, const double *beta, double beta_k, double *work, int *iwork, cb_eig_result *r) {
+  double *d = work, *e = work + k, *z = work + 2 * k, *lw = work + 3 * k;
+  int lwork = 20 * k, liwork = 10 * k, m, info, isuppz[2];
+  double zero = 0, w;
+  for (int which = 0; which < 2; which++) {
+    int il = which ? k : 1; /* 1: smallest, k: largest */
+    memcpy(d, alpha, (size_t)k * sizeof(double));
+    if (k > 1) memcpy(e, beta, (size_t)(k - 1) * sizeof(double));
+    e[k - 1] = 0;
+    dstevr_("V", "I", &k, d, e, &zero, &zero, &il, &il, &zero, &m, &w, z, &k, isuppz, lw, &lwork, iwork, &liwork, &info,
+            1, 1);
+    if (info != 0 || m != 1) return cb_fail("lanczos: tridiagonal eigensolve failed (dstevr info %d)", info);
+    /* the Ritz pair (theta, Q s) has residual |beta_k| |s_k| (last component of s) */
+    if (which) { r->lmax = w; r->res_max = fabs(beta_k * z[k - 1]); }
+    else { r->lmin = w; r->res_min = fabs(beta_k * z[k - 1]); }
   }
-  gsl_vector_view evk = gsl_vector_subvector(ev, 0, (size_t)k);
-  gsl_matrix_view Vk = gsl_matrix_submatrix(V, 0, 0, (size_t)k, (size_t)k);
-  if (gsl_eigen_symmv(&Tk.matrix, &evk.vector, &Vk.matrix, ws)) return cb_fail("lanczos: tridiagonal eigensolve failed");
-  size_t imin = 0, imax = 0;
-  for (size_t i = 1; i < (size_t)k; i++) {
-    if (gsl_vector_get(&evk.vector, i) < gsl_vector_get(&evk.vector, imin)) imin = i;
-    if (gsl_vector_get(&evk.vector, i) > gsl_vector_get(&evk.vector, imax)) imax = i;
-  }
-  r->lmin = gsl_vector_get(&evk.vector, imin);
-  r->lmax = gsl_vector_get(&evk.vector, imax);
-  /* residual of Ritz pair (theta, V s) is |beta_k| |s_k| (last component) */
-  r->res_min = fabs(beta_k * gsl_matrix_get(&Vk.matrix, (size_t)k - 1, imin));
-  r->res_max = fabs(beta_k * gsl_matrix_get(&Vk.matrix, (size_t)k - 1, imax));
   return CB_OK;
 }
 
@@ -62,14 +63,13 @@ int cb_lanczos(int n, cb_linop op, void *ctx, const cb_lanczos_params *pp, cb_ei
   double t0 = cb_now_ms();
   int m = p.max_steps < n ? p.max_steps : n;
   if (m < 1) return cb_fail("lanczos: empty operator");
-  int reorth = (double)n * (m + 1) * sizeof(double) <= 1073741824.0;
+  int reorth = p.reorth && (double)n * (m + 1) * sizeof(double) <= 1073741824.0;
   double *Q = cb_malloc((size_t)(reorth ? m + 1 : 3) * (size_t)n, sizeof(double));
   double *w = cb_malloc((size_t)n, sizeof(double));
   double *alpha = cb_calloc((size_t)m + 1, sizeof(double)), *beta = cb_calloc((size_t)m + 1, sizeof(double));
-  gsl_matrix *T = gsl_matrix_alloc((size_t)m, (size_t)m), *V = gsl_matrix_alloc((size_t)m, (size_t)m);
-  gsl_vector *ev = gsl_vector_alloc((size_t)m);
-  gsl_eigen_symmv_workspace *ws = gsl_eigen_symmv_alloc((size_t)m);
-  int st = (!Q || !w || !alpha || !beta || !T || !V || !ev || !ws) ? cb_fail_status(CB_ENOMEM, "lanczos: out of memory") : CB_OK;
+  double *tw = cb_malloc((size_t)23 * m + 2, sizeof(double));
+  int *tiw = cb_malloc((size_t)10 * m + 2, sizeof(int));
+  int st = (!Q || !w || !alpha || !beta || !tw || !tiw) ? cb_fail_status(CB_ENOMEM, "lanczos: out of memory") : CB_OK;
   if (st == CB_OK) {
     /* deterministic pseudo-random start vector (64-bit LCG) */
     unsigned long long s = 0x9E3779B97F4A7C15ULL * (p.seed + 1);
@@ -99,11 +99,12 @@ int cb_lanczos(int n, cb_linop op, void *ctx, const cb_lanczos_params *pp, cb_ei
     if (!isfinite(alpha[k]) || !isfinite(beta[k])) { st = cb_fail_status(CB_DIVERGED, "lanczos: NaN in operator"); break; }
     int invariant = beta[k] <= 1e-14 * fabs(alpha[k]); /* Krylov space is invariant: Ritz values exact */
     int last = k + 1 == m || invariant;
-    if (last || (k + 1) % 10 == 0) {
-      st = ritz(k + 1, alpha, beta, beta[k], ws, T, ev, V, out);
+    if (last || (k + 1) % 5 == 0) {
+      st = ritz(k + 1, alpha, beta, beta[k], tw, tiw, out);
       if (st) break;
       double scale = fmax(fabs(out->lmin), fabs(out->lmax));
-      int converged = invariant || k + 1 == n || (out->res_min <= p.tol * scale && out->res_max <= p.tol * scale);
+      int converged = invariant || k + 1 == n ||
+                      (p.done ? p.done(p.done_ctx, out) : out->res_min <= p.tol * scale && out->res_max <= p.tol * scale);
       if (converged || last) {
         out->status = converged ? CB_OK : CB_NOT_CONVERGED;
         k++;
@@ -115,9 +116,7 @@ int cb_lanczos(int n, cb_linop op, void *ctx, const cb_lanczos_params *pp, cb_ei
   }
   out->steps = k;
   out->ms = cb_now_ms() - t0;
-  free(Q); free(w); free(alpha); free(beta);
-  gsl_matrix_free(T); gsl_matrix_free(V); gsl_vector_free(ev);
-  if (ws) gsl_eigen_symmv_free(ws);
+  free(Q); free(w); free(alpha); free(beta); free(tw); free(tiw);
   return st;
 }
 

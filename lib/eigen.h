@@ -11,10 +11,18 @@
 /* y = Op x for a symmetric operator of size n. */
 typedef void (*cb_linop)(void *ctx, const double *x, double *y);
 
+struct cb_eig_result;
+
 typedef struct cb_lanczos_params {
   int max_steps;  /* Krylov dimension at most (capped at n). Default 300 */
   double tol;     /* stop when both extreme Ritz residuals |beta_k s_k| <= tol |theta|. Default 1e-8 */
   unsigned seed;  /* start vector seed; fixed for reproducibility. Default 1 */
+  int reorth;     /* 1: full reorthogonalisation (when the basis fits in 1 GiB); 0: none,
+                     which still converges to the extreme eigenvalues, at O(n) per step. Default 1 */
+  /* Optional stopping test on the current extremes (instead of tol on both):
+   * returns non-zero when the caller has what it needs. Default NULL */
+  int (*done)(void *ctx, const struct cb_eig_result *r);
+  void *done_ctx;
 } cb_lanczos_params;
 
 cb_lanczos_params cb_lanczos_params_default(void);
@@ -27,8 +35,7 @@ typedef struct cb_eig_result {
   double ms;          /* wall time */
 } cb_eig_result;
 
-/* Lanczos with full reorthogonalisation (when the basis fits in 1 GiB;
- * otherwise none, which still converges to the extreme eigenvalues). */
+/* Lanczos, with or without full reorthogonalisation (see params.reorth). */
 int cb_lanczos(int n, cb_linop op, void *ctx, const cb_lanczos_params *p, cb_eig_result *out);
 
 /* Operators on a cb_sparse A with a positive diagonal scaling d (length n):

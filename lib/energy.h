@@ -15,18 +15,42 @@
 /* How a compressed spring's Hessian is treated (integrator.definiteness).
  * The spring Hessian is H_e = k uu^T + k(1 - L/l)(I - uu^T); its transverse
  * eigenvalue k(1 - L/l) is negative when l < L. Implemented once, in
- * definiteness.c, and applied by every term that has such an eigenvalue. */
+ * definiteness.c (the formulas and sources are there), and applied by every
+ * term that has such an eigenvalue and by the Newton solve (shift). */
 typedef enum {
   CB_DEF_NONE = 0, /* exact Hessian */
   CB_DEF_DROP,     /* drop k(1 - L/l)(I - uu^T) when l < L: clamps the eigenvalue at 0 */
+  CB_DEF_MIRROR,   /* |k(1 - L/l)|: the eigenvalue mirrored to its absolute value */
+  CB_DEF_SHIFT,    /* exact Hessian; the solve adds mu I, mu raised until Cholesky succeeds */
+  CB_DEF_CHOI_KO,  /* Choi & Ko 2002: compressed springs buckle (a different energy), exact Hessian */
   CB_DEF_COUNT
 } cb_definiteness;
 
 extern const char *const cb_definiteness_names[]; /* NULL-terminated, by enum value */
 int cb_definiteness_from_name(const char *name, cb_definiteness *out);
 
-/* The transverse coefficient k(1 - L/l) after the policy. */
+/* The transverse coefficient t = E'(l)/l (k(1 - L/l) for a linear spring)
+ * after the policy. */
 double cb_definiteness_transverse(cb_definiteness d, double coef);
+
+/* Choi & Ko's immediate-buckling response of a spring of rest length L
+ * compressed to 0 < l < L, with bending stiffness kb (N m^2): its energy E (J),
+ * dE/dl (N, negative: it pushes the ends apart) and d2E/dl^2 (N/m). Formulas
+ * in definiteness.c. Returns theta = kappa L / 2. Zeros for l >= L. */
+double cb_choi_ko_response(double L, double l, double kb, double *E, double *dE, double *d2E);
+
+/* The compressed spring as the choi-ko policy models it (definiteness.c):
+ * the linear spring k (l - L) while its push k (L - l) is below the buckling
+ * force f_b(l), the buckled arc beyond that, so the force is continuous. */
+typedef struct cb_choi_ko {
+  double k, L, kb; /* N/m, m, N m^2 */
+  double lc;       /* compression L - l* at which the spring buckles, m (L: never) */
+  double Ec;       /* buckling energy E_b(l*) at that point, J */
+} cb_choi_ko;
+/* Fails unless k > 12 pi^2 kb / L^3 (the buckled branch softer than the spring). */
+int cb_choi_ko_init(cb_choi_ko *c, double k, double L, double kb);
+/* E(l), dE/dl, d2E/dl^2 for any l > 0 (the linear spring for l >= L - lc). */
+void cb_choi_ko_eval(const cb_choi_ko *c, double l, double *E, double *dE, double *d2E);
 
 /* What terms are built from. Pinned vertices have free_index -1: their rows
  * and columns are eliminated from the matrix (not penalised). */
@@ -65,6 +89,18 @@ extern const cb_term_type *const cb_term_gravity;
 /* Springs between vertex pairs ends[2s], ends[2s+1], stiffness k (N/m), rest
  * lengths measured on the model's rest mesh. Zero rest length is rejected. */
 int cb_spring_term_alloc(const cb_model *m, const char *label, int ns, const int *ends, double k, cb_term **out);
+
+/* Compressed-spring response of a spring term (its energy, not only its
+ * Hessian): CB_DEF_CHOI_KO gives Choi & Ko's immediate-buckling response with
+ * bending stiffness kb (N m^2) when l < L; any other policy keeps the linear
+ * spring. Set when the scene is built (integrator.definiteness,
+ * material.buckling_kb). Fails if t is not a spring term. */
+int cb_spring_term_set_response(cb_term *t, cb_definiteness def, double kb);
+/* Springs of t with l < L at x (0 if t is not a spring term); nsprings gets
+ * the number of springs of t. */
+int cb_spring_term_count_compressed(const cb_term *t, const double *x, int *nsprings);
+/* Nonzero if t is a spring term with the Choi-Ko response. */
+int cb_spring_term_is_choi_ko(const cb_term *t);
 
 /* E = -sum_i m_i g . x_i */
 int cb_gravity_term_alloc(const cb_model *m, const double g[3], cb_term **out);

@@ -10,7 +10,14 @@
  * transverse coefficient k(1 - L/l) passes through cb_definiteness_transverse
  * (definiteness.c). A spring that reaches zero length has no direction u; its
  * gradient and Hessian become NaN, which the integrators record as
- * `diverged` rather than inventing a direction. */
+ * `diverged` rather than inventing a direction.
+ *
+ * Compressed response (cb_spring_term_set_response): with the Choi-Ko policy
+ * a compressed spring has instead the energy E(l) of cb_choi_ko_eval
+ * (definiteness.c: linear until it buckles, then the immediate-buckling arc),
+ * and then
+ *   dE/dx_i = E'(l) u,   H_e = E''(l) uu^T + (E'(l)/l)(bi - uu^T),
+ * the same form as above with k -> E'' and k(1 - L/l) -> E'/l. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -25,6 +32,7 @@ typedef struct {
   int *ends;    /* 2*ns vertex indices */
   double *rest; /* ns rest lengths L, m */
   double k;     /* N/m */
+  cb_choi_ko *ck; /* ns: Choi-Ko response of each spring, or NULL (linear springs) */
   int *slot;    /* 8*ns: (slot, stride) of blocks ii, ij, ji, jj; slot -1 if pinned */
 } spring_term;
 
@@ -36,9 +44,16 @@ static double spring_energy(const cb_term *t, const double *x, double *grad) {
     double d[3] = {x[3 * i] - x[3 * j], x[3 * i + 1] - x[3 * j + 1], x[3 * i + 2] - x[3 * j + 2]};
     double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     double stretch = l - s->rest[e];
-    E += 0.5 * s->k * stretch * stretch; /* E = k/2 (l - L)^2 */
+    double c = s->k * stretch / l; /* dE/dx_i = k (l - L) x_ij / l */
+    if (s->ck && stretch < 0) {
+      double Eb, dEb, d2Eb;
+      cb_choi_ko_eval(&s->ck[e], l, &Eb, &dEb, &d2Eb);
+      E += Eb;       /* E = E(l) */
+      c = dEb / l;   /* dE/dx_i = E'(l) x_ij / l */
+    } else {
+      E += 0.5 * s->k * stretch * stretch; /* E = k/2 (l - L)^2 */
+    }
     if (grad) {
-      double c = s->k * stretch / l; /* dE/dx_i = k (l - L) x_ij / l */
       for (int a = 0; a < 3; a++) {
         grad[3 * i + a] += c * d[a];
         grad[3 * j + a] -= c * d[a];
@@ -82,12 +97,19 @@ static void spring_hessian(const cb_term *t, const double *x, cb_definiteness de
     int i = s->ends[2 * e], j = s->ends[2 * e + 1];
     double d[3] = {x[3 * i] - x[3 * j], x[3 * i + 1] - x[3 * j + 1], x[3 * i + 2] - x[3 * j + 2]};
     double l2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], l = sqrt(l2);
-    double tr = cb_definiteness_transverse(def, s->k * (1.0 - s->rest[e] / l)); /* k(1 - L/l) */
+    double along = s->k, tr = s->k * (1.0 - s->rest[e] / l); /* k, k(1 - L/l) */
+    if (s->ck && l < s->rest[e]) {
+      double Eb, dEb, d2Eb;
+      cb_choi_ko_eval(&s->ck[e], l, &Eb, &dEb, &d2Eb);
+      along = d2Eb;   /* E''(l) */
+      tr = dEb / l;   /* E'(l) / l */
+    }
+    tr = cb_definiteness_transverse(def, tr);
     double H[9];
     for (int a = 0; a < 3; a++)
       for (int b = 0; b < 3; b++) {
         double uu = d[a] * d[b] / l2;                       /* (uu^T)_ab */
-        H[3 * a + b] = s->k * uu + tr * ((a == b) - uu);    /* H_e = k uu^T + tr (bi - uu^T) */
+        H[3 * a + b] = along * uu + tr * ((a == b) - uu);   /* H_e = k uu^T + tr (bi - uu^T) */
       }
     cb_sparse_add_block(val, q[0], q[1], H, 1.0);
     cb_sparse_add_block(val, q[2], q[3], H, -1.0);
@@ -101,6 +123,7 @@ static void spring_free(cb_term *t) {
   free(s->ends);
   free(s->rest);
   free(s->slot);
+  free(s->ck);
   free(s);
 }
 
@@ -142,6 +165,47 @@ int cb_spring_term_alloc(const cb_model *m, const char *label, int ns, const int
   }
   *out = &s->base;
   return CB_OK;
+}
+
+int cb_spring_term_set_response(cb_term *t, cb_definiteness def, double kb) {
+  if (!t || t->type != &spring_type) return cb_fail("set_response: not a spring term");
+  if (def == CB_DEF_CHOI_KO && !(kb > 0 && isfinite(kb)))
+    return cb_fail("%s springs: Choi-Ko bending stiffness must be > 0, got %g", t->label, kb);
+  spring_term *s = (spring_term *)t;
+  free(s->ck);
+  s->ck = NULL;
+  if (def != CB_DEF_CHOI_KO) return CB_OK;
+  s->ck = cb_malloc((size_t)(s->ns > 0 ? s->ns : 1), sizeof *s->ck);
+  if (!s->ck) return CB_ENOMEM;
+  for (int e = 0; e < s->ns; e++) {
+    int st = cb_choi_ko_init(&s->ck[e], s->k, s->rest[e], kb);
+    if (st) {
+      char msg[512];
+      snprintf(msg, sizeof msg, "%s", cb_error_message());
+      free(s->ck);
+      s->ck = NULL;
+      return cb_fail("%s spring %d: %s", t->label, e, msg);
+    }
+  }
+  return CB_OK;
+}
+
+int cb_spring_term_count_compressed(const cb_term *t, const double *x, int *nsprings) {
+  *nsprings = 0;
+  if (!t || t->type != &spring_type) return 0;
+  const spring_term *s = (const spring_term *)t;
+  int c = 0;
+  for (int e = 0; e < s->ns; e++) {
+    int i = s->ends[2 * e], j = s->ends[2 * e + 1];
+    double d[3] = {x[3 * i] - x[3 * j], x[3 * i + 1] - x[3 * j + 1], x[3 * i + 2] - x[3 * j + 2]};
+    c += d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < s->rest[e] * s->rest[e]; /* l < L */
+  }
+  *nsprings = s->ns;
+  return c;
+}
+
+int cb_spring_term_is_choi_ko(const cb_term *t) {
+  return t && t->type == &spring_type && ((const spring_term *)t)->ck;
 }
 
 void cb_term_free(cb_term *t) {

@@ -39,6 +39,16 @@ int cb_integrator_alloc(const char *method, cb_scene *scene, const cb_integrator
     if (strcmp(cb_integrator_types[i]->name, method) == 0) t = cb_integrator_types[i];
   if (!t) return cb_fail("unknown integrator '%s'", method);
   if (!(p->dt > 0)) return cb_fail("integrator: dt must be > 0, got %g", p->dt);
+  /* Choi-Ko changes the springs' energy, which is fixed when the scene is built */
+  int choi_ko = 0, springs = 0;
+  for (int k = 0; k < scene->sys.nterms; k++) {
+    springs += scene->sys.terms[k]->type == cb_term_spring;
+    choi_ko |= cb_spring_term_is_choi_ko(scene->sys.terms[k]);
+  }
+  if (springs && choi_ko != (p->definiteness == CB_DEF_CHOI_KO))
+    return cb_fail("integrator: definiteness '%s' does not match the scene, whose springs were built %s the Choi-Ko "
+                   "response (set integrator.definiteness before building the scene)",
+                   cb_definiteness_names[p->definiteness], choi_ko ? "with" : "without");
   cb_integrator *it = cb_calloc(1, sizeof *it);
   if (!it) return CB_ENOMEM;
   it->type = t;

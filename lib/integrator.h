@@ -7,7 +7,8 @@
  *             max_iters = 1 is Baraff-Witkin's single linear solve.
  *
  * The integrator owns the Newton loop; the linear solver is a parameter.
- * Pinned vertices keep their positions and have zero velocity. */
+ * Pinned vertices follow their prescribed velocity (x <- x + dt v, v fixed;
+ * zero unless scene.pin_squeeze drives them). */
 #ifndef CB_INTEGRATOR_H
 #define CB_INTEGRATOR_H
 
@@ -25,6 +26,8 @@ typedef struct cb_step_stats {
   double F;             /* F(x1), J */
   double assemble_ms, factor_ms, solve_ms, wall_ms;
   int linear_status;    /* status of the last inner solve */
+  int factorizations;   /* factor calls (more than newton_iters when `shift` retried) */
+  double shift_mu;      /* largest shift mu added to A in this step (`shift` policy), N/m; 0 = none */
 } cb_step_stats;
 
 /* What a Newton hook sees. Events: CB_NEWTON_GRADIENT after each evaluation
@@ -43,6 +46,7 @@ typedef struct cb_newton_event {
   const double *dx;       /* SOLVED: solution (free DOFs) */
   const cb_solver *solver;/* SOLVED: its stats */
   int status;             /* SOLVED: factor/solve status */
+  double shift_mu;        /* SOLVED: mu in A + mu I (`shift` policy), N/m; 0 = none */
 } cb_newton_event;
 typedef void (*cb_newton_hook)(void *ctx, int event, const cb_newton_event *ev);
 

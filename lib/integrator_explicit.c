@@ -2,7 +2,8 @@
  * System"):
  *   v_i <- v_i + dt f_i(x) / m_i,   f = -dE/dx
  *   x_i <- x_i + dt v_i
- * for free vertices; pinned ones keep x and v = 0. It is stable only while
+ * for free vertices; pinned ones keep their prescribed v (0 unless
+ * scene.pin_squeeze drives them) and move by x <- x + dt v. It is stable only while
  * dt < 2 / omega_max, omega_max^2 = lambda_max(M^-1 K). */
 #include <math.h>
 #include <stdlib.h>
@@ -39,6 +40,8 @@ static int ex_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
       bad |= !isfinite(x[3 * i + a]) || !isfinite(v[3 * i + a]);
     }
   }
+  for (int k = 0; k < s->npinned; k++) /* prescribed pin motion: x += dt v */
+    for (int a = 0; a < 3; a++) x[3 * s->pinned[k] + a] += dt * v[3 * s->pinned[k] + a];
   return bad ? CB_DIVERGED : CB_OK;
 }
 

@@ -204,6 +204,18 @@ int cb_scene_build(const cb_config *cfg, cb_scene **out) {
     st = cb_gravity_term_alloc(&s->model, cfg->gravity, &terms[nterms]);
     if (st == CB_OK) nterms++;
   }
+  /* compressed-spring response of every spring term (Choi-Ko changes the energy) */
+  cb_definiteness def = CB_DEF_DROP;
+  if (st == CB_OK) st = cb_definiteness_from_name(cfg->definiteness, &def);
+  for (int k = 0; st == CB_OK && k < nterms; k++)
+    if (terms[k]->type == cb_term_spring) {
+      st = cb_spring_term_set_response(terms[k], def, cfg->buckling_kb);
+      if (st) {
+        char msg[1024];
+        snprintf(msg, sizeof msg, "%s", cb_error_message());
+        st = cb_fail("%s: material.buckling_kb: %s", cb_config_where(cfg, "material.buckling_kb", w, sizeof w), msg);
+      }
+    }
   if (st == CB_OK) st = cb_system_init(&s->sys, &s->model, terms, nterms);
   else
     for (int k = 0; k < nterms; k++) cb_term_free(terms[k]);
@@ -219,6 +231,19 @@ int cb_scene_build(const cb_config *cfg, cb_scene **out) {
         if (xi > hi[a]) hi[a] = xi;
       }
     for (int i = 0; i < 3 * nv; i++) s->x0[i] = c[i % 3] + cfg->initial_scale * (s->mesh.x[i] - c[i % 3]);
+    /* driven pins: v_i = -sign((p_i - pc).sq) sq, pc = centroid of the pins' initial positions */
+    const double *sq = cfg->pin_squeeze;
+    if (s->npinned > 0 && (sq[0] != 0 || sq[1] != 0 || sq[2] != 0)) {
+      double pc[3] = {0, 0, 0};
+      for (int k = 0; k < s->npinned; k++)
+        for (int a = 0; a < 3; a++) pc[a] += s->x0[3 * s->pinned[k] + a] / s->npinned;
+      for (int k = 0; k < s->npinned; k++) {
+        const double *p = s->x0 + 3 * s->pinned[k];
+        double side = (p[0] - pc[0]) * sq[0] + (p[1] - pc[1]) * sq[1] + (p[2] - pc[2]) * sq[2];
+        double sg = side > 0 ? -1.0 : side < 0 ? 1.0 : 0.0;
+        for (int a = 0; a < 3; a++) s->v0[3 * s->pinned[k] + a] = sg * sq[a];
+      }
+    }
     double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
     double gnorm = sqrt(cfg->gravity[0] * cfg->gravity[0] + cfg->gravity[1] * cfg->gravity[1] + cfg->gravity[2] * cfg->gravity[2]);
     double msum = 0;

@@ -18,7 +18,8 @@ const char *cb_solver_name(int i) {
 }
 
 cb_solver_params cb_solver_params_default(void) {
-  cb_solver_params p = {.tol = 1e-8, .max_iters = 1000, .alpha = 1.0, .rho = 0.0, .history_cap = 0};
+  cb_solver_params p = {.tol = 1e-8, .max_iters = 1000, .alpha = 1.0, .rho = 0.0, .history_cap = 0,
+                         .monitor = NULL, .monitor_ctx = NULL};
   return p;
 }
 

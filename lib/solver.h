@@ -12,12 +12,21 @@
 #include "config.h"
 #include "sparse.h"
 
+/* Optional per-iteration callback of the iterative solvers: called after the
+ * stopping test of iteration k (k = 0 for the initial guess) with the relative
+ * residual |b - A x_k| / |b| and the iterate x_k (read only; n doubles). It
+ * lets a caller measure the error of every iterate against a reference
+ * without changing the solve. Direct solvers do not call it. */
+typedef void (*cb_solver_monitor)(void *ctx, int k, double rel_residual, const double *x);
+
 typedef struct cb_solver_params {
   double tol;       /* relative residual |b - Ax| / |b| to stop at (iterative). Default 1e-8 */
   int max_iters;    /* iterations at most (iterative). Default 1000 */
   double alpha;     /* Jacobi weight. Default 1 */
   double rho;       /* Chebyshev spectral radius; 0 = estimate at run time. Default 0 */
   int history_cap;  /* residuals kept per solve (0 = none). Default 0 */
+  cb_solver_monitor monitor; /* per-iteration callback; NULL = none. Default NULL */
+  void *monitor_ctx;
 } cb_solver_params;
 
 cb_solver_params cb_solver_params_default(void);

@@ -115,7 +115,7 @@ static int cg_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x
   int n = A->n, status = CB_NOT_CONVERGED;
   double bnorm = sqrt(dot(n, b, b));
   double r0 = cb_sparse_residual(A, b, x, w->r);
-  if (cb_iter_stop(s, 0, r0, r0, bnorm, &status)) return status;
+  if (cb_iter_stop(s, 0, r0, r0, bnorm, x, &status)) return status;
   status = CB_NOT_CONVERGED;
   double *z = w->precond ? w->z : w->r;
   if (w->precond) apply_precond(w, A->nblk, w->r, z);
@@ -136,7 +136,7 @@ static int cg_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x
       w->r[i] -= a * w->q[i]; /* r -= a A p */
       rr += w->r[i] * w->r[i];
     }
-    if (cb_iter_stop(s, k + 1, sqrt(rr), r0, bnorm, &status)) return status;
+    if (cb_iter_stop(s, k + 1, sqrt(rr), r0, bnorm, x, &status)) return status;
     status = CB_NOT_CONVERGED;
     if (w->precond) apply_precond(w, A->nblk, w->r, z);
     double rz_new = w->precond ? dot(n, w->r, z) : rr;

@@ -15,14 +15,16 @@
 
 #define CB_DIVERGENCE_GROWTH 1e6
 
-/* Records the relative residual after k iterations. Returns 1 when the
- * iteration must stop, with *status = CB_OK (converged) or CB_DIVERGED, and 0
- * to go on. */
-static inline int cb_iter_stop(cb_solver *s, int k, double rnorm, double r0norm, double bnorm, int *status) {
+/* Records the relative residual after k iterations (x = the iterate x_k,
+ * handed to the optional monitor). Returns 1 when the iteration must stop,
+ * with *status = CB_OK (converged) or CB_DIVERGED, and 0 to go on. */
+static inline int cb_iter_stop(cb_solver *s, int k, double rnorm, double r0norm, double bnorm, const double *x,
+                               int *status) {
   double rel = bnorm > 0 ? rnorm / bnorm : rnorm;
   s->stats.iters = k;
   s->stats.rel_residual = rel;
   if (s->stats.history && s->stats.history_len < s->params.history_cap) s->stats.history[s->stats.history_len++] = rel;
+  if (s->params.monitor) s->params.monitor(s->params.monitor_ctx, k, rel, x);
   if (!isfinite(rnorm)) {
     *status = cb_fail_status(CB_DIVERGED, "%s: residual is NaN/Inf at iteration %d", s->type->name, k);
     return 1;

@@ -79,19 +79,49 @@ static int jw_analyze(cb_solver *s, const cb_sparse *A) {
   return CB_OK;
 }
 
+/* rho(I - alpha D^-1 A) = max |1 - alpha lambda| over [lo, hi] (a convex
+ * function of lambda, so the max is at an end). The widened interval uses the
+ * Ritz residual bounds; D^-1 A of an SPD A has a positive spectrum, so a
+ * residual bound larger than the smallest Ritz value (the bottom not yet
+ * resolved, e.g. a very ill-conditioned A) keeps the Ritz value there instead
+ * of reaching lo <= 0, which would give rho >= 1 and a false "Jacobi
+ * diverges" (Chebyshev with a slightly low rho < 1 still converges). */
+typedef struct {
+  double alpha, rho_lo, rho_hi;
+} rho_estimate;
+
+static double rho_of(double alpha, double lo, double hi) { return fmax(fabs(1.0 - alpha * lo), fabs(1.0 - alpha * hi)); }
+
+/* Sets the bounds; clamp: keep the Ritz value where the bottom is unresolved. */
+static void rho_bounds(rho_estimate *e, const cb_eig_result *r, int clamp) {
+  double lo = r->lmin - r->res_min;
+  if (clamp && !(lo > 0) && r->lmin > 0) lo = r->lmin;
+  e->rho_lo = rho_of(e->alpha, r->lmin, r->lmax);
+  e->rho_hi = rho_of(e->alpha, lo, r->lmax + r->res_max);
+}
+
+static int rho_done(void *ctx, const cb_eig_result *r) {
+  rho_estimate *e = ctx;
+  rho_bounds(e, r, 0);
+  return r->lmin - r->res_min > 0 && e->rho_hi - e->rho_lo <= 1e-4 * e->rho_lo; /* rho known to 1e-4, relative */
+}
+
 int cb_jacobi_spectral_radius(const cb_sparse *A, const double *dhalf, double alpha, double *rho, int *steps) {
   double *work = cb_malloc((size_t)A->n, sizeof(double));
   if (!work) return CB_ENOMEM;
   cb_scaled_op op = {A, dhalf, work};
+  rho_estimate est = {alpha, 0, 0};
   cb_lanczos_params lp = cb_lanczos_params_default();
-  lp.max_steps = 200;
-  lp.tol = 1e-4;
+  lp.max_steps = 300;
+  lp.reorth = 0; /* the extremes converge without it, at O(n) per step */
+  lp.done = rho_done;
+  lp.done_ctx = &est;
   cb_eig_result er;
   int st = cb_lanczos(A->n, cb_scaled_op_apply, &op, &lp, &er);
   free(work);
   if (st) return st;
-  double lo = er.lmin - er.res_min, hi = er.lmax + er.res_max;
-  *rho = fmax(fabs(1.0 - alpha * lo), fabs(1.0 - alpha * hi));
+  rho_bounds(&est, &er, 1);
+  *rho = est.rho_hi;
   *steps = er.steps;
   return CB_OK;
 }
@@ -132,7 +162,7 @@ static int jw_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x
   for (int i = 0; i < n; i++) bnorm += b[i] * b[i];
   bnorm = sqrt(bnorm);
   double r0 = cb_sparse_residual(A, b, x, w->r); /* r = b - A dx */
-  if (cb_iter_stop(s, 0, r0, r0, bnorm, &status)) return status;
+  if (cb_iter_stop(s, 0, r0, r0, bnorm, x, &status)) return status;
   status = CB_NOT_CONVERGED;
   memcpy(w->last, x, (size_t)n * sizeof(double));
   for (int k = 0; k < s->params.max_iters; k++) {
@@ -144,7 +174,7 @@ static int jw_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x
       x[i] = xn;
     }
     double rn = cb_sparse_residual(A, b, x, w->r);
-    if (cb_iter_stop(s, k + 1, rn, r0, bnorm, &status)) return status;
+    if (cb_iter_stop(s, k + 1, rn, r0, bnorm, x, &status)) return status;
     status = CB_NOT_CONVERGED;
   }
   return status;

@@ -1,0 +1,348 @@
+/* Checkers for I2 and I3 (experiment newton_vs_bw). Every number comes from
+ * results/newton_vs_bw*.csv; the definitions of the Pareto front, the
+ * cheapest method and the convergence order are lib/pareto.c's, the same
+ * ones the experiment's figures use.
+ *
+ * I2: for every step of the stretched hanging cloth, the order
+ *     p = log(g_{k+1}/g_k) / log(g_k/g_{k-1}) of the last triple of Newton's
+ *     |grad F| sequence that lies in the local regime (g_{k-1} <= 0.1 g_0),
+ *     above round-off (g_{k+1} >= 1e-11 g_0) and whose two updates used the
+ *     exact Hessian; runs "exact_or_shift" (the reference Newton: exact
+ *     Hessian, shifted where A is indefinite, line search). Reproduced when
+ *     the median over steps is >= 1.8 (at least 5 steps with an estimate);
+ *     partly when the median is >= 1.5 or some step reaches 1.8; otherwise
+ *     not reproduced.
+ * I3: K = 1 "is fast": its median step time with CHOLMOD is at most half of
+ *     converged Newton's with CHOLMOD on every scene; it "can fail": at least
+ *     one cell of the regime map has one-step error > 1% or a diverging
+ *     trajectory. Reproduced when both hold, partly when one does. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "claims.h"
+#include "pareto.h"
+#include "status.h"
+
+/* registered in claims.c */
+void cb_check_newton_vs_bw_i2(const cb_table *csv, const char *results_dir, cb_claim_result *out);
+void cb_check_newton_vs_bw_i3(const cb_table *csv, const char *results_dir, cb_claim_result *out);
+
+#define I2_LOCAL 0.1
+#define I2_FLOOR 1e-11
+#define I2_TARGET 1.8
+#define SPEEDUP_MIN 2.0
+
+static int cmp_double(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+static double median(double *v, int n) {
+  if (n <= 0) return NAN;
+  qsort(v, (size_t)n, sizeof *v, cmp_double);
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+static int side_table(const char *dir, const char *suffix, cb_table *t, cb_claim_result *out) {
+  char path[4096];
+  snprintf(path, sizeof path, "%s/newton_vs_bw_%s", dir, suffix);
+  if (cb_table_read(path, t) == CB_OK) return 0;
+  out->verdict = CB_NOT_RUN;
+  cb_claim_reason(out, "%s is missing or unreadable: run build/newton_vs_bw.", path);
+  return -1;
+}
+
+/* ---- I2 ------------------------------------------------------------------ */
+
+enum { I2_VARIANTS = 5, I2_MAXIT = 512, I2_MAXSTEPS = 4096 };
+static const char *const I2_DEF[I2_VARIANTS] = {"exact_or_shift", "none", "none", "drop", "drop"};
+static const int I2_LS[I2_VARIANTS] = {1, 1, 0, 1, 0};
+
+typedef struct {
+  int runs, ok, reach8, with_order, ls_steps, ls_iters, shifted_iters;
+  double orders[I2_MAXSTEPS];
+  char fails[1024], ls_where[1024];
+} i2_stat;
+
+void cb_check_newton_vs_bw_i2(const cb_table *main_csv, const char *dir, cb_claim_result *out) {
+  (void)main_csv;
+  cb_table t;
+  if (side_table(dir, "i2.csv", &t, out)) return;
+  int cd = cb_table_col(&t, "definiteness"), cl = cb_table_col(&t, "line_search"), cs = cb_table_col(&t, "step"),
+      ci = cb_table_col(&t, "iter"), cg = cb_table_col(&t, "grad_norm"), ca = cb_table_col(&t, "alpha"),
+      ch = cb_table_col(&t, "hessian"), cst = cb_table_col(&t, "step_status");
+  if (cd < 0 || cl < 0 || cs < 0 || ci < 0 || cg < 0 || ca < 0 || ch < 0 || cst < 0) {
+    cb_claim_reason(out, "newton_vs_bw_i2.csv lacks a needed column.");
+    cb_table_free(&t);
+    return;
+  }
+  static i2_stat S[I2_VARIANTS];
+  memset(S, 0, sizeof S);
+  double g[I2_MAXIT];
+  int use[I2_MAXIT];
+  for (int r = 0; r < t.nrows;) { /* one run = consecutive rows from iter 0 */
+    int end = r + 1;
+    while (end < t.nrows && cb_table_num(&t, end, ci) > 0) end++;
+    int v = -1;
+    for (int k = 0; k < I2_VARIANTS; k++)
+      if (!strcmp(cb_table_str(&t, r, cd), I2_DEF[k]) && (int)cb_table_num(&t, r, cl) == I2_LS[k]) v = k;
+    if (v >= 0) {
+      i2_stat *s = &S[v];
+      int n = end - r < I2_MAXIT ? end - r : I2_MAXIT, reduced = 0, r8 = 0;
+      for (int i = 0; i < n; i++) {
+        g[i] = cb_table_num(&t, r + i, cg);
+        if (g[i] <= 1e-8 * g[0]) r8 = 1;
+        use[i] = !strcmp(cb_table_str(&t, r + i, ch), "exact");
+        if (cb_table_num(&t, r + i, ca) < 1) reduced++;
+        if (!strcmp(cb_table_str(&t, r + i, ch), "shifted")) s->shifted_iters++;
+      }
+      s->runs++;
+      s->reach8 += r8;
+      const char *status = cb_table_str(&t, r, cst);
+      if (!strcmp(status, "ok")) s->ok++;
+      else if (strlen(s->fails) < sizeof s->fails - 32)
+        snprintf(s->fails + strlen(s->fails), sizeof s->fails - strlen(s->fails), "%s%s at step %s",
+                 s->fails[0] ? "; " : "", status, cb_table_str(&t, r, cs));
+      s->ls_iters += reduced;
+      s->ls_steps += reduced > 0;
+      if (reduced && strlen(s->ls_where) < sizeof s->ls_where - 24)
+        snprintf(s->ls_where + strlen(s->ls_where), sizeof s->ls_where - strlen(s->ls_where), "%s%s (%d)",
+                 s->ls_where[0] ? ", " : "", cb_table_str(&t, r, cs), reduced);
+      double p;
+      if (s->with_order < I2_MAXSTEPS && cb_convergence_order(g, use, n, I2_LOCAL, I2_FLOOR, &p, NULL) == 0)
+        s->orders[s->with_order++] = p;
+      else if (v >= 3 && s->with_order < I2_MAXSTEPS && /* drop: any Hessian (it is the run's only one) */
+               cb_convergence_order(g, NULL, n, I2_LOCAL, I2_FLOOR, &p, NULL) == 0)
+        s->orders[s->with_order++] = p;
+    }
+    r = end;
+  }
+  cb_table_free(&t);
+  cb_claim_numbers(out, "Each run: Newton with CHOLMOD from one state of the stretched trajectory, to relative |grad F| "
+                        "1e-14 or the round-off floor (max|dx| <= 1e-12 x mesh size), at most 60 iterations "
+                        "(exact_or_shift: 500).\n\n"
+                        "| Newton variant | line search | steps | reached the tolerance | reached 1e-8 | steps with an "
+                        "order estimate | median order | min | max | steps with alpha < 1 | iterations with alpha < 1 | "
+                        "shifted iterations |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  double med[I2_VARIANTS];
+  int reach[I2_VARIANTS];
+  for (int v = 0; v < I2_VARIANTS; v++) {
+    i2_stat *s = &S[v];
+    reach[v] = 0;
+    for (int i = 0; i < s->with_order; i++) reach[v] += s->orders[i] >= I2_TARGET;
+    med[v] = median(s->orders, s->with_order); /* sorts */
+    cb_claim_numbers(out, "| %s | %s | %d | %d | %d | %d | %.3g | %.3g | %.3g | %d | %d | %d |\n", I2_DEF[v],
+                     I2_LS[v] ? "yes" : "no", s->runs, s->ok, s->reach8, s->with_order, med[v],
+                     s->with_order ? s->orders[0] : NAN, s->with_order ? s->orders[s->with_order - 1] : NAN,
+                     s->ls_steps, s->ls_iters, s->shifted_iters);
+  }
+  for (int v = 0; v < I2_VARIANTS; v++)
+    if (S[v].ls_where[0])
+      cb_claim_numbers(out, "\n%s, line search: alpha < 1 at steps (iterations): %s.\n", I2_DEF[v], S[v].ls_where);
+  for (int v = 1; v < I2_VARIANTS; v++)
+    if (S[v].fails[0]) cb_claim_numbers(out, "\n%s Hessian, line search %s, did not reach the tolerance: %s.\n", I2_DEF[v],
+                                        I2_LS[v] ? "on" : "off", S[v].fails);
+  int n = S[0].with_order;
+  if (S[0].runs == 0) {
+    out->verdict = CB_NOT_RUN;
+    cb_claim_reason(out, "No exact_or_shift runs in newton_vs_bw_i2.csv.");
+  } else if (n >= 5 && med[0] >= I2_TARGET) {
+    out->verdict = CB_REPRODUCED;
+    cb_claim_reason(out, "Newton with the exact Hessian converges with median order %.2f (>= %.1f) over %d steps of the "
+                    "stretched hanging cloth; %d of %d steps reach %.1f.", med[0], I2_TARGET, n, reach[0], n, I2_TARGET);
+  } else if (n >= 1 && (med[0] >= 1.5 || reach[0] > 0)) {
+    out->verdict = CB_PARTLY;
+    cb_claim_reason(out, "Median order %.2f over %d steps (target %.1f); %d steps reach it.", med[0], n, I2_TARGET, reach[0]);
+  } else {
+    out->verdict = CB_NOT_REPRODUCED;
+    cb_claim_reason(out, "Median order %.2f over %d steps with an estimate (target %.1f).", med[0], n, I2_TARGET);
+  }
+  if (S[3].with_order)
+    cb_claim_reason(out, " With the lecture's drop fix the order is %.2f (median): the modified Hessian converges "
+                    "linearly once springs are compressed.", med[3]);
+}
+
+/* ---- I3 ------------------------------------------------------------------ */
+
+enum { I3_MAXM = 256 };
+typedef struct {
+  char key[96], method[32], inner[24];
+  int ls, n, failed;
+  double wall[64], err_max;
+} i3_point;
+
+static int is_failure(const char *status) { /* fixed-K methods end at max_iters by design */
+  return strcmp(status, "ok") && strcmp(status, "max_iters");
+}
+
+/* Aggregates the rows of one scene: median wall_ms over start states, max step_error (Inf if a step failed). */
+static int i3_points(const cb_table *t, const char *scene, i3_point *P) {
+  int csc = cb_table_col(t, "scene"), cm = cb_table_col(t, "method"), cin = cb_table_col(t, "inner_solver"),
+      cl = cb_table_col(t, "line_search"), ce = cb_table_col(t, "step_error"), cw = cb_table_col(t, "wall_ms"),
+      cst = cb_table_col(t, "status");
+  if (csc < 0 || cm < 0 || cin < 0 || cl < 0 || ce < 0 || cw < 0 || cst < 0) return -1;
+  int np = 0;
+  for (int r = 0; r < t->nrows; r++) {
+    if (strcmp(cb_table_str(t, r, csc), scene)) continue;
+    char key[96];
+    snprintf(key, sizeof key, "%s/%s/%s", cb_table_str(t, r, cm), cb_table_str(t, r, cin), cb_table_str(t, r, cl));
+    int p = 0;
+    while (p < np && strcmp(P[p].key, key)) p++;
+    if (p == np) {
+      if (np == I3_MAXM) continue;
+      memset(&P[np], 0, sizeof P[np]);
+      snprintf(P[np].key, sizeof P[np].key, "%s", key);
+      snprintf(P[np].method, sizeof P[np].method, "%s", cb_table_str(t, r, cm));
+      snprintf(P[np].inner, sizeof P[np].inner, "%s", cb_table_str(t, r, cin));
+      P[np].ls = (int)cb_table_num(t, r, cl);
+      np++;
+    }
+    double e = cb_table_num(t, r, ce);
+    if (is_failure(cb_table_str(t, r, cst)) || !isfinite(e)) e = INFINITY, P[p].failed = 1;
+    if (P[p].n == 0 || e > P[p].err_max) P[p].err_max = e;
+    if (P[p].n < 64) P[p].wall[P[p].n++] = cb_table_num(t, r, cw);
+  }
+  return np;
+}
+
+static const char *const I3_SCENES[] = {"lab", "grid64", "stiff"};
+
+/* Trajectory summary (reported, not part of the verdict): per method the RMS
+ * position error against the converged trajectory at the end, the first
+ * failing step, and the time-discretisation error at the same time. */
+static void trajectories(const char *dir, cb_claim_result *out) {
+  cb_table t, d;
+  char path[4096];
+  snprintf(path, sizeof path, "%s/newton_vs_bw_traj.csv", dir);
+  if (cb_table_read(path, &t)) return;
+  int cm = cb_table_col(&t, "method"), ci = cb_table_col(&t, "inner_solver"), cl = cb_table_col(&t, "line_search"),
+      cs = cb_table_col(&t, "step"), ct = cb_table_col(&t, "t_s"), ce = cb_table_col(&t, "pos_error_m"),
+      cst = cb_table_col(&t, "status"), cE = cb_table_col(&t, "energy_j"), cR = cb_table_col(&t, "ref_energy_j");
+  if (cm < 0 || ci < 0 || cl < 0 || cs < 0 || ct < 0 || ce < 0 || cst < 0 || cE < 0 || cR < 0) {
+    cb_table_free(&t);
+    return;
+  }
+  cb_claim_numbers(out, "\nTrajectories of the lab scene against the converged trajectory at the same dt:\n\n"
+                        "| method | inner | line search | t end (s) | RMS position error at the end (m) | max (m) | "
+                        "E - E_ref at the end (J) | first failing step |\n|---|---|---|---|---|---|---|---|\n");
+  double tend = 0;
+  for (int r = 0; r < t.nrows; r++) {
+    int last = r + 1 == t.nrows || cb_table_num(&t, r + 1, cs) == 0;
+    if (!last || !strcmp(cb_table_str(&t, r, cm), "reference")) continue;
+    int r0 = r;
+    while (r0 > 0 && cb_table_num(&t, r0, cs) > 0) r0--;
+    double emax = 0;
+    for (int q = r0; q <= r; q++)
+      if (cb_table_num(&t, q, ce) > emax) emax = cb_table_num(&t, q, ce);
+    const char *st = cb_table_str(&t, r, cst);
+    int failed = strcmp(st, "ok") && strcmp(st, "max_iters");
+    if (cb_table_num(&t, r, ct) > tend) tend = cb_table_num(&t, r, ct);
+    cb_claim_numbers(out, "| %s | %s | %s | %.3g | %.2e | %.2e | %.3g | %s%s%s |\n", cb_table_str(&t, r, cm),
+                     cb_table_str(&t, r, ci), cb_table_num(&t, r, cl) > 0 ? "yes" : "no", cb_table_num(&t, r, ct),
+                     cb_table_num(&t, r, ce), emax, cb_table_num(&t, r, cE) - cb_table_num(&t, r, cR),
+                     failed ? cb_table_str(&t, r, cs) : "-", failed ? " " : "", failed ? st : "");
+  }
+  cb_table_free(&t);
+  snprintf(path, sizeof path, "%s/newton_vs_bw_dt.csv", dir);
+  if (cb_table_read(path, &d)) return;
+  int dt_ = cb_table_col(&d, "t_s"), de = cb_table_col(&d, "pos_error_m");
+  if (dt_ >= 0 && de >= 0 && d.nrows > 0)
+    cb_claim_numbers(out, "\nTime-discretisation error (converged implicit Euler at dt against dt/16), RMS position: "
+                          "%.2e m at t = %.3g s.\n", cb_table_num(&d, d.nrows - 1, de), cb_table_num(&d, d.nrows - 1, dt_));
+  cb_table_free(&d);
+}
+
+void cb_check_newton_vs_bw_i3(const cb_table *t, const char *dir, cb_claim_result *out) {
+  static i3_point P[I3_MAXM];
+  double cost[I3_MAXM], err[I3_MAXM];
+  int front[I3_MAXM], fast_all = 1, scenes = 0;
+  const double levels[3] = {1e-2, 1e-3, 1e-6};
+  cb_claim_numbers(out, "Step error = max over start states of |x - x*|_M / |x* - x0|_M; time = median wall_ms over "
+                        "start states (failed steps count as infinite error).\n\n"
+                        "| scene | K = 1 (CHOLMOD) ms | converged (CHOLMOD) ms | speed-up | K = 1 error | "
+                        "cheapest at 1e-2 | cheapest at 1e-3 | cheapest at 1e-6 | Pareto front |\n"
+                        "|---|---|---|---|---|---|---|---|---|\n");
+  for (int sc = 0; sc < 3; sc++) {
+    int np = i3_points(t, I3_SCENES[sc], P);
+    if (np < 0) {
+      cb_claim_reason(out, "newton_vs_bw.csv lacks a needed column.");
+      return;
+    }
+    if (np == 0) continue;
+    scenes++;
+    int bw = -1, conv = -1;
+    for (int p = 0; p < np; p++) {
+      cost[p] = median(P[p].wall, P[p].n);
+      err[p] = P[p].err_max;
+      if (!strcmp(P[p].inner, "cholmod") && P[p].ls == 0 && !strcmp(P[p].method, "newton_k1")) bw = p;
+      if (!strcmp(P[p].inner, "cholmod") && P[p].ls == 0 && !strcmp(P[p].method, "newton_converged")) conv = p;
+    }
+    cb_pareto_front(np, cost, err, front);
+    double speed = bw >= 0 && conv >= 0 ? cost[conv] / cost[bw] : NAN;
+    if (!(speed >= SPEEDUP_MIN)) fast_all = 0;
+    cb_claim_numbers(out, "| %s | %.3g | %.3g | %.1f | %.2g |", I3_SCENES[sc], bw >= 0 ? cost[bw] : NAN,
+                     conv >= 0 ? cost[conv] : NAN, speed, bw >= 0 ? err[bw] : NAN);
+    for (int l = 0; l < 3; l++) {
+      int c = cb_cheapest_at(np, cost, err, levels[l]);
+      if (c < 0) cb_claim_numbers(out, " none |");
+      else cb_claim_numbers(out, " %s %s%s (%.3g ms, %.1e) |", P[c].method, P[c].inner, P[c].ls ? " +LS" : "", cost[c], err[c]);
+    }
+    int first = 1;
+    for (int p = 0; p < np; p++)
+      if (front[p]) {
+        cb_claim_numbers(out, "%s%s %s%s", first ? " " : "; ", P[p].method, P[p].inner, P[p].ls ? " +LS" : "");
+        first = 0;
+      }
+    cb_claim_numbers(out, " |\n");
+  }
+  /* the regime map */
+  cb_table rg;
+  if (side_table(dir, "regime.csv", &rg, out)) return;
+  int cdt = cb_table_col(&rg, "dt"), ck = cb_table_col(&rg, "k"), cs = cb_table_col(&rg, "stretch"),
+      cf = cb_table_col(&rg, "k1_fails"), cdv = cb_table_col(&rg, "first_diverged_step"),
+      cem = cb_table_col(&rg, "step_error_max"), crs = cb_table_col(&rg, "ref_status");
+  int cells = 0, fails = 0, diverged = 0, ref_bad = 0;
+  if (cdt < 0 || ck < 0 || cs < 0 || cf < 0 || cdv < 0 || cem < 0 || crs < 0) {
+    cb_claim_reason(out, "newton_vs_bw_regime.csv lacks a needed column.");
+    cb_table_free(&rg);
+    return;
+  }
+  cb_claim_numbers(out, "\nK = 1 regime map (one-step error: max over the sampled states of its own trajectory; D = trajectory "
+                        "diverged, E = error > 1%%, . = fine):\n\n| stretch | k (N/m) | dt (s): cells |\n|---|---|---|\n");
+  for (int r = 0; r < rg.nrows; r++) {
+    cells++;
+    int f = (int)cb_table_num(&rg, r, cf), d = cb_table_num(&rg, r, cdv) >= 0;
+    fails += f;
+    diverged += d;
+    ref_bad += strcmp(cb_table_str(&rg, r, crs), "ok") != 0;
+    int newrow = r == 0 || cb_table_num(&rg, r, ck) != cb_table_num(&rg, r - 1, ck) ||
+                 cb_table_num(&rg, r, cs) != cb_table_num(&rg, r - 1, cs);
+    if (newrow) cb_claim_numbers(out, "%s| %g | %g |", r ? " |\n" : "", cb_table_num(&rg, r, cs), cb_table_num(&rg, r, ck));
+    cb_claim_numbers(out, " 1/%.0f:%s", 1.0 / cb_table_num(&rg, r, cdt), d ? "D" : f ? "E" : ".");
+  }
+  if (cells) cb_claim_numbers(out, " |\n");
+  cb_table_free(&rg);
+  cb_claim_numbers(out, "\n%d of %d cells fail (%d diverge); the reference did not converge in %d cells.\n", fails,
+                   cells, diverged, ref_bad);
+  trajectories(dir, out);
+  int can_fail = fails > 0;
+  if (scenes == 0 || cells == 0) {
+    out->verdict = CB_NOT_RUN;
+    cb_claim_reason(out, "No step or regime rows.");
+  } else if (fast_all && can_fail) {
+    out->verdict = CB_REPRODUCED;
+    cb_claim_reason(out, "K = 1 is at least %.0fx faster than converged Newton (CHOLMOD) on all %d scenes, and it fails "
+                    "(error > 1%% or divergence) in %d of %d (dt, k, stretch) cells.", SPEEDUP_MIN, scenes, fails, cells);
+  } else if (fast_all || can_fail) {
+    out->verdict = CB_PARTLY;
+    cb_claim_reason(out, "%s; K = 1 fails in %d of %d regime cells.",
+                    fast_all ? "K = 1 is faster than converged Newton on every scene" : "K = 1 is not at least 2x faster on every scene",
+                    fails, cells);
+  } else {
+    out->verdict = CB_NOT_REPRODUCED;
+    cb_claim_reason(out, "K = 1 is neither at least %.0fx faster than converged Newton on every scene nor failing in any "
+                    "regime cell.", SPEEDUP_MIN);
+  }
+}

@@ -1,0 +1,200 @@
+# newton_vs_bw (claims I2, I3): error against run time, the K = 1 regime map,
+# Newton's convergence, trajectory error. Data: results/newton_vs_bw*.csv.
+load 'plots/common.gp'
+
+main   = results.'/newton_vs_bw.csv'
+pareto = results.'/newton_vs_bw_pareto.csv'
+regime = results.'/newton_vs_bw_regime.csv'
+i2     = results.'/newton_vs_bw_i2.csv'
+traj   = results.'/newton_vs_bw_traj.csv'
+dterr  = results.'/newton_vs_bw_dt.csv'
+
+# ---- I3: step error against wall time, one panel per scene ------------------
+# colour = inner solve, point shape = K; filled = no line search, open = line
+# search; the black line joins the Pareto front (median time, worst error).
+array INNER[6] = ['cholmod', 'cg32', 'cheb32', 'cg\_tol', 'cheb\_tol', 'cheb32 alpha=1']
+array COLOR[6] = [0x1f77b4, 0xff7f0e, 0x2ca02c, 0xd62728, 0x9467bd, 0x7f7f7f]
+array KNAME[6] = ['K = 1', 'K = 2', 'K = 3', 'K = 5', 'K = 10', 'converged']
+array PT_FILLED[6] = [7, 5, 9, 11, 13, 15]
+array PT_OPEN[6] = [6, 4, 8, 10, 12, 14]
+array SCENE[3] = ['lab', 'grid64', 'stiff']
+array STITLE[3] = ['lab scene (21^2, k = 8000 N/m)', '64^2 (same cloth)', 'stiff (21^2, k = 10^6 N/m)']
+inner_col(i) = COLOR[int(i) + 1]
+k_pt(k, ls) = ls > 0 ? PT_OPEN[int(k) + 1] : PT_FILLED[int(k) + 1]
+finite(e) = (e == e && e < 1e300) ? e : NaN
+
+set output out.'/newton_vs_bw_pareto.'.ext
+set terminal push
+if (ext eq 'svg') { set terminal svg size 1500,640 dynamic enhanced font 'sans,11' background rgb 'white' } \
+else { set terminal pngcairo size 1500,640 enhanced font 'sans,10' }
+set multiplot title 'I3: step error against run time (one implicit Euler step, error vs converged x*)'
+set logscale xy
+set format y '10^{%L}'
+set format x '10^{%L}'
+set xlabel 'wall time per step (ms, median over start states)'
+set ylabel 'step error |x - x*|_M / |x* - x^0|_M (max over states)'
+set yrange [1e-12:100]
+unset key
+do for [s = 1:3] {
+  set title STITLE[s]
+  set origin (s - 1) / 3.0, 0.16
+  set size 1 / 3.0, 0.78
+  # (common.gp reads the first row of every data source as its header: give $FRONT one)
+  set print $FRONT
+  print 'wall_ms,step_error_max'
+  unset print
+  set table $FRONT append separator comma
+  plot pareto using 'wall_ms':'step_error_max' with table if (strcol('scene') eq SCENE[s] && column('on_front') == 1)
+  unset table
+  plot pareto using (strcol('scene') eq SCENE[s] ? column('wall_ms') : NaN):(finite(column('step_error_max'))): \
+         (k_pt(column('k_index'), column('line_search'))):(inner_col(column('inner_index'))) \
+         with points pt variable ps 1.1 lc rgb variable, \
+       $FRONT using 1:2 with lines lw 2 lc rgb 'black', \
+       pareto using (strcol('scene') eq SCENE[s] && column('inner_index') == 2 ? column('wall_no_setup_ms') : NaN):(finite(column('step_error_max'))) \
+         with points pt 1 ps 0.8 lc rgb '#2ca02c', \
+       pareto using (strcol('scene') eq SCENE[s] && column('failed') > 0 ? column('wall_ms') : NaN):(30): \
+         (inner_col(column('inner_index'))) with points pt 2 ps 1.5 lw 2 lc rgb variable, \
+       1e-2 with lines dt 2 lc rgb 'gray'
+}
+# the legend, in a strip below the panels
+set origin 0, 0
+set size 1, 0.15
+unset border
+unset tics
+unset xlabel
+unset ylabel
+unset title
+unset grid
+unset logscale
+set xrange [0:1]
+set yrange [0:1]
+set key at screen 0.5, 0.08 center center horizontal maxcols 8 font ',9' noopaque nobox
+plot NaN with lines lw 2 lc rgb 'black' title 'Pareto front', \
+     for [i = 1:6] NaN with points pt 7 lc rgb COLOR[i] title INNER[i], \
+     NaN with points pt 1 lc rgb '#2ca02c' title 'cheb32 without {/Symbol r} set-up', \
+     for [k = 1:6] NaN with points pt PT_FILLED[k] lc rgb 'black' title KNAME[k], \
+     NaN with points pt 6 lc rgb 'black' title 'open symbol: line search', \
+     NaN with points pt 2 lw 2 lc rgb 'black' title 'step failed (drawn at 30)', \
+     NaN with lines dt 2 lc rgb 'gray' title 'error 1%'
+set border
+set tics
+set grid
+set xrange [*:*]
+set yrange [*:*]
+unset multiplot
+set terminal pop
+set key default
+set key box opaque
+set origin 0, 0
+set size 1, 1
+unset logscale
+set format x '% g'
+set format y '% g'
+set yrange [*:*]
+set xrange [*:*]
+
+# ---- I3: the K = 1 regime map -----------------------------------------------
+set output out.'/newton_vs_bw_regime.'.ext
+set terminal push
+if (ext eq 'svg') { set terminal svg size 1200,950 dynamic enhanced font 'sans,11' background rgb 'white' } \
+else { set terminal pngcairo size 1200,950 enhanced font 'sans,10' }
+array STR[4] = [1, 1.25, 1.5, 2]
+set multiplot layout 2,2 title "I3: where Baraff-Witkin's single Newton iteration fails (colour: log_{10} of the largest one-step error;\nD = trajectory diverged, E = one-step error > 1%; lab scene from the stretched start; blank: not in this sweep)"
+set xtics ('1/240' 0, '1/120' 1, '1/60' 2, '1/30' 3, '1/20' 4, '1/10' 5)
+set ytics ('10^2' 0, '10^3' 1, '10^4' 2, '10^5' 3, '10^6' 4, '10^7' 5)
+set xrange [-0.5:5.5]
+set yrange [-0.5:5.5]
+set xlabel 'time step dt (s)'
+set ylabel 'spring stiffness k (N/m)'
+set cblabel 'log_{10} one-step error'
+set cbrange [-8:0]
+set palette defined (-8 '#1a9850', -4 '#d9ef8b', -2 '#fee08b', -1 '#f46d43', 0 '#a50026')
+unset key
+set grid front
+lg(e) = (e == e && e > 0) ? (log10(e) > 0 ? 0 : log10(e)) : 0
+do for [a = 1:4] {
+  set title sprintf('initial stretch %gx', STR[a])
+  plot regime using (abs(column('stretch') - STR[a]) < 1e-9 ? column('dt_index') : NaN):'k_index': \
+         (column('dt_index') - 0.5):(column('dt_index') + 0.5):(column('k_index') - 0.5):(column('k_index') + 0.5): \
+         (column('first_diverged_step') >= 0 ? 0 : lg(column('step_error_max'))) \
+         with boxxy fs solid 1.0 lc palette, \
+       regime using (abs(column('stretch') - STR[a]) < 1e-9 ? column('dt_index') : NaN):'k_index': \
+         (column('first_diverged_step') >= 0 ? 'D' : column('k1_fails') > 0 ? 'E' : '') \
+         with labels font ',14' tc rgb 'black'
+}
+unset multiplot
+set terminal pop
+set xtics autofreq
+set ytics autofreq
+set xrange [*:*]
+set yrange [*:*]
+unset cbrange
+set key
+
+# ---- I2: |grad F| per Newton iteration --------------------------------------
+set output out.'/newton_vs_bw_convergence.'.ext
+set title "I2: Newton's convergence on the stretched hanging cloth (initial scale 1.5, k = 8000 N/m, dt = 1/30 s)"
+set logscale y
+set format y '10^{%L}'
+set xlabel 'Newton iteration'
+set ylabel 'relative |{/Symbol \321}F| = |{/Symbol \321}F(x^{(k)})| / |{/Symbol \321}F(x^{(0)})|'
+set yrange [1e-16:1e7]
+set xrange [0:*]
+set key inside top right font ',9'
+array SHOW[3] = [0, 2, 4]
+run(def, ls, st) = (strcol('definiteness') eq def && column('line_search') == ls && column('step') == st)
+plot for [j = 1:3] i2 using (run('exact_or_shift', 1, SHOW[j]) ? column('iter') : NaN):'rel_grad' \
+       with linespoints lw 2 pt 7 ps 0.7 lc j title sprintf('Newton, exact Hessian (shifted where A is indefinite) + line search, step %d', SHOW[j]), \
+     for [j = 1:3] i2 using (run('drop', 1, SHOW[j]) ? column('iter') : NaN):'rel_grad' \
+       with linespoints lw 1 dt 2 pt 6 ps 0.6 lc j title sprintf("Newton with the lecture's drop fix + line search, step %d", SHOW[j]), \
+     1e-11 with lines dt 3 lc rgb 'gray' title 'order estimates use |{/Symbol \321}F| above this line'
+unset logscale
+set format y '% g'
+set yrange [*:*]
+set xrange [*:*]
+
+# ---- trajectories: position error against the converged trajectory ---------
+set output out.'/newton_vs_bw_trajectory.'.ext
+set title 'I3: 2 s trajectories of the lab scene (dt = 1/30 s) against the converged trajectory at the same dt'
+set logscale y
+set format y '10^{%L}'
+set xlabel 'time t (s)'
+set ylabel 'RMS position error |x - x_{ref}|_M / M^{1/2} (m)'
+set yrange [1e-12:1e6]
+set key inside top left maxrows 5 font ',9'
+array TDASH[8] = [1, 1, 1, 1, 1, 1, 2, 2]
+array TCOL[8] = [0x9400d3, 0x009e73, 0x56b4e9, 0xe69f00, 0xd4c000, 0x0072b2, 0xe51e10, 0x7f7f7f]
+tr(m, inn, ls) = (strcol('method') eq m && strcol('inner_solver') eq inn && column('line_search') == ls)
+array TM[8] = ['newton_k1', 'newton_k2', 'newton_k3', 'newton_k5', 'newton_k10', 'newton_converged', 'newton_k1', 'newton_k1']
+array TI[8] = ['cholmod', 'cholmod', 'cholmod', 'cholmod', 'cholmod', 'cholmod', 'cg32', 'cheb32']
+array TT[8] = ['K = 1 (Baraff-Witkin), CHOLMOD', 'K = 2, CHOLMOD', 'K = 3, CHOLMOD', 'K = 5, CHOLMOD', 'K = 10, CHOLMOD', \
+               'converged (tol 1e-8), CHOLMOD', 'K = 1, CG cut at 32', 'K = 1, Chebyshev-Jacobi cut at 32']
+plot for [j = 1:8] traj using (tr(TM[j], TI[j], 0) && column('step') > 0 ? column('t_s') : NaN):(finite(column('pos_error_m'))) \
+       with lines lw 2 lc rgb TCOL[j] dashtype TDASH[j] title TT[j], \
+     dterr using 't_s':'pos_error_m' with lines lw 3 dt 2 lc rgb 'black' title 'time-discretisation error: dt against dt/16 (converged)'
+unset logscale
+set format y '% g'
+set yrange [*:*]
+
+# ---- trajectories: energy --------------------------------------------------
+set output out.'/newton_vs_bw_energy.'.ext
+set terminal push
+if (ext eq 'svg') { set terminal svg size 900,800 dynamic enhanced font 'sans,11' background rgb 'white' } \
+else { set terminal pngcairo size 900,800 enhanced font 'sans,10' }
+set multiplot layout 2,1 title 'I3: energy along the 2 s lab trajectories (dt = 1/30 s)'
+set title 'energy drift E(t) - E(0): the numerical damping of implicit Euler'
+set xlabel 'time t (s)'
+set ylabel 'E(t) - E(0) (J)'
+set key inside bottom left font ',9'
+plot traj using (strcol('method') eq 'reference' ? column('t_s') : NaN):'energy_drift_j' with lines lw 4 lc rgb 'black' title 'converged (reference)', \
+     traj using (tr(TM[1], TI[1], 0) ? column('t_s') : NaN):'energy_drift_j' with lines lw 2 lc rgb TCOL[1] title TT[1]
+set title 'energy difference to the converged trajectory'
+set logscale y
+set format y '10^{%L}'
+set ylabel '|E(t) - E_{ref}(t)| (J)'
+set yrange [1e-10:1e4]
+set key inside bottom right font ',8' maxrows 4
+plot for [j = 1:8] traj using (tr(TM[j], TI[j], 0) && column('step') > 0 ? column('t_s') : NaN): \
+       (abs(column('energy_j') - column('ref_energy_j'))) with lines lw 1.5 lc rgb TCOL[j] dashtype TDASH[j] title TT[j]
+unset multiplot
+set terminal pop

@@ -1,0 +1,152 @@
+/* Verdict logic of the H1/H2 checkers on small constructed CSVs. */
+#include <criterion/criterion.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "claims.h"
+
+#define MAIN_HEAD "scene,policy,step,newton_iter,system,spd,min_eig,min_eig_res,mu,spd_exact,min_eig_exact," \
+  "compressed_frac,cg_breakdown,cg_status,cg_iters,rel_grad,grad_norm,f_j,energy_j,wall_ms,status\n"
+#define RUNS_HEAD "scene,policy,steps,steps_done,steps_converged,newton_iters,systems,not_spd,indefinite_exact," \
+  "cg_breakdowns,mu_max,factorizations,wall_ms,probe_ms,final_f_j,final_energy_j,final_rel_grad,shape_diff_none_m," \
+  "shape_diff_drop_m,status\n"
+#define PAIR_HEAD "dim,policy,buckling_kb,ratio,min_eig_h,min_eig_a,predicted_min_eig_a,spd\n"
+
+static void put(const char *dir, const char *name, const char *text) {
+  char path[512];
+  snprintf(path, sizeof path, "%s/%s", dir, name);
+  FILE *f = fopen(path, "w");
+  cr_assert_not_null(f);
+  fputs("# provenance: test\n", f);
+  fputs(text, f);
+  fclose(f);
+}
+
+/* A system row: policy, spd (used), min_eig, spd_exact, min_eig_exact, compressed fraction, CG breakdown. */
+static void row(char *buf, const char *pol, int spd, double me, int spdx, double mex, double comp, int bd) {
+  char r[512];
+  snprintf(r, sizeof r, "s1,%s,1,0,1,%d,%g,0,0,%d,%g,%g,%d,%s,3,1,1,0,0,0.1,%s\n", pol, spd, me, spdx, mex, comp, bd,
+           bd ? "indefinite" : "ok", spd ? "ok" : "not_spd");
+  strcat(buf, r);
+}
+
+static const char *good_pair = PAIR_HEAD
+  "1,none,,0.7,16000,16900,16900,1\n2,none,,0.7,-6857,-5957,-5957,0\n3,none,,0.7,-6857,-5957,-5957,0\n"
+  "1,none,,0.99,16000,16900,16900,1\n3,none,,0.99,-161,739,739,1\n";
+
+static cb_verdict decide(const char *id, const char *dir) {
+  for (int i = 0; i < cb_nclaims; i++)
+    if (!strcmp(cb_claims[i].id, id)) {
+      cb_claim_result *r = calloc(1, sizeof *r);
+      cb_claim_decide(&cb_claims[i], dir, r);
+      cb_verdict v = r->verdict;
+      free(r);
+      return v;
+    }
+  cr_assert_fail("claim %s not registered", id);
+  return CB_NOT_RUN;
+}
+
+static char *tmpdir(void) {
+  static char d[64];
+  strcpy(d, "/tmp/cbclaims_XXXXXX");
+  cr_assert_not_null(mkdtemp(d));
+  return d;
+}
+
+static void runs_all_finished(const char *dir, const char *broken) {
+  char buf[4096] = RUNS_HEAD;
+  const char *pols[] = {"none", "drop", "mirror", "shift", "choi-ko"};
+  for (int p = 0; p < 5; p++) {
+    char r[512];
+    int done = p == 0 ? 1 : (broken && !strcmp(broken, pols[p])) ? 3 : 5;
+    snprintf(r, sizeof r, "s1,%s,5,%d,%d,10,10,0,0,0,0,10,1,1,0,0,0,,,%s\n", pols[p], done, done, p == 0 ? "not_spd" : "ok");
+    strcat(buf, r);
+  }
+  put(dir, "definiteness_runs.csv", buf);
+}
+
+Test(claims_definiteness, h1_reproduced_on_indefinite_compressed_scene) {
+  char *dir = tmpdir(), buf[8192] = MAIN_HEAD;
+  row(buf, "none", 0, -5000, 0, -5000, 0.6, 1);
+  row(buf, "drop", 1, 900, 0, -3000, 0.5, 0);
+  row(buf, "drop", 1, 900, 1, 800, 0.0, 0); /* nothing compressed: SPD */
+  put(dir, "definiteness.csv", buf);
+  put(dir, "definiteness_pair.csv", good_pair);
+  cr_assert_eq(decide("H1", dir), CB_REPRODUCED);
+}
+
+Test(claims_definiteness, h1_not_reproduced_when_never_indefinite) {
+  char *dir = tmpdir(), buf[8192] = MAIN_HEAD;
+  row(buf, "none", 1, 500, 1, 500, 0.3, 0);
+  row(buf, "drop", 1, 900, 1, 800, 0.2, 0);
+  put(dir, "definiteness.csv", buf);
+  put(dir, "definiteness_pair.csv", PAIR_HEAD "1,none,,0.7,16000,16900,16900,1\n3,none,,0.99,-161,739,739,1\n");
+  cr_assert_eq(decide("H1", dir), CB_NOT_REPRODUCED);
+}
+
+Test(claims_definiteness, h1_partly_when_a_stretched_state_is_indefinite_or_1d_fails) {
+  char *dir = tmpdir(), buf[8192] = MAIN_HEAD;
+  row(buf, "none", 0, -5000, 0, -5000, 0.6, 1);
+  row(buf, "drop", 1, 900, 0, -10, 0.0, 0); /* indefinite with nothing compressed: contradicts the claim */
+  put(dir, "definiteness.csv", buf);
+  put(dir, "definiteness_pair.csv", good_pair);
+  cr_assert_eq(decide("H1", dir), CB_PARTLY);
+  char *dir2 = tmpdir(), buf2[8192] = MAIN_HEAD;
+  row(buf2, "none", 0, -5000, 0, -5000, 0.6, 1);
+  put(dir2, "definiteness.csv", buf2);
+  put(dir2, "definiteness_pair.csv", PAIR_HEAD "1,none,,0.7,16000,-10,16900,0\n3,none,,0.7,-6857,-5957,-5957,0\n");
+  cr_assert_eq(decide("H1", dir2), CB_PARTLY);
+}
+
+static void fixes_rows(char *buf, const char *bad, int bad_spd, int bad_cg) {
+  row(buf, "none", 0, -5000, 0, -5000, 0.6, 1);
+  const char *pols[] = {"drop", "mirror", "shift", "choi-ko"};
+  for (int p = 0; p < 4; p++) {
+    int b = bad && !strcmp(bad, pols[p]);
+    row(buf, pols[p], b && bad_spd ? 0 : 1, 900, 0, -3000, 0.5, b && bad_cg);
+  }
+}
+
+Test(claims_definiteness, h2_reproduced_when_every_fix_is_spd) {
+  char *dir = tmpdir(), buf[8192] = MAIN_HEAD;
+  fixes_rows(buf, NULL, 0, 0);
+  put(dir, "definiteness.csv", buf);
+  runs_all_finished(dir, NULL);
+  cr_assert_eq(decide("H2", dir), CB_REPRODUCED);
+}
+
+Test(claims_definiteness, h2_not_reproduced_when_drop_fails) {
+  char *dir = tmpdir(), buf[8192] = MAIN_HEAD;
+  fixes_rows(buf, "drop", 1, 0);
+  put(dir, "definiteness.csv", buf);
+  runs_all_finished(dir, NULL);
+  cr_assert_eq(decide("H2", dir), CB_NOT_REPRODUCED);
+  char *dir2 = tmpdir(), buf2[8192] = MAIN_HEAD;
+  fixes_rows(buf2, "drop", 0, 1); /* a CG breakdown on drop's matrix */
+  put(dir2, "definiteness.csv", buf2);
+  runs_all_finished(dir2, NULL);
+  cr_assert_eq(decide("H2", dir2), CB_NOT_REPRODUCED);
+}
+
+Test(claims_definiteness, h2_partly_when_another_fix_fails) {
+  char *dir = tmpdir(), buf[8192] = MAIN_HEAD;
+  fixes_rows(buf, "choi-ko", 0, 1);
+  put(dir, "definiteness.csv", buf);
+  runs_all_finished(dir, NULL);
+  cr_assert_eq(decide("H2", dir), CB_PARTLY);
+  char *dir2 = tmpdir(), buf2[8192] = MAIN_HEAD;
+  fixes_rows(buf2, NULL, 0, 0);
+  put(dir2, "definiteness.csv", buf2);
+  runs_all_finished(dir2, "mirror"); /* mirror's run did not finish */
+  cr_assert_eq(decide("H2", dir2), CB_PARTLY);
+}
+
+Test(claims_definiteness, missing_side_csv_is_not_run) {
+  char *dir = tmpdir(), buf[8192] = MAIN_HEAD;
+  fixes_rows(buf, NULL, 0, 0);
+  put(dir, "definiteness.csv", buf);
+  cr_assert_eq(decide("H1", dir), CB_NOT_RUN);
+  cr_assert_eq(decide("H2", dir), CB_NOT_RUN);
+}

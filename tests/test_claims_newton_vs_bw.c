@@ -1,0 +1,144 @@
+/* Verdict logic of the I2 and I3 checkers (claims/check_newton_vs_bw.c) on
+ * small constructed CSVs in a temporary folder, through the claims table. */
+#define _DEFAULT_SOURCE /* mkdtemp */
+#include <criterion/criterion.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "claims.h"
+
+static char dir[64];
+
+static void setup(void) {
+  snprintf(dir, sizeof dir, "/tmp/cbclaims_XXXXXX");
+  cr_assert(mkdtemp(dir), "mkdtemp failed");
+}
+
+static void teardown(void) {
+  const char *names[] = {"newton_vs_bw.csv", "newton_vs_bw_i2.csv", "newton_vs_bw_regime.csv"};
+  char path[256];
+  for (int i = 0; i < 3; i++) {
+    snprintf(path, sizeof path, "%s/%s", dir, names[i]);
+    remove(path);
+  }
+  remove(dir);
+}
+
+static void put(const char *name, const char *text) {
+  char path[256];
+  snprintf(path, sizeof path, "%s/%s", dir, name);
+  FILE *f = fopen(path, "w");
+  cr_assert(f);
+  fputs("# experiment: newton_vs_bw\n", f);
+  fputs(text, f);
+  fclose(f);
+}
+
+static cb_verdict decide(const char *id, cb_claim_result *res) {
+  for (int i = 0; i < cb_nclaims; i++)
+    if (!strcmp(cb_claims[i].id, id)) {
+      cr_assert_str_eq(cb_claims[i].experiment, "newton_vs_bw");
+      cb_claim_decide(&cb_claims[i], dir, res);
+      return res->verdict;
+    }
+  cr_assert_fail("claim %s not in the table", id);
+  return CB_NOT_RUN;
+}
+
+/* ---- I2 ---- */
+
+#define I2_HEAD "definiteness,line_search,step,iter,grad_norm,alpha,hessian,step_status\n"
+
+/* one run: g_k given, all updates with the given Hessian */
+static void run(char *buf, const char *def, int ls, int step, const double *g, int n, const char *hess, const char *status) {
+  for (int i = 0; i < n; i++)
+    sprintf(buf + strlen(buf), "%s,%d,%d,%d,%.17g,%g,%s,%s\n", def, ls, step, i, g[i], i == 2 ? 0.5 : 1.0,
+            i ? hess : "-", status);
+}
+
+static void i2_file(const double *g, int n, const char *hess) {
+  static char buf[65536];
+  strcpy(buf, I2_HEAD);
+  const double lin[] = {1e3, 1e2, 10, 1, 0.1, 0.01};
+  for (int s = 0; s < 6; s++) {
+    run(buf, "exact_or_shift", 1, s, g, n, hess, "ok");
+    run(buf, "drop", 1, s, lin, 6, "drop", "max_iters");
+  }
+  put("newton_vs_bw_i2.csv", buf);
+  put("newton_vs_bw.csv", "scene,method\nlab,newton_k1\n");
+}
+
+Test(claims_newton_vs_bw, i2_quadratic_is_reproduced, .init = setup, .fini = teardown) {
+  const double g[] = {1e4, 1e3, 1e2, 1, 1e-4, 1e-12}; /* p = 2 on (1e2, 1, 1e-4) */
+  i2_file(g, 6, "exact");
+  cb_claim_result r;
+  cr_assert_eq(decide("I2", &r), CB_REPRODUCED, "%s", r.reason);
+  cr_assert(strstr(r.numbers, "| exact_or_shift | yes | 6 | 6 | 6 | 6 | 2 |"), "%s", r.numbers);
+  cr_assert(strstr(r.reason, "drop fix"), "%s", r.reason);
+}
+
+Test(claims_newton_vs_bw, i2_linear_is_not_reproduced, .init = setup, .fini = teardown) {
+  const double g[] = {1e4, 1e3, 1e2, 10, 1, 0.1};
+  i2_file(g, 6, "exact");
+  cb_claim_result r;
+  cr_assert_eq(decide("I2", &r), CB_NOT_REPRODUCED, "%s", r.reason);
+}
+
+Test(claims_newton_vs_bw, i2_counts_only_exact_hessian_updates, .init = setup, .fini = teardown) {
+  const double g[] = {1e4, 1e3, 1e2, 1, 1e-4, 1e-12}; /* quadratic, but made with the shifted Hessian */
+  i2_file(g, 6, "shifted");
+  cb_claim_result r;
+  cr_assert_eq(decide("I2", &r), CB_NOT_REPRODUCED, "%s", r.reason);
+}
+
+Test(claims_newton_vs_bw, i2_missing_side_csv_is_not_run, .init = setup, .fini = teardown) {
+  put("newton_vs_bw.csv", "scene,method\nlab,newton_k1\n");
+  cb_claim_result r;
+  cr_assert_eq(decide("I2", &r), CB_NOT_RUN, "%s", r.reason);
+}
+
+/* ---- I3 ---- */
+
+#define MAIN_HEAD "scene,step,method,inner_solver,line_search,step_error,wall_ms,status\n"
+#define REG_HEAD "dt,k,stretch,first_diverged_step,step_error_max,ref_status,k1_fails\n"
+
+static void i3_files(double conv_ms, int regime_fail) {
+  static char buf[8192];
+  strcpy(buf, MAIN_HEAD);
+  const char *scenes[] = {"lab", "grid64", "stiff"};
+  for (int s = 0; s < 3; s++)
+    for (int st = 0; st < 2; st++) {
+      sprintf(buf + strlen(buf), "%s,%d,newton_k1,cholmod,0,%g,1.0,max_iters\n", scenes[s], st, 1e-3 * (st + 1));
+      sprintf(buf + strlen(buf), "%s,%d,newton_converged,cholmod,0,1e-10,%g,ok\n", scenes[s], st, conv_ms);
+      sprintf(buf + strlen(buf), "%s,%d,newton_k1,cg32,0,2e-3,0.5,max_iters\n", scenes[s], st);
+      sprintf(buf + strlen(buf), "%s,%d,newton_k1,cheb32_alpha1,0,0.06,3.0,linear_failed\n", scenes[s], st);
+    }
+  put("newton_vs_bw.csv", buf);
+  char reg[1024];
+  snprintf(reg, sizeof reg, REG_HEAD "0.1,100,1,-1,1e-4,ok,0\n0.1,1e7,2,%d,%g,ok,%d\n", regime_fail ? 2 : -1,
+           regime_fail ? 0.2 : 1e-3, regime_fail);
+  put("newton_vs_bw_regime.csv", reg);
+}
+
+Test(claims_newton_vs_bw, i3_fast_and_failing_is_reproduced, .init = setup, .fini = teardown) {
+  i3_files(10.0, 1);
+  cb_claim_result r;
+  cr_assert_eq(decide("I3", &r), CB_REPRODUCED, "%s", r.reason);
+  /* the cheapest at 1e-2 is CG cut at 32 (0.5 ms, max error 2e-3); the failed Chebyshev never counts */
+  cr_assert(strstr(r.numbers, "newton_k1 cg32 (0.5 ms"), "%s", r.numbers);
+  cr_assert(strstr(r.numbers, "| lab | 1 | 10 | 10.0 |"), "%s", r.numbers);
+  cr_assert(strstr(r.numbers, "1/10:D"), "%s", r.numbers);
+}
+
+Test(claims_newton_vs_bw, i3_fast_but_never_failing_is_partly, .init = setup, .fini = teardown) {
+  i3_files(10.0, 0);
+  cb_claim_result r;
+  cr_assert_eq(decide("I3", &r), CB_PARTLY, "%s", r.reason);
+}
+
+Test(claims_newton_vs_bw, i3_neither_is_not_reproduced, .init = setup, .fini = teardown) {
+  i3_files(1.5, 0); /* converged only 1.5x slower, and K = 1 never fails */
+  cb_claim_result r;
+  cr_assert_eq(decide("I3", &r), CB_NOT_REPRODUCED, "%s", r.reason);
+}
