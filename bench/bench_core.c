@@ -75,11 +75,11 @@ int main(int argc, char **argv) {
   cb_outfile csv;
   if (cb_experiment_csv(&e, &csv, NULL,
                         "# bytes moved by one SpMV (cb_sparse_matvec_bytes): 8 nnz (values) + 4 nnz/9 (block-row indices) + 4 (n/3+1) + 16 n (x read, y written)\n"
-                        "# allocs_*: heap allocations inside one step after warm-up; newton_cg uses CG as the inner solver (our code only),\n"
+                        "# allocs_*: heap allocations inside one step after warm-up; newton_iterative: the most over CG, PCG and Chebyshev (rho = auto) as the inner solver (our code only),\n"
                         "#   newton_cholmod adds CHOLMOD's own (its permuted copy of A, workspace, and libgomp's per-parallel-region teams)\n"
                         "# triad: a = b + s c over 3 arrays of 2^25 doubles, 24 bytes per element (STREAM convention), median of passes interleaved with the SpMV samples\n",
                         "n,dofs,nnz_a,nnz_l,explicit_step_ms,assemble_ms,factor_ms,solve_ms,newton_iter_ms,"
-                        "assemble_over_factor,allocs_explicit_step,allocs_newton_cg_step,allocs_newton_cholmod_step,spmv_ms,spmv_gbs,triad_gbs,spmv_over_triad,status")) {
+                        "assemble_over_factor,allocs_explicit_step,allocs_newton_iterative_step,allocs_newton_cholmod_step,spmv_ms,spmv_gbs,triad_gbs,spmv_over_triad,status")) {
     fprintf(stderr, "bench_core: %s\n", cb_error_message());
     return 2;
   }
@@ -93,7 +93,7 @@ int main(int argc, char **argv) {
     const char *sets[] = {setn, NULL};
     cb_config cfg;
     cb_scene *s = NULL;
-    cb_integrator *nt = NULL, *ex = NULL, *ncg = NULL;
+    cb_integrator *nt = NULL, *ex = NULL;
     if (cb_experiment_config(&e, "hanging.ini", sets, &cfg) || cb_scene_build(&cfg, &s) || cb_integrator_from_config(s, &nt)) {
       fprintf(stderr, "bench_core: %s\n", cb_error_message());
       return 1;
@@ -101,9 +101,6 @@ int main(int argc, char **argv) {
     cb_integrator_params ep = nt->params;
     ep.dt = 1e-5;
     cb_integrator_alloc("explicit", s, &ep, NULL, NULL, &ex);
-    cb_solver_params cgp = cb_solver_params_default();
-    cgp.max_iters = 200;
-    cb_integrator_alloc("newton", s, &nt->params, "cg", &cgp, &ncg);
     int nv3 = 3 * s->mesh.nv, reps = n >= 256 ? 5 : n >= 128 ? 7 : 11;
     double *x = malloc((size_t)nv3 * sizeof *x), *v = malloc((size_t)nv3 * sizeof *v);
     double *xs = malloc((size_t)nv3 * sizeof *xs), *vs = malloc((size_t)nv3 * sizeof *vs);
@@ -119,10 +116,20 @@ int main(int argc, char **argv) {
     long a0 = nalloc;
     cb_integrator_step(nt, x, v, &st);
     long allocs_newton = nalloc - a0;
-    cb_integrator_step(ncg, x, v, &st);
-    a0 = nalloc;
-    cb_integrator_step(ncg, x, v, &st);
-    long allocs_cg = nalloc - a0;
+    long allocs_iter = 0; /* Newton with each iterative solver (Chebyshev with rho = auto) */
+    const char *iters[] = {"cg", "pcg", "chebyshev"};
+    for (int q = 0; q < 3; q++) {
+      cb_solver_params sp = cb_solver_params_default();
+      sp.max_iters = 200;
+      sp.alpha = 0.4;
+      cb_integrator *it = NULL;
+      if (cb_integrator_alloc("newton", s, &nt->params, iters[q], &sp, &it)) continue;
+      cb_integrator_step(it, x, v, &st);
+      a0 = nalloc;
+      cb_integrator_step(it, x, v, &st);
+      if (nalloc - a0 > allocs_iter) allocs_iter = nalloc - a0;
+      cb_integrator_free(it);
+    }
     cb_integrator_step(ex, x, v, &st);
     a0 = nalloc;
     cb_integrator_step(ex, x, v, &st);
@@ -167,11 +174,10 @@ int main(int argc, char **argv) {
     double gbs = bytes / (mmv * 1e-3) / 1e9;
     fprintf(csv.f, "%d,%d,%d,%.17g,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%ld,%ld,%ld,%.6f,%.6f,%.6f,%.6f,%s\n", n, A->n, A->nnz,
             nt->solver->stats.factor_nnz, median(tex, reps), mas, mfa, mso, mas + mfa + mso, mas / mfa, allocs_explicit,
-            allocs_cg, allocs_newton, mmv, gbs, triad, gbs / triad, cb_status_name(status));
+            allocs_iter, allocs_newton, mmv, gbs, triad, gbs / triad, cb_status_name(status));
     fflush(csv.f);
     free(x); free(v); free(xs); free(vs); free(g); free(b); free(dx); free(y);
     cb_integrator_free(ex);
-    cb_integrator_free(ncg);
     cb_integrator_free(nt);
     cb_scene_free(s);
     cb_progress_update(&e.progress, si + 1);

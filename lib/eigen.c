@@ -37,40 +37,71 @@ extern void dstevr_(const char *jobz, const char *range, const int *n, double *d
 
 /* The extreme eigenpairs of the k x k Lanczos tridiagonal T (alpha, beta):
  * O(k) each with dstevr, where a dense eigendecomposition would be O(k^3).
- * work: 23k doubles, iwork: 10k ints (dstevr wants 20k and 10k). */
+ * work: 24k doubles, iwork: 10k ints (dstevr wants 20k and 10k). */
 static int ritz(int k, const double *alpha, const double *beta, double beta_k, double *work, int *iwork, cb_eig_result *r) {
-  double *d = work, *e = work + k, *z = work + 2 * k, *lw = work + 3 * k;
+  double *d = work, *e = work + k, *z = work + 2 * k, *wv = work + 3 * k, *lw = work + 4 * k;
   int lwork = 20 * k, liwork = 10 * k, m, info, isuppz[2];
-  double zero = 0, w;
+  double zero = 0;
   for (int which = 0; which < 2; which++) {
     int il = which ? k : 1; /* 1: smallest, k: largest */
     memcpy(d, alpha, (size_t)k * sizeof(double));
     if (k > 1) memcpy(e, beta, (size_t)(k - 1) * sizeof(double));
     e[k - 1] = 0;
-    dstevr_("V", "I", &k, d, e, &zero, &zero, &il, &il, &zero, &m, &w, z, &k, isuppz, lw, &lwork, iwork, &liwork, &info,
-            1, 1);
+    dstevr_("V", "I", &k, d, e, &zero, &zero, &il, &il, &zero, &m, wv, z, &k, isuppz, lw, &lwork, iwork, &liwork, &info,
+            1, 1); /* W (wv) has n entries: LAPACK may use all of them */
     if (info != 0 || m != 1) return cb_fail("lanczos: tridiagonal eigensolve failed (dstevr info %d)", info);
     /* the Ritz pair (theta, Q s) has residual |beta_k| |s_k| (last component of s) */
-    if (which) { r->lmax = w; r->res_max = fabs(beta_k * z[k - 1]); }
-    else { r->lmin = w; r->res_min = fabs(beta_k * z[k - 1]); }
+    if (which) { r->lmax = wv[0]; r->res_max = fabs(beta_k * z[k - 1]); }
+    else { r->lmin = wv[0]; r->res_min = fabs(beta_k * z[k - 1]); }
   }
   return CB_OK;
 }
 
-int cb_lanczos(int n, cb_linop op, void *ctx, const cb_lanczos_params *pp, cb_eig_result *out) {
+void cb_lanczos_workspace_free(cb_lanczos_workspace *ws) {
+  if (!ws) return;
+  free(ws->Q); free(ws->w); free(ws->alpha); free(ws->beta); free(ws->tw); free(ws->tiw);
+  memset(ws, 0, sizeof *ws);
+}
+
+int cb_lanczos_workspace_alloc(cb_lanczos_workspace *ws, int n, const cb_lanczos_params *pp) {
+  cb_lanczos_params p = pp ? *pp : cb_lanczos_params_default();
+  memset(ws, 0, sizeof *ws);
+  int m = p.max_steps < n ? p.max_steps : n;
+  if (m < 1) return cb_fail("lanczos: empty operator");
+  ws->n = n;
+  ws->m = m;
+  ws->reorth = p.reorth && (double)n * (m + 1) * sizeof(double) <= 1073741824.0;
+  ws->Q = cb_malloc((size_t)(ws->reorth ? m + 1 : 3) * (size_t)n, sizeof(double));
+  ws->w = cb_malloc((size_t)n, sizeof(double));
+  ws->alpha = cb_calloc((size_t)m + 1, sizeof(double));
+  ws->beta = cb_calloc((size_t)m + 1, sizeof(double));
+  ws->tw = cb_malloc((size_t)24 * m + 2, sizeof(double));
+  ws->tiw = cb_malloc((size_t)10 * m + 2, sizeof(int));
+  if (!ws->Q || !ws->w || !ws->alpha || !ws->beta || !ws->tw || !ws->tiw) {
+    cb_lanczos_workspace_free(ws);
+    return cb_fail_status(CB_ENOMEM, "lanczos: out of memory");
+  }
+  return CB_OK;
+}
+
+int cb_lanczos(int n, cb_linop op, void *ctx, const cb_lanczos_params *p, cb_eig_result *out) {
+  cb_lanczos_workspace ws;
+  memset(out, 0, sizeof *out);
+  int st = cb_lanczos_workspace_alloc(&ws, n, p);
+  if (st == CB_OK) st = cb_lanczos_ws(op, ctx, p, &ws, out);
+  cb_lanczos_workspace_free(&ws);
+  return st;
+}
+
+int cb_lanczos_ws(cb_linop op, void *ctx, const cb_lanczos_params *pp, cb_lanczos_workspace *ws, cb_eig_result *out) {
   cb_lanczos_params p = pp ? *pp : cb_lanczos_params_default();
   memset(out, 0, sizeof *out);
   double t0 = cb_now_ms();
-  int m = p.max_steps < n ? p.max_steps : n;
+  int n = ws->n, m = p.max_steps < ws->m ? p.max_steps : ws->m, reorth = ws->reorth, st = CB_OK;
   if (m < 1) return cb_fail("lanczos: empty operator");
-  int reorth = p.reorth && (double)n * (m + 1) * sizeof(double) <= 1073741824.0;
-  double *Q = cb_malloc((size_t)(reorth ? m + 1 : 3) * (size_t)n, sizeof(double));
-  double *w = cb_malloc((size_t)n, sizeof(double));
-  double *alpha = cb_calloc((size_t)m + 1, sizeof(double)), *beta = cb_calloc((size_t)m + 1, sizeof(double));
-  double *tw = cb_malloc((size_t)23 * m + 2, sizeof(double));
-  int *tiw = cb_malloc((size_t)10 * m + 2, sizeof(int));
-  int st = (!Q || !w || !alpha || !beta || !tw || !tiw) ? cb_fail_status(CB_ENOMEM, "lanczos: out of memory") : CB_OK;
-  if (st == CB_OK) {
+  double *Q = ws->Q, *w = ws->w, *alpha = ws->alpha, *beta = ws->beta, *tw = ws->tw;
+  int *tiw = ws->tiw;
+  {
     /* deterministic pseudo-random start vector (64-bit LCG) */
     unsigned long long s = 0x9E3779B97F4A7C15ULL * (p.seed + 1);
     for (int i = 0; i < n; i++) {
@@ -116,7 +147,6 @@ int cb_lanczos(int n, cb_linop op, void *ctx, const cb_lanczos_params *pp, cb_ei
   }
   out->steps = k;
   out->ms = cb_now_ms() - t0;
-  free(Q); free(w); free(alpha); free(beta); free(tw); free(tiw);
   return st;
 }
 

@@ -35,8 +35,20 @@ typedef struct cb_eig_result {
   double ms;          /* wall time */
 } cb_eig_result;
 
-/* Lanczos, with or without full reorthogonalisation (see params.reorth). */
+/* Lanczos, with or without full reorthogonalisation (see params.reorth).
+ * Allocates its workspace for the call. */
 int cb_lanczos(int n, cb_linop op, void *ctx, const cb_lanczos_params *p, cb_eig_result *out);
+
+/* The same with a workspace allocated once (for callers inside a time step,
+ * which must not allocate): its n, max_steps and reorth are fixed at alloc. */
+typedef struct cb_lanczos_workspace {
+  int n, m, reorth;
+  double *Q, *w, *alpha, *beta, *tw;
+  int *tiw;
+} cb_lanczos_workspace;
+int cb_lanczos_workspace_alloc(cb_lanczos_workspace *ws, int n, const cb_lanczos_params *p);
+void cb_lanczos_workspace_free(cb_lanczos_workspace *ws);
+int cb_lanczos_ws(cb_linop op, void *ctx, const cb_lanczos_params *p, cb_lanczos_workspace *ws, cb_eig_result *out);
 
 /* Operators on a cb_sparse A with a positive diagonal scaling d (length n):
  * y = diag(d) A diag(d) x. With d = D^-1/2 this has the eigenvalues of

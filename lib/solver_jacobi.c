@@ -29,11 +29,20 @@
 #include "eigen.h"
 #include "solver_iterative.h"
 
+/* Lanczos settings of the rho estimate. */
+static cb_lanczos_params rho_lanczos_params(void) {
+  cb_lanczos_params lp = cb_lanczos_params_default();
+  lp.max_steps = 300;
+  lp.reorth = 0; /* the extremes converge without it, at O(n) per step */
+  return lp;
+}
+
 typedef struct {
   int accelerated;
   double *dinv, *dhalf; /* D^-1 and D^-1/2 */
   double *r, *last, *work;
   double rho;           /* used by Chebyshev */
+  cb_lanczos_workspace lanczos; /* for rho = auto, allocated once */
 } jacobi_work;
 
 static int jw_alloc(cb_solver *s, int n, int accelerated) {
@@ -47,6 +56,11 @@ static int jw_alloc(cb_solver *s, int n, int accelerated) {
   w->work = cb_malloc((size_t)n, sizeof(double));
   s->work = w;
   if (!w->dinv || !w->dhalf || !w->r || !w->last || !w->work) return CB_ENOMEM;
+  if (accelerated && s->params.rho == 0) {
+    cb_lanczos_params lp = rho_lanczos_params();
+    int st = cb_lanczos_workspace_alloc(&w->lanczos, n, &lp);
+    if (st) return st;
+  }
   if (!(s->params.alpha > 0)) return cb_fail("%s: solver.alpha must be > 0", s->type->name);
   return CB_OK;
 }
@@ -55,6 +69,7 @@ static void jw_free(cb_solver *s) {
   jacobi_work *w = s->work;
   if (!w) return;
   free(w->dinv); free(w->dhalf); free(w->r); free(w->last); free(w->work);
+  cb_lanczos_workspace_free(&w->lanczos);
   free(w);
   s->work = NULL;
 }
@@ -106,24 +121,34 @@ static int rho_done(void *ctx, const cb_eig_result *r) {
   return r->lmin - r->res_min > 0 && e->rho_hi - e->rho_lo <= 1e-4 * e->rho_lo; /* rho known to 1e-4, relative */
 }
 
-int cb_jacobi_spectral_radius(const cb_sparse *A, const double *dhalf, double alpha, double *rho, int *steps) {
-  double *work = cb_malloc((size_t)A->n, sizeof(double));
-  if (!work) return CB_ENOMEM;
+/* With a workspace (ws, and work of n doubles) allocated at set-up. */
+static int spectral_radius_ws(const cb_sparse *A, const double *dhalf, double alpha, cb_lanczos_workspace *ws,
+                              double *work, double *rho, int *steps) {
   cb_scaled_op op = {A, dhalf, work};
   rho_estimate est = {alpha, 0, 0};
-  cb_lanczos_params lp = cb_lanczos_params_default();
-  lp.max_steps = 300;
-  lp.reorth = 0; /* the extremes converge without it, at O(n) per step */
+  cb_lanczos_params lp = rho_lanczos_params();
   lp.done = rho_done;
   lp.done_ctx = &est;
   cb_eig_result er;
-  int st = cb_lanczos(A->n, cb_scaled_op_apply, &op, &lp, &er);
-  free(work);
+  int st = cb_lanczos_ws(cb_scaled_op_apply, &op, &lp, ws, &er);
   if (st) return st;
   rho_bounds(&est, &er, 1);
   *rho = est.rho_hi;
   *steps = er.steps;
   return CB_OK;
+}
+
+int cb_jacobi_spectral_radius(const cb_sparse *A, const double *dhalf, double alpha, double *rho, int *steps) {
+  cb_lanczos_params lp = rho_lanczos_params();
+  cb_lanczos_workspace ws;
+  double *work = cb_malloc((size_t)A->n, sizeof(double));
+  int st = work ? cb_lanczos_workspace_alloc(&ws, A->n, &lp) : CB_ENOMEM;
+  if (st == CB_OK) {
+    st = spectral_radius_ws(A, dhalf, alpha, &ws, work, rho, steps);
+    cb_lanczos_workspace_free(&ws);
+  }
+  free(work);
+  return st;
 }
 
 static int jw_factor(cb_solver *s, const cb_sparse *A) {
@@ -144,7 +169,7 @@ static int jw_factor(cb_solver *s, const cb_sparse *A) {
     return CB_OK;
   }
   double t0 = cb_now_ms();
-  int st = cb_jacobi_spectral_radius(A, w->dhalf, s->params.alpha, &w->rho, &s->stats.rho_steps);
+  int st = spectral_radius_ws(A, w->dhalf, s->params.alpha, &w->lanczos, w->work, &w->rho, &s->stats.rho_steps);
   s->stats.setup_ms = cb_now_ms() - t0;
   s->stats.rho = w->rho;
   if (st) return st;
