@@ -9,6 +9,9 @@
 /* Checkers live in claims/check_<experiment>.c; declare them here. */
 void cb_check_T1(const cb_table *t, const char *results_dir, cb_claim_result *out);
 void cb_check_T2(const cb_table *t, const char *results_dir, cb_claim_result *out);
+void cb_check_E1(const cb_table *t, const char *results_dir, cb_claim_result *out);
+void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *out);
+void cb_check_I1(const cb_table *t, const char *results_dir, cb_claim_result *out);
 void cb_check_h1(const cb_table *csv, const char *dir, cb_claim_result *out);
 void cb_check_h2(const cb_table *csv, const char *dir, cb_claim_result *out);
 void cb_check_newton_vs_bw_i2(const cb_table *csv, const char *results_dir, cb_claim_result *out);
@@ -24,14 +27,15 @@ const cb_claim cb_claims[] = {
    NULL, cb_check_T1},
   {"T2", "topology", "A manifold disk mesh has #edges = 3 #vertices - 3 - #boundary_edges; with every edge a hard constraint only 3 + #boundary_edges DoFs remain.",
    "Counted on grids and on unstructured meshes; the DoFs as 3#V - rank of the rigidity matrix at a generic embedding.", NULL, cb_check_T2},
-  {"E1", NULL, "Explicit integration becomes unstable when k and/or dt are too large.",
+  {"E1", "explicit_stability", "Explicit integration becomes unstable when k and/or dt are too large.",
    "(k, dt) stability map; measured critical dt within 15% of 2/omega_max; slope of log dt_crit vs log k is -1/2 +- 0.05.",
-   NULL, NULL},
-  {"E2", NULL, "Using a small dt makes explicit integration stable but slow.",
+   "explicit_stability_map.png", cb_check_E1},
+  {"E2", "explicit_stability", "Using a small dt makes explicit integration stable but slow.",
    "Wall time to simulate 1 s: explicit at its largest stable dt against implicit at dt = 1/30, against k and resolution; explicit cost about O(n^2).",
-   NULL, NULL},
-  {"I1", NULL, "Implicit Euler (converged Newton) stays stable for every (k, dt) in the same sweep; its price is numerical damping.",
-   "Same sweep: no divergence; energy lost per simulated second as a function of dt.", NULL, NULL},
+   "explicit_stability_cost.png", cb_check_E2},
+  {"I1", "explicit_stability", "Implicit Euler (converged Newton) stays stable for every (k, dt) in the same sweep; its price is numerical damping.",
+   "Same sweep: no divergence; energy lost per simulated second as a function of dt.", "explicit_stability_damping.png",
+   cb_check_I1},
   {"I2", "newton_vs_bw", "Implicit Euler is x1 = argmin F(x), solved by Newton's method, which converges quadratically near the solution.",
    "Measured convergence order from the |grad F| sequence is at least 1.8.", "newton_vs_bw_convergence.png",
    cb_check_newton_vs_bw_i2},

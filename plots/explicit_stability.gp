@@ -1,0 +1,122 @@
+# Figures of explicit_stability (claims E1, E2, I1), from results/explicit_stability.csv
+# and its side tables _boundary.csv and _timing.csv. Rendered by scripts/plots.sh.
+load 'plots/common.gp'
+set datafile missing NaN  # filtered rows (NaN) do not break a series' line
+main  = results.'/explicit_stability.csv'
+bound = results.'/explicit_stability_boundary.csv'
+tim   = results.'/explicit_stability_timing.csv'
+
+# Half the grid step of the sweep, for the heat-map tiles (the quick sweep is coarser).
+quick = system("grep -c '^# quick: 1' ".main) + 0
+kf = quick ? 10**0.5 : 10**0.25
+df = quick ? 10**(1.0/6) : 10**(1.0/12)
+code(s) = s eq 'stable' ? 0 : s eq 'unstable' ? 1 : s eq 'diverged' ? 2 : 3
+is(c, v) = strcol(c) eq v
+set palette defined (-0.5 '#2e8b57', 0.5 '#2e8b57', 0.5 '#f0a020', 1.5 '#f0a020', 1.5 '#c83232', 2.5 '#c83232', \
+                     2.5 '#888888', 3.5 '#888888')
+set cbrange [-0.5:3.5]
+set cbtics ('stable' 0, 'unstable' 1, 'diverged' 2, 'failed' 3)
+set logscale xy
+set format x '10^{%T}'
+set format y '10^{%T}'
+set mxtics 10
+set mytics 10
+
+# ---- E1: the (k, dt) map per scene, with the predicted limit over it -------------------
+set output out.'/explicit_stability_map.'.ext
+set terminal push
+if (ext eq 'svg') { set terminal svg size 1200,900 dynamic enhanced font 'sans,12' background rgb 'white' } \
+else { set terminal pngcairo size 1200,900 enhanced font 'sans,11' }
+set multiplot layout 2,2 title 'E1: explicit (symplectic Euler) stability map, with the predicted limit dt = 2/{/Symbol w}_{max}'
+set xlabel 'spring stiffness k [N/m]'
+set ylabel 'time step {/Symbol D}t [s]'
+set key bottom left box opaque font ',9'
+set yrange [5e-6:0.4]
+set xrange [5:2e7]
+do for [sc in 'spring chain20 cloth21 cloth41'] {
+  set title sc
+  plot main using (is('kind','sweep') && is('method','explicit') && is('scene',sc) ? column('k') : NaN):(column('dt')): \
+         (column('k')/kf):(column('k')*kf):(column('dt')/df):(column('dt')*df):(code(strcol('status'))) \
+         with boxxyerror fs solid 1.0 noborder lc palette notitle, \
+       bound using (is('scene',sc) ? column('k') : NaN):(column('dt_crit_pred')) with lines lw 3 lc rgb 'black' \
+         title 'predicted 2/{/Symbol w}_{max} (hanging)', \
+       bound using (is('scene',sc) ? column('k') : NaN):(column('dt_crit_pred_rest')) with lines lw 2 dt 2 lc rgb '#3050c0' \
+         title 'predicted at the flat rest shape', \
+       bound using (is('scene',sc) ? column('k') : NaN):(column('dt_crit_meas')) with points pt 7 ps 1.0 lc rgb 'white' \
+         title 'measured (bisection)'
+}
+unset multiplot
+set terminal pop
+unset title
+set yrange [*:*]
+set xrange [*:*]
+
+# ---- E1: measured over predicted ---------------------------------------------------
+set output out.'/explicit_stability_ratio.'.ext
+set title 'E1: measured critical {/Symbol D}t over the prediction 2/{/Symbol w}_{max} (target: within 15%)'
+set xlabel 'spring stiffness k [N/m]'
+set ylabel 'dt_{crit} measured / predicted [-]'
+unset logscale y
+set format y '%.2f'
+set yrange [0.8:1.2]
+set key bottom right
+plot 0.85 with lines dt 2 lw 2 lc rgb '#c05050' title '±15%', 1.15 with lines dt 2 lw 2 lc rgb '#c05050' notitle, \
+     for [sc in 'spring chain20 cloth21 cloth41 cloth81'] bound using (is('scene',sc) ? column('k') : NaN): \
+       (column('dt_crit_meas')/column('dt_crit_pred')) with linespoints lw 2 pt 7 title sc.' (hanging)', \
+     for [sc in 'cloth21 cloth41'] bound using (is('scene',sc) ? column('k') : NaN): \
+       (column('dt_crit_meas')/column('dt_crit_pred_rest')) with linespoints dt 2 pt 6 title sc.' (vs flat rest shape)'
+set yrange [*:*]
+set logscale y
+set format y '10^{%T}'
+
+# ---- E2: wall time to simulate 1 s, against k and against resolution ------------------
+set output out.'/explicit_stability_cost.'.ext
+set terminal push
+if (ext eq 'svg') { set terminal svg size 1300,600 dynamic enhanced font 'sans,12' background rgb 'white' } \
+else { set terminal pngcairo size 1300,600 enhanced font 'sans,11' }
+set multiplot layout 1,2 title 'E2: wall time to simulate 1 s of the hanging cloth: explicit at 0.9 {/Symbol D}t_{crit} against implicit at {/Symbol D}t = 1/30 s'
+set key bottom right font ',9'
+set title 'against stiffness'
+set xlabel 'spring stiffness k [N/m]'
+set ylabel 'wall time for 1 s simulated [ms]'
+plot for [sc in 'cloth21 cloth41'] for [m in 'explicit newton newton_bw'] \
+       tim using (is('scene',sc) && is('method',m) ? column('k') : NaN):(column('wall_ms_per_s')) with linespoints lw 2 \
+       title sc.' '.(m eq 'explicit' ? 'explicit' : m eq 'newton' ? 'Newton (converged)' : 'Baraff-Witkin (1 iteration)')
+set title 'against resolution (21^2, 41^2, 81^2)'
+set key top left font ',9'
+set xlabel 'vertices n [-]'
+plot for [kk in '10000 1000000'] for [m in 'explicit newton newton_bw'] \
+       tim using (column('k') == kk+0 && is('method',m) ? column('n_vertices') : NaN):(column('wall_ms_per_s')) \
+       with linespoints lw 2 \
+       title sprintf('k = %g: ', kk+0).(m eq 'explicit' ? 'explicit' : m eq 'newton' ? 'Newton' : 'Baraff-Witkin'), \
+     [300:8000] 20*(x/441.0)**2 with lines dt 2 lw 2 lc rgb '#606060' title 'slope n^2 (reference)'
+unset multiplot
+set terminal pop
+
+# ---- I1: Newton's numerical damping, and its stability map ---------------------------
+set output out.'/explicit_stability_damping.'.ext
+set terminal push
+if (ext eq 'svg') { set terminal svg size 1300,600 dynamic enhanced font 'sans,12' background rgb 'white' } \
+else { set terminal pngcairo size 1300,600 enhanced font 'sans,11' }
+set multiplot layout 1,2 title 'I1: implicit Euler (converged Newton) never diverges; its price is numerical damping'
+set title 'energy lost in the first 0.1 s, per simulated second'
+set xlabel 'time step {/Symbol D}t [s]'
+set ylabel 'energy lost per second / initial kinetic energy [1/s]'
+set key top left font ',9'
+set xrange [5e-6:0.2]
+plot for [sc in 'spring chain20 cloth21'] for [kk in '10 10000 10000000'] \
+       main using (is('kind','sweep') && is('method','newton') && is('scene',sc) && column('k') == kk+0 && \
+       column('window_s') > 0 && column('t_mark_s') >= column('window_s')*0.999999 ? column('dt') : NaN):(column('energy_loss_w')/column('kinetic0_j')) \
+       with linespoints lw 2 title sprintf('%s, k = %g', sc, kk+0), \
+     [1e-5:0.1] 10*x with lines dt 2 lw 2 lc rgb '#606060' title 'slope 1 (reference)'
+set title 'status of every Newton cell (all scenes overlaid)'
+unset key
+set xlabel 'spring stiffness k [N/m]'
+set ylabel 'time step {/Symbol D}t [s]'
+set xrange [5:2e7]
+set yrange [5e-6:0.2]
+plot main using (is('kind','sweep') && is('method','newton') ? column('k') : NaN):(column('dt')): \
+       (column('k')/kf):(column('k')*kf):(column('dt')/df):(column('dt')*df):(code(strcol('status'))) \
+       with boxxyerror fs solid 1.0 noborder lc palette notitle
+unset multiplot
+set terminal pop

@@ -1,0 +1,142 @@
+/* Verdict logic of claims/check_explicit_stability.c on small constructed
+ * CSVs (main table plus the boundary and timing side tables) in a temp dir. */
+#define _DEFAULT_SOURCE /* mkdtemp */
+#include <criterion/criterion.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "claims.h"
+
+void cb_check_E1(const cb_table *t, const char *results_dir, cb_claim_result *out);
+void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *out);
+void cb_check_I1(const cb_table *t, const char *results_dir, cb_claim_result *out);
+
+static const char *main_hdr = "# test\nkind,case,scene,k,dt,method,status,max_energy_ratio,steps,dt_crit_pred,dt_crit_meas,"
+                              "not_converged_steps,t_mark_s,energy_loss_w,kinetic0_j,window_s\n";
+static const char *bound_hdr = "# test\nscene,k,dt_crit_pred,dt_crit_meas,bisect_status,dt_crit_pred_rest,"
+                               "lambda_dense_per_s2,lambda_lanczos_per_s2\n";
+static const char *time_hdr = "# test\nscene,n_vertices,k,method,wall_ms_per_s,steps,status\n";
+
+static char dir[64];
+static char main_rows[65536], bound_rows[8192], time_rows[8192];
+
+static void put(const char *name, const char *hdr, const char *rows) {
+  char path[256];
+  snprintf(path, sizeof path, "%s/%s", dir, name);
+  FILE *f = fopen(path, "w");
+  cr_assert(f);
+  fputs(hdr, f);
+  fputs(rows, f);
+  fclose(f);
+}
+
+static cb_verdict decide(void (*check)(const cb_table *, const char *, cb_claim_result *)) {
+  snprintf(dir, sizeof dir, "/tmp/cbclaimsXXXXXX");
+  cr_assert(mkdtemp(dir));
+  put("explicit_stability.csv", main_hdr, main_rows);
+  put("explicit_stability_boundary.csv", bound_hdr, bound_rows);
+  put("explicit_stability_timing.csv", time_hdr, time_rows);
+  char path[256];
+  snprintf(path, sizeof path, "%s/explicit_stability.csv", dir);
+  cb_table t;
+  cr_assert_eq(cb_table_read(path, &t), 0);
+  static cb_claim_result r;
+  memset(&r, 0, sizeof r);
+  check(&t, dir, &r);
+  cb_table_free(&t);
+  const char *names[] = {"explicit_stability.csv", "explicit_stability_boundary.csv", "explicit_stability_timing.csv"};
+  for (int i = 0; i < 3; i++) {
+    snprintf(path, sizeof path, "%s/%s", dir, names[i]);
+    unlink(path);
+  }
+  rmdir(dir);
+  cr_assert_neq(r.reason[0], '\0');
+  return r.verdict;
+}
+
+/* A spring-like scene: dt_pred = 2 sqrt(m/k) with m = 0.01, measured = ratio x pred;
+ * an explicit map around it, and Newton cells losing energy ~ dt. */
+static double damp_exp = 1; /* energy lost per second ~ dt^damp_exp */
+static void build(double ratio, double slope, int newton_diverges) {
+  main_rows[0] = bound_rows[0] = '\0';
+  const char *sc[] = {"spring", "cloth"};
+  for (int s = 0; s < 2; s++)
+    for (int i = 0; i < 4; i++) {
+      double k = pow(10.0, 1 + 2 * i), pred = 2 * sqrt(0.01 / k);
+      double meas = ratio * pred * pow(k / 10.0, -slope - 0.5); /* slope of log meas against log k */
+      size_t n = strlen(bound_rows);
+      snprintf(bound_rows + n, sizeof bound_rows - n, "%s,%.17g,%.17g,%.17g,ok,%.17g,%s\n", sc[s], k, pred, meas, pred,
+               s == 0 ? "400,400.0000001" : "nan,nan");
+      for (int j = 0; j < 9; j++) {
+        double dt = pred * pow(10.0, (j - 4) / 4.0); /* 0.1 .. 10 x pred */
+        const char *st = dt <= meas ? "stable" : "diverged";
+        n = strlen(main_rows);
+        snprintf(main_rows + n, sizeof main_rows - n, "sweep,map,%s,%.17g,%.17g,explicit,%s,0,100,%.17g,%.17g,0,0.1,0,1,0\n",
+                 sc[s], k, dt, st, pred, meas);
+        double loss = 5 * pow(dt, damp_exp); /* J per s, kinetic0 = 1 J */
+        const char *nst = newton_diverges && s == 1 && i == 3 && j == 8 ? "diverged" : "stable";
+        n = strlen(main_rows);
+        snprintf(main_rows + n, sizeof main_rows - n, "sweep,map,%s,%.17g,%.17g,newton,%s,0,10,%.17g,%.17g,0,0.1,%.17g,1,0.1\n",
+                 sc[s], k, dt, nst, pred, meas, loss);
+      }
+    }
+}
+
+Test(claims_explicit_stability, E1_reproduced_when_the_boundary_matches) {
+  build(0.99, -0.5, 0);
+  cr_assert_eq(decide(cb_check_E1), CB_REPRODUCED);
+}
+
+Test(claims_explicit_stability, E1_fails_when_the_boundary_is_far_off) {
+  build(0.5, -0.5, 0); /* measured at half the prediction: every ratio outside 15% */
+  cr_assert_eq(decide(cb_check_E1), CB_NOT_REPRODUCED);
+  build(0.99, -0.3, 0); /* ratios drift with k: slope -0.3 */
+  cr_assert_neq(decide(cb_check_E1), CB_REPRODUCED);
+}
+
+static void timing(double kexp, double nexp, double newton_ms) {
+  time_rows[0] = '\0';
+  for (int i = 0; i < 4; i++) {
+    double k = pow(10.0, 1 + 2 * i), ex = 0.5 * pow(k, kexp);
+    size_t n = strlen(time_rows);
+    snprintf(time_rows + n, sizeof time_rows - n, "cloth21,441,%.17g,explicit,%.17g,%.0f,stable\n"
+             "cloth21,441,%.17g,newton,%.17g,30,stable\ncloth21,441,%.17g,newton_bw,%.17g,30,stable\n",
+             k, ex, 100 * sqrt(k), k, newton_ms, k, newton_ms / 10);
+  }
+  const int nv[] = {441, 1681, 6561};
+  for (int r = 0; r < 3; r++) {
+    size_t n = strlen(time_rows);
+    double w = 0.5 * pow(1e3, kexp) * pow(nv[r] / 441.0, nexp);
+    snprintf(time_rows + n, sizeof time_rows - n, "cloth%d,%d,1000,explicit,%.17g,%.0f,stable\n", r, nv[r], w,
+             100 * pow(nv[r] / 441.0, 0.5));
+  }
+}
+
+Test(claims_explicit_stability, E2_reproduced_when_explicit_is_slow_and_quadratic) {
+  timing(0.5, 2.0, 100); /* explicit 0.5 ms .. 1.6 s; Newton 100 ms */
+  cr_assert_eq(decide(cb_check_E2), CB_REPRODUCED);
+}
+
+Test(claims_explicit_stability, E2_partly_or_not_reproduced) {
+  timing(0.5, 1.5, 1e5); /* cost grows with k but stays below Newton's, and n^1.5 */
+  cr_assert_eq(decide(cb_check_E2), CB_PARTLY);
+  timing(0.0, 2.0, 1); /* cost independent of k: small dt is not what makes it slow */
+  cr_assert_eq(decide(cb_check_E2), CB_NOT_REPRODUCED);
+}
+
+Test(claims_explicit_stability, I1_reproduced_when_newton_never_diverges_and_damps_more_with_dt) {
+  build(0.99, -0.5, 0);
+  cr_assert_eq(decide(cb_check_I1), CB_REPRODUCED);
+}
+
+Test(claims_explicit_stability, I1_fails_when_a_newton_cell_diverges) {
+  build(0.99, -0.5, 1);
+  cr_assert_eq(decide(cb_check_I1), CB_NOT_REPRODUCED);
+  damp_exp = 0; /* stable, but the damping does not grow with dt */
+  build(0.99, -0.5, 0);
+  cr_assert_eq(decide(cb_check_I1), CB_PARTLY);
+  damp_exp = 1;
+}
