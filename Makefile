@@ -95,7 +95,7 @@ $(BUILD)/tests/%: $(BUILD)/tests/%.o $(TEST_OBJ) $(REPORT_LIB) $(LIB)
 test: deps
 	@$(MAKE) --no-print-directory check
 
-DETERMINISM_EXP ?= topology
+DETERMINISM_EXP ?= linear_solvers
 
 check: $(TESTS) $(TOOLS) $(BUILD)/$(DETERMINISM_EXP)
 	@scripts/check-blas.sh $(BUILD)/simulate
