@@ -166,10 +166,11 @@ static int scene(ctx *c, const scene_def *d, cb_outfile *sc) {
   c->scene = d->name;
   c->cap = &cap;
   c->xref = xref;
-  const char *solvers[] = {"cholmod", "jacobi", "chebyshev", "cg", "pcg"};
-  for (int s = 0; st == CB_OK && s < 5; s++) {
-    double a = s == 1 || s == 2 ? astar : NAN;
-    st = run(c, "main", solvers[s], a, s == 2 ? 0.0 : NAN, c->max_iters);
+  /* every registered solver; Jacobi-type ones at alpha*, Chebyshev with rho = auto */
+  for (int s = 0; st == CB_OK && cb_solver_types[s]; s++) {
+    unsigned f = cb_solver_types[s]->flags;
+    st = run(c, "main", cb_solver_types[s]->name, f & CB_SOLVER_USES_ALPHA ? astar : NAN,
+             f & CB_SOLVER_USES_RHO ? 0.0 : NAN, c->max_iters);
   }
   /* J1: vanilla alpha = 1 and fractions of the predicted limit 2/lambda_max */
   st = st ? st : run(c, "alpha", "jacobi", 1.0, NAN, c->sweep_iters);

@@ -49,8 +49,13 @@ typedef struct cb_solve_stats {
 
 typedef struct cb_solver cb_solver;
 
+/* What a solver reads from cb_solver_params besides tol and max_iters, so
+ * that sweeps and CSVs give alpha and rho only to solvers that use them. */
+enum { CB_SOLVER_DIRECT = 1u, CB_SOLVER_USES_ALPHA = 2u, CB_SOLVER_USES_RHO = 4u };
+
 typedef struct cb_solver_type {
   const char *name;
+  unsigned flags; /* CB_SOLVER_* */
   int (*alloc)(cb_solver *s, int n);
   int (*analyze)(cb_solver *s, const cb_sparse *A);
   int (*factor)(cb_solver *s, const cb_sparse *A);

@@ -147,5 +147,5 @@ static int cg_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x
   return status;
 }
 
-const cb_solver_type cb_solver_cg = {"cg", cg_alloc, cg_analyze, cg_factor, cg_solve, cgw_free};
-const cb_solver_type cb_solver_pcg = {"pcg", pcg_alloc, cg_analyze, cg_factor, cg_solve, cgw_free};
+const cb_solver_type cb_solver_cg = {"cg", 0, cg_alloc, cg_analyze, cg_factor, cg_solve, cgw_free};
+const cb_solver_type cb_solver_pcg = {"pcg", 0, pcg_alloc, cg_analyze, cg_factor, cg_solve, cgw_free};

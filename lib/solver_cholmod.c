@@ -110,4 +110,4 @@ static void ch_free(cb_solver *s) {
   free(w);
 }
 
-const cb_solver_type cb_solver_cholmod = {"cholmod", ch_alloc, ch_analyze, ch_factor, ch_solve, ch_free};
+const cb_solver_type cb_solver_cholmod = {"cholmod", CB_SOLVER_DIRECT, ch_alloc, ch_analyze, ch_factor, ch_solve, ch_free};

@@ -205,5 +205,5 @@ static int jw_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x
   return status;
 }
 
-const cb_solver_type cb_solver_jacobi = {"jacobi", jacobi_alloc, jw_analyze, jw_factor, jw_solve, jw_free};
-const cb_solver_type cb_solver_chebyshev = {"chebyshev", chebyshev_alloc, jw_analyze, jw_factor, jw_solve, jw_free};
+const cb_solver_type cb_solver_jacobi = {"jacobi", CB_SOLVER_USES_ALPHA, jacobi_alloc, jw_analyze, jw_factor, jw_solve, jw_free};
+const cb_solver_type cb_solver_chebyshev = {"chebyshev", CB_SOLVER_USES_ALPHA | CB_SOLVER_USES_RHO, chebyshev_alloc, jw_analyze, jw_factor, jw_solve, jw_free};
