@@ -165,7 +165,7 @@ void cb_check_h1(const cb_table *csv, const char *dir, cb_claim_result *out) {
   }
   cb_claim_numbers(out, "\nSpring pair held still (two springs compressed to l = ratio L between pins, `none`):\n\n"
                         "- 1D: A SPD at %d of %d compressions (E'' = k > 0).\n"
-                        "- 2D/3D: A indefinite at %d of %d; CHOLMOD agrees with the sign of the predicted lambda_min = "
+                        "- 2D/3D: A indefinite at %d of %d; a dense Cholesky (GSL) agrees with the sign of the predicted lambda_min = "
                         "m/dt^2 + 2k(1 - L/l) at %d of %d; largest indefinite ratio %g; worst relative error of "
                         "lambda_min against the prediction %.2g.\n",
                    n1_spd, n1, n23_indef, n23, n23_match, n23, thr, worst);

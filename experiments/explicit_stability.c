@@ -97,7 +97,7 @@ static void keep(void *ctx, const cb_cell_result *r) {
 /* E2: wall time to simulate 1 s from the case's start state, the best of 3
  * runs (converged Newton: of up to 3, while a run is under 300 ms), against
  * the other jobs of a shared machine. methods: 1 explicit, 2 newton, 4 newton_bw.
- * Converged Newton on 41^2 and 81^2 (20-30 solves a step, ~2.5 min for 1 s of
+ * Converged Newton on 41^2 and 81^2 (35-50 solves a step with drop, ~135 s for 1 s of
  * 81^2) runs 10 steps (1/3 s); wall_ms_per_s scales every row to 1 s. */
 static int timing(cb_stability_case *c, double meas, int methods) {
   cb_stability_params p = cb_stability_params_default();

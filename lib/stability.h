@@ -100,9 +100,9 @@ void cb_stability_swing(const cb_scene *s, double ke, const double dir[3], doubl
 
 typedef struct cb_equilibrium_params {
   double dt0;      /* first proximal step, s. Default 0.05 */
-  double dt_max;   /* proximal step cap, s. Default 1e3 */
-  int max_steps;   /* proximal steps at most. Default 400 */
-  double tol;      /* stop at max_i |grad_i E| <= tol * max_i m_i g. Default 1e-9 */
+  double dt_max;   /* proximal step cap, s. Default 10 */
+  int max_steps;   /* proximal steps at most. Default 200 */
+  double tol;      /* stop at max_i |grad_i E| <= tol * max_i m_i g. Default 1e-4 */
 } cb_equilibrium_params;
 
 typedef struct cb_equilibrium_stats {

@@ -18,8 +18,10 @@ set logscale y
 set format y '10^{%L}'
 set xlabel 'Newton iteration'
 set ylabel 'relative gradient norm'
-set key top right font ',9'
+# key where each panel has no data (the opaque box would hide curves)
+array kp[4] = ['top right', 'bottom center', 'bottom right', 'bottom right']
 do for [s = 1:4] {
+  eval 'set key '.kp[s]." font ',9'"
   set title sprintf('%s, step %d', sc[s], st[s])
   plot for [p = 5:1:-1] f using (strcol('scene') eq sc[s] && strcol('policy') eq pol[p] && column('step') == st[s] ? column('newton_iter') : NaN):(column('rel_grad') > 0 ? column('rel_grad') : 1e-17) \
        with linespoints lw 2 pt (p == 1 ? 6 : 7) ps (p == 1 ? 1.8 : 0.6) lc rgb pc[p] title pol[p]
@@ -29,23 +31,49 @@ unset logscale y
 set format y '%g'
 
 # ---- H1: smallest eigenvalue of A (spring pair; every Newton system) ---------
+# One table per series: a NaN filter inside `using` would break every line,
+# since the CSV interleaves dimensions and policies row by row.
+array sd[6] = [1, 3, 3, 3, 3, 3]
+array sp[6] = ['none', 'none', 'drop', 'mirror', 'choi-ko', 'choi-ko']
+array skb[6] = ['', '', '', '', '0.01', '10']
+array sn[6] = ['1D, none (E" = k)', '2D/3D, none', '3D, drop', '3D, mirror', '3D, choi-ko k_b 0.01', '3D, choi-ko k_b 10']
+array spc[6] = ['#000000', '#ff7f0e', pc[2], pc[3], pc[5], '#8c564b']
+array spt[6] = [7, 7, 5, 9, 11, 13]
+do for [s = 1:6] {
+  eval sprintf('set table $pair%d separator comma', s)
+  plot fp using 'ratio':'min_eig_a' with table if (column('dim') == sd[s] && strcol('policy') eq sp[s] && strcol('buckling_kb') eq skb[s])
+  unset table
+}
+# the prediction lambda_min(A) = m/dt^2 + 2k(1 - L/l) (L = 1 m here), with
+# m/dt^2 and 2k read from the CSV: A at l = L, and 1D A minus that
+stats fp using (column('dim') == 3 && strcol('policy') eq 'none' && column('ratio') == 1 ? column('predicted_min_eig_a') : NaN) nooutput
+m_dt2 = STATS_max
+stats fp using (column('dim') == 1 && strcol('policy') eq 'none' ? column('predicted_min_eig_a') : NaN) nooutput
+two_k = STATS_max - m_dt2
+ratio_crit = two_k / (two_k + m_dt2)
+stats fp using (column('dim') == 3 && strcol('policy') eq 'none' ? column('ratio') : NaN):(column('dim') == 3 && strcol('policy') eq 'none' ? column('min_eig_a') : NaN) nooutput
+off_ratio = STATS_min_x
+off_eig = STATS_min_y
 set output out.'/definiteness_h1.'.ext
 set multiplot layout 1,2 title "H1: A = M/dt^2 + H is indefinite only when springs are compressed, and only in 2D/3D"
 set title 'spring pair held still (k = 8000 N/m, m = 1 kg, dt = 1/30 s)'
-set label 1 'none, 2D/3D at l/L = 0.1: -143100 (off scale)' at graph 0.03, graph 0.32 font ',9'
+set arrow 1 from ratio_crit, graph 0 to ratio_crit, graph 1 nohead dt 3 lc rgb '#444444'
+set label 2 sprintf('threshold %.3f', ratio_crit) at ratio_crit, graph 0.91 right offset -0.3, 0 font ',9'
+set label 3 'predicted: m/dt^2 + 2k(1 - L/l)' at 0.46, -22000 font ',9' tc rgb '#444444'
+set label 1 sprintf("none, 2D/3D at l/L = %g:\n%.0f N/m (off scale)", off_ratio, off_eig) at graph 0.03, graph 0.80 font ',9'
 set xlabel 'compression l / L'
 set ylabel 'smallest eigenvalue of A (N/m)'
 set xrange [0.05:1.07]
 set yrange [-40000:20000]
-set key bottom right font ',9'
-plot fp using (column('dim') == 1 && strcol('policy') eq 'none' ? column('ratio') : NaN):'min_eig_a' with linespoints lw 2 pt 7 lc rgb '#000000' title '1D, none (E" = k)', \
-     fp using (column('dim') == 3 && strcol('policy') eq 'none' ? column('ratio') : NaN):'min_eig_a' with linespoints lw 2 pt 7 lc rgb '#ff7f0e' title '2D/3D, none', \
-     fp using (column('dim') == 3 && strcol('policy') eq 'none' ? column('ratio') : NaN):'predicted_min_eig_a' with lines dt 2 lw 2 lc rgb '#444444' title 'predicted m/dt^2 + 2k(1 - L/l)', \
-     fp using (column('dim') == 3 && strcol('policy') eq 'drop' ? column('ratio') : NaN):'min_eig_a' with linespoints lw 2 pt 5 lc rgb pc[2] title '3D, drop', \
-     fp using (column('dim') == 3 && strcol('policy') eq 'mirror' ? column('ratio') : NaN):'min_eig_a' with linespoints lw 2 pt 9 lc rgb pc[3] title '3D, mirror', \
-     fp using (column('dim') == 3 && strcol('policy') eq 'choi-ko' && column('buckling_kb') == 0.01 ? column('ratio') : NaN):'min_eig_a' with linespoints lw 2 pt 11 lc rgb pc[5] title '3D, choi-ko k_b = 0.01', \
-     fp using (column('dim') == 3 && strcol('policy') eq 'choi-ko' && column('buckling_kb') == 10 ? column('ratio') : NaN):'min_eig_a' with linespoints lw 2 pt 13 lc rgb '#8c564b' title '3D, choi-ko k_b = 10', \
+set samples 400
+set key bottom right font ',8' noautotitle
+plot for [s = 1:6] sprintf('$pair%d', s) using 1:2 with linespoints lw 2 pt spt[s] lc rgb spc[s] title sn[s], \
+     m_dt2 + two_k * (1 - 1 / x) with lines dt 2 lw 2 lc rgb '#444444' title 'predicted', \
      0 with lines lc rgb '#888888' notitle
+set key autotitle columnheader
+unset arrow 1
+unset label 2
+unset label 3
 unset label 1
 set title 'exact A at every Newton iterate (all runs)'
 set xlabel 'fraction of compressed springs'
@@ -66,8 +94,14 @@ if (ext eq 'svg') {
   set terminal pngcairo size 1600,700 enhanced font 'sans,10'
 }
 set output out.'/definiteness_shapes.'.ext
+# simulated time of each row, from the steps CSV (the quick run has fewer steps)
+fs = results.'/definiteness_steps.csv'
+stats fs using (strcol('scene') eq 'driven' ? column('t_s') : NaN) nooutput
+t_driven = STATS_max
+stats fs using (strcol('scene') eq 'scaled' ? column('t_s') : NaN) nooutput
+t_scaled = STATS_max
 set datafile separator whitespace
-set multiplot layout 2,5 title "Final shapes per policy after 1 s (driven) and 0.67 s (scaled); none shows its state when CHOLMOD failed at step 1"
+set multiplot layout 2,5 title sprintf("H2: final shapes per policy after %.2g s (driven) and %.2g s (scaled); none shows its state when CHOLMOD failed at step 1", t_driven, t_scaled)
 set autoscale
 set zrange [-5:1]
 set cbrange [-5:1]

@@ -147,7 +147,7 @@ plot for [j = 1:3] i2 using (run('exact_or_shift', 1, SHOW[j]) ? column('iter') 
        with linespoints lw 2 pt 7 ps 0.7 lc j title sprintf('Newton, exact Hessian (shifted where A is indefinite) + line search, step %d', SHOW[j]), \
      for [j = 1:3] i2 using (run('drop', 1, SHOW[j]) ? column('iter') : NaN):'rel_grad' \
        with linespoints lw 1 dt 2 pt 6 ps 0.6 lc j title sprintf("Newton with the lecture's drop fix + line search, step %d", SHOW[j]), \
-     1e-11 with lines dt 3 lc rgb 'gray' title 'order estimates use |{/Symbol \321}F| above this line'
+     1e-11 with lines lw 2 dt 4 lc rgb '#404040' title 'order estimates use |{/Symbol \321}F| above this line (10^{-11})'
 unset logscale
 set format y '% g'
 set yrange [*:*]
@@ -160,21 +160,24 @@ set logscale y
 set format y '10^{%L}'
 set xlabel 'time t (s)'
 set ylabel 'RMS position error |x - x_{ref}|_M / M^{1/2} (m)'
-set yrange [1e-12:1e6]
-set key inside top left maxrows 5 font ',9'
+set yrange [1e-12:1e4]
+# two key columns in the empty top decades (short titles: a wider key ran off the figure)
+set key inside top left vertical maxrows 5 font ',9'
 array TDASH[8] = [1, 1, 1, 1, 1, 1, 2, 2]
 array TCOL[8] = [0x9400d3, 0x009e73, 0x56b4e9, 0xe69f00, 0xd4c000, 0x0072b2, 0xe51e10, 0x7f7f7f]
 tr(m, inn, ls) = (strcol('method') eq m && strcol('inner_solver') eq inn && column('line_search') == ls)
 array TM[8] = ['newton_k1', 'newton_k2', 'newton_k3', 'newton_k5', 'newton_k10', 'newton_converged', 'newton_k1', 'newton_k1']
 array TI[8] = ['cholmod', 'cholmod', 'cholmod', 'cholmod', 'cholmod', 'cholmod', 'cg32', 'cheb32']
 array TT[8] = ['K = 1 (Baraff-Witkin), CHOLMOD', 'K = 2, CHOLMOD', 'K = 3, CHOLMOD', 'K = 5, CHOLMOD', 'K = 10, CHOLMOD', \
-               'converged (tol 1e-8), CHOLMOD', 'K = 1, CG cut at 32', 'K = 1, Chebyshev-Jacobi cut at 32']
+               'converged (tol 1e-8), CHOLMOD', 'K = 1, CG cut at 32', 'K = 1, Chebyshev cut at 32']
 plot for [j = 1:8] traj using (tr(TM[j], TI[j], 0) && column('step') > 0 ? column('t_s') : NaN):(finite(column('pos_error_m'))) \
        with lines lw 2 lc rgb TCOL[j] dashtype TDASH[j] title TT[j], \
-     dterr using 't_s':'pos_error_m' with lines lw 3 dt 2 lc rgb 'black' title 'time-discretisation error: dt against dt/16 (converged)'
+     dterr using 't_s':'pos_error_m' with lines lw 3 dt 2 lc rgb 'black' title 'time-discretisation error (dt vs dt/16)'
 unset logscale
 set format y '% g'
 set yrange [*:*]
+set key default
+set key box opaque
 
 # ---- trajectories: energy --------------------------------------------------
 set output out.'/newton_vs_bw_energy.'.ext
@@ -192,8 +195,8 @@ set title 'energy difference to the converged trajectory'
 set logscale y
 set format y '10^{%L}'
 set ylabel '|E(t) - E_{ref}(t)| (J)'
-set yrange [1e-10:1e4]
-set key inside bottom right font ',8' maxrows 4
+set yrange [1e-10:1e8]
+set key inside top left vertical maxrows 3 font ',8'  # in the empty top decades: at the bottom it hid curves
 plot for [j = 1:8] traj using (tr(TM[j], TI[j], 0) && column('step') > 0 ? column('t_s') : NaN): \
        (abs(column('energy_j') - column('ref_energy_j'))) with lines lw 1.5 lc rgb TCOL[j] dashtype TDASH[j] title TT[j]
 unset multiplot
