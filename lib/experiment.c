@@ -1,5 +1,7 @@
 #include "experiment.h"
 
+#include <dirent.h>
+
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -38,10 +40,45 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
   return 0;
 }
 
+static int cmp_str(const void *a, const void *b) { return strcmp(*(const char *const *)a, *(const char *const *)b); }
+
+/* "# config <file>: <every effective key>" for each INI file in the configs
+ * folder: the scenes an experiment builds are these plus the overrides in its
+ * source, which the git revision pins. */
+static void write_configs(const cb_experiment *e, FILE *f) {
+  DIR *d = opendir(e->configs);
+  if (!d) {
+    fprintf(f, "# configs: %s (cannot open)\n", e->configs);
+    return;
+  }
+  char *names[256];
+  int n = 0;
+  for (struct dirent *de; (de = readdir(d)) && n < 256;) {
+    size_t len = strlen(de->d_name);
+    if (len > 4 && strcmp(de->d_name + len - 4, ".ini") == 0) names[n++] = strdup(de->d_name);
+  }
+  closedir(d);
+  qsort(names, (size_t)n, sizeof *names, cmp_str);
+  for (int i = 0; i < n; i++) {
+    char path[CB_PATH_LEN];
+    cb_config c;
+    snprintf(path, sizeof path, "%s/%s", e->configs, names[i]);
+    if (cb_config_load(path, &c) == CB_OK) {
+      fprintf(f, "# config %s: ", path);
+      cb_config_write(&c, f, " ");
+      fputc('\n', f);
+    } else {
+      fprintf(f, "# config %s: %s\n", path, cb_error_message());
+    }
+    free(names[i]);
+  }
+}
+
 int cb_experiment_csv(cb_experiment *e, cb_outfile *o, const char *path, const char *extra, const char *header) {
   int st = cb_outfile_open(o, path ? path : e->out);
   if (st) return st;
   cb_provenance_write(o->f, e->name, e->argc, e->argv, NULL);
+  write_configs(e, o->f);
   fprintf(o->f, "# experiment: %s\n# quick: %d\n", e->name, e->quick);
   if (extra && *extra) fputs(extra, o->f);
   fprintf(o->f, "%s\n", header);
