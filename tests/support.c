@@ -2,6 +2,7 @@
 #include "support.h"
 
 #include <criterion/criterion.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -37,4 +38,16 @@ gsl_matrix *test_dense(const cb_sparse *A) {
   for (int j = 0; j < A->n; j++)
     for (int p = A->colp[j]; p < A->colp[j + 1]; p++) gsl_matrix_set(D, (size_t)A->rowi[p], (size_t)j, A->val[p]);
   return D;
+}
+
+void test_lumped_masses(const cb_mesh *m, double density, double *mass) {
+  memset(mass, 0, (size_t)m->nv * sizeof(double));
+  for (int t = 0; t < m->nt; t++) {
+    const int *v = m->tri + 3 * t;
+    const double *a = m->x + 3 * v[0], *b = m->x + 3 * v[1], *c = m->x + 3 * v[2];
+    double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    double area = 0.5 * sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]); /* |e1 x e2| / 2 */
+    for (int k = 0; k < 3; k++) mass[v[k]] += density * area / 3.0;
+  }
 }

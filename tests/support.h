@@ -15,6 +15,10 @@ cb_scene *test_scene(const char *const *sets);
 /* Writes text to a fresh temporary file; returns its path (static buffer). */
 const char *test_tmpfile(const char *suffix, const char *text);
 
+/* m_i = density * (sum of adjacent rest triangle areas) / 3, computed here
+ * from the mesh alone (independently of the library's lumping). */
+void test_lumped_masses(const cb_mesh *m, double density, double *mass);
+
 /* Dense copy of a cb_sparse (caller frees with gsl_matrix_free). */
 gsl_matrix *test_dense(const cb_sparse *A);
 

@@ -335,18 +335,6 @@ Test(energy, assembled_matrix_is_symmetric) {
 
 /* ---- mass_scale and shift ------------------------------------------------------- */
 
-/* m_i = density * (sum of adjacent rest triangle areas) / 3, from the mesh. */
-static void lumped_masses(const cb_mesh *m, double density, double *mass) {
-  memset(mass, 0, (size_t)m->nv * sizeof(double));
-  for (int t = 0; t < m->nt; t++) {
-    const int *v = m->tri + 3 * t;
-    const double *a = m->x + 3 * v[0], *b = m->x + 3 * v[1], *c = m->x + 3 * v[2];
-    double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-    double area = 0.5 * sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
-    for (int k = 0; k < 3; k++) mass[v[k]] += density * area / 3.0;
-  }
-}
 
 Test(energy, assemble_adds_mass_scale_times_M_plus_shift_on_the_diagonal) {
   for (int c = 0; c < NCASES; c++) {
@@ -359,7 +347,7 @@ Test(energy, assemble_adds_mass_scale_times_M_plus_shift_on_the_diagonal) {
     if (cases[c].uniform_mass)
       for (int i = 0; i < s->mesh.nv; i++) mass[i] = 0.25;
     else
-      lumped_masses(&s->mesh, 0.3, mass);
+      test_lumped_masses(&s->mesh, 0.3, mass);
     /* the rest area of the 1 x 0.8 grid is 0.8 m^2, so the masses add to density * 0.8 */
     if (!cases[c].uniform_mass) {
       double msum = 0;
@@ -403,7 +391,7 @@ Test(energy, gravity_gradient_is_minus_mass_times_g) {
   int n3 = 3 * s->mesh.nv;
   double *mass = malloc((size_t)s->mesh.nv * sizeof(double)), *g = malloc((size_t)n3 * sizeof(double));
   cr_assert(mass && g);
-  lumped_masses(&s->mesh, 0.3, mass);
+  test_lumped_masses(&s->mesh, 0.3, mass);
   const double grav[3] = {0.5, -9.8, 1.25};
   const cb_term *t = NULL;
   for (int k = 0; k < s->sys.nterms; k++)

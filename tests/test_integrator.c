@@ -232,18 +232,6 @@ Test(integrator, baraff_witkin_is_one_linear_solve_and_reports_max_iters) {
 
 /* ---- a converged step solves the implicit Euler equations ---------------------------------- */
 
-/* m_i = density * (sum of adjacent rest triangle areas) / 3 */
-static void lumped_masses(const cb_mesh *m, double density, double *mass) {
-  memset(mass, 0, (size_t)m->nv * sizeof(double));
-  for (int t = 0; t < m->nt; t++) {
-    const int *v = m->tri + 3 * t;
-    const double *a = m->x + 3 * v[0], *b = m->x + 3 * v[1], *c = m->x + 3 * v[2];
-    double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    double cr[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-    double area = 0.5 * sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
-    for (int k = 0; k < 3; k++) mass[v[k]] += density * area / 3.0;
-  }
-}
 
 static int is_pinned(const int *pins, int np, int v) {
   for (int k = 0; k < np; k++)
@@ -258,7 +246,7 @@ static void implicit_equation_case(const char *const *sets, double density, cons
   int nv = s->mesh.nv, n3 = 3 * nv;
   double *mass = malloc((size_t)nv * sizeof(double)), *g = malloc((size_t)n3 * sizeof(double));
   cr_assert(mass && g);
-  if (density > 0) lumped_masses(&s->mesh, density, mass);
+  if (density > 0) test_lumped_masses(&s->mesh, density, mass);
   else
     for (int i = 0; i < nv; i++) mass[i] = -density; /* uniform vertex mass */
   double dt = it->params.dt;
