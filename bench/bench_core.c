@@ -31,16 +31,6 @@ void *memalign(size_t a, size_t n) { nalloc++; return __libc_memalign(a, n); }
 int posix_memalign(void **p, size_t a, size_t n) { nalloc++; *p = __libc_memalign(a, n); return *p ? 0 : 12; }
 void *aligned_alloc(size_t a, size_t n) { nalloc++; return __libc_memalign(a, n); }
 
-static int cmp_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-
-static double median(double *v, int n) {
-  qsort(v, (size_t)n, sizeof *v, cmp_double);
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 /* STREAM triad a = b + s c over arrays far larger than the caches; bytes
  * counted as STREAM does: 3 x 8 per element (no write-allocate). */
 typedef struct {
@@ -168,12 +158,12 @@ int main(int argc, char **argv) {
       for (int q = 0; q < inner; q++) cb_sparse_matvec(A, q & 1 ? y : b, q & 1 ? dx : y);
       tmv[k] = (cb_now_ms() - t0) / inner;
     }
-    double triad = median(ttr, reps);
-    double mas = median(tas, reps), mfa = median(tfa, reps), mso = median(tso, reps), mmv = median(tmv, reps);
+    double triad = cb_median(ttr, reps);
+    double mas = cb_median(tas, reps), mfa = cb_median(tfa, reps), mso = cb_median(tso, reps), mmv = cb_median(tmv, reps);
     double bytes = (double)cb_sparse_matvec_bytes(A);
     double gbs = bytes / (mmv * 1e-3) / 1e9;
     fprintf(csv.f, "%d,%d,%d,%.17g,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%ld,%ld,%ld,%.6f,%.6f,%.6f,%.6f,%s\n", n, A->n, A->nnz,
-            nt->solver->stats.factor_nnz, median(tex, reps), mas, mfa, mso, mas + mfa + mso, mas / mfa, allocs_explicit,
+            nt->solver->stats.factor_nnz, cb_median(tex, reps), mas, mfa, mso, mas + mfa + mso, mas / mfa, allocs_explicit,
             allocs_iter, allocs_newton, mmv, gbs, triad, gbs / triad, cb_status_name(status));
     fflush(csv.f);
     free(x); free(v); free(xs); free(vs); free(g); free(b); free(dx); free(y);

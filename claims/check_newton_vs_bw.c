@@ -34,17 +34,6 @@ void cb_check_newton_vs_bw_i3(const cb_table *csv, const char *results_dir, cb_c
 #define I2_TARGET 1.8
 #define SPEEDUP_MIN 2.0
 
-static int cmp_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-
-static double median(double *v, int n) {
-  if (n <= 0) return NAN;
-  qsort(v, (size_t)n, sizeof *v, cmp_double);
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 static int side_table(const char *dir, const char *suffix, cb_table *t, cb_claim_result *out) {
   char path[4096];
   snprintf(path, sizeof path, "%s/newton_vs_bw_%s", dir, suffix);
@@ -132,7 +121,7 @@ void cb_check_newton_vs_bw_i2(const cb_table *main_csv, const char *dir, cb_clai
     i2_stat *s = &S[v];
     reach[v] = 0;
     for (int i = 0; i < s->with_order; i++) reach[v] += s->orders[i] >= I2_TARGET;
-    med[v] = median(s->orders, s->with_order); /* sorts */
+    med[v] = cb_median(s->orders, s->with_order); /* sorts */
     cb_claim_numbers(out, "| %s | %s | %d | %d | %d | %d | %.3g | %.3g | %.3g | %d | %d | %d |\n", I2_DEF[v],
                      I2_LS[v] ? "yes" : "no", s->runs, s->ok, s->reach8, s->with_order, med[v],
                      s->with_order ? s->orders[0] : NAN, s->with_order ? s->orders[s->with_order - 1] : NAN,
@@ -274,7 +263,7 @@ void cb_check_newton_vs_bw_i3(const cb_table *t, const char *dir, cb_claim_resul
     scenes++;
     int bw = -1, conv = -1;
     for (int p = 0; p < np; p++) {
-      cost[p] = median(P[p].wall, P[p].n);
+      cost[p] = cb_median(P[p].wall, P[p].n);
       err[p] = P[p].err_max;
       if (!strcmp(P[p].inner, "cholmod") && P[p].ls == 0 && !strcmp(P[p].method, "newton_k1")) bw = p;
       if (!strcmp(P[p].inner, "cholmod") && P[p].ls == 0 && !strcmp(P[p].method, "newton_converged")) conv = p;

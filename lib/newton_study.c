@@ -116,16 +116,6 @@ const char *const cb_study_pareto_header =
     "scene,method,max_newton_iters,k_index,inner_solver,inner_index,line_search,states,wall_ms,wall_no_setup_ms,"
     "step_error_max,failed,on_front";
 
-static int cmp_dbl(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-
-static double median_of(double *v, int n) {
-  qsort(v, (size_t)n, sizeof *v, cmp_dbl);
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 int cb_study_pareto(FILE *csv, const char *label, const cb_method *methods, int nmethods, const cb_study_point *pts,
                     int nstates) {
   static const char *const inners[] = {"cholmod", "cg32", "cheb32", "cg_tol", "cheb_tol", "cheb32_alpha1"};
@@ -144,9 +134,9 @@ int cb_study_pareto(FILE *csv, const char *label, const cb_method *methods, int 
       if (e > err[m]) err[m] = e;
       tmp[k] = p->wall_ms;
     }
-    cost[m] = median_of(tmp, nstates);
+    cost[m] = cb_median(tmp, nstates);
     for (int k = 0; k < nstates; k++) tmp[k] = pts[k * nmethods + m].wall_ms - pts[k * nmethods + m].setup_ms;
-    nos[m] = median_of(tmp, nstates);
+    nos[m] = cb_median(tmp, nstates);
     order[m] = m;
   }
   if (st == CB_OK) {

@@ -36,6 +36,10 @@ void cb_error_clear(void);
 /* Monotonic wall clock in milliseconds (CLOCK_MONOTONIC). */
 double cb_now_ms(void);
 
+/* Median of v[0..n) (sorts v in place; the mean of the middle two for even
+ * n; NaN for n <= 0). The statistic every timing in the project is quoted by. */
+double cb_median(double *v, int n);
+
 /* malloc/calloc that set an error message on failure. n*size overflow is checked. */
 void *cb_calloc(size_t n, size_t size);
 void *cb_malloc(size_t n, size_t size);
