@@ -92,29 +92,24 @@ static void resolve_path(const cb_config *c, char *out, size_t n) {
   else snprintf(out, n, "%.*s/%s", (int)(slash - c->path), c->path, c->mesh_file);
 }
 
+/* Prefixes the current error message with where `key` was set, and returns
+ * st: "config.ini:4: mesh: grid needs ...". */
+static int at_key(int st, const cb_config *c, const char *key, const char *label) {
+  if (st == CB_OK) return st;
+  char w[CB_PATH_LEN + 32], msg[1024];
+  snprintf(msg, sizeof msg, "%s", cb_error_message());
+  return cb_fail_status(st, "%s: %s%s%s", cb_config_where(c, key, w, sizeof w), label, label[0] ? ": " : "", msg);
+}
+
 static int build_mesh(const cb_config *c, cb_mesh *mesh) {
-  char w[CB_PATH_LEN + 32];
   if (strcmp(c->mesh_type, "obj") == 0) {
     char path[2 * CB_PATH_LEN];
     resolve_path(c, path, sizeof path);
-    int st = cb_mesh_read_obj(path, mesh);
-    if (st) {
-      char msg[1024];
-      snprintf(msg, sizeof msg, "%s", cb_error_message());
-      return cb_fail_status(st, "%s: mesh.file: %s", cb_config_where(c, "mesh.file", w, sizeof w), msg);
-    }
-    return CB_OK;
+    return at_key(cb_mesh_read_obj(path, mesh), c, "mesh.file", "mesh.file");
   }
   cb_plane plane = strcmp(c->mesh_plane, "xy") == 0 ? CB_PLANE_XY : strcmp(c->mesh_plane, "yz") == 0 ? CB_PLANE_YZ : CB_PLANE_XZ;
-  if (strcmp(c->mesh_type, "chain") == 0) {
-    int st = cb_mesh_chain(c->mesh_n, c->mesh_size[0], plane, mesh);
-    if (st) {
-      char msg[512];
-      snprintf(msg, sizeof msg, "%s", cb_error_message());
-      return cb_fail_status(st, "%s: mesh: %s", cb_config_where(c, "mesh.n", w, sizeof w), msg);
-    }
-    return CB_OK;
-  }
+  if (strcmp(c->mesh_type, "chain") == 0)
+    return at_key(cb_mesh_chain(c->mesh_n, c->mesh_size[0], plane, mesh), c, "mesh.n", "mesh");
   cb_grid_params g = cb_grid_params_default();
   g.n = c->mesh_n;
   g.m = c->mesh_m > 0 ? c->mesh_m : c->mesh_n;
@@ -122,13 +117,7 @@ static int build_mesh(const cb_config *c, cb_mesh *mesh) {
   g.size[1] = c->mesh_size[1];
   g.plane = plane;
   g.diagonal = strcmp(c->mesh_diagonal, "alternating") == 0 ? CB_DIAG_ALTERNATING : CB_DIAG_REGULAR;
-  int st = cb_mesh_grid(&g, mesh);
-  if (st) {
-    char msg[512];
-    snprintf(msg, sizeof msg, "%s", cb_error_message());
-    return cb_fail_status(st, "%s: mesh: %s", cb_config_where(c, "mesh.n", w, sizeof w), msg);
-  }
-  return CB_OK;
+  return at_key(cb_mesh_grid(&g, mesh), c, "mesh.n", "mesh");
 }
 
 int cb_scene_build(const cb_config *cfg, cb_scene **out) {
@@ -164,12 +153,7 @@ int cb_scene_build(const cb_config *cfg, cb_scene **out) {
       }
   }
   if (st == CB_OK) {
-    st = cb_pins_resolve(cfg->pins, &s->mesh, &s->pinned, &s->npinned);
-    if (st) {
-      char msg[512];
-      snprintf(msg, sizeof msg, "%s", cb_error_message());
-      st = cb_fail("%s: %s", cb_config_where(cfg, "scene.pins", w, sizeof w), msg);
-    }
+    st = at_key(cb_pins_resolve(cfg->pins, &s->mesh, &s->pinned, &s->npinned), cfg, "scene.pins", "");
   }
   if (st == CB_OK) {
     int nfree = 0, p = 0;
