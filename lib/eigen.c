@@ -160,11 +160,7 @@ int cb_dense_eigenvalues(const cb_sparse *A, const double *d, double *eval) {
     if (ws) gsl_eigen_symm_free(ws);
     return cb_fail_status(CB_ENOMEM, "dense eigenvalues: out of memory for n = %zu", n);
   }
-  for (int j = 0; j < A->n; j++)
-    for (int q = A->colp[j]; q < A->colp[j + 1]; q++) {
-      int i = A->rowi[q];
-      gsl_matrix_set(D, (size_t)i, (size_t)j, A->val[q] * (d ? d[i] * d[j] : 1.0));
-    }
+  cb_sparse_to_dense(A, d, NULL, D->data, D->tda);
   int st = gsl_eigen_symm(D, ev, ws) ? cb_fail("gsl_eigen_symm failed") : CB_OK;
   if (st == CB_OK) {
     gsl_sort_vector(ev);

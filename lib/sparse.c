@@ -126,6 +126,14 @@ int cb_sparse_diag_index(const cb_sparse *A, int i) {
   return slot + (i % 3) * stride + i % 3;
 }
 
+void cb_sparse_to_dense(const cb_sparse *A, const double *d, const int *map, double *out, size_t ld) {
+  for (int j = 0; j < A->n; j++)
+    for (int q = A->colp[j]; q < A->colp[j + 1]; q++) {
+      int i = A->rowi[q], r = map ? map[i] : i, c = map ? map[j] : j;
+      if (r >= 0 && c >= 0) out[(size_t)r * ld + (size_t)c] = A->val[q] * (d ? d[i] * d[j] : 1.0);
+    }
+}
+
 /* The kernel behind A x and b - A x. A is symmetric, so column j of A is row
  * j: (A x)(j) = sum_i A(i,j) x(i), a gather. The three columns of block column
  * bj share one block pattern, so they are done together: each block reads one

@@ -52,6 +52,12 @@ int cb_sparse_block_slot(const cb_sparse *A, int bi, int bj, int *slot, int *str
 /* Index into val of the diagonal entry (i, i), or -1. */
 int cb_sparse_diag_index(const cb_sparse *A, int i);
 
+/* Dense copy of diag(d) A diag(d), or of the principal submatrix that map
+ * keeps: entry (i, j) goes to out[map[i] * ld + map[j]] when both map values
+ * are >= 0 (map NULL keeps every row, d NULL means no scaling). out must be
+ * zeroed by the caller; it is row-major with leading dimension ld. */
+void cb_sparse_to_dense(const cb_sparse *A, const double *d, const int *map, double *out, size_t ld);
+
 /* y = A x */
 void cb_sparse_matvec(const cb_sparse *A, const double *x, double *y);
 

@@ -119,9 +119,7 @@ int cb_dense_restricted_spd(const cb_sparse *A, const int *keep, double *min_eig
   gsl_eigen_symm_workspace *ws = gsl_eigen_symm_alloc((size_t)m);
   int st = (!D || !C || !ev || !ws) ? cb_fail_status(CB_ENOMEM, "restricted eigenvalues: out of memory") : CB_OK;
   if (st == CB_OK) {
-    for (int j = 0; j < A->n; j++)
-      for (int q = A->colp[j]; q < A->colp[j + 1]; q++)
-        if (map[A->rowi[q]] >= 0 && map[j] >= 0) gsl_matrix_set(D, (size_t)map[A->rowi[q]], (size_t)map[j], A->val[q]);
+    cb_sparse_to_dense(A, NULL, map, D->data, D->tda);
     gsl_matrix_memcpy(C, D);
     gsl_error_handler_t *old = gsl_set_error_handler_off();
     *chol_ok = gsl_linalg_cholesky_decomp1(C) == GSL_SUCCESS; /* GSL_EDOM: not positive definite */
