@@ -20,19 +20,35 @@ WARN := -std=c11 -Wall -Wextra -Wpedantic -Wshadow -Wmissing-prototypes
 ifeq ($(WERROR),1)
 WARN += -Werror
 endif
-CPPFLAGS := -D_POSIX_C_SOURCE=200809L -Ilib -Iclaims -I/usr/include/suitesparse $(if $(OPENBLAS_INC),-I$(OPENBLAS_INC))
+# Layers, each compiled with only its own include paths, so the direction is
+# enforced by the build: a core file that includes an instrument or I/O header
+# does not compile (tests/layers.sh checks that it does not).
+#   core         include/clothbench/ (public API) + lib/core/ (internal headers)
+#   instruments  lib/instruments/: measurements on core objects
+#   io           lib/io/: what every program shares (CSV, provenance, progress)
+#   programs     tools/, experiments/<name>/, bench/, claims/, tests/: everything
+SYS_INC     := -I/usr/include/suitesparse $(if $(OPENBLAS_INC),-I$(OPENBLAS_INC))
+CORE_INC    := -Iinclude -Ilib/core
+INSTR_INC   := -Iinclude -Ilib/instruments
+IO_INC      := -Iinclude -Ilib/io
+PROGRAM_INC := -Iinclude -Ilib/instruments -Ilib/io -Iclaims
+CPPFLAGS := -D_POSIX_C_SOURCE=200809L $(SYS_INC)
 CFLAGS   := $(OPT) -g $(WARN) $(SAN)
 LDFLAGS  := $(SAN)
 # GSL is linked statically: Debian's libgsl.so pulls in libgslcblas, and we
 # link exactly one CBLAS, OpenBLAS (scripts/check-blas.sh verifies it).
 LDLIBS   := -lcholmod -Wl,-Bstatic -lgsl -Wl,-Bdynamic -lopenblas -linih -lm
 
-LIB_SRC  := $(sort $(wildcard lib/*.c))
-LIB_OBJ  := $(LIB_SRC:%.c=$(BUILD)/%.o) $(BUILD)/version.o
+CORE_SRC  := $(sort $(wildcard lib/core/*.c))
+INSTR_SRC := $(sort $(wildcard lib/instruments/*.c))
+IO_SRC    := $(sort $(wildcard lib/io/*.c))
+LIB_OBJ  := $(CORE_SRC:%.c=$(BUILD)/%.o) $(INSTR_SRC:%.c=$(BUILD)/%.o) $(IO_SRC:%.c=$(BUILD)/%.o) $(BUILD)/version.o
 LIB      := $(BUILD)/libclothbench.a
 TOOLS    := $(BUILD)/simulate
-EXP_SRC  := $(sort $(wildcard experiments/*.c))
-EXPS     := $(EXP_SRC:experiments/%.c=$(BUILD)/%)
+# one program per folder experiments/<name>/ (main.c plus what serves only it)
+EXP_NAMES:= $(sort $(notdir $(patsubst %/,%,$(dir $(wildcard experiments/*/main.c)))))
+EXPS     := $(EXP_NAMES:%=$(BUILD)/%)
+exp_obj   = $(patsubst %.c,$(BUILD)/%.o,$(sort $(wildcard experiments/$(1)/*.c)))
 BENCH_SRC:= $(sort $(wildcard bench/*.c))
 BENCHES  := $(BENCH_SRC:bench/%.c=$(BUILD)/%)
 REPORT_SRC := $(filter-out claims/main.c,$(sort $(wildcard claims/*.c)))
@@ -54,12 +70,24 @@ deps:
 $(BUILD)/version.c: FORCE
 	@scripts/version.sh $@ $(CFLAGS)
 
+$(BUILD)/lib/core/%.o: lib/core/%.c
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(CORE_INC) $(CFLAGS) -MMD -MP -c $< -o $@
+
+$(BUILD)/lib/instruments/%.o: lib/instruments/%.c
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(INSTR_INC) $(CFLAGS) -MMD -MP -c $< -o $@
+
+$(BUILD)/lib/io/%.o: lib/io/%.c
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(IO_INC) $(CFLAGS) -MMD -MP -c $< -o $@
+
 $(BUILD)/%.o: %.c
 	@mkdir -p $(dir $@)
-	$(CC) $(CPPFLAGS) $(CFLAGS) -MMD -MP -c $< -o $@
+	$(CC) $(CPPFLAGS) $(PROGRAM_INC) $(CFLAGS) -MMD -MP -c $< -o $@
 
 $(BUILD)/version.o: $(BUILD)/version.c
-	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
+	$(CC) $(CPPFLAGS) $(IO_INC) $(CFLAGS) -c $< -o $@
 
 $(LIB): $(LIB_OBJ)
 	@rm -f $@
@@ -75,15 +103,12 @@ $(BUILD)/report: $(BUILD)/claims/main.o $(REPORT_LIB) $(LIB)
 $(BUILD)/simulate: $(BUILD)/tools/simulate.o $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
-$(BUILD)/%: $(BUILD)/experiments/%.o $(LIB)
+.SECONDEXPANSION:
+$(EXPS): $(BUILD)/%: $$(call exp_obj,%) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
 $(BUILD)/%: $(BUILD)/bench/%.o $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
-
-$(BUILD)/tests/support.o: tests/support.c
-	@mkdir -p $(dir $@)
-	$(CC) $(CPPFLAGS) $(CFLAGS) -MMD -MP -c $< -o $@
 
 $(BUILD)/tests/%: $(BUILD)/tests/%.o $(TEST_OBJ) $(REPORT_LIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -lcriterion -o $@
@@ -102,6 +127,7 @@ check: $(TESTS) $(TOOLS) $(BUILD)/$(DETERMINISM_EXP)
 	@set -e; for t in $(TESTS); do echo "== $$t"; CB_QUIET=1 CB_SIMULATE=$(BUILD)/simulate $$t --jobs 2 --short-filename; done
 	@BUILD=$(BUILD) tests/cli.sh
 	@BUILD=$(BUILD) tests/determinism.sh $(DETERMINISM_EXP)
+	@CC="$(CC)" CPPFLAGS="$(CPPFLAGS)" CORE_INC="$(CORE_INC)" INSTR_INC="$(INSTR_INC)" IO_INC="$(IO_INC)" tests/layers.sh
 	@echo "all tests passed"
 
 san: deps
@@ -111,7 +137,7 @@ san: deps
 # ---- experiments, plots, report ------------------------------------------------
 
 EXP_ENV := OPENBLAS_NUM_THREADS=$(THREADS) OMP_NUM_THREADS=$(THREADS)
-EXP_CSV := $(EXP_SRC:experiments/%.c=results/%.csv)
+EXP_CSV := $(EXP_NAMES:%=results/%.csv)
 
 experiments: deps
 	@$(MAKE) --no-print-directory run-experiments

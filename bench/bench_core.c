@@ -16,7 +16,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "clothbench.h"
+#include <clothbench/clothbench.h>
+#include "experiment.h"
+#include "provenance.h"
+#include <clothbench/timer.h>
+#include "stats.h"
 
 /* ---- allocation counter: interposes malloc & co. for the whole process ---- */
 extern void *__libc_malloc(size_t);

@@ -12,7 +12,7 @@
 #include <string.h>
 
 #include "claims.h"
-#include "status.h"
+#include <clothbench/status.h>
 
 void cb_check_h1(const cb_table *csv, const char *dir, cb_claim_result *out);
 void cb_check_h2(const cb_table *csv, const char *dir, cb_claim_result *out);

@@ -11,7 +11,7 @@
 #include "claims.h"
 #include "solve_trace.h"
 #include "spectrum.h"
-#include "status.h"
+#include <clothbench/status.h>
 
 void cb_check_j1(const cb_table *csv, const char *dir, cb_claim_result *out);
 void cb_check_j2(const cb_table *csv, const char *dir, cb_claim_result *out);

@@ -1,6 +1,6 @@
 /* Checkers for I2 and I3 (experiment newton_vs_bw). Every number comes from
  * results/newton_vs_bw*.csv; the definitions of the Pareto front, the
- * cheapest method and the convergence order are lib/pareto.c's, the same
+ * cheapest method and the convergence order are lib/instruments/pareto.c's, the same
  * ones the experiment's figures use.
  *
  * I2: for every step of the stretched hanging cloth, the order
@@ -23,7 +23,8 @@
 
 #include "claims.h"
 #include "pareto.h"
-#include "status.h"
+#include <clothbench/status.h>
+#include "stats.h"
 
 /* registered in claims.c */
 void cb_check_newton_vs_bw_i2(const cb_table *csv, const char *results_dir, cb_claim_result *out);

@@ -4,7 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "status.h"
+#include <clothbench/status.h>
 
 /* Checkers live in claims/check_<experiment>.c; declare them here. */
 void cb_check_T1(const cb_table *t, const char *results_dir, cb_claim_result *out);

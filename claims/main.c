@@ -6,7 +6,7 @@
 
 #include "claims.h"
 #include "outfile.h"
-#include "status.h"
+#include <clothbench/status.h>
 
 int main(int argc, char **argv) {
   const char *results = "results", *out = NULL, *plots = "plots/out";

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "status.h"
+#include <clothbench/status.h>
 
 void cb_table_free(cb_table *t) {
   if (!t) return;

@@ -1,21 +1,32 @@
 #!/bin/sh
 # Re-running an experiment gives the same CSV apart from the date and the
-# timing columns. Runs build/<experiment> --quick twice and compares.
+# timing columns. Runs build/<experiment> --quick twice and compares; with a
+# second argument, runs it once and compares with the CSVs of an earlier run
+# kept in that folder (<experiment>.csv and <experiment>_*.csv, e.g. from
+# `build/<experiment> --quick --out DIR/<experiment>.csv` at another revision).
 # Timing columns: names ending in _ms, or containing wall, time or speedup
 # (the naming convention for every wall-clock-derived column; see README).
 set -u
 B=${BUILD:-build}
-exp=${1:?usage: tests/determinism.sh EXPERIMENT}
+exp=${1:?usage: tests/determinism.sh EXPERIMENT [BASELINE_DIR]}
+base=${2:-}
 T=$(mktemp -d "${TMPDIR:-/tmp}/cbdet.XXXXXX") || exit 1
 trap 'rm -rf "$T"' EXIT INT TERM
 strip() { # drop '# date:' and '# command:' lines; blank timing columns
   awk -F, -v OFS=, '
-    /^# (date|command):/ { next }
+    /^# (date|command|git_revision):/ { next }
     /^#/ { print; next }
     !hdr { hdr = 1; for (i = 1; i <= NF; i++) if ($i ~ /_ms$|wall|time|speedup/) t[i] = 1; print; next }
     { for (i in t) $i = "-"; print }' "$1"
 }
-for k in 1 2; do
+runs="1 2"
+if [ -n "$base" ]; then
+  [ -f "$base/$exp.csv" ] || { echo "determinism: no $base/$exp.csv"; exit 1; }
+  runs=1
+  strip "$base/$exp.csv" > "$T/s2.csv"
+  for side in "$base/$exp"_*.csv; do [ -f "$side" ] && strip "$side" > "$T/s2.$(basename "$side" | sed "s/^$exp//")"; done
+fi
+for k in $runs; do
   CB_QUIET=1 OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 "$B/$exp" --quick --out "$T/run$k.csv" >/dev/null 2>"$T/err$k" ||
     { echo "determinism: $exp run $k failed:"; cat "$T/err$k"; exit 1; }
   strip "$T/run$k.csv" > "$T/s$k.csv"
@@ -28,5 +39,13 @@ for f in "$T"/s1*; do
     echo "determinism: $exp: $(basename "$f") differs between two runs:"; diff "$f" "$g" | head -10; fail=1
   fi
 done
-[ $fail = 0 ] && echo "determinism: $exp --quick gives identical CSV twice (apart from date and timing columns)"
+for g in "$T"/s2*; do
+  f=$T/s1${g#"$T"/s2}
+  if [ ! -f "$f" ]; then echo "determinism: $exp: $(basename "$g") is missing from the new run"; fail=1
+  fi
+done
+if [ $fail = 0 ]; then
+  if [ -n "$base" ]; then echo "determinism: $exp --quick gives the CSVs of $base (apart from date, git revision and timing columns)"
+  else echo "determinism: $exp --quick gives identical CSV twice (apart from date and timing columns)"; fi
+fi
 exit $fail

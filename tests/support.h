@@ -4,7 +4,9 @@
 
 #include <gsl/gsl_matrix.h>
 
-#include "clothbench.h"
+#include <clothbench/clothbench.h>
+#include "experiment.h"
+#include "provenance.h"
 
 /* Defaults, then each "section.key=value" of the NULL-terminated list.
  * Aborts the test with the library's message on error. */

@@ -1,4 +1,4 @@
-/* Capturing a Newton system mid-simulation (lib/capture.c). */
+/* Capturing a Newton system mid-simulation (lib/instruments/capture.c). */
 #include <criterion/criterion.h>
 #include <math.h>
 #include <stdlib.h>

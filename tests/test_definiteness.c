@@ -10,7 +10,9 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "clothbench.h"
+#include <clothbench/clothbench.h>
+#include "experiment.h"
+#include "provenance.h"
 #include "newton_trace.h"
 #include "spd_probe.h"
 #include "support.h"

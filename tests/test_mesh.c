@@ -2,7 +2,7 @@
  * its file:line error messages) and the atomic OBJ writer.
  *
  * Expected numbers are derived by hand from the documented contract in
- * lib/mesh.h: vertex (i, j) is j*n + i, the grid is centred on the origin with
+ * include/clothbench/mesh.h: vertex (i, j) is j*n + i, the grid is centred on the origin with
  * side lengths size[0] x size[1], the plane's first axis carries i and its
  * second axis carries j, and OBJ polygons are fan-triangulated. */
 #define _DEFAULT_SOURCE /* mkdtemp */

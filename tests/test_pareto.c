@@ -1,5 +1,5 @@
 /* Pareto front, cheapest method at an error level, convergence order
- * (lib/pareto.c), on hand-made data. */
+ * (lib/instruments/pareto.c), on hand-made data. */
 #include <criterion/criterion.h>
 #include <math.h>
 

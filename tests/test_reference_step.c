@@ -1,5 +1,5 @@
-/* The reference step (lib/reference.c), the M-norm error, the Newton
- * methods of lib/method.c, and the alpha = 1/3 bound for Chebyshev-Jacobi.
+/* The reference step (lib/instruments/reference.c), the M-norm error, the Newton
+ * methods of lib/instruments/method.c, and the alpha = 1/3 bound for Chebyshev-Jacobi.
  * The implicit Euler residual is computed here from the spring and gravity
  * formulas, independently of the library's energy terms. */
 #include <criterion/criterion.h>

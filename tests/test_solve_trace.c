@@ -1,4 +1,4 @@
-/* Traced solves (lib/solve_trace.c): rows, thinning, timing, error column. */
+/* Traced solves (lib/instruments/solve_trace.c): rows, thinning, timing, error column. */
 #include <criterion/criterion.h>
 #include <math.h>
 #include <stdlib.h>

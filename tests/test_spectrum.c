@@ -1,4 +1,4 @@
-/* Extreme eigenvalues of D^-1 A (lib/spectrum.c): Lanczos + shift-invert
+/* Extreme eigenvalues of D^-1 A (lib/instruments/spectrum.c): Lanczos + shift-invert
  * Lanczos against GSL's dense eigensolver, and the rho formula. */
 #include <criterion/criterion.h>
 #include <math.h>

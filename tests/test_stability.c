@@ -1,4 +1,4 @@
-/* lib/stability.c: the cell classifier on constructed energy histories, the
+/* lib/instruments/stability.c: the cell classifier on constructed energy histories, the
  * explicit limit against closed forms (one mass on a spring: 2 sqrt(m/k); a
  * fixed-free chain: the Dirichlet-Neumann Laplacian's top eigenvalue),
  * Lanczos against GSL, the hanging equilibrium against mg/k, and the

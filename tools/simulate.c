@@ -4,7 +4,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "clothbench.h"
+#include <clothbench/clothbench.h>
+#include "experiment.h"
+#include "provenance.h"
 
 enum { EXIT_OK = 0, EXIT_USAGE = 1, EXIT_IO = 2, EXIT_DIVERGED = 3, EXIT_SOLVER = 4 };
 

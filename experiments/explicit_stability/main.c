@@ -1,0 +1,323 @@
+/* explicit_stability: where explicit integration breaks, and what implicit
+ * costs (claims E1, E2, I1). The physics (classifier, equilibrium, prediction,
+ * bisection) is in lib/instruments/stability.c; this file holds the sweep plan and the CSV
+ * rows. README.md, section "explicit_stability", explains every choice. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <clothbench/clothbench.h>
+#include "experiment.h"
+#include "provenance.h"
+#include "stability.h"
+
+typedef struct { /* a scene; [0] = full run, [1] = --quick */
+  const char *name, *file;
+  int n;                                /* cloth vertices per side; 0 for a chain */
+  int k_stride[2];                      /* sweep every stride-th k */
+  int nt_dt_stride[2], nt_k_stride[2];  /* Newton cells: every stride-th dt and k ... */
+  double nt_dt_min;                     /* ... with dt >= this */
+  long nt_cap[2];                       /* ... and at most this many steps */
+  int e2_k_stride[2];                   /* E2 timings every stride-th k (0 = none) */
+} scene_def;
+
+static const scene_def scenes[] = {
+  {"spring", "single_spring.ini", 0, {1, 1}, {1, 1}, {1, 1}, 0, {10000, 2000}, {0, 0}},
+  {"chain20", "chain20.ini", 0, {1, 1}, {1, 1}, {1, 1}, 0, {10000, 2000}, {0, 0}},
+  {"cloth21", "hanging.ini", 21, {1, 1}, {3, 2}, {2, 2}, 0, {10, 5}, {2, 3}},
+  {"cloth41", "hanging.ini", 41, {1, 3}, {3, 3}, {4, 1}, 1e-3, {5, 3}, {4, 0}},
+};
+enum { NSCENES = 4, MAXG = 64 };
+
+typedef struct {
+  int quick, nk, ndt, bisect_iters;
+  double k[MAXG], dt[MAXG];
+  cb_stability_params ex, nt; /* explicit and Newton cells */
+  double k_res[2];            /* E2 resolution study (21^2, 41^2, 81^2) */
+  int nres;
+} plan;
+
+static FILE *fmain, *fbound, *ftime;
+static const char *cur_scene;
+static double cur_k;
+static int cur_nv;
+
+static void make_plan(plan *p, int quick, double sim_time) {
+  memset(p, 0, sizeof *p);
+  p->quick = quick;
+  p->nk = quick ? 7 : 13;   /* k = 10^1 .. 10^7 N/m, log-spaced */
+  p->ndt = quick ? 13 : 25; /* dt = 10^-5 .. 10^-1 s, log-spaced */
+  for (int i = 0; i < p->nk; i++) p->k[i] = pow(10.0, 1.0 + 6.0 * i / (p->nk - 1));
+  for (int j = 0; j < p->ndt; j++) p->dt[j] = pow(10.0, -5.0 + 4.0 * j / (p->ndt - 1));
+  p->bisect_iters = quick ? 6 : 10;
+  p->ex = cb_stability_params_default();
+  p->ex.sim_time = sim_time > 0 ? sim_time : quick ? 1.0 : 2.0;
+  p->ex.min_steps = 200;                 /* a large dt still gets 200 steps to show growth */
+  p->ex.max_steps = quick ? 1000 : 2000; /* a cell still below R_u after this many steps is stable */
+  p->ex.energy_every = 4;
+  p->nt = p->ex;                         /* Newton: energy lost over the first 0.1 s (I1) */
+  p->nt.sim_time = p->nt.mark_time = 0.1;
+  p->nt.min_steps = 10;
+  p->nt.energy_every = 1;
+  p->k_res[0] = 1e4;
+  p->k_res[1] = 1e6;
+  p->nres = quick ? 1 : 2;
+}
+
+static int scene_config(const cb_experiment *e, const scene_def *d, int n, double k, const char *const *extra, cb_config *c) {
+  char sk[64], sn[64], sm[64];
+  snprintf(sk, sizeof sk, "material.stretch_k=%.17g", k);
+  snprintf(sn, sizeof sn, "mesh.n=%d", n);
+  /* the GAMES103 lab cloth (10 m, 21^2, 1 kg a vertex = 441 kg) refined at the same total mass */
+  snprintf(sm, sizeof sm, "material.vertex_mass=%.17g", 441.0 / ((double)n * n));
+  const char *sets[12] = {sk, "integrator.tol_dx=1e-10"}; /* Newton: stop at a 0.1 nm step (round-off) */
+  int m = 2;
+  if (n > 0) { sets[m++] = sn; sets[m++] = sm; sets[m++] = "mesh.plane=xy"; } /* start hanging vertically */
+  for (int i = 0; extra && extra[i] && m < 11; i++) sets[m++] = extra[i];
+  sets[m] = NULL;
+  return cb_experiment_config(e, d->file, sets, c);
+}
+
+/* window: the requested energy-loss window (mark_time), 0 if none. */
+static void cell_row(const char *kind, const char *cas, const char *method, const cb_cell_result *r, double pred,
+                     double meas, double kinetic0, double window, const char *note) {
+  double loss = r->t_mark > 0 ? (r->energy0 - r->energy_mark) / r->t_mark : NAN; /* W: J per simulated s */
+  fprintf(fmain, "%s,%s,%s,%d,%.17g,%.17g,%s,%s,%.17g,%.17g,%ld,%.17g,%.6f,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,"
+          "%.17g,%ld,%d,%ld,%s,%s\n", kind, cas, cur_scene, cur_nv, cur_k, r->dt, method, cb_cell_class_name(r->cls),
+          r->max_energy_ratio, r->final_energy_ratio, r->steps, r->t_end, r->wall_ms, pred, meas, r->energy0,
+          r->energy_end, r->energy_scale, kinetic0, window, r->t_mark, loss, r->newton_iters, r->max_newton_iters,
+          r->not_converged_steps, cb_status_name(r->step_status), note);
+}
+
+typedef struct { cb_cell_result r[MAXG * 2]; int n; } cell_list;
+static void keep(void *ctx, const cb_cell_result *r) {
+  cell_list *l = ctx;
+  if (l->n < MAXG * 2) l->r[l->n++] = *r;
+}
+
+/* E2: wall time to simulate 1 s from the case's start state, the best of 3
+ * runs (converged Newton: of up to 3, while a run is under 300 ms), against
+ * the other jobs of a shared machine. methods: 1 explicit, 2 newton, 4 newton_bw.
+ * Converged Newton on 41^2 and 81^2 (35-50 solves a step with drop, ~135 s for 1 s of
+ * 81^2) runs 10 steps (1/3 s); wall_ms_per_s scales every row to 1 s. */
+static int timing(cb_stability_case *c, double meas, int methods) {
+  cb_stability_params p = cb_stability_params_default();
+  p.min_steps = 1; p.max_steps = 0; p.energy_every = 0;
+  cb_integrator_params ip;
+  cb_solver_params sp = cb_solver_params_from_config(&c->scene->cfg);
+  int st = cb_integrator_params_from_config(&c->scene->cfg, &ip);
+  ip.max_iters = 1; /* Baraff-Witkin: one linear solve per step */
+  cb_integrator *bw = NULL;
+  if (st == CB_OK && (methods & 4)) st = cb_integrator_alloc("newton", c->scene, &ip, c->scene->cfg.solver, &sp, &bw);
+  for (int m = 0; st == CB_OK && m < 3; m++) {
+    if (!(methods & (1 << m))) continue;
+    static const char *const name[] = {"explicit", "newton", "newton_bw"};
+    cb_integrator *it = m == 0 ? c->expl : m == 1 ? c->newton : bw;
+    double dt = m == 0 ? 0.9 * meas : 1.0 / 30.0; /* explicit at 0.9 x its measured dt_crit; implicit at 1/30 s */
+    p.sim_time = m == 1 && cur_nv > 441 ? 1.0 / 3.0 : 1.0;
+    cb_cell_result r, best;
+    int reps = 0;
+    do {
+      if ((st = cb_stability_cell(it, dt, c->x_start, c->v_start, c->S, &p, &c->work, &r))) break;
+      if (reps == 0 || r.wall_ms < best.wall_ms) best = r;
+    } while (++reps < 3 && (m != 1 || r.wall_ms < 300));
+    if (st == CB_OK)
+      fprintf(ftime, "%s,%d,%.17g,%s,%.17g,%ld,%.17g,%.6f,%.6f,%d,%s,%s,%ld,%.17g,%.17g\n", cur_scene, cur_nv, cur_k, name[m],
+              dt, best.steps, best.t_end, best.wall_ms, best.wall_ms / best.t_end, reps, cb_cell_class_name(best.cls),
+              cb_status_name(best.step_status), best.newton_iters, meas, c->pred.dt_crit);
+  }
+  cb_integrator_free(bw);
+  return st;
+}
+
+/* One (scene, k): explicit sweep, bisection, Newton cells, boundary row, E2. */
+static int run_case(const cb_experiment *e, const plan *p, const scene_def *d, int ik, int n) {
+  static cell_list sweep, bis, newton;
+  int q = p->quick, grid = d->n == n; /* no grid: the E2-only 81^2 cloth */
+  double k = p->k[ik];
+  cb_config cfg;
+  cb_case_params cp = cb_case_params_default();
+  /* dense GSL on the chains, and on cloth21 at three k to check Lanczos; Lanczos otherwise */
+  cp.eig = n == 0 || (n == 21 && ik % ((p->nk - 1) / 2) == 0) ? CB_EIG_BOTH : CB_EIG_LANCZOS;
+  cp.predict_rest = grid;
+  cb_stability_case c;
+  int st = scene_config(e, d, n, k, NULL, &cfg);
+  if (st == CB_OK) st = cb_stability_case_init(&c, &cfg, &cp);
+  if (st) return st;
+  cur_scene = grid ? d->name : "cloth81"; cur_k = k; cur_nv = c.scene->mesh.nv;
+  sweep.n = bis.n = newton.n = 0;
+  int cls[MAXG], mono = -1;
+  double lo = NAN, hi = NAN;
+  cb_bisect_result b;
+  for (int j = 0; grid && st == CB_OK && j < p->ndt; j++, sweep.n++) {
+    st = cb_stability_cell(c.expl, p->dt[j], c.x_start, c.v_start, c.S, &p->ex, &c.work, &sweep.r[j]);
+    cls[j] = sweep.r[j].cls;
+  }
+  if (st == CB_OK && grid) {
+    cb_stability_grid_bracket(p->dt, cls, p->ndt, &lo, &hi, &mono);
+    st = cb_stability_bisect(c.expl, c.x_start, c.v_start, c.S, &p->ex, &c.work, lo, hi, pow(10.0, 4.0 / (p->ndt - 1)),
+                             p->bisect_iters, keep, &bis, &b);
+  } else if (st == CB_OK) /* no grid: bracket from the prediction, 5% steps */
+    st = cb_stability_boundary_from_guess(c.expl, c.x_start, c.v_start, c.S, &p->ex, &c.work, c.pred.dt_crit, 1.05,
+                                          p->bisect_iters - 2, keep, &bis, &b);
+  cb_stability_params pn = p->nt;
+  pn.max_steps = d->nt_cap[q];
+  int sd = d->nt_dt_stride[q];
+  for (int j = 0; grid && st == CB_OK && j < p->ndt; j++)
+    if (j % sd == (p->ndt - 1) % sd && ik % d->nt_k_stride[q] == 0 && p->dt[j] >= d->nt_dt_min * 0.999)
+      st = cb_stability_cell(c.newton, p->dt[j], c.x_start, c.v_start, c.S, &pn, &c.work, &newton.r[newton.n++]);
+  double meas = st == CB_OK ? b.dt_stable : NAN;
+  for (int i = 0; st == CB_OK && i < sweep.n; i++) cell_row("sweep", "map", "explicit", &sweep.r[i], c.pred.dt_crit, meas, c.kinetic0, 0, "");
+  for (int i = 0; st == CB_OK && i < bis.n; i++) cell_row("bisect", "boundary", "explicit", &bis.r[i], c.pred.dt_crit, meas, c.kinetic0, 0, "");
+  for (int i = 0; st == CB_OK && i < newton.n; i++) cell_row("sweep", "map", "newton", &newton.r[i], c.pred.dt_crit, meas, c.kinetic0, pn.mark_time, "");
+  const cb_prediction *pr = &c.pred;
+  if (st == CB_OK)
+    fprintf(fbound, "%s,%d,%d,%.17g,%.17g,%.17g,%d,%s,%.17g,%.17g,%.17g,%s,%.17g,%.17g,%d,%s,%.17g,%.17g,%.17g,%.17g,"
+            "%.17g,%d,%.17g,%.17g,%d,%s,%.3f,%.3f\n", cur_scene, cur_nv, c.scene->model.nfree, k,
+            c.scene->mass[c.scene->free_vertex[0]], c.eq.residual, c.eq.steps, cb_status_name(c.eq.status),
+            c.eq.max_strain, c.eq.min_strain, pr->lambda_max, pr->method == CB_EIG_DENSE ? "gsl_dense" : "lanczos",
+            pr->lambda_dense, pr->lambda_lanczos, pr->lanczos_steps, cb_status_name(pr->lanczos_status),
+            c.pred_rest.lambda_max, pr->dt_crit, c.pred_rest.dt_crit, lo, hi, mono, b.dt_stable, b.dt_unstable, b.runs,
+            cb_status_name(b.status), c.eq.ms, c.pred.ms + c.pred_rest.ms);
+  /* E2 methods: 1 explicit, 2 converged Newton, 4 Baraff-Witkin. Converged Newton is
+   * costly (the drop fix makes it converge linearly, ~20 solves a step): on 21^2 at
+   * every timed k; on 41^2 and 81^2 only at k_res[0], and not with --quick. */
+  int timed = grid && d->e2_k_stride[q] > 0 && ik % d->e2_k_stride[q] == 0, methods = 0;
+  for (int r = 0; r < p->nres; r++) timed |= n > 0 && k == p->k_res[r];
+  if (timed) methods = n == 21 || (!q && k == p->k_res[0]) ? 7 : 5;
+  if (st == CB_OK && methods && b.status == CB_OK) st = timing(&c, meas, methods);
+  cb_stability_case_free(&c);
+  return st;
+}
+
+/* Stiff and extreme cases on the 21^2 cloth: each has rows and a note. */
+static int extremes(const cb_experiment *e, const plan *p) {
+  static const struct {
+    const char *cas; double k; int eq; const char *sets[4];
+    double ex[2]; /* explicit dt: f > 0: f x dt_crit_pred at the start; f < 0: |f| x at the rest shape; else a fixed dt */
+    const char *note;
+  } x[] = {
+    {"k_1e8", 1e8, 1, {NULL}, {0.9, 1.1}, "k = 1e8 N/m from the hanging equilibrium: explicit at 0.9 and 1.1 x dt_crit_pred; Newton at 1/30 s"},
+    {"dt_0.1", 8000, 1, {NULL}, {0.1, 0}, "the lab stiffness 8000 N/m from the hanging equilibrium at dt = 0.1 s (12 x dt_crit_pred)"},
+    {"stretched_2x", 8000, 0, {"scene.initial_scale=2"}, {0.9, -0.9},
+     "starts at 2x the rest size (no equilibrium); explicit at 0.9 x dt_crit_pred at that start and at the rest shape"},
+    {"compressed_0.5x", 8000, 0, {"scene.initial_scale=0.5"}, {0.9, -0.9},
+     "starts at 0.5x the rest size (no equilibrium); explicit at 0.9 x dt_crit_pred at that start and at the rest shape"},
+    {"zero_rest_length", 8000, 1, {"mesh.type=obj", "mesh.file=zero_rest_length.obj", "scene.pins=0"}, {0.9, 0},
+     "configs/zero_rest_length.obj joins two coincident vertices by a line element"},
+    {"zero_gravity_no_pins", 8000, 1, {"scene.gravity=0 0 0", "scene.pins=none"}, {0.9, 1.1},
+     "no gravity and no pins: a free cloth with a random velocity (K has six rigid-body zero eigenvalues)"},
+  };
+  cb_stability_params pe = p->ex, pn = p->ex;
+  pn.sim_time = 1.0; pn.min_steps = 1; pn.max_steps = 0; pn.energy_every = 1;
+  if (p->quick) pn.sim_time = 1.0 / 3.0;
+  for (size_t i = 0; i < sizeof x / sizeof x[0]; i++) {
+    cb_config cfg;
+    cb_case_params cp = cb_case_params_default();
+    cp.equilibrium = x[i].eq;
+    cp.eig = CB_EIG_LANCZOS;
+    cb_stability_case c;
+    cur_scene = "cloth21"; cur_k = x[i].k; cur_nv = 441;
+    int st = scene_config(e, &scenes[2], 21, x[i].k, x[i].sets, &cfg);
+    if (st == CB_OK) st = cb_stability_case_init(&c, &cfg, &cp);
+    if (st == CB_EINVAL) { /* bad input: a clear error, recorded in the row */
+      char msg[1024];
+      snprintf(msg, sizeof msg, "%s: rejected when the scene is built: %s", x[i].note, cb_error_message());
+      for (char *s = msg; *s; s++) if (*s == ',' || *s == '\n') *s = ';';
+      fprintf(fmain, "extreme,%s,cloth21,0,%.17g,nan,explicit,rejected,nan,nan,0,0,0,nan,nan,nan,nan,nan,nan,0,nan,nan,"
+              "0,0,0,invalid_input,%s\n", x[i].cas, x[i].k, msg);
+      continue;
+    }
+    if (st) return st;
+    cur_nv = c.scene->mesh.nv;
+    cb_cell_result r;
+    for (int m = 0; m < 3 && st == CB_OK; m++) {
+      double f = m < 2 ? x[i].ex[m] : 0, dt = f > 0.5 ? f * c.pred.dt_crit : f < 0 ? -f * c.pred_rest.dt_crit : f;
+      if (m == 2) dt = !strcmp(x[i].cas, "dt_0.1") ? 0.1 : 1.0 / 30.0;
+      if (!(dt > 0)) continue;
+      st = cb_stability_cell(m == 2 ? c.newton : c.expl, dt, c.x_start, c.v_start, c.S, m == 2 ? &pn : &pe, &c.work, &r);
+      if (st == CB_OK) cell_row("extreme", x[i].cas, m == 2 ? "newton" : "explicit", &r, c.pred.dt_crit, NAN, c.kinetic0, 0, x[i].note);
+    }
+    cb_stability_case_free(&c);
+    if (st) return st;
+  }
+  return CB_OK;
+}
+
+static const char *about =
+  "Claims E1, E2, I1. Sweeps spring stiffness k (1e1..1e7 N/m) and time step dt\n"
+  "(1e-5..1e-1 s) on a single spring, a 20-spring chain and the hanging cloth at 21^2\n"
+  "and 41^2, each cell starting at the static (hanging) equilibrium plus a small random\n"
+  "velocity; classifies explicit and Newton cells stable/unstable/diverged; bisects the\n"
+  "largest stable explicit dt against the prediction 2/omega_max; times 1 s of\n"
+  "simulation (explicit at 0.9 dt_crit, Newton at 1/30 s) against k and resolution\n"
+  "(21^2, 41^2, 81^2); runs stiff and extreme cases. Writes <out>,\n"
+  "<out>_boundary.csv and <out>_timing.csv (stem of --out).\n"
+  "  --time SECONDS   simulated time per explicit cell (default 2; 1 with --quick)";
+
+int main(int argc, char **argv) {
+  double sim_time = 0;
+  int ac = 0;
+  for (int i = 0; i < argc; i++) /* our own option, taken out before the common ones */
+    if (!strcmp(argv[i], "--time") && i + 1 < argc) {
+      if (cb_parse_double(argv[++i], &sim_time) || !(sim_time > 0)) {
+        fprintf(stderr, "explicit_stability: --time: '%s' is not a positive number of seconds\n", argv[i]);
+        return 1;
+      }
+    } else argv[ac++] = argv[i];
+  cb_experiment e;
+  int st = cb_experiment_begin(&e, "explicit_stability", about, ac, argv);
+  if (st) return st > 0 ? 0 : 1;
+  plan p;
+  make_plan(&p, e.quick, sim_time);
+  char info[1024], pb[2048], pt[2048];
+  snprintf(info, sizeof info, "# plan: %d k x %d dt; explicit cells %g s with %ld..%ld steps; bisection %d; Newton cells "
+           "%g s (energy mark); start: equilibrium + random velocity 1e-6 S0 + swing 1e-3 S0; R_u %g; R_d %g\n", p.nk, p.ndt, p.ex.sim_time, p.ex.min_steps,
+           p.ex.max_steps, p.bisect_iters, p.nt.sim_time, p.ex.unstable_ratio, p.ex.diverge_ratio);
+  cb_experiment_side_path(&e, "boundary.csv", pb, sizeof pb);
+  cb_experiment_side_path(&e, "timing.csv", pt, sizeof pt);
+  cb_outfile ob, ot;
+  if (cb_experiment_csv(&e, &e.csv, NULL, info,
+        "kind,case,scene,n_vertices,k,dt,method,status,max_energy_ratio,final_energy_ratio,steps,t_end_s,wall_ms,"
+        "dt_crit_pred,dt_crit_meas,energy0_j,energy_end_j,energy_scale_j,kinetic0_j,window_s,t_mark_s,energy_loss_w,newton_iters,"
+        "max_newton_iters,not_converged_steps,step_status,note") ||
+      cb_experiment_csv(&e, &ob, pb, info,
+        "scene,n_vertices,n_free,k,vertex_mass_kg,equilibrium_residual,equilibrium_steps,equilibrium_status,max_strain,"
+        "min_strain,lambda_max_per_s2,eig_method,lambda_dense_per_s2,lambda_lanczos_per_s2,lanczos_steps,lanczos_status,"
+        "lambda_max_rest_per_s2,dt_crit_pred,dt_crit_pred_rest,dt_stable_grid,dt_unstable_grid,grid_monotone,dt_crit_meas,"
+        "dt_crit_meas_hi,bisect_runs,bisect_status,equilibrium_ms,predict_ms") ||
+      cb_experiment_csv(&e, &ot, pt, info,
+        "scene,n_vertices,k,method,dt,steps,sim_time_s,wall_ms,wall_ms_per_s,wall_repeats,status,step_status,newton_iters,dt_crit_meas,"
+        "dt_crit_pred")) {
+    fprintf(stderr, "explicit_stability: %s\n", cb_error_message());
+    return 2;
+  }
+  fmain = e.csv.f; fbound = ob.f; ftime = ot.f;
+  long total = p.nres + 1, done = 0;
+  for (int s = 0; s < NSCENES; s++) total += (p.nk + scenes[s].k_stride[p.quick] - 1) / scenes[s].k_stride[p.quick];
+  cb_progress_start(&e.progress, "explicit_stability", total);
+  for (int s = 0; st == CB_OK && s < NSCENES; s++)
+    for (int i = 0; st == CB_OK && i < p.nk; i += scenes[s].k_stride[p.quick]) {
+      st = run_case(&e, &p, &scenes[s], i, scenes[s].n);
+      cb_progress_update(&e.progress, ++done);
+    }
+  for (int r = 0; st == CB_OK && r < p.nres; r++) { /* E2 at 81^2: no sweep; boundary bracketed from the prediction */
+    plan q = p;
+    q.k[0] = p.k_res[r];
+    st = run_case(&e, &q, &scenes[3], 0, 81);
+    cb_progress_update(&e.progress, ++done);
+  }
+  if (st == CB_OK) st = extremes(&e, &p);
+  cb_progress_end(&e.progress);
+  if (st == CB_OK && (cb_outfile_commit(&e.csv) || cb_outfile_commit(&ob) || cb_outfile_commit(&ot))) {
+    fprintf(stderr, "explicit_stability: %s\n", cb_error_message());
+    return 2;
+  }
+  if (st) {
+    fprintf(stderr, "explicit_stability: %s\n", cb_error_message());
+    cb_outfile_abort(&e.csv); cb_outfile_abort(&ob); cb_outfile_abort(&ot);
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,433 @@
+#include <clothbench/config.h>
+
+#include <errno.h>
+#include <ini.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include <clothbench/energy.h>
+#include <clothbench/integrator.h>
+#include <clothbench/solver.h>
+#include <clothbench/status.h>
+
+typedef enum { T_INT, T_DOUBLE, T_SIZE, T_VEC3, T_ENUM, T_PATH, T_PINS, T_BOOL, T_RHO } ktype;
+
+static const char *const mesh_types[] = {"grid", "chain", "obj", NULL};
+static const char *const planes[] = {"xy", "xz", "yz", NULL};
+static const char *const diagonals[] = {"regular", "alternating", NULL};
+static const char *const inits[] = {"predict", "x0", NULL};
+
+typedef struct {
+  const char *key;     /* section.key */
+  ktype type;
+  size_t off;
+  const char *def;     /* default, as text */
+  const char *unit;
+  double lo, hi;       /* accepted range for numbers (inclusive), lo_open: lo excluded */
+  int lo_open;
+  const char *const *choices;      /* fixed choices, or */
+  const char *(*choice_fn)(int i); /* the i-th name of a plug-in registry (NULL at the end) */
+  const char *doc;
+} keydef;
+
+#define O(f) offsetof(cb_config, f)
+static const keydef keys[] = {
+  {"mesh.type", T_ENUM, O(mesh_type), "grid", "-", 0, 0, 0, mesh_types, NULL,
+   "`grid` builds an n x m grid; `chain` a line of n vertices (n-1 springs, no triangles: set `material.vertex_mass`); `obj` reads `mesh.file`."},
+  {"mesh.n", T_INT, O(mesh_n), "21", "vertices", 2, 100000, 0, NULL, NULL,
+   "Grid (or chain) vertices along the first axis of the plane."},
+  {"mesh.m", T_INT, O(mesh_m), "0", "vertices", 0, 100000, 0, NULL, NULL,
+   "Grid vertices along the second axis; 0 means the same as `mesh.n`."},
+  {"mesh.size", T_SIZE, O(mesh_size), "10", "m", 0, 1e9, 1, NULL, NULL,
+   "Grid side length, or two lengths (first axis, second axis); a chain's length."},
+  {"mesh.plane", T_ENUM, O(mesh_plane), "xz", "-", 0, 0, 0, planes, NULL,
+   "Plane of the grid; `xz` is horizontal when gravity points along -y. Row j = m-1 (the largest second coordinate) is the top edge; a chain lies along the first axis (`yz`: vertical, vertex n-1 on top)."},
+  {"mesh.diagonal", T_ENUM, O(mesh_diagonal), "regular", "-", 0, 0, 0, diagonals, NULL,
+   "Quad split: `regular` (every quad along the same diagonal) or `alternating` (checkerboard)."},
+  {"mesh.file", T_PATH, O(mesh_file), "", "path", 0, 0, 0, NULL, NULL,
+   "OBJ file for `mesh.type = obj`; a relative path is taken from the config file's folder."},
+  {"material.density", T_DOUBLE, O(density), "1", "kg/m^2", 0, 1e12, 1, NULL, NULL,
+   "Areal density; vertex i gets density x (area of its triangles) / 3."},
+  {"material.vertex_mass", T_DOUBLE, O(vertex_mass), "0", "kg", 0, 1e12, 0, NULL, NULL,
+   "If > 0, every vertex gets this mass and `material.density` is ignored (the GAMES103 lab uses 1)."},
+  {"material.stretch_k", T_DOUBLE, O(stretch_k), "8000", "N/m", 0, 1e15, 0, NULL, NULL,
+   "Stiffness k of the spring on every mesh edge, E = k/2 (|xi-xj| - L)^2."},
+  {"material.bend", T_ENUM, O(bend), "none", "-", 0, 0, 0, cb_bend_names, NULL,
+   "Bending model: `none`, or `spring` (a spring across each pair of neighbouring triangles)."},
+  {"material.bend_k", T_DOUBLE, O(bend_k), "100", "N/m", 0, 1e15, 0, NULL, NULL,
+   "Stiffness of the bending springs."},
+  {"material.buckling_kb", T_DOUBLE, O(buckling_kb), "0.01", "N m^2", 0, 1e15, 1, NULL, NULL,
+   "Bending stiffness k_b of Choi & Ko's immediate-buckling response, used by every spring when `integrator.definiteness = choi-ko`: a compressed spring (|x| < L) bends into an arc of length L with energy k_b L kappa^2 / 2 instead of shortening, once its linear push k(L - |x|) reaches the arc's push f_b >= 12 k_b/L^2 (so the force stays continuous). Needs k > 12 pi^2 k_b / L^3."},
+  {"scene.gravity", T_VEC3, O(gravity), "0 -9.8 0", "m/s^2", -1e6, 1e6, 0, NULL, NULL,
+   "Gravitational acceleration (3 numbers); `0 0 0` leaves the gravity term out."},
+  {"scene.pins", T_PINS, O(pins), "top-corners", "-", 0, 0, 0, NULL, NULL,
+   "Pinned vertices: `none`, `corners`, `top-corners` (both ends of the top edge), `top-edge`, or 0-based vertex indices separated by spaces or commas. Named sets other than `none` need a grid or chain mesh."},
+  {"scene.initial_scale", T_DOUBLE, O(initial_scale), "1", "-", 0, 1e6, 1, NULL, NULL,
+   "Initial positions are the rest positions scaled by this factor about their centroid (2 = stretched to twice the rest size, 0.5 = compressed)."},
+  {"scene.pin_squeeze", T_VEC3, O(pin_squeeze), "0 0 0", "m/s", -1e6, 1e6, 0, NULL, NULL,
+   "Driven pins (3 numbers s): pinned vertex i moves at the constant velocity -sign((p_i - c).s) s, c being the centroid of the pins' initial positions p_i, so pins on the two sides of c close in on each other at 2|s| (pins with (p_i - c).s = 0 stay). Its prescribed position x0 + t v enters every step (implicit: through x0 + dt v0; explicit: x += dt v). `0 0 0`: pins are fixed."},
+  {"integrator.method", T_ENUM, O(method), "newton", "-", 0, 0, 0, NULL, cb_integrator_name,
+   "`explicit` (symplectic Euler) or `newton` (implicit Euler by Newton's method)."},
+  {"integrator.dt", T_DOUBLE, O(dt), "1/30", "s", 0, 1e6, 1, NULL, NULL,
+   "Time step; a fraction such as `1/30` is accepted."},
+  {"integrator.steps", T_INT, O(steps), "60", "steps", 0, 2000000000, 0, NULL, NULL,
+   "Number of time steps `simulate` runs (overridden by `--steps`)."},
+  {"integrator.max_iters", T_INT, O(max_iters), "50", "iterations", 1, 1000000, 0, NULL, NULL,
+   "Newton iterations per step at most; 1 is Baraff-Witkin's single linear solve."},
+  {"integrator.tol", T_DOUBLE, O(tol), "1e-8", "-", 0, 1, 0, NULL, NULL,
+   "Newton stops when |grad F(x)| <= tol |grad F(x(0))|, x(0) being the step's initial guess. Below about 1e-11 the tolerance may be under round-off (e.g. a step from rest, where grad F(x(0)) is gravity alone): pair it with `tol_dx`."},
+  {"integrator.tol_dx", T_DOUBLE, O(tol_dx), "0", "m", 0, 1e9, 0, NULL, NULL,
+   "Newton also stops when the largest component of the step |dx| is <= tol_dx; 0 turns this test off."},
+  {"integrator.definiteness", T_ENUM, O(definiteness), "drop", "-", 0, 0, 0, cb_definiteness_names, NULL,
+   "Spring Hessian treatment when a spring is compressed: `none` keeps the exact Hessian; `drop` drops the k(1 - L/|x|) term when |x| < L (the lecture's fix; the transverse eigenvalue clamped at 0); `mirror` uses |1 - L/|x||; `shift` keeps the exact Hessian and adds mu I to Newton's matrix, raising mu until Cholesky (or CG) succeeds; `choi-ko` replaces the compressed spring by Choi & Ko's (2002) immediate-buckling response (see `material.buckling_kb`), a different energy, with its exact Hessian."},
+  {"integrator.init", T_ENUM, O(init), "predict", "-", 0, 0, 0, inits, NULL,
+   "Newton's initial guess: `predict` (x0 + dt v0) or `x0`."},
+  {"integrator.line_search", T_BOOL, O(line_search), "0", "-", 0, 0, 0, NULL, NULL,
+   "Backtracking (Armijo) line search on F in every Newton iteration (0 or 1)."},
+  {"integrator.diverge_ratio", T_DOUBLE, O(diverge_ratio), "10", "-", 0, 1e300, 1, NULL, NULL,
+   "A run is `diverged` when a position is NaN/Inf, or when the total energy rises above its initial value by more than diverge_ratio x S, S = initial kinetic + elastic energy + (sum m_i |g|) x (rest bounding-box diagonal) x max(1, initial_scale) + 1e-12 J."},
+  {"solver.method", T_ENUM, O(solver), "cholmod", "-", 0, 0, 0, NULL, cb_solver_name,
+   "Linear solver for Newton's system (`cholmod`: sparse Cholesky, exact)."},
+  {"solver.tol", T_DOUBLE, O(solver_tol), "1e-8", "-", 0, 1, 0, NULL, NULL,
+   "Iterative solvers stop at relative residual |b - Ax| / |b| <= tol."},
+  {"solver.max_iters", T_INT, O(solver_max_iters), "1000", "iterations", 1, 2000000000, 0, NULL, NULL,
+   "Iterative solvers stop after this many iterations."},
+  {"solver.alpha", T_DOUBLE, O(solver_alpha), "1", "-", 0, 2, 1, NULL, NULL,
+   "Jacobi weight: dx += alpha D^-1 r (1 is vanilla Jacobi)."},
+  {"solver.rho", T_RHO, O(solver_rho), "auto", "-", 0, 1, 1, NULL, NULL,
+   "Chebyshev spectral-radius estimate rho in (0, 1), or `auto` (estimated at run time)."},
+};
+#undef O
+enum { NKEYS = (int)(sizeof keys / sizeof keys[0]) };
+enum { SRC_DEFAULT = 0, SRC_FILE = 1, SRC_SET = 2 };
+
+_Static_assert(sizeof keys / sizeof keys[0] <= 64, "cb_config.where is too small");
+
+static const char *choice_at(const keydef *k, int i) {
+  return k->choice_fn ? k->choice_fn(i) : k->choices[i];
+}
+
+static int find_key(const char *key) {
+  for (int i = 0; i < NKEYS; i++)
+    if (strcmp(keys[i].key, key) == 0) return i;
+  return -1;
+}
+
+int cb_parse_double(const char *s, double *out) {
+  char *end;
+  while (*s == ' ' || *s == '\t') s++;
+  double v = strtod(s, &end);
+  if (end == s) return -1;
+  while (*end == ' ' || *end == '\t') end++;
+  if (*end == '/') { /* a fraction such as 1/30 */
+    const char *d = end + 1;
+    double den = strtod(d, &end);
+    if (end == d || den == 0) return -1;
+    v /= den;
+    while (*end == ' ' || *end == '\t') end++;
+  }
+  if (*end) return -1;
+  *out = v;
+  return 0;
+}
+
+static int split_numbers(const char *s, double *v, int maxn) {
+  char buf[256];
+  if (strlen(s) >= sizeof buf) return -1;
+  strcpy(buf, s);
+  int n = 0;
+  for (char *tok = strtok(buf, " \t,"); tok; tok = strtok(NULL, " \t,")) {
+    if (n == maxn || cb_parse_double(tok, &v[n])) return -1;
+    n++;
+  }
+  return n;
+}
+
+static int copy_str(char *dst, size_t cap, const char *s) {
+  if (strlen(s) >= cap) return -1;
+  strcpy(dst, s);
+  return 0;
+}
+
+static int in_range(const keydef *k, double v) {
+  if (!isfinite(v)) return 0;
+  if (k->lo_open ? !(v > k->lo) : !(v >= k->lo)) return 0;
+  return v <= k->hi;
+}
+
+static void range_text(const keydef *k, char *buf, size_t n) {
+  snprintf(buf, n, "%s %g and <= %g", k->lo_open ? ">" : ">=", k->lo, k->hi);
+}
+
+/* Parses value into the field of key k. On error, writes the reason to why. */
+static int assign(cb_config *c, const keydef *k, const char *value, char *why, size_t nwhy) {
+  char *field = (char *)c + k->off;
+  char rng[96];
+  range_text(k, rng, sizeof rng);
+  switch (k->type) {
+  case T_INT: {
+    double v;
+    if (cb_parse_double(value, &v) || v != floor(v)) { snprintf(why, nwhy, "'%s' is not an integer", value); return -1; }
+    if (!in_range(k, v)) { snprintf(why, nwhy, "%s is out of range (must be %s)", value, rng); return -1; }
+    *(int *)field = (int)v;
+    return 0;
+  }
+  case T_DOUBLE: {
+    double v;
+    if (cb_parse_double(value, &v)) { snprintf(why, nwhy, "'%s' is not a number", value); return -1; }
+    if (!in_range(k, v)) { snprintf(why, nwhy, "%s is out of range (must be %s)", value, rng); return -1; }
+    *(double *)field = v;
+    return 0;
+  }
+  case T_SIZE: case T_VEC3: {
+    double v[3];
+    int want = k->type == T_VEC3 ? 3 : 2;
+    int n = split_numbers(value, v, want);
+    if (k->type == T_SIZE && n == 1) { v[1] = v[0]; n = 2; }
+    if (n != want) {
+      snprintf(why, nwhy, "'%s' must be %s", value, k->type == T_VEC3 ? "3 numbers" : "1 or 2 numbers");
+      return -1;
+    }
+    for (int i = 0; i < want; i++)
+      if (!in_range(k, v[i])) { snprintf(why, nwhy, "%g is out of range (each must be %s)", v[i], rng); return -1; }
+    memcpy(field, v, (size_t)want * sizeof(double));
+    return 0;
+  }
+  case T_ENUM: {
+    for (int i = 0; choice_at(k, i); i++)
+      if (strcmp(value, choice_at(k, i)) == 0) return copy_str(field, CB_NAME_LEN, value);
+    size_t used = (size_t)snprintf(why, nwhy, "'%s' is not one of:", value);
+    for (int i = 0; choice_at(k, i) && used < nwhy; i++)
+      used += (size_t)snprintf(why + used, nwhy - used, " %s", choice_at(k, i));
+    return -1;
+  }
+  case T_PATH:
+    if (copy_str(field, CB_PATH_LEN, value)) { snprintf(why, nwhy, "path too long"); return -1; }
+    return 0;
+  case T_PINS: {
+    if (copy_str(field, CB_PINS_LEN, value)) { snprintf(why, nwhy, "pin list too long"); return -1; }
+    return 0; /* checked against the mesh when the scene is built */
+  }
+  case T_BOOL: {
+    static const char *const t[] = {"1", "true", "yes", "on"}, *const f[] = {"0", "false", "no", "off"};
+    for (int i = 0; i < 4; i++) {
+      if (strcasecmp(value, t[i]) == 0) { *(int *)field = 1; return 0; }
+      if (strcasecmp(value, f[i]) == 0) { *(int *)field = 0; return 0; }
+    }
+    snprintf(why, nwhy, "'%s' is not a boolean (0/1, true/false, yes/no, on/off)", value);
+    return -1;
+  }
+  case T_RHO: {
+    double v;
+    if (strcmp(value, "auto") == 0) { *(double *)field = 0; return 0; }
+    if (cb_parse_double(value, &v) || !in_range(k, v) || v >= 1) {
+      snprintf(why, nwhy, "'%s' must be `auto` or a number in (0, 1)", value);
+      return -1;
+    }
+    *(double *)field = v;
+    return 0;
+  }
+  }
+  return -1;
+}
+
+void cb_config_defaults(cb_config *c) {
+  memset(c, 0, sizeof *c);
+  char why[256];
+  for (int i = 0; i < NKEYS; i++) {
+    int st = assign(c, &keys[i], keys[i].def, why, sizeof why);
+    (void)st; /* defaults are valid by construction (checked by the tests) */
+  }
+}
+
+/* ---- INI parsing -------------------------------------------------------- */
+
+typedef struct {
+  cb_config *c;
+  const char *path;
+  FILE *f;
+  int line;        /* lines handed to inih so far */
+  int failed;      /* first error recorded */
+  int failed_line; /* its line */
+  int too_long;
+  char seen[64];   /* keys set by this file */
+} parse_ctx;
+
+/* inih reader: counts lines so the handler knows where it is. */
+static void fail_at(parse_ctx *ctx) {
+  ctx->failed = 1;
+  ctx->failed_line = ctx->line;
+}
+
+static int known_section(const char *name, size_t len) {
+  for (int k = 0; k < NKEYS; k++)
+    if (strncmp(keys[k].key, name, len) == 0 && keys[k].key[len] == '.') return 1;
+  return 0;
+}
+
+/* inih reader: counts lines so the handler knows where it is, and checks
+ * what inih does not report: over-long lines and unknown empty sections. */
+static char *reader(char *str, int num, void *stream) {
+  parse_ctx *ctx = stream;
+  char *r = fgets(str, num, ctx->f);
+  if (!r) return NULL;
+  ctx->line++;
+  size_t n = strlen(str);
+  if (ctx->failed) return r;
+  if (n == (size_t)num - 1 && str[n - 1] != '\n' && !feof(ctx->f)) {
+    fail_at(ctx);
+    cb_fail("%s:%d: line longer than %d characters", ctx->path, ctx->line, num - 2);
+    return r;
+  }
+  const char *p = str;
+  while (*p == ' ' || *p == '\t') p++;
+  const char *close = *p == '[' ? strchr(p, ']') : NULL;
+  if (close) {
+    const char *name = p + 1;
+    while (*name == ' ' || *name == '\t') name++;
+    size_t len = (size_t)(close - name);
+    while (len && (name[len - 1] == ' ' || name[len - 1] == '\t')) len--;
+    if (!known_section(name, len)) {
+      fail_at(ctx);
+      cb_fail("%s:%d: unknown section [%.*s] (sections: mesh, material, scene, integrator, solver)", ctx->path,
+              ctx->line, (int)len, name);
+    }
+  }
+  return r;
+}
+
+static int handler(void *user, const char *section, const char *name, const char *value) {
+  parse_ctx *ctx = user;
+  if (ctx->failed) return 1;
+  char key[160], why[512];
+  snprintf(key, sizeof key, "%s.%s", section, name);
+  int i = find_key(key);
+  if (i < 0) {
+    fail_at(ctx);
+    if (!section[0]) cb_fail("%s:%d: %s: key outside any section", ctx->path, ctx->line, name);
+    else if (!known_section(section, strlen(section))) cb_fail("%s:%d: %s: unknown section [%s]", ctx->path, ctx->line, key, section);
+    else cb_fail("%s:%d: %s: unknown key", ctx->path, ctx->line, key);
+    return 1;
+  }
+  if (ctx->seen[i]) {
+    fail_at(ctx);
+    cb_fail("%s:%d: %s: set twice (first at line %d; an indented line continues the previous key)",
+            ctx->path, ctx->line, key, ctx->c->where[i].line);
+    return 1;
+  }
+  if (assign(ctx->c, &keys[i], value, why, sizeof why)) {
+    fail_at(ctx);
+    cb_fail("%s:%d: %s: %s", ctx->path, ctx->line, key, why);
+    return 1;
+  }
+  ctx->seen[i] = 1;
+  ctx->c->where[i].line = ctx->line;
+  ctx->c->where[i].source = SRC_FILE;
+  return 1;
+}
+
+int cb_config_load(const char *path, cb_config *c) {
+  cb_config_defaults(c);
+  if (copy_str(c->path, sizeof c->path, path)) return cb_fail("%s: path too long", path);
+  parse_ctx ctx = {.c = c, .path = path};
+  ctx.f = fopen(path, "r");
+  if (!ctx.f) return cb_fail_status(CB_EIO, "%s: cannot open config file: %s", path, strerror(errno));
+  int r = ini_parse_stream(reader, &ctx, handler, &ctx);
+  fclose(ctx.f);
+  /* inih reports the line of its first error; ours may come later or earlier */
+  if (r > 0 && (!ctx.failed || r < ctx.failed_line))
+    return cb_fail("%s:%d: syntax error (expected [section], key = value, or a comment)", path, r);
+  if (ctx.failed) return CB_EINVAL;
+  if (r < 0) return cb_fail("%s: cannot parse (error %d)", path, r);
+  return CB_OK;
+}
+
+int cb_config_set(cb_config *c, const char *assignment) {
+  const char *eq = strchr(assignment, '=');
+  if (!eq) return cb_fail("--set %s: expected section.key=value", assignment);
+  char key[160], value[CB_PINS_LEN], why[512];
+  const char *k0 = assignment;
+  while (*k0 == ' ' || *k0 == '\t') k0++;
+  size_t kl = (size_t)(eq - k0);
+  if (kl >= sizeof key || strlen(eq + 1) >= sizeof value) return cb_fail("--set %s: too long", assignment);
+  memcpy(key, k0, kl);
+  key[kl] = '\0';
+  /* trim spaces around key and value */
+  while (kl && (key[kl - 1] == ' ' || key[kl - 1] == '\t')) key[--kl] = '\0';
+  const char *v = eq + 1;
+  while (*v == ' ' || *v == '\t') v++;
+  strcpy(value, v);
+  for (size_t n = strlen(value); n && (value[n - 1] == ' ' || value[n - 1] == '\t');) value[--n] = '\0';
+  int i = find_key(key);
+  if (i < 0) return cb_fail("--set %s: unknown key '%s' (simulate --help-config lists them)", assignment, key);
+  if (assign(c, &keys[i], value, why, sizeof why)) return cb_fail("--set %s: %s: %s", assignment, key, why);
+  c->where[i].source = SRC_SET;
+  c->where[i].line = 0;
+  size_t used = strlen(c->overrides);
+  snprintf(c->overrides + used, sizeof c->overrides - used, "%s%s=%s", used ? " " : "", key, value);
+  return CB_OK;
+}
+
+const char *cb_config_where(const cb_config *c, const char *key, char *buf, size_t n) {
+  int i = find_key(key);
+  if (i < 0 || c->where[i].source == SRC_DEFAULT) snprintf(buf, n, "%s", c->path[0] ? c->path : "config");
+  else if (c->where[i].source == SRC_SET) snprintf(buf, n, "--set");
+  else snprintf(buf, n, "%s:%d", c->path, c->where[i].line);
+  return buf;
+}
+
+int cb_config_validate(const cb_config *c) {
+  char w[CB_PATH_LEN + 32];
+  if (strcmp(c->mesh_type, "obj") == 0 && !c->mesh_file[0])
+    return cb_fail("%s: mesh.file: required when mesh.type = obj", cb_config_where(c, "mesh.type", w, sizeof w));
+  return CB_OK;
+}
+
+static void write_value(const cb_config *c, const keydef *k, FILE *f) {
+  const char *field = (const char *)c + k->off;
+  switch (k->type) {
+  case T_INT: case T_BOOL: fprintf(f, "%d", *(const int *)field); break;
+  case T_DOUBLE: fprintf(f, "%.17g", *(const double *)field); break;
+  case T_SIZE: fprintf(f, "%.17g %.17g", ((const double *)field)[0], ((const double *)field)[1]); break;
+  case T_VEC3:
+    fprintf(f, "%.17g %.17g %.17g", ((const double *)field)[0], ((const double *)field)[1], ((const double *)field)[2]);
+    break;
+  case T_RHO:
+    if (*(const double *)field == 0) fputs("auto", f);
+    else fprintf(f, "%.17g", *(const double *)field);
+    break;
+  default: fputs(field, f); break;
+  }
+}
+
+void cb_config_write(const cb_config *c, FILE *f, const char *sep) {
+  for (int i = 0; i < NKEYS; i++) {
+    fprintf(f, "%s%s=", i ? sep : "", keys[i].key);
+    write_value(c, &keys[i], f);
+  }
+}
+
+static void put_escaped(const char *s, FILE *f) { /* '|' would end a Markdown table cell */
+  for (; *s; s++) {
+    if (*s == '|') fputc('\\', f);
+    fputc(*s, f);
+  }
+}
+
+void cb_config_write_reference(FILE *f) {
+  fputs("| key | unit | default | meaning |\n|---|---|---|---|\n", f);
+  for (int i = 0; i < NKEYS; i++) {
+    const keydef *k = &keys[i];
+    fprintf(f, "| `%s` | %s | `%s` | ", k->key, k->unit, k->def[0] ? k->def : "(none)");
+    put_escaped(k->doc, f);
+    if (k->type == T_ENUM) {
+      fputs(" Choices:", f);
+      for (int j = 0; choice_at(k, j); j++) fprintf(f, " `%s`", choice_at(k, j));
+      fputs(".", f);
+    }
+    fputs(" |\n", f);
+  }
+}

@@ -1,0 +1,225 @@
+/* Spring term: one spring per vertex pair (mesh edges for stretching, or the
+ * opposite vertices of neighbouring triangles for bending springs).
+ *
+ *   E   = 1/2 k (l - L)^2,           x_ij = x_i - x_j,  l = |x_ij|,  u = x_ij / l
+ *   dE/dx_i = k (l - L) u = -f_i,     dE/dx_j = -dE/dx_i
+ *   H_e = k uu^T + k (1 - L/l)(bi - uu^T)
+ *   Hessian blocks: [ H_e  -H_e ; -H_e  H_e ]  for (i, j)
+ *
+ * Source: GAMES103 lecture, "An Ideal Spring" and "Spring Hessian". The
+ * transverse coefficient k(1 - L/l) passes through cb_definiteness_transverse
+ * (definiteness.c). A spring that reaches zero length has no direction u; its
+ * gradient and Hessian become NaN, which the integrators record as
+ * `diverged` rather than inventing a direction.
+ *
+ * Compressed response (cb_spring_term_set_response): with the Choi-Ko policy
+ * a compressed spring has instead the energy E(l) of cb_choi_ko_eval
+ * (definiteness.c: linear until it buckles, then the immediate-buckling arc),
+ * and then
+ *   dE/dx_i = E'(l) u,   H_e = E''(l) uu^T + (E'(l)/l)(bi - uu^T),
+ * the same form as above with k -> E'' and k(1 - L/l) -> E'/l. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <clothbench/energy.h>
+#include <clothbench/status.h>
+
+typedef struct {
+  cb_term base;
+  int ns;
+  int *ends;    /* 2*ns vertex indices */
+  double *rest; /* ns rest lengths L, m */
+  double k;     /* N/m */
+  cb_choi_ko *ck; /* ns: Choi-Ko response of each spring, or NULL (linear springs) */
+  int *slot;    /* 8*ns: (slot, stride) of blocks ii, ij, ji, jj; slot -1 if pinned */
+} spring_term;
+
+static double spring_energy(const cb_term *t, const double *x, double *grad) {
+  const spring_term *s = (const spring_term *)t;
+  double E = 0.0;
+  for (int e = 0; e < s->ns; e++) {
+    int i = s->ends[2 * e], j = s->ends[2 * e + 1];
+    double d[3] = {x[3 * i] - x[3 * j], x[3 * i + 1] - x[3 * j + 1], x[3 * i + 2] - x[3 * j + 2]};
+    double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    double stretch = l - s->rest[e];
+    double c = s->k * stretch / l; /* dE/dx_i = k (l - L) x_ij / l */
+    if (s->ck && stretch < 0) {
+      double Eb, dEb, d2Eb;
+      cb_choi_ko_eval(&s->ck[e], l, &Eb, &dEb, &d2Eb);
+      E += Eb;       /* E = E(l) */
+      c = dEb / l;   /* dE/dx_i = E'(l) x_ij / l */
+    } else {
+      E += 0.5 * s->k * stretch * stretch; /* E = k/2 (l - L)^2 */
+    }
+    if (grad) {
+      for (int a = 0; a < 3; a++) {
+        grad[3 * i + a] += c * d[a];
+        grad[3 * j + a] -= c * d[a];
+      }
+    }
+  }
+  return E;
+}
+
+static int spring_pattern(const cb_term *t, cb_pattern *p) {
+  const spring_term *s = (const spring_term *)t;
+  const int *fi = t->model->free_index;
+  for (int e = 0; e < s->ns; e++) {
+    int st = cb_pattern_add(p, fi[s->ends[2 * e]], fi[s->ends[2 * e + 1]]);
+    if (st) return st;
+  }
+  return CB_OK;
+}
+
+static int spring_bind(cb_term *t, const cb_sparse *A) {
+  spring_term *s = (spring_term *)t;
+  const int *fi = t->model->free_index;
+  for (int e = 0; e < s->ns; e++) {
+    int bi = fi[s->ends[2 * e]], bj = fi[s->ends[2 * e + 1]];
+    int *q = s->slot + 8 * e;
+    cb_sparse_block_slot(A, bi, bi, q + 0, q + 1);
+    cb_sparse_block_slot(A, bi, bj, q + 2, q + 3);
+    cb_sparse_block_slot(A, bj, bi, q + 4, q + 5);
+    cb_sparse_block_slot(A, bj, bj, q + 6, q + 7);
+    if ((bi >= 0 && q[0] < 0) || (bj >= 0 && q[6] < 0) || (bi >= 0 && bj >= 0 && (q[2] < 0 || q[4] < 0)))
+      return cb_fail("spring %d (%d,%d): block missing from the sparsity pattern", e, s->ends[2 * e], s->ends[2 * e + 1]);
+  }
+  return CB_OK;
+}
+
+static void spring_hessian(const cb_term *t, const double *x, cb_definiteness def, double *val) {
+  const spring_term *s = (const spring_term *)t;
+  for (int e = 0; e < s->ns; e++) {
+    const int *q = s->slot + 8 * e;
+    if (q[0] < 0 && q[6] < 0) continue; /* both ends pinned */
+    int i = s->ends[2 * e], j = s->ends[2 * e + 1];
+    double d[3] = {x[3 * i] - x[3 * j], x[3 * i + 1] - x[3 * j + 1], x[3 * i + 2] - x[3 * j + 2]};
+    double l2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], l = sqrt(l2);
+    double along = s->k, tr = s->k * (1.0 - s->rest[e] / l); /* k, k(1 - L/l) */
+    if (s->ck && l < s->rest[e]) {
+      double Eb, dEb, d2Eb;
+      cb_choi_ko_eval(&s->ck[e], l, &Eb, &dEb, &d2Eb);
+      along = d2Eb;   /* E''(l) */
+      tr = dEb / l;   /* E'(l) / l */
+    }
+    tr = cb_definiteness_transverse(def, tr);
+    double H[9];
+    for (int a = 0; a < 3; a++)
+      for (int b = 0; b < 3; b++) {
+        double uu = d[a] * d[b] / l2;                       /* (uu^T)_ab */
+        H[3 * a + b] = along * uu + tr * ((a == b) - uu);   /* H_e = k uu^T + tr (bi - uu^T) */
+      }
+    cb_sparse_add_block(val, q[0], q[1], H, 1.0);
+    cb_sparse_add_block(val, q[2], q[3], H, -1.0);
+    cb_sparse_add_block(val, q[4], q[5], H, -1.0);
+    cb_sparse_add_block(val, q[6], q[7], H, 1.0);
+  }
+}
+
+static void spring_free(cb_term *t) {
+  spring_term *s = (spring_term *)t;
+  free(s->ends);
+  free(s->rest);
+  free(s->slot);
+  free(s->ck);
+  free(s);
+}
+
+static const cb_term_type spring_type = {"spring", spring_energy, spring_pattern, spring_bind, spring_hessian, spring_free};
+const cb_term_type *const cb_term_spring = &spring_type;
+
+int cb_spring_term_alloc(const cb_model *m, const char *label, int ns, const int *ends, double k, cb_term **out) {
+  *out = NULL;
+  if (!(k >= 0) || !isfinite(k)) return cb_fail("%s springs: stiffness must be >= 0, got %g", label, k);
+  spring_term *s = cb_calloc(1, sizeof *s);
+  if (!s) return CB_ENOMEM;
+  s->base.type = &spring_type;
+  s->base.model = m;
+  snprintf(s->base.label, sizeof s->base.label, "%s", label);
+  s->ns = ns;
+  s->k = k;
+  s->ends = cb_malloc((size_t)2 * ns, sizeof(int));
+  s->rest = cb_malloc((size_t)ns, sizeof(double));
+  s->slot = cb_malloc((size_t)8 * ns, sizeof(int));
+  if (!s->ends || !s->rest || !s->slot) {
+    spring_free(&s->base);
+    return CB_ENOMEM;
+  }
+  const double *x = m->mesh->x;
+  for (int e = 0; e < ns; e++) {
+    int i = ends[2 * e], j = ends[2 * e + 1];
+    if (i < 0 || j < 0 || i >= m->mesh->nv || j >= m->mesh->nv || i == j) {
+      spring_free(&s->base);
+      return cb_fail("%s spring %d joins invalid vertices (%d, %d)", label, e, i, j);
+    }
+    s->ends[2 * e] = i;
+    s->ends[2 * e + 1] = j;
+    double d[3] = {x[3 * i] - x[3 * j], x[3 * i + 1] - x[3 * j + 1], x[3 * i + 2] - x[3 * j + 2]};
+    s->rest[e] = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (!(s->rest[e] > 0)) {
+      spring_free(&s->base);
+      return cb_fail("%s spring %d between vertices %d and %d has zero rest length (coincident vertices)", label, e, i, j);
+    }
+  }
+  *out = &s->base;
+  return CB_OK;
+}
+
+int cb_spring_term_set_response(cb_term *t, cb_definiteness def, double kb) {
+  if (!t || t->type != &spring_type) return cb_fail("set_response: not a spring term");
+  if (def == CB_DEF_CHOI_KO && !(kb > 0 && isfinite(kb)))
+    return cb_fail("%s springs: Choi-Ko bending stiffness must be > 0, got %g", t->label, kb);
+  spring_term *s = (spring_term *)t;
+  free(s->ck);
+  s->ck = NULL;
+  if (def != CB_DEF_CHOI_KO) return CB_OK;
+  s->ck = cb_malloc((size_t)(s->ns > 0 ? s->ns : 1), sizeof *s->ck);
+  if (!s->ck) return CB_ENOMEM;
+  for (int e = 0; e < s->ns; e++) {
+    int st = cb_choi_ko_init(&s->ck[e], s->k, s->rest[e], kb);
+    if (st) {
+      char msg[512];
+      snprintf(msg, sizeof msg, "%s", cb_error_message());
+      free(s->ck);
+      s->ck = NULL;
+      return cb_fail("%s spring %d: %s", t->label, e, msg);
+    }
+  }
+  return CB_OK;
+}
+
+int cb_spring_term_count_compressed(const cb_term *t, const double *x, int *nsprings) {
+  *nsprings = 0;
+  if (!t || t->type != &spring_type) return 0;
+  const spring_term *s = (const spring_term *)t;
+  int c = 0;
+  for (int e = 0; e < s->ns; e++) {
+    int i = s->ends[2 * e], j = s->ends[2 * e + 1];
+    double d[3] = {x[3 * i] - x[3 * j], x[3 * i + 1] - x[3 * j + 1], x[3 * i + 2] - x[3 * j + 2]};
+    c += d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < s->rest[e] * s->rest[e]; /* l < L */
+  }
+  *nsprings = s->ns;
+  return c;
+}
+
+int cb_spring_term_is_choi_ko(const cb_term *t) {
+  return t && t->type == &spring_type && ((const spring_term *)t)->ck;
+}
+
+void cb_term_free(cb_term *t) {
+  if (t) t->type->free(t);
+}
+
+/* ---- bending models (material.bend) -------------------------------------- */
+
+const char *const cb_bend_names[] = {"none", "spring", NULL};
+
+int cb_bend_term_alloc(const char *name, const cb_model *m, double bend_k, cb_term **out) {
+  *out = NULL;
+  if (strcmp(name, "none") == 0) return CB_OK;
+  if (strcmp(name, "spring") == 0) /* a spring across each pair of neighbouring triangles */
+    return cb_spring_term_alloc(m, "bend", m->topo->np, m->topo->pair_opp, bend_k, out);
+  return cb_fail("unknown bending model '%s'", name);
+}

@@ -1,0 +1,103 @@
+/* Solver registry and the shared wrapper: timing and statistics. */
+#include <clothbench/solver.h>
+
+#include <cblas.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <clothbench/status.h>
+#include <clothbench/timer.h>
+
+const cb_solver_type *const cb_solver_types[] = {&cb_solver_cholmod, &cb_solver_jacobi, &cb_solver_chebyshev,
+                                                 &cb_solver_cg, &cb_solver_pcg, NULL};
+
+const char *cb_solver_name(int i) {
+  for (int k = 0; k <= i; k++)
+    if (!cb_solver_types[k]) return NULL;
+  return cb_solver_types[i]->name;
+}
+
+cb_solver_params cb_solver_params_default(void) {
+  cb_solver_params p = {.tol = 1e-8, .max_iters = 1000, .alpha = 1.0, .rho = 0.0, .history_cap = 0,
+                         .monitor = NULL, .monitor_ctx = NULL};
+  return p;
+}
+
+cb_solver_params cb_solver_params_from_config(const cb_config *c) {
+  cb_solver_params p = cb_solver_params_default();
+  p.tol = c->solver_tol;
+  p.max_iters = c->solver_max_iters;
+  p.alpha = c->solver_alpha;
+  p.rho = c->solver_rho;
+  return p;
+}
+
+const cb_solver_type *cb_solver_type_find(const char *name) {
+  for (int i = 0; cb_solver_types[i]; i++)
+    if (strcmp(cb_solver_types[i]->name, name) == 0) return cb_solver_types[i];
+  return NULL;
+}
+
+int cb_solver_alloc(const char *name, const cb_solver_params *p, int n, cb_solver **out) {
+  *out = NULL;
+  const cb_solver_type *t = cb_solver_type_find(name);
+  if (!t) return cb_fail("unknown linear solver '%s'", name);
+  cb_solver *s = cb_calloc(1, sizeof *s);
+  if (!s) return CB_ENOMEM;
+  s->type = t;
+  s->params = p ? *p : cb_solver_params_default();
+  s->n = n;
+  if (s->params.history_cap > 0) {
+    s->stats.history = cb_calloc((size_t)s->params.history_cap, sizeof(double));
+    if (!s->stats.history) { free(s); return CB_ENOMEM; }
+  }
+  int st = t->alloc(s, n);
+  if (st) {
+    free(s->stats.history);
+    free(s);
+    return st;
+  }
+  *out = s;
+  return CB_OK;
+}
+
+int cb_solver_analyze(cb_solver *s, const cb_sparse *A) {
+  double t0 = cb_now_ms();
+  int st = s->type->analyze(s, A);
+  s->stats.analyze_ms = cb_now_ms() - t0;
+  return st;
+}
+
+int cb_solver_factor(cb_solver *s, const cb_sparse *A) {
+  s->stats.setup_ms = 0;
+  double t0 = cb_now_ms();
+  int st = s->type->factor(s, A);
+  s->stats.factor_ms = cb_now_ms() - t0;
+  s->stats.status = st;
+  return st;
+}
+
+int cb_solver_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x) {
+  s->stats.history_len = 0;
+  s->stats.iters = 0;
+  double t0 = cb_now_ms();
+  int st = s->type->solve(s, A, b, x);
+  s->stats.solve_ms = cb_now_ms() - t0;
+  s->stats.status = st;
+  return st;
+}
+
+void cb_solver_free(cb_solver *s) {
+  if (!s) return;
+  s->type->free(s);
+  free(s->stats.history);
+  free(s);
+}
+
+double cb_relative_residual(const cb_sparse *A, const double *b, const double *x, double *work) {
+  cb_sparse_matvec(A, x, work);
+  cblas_daxpy(A->n, -1.0, b, 1, work, 1); /* work = A x - b */
+  double bn = cblas_dnrm2(A->n, b, 1), rn = cblas_dnrm2(A->n, work, 1);
+  return bn > 0 ? rn / bn : rn;
+}

@@ -1,0 +1,70 @@
+#include <clothbench/system.h>
+
+#include <stdlib.h>
+#include <string.h>
+
+#include <clothbench/status.h>
+
+void cb_system_free(cb_system *s) {
+  if (!s) return;
+  for (int k = 0; k < s->nterms; k++) cb_term_free(s->terms[k]);
+  cb_sparse_free(&s->A);
+  free(s->diag);
+  memset(s, 0, sizeof *s);
+}
+
+int cb_system_init(cb_system *s, const cb_model *m, cb_term **terms, int nterms) {
+  memset(s, 0, sizeof *s);
+  s->model = m;
+  if (nterms > CB_MAX_TERMS) {
+    for (int k = 0; k < nterms; k++) cb_term_free(terms[k]);
+    return cb_fail("too many energy terms (%d > %d)", nterms, CB_MAX_TERMS);
+  }
+  for (int k = 0; k < nterms; k++) s->terms[s->nterms++] = terms[k];
+  cb_pattern p;
+  int st = cb_pattern_init(&p, m->nfree);
+  for (int k = 0; st == CB_OK && k < s->nterms; k++)
+    if (s->terms[k]->type->pattern) st = s->terms[k]->type->pattern(s->terms[k], &p);
+  if (st == CB_OK) st = cb_sparse_from_pattern(&p, &s->A);
+  cb_pattern_free(&p);
+  for (int k = 0; st == CB_OK && k < s->nterms; k++)
+    if (s->terms[k]->type->bind) st = s->terms[k]->type->bind(s->terms[k], &s->A);
+  if (st == CB_OK) {
+    s->diag = cb_malloc((size_t)s->A.n, sizeof(int));
+    if (!s->diag) st = CB_ENOMEM;
+    for (int i = 0; st == CB_OK && i < s->A.n; i++) s->diag[i] = cb_sparse_diag_index(&s->A, i);
+  }
+  if (st) cb_system_free(s);
+  return st;
+}
+
+double cb_system_energy(const cb_system *s, const double *x, double *grad, double *per_term) {
+  if (grad) memset(grad, 0, (size_t)3 * s->model->mesh->nv * sizeof(double));
+  double E = 0.0;
+  for (int k = 0; k < s->nterms; k++) {
+    double e = s->terms[k]->type->energy(s->terms[k], x, grad);
+    if (per_term) per_term[k] = e;
+    E += e;
+  }
+  return E;
+}
+
+double cb_system_elastic_energy(const cb_system *s, const double *x) {
+  double E = 0.0;
+  for (int k = 0; k < s->nterms; k++)
+    if (s->terms[k]->type->hessian) E += s->terms[k]->type->energy(s->terms[k], x, NULL);
+  return E;
+}
+
+void cb_system_assemble(cb_system *s, const double *x, double mass_scale, cb_definiteness def, double shift) {
+  cb_sparse *A = &s->A;
+  memset(A->val, 0, (size_t)A->nnz * sizeof(double));
+  const cb_model *m = s->model;
+  for (int v = 0; v < m->mesh->nv; v++) { /* A += mass_scale M + shift bi on the diagonal */
+    int bi = m->free_index[v];
+    if (bi < 0) continue;
+    for (int a = 0; a < 3; a++) A->val[s->diag[3 * bi + a]] += mass_scale * m->mass[v] + shift;
+  }
+  for (int k = 0; k < s->nterms; k++) /* A += H_term(x) */
+    if (s->terms[k]->type->hessian) s->terms[k]->type->hessian(s->terms[k], x, def, A->val);
+}

@@ -1,0 +1,9 @@
+#include <clothbench/timer.h>
+
+#include <time.h>
+
+double cb_now_ms(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}

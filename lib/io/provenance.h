@@ -1,0 +1,25 @@
+/* Run-time set-up shared by every program, and the provenance lines that open
+ * every CSV: git revision, compiler and flags, library versions, BLAS
+ * threads, config, command and date. */
+#ifndef CB_PROVENANCE_H
+#define CB_PROVENANCE_H
+
+#include <stdio.h>
+
+#include <clothbench/config.h>
+
+/* Written by the build (build/version.c). */
+extern const char cb_build_git[];    /* "abc1234" or "unknown" */
+extern const char cb_build_dirty[];  /* "clean" or "dirty" */
+extern const char cb_build_cflags[];
+
+/* Turns GSL's abort-on-error handler off (we check return codes), and runs
+ * OpenBLAS single-threaded unless OPENBLAS_NUM_THREADS says otherwise, so that
+ * timings compare and reruns agree. Call first thing in main(). */
+void cb_runtime_init(void);
+
+/* "# key: value" lines. cfg may be NULL (experiments describe their sweep in
+ * extra lines); argv is echoed as the command. */
+void cb_provenance_write(FILE *f, const char *program, int argc, char **argv, const cb_config *cfg);
+
+#endif
