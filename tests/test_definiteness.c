@@ -16,6 +16,7 @@
 #include "newton_trace.h"
 #include "spd_probe.h"
 #include "support.h"
+#include <clothbench/rng.h>
 
 static const double PI = 3.14159265358979323846;
 
@@ -268,11 +269,9 @@ Test(choi_ko, spring_term_gradient_and_hessian_match_finite_differences) {
   cb_scene *s = test_scene(sets);
   int n = 3 * s->mesh.nv;
   double x[48], g[48], gp[48], gm[48];
-  unsigned long long r = 12345;
-  for (int i = 0; i < n; i++) { /* 0.95 x rest + a deterministic perturbation */
-    r = r * 6364136223846793005ULL + 1442695040888963407ULL;
-    x[i] = 0.95 * s->mesh.x[i] + 0.25 * ((double)(r >> 11) / 9007199254740992.0 - 0.5);
-  }
+  cb_rng r = cb_rng_raw(12345);
+  for (int i = 0; i < n; i++) /* 0.95 x rest + a deterministic perturbation */
+    x[i] = 0.95 * s->mesh.x[i] + 0.25 * (cb_rng_uniform(&r) - 0.5);
   double f = cb_compressed_fraction(&s->sys, x);
   cr_assert(f > 0.2 && f < 0.9, "a mix of compressed and stretched springs (%g)", f);
   cb_system_energy(&s->sys, x, g, NULL);

@@ -13,13 +13,9 @@
 #include <string.h>
 
 #include "support.h"
+#include <clothbench/rng.h>
 
 static void setup(void) { gsl_set_error_handler_off(); }
-
-static double urand(uint64_t *s) {
-  *s = *s * 6364136223846793005ULL + 1442695040888963407ULL;
-  return (double)(*s >> 11) / 9007199254740992.0;
-}
 
 /* Ascending eigenvalues of diag(d) A diag(d) (d may be NULL), our own dense solve. */
 static double *dense_spectrum(const cb_sparse *A, const double *d) {
@@ -48,12 +44,13 @@ static double *dense_spectrum(const cb_sparse *A, const double *d) {
 
 /* Scene at a jittered state with its matrix assembled. */
 static cb_scene *scene_with_matrix(const char *const *sets, double amp, double mass_scale, cb_definiteness def,
-                                   uint64_t seed) {
+                                   uint64_t seed0) {
+  cb_rng seed = cb_rng_raw(seed0);
   cb_scene *s = test_scene(sets);
   int n3 = 3 * s->mesh.nv;
   double *x = malloc((size_t)n3 * sizeof(double));
   cr_assert(x);
-  for (int i = 0; i < n3; i++) x[i] = s->x0[i] + amp * (2 * urand(&seed) - 1);
+  for (int i = 0; i < n3; i++) x[i] = s->x0[i] + amp * (2 * cb_rng_uniform(&seed) - 1);
   cb_system_assemble(&s->sys, x, mass_scale, def, 0.0);
   free(x);
   return s;

@@ -17,13 +17,9 @@
 #include <string.h>
 
 #include "support.h"
+#include <clothbench/rng.h>
 
 /* ---- helpers ---------------------------------------------------------------- */
-
-static double urand(uint64_t *s) { /* uniform in [0, 1), 64-bit LCG */
-  *s = *s * 6364136223846793005ULL + 1442695040888963407ULL;
-  return (double)(*s >> 11) / 9007199254740992.0;
-}
 
 typedef struct {
   int n, m;
@@ -58,8 +54,8 @@ static double *jittered(const cb_scene *s, double amp, uint64_t seed) {
   int n3 = 3 * s->mesh.nv;
   double *x = malloc((size_t)n3 * sizeof(double));
   cr_assert(x);
-  uint64_t st = seed;
-  for (int i = 0; i < n3; i++) x[i] = s->x0[i] + amp * (2.0 * urand(&st) - 1.0);
+  cb_rng st = cb_rng_raw(seed);
+  for (int i = 0; i < n3; i++) x[i] = s->x0[i] + amp * (2.0 * cb_rng_uniform(&st) - 1.0);
   return x;
 }
 

@@ -16,13 +16,9 @@
 #include <string.h>
 
 #include "support.h"
+#include <clothbench/rng.h>
 
 /* ---- helpers ---------------------------------------------------------------- */
-
-static double urand(uint64_t *s) { /* uniform in [0, 1) */
-  *s = *s * 6364136223846793005ULL + 1442695040888963407ULL;
-  return (double)(*s >> 11) / 9007199254740992.0;
-}
 
 static void setup(void) { gsl_set_error_handler_off(); }
 
@@ -50,10 +46,11 @@ static void fill_from_dense(cb_sparse *A, const gsl_matrix *S) {
 }
 
 /* S = B^T B + n I with B uniform in [-1, 1]: SPD, every entry nonzero. */
-static gsl_matrix *random_spd_full(size_t n, uint64_t seed) {
+static gsl_matrix *random_spd_full(size_t n, uint64_t seed0) {
+  cb_rng seed = cb_rng_raw(seed0);
   gsl_matrix *B = gsl_matrix_alloc(n, n), *S = gsl_matrix_calloc(n, n);
   for (size_t i = 0; i < n; i++)
-    for (size_t j = 0; j < n; j++) gsl_matrix_set(B, i, j, 2 * urand(&seed) - 1);
+    for (size_t j = 0; j < n; j++) gsl_matrix_set(B, i, j, 2 * cb_rng_uniform(&seed) - 1);
   for (size_t i = 0; i < n; i++)
     for (size_t j = 0; j < n; j++) {
       double s = i == j ? (double)n : 0.0;
@@ -66,21 +63,22 @@ static gsl_matrix *random_spd_full(size_t n, uint64_t seed) {
 
 /* Random symmetric values on the sparse block pattern of A, made SPD by
  * strict diagonal dominance: S_ii = sum_j |S_ij| + 1 + u. */
-static gsl_matrix *random_spd_on_pattern(const cb_sparse *A, uint64_t seed) {
+static gsl_matrix *random_spd_on_pattern(const cb_sparse *A, uint64_t seed0) {
+  cb_rng seed = cb_rng_raw(seed0);
   size_t n = (size_t)A->n;
   gsl_matrix *S = gsl_matrix_calloc(n, n);
   for (int j = 0; j < A->n; j++)
     for (int p = A->colp[j]; p < A->colp[j + 1]; p++) {
       int i = A->rowi[p];
       if (i <= j) continue;
-      double v = 2 * urand(&seed) - 1;
+      double v = 2 * cb_rng_uniform(&seed) - 1;
       gsl_matrix_set(S, (size_t)i, (size_t)j, v);
       gsl_matrix_set(S, (size_t)j, (size_t)i, v);
     }
   for (size_t i = 0; i < n; i++) {
     double r = 0;
     for (size_t j = 0; j < n; j++) r += fabs(gsl_matrix_get(S, i, j));
-    gsl_matrix_set(S, i, i, r + 1 + urand(&seed));
+    gsl_matrix_set(S, i, i, r + 1 + cb_rng_uniform(&seed));
   }
   return S;
 }
@@ -208,10 +206,11 @@ static void check_solver_on(const char *name, const cb_sparse *A, const gsl_matr
   free(xr);
 }
 
-static double *random_vec(int n, uint64_t seed) {
+static double *random_vec(int n, uint64_t seed0) {
+  cb_rng seed = cb_rng_raw(seed0);
   double *b = malloc((size_t)n * sizeof(double));
   cr_assert(b);
-  for (int i = 0; i < n; i++) b[i] = 2 * urand(&seed) - 1;
+  for (int i = 0; i < n; i++) b[i] = 2 * cb_rng_uniform(&seed) - 1;
   return b;
 }
 
@@ -263,14 +262,14 @@ Test(solver, sparse_block_pattern_random_spd, .init = setup) {
   /* 40 blocks in a ring plus random chords */
   const int nblk = 40;
   int pairs[2 * 80], np = 0;
-  uint64_t seed = 5;
+  cb_rng seed = cb_rng_raw(5);
   for (int i = 0; i < nblk; i++) {
     pairs[2 * np] = i;
     pairs[2 * np + 1] = (i + 1) % nblk;
     np++;
   }
   for (int k = 0; k < 30; k++) {
-    int i = (int)(urand(&seed) * nblk), j = (int)(urand(&seed) * nblk);
+    int i = (int)(cb_rng_uniform(&seed) * nblk), j = (int)(cb_rng_uniform(&seed) * nblk);
     if (i == j) continue;
     pairs[2 * np] = i;
     pairs[2 * np + 1] = j;
@@ -303,8 +302,8 @@ Test(solver, newton_matrices_from_scenes, .init = setup) {
     int n3 = 3 * sc->mesh.nv;
     double *x = malloc((size_t)n3 * sizeof(double));
     cr_assert(x);
-    uint64_t seed = 300 + v;
-    for (int i = 0; i < n3; i++) x[i] = sc->x0[i] + 0.2 * (2 * urand(&seed) - 1);
+    cb_rng seed = cb_rng_raw(300 + v);
+    for (int i = 0; i < n3; i++) x[i] = sc->x0[i] + 0.2 * (2 * cb_rng_uniform(&seed) - 1);
     const double dt = 1.0 / 30;
     /* drop keeps A SPD whatever the state */
     cb_system_assemble(&sc->sys, x, 1.0 / (dt * dt), CB_DEF_DROP, 0.0);
@@ -333,9 +332,9 @@ Test(solver, refactor_on_a_fixed_pattern, .init = setup) {
     const char *name = cb_solver_types[k]->name;
     /* one weight for all rounds: the smallest that the rounds need */
     cb_solver_params p = tight_params();
-    uint64_t seed = 77;
+    cb_rng seed = cb_rng_raw(77);
     for (int round = 0; round < 4; round++) {
-      for (int i = 0; i < n3; i++) x[i] = sc->x0[i] * (1 + 0.1 * round) + 0.3 * (2 * urand(&seed) - 1);
+      for (int i = 0; i < n3; i++) x[i] = sc->x0[i] * (1 + 0.1 * round) + 0.3 * (2 * cb_rng_uniform(&seed) - 1);
       cb_system_assemble(&sc->sys, x, 900.0 / (1 + round), CB_DEF_DROP, 0.0);
       gsl_matrix *S = test_dense(&sc->sys.A);
       p.alpha = fmin(p.alpha, params_for(S).alpha);
@@ -344,9 +343,9 @@ Test(solver, refactor_on_a_fixed_pattern, .init = setup) {
     cb_solver *s = NULL;
     cr_assert_eq(cb_solver_alloc(name, &p, n, &s), CB_OK);
     cr_assert_eq(cb_solver_analyze(s, &sc->sys.A), CB_OK);
-    seed = 77;
+    seed = cb_rng_raw(77);
     for (int round = 0; round < 4; round++) {
-      for (int i = 0; i < n3; i++) x[i] = sc->x0[i] * (1 + 0.1 * round) + 0.3 * (2 * urand(&seed) - 1);
+      for (int i = 0; i < n3; i++) x[i] = sc->x0[i] * (1 + 0.1 * round) + 0.3 * (2 * cb_rng_uniform(&seed) - 1);
       cb_system_assemble(&sc->sys, x, 900.0 / (1 + round), CB_DEF_DROP, 0.0);
       gsl_matrix *S = test_dense(&sc->sys.A);
       int fs = cb_solver_factor(s, &sc->sys.A);
@@ -381,7 +380,7 @@ Test(solver, cholmod_residual_on_the_hanging_scene, .init = setup) {
   cr_assert_eq(n, 3 * (21 * 21 - 2));
   double *x = malloc((size_t)n3 * sizeof(double)), *sol = calloc((size_t)n, sizeof(double));
   cr_assert(x && sol);
-  uint64_t seed = 9; /* edges are 0.5 m */
+  cb_rng seed = cb_rng_raw(9); /* edges are 0.5 m */
   const double dt = 1.0 / 30;
   cb_solver *s = NULL;
   cb_solver_params p = tight_params();
@@ -391,9 +390,9 @@ Test(solver, cholmod_residual_on_the_hanging_scene, .init = setup) {
   for (int d = 0; d < CB_DEF_COUNT; d++) {
     /* drop: any state (A is SPD by construction); none: a stretched state
      * (compressed springs could make the exact A indefinite) */
-    seed = 9;
+    seed = cb_rng_raw(9);
     double scale = d == CB_DEF_DROP ? 1.0 : 1.1, amp = d == CB_DEF_DROP ? 0.3 : 0.02;
-    for (int i = 0; i < n3; i++) x[i] = scale * sc->x0[i] + amp * (2 * urand(&seed) - 1);
+    for (int i = 0; i < n3; i++) x[i] = scale * sc->x0[i] + amp * (2 * cb_rng_uniform(&seed) - 1);
     cb_system_assemble(&sc->sys, x, 1.0 / (dt * dt), (cb_definiteness)d, 0.0);
     int st = cb_solver_factor(s, &sc->sys.A);
     cr_assert_eq(st, CB_OK, "def=%s: %s (%s)", cb_definiteness_names[d], cb_status_name(st), cb_error_message());

@@ -11,6 +11,7 @@
 
 #include "capture.h"
 #include "support.h"
+#include <clothbench/rng.h>
 
 /* cb_sparse (3x3 block pattern) from a dense symmetric n x n matrix, n = 3 nblk. */
 static void from_dense(const double *M, int nblk, cb_sparse *A) {
@@ -35,11 +36,10 @@ static void from_dense(const double *M, int nblk, cb_sparse *A) {
 static void dd_matrix(int nblk, cb_sparse *A) {
   int n = 3 * nblk;
   double *M = calloc((size_t)n * n, sizeof(double));
-  unsigned long long s = 12345;
+  cb_rng rng = cb_rng_raw(12345);
   for (int i = 0; i < n; i++)
     for (int j = i + 1; j < n; j++) {
-      s = s * 6364136223846793005ULL + 1442695040888963407ULL;
-      double u = (double)(s >> 11) / 9007199254740992.0;
+      double u = cb_rng_uniform(&rng);
       if (u < 0.33) M[i * n + j] = M[j * n + i] = 6 * u - 1; /* in [-1, 0.98] */
     }
   for (int i = 0; i < n; i++) {

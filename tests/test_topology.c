@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "support.h"
+#include <clothbench/rng.h>
 
 /* ---- helpers ---------------------------------------------------------------- */
 
@@ -326,30 +327,25 @@ Test(euler, concentric_rings_disk) {
   cb_topology_free(&t);
 }
 
-static unsigned lcg(unsigned *s) {
-  *s = *s * 1664525u + 1013904223u;
-  return *s >> 8;
-}
-
 Test(euler, jittered_random_diagonals) {
   /* a 9 x 7 grid with jittered vertices and each quad split along a random
    * diagonal: still a disk, so E = 3V - 3 - B with B = 2*8 + 2*6 = 28 */
   for (unsigned seed = 1; seed <= 5; seed++) {
     enum { N = 9, M = 7 };
-    unsigned s = seed;
+    cb_rng s = cb_rng_seed(seed);
     double x[3 * N * M];
     int tri[3 * 2 * (N - 1) * (M - 1)], nt = 0;
     for (int j = 0; j < M; j++)
       for (int i = 0; i < N; i++) {
-        x[3 * (j * N + i)] = i + 0.3 * ((lcg(&s) % 1000) / 1000.0 - 0.5);
-        x[3 * (j * N + i) + 1] = j + 0.3 * ((lcg(&s) % 1000) / 1000.0 - 0.5);
-        x[3 * (j * N + i) + 2] = 0.2 * ((lcg(&s) % 1000) / 1000.0);
+        x[3 * (j * N + i)] = i + 0.3 * (cb_rng_uniform(&s) - 0.5);
+        x[3 * (j * N + i) + 1] = j + 0.3 * (cb_rng_uniform(&s) - 0.5);
+        x[3 * (j * N + i) + 2] = 0.2 * cb_rng_uniform(&s);
       }
     for (int j = 0; j + 1 < M; j++)
       for (int i = 0; i + 1 < N; i++) {
         int a = j * N + i, b = a + 1, c = a + N + 1, d = a + N;
         int *t = tri + 3 * nt;
-        if (lcg(&s) & 1) { t[0] = a; t[1] = b; t[2] = c; t[3] = a; t[4] = c; t[5] = d; }
+        if (cb_rng_next(&s) >> 63) { t[0] = a; t[1] = b; t[2] = c; t[3] = a; t[4] = c; t[5] = d; }
         else { t[0] = a; t[1] = b; t[2] = d; t[3] = b; t[4] = c; t[5] = d; }
         nt += 2;
       }

@@ -19,6 +19,7 @@
 #include <clothbench/clothbench.h>
 #include "experiment.h"
 #include "provenance.h"
+#include <clothbench/rng.h>
 
 /* Irregular disk: a centre vertex and rings of round(6.5 r) vertices, each
  * ring zipped to the previous one by angle, so valences vary (5, 6, 7, ...). */
@@ -84,11 +85,10 @@ static void count_row(FILE *f, const char *name, cb_mesh *m, unsigned seed) {
   cb_topology tp;
   if (cb_topology_build(m, &tp)) { fprintf(f, "count,%s,,,%d,%d,,,,,,,,%s\n", name, m->nv, m->nt, "bad_input"); return; }
   double *x = malloc((size_t)3 * m->nv * sizeof *x);
-  unsigned long long s = 0x9E3779B97F4A7C15ULL * seed;
+  cb_rng rng = cb_rng_seed(seed);
   double h = 0.3 * sqrt(cb_mesh_triangle_area(m, m->x, 0)); /* about a third of an edge */
   for (int i = 0; i < 3 * m->nv; i++) { /* generic embedding: jitter every coordinate */
-    s = s * 6364136223846793005ULL + 1442695040888963407ULL;
-    x[i] = m->x[i] + h * ((double)(s >> 11) / 9007199254740992.0 - 0.5);
+    x[i] = m->x[i] + h * (cb_rng_uniform(&rng) - 0.5);
   }
   int dofs = free_dofs(m, &tp, x);
   fprintf(f, "count,%s,,,%d,%d,%d,%d,%d,%d,%d,%d,%d,%s\n", name, m->nv, m->nt, tp.ne, tp.nb, 3 * m->nv - 3 - tp.nb,

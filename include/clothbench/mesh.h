@@ -52,6 +52,10 @@ int cb_mesh_chain(int n, double length, cb_plane plane, cb_mesh *out);
  * fewer than 3 vertices, and zero-area triangles. */
 int cb_mesh_read_obj(const char *path, cb_mesh *out);
 
+/* Length of the diagonal of the axis-aligned bounding box of the rest
+ * positions m->x, m (0 for an empty or one-point mesh). */
+double cb_mesh_bbox_diagonal(const cb_mesh *m);
+
 /* Prints positions x (3*nv, or the mesh's own if NULL), the triangles and the
  * line elements as OBJ to f. Writing a file atomically is the I/O layer's
  * cb_mesh_write_obj (lib/io/outfile.h). */

@@ -23,11 +23,14 @@ typedef struct cb_scene {
   cb_system sys;
   double *x0, *v0;       /* initial state, 3*nv each */
   double gravity[3];     /* m/s^2 (also inside the gravity term, if any) */
-  double energy_scale;   /* S of integrator.diverge_ratio, J */
+  double energy_scale;   /* divergence scale S of integrator.diverge_ratio, less the initial kinetic energy, J */
 } cb_scene;
 
 int cb_scene_build(const cb_config *cfg, cb_scene **out);
 void cb_scene_free(cb_scene *s);
+
+/* Sum of the vertex masses, kg. */
+double cb_scene_total_mass(const cb_scene *s);
 
 /* Kinetic energy 1/2 sum m_i |v_i|^2, J. */
 double cb_scene_kinetic(const cb_scene *s, const double *v);

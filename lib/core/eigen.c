@@ -11,6 +11,7 @@
 
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
+#include <clothbench/rng.h>
 
 cb_lanczos_params cb_lanczos_params_default(void) {
   cb_lanczos_params p = {.max_steps = 300, .tol = 1e-8, .seed = 1, .reorth = 1, .done = NULL, .done_ctx = NULL};
@@ -104,11 +105,8 @@ int cb_lanczos_ws(cb_linop op, void *ctx, const cb_lanczos_params *pp, cb_lanczo
   int *tiw = ws->tiw;
   {
     /* deterministic pseudo-random start vector (64-bit LCG) */
-    unsigned long long s = 0x9E3779B97F4A7C15ULL * (p.seed + 1);
-    for (int i = 0; i < n; i++) {
-      s = s * 6364136223846793005ULL + 1442695040888963407ULL;
-      Q[i] = (double)(s >> 11) / 9007199254740992.0 - 0.5;
-    }
+    cb_rng rng = cb_rng_seed((uint64_t)(p.seed + 1));
+    for (int i = 0; i < n; i++) Q[i] = cb_rng_uniform(&rng) - 0.5;
     double nq = cblas_dnrm2(n, Q, 1);
     cblas_dscal(n, 1.0 / nq, Q, 1);
   }

@@ -280,6 +280,18 @@ int cb_mesh_read_obj(const char *path, cb_mesh *out) {
   return st;
 }
 
+double cb_mesh_bbox_diagonal(const cb_mesh *m) {
+  if (m->nv <= 0) return 0.0;
+  double lo[3], hi[3], d2 = 0;
+  for (int a = 0; a < 3; a++) lo[a] = hi[a] = m->x[a];
+  for (int i = 0; i < 3 * m->nv; i++) {
+    if (m->x[i] < lo[i % 3]) lo[i % 3] = m->x[i];
+    if (m->x[i] > hi[i % 3]) hi[i % 3] = m->x[i];
+  }
+  for (int a = 0; a < 3; a++) d2 += (hi[a] - lo[a]) * (hi[a] - lo[a]); /* D^2 = sum_a (hi_a - lo_a)^2 */
+  return sqrt(d2);
+}
+
 void cb_mesh_print_obj(const cb_mesh *m, const double *x, FILE *f) {
   if (!x) x = m->x;
   fprintf(f, "# clothbench mesh: %d vertices, %d triangles\n", m->nv, m->nt);

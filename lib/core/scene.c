@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include <clothbench/status.h>
+#include <clothbench/vec.h>
 
 static int cmp_int(const void *a, const void *b) {
   int p = *(const int *)a, q = *(const int *)b;
@@ -76,6 +77,12 @@ void cb_scene_free(cb_scene *s) {
   free(s->mass); free(s->pinned); free(s->free_index); free(s->free_vertex);
   free(s->x0); free(s->v0);
   free(s);
+}
+
+double cb_scene_total_mass(const cb_scene *s) {
+  double msum = 0;
+  for (int i = 0; i < s->mesh.nv; i++) msum += s->mass[i];
+  return msum;
 }
 
 double cb_scene_kinetic(const cb_scene *s, const double *v) {
@@ -205,15 +212,9 @@ int cb_scene_build(const cb_config *cfg, cb_scene **out) {
     for (int k = 0; k < nterms; k++) cb_term_free(terms[k]);
   if (st == CB_OK) {
     /* x0: rest positions scaled about their centroid; v0 = 0 */
-    double c[3] = {0, 0, 0}, lo[3], hi[3];
-    for (int a = 0; a < 3; a++) lo[a] = hi[a] = s->mesh.x[a];
+    double c[3] = {0, 0, 0};
     for (int i = 0; i < nv; i++)
-      for (int a = 0; a < 3; a++) {
-        double xi = s->mesh.x[3 * i + a];
-        c[a] += xi / nv;
-        if (xi < lo[a]) lo[a] = xi;
-        if (xi > hi[a]) hi[a] = xi;
-      }
+      for (int a = 0; a < 3; a++) c[a] += s->mesh.x[3 * i + a] / nv;
     for (int i = 0; i < 3 * nv; i++) s->x0[i] = c[i % 3] + cfg->initial_scale * (s->mesh.x[i] - c[i % 3]);
     /* driven pins: v_i = -sign((p_i - pc).sq) sq, pc = centroid of the pins' initial positions */
     const double *sq = cfg->pin_squeeze;
@@ -228,12 +229,12 @@ int cb_scene_build(const cb_config *cfg, cb_scene **out) {
         for (int a = 0; a < 3; a++) s->v0[3 * s->pinned[k] + a] = sg * sq[a];
       }
     }
-    double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
-    double gnorm = sqrt(cfg->gravity[0] * cfg->gravity[0] + cfg->gravity[1] * cfg->gravity[1] + cfg->gravity[2] * cfg->gravity[2]);
-    double msum = 0;
-    for (int i = 0; i < nv; i++) msum += s->mass[i];
-    /* S = kinetic(0) + elastic(x0) + (sum m_i |g|) * diag + 1e-12 J */
-    s->energy_scale = cb_system_elastic_energy(&s->sys, s->x0) + msum * gnorm * diag * fmax(1.0, cfg->initial_scale) + 1e-12;
+    /* the divergence scale, less the kinetic energy (cb_run adds it):
+     * S = elastic(x0) + (sum m_i) |g| D max(1, initial_scale) + 1e-12 J, D the rest bounding-box diagonal.
+     * lib/instruments/stability.c's energy scale is a different one, of a perturbed start state. */
+    s->energy_scale = cb_system_elastic_energy(&s->sys, s->x0) +
+                      cb_scene_total_mass(s) * cb_v3_norm(cfg->gravity) * cb_mesh_bbox_diagonal(&s->mesh) * fmax(1.0, cfg->initial_scale) +
+                      1e-12;
   }
   if (st) {
     cb_scene_free(s);

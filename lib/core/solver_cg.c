@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "solver_iterative.h"
+#include <clothbench/vec.h>
 
 typedef struct {
   int precond;
@@ -104,26 +105,20 @@ static void apply_precond(const cg_work *w, int nblk, const double *r, double *z
   }
 }
 
-static double dot(int n, const double *a, const double *b) {
-  double s = 0;
-  for (int i = 0; i < n; i++) s += a[i] * b[i];
-  return s;
-}
-
 static int cg_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x) {
   cg_work *w = s->work;
   int n = A->n, status = CB_NOT_CONVERGED;
-  double bnorm = sqrt(dot(n, b, b));
+  double bnorm = sqrt(cb_vec_dot(n, b, b));
   double r0 = cb_sparse_residual(A, b, x, w->r);
   if (cb_iter_stop(s, 0, r0, r0, bnorm, x, &status)) return status;
   status = CB_NOT_CONVERGED;
   double *z = w->precond ? w->z : w->r;
   if (w->precond) apply_precond(w, A->nblk, w->r, z);
   memcpy(w->p, z, (size_t)n * sizeof(double));
-  double rz = dot(n, w->r, z);
+  double rz = cb_vec_dot(n, w->r, z);
   for (int k = 0; k < s->params.max_iters; k++) {
     cb_sparse_matvec(A, w->p, w->q); /* q = A p */
-    double pq = dot(n, w->p, w->q);
+    double pq = cb_vec_dot(n, w->p, w->q);
     if (!(pq > 0)) {
       s->stats.iters = k;
       if (!isfinite(pq)) return cb_fail_status(CB_DIVERGED, "%s: NaN at iteration %d", s->type->name, k + 1);
@@ -139,7 +134,7 @@ static int cg_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x
     if (cb_iter_stop(s, k + 1, sqrt(rr), r0, bnorm, x, &status)) return status;
     status = CB_NOT_CONVERGED;
     if (w->precond) apply_precond(w, A->nblk, w->r, z);
-    double rz_new = w->precond ? dot(n, w->r, z) : rr;
+    double rz_new = w->precond ? cb_vec_dot(n, w->r, z) : rr;
     double beta = rz_new / rz;
     rz = rz_new;
     for (int i = 0; i < n; i++) w->p[i] = z[i] + beta * w->p[i]; /* p = z + beta p */

@@ -9,6 +9,7 @@
 
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
+#include <clothbench/vec.h>
 
 enum { REF_MAX_HALVINGS = 60 };
 #define REF_ARMIJO 1e-4 /* F(x + a dx) <= F(x) + 1e-4 a grad F . dx */
@@ -45,15 +46,8 @@ int cb_reference_alloc(cb_scene *s, const cb_reference_params *p, cb_reference *
   r->scene = s;
   r->p = *p;
   if (r->p.tol_dx == 0) { /* 1e-12 x diagonal of the rest bounding box */
-    const cb_mesh *m = &s->mesh;
-    double lo[3], hi[3], d2 = 0;
-    for (int a = 0; a < 3; a++) lo[a] = hi[a] = m->x[a];
-    for (int i = 0; i < 3 * m->nv; i++) {
-      if (m->x[i] < lo[i % 3]) lo[i % 3] = m->x[i];
-      if (m->x[i] > hi[i % 3]) hi[i % 3] = m->x[i];
-    }
-    for (int a = 0; a < 3; a++) d2 += (hi[a] - lo[a]) * (hi[a] - lo[a]);
-    r->p.tol_dx = 1e-12 * (d2 > 0 ? sqrt(d2) : 1.0);
+    double D = cb_mesh_bbox_diagonal(&s->mesh);
+    r->p.tol_dx = 1e-12 * (D > 0 ? D : 1.0);
   }
   size_t n3 = (size_t)3 * s->mesh.nv, nf = (size_t)s->sys.A.n;
   r->xhat = cb_malloc(n3, sizeof(double));
@@ -116,12 +110,6 @@ static void move(const cb_scene *s, double *x, const double *base, const double 
   }
 }
 
-static double dot(int n, const double *a, const double *b) {
-  double s = 0;
-  for (int i = 0; i < n; i++) s += a[i] * b[i];
-  return s;
-}
-
 int cb_reference_step(cb_reference *r, const double *x0, const double *v0, double *xstar, cb_reference_stats *st) {
   memset(st, 0, sizeof *st);
   double t0 = cb_now_ms();
@@ -137,7 +125,7 @@ int cb_reference_step(cb_reference *r, const double *x0, const double *v0, doubl
   int status = CB_NOT_CONVERGED, dx_small = 0, hessian = 0;
   for (int k = 0;; k++) {
     double S = 0, F = objective(r, r->x, r->gF, &S);
-    double gn = sqrt(dot(nf, r->gF, r->gF));
+    double gn = sqrt(cb_vec_dot(nf, r->gF, r->gF));
     if (k == 0) g0 = gn;
     st->F = F;
     st->grad_norm = gn;
@@ -175,7 +163,7 @@ int cb_reference_step(cb_reference *r, const double *x0, const double *v0, doubl
     }
     if (fs) { status = fs > 0 ? fs : CB_LINEAR_FAILED; break; }
 
-    double slope = dot(nf, r->gF, r->dx); /* grad F . dx < 0 for SPD A */
+    double slope = cb_vec_dot(nf, r->gF, r->dx); /* grad F . dx < 0 for SPD A */
     if (!(slope < 0)) { status = CB_LS_FAILED; break; }
     alpha = 1.0;
     int ok = -slope <= REF_FLAT * S; /* decrease below F's round-off: full step */

@@ -11,6 +11,8 @@
 #include <clothbench/solver.h>
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
+#include <clothbench/rng.h>
+#include <clothbench/vec.h>
 
 #define STANDARD_GRAVITY 9.8 /* m/s^2, used for the energy scale when gravity is off */
 
@@ -72,40 +74,21 @@ int cb_stability_classify(const double *r, long n, const cb_stability_params *p,
 
 /* ---- start state and energy scale -------------------------------------------- */
 
-static double gravity_norm(const cb_scene *s) {
-  return sqrt(s->gravity[0] * s->gravity[0] + s->gravity[1] * s->gravity[1] + s->gravity[2] * s->gravity[2]);
-}
-
-static double rest_diagonal(const cb_mesh *m) {
-  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0}, d2 = 0;
-  for (int i = 0; i < m->nv; i++)
-    for (int a = 0; a < 3; a++) {
-      double xi = m->x[3 * i + a];
-      if (i == 0 || xi < lo[a]) lo[a] = xi;
-      if (i == 0 || xi > hi[a]) hi[a] = xi;
-    }
-  for (int a = 0; a < 3; a++) d2 += (hi[a] - lo[a]) * (hi[a] - lo[a]);
-  return sqrt(d2);
-}
-
 double cb_stability_energy_scale(const cb_scene *s, const double *x, const double *v) {
-  double g = gravity_norm(s), msum = 0;
+  double g = cb_v3_norm(s->gravity);
   if (!(g > 0)) g = STANDARD_GRAVITY;
-  for (int i = 0; i < s->mesh.nv; i++) msum += s->mass[i];
   /* S = elastic(x) + kinetic(v) + (sum m_i) g D + 1e-12 J */
-  return cb_system_elastic_energy(&s->sys, x) + cb_scene_kinetic(s, v) + msum * g * rest_diagonal(&s->mesh) + 1e-12;
+  return cb_system_elastic_energy(&s->sys, x) + cb_scene_kinetic(s, v) + cb_scene_total_mass(s) * g * cb_mesh_bbox_diagonal(&s->mesh) +
+         1e-12;
 }
 
 void cb_stability_perturb(const cb_scene *s, double ke, unsigned seed, double *v) {
   int nv = s->mesh.nv;
   memset(v, 0, (size_t)3 * nv * sizeof(double));
-  unsigned long long st = 0x9E3779B97F4A7C15ULL * ((unsigned long long)seed + 1);
+  cb_rng rng = cb_rng_seed((uint64_t)seed + 1);
   for (int k = 0; k < s->model.nfree; k++) {
     int i = s->free_vertex[k];
-    for (int a = 0; a < 3; a++) {
-      st = st * 6364136223846793005ULL + 1442695040888963407ULL;
-      v[3 * i + a] = 2.0 * ((double)(st >> 11) / 9007199254740992.0) - 1.0; /* uniform in [-1, 1) */
-    }
+    for (int a = 0; a < 3; a++) v[3 * i + a] = 2.0 * cb_rng_uniform(&rng) - 1.0; /* uniform in [-1, 1) */
   }
   double k0 = cb_scene_kinetic(s, v);
   double scale = k0 > 0 && ke > 0 ? sqrt(ke / k0) : 0.0; /* kinetic scales with the square of v */
@@ -165,7 +148,7 @@ int cb_stability_equilibrium(cb_scene *s, double *x, const cb_equilibrium_params
   int nv3 = 3 * s->mesh.nv;
   double *v = cb_calloc((size_t)nv3, sizeof(double)), *g = cb_malloc((size_t)nv3, sizeof(double));
   if (!v || !g) { free(v); free(g); return CB_ENOMEM; }
-  double gn = gravity_norm(s), fscale = 0;
+  double gn = cb_v3_norm(s->gravity), fscale = 0;
   if (!(gn > 0)) gn = STANDARD_GRAVITY;
   for (int i = 0; i < s->mesh.nv; i++) fscale = fmax(fscale, s->mass[i] * gn); /* largest weight, N */
   cb_integrator_params ip = cb_integrator_params_default();

@@ -1,0 +1,39 @@
+/* Small vector helpers: 3-vectors (a vertex's position, velocity or force,
+ * stored as three consecutive doubles of a flat 3n array) and n-vectors.
+ *
+ * The sums run in index order, the same order as the expressions they
+ * replace, so results are bit-for-bit those of the written-out formulas. For
+ * long vectors where the order does not matter, CBLAS (cblas_ddot,
+ * cblas_dnrm2) is the faster choice. */
+#ifndef CB_VEC_H
+#define CB_VEC_H
+
+#include <math.h>
+
+/* a . b */
+static inline double cb_v3_dot(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+/* |a| */
+static inline double cb_v3_norm(const double *a) { return sqrt(cb_v3_dot(a, a)); }
+/* out = a - b */
+static inline void cb_v3_sub(const double *a, const double *b, double *out) {
+  out[0] = a[0] - b[0];
+  out[1] = a[1] - b[1];
+  out[2] = a[2] - b[2];
+}
+/* |a - b|^2 */
+static inline double cb_v3_dist2(const double *a, const double *b) {
+  double d[3];
+  cb_v3_sub(a, b, d);
+  return cb_v3_dot(d, d);
+}
+/* whether any component is nonzero */
+static inline int cb_v3_nonzero(const double *a) { return a[0] != 0 || a[1] != 0 || a[2] != 0; }
+
+/* sum_i a_i b_i, i = 0..n-1, in index order */
+static inline double cb_vec_dot(int n, const double *a, const double *b) {
+  double s = 0;
+  for (int i = 0; i < n; i++) s += a[i] * b[i];
+  return s;
+}
+
+#endif
