@@ -57,7 +57,7 @@ TEST_SRC := $(sort $(wildcard tests/test_*.c))
 TESTS    := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 TEST_OBJ := $(BUILD)/tests/support.o
 
-.PHONY: all test check experiments run-experiments plots report bench san deps clean distclean FORCE
+.PHONY: all test check experiments run-experiments plots report bench san fuzz fuzz-build deps clean distclean FORCE
 .DEFAULT_GOAL := all
 
 all: $(LIB) $(TOOLS) $(EXPS) $(BENCHES) $(BUILD)/report
@@ -133,6 +133,25 @@ check: $(TESTS) $(TOOLS) $(BUILD)/$(DETERMINISM_EXP)
 san: deps
 	@$(MAKE) --no-print-directory BUILD=build/san OPT=-O1 \
 	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined" check
+
+# ---- fuzzing: clang's libFuzzer on the config parser, the OBJ reader and scene building
+# The library is compiled with coverage (fuzzer-no-link) and ASan + UBSan in
+# build/fuzz/; each harness fuzz/fuzz_<name>.c runs FUZZ_SECONDS (default 60).
+
+FUZZ_SECONDS ?= 60
+FUZZ_SRC := $(sort $(wildcard fuzz/fuzz_*.c))
+FUZZ_PKGS := clang libclang-rt-14-dev
+
+fuzz:
+	@scripts/deps.sh $(FUZZ_PKGS)
+	@$(MAKE) --no-print-directory BUILD=build/fuzz CC=clang OPT="-O1" \
+	  SAN="-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined" fuzz-build
+	@BUILD=build/fuzz FUZZ_SECONDS=$(FUZZ_SECONDS) scripts/fuzz.sh
+
+fuzz-build: $(FUZZ_SRC:fuzz/%.c=$(BUILD)/%)
+
+$(BUILD)/fuzz_%: $(BUILD)/fuzz/fuzz_%.o $(LIB)
+	$(CC) $(LDFLAGS) -fsanitize=fuzzer $^ $(LDLIBS) -o $@
 
 # ---- experiments, plots, report ------------------------------------------------
 
