@@ -1,9 +1,18 @@
-# clothbench — see README.md.
-#
-#   make test          install missing Debian packages, build, run the tests
-#   make experiments   install missing packages, run every experiment, plots, report
-#   knobs: WERROR=1 (warnings are errors), QUICK=1 (reduced sweeps),
-#          THREADS=n (BLAS threads for experiments; default 1)
+# clothbench — see README.md. `make help` prints the lines starting with ##.
+##
+## make test          install missing Debian packages, build, run the tests
+## make experiments   install missing packages, run every experiment, then plots and report
+## make all           build the library, simulate, the experiments, bench and report
+## make plots         draw plots/out/*.png and .svg from results/*.csv (gnuplot)
+## make report        decide every claim from results/*.csv into results/REPORT.md
+## make bench         the core benchmarks (results/bench_core.csv)
+## make san           the tests under AddressSanitizer + UndefinedBehaviorSanitizer
+## make fuzz          libFuzzer on the config parser, OBJ reader, scene building (FUZZ_SECONDS=60)
+## make deps          install the missing Debian packages (or print the command)
+## make clean         remove build/;  make distclean  also results/ and plots/out/
+##
+## knobs: WERROR=1 (warnings are errors), QUICK=1 (reduced sweeps),
+##        THREADS=n (BLAS threads for experiments; default 1)
 
 CC      ?= gcc
 OPT     ?= -O2
@@ -57,7 +66,10 @@ TEST_SRC := $(sort $(wildcard tests/test_*.c))
 TESTS    := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 TEST_OBJ := $(BUILD)/tests/support.o
 
-.PHONY: all test check experiments run-experiments plots report bench san fuzz fuzz-build deps clean distclean FORCE
+help:
+	@sed -n 's/^##  \{0,1\}//p' $(firstword $(MAKEFILE_LIST))
+
+.PHONY: help all test check experiments run-experiments plots report bench san fuzz fuzz-build deps clean distclean FORCE
 .DEFAULT_GOAL := all
 
 all: $(LIB) $(TOOLS) $(EXPS) $(BENCHES) $(BUILD)/report
@@ -122,10 +134,11 @@ test: deps
 
 DETERMINISM_EXP ?= linear_solvers
 
-check: $(TESTS) $(TOOLS) $(BUILD)/$(DETERMINISM_EXP)
+check: $(TESTS) $(TOOLS) $(BUILD)/$(DETERMINISM_EXP) $(BUILD)/definiteness $(BUILD)/report
 	@scripts/check-blas.sh $(BUILD)/simulate
 	@set -e; for t in $(TESTS); do echo "== $$t"; CB_QUIET=1 CB_SIMULATE=$(BUILD)/simulate $$t --jobs 2 --short-filename; done
 	@BUILD=$(BUILD) tests/cli.sh
+	@BUILD=$(BUILD) tests/report.sh
 	@BUILD=$(BUILD) tests/determinism.sh $(DETERMINISM_EXP)
 	@CC="$(CC)" CPPFLAGS="$(CPPFLAGS)" CORE_INC="$(CORE_INC)" INSTR_INC="$(INSTR_INC)" IO_INC="$(IO_INC)" tests/layers.sh
 	@echo "all tests passed"
@@ -171,8 +184,10 @@ results/%.csv.run: $(BUILD)/%
 plots:
 	@scripts/plots.sh
 
-report:
-	@scripts/report.sh
+# the report program is a prerequisite (built under this make's jobserver), so
+# scripts/report.sh does not call make itself
+report: $(BUILD)/report
+	@BUILD=$(BUILD) scripts/report.sh
 
 bench: deps
 	@$(MAKE) --no-print-directory $(BENCHES)

@@ -289,6 +289,25 @@ else
   echo "cli: notice: README.md does not exist yet; skipping the config-reference check"
 fi
 
+# ---- provenance cannot be forged: newlines in a --set value or a config filename ----
+
+nl='
+'
+forged_cfg="$T/forged${nl}step,t_s: forged.ini"
+cp "$CONFIG" "$forged_cfg"
+sim forged "$forged_cfg" --steps 0 --set "mesh.file=x${nl}0,0,forged${nl}" --csv "$T/forged.csv" --obj "$T/forged.obj"
+expect_rc forged 0
+if [ -s "$T/forged.csv" ]; then
+  # every line before the header row is a '#' comment, and the header is the real one
+  pre=$(awk '/^#/ { next } { print NR; exit }' "$T/forged.csv")
+  check "forged: the first non-comment line is the header" test "$(sed -n "${pre}p" "$T/forged.csv" | cut -d, -f1)" = step
+  check "forged: one data row (--steps 0) after the header" test "$(data_rows "$T/forged.csv" | wc -l)" -eq 1
+  check "forged: the newline is written escaped" grep -Fq 'mesh.file=x\n0,0,forged\n' "$T/forged.csv"
+  check "forged: the config path is written escaped" grep -Fq 'forged\nstep,t_s: forged.ini' "$T/forged.csv"
+else
+  fail "forged: no CSV written"
+fi
+
 if [ "$failures" -ne 0 ]; then
   echo "cli: $failures of $checks checks failed"
   exit 1

@@ -14,7 +14,7 @@ T=$(mktemp -d "${TMPDIR:-/tmp}/cbdet.XXXXXX") || exit 1
 trap 'rm -rf "$T"' EXIT INT TERM
 strip() { # drop '# date:' and '# command:' lines; blank timing columns
   awk -F, -v OFS=, '
-    /^# (date|command|git_revision|cflags):/ { next }
+    /^# (date|command|git_revision|cflags|cpu|cores):/ { next }
     /^#/ { print; next }
     !hdr { hdr = 1; for (i = 1; i <= NF; i++) if ($i ~ /_ms$|wall|time|speedup/) t[i] = 1; print; next }
     { for (i in t) $i = "-"; print }' "$1"
@@ -45,7 +45,7 @@ for g in "$T"/s2*; do
   fi
 done
 if [ $fail = 0 ]; then
-  if [ -n "$base" ]; then echo "determinism: $exp --quick gives the CSVs of $base (apart from date, git revision, cflags and timing columns)"
+  if [ -n "$base" ]; then echo "determinism: $exp --quick gives the CSVs of $base (apart from date, machine, git revision, cflags and timing columns)"
   else echo "determinism: $exp --quick gives identical CSV twice (apart from date and timing columns)"; fi
 fi
 exit $fail

@@ -48,7 +48,9 @@ static int cmp_str(const void *a, const void *b) { return strcmp(*(const char *c
 static void write_configs(const cb_experiment *e, FILE *f) {
   DIR *d = opendir(e->configs);
   if (!d) {
-    fprintf(f, "# configs: %s (cannot open)\n", e->configs);
+    fputs("# configs: ", f);
+    cb_provenance_escaped(f, e->configs);
+    fputs(" (cannot open)\n", f);
     return;
   }
   char *names[256];
@@ -63,13 +65,12 @@ static void write_configs(const cb_experiment *e, FILE *f) {
     char path[CB_PATH_LEN];
     cb_config c;
     snprintf(path, sizeof path, "%s/%s", e->configs, names[i]);
-    if (cb_config_load(path, &c) == CB_OK) {
-      fprintf(f, "# config %s: ", path);
-      cb_config_write(&c, f, " ");
-      fputc('\n', f);
-    } else {
-      fprintf(f, "# config %s: %s\n", path, cb_error_message());
-    }
+    fputs("# config ", f);
+    cb_provenance_escaped(f, path);
+    fputs(": ", f);
+    if (cb_config_load(path, &c) == CB_OK) cb_provenance_config(f, &c);
+    else cb_provenance_escaped(f, cb_error_message());
+    fputc('\n', f);
     free(names[i]);
   }
 }

@@ -5,13 +5,58 @@
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_version.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 /* OpenBLAS extensions (declared in its cblas.h) */
 void cb_runtime_init(void) {
   gsl_set_error_handler_off();
   const char *env = getenv("OPENBLAS_NUM_THREADS");
   if (!env || !*env) openblas_set_num_threads(1);
+}
+
+void cb_provenance_escaped(FILE *f, const char *s) {
+  for (const unsigned char *p = (const unsigned char *)s; *p; p++) {
+    if (*p == '\\') fputs("\\\\", f);
+    else if (*p == '\n') fputs("\\n", f);
+    else if (*p == '\r') fputs("\\r", f);
+    else if (*p == '\t') fputs("\\t", f);
+    else if (*p < 0x20 || *p == 0x7f) fprintf(f, "\\x%02x", *p);
+    else fputc(*p, f);
+  }
+}
+
+void cb_provenance_config(FILE *f, const cb_config *cfg) {
+  char *buf = NULL;
+  size_t len = 0;
+  FILE *m = open_memstream(&buf, &len);
+  if (!m) {
+    fputs("(out of memory)", f);
+    return;
+  }
+  cb_config_write(cfg, m, " ");
+  if (fclose(m) == 0 && buf) cb_provenance_escaped(f, buf);
+  else fputs("(out of memory)", f);
+  free(buf);
+}
+
+/* "model name" of the first processor in /proc/cpuinfo, or "unknown". */
+static void cpu_model(char *out, size_t n) {
+  snprintf(out, n, "unknown");
+  FILE *f = fopen("/proc/cpuinfo", "r");
+  if (!f) return;
+  char line[512];
+  while (fgets(line, sizeof line, f)) {
+    if (strncmp(line, "model name", 10) != 0) continue;
+    const char *colon = strchr(line, ':');
+    if (!colon) break;
+    colon++;
+    while (*colon == ' ' || *colon == '\t') colon++;
+    snprintf(out, n, "%.*s", (int)strcspn(colon, "\n"), colon);
+    break;
+  }
+  fclose(f);
 }
 
 void cb_provenance_write(FILE *f, const char *program, int argc, char **argv, const cb_config *cfg) {
@@ -31,15 +76,27 @@ void cb_provenance_write(FILE *f, const char *program, int argc, char **argv, co
   fprintf(f, "# gsl: %s\n", gsl_version);
   fprintf(f, "# openblas: %s\n", openblas_get_config());
   fprintf(f, "# blas_threads: %d\n", openblas_get_num_threads());
-  fprintf(f, "# omp_num_threads: %s\n", omp && *omp ? omp : "unset");
+  fputs("# omp_num_threads: ", f);
+  cb_provenance_escaped(f, omp && *omp ? omp : "unset");
+  fputc('\n', f);
+  char cpu[256];
+  cpu_model(cpu, sizeof cpu);
+  fputs("# cpu: ", f);
+  cb_provenance_escaped(f, cpu);
+  fprintf(f, "\n# cores: %ld\n", sysconf(_SC_NPROCESSORS_ONLN));
   fputs("# command:", f);
-  for (int i = 0; i < argc; i++) fprintf(f, " %s", argv[i]);
+  for (int i = 0; i < argc; i++) {
+    fputc(' ', f);
+    cb_provenance_escaped(f, argv[i]);
+  }
   fputc('\n', f);
   if (cfg) {
-    fprintf(f, "# config: %s\n", cfg->path[0] ? cfg->path : "(defaults)");
-    fprintf(f, "# overrides: %s\n", cfg->overrides[0] ? cfg->overrides : "(none)");
-    fputs("# config_effective: ", f);
-    cb_config_write(cfg, f, " ");
+    fputs("# config: ", f);
+    cb_provenance_escaped(f, cfg->path[0] ? cfg->path : "(defaults)");
+    fputs("\n# overrides: ", f);
+    cb_provenance_escaped(f, cfg->overrides[0] ? cfg->overrides : "(none)");
+    fputs("\n# config_effective: ", f);
+    cb_provenance_config(f, cfg);
     fputc('\n', f);
   }
   fprintf(f, "# date: %s\n", date);

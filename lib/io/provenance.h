@@ -18,7 +18,15 @@ extern const char cb_build_cflags[];
  * timings compare and reruns agree. Call first thing in main(). */
 void cb_runtime_init(void);
 
-/* "# key: value" lines. cfg may be NULL (experiments describe their sweep in
+/* Writes s with backslash, newline, carriage return, tab and every other
+ * control character escaped (\\ \n \r \t \xNN), so that a value (an
+ * argument, a path, a --set value) can never end its "# key: value" line and
+ * forge lines of the CSV. */
+void cb_provenance_escaped(FILE *f, const char *s);
+/* cb_config_write(cfg, f, " "), escaped the same way. */
+void cb_provenance_config(FILE *f, const cb_config *cfg);
+
+/* "# key: value" lines (every value escaped by cb_provenance_escaped). cfg may be NULL (experiments describe their sweep in
  * extra lines); argv is echoed as the command. */
 void cb_provenance_write(FILE *f, const char *program, int argc, char **argv, const cb_config *cfg);
 
