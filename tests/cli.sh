@@ -308,6 +308,74 @@ else
   fail "forged: no CSV written"
 fi
 
+# ---- numeric arguments are parsed strictly, as config values are ---------------------
+
+for bad in 4294967297 3000000000 "" -1 1.5 2x; do
+  sim steps_bad "$CONFIG" --steps "$bad" --csv "$T/steps_bad.csv" --obj "$T/steps_bad.obj"
+  expect_rc steps_bad 1
+  expect_err steps_bad "--steps '$bad'"
+  check "steps '$bad': nothing written" test ! -e "$T/steps_bad.csv"
+done
+
+# ---- outputs: devices are written into, never replaced; inputs are never overwritten ----
+
+sim devnull "$CONFIG" --steps 2 --csv /dev/null --obj "$T/devnull.obj"
+expect_rc devnull 0
+check "devnull: /dev/null is still a character device" test -c /dev/null
+check "devnull: the OBJ was written" test -s "$T/devnull.obj"
+"$SIM" "$CONFIG" --steps 1 --csv - --obj "$T/stdout.obj" >"$T/stdout.out" 2>"$T/stdout.err"
+rc=$?
+expect_rc stdout 0
+check "stdout: --csv - streams the CSV (header and 2 rows) to standard output" test "$(grep -vc '^#' "$T/stdout.out")" -eq 3
+expect_err stdout "wrote standard output and $T/stdout.obj"
+sim same "$CONFIG" --steps 1 --csv "$T/same.out" --obj "$T/same.out"
+expect_rc same 1
+expect_err same "is the OBJ output (--obj); refusing to overwrite it"
+cp "$CONFIG" "$T/cfgcopy.ini"
+sim overcfg "$T/cfgcopy.ini" --steps 1 --csv "$T/../$(basename "$T")/cfgcopy.ini" --obj "$T/overcfg.obj"
+expect_rc overcfg 1
+expect_err overcfg "is the config file; refusing to overwrite it"
+check "overcfg: the config is untouched" cmp -s "$CONFIG" "$T/cfgcopy.ini"
+printf '[mesh]\ntype = obj\nfile = quad.obj\n[material]\nvertex_mass = 1\n[scene]\npins = 0\n' > "$T/meshcfg.ini"
+printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n' > "$T/quad.obj"
+cp "$T/quad.obj" "$T/quad.keep"
+sim overmesh "$T/meshcfg.ini" --steps 1 --csv "$T/overmesh.csv" --obj "$T/quad.obj"
+expect_rc overmesh 1
+expect_err overmesh "is the mesh file (mesh.file); refusing to overwrite it"
+check "overmesh: the mesh is untouched" cmp -s "$T/quad.obj" "$T/quad.keep"
+mkdir -p "$T/adir"
+sim dirobj "$CONFIG" --steps 1 --csv "$T/dirobj.csv" --obj "$T/adir"
+expect_rc dirobj 2
+expect_err dirobj "exists and is a directory"
+expect_err dirobj "wrote $T/dirobj.csv; $T/adir was NOT written"
+check "dirobj: the directory is still there" test -d "$T/adir"
+sim emptypath "$CONFIG" --steps 1 --csv "" --obj "$T/emptypath.obj"
+expect_rc emptypath 2
+expect_err emptypath "output path is empty"
+
+# ---- a signal leaves no temporary file behind, and the destination untouched ---------
+
+for sig in INT TERM HUP; do
+  mkdir -p "$T/sig$sig"
+  echo "previous" > "$T/sig$sig/out.csv"
+  # sh starts background jobs with SIGINT ignored (and the program keeps an
+  # ignored signal ignored, like nohup): perl (Essential in Debian) restores
+  # the default action before exec
+  perl -e '$SIG{INT} = "DEFAULT"; exec @ARGV or die' -- \
+    "$SIM" "$CONFIG" --steps 100000 --quiet --csv "$T/sig$sig/out.csv" --obj "$T/sig$sig/out.obj" >/dev/null 2>&1 &
+  pid=$!
+  for _ in 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20; do
+    ls "$T/sig$sig"/out.csv.tmp.* >/dev/null 2>&1 && break
+    sleep 0.1
+  done
+  kill -s "$sig" "$pid" 2>/dev/null
+  for _ in 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20; do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
+  if kill -0 "$pid" 2>/dev/null; then fail "SIG$sig: simulate did not stop"; kill -9 "$pid"; fi
+  wait "$pid" 2>/dev/null
+  check "SIG$sig: the temporary file is removed" test -z "$(ls "$T/sig$sig" | grep tmp)"
+  check "SIG$sig: the previous output is untouched" test "$(cat "$T/sig$sig/out.csv")" = previous
+done
+
 if [ "$failures" -ne 0 ]; then
   echo "cli: $failures of $checks checks failed"
   exit 1

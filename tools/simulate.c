@@ -20,7 +20,9 @@ static void usage(FILE *f) {
         "    assemble_ms, factor_ms, solve_ms, wall_ms, status; row 0 is the initial state;\n"
         "  the final mesh as OBJ (default results/<config name>.obj); --steps 0 writes\n"
         "    the initial mesh.\n"
-        "Both files are written atomically (temporary file, then rename).\n"
+        "Both files are written atomically (temporary file, then rename); PATH - streams to\n"
+        "  standard output, and an existing device or FIFO (/dev/null) is written into, never\n"
+        "  replaced. An output may not be the config, the mesh file or the other output.\n"
         "\n"
         "options:\n"
         "  --set section.key=value  override a config key (repeatable), e.g. --set material.stretch_k=1e5\n"
@@ -50,8 +52,7 @@ static void default_out(const char *config, const char *ext, char *out, size_t n
 
 int main(int argc, char **argv) {
   cb_runtime_init();
-  const char *config = NULL, *csv_path = NULL, *obj_path = NULL;
-  long steps = -1;
+  const char *config = NULL, *csv_path = NULL, *obj_path = NULL, *steps = NULL;
   int quiet = 0;
   for (int i = 1; i < argc; i++) { /* first pass: help and the config path */
     if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) { usage(stdout); return EXIT_OK; }
@@ -65,11 +66,8 @@ int main(int argc, char **argv) {
     if (!strcmp(a, "--set") || !strcmp(a, "--steps") || !strcmp(a, "--csv") || !strcmp(a, "--obj")) {
       if (!has_val) { fprintf(stderr, "simulate: %s needs a value\n", a); return EXIT_USAGE; }
       i++;
-      if (!strcmp(a, "--steps")) {
-        char *end;
-        steps = strtol(argv[i], &end, 10);
-        if (*end || steps < 0) { fprintf(stderr, "simulate: --steps: '%s' is not a count >= 0\n", argv[i]); return EXIT_USAGE; }
-      } else if (!strcmp(a, "--csv")) csv_path = argv[i];
+      if (!strcmp(a, "--steps")) steps = argv[i]; /* parsed as integrator.steps is, below */
+      else if (!strcmp(a, "--csv")) csv_path = argv[i];
       else if (!strcmp(a, "--obj")) obj_path = argv[i];
     } else if (!strcmp(a, "--quiet")) quiet = 1;
     else if (a[0] == '-') { fprintf(stderr, "simulate: unknown option %s (see --help)\n", a); return EXIT_USAGE; }
@@ -83,12 +81,38 @@ int main(int argc, char **argv) {
       fprintf(stderr, "simulate: %s\n", cb_error_message());
       return EXIT_USAGE;
     }
-  if (steps >= 0) cfg.steps = (int)steps;
+  if (steps) { /* --steps N is integrator.steps = N: the same strict parse and range */
+    char set[256];
+    snprintf(set, sizeof set, "integrator.steps=%.200s", steps);
+    if (strlen(steps) > 200 || cb_config_set(&cfg, set)) {
+      fprintf(stderr, "simulate: --steps '%s': not a number of steps from 0 to 2e9\n", steps);
+      return EXIT_USAGE;
+    }
+  }
   char csv_def[2048], obj_def[2048];
   default_out(config, "csv", csv_def, sizeof csv_def);
   default_out(config, "obj", obj_def, sizeof obj_def);
   if (!csv_path) csv_path = csv_def;
   if (!obj_path) obj_path = obj_def;
+  /* an output must not overwrite an input or the other output */
+  char mesh_path[2 * CB_PATH_LEN];
+  cb_config_resolve_path(&cfg, cfg.mesh_file, mesh_path, sizeof mesh_path);
+  const char *outs[2][2] = {{"--csv", csv_path}, {"--obj", obj_path}};
+  for (int k = 0; k < 2; k++) {
+    const char *what = NULL;
+    if (strcmp(outs[k][1], "-") == 0) continue;
+    if (cb_same_file(outs[k][1], config)) what = "the config file";
+    else if (!strcmp(cfg.mesh_type, "obj") && cb_same_file(outs[k][1], mesh_path)) what = "the mesh file (mesh.file)";
+    else if (k == 0 && strcmp(obj_path, "-") != 0 && cb_same_file(csv_path, obj_path)) what = "the OBJ output (--obj)";
+    if (what) {
+      fprintf(stderr, "simulate: %s %s is %s; refusing to overwrite it\n", outs[k][0], outs[k][1], what);
+      return EXIT_USAGE;
+    }
+  }
+  if (!strcmp(csv_path, "-") && !strcmp(obj_path, "-")) {
+    fputs("simulate: --csv - and --obj - would both stream to standard output; give one of them a path\n", stderr);
+    return EXIT_USAGE;
+  }
 
   cb_scene *scene = NULL;
   cb_integrator *integ = NULL;
@@ -101,7 +125,7 @@ int main(int argc, char **argv) {
     goto done;
   }
   if (cb_outfile_open(&csv, csv_path)) {
-    fprintf(stderr, "simulate: %s\n", cb_error_message());
+    fprintf(stderr, "simulate: %s; nothing written\n", cb_error_message());
     rc = EXIT_IO;
     goto done;
   }
@@ -126,15 +150,24 @@ int main(int argc, char **argv) {
     }
   }
   cb_progress_end(&prog);
-  if (cb_outfile_commit(&csv)) { fprintf(stderr, "simulate: %s\n", cb_error_message()); rc = EXIT_IO; }
-  if (cb_mesh_write_obj(&scene->mesh, run.x, obj_path)) { fprintf(stderr, "simulate: %s\n", cb_error_message()); rc = EXIT_IO; }
+  int csv_ok = cb_outfile_commit(&csv) == CB_OK;
+  if (!csv_ok) { fprintf(stderr, "simulate: %s\n", cb_error_message()); rc = EXIT_IO; }
+  int obj_ok = cb_mesh_write_obj(&scene->mesh, run.x, obj_path) == CB_OK;
+  if (!obj_ok) { fprintf(stderr, "simulate: %s\n", cb_error_message()); rc = EXIT_IO; }
+  const char *csv_name = strcmp(csv_path, "-") ? csv_path : "standard output";
+  const char *obj_name = strcmp(obj_path, "-") ? obj_path : "standard output";
+  char wrote[3 * 2048 + 64];
+  if (csv_ok && obj_ok) snprintf(wrote, sizeof wrote, "wrote %s and %s", csv_name, obj_name);
+  else if (csv_ok || obj_ok)
+    snprintf(wrote, sizeof wrote, "wrote %s; %s was NOT written", csv_ok ? csv_name : obj_name, csv_ok ? obj_name : csv_name);
+  else snprintf(wrote, sizeof wrote, "NOTHING written (%s, %s)", csv_name, obj_name);
   if (cb_status_is_fatal(status)) {
-    fprintf(stderr, "simulate: step %d: %s%s%s\n", run.step, cb_status_name(status), why[0] ? ": " : "", why);
+    fprintf(stderr, "simulate: step %d: %s%s%s; %s\n", run.step, cb_status_name(status), why[0] ? ": " : "", why, wrote);
     if (rc == EXIT_OK) rc = status == CB_DIVERGED ? EXIT_DIVERGED : EXIT_SOLVER;
-  } else if (!quiet) {
-    fprintf(stderr, "simulate: %d steps, t = %g s, energy %.6g J (kinetic %.6g, potential %.6g)%s; wrote %s and %s\n",
-            run.step, run.t, run.kinetic + run.potential, run.kinetic, run.potential,
-            worst == CB_NOT_CONVERGED ? ", some steps stopped at max_iters" : "", csv_path, obj_path);
+  } else if (!quiet || rc != EXIT_OK) {
+    fprintf(stderr, "simulate: %d steps, t = %g s, energy %.6g J (kinetic %.6g, potential %.6g)%s; %s\n", run.step, run.t,
+            run.kinetic + run.potential, run.kinetic, run.potential, worst == CB_NOT_CONVERGED ? ", some steps stopped at max_iters" : "",
+            wrote);
   }
 done:
   cb_outfile_abort(&csv);

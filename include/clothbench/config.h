@@ -76,6 +76,10 @@ const char *cb_config_where(const cb_config *c, const char *key, char *buf, size
 /* Writes "section.key=value" for every key, separated by sep. */
 void cb_config_write(const cb_config *c, FILE *f, const char *sep);
 
+/* The path of `file` as the config means it: relative paths are taken from
+ * the config file's folder (mesh.file). */
+void cb_config_resolve_path(const cb_config *c, const char *file, char *out, size_t n);
+
 /* Markdown table of every key: key, type, unit, default, meaning. */
 void cb_config_write_reference(FILE *f);
 

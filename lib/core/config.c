@@ -329,6 +329,12 @@ static int handler(void *user, const char *section, const char *name, const char
   return 1;
 }
 
+void cb_config_resolve_path(const cb_config *c, const char *file, char *out, size_t n) {
+  const char *slash = strrchr(c->path, '/');
+  if (file[0] == '/' || !slash) snprintf(out, n, "%s", file);
+  else snprintf(out, n, "%.*s/%s", (int)(slash - c->path), c->path, file);
+}
+
 int cb_config_load(const char *path, cb_config *c) {
   cb_config_defaults(c);
   if (copy_str(c->path, sizeof c->path, path)) return cb_fail("%s: path too long", path);

@@ -92,13 +92,6 @@ double cb_scene_kinetic(const cb_scene *s, const double *v) {
   return K;
 }
 
-/* OBJ paths are relative to the config file's folder. */
-static void resolve_path(const cb_config *c, char *out, size_t n) {
-  const char *slash = strrchr(c->path, '/');
-  if (c->mesh_file[0] == '/' || !slash) snprintf(out, n, "%s", c->mesh_file);
-  else snprintf(out, n, "%.*s/%s", (int)(slash - c->path), c->path, c->mesh_file);
-}
-
 /* Prefixes the current error message with where `key` was set, and returns
  * st: "config.ini:4: mesh: grid needs ...". */
 static int at_key(int st, const cb_config *c, const char *key, const char *label) {
@@ -111,7 +104,7 @@ static int at_key(int st, const cb_config *c, const char *key, const char *label
 static int build_mesh(const cb_config *c, cb_mesh *mesh) {
   if (strcmp(c->mesh_type, "obj") == 0) {
     char path[2 * CB_PATH_LEN];
-    resolve_path(c, path, sizeof path);
+    cb_config_resolve_path(c, c->mesh_file, path, sizeof path); /* relative to the config's folder */
     return at_key(cb_mesh_read_obj(path, mesh), c, "mesh.file", "mesh.file");
   }
   cb_plane plane = strcmp(c->mesh_plane, "xy") == 0 ? CB_PLANE_XY : strcmp(c->mesh_plane, "yz") == 0 ? CB_PLANE_YZ : CB_PLANE_XZ;

@@ -1,6 +1,9 @@
+#define _XOPEN_SOURCE 700 /* realpath, lstat */
 #include "outfile.h"
 
 #include <errno.h>
+#include <limits.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -28,24 +31,113 @@ int cb_make_parent_dirs(const char *path) {
   return CB_OK;
 }
 
+/* ---- temporary files removed on SIGINT, SIGTERM, SIGHUP ------------------------
+ * The handler only calls unlink (async-signal-safe) on the paths registered
+ * here, then restores the default action and re-raises the signal. */
+
+#define MAX_OPEN 64
+static char tracked[MAX_OPEN][4160];
+static volatile sig_atomic_t tracked_used[MAX_OPEN];
+static int handlers_installed;
+
+static void on_signal(int sig) {
+  for (int i = 0; i < MAX_OPEN; i++)
+    if (tracked_used[i]) unlink(tracked[i]);
+  signal(sig, SIG_DFL);
+  raise(sig);
+}
+
+/* Registers o's temporary file (a copy of its name, so the struct may move). */
+static void track(cb_outfile *o) {
+  if (!handlers_installed) {
+    static const int sigs[] = {SIGINT, SIGTERM, SIGHUP};
+    for (int k = 0; k < 3; k++) {
+      struct sigaction sa, old;
+      memset(&sa, 0, sizeof sa);
+      sa.sa_handler = on_signal;
+      sigemptyset(&sa.sa_mask);
+      /* leave a signal the program's caller chose to ignore (nohup) ignored */
+      if (sigaction(sigs[k], NULL, &old) == 0 && old.sa_handler == SIG_IGN) continue;
+      sigaction(sigs[k], &sa, NULL);
+    }
+    handlers_installed = 1;
+  }
+  for (int i = 0; i < MAX_OPEN; i++)
+    if (!tracked_used[i]) {
+      memcpy(tracked[i], o->tmp, sizeof tracked[i]);
+      tracked_used[i] = 1;
+      o->slot = i + 1;
+      return;
+    }
+}
+
+static void untrack(cb_outfile *o) {
+  if (o->slot > 0) tracked_used[o->slot - 1] = 0;
+  o->slot = 0;
+}
+
+static const char *file_kind(mode_t m) {
+  return S_ISDIR(m) ? "a directory" : S_ISLNK(m) ? "a symbolic link" : S_ISSOCK(m) ? "a socket" : S_ISBLK(m) ? "a block device" : "not a regular file";
+}
+
+int cb_same_file(const char *a, const char *b) {
+  struct stat sa, sb;
+  if (stat(a, &sa) == 0 && stat(b, &sb) == 0) return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+  char ca[PATH_MAX * 2], cb[PATH_MAX * 2];
+  const char *paths[2] = {a, b};
+  char *canon[2] = {ca, cb};
+  for (int k = 0; k < 2; k++) { /* realpath of the folder, plus the name */
+    char dir[PATH_MAX], real[PATH_MAX];
+    const char *slash = strrchr(paths[k], '/');
+    const char *name = slash ? slash + 1 : paths[k];
+    snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - paths[k]) + (slash == paths[k]) : 1, slash ? paths[k] : ".");
+    if (!realpath(dir, real)) snprintf(real, sizeof real, "%s", dir);
+    snprintf(canon[k], sizeof ca, "%s/%s", real, name);
+  }
+  return strcmp(ca, cb) == 0;
+}
+
 int cb_outfile_open(cb_outfile *o, const char *path) {
   memset(o, 0, sizeof *o);
+  if (!path[0]) return cb_fail_status(CB_EIO, "output path is empty");
   if (strlen(path) >= sizeof o->path) return cb_fail_status(CB_EIO, "%s: path too long", path);
+  strcpy(o->path, path);
+  if (strcmp(path, "-") == 0) { /* standard output, streamed */
+    o->f = stdout;
+    o->stream = 1;
+    return CB_OK;
+  }
+  struct stat ls;
+  if (lstat(path, &ls) == 0 && !S_ISREG(ls.st_mode)) {
+    struct stat ts;
+    int target = stat(path, &ts) == 0;
+    if (S_ISLNK(ls.st_mode) && target && S_ISREG(ts.st_mode))
+      return cb_fail_status(CB_EIO, "%s: is a symbolic link; give the file it points to (an atomic write would replace the link)", path);
+    mode_t m = target ? ts.st_mode : ls.st_mode;
+    if (S_ISCHR(m) || S_ISFIFO(m)) { /* a device or pipe: stream into it, never replace it */
+      o->f = fopen(path, "w");
+      if (!o->f) return cb_fail_status(CB_EIO, "%s: cannot open for writing: %s", path, strerror(errno));
+      o->stream = 1;
+      return CB_OK;
+    }
+    return cb_fail_status(CB_EIO, "%s: exists and is %s; outputs replace only regular files", path, file_kind(m));
+  }
   int st = cb_make_parent_dirs(path);
   if (st) return st;
-  strcpy(o->path, path);
   snprintf(o->tmp, sizeof o->tmp, "%s.tmp.XXXXXX", path);
   int fd = mkstemp(o->tmp);
   if (fd < 0) {
     o->tmp[0] = '\0';
     return cb_fail_status(CB_EIO, "%s: cannot create temporary file: %s", path, strerror(errno));
   }
+  track(o);
   fchmod(fd, 0644);
   o->f = fdopen(fd, "w");
   if (!o->f) {
     close(fd);
     unlink(o->tmp);
     o->tmp[0] = '\0';
+    untrack(o);
     return cb_fail_status(CB_EIO, "%s: fdopen failed: %s", path, strerror(errno));
   }
   return CB_OK;
@@ -53,6 +145,13 @@ int cb_outfile_open(cb_outfile *o, const char *path) {
 
 int cb_outfile_commit(cb_outfile *o) {
   if (!o->f) return cb_fail_status(CB_EIO, "%s: file not open", o->path);
+  if (o->stream) {
+    int bad = fflush(o->f) != 0 || ferror(o->f);
+    int err = errno;
+    if (o->f != stdout && fclose(o->f) != 0) bad = 1;
+    o->f = NULL;
+    return bad ? cb_fail_status(CB_EIO, "%s: write failed: %s", o->path, strerror(err)) : CB_OK;
+  }
   int bad = fflush(o->f) != 0 || ferror(o->f);
   if (!bad) bad = fsync(fileno(o->f)) != 0 && errno != EINVAL;
   int err = errno;
@@ -61,23 +160,28 @@ int cb_outfile_commit(cb_outfile *o) {
   if (bad) {
     unlink(o->tmp);
     o->tmp[0] = '\0';
+    untrack(o);
     return cb_fail_status(CB_EIO, "%s: write failed: %s", o->path, strerror(err));
   }
   if (rename(o->tmp, o->path) != 0) {
     err = errno;
     unlink(o->tmp);
     o->tmp[0] = '\0';
+    untrack(o);
     return cb_fail_status(CB_EIO, "%s: rename failed: %s", o->path, strerror(err));
   }
   o->tmp[0] = '\0';
+  untrack(o);
   return CB_OK;
 }
 
 void cb_outfile_abort(cb_outfile *o) {
-  if (o->f) fclose(o->f);
+  if (o->f && o->f != stdout) fclose(o->f);
+  else if (o->f) fflush(o->f);
   o->f = NULL;
   if (o->tmp[0]) unlink(o->tmp);
   o->tmp[0] = '\0';
+  untrack(o);
 }
 
 int cb_mesh_write_obj(const cb_mesh *m, const double *x, const char *path) {

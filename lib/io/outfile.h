@@ -1,6 +1,19 @@
-/* Atomic output files: data is written to a temporary file beside the target
- * and renamed over it on commit, so a reader never sees a truncated file and a
- * failed run leaves the previous file (or none) in place. */
+/* Output files, written atomically: data goes to a temporary file beside the
+ * target and is renamed over it on commit, so a reader never sees a truncated
+ * file and a failed or interrupted run leaves the previous file (or none) in
+ * place.
+ *
+ * What a destination means:
+ *   - a path that does not exist, or names a regular file: written atomically;
+ *   - "-": standard output, streamed (not atomic: a failed run leaves what it
+ *     wrote so far);
+ *   - an existing character device or FIFO (/dev/null, /dev/stdout, a pipe):
+ *     opened and streamed into, never replaced (root could otherwise replace
+ *     /dev/null with a regular file);
+ *   - anything else (a directory, a socket, a symbolic link to anything but a
+ *     regular file): refused with a message.
+ * SIGINT, SIGTERM and SIGHUP remove the temporary files of every output still
+ * open, then end the program as the signal would have. */
 #ifndef CB_OUTFILE_H
 #define CB_OUTFILE_H
 
@@ -11,7 +24,9 @@
 typedef struct cb_outfile {
   FILE *f;        /* write here between open and commit */
   char path[4096];
-  char tmp[4160];
+  char tmp[4160]; /* temporary file ("" when streaming, or after commit/abort) */
+  int stream;     /* 1: written straight into path (stdout, a device or FIFO) */
+  int slot;       /* 1 + index in the table of temporary files removed on a signal; 0 = none */
 } cb_outfile;
 
 /* Creates missing parent directories, then a temporary file beside path. */
@@ -21,6 +36,10 @@ int cb_outfile_open(cb_outfile *o, const char *path);
 int cb_outfile_commit(cb_outfile *o);
 /* Drops the temporary file; safe to call on a committed or unopened file. */
 void cb_outfile_abort(cb_outfile *o);
+
+/* Whether paths a and b name the same file: the same inode where both exist,
+ * otherwise the same canonical path (its folder resolved, the name as is). */
+int cb_same_file(const char *a, const char *b);
 
 /* mkdir -p for the directory part of path. */
 int cb_make_parent_dirs(const char *path);
