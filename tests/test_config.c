@@ -75,7 +75,7 @@ static void expect_scene_error(const char *const *sets, const char *what1, const
   test_config(&c, sets);
   cb_scene *s = (cb_scene *)1;
   cb_error_clear();
-  int st = cb_scene_build(&c, &s);
+  int st = cb_scene_from_config(&c, &s);
   cr_expect_lt(st, 0, "scene built, expected an error mentioning '%s'", what1);
   cr_expect_null(s, "a failed build must leave *out NULL");
   const char *msg = cb_error_message();
@@ -630,7 +630,7 @@ Test(validate, obj_needs_file) {
   cr_expect_eq(cb_config_validate(&c), CB_EINVAL);
   cr_expect(strstr(cb_error_message(), "mesh.file") != NULL, "%s", cb_error_message());
   cb_scene *s = NULL;
-  cr_expect_eq(cb_scene_build(&c, &s), CB_EINVAL);
+  cr_expect_eq(cb_scene_from_config(&c, &s), CB_EINVAL);
   cr_expect_null(s);
 }
 
@@ -755,7 +755,7 @@ Test(pins, error_names_file_and_line) {
   cb_config c;
   load_ok("[mesh]\nn = 3\n\n[scene]\npins = 0 9\n", &c);
   cb_scene *s = NULL;
-  cr_expect_eq(cb_scene_build(&c, &s), CB_EINVAL);
+  cr_expect_eq(cb_scene_from_config(&c, &s), CB_EINVAL);
   char want[600];
   snprintf(want, sizeof want, "%s:5: scene.pins", ini_path);
   cr_expect(strstr(cb_error_message(), want) != NULL, "message '%s' lacks '%s'", cb_error_message(), want);
@@ -792,7 +792,7 @@ Test(obj_scene, relative_file_from_config_folder) {
   cb_config c;
   cr_assert_eq(cb_config_load(ini, &c), CB_OK, "%s", cb_error_message());
   cb_scene *s = NULL;
-  cr_assert_eq(cb_scene_build(&c, &s), CB_OK, "%s", cb_error_message());
+  cr_assert_eq(cb_scene_from_config(&c, &s), CB_OK, "%s", cb_error_message());
   cr_expect_eq(s->mesh.nv, 4);
   cr_expect_eq(s->mesh.nt, 2);
   /* fan (0,1,2), (0,2,3), areas 1/2 each, density 3:
@@ -859,7 +859,7 @@ Test(obj_scene, bad_obj_names_obj_line_and_key) {
   cb_config c;
   cr_assert_eq(cb_config_load(ini, &c), CB_OK, "%s", cb_error_message());
   cb_scene *s = NULL;
-  cr_expect_eq(cb_scene_build(&c, &s), CB_EINVAL);
+  cr_expect_eq(cb_scene_from_config(&c, &s), CB_EINVAL);
   char want[700];
   snprintf(want, sizeof want, "%s:4", obj);
   cr_expect(strstr(cb_error_message(), want) != NULL, "message '%s' lacks '%s'", cb_error_message(), want);
@@ -867,7 +867,7 @@ Test(obj_scene, bad_obj_names_obj_line_and_key) {
   /* a missing OBJ is an I/O error */
   write_file(ini, "[mesh]\ntype = obj\nfile = missing.obj\n[scene]\npins = none\n");
   cr_assert_eq(cb_config_load(ini, &c), CB_OK);
-  cr_expect_eq(cb_scene_build(&c, &s), CB_EIO);
+  cr_expect_eq(cb_scene_from_config(&c, &s), CB_EIO);
   cr_expect(strstr(cb_error_message(), "missing.obj") != NULL, "%s", cb_error_message());
   unlink(obj);
   unlink(ini);
@@ -895,7 +895,7 @@ Test(scene_terms, follow_the_config) {
     cr_expect_geq(term_index(s, "stretch"), 0, "case %zu: no stretch term", k);
     cr_expect_eq(term_index(s, "bend") >= 0, cases[k].has_bend, "case %zu: bend term", k);
     cr_expect_eq(term_index(s, "gravity") >= 0, cases[k].has_gravity, "case %zu: gravity term", k);
-    for (int a = 0; a < 3; a++) cr_expect_eq(s->gravity[a], s->cfg.gravity[a]);
+    for (int a = 0; a < 3; a++) cr_expect_eq(s->gravity[a], s->def.gravity[a]);
     cb_scene_free(s);
   }
 }

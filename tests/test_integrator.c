@@ -41,19 +41,6 @@ static void record(void *ctx, int event, const cb_newton_event *ev) {
   }
 }
 
-/* Integrator from the scene's config, with an optional hook. */
-static cb_integrator *make_integrator(cb_scene *s, cb_newton_hook hook, void *ctx) {
-  cb_integrator_params p;
-  cr_assert_eq(cb_integrator_params_from_config(&s->cfg, &p), CB_OK, "%s", cb_error_message());
-  p.hook = hook;
-  p.hook_ctx = ctx;
-  cb_solver_params sp = cb_solver_params_from_config(&s->cfg);
-  cb_integrator *it = NULL;
-  int st = cb_integrator_alloc(s->cfg.method, s, &p, s->cfg.solver, &sp, &it);
-  cr_assert_eq(st, CB_OK, "integrator: %s", cb_error_message());
-  return it;
-}
-
 static double *copy(const double *x, int n) {
   double *y = malloc((size_t)n * sizeof(double));
   cr_assert(y);
@@ -74,7 +61,7 @@ static double *run_to(const char *const *base, const char *method, double dt, do
   sets[n++] = d;
   sets[n] = NULL;
   cb_scene *s = test_scene(sets);
-  cb_integrator *it = make_integrator(s, NULL, NULL);
+  cb_integrator *it = test_integrator(sets, s, NULL, NULL);
   int n3 = 3 * s->mesh.nv, steps = (int)lround(T / dt);
   cr_assert(fabs(steps * dt - T) <= 1e-12 * T, "T is not a multiple of dt");
   double *x = copy(s->x0, n3), *v = copy(s->v0, n3);
@@ -156,7 +143,7 @@ static void order_case(const char *const *sets, const char *label) {
   cb_scene *s = test_scene(sets);
   trace t;
   memset(&t, 0, sizeof t);
-  cb_integrator *it = make_integrator(s, record, &t);
+  cb_integrator *it = test_integrator(sets, s, record, &t);
   int n3 = 3 * s->mesh.nv;
   double *x = copy(s->x0, n3), *v = copy(s->v0, n3);
   cb_step_stats st;
@@ -207,7 +194,7 @@ Test(integrator, baraff_witkin_is_one_linear_solve_and_reports_max_iters) {
   cb_scene *s = test_scene(sets);
   trace t;
   memset(&t, 0, sizeof t);
-  cb_integrator *it = make_integrator(s, record, &t);
+  cb_integrator *it = test_integrator(sets, s, record, &t);
   int n3 = 3 * s->mesh.nv;
   double *x = copy(s->x0, n3), *v = copy(s->v0, n3);
   for (int step = 0; step < 3; step++) {
@@ -242,7 +229,7 @@ static int is_pinned(const int *pins, int np, int v) {
 static void implicit_equation_case(const char *const *sets, double density, const int *pins, int npins,
                                    const char *label) {
   cb_scene *s = test_scene(sets);
-  cb_integrator *it = make_integrator(s, NULL, NULL);
+  cb_integrator *it = test_integrator(sets, s, NULL, NULL);
   int nv = s->mesh.nv, n3 = 3 * nv;
   double *mass = malloc((size_t)nv * sizeof(double)), *g = malloc((size_t)n3 * sizeof(double));
   cr_assert(mass && g);
@@ -317,7 +304,7 @@ Test(integrator, explicit_with_too_large_dt_is_reported_diverged) {
   const char *sets[] = {"mesh.n=11", "material.vertex_mass=1", "integrator.method=explicit", "integrator.dt=1/30",
                         NULL};
   cb_scene *s = test_scene(sets);
-  cb_integrator *it = make_integrator(s, NULL, NULL);
+  cb_integrator *it = test_integrator(sets, s, NULL, NULL);
   cb_run r;
   cr_assert_eq(cb_run_init(&r, s, it), CB_OK);
   int st = CB_OK, steps = 0;
@@ -344,7 +331,7 @@ Test(integrator, stable_explicit_run_is_not_reported_diverged_and_keeps_energy) 
   const char *sets[] = {"mesh.n=11", "material.vertex_mass=1", "integrator.method=explicit", "integrator.dt=1/2000",
                         NULL};
   cb_scene *s = test_scene(sets);
-  cb_integrator *it = make_integrator(s, NULL, NULL);
+  cb_integrator *it = test_integrator(sets, s, NULL, NULL);
   cb_run r;
   cr_assert_eq(cb_run_init(&r, s, it), CB_OK);
   double drift = 0, pe0 = r.potential;
@@ -370,7 +357,7 @@ Test(integrator, implicit_euler_does_not_gain_energy) {
   const char *sets[] = {"mesh.n=11", "material.vertex_mass=1", "integrator.tol=1e-10", "integrator.tol_dx=1e-12",
                         NULL};
   cb_scene *s = test_scene(sets);
-  cb_integrator *it = make_integrator(s, NULL, NULL);
+  cb_integrator *it = test_integrator(sets, s, NULL, NULL);
   cb_run r;
   cr_assert_eq(cb_run_init(&r, s, it), CB_OK);
   double prev = r.total0, worst_rise = 0, pe0 = r.potential;
@@ -401,7 +388,7 @@ Test(integrator, pinned_vertices_never_move_and_newton_velocity_is_the_differenc
                           mth ? "integrator.dt=1/1000" : "integrator.dt=1/30", NULL};
     cb_scene *s = test_scene(sets);
     cr_assert_eq(s->npinned, 4);
-    cb_integrator *it = make_integrator(s, NULL, NULL);
+    cb_integrator *it = test_integrator(sets, s, NULL, NULL);
     int n3 = 3 * s->mesh.nv;
     double *x = copy(s->x0, n3), *v = copy(s->v0, n3);
     double moved = 0;
@@ -445,7 +432,7 @@ static int newton_step_trace(const char *scale, const char *dt, const char *tol,
                         "integrator.max_iters=300", a, b, c, d, NULL};
   cb_scene *s = test_scene(sets);
   memset(t, 0, sizeof *t);
-  cb_integrator *it = make_integrator(s, record, t);
+  cb_integrator *it = test_integrator(sets, s, record, t);
   int n3 = 3 * s->mesh.nv;
   double *x = copy(s->x0, n3), *v = copy(s->v0, n3);
   int status = cb_integrator_step(it, x, v, st);

@@ -1,4 +1,4 @@
-#include <clothbench/config.h>
+#include "config.h"
 
 #include <errno.h>
 #include <ini.h>

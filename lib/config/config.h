@@ -3,7 +3,12 @@
  * Every key lives in one table (config.c) with its type, unit, default and
  * documentation; the parser, the validator, `simulate --help-config` and the
  * README's config reference all come from that table. An unknown key, a bad
- * value or a missing file is an error naming file, line and key. */
+ * value or a missing file is an error naming file, line and key.
+ *
+ * This is the config layer (lib/config/), above the core: the core never sees
+ * a cb_config. bind.h turns one into the core's structs (cb_scene_def,
+ * cb_integrator_params and each integrator type's parameters,
+ * cb_solver_params). */
 #ifndef CB_CONFIG_H
 #define CB_CONFIG_H
 
