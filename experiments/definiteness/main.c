@@ -81,8 +81,10 @@ static int run_policy(cb_experiment *e, const scene_def *sd, int p, FILE *it, FI
   if (st == CB_OK) st = cb_scene_from_config(&cfg, &s);
   if (st == CB_OK && p > 0) st = cb_experiment_config(e, "hanging.ini", refsets, &rcfg);
   if (st == CB_OK && p > 0) st = cb_scene_from_config(&rcfg, &ref);
+  cb_newton_params np;
   if (st == CB_OK) st = cb_integrator_params_from_config(&cfg, &ip);
-  if (st == CB_OK) st = cb_newton_trace_init(&tr, s, ref ? &ref->sys : NULL, ip.dt, cfg.max_iters + 1,
+  if (st == CB_OK) st = cb_newton_params_from_config(&cfg, &np);
+  if (st == CB_OK) st = cb_newton_trace_init(&tr, s, ref ? &ref->sys : NULL, ip.dt, np.max_iters + 1,
                                       CB_PROBE_EIG | CB_PROBE_CG, CB_PROBE_CHOLMOD | CB_PROBE_EIG, NULL);
   ip.hook = cb_newton_trace_hook;
   ip.hook_ctx = &tr;

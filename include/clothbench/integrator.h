@@ -6,11 +6,12 @@
  *             by Newton's method: (M/dt^2 + H) dx = -grad F;  x += dx.
  *             max_iters = 1 is Baraff-Witkin's single linear solve.
  *
- * Both minimise or step the implicit-Euler objective of objective.h (newton)
- * or the forces (explicit); the integrator owns its loop, the linear solver
- * is a parameter. After every step of every type the scene's post-step
- * responses run (scene.h). Parameters: the generic ones (dt, hook) in
- * cb_integrator_params, each type's own in its struct (cb_newton_params).
+ * Newton minimises the shared implicit-Euler objective (objective.h); each
+ * integrator owns its loop, and the linear solver is a parameter. After every
+ * step of every type the scene's post-step responses run (scene.h).
+ * Parameters: the generic ones (dt, hook) in cb_integrator_params, each
+ * type's own in its struct (cb_newton_params), with its config keys declared
+ * in its type table (cb_param_key; the config layer binds them).
  * Pinned vertices follow their prescribed velocity (x <- x + dt v, v fixed;
  * zero unless scene.pin_squeeze drives them). */
 #ifndef CB_INTEGRATOR_H
@@ -78,10 +79,31 @@ cb_newton_params cb_newton_params_default(void);
 
 typedef struct cb_integrator cb_integrator;
 
+/* One of a type's parameters as a config key, `integrator.<name>`. The
+ * core only describes it; the config layer (lib/config/) parses, checks,
+ * documents (`simulate --help-config`) and binds it into the type's
+ * parameter struct, so a type's keys live in the type's file. Two types may
+ * share a key by declaring the same name with the same definition. */
+typedef enum { CB_PARAM_INT, CB_PARAM_DOUBLE, CB_PARAM_BOOL, CB_PARAM_CHOICE } cb_param_kind;
+typedef struct cb_param_key {
+  const char *name;            /* key in [integrator]; NULL ends a type's list */
+  cb_param_kind kind;
+  size_t offset;               /* of the field in the params struct: int (INT, BOOL, CHOICE; an enum is
+                                  int-sized) or double (DOUBLE) */
+  const char *def;             /* default, as a config writes it; must give the type's params_default */
+  const char *unit;
+  double lo, hi;               /* accepted range of INT and DOUBLE values (inclusive) ... */
+  int lo_open;                 /* ... but lo excluded when 1 */
+  const char *const *choices;  /* CHOICE: the names, NULL-terminated */
+  const int *values;           /* CHOICE: the field's value for each name; NULL = the name's index */
+  const char *doc;
+} cb_param_key;
+
 /* What a type needs from the wrapper. */
 enum {
   CB_INTEGRATOR_LINEAR_SOLVER = 1u, /* solves with the linear solver named at alloc (analysed there, once) */
-  CB_INTEGRATOR_HESSIAN = 2u        /* assembles the system's matrix M/dt^2 + H */
+  CB_INTEGRATOR_HESSIAN = 2u        /* assembles the system's matrix M/dt^2 + H into scene->sys.A, so a
+                                       caller sharing that matrix knows a step overwrites it */
 };
 
 /* A plug-in (gsl_multiroot_fsolver_type style). The wrapper allocates the
@@ -94,6 +116,7 @@ typedef struct cb_integrator_type {
   size_t size;                 /* bytes of it->state */
   size_t params_size;          /* bytes of it->type_params; 0 = the type has none */
   const void *params_default;  /* the type's defaults (params_size bytes), or NULL */
+  const cb_param_key *keys;    /* its config keys (ended by a NULL name), or NULL for none */
   /* Sets up it->state (workspaces) and checks it->type_params against the
    * scene; on failure it leaves what free can release. */
   int (*init)(cb_integrator *it);

@@ -39,9 +39,10 @@ int cb_scene_def_from_config(const cb_config *c, cb_scene_def *d, char *path, si
   d->density = c->density;
   d->vertex_mass = c->vertex_mass;
   d->stretch_k = c->stretch_k;
-  d->bend = c->bend;
+  d->bend = cb_config_choice(c, "material.bend"); /* the registry's name: it outlives c */
   d->bend_k = c->bend_k;
-  d->definiteness = c->definiteness; /* the springs' response: Newton's policy is also theirs */
+  const char *def = cb_config_choice(c, "integrator.definiteness"); /* Newton's policy is also the springs' response */
+  if (def) d->definiteness = def;
   d->buckling_kb = c->buckling_kb;
   memcpy(d->gravity, c->gravity, sizeof d->gravity);
   d->pins = c->pins;
@@ -71,35 +72,36 @@ int cb_integrator_params_from_config(const cb_config *c, cb_integrator_params *p
   return CB_OK;
 }
 
-int cb_newton_params_from_config(const cb_config *c, cb_newton_params *p) {
-  *p = cb_newton_params_default();
-  p->max_iters = c->max_iters;
-  p->tol = c->tol;
-  p->tol_dx = c->tol_dx;
-  p->init_predict = strcmp(c->init, "x0") != 0;
-  p->line_search = c->line_search;
-  return cb_definiteness_from_name(c->definiteness, &p->definiteness);
-}
-
-/* ---- the binding table of the integrator types' own keys ------------------
- * One row per type that has keys (in config.c's key table): the function
- * that reads them into the type's parameter struct. */
-static int read_newton(const cb_config *c, void *params) { return cb_newton_params_from_config(c, params); }
-
-static const struct {
-  const cb_integrator_type *type;
-  int (*read)(const cb_config *c, void *params);
-} integrator_keys[] = {
-    {&cb_integrator_newton, read_newton},
-};
-
+/* A type's keys (cb_integrator_type.keys) into its parameter struct. */
 int cb_integrator_type_params_from_config(const cb_config *c, const cb_integrator_type *t, void *params) {
   if (!t->params_size) return CB_OK;
   if (t->params_default) memcpy(params, t->params_default, t->params_size);
   else memset(params, 0, t->params_size);
-  for (size_t i = 0; i < sizeof integrator_keys / sizeof integrator_keys[0]; i++)
-    if (integrator_keys[i].type == t) return integrator_keys[i].read(c, params);
+  for (const cb_param_key *k = t->keys; k && k->name; k++) {
+    char key[CB_NAME_LEN + 16];
+    snprintf(key, sizeof key, "integrator.%s", k->name);
+    double v;
+    if (cb_config_type_value(c, key, &v)) return cb_fail("%s: not in the config's key table", key);
+    char *field = (char *)params + k->offset;
+    switch (k->kind) {
+    case CB_PARAM_DOUBLE: memcpy(field, &v, sizeof v); break;
+    case CB_PARAM_CHOICE: {
+      int i = (int)v, value = k->values ? k->values[i] : i;
+      memcpy(field, &value, sizeof value);
+      break;
+    }
+    default: { /* INT, BOOL */
+      int i = (int)v;
+      memcpy(field, &i, sizeof i);
+      break;
+    }
+    }
+  }
   return CB_OK;
+}
+
+int cb_newton_params_from_config(const cb_config *c, cb_newton_params *p) {
+  return cb_integrator_type_params_from_config(c, &cb_integrator_newton, p);
 }
 
 cb_solver_params cb_solver_params_from_config(const cb_config *c) {

@@ -6,8 +6,10 @@
  *               --cb_integrator_from_config--> cb_integrator_params + the
  *                                              type's own params + solver
  *
- * An integrator type's own keys are read by its row in the binding table of
- * bind.c (`integrator_keys[]`): a type without a row runs on its defaults. */
+ * An integrator type's own keys are declared in its type table
+ * (cb_integrator_type.keys, in the type's file); config.c adds them to its
+ * key table and cb_integrator_type_params_from_config copies their values
+ * into the type's parameter struct, so no line here names a type. */
 #ifndef CB_BIND_H
 #define CB_BIND_H
 
@@ -29,12 +31,12 @@ int cb_scene_def_from_config(const cb_config *c, cb_scene_def *def, char *path, 
 /* The generic integrator parameters (integrator.dt; no hook). */
 int cb_integrator_params_from_config(const cb_config *c, cb_integrator_params *p);
 
-/* The parameters of type t from its keys (its row of the binding table),
- * starting from the type's defaults; params has t->params_size bytes. */
+/* The parameters of type t from its keys (t->keys), starting from the
+ * type's defaults; params has t->params_size bytes. */
 int cb_integrator_type_params_from_config(const cb_config *c, const cb_integrator_type *t, void *params);
 
-/* Newton's keys: integrator.max_iters, tol, tol_dx, init, line_search,
- * definiteness. */
+/* The same for Newton (integrator.max_iters, tol, tol_dx, definiteness,
+ * init, line_search), typed. */
 int cb_newton_params_from_config(const cb_config *c, cb_newton_params *p);
 
 /* solver.tol, max_iters, alpha, rho. */

@@ -56,6 +56,7 @@ const cb_integrator_type cb_integrator_explicit = {
     .size = sizeof(explicit_work),
     .params_size = 0,
     .params_default = NULL,
+    .keys = NULL,
     .init = ex_init,
     .step = ex_step,
     .free = ex_free,

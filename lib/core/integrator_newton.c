@@ -31,6 +31,7 @@
  * (objective.h). Newton's parameters are cb_newton_params (integrator.h). */
 #include <cblas.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -54,6 +55,29 @@ static const cb_newton_params newton_defaults = {.max_iters = 50, .tol = 1e-8, .
                                                  .line_search = 0, .definiteness = CB_DEF_DROP};
 
 cb_newton_params cb_newton_params_default(void) { return newton_defaults; }
+
+_Static_assert(sizeof(cb_definiteness) == sizeof(int), "CB_PARAM_CHOICE fields are int-sized");
+
+/* Newton's config keys (integrator.<name>); the defaults are newton_defaults. */
+static const char *const init_names[] = {"predict", "x0", NULL};
+static const int init_values[] = {1, 0}; /* init_predict */
+#define NP(f) offsetof(cb_newton_params, f)
+static const cb_param_key newton_keys[] = {
+    {"max_iters", CB_PARAM_INT, NP(max_iters), "50", "iterations", 1, 1000000, 0, NULL, NULL,
+     "Newton iterations per step at most; 1 is Baraff-Witkin's single linear solve."},
+    {"tol", CB_PARAM_DOUBLE, NP(tol), "1e-8", "-", 0, 1, 0, NULL, NULL,
+     "Newton stops when |grad F(x)| <= tol |grad F(x(0))|, x(0) being the step's initial guess. Below about 1e-11 the tolerance may be under round-off (e.g. a step from rest, where grad F(x(0)) is gravity alone): pair it with `tol_dx`."},
+    {"tol_dx", CB_PARAM_DOUBLE, NP(tol_dx), "0", "m", 0, 1e9, 0, NULL, NULL,
+     "Newton also stops when the largest component of the step |dx| is <= tol_dx; 0 turns this test off."},
+    {"definiteness", CB_PARAM_CHOICE, NP(definiteness), "drop", "-", 0, 0, 0, cb_definiteness_names, NULL,
+     "Spring Hessian treatment when a spring is compressed: `none` keeps the exact Hessian; `drop` drops the k(1 - L/|x|) term when |x| < L (the lecture's fix; the transverse eigenvalue clamped at 0); `mirror` uses |1 - L/|x||; `shift` keeps the exact Hessian and adds mu I to Newton's matrix, raising mu until Cholesky (or CG) succeeds; `choi-ko` replaces the compressed spring by Choi & Ko's (2002) immediate-buckling response (see `material.buckling_kb`), a different energy, with its exact Hessian."},
+    {"init", CB_PARAM_CHOICE, NP(init_predict), "predict", "-", 0, 0, 0, init_names, init_values,
+     "Newton's initial guess: `predict` (x0 + dt v0) or `x0`."},
+    {"line_search", CB_PARAM_BOOL, NP(line_search), "0", "-", 0, 0, 0, NULL, NULL,
+     "Backtracking (Armijo) line search on F in every Newton iteration (0 or 1)."},
+    {NULL, CB_PARAM_INT, 0, NULL, NULL, 0, 0, 0, NULL, NULL, NULL},
+};
+#undef NP
 
 static void nt_free(cb_integrator *it) {
   newton_work *w = it->state;
@@ -191,6 +215,7 @@ const cb_integrator_type cb_integrator_newton = {
     .size = sizeof(newton_work),
     .params_size = sizeof(cb_newton_params),
     .params_default = &newton_defaults,
+    .keys = newton_keys,
     .init = nt_init,
     .step = nt_step,
     .free = nt_free,
