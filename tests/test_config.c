@@ -1108,7 +1108,10 @@ Test(bind, core_errors_name_the_key_and_the_binding_its_location) {
   cr_expect_null(key);
   cr_expect_null(s->def.pins); /* the scene's copy keeps no borrowed strings */
   cr_expect_eq(s->npinned, 0);
+  cb_scene_def copy = s->def; /* ... so rebuilding from it is refused, not a crash */
   cb_scene_free(s);
+  cr_expect_eq(cb_scene_build(&copy, &s, NULL), CB_EINVAL);
+  cr_expect_null(s);
   cb_config c;
   test_config(&c, (const char *const[]){"scene.pins=99", "mesh.n=4", NULL});
   cr_expect_eq(cb_scene_from_config(&c, &s), CB_EINVAL);

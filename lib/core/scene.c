@@ -135,8 +135,13 @@ static int build_mesh(const cb_scene_def *d, cb_mesh *mesh, const char **key) {
 int cb_scene_build(const cb_scene_def *d, cb_scene **out, const char **key) {
   *out = NULL;
   if (key) *key = NULL;
+  if (!d->bend || !d->definiteness || !d->pins) /* e.g. a copy of cb_scene.def, whose strings are NULL */
+    return cb_fail("scene: bend, definiteness and pins must be set (start from cb_scene_def_default())");
   if (d->nresponses < 0 || d->nresponses > CB_MAX_RESPONSES)
     return cb_fail("scene: %d post-step responses (at most %d)", d->nresponses, CB_MAX_RESPONSES);
+  for (int k = 0; k < d->nresponses; k++)
+    if (!d->responses[k].type || !d->responses[k].type->apply)
+      return cb_fail("scene: post-step response %d has no type (or no apply)", k);
   cb_scene *s = cb_calloc(1, sizeof *s);
   if (!s) return CB_ENOMEM;
   s->def = *d;
