@@ -32,15 +32,18 @@ endif
 # Layers, each compiled with only its own include paths, so the direction is
 # enforced by the build: a core file that includes an instrument or I/O header
 # does not compile (tests/layers.sh checks that it does not).
+# Order: core <- config <- {instruments, io} <- programs.
 #   core         include/clothbench/ (public API) + lib/core/ (internal headers)
+#   config       lib/config/: the INI key table and its binding to core structs
 #   instruments  lib/instruments/: measurements on core objects
 #   io           lib/io/: what every program shares (CSV, provenance, progress)
 #   programs     tools/, experiments/<name>/, bench/, claims/, tests/: everything
 SYS_INC     := -I/usr/include/suitesparse $(if $(OPENBLAS_INC),-I$(OPENBLAS_INC))
 CORE_INC    := -Iinclude -Ilib/core
-INSTR_INC   := -Iinclude -Ilib/instruments
-IO_INC      := -Iinclude -Ilib/io
-PROGRAM_INC := -Iinclude -Ilib/instruments -Ilib/io -Iclaims
+CONFIG_INC  := -Iinclude -Ilib/config
+INSTR_INC   := -Iinclude -Ilib/config -Ilib/instruments
+IO_INC      := -Iinclude -Ilib/config -Ilib/io
+PROGRAM_INC := -Iinclude -Ilib/config -Ilib/instruments -Ilib/io -Iclaims
 CPPFLAGS := -D_POSIX_C_SOURCE=200809L $(SYS_INC)
 CFLAGS   := $(OPT) -g $(WARN) $(SAN)
 LDFLAGS  := $(SAN)
@@ -49,9 +52,10 @@ LDFLAGS  := $(SAN)
 LDLIBS   := -lcholmod -Wl,-Bstatic -lgsl -Wl,-Bdynamic -lopenblas -linih -lm
 
 CORE_SRC  := $(sort $(wildcard lib/core/*.c))
+CONFIG_SRC:= $(sort $(wildcard lib/config/*.c))
 INSTR_SRC := $(sort $(wildcard lib/instruments/*.c))
 IO_SRC    := $(sort $(wildcard lib/io/*.c))
-LIB_OBJ  := $(CORE_SRC:%.c=$(BUILD)/%.o) $(INSTR_SRC:%.c=$(BUILD)/%.o) $(IO_SRC:%.c=$(BUILD)/%.o) $(BUILD)/version.o
+LIB_OBJ  := $(CORE_SRC:%.c=$(BUILD)/%.o) $(CONFIG_SRC:%.c=$(BUILD)/%.o) $(INSTR_SRC:%.c=$(BUILD)/%.o) $(IO_SRC:%.c=$(BUILD)/%.o) $(BUILD)/version.o
 LIB      := $(BUILD)/libclothbench.a
 TOOLS    := $(BUILD)/simulate
 # one program per folder experiments/<name>/ (main.c plus what serves only it)
@@ -85,6 +89,10 @@ $(BUILD)/version.c: FORCE
 $(BUILD)/lib/core/%.o: lib/core/%.c
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(CORE_INC) $(CFLAGS) -MMD -MP -c $< -o $@
+
+$(BUILD)/lib/config/%.o: lib/config/%.c
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(CONFIG_INC) $(CFLAGS) -MMD -MP -c $< -o $@
 
 $(BUILD)/lib/instruments/%.o: lib/instruments/%.c
 	@mkdir -p $(dir $@)
@@ -140,7 +148,7 @@ check: $(TESTS) $(TOOLS) $(BUILD)/$(DETERMINISM_EXP) $(BUILD)/definiteness $(BUI
 	@BUILD=$(BUILD) tests/cli.sh
 	@BUILD=$(BUILD) tests/report.sh
 	@BUILD=$(BUILD) tests/determinism.sh $(DETERMINISM_EXP)
-	@CC="$(CC)" CPPFLAGS="$(CPPFLAGS)" CORE_INC="$(CORE_INC)" INSTR_INC="$(INSTR_INC)" IO_INC="$(IO_INC)" tests/layers.sh
+	@CC="$(CC)" CPPFLAGS="$(CPPFLAGS)" CORE_INC="$(CORE_INC)" CONFIG_INC="$(CONFIG_INC)" INSTR_INC="$(INSTR_INC)" IO_INC="$(IO_INC)" tests/layers.sh
 	@echo "all tests passed"
 
 san: deps

@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include <clothbench/clothbench.h>
+#include "bind.h"
 #include "experiment.h"
 #include "provenance.h"
 #include <clothbench/timer.h>
@@ -88,13 +89,13 @@ int main(int argc, char **argv) {
     cb_config cfg;
     cb_scene *s = NULL;
     cb_integrator *nt = NULL, *ex = NULL;
-    if (cb_experiment_config(&e, "hanging.ini", sets, &cfg) || cb_scene_build(&cfg, &s) || cb_integrator_from_config(s, &nt)) {
+    if (cb_experiment_config(&e, "hanging.ini", sets, &cfg) || cb_scene_from_config(&cfg, &s) || cb_integrator_from_config(&cfg, s, NULL, &nt)) {
       fprintf(stderr, "bench_core: %s\n", cb_error_message());
       return 1;
     }
     cb_integrator_params ep = nt->params;
     ep.dt = 1e-5;
-    cb_integrator_alloc("explicit", s, &ep, NULL, NULL, &ex);
+    cb_integrator_alloc("explicit", s, &ep, NULL, NULL, NULL, &ex);
     int nv3 = 3 * s->mesh.nv, reps = n >= 256 ? 5 : n >= 128 ? 7 : 11;
     double *x = malloc((size_t)nv3 * sizeof *x), *v = malloc((size_t)nv3 * sizeof *v);
     double *xs = malloc((size_t)nv3 * sizeof *xs), *vs = malloc((size_t)nv3 * sizeof *vs);
@@ -117,7 +118,7 @@ int main(int argc, char **argv) {
       sp.max_iters = 200;
       sp.alpha = 0.4;
       cb_integrator *it = NULL;
-      if (cb_integrator_alloc("newton", s, &nt->params, iters[q], &sp, &it)) continue;
+      if (cb_integrator_alloc("newton", s, &nt->params, nt->type_params, iters[q], &sp, &it)) continue;
       cb_integrator_step(it, x, v, &st);
       a0 = nalloc;
       cb_integrator_step(it, x, v, &st);

@@ -7,6 +7,8 @@
 
 #include <clothbench/clothbench.h>
 
+#include "bind.h"
+#include "config.h"
 #include "fuzz_input.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);

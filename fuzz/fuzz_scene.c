@@ -11,6 +11,7 @@
 
 #include <clothbench/clothbench.h>
 
+#include "bind.h"
 #include "fuzz_input.h"
 
 #define FUZZ_MAX_LINES 200
@@ -31,13 +32,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         cb_config_set(&c, "scene.pins=0") || cb_config_set(&c, k ? "integrator.method=explicit" : "integrator.method=newton"))
       abort(); /* the harness's own keys are valid */
     cb_scene *s = NULL;
-    int st = cb_scene_build(&c, &s);
+    int st = cb_scene_from_config(&c, &s);
     if (st != CB_OK) {
       if (cb_error_message()[0] == '\0') abort();
       return 0;
     }
     cb_integrator *it = NULL;
-    if (cb_integrator_from_config(s, &it) == CB_OK) {
+    if (cb_integrator_from_config(&c, s, NULL, &it) == CB_OK) {
       cb_run r;
       if (cb_run_init(&r, s, it) == CB_OK) {
         int rs = cb_run_step(&r);

@@ -1,12 +1,14 @@
 #!/bin/sh
 # The layers' direction is enforced by the build: each layer compiles with only
-# its own include paths (Makefile: CORE_INC, INSTR_INC, IO_INC). This checks
-# that it is so: a core file that includes an instrument or I/O header, or the
+# its own include paths (Makefile: CORE_INC, CONFIG_INC, INSTR_INC, IO_INC),
+# in the order core <- config <- {instruments, io} <- programs. This checks
+# that it is so: a core file that includes a config, binding, instrument or
+# I/O header, a config file that includes an instrument or I/O header, or the
 # core's internal headers from outside it, fails to compile, while the same
 # include compiles in the layer that owns the header (so the check is not
 # passing for some unrelated reason).
 set -u
-: "${CC:?}" "${CPPFLAGS:?}" "${CORE_INC:?}" "${INSTR_INC:?}" "${IO_INC:?}"
+: "${CC:?}" "${CPPFLAGS:?}" "${CORE_INC:?}" "${CONFIG_INC:?}" "${INSTR_INC:?}" "${IO_INC:?}"
 T=$(mktemp -d "${TMPDIR:-/tmp}/cblayers.XXXXXX") || exit 1
 trap 'rm -rf "$T"' EXIT INT TERM
 fail=0 n=0
@@ -20,17 +22,27 @@ expect() { # expect ok|fail LAYER FLAGS HEADER
   if try "$3" "$4"; then got=ok; else got=fail; fi
   [ "$got" = "$1" ] || { echo "layers: $2 including $4: expected $1, got $got"; fail=1; }
 }
+for h in '"config.h"' '"bind.h"' '<clothbench/config.h>'; do
+  expect fail core "$CORE_INC" "$h"
+done
+for h in '"config.h"' '"bind.h"'; do
+  expect ok config "$CONFIG_INC" "$h"
+  expect ok instruments "$INSTR_INC" "$h"
+  expect ok io "$IO_INC" "$h"
+done
 for h in '"capture.h"' '"stats.h"' '"reference.h"' '"stability.h"'; do
   expect fail core "$CORE_INC" "$h"
+  expect fail config "$CONFIG_INC" "$h"
   expect ok instruments "$INSTR_INC" "$h"
 done
 for h in '"outfile.h"' '"experiment.h"' '"provenance.h"' '"progress.h"'; do
   expect fail core "$CORE_INC" "$h"
+  expect fail config "$CONFIG_INC" "$h"
   expect fail instruments "$INSTR_INC" "$h"
   expect ok io "$IO_INC" "$h"
 done
 expect fail instruments "$INSTR_INC" '"solver_iterative.h"'
 expect ok core "$CORE_INC" '"solver_iterative.h"'
 expect ok core "$CORE_INC" '<clothbench/clothbench.h>'
-[ $fail = 0 ] && echo "layers: ok ($n include checks: core cannot reach instruments or I/O, instruments cannot reach I/O)"
+[ $fail = 0 ] && echo "layers: ok ($n include checks: core cannot reach config, instruments or I/O; config cannot reach instruments or I/O; instruments cannot reach I/O)"
 exit $fail

@@ -18,8 +18,20 @@ cb_scene *test_scene(const char *const *sets) {
   cb_config c;
   test_config(&c, sets);
   cb_scene *s = NULL;
-  if (cb_scene_build(&c, &s)) cr_assert_fail("scene: %s", cb_error_message());
+  if (cb_scene_from_config(&c, &s)) cr_assert_fail("scene: %s", cb_error_message());
   return s;
+}
+
+cb_integrator *test_integrator(const char *const *sets, cb_scene *s, cb_newton_hook hook, void *ctx) {
+  cb_config c;
+  test_config(&c, sets);
+  cb_integrator_params p;
+  cr_assert_eq(cb_integrator_params_from_config(&c, &p), CB_OK, "%s", cb_error_message());
+  p.hook = hook;
+  p.hook_ctx = ctx;
+  cb_integrator *it = NULL;
+  if (cb_integrator_from_config(&c, s, &p, &it)) cr_assert_fail("integrator: %s", cb_error_message());
+  return it;
 }
 
 const char *test_tmpfile(const char *suffix, const char *text) {

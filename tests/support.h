@@ -5,14 +5,18 @@
 #include <gsl/gsl_matrix.h>
 
 #include <clothbench/clothbench.h>
+#include "bind.h"
 #include "experiment.h"
 #include "provenance.h"
 
 /* Defaults, then each "section.key=value" of the NULL-terminated list.
  * Aborts the test with the library's message on error. */
 void test_config(cb_config *c, const char *const *sets);
-/* test_config + cb_scene_build. */
+/* test_config + cb_scene_from_config. */
 cb_scene *test_scene(const char *const *sets);
+/* The integrator the same sets describe for s (cb_integrator_from_config),
+ * with an optional Newton hook. Aborts the test on error. */
+cb_integrator *test_integrator(const char *const *sets, cb_scene *s, cb_newton_hook hook, void *ctx);
 
 /* Writes text to a fresh temporary file; returns its path (static buffer). */
 const char *test_tmpfile(const char *suffix, const char *text);

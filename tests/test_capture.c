@@ -32,15 +32,14 @@ Test(capture, copies_the_system_newton_assembles) {
   cr_expect_float_eq(cap.t_s, 4 * c.dt, 1e-12);
   /* an independent run of the same scene, spying through the hook */
   cb_scene *s = NULL;
-  cr_assert_eq(cb_scene_build(&c, &s), CB_OK);
+  cr_assert_eq(cb_scene_from_config(&c, &s), CB_OK);
   spy sp = {0, 4, 1, 0, malloc((size_t)s->sys.A.nnz * sizeof(double)), malloc((size_t)s->sys.A.n * sizeof(double))};
   cb_integrator_params ip;
   cb_integrator_params_from_config(&c, &ip);
   ip.hook = spy_hook;
   ip.hook_ctx = &sp;
-  cb_solver_params p = cb_solver_params_from_config(&c);
   cb_integrator *it = NULL;
-  cr_assert_eq(cb_integrator_alloc("newton", s, &ip, "cholmod", &p, &it), CB_OK);
+  cr_assert_eq(cb_integrator_from_config(&c, s, &ip, &it), CB_OK);
   cb_run r;
   cr_assert_eq(cb_run_init(&r, s, it), CB_OK);
   for (sp.step = 0; sp.step <= 4; sp.step++) cb_run_step(&r);

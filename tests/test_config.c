@@ -20,6 +20,13 @@
 
 static char ini_path[256];
 
+/* Newton's parameters as the binding reads them from c. */
+static cb_newton_params newton_of(const cb_config *c) {
+  cb_newton_params p;
+  cr_assert_eq(cb_newton_params_from_config(c, &p), CB_OK, "%s", cb_error_message());
+  return p;
+}
+
 static int load_text(const char *text, cb_config *c) {
   snprintf(ini_path, sizeof ini_path, "%s", test_tmpfile(".ini", text));
   cb_error_clear();
@@ -75,7 +82,7 @@ static void expect_scene_error(const char *const *sets, const char *what1, const
   test_config(&c, sets);
   cb_scene *s = (cb_scene *)1;
   cb_error_clear();
-  int st = cb_scene_build(&c, &s);
+  int st = cb_scene_from_config(&c, &s);
   cr_expect_lt(st, 0, "scene built, expected an error mentioning '%s'", what1);
   cr_expect_null(s, "a failed build must leave *out NULL");
   const char *msg = cb_error_message();
@@ -134,12 +141,14 @@ Test(defaults, documented_values) {
   cr_expect_str_eq(c.method, "newton");
   cr_expect_eq(c.dt, 1.0 / 30.0);
   cr_expect_eq(c.steps, 60);
-  cr_expect_eq(c.max_iters, 50);
-  cr_expect_eq(c.tol, 1e-8);
-  cr_expect_eq(c.tol_dx, 0.0);
-  cr_expect_str_eq(c.definiteness, "drop");
-  cr_expect_str_eq(c.init, "predict");
-  cr_expect_eq(c.line_search, 0);
+  cr_expect_eq(newton_of(&c).max_iters, 50);
+  cr_expect_eq(newton_of(&c).tol, 1e-8);
+  cr_expect_eq(newton_of(&c).tol_dx, 0.0);
+  cr_expect_str_eq(cb_config_choice(&c, "integrator.definiteness"), "drop");
+  cr_expect_eq(newton_of(&c).definiteness, CB_DEF_DROP);
+  cr_expect_str_eq(cb_config_choice(&c, "integrator.init"), "predict");
+  cr_expect_eq(newton_of(&c).init_predict, 1);
+  cr_expect_eq(newton_of(&c).line_search, 0);
   cr_expect_eq(c.diverge_ratio, 10.0);
   cr_expect_str_eq(c.solver, "cholmod");
   cr_expect_eq(c.solver_tol, 1e-8);
@@ -237,12 +246,14 @@ Test(load, every_key) {
   cr_expect_str_eq(c.method, "explicit");
   cr_expect_eq(c.dt, 1.0 / 240.0);
   cr_expect_eq(c.steps, 17);
-  cr_expect_eq(c.max_iters, 3);
-  cr_expect_eq(c.tol, 1e-6);
-  cr_expect_eq(c.tol_dx, 2.5e-4);
-  cr_expect_str_eq(c.definiteness, "none");
-  cr_expect_str_eq(c.init, "x0");
-  cr_expect_eq(c.line_search, 1);
+  cr_expect_eq(newton_of(&c).max_iters, 3);
+  cr_expect_eq(newton_of(&c).tol, 1e-6);
+  cr_expect_eq(newton_of(&c).tol_dx, 2.5e-4);
+  cr_expect_str_eq(cb_config_choice(&c, "integrator.definiteness"), "none");
+  cr_expect_eq(newton_of(&c).definiteness, CB_DEF_NONE);
+  cr_expect_str_eq(cb_config_choice(&c, "integrator.init"), "x0");
+  cr_expect_eq(newton_of(&c).init_predict, 0);
+  cr_expect_eq(newton_of(&c).line_search, 1);
   cr_expect_eq(c.diverge_ratio, 100.0);
   cr_expect_str_eq(c.solver, "cholmod");
   cr_expect_eq(c.solver_tol, 1e-10);
@@ -335,12 +346,12 @@ Test(load, booleans) {
   for (int k = 0; k < 4; k++) {
     snprintf(text, sizeof text, "[integrator]\nline_search = %s\n", yes[k]);
     load_ok(text, &c);
-    cr_expect_eq(c.line_search, 1, "'%s'", yes[k]);
+    cr_expect_eq(newton_of(&c).line_search, 1, "'%s'", yes[k]);
   }
   for (int k = 0; k < 4; k++) {
     snprintf(text, sizeof text, "[integrator]\nline_search = %s\n", no[k]);
     load_ok(text, &c);
-    cr_expect_eq(c.line_search, 0, "'%s'", no[k]);
+    cr_expect_eq(newton_of(&c).line_search, 0, "'%s'", no[k]);
   }
 }
 
@@ -521,7 +532,7 @@ Test(set, overrides) {
   cr_expect(c.gravity[0] == 0 && c.gravity[1] == 0 && c.gravity[2] == -1);
   cr_expect_str_eq(c.pins, "0 3, 5");
   cr_expect(c.mesh_size[0] == 3 && c.mesh_size[1] == 1);
-  cr_expect_eq(c.line_search, 1);
+  cr_expect_eq(newton_of(&c).line_search, 1);
   cr_expect(strstr(c.overrides, "mesh.n=7") != NULL, "overrides '%s'", c.overrides);
   cr_expect(strstr(c.overrides, "integrator.dt=1/60") != NULL, "overrides '%s'", c.overrides);
   /* the last --set wins */
@@ -630,7 +641,7 @@ Test(validate, obj_needs_file) {
   cr_expect_eq(cb_config_validate(&c), CB_EINVAL);
   cr_expect(strstr(cb_error_message(), "mesh.file") != NULL, "%s", cb_error_message());
   cb_scene *s = NULL;
-  cr_expect_eq(cb_scene_build(&c, &s), CB_EINVAL);
+  cr_expect_eq(cb_scene_from_config(&c, &s), CB_EINVAL);
   cr_expect_null(s);
 }
 
@@ -755,7 +766,7 @@ Test(pins, error_names_file_and_line) {
   cb_config c;
   load_ok("[mesh]\nn = 3\n\n[scene]\npins = 0 9\n", &c);
   cb_scene *s = NULL;
-  cr_expect_eq(cb_scene_build(&c, &s), CB_EINVAL);
+  cr_expect_eq(cb_scene_from_config(&c, &s), CB_EINVAL);
   char want[600];
   snprintf(want, sizeof want, "%s:5: scene.pins", ini_path);
   cr_expect(strstr(cb_error_message(), want) != NULL, "message '%s' lacks '%s'", cb_error_message(), want);
@@ -792,7 +803,7 @@ Test(obj_scene, relative_file_from_config_folder) {
   cb_config c;
   cr_assert_eq(cb_config_load(ini, &c), CB_OK, "%s", cb_error_message());
   cb_scene *s = NULL;
-  cr_assert_eq(cb_scene_build(&c, &s), CB_OK, "%s", cb_error_message());
+  cr_assert_eq(cb_scene_from_config(&c, &s), CB_OK, "%s", cb_error_message());
   cr_expect_eq(s->mesh.nv, 4);
   cr_expect_eq(s->mesh.nt, 2);
   /* fan (0,1,2), (0,2,3), areas 1/2 each, density 3:
@@ -859,7 +870,7 @@ Test(obj_scene, bad_obj_names_obj_line_and_key) {
   cb_config c;
   cr_assert_eq(cb_config_load(ini, &c), CB_OK, "%s", cb_error_message());
   cb_scene *s = NULL;
-  cr_expect_eq(cb_scene_build(&c, &s), CB_EINVAL);
+  cr_expect_eq(cb_scene_from_config(&c, &s), CB_EINVAL);
   char want[700];
   snprintf(want, sizeof want, "%s:4", obj);
   cr_expect(strstr(cb_error_message(), want) != NULL, "message '%s' lacks '%s'", cb_error_message(), want);
@@ -867,7 +878,7 @@ Test(obj_scene, bad_obj_names_obj_line_and_key) {
   /* a missing OBJ is an I/O error */
   write_file(ini, "[mesh]\ntype = obj\nfile = missing.obj\n[scene]\npins = none\n");
   cr_assert_eq(cb_config_load(ini, &c), CB_OK);
-  cr_expect_eq(cb_scene_build(&c, &s), CB_EIO);
+  cr_expect_eq(cb_scene_from_config(&c, &s), CB_EIO);
   cr_expect(strstr(cb_error_message(), "missing.obj") != NULL, "%s", cb_error_message());
   unlink(obj);
   unlink(ini);
@@ -895,7 +906,7 @@ Test(scene_terms, follow_the_config) {
     cr_expect_geq(term_index(s, "stretch"), 0, "case %zu: no stretch term", k);
     cr_expect_eq(term_index(s, "bend") >= 0, cases[k].has_bend, "case %zu: bend term", k);
     cr_expect_eq(term_index(s, "gravity") >= 0, cases[k].has_gravity, "case %zu: gravity term", k);
-    for (int a = 0; a < 3; a++) cr_expect_eq(s->gravity[a], s->cfg.gravity[a]);
+    for (int a = 0; a < 3; a++) cr_expect_eq(s->gravity[a], s->def.gravity[a]);
     cb_scene_free(s);
   }
 }
@@ -1032,4 +1043,77 @@ Test(mass, chain_needs_vertex_mass) {
   cr_expect_eq(s->topo.ne, 3);
   for (int i = 0; i < 4; i++) cr_expect_eq(s->mass[i], 0.5);
   cb_scene_free(s);
+}
+
+/* ---- the binding ------------------------------------------------------------------ */
+
+/* Every registered integrator type's keys are config keys
+ * (integrator.<name>), and their default texts give the type's own
+ * defaults, byte for byte. */
+Test(bind, every_types_keys_are_config_keys_and_their_defaults_are_the_types) {
+  cb_config c;
+  cb_config_defaults(&c);
+  cr_assert_eq(cb_config_validate(&c), CB_OK, "%s", cb_error_message());
+  int nkeys = 0;
+  for (int i = 0; cb_integrator_types[i]; i++) {
+    const cb_integrator_type *t = cb_integrator_types[i];
+    for (const cb_param_key *k = t->keys; k && k->name; k++, nkeys++) {
+      char key[64], set[128];
+      snprintf(key, sizeof key, "integrator.%s", k->name);
+      double v;
+      cr_expect_eq(cb_config_type_value(&c, key, &v), 0, "%s is not a config key", key);
+      snprintf(set, sizeof set, "%s=%s", key, k->def);
+      cr_expect_eq(cb_config_set(&c, set), CB_OK, "%s", cb_error_message());
+    }
+    if (!t->params_size) continue;
+    void *p = malloc(t->params_size);
+    cr_assert_eq(cb_integrator_type_params_from_config(&c, t, p), CB_OK, "%s", cb_error_message());
+    cr_expect(memcmp(p, t->params_default, t->params_size) == 0, "%s: key defaults differ from params_default", t->name);
+    free(p);
+  }
+  cr_expect_eq(nkeys, 6); /* newton's six */
+}
+
+/* The binding reads a type's keys into its struct: Newton from a file. */
+Test(bind, newton_reads_its_own_keys) {
+  cb_config c;
+  load_ok("[integrator]\nmax_iters = 7\ntol = 1e-5\ntol_dx = 1e-9\ndefiniteness = shift\ninit = x0\nline_search = on\n", &c);
+  cb_newton_params p = newton_of(&c);
+  cr_expect_eq(p.max_iters, 7);
+  cr_expect_eq(p.tol, 1e-5);
+  cr_expect_eq(p.tol_dx, 1e-9);
+  cr_expect_eq(p.definiteness, CB_DEF_SHIFT);
+  cr_expect_eq(p.init_predict, 0);
+  cr_expect_eq(p.line_search, 1);
+  cr_expect_eq(cb_config_type_value(&c, "integrator.dt", &(double){0}), -1); /* generic, not a type's */
+  cr_expect_null(cb_config_choice(&c, "integrator.dt"));
+}
+
+/* The core names the field of a bad definition; the binding adds where the
+ * key was set (here: the default, so the config's path). */
+Test(bind, core_errors_name_the_key_and_the_binding_its_location) {
+  cb_scene_def d = cb_scene_def_default();
+  d.grid.n = 4;
+  d.grid.m = 4;
+  d.pins = "99";
+  cb_scene *s = NULL;
+  const char *key = "unset";
+  cr_expect_eq(cb_scene_build(&d, &s, &key), CB_EINVAL);
+  cr_expect_null(s);
+  cr_expect_str_eq(key, "scene.pins");
+  cr_expect(strncmp(cb_error_message(), "scene.pins: vertex 99 out of range", 34) == 0, "%s", cb_error_message());
+  d.pins = "none";
+  d.vertex_mass = 1;
+  cr_assert_eq(cb_scene_build(&d, &s, &key), CB_OK, "%s", cb_error_message());
+  cr_expect_null(key);
+  cr_expect_null(s->def.pins); /* the scene's copy keeps no borrowed strings */
+  cr_expect_eq(s->npinned, 0);
+  cb_scene_def copy = s->def; /* ... so rebuilding from it is refused, not a crash */
+  cb_scene_free(s);
+  cr_expect_eq(cb_scene_build(&copy, &s, NULL), CB_EINVAL);
+  cr_expect_null(s);
+  cb_config c;
+  test_config(&c, (const char *const[]){"scene.pins=99", "mesh.n=4", NULL});
+  cr_expect_eq(cb_scene_from_config(&c, &s), CB_EINVAL);
+  cr_expect(strncmp(cb_error_message(), "--set: scene.pins: vertex 99 out of range", 41) == 0, "%s", cb_error_message());
 }

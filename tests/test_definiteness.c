@@ -185,8 +185,7 @@ Test(definiteness, newton_with_shift_on_compressed_cloth) {
     snprintf(pol, sizeof pol, "integrator.definiteness=%s", pols[p]);
     const char *sets[] = {"mesh.n=7", "mesh.size=3", "material.vertex_mass=1", "scene.initial_scale=0.7", pol, NULL};
     cb_scene *s = test_scene(sets);
-    cb_integrator *it;
-    cr_assert_eq(cb_integrator_from_config(s, &it), CB_OK, "%s", cb_error_message());
+    cb_integrator *it = test_integrator(sets, s, NULL, NULL);
     double x[3 * 49], v[3 * 49];
     memcpy(x, s->x0, sizeof x);
     memcpy(v, s->v0, sizeof v);
@@ -346,9 +345,10 @@ Test(choi_ko, integrator_refuses_a_scene_built_without_it) {
   const char *sets[] = {"mesh.n=4", "integrator.definiteness=drop", NULL};
   cb_scene *s = test_scene(sets);
   cb_integrator_params p = cb_integrator_params_default();
-  p.definiteness = CB_DEF_CHOI_KO;
+  cb_newton_params np = cb_newton_params_default();
+  np.definiteness = CB_DEF_CHOI_KO;
   cb_integrator *it = NULL;
-  cr_assert_neq(cb_integrator_alloc("newton", s, &p, "cholmod", NULL, &it), CB_OK);
+  cr_assert_neq(cb_integrator_alloc("newton", s, &p, &np, "cholmod", NULL, &it), CB_OK);
   cr_assert_null(it);
   cb_scene_free(s);
 }
@@ -368,8 +368,7 @@ Test(pins, squeeze_moves_pins_at_constant_velocity_in_both_integrators) {
       double want = s->mesh.x[3 * i] < 0 ? 0.5 : -0.5;
       cr_assert(s->v0[3 * i] == want && s->v0[3 * i + 1] == 0 && s->v0[3 * i + 2] == 0, "pin %d v0", i);
     }
-    cb_integrator *it;
-    cr_assert_eq(cb_integrator_from_config(s, &it), CB_OK, "%s", cb_error_message());
+    cb_integrator *it = test_integrator(sets, s, NULL, NULL);
     double x[75], v[75];
     memcpy(x, s->x0, sizeof x);
     memcpy(v, s->v0, sizeof v);
@@ -394,8 +393,7 @@ Test(pins, zero_squeeze_keeps_pins_fixed) {
   const char *sets[] = {"mesh.n=5", "material.vertex_mass=1", NULL};
   cb_scene *s = test_scene(sets);
   for (int i = 0; i < 3 * s->mesh.nv; i++) cr_assert(s->v0[i] == 0);
-  cb_integrator *it;
-  cr_assert_eq(cb_integrator_from_config(s, &it), CB_OK);
+  cb_integrator *it = test_integrator(sets, s, NULL, NULL);
   double x[75], v[75];
   memcpy(x, s->x0, sizeof x);
   memcpy(v, s->v0, sizeof v);

@@ -41,19 +41,6 @@ static void record(void *ctx, int event, const cb_newton_event *ev) {
   }
 }
 
-/* Integrator from the scene's config, with an optional hook. */
-static cb_integrator *make_integrator(cb_scene *s, cb_newton_hook hook, void *ctx) {
-  cb_integrator_params p;
-  cr_assert_eq(cb_integrator_params_from_config(&s->cfg, &p), CB_OK, "%s", cb_error_message());
-  p.hook = hook;
-  p.hook_ctx = ctx;
-  cb_solver_params sp = cb_solver_params_from_config(&s->cfg);
-  cb_integrator *it = NULL;
-  int st = cb_integrator_alloc(s->cfg.method, s, &p, s->cfg.solver, &sp, &it);
-  cr_assert_eq(st, CB_OK, "integrator: %s", cb_error_message());
-  return it;
-}
-
 static double *copy(const double *x, int n) {
   double *y = malloc((size_t)n * sizeof(double));
   cr_assert(y);
@@ -74,7 +61,7 @@ static double *run_to(const char *const *base, const char *method, double dt, do
   sets[n++] = d;
   sets[n] = NULL;
   cb_scene *s = test_scene(sets);
-  cb_integrator *it = make_integrator(s, NULL, NULL);
+  cb_integrator *it = test_integrator(sets, s, NULL, NULL);
   int n3 = 3 * s->mesh.nv, steps = (int)lround(T / dt);
   cr_assert(fabs(steps * dt - T) <= 1e-12 * T, "T is not a multiple of dt");
   double *x = copy(s->x0, n3), *v = copy(s->v0, n3);
@@ -156,7 +143,7 @@ static void order_case(const char *const *sets, const char *label) {
   cb_scene *s = test_scene(sets);
   trace t;
   memset(&t, 0, sizeof t);
-  cb_integrator *it = make_integrator(s, record, &t);
+  cb_integrator *it = test_integrator(sets, s, record, &t);
   int n3 = 3 * s->mesh.nv;
   double *x = copy(s->x0, n3), *v = copy(s->v0, n3);
   cb_step_stats st;
@@ -207,7 +194,7 @@ Test(integrator, baraff_witkin_is_one_linear_solve_and_reports_max_iters) {
   cb_scene *s = test_scene(sets);
   trace t;
   memset(&t, 0, sizeof t);
-  cb_integrator *it = make_integrator(s, record, &t);
+  cb_integrator *it = test_integrator(sets, s, record, &t);
   int n3 = 3 * s->mesh.nv;
   double *x = copy(s->x0, n3), *v = copy(s->v0, n3);
   for (int step = 0; step < 3; step++) {
@@ -242,7 +229,7 @@ static int is_pinned(const int *pins, int np, int v) {
 static void implicit_equation_case(const char *const *sets, double density, const int *pins, int npins,
                                    const char *label) {
   cb_scene *s = test_scene(sets);
-  cb_integrator *it = make_integrator(s, NULL, NULL);
+  cb_integrator *it = test_integrator(sets, s, NULL, NULL);
   int nv = s->mesh.nv, n3 = 3 * nv;
   double *mass = malloc((size_t)nv * sizeof(double)), *g = malloc((size_t)n3 * sizeof(double));
   cr_assert(mass && g);
@@ -317,7 +304,7 @@ Test(integrator, explicit_with_too_large_dt_is_reported_diverged) {
   const char *sets[] = {"mesh.n=11", "material.vertex_mass=1", "integrator.method=explicit", "integrator.dt=1/30",
                         NULL};
   cb_scene *s = test_scene(sets);
-  cb_integrator *it = make_integrator(s, NULL, NULL);
+  cb_integrator *it = test_integrator(sets, s, NULL, NULL);
   cb_run r;
   cr_assert_eq(cb_run_init(&r, s, it), CB_OK);
   int st = CB_OK, steps = 0;
@@ -344,7 +331,7 @@ Test(integrator, stable_explicit_run_is_not_reported_diverged_and_keeps_energy) 
   const char *sets[] = {"mesh.n=11", "material.vertex_mass=1", "integrator.method=explicit", "integrator.dt=1/2000",
                         NULL};
   cb_scene *s = test_scene(sets);
-  cb_integrator *it = make_integrator(s, NULL, NULL);
+  cb_integrator *it = test_integrator(sets, s, NULL, NULL);
   cb_run r;
   cr_assert_eq(cb_run_init(&r, s, it), CB_OK);
   double drift = 0, pe0 = r.potential;
@@ -370,7 +357,7 @@ Test(integrator, implicit_euler_does_not_gain_energy) {
   const char *sets[] = {"mesh.n=11", "material.vertex_mass=1", "integrator.tol=1e-10", "integrator.tol_dx=1e-12",
                         NULL};
   cb_scene *s = test_scene(sets);
-  cb_integrator *it = make_integrator(s, NULL, NULL);
+  cb_integrator *it = test_integrator(sets, s, NULL, NULL);
   cb_run r;
   cr_assert_eq(cb_run_init(&r, s, it), CB_OK);
   double prev = r.total0, worst_rise = 0, pe0 = r.potential;
@@ -401,7 +388,7 @@ Test(integrator, pinned_vertices_never_move_and_newton_velocity_is_the_differenc
                           mth ? "integrator.dt=1/1000" : "integrator.dt=1/30", NULL};
     cb_scene *s = test_scene(sets);
     cr_assert_eq(s->npinned, 4);
-    cb_integrator *it = make_integrator(s, NULL, NULL);
+    cb_integrator *it = test_integrator(sets, s, NULL, NULL);
     int n3 = 3 * s->mesh.nv;
     double *x = copy(s->x0, n3), *v = copy(s->v0, n3);
     double moved = 0;
@@ -445,7 +432,7 @@ static int newton_step_trace(const char *scale, const char *dt, const char *tol,
                         "integrator.max_iters=300", a, b, c, d, NULL};
   cb_scene *s = test_scene(sets);
   memset(t, 0, sizeof *t);
-  cb_integrator *it = make_integrator(s, record, t);
+  cb_integrator *it = test_integrator(sets, s, record, t);
   int n3 = 3 * s->mesh.nv;
   double *x = copy(s->x0, n3), *v = copy(s->v0, n3);
   int status = cb_integrator_step(it, x, v, st);
@@ -511,4 +498,236 @@ Test(integrator, line_search_reaches_the_tolerance_plain_newton_reaches) {
                "line search: status %s after %d iterations (%d backtracks), stuck at rel_grad %.3g, while plain "
                "Newton converged in %d iterations",
                cb_status_name(status), st.newton_iters, st.ls_backtracks, st.rel_grad, plain_iters);
+}
+
+/* ---- the type table and the wrapper ------------------------------------------- */
+
+/* Every registered type: a type that asks for a linear solver is refused
+ * without one, and gets one (analysed) with one; a type that does not ask
+ * gets none even when one is named. Its parameters start as its defaults. */
+Test(integrator, every_type_gets_what_its_flags_ask_for) {
+  const char *sets[] = {"mesh.n=4", "material.vertex_mass=1", NULL};
+  cb_scene *s = test_scene(sets);
+  cb_integrator_params p = cb_integrator_params_default();
+  int n = 0;
+  for (int i = 0; cb_integrator_types[i]; i++, n++) {
+    const cb_integrator_type *t = cb_integrator_types[i];
+    cr_expect_eq(cb_integrator_type_find(t->name), t, "%s", t->name);
+    cr_expect_str_eq(cb_integrator_name(i), t->name);
+    cb_integrator *it = NULL;
+    int st = cb_integrator_alloc(t->name, s, &p, NULL, NULL, NULL, &it);
+    if (t->flags & CB_INTEGRATOR_LINEAR_SOLVER) {
+      cr_expect_neq(st, CB_OK, "%s without a solver", t->name);
+      cr_expect_null(it);
+      cr_expect(strstr(cb_error_message(), "needs a linear solver") != NULL, "%s", cb_error_message());
+    } else {
+      cr_assert_eq(st, CB_OK, "%s: %s", t->name, cb_error_message());
+      cr_expect_null(it->solver);
+      cb_integrator_free(it);
+    }
+    cr_assert_eq(cb_integrator_alloc(t->name, s, &p, NULL, "cholmod", NULL, &it), CB_OK, "%s: %s", t->name,
+                 cb_error_message());
+    cr_expect_eq(it->solver != NULL, (t->flags & CB_INTEGRATOR_LINEAR_SOLVER) != 0, "%s", t->name);
+    cr_expect_eq(it->type_params != NULL, t->params_size > 0, "%s", t->name);
+    if (t->params_size && t->params_default)
+      cr_expect(memcmp(it->type_params, t->params_default, t->params_size) == 0, "%s: defaults", t->name);
+    cr_expect_eq(it->state != NULL, t->size > 0, "%s", t->name);
+    cb_integrator_free(it);
+  }
+  cr_expect_eq(n, 2);
+  /* what the two built-in types declare */
+  cr_expect_eq(cb_integrator_explicit.flags, 0u);
+  cr_expect_eq(cb_integrator_newton.flags, CB_INTEGRATOR_LINEAR_SOLVER | CB_INTEGRATOR_HESSIAN);
+  cb_scene_free(s);
+}
+
+/* The wrapper copies the caller's parameters: changing them afterwards
+ * changes nothing, and Newton runs with what it was given (max_iters = 1:
+ * one solve, not converged). */
+Test(integrator, type_parameters_are_the_callers_copy) {
+  const char *sets[] = {"mesh.n=5", "material.vertex_mass=1", "scene.initial_scale=1.3", NULL};
+  cb_scene *s = test_scene(sets);
+  cb_integrator_params p = cb_integrator_params_default();
+  cb_newton_params np = cb_newton_params_default();
+  np.max_iters = 1;
+  cb_integrator *it = NULL;
+  cr_assert_eq(cb_integrator_alloc("newton", s, &p, &np, "cholmod", NULL, &it), CB_OK, "%s", cb_error_message());
+  np.max_iters = 50;
+  double x[75], v[75];
+  memcpy(x, s->x0, sizeof x);
+  memcpy(v, s->v0, sizeof v);
+  cb_step_stats st;
+  cr_expect_eq(cb_integrator_step(it, x, v, &st), CB_NOT_CONVERGED);
+  cr_expect_eq(st.newton_iters, 1);
+  cr_expect_eq(((cb_newton_params *)it->type_params)->max_iters, 1);
+  cb_integrator_free(it);
+  cb_scene_free(s);
+}
+
+/* ---- the post-step stage -------------------------------------------------------- */
+
+/* A test-local response: v <- c v after every step, counting its calls. */
+typedef struct {
+  double c;
+  int applied, *freed;
+} scale_state;
+typedef struct {
+  double c;
+  int *freed;
+} scale_params;
+static int scale_init(cb_response *r, const cb_scene *s, const void *params) {
+  (void)s;
+  scale_state *w = r->state;
+  const scale_params *p = params;
+  w->c = p->c;
+  w->freed = p->freed;
+  return CB_OK;
+}
+static int scale_apply(cb_response *r, const cb_scene *s, double *x, double *v, double dt) {
+  (void)x;
+  (void)dt;
+  scale_state *w = r->state;
+  for (int i = 0; i < 3 * s->mesh.nv; i++) v[i] *= w->c;
+  w->applied++;
+  return w->c < 0 ? CB_DIVERGED : CB_OK; /* a negative factor: report a numerical event */
+}
+static void scale_free(cb_response *r) {
+  scale_state *w = r->state;
+  if (w->freed) (*w->freed)++;
+}
+static const cb_response_type scale_response = {"test_scale", sizeof(scale_state), scale_init, scale_apply, scale_free};
+
+/* The scene that sets describes, with the given responses. */
+static cb_scene *scene_with(const char *const *sets, int nr, const scale_params *rp) {
+  cb_config c;
+  test_config(&c, sets);
+  cb_scene_def d;
+  char path[64];
+  cr_assert_eq(cb_scene_def_from_config(&c, &d, path, sizeof path), CB_OK);
+  d.nresponses = nr;
+  for (int k = 0; k < nr; k++) {
+    d.responses[k].type = &scale_response;
+    d.responses[k].params = &rp[k];
+  }
+  cb_scene *s = NULL;
+  cr_assert_eq(cb_scene_build(&d, &s, NULL), CB_OK, "%s", cb_error_message());
+  return s;
+}
+
+/* Every integrator runs the responses after its step, in order: with
+ * v <- 0.5 v and then v <- 0.25 v the positions are those of the plain step
+ * and the velocities 1/8 of its (exactly: powers of two). The stage is empty
+ * unless the definition names a response, and the scene frees each one. */
+Test(post_step, every_integrator_runs_the_scenes_responses_after_its_step) {
+  const char *methods[] = {"explicit", "newton"};
+  for (int m = 0; m < 2; m++) {
+    char meth[64];
+    snprintf(meth, sizeof meth, "integrator.method=%s", methods[m]);
+    const char *sets[] = {"mesh.n=5", "material.vertex_mass=1", "integrator.dt=1e-3", meth, NULL};
+    int freed = 0;
+    scale_params rp[2] = {{0.5, &freed}, {0.25, &freed}};
+    cb_scene *plain = test_scene(sets), *damped = scene_with(sets, 2, rp);
+    cr_expect_eq(plain->nresponses, 0);
+    cr_expect_eq(damped->nresponses, 2);
+    cb_integrator *a = test_integrator(sets, plain, NULL, NULL), *b = test_integrator(sets, damped, NULL, NULL);
+    double xa[75], va[75], xb[75], vb[75];
+    memcpy(xa, plain->x0, sizeof xa);
+    memcpy(xb, plain->x0, sizeof xb);
+    for (int i = 0; i < 75; i++) va[i] = vb[i] = 0.01 * (i % 7) - 0.03; /* moving, so the scaling shows */
+    for (int step = 0; step < 3; step++) {
+      memcpy(vb, va, sizeof vb); /* the same start for both */
+      memcpy(xb, xa, sizeof xb);
+      cb_step_stats sa, sb;
+      cr_assert_eq(cb_integrator_step(a, xa, va, &sa), CB_OK, "%s", methods[m]);
+      cr_assert_eq(cb_integrator_step(b, xb, vb, &sb), CB_OK, "%s", methods[m]);
+      for (int i = 0; i < 75; i++) {
+        cr_expect(xb[i] == xa[i], "%s step %d: x[%d] %.17g vs %.17g", methods[m], step, i, xb[i], xa[i]);
+        cr_expect(vb[i] == 0.125 * va[i], "%s step %d: v[%d] %.17g vs %.17g", methods[m], step, i, vb[i], va[i]);
+      }
+    }
+    for (int k = 0; k < 2; k++) cr_expect_eq(((scale_state *)damped->responses[k].state)->applied, 3);
+    cb_integrator_free(a);
+    cb_integrator_free(b);
+    cb_scene_free(plain);
+    cr_expect_eq(freed, 0);
+    cb_scene_free(damped);
+    cr_expect_eq(freed, 2);
+  }
+}
+
+/* A response's positive status becomes the step's when the step was ok. */
+Test(post_step, a_responses_status_is_the_steps) {
+  const char *sets[] = {"mesh.n=4", "material.vertex_mass=1", "integrator.method=explicit", "integrator.dt=1e-3", NULL};
+  scale_params rp = {-1.0, NULL};
+  cb_scene *s = scene_with(sets, 1, &rp);
+  cb_integrator *it = test_integrator(sets, s, NULL, NULL);
+  double x[48], v[48];
+  memcpy(x, s->x0, sizeof x);
+  memcpy(v, s->v0, sizeof v);
+  cb_step_stats st;
+  cr_expect_eq(cb_integrator_step(it, x, v, &st), CB_DIVERGED);
+  cr_expect_eq(st.status, CB_DIVERGED);
+  cb_integrator_free(it);
+  cb_scene_free(s);
+}
+
+/* ---- the objective ---------------------------------------------------------------- */
+
+/* F(x) = |x - xhat|_M^2/(2 dt^2) + E(x) with xhat = x0 + dt v0, computed
+ * here from the masses and the system's energy; grad F against central
+ * differences of F; the initial guesses and v = (x - x0)/dt. */
+Test(objective, is_the_implicit_euler_objective) {
+  const char *sets[] = {"mesh.n=4", "scene.initial_scale=1.2", "scene.pin_squeeze=0.5 0 0", "scene.pins=corners", NULL};
+  cb_scene *s = test_scene(sets);
+  int nv = s->mesh.nv, n3 = 3 * nv, nf = s->model.nfree;
+  double dt = 0.02, x0[48], v0[48], x[48], gF[48], v[48];
+  for (int i = 0; i < n3; i++) {
+    x0[i] = s->x0[i];
+    v0[i] = s->v0[i] + (s->free_index[i / 3] >= 0 ? 0.1 * sin(i) : 0.0); /* pins keep their driven v */
+    x[i] = x0[i] + 0.003 * cos(3.0 * i);
+  }
+  cb_objective o;
+  cr_assert_eq(cb_objective_init(&o, s), CB_OK);
+  cb_objective_begin(&o, x0, v0, dt);
+  double inertia = 0;
+  for (int i = 0; i < nv; i++) {
+    if (s->free_index[i] < 0) continue;
+    for (int a = 0; a < 3; a++) {
+      double d = x[3 * i + a] - (x0[3 * i + a] + dt * v0[3 * i + a]);
+      inertia += s->mass[i] * d * d;
+    }
+  }
+  double want = inertia / (2 * dt * dt) + cb_system_energy(&s->sys, x, NULL, NULL), S = 0;
+  double F = cb_objective_eval(&o, x, gF, &S);
+  cr_expect(fabs(F - want) <= 1e-12 * fabs(want), "F %.17g, want %.17g", F, want);
+  cr_expect(S >= fabs(F) * (1 - 1e-12), "S %g below |F| %g", S, fabs(F));
+  for (int k = 0; k < nf; k++)
+    for (int a = 0; a < 3; a++) {
+      int q = 3 * s->free_vertex[k] + a;
+      double h = 1e-6, keep = x[q];
+      x[q] = keep + h;
+      double Fp = cb_objective_eval(&o, x, NULL, NULL);
+      x[q] = keep - h;
+      double Fm = cb_objective_eval(&o, x, NULL, NULL);
+      x[q] = keep;
+      double fd = (Fp - Fm) / (2 * h);
+      cr_expect(fabs(gF[3 * k + a] - fd) <= 1e-5 * (1 + fabs(fd)), "dF/dx[%d] %.10g, differences %.10g", q, gF[3 * k + a], fd);
+    }
+  double g0[48], g1[48];
+  cb_objective_guess(&o, g0, 0);
+  cb_objective_guess(&o, g1, 1);
+  for (int i = 0; i < n3; i++) {
+    double xhat = x0[i] + dt * v0[i];
+    int pinned = s->free_index[i / 3] < 0;
+    cr_expect(g0[i] == (pinned ? xhat : x0[i]), "x0 guess [%d]", i);
+    cr_expect(g1[i] == xhat, "predict guess [%d]", i);
+    v[i] = -7.0;
+  }
+  cb_objective_velocity(&o, x, v);
+  for (int i = 0; i < n3; i++) {
+    if (s->free_index[i / 3] < 0) cr_expect(v[i] == -7.0, "pinned v[%d] changed", i);
+    else cr_expect(v[i] == (x[i] - x0[i]) / dt, "v[%d]", i);
+  }
+  cb_objective_free(&o);
+  cb_scene_free(s);
 }

@@ -302,7 +302,8 @@ static void ref_initial(const ref_model *r, double s, double *x, double *v) {
 
 /* ---- the library side ------------------------------------------------------------------ */
 
-static cb_scene *case_scene(const rcase *c, const char *method, const char *const *extra) {
+/* The case's scene; with it != NULL also the integrator its config names. */
+static cb_scene *case_scene(const rcase *c, const char *method, const char *const *extra, cb_integrator **it) {
   char b[16][128];
   const char *sets[40];
   int n = 0;
@@ -330,7 +331,9 @@ static cb_scene *case_scene(const rcase *c, const char *method, const char *cons
   sets[n++] = "solver.method=cholmod";
   for (int i = 0; extra && extra[i]; i++) sets[n++] = extra[i];
   sets[n] = NULL;
-  return test_scene(sets);
+  cb_scene *s = test_scene(sets);
+  if (it) *it = test_integrator(sets, s, NULL, NULL);
+  return s;
 }
 
 /* The cases: small grids, both diagonals, with and without bending,
@@ -371,7 +374,7 @@ Test(reference, scene_matches_the_contract_masses_pins_and_initial_state, .init 
   for (int c = 0; c < NCASES; c++) {
     char name[160];
     case_name(&cases[c], name, sizeof name);
-    cb_scene *s = case_scene(&cases[c], "newton", NULL);
+    cb_scene *s = case_scene(&cases[c], "newton", NULL, NULL);
     ref_model r;
     ref_build(&r, s->mesh.nv, s->mesh.x, s->mesh.nt, s->mesh.tri, &cases[c]);
     int n3 = 3 * r.nv;
@@ -402,7 +405,7 @@ Test(reference, newton_matrix_matches_the_derived_hessian, .init = setup) {
   for (int c = 0; c < NCASES; c++) {
     char name[160];
     case_name(&cases[c], name, sizeof name);
-    cb_scene *s = case_scene(&cases[c], "newton", NULL);
+    cb_scene *s = case_scene(&cases[c], "newton", NULL, NULL);
     ref_model r;
     ref_build(&r, s->mesh.nv, s->mesh.x, s->mesh.nt, s->mesh.tri, &cases[c]);
     int n3 = 3 * r.nv;
@@ -440,9 +443,8 @@ Test(reference, implicit_euler_trajectories_agree, .init = setup) {
       char name[200];
       case_name(&cases[c], name, sizeof name);
       const char *extra[] = {def ? "integrator.definiteness=drop" : "integrator.definiteness=none", NULL};
-      cb_scene *s = case_scene(&cases[c], "newton", extra);
       cb_integrator *it = NULL;
-      cr_assert_eq(cb_integrator_from_config(s, &it), CB_OK, "%s", cb_error_message());
+      cb_scene *s = case_scene(&cases[c], "newton", extra, &it);
       ref_model r;
       ref_build(&r, s->mesh.nv, s->mesh.x, s->mesh.nt, s->mesh.tri, &cases[c]);
       int n3 = 3 * r.nv;
@@ -506,9 +508,8 @@ Test(reference, explicit_steps_agree, .init = setup) {
     /* explicit needs a small step to stay bounded */
     rcase cc = cases[c];
     cc.dt = 1e-3;
-    cb_scene *s = case_scene(&cc, "explicit", NULL);
     cb_integrator *it = NULL;
-    cr_assert_eq(cb_integrator_from_config(s, &it), CB_OK, "%s", cb_error_message());
+    cb_scene *s = case_scene(&cc, "explicit", NULL, &it);
     ref_model r;
     ref_build(&r, s->mesh.nv, s->mesh.x, s->mesh.nt, s->mesh.tri, &cc);
     int n3 = 3 * r.nv;

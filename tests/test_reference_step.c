@@ -17,7 +17,7 @@
 static double ie_residual(const cb_scene *s, double dt, const double *x0, const double *v0, const double *x) {
   int nv = s->mesh.nv;
   double *f = calloc((size_t)3 * nv, sizeof(double));
-  const double k = s->cfg.stretch_k;
+  const double k = s->def.stretch_k;
   for (int e = 0; e < s->topo.ne; e++) { /* f_i += -k (l - L) u, u = (x_i - x_j)/l */
     int i = s->topo.edge[2 * e], j = s->topo.edge[2 * e + 1];
     double d[3], d0[3], l = 0, L = 0;

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include <clothbench/clothbench.h>
+#include "bind.h"
 #include "experiment.h"
 #include "provenance.h"
 
@@ -119,7 +120,7 @@ int main(int argc, char **argv) {
   cb_run run = {0};
   cb_outfile csv = {0};
   int rc = EXIT_OK;
-  if (cb_scene_build(&cfg, &scene) || cb_integrator_from_config(scene, &integ) || cb_run_init(&run, scene, integ)) {
+  if (cb_scene_from_config(&cfg, &scene) || cb_integrator_from_config(&cfg, scene, NULL, &integ) || cb_run_init(&run, scene, integ)) {
     fprintf(stderr, "simulate: %s\n", cb_error_message());
     rc = EXIT_USAGE;
     goto done;

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include <clothbench/clothbench.h>
+#include "bind.h"
 #include "experiment.h"
 #include "provenance.h"
 #include "newton_trace.h"
@@ -77,16 +78,17 @@ static int run_policy(cb_experiment *e, const scene_def *sd, int p, FILE *it, FI
   cb_run run = {0};
   cb_integrator_params ip;
   int st = cb_experiment_config(e, "hanging.ini", sets, &cfg);
-  if (st == CB_OK) st = cb_scene_build(&cfg, &s);
+  if (st == CB_OK) st = cb_scene_from_config(&cfg, &s);
   if (st == CB_OK && p > 0) st = cb_experiment_config(e, "hanging.ini", refsets, &rcfg);
-  if (st == CB_OK && p > 0) st = cb_scene_build(&rcfg, &ref);
+  if (st == CB_OK && p > 0) st = cb_scene_from_config(&rcfg, &ref);
+  cb_newton_params np;
   if (st == CB_OK) st = cb_integrator_params_from_config(&cfg, &ip);
-  if (st == CB_OK) st = cb_newton_trace_init(&tr, s, ref ? &ref->sys : NULL, ip.dt, ip.max_iters + 1,
+  if (st == CB_OK) st = cb_newton_params_from_config(&cfg, &np);
+  if (st == CB_OK) st = cb_newton_trace_init(&tr, s, ref ? &ref->sys : NULL, ip.dt, np.max_iters + 1,
                                       CB_PROBE_EIG | CB_PROBE_CG, CB_PROBE_CHOLMOD | CB_PROBE_EIG, NULL);
   ip.hook = cb_newton_trace_hook;
   ip.hook_ctx = &tr;
-  cb_solver_params sp = cb_solver_params_from_config(&cfg);
-  if (st == CB_OK) st = cb_integrator_alloc(cfg.method, s, &ip, cfg.solver, &sp, &integ);
+  if (st == CB_OK) st = cb_integrator_from_config(&cfg, s, &ip, &integ);
   if (st == CB_OK) st = cb_run_init(&run, s, integ);
   for (int k = 0; st == CB_OK && k < steps; k++) {
     cb_newton_trace_begin_step(&tr);
@@ -155,7 +157,7 @@ static int pair_sweep(cb_experiment *e, FILE *f) {
     cb_scene *s = NULL;
     cb_definiteness def = CB_DEF_NONE;
     st = cb_experiment_config(e, "hanging.ini", sets, &cfg);
-    if (st == CB_OK) st = cb_scene_build(&cfg, &s);
+    if (st == CB_OK) st = cb_scene_from_config(&cfg, &s);
     if (st == CB_OK) st = cb_definiteness_from_name(pols[p], &def);
     for (size_t r = 0; st == CB_OK && r < sizeof ratios / sizeof ratios[0]; r++) {
       double q = ratios[r], x[9] = {-q, 0, 0, 0, 0, 0, q, 0, 0}, m = s->mass[1], s2 = 1.0 / (cfg.dt * cfg.dt);

@@ -104,12 +104,13 @@ static void keep(void *ctx, const cb_cell_result *r) {
 static int timing(cb_stability_case *c, double meas, int methods) {
   cb_stability_params p = cb_stability_params_default();
   p.min_steps = 1; p.max_steps = 0; p.energy_every = 0;
-  cb_integrator_params ip;
-  cb_solver_params sp = cb_solver_params_from_config(&c->scene->cfg);
-  int st = cb_integrator_params_from_config(&c->scene->cfg, &ip);
-  ip.max_iters = 1; /* Baraff-Witkin: one linear solve per step */
+  cb_newton_params np = *(const cb_newton_params *)c->newton->type_params; /* the case's Newton, from its config */
+  np.max_iters = 1; /* Baraff-Witkin: one linear solve per step */
   cb_integrator *bw = NULL;
-  if (st == CB_OK && (methods & 4)) st = cb_integrator_alloc("newton", c->scene, &ip, c->scene->cfg.solver, &sp, &bw);
+  int st = CB_OK;
+  if (methods & 4)
+    st = cb_integrator_alloc("newton", c->scene, &c->newton->params, &np, c->newton->solver->type->name,
+                             &c->newton->solver->params, &bw);
   for (int m = 0; st == CB_OK && m < 3; m++) {
     if (!(methods & (1 << m))) continue;
     static const char *const name[] = {"explicit", "newton", "newton_bw"};

@@ -13,6 +13,7 @@
 #include <stdlib.h>
 
 #include <clothbench/clothbench.h>
+#include "bind.h"
 #include "experiment.h"
 #include "provenance.h"
 #include "newton_study.h"
@@ -37,12 +38,14 @@ static const scene_def SCENES[] = {
     {"stiff", {"material.stretch_k=1e6", NULL}},
 };
 
-static int build(const cb_experiment *e, const char *const *sets, const char *extra, cb_scene **s) {
+/* The scene, and its config's integrator.dt in *dt. */
+static int build(const cb_experiment *e, const char *const *sets, const char *extra, cb_scene **s, double *dt) {
   cb_config c;
   int st = cb_experiment_config(e, "hanging.ini", sets, &c);
   if (st == CB_OK && extra) st = cb_config_set(&c, extra);
   if (st == CB_OK) st = cb_config_validate(&c);
-  if (st == CB_OK) st = cb_scene_build(&c, s);
+  if (st == CB_OK) st = cb_scene_from_config(&c, s);
+  *dt = c.dt;
   return st;
 }
 
@@ -87,7 +90,8 @@ int main(int argc, char **argv) {
   /* I3 (b, c): one step of every method, three scenes */
   for (int sc = 0; sc < 3 && !st; sc++) {
     cb_scene *s = NULL;
-    if (build(&e, SCENES[sc].sets, NULL, &s)) return fail(SCENES[sc].label);
+    double s_dt = 0;
+    if (build(&e, SCENES[sc].sets, NULL, &s, &s_dt)) return fail(SCENES[sc].label);
     int nm = 0;
     const int *states = ST_LAB;
     int ns = 3;
@@ -107,7 +111,7 @@ int main(int argc, char **argv) {
       nm = methods(KS, 6, ALL, 5, 1, M);
     }
     cb_progress_start(&e.progress, SCENES[sc].label, (long)nm * ns);
-    st = cb_study_steps(s, SCENES[sc].label, s->cfg.dt, states, ns, M, nm, csv.f, &e.progress, P);
+    st = cb_study_steps(s, SCENES[sc].label, s_dt, states, ns, M, nm, csv.f, &e.progress, P);
     cb_progress_end(&e.progress);
     if (!st) st = cb_study_pareto(par.f, SCENES[sc].label, M, nm, P, ns);
     cb_scene_free(s);
@@ -116,8 +120,8 @@ int main(int argc, char **argv) {
 
   /* trajectories of 2 s and the time-discretisation error, lab scene */
   cb_scene *lab = NULL;
-  if (build(&e, SCENES[0].sets, NULL, &lab)) return fail("lab");
-  double dt = lab->cfg.dt;
+  double dt = 0;
+  if (build(&e, SCENES[0].sets, NULL, &lab, &dt)) return fail("lab");
   int nm = methods(KS, q ? 3 : 5, ALL, 1, 0, M); /* K = 1..10 (fixed), CHOLMOD, line search off/on */
   if (!q) nm += methods(KS + 5, 1, ALL, 1, 0, M + nm); /* converged, CHOLMOD (the reference is converged too) */
   nm += methods(KS, 1, ALL + 1, q ? 1 : 2, 0, M + nm); /* K = 1 with cg32 (and cheb32) */
@@ -151,8 +155,9 @@ int main(int argc, char **argv) {
         snprintf(s3, sizeof s3, "scene.initial_scale=%s", SV[si[a]]);
         const char *sets[] = {s1, s2, s3, NULL};
         cb_scene *s = NULL;
-        if (build(&e, sets, NULL, &s)) return fail("regime scene");
-        st = cb_study_regime_cell(s, "lab", s->cfg.dt, q ? 1.0 : 2.0, q ? 2 : 4, 0.01, di[d], ki[c], si[a], reg.f);
+        double s_dt = 0;
+        if (build(&e, sets, NULL, &s, &s_dt)) return fail("regime scene");
+        st = cb_study_regime_cell(s, "lab", s_dt, q ? 1.0 : 2.0, q ? 2 : 4, 0.01, di[d], ki[c], si[a], reg.f);
         cb_scene_free(s);
         cb_progress_update(&e.progress, e.progress.done + 1);
       }
@@ -161,12 +166,13 @@ int main(int argc, char **argv) {
 
   /* I2: |grad F| per Newton iteration on the stretched hanging cloth */
   cb_scene *str = NULL;
-  if (build(&e, SCENES[0].sets, "scene.initial_scale=1.5", &str)) return fail("stretched scene");
+  double str_dt = 0;
+  if (build(&e, SCENES[0].sets, "scene.initial_scale=1.5", &str, &str_dt)) return fail("stretched scene");
   cb_experiment_side_path(&e, "i2.csv", path, sizeof path);
   if (cb_experiment_csv(&e, &i2, path, units, cb_study_order_header)) return fail(path);
   int n2 = q ? 5 : 30;
   cb_progress_start(&e.progress, "I2", n2);
-  st = cb_study_order(str, "lab_stretched", str->cfg.dt, n2, i2.f, &e.progress);
+  st = cb_study_order(str, "lab_stretched", str_dt, n2, i2.f, &e.progress);
   cb_progress_end(&e.progress);
   cb_scene_free(str);
   if (st) return fail("I2");

@@ -39,7 +39,7 @@ static void state_free(state3 *w) {
 }
 
 static void scene_cols(FILE *f, const cb_scene *s, const char *label, double dt) {
-  fprintf(f, "%s,%d,%.17g,%.17g,%.17g,", label, s->cfg.mesh_n, dt, s->cfg.stretch_k, s->cfg.initial_scale);
+  fprintf(f, "%s,%d,%.17g,%.17g,%.17g,", label, s->def.grid.n, dt, s->def.stretch_k, s->def.initial_scale);
 }
 
 int cb_study_steps(cb_scene *s, const char *label, double dt, const int *states, int nstates, const cb_method *methods,
@@ -66,10 +66,11 @@ int cb_study_steps(cb_scene *s, const char *label, double dt, const int *states,
         const cb_method *me = &methods[m];
         cb_step_result r;
         if (step == states[0]) { /* untimed warm-up: first-solve workspaces, caches */
-          int K = its[m]->params.max_iters;
-          its[m]->params.max_iters = 1;
+          cb_newton_params *np = its[m]->type_params;
+          int K = np->max_iters;
+          np->max_iters = 1;
           cb_method_step(its[m], &mw, ref, w.x, w.v, w.xs, Fstar, &r);
-          its[m]->params.max_iters = K;
+          np->max_iters = K;
         }
         /* timing: the fastest of up to STEP_REPS runs, repeated while they add up to < STEP_REP_MS
          * (cheap methods are timed several times, expensive ones once; results are identical) */
@@ -227,15 +228,16 @@ int cb_study_order(cb_scene *s, const char *label, double dt, int nsteps, FILE *
   for (int v = 0; st == CB_OK && v < 4; v++) { /* v = 2 def + ls: none/drop x off/on */
     cb_integrator_params p = cb_integrator_params_default();
     p.dt = dt;
-    p.max_iters = ORDER_MAX_ITERS;
-    p.tol = 1e-14;
-    p.tol_dx = cb_reference_get_params(ref)->tol_dx; /* the round-off floor of the reference */
-    p.definiteness = v / 2 == 0 ? CB_DEF_NONE : CB_DEF_DROP;
-    p.line_search = v % 2;
     p.hook = order_hook;
     p.hook_ctx = &log;
+    cb_newton_params np = cb_newton_params_default();
+    np.max_iters = ORDER_MAX_ITERS;
+    np.tol = 1e-14;
+    np.tol_dx = cb_reference_get_params(ref)->tol_dx; /* the round-off floor of the reference */
+    np.definiteness = v / 2 == 0 ? CB_DEF_NONE : CB_DEF_DROP;
+    np.line_search = v % 2;
     cb_solver_params sp = cb_solver_params_default();
-    st = cb_integrator_alloc("newton", s, &p, "cholmod", &sp, &its[v]);
+    st = cb_integrator_alloc("newton", s, &p, &np, "cholmod", &sp, &its[v]);
   }
   for (int step = 0; st == CB_OK && step < nsteps; step++) {
     for (int v = 0; v < 4; v++) {

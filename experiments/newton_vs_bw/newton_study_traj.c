@@ -16,7 +16,7 @@ static void traj_row(FILE *f, const cb_scene *s, const char *label, double dt, c
                      const char *inner, int ls, int step, double err, double E, double Eref, double E0,
                      const cb_step_stats *ss, int status) {
   fprintf(f, "%s,%d,%.17g,%.17g,%.17g,%s,%d,%s,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%d,%.6f,%s\n", label,
-          s->cfg.mesh_n, dt, s->cfg.stretch_k, s->cfg.initial_scale, method, K, inner, ls, step, step * dt, err, E,
+          s->def.grid.n, dt, s->def.stretch_k, s->def.initial_scale, method, K, inner, ls, step, step * dt, err, E,
           Eref, E - E0, ss ? ss->newton_iters : 0, ss ? ss->linear_iters : 0, ss ? ss->wall_ms : 0.0,
           cb_status_name(status));
 }
@@ -103,8 +103,8 @@ int cb_study_dt_error(cb_scene *s, const char *label, double dt, int refine, int
       int t = cb_reference_advance(rf, xf, vf, &rs);
       if (t != CB_OK) fst = t;
     }
-    fprintf(csv, "%s,%d,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%.17g,%.17g,%s,%s\n", label, s->cfg.mesh_n, dt,
-            s->cfg.stretch_k, s->cfg.initial_scale, fp.dt, k, k * dt, cb_mnorm_diff(s, xc, xf) * rms,
+    fprintf(csv, "%s,%d,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%.17g,%.17g,%s,%s\n", label, s->def.grid.n, dt,
+            s->def.stretch_k, s->def.initial_scale, fp.dt, k, k * dt, cb_mnorm_diff(s, xc, xf) * rms,
             cb_state_energy(s, xc, vc), cb_state_energy(s, xf, vf), cb_status_name(cst), cb_status_name(fst));
   }
   cb_reference_free(rc);
@@ -175,7 +175,7 @@ int cb_study_regime_cell(cb_scene *s, const char *label, double dt, double durat
   if (st == CB_OK) {
     int fails = first_div >= 0 || !(errmax <= fail_level);
     fprintf(csv, "%s,%d,%.17g,%.17g,%.17g,%d,%d,%d,%d,%.17g,%d,%s,%.17g,%.17g,%d,%.17g,%d,%s,%d,%d,%.6f\n", label,
-            s->cfg.mesh_n, dt, s->cfg.stretch_k, s->cfg.initial_scale, dt_index, k_index, stretch_index, nsteps, nsteps * dt,
+            s->def.grid.n, dt, s->def.stretch_k, s->def.initial_scale, dt_index, k_index, stretch_index, nsteps, nsteps * dt,
             first_div, cb_status_name(traj_status), err0, errmax, worst, dfmax, samples, cb_status_name(ref_bad), ref_iters,
             fails, wall);
   }

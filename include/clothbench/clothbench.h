@@ -1,18 +1,20 @@
 /* clothbench: one include for the core library's public API.
  *
  * The core (this folder) is the simulation: meshes, the model and its energy
- * terms, the system, integrators, linear solvers, scenes and their config.
- * The measurement instruments (lib/instruments/) and the I/O that programs
- * share (lib/io/) sit above it and have their own headers. */
+ * terms, the system, the implicit-Euler objective, integrators, linear
+ * solvers and scenes. It knows nothing of configs. The config layer
+ * (lib/config/: the INI key table and its binding to core structs), the
+ * measurement instruments (lib/instruments/) and the I/O that programs share
+ * (lib/io/) sit above it and have their own headers. */
 #ifndef CLOTHBENCH_H
 #define CLOTHBENCH_H
 
-#include "config.h"
 #include "definiteness.h"
 #include "eigen.h"
 #include "energy.h"
 #include "integrator.h"
 #include "mesh.h"
+#include "objective.h"
 #include "run.h"
 #include "scene.h"
 #include "solver.h"

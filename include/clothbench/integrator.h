@@ -6,7 +6,12 @@
  *             by Newton's method: (M/dt^2 + H) dx = -grad F;  x += dx.
  *             max_iters = 1 is Baraff-Witkin's single linear solve.
  *
- * The integrator owns the Newton loop; the linear solver is a parameter.
+ * Newton minimises the shared implicit-Euler objective (objective.h); each
+ * integrator owns its loop, and the linear solver is a parameter. After every
+ * step of every type the scene's post-step responses run (scene.h).
+ * Parameters: the generic ones (dt, hook) in cb_integrator_params, each
+ * type's own in its struct (cb_newton_params), with its config keys declared
+ * in its type table (cb_param_key; the config layer binds them).
  * Pinned vertices follow their prescribed velocity (x <- x + dt v, v fixed;
  * zero unless scene.pin_squeeze drives them). */
 #ifndef CB_INTEGRATOR_H
@@ -50,29 +55,74 @@ typedef struct cb_newton_event {
 } cb_newton_event;
 typedef void (*cb_newton_hook)(void *ctx, int event, const cb_newton_event *ev);
 
+/* Parameters every integrator reads. */
 typedef struct cb_integrator_params {
   double dt;                   /* time step, s. Default 1/30 */
-  int max_iters;               /* Newton iterations per step. Default 50 */
-  double tol;                  /* relative |grad F| to stop at. Default 1e-8 */
-  double tol_dx;               /* max |dx| to stop at, m; 0 = off. Default 0 */
-  int init_predict;            /* initial guess: 1 = x0 + dt v0, 0 = x0. Default 1 */
-  int line_search;             /* backtracking Armijo line search. Default 0 */
-  cb_definiteness definiteness;/* compressed-spring treatment. Default drop */
-  cb_newton_hook hook;         /* optional; NULL = none */
+  cb_newton_hook hook;         /* optional observer of the step's iterations (events above); NULL = none */
   void *hook_ctx;
 } cb_integrator_params;
 
 cb_integrator_params cb_integrator_params_default(void);
-int cb_integrator_params_from_config(const cb_config *c, cb_integrator_params *p);
+
+/* Newton's own parameters (cb_integrator_newton's params_size). */
+typedef struct cb_newton_params {
+  int max_iters;               /* linear solves per step at most; 1 = Baraff-Witkin. Default 50 */
+  double tol;                  /* relative |grad F| to stop at. Default 1e-8 */
+  double tol_dx;               /* max |dx| to stop at, m; 0 = off. Default 0 */
+  int init_predict;            /* initial guess: 1 = x0 + dt v0, 0 = x0. Default 1 */
+  int line_search;             /* backtracking Armijo line search. Default 0 */
+  cb_definiteness definiteness;/* compressed-spring treatment; must match the scene's springs
+                                  (choi-ko is built into them). Default drop */
+} cb_newton_params;
+
+cb_newton_params cb_newton_params_default(void);
 
 typedef struct cb_integrator cb_integrator;
 
+/* One of a type's parameters as a config key, `integrator.<name>`. The
+ * core only describes it; the config layer (lib/config/) parses, checks,
+ * documents (`simulate --help-config`) and binds it into the type's
+ * parameter struct, so a type's keys live in the type's file. Two types may
+ * share a key by declaring the same name with the same definition. */
+typedef enum { CB_PARAM_INT, CB_PARAM_DOUBLE, CB_PARAM_BOOL, CB_PARAM_CHOICE } cb_param_kind;
+typedef struct cb_param_key {
+  const char *name;            /* key in [integrator]; NULL ends a type's list */
+  cb_param_kind kind;
+  size_t offset;               /* of the field in the params struct: int (INT, BOOL, CHOICE; an enum is
+                                  int-sized) or double (DOUBLE) */
+  const char *def;             /* default, as a config writes it; must give the type's params_default */
+  const char *unit;
+  double lo, hi;               /* accepted range of INT and DOUBLE values (inclusive) ... */
+  int lo_open;                 /* ... but lo excluded when 1 */
+  const char *const *choices;  /* CHOICE: the names, NULL-terminated */
+  const int *values;           /* CHOICE: the field's value for each name; NULL = the name's index */
+  const char *doc;
+} cb_param_key;
+
+/* What a type needs from the wrapper. */
+enum {
+  CB_INTEGRATOR_LINEAR_SOLVER = 1u, /* solves with the linear solver named at alloc (analysed there, once) */
+  CB_INTEGRATOR_HESSIAN = 2u        /* assembles the system's matrix M/dt^2 + H into scene->sys.A, so a
+                                       caller sharing that matrix knows a step overwrites it */
+};
+
+/* A plug-in (gsl_multiroot_fsolver_type style). The wrapper allocates the
+ * state (`size` bytes, zeroed) and the parameters (`params_size` bytes, a
+ * copy of what the caller gives, or of `params_default`), so a type file
+ * never touches the wrapper. */
 typedef struct cb_integrator_type {
   const char *name;
-  int (*alloc)(cb_integrator *it);
+  unsigned flags;              /* CB_INTEGRATOR_* */
+  size_t size;                 /* bytes of it->state */
+  size_t params_size;          /* bytes of it->type_params; 0 = the type has none */
+  const void *params_default;  /* the type's defaults (params_size bytes), or NULL */
+  const cb_param_key *keys;    /* its config keys (ended by a NULL name), or NULL for none */
+  /* Sets up it->state (workspaces) and checks it->type_params against the
+   * scene; on failure it leaves what free can release. */
+  int (*init)(cb_integrator *it);
   /* Advances (x, v) by one step in place. */
   int (*step)(cb_integrator *it, double *x, double *v, cb_step_stats *st);
-  void (*free)(cb_integrator *it);
+  void (*free)(cb_integrator *it); /* frees what init allocated, not it->state itself */
 } cb_integrator_type;
 
 struct cb_integrator {
@@ -80,22 +130,26 @@ struct cb_integrator {
   const cb_scene *scene;
   cb_system *sys;             /* the scene's system (matrix values are scratch) */
   cb_integrator_params params;
-  cb_solver *solver;          /* owned; NULL for explicit */
-  void *work;
+  void *type_params;          /* the type's parameters (e.g. cb_newton_params *); NULL if none */
+  cb_solver *solver;          /* owned; NULL unless the type's flags ask for one */
+  void *state;                /* the type's state */
 };
 
 extern const cb_integrator_type cb_integrator_explicit;
 extern const cb_integrator_type cb_integrator_newton;
 extern const cb_integrator_type *const cb_integrator_types[]; /* NULL-terminated */
 const char *cb_integrator_name(int i);
+const cb_integrator_type *cb_integrator_type_find(const char *name);
 
-/* Builds the integrator named by method for a scene. solver may be NULL for
- * explicit; otherwise it is the name of a registered linear solver, and the
- * symbolic analysis runs here, once. */
-int cb_integrator_alloc(const char *method, cb_scene *scene, const cb_integrator_params *p,
+/* Builds the integrator named by method for a scene. type_params points to
+ * the type's parameter struct (cb_newton_params for newton), or is NULL for
+ * the type's defaults. solver names a registered linear solver for types
+ * that need one (CB_INTEGRATOR_LINEAR_SOLVER; its symbolic analysis runs
+ * here, once) and is ignored by the others. lib/config/bind.h builds one from
+ * a config (cb_integrator_from_config). */
+int cb_integrator_alloc(const char *method, cb_scene *scene, const cb_integrator_params *p, const void *type_params,
                         const char *solver, const cb_solver_params *sp, cb_integrator **out);
-/* Same, with everything taken from the scene's config. */
-int cb_integrator_from_config(cb_scene *scene, cb_integrator **out);
+/* One step of the type, then the scene's post-step responses (scene.h). */
 int cb_integrator_step(cb_integrator *it, double *x, double *v, cb_step_stats *st);
 void cb_integrator_free(cb_integrator *it);
 

@@ -1,17 +1,77 @@
-/* A scene is built from a config and holds only what the config names: the
- * mesh and its topology, masses, pins, the energy terms (a scene with bending
- * off has no bending term), the system over them, and the initial state. */
+/* A scene is built from a definition (cb_scene_def) and holds only what the
+ * definition names: the mesh and its topology, masses, pins, the energy terms
+ * (a scene with bending off has no bending term), the system over them, the
+ * post-step responses (none unless named), and the initial state.
+ *
+ * The core knows nothing of configs: lib/config/bind.c fills a cb_scene_def
+ * from an INI config (cb_scene_from_config) and says where a bad key was set. */
 #ifndef CB_SCENE_H
 #define CB_SCENE_H
 
-#include "config.h"
+#include <stddef.h>
+
 #include "energy.h"
 #include "mesh.h"
 #include "system.h"
 #include "topology.h"
 
-typedef struct cb_scene {
-  cb_config cfg;
+typedef struct cb_scene cb_scene;
+
+/* ---- post-step responses -------------------------------------------------
+ * A response changes the state after every step of every integrator, in the
+ * order the scene lists them (cb_integrator_step runs them): a collision
+ * projection, a velocity damping. Plug-ins as a type table: the scene
+ * allocates each response's state from the type's `size` (zeroed) and calls
+ * init with the parameters the definition gives. */
+typedef struct cb_response cb_response;
+typedef struct cb_response_type {
+  const char *name;
+  size_t size;                                            /* bytes of state, allocated by the scene */
+  int (*init)(cb_response *r, const cb_scene *s, const void *params); /* may be NULL */
+  /* Changes (x, v) (3*nv each) after a step of length dt; returns a status
+   * (a positive one becomes the step's status if the step was ok). */
+  int (*apply)(cb_response *r, const cb_scene *s, double *x, double *v, double dt);
+  void (*free)(cb_response *r);                           /* frees what init allocated; may be NULL */
+} cb_response_type;
+struct cb_response {
+  const cb_response_type *type;
+  void *state;
+};
+enum { CB_MAX_RESPONSES = 8 };
+
+/* ---- definition ------------------------------------------------------------ */
+typedef enum { CB_MESH_GRID = 0, CB_MESH_CHAIN = 1, CB_MESH_OBJ = 2 } cb_mesh_kind;
+
+/* Everything a scene is built from. Strings are read during cb_scene_build
+ * only (the scene's copy, cb_scene.def, has them NULL). */
+typedef struct cb_scene_def {
+  cb_mesh_kind mesh;           /* Default grid */
+  cb_grid_params grid;         /* grid: all fields; chain: n, size[0] (its length, m), plane. Default cb_grid_params_default() */
+  const char *mesh_file;       /* OBJ path for CB_MESH_OBJ, as given to fopen. Default NULL */
+  double density;              /* kg/m^2, for area-lumped masses. Default 1 */
+  double vertex_mass;          /* kg per vertex; 0 = lumped from density. Default 0 */
+  double stretch_k;            /* N/m, the spring on every edge. Default 8000 */
+  const char *bend;            /* bending model, a name of cb_bend_names. Default "none" */
+  double bend_k;               /* N/m. Default 100 */
+  const char *definiteness;    /* compressed-spring response of the springs, a name of
+                                  cb_definiteness_names ("choi-ko" changes the energy). Default "drop" */
+  double buckling_kb;          /* N m^2, Choi-Ko bending stiffness. Default 0.01 */
+  double gravity[3];           /* m/s^2; 0 0 0 = no gravity term. Default 0 -9.8 0 */
+  const char *pins;            /* named set or index list (cb_pins_resolve). Default "top-corners" */
+  double initial_scale;        /* x0 = rest positions scaled about their centroid. Default 1 */
+  double pin_squeeze[3];       /* m/s, pinned vertices driven toward each other. Default 0 0 0 */
+  double diverge_ratio;        /* energy-growth bound of a run (run.h). Default 10 */
+  int nresponses;              /* post-step responses, run in this order. Default 0 */
+  struct {
+    const cb_response_type *type;
+    const void *params;        /* handed to type->init; read during the build only */
+  } responses[CB_MAX_RESPONSES];
+} cb_scene_def;
+
+cb_scene_def cb_scene_def_default(void);
+
+struct cb_scene {
+  cb_scene_def def;      /* the definition it was built from (strings NULL) */
   cb_mesh mesh;          /* rest shape */
   cb_topology topo;
   double *mass;          /* nv, kg */
@@ -24,13 +84,24 @@ typedef struct cb_scene {
   double *x0, *v0;       /* initial state, 3*nv each */
   double gravity[3];     /* m/s^2 (also inside the gravity term, if any) */
   double energy_scale;   /* divergence scale S of integrator.diverge_ratio, less the initial kinetic energy, J */
-} cb_scene;
+  double diverge_ratio;  /* the run's energy-growth bound is diverge_ratio x S (run.h) */
+  int nresponses;
+  cb_response responses[CB_MAX_RESPONSES]; /* the post-step stage */
+};
 
-int cb_scene_build(const cb_config *cfg, cb_scene **out);
+/* Builds the scene def names. On an error about one field, the message
+ * starts with that field's key ("mesh: ", "scene.pins: ", ...) and *key (if
+ * key is not NULL) is set to the config key whose location a caller should
+ * prefix ("mesh.n", "mesh.file", "scene.pins", "material.bend",
+ * "material.buckling_kb"); otherwise *key is NULL. */
+int cb_scene_build(const cb_scene_def *def, cb_scene **out, const char **key);
 void cb_scene_free(cb_scene *s);
 
 /* Sum of the vertex masses, kg. */
 double cb_scene_total_mass(const cb_scene *s);
+
+/* Runs the post-step responses on (x, v); returns the first nonzero status. */
+int cb_scene_post_step(const cb_scene *s, double *x, double *v, double dt);
 
 /* Kinetic energy 1/2 sum m_i |v_i|^2, J. */
 double cb_scene_kinetic(const cb_scene *s, const double *v);

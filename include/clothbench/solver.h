@@ -9,7 +9,6 @@
 #ifndef CB_SOLVER_H
 #define CB_SOLVER_H
 
-#include "config.h"
 #include "sparse.h"
 
 /* Optional per-iteration callback of the iterative solvers: called after the
@@ -30,7 +29,6 @@ typedef struct cb_solver_params {
 } cb_solver_params;
 
 cb_solver_params cb_solver_params_default(void);
-cb_solver_params cb_solver_params_from_config(const cb_config *c);
 
 typedef struct cb_solve_stats {
   int status;          /* CB_OK, CB_NOT_SPD, CB_NOT_CONVERGED, CB_DIVERGED, CB_INDEFINITE */

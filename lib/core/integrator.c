@@ -1,4 +1,8 @@
-/* Integrator registry and shared plumbing. */
+/* Integrator registry and the shared wrapper: it allocates each type's state
+ * and parameters from the type's sizes, the linear solver when the type's
+ * flags ask for one, and runs the scene's post-step stage after every step.
+ * It knows nothing about any one type: a new one is a file with its
+ * cb_integrator_type and one line in cb_integrator_types[]. */
 #include <clothbench/integrator.h>
 
 #include <stdlib.h>
@@ -7,7 +11,11 @@
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
 
-const cb_integrator_type *const cb_integrator_types[] = {&cb_integrator_explicit, &cb_integrator_newton, NULL};
+const cb_integrator_type *const cb_integrator_types[] = {
+    &cb_integrator_explicit,
+    &cb_integrator_newton,
+    NULL,
+};
 
 const char *cb_integrator_name(int i) {
   for (int k = 0; k <= i; k++)
@@ -15,41 +23,24 @@ const char *cb_integrator_name(int i) {
   return cb_integrator_types[i]->name;
 }
 
+const cb_integrator_type *cb_integrator_type_find(const char *name) {
+  for (int i = 0; cb_integrator_types[i]; i++)
+    if (strcmp(cb_integrator_types[i]->name, name) == 0) return cb_integrator_types[i];
+  return NULL;
+}
+
 cb_integrator_params cb_integrator_params_default(void) {
-  cb_integrator_params p = {.dt = 1.0 / 30, .max_iters = 50, .tol = 1e-8, .tol_dx = 0, .init_predict = 1,
-                            .line_search = 0, .definiteness = CB_DEF_DROP, .hook = NULL, .hook_ctx = NULL};
+  cb_integrator_params p = {.dt = 1.0 / 30, .hook = NULL, .hook_ctx = NULL};
   return p;
 }
 
-int cb_integrator_params_from_config(const cb_config *c, cb_integrator_params *p) {
-  *p = cb_integrator_params_default();
-  p->dt = c->dt;
-  p->max_iters = c->max_iters;
-  p->tol = c->tol;
-  p->tol_dx = c->tol_dx;
-  p->init_predict = strcmp(c->init, "x0") != 0;
-  p->line_search = c->line_search;
-  return cb_definiteness_from_name(c->definiteness, &p->definiteness);
-}
-
-int cb_integrator_alloc(const char *method, cb_scene *scene, const cb_integrator_params *p, const char *solver,
-                        const cb_solver_params *sp, cb_integrator **out) {
+int cb_integrator_alloc(const char *method, cb_scene *scene, const cb_integrator_params *p, const void *type_params,
+                        const char *solver, const cb_solver_params *sp, cb_integrator **out) {
   *out = NULL;
-  const cb_integrator_type *t = NULL;
-  for (int i = 0; cb_integrator_types[i]; i++)
-    if (strcmp(cb_integrator_types[i]->name, method) == 0) t = cb_integrator_types[i];
+  const cb_integrator_type *t = cb_integrator_type_find(method);
   if (!t) return cb_fail("unknown integrator '%s'", method);
   if (!(p->dt > 0)) return cb_fail("integrator: dt must be > 0, got %g", p->dt);
-  /* Choi-Ko changes the springs' energy, which is fixed when the scene is built */
-  int choi_ko = 0, springs = 0;
-  for (int k = 0; k < scene->sys.nterms; k++) {
-    springs += scene->sys.terms[k]->type == cb_term_spring;
-    choi_ko |= cb_spring_term_is_choi_ko(scene->sys.terms[k]);
-  }
-  if (springs && choi_ko != (p->definiteness == CB_DEF_CHOI_KO))
-    return cb_fail("integrator: definiteness '%s' does not match the scene, whose springs were built %s the Choi-Ko "
-                   "response (set integrator.definiteness before building the scene)",
-                   cb_definiteness_names[p->definiteness], choi_ko ? "with" : "without");
+  if ((t->flags & CB_INTEGRATOR_LINEAR_SOLVER) && !solver) return cb_fail("%s: needs a linear solver", t->name);
   cb_integrator *it = cb_calloc(1, sizeof *it);
   if (!it) return CB_ENOMEM;
   it->type = t;
@@ -57,13 +48,27 @@ int cb_integrator_alloc(const char *method, cb_scene *scene, const cb_integrator
   it->sys = &scene->sys;
   it->params = *p;
   int st = CB_OK;
-  if (solver && t != &cb_integrator_explicit) {
+  if (t->params_size) { /* the type's parameters: the caller's, or the type's defaults */
+    it->type_params = cb_malloc(1, t->params_size);
+    if (!it->type_params) st = CB_ENOMEM;
+    else if (type_params || t->params_default) memcpy(it->type_params, type_params ? type_params : t->params_default, t->params_size);
+    else memset(it->type_params, 0, t->params_size);
+  }
+  if (st == CB_OK && t->size && !(it->state = cb_calloc(1, t->size))) st = CB_ENOMEM;
+  if (st == CB_OK && (t->flags & CB_INTEGRATOR_LINEAR_SOLVER)) {
     st = cb_solver_alloc(solver, sp, it->sys->A.n, &it->solver);
     if (st == CB_OK) st = cb_solver_analyze(it->solver, &it->sys->A);
   }
-  if (st == CB_OK) st = t->alloc(it); /* cleans up after itself on failure */
+  int inited = 0;
+  if (st == CB_OK) {
+    inited = 1;
+    st = t->init(it);
+  }
   if (st) {
+    if (inited) t->free(it); /* releases what init allocated before it failed */
     cb_solver_free(it->solver);
+    free(it->state);
+    free(it->type_params);
     free(it);
     return st;
   }
@@ -71,18 +76,12 @@ int cb_integrator_alloc(const char *method, cb_scene *scene, const cb_integrator
   return CB_OK;
 }
 
-int cb_integrator_from_config(cb_scene *scene, cb_integrator **out) {
-  cb_integrator_params p;
-  int st = cb_integrator_params_from_config(&scene->cfg, &p);
-  if (st) return st;
-  cb_solver_params sp = cb_solver_params_from_config(&scene->cfg);
-  return cb_integrator_alloc(scene->cfg.method, scene, &p, scene->cfg.solver, &sp, out);
-}
-
 int cb_integrator_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
   memset(st, 0, sizeof *st);
   double t0 = cb_now_ms();
   int r = it->type->step(it, x, v, st);
+  int post = cb_scene_post_step(it->scene, x, v, it->params.dt); /* the scene's post-step responses */
+  if (r == CB_OK && post) r = post;
   st->wall_ms = cb_now_ms() - t0;
   st->status = r;
   return r;
@@ -92,5 +91,7 @@ void cb_integrator_free(cb_integrator *it) {
   if (!it) return;
   it->type->free(it);
   cb_solver_free(it->solver);
+  free(it->state);
+  free(it->type_params);
   free(it);
 }

@@ -4,7 +4,9 @@
  *   x_i <- x_i + dt v_i
  * for free vertices; pinned ones keep their prescribed v (0 unless
  * scene.pin_squeeze drives them) and move by x <- x + dt v. It is stable only while
- * dt < 2 / omega_max, omega_max^2 = lambda_max(M^-1 K). */
+ * dt < 2 / omega_max, omega_max^2 = lambda_max(M^-1 K).
+ * It reads only the generic parameters (dt): no parameters of its own, no
+ * linear solver, no Hessian. */
 #include <math.h>
 #include <stdlib.h>
 
@@ -16,17 +18,14 @@ typedef struct {
   double *grad; /* 3*nv */
 } explicit_work;
 
-static int ex_alloc(cb_integrator *it) {
-  explicit_work *w = cb_calloc(1, sizeof *w);
-  if (!w) return CB_ENOMEM;
+static int ex_init(cb_integrator *it) {
+  explicit_work *w = it->state;
   w->grad = cb_malloc((size_t)3 * it->scene->mesh.nv, sizeof(double));
-  if (!w->grad) { free(w); return CB_ENOMEM; }
-  it->work = w;
-  return CB_OK;
+  return w->grad ? CB_OK : CB_ENOMEM;
 }
 
 static int ex_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
-  explicit_work *w = it->work;
+  explicit_work *w = it->state;
   const cb_scene *s = it->scene;
   double dt = it->params.dt, t0 = cb_now_ms();
   cb_system_energy(it->sys, x, w->grad, NULL);
@@ -47,10 +46,18 @@ static int ex_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
 }
 
 static void ex_free(cb_integrator *it) {
-  explicit_work *w = it->work;
-  if (!w) return;
+  explicit_work *w = it->state;
   free(w->grad);
-  free(w);
 }
 
-const cb_integrator_type cb_integrator_explicit = {"explicit", ex_alloc, ex_step, ex_free};
+const cb_integrator_type cb_integrator_explicit = {
+    .name = "explicit",
+    .flags = 0,
+    .size = sizeof(explicit_work),
+    .params_size = 0,
+    .params_default = NULL,
+    .keys = NULL,
+    .init = ex_init,
+    .step = ex_step,
+    .free = ex_free,
+};

@@ -25,14 +25,19 @@
  *
  * The linear solve goes through cb_definiteness_solve (definiteness.c), so
  * the `shift` policy's retries with A + mu I happen there, for every solver;
- * the largest mu of the step is reported in the step stats. */
+ * the largest mu of the step is reported in the step stats.
+ *
+ * F, grad F, the predictor and the velocity update are the shared objective
+ * (objective.h). Newton's parameters are cb_newton_params (integrator.h). */
 #include <cblas.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <clothbench/definiteness.h>
 #include <clothbench/integrator.h>
+#include <clothbench/objective.h>
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
 
@@ -40,67 +45,77 @@ enum { LS_MAX_HALVINGS = 40 };
 #define LS_FLAT 1e-12 /* |grad F . dx| / S below which F cannot resolve the decrease */
 
 typedef struct {
-  double *x0, *xhat, *xtrial, *g; /* 3*nv */
+  cb_objective obj;               /* F, grad F, xhat, x0 */
+  double *xtrial;                 /* 3*nv */
   double *gF, *b, *dx;            /* 3*nfree */
   cb_shift *shift;                /* workspace of the shift policy */
 } newton_work;
 
-static void nw_free(newton_work *w) {
-  if (!w) return;
-  free(w->x0); free(w->xhat); free(w->xtrial); free(w->g);
+static const cb_newton_params newton_defaults = {.max_iters = 50, .tol = 1e-8, .tol_dx = 0, .init_predict = 1,
+                                                 .line_search = 0, .definiteness = CB_DEF_DROP};
+
+cb_newton_params cb_newton_params_default(void) { return newton_defaults; }
+
+_Static_assert(sizeof(cb_definiteness) == sizeof(int), "CB_PARAM_CHOICE fields are int-sized");
+
+/* Newton's config keys (integrator.<name>); the defaults are newton_defaults. */
+static const char *const init_names[] = {"predict", "x0", NULL};
+static const int init_values[] = {1, 0}; /* init_predict */
+#define NP(f) offsetof(cb_newton_params, f)
+static const cb_param_key newton_keys[] = {
+    {"max_iters", CB_PARAM_INT, NP(max_iters), "50", "iterations", 1, 1000000, 0, NULL, NULL,
+     "Newton iterations per step at most; 1 is Baraff-Witkin's single linear solve."},
+    {"tol", CB_PARAM_DOUBLE, NP(tol), "1e-8", "-", 0, 1, 0, NULL, NULL,
+     "Newton stops when |grad F(x)| <= tol |grad F(x(0))|, x(0) being the step's initial guess. Below about 1e-11 the tolerance may be under round-off (e.g. a step from rest, where grad F(x(0)) is gravity alone): pair it with `tol_dx`."},
+    {"tol_dx", CB_PARAM_DOUBLE, NP(tol_dx), "0", "m", 0, 1e9, 0, NULL, NULL,
+     "Newton also stops when the largest component of the step |dx| is <= tol_dx; 0 turns this test off."},
+    {"definiteness", CB_PARAM_CHOICE, NP(definiteness), "drop", "-", 0, 0, 0, cb_definiteness_names, NULL,
+     "Spring Hessian treatment when a spring is compressed: `none` keeps the exact Hessian; `drop` drops the k(1 - L/|x|) term when |x| < L (the lecture's fix; the transverse eigenvalue clamped at 0); `mirror` uses |1 - L/|x||; `shift` keeps the exact Hessian and adds mu I to Newton's matrix, raising mu until Cholesky (or CG) succeeds; `choi-ko` replaces the compressed spring by Choi & Ko's (2002) immediate-buckling response (see `material.buckling_kb`), a different energy, with its exact Hessian."},
+    {"init", CB_PARAM_CHOICE, NP(init_predict), "predict", "-", 0, 0, 0, init_names, init_values,
+     "Newton's initial guess: `predict` (x0 + dt v0) or `x0`."},
+    {"line_search", CB_PARAM_BOOL, NP(line_search), "0", "-", 0, 0, 0, NULL, NULL,
+     "Backtracking (Armijo) line search on F in every Newton iteration (0 or 1)."},
+    {NULL, CB_PARAM_INT, 0, NULL, NULL, 0, 0, 0, NULL, NULL, NULL},
+};
+#undef NP
+
+static void nt_free(cb_integrator *it) {
+  newton_work *w = it->state;
+  cb_objective_free(&w->obj);
+  free(w->xtrial);
   free(w->gF); free(w->b); free(w->dx);
   cb_shift_free(w->shift);
-  free(w);
 }
 
-static int nt_alloc(cb_integrator *it) {
-  if (!it->solver) return cb_fail("newton: needs a linear solver");
-  size_t n3 = (size_t)3 * it->scene->mesh.nv, nf = (size_t)it->sys->A.n;
-  newton_work *w = cb_calloc(1, sizeof *w);
-  if (!w) return CB_ENOMEM;
-  w->x0 = cb_malloc(n3, sizeof(double));
-  w->xhat = cb_malloc(n3, sizeof(double));
-  w->xtrial = cb_malloc(n3, sizeof(double));
-  w->g = cb_malloc(n3, sizeof(double));
-  w->gF = cb_malloc(nf, sizeof(double));
-  w->b = cb_malloc(nf, sizeof(double));
-  w->dx = cb_malloc(nf, sizeof(double));
-  if (!w->x0 || !w->xhat || !w->xtrial || !w->g || !w->gF || !w->b || !w->dx) {
-    nw_free(w);
-    return CB_ENOMEM;
+/* Choi-Ko changes the springs' energy, which is fixed when the scene is
+ * built: the policy Newton is given must be the one the springs have. */
+static int check_definiteness(const cb_integrator *it, cb_definiteness def) {
+  int choi_ko = 0, springs = 0;
+  for (int k = 0; k < it->sys->nterms; k++) {
+    springs += it->sys->terms[k]->type == cb_term_spring;
+    choi_ko |= cb_spring_term_is_choi_ko(it->sys->terms[k]);
   }
-  int st = cb_shift_alloc((int)nf, NULL, &w->shift);
-  if (st) {
-    nw_free(w);
-    return st;
-  }
-  it->work = w;
+  if (springs && choi_ko != (def == CB_DEF_CHOI_KO))
+    return cb_fail("integrator: definiteness '%s' does not match the scene, whose springs were built %s the Choi-Ko "
+                   "response (set integrator.definiteness before building the scene)",
+                   cb_definiteness_names[def], choi_ko ? "with" : "without");
   return CB_OK;
 }
 
-/* F(x); if gF != NULL also grad F over the free DOFs (uses w->g); if
- * scale != NULL also S = |x - xhat|_M^2/(2 dt^2) + sum_t |E_t|, the size of
- * the summands of F (its round-off is ~ eps S). */
-static double objective(cb_integrator *it, const double *x, double *gF, double *scale) {
-  newton_work *w = it->work;
-  const cb_scene *s = it->scene;
-  double inv_dt2 = 1.0 / (it->params.dt * it->params.dt);
-  double per[CB_MAX_TERMS];
-  double E = cb_system_energy(it->sys, x, gF ? w->g : NULL, per);
-  double inertia = 0.0;
-  for (int k = 0; k < s->model.nfree; k++) {
-    int i = s->free_vertex[k];
-    for (int a = 0; a < 3; a++) {
-      double d = x[3 * i + a] - w->xhat[3 * i + a];
-      inertia += s->mass[i] * d * d;                              /* |x - xhat|_M^2 */
-      if (gF) gF[3 * k + a] = s->mass[i] * d * inv_dt2 + w->g[3 * i + a]; /* M(x - xhat)/dt^2 + dE/dx */
-    }
-  }
-  if (scale) {
-    *scale = 0.5 * inv_dt2 * inertia;
-    for (int t = 0; t < it->sys->nterms; t++) *scale += fabs(per[t]);
-  }
-  return 0.5 * inv_dt2 * inertia + E;
+static int nt_init(cb_integrator *it) {
+  const cb_newton_params *p = it->type_params;
+  int st = check_definiteness(it, p->definiteness);
+  if (st) return st;
+  newton_work *w = it->state;
+  size_t n3 = (size_t)3 * it->scene->mesh.nv, nf = (size_t)it->sys->A.n;
+  st = cb_objective_init(&w->obj, it->scene);
+  if (st) return st;
+  w->xtrial = cb_malloc(n3, sizeof(double));
+  w->gF = cb_malloc(nf, sizeof(double));
+  w->b = cb_malloc(nf, sizeof(double));
+  w->dx = cb_malloc(nf, sizeof(double));
+  if (!w->xtrial || !w->gF || !w->b || !w->dx) return CB_ENOMEM;
+  return cb_shift_alloc((int)nf, NULL, &w->shift);
 }
 
 static void move(const cb_scene *s, double *x, const double *base, const double *dx, double alpha) {
@@ -111,17 +126,16 @@ static void move(const cb_scene *s, double *x, const double *base, const double 
 }
 
 static int nt_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
-  newton_work *w = it->work;
+  newton_work *w = it->state;
   const cb_scene *s = it->scene;
-  const cb_integrator_params *p = &it->params;
+  const cb_newton_params *p = it->type_params;
+  cb_newton_hook hook = it->params.hook;
+  void *hook_ctx = it->params.hook_ctx;
   cb_sparse *A = &it->sys->A;
   int nv3 = 3 * s->mesh.nv, nf = A->n;
-  double dt = p->dt;
-  memcpy(w->x0, x, (size_t)nv3 * sizeof(double));
-  for (int i = 0; i < nv3; i++) w->xhat[i] = x[i] + dt * v[i]; /* xhat = x0 + dt v0 */
-  if (p->init_predict) memcpy(x, w->xhat, (size_t)nv3 * sizeof(double));
-  for (int k = 0; k < s->npinned; k++) /* pins at their prescribed positions x0 + dt v0 */
-    memcpy(x + 3 * s->pinned[k], w->xhat + 3 * s->pinned[k], 3 * sizeof(double));
+  double dt = it->params.dt;
+  cb_objective_begin(&w->obj, x, v, dt); /* x0 = x, xhat = x0 + dt v0 */
+  cb_objective_guess(&w->obj, x, p->init_predict);
 
   cb_newton_event ev;
   memset(&ev, 0, sizeof ev);
@@ -131,7 +145,7 @@ static int nt_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
   for (int k = 0;; k++) {
     double t0 = cb_now_ms();
     double Fscale = 0.0;
-    double F = objective(it, x, w->gF, &Fscale);
+    double F = cb_objective_eval(&w->obj, x, w->gF, &Fscale);
     double gn = cblas_dnrm2(nf, w->gF, 1);
     st->assemble_ms += cb_now_ms() - t0;
     if (k == 0) g0 = gn;
@@ -142,7 +156,7 @@ static int nt_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
     if (!isfinite(F) || !isfinite(gn)) { status = CB_DIVERGED; break; }
     ev.iter = k; ev.F = F; ev.grad_norm = gn; ev.rel_grad = st->rel_grad; ev.x = x;
     ev.A = NULL; ev.b = NULL; ev.dx = NULL; ev.solver = NULL;
-    if (p->hook) p->hook(p->hook_ctx, CB_NEWTON_GRADIENT, &ev);
+    if (hook) hook(hook_ctx, CB_NEWTON_GRADIENT, &ev);
     if (st->rel_grad <= p->tol || gn == 0.0 || dx_converged) break;
     if (k == p->max_iters) { status = CB_NOT_CONVERGED; break; }
 
@@ -151,7 +165,7 @@ static int nt_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
     for (int i = 0; i < nf; i++) w->b[i] = -w->gF[i];                      /* b = -grad F */
     st->assemble_ms += cb_now_ms() - t0;
     ev.A = A; ev.b = w->b;
-    if (p->hook) p->hook(p->hook_ctx, CB_NEWTON_SYSTEM, &ev);
+    if (hook) hook(hook_ctx, CB_NEWTON_SYSTEM, &ev);
 
     cb_definite_stats ds; /* factor + solve; `shift` retries with A + mu I */
     int ls = cb_definiteness_solve(p->definiteness, A, it->sys->diag, it->solver, w->shift, w->b, w->dx, &ds);
@@ -162,7 +176,7 @@ static int nt_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
     if (ds.mu > st->shift_mu) st->shift_mu = ds.mu;
     st->linear_status = ls;
     ev.dx = w->dx; ev.solver = it->solver; ev.status = ls; ev.shift_mu = ds.mu;
-    if (p->hook) p->hook(p->hook_ctx, CB_NEWTON_SOLVED, &ev);
+    if (hook) hook(hook_ctx, CB_NEWTON_SOLVED, &ev);
     if (ls == CB_NOT_SPD) { status = CB_NOT_SPD; break; }
     /* an iterative solve cut at its max_iters is inexact Newton, not a failure */
     if (ls != CB_OK && ls != CB_NOT_CONVERGED) { status = CB_LINEAR_FAILED; break; }
@@ -176,7 +190,7 @@ static int nt_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
       if (ok) move(s, w->xtrial, x, w->dx, 1.0);
       for (int h = 0; !ok && h <= LS_MAX_HALVINGS; h++, alpha *= 0.5) {
         move(s, w->xtrial, x, w->dx, alpha);
-        double Ft = objective(it, w->xtrial, NULL, NULL);
+        double Ft = cb_objective_eval(&w->obj, w->xtrial, NULL, NULL);
         if (Ft <= F + 1e-4 * alpha * slope) { ok = 1; break; } /* Armijo */
         st->ls_backtracks++;
       }
@@ -191,13 +205,18 @@ static int nt_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
     if (!isfinite(dmax)) { status = CB_DIVERGED; st->newton_iters = k + 1; break; }
     if (p->tol_dx > 0 && dmax <= p->tol_dx) dx_converged = 1;
   }
-  for (int k = 0; k < s->model.nfree; k++) { /* v1 = (x1 - x0)/dt; pinned vertices keep their v0 */
-    int i = s->free_vertex[k];
-    for (int a = 0; a < 3; a++) v[3 * i + a] = (x[3 * i + a] - w->x0[3 * i + a]) / dt;
-  }
+  cb_objective_velocity(&w->obj, x, v); /* v1 = (x1 - x0)/dt; pinned vertices keep their v0 */
   return status;
 }
 
-static void nt_free(cb_integrator *it) { nw_free(it->work); }
-
-const cb_integrator_type cb_integrator_newton = {"newton", nt_alloc, nt_step, nt_free};
+const cb_integrator_type cb_integrator_newton = {
+    .name = "newton",
+    .flags = CB_INTEGRATOR_LINEAR_SOLVER | CB_INTEGRATOR_HESSIAN,
+    .size = sizeof(newton_work),
+    .params_size = sizeof(cb_newton_params),
+    .params_default = &newton_defaults,
+    .keys = newton_keys,
+    .init = nt_init,
+    .step = nt_step,
+    .free = nt_free,
+};

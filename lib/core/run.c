@@ -27,7 +27,7 @@ int cb_run_init(cb_run *r, cb_scene *s, cb_integrator *it) {
   memcpy(r->v, s->v0, n3 * sizeof(double));
   energies(r);
   r->total0 = r->kinetic + r->potential;
-  r->bound = s->cfg.diverge_ratio * (s->energy_scale + r->kinetic);
+  r->bound = s->diverge_ratio * (s->energy_scale + r->kinetic);
   return CB_OK;
 }
 

@@ -71,6 +71,11 @@ int cb_pins_resolve(const char *spec, const cb_mesh *m, int **out, int *n) {
 
 void cb_scene_free(cb_scene *s) {
   if (!s) return;
+  for (int k = 0; k < s->nresponses; k++) {
+    cb_response *r = &s->responses[k];
+    if (r->type->free) r->type->free(r);
+    free(r->state);
+  }
   cb_system_free(&s->sys);
   cb_mesh_free(&s->mesh);
   cb_topology_free(&s->topo);
@@ -85,6 +90,24 @@ double cb_scene_total_mass(const cb_scene *s) {
   return msum;
 }
 
+cb_scene_def cb_scene_def_default(void) {
+  cb_scene_def d = {.mesh = CB_MESH_GRID, .grid = cb_grid_params_default(), .mesh_file = NULL, .density = 1,
+                    .vertex_mass = 0, .stretch_k = 8000, .bend = "none", .bend_k = 100, .definiteness = "drop",
+                    .buckling_kb = 0.01, .gravity = {0, -9.8, 0}, .pins = "top-corners", .initial_scale = 1,
+                    .pin_squeeze = {0, 0, 0}, .diverge_ratio = 10, .nresponses = 0};
+  return d;
+}
+
+int cb_scene_post_step(const cb_scene *s, double *x, double *v, double dt) {
+  int st = CB_OK;
+  for (int k = 0; k < s->nresponses; k++) {
+    cb_response *r = (cb_response *)&s->responses[k]; /* a response's state is its own, not the scene's */
+    int rs = r->type->apply(r, s, x, v, dt);
+    if (rs && !st) st = rs;
+  }
+  return st;
+}
+
 double cb_scene_kinetic(const cb_scene *s, const double *v) {
   double K = 0.0;
   for (int i = 0; i < s->mesh.nv; i++)
@@ -92,47 +115,51 @@ double cb_scene_kinetic(const cb_scene *s, const double *v) {
   return K;
 }
 
-/* Prefixes the current error message with where `key` was set, and returns
- * st: "config.ini:4: mesh: grid needs ...". */
-static int at_key(int st, const cb_config *c, const char *key, const char *label) {
+/* Sets *key (if asked) for an error about the field that key names. */
+static int at_key(int st, const char **key, const char *name) {
+  if (st && key) *key = name;
+  return st;
+}
+
+/* Prefixes the current error message with label: "mesh: grid needs ...". */
+static int labelled(int st, const char *label) {
   if (st == CB_OK) return st;
-  char w[CB_PATH_LEN + 32], msg[1024];
+  char msg[1024];
   snprintf(msg, sizeof msg, "%s", cb_error_message());
-  return cb_fail_status(st, "%s: %s%s%s", cb_config_where(c, key, w, sizeof w), label, label[0] ? ": " : "", msg);
+  return cb_fail_status(st, "%s: %s", label, msg);
 }
 
-static int build_mesh(const cb_config *c, cb_mesh *mesh) {
-  if (strcmp(c->mesh_type, "obj") == 0) {
-    char path[2 * CB_PATH_LEN];
-    cb_config_resolve_path(c, c->mesh_file, path, sizeof path); /* relative to the config's folder */
-    return at_key(cb_mesh_read_obj(path, mesh), c, "mesh.file", "mesh.file");
+static int build_mesh(const cb_scene_def *d, cb_mesh *mesh, const char **key) {
+  if (d->mesh == CB_MESH_OBJ) {
+    if (!d->mesh_file) return at_key(cb_fail("mesh.file: required for an OBJ mesh"), key, "mesh.file");
+    return at_key(labelled(cb_mesh_read_obj(d->mesh_file, mesh), "mesh.file"), key, "mesh.file");
   }
-  cb_plane plane = strcmp(c->mesh_plane, "xy") == 0 ? CB_PLANE_XY : strcmp(c->mesh_plane, "yz") == 0 ? CB_PLANE_YZ : CB_PLANE_XZ;
-  if (strcmp(c->mesh_type, "chain") == 0)
-    return at_key(cb_mesh_chain(c->mesh_n, c->mesh_size[0], plane, mesh), c, "mesh.n", "mesh");
-  cb_grid_params g = cb_grid_params_default();
-  g.n = c->mesh_n;
-  g.m = c->mesh_m > 0 ? c->mesh_m : c->mesh_n;
-  g.size[0] = c->mesh_size[0];
-  g.size[1] = c->mesh_size[1];
-  g.plane = plane;
-  g.diagonal = strcmp(c->mesh_diagonal, "alternating") == 0 ? CB_DIAG_ALTERNATING : CB_DIAG_REGULAR;
-  return at_key(cb_mesh_grid(&g, mesh), c, "mesh.n", "mesh");
+  if (d->mesh == CB_MESH_CHAIN)
+    return at_key(labelled(cb_mesh_chain(d->grid.n, d->grid.size[0], d->grid.plane, mesh), "mesh"), key, "mesh.n");
+  return at_key(labelled(cb_mesh_grid(&d->grid, mesh), "mesh"), key, "mesh.n");
 }
 
-int cb_scene_build(const cb_config *cfg, cb_scene **out) {
+int cb_scene_build(const cb_scene_def *d, cb_scene **out, const char **key) {
   *out = NULL;
-  char w[CB_PATH_LEN + 32];
-  int st = cb_config_validate(cfg);
-  if (st) return st;
+  if (key) *key = NULL;
+  if (!d->bend || !d->definiteness || !d->pins) /* e.g. a copy of cb_scene.def, whose strings are NULL */
+    return cb_fail("scene: bend, definiteness and pins must be set (start from cb_scene_def_default())");
+  if (d->nresponses < 0 || d->nresponses > CB_MAX_RESPONSES)
+    return cb_fail("scene: %d post-step responses (at most %d)", d->nresponses, CB_MAX_RESPONSES);
+  for (int k = 0; k < d->nresponses; k++)
+    if (!d->responses[k].type || !d->responses[k].type->apply)
+      return cb_fail("scene: post-step response %d has no type (or no apply)", k);
   cb_scene *s = cb_calloc(1, sizeof *s);
   if (!s) return CB_ENOMEM;
-  s->cfg = *cfg;
-  st = build_mesh(cfg, &s->mesh);
+  s->def = *d;
+  s->def.mesh_file = s->def.bend = s->def.definiteness = s->def.pins = NULL;
+  for (int k = 0; k < d->nresponses; k++) s->def.responses[k].params = NULL;
+  s->diverge_ratio = d->diverge_ratio;
+  int st = build_mesh(d, &s->mesh, key);
   if (st == CB_OK) st = cb_topology_build(&s->mesh, &s->topo);
-  if (st == CB_OK && s->topo.nonmanifold > 0 && strcmp(cfg->bend, "none") != 0)
-    st = cb_fail("%s: material.bend: the mesh has %d non-manifold edges (shared by more than two triangles); "
-                 "bending needs a manifold mesh", cb_config_where(cfg, "material.bend", w, sizeof w), s->topo.nonmanifold);
+  if (st == CB_OK && s->topo.nonmanifold > 0 && strcmp(d->bend, "none") != 0)
+    st = at_key(cb_fail("material.bend: the mesh has %d non-manifold edges (shared by more than two triangles); "
+                        "bending needs a manifold mesh", s->topo.nonmanifold), key, "material.bend");
   int nv = s->mesh.nv;
   if (st == CB_OK) {
     s->mass = cb_calloc((size_t)nv, sizeof(double));
@@ -144,16 +171,16 @@ int cb_scene_build(const cb_config *cfg, cb_scene **out) {
   }
   /* masses: uniform, or lumped m_i = density * (sum of adjacent rest areas) / 3 */
   if (st == CB_OK) {
-    if (cfg->vertex_mass > 0)
-      for (int i = 0; i < nv; i++) s->mass[i] = cfg->vertex_mass;
+    if (d->vertex_mass > 0)
+      for (int i = 0; i < nv; i++) s->mass[i] = d->vertex_mass;
     else
       for (int t = 0; t < s->mesh.nt; t++) {
         double a = cb_mesh_triangle_area(&s->mesh, s->mesh.x, t);
-        for (int k = 0; k < 3; k++) s->mass[s->mesh.tri[3 * t + k]] += cfg->density * a / 3.0;
+        for (int k = 0; k < 3; k++) s->mass[s->mesh.tri[3 * t + k]] += d->density * a / 3.0;
       }
   }
   if (st == CB_OK) {
-    st = at_key(cb_pins_resolve(cfg->pins, &s->mesh, &s->pinned, &s->npinned), cfg, "scene.pins", "");
+    st = at_key(cb_pins_resolve(d->pins, &s->mesh, &s->pinned, &s->npinned), key, "scene.pins");
   }
   if (st == CB_OK) {
     int nfree = 0, p = 0;
@@ -176,29 +203,25 @@ int cb_scene_build(const cb_config *cfg, cb_scene **out) {
   /* terms: stretch springs on every edge, optional bending, optional gravity */
   cb_term *terms[CB_MAX_TERMS];
   int nterms = 0;
-  if (st == CB_OK) st = cb_spring_term_alloc(&s->model, "stretch", s->topo.ne, s->topo.edge, cfg->stretch_k, &terms[nterms]);
+  if (st == CB_OK) st = cb_spring_term_alloc(&s->model, "stretch", s->topo.ne, s->topo.edge, d->stretch_k, &terms[nterms]);
   if (st == CB_OK) nterms++;
   if (st == CB_OK) {
     cb_term *bend = NULL;
-    st = cb_bend_term_alloc(cfg->bend, &s->model, cfg->bend_k, &bend);
+    st = cb_bend_term_alloc(d->bend, &s->model, d->bend_k, &bend);
     if (bend) terms[nterms++] = bend;
   }
-  memcpy(s->gravity, cfg->gravity, sizeof s->gravity);
-  if (st == CB_OK && (cfg->gravity[0] != 0 || cfg->gravity[1] != 0 || cfg->gravity[2] != 0)) {
-    st = cb_gravity_term_alloc(&s->model, cfg->gravity, &terms[nterms]);
+  memcpy(s->gravity, d->gravity, sizeof s->gravity);
+  if (st == CB_OK && (d->gravity[0] != 0 || d->gravity[1] != 0 || d->gravity[2] != 0)) {
+    st = cb_gravity_term_alloc(&s->model, d->gravity, &terms[nterms]);
     if (st == CB_OK) nterms++;
   }
   /* compressed-spring response of every spring term (Choi-Ko changes the energy) */
   cb_definiteness def = CB_DEF_DROP;
-  if (st == CB_OK) st = cb_definiteness_from_name(cfg->definiteness, &def);
+  if (st == CB_OK) st = cb_definiteness_from_name(d->definiteness, &def);
   for (int k = 0; st == CB_OK && k < nterms; k++)
     if (terms[k]->type == cb_term_spring) {
-      st = cb_spring_term_set_response(terms[k], def, cfg->buckling_kb);
-      if (st) {
-        char msg[1024];
-        snprintf(msg, sizeof msg, "%s", cb_error_message());
-        st = cb_fail("%s: material.buckling_kb: %s", cb_config_where(cfg, "material.buckling_kb", w, sizeof w), msg);
-      }
+      st = cb_spring_term_set_response(terms[k], def, d->buckling_kb);
+      if (st) st = at_key(labelled(CB_EINVAL, "material.buckling_kb"), key, "material.buckling_kb");
     }
   if (st == CB_OK) st = cb_system_init(&s->sys, &s->model, terms, nterms);
   else
@@ -208,9 +231,9 @@ int cb_scene_build(const cb_config *cfg, cb_scene **out) {
     double c[3] = {0, 0, 0};
     for (int i = 0; i < nv; i++)
       for (int a = 0; a < 3; a++) c[a] += s->mesh.x[3 * i + a] / nv;
-    for (int i = 0; i < 3 * nv; i++) s->x0[i] = c[i % 3] + cfg->initial_scale * (s->mesh.x[i] - c[i % 3]);
+    for (int i = 0; i < 3 * nv; i++) s->x0[i] = c[i % 3] + d->initial_scale * (s->mesh.x[i] - c[i % 3]);
     /* driven pins: v_i = -sign((p_i - pc).sq) sq, pc = centroid of the pins' initial positions */
-    const double *sq = cfg->pin_squeeze;
+    const double *sq = d->pin_squeeze;
     if (s->npinned > 0 && (sq[0] != 0 || sq[1] != 0 || sq[2] != 0)) {
       double pc[3] = {0, 0, 0};
       for (int k = 0; k < s->npinned; k++)
@@ -226,8 +249,17 @@ int cb_scene_build(const cb_config *cfg, cb_scene **out) {
      * S = elastic(x0) + (sum m_i) |g| D max(1, initial_scale) + 1e-12 J, D the rest bounding-box diagonal.
      * lib/instruments/stability.c's energy scale is a different one, of a perturbed start state. */
     s->energy_scale = cb_system_elastic_energy(&s->sys, s->x0) +
-                      cb_scene_total_mass(s) * cb_v3_norm(cfg->gravity) * cb_mesh_bbox_diagonal(&s->mesh) * fmax(1.0, cfg->initial_scale) +
+                      cb_scene_total_mass(s) * cb_v3_norm(d->gravity) * cb_mesh_bbox_diagonal(&s->mesh) * fmax(1.0, d->initial_scale) +
                       1e-12;
+  }
+  /* the post-step stage: each response's state from its type's size */
+  for (int k = 0; st == CB_OK && k < d->nresponses; k++) {
+    cb_response *r = &s->responses[k];
+    r->type = d->responses[k].type;
+    r->state = r->type->size ? cb_calloc(1, r->type->size) : NULL;
+    if (r->type->size && !r->state) { st = CB_ENOMEM; break; }
+    s->nresponses++;
+    if (r->type->init) st = r->type->init(r, s, d->responses[k].params);
   }
   if (st) {
     cb_scene_free(s);

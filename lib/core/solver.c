@@ -24,15 +24,6 @@ cb_solver_params cb_solver_params_default(void) {
   return p;
 }
 
-cb_solver_params cb_solver_params_from_config(const cb_config *c) {
-  cb_solver_params p = cb_solver_params_default();
-  p.tol = c->solver_tol;
-  p.max_iters = c->solver_max_iters;
-  p.alpha = c->solver_alpha;
-  p.rho = c->solver_rho;
-  return p;
-}
-
 const cb_solver_type *cb_solver_type_find(const char *name) {
   for (int i = 0; cb_solver_types[i]; i++)
     if (strcmp(cb_solver_types[i]->name, name) == 0) return cb_solver_types[i];

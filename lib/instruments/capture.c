@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bind.h"
 #include <clothbench/integrator.h>
 #include <clothbench/run.h>
 #include <clothbench/status.h>
@@ -30,7 +31,7 @@ int cb_capture_newton_system(const cb_config *cfg, int step, int iter, cb_captur
   memset(out, 0, sizeof *out);
   if (step < 0 || iter < 0) return cb_fail("capture: step and iter must be >= 0 (got %d, %d)", step, iter);
   double t0 = cb_now_ms();
-  int st = cb_scene_build(cfg, &out->scene);
+  int st = cb_scene_from_config(cfg, &out->scene);
   if (st) return st;
   cb_scene *s = out->scene;
   out->step = step;
@@ -49,9 +50,8 @@ int cb_capture_newton_system(const cb_config *cfg, int step, int iter, cb_captur
   if (st) { cb_capture_free(out); return st; }
   ip.hook = capture_hook;
   ip.hook_ctx = &k;
-  cb_solver_params sp = cb_solver_params_from_config(cfg);
   cb_integrator *it = NULL;
-  st = cb_integrator_alloc(cfg->method, s, &ip, cfg->solver, &sp, &it);
+  st = cb_integrator_from_config(cfg, s, &ip, &it);
   if (st) { cb_capture_free(out); return st; }
   cb_run r;
   st = cb_run_init(&r, s, it);

@@ -11,7 +11,7 @@
 #ifndef CB_CAPTURE_H
 #define CB_CAPTURE_H
 
-#include <clothbench/config.h>
+#include "config.h"
 #include <clothbench/scene.h>
 #include <clothbench/sparse.h>
 

@@ -42,15 +42,16 @@ int cb_method_integrator(const cb_method *m, cb_scene *s, double dt, cb_newton_h
                          cb_integrator **out) {
   cb_integrator_params p = cb_integrator_params_default();
   p.dt = dt;
-  p.max_iters = m->K > 0 ? m->K : CB_METHOD_CONVERGED_ITERS;
-  p.tol = m->K > 0 ? 0.0 : CB_METHOD_CONVERGED_TOL;
-  p.tol_dx = 0;
-  p.init_predict = 1;
-  p.line_search = m->line_search;
-  p.definiteness = CB_DEF_DROP;
   p.hook = hook;
   p.hook_ctx = hook_ctx;
-  return cb_integrator_alloc("newton", s, &p, m->solver, &m->sp, out);
+  cb_newton_params np = cb_newton_params_default();
+  np.max_iters = m->K > 0 ? m->K : CB_METHOD_CONVERGED_ITERS;
+  np.tol = m->K > 0 ? 0.0 : CB_METHOD_CONVERGED_TOL;
+  np.tol_dx = 0;
+  np.init_predict = 1;
+  np.line_search = m->line_search;
+  np.definiteness = CB_DEF_DROP;
+  return cb_integrator_alloc("newton", s, &p, &np, m->solver, &m->sp, out);
 }
 
 int cb_method_work_alloc(const cb_scene *s, cb_method_work *w) {

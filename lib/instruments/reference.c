@@ -1,12 +1,17 @@
 /* The converged implicit Euler step (see reference.h for the method and its
- * stopping rule). Independent of integrator_newton.c on purpose: the
- * reference must not share the code path of the methods it measures. */
+ * stopping rule). Its solve is independent of integrator_newton.c on
+ * purpose (own Newton loop, own shift rule, own line search, always CHOLMOD),
+ * so the reference does not share the code path of the methods it measures;
+ * the objective it minimises -- F, grad F, xhat and v1 = (x1 - x0)/dt -- is
+ * the shared one (objective.h), so every method is measured against the
+ * same F. */
 #include "reference.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include <clothbench/objective.h>
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
 #include <clothbench/vec.h>
@@ -20,7 +25,8 @@ struct cb_reference {
   cb_scene *scene;
   cb_reference_params p;
   cb_solver *chol;
-  double *xhat, *x, *xt, *g, *xs; /* 3*nv */
+  cb_objective obj;          /* F, grad F, xhat of the step */
+  double *x, *xt, *xs;       /* 3*nv */
   double *gF, *dx;           /* 3*nfree */
 };
 
@@ -32,7 +38,8 @@ cb_reference_params cb_reference_params_default(void) {
 void cb_reference_free(cb_reference *r) {
   if (!r) return;
   cb_solver_free(r->chol);
-  free(r->xhat); free(r->x); free(r->xt); free(r->g); free(r->xs);
+  cb_objective_free(&r->obj);
+  free(r->x); free(r->xt); free(r->xs);
   free(r->gF); free(r->dx);
   free(r);
 }
@@ -50,14 +57,13 @@ int cb_reference_alloc(cb_scene *s, const cb_reference_params *p, cb_reference *
     r->p.tol_dx = 1e-12 * (D > 0 ? D : 1.0);
   }
   size_t n3 = (size_t)3 * s->mesh.nv, nf = (size_t)s->sys.A.n;
-  r->xhat = cb_malloc(n3, sizeof(double));
+  int st = cb_objective_init(&r->obj, s);
   r->x = cb_malloc(n3, sizeof(double));
   r->xt = cb_malloc(n3, sizeof(double));
-  r->g = cb_malloc(n3, sizeof(double));
   r->xs = cb_malloc(n3, sizeof(double));
   r->gF = cb_malloc(nf ? nf : 1, sizeof(double));
   r->dx = cb_malloc(nf ? nf : 1, sizeof(double));
-  int st = (!r->xhat || !r->x || !r->xt || !r->g || !r->xs || !r->gF || !r->dx) ? CB_ENOMEM : CB_OK;
+  if (st == CB_OK && (!r->x || !r->xt || !r->xs || !r->gF || !r->dx)) st = CB_ENOMEM;
   cb_solver_params sp = cb_solver_params_default();
   if (st == CB_OK) st = cb_solver_alloc("cholmod", &sp, s->sys.A.n, &r->chol);
   if (st == CB_OK) st = cb_solver_analyze(r->chol, &s->sys.A);
@@ -71,36 +77,9 @@ int cb_reference_alloc(cb_scene *s, const cb_reference_params *p, cb_reference *
 
 const cb_reference_params *cb_reference_get_params(const cb_reference *r) { return &r->p; }
 
-/* F(x) with xhat = r->xhat; grad F over the free DOFs into gF (if not NULL);
- * *scale = |x - xhat|_M^2/(2 dt^2) + sum_t |E_t| (if not NULL). */
-static double objective(cb_reference *r, const double *x, double *gF, double *scale) {
-  const cb_scene *s = r->scene;
-  double inv_dt2 = 1.0 / (r->p.dt * r->p.dt), per[CB_MAX_TERMS];
-  double E = cb_system_energy(&s->sys, x, gF ? r->g : NULL, per);
-  double inertia = 0;
-  for (int k = 0; k < s->model.nfree; k++) {
-    int i = s->free_vertex[k];
-    for (int a = 0; a < 3; a++) {
-      double d = x[3 * i + a] - r->xhat[3 * i + a];
-      inertia += s->mass[i] * d * d;                                         /* |x - xhat|_M^2 */
-      if (gF) gF[3 * k + a] = s->mass[i] * d * inv_dt2 + r->g[3 * i + a];    /* M(x - xhat)/dt^2 + dE/dx */
-    }
-  }
-  if (scale) {
-    *scale = 0.5 * inv_dt2 * inertia;
-    for (int t = 0; t < s->sys.nterms; t++) *scale += fabs(per[t]);
-  }
-  return 0.5 * inv_dt2 * inertia + E;
-}
-
-static void set_xhat(cb_reference *r, const double *x0, const double *v0) {
-  int n3 = 3 * r->scene->mesh.nv;
-  for (int i = 0; i < n3; i++) r->xhat[i] = x0[i] + r->p.dt * v0[i]; /* xhat = x0 + dt v0 (pins have v = 0) */
-}
-
 double cb_reference_objective(cb_reference *r, const double *x0, const double *v0, const double *x, double *gF) {
-  set_xhat(r, x0, v0);
-  return objective(r, x, gF, NULL);
+  cb_objective_begin(&r->obj, x0, v0, r->p.dt);
+  return cb_objective_eval(&r->obj, x, gF, NULL);
 }
 
 static void move(const cb_scene *s, double *x, const double *base, const double *dx, double alpha) {
@@ -117,14 +96,14 @@ int cb_reference_step(cb_reference *r, const double *x0, const double *v0, doubl
   cb_sparse *A = &s->sys.A;
   int n3 = 3 * s->mesh.nv, nf = A->n;
   double dt = r->p.dt;
-  set_xhat(r, x0, v0);
-  memcpy(r->x, r->xhat, (size_t)n3 * sizeof(double)); /* x(0) = xhat, as the integrator's "predict" */
+  cb_objective_begin(&r->obj, x0, v0, dt);  /* xhat = x0 + dt v0 */
+  cb_objective_guess(&r->obj, r->x, 1);      /* x(0) = xhat, as the integrator's "predict" */
   double g0 = 0, alpha = 1.0, mu = 0;
   double mbar = cb_free_mass(s) / (s->model.nfree > 0 ? s->model.nfree : 1);
   double mu0 = 1e-3 * mbar / (dt * dt); /* first shift: 1e-3 of the mean mass term */
   int status = CB_NOT_CONVERGED, dx_small = 0, hessian = 0;
   for (int k = 0;; k++) {
-    double S = 0, F = objective(r, r->x, r->gF, &S);
+    double S = 0, F = cb_objective_eval(&r->obj, r->x, r->gF, &S);
     double gn = sqrt(cb_vec_dot(nf, r->gF, r->gF));
     if (k == 0) g0 = gn;
     st->F = F;
@@ -171,7 +150,7 @@ int cb_reference_step(cb_reference *r, const double *x0, const double *v0, doubl
     if (ok) move(s, r->xt, r->x, r->dx, 1.0);
     for (int h = 0; !ok && h <= REF_MAX_HALVINGS; h++, alpha *= 0.5) {
       move(s, r->xt, r->x, r->dx, alpha);
-      double Ft = objective(r, r->xt, NULL, NULL);
+      double Ft = cb_objective_eval(&r->obj, r->xt, NULL, NULL);
       if (Ft <= F + REF_ARMIJO * alpha * slope) ok = 1;
       else st->ls_backtracks++;
       if (ok) break;
@@ -214,11 +193,8 @@ double cb_free_mass(const cb_scene *s) {
 
 int cb_reference_advance(cb_reference *r, double *x, double *v, cb_reference_stats *st) {
   int status = cb_reference_step(r, x, v, r->xs, st);
-  int n3 = 3 * r->scene->mesh.nv;
-  for (int i = 0; i < n3; i++) {
-    v[i] = (r->xs[i] - x[i]) / r->p.dt; /* v1 = (x1 - x0)/dt */
-    x[i] = r->xs[i];
-  }
+  cb_objective_velocity(&r->obj, r->xs, v); /* v1 = (x1 - x0)/dt; pins keep their v0 */
+  memcpy(x, r->xs, (size_t)3 * r->scene->mesh.nv * sizeof(double));
   return status;
 }
 

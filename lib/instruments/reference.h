@@ -6,7 +6,7 @@
  *   x*    = argmin F  (the exact implicit Euler step), v* = (x* - x0)/dt
  *
  * x* is found by Newton's method with CHOLMOD and a backtracking (Armijo)
- * line search, written here independently of integrator_newton.c:
+ * line search, a loop written here independently of integrator_newton.c:
  *   - Newton matrix A = M/dt^2 + H(x) with the exact spring Hessian when that
  *     A is positive definite (CHOLMOD succeeds), so the final iterations are
  *     Newton's and converge quadratically near a minimiser where A is SPD.
@@ -35,8 +35,10 @@
  *     In Newton's quadratic regime the error left after an update of size d is
  *     O(d^2), so the floor bounds |x - x*| far below the step errors measured.
  *
- * The objective and the M-norm live here too, so that every method is measured
- * with the same F and the same norm. */
+ * F, grad F, xhat and the velocity update are the core's implicit-Euler
+ * objective (clothbench/objective.h), the one Newton minimises, so every
+ * method is measured with the same F; the M-norm lives here. The solve is
+ * the reference's own (above), kept independent of integrator_newton.c. */
 #ifndef CB_REFERENCE_H
 #define CB_REFERENCE_H
 
@@ -84,7 +86,8 @@ const cb_reference_params *cb_reference_get_params(const cb_reference *r);
  * vertices keep x0). Returns st->status. */
 int cb_reference_step(cb_reference *r, const double *x0, const double *v0, double *xstar, cb_reference_stats *st);
 
-/* One reference step in place: (x, v) <- (x*, (x* - x)/dt). */
+/* One reference step in place: (x, v) <- (x*, (x* - x)/dt) (pinned
+ * vertices keep their prescribed v, as in every integrator). */
 int cb_reference_advance(cb_reference *r, double *x, double *v, cb_reference_stats *st);
 
 /* Total energy kinetic + potential (elastic + gravity) of a state, J. */

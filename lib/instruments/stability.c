@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bind.h"
 #include <clothbench/eigen.h>
 #include <clothbench/run.h>
 #include <clothbench/solver.h>
@@ -153,11 +154,12 @@ int cb_stability_equilibrium(cb_scene *s, double *x, const cb_equilibrium_params
   for (int i = 0; i < s->mesh.nv; i++) fscale = fmax(fscale, s->mass[i] * gn); /* largest weight, N */
   cb_integrator_params ip = cb_integrator_params_default();
   ip.dt = p.dt0;
-  ip.max_iters = 5;
-  ip.tol = 1e-6;
-  ip.init_predict = 0;
-  ip.line_search = 1;
-  ip.definiteness = CB_DEF_DROP; /* A SPD: each Newton step is a descent direction */
+  cb_newton_params np = cb_newton_params_default();
+  np.max_iters = 5;
+  np.tol = 1e-6;
+  np.init_predict = 0;
+  np.line_search = 1;
+  np.definiteness = CB_DEF_DROP; /* A SPD: each Newton step is a descent direction */
   cb_solver_params sp = cb_solver_params_default();
   cb_integrator *it = NULL;
   int rc = CB_OK;
@@ -169,7 +171,7 @@ int cb_stability_equilibrium(cb_scene *s, double *x, const cb_equilibrium_params
     if (!isfinite(st->residual)) { st->status = CB_DIVERGED; break; }
     if (st->residual <= p.tol) { st->status = CB_OK; break; }
     if (k == p.max_steps) break;
-    if (!it && (rc = cb_integrator_alloc("newton", s, &ip, "cholmod", &sp, &it))) break;
+    if (!it && (rc = cb_integrator_alloc("newton", s, &ip, &np, "cholmod", &sp, &it))) break;
     it->params.dt = h;
     memset(v, 0, (size_t)nv3 * sizeof(double)); /* from rest: x <- argmin E(y) + |y - x|_M^2/(2h^2) */
     cb_step_stats ss;
@@ -440,7 +442,7 @@ int cb_stability_case_init(cb_stability_case *c, const cb_config *cfg, const cb_
   memset(c, 0, sizeof *c);
   prediction_nan(&c->pred);
   prediction_nan(&c->pred_rest);
-  int st = cb_scene_build(cfg, &c->scene);
+  int st = cb_scene_from_config(cfg, &c->scene);
   if (st) return st;
   cb_scene *s = c->scene;
   size_t n3 = (size_t)3 * s->mesh.nv;
@@ -466,11 +468,13 @@ int cb_stability_case_init(cb_stability_case *c, const cb_config *cfg, const cb_
   if (st == CB_OK) st = cb_stability_predict(s, c->x_start, p.eig, &c->pred);
   if (st == CB_OK && p.predict_rest) st = cb_stability_predict(s, s->mesh.x, p.eig, &c->pred_rest);
   cb_integrator_params ip;
+  cb_newton_params np;
   if (st == CB_OK) st = cb_integrator_params_from_config(cfg, &ip);
-  if (st == CB_OK) st = cb_integrator_alloc("explicit", s, &ip, NULL, NULL, &c->expl);
+  if (st == CB_OK) st = cb_newton_params_from_config(cfg, &np);
+  if (st == CB_OK) st = cb_integrator_alloc("explicit", s, &ip, NULL, NULL, NULL, &c->expl);
   if (st == CB_OK) {
     cb_solver_params sp = cb_solver_params_from_config(cfg);
-    st = cb_integrator_alloc("newton", s, &ip, cfg->solver, &sp, &c->newton);
+    st = cb_integrator_alloc("newton", s, &ip, &np, cfg->solver, &sp, &c->newton);
   }
   if (st) cb_stability_case_free(c);
   return st;

@@ -41,6 +41,7 @@
 #ifndef CB_STABILITY_H
 #define CB_STABILITY_H
 
+#include "config.h"
 #include <clothbench/integrator.h>
 #include <clothbench/scene.h>
 

@@ -9,7 +9,7 @@
 #ifndef CB_EXPERIMENT_H
 #define CB_EXPERIMENT_H
 
-#include <clothbench/config.h>
+#include "config.h"
 #include "outfile.h"
 #include "progress.h"
 

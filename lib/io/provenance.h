@@ -6,7 +6,7 @@
 
 #include <stdio.h>
 
-#include <clothbench/config.h>
+#include "config.h"
 
 /* Written by the build (build/version.c). */
 extern const char cb_build_git[];    /* "abc1234" or "unknown" */

@@ -1,4 +1,4 @@
-#include <clothbench/config.h>
+#include "config.h"
 
 #include <errno.h>
 #include <ini.h>
@@ -13,12 +13,12 @@
 #include <clothbench/solver.h>
 #include <clothbench/status.h>
 
-typedef enum { T_INT, T_DOUBLE, T_SIZE, T_VEC3, T_ENUM, T_PATH, T_PINS, T_BOOL, T_RHO } ktype;
+typedef enum { T_INT, T_DOUBLE, T_SIZE, T_VEC3, T_ENUM, T_PATH, T_PINS, T_BOOL, T_RHO,
+               T_PINT, T_PDOUBLE, T_PBOOL, T_PCHOICE /* an integrator type's keys, stored as doubles */ } ktype;
 
 static const char *const mesh_types[] = {"grid", "chain", "obj", NULL};
 static const char *const planes[] = {"xy", "xz", "yz", NULL};
 static const char *const diagonals[] = {"regular", "alternating", NULL};
-static const char *const inits[] = {"predict", "x0", NULL};
 
 typedef struct {
   const char *key;     /* section.key */
@@ -34,7 +34,7 @@ typedef struct {
 } keydef;
 
 #define O(f) offsetof(cb_config, f)
-static const keydef keys[] = {
+static const keydef keys_head[] = {
   {"mesh.type", T_ENUM, O(mesh_type), "grid", "-", 0, 0, 0, mesh_types, NULL,
    "`grid` builds an n x m grid; `chain` a line of n vertices (n-1 springs, no triangles: set `material.vertex_mass`); `obj` reads `mesh.file`."},
   {"mesh.n", T_INT, O(mesh_n), "21", "vertices", 2, 100000, 0, NULL, NULL,
@@ -75,18 +75,11 @@ static const keydef keys[] = {
    "Time step; a fraction such as `1/30` is accepted."},
   {"integrator.steps", T_INT, O(steps), "60", "steps", 0, 2000000000, 0, NULL, NULL,
    "Number of time steps `simulate` runs (overridden by `--steps`)."},
-  {"integrator.max_iters", T_INT, O(max_iters), "50", "iterations", 1, 1000000, 0, NULL, NULL,
-   "Newton iterations per step at most; 1 is Baraff-Witkin's single linear solve."},
-  {"integrator.tol", T_DOUBLE, O(tol), "1e-8", "-", 0, 1, 0, NULL, NULL,
-   "Newton stops when |grad F(x)| <= tol |grad F(x(0))|, x(0) being the step's initial guess. Below about 1e-11 the tolerance may be under round-off (e.g. a step from rest, where grad F(x(0)) is gravity alone): pair it with `tol_dx`."},
-  {"integrator.tol_dx", T_DOUBLE, O(tol_dx), "0", "m", 0, 1e9, 0, NULL, NULL,
-   "Newton also stops when the largest component of the step |dx| is <= tol_dx; 0 turns this test off."},
-  {"integrator.definiteness", T_ENUM, O(definiteness), "drop", "-", 0, 0, 0, cb_definiteness_names, NULL,
-   "Spring Hessian treatment when a spring is compressed: `none` keeps the exact Hessian; `drop` drops the k(1 - L/|x|) term when |x| < L (the lecture's fix; the transverse eigenvalue clamped at 0); `mirror` uses |1 - L/|x||; `shift` keeps the exact Hessian and adds mu I to Newton's matrix, raising mu until Cholesky (or CG) succeeds; `choi-ko` replaces the compressed spring by Choi & Ko's (2002) immediate-buckling response (see `material.buckling_kb`), a different energy, with its exact Hessian."},
-  {"integrator.init", T_ENUM, O(init), "predict", "-", 0, 0, 0, inits, NULL,
-   "Newton's initial guess: `predict` (x0 + dt v0) or `x0`."},
-  {"integrator.line_search", T_BOOL, O(line_search), "0", "-", 0, 0, 0, NULL, NULL,
-   "Backtracking (Armijo) line search on F in every Newton iteration (0 or 1)."},
+};
+
+/* Then every registered integrator type's own keys (cb_integrator_type.keys),
+ * in registry order, and then these. */
+static const keydef keys_tail[] = {
   {"integrator.diverge_ratio", T_DOUBLE, O(diverge_ratio), "10", "-", 0, 1e300, 1, NULL, NULL,
    "A run is `diverged` when a position is NaN/Inf, or when the total energy rises above its initial value by more than diverge_ratio x S, S = initial kinetic + elastic energy + (sum m_i |g|) x (rest bounding-box diagonal) x max(1, initial_scale) + 1e-12 J."},
   {"solver.method", T_ENUM, O(solver), "cholmod", "-", 0, 0, 0, NULL, cb_solver_name,
@@ -100,18 +93,59 @@ static const keydef keys[] = {
   {"solver.rho", T_RHO, O(solver_rho), "auto", "-", 0, 1, 1, NULL, NULL,
    "Chebyshev spectral-radius estimate rho in (0, 1), or `auto` (estimated at run time)."},
 };
-#undef O
-enum { NKEYS = (int)(sizeof keys / sizeof keys[0]) };
+enum { NHEAD = (int)(sizeof keys_head / sizeof keys_head[0]), NTAIL = (int)(sizeof keys_tail / sizeof keys_tail[0]) };
+enum { MAX_KEYS = (int)(sizeof ((cb_config *)0)->where / sizeof ((cb_config *)0)->where[0]) };
 enum { SRC_DEFAULT = 0, SRC_FILE = 1, SRC_SET = 2 };
 
-_Static_assert(sizeof keys / sizeof keys[0] <= 64, "cb_config.where is too small");
+/* The key table: keys_head, the types' keys, keys_tail; built on first use
+ * (the registries are constant, so it is always the same; programs call the
+ * config functions from one thread). A type key's value is stored as a
+ * double in cb_config.type_value[slot]. */
+static keydef keys[MAX_KEYS];
+static char type_key_names[CB_MAX_TYPE_KEYS][CB_NAME_LEN + 16];
+static int nkeys;
+static int table_overflow; /* the registered types declare more keys than cb_config holds */
+
+static int same_key(const keydef *k, const cb_param_key *p, ktype t) {
+  return k->type == t && strcmp(k->def, p->def) == 0 && k->lo == p->lo && k->hi == p->hi && k->lo_open == p->lo_open &&
+         k->choices == p->choices;
+}
+
+static void build_table(void) {
+  if (nkeys) return;
+  int n = 0, slots = 0;
+  for (int i = 0; i < NHEAD; i++) keys[n++] = keys_head[i];
+  for (int t = 0; cb_integrator_types[t]; t++)
+    for (const cb_param_key *p = cb_integrator_types[t]->keys; p && p->name; p++) {
+      static const ktype kinds[] = {[CB_PARAM_INT] = T_PINT, [CB_PARAM_DOUBLE] = T_PDOUBLE, [CB_PARAM_BOOL] = T_PBOOL,
+                                    [CB_PARAM_CHOICE] = T_PCHOICE};
+      char name[sizeof type_key_names[0]];
+      snprintf(name, sizeof name, "integrator.%s", p->name);
+      int seen = 0;
+      for (int i = NHEAD; i < n; i++)
+        if (strcmp(keys[i].key, name) == 0) {
+          seen = 1;
+          if (!same_key(&keys[i], p, kinds[p->kind])) table_overflow = 1; /* one key, two meanings */
+        }
+      if (seen) continue;
+      if (slots == CB_MAX_TYPE_KEYS || n + NTAIL > MAX_KEYS) { table_overflow = 1; continue; }
+      snprintf(type_key_names[slots], sizeof type_key_names[slots], "%s", name);
+      keys[n++] = (keydef){type_key_names[slots], kinds[p->kind], O(type_value) + (size_t)slots * sizeof(double), p->def,
+                           p->unit, p->lo, p->hi, p->lo_open, p->choices, NULL, p->doc};
+      slots++;
+    }
+  for (int i = 0; i < NTAIL; i++) keys[n++] = keys_tail[i];
+  nkeys = n;
+}
+#undef O
 
 static const char *choice_at(const keydef *k, int i) {
   return k->choice_fn ? k->choice_fn(i) : k->choices[i];
 }
 
 static int find_key(const char *key) {
-  for (int i = 0; i < NKEYS; i++)
+  build_table();
+  for (int i = 0; i < nkeys; i++)
     if (strcmp(keys[i].key, key) == 0) return i;
   return -1;
 }
@@ -168,14 +202,15 @@ static int assign(cb_config *c, const keydef *k, const char *value, char *why, s
   char rng[96];
   range_text(k, rng, sizeof rng);
   switch (k->type) {
-  case T_INT: {
+  case T_INT: case T_PINT: {
     double v;
     if (cb_parse_double(value, &v) || v != floor(v)) { snprintf(why, nwhy, "'%s' is not an integer", value); return -1; }
     if (!in_range(k, v)) { snprintf(why, nwhy, "%s is out of range (must be %s)", value, rng); return -1; }
-    *(int *)field = (int)v;
+    if (k->type == T_PINT) *(double *)field = v;
+    else *(int *)field = (int)v;
     return 0;
   }
-  case T_DOUBLE: {
+  case T_DOUBLE: case T_PDOUBLE: {
     double v;
     if (cb_parse_double(value, &v)) { snprintf(why, nwhy, "'%s' is not a number", value); return -1; }
     if (!in_range(k, v)) { snprintf(why, nwhy, "%s is out of range (must be %s)", value, rng); return -1; }
@@ -196,9 +231,13 @@ static int assign(cb_config *c, const keydef *k, const char *value, char *why, s
     memcpy(field, v, (size_t)want * sizeof(double));
     return 0;
   }
-  case T_ENUM: {
+  case T_ENUM: case T_PCHOICE: {
     for (int i = 0; choice_at(k, i); i++)
-      if (strcmp(value, choice_at(k, i)) == 0) return copy_str(field, CB_NAME_LEN, value);
+      if (strcmp(value, choice_at(k, i)) == 0) {
+        if (k->type == T_ENUM) return copy_str(field, CB_NAME_LEN, value);
+        *(double *)field = i;
+        return 0;
+      }
     size_t used = (size_t)snprintf(why, nwhy, "'%s' is not one of:", value);
     for (int i = 0; choice_at(k, i) && used < nwhy; i++)
       used += (size_t)snprintf(why + used, nwhy - used, " %s", choice_at(k, i));
@@ -211,11 +250,14 @@ static int assign(cb_config *c, const keydef *k, const char *value, char *why, s
     if (copy_str(field, CB_PINS_LEN, value)) { snprintf(why, nwhy, "pin list too long"); return -1; }
     return 0; /* checked against the mesh when the scene is built */
   }
-  case T_BOOL: {
+  case T_BOOL: case T_PBOOL: {
     static const char *const t[] = {"1", "true", "yes", "on"}, *const f[] = {"0", "false", "no", "off"};
     for (int i = 0; i < 4; i++) {
-      if (strcasecmp(value, t[i]) == 0) { *(int *)field = 1; return 0; }
-      if (strcasecmp(value, f[i]) == 0) { *(int *)field = 0; return 0; }
+      int b = strcasecmp(value, t[i]) == 0 ? 1 : strcasecmp(value, f[i]) == 0 ? 0 : -1;
+      if (b < 0) continue;
+      if (k->type == T_PBOOL) *(double *)field = b;
+      else *(int *)field = b;
+      return 0;
     }
     snprintf(why, nwhy, "'%s' is not a boolean (0/1, true/false, yes/no, on/off)", value);
     return -1;
@@ -235,9 +277,10 @@ static int assign(cb_config *c, const keydef *k, const char *value, char *why, s
 }
 
 void cb_config_defaults(cb_config *c) {
+  build_table();
   memset(c, 0, sizeof *c);
   char why[256];
-  for (int i = 0; i < NKEYS; i++) {
+  for (int i = 0; i < nkeys; i++) {
     int st = assign(c, &keys[i], keys[i].def, why, sizeof why);
     (void)st; /* defaults are valid by construction (checked by the tests) */
   }
@@ -253,7 +296,7 @@ typedef struct {
   int failed;      /* first error recorded */
   int failed_line; /* its line */
   int too_long;
-  char seen[64];   /* keys set by this file */
+  char seen[MAX_KEYS]; /* keys set by this file */
 } parse_ctx;
 
 /* inih reader: counts lines so the handler knows where it is. */
@@ -263,7 +306,8 @@ static void fail_at(parse_ctx *ctx) {
 }
 
 static int known_section(const char *name, size_t len) {
-  for (int k = 0; k < NKEYS; k++)
+  build_table();
+  for (int k = 0; k < nkeys; k++)
     if (strncmp(keys[k].key, name, len) == 0 && keys[k].key[len] == '.') return 1;
   return 0;
 }
@@ -387,6 +431,10 @@ const char *cb_config_where(const cb_config *c, const char *key, char *buf, size
 
 int cb_config_validate(const cb_config *c) {
   char w[CB_PATH_LEN + 32];
+  build_table();
+  if (table_overflow)
+    return cb_fail("config: the integrator types declare more than %d keys, or one key with two definitions",
+                   CB_MAX_TYPE_KEYS);
   if (strcmp(c->mesh_type, "obj") == 0 && !c->mesh_file[0])
     return cb_fail("%s: mesh.file: required when mesh.type = obj", cb_config_where(c, "mesh.type", w, sizeof w));
   return CB_OK;
@@ -396,6 +444,9 @@ static void write_value(const cb_config *c, const keydef *k, FILE *f) {
   const char *field = (const char *)c + k->off;
   switch (k->type) {
   case T_INT: case T_BOOL: fprintf(f, "%d", *(const int *)field); break;
+  case T_PINT: case T_PBOOL: fprintf(f, "%d", (int)*(const double *)field); break;
+  case T_PDOUBLE: fprintf(f, "%.17g", *(const double *)field); break;
+  case T_PCHOICE: fputs(choice_at(k, (int)*(const double *)field), f); break;
   case T_DOUBLE: fprintf(f, "%.17g", *(const double *)field); break;
   case T_SIZE: fprintf(f, "%.17g %.17g", ((const double *)field)[0], ((const double *)field)[1]); break;
   case T_VEC3:
@@ -410,7 +461,8 @@ static void write_value(const cb_config *c, const keydef *k, FILE *f) {
 }
 
 void cb_config_write(const cb_config *c, FILE *f, const char *sep) {
-  for (int i = 0; i < NKEYS; i++) {
+  build_table();
+  for (int i = 0; i < nkeys; i++) {
     fprintf(f, "%s%s=", i ? sep : "", keys[i].key);
     write_value(c, &keys[i], f);
   }
@@ -424,16 +476,35 @@ static void put_escaped(const char *s, FILE *f) { /* '|' would end a Markdown ta
 }
 
 void cb_config_write_reference(FILE *f) {
+  build_table();
   fputs("| key | unit | default | meaning |\n|---|---|---|---|\n", f);
-  for (int i = 0; i < NKEYS; i++) {
+  for (int i = 0; i < nkeys; i++) {
     const keydef *k = &keys[i];
     fprintf(f, "| `%s` | %s | `%s` | ", k->key, k->unit, k->def[0] ? k->def : "(none)");
     put_escaped(k->doc, f);
-    if (k->type == T_ENUM) {
+    if (k->type == T_ENUM || k->type == T_PCHOICE) {
       fputs(" Choices:", f);
       for (int j = 0; choice_at(k, j); j++) fprintf(f, " `%s`", choice_at(k, j));
       fputs(".", f);
     }
     fputs(" |\n", f);
   }
+}
+
+int cb_config_type_value(const cb_config *c, const char *key, double *out) {
+  int i = find_key(key);
+  if (i < 0 || keys[i].type < T_PINT) return -1;
+  *out = *(const double *)((const char *)c + keys[i].off);
+  return 0;
+}
+
+const char *cb_config_choice(const cb_config *c, const char *key) {
+  int i = find_key(key);
+  if (i < 0) return NULL;
+  const char *field = (const char *)c + keys[i].off;
+  if (keys[i].type == T_PCHOICE) return choice_at(&keys[i], (int)*(const double *)field);
+  if (keys[i].type == T_ENUM) /* the registry's own copy of the name, which outlives c */
+    for (int j = 0; choice_at(&keys[i], j); j++)
+      if (strcmp(field, choice_at(&keys[i], j)) == 0) return choice_at(&keys[i], j);
+  return NULL;
 }

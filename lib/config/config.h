@@ -2,8 +2,15 @@
  *
  * Every key lives in one table (config.c) with its type, unit, default and
  * documentation; the parser, the validator, `simulate --help-config` and the
- * README's config reference all come from that table. An unknown key, a bad
- * value or a missing file is an error naming file, line and key. */
+ * README's config reference all come from that table. An integrator type's
+ * own keys come from its type table (cb_integrator_type.keys) and join the
+ * table between integrator.steps and integrator.diverge_ratio. An unknown key, a bad
+ * value or a missing file is an error naming file, line and key.
+ *
+ * This is the config layer (lib/config/), above the core: the core never sees
+ * a cb_config. bind.h turns one into the core's structs (cb_scene_def,
+ * cb_integrator_params and each integrator type's parameters,
+ * cb_solver_params). */
 #ifndef CB_CONFIG_H
 #define CB_CONFIG_H
 
@@ -12,6 +19,7 @@
 #define CB_NAME_LEN 32
 #define CB_PATH_LEN 1024
 #define CB_PINS_LEN 4096
+#define CB_MAX_TYPE_KEYS 32 /* keys the integrator types declare, all together */
 
 typedef struct cb_config {
   /* [mesh] */
@@ -37,12 +45,11 @@ typedef struct cb_config {
   char method[CB_NAME_LEN];        /* explicit | newton */
   double dt;                       /* s */
   int steps;
-  int max_iters;
-  double tol;                      /* relative |grad F| */
-  double tol_dx;                   /* m, max-norm of the Newton step; 0 = off */
-  char definiteness[CB_NAME_LEN];  /* none | drop | mirror | shift | choi-ko */
-  char init[CB_NAME_LEN];          /* x0 | predict */
-  int line_search;                 /* 0 | 1 */
+  /* the integrator types' own keys (integrator.max_iters, tol, ... of
+   * cb_integrator_type.keys), in key-table order: numbers as they are,
+   * booleans 0/1, a choice as its index. Read them with
+   * cb_config_type_value / cb_config_choice, or bind them (bind.h). */
+  double type_value[CB_MAX_TYPE_KEYS];
   double diverge_ratio;            /* energy-growth bound, see README */
   /* [solver] */
   char solver[CB_NAME_LEN];        /* cholmod | ... */
@@ -82,6 +89,15 @@ void cb_config_resolve_path(const cb_config *c, const char *file, char *out, siz
 
 /* Markdown table of every key: key, type, unit, default, meaning. */
 void cb_config_write_reference(FILE *f);
+
+/* The value of an integrator type's key, e.g. "integrator.max_iters"
+ * (numbers as they are, booleans 0/1, a choice as its index); -1 if key is
+ * not a type's key. */
+int cb_config_type_value(const cb_config *c, const char *key, double *out);
+
+/* The name a choice key holds ("integrator.definiteness" -> "drop"), as
+ * the registry spells it (valid after c is gone); NULL if key is no choice. */
+const char *cb_config_choice(const cb_config *c, const char *key);
 
 /* Parses a solver rho ("auto" -> 0) etc. Exposed for experiments that sweep keys. */
 int cb_parse_double(const char *s, double *out);

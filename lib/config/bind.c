@@ -1,0 +1,123 @@
+/* Config -> core structs (bind.h). Core errors about one field name its key
+ * (cb_scene_build's *key); here they get the key's location in front. */
+#include "bind.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include <clothbench/energy.h>
+#include <clothbench/status.h>
+
+/* "config.ini:4: " in front of the current error message, for key. */
+static int located(int st, const cb_config *c, const char *key) {
+  if (st == CB_OK || !key) return st;
+  char w[CB_PATH_LEN + 32], msg[1024];
+  snprintf(msg, sizeof msg, "%s", cb_error_message());
+  return cb_fail_status(st, "%s: %s", cb_config_where(c, key, w, sizeof w), msg);
+}
+
+int cb_scene_def_from_config(const cb_config *c, cb_scene_def *d, char *path, size_t npath) {
+  *d = cb_scene_def_default();
+  d->mesh = strcmp(c->mesh_type, "obj") == 0 ? CB_MESH_OBJ : strcmp(c->mesh_type, "chain") == 0 ? CB_MESH_CHAIN : CB_MESH_GRID;
+  if (d->mesh == CB_MESH_OBJ) {
+    cb_config_resolve_path(c, c->mesh_file, path, npath); /* relative to the config file's folder */
+    d->mesh_file = path;
+  }
+  d->grid.n = c->mesh_n;
+  d->grid.m = c->mesh_m > 0 ? c->mesh_m : c->mesh_n; /* mesh.m = 0: square */
+  d->grid.size[0] = c->mesh_size[0];
+  d->grid.size[1] = c->mesh_size[1];
+  d->grid.plane = strcmp(c->mesh_plane, "xy") == 0 ? CB_PLANE_XY : strcmp(c->mesh_plane, "yz") == 0 ? CB_PLANE_YZ : CB_PLANE_XZ;
+  d->grid.diagonal = strcmp(c->mesh_diagonal, "alternating") == 0 ? CB_DIAG_ALTERNATING : CB_DIAG_REGULAR;
+  d->density = c->density;
+  d->vertex_mass = c->vertex_mass;
+  d->stretch_k = c->stretch_k;
+  d->bend = cb_config_choice(c, "material.bend"); /* the registry's name: it outlives c */
+  d->bend_k = c->bend_k;
+  const char *def = cb_config_choice(c, "integrator.definiteness"); /* Newton's policy is also the springs' response */
+  if (def) d->definiteness = def;
+  d->buckling_kb = c->buckling_kb;
+  memcpy(d->gravity, c->gravity, sizeof d->gravity);
+  d->pins = c->pins;
+  d->initial_scale = c->initial_scale;
+  memcpy(d->pin_squeeze, c->pin_squeeze, sizeof d->pin_squeeze);
+  d->diverge_ratio = c->diverge_ratio;
+  d->nresponses = 0; /* no key names a post-step response yet */
+  return CB_OK;
+}
+
+int cb_scene_from_config(const cb_config *c, cb_scene **out) {
+  *out = NULL;
+  int st = cb_config_validate(c);
+  if (st) return st;
+  cb_scene_def d;
+  char path[2 * CB_PATH_LEN];
+  st = cb_scene_def_from_config(c, &d, path, sizeof path);
+  if (st) return st;
+  const char *key = NULL;
+  st = cb_scene_build(&d, out, &key);
+  return located(st, c, key);
+}
+
+int cb_integrator_params_from_config(const cb_config *c, cb_integrator_params *p) {
+  *p = cb_integrator_params_default();
+  p->dt = c->dt;
+  return CB_OK;
+}
+
+/* A type's keys (cb_integrator_type.keys) into its parameter struct. */
+int cb_integrator_type_params_from_config(const cb_config *c, const cb_integrator_type *t, void *params) {
+  if (!t->params_size) return CB_OK;
+  if (t->params_default) memcpy(params, t->params_default, t->params_size);
+  else memset(params, 0, t->params_size);
+  for (const cb_param_key *k = t->keys; k && k->name; k++) {
+    char key[CB_NAME_LEN + 16];
+    snprintf(key, sizeof key, "integrator.%s", k->name);
+    double v;
+    if (cb_config_type_value(c, key, &v)) return cb_fail("%s: not in the config's key table", key);
+    char *field = (char *)params + k->offset;
+    switch (k->kind) {
+    case CB_PARAM_DOUBLE: memcpy(field, &v, sizeof v); break;
+    case CB_PARAM_CHOICE: {
+      int i = (int)v, value = k->values ? k->values[i] : i;
+      memcpy(field, &value, sizeof value);
+      break;
+    }
+    default: { /* INT, BOOL */
+      int i = (int)v;
+      memcpy(field, &i, sizeof i);
+      break;
+    }
+    }
+  }
+  return CB_OK;
+}
+
+int cb_newton_params_from_config(const cb_config *c, cb_newton_params *p) {
+  return cb_integrator_type_params_from_config(c, &cb_integrator_newton, p);
+}
+
+cb_solver_params cb_solver_params_from_config(const cb_config *c) {
+  cb_solver_params p = cb_solver_params_default();
+  p.tol = c->solver_tol;
+  p.max_iters = c->solver_max_iters;
+  p.alpha = c->solver_alpha;
+  p.rho = c->solver_rho;
+  return p;
+}
+
+int cb_integrator_from_config(const cb_config *c, cb_scene *s, const cb_integrator_params *p, cb_integrator **out) {
+  *out = NULL;
+  const cb_integrator_type *t = cb_integrator_type_find(c->method);
+  if (!t) return cb_fail("unknown integrator '%s'", c->method);
+  cb_integrator_params ip;
+  if (p) ip = *p;
+  else cb_integrator_params_from_config(c, &ip);
+  void *tp = NULL;
+  if (t->params_size && !(tp = cb_malloc(1, t->params_size))) return CB_ENOMEM;
+  int st = cb_integrator_type_params_from_config(c, t, tp);
+  cb_solver_params sp = cb_solver_params_from_config(c);
+  if (st == CB_OK) st = cb_integrator_alloc(c->method, s, &ip, tp, c->solver, &sp, out);
+  free(tp);
+  return st;
+}
