@@ -179,15 +179,28 @@ $(BUILD)/fuzz_%: $(BUILD)/fuzz/fuzz_%.o $(LIB)
 EXP_ENV := OPENBLAS_NUM_THREADS=$(THREADS) OMP_NUM_THREADS=$(THREADS)
 EXP_CSV := $(EXP_NAMES:%=results/%.csv)
 
+# After a full run (not QUICK=1), the numbers in README.md and docs/experiments/
+# are regenerated from the new results (build/report --fill): they are never typed.
+DOC_FILL := README.md $(wildcard docs/experiments/*.md)
+
 experiments: deps
 	@$(MAKE) --no-print-directory run-experiments
 	@$(MAKE) --no-print-directory plots report
+ifneq ($(QUICK),1)
+	@$(BUILD)/report --results results --fill-only $(addprefix --fill ,$(DOC_FILL))
+endif
 
 run-experiments: $(EXPS)
 	@$(MAKE) --no-print-directory $(EXP_CSV:%=%.run)
 
+# each run records its wall time in results/<name>.runtime (for the report's run-time table)
 results/%.csv.run: $(BUILD)/%
-	$(EXP_ENV) $(BUILD)/$* $(if $(filter 1,$(QUICK)),--quick) --out results/$*.csv
+	@mkdir -p results
+	@t0=$$(date +%s.%N); \
+	echo "$(EXP_ENV) $(BUILD)/$* $(if $(filter 1,$(QUICK)),--quick) --out results/$*.csv"; \
+	$(EXP_ENV) $(BUILD)/$* $(if $(filter 1,$(QUICK)),--quick) --out results/$*.csv || exit $$?; \
+	t1=$$(date +%s.%N); \
+	awk -v a=$$t0 -v b=$$t1 -v q=$(QUICK) 'BEGIN { printf "wall_s: %.1f\nquick: %d\n", b - a, q == 1 }' > results/$*.runtime
 
 plots:
 	@scripts/plots.sh

@@ -31,5 +31,33 @@ sed 's/^# quick: 1$/# quick: 0/; s/^\(# git_revision: [0-9a-f]*\) (clean)$/\1 (d
 has "a full run" "This is a **full** run of 1 experiment" "$T/R2.md"
 has "a dirty tree" "uncommitted changes" "$T/R2.md"
 has "links from the results folder itself" "](plots/definiteness_h1.png)" "$T/R2.md"
+# --fill: marked blocks are regenerated from the same data, idempotently
+printf 'intro\n<!-- report:claim-short H1 -->\nstale text\n<!-- /report -->\nmiddle `<!-- report:not-a-marker -->` inline\n<!-- report:claim H2 -->\n<!-- /report -->\n<!-- report:verdicts -->\nold table\n<!-- /report -->\n<!-- report:runtimes -->\n<!-- /report -->\nend\n' > "$T/doc.md"
+printf 'wall_s: 65.5\nquick: 1\n' > "$T/res/definiteness.runtime"
+"$B/report" --results "$T/res" --fill-only --fill "$T/doc.md" 2>"$T/fill.err" || { echo "report: FAIL: --fill:"; cat "$T/fill.err"; fail=1; }
+h1=$(sed -n 's/^\*\*H1: \([a-z ]*\)\.\*\*.*/\1/p' "$T/doc.md")
+has "fill: the claim-short block has H1's verdict" "| H1 | $h1 |" "$T/doc.md"
+hasnot "fill: the stale text is gone" "stale text" "$T/doc.md"
+hasnot "fill: the old table is gone" "old table" "$T/doc.md"
+has "fill: an inline mention is not a marker" 'middle `<!-- report:not-a-marker -->` inline' "$T/doc.md"
+has "fill: the text around the blocks is kept" "intro" "$T/doc.md"
+has "fill: the full claim block has the numbers" "**H2: " "$T/doc.md"
+has "fill: the run-time table" "| definiteness | full | 1 min 06 s |" "$T/doc.md"
+cp "$T/doc.md" "$T/doc1.md"
+"$B/report" --results "$T/res" --fill-only --fill "$T/doc.md" 2>/dev/null
+n=$((n + 1)); cmp -s "$T/doc.md" "$T/doc1.md" || { echo "report: FAIL: fill is not idempotent"; fail=1; }
+printf 'a\n<!-- report:claim Z9 -->\n<!-- /report -->\n' > "$T/bad.md"
+cp "$T/bad.md" "$T/bad.keep"
+"$B/report" --results "$T/res" --fill-only --fill "$T/bad.md" 2>"$T/bad.err"
+rc=$?
+n=$((n + 1)); [ $rc -eq 1 ] || { echo "report: FAIL: an unknown claim marker gave exit $rc, not 1"; fail=1; }
+has "fill: the bad marker's location" "bad.md:2: report marker 'claim Z9': no claim Z9" "$T/bad.err"
+n=$((n + 1)); cmp -s "$T/bad.md" "$T/bad.keep" || { echo "report: FAIL: a failed fill changed the file"; fail=1; }
+# every marker in README.md and docs/ is one the report knows
+for doc in README.md docs/experiments/*.md; do
+  cp "$doc" "$T/copy.md"
+  n=$((n + 1))
+  "$B/report" --results "$T/empty" --fill-only --fill "$T/copy.md" 2>"$T/copy.err" || { echo "report: FAIL: $doc:"; cat "$T/copy.err"; fail=1; }
+done
 [ $fail = 0 ] && echo "report: ok ($n checks)"
 exit $fail

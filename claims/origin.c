@@ -1,0 +1,114 @@
+/* What produced a report: the provenance of each experiment's CSV, and the
+ * run times `make experiments` records. */
+#include <stdio.h>
+#include <string.h>
+
+#include "claims.h"
+#include "report.h"
+
+/* The provenance of one experiment's CSV: the "# key: value" lines before
+ * its header row. */
+typedef struct {
+  char revision[128], quick[16], date[64], blas[16], omp[16], cpu[256], cores[16];
+  int found;
+} csv_origin;
+
+static void meta_value(const char *line, const char *key, char *out, size_t n) {
+  size_t k = strlen(key);
+  if (strncmp(line, "# ", 2) == 0 && strncmp(line + 2, key, k) == 0 && line[2 + k] == ':' && line[3 + k] == ' ')
+    snprintf(out, n, "%.*s", (int)strcspn(line + 4 + k, "\n"), line + 4 + k);
+}
+
+static csv_origin read_origin(const char *results, const char *experiment) {
+  csv_origin o = {.revision = "?", .quick = "?", .date = "?", .blas = "?", .omp = "?", .cpu = "?", .cores = "?"};
+  char path[4096], line[8192];
+  snprintf(path, sizeof path, "%s/%s.csv", results, experiment);
+  FILE *f = fopen(path, "r");
+  if (!f) return o;
+  o.found = 1;
+  while (fgets(line, sizeof line, f) && line[0] == '#') {
+    meta_value(line, "git_revision", o.revision, sizeof o.revision);
+    meta_value(line, "quick", o.quick, sizeof o.quick);
+    meta_value(line, "date", o.date, sizeof o.date);
+    meta_value(line, "blas_threads", o.blas, sizeof o.blas);
+    meta_value(line, "omp_num_threads", o.omp, sizeof o.omp);
+    meta_value(line, "cpu", o.cpu, sizeof o.cpu);
+    meta_value(line, "cores", o.cores, sizeof o.cores);
+  }
+  fclose(f);
+  return o;
+}
+
+/* "What produced it": one row per experiment whose CSV is there, and a
+ * summary line saying whether the run is quick, full or mixed and whether
+ * every CSV comes from one clean revision. */
+void cb_report_origin(FILE *f, const char *results) {
+  int quick = 0, full = 0, dirty = 0, nrev = 0, n = 0, missing = 0;
+  char first_rev[128] = "";
+  fputs("## What produced this report\n\n"
+        "| experiment | run | git revision | date (UTC) | BLAS threads | OpenMP threads | CPU | cores |\n"
+        "|---|---|---|---|---|---|---|---|\n", f);
+  for (int i = 0; i < cb_nclaims; i++) {
+    const char *e = cb_claims[i].experiment;
+    int seen = 0;
+    for (int j = 0; j < i && !seen; j++) seen = cb_claims[j].experiment && e && !strcmp(cb_claims[j].experiment, e);
+    if (!e || seen) continue;
+    csv_origin o = read_origin(results, e);
+    if (!o.found) {
+      fprintf(f, "| %s | not run | | | | | | |\n", e);
+      missing++;
+      continue;
+    }
+    n++;
+    if (!strcmp(o.quick, "1")) quick++;
+    else full++;
+    if (strstr(o.revision, "dirty")) dirty++;
+    if (!first_rev[0]) snprintf(first_rev, sizeof first_rev, "%s", o.revision);
+    if (strcmp(first_rev, o.revision) != 0) nrev++;
+    fprintf(f, "| %s | %s | %s | %s | %s | %s | %s | %s |\n", e, !strcmp(o.quick, "1") ? "quick (`QUICK=1`)" : "full", o.revision,
+            o.date, o.blas, o.omp, o.cpu, o.cores);
+  }
+  if (n == 0) fputs("\nNo experiment CSV was found: every claim is `not run`.\n\n", f);
+  else
+    fprintf(f, "\nThis is a **%s** run of %d experiment%s%s%s%s.\n\n", quick && full ? "mixed (quick and full)" : quick ? "quick" : "full", n,
+            n == 1 ? "" : "s", missing ? " (the others were not run)" : "", nrev ? "; the CSVs come from different revisions" : "",
+            dirty ? "; some CSVs come from a working tree with uncommitted changes" : "");
+}
+
+
+/* results/<experiment>.runtime, written by make experiments: "wall_s: S". */
+static double read_runtime(const char *results, const char *experiment) {
+  char path[4096];
+  snprintf(path, sizeof path, "%s/%s.runtime", results, experiment);
+  FILE *f = fopen(path, "r");
+  if (!f) return -1;
+  double s = -1;
+  if (fscanf(f, "wall_s: %lf", &s) != 1) s = -1;
+  fclose(f);
+  return s;
+}
+
+void cb_report_runtimes(FILE *f, const char *results) {
+  fputs("| experiment | run | wall time | git revision | date (UTC) |\n|---|---|---|---|---|\n", f);
+  double total = 0;
+  int n = 0;
+  for (int i = 0; i < cb_nclaims; i++) {
+    const char *e = cb_claims[i].experiment;
+    int seen = 0;
+    for (int j = 0; j < i && !seen; j++) seen = cb_claims[j].experiment && e && !strcmp(cb_claims[j].experiment, e);
+    if (!e || seen) continue;
+    csv_origin o = read_origin(results, e);
+    double s = read_runtime(results, e);
+    if (!o.found) continue;
+    char t[64];
+    if (s < 0) snprintf(t, sizeof t, "not recorded");
+    else if (s < 60) snprintf(t, sizeof t, "%.0f s", s);
+    else snprintf(t, sizeof t, "%d min %02.0f s", (int)(s / 60), s - 60 * (int)(s / 60));
+    if (s >= 0) {
+      total += s;
+      n++;
+    }
+    fprintf(f, "| %s | %s | %s | %s | %s |\n", e, !strcmp(o.quick, "1") ? "quick" : "full", t, o.revision, o.date);
+  }
+  if (n > 0) fprintf(f, "| all experiments | | %d min %02.0f s | | |\n", (int)(total / 60), total - 60 * (int)(total / 60));
+}

@@ -1,0 +1,23 @@
+/* The pieces of results/REPORT.md that other documents reuse: the README and
+ * docs/ carry marked blocks that `build/report --fill` regenerates from the
+ * same data, so no number in them is typed by hand. */
+#ifndef CB_REPORT_H
+#define CB_REPORT_H
+
+#include <stdio.h>
+
+#include "claims.h"
+
+/* "What produced this report": run kind, revision, date, threads, machine of
+ * every experiment CSV in results/, and a summary line. */
+void cb_report_origin(FILE *f, const char *results);
+/* A table of each experiment's wall time (results/<experiment>.runtime). */
+void cb_report_runtimes(FILE *f, const char *results);
+/* The verdict table: claim, verdict, why (the checker's reason), figure. */
+void cb_report_verdicts(FILE *f, const cb_claim_result *res);
+/* Rewrites the marked blocks of path (see report --help) from res; the file
+ * is written atomically and left untouched on any error (an unknown marker,
+ * a marker without its end). */
+int cb_report_fill(const char *path, const cb_claim_result *res, const char *results);
+
+#endif
