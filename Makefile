@@ -4,6 +4,7 @@
 ## make experiments   install missing packages, run every experiment, then plots and report
 ## make all           build the library, simulate, the experiments, bench and report
 ## make plots         draw plots/out/*.png and .svg from results/*.csv (gnuplot)
+## make movies        animated GIFs of paired runs (explicit blow-up, Baraff-Witkin vs Newton)
 ## make report        decide every claim from results/*.csv into results/REPORT.md
 ## make bench         the core benchmarks (results/bench_core.csv)
 ## make san           the tests under AddressSanitizer + UndefinedBehaviorSanitizer
@@ -73,7 +74,7 @@ TEST_OBJ := $(BUILD)/tests/support.o
 help:
 	@sed -n 's/^##  \{0,1\}//p' $(firstword $(MAKEFILE_LIST))
 
-.PHONY: help all test check experiments run-experiments plots report bench san fuzz fuzz-build deps clean distclean FORCE
+.PHONY: help all test check experiments run-experiments plots movies report bench san fuzz fuzz-build deps clean distclean FORCE
 .DEFAULT_GOAL := all
 
 all: $(LIB) $(TOOLS) $(EXPS) $(BENCHES) $(BUILD)/report
@@ -185,7 +186,7 @@ DOC_FILL := README.md $(wildcard docs/experiments/*.md)
 
 experiments: deps
 	@$(MAKE) --no-print-directory run-experiments
-	@$(MAKE) --no-print-directory plots report
+	@$(MAKE) --no-print-directory plots movies report
 ifneq ($(QUICK),1)
 	@$(BUILD)/report --results results --fill-only $(addprefix --fill ,$(DOC_FILL))
 endif
@@ -204,6 +205,10 @@ results/%.csv.run: $(BUILD)/%
 
 plots:
 	@scripts/plots.sh
+
+# animated GIFs of paired runs (scripts/movies.sh lists them); the report embeds them
+movies: deps $(TOOLS)
+	@BUILD=$(BUILD) scripts/movies.sh
 
 # the report program is a prerequisite (built under this make's jobserver), so
 # scripts/report.sh does not call make itself

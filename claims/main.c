@@ -1,6 +1,7 @@
 /* report: writes results/REPORT.md from the experiments' CSV files. Every
  * verdict is computed by the checkers in claims/check_*.c from the data. */
 #define _XOPEN_SOURCE 700 /* realpath */
+#include <glob.h>
 #include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -49,6 +50,20 @@ static void relative_dir(const char *from, const char *to, char *out, size_t n) 
   if (!out[0]) snprintf(out, n, ".");
 }
 
+/* Embeds every animation `make movies` made for claim id: PLOTS/movie_<id>_*.gif. */
+static void write_movies(FILE *f, const char *id, const char *plots, const char *plots_rel) {
+  char pattern[4096];
+  snprintf(pattern, sizeof pattern, "%s/movie_%s_*.gif", plots, id);
+  glob_t g;
+  if (glob(pattern, 0, NULL, &g) != 0) return;
+  for (size_t k = 0; k < g.gl_pathc; k++) {
+    const char *name = strrchr(g.gl_pathv[k], '/');
+    name = name ? name + 1 : g.gl_pathv[k];
+    fprintf(f, "\n![%s animation: %.*s](%s/%s)\n", id, (int)(strlen(name) - 4), name, plots_rel, name);
+  }
+  globfree(&g);
+}
+
 /* Writes the whole report to outpath (atomically). */
 static int write_report(const char *outpath, const cb_claim_result *res, const char *results, const char *plots) {
   cb_outfile o;
@@ -78,6 +93,7 @@ static int write_report(const char *outpath, const cb_claim_result *res, const c
     if (res[i].numbers[0]) fprintf(f, "**Numbers** (from `%s/%s.csv`):\n\n%s\n\n", results, c->experiment, res[i].numbers);
     fprintf(f, "**Verdict: %s.** %s\n", cb_verdict_name(res[i].verdict), res[i].reason);
     if (c->figure && res[i].verdict != CB_NOT_RUN) fprintf(f, "\n![%s](%s/%s)\n", c->id, plots_rel, c->figure);
+    write_movies(f, c->id, plots, plots_rel);
   }
   if (cb_outfile_commit(&o)) {
     fprintf(stderr, "report: %s\n", cb_error_message());

@@ -376,6 +376,19 @@ for sig in INT TERM HUP; do
   check "SIG$sig: the previous output is untouched" test "$(cat "$T/sig$sig/out.csv")" = previous
 done
 
+# ---- --frames DIR --every N: an OBJ sequence, step 0 first ------------------------------
+
+sim frames "$CONFIG" --steps 7 --every 3 --frames "$T/frames" --csv "$T/frames.csv" --obj "$T/frames.obj"
+expect_rc frames 0
+check "frames: steps 0, 3 and 6 written" test "$(ls "$T/frames" | tr '\n' ' ')" = "frame_000000.obj frame_000003.obj frame_000006.obj "
+check "frames: the last frame is the state of step 6, not the final one" test -n "$(cmp "$T/frames/frame_000006.obj" "$T/frames.obj" 2>&1)"
+check "frames: a frame is a whole mesh" test "$(grep -c '^v ' "$T/frames/frame_000003.obj")" -eq 441
+for bad in 0 -2 x ""; do
+  sim frames_bad "$CONFIG" --steps 2 --every "$bad" --frames "$T/frames_bad"
+  expect_rc frames_bad 1
+  expect_err frames_bad "--every '$bad'"
+done
+
 if [ "$failures" -ne 0 ]; then
   echo "cli: $failures of $checks checks failed"
   exit 1

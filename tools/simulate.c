@@ -1,5 +1,6 @@
 /* simulate: runs one scene from an INI config and writes a per-step CSV and
  * the final mesh as OBJ. See `simulate --help`. */
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,7 +13,8 @@
 enum { EXIT_OK = 0, EXIT_USAGE = 1, EXIT_IO = 2, EXIT_DIVERGED = 3, EXIT_SOLVER = 4 };
 
 static void usage(FILE *f) {
-  fputs("usage: simulate CONFIG [--set section.key=value]... [--steps N] [--obj PATH] [--csv PATH] [--quiet]\n"
+  fputs("usage: simulate CONFIG [--set section.key=value]... [--steps N] [--obj PATH] [--csv PATH]\n"
+        "                [--frames DIR [--every N]] [--quiet]\n"
         "       simulate --help | --help-config\n"
         "\n"
         "Runs the scene described by CONFIG (an INI file; see --help-config) and writes\n"
@@ -30,6 +32,9 @@ static void usage(FILE *f) {
         "  --steps N                number of steps (overrides integrator.steps)\n"
         "  --csv PATH               per-step CSV output\n"
         "  --obj PATH               final mesh output\n"
+        "  --frames DIR             also write the mesh every N steps as DIR/frame_000000.obj, ...\n"
+        "                           (step 0 first; an OBJ sequence for Blender, MeshLab, make movies)\n"
+        "  --every N                frame interval in steps (default 1)\n"
         "  --quiet                  no progress or summary on stderr\n"
         "  --help-config            print every config key with its unit and default (Markdown)\n"
         "\n"
@@ -43,6 +48,13 @@ static void usage(FILE *f) {
         f);
 }
 
+/* DIR/frame_<step>.obj, atomically; returns 0 on success. */
+static int write_frame(const char *dir, const cb_scene *scene, const double *x, int step) {
+  char path[4096];
+  snprintf(path, sizeof path, "%s/frame_%06d.obj", dir, step);
+  return cb_mesh_write_obj(&scene->mesh, x, path);
+}
+
 static void default_out(const char *config, const char *ext, char *out, size_t n) {
   const char *base = strrchr(config, '/');
   base = base ? base + 1 : config;
@@ -53,7 +65,8 @@ static void default_out(const char *config, const char *ext, char *out, size_t n
 
 int main(int argc, char **argv) {
   cb_runtime_init();
-  const char *config = NULL, *csv_path = NULL, *obj_path = NULL, *steps = NULL;
+  const char *config = NULL, *csv_path = NULL, *obj_path = NULL, *steps = NULL, *frames = NULL;
+  long every = 1;
   int quiet = 0;
   for (int i = 1; i < argc; i++) { /* first pass: help and the config path */
     if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) { usage(stdout); return EXIT_OK; }
@@ -64,12 +77,23 @@ int main(int argc, char **argv) {
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
     int has_val = i + 1 < argc;
-    if (!strcmp(a, "--set") || !strcmp(a, "--steps") || !strcmp(a, "--csv") || !strcmp(a, "--obj")) {
+    if (!strcmp(a, "--set") || !strcmp(a, "--steps") || !strcmp(a, "--csv") || !strcmp(a, "--obj") || !strcmp(a, "--frames") ||
+        !strcmp(a, "--every")) {
       if (!has_val) { fprintf(stderr, "simulate: %s needs a value\n", a); return EXIT_USAGE; }
       i++;
       if (!strcmp(a, "--steps")) steps = argv[i]; /* parsed as integrator.steps is, below */
       else if (!strcmp(a, "--csv")) csv_path = argv[i];
       else if (!strcmp(a, "--obj")) obj_path = argv[i];
+      else if (!strcmp(a, "--frames")) frames = argv[i];
+      else if (!strcmp(a, "--every")) {
+        char *end;
+        errno = 0;
+        every = strtol(argv[i], &end, 10);
+        if (end == argv[i] || *end || errno == ERANGE || every < 1 || every > 1000000000) {
+          fprintf(stderr, "simulate: --every '%s': not a frame interval from 1 to 1e9 steps\n", argv[i]);
+          return EXIT_USAGE;
+        }
+      }
     } else if (!strcmp(a, "--quiet")) quiet = 1;
     else if (a[0] == '-') { fprintf(stderr, "simulate: unknown option %s (see --help)\n", a); return EXIT_USAGE; }
     else if (!config) config = a;
@@ -135,6 +159,15 @@ int main(int argc, char **argv) {
           scene->mesh.nt, scene->topo.ne, scene->npinned, scene->sys.A.n, scene->sys.A.nnz);
   cb_run_csv_header(csv.f);
   cb_run_csv_row(csv.f, &run, CB_OK);
+  int nframes = 0;
+  if (frames) {
+    if (write_frame(frames, scene, run.x, 0)) {
+      fprintf(stderr, "simulate: --frames: %s\n", cb_error_message());
+      rc = EXIT_IO;
+      goto done;
+    }
+    nframes = 1;
+  }
   cb_progress prog;
   cb_progress_start(&prog, "simulate", cfg.steps);
   if (quiet) prog.quiet = 1;
@@ -143,6 +176,14 @@ int main(int argc, char **argv) {
   for (int k = 0; k < cfg.steps; k++) {
     status = cb_run_step(&run);
     cb_run_csv_row(csv.f, &run, status);
+    if (frames && ((k + 1) % every == 0 || cb_status_is_fatal(status))) { /* the failing state too */
+      if (write_frame(frames, scene, run.x, k + 1)) {
+        fprintf(stderr, "simulate: --frames: %s\n", cb_error_message());
+        rc = EXIT_IO;
+        break;
+      }
+      nframes++;
+    }
     if (status == CB_NOT_CONVERGED) worst = status;
     cb_progress_update(&prog, k + 1);
     if (cb_status_is_fatal(status)) {
@@ -155,6 +196,7 @@ int main(int argc, char **argv) {
   if (!csv_ok) { fprintf(stderr, "simulate: %s\n", cb_error_message()); rc = EXIT_IO; }
   int obj_ok = cb_mesh_write_obj(&scene->mesh, run.x, obj_path) == CB_OK;
   if (!obj_ok) { fprintf(stderr, "simulate: %s\n", cb_error_message()); rc = EXIT_IO; }
+  if (frames) fprintf(stderr, "simulate: %d frames in %s/\n", nframes, frames);
   const char *csv_name = strcmp(csv_path, "-") ? csv_path : "standard output";
   const char *obj_name = strcmp(obj_path, "-") ? obj_path : "standard output";
   char wrote[3 * 2048 + 64];
