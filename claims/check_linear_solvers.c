@@ -11,6 +11,7 @@
 #include "claims.h"
 #include "solve_trace.h"
 #include "spectrum.h"
+#include <clothbench/solver.h>
 #include <clothbench/status.h>
 
 void cb_check_j1(const cb_table *csv, const char *dir, cb_claim_result *out);
@@ -127,6 +128,21 @@ static const run_t *find(const data_t *d, const char *scene, const char *sweep, 
     if (!strcmp(d->runs[i].scene, scene) && !strcmp(d->runs[i].sweep, sweep) && !strcmp(d->runs[i].solver, solver))
       return &d->runs[i];
   return NULL;
+}
+/* The distinct solvers of the main sweep that the registry does not flag as
+ * direct, in the CSV's order (a name the registry does not know, e.g. from
+ * another build, counts as iterative). names has room for d->nruns. */
+static int iterative_solvers(const data_t *d, const char **names) {
+  int n = 0;
+  for (int i = 0; i < d->nruns; i++) {
+    const run_t *u = &d->runs[i];
+    const cb_solver_type *t = cb_solver_type_find(u->solver);
+    if (strcmp(u->sweep, "main") || (t && (t->flags & CB_SOLVER_DIRECT))) continue;
+    int seen = 0;
+    for (int k = 0; k < n && !seen; k++) seen = !strcmp(names[k], u->solver);
+    if (!seen) names[n++] = u->solver;
+  }
+  return n;
 }
 static int diverged(const run_t *u) { return !strcmp(u->status, "diverged"); }
 /* Converging: stopped at the tolerance, or still shrinking when cut at max_iters. */
@@ -300,9 +316,13 @@ void cb_check_j3(const cb_table *csv, const char *dir, cb_claim_result *out) {
 void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out) {
   data_t d;
   if (!load(csv, dir, &d, out)) { unload(&d); return; }
-  static const char *iter_solvers[] = {"jacobi", "chebyshev", "cg", "pcg"};
+  const char **iter_solvers = calloc((size_t)d.nruns + 1, sizeof *iter_solvers);
+  if (!iter_solvers) { cb_claim_reason(out, "out of memory"); unload(&d); return; }
+  int nit = iterative_solvers(&d, iter_solvers);
   int n = 0, exact = 0, cheap_iter = 0, control = 0, expensive = 0, exact_costly = 0, sizes[16], nsizes = 0;
-  cb_claim_numbers(out, "| scene | n | CHOLMOD ms / error | best iterative to error 1e-2: ms (solver) | to 1e-8: ms (solver) | max ms per iteration | final errors jacobi / chebyshev / cg / pcg |\n|---|---|---|---|---|---|---|\n");
+  cb_claim_numbers(out, "| scene | n | CHOLMOD ms / error | best iterative to error 1e-2: ms (solver) | to 1e-8: ms (solver) | max ms per iteration | final errors");
+  for (int k = 0; k < nit; k++) cb_claim_numbers(out, "%s %s", k ? " /" : "", iter_solvers[k]);
+  cb_claim_numbers(out, " |\n|---|---|---|---|---|---|---|\n");
   for (int r = 0; r < d.sc.nrows; r++) {
     const char *s = cb_table_str(&d.sc, r, cb_table_col(&d.sc, "scene"));
     const run_t *ch = find(&d, s, "main", "cholmod");
@@ -314,8 +334,8 @@ void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out) {
     double td = ch->last_wall, t2 = INFINITY, t8 = INFINITY, per = 0;
     const char *s2 = "-", *s8 = "-";
     int ok_ex = ch->last_iter == 1 && ch->last_err <= 1e-10 && !strcmp(ch->status, "ok"), ok_ctl = 1, nconv = 0;
-    char errs[160] = "";
-    for (int k = 0; k < 4; k++) {
+    char errs[1024] = "";
+    for (int k = 0; k < nit; k++) {
       const run_t *u = find(&d, s, "main", iter_solvers[k]);
       if (!u) { ok_ctl = 0; continue; }
       for (int row = u->r0; row < u->r1; row++) { /* first rows under 1e-2 and 1e-8 */
@@ -338,6 +358,7 @@ void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out) {
   }
   cb_claim_numbers(out, "\nCHOLMOD's time is numeric factorisation + solve (its one-off symbolic analysis is excluded, as in a Newton loop); "
                         "iterative times include their set-up (Chebyshev: the rho estimate). Errors |x - x*|/|x*| against CHOLMOD refined once.\n");
+  free(iter_solvers);
   if (n == 0) { cb_claim_reason(out, "No CHOLMOD main runs in the CSV."); unload(&d); return; }
   int base = exact == n && cheap_iter == n && control == n;
   out->verdict = base && expensive == n && exact_costly == n && nsizes >= 3 ? CB_REPRODUCED

@@ -14,3 +14,17 @@ set datafile commentschars '#'
 set key autotitle columnheader
 set grid
 set key box opaque
+
+# Names come from the CSV, never from a list typed in a script:
+# distinct(file, col, cond) is the distinct values of column `col` (by its
+# header name) over the data rows of `file` where the awk condition `cond`
+# holds, space-separated in order of first appearance (words(), word() and
+# `for [s in ...]` walk it). In cond, v("name") is a row's value in the
+# column of that name, e.g. 'v("sweep") == "main"'; '1' takes every row.
+AWK_DISTINCT = "function v(n) { return $ix[n] } /^#/ { next } !h { for (i = 1; i <= NF; i++) ix[$i] = i; h = 1; next } (%s) && !s[v(c)]++ { printf \"%%s \", v(c) }"
+distinct(file, col, cond) = system(sprintf("awk -F, -v c='%s' '%s' '%s'", col, sprintf(AWK_DISTINCT, cond), file))
+# position (1, 2, ...) of word w in the list, 0 if absent
+wordpos(list, w) = sum [k = 1:words(list)] (word(list, k) eq w ? k : 0)
+# series colours by position in a list of names (the first five are the figures' historical ones)
+PALETTE = "#000000 #9467bd #2ca02c #1f77b4 #ff7f0e #d62728 #8c564b #e377c2 #17becf #bcbd22 #7f7f7f"
+pcolor(list, w) = word(PALETTE, (wordpos(list, w) - 1) % words(PALETTE) + 1)
