@@ -20,6 +20,7 @@
   X(cg)                       \
   X(pcg)                      \
   X(sgs)                      \
+  X(nesterov)                 \
   /* one X(name) line per solver, above this line */
 #define CB_SOLVER_DECLARE(name) extern const cb_solver_type cb_solver_##name;
 #define CB_SOLVER_ENTRY(name) &cb_solver_##name,
