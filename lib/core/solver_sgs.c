@@ -25,7 +25,7 @@
 #include "solver_iterative.h"
 
 typedef struct {
-  double *chol; /* 6 per block: L_i row by row, l00 l10 l11 l20 l21 l22 */
+  double *chol; /* 6 per block: L_i row by row, with reciprocal diagonal: 1/l00 l10 1/l11 l20 l21 1/l22 */
   double *r;    /* residual b - A x */
 } sgs_work;
 
@@ -58,20 +58,23 @@ static int sgs_analyze(cb_solver *s, const cb_sparse *A) {
 }
 
 /* B = L L^T for a symmetric 3x3 block (entry (r, c) at a[3r + c]); L row by
- * row into l. Returns -1 if B is not positive definite. */
+ * row into l, its diagonal as reciprocals (the sweeps multiply instead of
+ * divide: the block solves are a dependency chain). Returns -1 if B is not
+ * positive definite. */
 static int cholesky3(const double a[9], double l[6]) {
   double d0 = a[0];
   if (!(d0 > 0)) return -1;
-  l[0] = sqrt(d0);                      /* l00 = sqrt(a00) */
-  l[1] = a[3] / l[0];                   /* l10 = a10 / l00 */
-  double d1 = a[4] - l[1] * l[1];       /* a11 - l10^2 */
+  double l00 = sqrt(d0);                /* l00 = sqrt(a00) */
+  double l10 = a[3] / l00;              /* l10 = a10 / l00 */
+  double d1 = a[4] - l10 * l10;         /* a11 - l10^2 */
   if (!(d1 > 0)) return -1;
-  l[2] = sqrt(d1);                      /* l11 */
-  l[3] = a[6] / l[0];                   /* l20 = a20 / l00 */
-  l[4] = (a[7] - l[3] * l[1]) / l[2];   /* l21 = (a21 - l20 l10) / l11 */
-  double d2 = a[8] - l[3] * l[3] - l[4] * l[4];
+  double l11 = sqrt(d1);
+  double l20 = a[6] / l00;              /* l20 = a20 / l00 */
+  double l21 = (a[7] - l20 * l10) / l11; /* l21 = (a21 - l20 l10) / l11 */
+  double d2 = a[8] - l20 * l20 - l21 * l21;
   if (!(d2 > 0)) return -1;
-  l[5] = sqrt(d2);                      /* l22 */
+  double l22 = sqrt(d2);
+  l[0] = 1 / l00; l[1] = l10; l[2] = 1 / l11; l[3] = l20; l[4] = l21; l[5] = 1 / l22;
   return 0;
 }
 
@@ -104,13 +107,15 @@ static inline void relax_block(const cb_sparse *A, const double *chol, int i, co
     s2 -= v[2 * stride] * xj[0] + v[2 * stride + 1] * xj[1] + v[2 * stride + 2] * xj[2];
   }
   const double *l = chol + 6 * i;
-  double y0 = s0 / l[0];                            /* L y = s */
-  double y1 = (s1 - l[1] * y0) / l[2];
-  double y2 = (s2 - l[3] * y0 - l[4] * y1) / l[5];
+  double y0 = s0 * l[0];                            /* L y = s (l[0], l[2], l[5]: 1 / diagonal) */
+  double y1 = (s1 - l[1] * y0) * l[2];
+  double y2 = (s2 - l[3] * y0 - l[4] * y1) * l[5];
   double *xi = x + 3 * i;
-  xi[2] = y2 / l[5];                                /* L^T x_i = y */
-  xi[1] = (y1 - l[4] * xi[2]) / l[2];
-  xi[0] = (y0 - l[1] * xi[1] - l[3] * xi[2]) / l[0];
+  double x2 = y2 * l[5];                            /* L^T x_i = y */
+  double x1 = (y1 - l[4] * x2) * l[2];
+  xi[0] = (y0 - l[1] * x1 - l[3] * x2) * l[0];
+  xi[1] = x1;
+  xi[2] = x2;
 }
 
 static int sgs_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x) {
