@@ -87,12 +87,17 @@ set xrange [0.4:nsc + 0.6]
 set xtics () 
 do for [k = 1:nsc] { set xtics add (word(run_scenes, k) k) }
 set key top left
+if (nit > 4) { set key maxrows 4 }  # more solvers: the key in columns, no taller than with four
 set ylabel 'iterations to 1e-6'
 set xlabel ''
 set title 'iterations (missing bar: 1e-6 not reached within max\_iters)'
 plot for [s in iterative] runs using (is('sweep', 'main') && is('solver', s) ? idx(strcol('scene')) + off(s) : NaN):'iters_1e6' \
        with boxes lc rgb color(s) title s
 set ylabel 'wall time to 1e-6, ms'
+if (nit > 4) {  # a taller key: room for it above the bars
+  stats runs using (idx(strcol('scene'))):(is('sweep', 'main') ? column('wall_ms_1e6') : NaN) nooutput
+  set yrange [*:STATS_max_y * 300]
+}
 set title 'wall time, including set-up (a spectral estimate such as Chebyshev''s automatic rho: the black bar)'
 plot for [s in iterative] runs using (is('sweep', 'main') && is('solver', s) ? idx(strcol('scene')) + off(s) : NaN):'wall_ms_1e6' \
        with boxes lc rgb color(s) title s, \
@@ -100,7 +105,7 @@ plot for [s in iterative] runs using (is('sweep', 'main') && is('solver', s) ? i
        with boxes fs solid 1.0 lc 'black' title 'spectral estimate (part of the set-up)'
 unset multiplot
 set terminal pop
-unset logscale; unset xrange; set xtics autofreq; set style fill empty
+unset logscale; unset xrange; unset yrange; set xtics autofreq; set style fill empty
 
 # ---- J3: rho sweep on the lab scene --------------------------------------------------
 set output out.'/linear_solvers_j3_rho.'.ext
