@@ -11,6 +11,7 @@
 #include "claims.h"
 #include "solve_trace.h"
 #include "spectrum.h"
+#include <clothbench/solver.h>
 #include <clothbench/status.h>
 
 void cb_check_j1(const cb_table *csv, const char *dir, cb_claim_result *out);
@@ -128,6 +129,21 @@ static const run_t *find(const data_t *d, const char *scene, const char *sweep, 
       return &d->runs[i];
   return NULL;
 }
+/* The distinct solvers of the main sweep that the registry does not flag as
+ * direct, in the CSV's order (a name the registry does not know, e.g. from
+ * another build, counts as iterative). names has room for d->nruns. */
+static int iterative_solvers(const data_t *d, const char **names) {
+  int n = 0;
+  for (int i = 0; i < d->nruns; i++) {
+    const run_t *u = &d->runs[i];
+    const cb_solver_type *t = cb_solver_type_find(u->solver);
+    if (strcmp(u->sweep, "main") || (t && (t->flags & CB_SOLVER_DIRECT))) continue;
+    int seen = 0;
+    for (int k = 0; k < n && !seen; k++) seen = !strcmp(names[k], u->solver);
+    if (!seen) names[n++] = u->solver;
+  }
+  return n;
+}
 static int diverged(const run_t *u) { return !strcmp(u->status, "diverged"); }
 /* Converging: stopped at the tolerance, or still shrinking when cut at max_iters. */
 static int converging(const run_t *u) {
@@ -206,16 +222,27 @@ void cb_check_j1(const cb_table *csv, const char *dir, cb_claim_result *out) {
 void cb_check_j2(const cb_table *csv, const char *dir, cb_claim_result *out) {
   data_t d;
   if (!load(csv, dir, &d, out)) { unload(&d); return; }
+  /* context: the other iterative solvers of the CSV */
+  const char **ctx = calloc((size_t)d.nruns + 1, sizeof *ctx);
+  if (!ctx) { cb_claim_reason(out, "out of memory"); unload(&d); return; }
+  int nctx = 0, nit = iterative_solvers(&d, ctx);
+  for (int k = 0; k < nit; k++)
+    if (strcmp(ctx[k], "jacobi") && strcmp(ctx[k], "chebyshev")) ctx[nctx++] = ctx[k];
   int n = 0, it10 = 0, wall10 = 0, faster_it = 0, faster_wall = 0, solve10 = 0;
-  cb_claim_numbers(out, "| scene | alpha | Jacobi iters | Jacobi ms | Chebyshev iters | Chebyshev ms (rho estimate) | speed-up iters | speed-up wall | wall without set-up | CG iters / ms | PCG iters / ms |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
+  cb_claim_numbers(out, "| scene | alpha | Jacobi iters | Jacobi ms | Chebyshev iters | Chebyshev ms (rho estimate) | speed-up iters | speed-up wall | wall without set-up |");
+  for (int k = 0; k < nctx; k++) cb_claim_numbers(out, " %s iters / ms |", ctx[k]);
+  cb_claim_numbers(out, "\n|---|---|---|---|---|---|---|---|---|");
+  for (int k = 0; k < nctx; k++) cb_claim_numbers(out, "---|");
+  cb_claim_numbers(out, "\n");
   for (int r = 0; r < d.sc.nrows; r++) {
     const char *s = cb_table_str(&d.sc, r, cb_table_col(&d.sc, "scene"));
     const run_t *j = find(&d, s, "main", "jacobi"), *c = find(&d, s, "main", "chebyshev");
-    const run_t *g = find(&d, s, "main", "cg"), *p = find(&d, s, "main", "pcg");
     if (!j || !c) continue;
     n++;
     if (c->it6 < 0) {
-      cb_claim_numbers(out, "| %s | %.4g | %d | %.4g | not reached (%s) | | | | | | |\n", s, j->alpha, j->it6, j->wall6, c->status);
+      cb_claim_numbers(out, "| %s | %.4g | %d | %.4g | not reached (%s) | | | |", s, j->alpha, j->it6, j->wall6, c->status);
+      for (int k = 0; k < nctx; k++) cb_claim_numbers(out, " |");
+      cb_claim_numbers(out, "\n");
       continue;
     }
     int lb = j->it6 < 0; /* Jacobi did not reach 1e-6: the ratios are lower bounds */
@@ -226,11 +253,16 @@ void cb_check_j2(const cb_table *csv, const char *dir, cb_claim_result *out) {
     solve10 += rs >= 10;
     faster_it += ri > 1;
     faster_wall += rw > 1;
-    cb_claim_numbers(out, "| %s | %.4g | %s%.0f | %s%.4g | %d | %.4g (%.3g) | %s%.1f | %s%.2f | %s%.1f | %d / %.3g | %d / %.3g |\n", s,
+    cb_claim_numbers(out, "| %s | %.4g | %s%.0f | %s%.4g | %d | %.4g (%.3g) | %s%.1f | %s%.2f | %s%.1f |", s,
                      j->alpha, lb ? ">" : "", ji, lb ? ">" : "", jw, c->it6, c->wall6, c->wall0, lb ? ">=" : "", ri,
-                     lb ? ">=" : "", rw, lb ? ">=" : "", rs, g ? g->it6 : -1, g ? g->wall6 : NAN, p ? p->it6 : -1,
-                     p ? p->wall6 : NAN);
+                     lb ? ">=" : "", rw, lb ? ">=" : "", rs);
+    for (int k = 0; k < nctx; k++) {
+      const run_t *g = find(&d, s, "main", ctx[k]);
+      cb_claim_numbers(out, " %d / %.3g |", g ? g->it6 : -1, g ? g->wall6 : NAN);
+    }
+    cb_claim_numbers(out, "\n");
   }
+  free(ctx);
   cb_claim_numbers(out, "\nTo a relative residual of 1e-6 from x = 0; both at the same alpha = alpha* = 2/(lambda_min + lambda_max) of D^-1 A "
                         "(Jacobi's best weight, given to it for free); Chebyshev's wall time includes its automatic rho estimate "
                         "(in parentheses: its set-up time, the estimate). 'Wall without set-up' compares the iterations' time only, "
@@ -300,9 +332,13 @@ void cb_check_j3(const cb_table *csv, const char *dir, cb_claim_result *out) {
 void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out) {
   data_t d;
   if (!load(csv, dir, &d, out)) { unload(&d); return; }
-  static const char *iter_solvers[] = {"jacobi", "chebyshev", "cg", "pcg"};
+  const char **iter_solvers = calloc((size_t)d.nruns + 1, sizeof *iter_solvers);
+  if (!iter_solvers) { cb_claim_reason(out, "out of memory"); unload(&d); return; }
+  int nit = iterative_solvers(&d, iter_solvers);
   int n = 0, exact = 0, cheap_iter = 0, control = 0, expensive = 0, exact_costly = 0, sizes[16], nsizes = 0;
-  cb_claim_numbers(out, "| scene | n | CHOLMOD ms / error | best iterative to error 1e-2: ms (solver) | to 1e-8: ms (solver) | max ms per iteration | final errors jacobi / chebyshev / cg / pcg |\n|---|---|---|---|---|---|---|\n");
+  cb_claim_numbers(out, "| scene | n | CHOLMOD ms / error | best iterative to error 1e-2: ms (solver) | to 1e-8: ms (solver) | max ms per iteration | final errors");
+  for (int k = 0; k < nit; k++) cb_claim_numbers(out, "%s %s", k ? " /" : "", iter_solvers[k]);
+  cb_claim_numbers(out, " |\n|---|---|---|---|---|---|---|\n");
   for (int r = 0; r < d.sc.nrows; r++) {
     const char *s = cb_table_str(&d.sc, r, cb_table_col(&d.sc, "scene"));
     const run_t *ch = find(&d, s, "main", "cholmod");
@@ -314,8 +350,8 @@ void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out) {
     double td = ch->last_wall, t2 = INFINITY, t8 = INFINITY, per = 0;
     const char *s2 = "-", *s8 = "-";
     int ok_ex = ch->last_iter == 1 && ch->last_err <= 1e-10 && !strcmp(ch->status, "ok"), ok_ctl = 1, nconv = 0;
-    char errs[160] = "";
-    for (int k = 0; k < 4; k++) {
+    char errs[1024] = "";
+    for (int k = 0; k < nit; k++) {
       const run_t *u = find(&d, s, "main", iter_solvers[k]);
       if (!u) { ok_ctl = 0; continue; }
       for (int row = u->r0; row < u->r1; row++) { /* first rows under 1e-2 and 1e-8 */
@@ -338,6 +374,7 @@ void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out) {
   }
   cb_claim_numbers(out, "\nCHOLMOD's time is numeric factorisation + solve (its one-off symbolic analysis is excluded, as in a Newton loop); "
                         "iterative times include their set-up (Chebyshev: the rho estimate). Errors |x - x*|/|x*| against CHOLMOD refined once.\n");
+  free(iter_solvers);
   if (n == 0) { cb_claim_reason(out, "No CHOLMOD main runs in the CSV."); unload(&d); return; }
   int base = exact == n && cheap_iter == n && control == n;
   out->verdict = base && expensive == n && exact_costly == n && nsizes >= 3 ? CB_REPRODUCED

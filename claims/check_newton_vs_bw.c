@@ -46,9 +46,36 @@ static int side_table(const char *dir, const char *suffix, cb_table *t, cb_claim
 
 /* ---- I2 ------------------------------------------------------------------ */
 
-enum { I2_VARIANTS = 5, I2_MAXIT = 512, I2_MAXSTEPS = 4096 };
-static const char *const I2_DEF[I2_VARIANTS] = {"exact_or_shift", "none", "none", "drop", "drop"};
-static const int I2_LS[I2_VARIANTS] = {1, 1, 0, 1, 0};
+enum { I2_VARIANTS = 16, I2_MAXIT = 512, I2_MAXSTEPS = 4096 };
+/* The claim's subject: the reference Newton (exact Hessian, shifted where A
+ * is indefinite, line search), and the lecture's fix it is contrasted with. */
+#define I2_SUBJECT "exact_or_shift"
+#define I2_FIX "drop"
+
+/* The Newton variants of the CSV, (definiteness, line search), in its order of
+ * definiteness treatments with line search first, the subject's first:
+ * variant 0 is the subject. Returns how many (at most I2_VARIANTS). */
+static int i2_variants(const cb_table *t, int cd, int cl, char def[][32], int *ls) {
+  char names[I2_VARIANTS][32];
+  int nn = 0, nv = 0;
+  snprintf(names[nn++], 32, "%s", I2_SUBJECT);
+  for (int r = 0; r < t->nrows && nn < I2_VARIANTS; r++) {
+    int seen = 0;
+    for (int k = 0; k < nn && !seen; k++) seen = !strcmp(names[k], cb_table_str(t, r, cd));
+    if (!seen) snprintf(names[nn++], 32, "%s", cb_table_str(t, r, cd));
+  }
+  for (int k = 0; k < nn; k++)
+    for (int l = 1; l >= 0; l--) {
+      int found = 0;
+      for (int r = 0; r < t->nrows && !found; r++)
+        found = !strcmp(cb_table_str(t, r, cd), names[k]) && (int)cb_table_num(t, r, cl) == l;
+      if ((found || (k == 0 && l == 1)) && nv < I2_VARIANTS) { /* the subject's row even if it was not run */
+        snprintf(def[nv], 32, "%s", names[k]);
+        ls[nv++] = l;
+      }
+    }
+  return nv;
+}
 
 typedef struct {
   int runs, ok, reach8, with_order, ls_steps, ls_iters, shifted_iters;
@@ -70,21 +97,27 @@ void cb_check_newton_vs_bw_i2(const cb_table *main_csv, const char *dir, cb_clai
   }
   static i2_stat S[I2_VARIANTS];
   memset(S, 0, sizeof S);
+  char var_def[I2_VARIANTS][32];
+  int var_ls[I2_VARIANTS], nvar = i2_variants(&t, cd, cl, var_def, var_ls), fix = -1;
+  for (int v = 0; v < nvar; v++)
+    if (fix < 0 && !strcmp(var_def[v], I2_FIX) && var_ls[v] == 1) fix = v;
   double g[I2_MAXIT];
   int use[I2_MAXIT];
   for (int r = 0; r < t.nrows;) { /* one run = consecutive rows from iter 0 */
     int end = r + 1;
     while (end < t.nrows && cb_table_num(&t, end, ci) > 0) end++;
     int v = -1;
-    for (int k = 0; k < I2_VARIANTS; k++)
-      if (!strcmp(cb_table_str(&t, r, cd), I2_DEF[k]) && (int)cb_table_num(&t, r, cl) == I2_LS[k]) v = k;
+    for (int k = 0; k < nvar; k++)
+      if (!strcmp(cb_table_str(&t, r, cd), var_def[k]) && (int)cb_table_num(&t, r, cl) == var_ls[k]) v = k;
     if (v >= 0) {
       i2_stat *s = &S[v];
-      int n = end - r < I2_MAXIT ? end - r : I2_MAXIT, reduced = 0, r8 = 0;
+      int n = end - r < I2_MAXIT ? end - r : I2_MAXIT, reduced = 0, r8 = 0, own = 1;
       for (int i = 0; i < n; i++) {
         g[i] = cb_table_num(&t, r + i, cg);
         if (g[i] <= 1e-8 * g[0]) r8 = 1;
-        use[i] = !strcmp(cb_table_str(&t, r + i, ch), "exact");
+        const char *hs = cb_table_str(&t, r + i, ch);
+        use[i] = !strcmp(hs, "exact");
+        if (strcmp(hs, "-") && strcmp(hs, var_def[v])) own = 0; /* a Hessian other than the treatment's own */
         if (cb_table_num(&t, r + i, ca) < 1) reduced++;
         if (!strcmp(cb_table_str(&t, r + i, ch), "shifted")) s->shifted_iters++;
       }
@@ -103,7 +136,7 @@ void cb_check_newton_vs_bw_i2(const cb_table *main_csv, const char *dir, cb_clai
       double p;
       if (s->with_order < I2_MAXSTEPS && cb_convergence_order(g, use, n, I2_LOCAL, I2_FLOOR, &p, NULL) == 0)
         s->orders[s->with_order++] = p;
-      else if (v >= 3 && s->with_order < I2_MAXSTEPS && /* drop: any Hessian (it is the run's only one) */
+      else if (own && s->with_order < I2_MAXSTEPS && /* e.g. drop: any Hessian (it is the run's only one) */
                cb_convergence_order(g, NULL, n, I2_LOCAL, I2_FLOOR, &p, NULL) == 0)
         s->orders[s->with_order++] = p;
     }
@@ -118,22 +151,22 @@ void cb_check_newton_vs_bw_i2(const cb_table *main_csv, const char *dir, cb_clai
                         "shifted iterations |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   double med[I2_VARIANTS];
   int reach[I2_VARIANTS];
-  for (int v = 0; v < I2_VARIANTS; v++) {
+  for (int v = 0; v < nvar; v++) {
     i2_stat *s = &S[v];
     reach[v] = 0;
     for (int i = 0; i < s->with_order; i++) reach[v] += s->orders[i] >= I2_TARGET;
     med[v] = cb_median(s->orders, s->with_order); /* sorts */
-    cb_claim_numbers(out, "| %s | %s | %d | %d | %d | %d | %.3g | %.3g | %.3g | %d | %d | %d |\n", I2_DEF[v],
-                     I2_LS[v] ? "yes" : "no", s->runs, s->ok, s->reach8, s->with_order, med[v],
+    cb_claim_numbers(out, "| %s | %s | %d | %d | %d | %d | %.3g | %.3g | %.3g | %d | %d | %d |\n", var_def[v],
+                     var_ls[v] ? "yes" : "no", s->runs, s->ok, s->reach8, s->with_order, med[v],
                      s->with_order ? s->orders[0] : NAN, s->with_order ? s->orders[s->with_order - 1] : NAN,
                      s->ls_steps, s->ls_iters, s->shifted_iters);
   }
-  for (int v = 0; v < I2_VARIANTS; v++)
+  for (int v = 0; v < nvar; v++)
     if (S[v].ls_where[0])
-      cb_claim_numbers(out, "\n%s, line search: alpha < 1 at steps (iterations): %s.\n", I2_DEF[v], S[v].ls_where);
-  for (int v = 1; v < I2_VARIANTS; v++)
-    if (S[v].fails[0]) cb_claim_numbers(out, "\n%s Hessian, line search %s, did not reach the tolerance: %s.\n", I2_DEF[v],
-                                        I2_LS[v] ? "on" : "off", S[v].fails);
+      cb_claim_numbers(out, "\n%s, line search: alpha < 1 at steps (iterations): %s.\n", var_def[v], S[v].ls_where);
+  for (int v = 1; v < nvar; v++)
+    if (S[v].fails[0]) cb_claim_numbers(out, "\n%s Hessian, line search %s, did not reach the tolerance: %s.\n", var_def[v],
+                                        var_ls[v] ? "on" : "off", S[v].fails);
   int n = S[0].with_order;
   if (S[0].runs == 0) {
     out->verdict = CB_NOT_RUN;
@@ -149,9 +182,9 @@ void cb_check_newton_vs_bw_i2(const cb_table *main_csv, const char *dir, cb_clai
     out->verdict = CB_NOT_REPRODUCED;
     cb_claim_reason(out, "Median order %.2f over %d steps with an estimate (target %.1f).", med[0], n, I2_TARGET);
   }
-  if (S[3].with_order)
+  if (fix >= 0 && S[fix].with_order)
     cb_claim_reason(out, " With the lecture's drop fix the order is %.2f (median): the modified Hessian converges "
-                    "linearly once springs are compressed.", med[3]);
+                    "linearly once springs are compressed.", med[fix]);
 }
 
 /* ---- I3 ------------------------------------------------------------------ */
@@ -197,7 +230,6 @@ static int i3_points(const cb_table *t, const char *scene, i3_point *P) {
   return np;
 }
 
-static const char *const I3_SCENES[] = {"lab", "grid64", "stiff"};
 
 /* Trajectory summary (reported, not part of the verdict): per method the RMS
  * position error against the converged trajectory at the end, the first
@@ -254,8 +286,21 @@ void cb_check_newton_vs_bw_i3(const cb_table *t, const char *dir, cb_claim_resul
                         "| scene | K = 1 (CHOLMOD) ms | converged (CHOLMOD) ms | speed-up | K = 1 error | "
                         "cheapest at 1e-2 | cheapest at 1e-3 | cheapest at 1e-6 | Pareto front |\n"
                         "|---|---|---|---|---|---|---|---|---|\n");
-  for (int sc = 0; sc < 3; sc++) {
-    int np = i3_points(t, I3_SCENES[sc], P);
+  int cscene = cb_table_col(t, "scene");
+  if (cscene < 0) {
+    cb_claim_reason(out, "newton_vs_bw.csv lacks a needed column.");
+    return;
+  }
+  enum { I3_MAXS = 64 };
+  const char *done[I3_MAXS];
+  int ndone = 0;
+  for (int r = 0; r < t->nrows && ndone < I3_MAXS; r++) { /* every scene of the CSV, in its order */
+    const char *scene = cb_table_str(t, r, cscene);
+    int seen = 0;
+    for (int q = 0; q < ndone && !seen; q++) seen = !strcmp(done[q], scene);
+    if (seen) continue;
+    done[ndone++] = scene;
+    int np = i3_points(t, scene, P);
     if (np < 0) {
       cb_claim_reason(out, "newton_vs_bw.csv lacks a needed column.");
       return;
@@ -272,7 +317,7 @@ void cb_check_newton_vs_bw_i3(const cb_table *t, const char *dir, cb_claim_resul
     cb_pareto_front(np, cost, err, front);
     double speed = bw >= 0 && conv >= 0 ? cost[conv] / cost[bw] : NAN;
     if (!(speed >= SPEEDUP_MIN)) fast_all = 0;
-    cb_claim_numbers(out, "| %s | %.3g | %.3g | %.1f | %.2g |", I3_SCENES[sc], bw >= 0 ? cost[bw] : NAN,
+    cb_claim_numbers(out, "| %s | %.3g | %.3g | %.1f | %.2g |", scene, bw >= 0 ? cost[bw] : NAN,
                      conv >= 0 ? cost[conv] : NAN, speed, bw >= 0 ? err[bw] : NAN);
     for (int l = 0; l < 3; l++) {
       int c = cb_cheapest_at(np, cost, err, levels[l]);

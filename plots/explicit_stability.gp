@@ -12,6 +12,26 @@ kf = quick ? 10**0.5 : 10**0.25
 df = quick ? 10**(1.0/6) : 10**(1.0/12)
 code(s) = s eq 'stable' ? 0 : s eq 'unstable' ? 1 : s eq 'diverged' ? 2 : 3
 is(c, v) = strcol(c) eq v
+# Every scene, method and k comes from the CSVs (distinct() in common.gp):
+# the (k, dt) sweep's scenes, the boundary table's, the timed methods.
+sweep_scenes = distinct(main, 'scene', 'v("kind") == "sweep" && v("method") == "explicit"')
+bound_scenes = distinct(bound, 'scene', '1')
+# scenes whose flat rest shape predicts another limit than the hanging state
+rest_scenes = distinct(bound, 'scene', 'v("dt_crit_pred_rest") != "" && v("dt_crit_pred_rest") != "nan" && ' . \
+                       '(v("dt_crit_pred_rest") / v("dt_crit_pred") - 1)^2 > 1e-12')
+methods = distinct(tim, 'method', '1')
+mlabel(m) = m eq 'explicit' ? 'explicit' : m eq 'newton' ? 'Newton (converged)' : m eq 'newton_bw' ? 'Baraff-Witkin (1 iteration)' : m
+mshort(m) = m eq 'explicit' ? 'explicit' : m eq 'newton' ? 'Newton' : m eq 'newton_bw' ? 'Baraff-Witkin' : m
+# timed against k: the timed scenes of the sweep; against resolution: the k
+# values at which scenes outside the sweep (larger grids) were timed
+not_sweep = ''
+do for [sc in sweep_scenes] { not_sweep = not_sweep . ' && v("scene") != "' . sc . '"' }
+ktim_scenes = ''
+do for [sc in distinct(tim, 'scene', '1')] { if (wordpos(sweep_scenes, sc) > 0) { ktim_scenes = ktim_scenes . sc . ' ' } }
+res_ks = distinct(tim, 'k', '1' . not_sweep)
+nsw = words(sweep_scenes)
+map_cols = nsw > 1 ? int(ceil(sqrt(nsw))) : 1
+map_rows = int(ceil(nsw / (map_cols * 1.0)))
 set palette defined (-0.5 '#2e8b57', 0.5 '#2e8b57', 0.5 '#f0a020', 1.5 '#f0a020', 1.5 '#c83232', 2.5 '#c83232', \
                      2.5 '#888888', 3.5 '#888888')
 set cbrange [-0.5:3.5]
@@ -27,13 +47,13 @@ set output out.'/explicit_stability_map.'.ext
 set terminal push
 if (ext eq 'svg') { set terminal svg size 1200,900 dynamic enhanced font 'sans,12' background rgb 'white' } \
 else { set terminal pngcairo size 1200,900 enhanced font 'sans,11' }
-set multiplot layout 2,2 title 'E1: explicit (symplectic Euler) stability map, with the predicted limit dt = 2/{/Symbol w}_{max}'
+set multiplot layout map_rows,map_cols title 'E1: explicit (symplectic Euler) stability map, with the predicted limit dt = 2/{/Symbol w}_{max}'
 set xlabel 'spring stiffness k [N/m]'
 set ylabel 'time step {/Symbol D}t [s]'
 set key bottom left box opaque font ',9'
 set yrange [5e-6:0.4]
 set xrange [5:2e7]
-do for [sc in 'spring chain20 cloth21 cloth41'] {
+do for [sc in sweep_scenes] {
   set title sc
   plot main using (is('kind','sweep') && is('method','explicit') && is('scene',sc) ? column('k') : NaN):(column('dt')): \
          (column('k')/kf):(column('k')*kf):(column('dt')/df):(column('dt')*df):(code(strcol('status'))) \
@@ -63,9 +83,9 @@ set format y '%.2f'
 set yrange [0.8:1.2]
 set key bottom right
 plot 0.85 with lines dt 2 lw 2 lc rgb '#c05050' title '±15%', 1.15 with lines dt 2 lw 2 lc rgb '#c05050' notitle, \
-     for [sc in 'spring chain20 cloth21 cloth41 cloth81'] bound using (is('scene',sc) ? column('k') : NaN): \
+     for [sc in bound_scenes] bound using (is('scene',sc) ? column('k') : NaN): \
        (column('dt_crit_meas')/column('dt_crit_pred')) with linespoints lw 2 pt 7 title sc.' (hanging)', \
-     for [sc in 'cloth21 cloth41'] bound using (is('scene',sc) ? column('k') : NaN): \
+     for [sc in rest_scenes] bound using (is('scene',sc) ? column('k') : NaN): \
        (column('dt_crit_meas')/column('dt_crit_pred_rest')) with linespoints dt 2 pt 6 title sc.' (vs flat rest shape)'
 set yrange [*:*]
 set logscale y
@@ -82,17 +102,17 @@ set yrange [0.05:1e6]  # the top decade stays free for the key
 set title 'against stiffness'
 set xlabel 'spring stiffness k [N/m]'
 set ylabel 'wall time for 1 s simulated [ms]'
-plot for [sc in 'cloth21 cloth41'] for [m in 'explicit newton newton_bw'] \
+plot for [sc in ktim_scenes] for [m in methods] \
        tim using (is('scene',sc) && is('method',m) ? column('k') : NaN):(column('wall_ms_per_s')) with linespoints lw 2 \
-       title sc.' '.(m eq 'explicit' ? 'explicit' : m eq 'newton' ? 'Newton (converged)' : 'Baraff-Witkin (1 iteration)')
+       title sc.' '.mlabel(m)
 set yrange [*:*]
 set title 'against resolution (21^2, 41^2, 81^2)'
 set key top left font ',9'
 set xlabel 'vertices n [-]'
-plot for [kk in '10000 1000000'] for [m in 'explicit newton newton_bw'] \
+plot for [kk in res_ks] for [m in methods] \
        tim using (column('k') == kk+0 && is('method',m) ? column('n_vertices') : NaN):(column('wall_ms_per_s')) \
        with linespoints lw 2 \
-       title sprintf('k = %g: ', kk+0).(m eq 'explicit' ? 'explicit' : m eq 'newton' ? 'Newton' : 'Baraff-Witkin'), \
+       title sprintf('k = %g: ', kk+0).mshort(m), \
      [300:8000] 20*(x/441.0)**2 with lines dt 2 lw 2 lc rgb '#606060' title 'slope n^2 (reference)'
 unset multiplot
 set terminal pop
@@ -108,7 +128,17 @@ set xlabel 'time step {/Symbol D}t [s]'
 set ylabel 'energy lost per second / initial kinetic energy [1/s]'
 set key top left font ',9'
 set xrange [5e-6:0.2]
-plot for [sc in 'spring chain20 cloth21'] for [kk in '10 10000 10000000'] \
+# the smallest, the middle and the largest k of the sweep, on the scenes with
+# at least two converged-Newton cells that measured a damping window at one of them
+sweep_ks = distinct(main, 'k', 'v("kind") == "sweep"')
+nks = words(sweep_ks)
+damp_ks = word(sweep_ks, 1).' '.word(sweep_ks, (nks + 1) / 2).' '.word(sweep_ks, nks)
+damp_cond = 'v("kind") == "sweep" && v("method") == "newton" && v("window_s") > 0 && v("t_mark_s") >= v("window_s") * 0.999999'
+damp_scenes = ''
+do for [p in distinct_n(main, 'v("scene") ":" v("k")', damp_cond, 2)] {
+  if (wordpos(damp_ks, pair2(p)) > 0 && wordpos(damp_scenes, pair1(p)) == 0) { damp_scenes = damp_scenes . pair1(p) . ' ' }
+}
+plot for [sc in damp_scenes] for [kk in damp_ks] \
        main using (is('kind','sweep') && is('method','newton') && is('scene',sc) && column('k') == kk+0 && \
        column('window_s') > 0 && column('t_mark_s') >= column('window_s')*0.999999 ? column('dt') : NaN):(column('energy_loss_w')/column('kinetic0_j')) \
        with linespoints lw 2 title sprintf('%s, k = %g', sc, kk+0), \

@@ -12,15 +12,31 @@ dterr  = results.'/newton_vs_bw_dt.csv'
 # ---- I3: step error against wall time, one panel per scene ------------------
 # colour = inner solve, point shape = K; filled = no line search, open = line
 # search; the black line joins the Pareto front (median time, worst error).
-array INNER[6] = ['cholmod', 'cg32', 'cheb32', 'cg\_tol', 'cheb\_tol', 'cheb32 alpha=1']
-array COLOR[6] = [0x1f77b4, 0xff7f0e, 0x2ca02c, 0xd62728, 0x9467bd, 0x7f7f7f]
-array KNAME[6] = ['K = 1', 'K = 2', 'K = 3', 'K = 5', 'K = 10', 'converged']
-array PT_FILLED[6] = [7, 5, 9, 11, 13, 15]
-array PT_OPEN[6] = [6, 4, 8, 10, 12, 14]
-array SCENE[3] = ['lab', 'grid64', 'stiff']
-array STITLE[3] = ['lab scene (21^2, k = 8000 N/m)', '64^2 (same cloth)', 'stiff (21^2, k = 10^6 N/m)']
-inner_col(i) = COLOR[int(i) + 1]
-k_pt(k, ls) = ls > 0 ? PT_OPEN[int(k) + 1] : PT_FILLED[int(k) + 1]
+# Scenes, methods and inner solvers come from the CSVs (distinct() in
+# common.gp): the inner solvers in the order of their inner_index, the
+# methods in the order of their k_index (colours and symbols follow them).
+max_index(file, col) = system("awk -F, '".AWK_HEAD."{ if (v(\"".col."\") + 0 > m) m = v(\"".col."\") + 0 } END { print m + 0 }' '".file."'") + 0
+INNERS = ''
+do for [i = 0:max_index(pareto, 'inner_index')] { INNERS = INNERS.distinct(pareto, 'inner_solver', sprintf('v("inner_index") == %d', i)) }
+METHODS = ''
+do for [i = 0:max_index(pareto, 'k_index')] { METHODS = METHODS.distinct(pareto, 'method', sprintf('v("k_index") == %d', i)) }
+SCENES = distinct(pareto, 'scene', '1')
+nsc = words(SCENES)
+klabel(m) = m[1:8] eq 'newton_k' ? 'K = '.m[9:] : m[1:7] eq 'newton_' ? m[8:] : m
+COLORS = '0x1f77b4 0xff7f0e 0x2ca02c 0xd62728 0x9467bd 0x7f7f7f 0x8c564b 0xe377c2 0x17becf 0xbcbd22'
+PTS_FILLED = '7 5 9 11 13 15 3 1 2'
+PTS_OPEN = '6 4 8 10 12 14 3 1 2'
+inner_col(i) = word(COLORS, int(i) % words(COLORS) + 1) + 0
+k_pt(k, ls) = word(ls > 0 ? PTS_OPEN : PTS_FILLED, int(k) % words(PTS_FILLED) + 1) + 0
+# the first inner solver with a set-up (wall_no_setup_ms < wall_ms), drawn also without it
+with_setup = distinct(pareto, 'inner_solver', 'v("wall_no_setup_ms") < v("wall_ms")')
+setup_inner = ''
+do for [q in INNERS] { if (setup_inner eq '' && wordpos(with_setup, q) > 0) { setup_inner = q } }
+setup_index = wordpos(INNERS, setup_inner) - 1
+# a panel title from the main CSV: grid and stiffness of the scene
+k_label(k) = k >= 1e5 ? sprintf('10^%d', int(log10(k) + 0.5)) : sprintf('%g', k)
+scene_title(s) = sprintf('%s (%d^2, k = %s N/m)', s, int(real(system(sprintf("awk -F, '%s v(\"scene\") == \"%s\" { print v(\"n\"); exit }' '%s'", AWK_HEAD, s, main)))), \
+                         k_label(real(system(sprintf("awk -F, '%s v(\"scene\") == \"%s\" { print v(\"k\"); exit }' '%s'", AWK_HEAD, s, main)))))
 finite(e) = (e == e && e < 1e300) ? e : NaN
 
 set output out.'/newton_vs_bw_pareto.'.ext
@@ -35,24 +51,25 @@ set xlabel 'wall time per step (ms, median over start states)'
 set ylabel 'step error |x - x*|_M / |x* - x^0|_M (max over states)'
 set yrange [1e-12:100]
 unset key
-do for [s = 1:3] {
-  set title STITLE[s]
-  set origin (s - 1) / 3.0, 0.16
-  set size 1 / 3.0, 0.78
+do for [s = 1:nsc] {
+  sc = word(SCENES, s)
+  set title scene_title(sc)
+  set origin (s - 1) / (1.0 * nsc), 0.16
+  set size 1 / (1.0 * nsc), 0.78
   # (common.gp reads the first row of every data source as its header: give $FRONT one)
   set print $FRONT
   print 'wall_ms,step_error_max'
   unset print
   set table $FRONT append separator comma
-  plot pareto using 'wall_ms':'step_error_max' with table if (strcol('scene') eq SCENE[s] && column('on_front') == 1)
+  plot pareto using 'wall_ms':'step_error_max' with table if (strcol('scene') eq sc && column('on_front') == 1)
   unset table
-  plot pareto using (strcol('scene') eq SCENE[s] ? column('wall_ms') : NaN):(finite(column('step_error_max'))): \
+  plot pareto using (strcol('scene') eq sc ? column('wall_ms') : NaN):(finite(column('step_error_max'))): \
          (k_pt(column('k_index'), column('line_search'))):(inner_col(column('inner_index'))) \
          with points pt variable ps 1.1 lc rgb variable, \
        $FRONT using 1:2 with lines lw 2 lc rgb 'black', \
-       pareto using (strcol('scene') eq SCENE[s] && column('inner_index') == 2 ? column('wall_no_setup_ms') : NaN):(finite(column('step_error_max'))) \
-         with points pt 1 ps 0.8 lc rgb '#2ca02c', \
-       pareto using (strcol('scene') eq SCENE[s] && column('failed') > 0 ? column('wall_ms') : NaN):(30): \
+       pareto using (strcol('scene') eq sc && column('inner_index') == setup_index ? column('wall_no_setup_ms') : NaN):(finite(column('step_error_max'))) \
+         with points pt 1 ps 0.8 lc rgb inner_col(setup_index), \
+       pareto using (strcol('scene') eq sc && column('failed') > 0 ? column('wall_ms') : NaN):(30): \
          (inner_col(column('inner_index'))) with points pt 2 ps 1.5 lw 2 lc rgb variable, \
        1e-2 with lines dt 2 lc rgb 'gray'
 }
@@ -70,9 +87,9 @@ set xrange [0:1]
 set yrange [0:1]
 set key at screen 0.5, 0.08 center center horizontal maxcols 8 font ',9' noopaque nobox
 plot NaN with lines lw 2 lc rgb 'black' title 'Pareto front', \
-     for [i = 1:6] NaN with points pt 7 lc rgb COLOR[i] title INNER[i], \
-     NaN with points pt 1 lc rgb '#2ca02c' title 'cheb32 without {/Symbol r} set-up', \
-     for [k = 1:6] NaN with points pt PT_FILLED[k] lc rgb 'black' title KNAME[k], \
+     for [i = 1:words(INNERS)] NaN with points pt 7 lc rgb inner_col(i - 1) title word(INNERS, i) noenhanced, \
+     NaN with points pt 1 lc rgb inner_col(setup_index) title setup_inner.' without set-up' noenhanced, \
+     for [k = 1:words(METHODS)] NaN with points pt k_pt(k - 1, 0) lc rgb 'black' title klabel(word(METHODS, k)), \
      NaN with points pt 6 lc rgb 'black' title 'open symbol: line search', \
      NaN with points pt 2 lw 2 lc rgb 'black' title 'step failed (drawn at 30)', \
      NaN with lines dt 2 lc rgb 'gray' title 'error 1%'
@@ -98,12 +115,23 @@ set output out.'/newton_vs_bw_regime.'.ext
 set terminal push
 if (ext eq 'svg') { set terminal svg size 1200,950 dynamic enhanced font 'sans,11' background rgb 'white' } \
 else { set terminal pngcairo size 1200,950 enhanced font 'sans,10' }
-array STR[4] = [1, 1.25, 1.5, 2]
-set multiplot layout 2,2 title "I3: where Baraff-Witkin's single Newton iteration fails (colour: log_{10} of the largest one-step error;\nD = trajectory diverged, E = one-step error > 1%; lab scene from the stretched start; blank: not in this sweep)"
-set xtics ('1/240' 0, '1/120' 1, '1/60' 2, '1/30' 3, '1/20' 4, '1/10' 5)
-set ytics ('10^2' 0, '10^3' 1, '10^4' 2, '10^5' 3, '10^6' 4, '10^7' 5)
-set xrange [-0.5:5.5]
-set yrange [-0.5:5.5]
+# the stretches, time steps and stiffnesses of the regime CSV (ticks: dt_index, k_index)
+STRETCHES = distinct(regime, 'stretch', '1')
+nst = words(STRETCHES)
+set multiplot layout (nst > 4 ? int(ceil(nst / 2.0)) : 2), 2 title "I3: where Baraff-Witkin's single Newton iteration fails (colour: log_{10} of the largest one-step error;\nD = trajectory diverged, E = one-step error > 1%; lab scene from the stretched start; blank: not in this sweep)"
+set xtics ()
+do for [p in distinct_n(regime, 'v("dt_index") ":" v("dt")', '1', 1)] {
+  dtv = real(pair2(p))
+  eval sprintf("set xtics add ('%s' %d)", dtv < 1 ? sprintf('1/%d', int(1 / dtv + 0.5)) : sprintf('%g', dtv), int(pair1(p)))
+}
+set ytics ()
+do for [p in distinct_n(regime, 'v("k_index") ":" v("k")', '1', 1)] {
+  eval sprintf("set ytics add ('10^%d' %d)", int(log10(real(pair2(p))) + 0.5), int(pair1(p)))
+}
+nxi = max_index(regime, 'dt_index')
+nyi = max_index(regime, 'k_index')
+set xrange [-0.5:nxi + 0.5]
+set yrange [-0.5:nyi + 0.5]
 set xlabel 'time step dt (s)'
 set ylabel 'spring stiffness k (N/m)'
 set cblabel 'log_{10} one-step error'
@@ -112,13 +140,14 @@ set palette defined (-8 '#1a9850', -4 '#d9ef8b', -2 '#fee08b', -1 '#f46d43', 0 '
 unset key
 set grid front
 lg(e) = (e == e && e > 0) ? (log10(e) > 0 ? 0 : log10(e)) : 0
-do for [a = 1:4] {
-  set title sprintf('initial stretch %gx', STR[a])
-  plot regime using (abs(column('stretch') - STR[a]) < 1e-9 ? column('dt_index') : NaN):'k_index': \
+do for [a = 1:nst] {
+  str = real(word(STRETCHES, a))
+  set title sprintf('initial stretch %gx', str)
+  plot regime using (abs(column('stretch') - str) < 1e-9 ? column('dt_index') : NaN):'k_index': \
          (column('dt_index') - 0.5):(column('dt_index') + 0.5):(column('k_index') - 0.5):(column('k_index') + 0.5): \
          (column('first_diverged_step') >= 0 ? 0 : lg(column('step_error_max'))) \
          with boxxy fs solid 1.0 lc palette, \
-       regime using (abs(column('stretch') - STR[a]) < 1e-9 ? column('dt_index') : NaN):'k_index': \
+       regime using (abs(column('stretch') - str) < 1e-9 ? column('dt_index') : NaN):'k_index': \
          (column('first_diverged_step') >= 0 ? 'D' : column('k1_fails') > 0 ? 'E' : '') \
          with labels font ',14' tc rgb 'black'
 }
@@ -163,15 +192,22 @@ set ylabel 'RMS position error |x - x_{ref}|_M / M^{1/2} (m)'
 set yrange [1e-12:1e4]
 # two key columns in the empty top decades (short titles: a wider key ran off the figure)
 set key inside top left vertical maxrows 5 font ',9'
-array TDASH[8] = [1, 1, 1, 1, 1, 1, 2, 2]
-array TCOL[8] = [0x9400d3, 0x009e73, 0x56b4e9, 0xe69f00, 0xd4c000, 0x0072b2, 0xe51e10, 0x7f7f7f]
+# the trajectories without line search, from the CSV ('reference' is the converged one):
+# with the first inner solver (the direct one) coloured by K, solid; with the others by inner solver, dashed
+TCOLS_K = '0x9400d3 0x009e73 0x56b4e9 0xe69f00 0xd4c000 0x0072b2 0x8c564b 0xe377c2'
+TCOLS_I = '0x000000 0xe51e10 0x7f7f7f 0x17becf 0xbcbd22 0x1f77b4 0xff7f0e'
 tr(m, inn, ls) = (strcol('method') eq m && strcol('inner_solver') eq inn && column('line_search') == ls)
-array TM[8] = ['newton_k1', 'newton_k2', 'newton_k3', 'newton_k5', 'newton_k10', 'newton_converged', 'newton_k1', 'newton_k1']
-array TI[8] = ['cholmod', 'cholmod', 'cholmod', 'cholmod', 'cholmod', 'cholmod', 'cg32', 'cheb32']
-array TT[8] = ['K = 1 (Baraff-Witkin), CHOLMOD', 'K = 2, CHOLMOD', 'K = 3, CHOLMOD', 'K = 5, CHOLMOD', 'K = 10, CHOLMOD', \
-               'converged (tol 1e-8), CHOLMOD', 'K = 1, CG cut at 32', 'K = 1, Chebyshev cut at 32']
-plot for [j = 1:8] traj using (tr(TM[j], TI[j], 0) && column('step') > 0 ? column('t_s') : NaN):(finite(column('pos_error_m'))) \
-       with lines lw 2 lc rgb TCOL[j] dashtype TDASH[j] title TT[j], \
+TPAIRS = distinct_n(traj, 'v("method") ":" v("inner_solver")', 'v("line_search") == 0 && v("method") != "reference"', 1)
+ntr = words(TPAIRS)
+TM(j) = pair1(word(TPAIRS, j))
+TI(j) = pair2(word(TPAIRS, j))
+direct(j) = wordpos(INNERS, TI(j)) == 1
+TCOL(j) = direct(j) ? word(TCOLS_K, (wordpos(METHODS, TM(j)) - 1) % words(TCOLS_K) + 1) + 0 \
+                    : word(TCOLS_I, (wordpos(INNERS, TI(j)) - 1) % words(TCOLS_I) + 1) + 0
+TDASH(j) = direct(j) ? 1 : 2
+TT(j) = klabel(TM(j)).(TM(j) eq 'newton_k1' ? ' (Baraff-Witkin)' : '').', '.TI(j)
+plot for [j = 1:ntr] traj using (tr(TM(j), TI(j), 0) && column('step') > 0 ? column('t_s') : NaN):(finite(column('pos_error_m'))) \
+       with lines lw 2 lc rgb TCOL(j) dashtype TDASH(j) title TT(j) noenhanced, \
      dterr using 't_s':'pos_error_m' with lines lw 3 dt 2 lc rgb 'black' title 'time-discretisation error (dt vs dt/16)'
 unset logscale
 set format y '% g'
@@ -190,14 +226,14 @@ set xlabel 'time t (s)'
 set ylabel 'E(t) - E(0) (J)'
 set key inside bottom left font ',9'
 plot traj using (strcol('method') eq 'reference' ? column('t_s') : NaN):'energy_drift_j' with lines lw 4 lc rgb 'black' title 'converged (reference)', \
-     traj using (tr(TM[1], TI[1], 0) ? column('t_s') : NaN):'energy_drift_j' with lines lw 2 lc rgb TCOL[1] title TT[1]
+     traj using (tr(TM(1), TI(1), 0) ? column('t_s') : NaN):'energy_drift_j' with lines lw 2 lc rgb TCOL(1) title TT(1) noenhanced
 set title 'energy difference to the converged trajectory'
 set logscale y
 set format y '10^{%L}'
 set ylabel '|E(t) - E_{ref}(t)| (J)'
 set yrange [1e-10:1e8]
 set key inside top left vertical maxrows 3 font ',8'  # in the empty top decades: at the bottom it hid curves
-plot for [j = 1:8] traj using (tr(TM[j], TI[j], 0) && column('step') > 0 ? column('t_s') : NaN): \
-       (abs(column('energy_j') - column('ref_energy_j'))) with lines lw 1.5 lc rgb TCOL[j] dashtype TDASH[j] title TT[j]
+plot for [j = 1:ntr] traj using (tr(TM(j), TI(j), 0) && column('step') > 0 ? column('t_s') : NaN): \
+       (abs(column('energy_j') - column('ref_energy_j'))) with lines lw 1.5 lc rgb TCOL(j) dashtype TDASH(j) title TT(j) noenhanced
 unset multiplot
 set terminal pop

@@ -143,6 +143,33 @@ Test(claims_definiteness, h2_partly_when_another_fix_fails) {
   cr_assert_eq(decide("H2", dir2), CB_PARTLY);
 }
 
+/* A policy the checker has never seen ("newfix", on a scene "zeta") is one
+ * more fix: H2 stays reproduced while it works everywhere, and becomes partly
+ * when its run does not finish; the table and the reason name it. */
+Test(claims_definiteness, h2_takes_policy_and_scene_names_from_the_csv) {
+  for (int broken = 0; broken < 2; broken++) {
+    char *dir = tmpdir(), buf[8192] = MAIN_HEAD, runs[4096] = RUNS_HEAD;
+    const char *pols[] = {"none", "drop", "newfix"};
+    for (int p = 0; p < 3; p++) {
+      char r[512];
+      snprintf(r, sizeof r, "zeta,%s,1,0,1,%d,900,0,0,1,900,0.5,0,ok,3,1,1,0,0,0.1,%s\n", pols[p], p > 0, p ? "ok" : "not_spd");
+      strcat(buf, r);
+      int done = p == 0 ? 1 : broken && p == 2 ? 3 : 5;
+      snprintf(r, sizeof r, "zeta,%s,5,%d,%d,10,10,0,0,0,0,10,1,1,0,0,0,,,%s\n", pols[p], done, done, p == 0 ? "not_spd" : "ok");
+      strcat(runs, r);
+    }
+    put(dir, "definiteness.csv", buf);
+    put(dir, "definiteness_runs.csv", runs);
+    cb_claim_result *r = calloc(1, sizeof *r);
+    for (int i = 0; i < cb_nclaims; i++)
+      if (!strcmp(cb_claims[i].id, "H2")) cb_claim_decide(&cb_claims[i], dir, r);
+    cr_expect_eq(r->verdict, broken ? CB_PARTLY : CB_REPRODUCED, "%s", r->reason);
+    cr_expect(strstr(r->numbers, "| zeta | newfix | 0 / 1 |"), "%s", r->numbers);
+    cr_expect(strstr(r->reason, broken ? "but newfix did not" : "the 1 other fixes (newfix)"), "%s", r->reason);
+    free(r);
+  }
+}
+
 Test(claims_definiteness, missing_side_csv_is_not_run) {
   char *dir = tmpdir(), buf[8192] = MAIN_HEAD;
   fixes_rows(buf, NULL, 0, 0);

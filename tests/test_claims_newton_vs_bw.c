@@ -103,11 +103,10 @@ Test(claims_newton_vs_bw, i2_missing_side_csv_is_not_run, .init = setup, .fini =
 #define MAIN_HEAD "scene,step,method,inner_solver,line_search,step_error,wall_ms,status\n"
 #define REG_HEAD "dt,k,stretch,first_diverged_step,step_error_max,ref_status,k1_fails\n"
 
-static void i3_files(double conv_ms, int regime_fail) {
+static void i3_scenes(double conv_ms, int regime_fail, const char *const *scenes, int nscenes) {
   static char buf[8192];
   strcpy(buf, MAIN_HEAD);
-  const char *scenes[] = {"lab", "grid64", "stiff"};
-  for (int s = 0; s < 3; s++)
+  for (int s = 0; s < nscenes; s++)
     for (int st = 0; st < 2; st++) {
       sprintf(buf + strlen(buf), "%s,%d,newton_k1,cholmod,0,%g,1.0,max_iters\n", scenes[s], st, 1e-3 * (st + 1));
       sprintf(buf + strlen(buf), "%s,%d,newton_converged,cholmod,0,1e-10,%g,ok\n", scenes[s], st, conv_ms);
@@ -119,6 +118,11 @@ static void i3_files(double conv_ms, int regime_fail) {
   snprintf(reg, sizeof reg, REG_HEAD "0.1,100,1,-1,1e-4,ok,0\n0.1,1e7,2,%d,%g,ok,%d\n", regime_fail ? 2 : -1,
            regime_fail ? 0.2 : 1e-3, regime_fail);
   put("newton_vs_bw_regime.csv", reg);
+}
+
+static void i3_files(double conv_ms, int regime_fail) {
+  const char *scenes[] = {"lab", "grid64", "stiff"};
+  i3_scenes(conv_ms, regime_fail, scenes, 3);
 }
 
 Test(claims_newton_vs_bw, i3_fast_and_failing_is_reproduced, .init = setup, .fini = teardown) {
@@ -141,4 +145,16 @@ Test(claims_newton_vs_bw, i3_neither_is_not_reproduced, .init = setup, .fini = t
   i3_files(1.5, 0); /* converged only 1.5x slower, and K = 1 never fails */
   cb_claim_result r;
   cr_assert_eq(decide("I3", &r), CB_NOT_REPRODUCED, "%s", r.reason);
+}
+
+/* Scene names the checker has never seen: every scene of the CSV is decided,
+ * in its order, and one slow scene among them makes "K = 1 is fast" fail. */
+Test(claims_newton_vs_bw, i3_takes_scene_names_from_the_csv, .init = setup, .fini = teardown) {
+  const char *scenes[] = {"zeta", "omega", "lab", "grid64"};
+  i3_scenes(10.0, 1, scenes, 4);
+  cb_claim_result r;
+  cr_assert_eq(decide("I3", &r), CB_REPRODUCED, "%s", r.reason);
+  cr_assert(strstr(r.numbers, "| zeta | 1 | 10 | 10.0 |") && strstr(r.numbers, "| omega | 1 | 10 |"), "%s", r.numbers);
+  cr_assert(strstr(r.numbers, "| zeta |") < strstr(r.numbers, "| omega |"), "scenes out of the CSV's order: %s", r.numbers);
+  cr_assert(strstr(r.reason, "on all 4 scenes"), "%s", r.reason);
 }

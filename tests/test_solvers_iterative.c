@@ -1,8 +1,9 @@
-/* The iterative solvers (jacobi, chebyshev, cg, pcg) and CHOLMOD against
+/* The registered iterative solvers and CHOLMOD against
  * independent dense GSL computations: solutions (GSL Cholesky), spectral
  * radii (GSL symmetric eigenvalues), and the statuses for divergence and
  * CG breakdown on constructed matrices. */
 #include <criterion/criterion.h>
+#include <gsl/gsl_blas.h>
 #include <gsl/gsl_eigen.h>
 #include <gsl/gsl_linalg.h>
 #include <math.h>
@@ -260,12 +261,16 @@ Test(solvers_iterative, nan_right_hand_side_is_diverged_not_a_crash) {
   dd_matrix(4, &A);
   double *b = rhs(A.n), *x = malloc((size_t)A.n * sizeof(double));
   b[3] = NAN;
-  const char *names[] = {"jacobi", "chebyshev", "cg", "pcg"};
-  for (int i = 0; i < 4; i++) {
+  int nit = 0;
+  for (int i = 0; cb_solver_types[i]; i++) { /* every registered iterative solver */
+    if (cb_solver_types[i]->flags & CB_SOLVER_DIRECT) continue;
+    const char *name = cb_solver_types[i]->name;
     cb_solver_params p = cb_solver_params_default();
-    int st = solve(names[i], &p, &A, b, x, NULL, NULL);
-    cr_expect_eq(st, CB_DIVERGED, "%s: status %s", names[i], cb_status_name(st));
+    int st = solve(name, &p, &A, b, x, NULL, NULL);
+    cr_expect_eq(st, CB_DIVERGED, "%s: status %s", name, cb_status_name(st));
+    nit++;
   }
+  cr_expect_geq(nit, 4, "jacobi, chebyshev, cg and pcg at least");
   cb_sparse_free(&A);
   free(b); free(x);
 }
@@ -304,17 +309,104 @@ Test(solvers_iterative, monitor_sees_every_iterate) {
   cb_sparse A;
   dd_matrix(5, &A);
   double *b = rhs(A.n), x[64];
-  const char *names[] = {"jacobi", "chebyshev", "cg", "pcg"};
-  for (int i = 0; i < 4; i++) {
+  for (int i = 0; cb_solver_types[i]; i++) { /* every registered iterative solver */
+    if (cb_solver_types[i]->flags & CB_SOLVER_DIRECT) continue;
+    const char *name = cb_solver_types[i]->name;
     monitor_log m = {.n = A.n};
     cb_solver_params p = cb_solver_params_default();
     p.monitor = log_monitor;
     p.monitor_ctx = &m;
     int iters;
-    cr_assert_eq(solve(names[i], &p, &A, b, x, &iters, NULL), CB_OK);
-    cr_expect_eq(m.calls, iters + 1, "%s: %d calls for %d iterations", names[i], m.calls, iters);
-    cr_expect_eq(memcmp(m.x, x, (size_t)A.n * sizeof(double)), 0, "%s: last iterate differs from the result", names[i]);
+    cr_assert_eq(solve(name, &p, &A, b, x, &iters, NULL), CB_OK, "%s: %s", name, cb_error_message());
+    cr_expect_eq(m.calls, iters + 1, "%s: %d calls for %d iterations", name, m.calls, iters);
+    cr_expect_eq(memcmp(m.x, x, (size_t)A.n * sizeof(double)), 0, "%s: last iterate differs from the result", name);
   }
   cb_sparse_free(&A);
   free(b);
+}
+
+/* One sgs iteration from x = 0 against the same two block sweeps done
+ * densely by GSL: with A = L + B + L^T (B the 3x3 block diagonal, L the
+ * strictly lower block triangle), the forward sweep solves (B + L) x' = b and
+ * the backward sweep (B + L^T) x'' = b - L x' (LU solves of the dense block
+ * triangles). */
+Test(solvers_iterative, sgs_iteration_is_a_forward_then_a_backward_block_sweep, .init = newton_setup,
+     .fini = newton_teardown) {
+  const cb_sparse *A = &newton_case.A;
+  size_t n = (size_t)A->n;
+  gsl_matrix *D = test_dense(A), *F = gsl_matrix_calloc(n, n), *G = gsl_matrix_calloc(n, n);
+  gsl_matrix *Lo = gsl_matrix_calloc(n, n);
+  for (size_t i = 0; i < n; i++)
+    for (size_t j = 0; j < n; j++) {
+      double a = gsl_matrix_get(D, i, j);
+      if (j / 3 <= i / 3) gsl_matrix_set(F, i, j, a);  /* B + L */
+      if (j / 3 >= i / 3) gsl_matrix_set(G, i, j, a);  /* B + L^T */
+      if (j / 3 < i / 3) gsl_matrix_set(Lo, i, j, a);  /* L */
+    }
+  gsl_permutation *perm = gsl_permutation_alloc(n);
+  gsl_vector *x1 = gsl_vector_alloc(n), *rhs2 = gsl_vector_alloc(n), *x2 = gsl_vector_alloc(n);
+  gsl_vector_const_view bv = gsl_vector_const_view_array(newton_case.b, n);
+  int sign;
+  cr_assert_eq(gsl_linalg_LU_decomp(F, perm, &sign), 0);
+  cr_assert_eq(gsl_linalg_LU_solve(F, perm, &bv.vector, x1), 0);       /* (B + L) x' = b */
+  gsl_vector_memcpy(rhs2, &bv.vector);
+  gsl_blas_dgemv(CblasNoTrans, -1.0, Lo, x1, 1.0, rhs2);                /* b - L x' */
+  cr_assert_eq(gsl_linalg_LU_decomp(G, perm, &sign), 0);
+  cr_assert_eq(gsl_linalg_LU_solve(G, perm, rhs2, x2), 0);             /* (B + L^T) x'' = b - L x' */
+  cb_solver_params p = cb_solver_params_default();
+  p.max_iters = 1;
+  double *x = malloc(n * sizeof(double));
+  int iters, st = solve("sgs", &p, A, newton_case.b, x, &iters, NULL);
+  cr_expect(st == CB_NOT_CONVERGED && iters == 1, "status %s after %d iterations", cb_status_name(st), iters);
+  cr_expect_lt(rel_diff((int)n, x, x2->data), 1e-12, "|x_sgs - x_gsl| / |x_gsl| = %g", rel_diff((int)n, x, x2->data));
+  gsl_matrix_free(D); gsl_matrix_free(F); gsl_matrix_free(G); gsl_matrix_free(Lo);
+  gsl_permutation_free(perm);
+  gsl_vector_free(x1); gsl_vector_free(rhs2); gsl_vector_free(x2);
+  free(x);
+}
+
+/* Nesterov's constant-momentum Jacobi with alpha = 1/lambda_max and
+ * beta = (sqrt kappa - 1)/(sqrt kappa + 1), kappa = cond(D^-1 A) from GSL:
+ * its error falls like (1 - 1/sqrt kappa)^k, so it needs about
+ * sqrt(kappa) ln(1/tol) iterations, far fewer than Jacobi's kappa ln(1/tol)
+ * at its best weight, and at least as many as Chebyshev's
+ * (sqrt(kappa)/2) ln(1/tol). */
+Test(solvers_iterative, nesterov_iterations_follow_the_square_root_of_the_condition_number, .init = newton_setup,
+     .fini = newton_teardown) {
+  const cb_sparse *A = &newton_case.A;
+  double lmin, lmax, *x = malloc((size_t)A->n * sizeof(double));
+  dense_jacobi_spectrum(A, &lmin, &lmax);
+  double kappa = lmax / lmin, tol = 1e-8;
+  cb_solver_params p = cb_solver_params_default();
+  p.tol = tol;
+  p.max_iters = 20000;
+  int in, ij, ic;
+  cr_assert_eq(solve("nesterov", &p, A, newton_case.b, x, &in, NULL), CB_OK, "%s", cb_error_message());
+  p.alpha = 2 / (lmin + lmax);
+  cr_assert_eq(solve("jacobi", &p, A, newton_case.b, x, &ij, NULL), CB_OK);
+  cr_assert_eq(solve("chebyshev", &p, A, newton_case.b, x, &ic, NULL), CB_OK);
+  double pred = log(1 / tol) / -log(1 - 1 / sqrt(kappa)); /* (1 - 1/sqrt kappa)^k = tol */
+  cr_log_info("kappa %.4g: nesterov %d iterations (predicted %.0f), jacobi %d, chebyshev %d\n", kappa, in, pred, ij, ic);
+  cr_expect_lt(in, 1.5 * pred + 10, "nesterov %d iterations, predicted about %.0f", in, pred);
+  cr_expect_lt(2 * in, ij, "nesterov %d iterations, jacobi %d", in, ij);
+  cr_expect_geq(in, ic, "nesterov %d iterations, chebyshev %d", in, ic);
+  free(x);
+}
+
+/* A matrix that is not positive definite stops nesterov in factor(): its
+ * Lanczos estimate finds a Ritz value <= 0 of D^-1 A ([[I, 2I], [2I, I]]:
+ * eigenvalues 3 and -1, positive diagonal). sgs's diagonal blocks (I) are SPD,
+ * so it starts, and its residual grows: diverged, never a crash. */
+Test(solvers_iterative, nesterov_and_sgs_on_an_indefinite_matrix_give_a_status) {
+  double M[36] = {0};
+  for (int i = 0; i < 6; i++) M[i * 6 + i] = 1;
+  for (int i = 0; i < 3; i++) M[i * 6 + i + 3] = M[(i + 3) * 6 + i] = 2;
+  cb_sparse A;
+  from_dense(M, 2, &A);
+  double b[6] = {1, 0, 0, -1, 0, 0}, x[6];
+  cr_expect_eq(solve("nesterov", NULL, &A, b, x, NULL, NULL), CB_NOT_SPD);
+  cb_solver_params p = cb_solver_params_default();
+  p.max_iters = 1000;
+  cr_expect_eq(solve("sgs", &p, &A, b, x, NULL, NULL), CB_DIVERGED);
+  cb_sparse_free(&A);
 }

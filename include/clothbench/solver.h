@@ -69,13 +69,9 @@ struct cb_solver {
   void *work;
 };
 
-/* The registry: one entry per plug-in file (solver_<name>.c), NULL-terminated.
- * solver.method in a config names one of them; tests loop over all. */
-extern const cb_solver_type cb_solver_cholmod;
-extern const cb_solver_type cb_solver_jacobi;
-extern const cb_solver_type cb_solver_chebyshev;
-extern const cb_solver_type cb_solver_cg;
-extern const cb_solver_type cb_solver_pcg;
+/* The registry (lib/core/solver.c): one entry per plug-in file
+ * (solver_<name>.c), NULL-terminated. solver.method in a config names one of
+ * them; tests and experiments loop over all. */
 extern const cb_solver_type *const cb_solver_types[];
 /* i-th registered name, or NULL past the end (used for config choices). */
 const char *cb_solver_name(int i);

@@ -9,8 +9,23 @@
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
 
-const cb_solver_type *const cb_solver_types[] = {&cb_solver_cholmod, &cb_solver_jacobi, &cb_solver_chebyshev,
-                                                 &cb_solver_cg, &cb_solver_pcg, NULL};
+/* The registry. Each plug-in file lib/core/solver_<name>.c defines
+ * `const cb_solver_type cb_solver_<name>`; its one X(name) line below declares
+ * and lists it. The order is that of solver.method's choices, of the tests'
+ * loops and of the experiments' rows. */
+#define CB_SOLVER_REGISTRY(X) \
+  X(cholmod)                  \
+  X(jacobi)                   \
+  X(chebyshev)                \
+  X(cg)                       \
+  X(pcg)                      \
+  X(sgs)                      \
+  X(nesterov)                 \
+  /* one X(name) line per solver, above this line */
+#define CB_SOLVER_DECLARE(name) extern const cb_solver_type cb_solver_##name;
+#define CB_SOLVER_ENTRY(name) &cb_solver_##name,
+CB_SOLVER_REGISTRY(CB_SOLVER_DECLARE)
+const cb_solver_type *const cb_solver_types[] = {CB_SOLVER_REGISTRY(CB_SOLVER_ENTRY) NULL};
 
 const char *cb_solver_name(int i) {
   for (int k = 0; k <= i; k++)
