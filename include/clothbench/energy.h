@@ -4,42 +4,25 @@
  * A term is a plug-in described by a cb_term_type table, in the manner of
  * gsl_multiroot_fsolver_type. It computes E, adds its gradient, declares the
  * 3x3 blocks of its Hessian once, looks up their slots once, and then adds
- * Hessian values into the fixed-pattern matrix without allocating. */
+ * Hessian values into the fixed-pattern matrix without allocating. A term
+ * whose Hessian can be indefinite applies the projection it is handed
+ * (projection.h) to each element. */
 #ifndef CB_ENERGY_H
 #define CB_ENERGY_H
 
+#include "definiteness.h"
 #include "mesh.h"
+#include "projection.h"
 #include "sparse.h"
 #include "topology.h"
-
-/* How a compressed spring's Hessian is treated (integrator.definiteness).
- * The spring Hessian is H_e = k uu^T + k(1 - L/l)(I - uu^T); its transverse
- * eigenvalue k(1 - L/l) is negative when l < L. Implemented once, in
- * definiteness.c (the formulas and sources are there), and applied by every
- * term that has such an eigenvalue and by the Newton solve (shift). */
-typedef enum {
-  CB_DEF_NONE = 0, /* exact Hessian */
-  CB_DEF_DROP,     /* drop k(1 - L/l)(I - uu^T) when l < L: clamps the eigenvalue at 0 */
-  CB_DEF_MIRROR,   /* |k(1 - L/l)|: the eigenvalue mirrored to its absolute value */
-  CB_DEF_SHIFT,    /* exact Hessian; the solve adds mu I, mu raised until Cholesky succeeds */
-  CB_DEF_CHOI_KO,  /* Choi & Ko 2002: compressed springs buckle (a different energy), exact Hessian */
-  CB_DEF_COUNT
-} cb_definiteness;
-
-extern const char *const cb_definiteness_names[]; /* NULL-terminated, by enum value */
-int cb_definiteness_from_name(const char *name, cb_definiteness *out);
-
-/* The transverse coefficient t = E'(l)/l (k(1 - L/l) for a linear spring)
- * after the policy. */
-double cb_definiteness_transverse(cb_definiteness d, double coef);
 
 /* Choi & Ko's immediate-buckling response of a spring of rest length L
  * compressed to 0 < l < L, with bending stiffness kb (N m^2): its energy E (J),
  * dE/dl (N, negative: it pushes the ends apart) and d2E/dl^2 (N/m). Formulas
- * in definiteness.c. Returns theta = kappa L / 2. Zeros for l >= L. */
+ * in energy_spring_choi_ko.c. Returns theta = kappa L / 2. Zeros for l >= L. */
 double cb_choi_ko_response(double L, double l, double kb, double *E, double *dE, double *d2E);
 
-/* The compressed spring as the choi-ko policy models it (definiteness.c):
+/* The compressed spring as the choi-ko policy models it (energy_spring_choi_ko.c):
  * the linear spring k (l - L) while its push k (L - l) is below the buckling
  * force f_b(l), the buckled arc beyond that, so the force is continuous. */
 typedef struct cb_choi_ko {
@@ -72,8 +55,9 @@ typedef struct cb_term_type {
   int (*pattern)(const cb_term *t, cb_pattern *p);
   /* Looks up the slots of those blocks in the finalised matrix. */
   int (*bind)(cb_term *t, const cb_sparse *A);
-  /* Adds its Hessian at x to the matrix values (only free-free blocks). */
-  void (*hessian)(const cb_term *t, const double *x, cb_definiteness def, double *val);
+  /* Adds its Hessian at x, each element projected by proj, to the matrix
+   * values (only free-free blocks). NULL if the Hessian is zero. */
+  void (*hessian)(const cb_term *t, const double *x, cb_projection proj, double *val);
   void (*free)(cb_term *t);
 } cb_term_type;
 

@@ -6,6 +6,7 @@
 #ifndef CB_SYSTEM_H
 #define CB_SYSTEM_H
 
+#include "definiteness.h"
 #include "energy.h"
 #include "sparse.h"
 
@@ -28,7 +29,10 @@ void cb_system_free(cb_system *s);
  * energy. */
 double cb_system_energy(const cb_system *s, const double *x, double *grad, double *per_term);
 
-/* A = mass_scale * M + H(x) + shift * I over the free degrees of freedom. */
+/* A = mass_scale * M + H(x) + shift * I over the free degrees of freedom.
+ * The policy def reaches the terms as its element projection
+ * (cb_definiteness_projection: none, clamp or abs); the shift of `shift` is
+ * the solve's (solver_shift.h), and Choi-Ko is already in the springs. */
 void cb_system_assemble(cb_system *s, const double *x, double mass_scale, cb_definiteness def, double shift);
 
 /* Elastic (non-gravity) part of the energy: the sum over terms with a Hessian. */

@@ -6,16 +6,24 @@
  *   H_e = k uu^T + k (1 - L/l)(bi - uu^T)
  *   Hessian blocks: [ H_e  -H_e ; -H_e  H_e ]  for (i, j)
  *
- * Source: GAMES103 lecture, "An Ideal Spring" and "Spring Hessian". The
- * transverse coefficient k(1 - L/l) passes through cb_definiteness_transverse
- * (definiteness.c). A spring that reaches zero length has no direction u; its
- * gradient and Hessian become NaN, which the integrators record as
- * `diverged` rather than inventing a direction.
+ * Source: GAMES103 lecture, "An Ideal Spring" and "Spring Hessian".
+ *
+ * Definiteness: the element matrix [H_e -H_e; -H_e H_e] has the eigenvalues
+ * 2k (along u), 2 k(1 - L/l) (twice, across u) and 0 (three times), so the
+ * only one that can be negative is the transverse t = k(1 - L/l) (l < L).
+ * The shared projection (projection.h: clamp for `drop`, abs for `mirror`)
+ * therefore acts on t alone, and the spring applies it in closed form,
+ * t -> cb_projection_eigenvalue(proj, t), instead of an eigendecomposition
+ * (tests/test_energy_projection.c checks that the two agree).
+ *
+ * A spring that reaches zero length has no direction u; its gradient and
+ * Hessian become NaN, which the integrators record as `diverged` rather than
+ * inventing a direction.
  *
  * Compressed response (cb_spring_term_set_response): with the Choi-Ko policy
  * a compressed spring has instead the energy E(l) of cb_choi_ko_eval
- * (definiteness.c: linear until it buckles, then the immediate-buckling arc),
- * and then
+ * (energy_spring_choi_ko.c: linear until it buckles, then the
+ * immediate-buckling arc), and then
  *   dE/dx_i = E'(l) u,   H_e = E''(l) uu^T + (E'(l)/l)(bi - uu^T),
  * the same form as above with k -> E'' and k(1 - L/l) -> E'/l. */
 #include <math.h>
@@ -89,7 +97,7 @@ static int spring_bind(cb_term *t, const cb_sparse *A) {
   return CB_OK;
 }
 
-static void spring_hessian(const cb_term *t, const double *x, cb_definiteness def, double *val) {
+static void spring_hessian(const cb_term *t, const double *x, cb_projection proj, double *val) {
   const spring_term *s = (const spring_term *)t;
   for (int e = 0; e < s->ns; e++) {
     const int *q = s->slot + 8 * e;
@@ -104,7 +112,7 @@ static void spring_hessian(const cb_term *t, const double *x, cb_definiteness de
       along = d2Eb;   /* E''(l) */
       tr = dEb / l;   /* E'(l) / l */
     }
-    tr = cb_definiteness_transverse(def, tr);
+    tr = cb_projection_eigenvalue(proj, tr); /* the element's only possibly negative eigenvalue (2 tr) */
     double H[9];
     for (int a = 0; a < 3; a++)
       for (int b = 0; b < 3; b++) {

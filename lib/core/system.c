@@ -59,12 +59,13 @@ double cb_system_elastic_energy(const cb_system *s, const double *x) {
 void cb_system_assemble(cb_system *s, const double *x, double mass_scale, cb_definiteness def, double shift) {
   cb_sparse *A = &s->A;
   memset(A->val, 0, (size_t)A->nnz * sizeof(double));
+  cb_projection proj = cb_definiteness_projection(def);
   const cb_model *m = s->model;
   for (int v = 0; v < m->mesh->nv; v++) { /* A += mass_scale M + shift bi on the diagonal */
     int bi = m->free_index[v];
     if (bi < 0) continue;
     for (int a = 0; a < 3; a++) A->val[s->diag[3 * bi + a]] += mass_scale * m->mass[v] + shift;
   }
-  for (int k = 0; k < s->nterms; k++) /* A += H_term(x) */
-    if (s->terms[k]->type->hessian) s->terms[k]->type->hessian(s->terms[k], x, def, A->val);
+  for (int k = 0; k < s->nterms; k++) /* A += H_term(x), each element projected */
+    if (s->terms[k]->type->hessian) s->terms[k]->type->hessian(s->terms[k], x, proj, A->val);
 }
