@@ -20,6 +20,7 @@
 #include "solver_shift.h"
 #include "sparse.h"
 #include "status.h"
+#include "stencil.h"
 #include "system.h"
 #include "timer.h"
 #include "topology.h"

@@ -2,11 +2,12 @@
  * Hessian. Forces and Hessians are stackable." (lecture, summary slide)
  *
  * A term is a plug-in described by a cb_term_type table, in the manner of
- * gsl_multiroot_fsolver_type. It computes E, adds its gradient, declares the
- * 3x3 blocks of its Hessian once, looks up their slots once, and then adds
- * Hessian values into the fixed-pattern matrix without allocating. A term
- * whose Hessian can be indefinite applies the projection it is handed
- * (projection.h) to each element. */
+ * gsl_multiroot_fsolver_type, and registered in cb_term_types[] (energy.c).
+ * It computes E, adds its gradient, declares the 3x3 blocks of its Hessian
+ * once, looks up their slots once (stencil.h does both for k-vertex
+ * elements), and then adds Hessian values into the fixed-pattern matrix
+ * without allocating. A term whose Hessian can be indefinite applies the
+ * projection it is handed (projection.h) to each element. */
 #ifndef CB_ENERGY_H
 #define CB_ENERGY_H
 
@@ -47,8 +48,20 @@ typedef struct cb_model {
 
 typedef struct cb_term cb_term;
 
+/* Flags of a term type. */
+enum {
+  /* H does not depend on x (quadratic energies: quadratic bending,
+   * frozen-rotation FEM, a projective-dynamics matrix). The system evaluates
+   * it once, when it is finalised, with projection none, and adds the stored
+   * values at every assembly: such a Hessian must be PSD (no projection is
+   * applied to it) and must not depend on x (the conformance test checks
+   * both). */
+  CB_TERM_CONSTANT_HESSIAN = 1u << 0
+};
+
 typedef struct cb_term_type {
   const char *name;
+  unsigned flags;  /* CB_TERM_* */
   /* Returns E(x) in J and, if grad != NULL, adds dE/dx (3*nv). */
   double (*energy)(const cb_term *t, const double *x, double *grad);
   /* Declares the blocks its Hessian writes; NULL if the Hessian is zero. */
@@ -59,6 +72,12 @@ typedef struct cb_term_type {
    * values (only free-free blocks). NULL if the Hessian is zero. */
   void (*hessian)(const cb_term *t, const double *x, cb_projection proj, double *val);
   void (*free)(cb_term *t);
+  /* Conformance (tests/test_energy_conformance.c): builds example i,
+   * 0 <= i < nexamples, of this term on any model (any mesh, any pins), with
+   * the parameters a scene would give it. Registering a type is all it takes
+   * to have its gradient and Hessian checked by finite differences. */
+  int nexamples;
+  int (*example)(const cb_model *m, int i, cb_term **out);
 } cb_term_type;
 
 struct cb_term {
@@ -66,6 +85,11 @@ struct cb_term {
   const cb_model *model;
   char label[32]; /* role in the scene: "stretch", "bend", "gravity" */
 };
+
+/* Every term type, one line each (energy.c); NULL-terminated. */
+extern const cb_term_type *const cb_term_types[];
+/* The registered type called name, or NULL. */
+const cb_term_type *cb_term_type_find(const char *name);
 
 extern const cb_term_type *const cb_term_spring;
 extern const cb_term_type *const cb_term_gravity;
@@ -91,8 +115,9 @@ int cb_gravity_term_alloc(const cb_model *m, const double g[3], cb_term **out);
 
 void cb_term_free(cb_term *t);
 
-/* Bending models selectable by material.bend (NULL-terminated names; "none"
- * is first and builds nothing). */
+/* Bending models selectable by material.bend (energy.c; NULL-terminated
+ * names; "none" is first and builds nothing). Each maps to a term type
+ * built on a stencil of the topology. */
 extern const char *const cb_bend_names[];
 int cb_bend_term_alloc(const char *name, const cb_model *m, double bend_k, cb_term **out);
 

@@ -2,7 +2,9 @@
  *
  * The pattern covers the free (unpinned) vertices only. It is built once when
  * the system is initialised; each term then knows the slots of its blocks, so
- * assembling A = s M + H(x) (+ mu I) writes numbers and never allocates. */
+ * assembling A = s M + H(x) (+ mu I) writes numbers and never allocates.
+ * Terms flagged CB_TERM_CONSTANT_HESSIAN are evaluated once, at
+ * initialisation; assembly adds their stored values. */
 #ifndef CB_SYSTEM_H
 #define CB_SYSTEM_H
 
@@ -18,6 +20,7 @@ typedef struct cb_system {
   cb_term *terms[CB_MAX_TERMS];
   cb_sparse A;        /* values are overwritten by cb_system_assemble */
   int *diag;          /* 3*nfree: index in A.val of each diagonal entry */
+  double *hconst;     /* A.nnz: sum of the constant Hessians, or NULL if no term has one */
 } cb_system;
 
 /* Takes ownership of the terms (freed by cb_system_free, also on failure). */
