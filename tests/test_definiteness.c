@@ -1,7 +1,8 @@
-/* Definiteness policies (definiteness.c), the Choi-Ko response, the shift
- * loop, driven pins and the SPD probes. Every expected number is derived
- * here independently: eigen-decompositions by GSL, closed forms of the spring
- * Hessian's eigenvalues, finite differences. */
+/* Definiteness policies (definiteness.c), the Choi-Ko response
+ * (energy_spring_choi_ko.c), the shift loop (solver_shift.c), driven pins and
+ * the SPD probes. Every expected number is derived here independently:
+ * eigen-decompositions by GSL, closed forms of the spring Hessian's
+ * eigenvalues, finite differences. */
 #include <criterion/criterion.h>
 #include <gsl/gsl_eigen.h>
 #include <gsl/gsl_errno.h>
@@ -146,9 +147,9 @@ Test(definiteness, shift_makes_cholmod_succeed_and_reports_mu) {
   cr_assert_eq(cb_solver_factor(ch, &s->sys.A), CB_NOT_SPD);
   cb_shift *sh;
   cr_assert_eq(cb_shift_alloc(3, NULL, &sh), CB_OK);
-  cb_definite_stats st;
+  cb_shift_stats st;
   double diag[3] = {s->sys.A.val[s->sys.diag[0]], s->sys.A.val[s->sys.diag[1]], s->sys.A.val[s->sys.diag[2]]};
-  cr_assert_eq(cb_definiteness_solve(CB_DEF_SHIFT, &s->sys.A, s->sys.diag, ch, sh, b, dx, &st), CB_OK);
+  cr_assert_eq(cb_shift_solve(sh, ch, &s->sys.A, s->sys.diag, b, dx, &st), CB_OK);
   /* mu doubles from beta until A + mu I is SPD: -lambda_min < mu <= 2 (-lambda_min) (+ beta) */
   double beta = 1e-3 * (fabs(diag[0]) + fabs(diag[1]) + fabs(diag[2])) / 3;
   cr_assert(st.mu > -lmin && st.mu <= 2 * -lmin + beta, "mu = %g, lambda_min = %g", st.mu, lmin);
@@ -160,15 +161,15 @@ Test(definiteness, shift_makes_cholmod_succeed_and_reports_mu) {
   /* an SPD matrix: no shift, one factorisation */
   double xs[9] = {-1.2, 0, 0, 0, 0, 0, 1.2, 0, 0};
   cb_system_assemble(&s->sys, xs, 900.0, CB_DEF_SHIFT, 0.0);
-  cr_assert_eq(cb_definiteness_solve(CB_DEF_SHIFT, &s->sys.A, s->sys.diag, ch, sh, b, dx, &st), CB_OK);
+  cr_assert_eq(cb_shift_solve(sh, ch, &s->sys.A, s->sys.diag, b, dx, &st), CB_OK);
   cr_assert(st.mu == 0 && st.factorizations == 1);
   /* CG: a breakdown also makes shift retry */
   cb_solver *cg;
   cr_assert_eq(cb_solver_alloc("cg", NULL, 3, &cg), CB_OK);
   cr_assert_eq(cb_solver_analyze(cg, &s->sys.A), CB_OK);
   cb_system_assemble(&s->sys, x, 900.0, CB_DEF_SHIFT, 0.0);
-  cr_assert_eq(cb_definiteness_solve(CB_DEF_NONE, &s->sys.A, s->sys.diag, cg, NULL, b, dx, &st), CB_INDEFINITE);
-  cr_assert_eq(cb_definiteness_solve(CB_DEF_SHIFT, &s->sys.A, s->sys.diag, cg, sh, b, dx, &st), CB_OK);
+  cr_assert_eq(cb_shift_solve(NULL, cg, &s->sys.A, s->sys.diag, b, dx, &st), CB_INDEFINITE);
+  cr_assert_eq(cb_shift_solve(sh, cg, &s->sys.A, s->sys.diag, b, dx, &st), CB_OK);
   cr_assert(st.mu > -lmin, "CG shift mu = %g", st.mu);
   cb_solver_free(cg);
   cb_shift_free(sh);

@@ -88,10 +88,10 @@ static void term_grad(const cb_term *t, const double *x, double *g, int n3) {
 
 /* Dense Hessian of one term over the free DOFs: zero the system's values,
  * let the term add its blocks, copy. A term without a Hessian gives 0. */
-static gsl_matrix *term_hessian(cb_scene *s, const cb_term *t, const double *x, cb_definiteness def) {
+static gsl_matrix *term_hessian(cb_scene *s, const cb_term *t, const double *x, cb_projection proj) {
   cb_sparse *A = &s->sys.A;
   memset(A->val, 0, (size_t)A->nnz * sizeof(double));
-  if (t->type->hessian) t->type->hessian(t, x, def, A->val);
+  if (t->type->hessian) t->type->hessian(t, x, proj, A->val);
   return test_dense(A);
 }
 
@@ -268,7 +268,7 @@ Test(energy, term_hessian_matches_differences_of_the_gradient) {
       const cb_term *t = s->sys.terms[k];
       term_ctx ctx = {t, 3 * s->mesh.nv};
       gsl_matrix *Hfd = fd_hessian(s, term_gradfn, &ctx, x);
-      gsl_matrix *H = term_hessian(s, t, x, CB_DEF_NONE);
+      gsl_matrix *H = term_hessian(s, t, x, CB_PROJ_NONE);
       double scale = mat_maxabs(H), err = max_diff(H, Hfd);
       if (strcmp(t->label, "gravity") == 0) { /* linear energy: zero Hessian */
         cr_expect(t->type->hessian == NULL || scale == 0, "%s: gravity Hessian not zero", name);

@@ -1,52 +1,36 @@
-/* Definiteness policies at the level of the linear solve (the Hessian-level
- * ones are in energy.h; all of them are implemented in definiteness.c).
+/* The integrator.definiteness policy: what happens when a compressed spring
+ * makes its Hessian indefinite (formulas and sources in definiteness.c).
  *
- * cb_definiteness_solve is what every integrator that solves A dx = b calls:
- * factor + solve for every policy, and for `shift` the Levenberg-Marquardt
- * style loop that adds mu I to A until the factorisation (or CG) succeeds. */
+ * A policy is split into the three places where it acts:
+ *   - the element projection (projection.h) that cb_system_assemble hands
+ *     every term: none, clamp (drop) or abs (mirror);
+ *   - the solve-side shift A + mu I (solver_shift.h), for `shift`;
+ *   - the springs' compressed response (energy.h,
+ *     cb_spring_term_set_response), for `choi-ko`: a different energy, fixed
+ *     when the scene builds its terms. */
 #ifndef CB_DEFINITENESS_H
 #define CB_DEFINITENESS_H
 
-#include "energy.h"
-#include "solver.h"
-#include "sparse.h"
+#include "projection.h"
 
-typedef struct cb_shift_params {
-  double beta_rel; /* smallest nonzero shift beta = beta_rel * mean |A_ii|. Default 1e-3 */
-  double grow;     /* mu is multiplied by this after each failed attempt (> 1). Default 2 */
-  int max_tries;   /* factorisations per solve at most. Default 80 */
-} cb_shift_params;
+typedef enum {
+  CB_DEF_NONE = 0, /* exact Hessian */
+  CB_DEF_DROP,     /* drop k(1 - L/l)(I - uu^T) when l < L: clamps the eigenvalue at 0 */
+  CB_DEF_MIRROR,   /* |k(1 - L/l)|: the eigenvalue mirrored to its absolute value */
+  CB_DEF_SHIFT,    /* exact Hessian; the solve adds mu I, mu raised until Cholesky succeeds */
+  CB_DEF_CHOI_KO,  /* Choi & Ko 2002: compressed springs buckle (a different energy), exact Hessian */
+  CB_DEF_COUNT
+} cb_definiteness;
 
-cb_shift_params cb_shift_params_default(void);
+extern const char *const cb_definiteness_names[]; /* NULL-terminated, by enum value */
+int cb_definiteness_from_name(const char *name, cb_definiteness *out);
 
-/* Workspace and warm start of the shift loop (one per integrator). */
-typedef struct cb_shift {
-  cb_shift_params p;
-  int n;
-  double *diag0;   /* n: A's diagonal before the shift */
-  double mu_last;  /* last nonzero shift that worked (warm start), N/m */
-} cb_shift;
+/* The element projection of a policy: clamp for drop, abs for mirror, none
+ * for none, shift and choi-ko. */
+cb_projection cb_definiteness_projection(cb_definiteness d);
 
-int cb_shift_alloc(int n, const cb_shift_params *p, cb_shift **out);
-void cb_shift_free(cb_shift *s);
-
-typedef struct cb_definite_stats {
-  double mu;          /* shift in the matrix that was solved, units of A (N/m); 0 = none */
-  int factorizations; /* factor calls (1 unless shift retried) */
-  int linear_iters;   /* inner iterations of the solves, summed */
-  double factor_ms, solve_ms; /* summed over attempts */
-} cb_definite_stats;
-
-/* Solves A dx = b (dx starts from 0, the lecture's choice for iterative
- * solvers). For every policy: factor, then solve. For CB_DEF_SHIFT, a
- * CB_NOT_SPD from the factorisation or a CB_INDEFINITE from the solve makes
- * it retry with A + mu I (diag: index in A->val of each diagonal entry):
- *   mu_1 = max(beta, mu_last / grow), mu_{j+1} = grow * mu_j
- * until it succeeds (Nocedal & Wright, Numerical Optimization, Alg. 3.3,
- * warm-started like Levenberg-Marquardt's damping). A is left holding the
- * matrix that was solved. Returns the status of the last factor/solve;
- * sh may be NULL for policies other than shift. */
-int cb_definiteness_solve(cb_definiteness def, cb_sparse *A, const int *diag, cb_solver *solver, cb_shift *sh,
-                          const double *b, double *dx, cb_definite_stats *st);
+/* The transverse coefficient t = E'(l)/l (k(1 - L/l) for a linear spring)
+ * after the policy's projection: cb_projection_eigenvalue(projection(d), t). */
+double cb_definiteness_transverse(cb_definiteness d, double coef);
 
 #endif

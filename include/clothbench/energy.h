@@ -2,44 +2,28 @@
  * Hessian. Forces and Hessians are stackable." (lecture, summary slide)
  *
  * A term is a plug-in described by a cb_term_type table, in the manner of
- * gsl_multiroot_fsolver_type. It computes E, adds its gradient, declares the
- * 3x3 blocks of its Hessian once, looks up their slots once, and then adds
- * Hessian values into the fixed-pattern matrix without allocating. */
+ * gsl_multiroot_fsolver_type, and registered in cb_term_types[] (energy.c).
+ * It computes E, adds its gradient, declares the 3x3 blocks of its Hessian
+ * once, looks up their slots once (stencil.h does both for k-vertex
+ * elements), and then adds Hessian values into the fixed-pattern matrix
+ * without allocating. A term whose Hessian can be indefinite applies the
+ * projection it is handed (projection.h) to each element. */
 #ifndef CB_ENERGY_H
 #define CB_ENERGY_H
 
+#include "definiteness.h"
 #include "mesh.h"
+#include "projection.h"
 #include "sparse.h"
 #include "topology.h"
-
-/* How a compressed spring's Hessian is treated (integrator.definiteness).
- * The spring Hessian is H_e = k uu^T + k(1 - L/l)(I - uu^T); its transverse
- * eigenvalue k(1 - L/l) is negative when l < L. Implemented once, in
- * definiteness.c (the formulas and sources are there), and applied by every
- * term that has such an eigenvalue and by the Newton solve (shift). */
-typedef enum {
-  CB_DEF_NONE = 0, /* exact Hessian */
-  CB_DEF_DROP,     /* drop k(1 - L/l)(I - uu^T) when l < L: clamps the eigenvalue at 0 */
-  CB_DEF_MIRROR,   /* |k(1 - L/l)|: the eigenvalue mirrored to its absolute value */
-  CB_DEF_SHIFT,    /* exact Hessian; the solve adds mu I, mu raised until Cholesky succeeds */
-  CB_DEF_CHOI_KO,  /* Choi & Ko 2002: compressed springs buckle (a different energy), exact Hessian */
-  CB_DEF_COUNT
-} cb_definiteness;
-
-extern const char *const cb_definiteness_names[]; /* NULL-terminated, by enum value */
-int cb_definiteness_from_name(const char *name, cb_definiteness *out);
-
-/* The transverse coefficient t = E'(l)/l (k(1 - L/l) for a linear spring)
- * after the policy. */
-double cb_definiteness_transverse(cb_definiteness d, double coef);
 
 /* Choi & Ko's immediate-buckling response of a spring of rest length L
  * compressed to 0 < l < L, with bending stiffness kb (N m^2): its energy E (J),
  * dE/dl (N, negative: it pushes the ends apart) and d2E/dl^2 (N/m). Formulas
- * in definiteness.c. Returns theta = kappa L / 2. Zeros for l >= L. */
+ * in energy_spring_choi_ko.c. Returns theta = kappa L / 2. Zeros for l >= L. */
 double cb_choi_ko_response(double L, double l, double kb, double *E, double *dE, double *d2E);
 
-/* The compressed spring as the choi-ko policy models it (definiteness.c):
+/* The compressed spring as the choi-ko policy models it (energy_spring_choi_ko.c):
  * the linear spring k (l - L) while its push k (L - l) is below the buckling
  * force f_b(l), the buckled arc beyond that, so the force is continuous. */
 typedef struct cb_choi_ko {
@@ -64,17 +48,36 @@ typedef struct cb_model {
 
 typedef struct cb_term cb_term;
 
+/* Flags of a term type. */
+enum {
+  /* H does not depend on x (quadratic energies: quadratic bending,
+   * frozen-rotation FEM, a projective-dynamics matrix). The system evaluates
+   * it once, when it is finalised, with projection none, and adds the stored
+   * values at every assembly: such a Hessian must be PSD (no projection is
+   * applied to it) and must not depend on x (the conformance test checks
+   * both). */
+  CB_TERM_CONSTANT_HESSIAN = 1u << 0
+};
+
 typedef struct cb_term_type {
   const char *name;
+  unsigned flags;  /* CB_TERM_* */
   /* Returns E(x) in J and, if grad != NULL, adds dE/dx (3*nv). */
   double (*energy)(const cb_term *t, const double *x, double *grad);
   /* Declares the blocks its Hessian writes; NULL if the Hessian is zero. */
   int (*pattern)(const cb_term *t, cb_pattern *p);
   /* Looks up the slots of those blocks in the finalised matrix. */
   int (*bind)(cb_term *t, const cb_sparse *A);
-  /* Adds its Hessian at x to the matrix values (only free-free blocks). */
-  void (*hessian)(const cb_term *t, const double *x, cb_definiteness def, double *val);
+  /* Adds its Hessian at x, each element projected by proj, to the matrix
+   * values (only free-free blocks). NULL if the Hessian is zero. */
+  void (*hessian)(const cb_term *t, const double *x, cb_projection proj, double *val);
   void (*free)(cb_term *t);
+  /* Conformance (tests/test_energy_conformance.c): builds example i,
+   * 0 <= i < nexamples, of this term on any model (any mesh, any pins), with
+   * the parameters a scene would give it. Registering a type is all it takes
+   * to have its gradient and Hessian checked by finite differences. */
+  int nexamples;
+  int (*example)(const cb_model *m, int i, cb_term **out);
 } cb_term_type;
 
 struct cb_term {
@@ -82,6 +85,11 @@ struct cb_term {
   const cb_model *model;
   char label[32]; /* role in the scene: "stretch", "bend", "gravity" */
 };
+
+/* Every term type, one line each (energy.c); NULL-terminated. */
+extern const cb_term_type *const cb_term_types[];
+/* The registered type called name, or NULL. */
+const cb_term_type *cb_term_type_find(const char *name);
 
 extern const cb_term_type *const cb_term_spring;
 extern const cb_term_type *const cb_term_gravity;
@@ -107,8 +115,9 @@ int cb_gravity_term_alloc(const cb_model *m, const double g[3], cb_term **out);
 
 void cb_term_free(cb_term *t);
 
-/* Bending models selectable by material.bend (NULL-terminated names; "none"
- * is first and builds nothing). */
+/* Bending models selectable by material.bend (energy.c; NULL-terminated
+ * names; "none" is first and builds nothing). Each maps to a term type
+ * built on a stencil of the topology. */
 extern const char *const cb_bend_names[];
 int cb_bend_term_alloc(const char *name, const cb_model *m, double bend_k, cb_term **out);
 

@@ -2,10 +2,13 @@
  *
  * The pattern covers the free (unpinned) vertices only. It is built once when
  * the system is initialised; each term then knows the slots of its blocks, so
- * assembling A = s M + H(x) (+ mu I) writes numbers and never allocates. */
+ * assembling A = s M + H(x) (+ mu I) writes numbers and never allocates.
+ * Terms flagged CB_TERM_CONSTANT_HESSIAN are evaluated once, at
+ * initialisation; assembly adds their stored values. */
 #ifndef CB_SYSTEM_H
 #define CB_SYSTEM_H
 
+#include "definiteness.h"
 #include "energy.h"
 #include "sparse.h"
 
@@ -17,6 +20,7 @@ typedef struct cb_system {
   cb_term *terms[CB_MAX_TERMS];
   cb_sparse A;        /* values are overwritten by cb_system_assemble */
   int *diag;          /* 3*nfree: index in A.val of each diagonal entry */
+  double *hconst;     /* A.nnz: sum of the constant Hessians, or NULL if no term has one */
 } cb_system;
 
 /* Takes ownership of the terms (freed by cb_system_free, also on failure). */
@@ -28,7 +32,10 @@ void cb_system_free(cb_system *s);
  * energy. */
 double cb_system_energy(const cb_system *s, const double *x, double *grad, double *per_term);
 
-/* A = mass_scale * M + H(x) + shift * I over the free degrees of freedom. */
+/* A = mass_scale * M + H(x) + shift * I over the free degrees of freedom.
+ * The policy def reaches the terms as its element projection
+ * (cb_definiteness_projection: none, clamp or abs); the shift of `shift` is
+ * the solve's (solver_shift.h), and Choi-Ko is already in the springs. */
 void cb_system_assemble(cb_system *s, const double *x, double mass_scale, cb_definiteness def, double shift);
 
 /* Elastic (non-gravity) part of the energy: the sum over terms with a Hessian. */

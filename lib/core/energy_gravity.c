@@ -26,14 +26,24 @@ static double gravity_energy(const cb_term *t, const double *x, double *grad) {
 
 static void gravity_free(cb_term *t) { free(t); }
 
-static const cb_term_type gravity_type = {"gravity", gravity_energy, NULL, NULL, NULL, gravity_free};
-const cb_term_type *const cb_term_gravity = &gravity_type;
+/* Example: a gravity that is not along an axis. */
+static int gravity_example(const cb_model *m, int i, cb_term **out) {
+  (void)i;
+  return cb_gravity_term_alloc(m, (const double[3]){0.5, -9.8, 1.25}, out);
+}
+
+const cb_term_type cb_term_gravity_type = {.name = "gravity",
+                                           .energy = gravity_energy,
+                                           .free = gravity_free,
+                                           .nexamples = 1,
+                                           .example = gravity_example};
+const cb_term_type *const cb_term_gravity = &cb_term_gravity_type;
 
 int cb_gravity_term_alloc(const cb_model *m, const double g[3], cb_term **out) {
   gravity_term *s = cb_calloc(1, sizeof *s);
   *out = NULL;
   if (!s) return CB_ENOMEM;
-  s->base.type = &gravity_type;
+  s->base.type = &cb_term_gravity_type;
   s->base.model = m;
   strcpy(s->base.label, "gravity");
   memcpy(s->g, g, sizeof s->g);

@@ -6,16 +6,24 @@
  *   H_e = k uu^T + k (1 - L/l)(bi - uu^T)
  *   Hessian blocks: [ H_e  -H_e ; -H_e  H_e ]  for (i, j)
  *
- * Source: GAMES103 lecture, "An Ideal Spring" and "Spring Hessian". The
- * transverse coefficient k(1 - L/l) passes through cb_definiteness_transverse
- * (definiteness.c). A spring that reaches zero length has no direction u; its
- * gradient and Hessian become NaN, which the integrators record as
- * `diverged` rather than inventing a direction.
+ * Source: GAMES103 lecture, "An Ideal Spring" and "Spring Hessian".
+ *
+ * Definiteness: the element matrix [H_e -H_e; -H_e H_e] has the eigenvalues
+ * 2k (along u), 2 k(1 - L/l) (twice, across u) and 0 (three times), so the
+ * only one that can be negative is the transverse t = k(1 - L/l) (l < L).
+ * The shared projection (projection.h: clamp for `drop`, abs for `mirror`)
+ * therefore acts on t alone, and the spring applies it in closed form,
+ * t -> cb_projection_eigenvalue(proj, t), instead of an eigendecomposition
+ * (tests/test_energy_projection.c checks that the two agree).
+ *
+ * A spring that reaches zero length has no direction u; its gradient and
+ * Hessian become NaN, which the integrators record as `diverged` rather than
+ * inventing a direction.
  *
  * Compressed response (cb_spring_term_set_response): with the Choi-Ko policy
  * a compressed spring has instead the energy E(l) of cb_choi_ko_eval
- * (definiteness.c: linear until it buckles, then the immediate-buckling arc),
- * and then
+ * (energy_spring_choi_ko.c: linear until it buckles, then the
+ * immediate-buckling arc), and then
  *   dE/dx_i = E'(l) u,   H_e = E''(l) uu^T + (E'(l)/l)(bi - uu^T),
  * the same form as above with k -> E'' and k(1 - L/l) -> E'/l. */
 #include <math.h>
@@ -25,6 +33,7 @@
 
 #include <clothbench/energy.h>
 #include <clothbench/status.h>
+#include <clothbench/stencil.h>
 
 typedef struct {
   cb_term base;
@@ -33,7 +42,7 @@ typedef struct {
   double *rest; /* ns rest lengths L, m */
   double k;     /* N/m */
   cb_choi_ko *ck; /* ns: Choi-Ko response of each spring, or NULL (linear springs) */
-  int *slot;    /* 8*ns: (slot, stride) of blocks ii, ij, ji, jj; slot -1 if pinned */
+  cb_stencil st;  /* 2-vertex elements (i, j) = ends, bound to the pattern */
 } spring_term;
 
 static double spring_energy(const cb_term *t, const double *x, double *grad) {
@@ -54,46 +63,29 @@ static double spring_energy(const cb_term *t, const double *x, double *grad) {
       E += 0.5 * s->k * stretch * stretch; /* E = k/2 (l - L)^2 */
     }
     if (grad) {
+      double g[6]; /* (dE/dx_i, dE/dx_j) = (c x_ij, -c x_ij) */
       for (int a = 0; a < 3; a++) {
-        grad[3 * i + a] += c * d[a];
-        grad[3 * j + a] -= c * d[a];
+        g[a] = c * d[a];
+        g[3 + a] = -(c * d[a]);
       }
+      cb_stencil_add_gradient(&s->st, e, g, grad);
     }
   }
   return E;
 }
 
-static int spring_pattern(const cb_term *t, cb_pattern *p) {
-  const spring_term *s = (const spring_term *)t;
-  const int *fi = t->model->free_index;
-  for (int e = 0; e < s->ns; e++) {
-    int st = cb_pattern_add(p, fi[s->ends[2 * e]], fi[s->ends[2 * e + 1]]);
-    if (st) return st;
-  }
-  return CB_OK;
-}
+static int spring_pattern(const cb_term *t, cb_pattern *p) { return cb_stencil_pattern(&((const spring_term *)t)->st, p); }
 
 static int spring_bind(cb_term *t, const cb_sparse *A) {
-  spring_term *s = (spring_term *)t;
-  const int *fi = t->model->free_index;
-  for (int e = 0; e < s->ns; e++) {
-    int bi = fi[s->ends[2 * e]], bj = fi[s->ends[2 * e + 1]];
-    int *q = s->slot + 8 * e;
-    cb_sparse_block_slot(A, bi, bi, q + 0, q + 1);
-    cb_sparse_block_slot(A, bi, bj, q + 2, q + 3);
-    cb_sparse_block_slot(A, bj, bi, q + 4, q + 5);
-    cb_sparse_block_slot(A, bj, bj, q + 6, q + 7);
-    if ((bi >= 0 && q[0] < 0) || (bj >= 0 && q[6] < 0) || (bi >= 0 && bj >= 0 && (q[2] < 0 || q[4] < 0)))
-      return cb_fail("spring %d (%d,%d): block missing from the sparsity pattern", e, s->ends[2 * e], s->ends[2 * e + 1]);
-  }
-  return CB_OK;
+  char what[64];
+  snprintf(what, sizeof what, "%s spring", t->label);
+  return cb_stencil_bind(&((spring_term *)t)->st, A, what);
 }
 
-static void spring_hessian(const cb_term *t, const double *x, cb_definiteness def, double *val) {
+static void spring_hessian(const cb_term *t, const double *x, cb_projection proj, double *val) {
   const spring_term *s = (const spring_term *)t;
   for (int e = 0; e < s->ns; e++) {
-    const int *q = s->slot + 8 * e;
-    if (q[0] < 0 && q[6] < 0) continue; /* both ends pinned */
+    if (!cb_stencil_active(&s->st, e)) continue; /* both ends pinned */
     int i = s->ends[2 * e], j = s->ends[2 * e + 1];
     double d[3] = {x[3 * i] - x[3 * j], x[3 * i + 1] - x[3 * j + 1], x[3 * i + 2] - x[3 * j + 2]};
     double l2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], l = sqrt(l2);
@@ -104,17 +96,18 @@ static void spring_hessian(const cb_term *t, const double *x, cb_definiteness de
       along = d2Eb;   /* E''(l) */
       tr = dEb / l;   /* E'(l) / l */
     }
-    tr = cb_definiteness_transverse(def, tr);
+    tr = cb_projection_eigenvalue(proj, tr); /* the element's only possibly negative eigenvalue (2 tr) */
     double H[9];
     for (int a = 0; a < 3; a++)
       for (int b = 0; b < 3; b++) {
         double uu = d[a] * d[b] / l2;                       /* (uu^T)_ab */
-        H[3 * a + b] = along * uu + tr * ((a == b) - uu);   /* H_e = k uu^T + tr (bi - uu^T) */
+        H[3 * a + b] = along * uu + tr * ((a == b) - uu);   /* H_e = k uu^T + tr (I - uu^T) */
       }
-    cb_sparse_add_block(val, q[0], q[1], H, 1.0);
-    cb_sparse_add_block(val, q[2], q[3], H, -1.0);
-    cb_sparse_add_block(val, q[4], q[5], H, -1.0);
-    cb_sparse_add_block(val, q[6], q[7], H, 1.0);
+    /* element matrix [H_e -H_e; -H_e H_e], block by block */
+    cb_stencil_add_block(&s->st, e, 0, 0, H, 1.0, val);
+    cb_stencil_add_block(&s->st, e, 0, 1, H, -1.0, val);
+    cb_stencil_add_block(&s->st, e, 1, 0, H, -1.0, val);
+    cb_stencil_add_block(&s->st, e, 1, 1, H, 1.0, val);
   }
 }
 
@@ -122,28 +115,36 @@ static void spring_free(cb_term *t) {
   spring_term *s = (spring_term *)t;
   free(s->ends);
   free(s->rest);
-  free(s->slot);
+  cb_stencil_free(&s->st);
   free(s->ck);
   free(s);
 }
 
-static const cb_term_type spring_type = {"spring", spring_energy, spring_pattern, spring_bind, spring_hessian, spring_free};
-const cb_term_type *const cb_term_spring = &spring_type;
+static int spring_example(const cb_model *m, int i, cb_term **out);
+
+const cb_term_type cb_term_spring_type = {.name = "spring",
+                                          .energy = spring_energy,
+                                          .pattern = spring_pattern,
+                                          .bind = spring_bind,
+                                          .hessian = spring_hessian,
+                                          .free = spring_free,
+                                          .nexamples = 3,
+                                          .example = spring_example};
+const cb_term_type *const cb_term_spring = &cb_term_spring_type;
 
 int cb_spring_term_alloc(const cb_model *m, const char *label, int ns, const int *ends, double k, cb_term **out) {
   *out = NULL;
   if (!(k >= 0) || !isfinite(k)) return cb_fail("%s springs: stiffness must be >= 0, got %g", label, k);
   spring_term *s = cb_calloc(1, sizeof *s);
   if (!s) return CB_ENOMEM;
-  s->base.type = &spring_type;
+  s->base.type = &cb_term_spring_type;
   s->base.model = m;
   snprintf(s->base.label, sizeof s->base.label, "%s", label);
   s->ns = ns;
   s->k = k;
   s->ends = cb_malloc((size_t)2 * ns, sizeof(int));
   s->rest = cb_malloc((size_t)ns, sizeof(double));
-  s->slot = cb_malloc((size_t)8 * ns, sizeof(int));
-  if (!s->ends || !s->rest || !s->slot) {
+  if (!s->ends || !s->rest || cb_stencil_init(&s->st, 2, ns, s->ends, m->free_index)) {
     spring_free(&s->base);
     return CB_ENOMEM;
   }
@@ -168,7 +169,7 @@ int cb_spring_term_alloc(const cb_model *m, const char *label, int ns, const int
 }
 
 int cb_spring_term_set_response(cb_term *t, cb_definiteness def, double kb) {
-  if (!t || t->type != &spring_type) return cb_fail("set_response: not a spring term");
+  if (!t || t->type != &cb_term_spring_type) return cb_fail("set_response: not a spring term");
   if (def == CB_DEF_CHOI_KO && !(kb > 0 && isfinite(kb)))
     return cb_fail("%s springs: Choi-Ko bending stiffness must be > 0, got %g", t->label, kb);
   spring_term *s = (spring_term *)t;
@@ -192,7 +193,7 @@ int cb_spring_term_set_response(cb_term *t, cb_definiteness def, double kb) {
 
 int cb_spring_term_count_compressed(const cb_term *t, const double *x, int *nsprings) {
   *nsprings = 0;
-  if (!t || t->type != &spring_type) return 0;
+  if (!t || t->type != &cb_term_spring_type) return 0;
   const spring_term *s = (const spring_term *)t;
   int c = 0;
   for (int e = 0; e < s->ns; e++) {
@@ -205,21 +206,19 @@ int cb_spring_term_count_compressed(const cb_term *t, const double *x, int *nspr
 }
 
 int cb_spring_term_is_choi_ko(const cb_term *t) {
-  return t && t->type == &spring_type && ((const spring_term *)t)->ck;
+  return t && t->type == &cb_term_spring_type && ((const spring_term *)t)->ck;
 }
 
-void cb_term_free(cb_term *t) {
-  if (t) t->type->free(t);
-}
-
-/* ---- bending models (material.bend) -------------------------------------- */
-
-const char *const cb_bend_names[] = {"none", "spring", NULL};
-
-int cb_bend_term_alloc(const char *name, const cb_model *m, double bend_k, cb_term **out) {
-  *out = NULL;
-  if (strcmp(name, "none") == 0) return CB_OK;
-  if (strcmp(name, "spring") == 0) /* a spring across each pair of neighbouring triangles */
-    return cb_spring_term_alloc(m, "bend", m->topo->np, m->topo->pair_opp, bend_k, out);
-  return cb_fail("unknown bending model '%s'", name);
+/* Examples: 0 stretch springs on every edge, 1 bending springs across every
+ * pair of neighbouring triangles, 2 stretch springs with the Choi-Ko response
+ * (k_b = 1e-4 N m^2: k > 12 pi^2 k_b / L^3 for every rest length L > 1 cm). */
+static int spring_example(const cb_model *m, int i, cb_term **out) {
+  if (i == 1) return cb_spring_term_alloc(m, "bend", m->topo->np, m->topo->pair_opp, 37.0, out);
+  int st = cb_spring_term_alloc(m, "stretch", m->topo->ne, m->topo->edge, 8000.0, out);
+  if (st == CB_OK && i == 2) st = cb_spring_term_set_response(*out, CB_DEF_CHOI_KO, 1e-4);
+  if (st && *out) {
+    cb_term_free(*out);
+    *out = NULL;
+  }
+  return st;
 }

@@ -23,7 +23,7 @@
  * is prescribed: 0 for fixed pins, see scene.pin_squeeze) whatever the
  * initial guess, and keeps v0.
  *
- * The linear solve goes through cb_definiteness_solve (definiteness.c), so
+ * The linear solve goes through cb_shift_solve (solver_shift.c), so
  * the `shift` policy's retries with A + mu I happen there, for every solver;
  * the largest mu of the step is reported in the step stats.
  *
@@ -35,7 +35,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/definiteness.h>
+#include <clothbench/solver_shift.h>
 #include <clothbench/integrator.h>
 #include <clothbench/objective.h>
 #include <clothbench/status.h>
@@ -167,8 +167,9 @@ static int nt_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
     ev.A = A; ev.b = w->b;
     if (hook) hook(hook_ctx, CB_NEWTON_SYSTEM, &ev);
 
-    cb_definite_stats ds; /* factor + solve; `shift` retries with A + mu I */
-    int ls = cb_definiteness_solve(p->definiteness, A, it->sys->diag, it->solver, w->shift, w->b, w->dx, &ds);
+    cb_shift_stats ds; /* factor + solve; `shift` retries with A + mu I */
+    cb_shift *sh = p->definiteness == CB_DEF_SHIFT ? w->shift : NULL;
+    int ls = cb_shift_solve(sh, it->solver, A, it->sys->diag, w->b, w->dx, &ds);
     st->factor_ms += ds.factor_ms; /* includes any set-up such as a rho estimate */
     st->solve_ms += ds.solve_ms;
     st->linear_iters += ds.linear_iters;

@@ -10,6 +10,7 @@ void cb_system_free(cb_system *s) {
   for (int k = 0; k < s->nterms; k++) cb_term_free(s->terms[k]);
   cb_sparse_free(&s->A);
   free(s->diag);
+  free(s->hconst);
   memset(s, 0, sizeof *s);
 }
 
@@ -33,6 +34,12 @@ int cb_system_init(cb_system *s, const cb_model *m, cb_term **terms, int nterms)
     s->diag = cb_malloc((size_t)s->A.n, sizeof(int));
     if (!s->diag) st = CB_ENOMEM;
     for (int i = 0; st == CB_OK && i < s->A.n; i++) s->diag[i] = cb_sparse_diag_index(&s->A, i);
+  }
+  for (int k = 0; st == CB_OK && k < s->nterms; k++) { /* constant Hessians: evaluated once, here */
+    const cb_term_type *t = s->terms[k]->type;
+    if (!(t->flags & CB_TERM_CONSTANT_HESSIAN) || !t->hessian) continue;
+    if (!s->hconst && !(s->hconst = cb_calloc((size_t)s->A.nnz, sizeof(double)))) st = CB_ENOMEM;
+    if (st == CB_OK) t->hessian(s->terms[k], m->mesh->x, CB_PROJ_NONE, s->hconst); /* any x: H does not depend on it */
   }
   if (st) cb_system_free(s);
   return st;
@@ -58,13 +65,17 @@ double cb_system_elastic_energy(const cb_system *s, const double *x) {
 
 void cb_system_assemble(cb_system *s, const double *x, double mass_scale, cb_definiteness def, double shift) {
   cb_sparse *A = &s->A;
-  memset(A->val, 0, (size_t)A->nnz * sizeof(double));
+  if (s->hconst) memcpy(A->val, s->hconst, (size_t)A->nnz * sizeof(double)); /* A = H_const */
+  else memset(A->val, 0, (size_t)A->nnz * sizeof(double));
+  cb_projection proj = cb_definiteness_projection(def);
   const cb_model *m = s->model;
   for (int v = 0; v < m->mesh->nv; v++) { /* A += mass_scale M + shift bi on the diagonal */
     int bi = m->free_index[v];
     if (bi < 0) continue;
     for (int a = 0; a < 3; a++) A->val[s->diag[3 * bi + a]] += mass_scale * m->mass[v] + shift;
   }
-  for (int k = 0; k < s->nterms; k++) /* A += H_term(x) */
-    if (s->terms[k]->type->hessian) s->terms[k]->type->hessian(s->terms[k], x, def, A->val);
+  for (int k = 0; k < s->nterms; k++) { /* A += H_term(x), each element projected */
+    const cb_term_type *t = s->terms[k]->type;
+    if (t->hessian && !(t->flags & CB_TERM_CONSTANT_HESSIAN)) t->hessian(s->terms[k], x, proj, A->val);
+  }
 }
