@@ -122,11 +122,13 @@ test: deps
 
 DETERMINISM_EXP ?= linear_solvers
 
-check: $(TESTS) $(TOOLS) $(BUILD)/$(DETERMINISM_EXP)
+check: $(TESTS) $(TOOLS) $(BUILD)/$(DETERMINISM_EXP) $(BUILD)/topology $(BUILD)/definiteness
 	@scripts/check-blas.sh $(BUILD)/simulate
 	@set -e; for t in $(TESTS); do echo "== $$t"; CB_QUIET=1 CB_SIMULATE=$(BUILD)/simulate $$t --jobs 2 --short-filename; done
 	@BUILD=$(BUILD) tests/cli.sh
 	@BUILD=$(BUILD) tests/determinism.sh $(DETERMINISM_EXP)
+	@BUILD=$(BUILD) tests/shard.sh topology 3
+	@BUILD=$(BUILD) tests/shard.sh definiteness 2
 	@CC="$(CC)" CPPFLAGS="$(CPPFLAGS)" CORE_INC="$(CORE_INC)" INSTR_INC="$(INSTR_INC)" IO_INC="$(IO_INC)" tests/layers.sh
 	@echo "all tests passed"
 

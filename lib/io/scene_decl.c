@@ -1,0 +1,30 @@
+#include "scene_decl.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include <clothbench/status.h>
+
+static int named(const cb_scene_decl *d, int st) {
+  char msg[1024];
+  snprintf(msg, sizeof msg, "%s", cb_error_message());
+  return cb_fail_status(st, "scene %s (%s): %s", d->label, d->config ? d->config : "no config", msg);
+}
+
+int cb_scene_decl_config(const cb_experiment *e, const cb_scene_decl *d, const char *const *more, cb_config *out) {
+  if (!d->label || !d->config || !d->role) return cb_fail("scene declaration without a label, config or role");
+  int st = cb_experiment_config(e, d->config, d->overrides, out);
+  for (int i = 0; st == CB_OK && more && more[i]; i++) st = cb_config_set(out, more[i]);
+  if (st == CB_OK) st = cb_config_validate(out);
+  return st ? named(d, st) : CB_OK;
+}
+
+int cb_scene_decl_build(const cb_experiment *e, const cb_scene_decl *d, const char *const *more, cb_scene **out) {
+  cb_config cfg;
+  *out = NULL;
+  int st = cb_scene_decl_config(e, d, more, &cfg);
+  if (st == CB_OK && (st = cb_scene_build(&cfg, out))) return named(d, st);
+  return st;
+}
+
+int cb_scene_decl_is(const cb_scene_decl *d, const char *role) { return d->role && !strcmp(d->role, role); }
