@@ -211,8 +211,8 @@ static int scene_cell(long i, void *vc, FILE *const *out) {
 /* cost hint: the dofs, times the runs the role asks for */
 static double scene_cost(long i, void *vc) {
   const scene_plan *d = &scenes[((const ctx *)vc)->cell[i]];
-  double n = 1;
-  for (int k = 0; d->scene.overrides[k]; k++) sscanf(d->scene.overrides[k], "mesh.n=%lf", &n);
+  const char *mn = cb_scene_decl_override(&d->scene, "mesh.n");
+  double n = mn ? atof(mn) : 1;
   return n * n * (cb_scene_decl_is(&d->scene, "spectrum") ? 0.2 : cb_scene_decl_is(&d->scene, "edges") ? 1 : 3);
 }
 

@@ -28,3 +28,19 @@ int cb_scene_decl_build(const cb_experiment *e, const cb_scene_decl *d, const ch
 }
 
 int cb_scene_decl_is(const cb_scene_decl *d, const char *role) { return d->role && !strcmp(d->role, role); }
+
+const char *cb_scene_decl_override(const cb_scene_decl *d, const char *key) {
+  const char *v = NULL;
+  size_t n = strlen(key);
+  for (int i = 0; i < CB_SCENE_DECL_MAX_SETS && d->overrides[i]; i++) {
+    const char *a = d->overrides[i];
+    while (*a == ' ') a++;
+    if (strncmp(a, key, n)) continue;
+    const char *b = a + n;
+    while (*b == ' ') b++;
+    if (*b != '=') continue;
+    for (b++; *b == ' ';) b++;
+    v = b;
+  }
+  return v;
+}

@@ -37,6 +37,11 @@ int cb_scene_decl_config(const cb_experiment *e, const cb_scene_decl *d, const c
 /* cb_scene_decl_config, then the scene built from that config. */
 int cb_scene_decl_build(const cb_experiment *e, const cb_scene_decl *d, const char *const *more, cb_scene **out);
 
+/* The value the declaration's overrides give "section.key" (the last one
+ * wins), or NULL if they do not set it. For plan data read off the table,
+ * e.g. a cost hint from mesh.n. */
+const char *cb_scene_decl_override(const cb_scene_decl *d, const char *key);
+
 /* Whether d has this role. */
 int cb_scene_decl_is(const cb_scene_decl *d, const char *role);
 
