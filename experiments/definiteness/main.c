@@ -241,11 +241,11 @@ int main(int argc, char **argv) {
     if (cb_scene_decl_is(&scenes[i].scene, "trajectory")) pl.traj[pl.ntraj++] = i;
     if (cb_scene_decl_is(&scenes[i].scene, "static")) pl.stat[pl.nstat++] = i;
   }
-  for (int i = 0; i < pl.ntraj; i++) { /* cost hint: steps x vertices x policies */
+  for (int i = 0; i < pl.ntraj; i++) { /* cost hint: policies x steps x vertices (Newton iterations vary 10x) */
     cb_config cfg;
     const scene_plan *sp = &scenes[pl.traj[i]];
     if ((st = cb_scene_decl_config(&e, &sp->scene, NULL, &cfg))) return cb_experiment_end(&e, st), 1;
-    pl.cost[i] = (double)NPOL * sp->steps[e.quick] * cfg.mesh_n * (strcmp(cfg.mesh_type, "grid") ? 1 : cfg.mesh_m ? cfg.mesh_m : cfg.mesh_n);
+    pl.cost[i] = (double)NPOL * sp->steps[e.quick] * (double)cb_scene_decl_vertices(&cfg);
   }
   const char *extra = "# one row per Newton iterate x^(k); system = 1 if A(x^(k)) was assembled and solved there\n";
   if (cb_experiment_table(&e, NULL, extra, IT_HEAD) != T_IT ||

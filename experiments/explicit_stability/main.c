@@ -297,7 +297,7 @@ static int extreme_cell(long i, void *ctx, FILE *const *out) {
 
 static double map_cost(long i, void *ctx) { return ((const cells *)ctx)->map[i].cost; }
 static double res_cost(long i, void *ctx) { return ((const cells *)ctx)->res[i].cost; }
-static double extreme_cost(long i, void *ctx) { (void)i; (void)ctx; return 441.0 * 0.5; }
+static double extreme_cost(long i, void *ctx) { (void)i; (void)ctx; return 0.4 * (441 + 5); }
 
 static const char *about =
   "Claims E1, E2, I1. Sweeps spring stiffness k (1e1..1e7 N/m) and time step dt\n"
@@ -342,18 +342,22 @@ int main(int argc, char **argv) {
         "scene,n_vertices,k,method,dt,steps,sim_time_s,wall_ms,wall_ms_per_s,wall_repeats,status,step_status,newton_iters,dt_crit_meas,"
         "dt_crit_pred") != T_TIMING)
     return cb_experiment_end(&e, CB_EIO), 2;
-  /* cost hints: vertices (+ a per-step overhead) x the cells' share of explicit runs */
+  /* cost hints: vertices + 5 (a quick run takes 2.5-4 ms per unit for a map cell
+   * or a resolution cell, 1.5 for an extreme case) */
   static cells cl;
   cl.e = &e;
   cl.p = &p;
-  for (int s = 0; s < NSCENES; s++) {
+  for (int s = 0; st == CB_OK && s < NSCENES; s++) {
     const scene_plan *d = &scenes[s];
-    double nv = grid_n(&d->scene), w = (nv > 0 ? nv * nv : 20) + 100;
+    cb_config cfg;
+    if ((st = cb_scene_decl_config(&e, &d->scene, NULL, &cfg))) break;
+    double w = (double)cb_scene_decl_vertices(&cfg) + 5;
     if (cb_scene_decl_is(&d->scene, "map"))
       for (int i = 0; i < p.nk; i += d->k_stride[p.quick]) cl.map[cl.nmap++] = (case_cell){s, i, w};
     if (cb_scene_decl_is(&d->scene, "resolution"))
-      for (int r = 0; r < p.nres; r++) cl.res[cl.nres++] = (case_cell){s, r, w * 0.5};
+      for (int r = 0; r < p.nres; r++) cl.res[cl.nres++] = (case_cell){s, r, w};
   }
+  if (st) return cb_experiment_end(&e, st), 1;
   const cb_sweep sweeps[] = {{"map", cl.nmap, map_cell, map_cost, &cl},
                              {"resolution", cl.nres, res_cell, res_cost, &cl},
                              {"extremes", NEXTREMES, extreme_cell, extreme_cost, &cl}};

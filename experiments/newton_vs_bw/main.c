@@ -71,7 +71,16 @@ typedef struct {
   int steps[NSCENES], nsteps, traj, regime, i2; /* scene indices by role */
   const int *di, *ki, *si;
   int nd, nk, nst;
+  double steps_cost[NSCENES], traj_cost[2], i2_cost; /* cost hints (estimated ms) */
 } plan;
+
+/* the trajectories' methods */
+static int traj_methods(int q, cb_method *M) {
+  int nm = methods(KS, q ? 3 : 5, ALL, 1, 0, M); /* K = 1..10 (fixed), CHOLMOD, line search off/on */
+  if (!q) nm += methods(KS + 5, 1, ALL, 1, 0, M + nm); /* converged, CHOLMOD (the reference is converged too) */
+  nm += methods(KS, 1, ALL + 1, q ? 1 : 2, 0, M + nm); /* K = 1 with cg32 (and cheb32) */
+  return nm;
+}
 
 /* The methods and start states of a "steps" scene, by label. */
 static int step_plan(const plan *p, const char *label, cb_method *M, const int **states, int *ns) {
@@ -109,7 +118,7 @@ static int steps_cell(long i, void *ctx, FILE *const *out) {
   if (nm < 0) return CB_EINVAL;
   cb_scene *s = NULL;
   int st = cb_scene_decl_build(p->e, d, NULL, &s);
-  if (st == CB_OK) st = cb_study_steps(s, d->label, s->cfg.dt, states, ns, M, nm, out[T_STEPS], NULL, P);
+  if (st == CB_OK) st = cb_study_steps(s, d->label, s->cfg.dt, states, ns, M, nm, out[T_STEPS], P);
   if (st == CB_OK) st = cb_study_pareto(out[T_PARETO], d->label, M, nm, P, ns);
   cb_scene_free(s);
   return st;
@@ -125,10 +134,8 @@ static int traj_cell(long i, void *ctx, FILE *const *out) {
   double dt = s->cfg.dt;
   if (i == 0) {
     static cb_method M[200];
-    int q = p->q, nm = methods(KS, q ? 3 : 5, ALL, 1, 0, M); /* K = 1..10 (fixed), CHOLMOD, line search off/on */
-    if (!q) nm += methods(KS + 5, 1, ALL, 1, 0, M + nm);    /* converged, CHOLMOD (the reference is converged too) */
-    nm += methods(KS, 1, ALL + 1, q ? 1 : 2, 0, M + nm);     /* K = 1 with cg32 (and cheb32) */
-    st = cb_study_trajectories(s, d->label, dt, (int)lround(2.0 / dt), M, nm, out[T_TRAJ], NULL);
+    int nm = traj_methods(p->q, M);
+    st = cb_study_trajectories(s, d->label, dt, (int)lround(2.0 / dt), M, nm, out[T_TRAJ]);
   } else {
     st = cb_study_dt_error(s, d->label, dt, 16, (int)lround((p->q ? 0.5 : 2.0) / dt), out[T_DT]);
   }
@@ -162,19 +169,53 @@ static int i2_cell(long i, void *ctx, FILE *const *out) {
   cb_scene *s = NULL;
   (void)i;
   int st = cb_scene_decl_build(p->e, d, NULL, &s);
-  if (st == CB_OK) st = cb_study_order(s, d->label, s->cfg.dt, p->q ? 5 : 30, out[T_I2], NULL);
+  if (st == CB_OK) st = cb_study_order(s, d->label, s->cfg.dt, p->q ? 5 : 30, out[T_I2]);
   cb_scene_free(s);
   return st;
 }
 
-/* cost hints, in steps of the 21^2 lab cloth (measured orders of magnitude, quick run) */
-static double steps_cost(long i, void *ctx) {
+/* Cost hints: estimated ms, from a quick run's cost per unit of work scaled
+ * by vertices / 441: 40 ms per (method, state) step (Newton up to converged),
+ * 5 ms per trajectory step, 10 ms per converged reference step, 2 ms per
+ * Baraff-Witkin step of the regime map, 300 ms per I2 state (five converged
+ * Newton runs logged to 1e-14). */
+static double steps_cost(long i, void *ctx) { return ((const plan *)ctx)->steps_cost[i]; }
+static double traj_cost(long i, void *ctx) { return ((const plan *)ctx)->traj_cost[i]; }
+static double i2_cost(long i, void *ctx) { (void)i; return ((const plan *)ctx)->i2_cost; }
+static double regime_cost(long i, void *ctx) {
   const plan *p = ctx;
-  return !strcmp(SCENES[p->steps[i]].label, "grid64") ? 4.0 : 3.0;
+  double dt = 1;
+  cb_parse_double(DTS[p->di[i % p->nd]], &dt);
+  return 2.0 * lround((p->q ? 1.0 : 2.0) / dt);
 }
-static double traj_cost(long i, void *ctx) { (void)ctx; return i == 0 ? 2.0 : 1.0; }
-static double regime_cost(long i, void *ctx) { (void)i; return ((const plan *)ctx)->q ? 0.1 : 0.2; }
-static double i2_cost(long i, void *ctx) { (void)i; return ((const plan *)ctx)->q ? 0.3 : 2.0; }
+
+/* vertices / 441 and dt of a scene's config */
+static int scene_size(const cb_experiment *e, const cb_scene_decl *d, double *rel, double *dt) {
+  cb_config c;
+  int st = cb_scene_decl_config(e, d, NULL, &c);
+  *rel = st ? 1 : (double)cb_scene_decl_vertices(&c) / 441;
+  *dt = st ? 1.0 / 30 : c.dt;
+  return st;
+}
+
+static int cost_hints(plan *p) {
+  static cb_method M[200];
+  const int *states;
+  double rel, dt;
+  int ns, st = CB_OK;
+  for (int i = 0; st == CB_OK && i < p->nsteps; i++) {
+    const cb_scene_decl *d = &SCENES[p->steps[i]];
+    st = scene_size(p->e, d, &rel, &dt);
+    p->steps_cost[i] = 40.0 * step_plan(p, d->label, M, &states, &ns) * ns * rel;
+  }
+  if (st == CB_OK && p->traj >= 0 && (st = scene_size(p->e, &SCENES[p->traj], &rel, &dt)) == CB_OK) {
+    p->traj_cost[0] = 5.0 * (traj_methods(p->q, M) + 1) * lround(2.0 / dt) * rel;
+    p->traj_cost[1] = 10.0 * 17 * lround((p->q ? 0.5 : 2.0) / dt) * rel;
+  }
+  if (st == CB_OK && p->i2 >= 0 && (st = scene_size(p->e, &SCENES[p->i2], &rel, &dt)) == CB_OK)
+    p->i2_cost = 300.0 * (p->q ? 5 : 30) * rel;
+  return st;
+}
 
 int main(int argc, char **argv) {
   cb_experiment e;
@@ -190,6 +231,7 @@ int main(int argc, char **argv) {
     else if (cb_scene_decl_is(d, "regime")) p.regime = i;
     else if (cb_scene_decl_is(d, "i2")) p.i2 = i;
   }
+  if ((b = cost_hints(&p))) return cb_experiment_end(&e, b), 1;
   const char *units = "# units: dt s; k N/m; stretch = scene.initial_scale; *_ms wall milliseconds; step_error = "
                       "|x - x*|_M / |x* - x0|_M; f_minus_fstar_j J\n";
   if (cb_experiment_table(&e, NULL, units, cb_study_steps_header) != T_STEPS ||

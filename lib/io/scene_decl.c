@@ -44,3 +44,9 @@ const char *cb_scene_decl_override(const cb_scene_decl *d, const char *key) {
   }
   return v;
 }
+
+long cb_scene_decl_vertices(const cb_config *c) {
+  if (!strcmp(c->mesh_type, "grid")) return (long)c->mesh_n * (c->mesh_m > 0 ? c->mesh_m : c->mesh_n);
+  if (!strcmp(c->mesh_type, "chain")) return c->mesh_n;
+  return 0;
+}

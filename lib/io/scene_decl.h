@@ -42,6 +42,10 @@ int cb_scene_decl_build(const cb_experiment *e, const cb_scene_decl *d, const ch
  * e.g. a cost hint from mesh.n. */
 const char *cb_scene_decl_override(const cb_scene_decl *d, const char *key);
 
+/* Vertices of the scene a config describes, for cost hints: n*m for a grid,
+ * n for a chain, 0 for an OBJ mesh (not read here). */
+long cb_scene_decl_vertices(const cb_config *c);
+
 /* Whether d has this role. */
 int cb_scene_decl_is(const cb_scene_decl *d, const char *role);
 
