@@ -47,7 +47,7 @@ Test(scene_decl, errors_name_the_scene_and_the_key) {
   cr_assert(strstr(cb_error_message(), "stretch_k"), "%s", cb_error_message());
   cb_scene_decl missing = {"ghost", "no_such.ini", {NULL}, "map"};
   cb_scene *s = (cb_scene *)&c;
-  cr_assert_lt(cb_scene_decl_build(&e, &missing, NULL, &s), 0);
+  cr_assert_lt(cb_scene_decl_build(&e, &missing, NULL, NULL, &s), 0);
   cr_assert_null(s);
   cr_assert(strstr(cb_error_message(), "scene ghost (no_such.ini)"), "%s", cb_error_message());
 }

@@ -90,9 +90,9 @@ static int run_policy(const cb_experiment *e, const scene_plan *sd, int p, FILE 
   cb_newton_trace tr = {0};
   cb_run run = {0};
   cb_integrator_params ip;
-  int st = cb_scene_decl_build(e, &sd->scene, sets, &s);
-  if (st == CB_OK && p > 0) st = cb_scene_decl_build(e, &sd->scene, refsets, &ref);
-  const cb_config cfg = st == CB_OK ? s->cfg : (cb_config){0};
+  cb_config cfg;
+  int st = cb_scene_decl_build(e, &sd->scene, sets, &cfg, &s);
+  if (st == CB_OK && p > 0) st = cb_scene_decl_build(e, &sd->scene, refsets, NULL, &ref);
   if (st == CB_OK) st = cb_integrator_params_from_config(&cfg, &ip);
   if (st == CB_OK) st = cb_newton_trace_init(&tr, s, ref ? &ref->sys : NULL, ip.dt, ip.max_iters + 1,
                                       CB_PROBE_EIG | CB_PROBE_CG, CB_PROBE_CHOLMOD | CB_PROBE_EIG, NULL);
@@ -162,8 +162,8 @@ static int pair_cell(const cb_experiment *e, const cb_scene_decl *sd, int p, FIL
   const char *sets[] = {pol, kb, NULL};
   cb_scene *s = NULL;
   cb_definiteness def = CB_DEF_NONE;
-  int st = cb_scene_decl_build(e, sd, sets, &s);
-  const cb_config cfg = st == CB_OK ? s->cfg : (cb_config){0};
+  cb_config cfg;
+  int st = cb_scene_decl_build(e, sd, sets, &cfg, &s);
   if (st == CB_OK) st = cb_definiteness_from_name(pols[p], &def);
   for (size_t r = 0; st == CB_OK && r < sizeof ratios / sizeof ratios[0]; r++) {
     double q = ratios[r], x[9] = {-q, 0, 0, 0, 0, 0, q, 0, 0}, m = s->mass[1], s2 = 1.0 / (cfg.dt * cfg.dt);

@@ -117,7 +117,7 @@ static int steps_cell(long i, void *ctx, FILE *const *out) {
   int ns, nm = step_plan(p, d->label, M, &states, &ns);
   if (nm < 0) return CB_EINVAL;
   cb_scene *s = NULL;
-  int st = cb_scene_decl_build(p->e, d, NULL, &s);
+  int st = cb_scene_decl_build(p->e, d, NULL, NULL, &s);
   if (st == CB_OK) st = cb_study_steps(s, d->label, s->cfg.dt, states, ns, M, nm, out[T_STEPS], P);
   if (st == CB_OK) st = cb_study_pareto(out[T_PARETO], d->label, M, nm, P, ns);
   cb_scene_free(s);
@@ -129,7 +129,7 @@ static int traj_cell(long i, void *ctx, FILE *const *out) {
   const plan *p = ctx;
   const cb_scene_decl *d = &SCENES[p->traj];
   cb_scene *s = NULL;
-  int st = cb_scene_decl_build(p->e, d, NULL, &s);
+  int st = cb_scene_decl_build(p->e, d, NULL, NULL, &s);
   if (st) return st;
   double dt = s->cfg.dt;
   if (i == 0) {
@@ -154,7 +154,7 @@ static int regime_cell(long i, void *ctx, FILE *const *out) {
   const char *sets[] = {s1, s2, s3, NULL};
   cb_scene *s = NULL;
   const cb_scene_decl *sd = &SCENES[p->regime];
-  int st = cb_scene_decl_build(p->e, sd, sets, &s);
+  int st = cb_scene_decl_build(p->e, sd, sets, NULL, &s);
   if (st == CB_OK)
     st = cb_study_regime_cell(s, sd->label, s->cfg.dt, p->q ? 1.0 : 2.0, p->q ? 2 : 4, 0.01, p->di[d], p->ki[c],
                               p->si[a], out[T_REGIME]);
@@ -168,7 +168,7 @@ static int i2_cell(long i, void *ctx, FILE *const *out) {
   const cb_scene_decl *d = &SCENES[p->i2];
   cb_scene *s = NULL;
   (void)i;
-  int st = cb_scene_decl_build(p->e, d, NULL, &s);
+  int st = cb_scene_decl_build(p->e, d, NULL, NULL, &s);
   if (st == CB_OK) st = cb_study_order(s, d->label, s->cfg.dt, p->q ? 5 : 30, out[T_I2]);
   cb_scene_free(s);
   return st;

@@ -12,6 +12,7 @@ static int named(const cb_scene_decl *d, int st) {
 }
 
 int cb_scene_decl_config(const cb_experiment *e, const cb_scene_decl *d, const char *const *more, cb_config *out) {
+  cb_config_defaults(out);
   if (!d->label || !d->config || !d->role) return cb_fail("scene declaration without a label, config or role");
   int st = cb_experiment_config(e, d->config, d->overrides, out);
   for (int i = 0; st == CB_OK && more && more[i]; i++) st = cb_config_set(out, more[i]);
@@ -19,11 +20,12 @@ int cb_scene_decl_config(const cb_experiment *e, const cb_scene_decl *d, const c
   return st ? named(d, st) : CB_OK;
 }
 
-int cb_scene_decl_build(const cb_experiment *e, const cb_scene_decl *d, const char *const *more, cb_scene **out) {
-  cb_config cfg;
+int cb_scene_decl_build(const cb_experiment *e, const cb_scene_decl *d, const char *const *more, cb_config *cfg,
+                        cb_scene **out) {
+  cb_config own, *c = cfg ? cfg : &own;
   *out = NULL;
-  int st = cb_scene_decl_config(e, d, more, &cfg);
-  if (st == CB_OK && (st = cb_scene_build(&cfg, out))) return named(d, st);
+  int st = cb_scene_decl_config(e, d, more, c);
+  if (st == CB_OK && (st = cb_scene_build(c, out))) return named(d, st);
   return st;
 }
 

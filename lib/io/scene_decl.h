@@ -34,8 +34,10 @@ typedef struct cb_scene_decl {
  * "scene <label> (<config>): <file:line: key: reason>". */
 int cb_scene_decl_config(const cb_experiment *e, const cb_scene_decl *d, const char *const *more, cb_config *out);
 
-/* cb_scene_decl_config, then the scene built from that config. */
-int cb_scene_decl_build(const cb_experiment *e, const cb_scene_decl *d, const char *const *more, cb_scene **out);
+/* cb_scene_decl_config, then the scene built from that config; cfg (may be
+ * NULL) receives the config. *out is NULL on error. */
+int cb_scene_decl_build(const cb_experiment *e, const cb_scene_decl *d, const char *const *more, cb_config *cfg,
+                        cb_scene **out);
 
 /* The value the declaration's overrides give "section.key" (the last one
  * wins), or NULL if they do not set it. For plan data read off the table,
