@@ -12,19 +12,35 @@
 #include "bind.h"
 #include "experiment.h"
 #include "provenance.h"
+#include "scene_decl.h"
+#include "sweep.h"
 #include "newton_trace.h"
 
-enum { NPOL = 5, NSCENE = 4 };
+enum { NPOL = 5 };
 static const char *const policies[NPOL] = {"none", "drop", "mirror", "shift", "choi-ko"};
-typedef struct { const char *name; int steps, quick_steps; const char *sets[8]; } scene_def;
-static char pins_lr[CB_PINS_LEN]; /* left and right edges of the 21x21 grid */
-static const scene_def scenes[NSCENE] = {
-  {"hanging", 20, 3, {NULL}},                          /* the lab cloth falling from two corners */
-  {"scaled", 20, 3, {"scene.initial_scale=0.7", NULL}}, /* starts at 0.7x its rest shape (pins too) */
-  {"driven", 30, 3, {pins_lr, "scene.pin_squeeze=2 0 0", NULL}}, /* two edges pushed together: buckling */
-  {"pair", 30, 10, {"mesh.type=chain", "mesh.n=3", "mesh.size=2", "mesh.plane=xy", "scene.pins=0 2",
-                    "scene.initial_scale=0.7", NULL}}, /* two springs compressed to 0.7 L between pins */
+
+/* Scenes. Roles: "trajectory" = Newton steps from the scene's start under every
+ * policy (tables main, steps, runs; one cell per scene); "static" = the
+ * spring pair held still at a list of compressions (table pair; one cell per
+ * policy variant of pair_variants). steps[0] full, steps[1] --quick. */
+typedef struct { cb_scene_decl scene; int steps[2]; } scene_plan;
+#define PAIR "mesh.type=chain", "mesh.n=3", "mesh.size=2", "mesh.plane=xy", "scene.pins=0 2"
+static const scene_plan scenes[] = {
+  {{"hanging", "hanging.ini", {NULL}, "trajectory"}, {20, 3}},  /* the lab cloth falling from two corners */
+  {{"scaled", "hanging.ini", {"scene.initial_scale=0.7", NULL}, "trajectory"}, {20, 3}}, /* starts at 0.7x its rest shape (pins too) */
+  {{"driven", "hanging.ini", /* left and right edges of the 21x21 grid (vertex (i, j) is j*21 + i) pushed together: buckling */
+    {"scene.pins=0 21 42 63 84 105 126 147 168 189 210 231 252 273 294 315 336 357 378 399 420 "
+     "20 41 62 83 104 125 146 167 188 209 230 251 272 293 314 335 356 377 398 419 440",
+     "scene.pin_squeeze=2 0 0", NULL}, "trajectory"}, {30, 3}},
+  {{"pair", "hanging.ini", {PAIR, "scene.initial_scale=0.7", NULL}, "trajectory"}, {30, 10}}, /* two springs compressed to 0.7 L between pins */
+  {{"pair_static", "hanging.ini", {PAIR, NULL}, "static"}, {0, 0}}, /* the same pair, positions set by hand */
 };
+enum { NSCENES = sizeof scenes / sizeof scenes[0] };
+/* the static pair's policy variants: policy and (choi-ko) buckling stiffness */
+static const char *const pair_pols[] = {"none", "drop", "mirror", "choi-ko", "choi-ko", "choi-ko", "choi-ko"};
+static const char *const pair_kbs[] = {"0.01", "0.01", "0.01", "0.01", "0.1", "1", "10"};
+enum { NPAIR = sizeof pair_pols / sizeof pair_pols[0] };
+enum { T_IT, T_STEPS, T_RUNS, T_PAIR }; /* tables, in the order opened */
 
 #define IT_HEAD "scene,policy,step,newton_iter,system,spd,min_eig,min_eig_res,mu,spd_exact,min_eig_exact," \
   "compressed_frac,cg_breakdown,cg_status,cg_iters,rel_grad,grad_norm,f_j,energy_j,wall_ms,status"
@@ -63,25 +79,22 @@ typedef struct {
   double mu, wall, probe, F, energy, rel_grad, *x;
 } tally;
 
-static int run_policy(cb_experiment *e, const scene_def *sd, int p, FILE *it, FILE *stp, tally *t, int *nv) {
+static int run_policy(const cb_experiment *e, const scene_plan *sd, int p, FILE *it, FILE *stp, tally *t, int *nv) {
   char pol[64];
   snprintf(pol, sizeof pol, "integrator.definiteness=%s", policies[p]);
-  const char *sets[12], *refsets[12];
-  int n = 0, steps = e->quick ? sd->quick_steps : sd->steps;
-  for (; sd->sets[n]; n++) sets[n] = refsets[n] = sd->sets[n];
-  sets[n] = refsets[n] = "integrator.tol_dx=1e-9"; /* |grad F(x0)| can be tiny at rest: stop at round-off */
-  sets[n + 1] = pol; refsets[n + 1] = "integrator.definiteness=none"; sets[n + 2] = refsets[n + 2] = NULL;
-  cb_config cfg, rcfg;
+  /* |grad F(x0)| can be tiny at rest: stop at round-off */
+  const char *sets[] = {"integrator.tol_dx=1e-9", pol, NULL}, *refsets[] = {sets[0], "integrator.definiteness=none", NULL};
+  const char *label = sd->scene.label;
+  int steps = sd->steps[e->quick];
   cb_scene *s = NULL, *ref = NULL; /* ref: linear springs, for the exact (none) matrix at our iterates */
   cb_integrator *integ = NULL;
   cb_newton_trace tr = {0};
   cb_run run = {0};
   cb_integrator_params ip;
-  int st = cb_experiment_config(e, "hanging.ini", sets, &cfg);
-  if (st == CB_OK) st = cb_scene_from_config(&cfg, &s);
-  if (st == CB_OK && p > 0) st = cb_experiment_config(e, "hanging.ini", refsets, &rcfg);
-  if (st == CB_OK && p > 0) st = cb_scene_from_config(&rcfg, &ref);
+  cb_config cfg;
   cb_newton_params np;
+  int st = cb_scene_decl_build(e, &sd->scene, sets, &cfg, &s);
+  if (st == CB_OK && p > 0) st = cb_scene_decl_build(e, &sd->scene, refsets, NULL, &ref);
   if (st == CB_OK) st = cb_integrator_params_from_config(&cfg, &ip);
   if (st == CB_OK) st = cb_newton_params_from_config(&cfg, &np);
   if (st == CB_OK) st = cb_newton_trace_init(&tr, s, ref ? &ref->sys : NULL, ip.dt, np.max_iters + 1,
@@ -101,14 +114,14 @@ static int run_policy(cb_experiment *e, const scene_def *sd, int p, FILE *it, FI
     double wall = ss->wall_ms - tr.probe_ms; /* the integrator's time, probes excluded */
     for (int r = 0; r < tr.nrows; r++) {
       const cb_newton_trace_row *w = &tr.rows[r];
-      put_row(it, sd->name, policies[p], run.step, w, p == 0);
+      put_row(it, label, policies[p], run.step, w, p == 0);
       t->systems += w->system;
       t->not_spd += w->system && w->status == CB_NOT_SPD;
       t->indef_x += w->system && (p == 0 ? w->status == CB_NOT_SPD || w->used.min_eig < 0
                                          : w->exact.cholmod_status == CB_NOT_SPD || w->exact.min_eig < 0);
       t->cg_bd += w->system && w->used.cg_status == CB_INDEFINITE;
     }
-    fprintf(stp, "%s,%s,%d,%.17g,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.6f,%s\n", sd->name, policies[p], run.step,
+    fprintf(stp, "%s,%s,%d,%.17g,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.6f,%s\n", label, policies[p], run.step,
             run.t, ss->newton_iters, ss->factorizations, ss->F, fin->energy, run.kinetic, ss->rel_grad,
             fin->compressed_frac, ss->shift_mu, wall, cb_status_name(t->status));
     t->steps_done++;
@@ -119,13 +132,12 @@ static int run_policy(cb_experiment *e, const scene_def *sd, int p, FILE *it, FI
     t->wall += wall;
     t->probe += tr.probe_ms;
     t->F = ss->F; t->energy = fin->energy; t->rel_grad = ss->rel_grad;
-    cb_progress_update(&e->progress, e->progress.done + 1);
     if (cb_status_is_fatal(t->status)) break;
   }
   if (st == CB_OK) {
     *nv = s->mesh.nv;
     char obj[1024], suffix[128];
-    snprintf(suffix, sizeof suffix, "%s_%s.obj", sd->name, policies[p]);
+    snprintf(suffix, sizeof suffix, "%s_%s.obj", label, policies[p]);
     cb_experiment_side_path(e, suffix, obj, sizeof obj);
     st = cb_mesh_write_obj(&s->mesh, run.x, obj); /* the final (or failing) state */
     if (t->steps_done == steps && !cb_status_is_fatal(t->status) && (t->x = malloc((size_t)3 * *nv * sizeof(double))))
@@ -143,48 +155,79 @@ static int run_policy(cb_experiment *e, const scene_def *sd, int p, FILE *it, FI
  * between pinned ends, the middle vertex free; H and A restricted to 1, 2 or
  * 3 dimensions. Prediction: A's eigenvalues are m/dt^2 + 2 (along) and
  * m/dt^2 + 2 (transverse, twice), the spring's eigenvalues doubled. */
-static int pair_sweep(cb_experiment *e, FILE *f) {
+static int pair_cell(const cb_experiment *e, const cb_scene_decl *sd, int p, FILE *f) {
   static const double ratios[] = {1.05, 1.0, 0.99, 0.97, 0.95, 0.94, 0.9, 0.8, 0.7, 0.5, 0.3, 0.1};
-  static const char *const pols[] = {"none", "drop", "mirror", "choi-ko", "choi-ko", "choi-ko", "choi-ko"};
-  static const char *const kbs[] = {"0.01", "0.01", "0.01", "0.01", "0.1", "1", "10"};
-  int st = CB_OK;
-  for (int p = 0; p < 7 && st == CB_OK; p++) {
-    char pol[64], kb[64];
-    snprintf(pol, sizeof pol, "integrator.definiteness=%s", pols[p]);
-    snprintf(kb, sizeof kb, "material.buckling_kb=%s", kbs[p]);
-    const char *sets[] = {"mesh.type=chain", "mesh.n=3", "mesh.size=2", "mesh.plane=xy", "scene.pins=0 2", pol, kb, NULL};
-    cb_config cfg;
-    cb_scene *s = NULL;
-    cb_definiteness def = CB_DEF_NONE;
-    st = cb_experiment_config(e, "hanging.ini", sets, &cfg);
-    if (st == CB_OK) st = cb_scene_from_config(&cfg, &s);
-    if (st == CB_OK) st = cb_definiteness_from_name(pols[p], &def);
-    for (size_t r = 0; st == CB_OK && r < sizeof ratios / sizeof ratios[0]; r++) {
-      double q = ratios[r], x[9] = {-q, 0, 0, 0, 0, 0, q, 0, 0}, m = s->mass[1], s2 = 1.0 / (cfg.dt * cfg.dt);
-      double k = cfg.stretch_k, along = k, tr = k * (1 - 1 / q), Eb, dEb, d2Eb; /* one spring: k, k(1 - L/l) */
-      cb_choi_ko ck;
-      if (def == CB_DEF_CHOI_KO && (st = cb_choi_ko_init(&ck, k, 1.0, cfg.buckling_kb)) == CB_OK) {
-        cb_choi_ko_eval(&ck, q, &Eb, &dEb, &d2Eb);
-        along = d2Eb; /* E''(l) */
-        tr = dEb / q; /* E'(l)/l */
-      }
-      tr = cb_definiteness_transverse(def, tr);
-      for (int dim = 1; dim <= 3 && st == CB_OK; dim++) {
-        int keep[3] = {1, dim >= 2, dim >= 3}, ok_h, ok_a;
-        double lh, la;
-        cb_system_assemble(&s->sys, x, 0.0, def, 0.0); /* H */
-        st = cb_dense_restricted_spd(&s->sys.A, keep, &lh, &ok_h);
-        cb_system_assemble(&s->sys, x, s2, def, 0.0); /* A = M/dt^2 + H */
-        if (st == CB_OK) st = cb_dense_restricted_spd(&s->sys.A, keep, &la, &ok_a);
-        double pred = m * s2 + 2 * (dim == 1 ? along : fmin(along, tr));
-        if (st == CB_OK)
-          fprintf(f, "%d,%s,%s,%.17g,%.17g,%.17g,%.17g,%d\n", dim, pols[p], def == CB_DEF_CHOI_KO ? kbs[p] : "", q, lh, la,
-                  pred, ok_a);
-      }
+  const char *const *pols = pair_pols, *const *kbs = pair_kbs;
+  char pol[64], kb[64];
+  snprintf(pol, sizeof pol, "integrator.definiteness=%s", pols[p]);
+  snprintf(kb, sizeof kb, "material.buckling_kb=%s", kbs[p]);
+  const char *sets[] = {pol, kb, NULL};
+  cb_scene *s = NULL;
+  cb_definiteness def = CB_DEF_NONE;
+  cb_config cfg;
+  int st = cb_scene_decl_build(e, sd, sets, &cfg, &s);
+  if (st == CB_OK) st = cb_definiteness_from_name(pols[p], &def);
+  for (size_t r = 0; st == CB_OK && r < sizeof ratios / sizeof ratios[0]; r++) {
+    double q = ratios[r], x[9] = {-q, 0, 0, 0, 0, 0, q, 0, 0}, m = s->mass[1], s2 = 1.0 / (cfg.dt * cfg.dt);
+    double k = cfg.stretch_k, along = k, tr = k * (1 - 1 / q), Eb, dEb, d2Eb; /* one spring: k, k(1 - L/l) */
+    cb_choi_ko ck;
+    if (def == CB_DEF_CHOI_KO && (st = cb_choi_ko_init(&ck, k, 1.0, cfg.buckling_kb)) == CB_OK) {
+      cb_choi_ko_eval(&ck, q, &Eb, &dEb, &d2Eb);
+      along = d2Eb; /* E''(l) */
+      tr = dEb / q; /* E'(l)/l */
     }
-    cb_scene_free(s);
+    tr = cb_definiteness_transverse(def, tr);
+    for (int dim = 1; dim <= 3 && st == CB_OK; dim++) {
+      int keep[3] = {1, dim >= 2, dim >= 3}, ok_h, ok_a;
+      double lh, la;
+      cb_system_assemble(&s->sys, x, 0.0, def, 0.0); /* H */
+      st = cb_dense_restricted_spd(&s->sys.A, keep, &lh, &ok_h);
+      cb_system_assemble(&s->sys, x, s2, def, 0.0); /* A = M/dt^2 + H */
+      if (st == CB_OK) st = cb_dense_restricted_spd(&s->sys.A, keep, &la, &ok_a);
+      double pred = m * s2 + 2 * (dim == 1 ? along : fmin(along, tr));
+      if (st == CB_OK)
+        fprintf(f, "%d,%s,%s,%.17g,%.17g,%.17g,%.17g,%d\n", dim, pols[p], def == CB_DEF_CHOI_KO ? kbs[p] : "", q, lh, la,
+                pred, ok_a);
+    }
   }
+  cb_scene_free(s);
+return st;
+}
+
+typedef struct {
+  const cb_experiment *e;
+  int traj[NSCENES], ntraj, stat[NSCENES], nstat; /* scene indices by role */
+  double cost[NSCENES];                           /* of the trajectory cells */
+} plan;
+
+/* One trajectory scene under every policy: its iterate and step rows, then
+ * one runs row per policy with the shape differences against none and drop. */
+static int traj_cell(long i, void *ctx, FILE *const *out) {
+  const plan *pl = ctx;
+  const scene_plan *sd = &scenes[pl->traj[i]];
+  tally t[NPOL];
+  memset(t, 0, sizeof t);
+  int nv = 0, st = CB_OK;
+  for (int p = 0; p < NPOL && st == CB_OK; p++) st = run_policy(pl->e, sd, p, out[T_IT], out[T_STEPS], &t[p], &nv);
+  for (int p = 0; p < NPOL && st == CB_OK; p++) {
+    const tally *a = &t[p];
+    FILE *f = out[T_RUNS];
+    fprintf(f, "%s,%s,%d,%d,%d,%d,%d,%d,%d,%d,%.17g,%d,%.6f,%.6f,%.17g,%.17g,%.17g,", sd->scene.label, policies[p],
+            sd->steps[pl->e->quick], a->steps_done, a->converged, a->iters, a->systems, a->not_spd, a->indef_x,
+            a->cg_bd, a->mu, a->fact, a->wall, a->probe, a->F, a->energy, a->rel_grad);
+    put_diff(f, a->x, t[0].x, nv);
+    put_diff(f, a->x, t[1].x, nv);
+    fprintf(f, "%s\n", cb_status_name(a->status));
+  }
+  for (int p = 0; p < NPOL; p++) free(t[p].x);
   return st;
+}
+
+static double traj_cost(long i, void *ctx) { return ((const plan *)ctx)->cost[i]; }
+
+static int static_cell(long i, void *ctx, FILE *const *out) {
+  const plan *pl = ctx;
+  return pair_cell(pl->e, &scenes[pl->stat[i / NPAIR]].scene, (int)(i % NPAIR), out[T_PAIR]);
 }
 
 int main(int argc, char **argv) {
@@ -195,51 +238,28 @@ int main(int argc, char **argv) {
                                "fixes drop, mirror, shift and choi-ko cost (Newton iterations, time, shape).",
                                argc, argv);
   if (st) return st > 0 ? 0 : 1;
-  size_t u = 0;
-  for (int side = 0; side < 2; side++) /* vertex (i, j) is j*21 + i: columns i = 0 and i = 20 */
-    for (int j = 0; j < 21; j++) u += (size_t)snprintf(pins_lr + u, sizeof pins_lr - u, "%s%d", u ? " " : "scene.pins=", j * 21 + 20 * side);
-  cb_outfile it, stp, runs, pair;
-  char path[3][1024];
-  cb_experiment_side_path(&e, "steps.csv", path[0], sizeof path[0]);
-  cb_experiment_side_path(&e, "runs.csv", path[1], sizeof path[1]);
-  cb_experiment_side_path(&e, "pair.csv", path[2], sizeof path[2]);
+  plan pl = {.e = &e};
+  for (int i = 0; i < NSCENES; i++) {
+    if (cb_scene_decl_is(&scenes[i].scene, "trajectory")) pl.traj[pl.ntraj++] = i;
+    if (cb_scene_decl_is(&scenes[i].scene, "static")) pl.stat[pl.nstat++] = i;
+  }
+  for (int i = 0; i < pl.ntraj; i++) { /* cost hint: policies x steps x vertices (Newton iterations vary 10x) */
+    cb_config cfg;
+    const scene_plan *sp = &scenes[pl.traj[i]];
+    if ((st = cb_scene_decl_config(&e, &sp->scene, NULL, &cfg))) return cb_experiment_end(&e, st), 1;
+    pl.cost[i] = (double)NPOL * sp->steps[e.quick] * (double)cb_scene_decl_vertices(&cfg);
+  }
   const char *extra = "# one row per Newton iterate x^(k); system = 1 if A(x^(k)) was assembled and solved there\n";
-  st = cb_experiment_csv(&e, &it, NULL, extra, IT_HEAD);
-  if (st == CB_OK) st = cb_experiment_csv(&e, &stp, path[0], NULL, "scene,policy,step,t_s,newton_iters,factorizations,"
-                                          "f_j,energy_j,kinetic_j,rel_grad,compressed_frac,mu_max,wall_ms,status");
-  if (st == CB_OK) st = cb_experiment_csv(&e, &runs, path[1], NULL, RUN_HEAD);
-  if (st == CB_OK) st = cb_experiment_csv(&e, &pair, path[2], NULL, "dim,policy,buckling_kb,ratio,min_eig_h,min_eig_a,"
-                                          "predicted_min_eig_a,spd");
-  if (st) { fprintf(stderr, "definiteness: %s\n", cb_error_message()); return 2; }
-  long total = 0;
-  for (int si = 0; si < NSCENE; si++) total += (long)NPOL * (e.quick ? scenes[si].quick_steps : scenes[si].steps);
-  cb_progress_start(&e.progress, "definiteness", total);
-  for (int si = 0; si < NSCENE && st == CB_OK; si++) {
-    tally t[NPOL];
-    memset(t, 0, sizeof t);
-    int nv = 0;
-    for (int p = 0; p < NPOL && st == CB_OK; p++) st = run_policy(&e, &scenes[si], p, it.f, stp.f, &t[p], &nv);
-    for (int p = 0; p < NPOL && st == CB_OK; p++) {
-      const tally *a = &t[p];
-      fprintf(runs.f, "%s,%s,%d,%d,%d,%d,%d,%d,%d,%d,%.17g,%d,%.6f,%.6f,%.17g,%.17g,%.17g,", scenes[si].name, policies[p],
-              e.quick ? scenes[si].quick_steps : scenes[si].steps, a->steps_done, a->converged, a->iters, a->systems,
-              a->not_spd, a->indef_x, a->cg_bd, a->mu, a->fact, a->wall, a->probe, a->F, a->energy, a->rel_grad);
-      put_diff(runs.f, a->x, t[0].x, nv);
-      put_diff(runs.f, a->x, t[1].x, nv);
-      fprintf(runs.f, "%s\n", cb_status_name(a->status));
-    }
-    for (int p = 0; p < NPOL; p++) free(t[p].x);
-  }
-  if (st == CB_OK) st = pair_sweep(&e, pair.f);
-  cb_progress_end(&e.progress);
-  if (st) {
-    fprintf(stderr, "definiteness: %s\n", cb_error_message());
-    cb_outfile_abort(&it); cb_outfile_abort(&stp); cb_outfile_abort(&runs); cb_outfile_abort(&pair);
-    return 1;
-  }
-  if (cb_outfile_commit(&it) || cb_outfile_commit(&stp) || cb_outfile_commit(&runs) || cb_outfile_commit(&pair)) {
-    fprintf(stderr, "definiteness: %s\n", cb_error_message());
-    return 2;
-  }
-  return 0;
+  if (cb_experiment_table(&e, NULL, extra, IT_HEAD) != T_IT ||
+      cb_experiment_table(&e, "steps", NULL, "scene,policy,step,t_s,newton_iters,factorizations,"
+                          "f_j,energy_j,kinetic_j,rel_grad,compressed_frac,mu_max,wall_ms,status") != T_STEPS ||
+      cb_experiment_table(&e, "runs", NULL, RUN_HEAD) != T_RUNS ||
+      cb_experiment_table(&e, "pair", NULL, "dim,policy,buckling_kb,ratio,min_eig_h,min_eig_a,"
+                          "predicted_min_eig_a,spd") != T_PAIR)
+    return cb_experiment_end(&e, CB_EIO), 2;
+  const cb_sweep sweeps[] = {{"trajectory", pl.ntraj, traj_cell, traj_cost, &pl},
+                             {"static pair", (long)pl.nstat * NPAIR, static_cell, NULL, &pl}};
+  st = cb_sweep_run(&e, sweeps, 2);
+  st = cb_experiment_end(&e, st);
+  return st == CB_OK ? 0 : st == CB_EIO ? 2 : 1;
 }

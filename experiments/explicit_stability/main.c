@@ -10,25 +10,42 @@
 #include <clothbench/clothbench.h>
 #include "experiment.h"
 #include "provenance.h"
+#include "scene_decl.h"
+#include "sweep.h"
 #include "stability.h"
 
-typedef struct { /* a scene; [0] = full run, [1] = --quick */
-  const char *name, *file;
-  int n;                                /* cloth vertices per side; 0 for a chain */
+/* Scenes. Roles: "map" = the k x dt map (explicit sweep, bisection, Newton
+ * cells, boundary row, E2 timings at some k; one cell per swept k);
+ * "resolution" = E2 only (no grid: the boundary bracketed from the prediction,
+ * timings at the k_res of the plan; one cell per k_res). The cloths are the
+ * GAMES103 lab cloth (10 m, 21^2, 1 kg a vertex = 441 kg) refined at the same
+ * total mass, hanging vertically (plane xy). Plan data: [0] = full run,
+ * [1] = --quick. */
+typedef struct {
+  cb_scene_decl scene;
   int k_stride[2];                      /* sweep every stride-th k */
   int nt_dt_stride[2], nt_k_stride[2];  /* Newton cells: every stride-th dt and k ... */
   double nt_dt_min;                     /* ... with dt >= this */
   long nt_cap[2];                       /* ... and at most this many steps */
   int e2_k_stride[2];                   /* E2 timings every stride-th k (0 = none) */
-} scene_def;
+} scene_plan;
 
-static const scene_def scenes[] = {
-  {"spring", "single_spring.ini", 0, {1, 1}, {1, 1}, {1, 1}, 0, {10000, 2000}, {0, 0}},
-  {"chain20", "chain20.ini", 0, {1, 1}, {1, 1}, {1, 1}, 0, {10000, 2000}, {0, 0}},
-  {"cloth21", "hanging.ini", 21, {1, 1}, {3, 2}, {2, 2}, 0, {10, 5}, {2, 3}},
-  {"cloth41", "hanging.ini", 41, {1, 3}, {3, 3}, {4, 1}, 1e-3, {5, 3}, {4, 0}},
+#define CLOTH(n, m) "mesh.n=" #n, "material.vertex_mass=441/" #m, "mesh.plane=xy"
+static const scene_plan scenes[] = {
+  {{"spring", "single_spring.ini", {NULL}, "map"}, {1, 1}, {1, 1}, {1, 1}, 0, {10000, 2000}, {0, 0}},
+  {{"chain20", "chain20.ini", {NULL}, "map"}, {1, 1}, {1, 1}, {1, 1}, 0, {10000, 2000}, {0, 0}},
+  {{"cloth21", "hanging.ini", {CLOTH(21, 441), NULL}, "map"}, {1, 1}, {3, 2}, {2, 2}, 0, {10, 5}, {2, 3}},
+  {{"cloth41", "hanging.ini", {CLOTH(41, 1681), NULL}, "map"}, {1, 3}, {3, 3}, {4, 1}, 1e-3, {5, 3}, {4, 0}},
+  {{"cloth81", "hanging.ini", {CLOTH(81, 6561), NULL}, "resolution"}, {1, 1}, {1, 1}, {1, 1}, 0, {0, 0}, {0, 0}},
 };
-enum { NSCENES = 4, MAXG = 64 };
+enum { NSCENES = sizeof scenes / sizeof scenes[0], MAXG = 64 };
+enum { T_MAIN, T_BOUNDARY, T_TIMING }; /* tables, in the order opened */
+
+/* grid vertices per side (the mesh.n override), 0 for a chain */
+static int grid_n(const cb_scene_decl *d) {
+  const char *v = cb_scene_decl_override(d, "mesh.n");
+  return v ? atoi(v) : 0;
+}
 
 typedef struct {
   int quick, nk, ndt, bisect_iters;
@@ -65,18 +82,12 @@ static void make_plan(plan *p, int quick, double sim_time) {
   p->nres = quick ? 1 : 2;
 }
 
-static int scene_config(const cb_experiment *e, const scene_def *d, int n, double k, const char *const *extra, cb_config *c) {
-  char sk[64], sn[64], sm[64];
+/* The scene at stiffness k; Newton stops at a 0.1 nm step (round-off). */
+static int scene_config(const cb_experiment *e, const cb_scene_decl *d, double k, cb_config *c) {
+  char sk[64];
   snprintf(sk, sizeof sk, "material.stretch_k=%.17g", k);
-  snprintf(sn, sizeof sn, "mesh.n=%d", n);
-  /* the GAMES103 lab cloth (10 m, 21^2, 1 kg a vertex = 441 kg) refined at the same total mass */
-  snprintf(sm, sizeof sm, "material.vertex_mass=%.17g", 441.0 / ((double)n * n));
-  const char *sets[12] = {sk, "integrator.tol_dx=1e-10"}; /* Newton: stop at a 0.1 nm step (round-off) */
-  int m = 2;
-  if (n > 0) { sets[m++] = sn; sets[m++] = sm; sets[m++] = "mesh.plane=xy"; } /* start hanging vertically */
-  for (int i = 0; extra && extra[i] && m < 11; i++) sets[m++] = extra[i];
-  sets[m] = NULL;
-  return cb_experiment_config(e, d->file, sets, c);
+  const char *more[] = {sk, "integrator.tol_dx=1e-10", NULL};
+  return cb_scene_decl_config(e, d, more, c);
 }
 
 /* window: the requested energy-loss window (mark_time), 0 if none. */
@@ -133,9 +144,9 @@ static int timing(cb_stability_case *c, double meas, int methods) {
 }
 
 /* One (scene, k): explicit sweep, bisection, Newton cells, boundary row, E2. */
-static int run_case(const cb_experiment *e, const plan *p, const scene_def *d, int ik, int n) {
+static int run_case(const cb_experiment *e, const plan *p, const scene_plan *d, int ik) {
   static cell_list sweep, bis, newton;
-  int q = p->quick, grid = d->n == n; /* no grid: the E2-only 81^2 cloth */
+  int q = p->quick, n = grid_n(&d->scene), grid = cb_scene_decl_is(&d->scene, "map"); /* no grid: E2 only */
   double k = p->k[ik];
   cb_config cfg;
   cb_case_params cp = cb_case_params_default();
@@ -143,10 +154,10 @@ static int run_case(const cb_experiment *e, const plan *p, const scene_def *d, i
   cp.eig = n == 0 || (n == 21 && ik % ((p->nk - 1) / 2) == 0) ? CB_EIG_BOTH : CB_EIG_LANCZOS;
   cp.predict_rest = grid;
   cb_stability_case c;
-  int st = scene_config(e, d, n, k, NULL, &cfg);
+  int st = scene_config(e, &d->scene, k, &cfg);
   if (st == CB_OK) st = cb_stability_case_init(&c, &cfg, &cp);
   if (st) return st;
-  cur_scene = grid ? d->name : "cloth81"; cur_k = k; cur_nv = c.scene->mesh.nv;
+  cur_scene = d->scene.label; cur_k = k; cur_nv = c.scene->mesh.nv;
   sweep.n = bis.n = newton.n = 0;
   int cls[MAXG], mono = -1;
   double lo = NAN, hi = NAN;
@@ -192,59 +203,102 @@ static int run_case(const cb_experiment *e, const plan *p, const scene_def *d, i
   return st;
 }
 
-/* Stiff and extreme cases on the 21^2 cloth: each has rows and a note. */
-static int extremes(const cb_experiment *e, const plan *p) {
-  static const struct {
-    const char *cas; double k; int eq; const char *sets[4];
-    double ex[2]; /* explicit dt: f > 0: f x dt_crit_pred at the start; f < 0: |f| x at the rest shape; else a fixed dt */
-    const char *note;
-  } x[] = {
-    {"k_1e8", 1e8, 1, {NULL}, {0.9, 1.1}, "k = 1e8 N/m from the hanging equilibrium: explicit at 0.9 and 1.1 x dt_crit_pred; Newton at 1/30 s"},
-    {"dt_0.1", 8000, 1, {NULL}, {0.1, 0}, "the lab stiffness 8000 N/m from the hanging equilibrium at dt = 0.1 s (12 x dt_crit_pred)"},
-    {"stretched_2x", 8000, 0, {"scene.initial_scale=2"}, {0.9, -0.9},
-     "starts at 2x the rest size (no equilibrium); explicit at 0.9 x dt_crit_pred at that start and at the rest shape"},
-    {"compressed_0.5x", 8000, 0, {"scene.initial_scale=0.5"}, {0.9, -0.9},
-     "starts at 0.5x the rest size (no equilibrium); explicit at 0.9 x dt_crit_pred at that start and at the rest shape"},
-    {"zero_rest_length", 8000, 1, {"mesh.type=obj", "mesh.file=zero_rest_length.obj", "scene.pins=0"}, {0.9, 0},
-     "configs/zero_rest_length.obj joins two coincident vertices by a line element"},
-    {"zero_gravity_no_pins", 8000, 1, {"scene.gravity=0 0 0", "scene.pins=none"}, {0.9, 1.1},
-     "no gravity and no pins: a free cloth with a random velocity (K has six rigid-body zero eigenvalues)"},
-  };
+/* Stiff and extreme cases on the 21^2 cloth, one cell each: each has rows
+ * and a note. A case's scene is the 21^2 cloth with its own overrides; its
+ * label is the case. */
+typedef struct {
+  cb_scene_decl scene;
+  double k;
+  int eq;
+  double ex[2]; /* explicit dt: f > 0: f x dt_crit_pred at the start; f < 0: |f| x at the rest shape; else a fixed dt */
+  const char *note;
+} extreme_case;
+static const extreme_case extreme_cases[] = {
+  {{"k_1e8", "hanging.ini", {CLOTH(21, 441), NULL}, "extreme"}, 1e8, 1, {0.9, 1.1},
+   "k = 1e8 N/m from the hanging equilibrium: explicit at 0.9 and 1.1 x dt_crit_pred; Newton at 1/30 s"},
+  {{"dt_0.1", "hanging.ini", {CLOTH(21, 441), NULL}, "extreme"}, 8000, 1, {0.1, 0},
+   "the lab stiffness 8000 N/m from the hanging equilibrium at dt = 0.1 s (12 x dt_crit_pred)"},
+  {{"stretched_2x", "hanging.ini", {CLOTH(21, 441), "scene.initial_scale=2", NULL}, "extreme"}, 8000, 0, {0.9, -0.9},
+   "starts at 2x the rest size (no equilibrium); explicit at 0.9 x dt_crit_pred at that start and at the rest shape"},
+  {{"compressed_0.5x", "hanging.ini", {CLOTH(21, 441), "scene.initial_scale=0.5", NULL}, "extreme"}, 8000, 0, {0.9, -0.9},
+   "starts at 0.5x the rest size (no equilibrium); explicit at 0.9 x dt_crit_pred at that start and at the rest shape"},
+  {{"zero_rest_length", "hanging.ini", {CLOTH(21, 441), "mesh.type=obj", "mesh.file=zero_rest_length.obj", "scene.pins=0", NULL},
+    "extreme"}, 8000, 1, {0.9, 0}, "configs/zero_rest_length.obj joins two coincident vertices by a line element"},
+  {{"zero_gravity_no_pins", "hanging.ini", {CLOTH(21, 441), "scene.gravity=0 0 0", "scene.pins=none", NULL}, "extreme"}, 8000,
+   1, {0.9, 1.1}, "no gravity and no pins: a free cloth with a random velocity (K has six rigid-body zero eigenvalues)"},
+};
+enum { NEXTREMES = sizeof extreme_cases / sizeof extreme_cases[0] };
+
+static int extreme(const cb_experiment *e, const plan *p, const extreme_case *x) {
   cb_stability_params pe = p->ex, pn = p->ex;
   pn.sim_time = 1.0; pn.min_steps = 1; pn.max_steps = 0; pn.energy_every = 1;
   if (p->quick) pn.sim_time = 1.0 / 3.0;
-  for (size_t i = 0; i < sizeof x / sizeof x[0]; i++) {
-    cb_config cfg;
-    cb_case_params cp = cb_case_params_default();
-    cp.equilibrium = x[i].eq;
-    cp.eig = CB_EIG_LANCZOS;
-    cb_stability_case c;
-    cur_scene = "cloth21"; cur_k = x[i].k; cur_nv = 441;
-    int st = scene_config(e, &scenes[2], 21, x[i].k, x[i].sets, &cfg);
-    if (st == CB_OK) st = cb_stability_case_init(&c, &cfg, &cp);
-    if (st == CB_EINVAL) { /* bad input: a clear error, recorded in the row */
-      char msg[1024];
-      snprintf(msg, sizeof msg, "%s: rejected when the scene is built: %s", x[i].note, cb_error_message());
-      for (char *s = msg; *s; s++) if (*s == ',' || *s == '\n') *s = ';';
-      fprintf(fmain, "extreme,%s,cloth21,0,%.17g,nan,explicit,rejected,nan,nan,0,0,0,nan,nan,nan,nan,nan,nan,0,nan,nan,"
-              "0,0,0,invalid_input,%s\n", x[i].cas, x[i].k, msg);
-      continue;
-    }
-    if (st) return st;
-    cur_nv = c.scene->mesh.nv;
-    cb_cell_result r;
-    for (int m = 0; m < 3 && st == CB_OK; m++) {
-      double f = m < 2 ? x[i].ex[m] : 0, dt = f > 0.5 ? f * c.pred.dt_crit : f < 0 ? -f * c.pred_rest.dt_crit : f;
-      if (m == 2) dt = !strcmp(x[i].cas, "dt_0.1") ? 0.1 : 1.0 / 30.0;
-      if (!(dt > 0)) continue;
-      st = cb_stability_cell(m == 2 ? c.newton : c.expl, dt, c.x_start, c.v_start, c.S, m == 2 ? &pn : &pe, &c.work, &r);
-      if (st == CB_OK) cell_row("extreme", x[i].cas, m == 2 ? "newton" : "explicit", &r, c.pred.dt_crit, NAN, c.kinetic0, 0, x[i].note);
-    }
-    cb_stability_case_free(&c);
-    if (st) return st;
+  cb_config cfg;
+  cb_case_params cp = cb_case_params_default();
+  cp.equilibrium = x->eq;
+  cp.eig = CB_EIG_LANCZOS;
+  cb_stability_case c;
+  const char *cas = x->scene.label;
+  cur_scene = "cloth21"; cur_k = x->k; cur_nv = 441;
+  int st = scene_config(e, &x->scene, x->k, &cfg);
+  if (st == CB_OK) st = cb_stability_case_init(&c, &cfg, &cp);
+  if (st == CB_EINVAL) { /* bad input: a clear error, recorded in the row */
+    char msg[1024];
+    snprintf(msg, sizeof msg, "%s: rejected when the scene is built: %s", x->note, cb_error_message());
+    for (char *s = msg; *s; s++) if (*s == ',' || *s == '\n') *s = ';';
+    fprintf(fmain, "extreme,%s,cloth21,0,%.17g,nan,explicit,rejected,nan,nan,0,0,0,nan,nan,nan,nan,nan,nan,0,nan,nan,"
+            "0,0,0,invalid_input,%s\n", cas, x->k, msg);
+    return CB_OK;
   }
-  return CB_OK;
+  if (st) return st;
+  cur_nv = c.scene->mesh.nv;
+  cb_cell_result r;
+  for (int m = 0; m < 3 && st == CB_OK; m++) {
+    double f = m < 2 ? x->ex[m] : 0, dt = f > 0.5 ? f * c.pred.dt_crit : f < 0 ? -f * c.pred_rest.dt_crit : f;
+    if (m == 2) dt = !strcmp(cas, "dt_0.1") ? 0.1 : 1.0 / 30.0;
+    if (!(dt > 0)) continue;
+    st = cb_stability_cell(m == 2 ? c.newton : c.expl, dt, c.x_start, c.v_start, c.S, m == 2 ? &pn : &pe, &c.work, &r);
+    if (st == CB_OK) cell_row("extreme", cas, m == 2 ? "newton" : "explicit", &r, c.pred.dt_crit, NAN, c.kinetic0, 0, x->note);
+  }
+  cb_stability_case_free(&c);
+  return st;
 }
+
+/* The cells: the swept k of every "map" scene, the k_res of every
+ * "resolution" scene, then the extreme cases. */
+typedef struct { int scene, ik; double cost; } case_cell;
+typedef struct {
+  const cb_experiment *e;
+  const plan *p;
+  case_cell map[NSCENES * MAXG], res[NSCENES * 2];
+  int nmap, nres;
+} cells;
+
+static void use(FILE *const *out) { fmain = out[T_MAIN]; fbound = out[T_BOUNDARY]; ftime = out[T_TIMING]; }
+
+static int map_cell(long i, void *ctx, FILE *const *out) {
+  const cells *c = ctx;
+  use(out);
+  return run_case(c->e, c->p, &scenes[c->map[i].scene], c->map[i].ik);
+}
+
+static int res_cell(long i, void *ctx, FILE *const *out) {
+  const cells *c = ctx;
+  plan q = *c->p; /* no sweep: k[0] is the resolution study's k */
+  q.k[0] = c->p->k_res[c->res[i].ik];
+  use(out);
+  return run_case(c->e, &q, &scenes[c->res[i].scene], 0);
+}
+
+static int extreme_cell(long i, void *ctx, FILE *const *out) {
+  const cells *c = ctx;
+  use(out);
+  return extreme(c->e, c->p, &extreme_cases[i]);
+}
+
+static double map_cost(long i, void *ctx) { return ((const cells *)ctx)->map[i].cost; }
+static double res_cost(long i, void *ctx) { return ((const cells *)ctx)->res[i].cost; }
+static double extreme_cost(long i, void *ctx) { (void)i; (void)ctx; return 0.4 * (441 + 5); }
 
 static const char *about =
   "Claims E1, E2, I1. Sweeps spring stiffness k (1e1..1e7 N/m) and time step dt\n"
@@ -272,53 +326,44 @@ int main(int argc, char **argv) {
   if (st) return st > 0 ? 0 : 1;
   plan p;
   make_plan(&p, e.quick, sim_time);
-  char info[1024], pb[2048], pt[2048];
+  char info[1024];
   snprintf(info, sizeof info, "# plan: %d k x %d dt; explicit cells %g s with %ld..%ld steps; bisection %d; Newton cells "
            "%g s (energy mark); start: equilibrium + random velocity 1e-6 S0 + swing 1e-3 S0; R_u %g; R_d %g\n", p.nk, p.ndt, p.ex.sim_time, p.ex.min_steps,
            p.ex.max_steps, p.bisect_iters, p.nt.sim_time, p.ex.unstable_ratio, p.ex.diverge_ratio);
-  cb_experiment_side_path(&e, "boundary.csv", pb, sizeof pb);
-  cb_experiment_side_path(&e, "timing.csv", pt, sizeof pt);
-  cb_outfile ob, ot;
-  if (cb_experiment_csv(&e, &e.csv, NULL, info,
+  if (cb_experiment_table(&e, NULL, info,
         "kind,case,scene,n_vertices,k,dt,method,status,max_energy_ratio,final_energy_ratio,steps,t_end_s,wall_ms,"
         "dt_crit_pred,dt_crit_meas,energy0_j,energy_end_j,energy_scale_j,kinetic0_j,window_s,t_mark_s,energy_loss_w,newton_iters,"
-        "max_newton_iters,not_converged_steps,step_status,note") ||
-      cb_experiment_csv(&e, &ob, pb, info,
+        "max_newton_iters,not_converged_steps,step_status,note") != T_MAIN ||
+      cb_experiment_table(&e, "boundary", info,
         "scene,n_vertices,n_free,k,vertex_mass_kg,equilibrium_residual,equilibrium_steps,equilibrium_status,max_strain,"
         "min_strain,lambda_max_per_s2,eig_method,lambda_dense_per_s2,lambda_lanczos_per_s2,lanczos_steps,lanczos_status,"
         "lambda_max_rest_per_s2,dt_crit_pred,dt_crit_pred_rest,dt_stable_grid,dt_unstable_grid,grid_monotone,dt_crit_meas,"
-        "dt_crit_meas_hi,bisect_runs,bisect_status,equilibrium_ms,predict_ms") ||
-      cb_experiment_csv(&e, &ot, pt, info,
+        "dt_crit_meas_hi,bisect_runs,bisect_status,equilibrium_ms,predict_ms") != T_BOUNDARY ||
+      cb_experiment_table(&e, "timing", info,
         "scene,n_vertices,k,method,dt,steps,sim_time_s,wall_ms,wall_ms_per_s,wall_repeats,status,step_status,newton_iters,dt_crit_meas,"
-        "dt_crit_pred")) {
-    fprintf(stderr, "explicit_stability: %s\n", cb_error_message());
-    return 2;
+        "dt_crit_pred") != T_TIMING)
+    return cb_experiment_end(&e, CB_EIO), 2;
+  /* cost hints: vertices + 5 (a quick run takes 2.5-4 ms per unit for a map cell
+   * or a resolution cell, 1.5 for an extreme case) */
+  static cells cl;
+  cl.e = &e;
+  cl.p = &p;
+  for (int s = 0; st == CB_OK && s < NSCENES; s++) {
+    const scene_plan *d = &scenes[s];
+    cb_config cfg;
+    if ((st = cb_scene_decl_config(&e, &d->scene, NULL, &cfg))) break;
+    double w = (double)cb_scene_decl_vertices(&cfg) + 5;
+    if (cb_scene_decl_is(&d->scene, "map"))
+      for (int i = 0; i < p.nk; i += d->k_stride[p.quick]) cl.map[cl.nmap++] = (case_cell){s, i, w};
+    if (cb_scene_decl_is(&d->scene, "resolution"))
+      for (int r = 0; r < p.nres; r++) cl.res[cl.nres++] = (case_cell){s, r, w};
   }
-  fmain = e.csv.f; fbound = ob.f; ftime = ot.f;
-  long total = p.nres + 1, done = 0;
-  for (int s = 0; s < NSCENES; s++) total += (p.nk + scenes[s].k_stride[p.quick] - 1) / scenes[s].k_stride[p.quick];
-  cb_progress_start(&e.progress, "explicit_stability", total);
-  for (int s = 0; st == CB_OK && s < NSCENES; s++)
-    for (int i = 0; st == CB_OK && i < p.nk; i += scenes[s].k_stride[p.quick]) {
-      st = run_case(&e, &p, &scenes[s], i, scenes[s].n);
-      cb_progress_update(&e.progress, ++done);
-    }
-  for (int r = 0; st == CB_OK && r < p.nres; r++) { /* E2 at 81^2: no sweep; boundary bracketed from the prediction */
-    plan q = p;
-    q.k[0] = p.k_res[r];
-    st = run_case(&e, &q, &scenes[3], 0, 81);
-    cb_progress_update(&e.progress, ++done);
-  }
-  if (st == CB_OK) st = extremes(&e, &p);
-  cb_progress_end(&e.progress);
-  if (st == CB_OK && (cb_outfile_commit(&e.csv) || cb_outfile_commit(&ob) || cb_outfile_commit(&ot))) {
-    fprintf(stderr, "explicit_stability: %s\n", cb_error_message());
-    return 2;
-  }
-  if (st) {
-    fprintf(stderr, "explicit_stability: %s\n", cb_error_message());
-    cb_outfile_abort(&e.csv); cb_outfile_abort(&ob); cb_outfile_abort(&ot);
-    return 1;
-  }
-  return 0;
+  if (st) return cb_experiment_end(&e, st), 1;
+  const cb_sweep sweeps[] = {{"map", cl.nmap, map_cell, map_cost, &cl},
+                             {"resolution", cl.nres, res_cell, res_cost, &cl},
+                             {"extremes", NEXTREMES, extreme_cell, extreme_cost, &cl}};
+  st = cb_sweep_run(&e, sweeps, 3);
+  st = cb_experiment_end(&e, st);
+  return st == CB_OK ? 0 : st == CB_EIO ? 2 : 1;
 }
+

@@ -20,26 +20,36 @@
 #include <clothbench/clothbench.h>
 #include "experiment.h"
 #include "provenance.h"
+#include "scene_decl.h"
+#include "sweep.h"
 #include "solve_trace.h"
 #include "spectrum.h"
 
-enum { SPECTRUM_ONLY, EDGE_SWEEP, FULL_SWEEP };  /* what runs on a scene */
-enum { QUICK = 1, FULL = 2, BOTH = 3 };          /* in which mode */
+/* Scenes: the lab cloth (10 m square, total mass 441 kg: vertex_mass = 441/n^2)
+ * at n^2 vertices, stiffness k and time step dt. Roles: "spectrum" = the
+ * spectrum only; "edges" = every solver, and the alpha sweep only past the
+ * limit; "full" = every solver and the whole alpha sweep; "j3" = "full" plus
+ * the Chebyshev rho sweep (J3). t_capture: simulated time of the captured
+ * step (s); when: QUICK, FULL or BOTH. One cell per scene of the mode. */
+enum { QUICK = 1, FULL = 2, BOTH = 3 };
 typedef struct {
-  const char *name;
-  int n;            /* grid vertices per side; 10 m square, total mass 441 kg (the lab's) */
-  double k;         /* stretch stiffness, N/m */
-  const char *dt;   /* time step, s */
-  double t_capture; /* simulated time of the captured step, s */
-  int role, when;
-} scene_def;
-
-static const scene_def scenes[] = {
-    {"small11", 11, 8000, "1/30", 0.5, FULL_SWEEP, BOTH},  {"lab", 21, 8000, "1/30", 0.5, FULL_SWEEP, BOTH},
-    {"lab_rest", 21, 8000, "1/30", 0.0, SPECTRUM_ONLY, BOTH}, {"k1e5", 21, 1e5, "1/30", 0.5, FULL_SWEEP, BOTH},
-    {"k1e7", 21, 1e7, "1/30", 0.5, EDGE_SWEEP, BOTH},      {"dt240", 21, 8000, "1/240", 0.5, FULL_SWEEP, BOTH},
-    {"n32", 32, 8000, "1/30", 0.5, EDGE_SWEEP, QUICK},     {"n64", 64, 8000, "1/30", 0.5, EDGE_SWEEP, FULL},
-    {"n128", 128, 8000, "1/30", 0.5, EDGE_SWEEP, FULL}};
+  cb_scene_decl scene;
+  double t_capture;
+  int when;
+} scene_plan;
+#define LAB(n, m, k, dt) "mesh.n=" #n, "material.vertex_mass=441/" #m, "material.stretch_k=" #k, "integrator.dt=" dt, NULL
+static const scene_plan scenes[] = {
+    {{"small11", "hanging.ini", {LAB(11, 121, 8000, "1/30")}, "full"}, 0.5, BOTH},
+    {{"lab", "hanging.ini", {LAB(21, 441, 8000, "1/30")}, "j3"}, 0.5, BOTH},
+    {{"lab_rest", "hanging.ini", {LAB(21, 441, 8000, "1/30")}, "spectrum"}, 0.0, BOTH},
+    {{"k1e5", "hanging.ini", {LAB(21, 441, 1e5, "1/30")}, "full"}, 0.5, BOTH},
+    {{"k1e7", "hanging.ini", {LAB(21, 441, 1e7, "1/30")}, "edges"}, 0.5, BOTH},
+    {{"dt240", "hanging.ini", {LAB(21, 441, 8000, "1/240")}, "full"}, 0.5, BOTH},
+    {{"n32", "hanging.ini", {LAB(32, 1024, 8000, "1/30")}, "edges"}, 0.5, QUICK},
+    {{"n64", "hanging.ini", {LAB(64, 4096, 8000, "1/30")}, "edges"}, 0.5, FULL},
+    {{"n128", "hanging.ini", {LAB(128, 16384, 8000, "1/30")}, "edges"}, 0.5, FULL}};
+enum { NSCENES = sizeof scenes / sizeof scenes[0] };
+enum { T_MAIN, T_SCENES, T_RUNS, T_NEWTON }; /* tables, in the order opened */
 static const double alpha_fracs[] = {0.1, 0.25, 0.5, 0.75, 0.9, 0.98, 1.02, 1.1, 1.5}; /* x alpha_max (J1) */
 static const double rhos[] = {0.90, 0.92, 0.94, 0.95, 0.96, 0.97, 0.98, 0.99, 0.995, 0.999, 0.9999}; /* J3 */
 static const int newton_k[] = {4, 8, 16, 32, 64};
@@ -49,7 +59,8 @@ static const int newton_k[] = {4, 8, 16, 32, 64};
 
 typedef struct {
   cb_experiment e;
-  cb_outfile runs, newton;
+  FILE *const *out; /* the running cell's tables */
+  int cell[NSCENES], ncells; /* scenes of this mode */
   const char *scene;
   const cb_capture *cap;
   const double *xref;
@@ -87,7 +98,7 @@ static int run(ctx *c, const char *sweep, const char *solver, double alpha, doub
   const char *status = cb_status_name(t.status);
   for (int i = 0; i < t.nrows; i++) {
     const cb_trace_row *w = &t.rows[i];
-    fprintf(c->e.csv.f, "%s,%s,%s,%s,%s,%d,%.17g,%.17g,%s,%.17g\n", c->scene, sweep, solver, a, r, w->iter,
+    fprintf(c->out[T_MAIN], "%s,%s,%s,%s,%s,%d,%.17g,%.17g,%s,%.17g\n", c->scene, sweep, solver, a, r, w->iter,
             w->rel_residual, w->wall_ms, status, w->error);
   }
   const cb_trace_row *hit = NULL, *last = t.nrows ? &t.rows[t.nrows - 1] : NULL;
@@ -97,11 +108,11 @@ static int run(ctx *c, const char *sweep, const char *solver, double alpha, doub
   fmt(an, sizeof an, alpha * c->lmax / 2);
   fmt(rt, sizeof rt, cb_trace_rate(t.rows, t.nrows, 0.25));
   fmt(rp, sizeof rp, cb_trace_rate_window(t.rows, t.nrows, 0.5, 0.75));
-  fprintf(c->runs.f, "%s,%s,%s,%s,%s,%s,%s,%d,%.17g,%s,%s,", c->scene, sweep, solver, a, an, r, pr, t.iters,
+  fprintf(c->out[T_RUNS], "%s,%s,%s,%s,%s,%s,%s,%d,%.17g,%s,%s,", c->scene, sweep, solver, a, an, r, pr, t.iters,
           last ? last->rel_residual : NAN, rt, rp);
-  if (hit) fprintf(c->runs.f, "%d,%.17g,", hit->iter, hit->wall_ms);
-  else fputs(",,", c->runs.f);
-  fprintf(c->runs.f, "%.17g,%.17g,%.17g,%s\n", t.setup_ms, t.rho_ms, t.wall_ms, status);
+  if (hit) fprintf(c->out[T_RUNS], "%d,%.17g,", hit->iter, hit->wall_ms);
+  else fputs(",,", c->out[T_RUNS]);
+  fprintf(c->out[T_RUNS], "%.17g,%.17g,%.17g,%s\n", t.setup_ms, t.rho_ms, t.wall_ms, status);
   int lab995 = !strcmp(sweep, "rho") && fabs(rho - 0.995) < 1e-12 && fabs(alpha - 2 / (c->lmin + c->lmax)) < 1e-12;
   if ((!strcmp(sweep, "main") && strcmp(solver, "cholmod")) || lab995)
     for (size_t k = 0; k < sizeof newton_k / sizeof *newton_k; k++) {
@@ -109,7 +120,7 @@ static int run(ctx *c, const char *sweep, const char *solver, double alpha, doub
       if (!w) continue;
       int cut = w->iter == newton_k[k] && w->iter < t.iters; /* stopped by the cut, not by the run */
       const char *s = cut ? (w->rel_residual <= TOL ? "ok" : "max_iters") : status;
-      fprintf(c->newton.f, "%s,%s,%s,%s,%d,%d,%.17g,%.17g,%.17g,%s\n", c->scene, solver, a, r, newton_k[k], w->iter,
+      fprintf(c->out[T_NEWTON], "%s,%s,%s,%s,%d,%d,%.17g,%.17g,%.17g,%s\n", c->scene, solver, a, r, newton_k[k], w->iter,
               w->rel_residual, w->error, w->wall_ms, s);
     }
   cb_trace_free(&t);
@@ -117,29 +128,26 @@ static int run(ctx *c, const char *sweep, const char *solver, double alpha, doub
 }
 
 /* A scene whose capture or spectrum failed (e.g. the run diverged, A not SPD) keeps its row. */
-static int failed(cb_outfile *sc, const scene_def *d, int status) {
-  fprintf(sc->f, "%s,%d,,,,,,,,,,,,,,,,,,,,,,,,,,,%s\n", d->name, d->n, cb_status_name(status));
-  fprintf(stderr, "linear_solvers: scene %s: %s (kept as a row)\n", d->name, cb_error_message());
+static int failed(FILE *sc, const char *label, int n, int status) {
+  fprintf(sc, "%s,%d,,,,,,,,,,,,,,,,,,,,,,,,,,,%s\n", label, n, cb_status_name(status));
+  fprintf(stderr, "linear_solvers: scene %s: %s (kept as a row)\n", label, cb_error_message());
   return CB_OK;
 }
 
 /* Capture, spectra and the scenes row; then the runs the scene's role asks for. */
-static int scene(ctx *c, const scene_def *d, cb_outfile *sc) {
-  char sets[6][64];
-  double mass = 441.0 / (d->n * d->n), dt;
-  snprintf(sets[0], 64, "mesh.n=%d", d->n);
-  snprintf(sets[1], 64, "material.vertex_mass=%.17g", mass);
-  snprintf(sets[2], 64, "material.stretch_k=%.17g", d->k);
-  snprintf(sets[3], 64, "integrator.dt=%s", d->dt);
-  snprintf(sets[4], 64, "integrator.max_iters=%d", PRE_NEWTON_ITERS);
-  const char *const list[] = {sets[0], sets[1], sets[2], sets[3], sets[4], NULL};
+static int scene(ctx *c, const scene_plan *d, FILE *sc) {
+  char pre[64];
+  snprintf(pre, sizeof pre, "integrator.max_iters=%d", PRE_NEWTON_ITERS);
+  const char *const more[] = {pre, NULL};
   cb_config cfg;
-  int st = cb_experiment_config(&c->e, "hanging.ini", list, &cfg);
+  int st = cb_scene_decl_config(&c->e, &d->scene, more, &cfg);
   if (st) return st;
-  cb_parse_double(d->dt, &dt);
+  const char *label = d->scene.label;
+  const int grid_n = cfg.mesh_n;
+  const double mass = cfg.vertex_mass, dt = cfg.dt, stiff = cfg.stretch_k;
   cb_capture cap;
   st = cb_capture_newton_system(&cfg, (int)lround(d->t_capture / dt), 0, &cap);
-  if (st > 0) return failed(sc, d, st);
+  if (st > 0) return failed(sc, label, grid_n, st);
   if (st) return st;
   int n = cap.A.n, bad;
   double ratio, *dh = cb_malloc((size_t)n, sizeof(double)), *xref = cb_malloc((size_t)n, sizeof(double));
@@ -147,25 +155,26 @@ static int scene(ctx *c, const scene_def *d, cb_outfile *sc) {
   st = !dh || !xref ? CB_ENOMEM : cb_jacobi_scaling(&cap.A, dh);
   if (st == CB_OK) st = cb_spectrum_lanczos(&cap.A, dh, &lz);
   if (st == CB_OK && n <= (c->e.quick ? 400 : 1500)) st = cb_spectrum_dense(&cap.A, dh, &de);
-  double clab = mass / (dt * dt) + 4 * d->k; /* the lab's constant diagonal m/dt^2 + 4k */
+  double clab = mass / (dt * dt) + 4 * stiff; /* the lab's constant diagonal m/dt^2 + 4k */
   for (int i = 0; st == CB_OK && i < n; i++) dh[i] = 1 / sqrt(clab);
   if (st == CB_OK) st = cb_spectrum_lanczos(&cap.A, dh, &lab);
   if (st == CB_OK) st = cb_trace_reference(&cap.A, cap.b, xref);
-  if (st > 0) { st = failed(sc, d, st); goto done; }
+  if (st > 0) { st = failed(sc, label, grid_n, st); goto done; }
   if (st) goto done;
   cb_diag_dominance(&cap.A, &bad, &ratio);
   int dense = !isnan(de.lmin);
   c->lmin = dense ? de.lmin : lz.lmin;
   c->lmax = dense ? de.lmax : lz.lmax;
   double amax = 2 / c->lmax, astar = 2 / (c->lmin + c->lmax);
-  fprintf(sc->f, "%s,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%d,%.17g,", d->name, d->n, n, cap.A.nnz, d->k, dt,
+  fprintf(sc, "%s,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%d,%.17g,", label, grid_n, n, cap.A.nnz, stiff, dt,
           mass, cap.t_s, cap.step, cap.sim_ms, bad, ratio);
-  fprintf(sc->f, "%.17g,%.17g,%.17g,%.17g,%d,%d,%.17g,%.17g,%.17g,%.17g,%s,", lz.lmin, lz.lmax, lz.res_min,
+  fprintf(sc, "%.17g,%.17g,%.17g,%.17g,%d,%d,%.17g,%.17g,%.17g,%.17g,%s,", lz.lmin, lz.lmax, lz.res_min,
           lz.res_max, lz.steps_min, lz.steps_max, lz.ms, de.lmin, de.lmax, de.ms, dense ? "dense" : "lanczos");
-  fprintf(sc->f, "%.17g,%.17g,%.17g,%.17g,%.17g,ok\n", amax, astar, cb_jacobi_rho(c->lmin, c->lmax, 1.0),
+  fprintf(sc, "%.17g,%.17g,%.17g,%.17g,%.17g,ok\n", amax, astar, cb_jacobi_rho(c->lmin, c->lmax, 1.0),
           cb_jacobi_rho(c->lmin, c->lmax, astar), cb_jacobi_rho(lab.lmin, lab.lmax, 1.0));
-  if (d->role == SPECTRUM_ONLY) goto done;
-  c->scene = d->name;
+  int full = cb_scene_decl_is(&d->scene, "full") || cb_scene_decl_is(&d->scene, "j3");
+  if (cb_scene_decl_is(&d->scene, "spectrum")) goto done;
+  c->scene = label;
   c->cap = &cap;
   c->xref = xref;
   /* every registered solver; Jacobi-type ones at alpha*, Chebyshev with rho = auto */
@@ -177,10 +186,10 @@ static int scene(ctx *c, const scene_def *d, cb_outfile *sc) {
   /* J1: vanilla alpha = 1 and fractions of the predicted limit 2/lambda_max */
   st = st ? st : run(c, "alpha", "jacobi", 1.0, NAN, c->sweep_iters);
   for (size_t i = 0; st == CB_OK && i < sizeof alpha_fracs / sizeof *alpha_fracs; i++)
-    if (d->role == FULL_SWEEP || alpha_fracs[i] > 1) st = run(c, "alpha", "jacobi", alpha_fracs[i] * amax, NAN, c->sweep_iters);
+    if (full || alpha_fracs[i] > 1) st = run(c, "alpha", "jacobi", alpha_fracs[i] * amax, NAN, c->sweep_iters);
   /* J3 (lab): the rho sweep at alpha*, at alpha_max/2 and at vanilla alpha = 1 */
   const double alphas[] = {astar, 0.5 * amax, 1.0};
-  for (int i = 0; st == CB_OK && !strcmp(d->name, "lab") && i < 3; i++) {
+  for (int i = 0; st == CB_OK && cb_scene_decl_is(&d->scene, "j3") && i < 3; i++) {
     for (size_t j = 0; st == CB_OK && j < sizeof rhos / sizeof *rhos; j++)
       st = run(c, "rho", "chebyshev", alphas[i], rhos[j], c->sweep_iters);
     if (st == CB_OK && i > 0) st = run(c, "rho_auto", "chebyshev", alphas[i], 0.0, c->sweep_iters);
@@ -190,6 +199,21 @@ done:
   free(xref);
   cb_capture_free(&cap);
   return st;
+}
+
+/* Cell i: the i-th scene of the mode. */
+static int scene_cell(long i, void *vc, FILE *const *out) {
+  ctx *c = vc;
+  c->out = out;
+  return scene(c, &scenes[c->cell[i]], out[T_SCENES]);
+}
+
+/* cost hint: the dofs, times the runs the role asks for (a quick run: 0.7-3 ms per unit) */
+static double scene_cost(long i, void *vc) {
+  const scene_plan *d = &scenes[((const ctx *)vc)->cell[i]];
+  const char *mn = cb_scene_decl_override(&d->scene, "mesh.n");
+  double n = mn ? atof(mn) : 1;
+  return n * n * (cb_scene_decl_is(&d->scene, "spectrum") ? 0.2 : cb_scene_decl_is(&d->scene, "edges") ? 1 : 3);
 }
 
 int main(int argc, char **argv) {
@@ -203,42 +227,29 @@ int main(int argc, char **argv) {
   if (rc) return rc > 0 ? 0 : 1;
   c.max_iters = c.e.quick ? 20000 : 1000000;
   c.sweep_iters = c.e.quick ? 1500 : 4000;
-  char path[3][2200], extra[512];
-  const char *side[] = {"scenes.csv", "runs.csv", "newton.csv"};
-  for (int i = 0; i < 3; i++) cb_experiment_side_path(&c.e, side[i], path[i], sizeof path[i]);
+  char extra[512];
   snprintf(extra, sizeof extra,
            "# capture: first Newton iteration of the step at t_capture; %d Newton iterations per step before it\n"
            "# solves: x0 = 0, tol = %g, max_iters = %d (sweeps %d); jacobi/chebyshev main runs at alpha* = "
            "2/(lmin+lmax) of D^-1 A\n# reference x*: CHOLMOD refined once; wall_ms includes set-up, not CHOLMOD's "
            "symbolic analysis\n", PRE_NEWTON_ITERS, TOL, c.max_iters, c.sweep_iters);
-  cb_outfile sc = {0}; /* zeroed: safe to abort if never opened */
-  rc = cb_experiment_csv(&c.e, &c.e.csv, NULL, extra,
-                         "scene,sweep,solver,alpha,rho,iter,rel_residual,wall_ms,status,error");
-  rc = rc ? rc : cb_experiment_csv(&c.e, &sc, path[0], extra,
-                                   "scene,grid_n,n_dofs,nnz,stretch_k_n_per_m,dt_s,vertex_mass_kg,capture_t_s,"
-                                   "capture_step,capture_ms,non_dd_rows,max_offdiag_ratio,lmin_lanczos,lmax_lanczos,"
-                                   "lmin_bound,lmax_bound,lmin_steps,lmax_steps,lanczos_ms,lmin_dense,lmax_dense,"
-                                   "dense_ms,spectrum,alpha_max,alpha_star,rho_vanilla,rho_star,rho_lab,status");
-  rc = rc ? rc : cb_experiment_csv(&c.e, &c.runs, path[1], extra,
-                                   "scene,sweep,solver,alpha,alpha_over_max,rho,rho_predicted,iters,rel_residual,rate,rate_prev,iters_1e6,"
-                                   "wall_ms_1e6,setup_ms,rho_ms,wall_ms,status");
-  rc = rc ? rc : cb_experiment_csv(&c.e, &c.newton, path[2], extra,
-                                   "scene,solver,alpha,rho,k,iters,rel_residual,step_error,wall_ms,status");
-  int total = 0, done = 0, mode = c.e.quick ? QUICK : FULL, nsc = (int)(sizeof scenes / sizeof *scenes);
-  for (int i = 0; i < nsc; i++) total += !!(scenes[i].when & mode);
-  cb_progress_start(&c.e.progress, "linear_solvers", total);
-  for (int i = 0; rc == CB_OK && i < nsc; i++) {
-    if (!(scenes[i].when & mode)) continue;
-    rc = scene(&c, &scenes[i], &sc);
-    if (rc) fprintf(stderr, "linear_solvers: scene %s: %s\n", scenes[i].name, cb_error_message());
-    cb_progress_update(&c.e.progress, ++done);
-  }
-  cb_progress_end(&c.e.progress);
-  cb_outfile *outs[] = {&c.e.csv, &sc, &c.runs, &c.newton};
-  for (int i = 0; i < 4; i++) {
-    if (rc == CB_OK && cb_outfile_commit(outs[i])) rc = CB_EIO;
-    else if (rc) cb_outfile_abort(outs[i]);
-  }
-  if (rc) fprintf(stderr, "linear_solvers: %s\n", cb_error_message());
+  rc = cb_experiment_table(&c.e, NULL, extra, "scene,sweep,solver,alpha,rho,iter,rel_residual,wall_ms,status,error") != T_MAIN ||
+       cb_experiment_table(&c.e, "scenes", extra,
+                           "scene,grid_n,n_dofs,nnz,stretch_k_n_per_m,dt_s,vertex_mass_kg,capture_t_s,"
+                           "capture_step,capture_ms,non_dd_rows,max_offdiag_ratio,lmin_lanczos,lmax_lanczos,"
+                           "lmin_bound,lmax_bound,lmin_steps,lmax_steps,lanczos_ms,lmin_dense,lmax_dense,"
+                           "dense_ms,spectrum,alpha_max,alpha_star,rho_vanilla,rho_star,rho_lab,status") != T_SCENES ||
+       cb_experiment_table(&c.e, "runs", extra,
+                           "scene,sweep,solver,alpha,alpha_over_max,rho,rho_predicted,iters,rel_residual,rate,rate_prev,"
+                           "iters_1e6,wall_ms_1e6,setup_ms,rho_ms,wall_ms,status") != T_RUNS ||
+       cb_experiment_table(&c.e, "newton", extra,
+                           "scene,solver,alpha,rho,k,iters,rel_residual,step_error,wall_ms,status") != T_NEWTON;
+  if (rc) return cb_experiment_end(&c.e, CB_EIO), 2;
+  int mode = c.e.quick ? QUICK : FULL;
+  for (int i = 0; i < NSCENES; i++)
+    if (scenes[i].when & mode) c.cell[c.ncells++] = i;
+  cb_sweep sw = {"scenes", c.ncells, scene_cell, scene_cost, &c};
+  rc = cb_sweep_run(&c.e, &sw, 1);
+  rc = cb_experiment_end(&c.e, rc);
   return rc == CB_OK ? 0 : rc == CB_EIO ? 2 : 1;
 }

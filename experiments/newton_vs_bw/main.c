@@ -11,11 +11,14 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include <clothbench/clothbench.h>
 #include "bind.h"
 #include "experiment.h"
 #include "provenance.h"
+#include "scene_decl.h"
+#include "sweep.h"
 #include "newton_study.h"
 
 static const char *const ABOUT =
@@ -25,29 +28,23 @@ static const char *const ABOUT =
     "search, over CHOLMOD, CG and Chebyshev-Jacobi cut at 32 iterations or run to tolerance; the\n"
     "(dt, k, stretch) regime where K = 1 has one-step error above 1% or diverges).";
 
-typedef struct {
-  const char *label;
-  const char *sets[4];
-} scene_def;
-
-/* the lab scene; the same cloth at 64^2 (same 441 kg and k: 441/4096 kg per
- * vertex); the lab scene 125x stiffer */
-static const scene_def SCENES[] = {
-    {"lab", {NULL}},
-    {"grid64", {"mesh.n=64", "material.vertex_mass=0.107666015625", NULL}},
-    {"stiff", {"material.stretch_k=1e6", NULL}},
+/* Scenes. Roles: "steps" = one step of every method from states of the
+ * reference trajectory (main table and pareto; one cell per scene);
+ * "trajectory" = 2 s trajectories and the time-discretisation error (one cell
+ * each); "regime" = the base of the K = 1 regime map, whose cells override dt,
+ * k and stretch (one cell per map cell); "i2" = |grad F| per Newton iteration
+ * (one cell). grid64 is the lab cloth at 64^2 (same 441 kg and k: 441/4096 kg
+ * per vertex); stiff is the lab scene 125x stiffer. */
+static const cb_scene_decl SCENES[] = {
+    {"lab", "hanging.ini", {NULL}, "steps"},
+    {"grid64", "hanging.ini", {"mesh.n=64", "material.vertex_mass=0.107666015625", NULL}, "steps"},
+    {"stiff", "hanging.ini", {"material.stretch_k=1e6", NULL}, "steps"},
+    {"lab", "hanging.ini", {NULL}, "trajectory"},
+    {"lab", "hanging.ini", {NULL}, "regime"},
+    {"lab_stretched", "hanging.ini", {"scene.initial_scale=1.5", NULL}, "i2"},
 };
-
-/* The scene, and its config's integrator.dt in *dt. */
-static int build(const cb_experiment *e, const char *const *sets, const char *extra, cb_scene **s, double *dt) {
-  cb_config c;
-  int st = cb_experiment_config(e, "hanging.ini", sets, &c);
-  if (st == CB_OK && extra) st = cb_config_set(&c, extra);
-  if (st == CB_OK) st = cb_config_validate(&c);
-  if (st == CB_OK) st = cb_scene_from_config(&c, s);
-  *dt = c.dt;
-  return st;
-}
+enum { NSCENES = sizeof SCENES / sizeof SCENES[0] };
+enum { T_STEPS, T_PARETO, T_TRAJ, T_DT, T_REGIME, T_I2 }; /* tables, in the order opened */
 
 /* methods: K in Ks x line search {0,1} x inner solves; cheb32_alpha1 adds the
  * lab's Chebyshev setting (alpha = 1) at K = 1 without line search. */
@@ -61,9 +58,168 @@ static int methods(const int *Ks, int nK, const char *const *inner, int ninner, 
   return n;
 }
 
-static int fail(const char *what) {
-  fprintf(stderr, "newton_vs_bw: %s: %s\n", what, cb_error_message());
-  return 1;
+static const int KS[] = {1, 2, 3, 5, 10, 0}, KS_SHORT[] = {1, 2, 0};
+static const char *const ALL[] = {"cholmod", "cg32", "cheb32", "cg_tol", "cheb_tol"};
+static const char *const NOCHEB[] = {"cholmod", "cg32", "cg_tol"}, *const CHEB[] = {"cheb32", "cheb_tol"};
+/* the K = 1 regime map over dt x k x stretch */
+static const char *const DTS[] = {"1/240", "1/120", "1/60", "1/30", "1/20", "1/10"};
+static const char *const KV[] = {"1e2", "1e3", "1e4", "1e5", "1e6", "1e7"}, *const SV[] = {"1", "1.25", "1.5", "2"};
+static const int DI_Q[] = {0, 3, 5}, KI_Q[] = {0, 2, 5}, SI_Q[] = {0, 3}, DI[] = {0, 1, 2, 3, 4, 5}, SI[] = {0, 1, 2, 3};
+
+typedef struct {
+  const cb_experiment *e;
+  int q;
+  int steps[NSCENES], nsteps, traj, regime, i2; /* scene indices by role */
+  const int *di, *ki, *si;
+  int nd, nk, nst;
+  double steps_cost[NSCENES], traj_cost[2], i2_cost; /* cost hints (estimated ms) */
+} plan;
+
+/* the trajectories' methods */
+static int traj_methods(int q, cb_method *M) {
+  int nm = methods(KS, q ? 3 : 5, ALL, 1, 0, M); /* K = 1..10 (fixed), CHOLMOD, line search off/on */
+  if (!q) nm += methods(KS + 5, 1, ALL, 1, 0, M + nm); /* converged, CHOLMOD (the reference is converged too) */
+  nm += methods(KS, 1, ALL + 1, q ? 1 : 2, 0, M + nm); /* K = 1 with cg32 (and cheb32) */
+  return nm;
+}
+
+/* The methods and start states of a "steps" scene, by label. */
+static int step_plan(const plan *p, const char *label, cb_method *M, const int **states, int *ns) {
+  static const int ST_LAB[] = {0, 20, 40}, ST_LAB_Q[] = {20}, ST_64[] = {0, 10}, ST_64_Q[] = {5};
+  int q = p->q, nm;
+  *states = ST_LAB;
+  *ns = 3;
+  if (!strcmp(label, "grid64")) { /* 64^2: Chebyshev (a Lanczos rho estimate per factorisation) only at K = 1, 2 */
+    nm = methods(q ? KS_SHORT : KS, q ? 3 : 6, NOCHEB, q ? 2 : 3, 0, M);
+    if (!q) nm += methods(KS, 2, CHEB, 2, 0, M + nm);
+    *states = q ? ST_64_Q : ST_64;
+    *ns = q ? 1 : 2;
+  } else if (q) { /* quick: Chebyshev only at K = 1, 2 */
+    int lab = !strcmp(label, "lab");
+    nm = methods(KS, 6, NOCHEB, 3, 0, M);
+    nm += methods(KS, 2, CHEB, lab ? 2 : 1, lab, M + nm);
+    *states = ST_LAB_Q, *ns = 1;
+  } else if (!strcmp(label, "stiff")) { /* stiff: Chebyshev up to K = 5 (inexact Newton with it needs ~100 Lanczos runs) */
+    nm = methods(KS, 6, NOCHEB, 3, 0, M);
+    nm += methods(KS, 4, CHEB, 2, 0, M + nm);
+  } else {
+    nm = methods(KS, 6, ALL, 5, 1, M);
+  }
+  return nm;
+}
+
+/* I3 (b, c): one step of every method from the scene's states, and its error / run-time summary */
+static int steps_cell(long i, void *ctx, FILE *const *out) {
+  const plan *p = ctx;
+  const cb_scene_decl *d = &SCENES[p->steps[i]];
+  static cb_method M[200];
+  static cb_study_point P[200 * 4];
+  const int *states;
+  int ns, nm = step_plan(p, d->label, M, &states, &ns);
+  if (nm < 0) return CB_EINVAL;
+  cb_scene *s = NULL;
+  cb_config cfg;
+  int st = cb_scene_decl_build(p->e, d, NULL, &cfg, &s);
+  if (st == CB_OK) st = cb_study_steps(s, d->label, cfg.dt, states, ns, M, nm, out[T_STEPS], P);
+  if (st == CB_OK) st = cb_study_pareto(out[T_PARETO], d->label, M, nm, P, ns);
+  cb_scene_free(s);
+  return st;
+}
+
+/* trajectories of 2 s (cell 0) and the time-discretisation error (cell 1), lab scene */
+static int traj_cell(long i, void *ctx, FILE *const *out) {
+  const plan *p = ctx;
+  const cb_scene_decl *d = &SCENES[p->traj];
+  cb_scene *s = NULL;
+  cb_config cfg;
+  int st = cb_scene_decl_build(p->e, d, NULL, &cfg, &s);
+  if (st) return st;
+  double dt = cfg.dt;
+  if (i == 0) {
+    static cb_method M[200];
+    int nm = traj_methods(p->q, M);
+    st = cb_study_trajectories(s, d->label, dt, (int)lround(2.0 / dt), M, nm, out[T_TRAJ]);
+  } else {
+    st = cb_study_dt_error(s, d->label, dt, 16, (int)lround((p->q ? 0.5 : 2.0) / dt), out[T_DT]);
+  }
+  cb_scene_free(s);
+  return st;
+}
+
+/* I3 (a): one (dt, k, stretch) cell of the K = 1 regime map; dt varies fastest */
+static int regime_cell(long i, void *ctx, FILE *const *out) {
+  const plan *p = ctx;
+  int d = (int)(i % p->nd), c = (int)(i / p->nd % p->nk), a = (int)(i / ((long)p->nd * p->nk));
+  char s1[64], s2[64], s3[64];
+  snprintf(s1, sizeof s1, "integrator.dt=%s", DTS[p->di[d]]);
+  snprintf(s2, sizeof s2, "material.stretch_k=%s", KV[p->ki[c]]);
+  snprintf(s3, sizeof s3, "scene.initial_scale=%s", SV[p->si[a]]);
+  const char *sets[] = {s1, s2, s3, NULL};
+  cb_scene *s = NULL;
+  const cb_scene_decl *sd = &SCENES[p->regime];
+  cb_config cfg;
+  int st = cb_scene_decl_build(p->e, sd, sets, &cfg, &s);
+  if (st == CB_OK)
+    st = cb_study_regime_cell(s, sd->label, cfg.dt, p->q ? 1.0 : 2.0, p->q ? 2 : 4, 0.01, p->di[d], p->ki[c],
+                              p->si[a], out[T_REGIME]);
+  cb_scene_free(s);
+  return st;
+}
+
+/* I2: |grad F| per Newton iteration on the stretched hanging cloth */
+static int i2_cell(long i, void *ctx, FILE *const *out) {
+  const plan *p = ctx;
+  const cb_scene_decl *d = &SCENES[p->i2];
+  cb_scene *s = NULL;
+  (void)i;
+  cb_config cfg;
+  int st = cb_scene_decl_build(p->e, d, NULL, &cfg, &s);
+  if (st == CB_OK) st = cb_study_order(s, d->label, cfg.dt, p->q ? 5 : 30, out[T_I2]);
+  cb_scene_free(s);
+  return st;
+}
+
+/* Cost hints: estimated ms, from a quick run's cost per unit of work scaled
+ * by vertices / 441: 40 ms per (method, state) step (Newton up to converged),
+ * 5 ms per trajectory step, 10 ms per converged reference step, 2 ms per
+ * Baraff-Witkin step of the regime map, 300 ms per I2 state (five converged
+ * Newton runs logged to 1e-14). */
+static double steps_cost(long i, void *ctx) { return ((const plan *)ctx)->steps_cost[i]; }
+static double traj_cost(long i, void *ctx) { return ((const plan *)ctx)->traj_cost[i]; }
+static double i2_cost(long i, void *ctx) { (void)i; return ((const plan *)ctx)->i2_cost; }
+static double regime_cost(long i, void *ctx) {
+  const plan *p = ctx;
+  double dt = 1;
+  cb_parse_double(DTS[p->di[i % p->nd]], &dt);
+  return 2.0 * lround((p->q ? 1.0 : 2.0) / dt);
+}
+
+/* vertices / 441 and dt of a scene's config */
+static int scene_size(const cb_experiment *e, const cb_scene_decl *d, double *rel, double *dt) {
+  cb_config c;
+  int st = cb_scene_decl_config(e, d, NULL, &c);
+  *rel = st ? 1 : (double)cb_scene_decl_vertices(&c) / 441;
+  *dt = st ? 1.0 / 30 : c.dt;
+  return st;
+}
+
+static int cost_hints(plan *p) {
+  static cb_method M[200];
+  const int *states;
+  double rel, dt;
+  int ns, st = CB_OK;
+  for (int i = 0; st == CB_OK && i < p->nsteps; i++) {
+    const cb_scene_decl *d = &SCENES[p->steps[i]];
+    st = scene_size(p->e, d, &rel, &dt);
+    p->steps_cost[i] = 40.0 * step_plan(p, d->label, M, &states, &ns) * ns * rel;
+  }
+  if (st == CB_OK && p->traj >= 0 && (st = scene_size(p->e, &SCENES[p->traj], &rel, &dt)) == CB_OK) {
+    p->traj_cost[0] = 5.0 * (traj_methods(p->q, M) + 1) * lround(2.0 / dt) * rel;
+    p->traj_cost[1] = 10.0 * 17 * lround((p->q ? 0.5 : 2.0) / dt) * rel;
+  }
+  if (st == CB_OK && p->i2 >= 0 && (st = scene_size(p->e, &SCENES[p->i2], &rel, &dt)) == CB_OK)
+    p->i2_cost = 300.0 * (p->q ? 5 : 30) * rel;
+  return st;
 }
 
 int main(int argc, char **argv) {
@@ -71,114 +227,32 @@ int main(int argc, char **argv) {
   int b = cb_experiment_begin(&e, "newton_vs_bw", ABOUT, argc, argv);
   if (b) return b > 0 ? 0 : 1;
   int q = e.quick;
-  const int KS[] = {1, 2, 3, 5, 10, 0}, KS_SHORT[] = {1, 2, 0};
-  const char *ALL[] = {"cholmod", "cg32", "cheb32", "cg_tol", "cheb_tol"};
-  const char *NOCHEB[] = {"cholmod", "cg32", "cg_tol"}, *CHEB[] = {"cheb32", "cheb_tol"};
-  /* start states (steps of the reference trajectory) per scene */
-  const int ST_LAB[] = {0, 20, 40}, ST_LAB_Q[] = {20}, ST_64[] = {0, 10}, ST_64_Q[] = {5};
-  cb_method M[200];
-  static cb_study_point P[200 * 4];
-  int st = 0;
-  char path[4096];
-  cb_outfile csv, par, traj, dtf, reg, i2;
+  plan p = {.e = &e, .q = q, .traj = -1, .regime = -1, .i2 = -1, .di = q ? DI_Q : DI, .ki = q ? KI_Q : DI,
+            .si = q ? SI_Q : SI, .nd = q ? 3 : 6, .nk = q ? 3 : 6, .nst = q ? 2 : 4};
+  for (int i = 0; i < NSCENES; i++) {
+    const cb_scene_decl *d = &SCENES[i];
+    if (cb_scene_decl_is(d, "steps")) p.steps[p.nsteps++] = i;
+    else if (cb_scene_decl_is(d, "trajectory")) p.traj = i;
+    else if (cb_scene_decl_is(d, "regime")) p.regime = i;
+    else if (cb_scene_decl_is(d, "i2")) p.i2 = i;
+  }
+  if ((b = cost_hints(&p))) return cb_experiment_end(&e, b), 1;
   const char *units = "# units: dt s; k N/m; stretch = scene.initial_scale; *_ms wall milliseconds; step_error = "
                       "|x - x*|_M / |x* - x0|_M; f_minus_fstar_j J\n";
-  if (cb_experiment_csv(&e, &csv, NULL, units, cb_study_steps_header)) return fail("main CSV");
-  cb_experiment_side_path(&e, "pareto.csv", path, sizeof path);
-  if (cb_experiment_csv(&e, &par, path, units, cb_study_pareto_header)) return fail(path);
-
-  /* I3 (b, c): one step of every method, three scenes */
-  for (int sc = 0; sc < 3 && !st; sc++) {
-    cb_scene *s = NULL;
-    double s_dt = 0;
-    if (build(&e, SCENES[sc].sets, NULL, &s, &s_dt)) return fail(SCENES[sc].label);
-    int nm = 0;
-    const int *states = ST_LAB;
-    int ns = 3;
-    if (sc == 1) { /* 64^2: Chebyshev (a Lanczos rho estimate per factorisation) only at K = 1, 2 */
-      nm = methods(q ? KS_SHORT : KS, q ? 3 : 6, NOCHEB, q ? 2 : 3, 0, M);
-      if (!q) nm += methods(KS, 2, CHEB, 2, 0, M + nm);
-      states = q ? ST_64_Q : ST_64;
-      ns = q ? 1 : 2;
-    } else if (q) { /* quick: Chebyshev only at K = 1, 2 */
-      nm = methods(KS, 6, NOCHEB, 3, 0, M);
-      nm += methods(KS, 2, CHEB, sc == 0 ? 2 : 1, sc == 0, M + nm);
-      states = ST_LAB_Q, ns = 1;
-    } else if (sc == 2) { /* stiff: Chebyshev up to K = 5 (inexact Newton with it needs ~100 Lanczos runs) */
-      nm = methods(KS, 6, NOCHEB, 3, 0, M);
-      nm += methods(KS, 4, CHEB, 2, 0, M + nm);
-    } else {
-      nm = methods(KS, 6, ALL, 5, 1, M);
-    }
-    cb_progress_start(&e.progress, SCENES[sc].label, (long)nm * ns);
-    st = cb_study_steps(s, SCENES[sc].label, s_dt, states, ns, M, nm, csv.f, &e.progress, P);
-    cb_progress_end(&e.progress);
-    if (!st) st = cb_study_pareto(par.f, SCENES[sc].label, M, nm, P, ns);
-    cb_scene_free(s);
-    if (st) return fail("steps");
-  }
-
-  /* trajectories of 2 s and the time-discretisation error, lab scene */
-  cb_scene *lab = NULL;
-  double dt = 0;
-  if (build(&e, SCENES[0].sets, NULL, &lab, &dt)) return fail("lab");
-  int nm = methods(KS, q ? 3 : 5, ALL, 1, 0, M); /* K = 1..10 (fixed), CHOLMOD, line search off/on */
-  if (!q) nm += methods(KS + 5, 1, ALL, 1, 0, M + nm); /* converged, CHOLMOD (the reference is converged too) */
-  nm += methods(KS, 1, ALL + 1, q ? 1 : 2, 0, M + nm); /* K = 1 with cg32 (and cheb32) */
-  cb_experiment_side_path(&e, "traj.csv", path, sizeof path);
-  if (cb_experiment_csv(&e, &traj, path, units, cb_study_traj_header)) return fail(path);
-  cb_progress_start(&e.progress, "trajectories", nm + 1);
-  st = cb_study_trajectories(lab, "lab", dt, (int)lround(2.0 / dt), M, nm, traj.f, &e.progress);
-  cb_progress_end(&e.progress);
-  if (st) return fail("trajectories");
-  cb_experiment_side_path(&e, "dt.csv", path, sizeof path);
-  if (cb_experiment_csv(&e, &dtf, path, units, cb_study_dt_header)) return fail(path);
-  st = cb_study_dt_error(lab, "lab", dt, 16, (int)lround((q ? 0.5 : 2.0) / dt), dtf.f);
-  cb_scene_free(lab);
-  if (st) return fail("dt error");
-
-  /* I3 (a): the K = 1 regime map over dt x k x stretch */
-  const char *DTS[] = {"1/240", "1/120", "1/60", "1/30", "1/20", "1/10"}, *KV[] = {"1e2", "1e3", "1e4", "1e5", "1e6", "1e7"};
-  const char *SV[] = {"1", "1.25", "1.5", "2"};
-  const int DI_Q[] = {0, 3, 5}, KI_Q[] = {0, 2, 5}, SI_Q[] = {0, 3}, DI[] = {0, 1, 2, 3, 4, 5}, SI[] = {0, 1, 2, 3};
-  const int *di = q ? DI_Q : DI, *ki = q ? KI_Q : DI, *si = q ? SI_Q : SI;
-  int nd = q ? 3 : 6, nk = q ? 3 : 6, nst = q ? 2 : 4;
-  cb_experiment_side_path(&e, "regime.csv", path, sizeof path);
-  if (cb_experiment_csv(&e, &reg, path, units, cb_study_regime_header)) return fail(path);
-  cb_progress_start(&e.progress, "regime", (long)nd * nk * nst);
-  for (int a = 0; a < nst && !st; a++)
-    for (int c = 0; c < nk && !st; c++)
-      for (int d = 0; d < nd && !st; d++) {
-        char s1[64], s2[64], s3[64];
-        snprintf(s1, sizeof s1, "integrator.dt=%s", DTS[di[d]]);
-        snprintf(s2, sizeof s2, "material.stretch_k=%s", KV[ki[c]]);
-        snprintf(s3, sizeof s3, "scene.initial_scale=%s", SV[si[a]]);
-        const char *sets[] = {s1, s2, s3, NULL};
-        cb_scene *s = NULL;
-        double s_dt = 0;
-        if (build(&e, sets, NULL, &s, &s_dt)) return fail("regime scene");
-        st = cb_study_regime_cell(s, "lab", s_dt, q ? 1.0 : 2.0, q ? 2 : 4, 0.01, di[d], ki[c], si[a], reg.f);
-        cb_scene_free(s);
-        cb_progress_update(&e.progress, e.progress.done + 1);
-      }
-  cb_progress_end(&e.progress);
-  if (st) return fail("regime");
-
-  /* I2: |grad F| per Newton iteration on the stretched hanging cloth */
-  cb_scene *str = NULL;
-  double str_dt = 0;
-  if (build(&e, SCENES[0].sets, "scene.initial_scale=1.5", &str, &str_dt)) return fail("stretched scene");
-  cb_experiment_side_path(&e, "i2.csv", path, sizeof path);
-  if (cb_experiment_csv(&e, &i2, path, units, cb_study_order_header)) return fail(path);
-  int n2 = q ? 5 : 30;
-  cb_progress_start(&e.progress, "I2", n2);
-  st = cb_study_order(str, "lab_stretched", str_dt, n2, i2.f, &e.progress);
-  cb_progress_end(&e.progress);
-  cb_scene_free(str);
-  if (st) return fail("I2");
-
-  cb_outfile *outs[] = {&par, &traj, &dtf, &reg, &i2, &csv};
-  for (int i = 0; i < 6; i++)
-    if (cb_outfile_commit(outs[i])) return fail("writing results");
-  return 0;
+  if (cb_experiment_table(&e, NULL, units, cb_study_steps_header) != T_STEPS ||
+      cb_experiment_table(&e, "pareto", units, cb_study_pareto_header) != T_PARETO ||
+      cb_experiment_table(&e, "traj", units, cb_study_traj_header) != T_TRAJ ||
+      cb_experiment_table(&e, "dt", units, cb_study_dt_header) != T_DT ||
+      cb_experiment_table(&e, "regime", units, cb_study_regime_header) != T_REGIME ||
+      cb_experiment_table(&e, "i2", units, cb_study_order_header) != T_I2)
+    return cb_experiment_end(&e, CB_EIO), 2;
+  const cb_sweep sweeps[] = {
+      {"steps", p.nsteps, steps_cell, steps_cost, &p},
+      {"trajectories", p.traj >= 0 ? 2 : 0, traj_cell, traj_cost, &p},
+      {"regime", p.regime >= 0 ? (long)p.nd * p.nk * p.nst : 0, regime_cell, regime_cost, &p},
+      {"I2", p.i2 >= 0, i2_cell, i2_cost, &p},
+  };
+  int st = cb_sweep_run(&e, sweeps, 4);
+  st = cb_experiment_end(&e, st);
+  return st == CB_OK ? 0 : st == CB_EIO ? 2 : 1;
 }

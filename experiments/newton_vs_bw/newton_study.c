@@ -43,7 +43,7 @@ static void scene_cols(FILE *f, const cb_scene *s, const char *label, double dt)
 }
 
 int cb_study_steps(cb_scene *s, const char *label, double dt, const int *states, int nstates, const cb_method *methods,
-                   int nmethods, FILE *csv, cb_progress *pr, cb_study_point *pts) {
+                   int nmethods, FILE *csv, cb_study_point *pts) {
   cb_reference_params rp = cb_reference_params_default();
   rp.dt = dt;
   cb_reference *ref = NULL;
@@ -95,7 +95,6 @@ int cb_study_steps(cb_scene *s, const char *label, double dt, const int *states,
           pt->step_error = r.step_error;
           pt->failed = r.st.status != CB_OK && r.st.status != CB_NOT_CONVERGED;
         }
-        if (pr) cb_progress_update(pr, pr->done + 1);
       }
     }
     /* advance along the reference trajectory: (x, v) <- (x*, (x* - x)/dt) */
@@ -207,7 +206,7 @@ static void order_rows(FILE *csv, const cb_scene *s, const char *label, double d
   }
 }
 
-int cb_study_order(cb_scene *s, const char *label, double dt, int nsteps, FILE *csv, cb_progress *pr) {
+int cb_study_order(cb_scene *s, const char *label, double dt, int nsteps, FILE *csv) {
   order_log log;
   cb_reference_params rp = cb_reference_params_default();
   rp.dt = dt;
@@ -253,7 +252,6 @@ int cb_study_order(cb_scene *s, const char *label, double dt, int nsteps, FILE *
     cb_reference_stats rs;
     int rst = cb_reference_advance(ref, w.x, w.v, &rs); /* logged; then the next state of the trajectory */
     order_rows(csv, s, label, dt, "exact_or_shift", 1, step, &log, rst, rs.iters);
-    if (pr) cb_progress_update(pr, pr->done + 1);
   }
   for (int v = 0; v < 4; v++) cb_integrator_free(its[v]);
   free(xt);

@@ -12,14 +12,14 @@
  *                         drop, with and without line search) for I2
  *
  * Scene labels, k and stretch are copied into the rows from the scene's
- * config. Every workspace is allocated before the time steps. */
+ * config. Every workspace is allocated before the time steps. Each is one
+ * cell of the experiment's sweeps (main.c); progress is the runner's. */
 #ifndef CB_NEWTON_STUDY_H
 #define CB_NEWTON_STUDY_H
 
 #include <stdio.h>
 
 #include "method.h"
-#include "progress.h"
 #include "reference.h"
 #include <clothbench/scene.h>
 
@@ -35,7 +35,7 @@ typedef struct cb_study_point {
  * while their total stays under 25 ms (so only cheap steps are repeated),
  * after one untimed warm-up step at the first state. */
 int cb_study_steps(cb_scene *s, const char *label, double dt, const int *states, int nstates, const cb_method *methods,
-                   int nmethods, FILE *csv, cb_progress *pr, cb_study_point *pts);
+                   int nmethods, FILE *csv, cb_study_point *pts);
 
 /* ---- the error / run-time summary of one scene ---------------------------- */
 extern const char *const cb_study_pareto_header;
@@ -52,7 +52,7 @@ extern const char *const cb_study_traj_header;
  * "reference"); a method's trajectory stops at its first fatal status (its
  * row has that status: the first diverging step). */
 int cb_study_trajectories(cb_scene *s, const char *label, double dt, int nsteps, const cb_method *methods,
-                          int nmethods, FILE *csv, cb_progress *pr);
+                          int nmethods, FILE *csv);
 
 /* ---- time-discretisation error ------------------------------------------- */
 extern const char *const cb_study_dt_header;
@@ -79,6 +79,6 @@ extern const char *const cb_study_order_header;
  * reference step itself ("exact_or_shift": exact Hessian where A is SPD,
  * shifted otherwise, line search). One row per gradient evaluation; column hessian
  * names the Hessian of the update that led to the iterate. */
-int cb_study_order(cb_scene *s, const char *label, double dt, int nsteps, FILE *csv, cb_progress *pr);
+int cb_study_order(cb_scene *s, const char *label, double dt, int nsteps, FILE *csv);
 
 #endif

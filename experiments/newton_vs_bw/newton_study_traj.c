@@ -22,7 +22,7 @@ static void traj_row(FILE *f, const cb_scene *s, const char *label, double dt, c
 }
 
 int cb_study_trajectories(cb_scene *s, const char *label, double dt, int nsteps, const cb_method *methods,
-                          int nmethods, FILE *csv, cb_progress *pr) {
+                          int nmethods, FILE *csv) {
   size_t n3 = (size_t)3 * s->mesh.nv;
   double rms = 1.0 / sqrt(cb_free_mass(s)); /* |.|_M / sqrt(M) is an RMS distance in m */
   cb_reference_params rp = cb_reference_params_default();
@@ -46,7 +46,6 @@ int cb_study_trajectories(cb_scene *s, const char *label, double dt, int nsteps,
     cb_step_stats ss = {.newton_iters = rs.iters, .wall_ms = rs.wall_ms};
     traj_row(csv, s, label, dt, "reference", rp.max_iters, "cholmod", 1, k, 0.0, Er[k], Er[k], Er[0], &ss, rst);
   }
-  if (pr) cb_progress_update(pr, pr->done + 1);
   for (int m = 0; m < nmethods && st == CB_OK; m++) {
     const cb_method *me = &methods[m];
     cb_integrator *it = NULL;
@@ -65,8 +64,7 @@ int cb_study_trajectories(cb_scene *s, const char *label, double dt, int nsteps,
     }
     cb_run_free(&run);
     cb_integrator_free(it);
-    if (pr) cb_progress_update(pr, pr->done + 1);
-  }
+    }
 done:
   cb_reference_free(ref);
   free(xr); free(Er); free(v);

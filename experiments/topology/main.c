@@ -20,6 +20,7 @@
 #include "experiment.h"
 #include "provenance.h"
 #include <clothbench/rng.h>
+#include "sweep.h"
 
 /* Irregular disk: a centre vertex and rings of round(6.5 r) vertices, each
  * ring zipped to the previous one by angle, so valences vary (5, 6, 7, ...). */
@@ -97,47 +98,55 @@ static void count_row(FILE *f, const char *name, cb_mesh *m, unsigned seed) {
   cb_topology_free(&tp);
 }
 
+/* Cells: 0 the lecture's example (T1 and its count), then the grids of both
+ * diagonal patterns (T2), then the ring disks. */
+typedef struct { int quick, ngrids, nrings; } plan;
+static const int sizes[][2] = {{2, 2}, {3, 3}, {4, 3}, {5, 5}, {8, 6}, {10, 10}};
+
+static int cell(long i, void *ctx, FILE *const *out) {
+  const plan *p = ctx;
+  FILE *f = out[0];
+  if (i == 0) { /* T1: the lecture's example, triangle list {1,2,3, 0,1,3, 0,3,4} */
+    double x5[15] = {0, 0, 0, 1, 0, 0, 2, 1, 0, 1, 1, 0, 0, 1, 0};
+    int t5[9] = {1, 2, 3, 0, 1, 3, 0, 3, 4};
+    cb_mesh m5 = {.nv = 5, .nt = 3, .x = x5, .tri = t5};
+    cb_topology tp;
+    int st = cb_topology_build(&m5, &tp);
+    if (st) return st;
+    for (int k = 0; k < tp.ne; k++) fprintf(f, "edge,lecture,%d,%d,,,,,,,,,,ok\n", tp.edge[2 * k], tp.edge[2 * k + 1]);
+    for (int k = 0; k < tp.np; k++) fprintf(f, "pair,lecture,%d,%d,,,,,,,,,,ok\n", tp.pair_tri[2 * k], tp.pair_tri[2 * k + 1]);
+    count_row(f, "lecture", &m5, 1);
+    cb_topology_free(&tp);
+    return CB_OK;
+  }
+  cb_mesh m;
+  char name[64];
+  if (--i < 2L * p->ngrids) { /* T2: grids */
+    int k = (int)i / 2, d = (int)i % 2;
+    cb_grid_params g = cb_grid_params_default();
+    g.n = sizes[k][0]; g.m = sizes[k][1]; g.diagonal = d ? CB_DIAG_ALTERNATING : CB_DIAG_REGULAR;
+    snprintf(name, sizeof name, "grid_%dx%d_%s", g.n, g.m, d ? "alternating" : "regular");
+    if (cb_mesh_grid(&g, &m) == CB_OK) count_row(f, name, &m, 7 + (unsigned)k);
+  } else { /* irregular disks */
+    int rings = (int)(i - 2L * p->ngrids) + 1;
+    snprintf(name, sizeof name, "ring_disk_%d", rings);
+    if (ring_disk(rings, &m) == CB_OK) count_row(f, name, &m, 100 + (unsigned)rings);
+  }
+  cb_mesh_free(&m);
+  return CB_OK;
+}
+
 int main(int argc, char **argv) {
   cb_experiment e;
   int r = cb_experiment_begin(&e, "topology", "T1 and T2: edge lists by sorting triples, Euler's count and the DoFs "
                                               "left when every edge is a hard constraint.", argc, argv);
   if (r) return r > 0 ? 0 : 1;
-  cb_outfile o;
-  if (cb_experiment_csv(&e, &o, NULL, "# free_dofs = 3 #vertices - rank(rigidity matrix) at a jittered non-planar embedding (GSL SVD, relative threshold 1e-9)\n",
-                        "kind,mesh,i,j,vertices,triangles,edges,boundary_edges,predicted_edges,boundary_loops,components,free_dofs,predicted_dofs,status")) {
-    fprintf(stderr, "topology: %s\n", cb_error_message());
-    return 2;
-  }
-  /* T1: the lecture's example, triangle list {1,2,3, 0,1,3, 0,3,4} */
-  double x5[15] = {0, 0, 0, 1, 0, 0, 2, 1, 0, 1, 1, 0, 0, 1, 0};
-  int t5[9] = {1, 2, 3, 0, 1, 3, 0, 3, 4};
-  cb_mesh m5 = {.nv = 5, .nt = 3, .x = x5, .tri = t5};
-  cb_topology tp;
-  if (cb_topology_build(&m5, &tp)) return 1;
-  for (int k = 0; k < tp.ne; k++) fprintf(o.f, "edge,lecture,%d,%d,,,,,,,,,,ok\n", tp.edge[2 * k], tp.edge[2 * k + 1]);
-  for (int k = 0; k < tp.np; k++) fprintf(o.f, "pair,lecture,%d,%d,,,,,,,,,,ok\n", tp.pair_tri[2 * k], tp.pair_tri[2 * k + 1]);
-  count_row(o.f, "lecture", &m5, 1);
-  cb_topology_free(&tp);
-  /* T2: grids and irregular disks */
-  const int sizes[][2] = {{2, 2}, {3, 3}, {4, 3}, {5, 5}, {8, 6}, {10, 10}};
-  int ns = e.quick ? 4 : 6;
-  for (int k = 0; k < ns; k++)
-    for (int d = 0; d < 2; d++) {
-      cb_grid_params g = cb_grid_params_default();
-      g.n = sizes[k][0]; g.m = sizes[k][1]; g.diagonal = d ? CB_DIAG_ALTERNATING : CB_DIAG_REGULAR;
-      cb_mesh m;
-      char name[64];
-      snprintf(name, sizeof name, "grid_%dx%d_%s", g.n, g.m, d ? "alternating" : "regular");
-      if (cb_mesh_grid(&g, &m) == CB_OK) count_row(o.f, name, &m, 7 + (unsigned)k);
-      cb_mesh_free(&m);
-    }
-  for (int rings = 1; rings <= (e.quick ? 3 : 5); rings++) {
-    cb_mesh m;
-    char name[64];
-    snprintf(name, sizeof name, "ring_disk_%d", rings);
-    if (ring_disk(rings, &m) == CB_OK) count_row(o.f, name, &m, 100 + (unsigned)rings);
-    cb_mesh_free(&m);
-  }
-  if (cb_outfile_commit(&o)) { fprintf(stderr, "topology: %s\n", cb_error_message()); return 2; }
-  return 0;
+  plan p = {e.quick, e.quick ? 4 : 6, e.quick ? 3 : 5};
+  int st = cb_experiment_table(&e, NULL, "# free_dofs = 3 #vertices - rank(rigidity matrix) at a jittered non-planar embedding (GSL SVD, relative threshold 1e-9)\n",
+                               "kind,mesh,i,j,vertices,triangles,edges,boundary_edges,predicted_edges,boundary_loops,components,free_dofs,predicted_dofs,status");
+  if (st < 0) return cb_experiment_end(&e, st), 2;
+  cb_sweep sw = {"meshes", 1 + 2L * p.ngrids + p.nrings, cell, NULL, &p};
+  st = cb_sweep_run(&e, &sw, 1);
+  st = cb_experiment_end(&e, st);
+  return st == CB_OK ? 0 : st == CB_EIO ? 2 : 1;
 }

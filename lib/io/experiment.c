@@ -18,25 +18,42 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
   e->configs = "configs";
   const char *q = getenv("QUICK");
   e->quick = q && *q && strcmp(q, "0") != 0;
-  snprintf(e->out, sizeof e->out, "results/%s.csv", name);
+  e->shard = 0;
+  e->nshards = 1;
+  int out_given = 0;
   for (int i = 1; i < argc; i++) {
     if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-      printf("usage: %s [--quick] [--out PATH] [--configs DIR]\n\n%s\n\n"
+      printf("usage: %s [--quick] [--out PATH] [--configs DIR] [--shard I/N]\n\n%s\n\n"
              "  --quick        reduced sweep for CI (also QUICK=1 in the environment)\n"
              "  --out PATH     CSV output (default results/%s.csv); written atomically\n"
              "  --configs DIR  folder with the scene configs (default configs)\n"
+             "  --shard I/N    run every N-th cell only, those with index %% N == I - 1 (I = 1..N);\n"
+             "                 default --out results/shard-<I>of<N>/%s.csv; merge the N shards with\n"
+             "                 scripts/merge-shards.sh OUT.csv SHARD1.csv ... SHARDN.csv\n"
              "Progress goes to stderr (CB_QUIET=1 silences it); data goes to the CSV only.\n",
-             name, about, name);
+             name, about, name, name);
       return 1;
     }
     if (!strcmp(argv[i], "--quick")) e->quick = 1;
-    else if (!strcmp(argv[i], "--out") && i + 1 < argc) snprintf(e->out, sizeof e->out, "%s", argv[++i]);
-    else if (!strcmp(argv[i], "--configs") && i + 1 < argc) e->configs = argv[++i];
-    else {
+    else if (!strcmp(argv[i], "--out") && i + 1 < argc) {
+      snprintf(e->out, sizeof e->out, "%s", argv[++i]);
+      out_given = 1;
+    } else if (!strcmp(argv[i], "--configs") && i + 1 < argc) e->configs = argv[++i];
+    else if (!strcmp(argv[i], "--shard") && i + 1 < argc) {
+      int a, b, used = 0;
+      if (sscanf(argv[++i], "%d/%d%n", &a, &b, &used) != 2 || argv[i][used] || b < 1 || a < 1 || a > b) {
+        fprintf(stderr, "%s: --shard '%s': expected I/N with 1 <= I <= N (e.g. --shard 2/3)\n", name, argv[i]);
+        return -1;
+      }
+      e->shard = a;
+      e->nshards = b;
+    } else {
       fprintf(stderr, "%s: unknown or incomplete option '%s' (see --help)\n", name, argv[i]);
       return -1;
     }
   }
+  if (!out_given && e->shard) snprintf(e->out, sizeof e->out, "results/shard-%dof%d/%s.csv", e->shard, e->nshards, name);
+  else if (!out_given) snprintf(e->out, sizeof e->out, "results/%s.csv", name);
   return 0;
 }
 
@@ -75,7 +92,7 @@ static void write_configs(const cb_experiment *e, FILE *f) {
   }
 }
 
-int cb_experiment_csv(cb_experiment *e, cb_outfile *o, const char *path, const char *extra, const char *header) {
+static int open_csv(cb_experiment *e, cb_outfile *o, const char *path, const char *extra, const char *header) {
   int st = cb_outfile_open(o, path ? path : e->out);
   if (st) return st;
   cb_provenance_write(o->f, e->name, e->argc, e->argv, NULL);
@@ -84,6 +101,66 @@ int cb_experiment_csv(cb_experiment *e, cb_outfile *o, const char *path, const c
   if (extra && *extra) fputs(extra, o->f);
   fprintf(o->f, "%s\n", header);
   return CB_OK;
+}
+
+int cb_experiment_csv(cb_experiment *e, cb_outfile *o, const char *path, const char *extra, const char *header) {
+  memset(o, 0, sizeof *o);
+  if (e->shard)
+    return cb_fail("%s: --shard: this program writes its CSV outside the sweep runner and cannot be sharded", e->name);
+  return open_csv(e, o, path, extra, header);
+}
+
+int cb_experiment_table(cb_experiment *e, const char *name, const char *extra, const char *header) {
+  if (e->ntables >= CB_EXPERIMENT_MAX_TABLES) return cb_fail("%s: more than %d tables", e->name, CB_EXPERIMENT_MAX_TABLES);
+  if (name && (!*name || strlen(name) >= sizeof e->table_name[0] || strpbrk(name, " /\t\n")))
+    return cb_fail("%s: bad table name '%s'", e->name, name);
+  int t = e->ntables;
+  char path[sizeof e->out + 64];
+  if (name) {
+    char suffix[64];
+    snprintf(suffix, sizeof suffix, "%s.csv", name);
+    cb_experiment_side_path(e, suffix, path, sizeof path);
+  }
+  int st = open_csv(e, &e->table[t], name ? path : NULL, extra, header);
+  if (st) return st < 0 ? st : -st;
+  snprintf(e->table_name[t], sizeof e->table_name[t], "%s", name ? name : "");
+  e->ntables++;
+  return t;
+}
+
+/* <out>.cells: "shard I N C", "tables - side1 side2 ...", then one line per
+ * cell this shard ran: its index and the rows it wrote to each table. */
+static int write_cells(cb_experiment *e) {
+  char path[sizeof e->out + 8];
+  snprintf(path, sizeof path, "%s.cells", e->out);
+  cb_outfile o;
+  int st = cb_outfile_open(&o, path);
+  if (st) return st;
+  fprintf(o.f, "shard %d %d %ld\ntables", e->shard, e->nshards, e->ncells);
+  for (int t = 0; t < e->ntables; t++) fprintf(o.f, " %s", e->table_name[t][0] ? e->table_name[t] : "-");
+  fputc('\n', o.f);
+  if (e->cells) fflush(e->cells);
+  if (e->cells_len) fwrite(e->cells_log, 1, e->cells_len, o.f);
+  return cb_outfile_commit(&o);
+}
+
+static void drop_cells(cb_experiment *e) {
+  if (e->cells) fclose(e->cells);
+  free(e->cells_log);
+  e->cells = NULL;
+  e->cells_log = NULL;
+  e->cells_len = 0;
+}
+
+int cb_experiment_end(cb_experiment *e, int st) {
+  for (int t = 0; t < e->ntables; t++) {
+    if (st == CB_OK && cb_outfile_commit(&e->table[t])) st = CB_EIO;
+    else if (st != CB_OK) cb_outfile_abort(&e->table[t]);
+  }
+  if (st == CB_OK && e->shard && write_cells(e)) st = CB_EIO;
+  drop_cells(e);
+  if (st) fprintf(stderr, "%s: %s\n", e->name, cb_error_message());
+  return st;
 }
 
 int cb_experiment_config(const cb_experiment *e, const char *file, const char *const *sets, cb_config *out) {

@@ -1,17 +1,33 @@
-/* What every experiment program shares: its command line, its CSV (opened
- * atomically with the provenance lines), progress, and config loading.
+/* What every experiment program shares: its command line, its CSV tables
+ * (opened atomically with the provenance lines), progress, config loading
+ * and sharding.
  *
  * Common options:
  *   --quick        reduced sweep (QUICK=1 in the environment does the same)
  *   --out PATH     main CSV (default results/<name>.csv)
  *   --configs DIR  folder holding hanging.ini etc. (default configs)
- *   --help         usage and what the experiment decides */
+ *   --shard I/N    run only the cells with index % N == I - 1 (I in 1..N) of
+ *                  the experiment's sweeps (sweep.h); default --out is then
+ *                  results/shard-<I>of<N>/<name>.csv. scripts/merge-shards.sh
+ *                  merges the shards' CSVs into the unsharded ones.
+ *   --help         usage and what the experiment decides
+ *
+ * Tables: an experiment opens every CSV it writes with cb_experiment_table
+ * before its first sweep, writes rows only from inside sweep cells, and ends
+ * with cb_experiment_end, which commits (or on error drops) them all. Under
+ * --shard, cb_experiment_end also writes <out>.cells: which cells this shard
+ * ran and how many rows each wrote to each table (the merge's key; the CSVs
+ * themselves are unchanged). */
 #ifndef CB_EXPERIMENT_H
 #define CB_EXPERIMENT_H
+
+#include <stdio.h>
 
 #include "config.h"
 #include "outfile.h"
 #include "progress.h"
+
+enum { CB_EXPERIMENT_MAX_TABLES = 8 };
 
 typedef struct cb_experiment {
   const char *name;
@@ -20,8 +36,19 @@ typedef struct cb_experiment {
   const char *configs;
   int argc;
   char **argv;
-  cb_outfile csv;
+  int shard, nshards;       /* --shard I/N: I in 1..N; 0 and 1 when not sharded */
+  cb_outfile csv;           /* for programs that write one CSV themselves (bench) */
   cb_progress progress;
+  /* tables (cb_experiment_table), in the order opened */
+  int ntables;
+  cb_outfile table[CB_EXPERIMENT_MAX_TABLES];
+  char table_name[CB_EXPERIMENT_MAX_TABLES][32]; /* "" = the main CSV, else its side suffix */
+  /* sweep bookkeeping (sweep.c): cells declared so far over all sweeps, and
+   * the "<cell> <rows per table>" lines of the cells this shard ran */
+  long ncells;
+  char *cells_log;
+  size_t cells_len;
+  FILE *cells;
 } cb_experiment;
 
 /* Returns 0 to go on, 1 when --help was printed (exit 0), negative on a bad
@@ -30,10 +57,23 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
 
 /* Opens a CSV at path (NULL = the main --out path): provenance lines,
  * "# experiment:", "# quick:", the caller's extra "# ..." lines (may be
- * NULL), then the header row. */
+ * NULL), then the header row. For programs that do not use the sweep runner;
+ * refused under --shard (such a program cannot be sharded). */
 int cb_experiment_csv(cb_experiment *e, cb_outfile *o, const char *path, const char *extra, const char *header);
 
-/* <configs>/<file>, then the NULL-terminated "section.key=value" overrides. */
+/* Opens table number e->ntables: the main CSV (name NULL) or the side table
+ * <stem>_<name>.csv, with the provenance lines of cb_experiment_csv. Returns
+ * the table's index (>= 0), the index sweep cells write it through, or a
+ * negative status. */
+int cb_experiment_table(cb_experiment *e, const char *name, const char *extra, const char *header);
+
+/* st == 0: commits every table (and, under --shard, writes <out>.cells);
+ * returns 0 or CB_EIO. st != 0: drops every table and returns st. Prints
+ * "<name>: <message>" on any error. */
+int cb_experiment_end(cb_experiment *e, int st);
+
+/* <configs>/<file>, then the NULL-terminated "section.key=value" overrides.
+ * Experiments load their scenes through cb_scene_decl_config (scene_decl.h). */
 int cb_experiment_config(const cb_experiment *e, const char *file, const char *const *sets, cb_config *out);
 
 /* Path of a side output next to the main CSV: results/<name>_<suffix>. */

@@ -1,0 +1,41 @@
+/* The sweep runner: an experiment describes its work as cells, the runner
+ * executes them, shows one progress line for the whole experiment and writes
+ * every cell's rows to the experiment's tables in cell order.
+ *
+ * A sweep (a phase of an experiment) is a count of cells and a callback
+ * run_cell(i, ctx, out): cell i of the sweep writes its rows to out[t] for
+ * table t (the index cb_experiment_table returned), and returns 0 or a
+ * status (non-zero stops the run; the message names the sweep and cell).
+ * A cell must not depend on another cell having run: under --shard I/N only
+ * the cells whose global index (counted over all the sweeps of the
+ * experiment, in order) is I - 1 modulo N run. A shared input (a reference
+ * trajectory, a captured system) is computed by each cell that needs it, or
+ * the cells that share it are made one cell.
+ *
+ * The runner buffers each cell's rows and appends them to the tables when
+ * the cell ends, so the tables hold the rows in cell order; under --shard it
+ * notes, per cell, how many rows went to each table (cb_experiment_end
+ * writes the note as <out>.cells), which is what scripts/merge-shards.sh
+ * interleaves the shards by. The CSVs themselves are the same bytes as the
+ * unsharded run's rows for those cells. */
+#ifndef CB_SWEEP_H
+#define CB_SWEEP_H
+
+#include <stdio.h>
+
+#include "experiment.h"
+
+typedef struct cb_sweep {
+  const char *name;                               /* the phase, e.g. "regime" (progress and errors) */
+  long ncells;
+  int (*run_cell)(long i, void *ctx, FILE *const *out);
+  double (*cost)(long i, void *ctx);              /* relative cost hint of cell i; NULL = 1 for every cell */
+  void *ctx;
+} cb_sweep;
+
+/* Runs the sweeps in order (the cells of this shard), with one progress line
+ * over all of them, whose estimate is weighted by the cost hints. Every
+ * table must be open before. Returns 0 or the first failing cell's status. */
+int cb_sweep_run(cb_experiment *e, const cb_sweep *sweeps, int nsweeps);
+
+#endif

@@ -1,0 +1,99 @@
+#!/bin/sh
+# Merges the CSVs of an experiment run as N shards (--shard 1/N ... N/N) into
+# the CSVs of the unsharded run:
+#   scripts/merge-shards.sh OUT.csv SHARD1.csv SHARD2.csv ... SHARDN.csv
+# SHARDk.csv is a shard's main CSV (its --out); its side tables
+# (<stem>_<table>.csv) are merged into <OUT stem>_<table>.csv, and its other
+# side files (e.g. <stem>_*.obj, one cell's each) are copied across.
+#
+# The key is <SHARDk.csv>.cells, written by every shard (lib/io/sweep.h):
+# "shard I N C", "tables - side1 ...", then per cell the shard ran its global
+# index and the rows it wrote to each table. Cell c ran in shard c % N + 1, so
+# the merge walks c = 0 .. C-1 and copies that many rows from that shard:
+# the rows come back in cell order, the order of the unsharded run. The
+# header (provenance) is shard 1's; the shards' headers must agree apart from
+# their "# date:" and "# command:" lines. Shards may be given in any order.
+set -eu
+[ $# -ge 2 ] || { echo "usage: $0 OUT.csv SHARD1.csv ... SHARDN.csv" >&2; exit 1; }
+out=$1; shift
+n=$#
+die() { echo "merge-shards: $*" >&2; exit 1; }
+# order the shards by the I in their .cells files
+ordered=""
+tables=""
+cells=""
+i=1
+while [ "$i" -le "$n" ]; do
+  found=""
+  for s in "$@"; do
+    [ -f "$s.cells" ] || die "$s.cells: missing (was $s written with --shard?)"
+    read -r word si sn sc < "$s.cells" || die "$s.cells: empty"
+    [ "$word" = shard ] || die "$s.cells: not a shard cell list"
+    [ "$sn" = "$n" ] || die "$s: shard of $sn, but $n shard files were given"
+    [ -z "$cells" ] || [ "$sc" = "$cells" ] || die "$s: $sc cells, another shard has $cells (different runs?)"
+    cells=$sc
+    t=$(sed -n 2p "$s.cells")
+    [ -z "$tables" ] || [ "$t" = "$tables" ] || die "$s: tables '$t' differ from '$tables'"
+    tables=$t
+    if [ "$si" = "$i" ]; then [ -z "$found" ] || die "two files are shard $i"; found=$s; fi
+  done
+  [ -n "$found" ] || die "no file is shard $i of $n"
+  ordered="$ordered $found"
+  i=$((i + 1))
+done
+set -- $ordered
+ostem=${out%.*}
+j=0
+for t in ${tables#tables }; do
+  j=$((j + 1))
+  if [ "$t" = - ]; then dst=$out; else dst=${ostem}_$t.csv; fi
+  files=""
+  for s in "$@"; do
+    if [ "$t" = - ]; then f=$s; else f=${s%.*}_$t.csv; fi
+    [ -f "$f" ] || die "$f: missing"
+    files="$files $f"
+  done
+  mkdir -p "$(dirname "$dst")"
+  tmp=$dst.merge.$$
+  # shellcheck disable=SC2086
+  awk -v n="$n" -v cells="$cells" -v col="$j" -v files="$files" -v lists="$*" '
+    function fail(msg) { print "merge-shards: " msg > "/dev/stderr"; bad = 1; exit 1 }
+    BEGIN {
+      split(files, F, " "); split(lists, L, " ")
+      for (s = 1; s <= n; s++) {
+        L[s] = L[s] ".cells"; getline x < L[s]; getline x < L[s]   # "shard ..." and "tables ..."
+        h = ""
+        while ((r = getline line < F[s]) > 0) {
+          if (s == 1) print line
+          if (line !~ /^# (date|command):/) h = h line "\n"
+          if (line !~ /^#/) break
+        }
+        if (r <= 0) fail(F[s] ": no header row")
+        if (s == 1) h1 = h; else if (h != h1) fail(F[s] ": header differs from " F[1] " (other than date and command)")
+      }
+      for (c = 0; c < cells; c++) {
+        s = c % n + 1
+        if ((getline rec < L[s]) <= 0) fail(L[s] ": no entry for cell " c)
+        split(rec, R, " ")
+        if (R[1] != c) fail(L[s] ": cell " R[1] " where cell " c " was expected")
+        for (k = 0; k < R[col + 1]; k++) {
+          if ((getline line < F[s]) <= 0) fail(F[s] ": fewer rows than " L[s] " lists")
+          print line
+        }
+      }
+      for (s = 1; s <= n; s++) {
+        if ((getline line < F[s]) > 0) fail(F[s] ": more rows than " L[s] " lists")
+        if ((getline line < L[s]) > 0) fail(L[s] ": entries beyond cell " cells - 1)
+      }
+    }' > "$tmp" || { rm -f "$tmp"; exit 1; }
+  mv "$tmp" "$dst"
+done
+# other side files (one cell's each, so the shards' names do not collide)
+for s in "$@"; do
+  stem=${s%.*}
+  for f in "${stem}"_*; do
+    [ -f "$f" ] || continue
+    case $f in *.csv|*.cells|*.tmp.*) continue ;; esac
+    cp "$f" "${ostem}${f#"$stem"}"
+  done
+done
