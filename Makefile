@@ -148,6 +148,7 @@ check: $(TESTS) $(TOOLS) $(BUILD)/$(DETERMINISM_EXP) $(BUILD)/topology $(BUILD)/
 	@set -e; for t in $(TESTS); do echo "== $$t"; CB_QUIET=1 CB_SIMULATE=$(BUILD)/simulate $$t --jobs 2 --short-filename; done
 	@BUILD=$(BUILD) tests/cli.sh
 	@BUILD=$(BUILD) tests/report.sh
+	@BUILD=$(BUILD) tests/lock.sh
 	@BUILD=$(BUILD) tests/determinism.sh $(DETERMINISM_EXP)
 	@BUILD=$(BUILD) tests/shard.sh topology 3
 	@BUILD=$(BUILD) tests/shard.sh definiteness 2

@@ -14,7 +14,7 @@ T=$(mktemp -d "${TMPDIR:-/tmp}/cbdet.XXXXXX") || exit 1
 trap 'rm -rf "$T"' EXIT INT TERM
 strip() { # drop '# date:' and '# command:' lines; blank timing columns
   awk -F, -v OFS=, '
-    /^# (date|command|git_revision|cflags|cpu|cores):/ { next }
+    /^# (date|command|git_revision|cflags|cpu|cores|cpu_lock):/ { next }
     /^#/ { print; next }
     !hdr { hdr = 1; for (i = 1; i <= NF; i++) if ($i ~ /_ms$|wall|time|speedup/) t[i] = 1; print; next }
     { for (i in t) $i = "-"; print }' "$1"

@@ -238,6 +238,7 @@ int main(int argc, char **argv) {
                                "fixes drop, mirror, shift and choi-ko cost (Newton iterations, time, shape).",
                                argc, argv);
   if (st) return st > 0 ? 0 : 1;
+  cb_experiment_timed(&e); /* its numbers include wall times: run alone */
   plan pl = {.e = &e};
   for (int i = 0; i < NSCENES; i++) {
     if (cb_scene_decl_is(&scenes[i].scene, "trajectory")) pl.traj[pl.ntraj++] = i;

@@ -226,6 +226,7 @@ int main(int argc, char **argv) {
   cb_experiment e;
   int b = cb_experiment_begin(&e, "newton_vs_bw", ABOUT, argc, argv);
   if (b) return b > 0 ? 0 : 1;
+  cb_experiment_timed(&e); /* its numbers include wall times: run alone */
   int q = e.quick;
   plan p = {.e = &e, .q = q, .traj = -1, .regime = -1, .i2 = -1, .di = q ? DI_Q : DI, .ki = q ? KI_Q : DI,
             .si = q ? SI_Q : SI, .nd = q ? 3 : 6, .nk = q ? 3 : 6, .nst = q ? 2 : 4};

@@ -1,6 +1,9 @@
 #include "experiment.h"
 
 #include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <sys/file.h>
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -9,8 +12,29 @@
 #include "provenance.h"
 #include <clothbench/status.h>
 
+static const char *cpu_lock_path(void) {
+  const char *p = getenv("CB_CPU_LOCK");
+  return p && *p ? p : "/tmp/clothbench-cpu.lock";
+}
+
+/* flock(fd, op), and if it would block, a message and then a blocking wait. */
+static void lock_waiting(const cb_experiment *e, int op, const char *why) {
+  if (flock(e->lock_fd, op | LOCK_NB) == 0) return;
+  if (errno == EWOULDBLOCK) {
+    if (!getenv("CB_QUIET")) fprintf(stderr, "%s: waiting for %s (lock %s)\n", e->name, why, cpu_lock_path());
+    while (flock(e->lock_fd, op) != 0 && errno == EINTR) {
+    }
+  }
+}
+
+void cb_experiment_timed(cb_experiment *e) {
+  e->timed = 1;
+  if (e->lock_fd >= 0) lock_waiting(e, LOCK_EX, "other experiments to finish: a timed experiment runs alone");
+}
+
 int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, int argc, char **argv) {
   memset(e, 0, sizeof *e);
+  e->lock_fd = -1;
   cb_runtime_init();
   e->name = name;
   e->argc = argc;
@@ -23,7 +47,7 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
   int out_given = 0;
   for (int i = 1; i < argc; i++) {
     if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-      printf("usage: %s [--quick] [--out PATH] [--configs DIR] [--shard I/N]\n\n%s\n\n"
+      printf("usage: %s [--quick] [--out PATH] [--configs DIR] [--shard I/N] [--version]\n\n%s\n\n"
              "  --quick        reduced sweep for CI (also QUICK=1 in the environment)\n"
              "  --out PATH     CSV output (default results/%s.csv); written atomically\n"
              "  --configs DIR  folder with the scene configs (default configs)\n"
@@ -32,6 +56,10 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
              "                 scripts/merge-shards.sh OUT.csv SHARD1.csv ... SHARDN.csv\n"
              "Progress goes to stderr (CB_QUIET=1 silences it); data goes to the CSV only.\n",
              name, about, name, name);
+      return 1;
+    }
+    if (!strcmp(argv[i], "--version")) {
+      printf("%s (clothbench) %s (%s)\n", name, cb_build_git, cb_build_dirty);
       return 1;
     }
     if (!strcmp(argv[i], "--quick")) e->quick = 1;
@@ -54,6 +82,9 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
   }
   if (!out_given && e->shard) snprintf(e->out, sizeof e->out, "results/shard-%dof%d/%s.csv", e->shard, e->nshards, name);
   else if (!out_given) snprintf(e->out, sizeof e->out, "results/%s.csv", name);
+  /* the CPU lock, shared: a timed experiment (cb_experiment_timed) waits for us */
+  e->lock_fd = open(cpu_lock_path(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+  if (e->lock_fd >= 0) lock_waiting(e, LOCK_SH, "a timed experiment to finish");
   return 0;
 }
 
@@ -98,6 +129,9 @@ static int open_csv(cb_experiment *e, cb_outfile *o, const char *path, const cha
   cb_provenance_write(o->f, e->name, e->argc, e->argv, NULL);
   write_configs(e, o->f);
   fprintf(o->f, "# experiment: %s\n# quick: %d\n", e->name, e->quick);
+  fprintf(o->f, "# cpu_lock: %s\n", e->lock_fd < 0 ? "none (the lock file could not be opened)"
+                                     : e->timed ? "exclusive (timed: no other clothbench experiment ran meanwhile)"
+                                                : "shared (untimed: other untimed experiments may have run meanwhile)");
   if (extra && *extra) fputs(extra, o->f);
   fprintf(o->f, "%s\n", header);
   return CB_OK;

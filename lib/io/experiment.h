@@ -37,6 +37,8 @@ typedef struct cb_experiment {
   int argc;
   char **argv;
   int shard, nshards;       /* --shard I/N: I in 1..N; 0 and 1 when not sharded */
+  int timed;                /* 1 after cb_experiment_timed: it holds the CPU lock exclusively */
+  int lock_fd;              /* the CPU lock (cb_experiment_begin takes it shared), or -1 */
   cb_outfile csv;           /* for programs that write one CSV themselves (bench) */
   cb_progress progress;
   /* tables (cb_experiment_table), in the order opened */
@@ -51,9 +53,20 @@ typedef struct cb_experiment {
   FILE *cells;
 } cb_experiment;
 
-/* Returns 0 to go on, 1 when --help was printed (exit 0), negative on a bad
- * option (message printed; exit 1). about: a paragraph for --help. */
+/* Returns 0 to go on, 1 when --help or --version was printed (exit 0),
+ * negative on a bad option (message printed; exit 1). about: a paragraph for
+ * --help. Takes the CPU lock shared (see cb_experiment_timed). */
 int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, int argc, char **argv);
+
+/* For an experiment whose numbers include wall times: converts the CPU lock
+ * that cb_experiment_begin took shared into an exclusive one, waiting (with
+ * a message) until no other clothbench experiment or bench runs, and holds it
+ * to the end of the process. So under `make -j2 experiments` a timed
+ * experiment never shares the CPU with another one, and an untimed one runs
+ * beside other untimed ones only. The lock is the file CB_CPU_LOCK (default
+ * /tmp/clothbench-cpu.lock); its use is recorded as "# cpu_lock:" in
+ * every CSV. Call it right after cb_experiment_begin. */
+void cb_experiment_timed(cb_experiment *e);
 
 /* Opens a CSV at path (NULL = the main --out path): provenance lines,
  * "# experiment:", "# quick:", the caller's extra "# ..." lines (may be
