@@ -7,6 +7,7 @@
 ## make movies        animated GIFs of paired runs (explicit blow-up, Baraff-Witkin vs Newton)
 ## make report        decide every claim from results/*.csv into results/REPORT.md
 ## make bench         the core benchmarks (results/bench_core.csv)
+## make determinism  every experiment's --quick run twice, compared (timing columns aside)
 ## make san           the tests under AddressSanitizer + UndefinedBehaviorSanitizer
 ## make fuzz          libFuzzer on the config parser, OBJ reader, scene building (FUZZ_SECONDS=60)
 ## make deps          install the missing Debian packages (or print the command)
@@ -74,7 +75,7 @@ TEST_OBJ := $(BUILD)/tests/support.o
 help:
 	@sed -n 's/^##  \{0,1\}//p' $(firstword $(MAKEFILE_LIST))
 
-.PHONY: help all test check experiments run-experiments plots movies report bench san fuzz fuzz-build deps clean distclean FORCE
+.PHONY: help determinism all test check experiments run-experiments plots movies report bench san fuzz fuzz-build deps clean distclean FORCE
 .DEFAULT_GOAL := all
 
 all: $(LIB) $(TOOLS) $(EXPS) $(BENCHES) $(BUILD)/report
@@ -154,6 +155,11 @@ check: $(TESTS) $(TOOLS) $(BUILD)/$(DETERMINISM_EXP) $(BUILD)/topology $(BUILD)/
 	@BUILD=$(BUILD) tests/shard.sh definiteness 2
 	@CC="$(CC)" CPPFLAGS="$(CPPFLAGS)" CORE_INC="$(CORE_INC)" CONFIG_INC="$(CONFIG_INC)" INSTR_INC="$(INSTR_INC)" IO_INC="$(IO_INC)" tests/layers.sh
 	@echo "all tests passed"
+
+# every experiment's --quick run twice: identical CSVs apart from the date and
+# the timing columns (CI runs it; make test checks linear_solvers alone)
+determinism: $(EXPS)
+	@set -e; for x in $(EXP_NAMES); do BUILD=$(BUILD) tests/determinism.sh $$x; done
 
 san: deps
 	@$(MAKE) --no-print-directory BUILD=build/san OPT=-O1 \

@@ -61,7 +61,7 @@ do for [s = 1:nsc] {
   print 'wall_ms,step_error_max'
   unset print
   set table $FRONT append separator comma
-  plot pareto using 'wall_ms':'step_error_max' with table if (strcol('scene') eq sc && column('on_front') == 1)
+  plot pareto using 'wall_ms':'step_error_max' with table if (strcol('scene') eq sc && column('front_by_wall') == 1)
   unset table
   plot pareto using (strcol('scene') eq sc ? column('wall_ms') : NaN):(finite(column('step_error_max'))): \
          (k_pt(column('k_index'), column('line_search'))):(inner_col(column('inner_index'))) \

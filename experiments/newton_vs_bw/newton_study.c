@@ -115,7 +115,7 @@ int cb_study_steps(cb_scene *s, const char *label, double dt, const int *states,
 
 const char *const cb_study_pareto_header =
     "scene,method,max_newton_iters,k_index,inner_solver,inner_index,line_search,states,wall_ms,wall_no_setup_ms,"
-    "step_error_max,failed,on_front";
+    "step_error_max,failed,front_by_wall";
 
 int cb_study_pareto(FILE *csv, const char *label, const cb_method *methods, int nmethods, const cb_study_point *pts,
                     int nstates) {
@@ -123,9 +123,9 @@ int cb_study_pareto(FILE *csv, const char *label, const cb_method *methods, int 
   static const int Ks[] = {1, 2, 3, 5, 10, 0};
   double *cost = cb_malloc((size_t)nmethods, sizeof(double)), *nos = cb_malloc((size_t)nmethods, sizeof(double));
   double *err = cb_malloc((size_t)nmethods, sizeof(double)), *tmp = cb_malloc((size_t)nstates + 1, sizeof(double));
-  int *front = cb_malloc((size_t)nmethods, sizeof(int)), *order = cb_malloc((size_t)nmethods, sizeof(int));
+  int *front = cb_malloc((size_t)nmethods, sizeof(int));
   int *failed = cb_calloc((size_t)nmethods, sizeof(int));
-  int st = cost && nos && err && tmp && front && order && failed && nstates > 0 ? CB_OK : CB_ENOMEM;
+  int st = cost && nos && err && tmp && front && failed && nstates > 0 ? CB_OK : CB_ENOMEM;
   for (int m = 0; st == CB_OK && m < nmethods; m++) {
     err[m] = 0;
     for (int k = 0; k < nstates; k++) {
@@ -138,16 +138,14 @@ int cb_study_pareto(FILE *csv, const char *label, const cb_method *methods, int 
     cost[m] = cb_median(tmp, nstates);
     for (int k = 0; k < nstates; k++) tmp[k] = pts[k * nmethods + m].wall_ms - pts[k * nmethods + m].setup_ms;
     nos[m] = cb_median(tmp, nstates);
-    order[m] = m;
   }
   if (st == CB_OK) {
+    /* rows in method order, not by cost: the file's deterministic columns are
+     * then the same in every run; front_by_wall (1 on the error-against-wall-
+     * time Pareto front) follows the timings, as its name says */
     cb_pareto_front(nmethods, cost, err, front);
-    for (int i = 1; i < nmethods; i++) /* insertion sort by cost */
-      for (int j = i; j > 0 && cost[order[j]] < cost[order[j - 1]]; j--) {
-        int t = order[j]; order[j] = order[j - 1]; order[j - 1] = t;
-      }
-    for (int i = 0; i < nmethods; i++) {
-      int m = order[i], ki = 0, ii = 0;
+    for (int m = 0; m < nmethods; m++) {
+      int ki = 0, ii = 0;
       while (ki < 5 && Ks[ki] != methods[m].K) ki++;
       while (ii < 5 && strcmp(inners[ii], methods[m].inner)) ii++;
       fprintf(csv, "%s,%s,%d,%d,%s,%d,%d,%d,%.6f,%.6f,%.17g,%d,%d\n", label, methods[m].name,
@@ -155,7 +153,7 @@ int cb_study_pareto(FILE *csv, const char *label, const cb_method *methods, int 
               methods[m].line_search, nstates, cost[m], nos[m], err[m], failed[m], front[m]);
     }
   }
-  free(cost); free(nos); free(err); free(tmp); free(front); free(order); free(failed);
+  free(cost); free(nos); free(err); free(tmp); free(front); free(failed);
   return st;
 }
 
