@@ -1,5 +1,6 @@
 #include "config.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <ini.h>
 #include <math.h>
@@ -7,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 #include <clothbench/energy.h>
 #include <clothbench/integrator.h>
@@ -286,6 +288,71 @@ void cb_config_defaults(cb_config *c) {
   }
 }
 
+/* ---- did you mean ----------------------------------------------------------- */
+
+/* Levenshtein distance between a and b (each at most 63 characters used). */
+static int edit_distance(const char *a, const char *b) {
+  int la = (int)strlen(a), lb = (int)strlen(b);
+  if (la > 63) la = 63;
+  if (lb > 63) lb = 63;
+  int row[64];
+  for (int j = 0; j <= lb; j++) row[j] = j;
+  for (int i = 1; i <= la; i++) {
+    int diag = row[0];
+    row[0] = i;
+    for (int j = 1; j <= lb; j++) {
+      int up = row[j];
+      int sub = diag + (tolower((unsigned char)a[i - 1]) != tolower((unsigned char)b[j - 1]));
+      int best = up + 1 < row[j - 1] + 1 ? up + 1 : row[j - 1] + 1;
+      row[j] = sub < best ? sub : best;
+      diag = up;
+    }
+  }
+  return row[lb];
+}
+
+/* The close match a suggestion may offer: at most 2 edits, and at most a
+ * third of the word's length (so "mesh.x" does not become "mesh.n"). */
+static int close_enough(int d, const char *word) { return d <= 2 && 3 * d <= (int)strlen(word); }
+
+/* The key of the table nearest to key (case-insensitive edits, or the same
+ * name in another section), or NULL if none is close. */
+static const char *nearest_key(const char *key) {
+  build_table();
+  const char *best = NULL, *dot = strchr(key, '.');
+  int bd = 1000;
+  for (int i = 0; i < nkeys; i++) {
+    int d = edit_distance(key, keys[i].key);
+    if (d < bd) { bd = d; best = keys[i].key; }
+  }
+  if (best && close_enough(bd, key)) return best;
+  if (dot) { /* the (nearly) right name under another section: [mesh] stretch_k */
+    bd = 1000;
+    best = NULL;
+    for (int i = 0; i < nkeys; i++) {
+      int d = edit_distance(dot + 1, strchr(keys[i].key, '.') + 1);
+      if (d < bd) { bd = d; best = keys[i].key; }
+    }
+    if (best && close_enough(bd, dot + 1)) return best;
+  }
+  return NULL;
+}
+
+static const char *nearest_section(const char *name) {
+  static const char *const sections[] = {"mesh", "material", "scene", "integrator", "solver"};
+  for (int i = 0; i < 5; i++)
+    if (close_enough(edit_distance(name, sections[i]), name)) return sections[i];
+  return NULL;
+}
+
+/* "; did you mean section.key?" for an unknown key, or "". */
+static const char *did_you_mean(const char *key, char *buf, size_t n) {
+  const char *best = nearest_key(key);
+  if (best) snprintf(buf, n, "; did you mean %s?", best);
+  else snprintf(buf, n, "%s", "");
+  return buf;
+}
+
 /* ---- INI parsing -------------------------------------------------------- */
 
 typedef struct {
@@ -295,7 +362,7 @@ typedef struct {
   int line;        /* lines handed to inih so far */
   int failed;      /* first error recorded */
   int failed_line; /* its line */
-  int too_long;
+  long bytes;      /* read so far */
   char seen[MAX_KEYS]; /* keys set by this file */
 } parse_ctx;
 
@@ -313,18 +380,45 @@ static int known_section(const char *name, size_t len) {
 }
 
 /* inih reader: counts lines so the handler knows where it is, and checks
- * what inih does not report: over-long lines and unknown empty sections. */
+ * what inih does not report: NUL bytes (a binary file), input beyond
+ * CB_CONFIG_MAX_BYTES (a file that grows while read), read errors, over-long
+ * lines and unknown empty sections. On any of them it records the error
+ * and ends the input (returns NULL), so the handler sees nothing after it. */
 static char *reader(char *str, int num, void *stream) {
   parse_ctx *ctx = stream;
-  char *r = fgets(str, num, ctx->f);
-  if (!r) return NULL;
-  ctx->line++;
-  size_t n = strlen(str);
-  if (ctx->failed) return r;
-  if (n == (size_t)num - 1 && str[n - 1] != '\n' && !feof(ctx->f)) {
+  if (ctx->failed) return NULL;
+  int n = 0, c = EOF;
+  while (n < num - 1 && (c = getc(ctx->f)) != EOF) {
+    if (c == '\0') {
+      ctx->line++;
+      fail_at(ctx);
+      cb_fail("%s:%d: NUL byte at column %d: not a text file", ctx->path, ctx->line, n + 1);
+      return NULL;
+    }
+    str[n++] = (char)c;
+    if (c == '\n') break;
+  }
+  str[n] = '\0';
+  ctx->bytes += n;
+  if (ferror(ctx->f)) {
     fail_at(ctx);
-    cb_fail("%s:%d: line longer than %d characters", ctx->path, ctx->line, num - 2);
-    return r;
+    cb_fail("%s:%d: read error: %s", ctx->path, ctx->line + 1, strerror(errno));
+    return NULL;
+  }
+  if (n == 0) return NULL; /* end of file */
+  ctx->line++;
+  if (ctx->bytes > CB_CONFIG_MAX_BYTES) {
+    fail_at(ctx);
+    cb_fail("%s:%d: more than the %d bytes a config may have", ctx->path, ctx->line, CB_CONFIG_MAX_BYTES);
+    return NULL;
+  }
+  if (n == num - 1 && str[n - 1] != '\n') {
+    int next = getc(ctx->f);
+    if (next != EOF) {
+      fail_at(ctx);
+      cb_fail("%s:%d: line longer than %d characters", ctx->path, ctx->line, num - 3);
+      return NULL;
+    }
   }
   const char *p = str;
   while (*p == ' ' || *p == '\t') p++;
@@ -336,11 +430,17 @@ static char *reader(char *str, int num, void *stream) {
     while (len && (name[len - 1] == ' ' || name[len - 1] == '\t')) len--;
     if (!known_section(name, len)) {
       fail_at(ctx);
-      cb_fail("%s:%d: unknown section [%.*s] (sections: mesh, material, scene, integrator, solver)", ctx->path,
-              ctx->line, (int)len, name);
+      char sec[64];
+      snprintf(sec, sizeof sec, "%.*s", (int)(len < 60 ? len : 60), name);
+      char hint[96] = "";
+      const char *best = nearest_section(sec);
+      if (best) snprintf(hint, sizeof hint, "; did you mean [%s]?", best);
+      cb_fail("%s:%d: unknown section [%.*s] (sections: mesh, material, scene, integrator, solver)%s", ctx->path,
+              ctx->line, (int)len, name, hint);
+      return NULL;
     }
   }
-  return r;
+  return str;
 }
 
 static int handler(void *user, const char *section, const char *name, const char *value) {
@@ -350,10 +450,15 @@ static int handler(void *user, const char *section, const char *name, const char
   snprintf(key, sizeof key, "%s.%s", section, name);
   int i = find_key(key);
   if (i < 0) {
+    char hint[128];
     fail_at(ctx);
-    if (!section[0]) cb_fail("%s:%d: %s: key outside any section", ctx->path, ctx->line, name);
-    else if (!known_section(section, strlen(section))) cb_fail("%s:%d: %s: unknown section [%s]", ctx->path, ctx->line, key, section);
-    else cb_fail("%s:%d: %s: unknown key", ctx->path, ctx->line, key);
+    if (!section[0]) {
+      const char *best = nearest_key(key); /* ".stretch_k" finds material.stretch_k */
+      cb_fail("%s:%d: %s: key outside any section%s%s%s", ctx->path, ctx->line, name, best ? " (did you mean " : "",
+              best ? best : "", best ? "?)" : "");
+    } else if (!known_section(section, strlen(section)))
+      cb_fail("%s:%d: %s: unknown section [%s]%s", ctx->path, ctx->line, key, section, did_you_mean(key, hint, sizeof hint));
+    else cb_fail("%s:%d: %s: unknown key%s", ctx->path, ctx->line, key, did_you_mean(key, hint, sizeof hint));
     return 1;
   }
   if (ctx->seen[i]) {
@@ -385,6 +490,20 @@ int cb_config_load(const char *path, cb_config *c) {
   parse_ctx ctx = {.c = c, .path = path};
   ctx.f = fopen(path, "r");
   if (!ctx.f) return cb_fail_status(CB_EIO, "%s: cannot open config file: %s", path, strerror(errno));
+  struct stat sb;
+  const char *bad = NULL;
+  if (fstat(fileno(ctx.f), &sb) != 0) bad = "cannot stat it";
+  else if (S_ISDIR(sb.st_mode)) bad = "a directory, not a config file";
+  else if (!S_ISREG(sb.st_mode)) bad = "not a regular file (a device or pipe); a config must be a file";
+  else if (sb.st_size > CB_CONFIG_MAX_BYTES) bad = "larger than the 1 MiB a config may have";
+  if (bad) {
+    fclose(ctx.f);
+    return cb_fail_status(CB_EIO, "%s: %s", path, bad);
+  }
+  /* Debian's inih reads lines of up to ini_max_line - 3 characters (its
+   * default 200 would cap a scene.pins list at 198); a config's longest line
+   * is the whole config */
+  ini_max_line = CB_CONFIG_MAX_BYTES + 3;
   int r = ini_parse_stream(reader, &ctx, handler, &ctx);
   fclose(ctx.f);
   /* inih reports the line of its first error; ours may come later or earlier */
@@ -412,7 +531,10 @@ int cb_config_set(cb_config *c, const char *assignment) {
   strcpy(value, v);
   for (size_t n = strlen(value); n && (value[n - 1] == ' ' || value[n - 1] == '\t');) value[--n] = '\0';
   int i = find_key(key);
-  if (i < 0) return cb_fail("--set %s: unknown key '%s' (simulate --help-config lists them)", assignment, key);
+  char hint[128];
+  if (i < 0)
+    return cb_fail("--set %s: unknown key '%s'%s (simulate --help-config lists them)", assignment, key,
+                   did_you_mean(key, hint, sizeof hint));
   if (assign(c, &keys[i], value, why, sizeof why)) return cb_fail("--set %s: %s: %s", assignment, key, why);
   c->where[i].source = SRC_SET;
   c->where[i].line = 0;
