@@ -83,7 +83,7 @@ static const keydef keys_head[] = {
  * in registry order, and then these. */
 static const keydef keys_tail[] = {
   {"integrator.diverge_ratio", T_DOUBLE, O(diverge_ratio), "10", "-", 0, 1e300, 1, NULL, NULL,
-   "A run is `diverged` when a position is NaN/Inf, or when the total energy rises above its initial value by more than diverge_ratio x S, S = initial kinetic + elastic energy + (sum m_i |g|) x (rest bounding-box diagonal) x max(1, initial_scale) + 1e-12 J."},
+   "After a step the integrator did not fail, a run is `diverged` when a position, velocity or energy is NaN/Inf, or when the total energy, less the work the driven pins (`scene.pin_squeeze`) did, rises above its initial value by more than diverge_ratio x S, S = initial kinetic + elastic energy + (sum m_i |g|) x (rest bounding-box diagonal) x max(1, initial_scale) + 1e-12 J. A failed step keeps the integrator's status."},
   {"solver.method", T_ENUM, O(solver), "cholmod", "-", 0, 0, 0, NULL, cb_solver_name,
    "Linear solver for Newton's system (`cholmod`: sparse Cholesky, exact)."},
   {"solver.tol", T_DOUBLE, O(solver_tol), "1e-8", "-", 0, 1, 0, NULL, NULL,
