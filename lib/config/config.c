@@ -290,9 +290,12 @@ void cb_config_defaults(cb_config *c) {
 
 /* ---- did you mean ----------------------------------------------------------- */
 
-/* Levenshtein distance between a and b (each at most 63 characters used). */
+/* Levenshtein distance between a and b (each at most 63 characters used);
+ * 3 as soon as the lengths alone differ by more than 2 (no suggestion is
+ * made beyond 2 edits, and this keeps a fuzzer's long keys cheap). */
 static int edit_distance(const char *a, const char *b) {
   int la = (int)strlen(a), lb = (int)strlen(b);
+  if (la - lb > 2 || lb - la > 2) return 3;
   if (la > 63) la = 63;
   if (lb > 63) lb = 63;
   int row[64];
@@ -388,7 +391,7 @@ static char *reader(char *str, int num, void *stream) {
   parse_ctx *ctx = stream;
   if (ctx->failed) return NULL;
   int n = 0, c = EOF;
-  while (n < num - 1 && (c = getc(ctx->f)) != EOF) {
+  while (n < num - 1 && (c = getc_unlocked(ctx->f)) != EOF) { /* one thread reads a config */
     if (c == '\0') {
       ctx->line++;
       fail_at(ctx);
@@ -500,10 +503,11 @@ int cb_config_load(const char *path, cb_config *c) {
     fclose(ctx.f);
     return cb_fail_status(CB_EIO, "%s: %s", path, bad);
   }
-  /* Debian's inih reads lines of up to ini_max_line - 3 characters (its
-   * default 200 would cap a scene.pins list at 198); a config's longest line
-   * is the whole config */
-  ini_max_line = CB_CONFIG_MAX_BYTES + 3;
+  /* Debian's inih reads lines of up to ini_max_line - 3 characters into a
+   * buffer of ini_max_line bytes (its default 200 would cap a scene.pins list
+   * at 198); no line is longer than the file (one that grew since fstat is
+   * caught by the reader's over-long line check) */
+  ini_max_line = (int)sb.st_size + 3 > 200 ? (int)sb.st_size + 3 : 200;
   int r = ini_parse_stream(reader, &ctx, handler, &ctx);
   fclose(ctx.f);
   /* inih reports the line of its first error; ours may come later or earlier */
