@@ -182,12 +182,18 @@ static int check_finite(const cb_scene *s, const cb_scene_def *d, const char **k
   for (int k = 0; k < s->sys.nterms; k++) {
     if (isfinite(per[k])) continue;
     const char *label = s->sys.terms[k]->label, *tkey = "material.stretch_k";
-    double value = d->stretch_k;
-    if (strcmp(label, "gravity") == 0) { tkey = "scene.gravity"; value = cb_v3_norm(d->gravity); }
-    else if (strcmp(label, "stretch") != 0) { tkey = "material.bend_k"; value = d->bend_k; }
-    return at_key(cb_fail("%s: the %s energy at the initial state is %g J, not a finite double (%s = %g, total mass "
+    char what[96];
+    snprintf(what, sizeof what, "material.stretch_k = %g N/m", d->stretch_k);
+    if (strcmp(label, "gravity") == 0) {
+      tkey = "scene.gravity";
+      snprintf(what, sizeof what, "|scene.gravity| = %g m/s^2", cb_v3_norm(d->gravity));
+    } else if (strcmp(label, "stretch") != 0) {
+      tkey = "material.bend_k";
+      snprintf(what, sizeof what, "material.bend_k = %g N/m", d->bend_k);
+    }
+    return at_key(cb_fail("%s: the %s energy at the initial state is %g J, not a finite double (%s, total mass "
                           "%g kg, longest edge %g m, scene.initial_scale = %g): the scene is too large for double "
-                          "precision", tkey, label, per[k], tkey, value, cb_scene_total_mass(s), longest_edge(s),
+                          "precision", tkey, label, per[k], what, cb_scene_total_mass(s), longest_edge(s),
                           d->initial_scale), key, tkey);
   }
   if (!isfinite(s->energy_scale))
