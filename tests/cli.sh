@@ -82,11 +82,11 @@ if [ -s "$T/hang/out.csv" ]; then
   check "hang: $n data rows, expected 61 (step 0 and 60 steps)" test "$n" -eq 61
   hdr=$(header_of "$csv")
   case $hdr in
-    step,t_s,kinetic_j,potential_j,*,status) : ;;
-    *) fail "hang: header '$hdr' does not run step,t_s,kinetic_j,potential_j,...,status" ;;
+    step,t_s,kinetic_j,elastic_j,gravity_j,total_j,pin_work_j,*,status) : ;;
+    *) fail "hang: header '$hdr' does not run step,t_s,kinetic_j,elastic_j,gravity_j,total_j,pin_work_j,...,status" ;;
   esac
   checks=$((checks + 1))
-  for c in step t_s kinetic_j potential_j elastic_j total_j newton_iters wall_ms status; do
+  for c in step t_s kinetic_j elastic_j gravity_j total_j pin_work_j newton_iters wall_ms status; do
     check "hang: header lacks column $c" test -n "$(col "$csv" "$c")"
   done
   # the provenance block: every line before the header starts with '#'
@@ -110,10 +110,15 @@ if [ -s "$T/hang/out.csv" ]; then
   check "hang: $badsteps rows with a wrong step or t_s" test "$badsteps" -eq 0
   badstat=$(data_rows "$csv" | awk -F, '$NF != "ok" && $NF != "max_iters"' | wc -l | tr -d ' ')
   check "hang: $badstat rows with a fatal status" test "$badstat" -eq 0
-  # the cloth falls: potential energy at the end is below the start
-  pc=$(col "$csv" potential_j)
+  # the cloth falls: the gravity potential at the end is below the start
+  pc=$(col "$csv" gravity_j)
   fell=$(data_rows "$csv" | awk -F, -v p="$pc" 'NR == 1 {p0 = $p} END {print ($p < p0 - 1) ? 1 : 0}')
-  check "hang: potential energy did not decrease" test "$fell" -eq 1
+  check "hang: gravity potential did not decrease" test "$fell" -eq 1
+  # each energy column holds one thing: kinetic + elastic + gravity = total (potential_j held elastic too)
+  kc=$(col "$csv" kinetic_j); ec=$(col "$csv" elastic_j); tc=$(col "$csv" total_j)
+  badsum=$(data_rows "$csv" | awk -F, -v k="$kc" -v e="$ec" -v g="$pc" -v t="$tc" \
+    '{ d = $k + $e + $g - $t; s = ($t < 0 ? -$t : $t) + 1; if (d > 1e-9 * s || d < -1e-9 * s) print }' | wc -l | tr -d ' ')
+  check "hang: $badsum rows where kinetic_j + elastic_j + gravity_j != total_j" test "$badsum" -eq 0
 fi
 if [ -s "$T/hang/out.obj" ]; then
   nv=$(grep -c '^v ' "$T/hang/out.obj")
@@ -352,6 +357,77 @@ check "dirobj: the directory is still there" test -d "$T/adir"
 sim emptypath "$CONFIG" --steps 1 --csv "" --obj "$T/emptypath.obj"
 expect_rc emptypath 2
 expect_err emptypath "output path is empty"
+
+# ---- endless or non-text input (issue 14, item 2): exit 1 at once, with a message ----------
+# (timeout: the old simulate hung on /dev/zero; outputs always go to $T, never to a device)
+
+for dev in /dev/zero /dev/urandom; do
+  name=dev$(basename "$dev")
+  timeout 20 "$SIM" "$dev" --csv "$T/$name.csv" --obj "$T/$name.obj" >"$T/$name.out" 2>"$T/$name.err"
+  rc=$?
+  expect_rc "$name" 1
+  expect_err "$name" "not a regular file"
+done
+mkdir -p "$T/adir"
+sim dir_config "$T/adir" --csv "$T/dir.csv" --obj "$T/dir.obj"
+expect_rc dir_config 1
+expect_err dir_config "a directory"
+head -c 100 /dev/zero >"$T/nul.ini"
+sim nul_config "$T/nul.ini" --csv "$T/nul.csv" --obj "$T/nul.obj"
+expect_rc nul_config 1
+expect_err nul_config "nul.ini:1: NUL byte"
+printf '[mesh]\ntype = obj\nfile = /dev/zero\n' >"$T/devzero_mesh.ini"
+timeout 20 "$SIM" "$T/devzero_mesh.ini" --csv "$T/dzm.csv" --obj "$T/dzm.obj" >/dev/null 2>"$T/devzero_mesh.err"
+rc=$?
+expect_rc devzero_mesh 1
+expect_err devzero_mesh "devzero_mesh.ini:3: mesh.file: /dev/zero: not a regular file"
+
+# ---- long lines, did you mean (item 7) --------------------------------------------------
+
+pins=$(awk 'BEGIN { for (j = 0; j < 21; j++) printf "%d %d ", 21 * j, 21 * j + 20 }') # the left and right edges
+three=$(awk 'BEGIN { for (j = 0; j < 21; j++) printf "%d %d %d ", 21 * j, 21 * j + 1, 21 * j + 20 }')
+printf '[scene]\npins = %s\n' "$three" >"$T/long.ini" # 253 characters: over inih's 198
+sim long_line "$T/long.ini" --steps 1 --quiet --csv "$T/long.csv" --obj "$T/long.obj"
+expect_rc long_line 0
+check "long_line: no scene line with 63 pins" grep -q '^# scene:.* 63 pinned' "$T/long.csv"
+printf '[material]\nstrech_k = 1\n' >"$T/typo.ini"
+sim typo "$T/typo.ini" --csv "$T/typo.csv" --obj "$T/typo.obj"
+expect_rc typo 1
+expect_err typo "typo.ini:2: material.strech_k: unknown key; did you mean material.stretch_k?"
+printf '[mesh]\nn = 2\n[scene]\npins = corners\n[solver]\nmethod = chebyshev\n' >"$T/allpinned.ini"
+sim allpinned "$T/allpinned.ini" --csv "$T/ap.csv" --obj "$T/ap.obj"
+expect_rc allpinned 1
+expect_err allpinned "allpinned.ini:4: scene.pins: every vertex is pinned"
+
+# ---- finite scenes (item 1): a mesh too large for double precision is refused ---------------
+
+printf 'v 0 0 0\nv 1e150 0 0\nv 0 1e150 0\nf 1 2 3\n' >"$T/huge.obj"
+printf '[mesh]\ntype = obj\nfile = huge.obj\n[scene]\npins = 0\n[integrator]\nmethod = explicit\n' >"$T/huge.ini"
+sim huge "$T/huge.ini" --steps 2 --csv "$T/huge.csv" --obj "$T/huge_out.obj"
+expect_rc huge 1
+expect_err huge "scene.gravity: the gravity energy at the initial state is inf J"
+check "huge: a CSV with NaN rows was written" test ! -e "$T/huge.csv"
+printf 'v 0 0 0\nv 1e-150 0 0\nv 0 1e-150 0\nf 1 2 3\n' >"$T/tiny.obj"
+sed 's/huge.obj/tiny.obj/' "$T/huge.ini" >"$T/tiny.ini"
+sim tiny "$T/tiny.ini" --steps 0 --quiet --csv "$T/tiny.csv" --obj "$T/tiny_out.obj"
+expect_rc tiny 0
+check "tiny: a 1e-150 mesh is not degenerate" test -s "$T/tiny.csv"
+
+# ---- divergence (item 6): the integrator's status wins; driven pins' work counts --------------
+
+sim driven "$CONFIG" --set "scene.pins=$pins" --set 'scene.pin_squeeze=20 0 0' --steps 30 --quiet \
+  --csv "$T/driven.csv" --obj "$T/driven.obj"
+expect_rc driven 0
+if [ -s "$T/driven.csv" ]; then
+  wc_=$(col "$T/driven.csv" pin_work_j)
+  work=$(data_rows "$T/driven.csv" | tail -n 1 | cut -d, -f"$wc_")
+  check "driven: pin_work_j at the end is $work, expected > 1e5 J" awk -v w="$work" 'BEGIN { exit !(w > 1e5) }'
+fi
+sim expl_div "$CONFIG" --set integrator.method=explicit --set integrator.dt=0.01 --steps 60 \
+  --csv "$T/ed.csv" --obj "$T/ed.obj"
+expect_rc expl_div 3
+expect_err expl_div "energy bound"
+expect_err expl_div "predicted explicit limit at the initial state is dt_crit = 2/omega_max ="
 
 # ---- a signal leaves no temporary file behind, and the destination untouched ---------
 

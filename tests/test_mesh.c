@@ -647,7 +647,9 @@ Test(obj_write, round_trip_bit_exact) {
   for (int i = 0; i < 36; i++) pos[i] = g.x[i] + (double)(i + 1) / 3.0 * (i % 2 ? -1e-7 : 1e5);
   pos[0] = -0.0;
   pos[1] = 1e-310; /* subnormal */
-  pos[2] = 1.2345678901234567e150;
+  pos[2] = 1.2345678901234567e15; /* at 1e150 its triangles are slivers (area / edge^2 ~ 1e-145), which the
+                                     reader rejects as degenerate; the old reader passed them only because
+                                     their area overflowed to Inf */
   pos[5] = 0.1;
   char path[512];
   snprintf(path, sizeof path, "%s/rt.obj", tmpdir);
@@ -748,4 +750,94 @@ Test(obj_write, unwritable_path_is_eio) {
   cr_expect_eq(count_tmp_files(tmpdir), 0);
   cb_mesh_free(&g);
   remove_tree(tmpdir);
+}
+
+/* ---- scale, non-text input (issue 14, items 1 and 2) ------------------------------------- */
+
+/* The right triangle (0,0,0), (L,0,0), (0,L,0) at scale L: area L^2/2. */
+static void right_triangle_obj(double L, char *text, size_t n) {
+  snprintf(text, n, "v 0 0 0\nv %.17g 0 0\nv 0 %.17g 0\nf 1 2 3\n", L, L);
+}
+
+Test(obj_scale, tiny_and_huge_meshes_are_not_degenerate) {
+  /* 1e-150: the old test compared area ~1e-300 with 1e-12 x (squared edge
+   * ~1e-300) and passed, but 1e-160 underflows the squares; 1e200 overflows
+   * them (the old reader called both degenerate). */
+  const double scales[] = {1e-160, 1e-150, 1e150, 1e200, 1e300};
+  for (int k = 0; k < 5; k++) {
+    char text[256];
+    right_triangle_obj(scales[k], text, sizeof text);
+    cb_mesh m;
+    int st = read_obj_text(text, &m);
+    unlink(obj_path);
+    cr_expect_eq(st, CB_OK, "scale %g: %s", scales[k], cb_error_message());
+    if (st) continue;
+    double L = scales[k], want = 0.5 * L * L; /* Inf for L >= ~1.9e154: the area is above DBL_MAX */
+    double a = cb_mesh_triangle_area(&m, m.x, 0);
+    if (isfinite(want)) cr_expect(fabs(a - want) <= 1e-15 * want, "scale %g: area %.17g, want %.17g", L, a, want);
+    else cr_expect(isinf(a), "scale %g: area %g, want Inf", L, a);
+    cr_expect_eq(m.vline[0], 1);
+    cr_expect_eq(m.vline[2], 3);
+    cb_mesh_free(&m);
+  }
+  /* a degenerate triangle at each scale is still degenerate: (0,0), (L,0), (2L, 1e-13 L) */
+  for (int k = 0; k < 5; k++) {
+    char text[256];
+    double L = scales[k];
+    snprintf(text, sizeof text, "v 0 0 0\nv %.17g 0 0\nv %.17g %.17g 0\nf 1 2 3\n", L, 2 * L, 1e-13 * L);
+    expect_obj_error(text, 4, "zero area");
+  }
+}
+
+Test(obj_scale, area_of_1e150_triangle_is_finite) {
+  /* |e1 x e2|^2 = 1e600 overflowed in the old area formula: Inf masses, NaN rows */
+  cb_mesh m = {0};
+  double x[9] = {0, 0, 0, 1e150, 0, 0, 0, 1e150, 0};
+  int tri[3] = {0, 1, 2};
+  m.nv = 3; m.nt = 1; m.x = x; m.tri = tri;
+  double a = cb_mesh_triangle_area(&m, x, 0);
+  cr_expect(fabs(a - 0.5e300) <= 1e-15 * 0.5e300, "area %.17g, want 5e299", a);
+  m.nv = 3;
+  cr_expect(fabs(cb_mesh_bbox_diagonal(&m) - sqrt(2.0) * 1e150) <= 1e-15 * 1.5e150, "diagonal %g", cb_mesh_bbox_diagonal(&m));
+}
+
+/* Writes n bytes of data to a fresh OBJ path (NULs and all). */
+static const char *write_bytes(const char *data, size_t n) {
+  static char path[64];
+  snprintf(path, sizeof path, "/tmp/cbtest_bytes_XXXXXX");
+  int fd = mkstemp(path);
+  cr_assert(fd >= 0);
+  cr_assert_eq(write(fd, data, n), (ssize_t)n);
+  close(fd);
+  return path;
+}
+
+Test(obj_input, nul_byte_is_an_error_with_its_line) {
+  static const char text[] = "v 0 0 0\nv 1 0 0\nv 0 1\0 0\nf 1 2 3\n";
+  const char *p = write_bytes(text, sizeof text - 1);
+  cb_mesh m;
+  cb_error_clear();
+  int st = cb_mesh_read_obj(p, &m);
+  unlink(p);
+  cr_expect_eq(st, CB_EINVAL);
+  char where[100];
+  snprintf(where, sizeof where, "%s:3:", p);
+  cr_expect(strstr(cb_error_message(), where) && strstr(cb_error_message(), "NUL"), "message '%s'", cb_error_message());
+}
+
+Test(obj_input, devices_and_directories_are_refused, .timeout = 10) {
+  /* /dev/zero grew memory without bound and then said "no vertices" */
+  const char *paths[] = {"/dev/zero", "/dev/urandom", "/tmp"};
+  for (int k = 0; k < 3; k++) {
+    cb_mesh m;
+    cb_error_clear();
+    int st = cb_mesh_read_obj(paths[k], &m);
+    cr_expect_eq(st, CB_EIO, "%s: status %d (%s)", paths[k], st, cb_error_message());
+    cr_expect(strstr(cb_error_message(), "not a regular file") != NULL, "%s: message '%s'", paths[k], cb_error_message());
+  }
+}
+
+Test(obj_input, zero_length_segment_names_its_line) {
+  /* a segment between two coincident vertices: the spring term said "zero rest length" with no location */
+  expect_obj_error("v 0 0 0\nv 1 0 0\nv 1 0 0\nl 1 2\nl 2 3\n", 5, "zero-length line segment");
 }

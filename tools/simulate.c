@@ -1,6 +1,7 @@
 /* simulate: runs one scene from an INI config and writes a per-step CSV and
  * the final mesh as OBJ. See `simulate --help`. */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -9,6 +10,7 @@
 #include "bind.h"
 #include "experiment.h"
 #include "provenance.h"
+#include "stability.h"
 
 enum { EXIT_OK = 0, EXIT_USAGE = 1, EXIT_IO = 2, EXIT_DIVERGED = 3, EXIT_SOLVER = 4 };
 
@@ -19,8 +21,10 @@ static void usage(FILE *f) {
         "\n"
         "Runs the scene described by CONFIG (an INI file; see --help-config) and writes\n"
         "  a per-step CSV (default results/<config name>.csv): step, t_s, kinetic_j,\n"
-        "    potential_j, elastic_j, total_j, newton_iters, rel_grad, linear_iters,\n"
-        "    assemble_ms, factor_ms, solve_ms, wall_ms, status; row 0 is the initial state;\n"
+        "    elastic_j (springs and bending), gravity_j (gravity potential), total_j (the\n"
+        "    sum of the three), pin_work_j (work done by driven pins so far), newton_iters,\n"
+        "    rel_grad, linear_iters, assemble_ms, factor_ms, solve_ms, wall_ms, status;\n"
+        "    row 0 is the initial state, with its own status (diverged if not finite);\n"
         "  the final mesh as OBJ (default results/<config name>.obj); --steps 0 writes\n"
         "    the initial mesh.\n"
         "Both files are written atomically (temporary file, then rename); PATH - streams to\n"
@@ -41,7 +45,9 @@ static void usage(FILE *f) {
         "statuses: ok, max_iters (Newton stopped at integrator.max_iters; Baraff-Witkin's\n"
         "  single iteration always does), not_spd, linear_failed, line_search_failed, diverged\n"
         "exit codes: 0 finished; 1 bad usage, config or mesh; 2 cannot write output;\n"
-        "  3 diverged (NaN/Inf, or energy growth past integrator.diverge_ratio);\n"
+        "  3 diverged (NaN/Inf, or energy growth, less the driven pins' work, past\n"
+        "    integrator.diverge_ratio; the message says which, at which step, and for\n"
+        "    explicit runs the scene's predicted explicit limit 2/omega_max);\n"
         "  4 the linear solve failed (matrix not positive definite, solver breakdown, line search).\n"
         "The CSV and OBJ are written in every case where the scene could be built;\n"
         "the CSV's last row carries the failing status.\n",
@@ -61,6 +67,17 @@ static void default_out(const char *config, const char *ext, char *out, size_t n
   const char *dot = strrchr(base, '.');
   int len = dot ? (int)(dot - base) : (int)strlen(base);
   snprintf(out, n, "results/%.*s.%s", len, base, ext);
+}
+
+/* Appends the scene's predicted explicit limit to why: dt_crit = 2/omega_max
+ * at the initial state (lib/instruments/stability.h), against integrator.dt. */
+static void explicit_limit(cb_scene *scene, double dt, char *why, size_t n) {
+  cb_prediction pred;
+  size_t used = strlen(why);
+  if (cb_stability_predict(scene, scene->x0, CB_EIG_AUTO, &pred) == CB_OK && isfinite(pred.dt_crit))
+    snprintf(why + used, n - used, "; the predicted explicit limit at the initial state is dt_crit = 2/omega_max = %.4g s "
+             "(omega_max = %.4g rad/s), integrator.dt = %.4g s is %.3g x that", pred.dt_crit, pred.omega_max, dt, dt / pred.dt_crit);
+  else snprintf(why + used, n - used, "; (no explicit-limit prediction: %s)", cb_error_message());
 }
 
 int main(int argc, char **argv) {
@@ -158,7 +175,10 @@ int main(int argc, char **argv) {
   fprintf(csv.f, "# scene: %d vertices, %d triangles, %d edges, %d pinned, %d dofs, %d nonzeros\n", scene->mesh.nv,
           scene->mesh.nt, scene->topo.ne, scene->npinned, scene->sys.A.n, scene->sys.A.nnz);
   cb_run_csv_header(csv.f);
-  cb_run_csv_row(csv.f, &run, CB_OK);
+  int status = run.last.status, worst = CB_OK; /* row 0: the initial state's own status */
+  char why[1024] = "";
+  if (status) snprintf(why, sizeof why, "%s", cb_error_message());
+  cb_run_csv_row(csv.f, &run, status);
   int nframes = 0;
   if (frames) {
     if (write_frame(frames, scene, run.x, 0)) {
@@ -171,9 +191,7 @@ int main(int argc, char **argv) {
   cb_progress prog;
   cb_progress_start(&prog, "simulate", cfg.steps);
   if (quiet) prog.quiet = 1;
-  int status = CB_OK, worst = CB_OK;
-  char why[1024] = "";
-  for (int k = 0; k < cfg.steps; k++) {
+  for (int k = 0; !cb_status_is_fatal(status) && k < cfg.steps; k++) {
     status = cb_run_step(&run);
     cb_run_csv_row(csv.f, &run, status);
     if (frames && ((k + 1) % every == 0 || cb_status_is_fatal(status))) { /* the failing state too */
@@ -204,13 +222,16 @@ int main(int argc, char **argv) {
   else if (csv_ok || obj_ok)
     snprintf(wrote, sizeof wrote, "wrote %s; %s was NOT written", csv_ok ? csv_name : obj_name, csv_ok ? obj_name : csv_name);
   else snprintf(wrote, sizeof wrote, "NOTHING written (%s, %s)", csv_name, obj_name);
+  if (status == CB_DIVERGED && strcmp(cfg.method, "explicit") == 0) explicit_limit(scene, cfg.dt, why, sizeof why);
   if (cb_status_is_fatal(status)) {
     fprintf(stderr, "simulate: step %d: %s%s%s; %s\n", run.step, cb_status_name(status), why[0] ? ": " : "", why, wrote);
     if (rc == EXIT_OK) rc = status == CB_DIVERGED ? EXIT_DIVERGED : EXIT_SOLVER;
   } else if (!quiet || rc != EXIT_OK) {
-    fprintf(stderr, "simulate: %d steps, t = %g s, energy %.6g J (kinetic %.6g, potential %.6g)%s; %s\n", run.step, run.t,
-            run.kinetic + run.potential, run.kinetic, run.potential, worst == CB_NOT_CONVERGED ? ", some steps stopped at max_iters" : "",
-            wrote);
+    char work[64] = "";
+    if (run.driven) snprintf(work, sizeof work, "; the driven pins' work %.6g", run.work);
+    fprintf(stderr, "simulate: %d steps, t = %g s, energy %.6g J (kinetic %.6g, elastic %.6g, gravity %.6g%s)%s; %s\n",
+            run.step, run.t, run.kinetic + run.potential, run.kinetic, run.elastic, run.gravity, work,
+            worst == CB_NOT_CONVERGED ? ", some steps stopped at max_iters" : "", wrote);
   }
 done:
   cb_outfile_abort(&csv);

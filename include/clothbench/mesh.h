@@ -17,7 +17,14 @@ typedef struct cb_mesh {
    * They carry springs like triangle edges but no area. */
   int nl;
   int *lines;
+  /* OBJ meshes only (else NULL): the file line of each vertex's `v`
+   * statement, for messages about one vertex. */
+  int *vline;
 } cb_mesh;
+
+/* The largest OBJ file cb_mesh_read_obj reads, bytes (256 MiB: about five
+ * million vertices with their faces). */
+#define CB_OBJ_MAX_BYTES (256L << 20)
 
 typedef enum { CB_PLANE_XY = 0, CB_PLANE_XZ = 1, CB_PLANE_YZ = 2 } cb_plane;
 typedef enum { CB_DIAG_REGULAR = 0, CB_DIAG_ALTERNATING = 1 } cb_diagonal;
@@ -49,7 +56,11 @@ int cb_mesh_chain(int n, double length, cb_plane plane, cb_mesh *out);
  * `l` polylines become line segments. Other statements (vt, vn, o, g, s,
  * usemtl, mtllib, ...) are ignored. Errors name
  * file:line. Rejects non-finite coordinates, out-of-range indices, faces with
- * fewer than 3 vertices, and zero-area triangles. */
+ * fewer than 3 vertices, zero-area triangles (area <= 1e-12 x the longest
+ * edge squared, a test independent of the mesh's scale), zero-length line
+ * segments, and input that is not a text file: a path that is not a regular
+ * file (a directory, /dev/zero, a FIFO), a file over CB_OBJ_MAX_BYTES, a NUL
+ * byte, or a read error. */
 int cb_mesh_read_obj(const char *path, cb_mesh *out);
 
 /* Length of the diagonal of the axis-aligned bounding box of the rest

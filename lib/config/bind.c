@@ -119,5 +119,12 @@ int cb_integrator_from_config(const cb_config *c, cb_scene *s, const cb_integrat
   cb_solver_params sp = cb_solver_params_from_config(c);
   if (st == CB_OK) st = cb_integrator_alloc(c->method, s, &ip, tp, c->solver, &sp, out);
   free(tp);
+  if (st && st != CB_ENOMEM && s->model.nfree == 0) { /* e.g. Chebyshev's rho estimate: "lanczos: empty operator" */
+    char msg[1024];
+    snprintf(msg, sizeof msg, "%s", cb_error_message());
+    st = cb_fail_status(st, "scene.pins: every vertex is pinned, so nothing moves and there is no system to solve; "
+                        "integrator.method = %s with solver.method = %s cannot be set up (%s)", c->method, c->solver, msg);
+    return located(st, c, "scene.pins");
+  }
   return st;
 }

@@ -1,5 +1,6 @@
 #include "config.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <ini.h>
 #include <math.h>
@@ -7,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 #include <clothbench/energy.h>
 #include <clothbench/integrator.h>
@@ -81,7 +83,7 @@ static const keydef keys_head[] = {
  * in registry order, and then these. */
 static const keydef keys_tail[] = {
   {"integrator.diverge_ratio", T_DOUBLE, O(diverge_ratio), "10", "-", 0, 1e300, 1, NULL, NULL,
-   "A run is `diverged` when a position is NaN/Inf, or when the total energy rises above its initial value by more than diverge_ratio x S, S = initial kinetic + elastic energy + (sum m_i |g|) x (rest bounding-box diagonal) x max(1, initial_scale) + 1e-12 J."},
+   "After a step the integrator did not fail, a run is `diverged` when a position, velocity or energy is NaN/Inf, or when the total energy, less the work the driven pins (`scene.pin_squeeze`) did, rises above its initial value by more than diverge_ratio x S, S = initial kinetic + elastic energy + (sum m_i |g|) x (rest bounding-box diagonal) x max(1, initial_scale) + 1e-12 J. A failed step keeps the integrator's status."},
   {"solver.method", T_ENUM, O(solver), "cholmod", "-", 0, 0, 0, NULL, cb_solver_name,
    "Linear solver for Newton's system (`cholmod`: sparse Cholesky, exact)."},
   {"solver.tol", T_DOUBLE, O(solver_tol), "1e-8", "-", 0, 1, 0, NULL, NULL,
@@ -286,6 +288,74 @@ void cb_config_defaults(cb_config *c) {
   }
 }
 
+/* ---- did you mean ----------------------------------------------------------- */
+
+/* Levenshtein distance between a and b (each at most 63 characters used);
+ * 3 as soon as the lengths alone differ by more than 2 (no suggestion is
+ * made beyond 2 edits, and this keeps a fuzzer's long keys cheap). */
+static int edit_distance(const char *a, const char *b) {
+  int la = (int)strlen(a), lb = (int)strlen(b);
+  if (la - lb > 2 || lb - la > 2) return 3;
+  if (la > 63) la = 63;
+  if (lb > 63) lb = 63;
+  int row[64];
+  for (int j = 0; j <= lb; j++) row[j] = j;
+  for (int i = 1; i <= la; i++) {
+    int diag = row[0];
+    row[0] = i;
+    for (int j = 1; j <= lb; j++) {
+      int up = row[j];
+      int sub = diag + (tolower((unsigned char)a[i - 1]) != tolower((unsigned char)b[j - 1]));
+      int best = up + 1 < row[j - 1] + 1 ? up + 1 : row[j - 1] + 1;
+      row[j] = sub < best ? sub : best;
+      diag = up;
+    }
+  }
+  return row[lb];
+}
+
+/* The close match a suggestion may offer: at most 2 edits, and at most a
+ * third of the word's length (so "mesh.x" does not become "mesh.n"). */
+static int close_enough(int d, const char *word) { return d <= 2 && 3 * d <= (int)strlen(word); }
+
+/* The key of the table nearest to key (case-insensitive edits, or the same
+ * name in another section), or NULL if none is close. */
+static const char *nearest_key(const char *key) {
+  build_table();
+  const char *best = NULL, *dot = strchr(key, '.');
+  int bd = 1000;
+  for (int i = 0; i < nkeys; i++) {
+    int d = edit_distance(key, keys[i].key);
+    if (d < bd) { bd = d; best = keys[i].key; }
+  }
+  if (best && close_enough(bd, key)) return best;
+  if (dot) { /* the (nearly) right name under another section: [mesh] stretch_k */
+    bd = 1000;
+    best = NULL;
+    for (int i = 0; i < nkeys; i++) {
+      int d = edit_distance(dot + 1, strchr(keys[i].key, '.') + 1);
+      if (d < bd) { bd = d; best = keys[i].key; }
+    }
+    if (best && close_enough(bd, dot + 1)) return best;
+  }
+  return NULL;
+}
+
+static const char *nearest_section(const char *name) {
+  static const char *const sections[] = {"mesh", "material", "scene", "integrator", "solver"};
+  for (int i = 0; i < 5; i++)
+    if (close_enough(edit_distance(name, sections[i]), name)) return sections[i];
+  return NULL;
+}
+
+/* "; did you mean section.key?" for an unknown key, or "". */
+static const char *did_you_mean(const char *key, char *buf, size_t n) {
+  const char *best = nearest_key(key);
+  if (best) snprintf(buf, n, "; did you mean %s?", best);
+  else snprintf(buf, n, "%s", "");
+  return buf;
+}
+
 /* ---- INI parsing -------------------------------------------------------- */
 
 typedef struct {
@@ -295,7 +365,7 @@ typedef struct {
   int line;        /* lines handed to inih so far */
   int failed;      /* first error recorded */
   int failed_line; /* its line */
-  int too_long;
+  long bytes;      /* read so far */
   char seen[MAX_KEYS]; /* keys set by this file */
 } parse_ctx;
 
@@ -313,18 +383,45 @@ static int known_section(const char *name, size_t len) {
 }
 
 /* inih reader: counts lines so the handler knows where it is, and checks
- * what inih does not report: over-long lines and unknown empty sections. */
+ * what inih does not report: NUL bytes (a binary file), input beyond
+ * CB_CONFIG_MAX_BYTES (a file that grows while read), read errors, over-long
+ * lines and unknown empty sections. On any of them it records the error
+ * and ends the input (returns NULL), so the handler sees nothing after it. */
 static char *reader(char *str, int num, void *stream) {
   parse_ctx *ctx = stream;
-  char *r = fgets(str, num, ctx->f);
-  if (!r) return NULL;
-  ctx->line++;
-  size_t n = strlen(str);
-  if (ctx->failed) return r;
-  if (n == (size_t)num - 1 && str[n - 1] != '\n' && !feof(ctx->f)) {
+  if (ctx->failed) return NULL;
+  int n = 0, c = EOF;
+  while (n < num - 1 && (c = getc_unlocked(ctx->f)) != EOF) { /* one thread reads a config */
+    if (c == '\0') {
+      ctx->line++;
+      fail_at(ctx);
+      cb_fail("%s:%d: NUL byte at column %d: not a text file", ctx->path, ctx->line, n + 1);
+      return NULL;
+    }
+    str[n++] = (char)c;
+    if (c == '\n') break;
+  }
+  str[n] = '\0';
+  ctx->bytes += n;
+  if (ferror(ctx->f)) {
     fail_at(ctx);
-    cb_fail("%s:%d: line longer than %d characters", ctx->path, ctx->line, num - 2);
-    return r;
+    cb_fail("%s:%d: read error: %s", ctx->path, ctx->line + 1, strerror(errno));
+    return NULL;
+  }
+  if (n == 0) return NULL; /* end of file */
+  ctx->line++;
+  if (ctx->bytes > CB_CONFIG_MAX_BYTES) {
+    fail_at(ctx);
+    cb_fail("%s:%d: more than the %d bytes a config may have", ctx->path, ctx->line, CB_CONFIG_MAX_BYTES);
+    return NULL;
+  }
+  if (n == num - 1 && str[n - 1] != '\n') {
+    int next = getc(ctx->f);
+    if (next != EOF) {
+      fail_at(ctx);
+      cb_fail("%s:%d: line longer than %d characters", ctx->path, ctx->line, num - 3);
+      return NULL;
+    }
   }
   const char *p = str;
   while (*p == ' ' || *p == '\t') p++;
@@ -336,11 +433,17 @@ static char *reader(char *str, int num, void *stream) {
     while (len && (name[len - 1] == ' ' || name[len - 1] == '\t')) len--;
     if (!known_section(name, len)) {
       fail_at(ctx);
-      cb_fail("%s:%d: unknown section [%.*s] (sections: mesh, material, scene, integrator, solver)", ctx->path,
-              ctx->line, (int)len, name);
+      char sec[64];
+      snprintf(sec, sizeof sec, "%.*s", (int)(len < 60 ? len : 60), name);
+      char hint[96] = "";
+      const char *best = nearest_section(sec);
+      if (best) snprintf(hint, sizeof hint, "; did you mean [%s]?", best);
+      cb_fail("%s:%d: unknown section [%.*s] (sections: mesh, material, scene, integrator, solver)%s", ctx->path,
+              ctx->line, (int)len, name, hint);
+      return NULL;
     }
   }
-  return r;
+  return str;
 }
 
 static int handler(void *user, const char *section, const char *name, const char *value) {
@@ -350,10 +453,15 @@ static int handler(void *user, const char *section, const char *name, const char
   snprintf(key, sizeof key, "%s.%s", section, name);
   int i = find_key(key);
   if (i < 0) {
+    char hint[128];
     fail_at(ctx);
-    if (!section[0]) cb_fail("%s:%d: %s: key outside any section", ctx->path, ctx->line, name);
-    else if (!known_section(section, strlen(section))) cb_fail("%s:%d: %s: unknown section [%s]", ctx->path, ctx->line, key, section);
-    else cb_fail("%s:%d: %s: unknown key", ctx->path, ctx->line, key);
+    if (!section[0]) {
+      const char *best = nearest_key(key); /* ".stretch_k" finds material.stretch_k */
+      cb_fail("%s:%d: %s: key outside any section%s%s%s", ctx->path, ctx->line, name, best ? " (did you mean " : "",
+              best ? best : "", best ? "?)" : "");
+    } else if (!known_section(section, strlen(section)))
+      cb_fail("%s:%d: %s: unknown section [%s]%s", ctx->path, ctx->line, key, section, did_you_mean(key, hint, sizeof hint));
+    else cb_fail("%s:%d: %s: unknown key%s", ctx->path, ctx->line, key, did_you_mean(key, hint, sizeof hint));
     return 1;
   }
   if (ctx->seen[i]) {
@@ -385,6 +493,21 @@ int cb_config_load(const char *path, cb_config *c) {
   parse_ctx ctx = {.c = c, .path = path};
   ctx.f = fopen(path, "r");
   if (!ctx.f) return cb_fail_status(CB_EIO, "%s: cannot open config file: %s", path, strerror(errno));
+  struct stat sb;
+  const char *bad = NULL;
+  if (fstat(fileno(ctx.f), &sb) != 0) bad = "cannot stat it";
+  else if (S_ISDIR(sb.st_mode)) bad = "a directory, not a config file";
+  else if (!S_ISREG(sb.st_mode)) bad = "not a regular file (a device or pipe); a config must be a file";
+  else if (sb.st_size > CB_CONFIG_MAX_BYTES) bad = "larger than the 1 MiB a config may have";
+  if (bad) {
+    fclose(ctx.f);
+    return cb_fail_status(CB_EIO, "%s: %s", path, bad);
+  }
+  /* Debian's inih reads lines of up to ini_max_line - 3 characters into a
+   * buffer of ini_max_line bytes (its default 200 would cap a scene.pins list
+   * at 198); no line is longer than the file (one that grew since fstat is
+   * caught by the reader's over-long line check) */
+  ini_max_line = (int)sb.st_size + 3 > 200 ? (int)sb.st_size + 3 : 200;
   int r = ini_parse_stream(reader, &ctx, handler, &ctx);
   fclose(ctx.f);
   /* inih reports the line of its first error; ours may come later or earlier */
@@ -412,7 +535,10 @@ int cb_config_set(cb_config *c, const char *assignment) {
   strcpy(value, v);
   for (size_t n = strlen(value); n && (value[n - 1] == ' ' || value[n - 1] == '\t');) value[--n] = '\0';
   int i = find_key(key);
-  if (i < 0) return cb_fail("--set %s: unknown key '%s' (simulate --help-config lists them)", assignment, key);
+  char hint[128];
+  if (i < 0)
+    return cb_fail("--set %s: unknown key '%s'%s (simulate --help-config lists them)", assignment, key,
+                   did_you_mean(key, hint, sizeof hint));
   if (assign(c, &keys[i], value, why, sizeof why)) return cb_fail("--set %s: %s: %s", assignment, key, why);
   c->where[i].source = SRC_SET;
   c->where[i].line = 0;

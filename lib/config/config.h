@@ -18,8 +18,11 @@
 
 #define CB_NAME_LEN 32
 #define CB_PATH_LEN 1024
-#define CB_PINS_LEN 4096
-#define CB_MAX_TYPE_KEYS 32 /* keys the integrator types declare, all together */
+#define CB_PINS_LEN 65536 /* a scene.pins list (about ten thousand indices) */
+#define CB_MAX_TYPE_KEYS 32
+/* The largest config file cb_config_load reads, bytes. A config must be a
+ * regular file of text: a directory, device, pipe or a NUL byte is an error. */
+#define CB_CONFIG_MAX_BYTES (1 << 20) /* keys the integrator types declare, all together */
 
 typedef struct cb_config {
   /* [mesh] */
@@ -67,7 +70,9 @@ typedef struct cb_config {
 /* All defaults (no file). */
 void cb_config_defaults(cb_config *c);
 
-/* Defaults, then the INI file. Errors: "file:line: section.key: reason". */
+/* Defaults, then the INI file (a regular text file of at most
+ * CB_CONFIG_MAX_BYTES; lines of any length). Errors: "file:line:
+ * section.key: reason"; an unknown key or section names the nearest one. */
 int cb_config_load(const char *path, cb_config *c);
 
 /* Applies one "section.key=value" override (from --set). */

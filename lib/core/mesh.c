@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include <clothbench/status.h>
 
@@ -19,17 +20,43 @@ void cb_mesh_free(cb_mesh *m) {
   free(m->x);
   free(m->tri);
   free(m->lines);
+  free(m->vline);
   memset(m, 0, sizeof *m);
 }
 
+/* Triangle (a, b, c) scaled by 1/s, s = the largest |component| of its two
+ * edges e1 = b - a, e2 = c - a (0 if both vanish): the scaled edges have
+ * components in [-1, 1], so their products neither overflow nor underflow
+ * whatever the mesh's scale (1e-150 or 1e200). n = e1/s x e2/s. */
+static double scaled_triangle(const double *a, const double *b, const double *c, double e1[3], double e2[3],
+                              double n[3]) {
+  double s = 0;
+  for (int k = 0; k < 3; k++) {
+    e1[k] = b[k] - a[k];
+    e2[k] = c[k] - a[k];
+    s = fmax(s, fmax(fabs(e1[k]), fabs(e2[k])));
+  }
+  if (s > 0 && isfinite(s))
+    for (int k = 0; k < 3; k++) { e1[k] /= s; e2[k] /= s; }
+  n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+  n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+  n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+  return s;
+}
+
 double cb_mesh_triangle_area(const cb_mesh *m, const double *x, int t) {
-  const double *a = x + 3 * m->tri[3 * t], *b = x + 3 * m->tri[3 * t + 1],
-               *c = x + 3 * m->tri[3 * t + 2];
-  double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-  double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-  double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                 e1[0] * e2[1] - e1[1] * e2[0]};
-  return 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]); /* A = |e1 x e2| / 2 */
+  const double *a = x + 3 * m->tri[3 * t], *b = x + 3 * m->tri[3 * t + 1], *c = x + 3 * m->tri[3 * t + 2];
+  double e1[3], e2[3], n[3];
+  double s = scaled_triangle(a, b, c, e1, e2, n);
+  if (!(s > 0) || !isfinite(s)) return s > 0 || isnan(s) ? s * s : 0.0; /* a point: 0; Inf/NaN edges: Inf/NaN */
+  if (s > 1e-100 && s < 1e100) { /* the squares cannot overflow or underflow: the plain formula, A = |e1 x e2| / 2 */
+    double f1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    double f2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double q[3] = {f1[1] * f2[2] - f1[2] * f2[1], f1[2] * f2[0] - f1[0] * f2[2], f1[0] * f2[1] - f1[1] * f2[0]};
+    return 0.5 * sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+  }
+  /* A = s^2 |e1/s x e2/s| / 2; Inf only if the area itself is above DBL_MAX */
+  return 0.5 * s * (s * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]));
 }
 
 int cb_mesh_grid(const cb_grid_params *p, cb_mesh *out) {
@@ -103,18 +130,22 @@ int cb_mesh_chain(int n, double length, cb_plane plane, cb_mesh *out) {
 /* ---- OBJ reader ---------------------------------------------------------- */
 
 typedef struct {
-  double *x; int nv, capv;
+  double *x; int *vline; int nv, capv; /* vertices and their source lines */
   int *tri, *line; int nt, capt;
   int *seg, *segline; int ns, caps; /* line segments and their source lines */
 } objbuf;
 
-static int push_vertex(objbuf *b, const double v[3]) {
+static int push_vertex(objbuf *b, const double v[3], int line) {
   if (b->nv == b->capv) {
     int cap = b->capv ? 2 * b->capv : 256;
     double *nx = realloc(b->x, (size_t)cap * 3 * sizeof(double));
     if (!nx) return cb_fail_status(CB_ENOMEM, "out of memory reading OBJ");
-    b->x = nx; b->capv = cap;
+    b->x = nx;
+    int *nl = realloc(b->vline, (size_t)cap * sizeof(int));
+    if (!nl) return cb_fail_status(CB_ENOMEM, "out of memory reading OBJ");
+    b->vline = nl; b->capv = cap;
   }
+  b->vline[b->nv] = line;
   memcpy(b->x + 3 * b->nv++, v, 3 * sizeof(double));
   return CB_OK;
 }
@@ -181,13 +212,35 @@ int cb_mesh_read_obj(const char *path, cb_mesh *out) {
   memset(out, 0, sizeof *out);
   FILE *f = fopen(path, "r");
   if (!f) return cb_fail_status(CB_EIO, "%s: cannot open: %s", path, strerror(errno));
+  struct stat sb;
+  if (fstat(fileno(f), &sb) != 0 || !S_ISREG(sb.st_mode)) {
+    fclose(f);
+    return cb_fail_status(CB_EIO, "%s: not a regular file (a directory, device or pipe); an OBJ mesh must be a file",
+                          path);
+  }
+  if (sb.st_size > CB_OBJ_MAX_BYTES) {
+    fclose(f);
+    return cb_fail_status(CB_EIO, "%s: %lld bytes, more than the %ld bytes (%ld MiB) an OBJ mesh may have", path,
+                          (long long)sb.st_size, CB_OBJ_MAX_BYTES, CB_OBJ_MAX_BYTES >> 20);
+  }
   objbuf b = {0};
   char *buf = NULL;
   size_t cap = 0;
   int line = 0, st = CB_OK;
-  long corners[3];
-  while (st == CB_OK && getline(&buf, &cap, f) >= 0) {
+  long corners[3], total = 0;
+  ssize_t len;
+  while (st == CB_OK && (errno = 0, len = getline(&buf, &cap, f)) >= 0) {
     line++;
+    total += (long)len;
+    if (total > CB_OBJ_MAX_BYTES) { /* the file grew while being read */
+      st = cb_fail_status(CB_EIO, "%s:%d: more than the %ld bytes (%ld MiB) an OBJ mesh may have", path, line,
+                          CB_OBJ_MAX_BYTES, CB_OBJ_MAX_BYTES >> 20);
+      break;
+    }
+    if (strlen(buf) != (size_t)len) {
+      st = cb_fail("%s:%d: NUL byte at column %zu: not a text file", path, line, strlen(buf) + 1);
+      break;
+    }
     char *s = skip_space(buf);
     if (*s == '\0' || *s == '#') continue;
     if (s[0] == 'v' && is_space(s[1])) {
@@ -203,7 +256,7 @@ int cb_mesh_read_obj(const char *path, cb_mesh *out) {
           st = cb_fail("%s:%d: vertex coordinate %d is not finite", path, line, k + 1);
         s = end;
       }
-      if (st == CB_OK) st = push_vertex(&b, v);
+      if (st == CB_OK) st = push_vertex(&b, v, line);
     } else if (s[0] == 'f' && is_space(s[1])) {
       s += 2;
       int count = 0;
@@ -238,20 +291,28 @@ int cb_mesh_read_obj(const char *path, cb_mesh *out) {
     }
     /* everything else (vt, vn, o, g, s, usemtl, mtllib, l, p, ...) is ignored */
   }
+  int err = errno;
   free(buf);
-  if (st == CB_OK && ferror(f)) st = cb_fail_status(CB_EIO, "%s: read error", path);
+  /* getline returns -1 at the end of the file, on a read error and when it
+   * runs out of memory: only the first is the end */
+  if (st == CB_OK && (ferror(f) || !feof(f)))
+    st = cb_fail_status(err == ENOMEM ? CB_ENOMEM : CB_EIO, "%s:%d: read error: %s", path, line + 1,
+                        err ? strerror(err) : "unknown");
   fclose(f);
   if (st == CB_OK && b.nv == 0) st = cb_fail("%s: no vertices", path);
   if (st == CB_OK && b.nt == 0 && b.ns == 0) st = cb_fail("%s: no faces or line elements", path);
   if (!b.tri) b.tri = malloc(sizeof(int));
   out->nv = b.nv; out->nt = b.nt; out->x = b.x; out->tri = b.tri;
-  out->nl = b.ns; out->lines = b.seg;
+  out->nl = b.ns; out->lines = b.seg; out->vline = b.vline;
   for (int k = 0; st == CB_OK && k < b.ns; k++) {
     int p0 = b.seg[2 * k], p1 = b.seg[2 * k + 1];
     if (p0 < 0 || p0 >= b.nv || p1 < 0 || p1 >= b.nv)
       st = cb_fail("%s:%d: line element refers to vertex %d, but the file has %d vertices", path, b.segline[k],
                    (p0 < 0 || p0 >= b.nv ? p0 : p1) + 1, b.nv);
     else if (p0 == p1) st = cb_fail("%s:%d: degenerate line segment (repeated vertex %d)", path, b.segline[k], p0 + 1);
+    else if (b.x[3 * p0] == b.x[3 * p1] && b.x[3 * p0 + 1] == b.x[3 * p1 + 1] && b.x[3 * p0 + 2] == b.x[3 * p1 + 2])
+      st = cb_fail("%s:%d: zero-length line segment: vertices %d (line %d) and %d (line %d) coincide", path,
+                   b.segline[k], p0 + 1, b.vline[p0], p1 + 1, b.vline[p1]);
   }
   free(b.segline);
   for (int t = 0; st == CB_OK && t < b.nt; t++) {
@@ -267,13 +328,16 @@ int cb_mesh_read_obj(const char *path, cb_mesh *out) {
                    (v[0] == v[1] || v[0] == v[2] ? v[0] : v[1]) + 1);
       break;
     }
-    double area = cb_mesh_triangle_area(out, out->x, t), lmax = 0;
-    for (int k = 0; k < 3; k++) {
-      const double *p = b.x + 3 * v[k], *q = b.x + 3 * v[(k + 1) % 3];
-      double d = (p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]);
-      if (d > lmax) lmax = d;
-    }
-    if (!(area > 1e-12 * lmax)) st = cb_fail("%s:%d: degenerate triangle (zero area)", path, b.line[t]);
+    /* zero area relative to the triangle's own size: |e1 x e2| / 2 <= 1e-12
+     * x (longest edge)^2, on the edges scaled to components in [-1, 1] */
+    double e1[3], e2[3], n[3];
+    double sc = scaled_triangle(b.x + 3 * v[0], b.x + 3 * v[1], b.x + 3 * v[2], e1, e2, n);
+    double area = 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    double l1 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2], l2 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
+    double l3 = 0;
+    for (int k = 0; k < 3; k++) l3 += (e2[k] - e1[k]) * (e2[k] - e1[k]);
+    double lmax = fmax(l1, fmax(l2, l3));
+    if (!(sc > 0) || !(area > 1e-12 * lmax)) st = cb_fail("%s:%d: degenerate triangle (zero area)", path, b.line[t]);
   }
   free(b.line);
   if (st != CB_OK) cb_mesh_free(out);
@@ -282,14 +346,20 @@ int cb_mesh_read_obj(const char *path, cb_mesh *out) {
 
 double cb_mesh_bbox_diagonal(const cb_mesh *m) {
   if (m->nv <= 0) return 0.0;
-  double lo[3], hi[3], d2 = 0;
+  double lo[3], hi[3], d[3], s = 0, d2 = 0;
   for (int a = 0; a < 3; a++) lo[a] = hi[a] = m->x[a];
   for (int i = 0; i < 3 * m->nv; i++) {
     if (m->x[i] < lo[i % 3]) lo[i % 3] = m->x[i];
     if (m->x[i] > hi[i % 3]) hi[i % 3] = m->x[i];
   }
-  for (int a = 0; a < 3; a++) d2 += (hi[a] - lo[a]) * (hi[a] - lo[a]); /* D^2 = sum_a (hi_a - lo_a)^2 */
-  return sqrt(d2);
+  for (int a = 0; a < 3; a++) s = fmax(s, d[a] = hi[a] - lo[a]);
+  if (!(s > 0) || !isfinite(s)) return s;
+  if (s > 1e-100 && s < 1e100) { /* no overflow or underflow in the squares */
+    for (int a = 0; a < 3; a++) d2 += d[a] * d[a]; /* D^2 = sum_a (hi_a - lo_a)^2 */
+    return sqrt(d2);
+  }
+  for (int a = 0; a < 3; a++) d2 += (d[a] / s) * (d[a] / s); /* the same, scaled by 1/s^2 */
+  return s * sqrt(d2);
 }
 
 void cb_mesh_print_obj(const cb_mesh *m, const double *x, FILE *f) {

@@ -6,13 +6,40 @@
 
 #include <clothbench/status.h>
 
-static void energies(cb_run *r) {
+/* Energies of the current state; with driven pins also the power they put
+ * in, P = sum over pinned i of dE/dx_i . v_i (the force a pin exerts on the
+ * cloth balances the internal force there, -dE/dx_i, since a driven pin does
+ * not accelerate). */
+static void energies(cb_run *r, double *power) {
   double per[CB_MAX_TERMS];
-  r->potential = cb_system_energy(&r->scene->sys, r->x, NULL, per);
-  r->elastic = 0;
-  for (int k = 0; k < r->scene->sys.nterms; k++)
+  r->potential = cb_system_energy(&r->scene->sys, r->x, r->driven ? r->grad : NULL, per);
+  r->elastic = r->gravity = 0;
+  for (int k = 0; k < r->scene->sys.nterms; k++) {
     if (r->scene->sys.terms[k]->type->hessian) r->elastic += per[k];
+    else r->gravity += per[k];
+  }
   r->kinetic = cb_scene_kinetic(r->scene, r->v);
+  *power = 0;
+  if (r->driven)
+    for (int k = 0; k < r->scene->npinned; k++) {
+      int i = r->scene->pinned[k];
+      for (int a = 0; a < 3; a++) *power += r->grad[3 * i + a] * r->v[3 * i + a];
+    }
+}
+
+/* The status of the current state: CB_DIVERGED (with the reason as the
+ * error message) if a position, velocity or energy is not finite, else CB_OK. */
+static int finite_state(const cb_run *r) {
+  int n = r->scene->mesh.nv;
+  for (int i = 0; i < 3 * n; i++)
+    if (!isfinite(r->x[i]) || !isfinite(r->v[i]))
+      return cb_fail_status(CB_DIVERGED, "vertex %d's %s is %g, not finite", i / 3,
+                            isfinite(r->x[i]) ? "velocity" : "position", isfinite(r->x[i]) ? r->v[i] : r->x[i]);
+  double total = r->kinetic + r->potential;
+  if (!isfinite(total))
+    return cb_fail_status(CB_DIVERGED, "the total energy is %g J (kinetic %g, elastic %g, gravity %g), not finite",
+                          total, r->kinetic, r->elastic, r->gravity);
+  return CB_OK;
 }
 
 int cb_run_init(cb_run *r, cb_scene *s, cb_integrator *it) {
@@ -20,45 +47,60 @@ int cb_run_init(cb_run *r, cb_scene *s, cb_integrator *it) {
   size_t n3 = (size_t)3 * s->mesh.nv;
   r->scene = s;
   r->integ = it;
+  for (int k = 0; k < s->npinned; k++)
+    for (int a = 0; a < 3; a++) r->driven |= s->v0[3 * s->pinned[k] + a] != 0;
   r->x = cb_malloc(n3, sizeof(double));
   r->v = cb_malloc(n3, sizeof(double));
-  if (!r->x || !r->v) { cb_run_free(r); return CB_ENOMEM; }
+  if (r->driven) r->grad = cb_malloc(n3, sizeof(double));
+  if (!r->x || !r->v || (r->driven && !r->grad)) { cb_run_free(r); return CB_ENOMEM; }
   memcpy(r->x, s->x0, n3 * sizeof(double));
   memcpy(r->v, s->v0, n3 * sizeof(double));
-  energies(r);
+  energies(r, &r->power);
   r->total0 = r->kinetic + r->potential;
   r->bound = s->diverge_ratio * (s->energy_scale + r->kinetic);
+  r->last.status = finite_state(r); /* row 0 is ok only if it is finite */
   return CB_OK;
 }
 
 void cb_run_free(cb_run *r) {
   free(r->x);
   free(r->v);
-  r->x = r->v = NULL;
+  free(r->grad);
+  r->x = r->v = r->grad = NULL;
 }
 
 int cb_run_step(cb_run *r) {
   int st = cb_integrator_step(r->integ, r->x, r->v, &r->last);
   r->step++;
   r->t = r->step * r->integ->params.dt;
-  energies(r);
-  double total = r->kinetic + r->potential;
-  if (!isfinite(total)) st = CB_DIVERGED;
-  for (int i = 0; st != CB_DIVERGED && i < 3 * r->scene->mesh.nv; i++)
-    if (!isfinite(r->x[i]) || !isfinite(r->v[i])) st = CB_DIVERGED;
-  if (st != CB_DIVERGED && total - r->total0 > r->bound) st = CB_DIVERGED;
+  double p0 = r->power;
+  energies(r, &r->power);
+  r->work += 0.5 * r->integ->params.dt * (p0 + r->power); /* trapezoid rule for the pins' work */
+  /* The integrator's own status wins: after a failed solve the state is
+   * whatever the failure left, and testing it would call the failure a
+   * divergence. */
+  if (!cb_status_is_fatal(st)) {
+    int fs = finite_state(r);
+    double gain = r->kinetic + r->potential - r->total0 - r->work;
+    if (fs) st = fs;
+    else if (gain > r->bound)
+      st = cb_fail_status(CB_DIVERGED, "energy bound: the total energy rose by %.6g J above its initial "
+                          "value%s, more than integrator.diverge_ratio x S = %g x %.6g J = %.6g J", gain,
+                          r->driven ? " less the driven pins' work" : "", r->scene->diverge_ratio,
+                          r->bound / r->scene->diverge_ratio, r->bound);
+  }
   r->last.status = st;
   return st;
 }
 
 void cb_run_csv_header(FILE *f) {
-  fputs("step,t_s,kinetic_j,potential_j,elastic_j,total_j,newton_iters,rel_grad,linear_iters,"
+  fputs("step,t_s,kinetic_j,elastic_j,gravity_j,total_j,pin_work_j,newton_iters,rel_grad,linear_iters,"
         "assemble_ms,factor_ms,solve_ms,wall_ms,status\n", f);
 }
 
 void cb_run_csv_row(FILE *f, const cb_run *r, int status) {
   const cb_step_stats *s = &r->last;
-  fprintf(f, "%d,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%d,%.6f,%.6f,%.6f,%.6f,%s\n", r->step, r->t, r->kinetic,
-          r->potential, r->elastic, r->kinetic + r->potential, s->newton_iters, s->rel_grad, s->linear_iters,
+  fprintf(f, "%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%d,%.6f,%.6f,%.6f,%.6f,%s\n", r->step, r->t, r->kinetic,
+          r->elastic, r->gravity, r->kinetic + r->potential, r->work, s->newton_iters, s->rel_grad, s->linear_iters,
           s->assemble_ms, s->factor_ms, s->solve_ms, s->wall_ms, cb_status_name(status));
 }

@@ -2,6 +2,8 @@
 
 #include <ctype.h>
 #include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -129,6 +131,78 @@ static int labelled(int st, const char *label) {
   return cb_fail_status(st, "%s: %s", label, msg);
 }
 
+/* The key that set the mesh: mesh.file for an OBJ, else mesh.size. */
+static const char *mesh_key(const cb_scene_def *d) { return d->mesh == CB_MESH_OBJ ? "mesh.file" : "mesh.size"; }
+
+/* An error about vertex i of the mesh, prefixed with where it came from:
+ * "mesh.file: cloth.obj:12: ..." (the line of its `v` statement) for an OBJ,
+ * "mesh: ..." for a generated mesh; i < 0: about no one vertex. */
+__attribute__((format(printf, 4, 5)))
+static int mesh_fail(const cb_scene_def *d, const cb_mesh *m, int i, const char *fmt, ...) {
+  char msg[768];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(msg, sizeof msg, fmt, ap);
+  va_end(ap);
+  if (d->mesh == CB_MESH_OBJ && d->mesh_file && m->vline && i >= 0 && i < m->nv)
+    return cb_fail("mesh.file: %s:%d: %s", d->mesh_file, m->vline[i], msg);
+  if (d->mesh == CB_MESH_OBJ && d->mesh_file) return cb_fail("mesh.file: %s: %s", d->mesh_file, msg);
+  return cb_fail("mesh: %s", msg);
+}
+
+/* Largest |a - b| over the mesh's edges, without overflow in the squares. */
+static double longest_edge(const cb_scene *s) {
+  double lmax = 0;
+  for (int e = 0; e < s->topo.ne; e++) {
+    const double *a = s->mesh.x + 3 * s->topo.edge[2 * e], *b = s->mesh.x + 3 * s->topo.edge[2 * e + 1];
+    double m = fmax(fabs(a[0] - b[0]), fmax(fabs(a[1] - b[1]), fabs(a[2] - b[2])));
+    if (!(m > 0) || !isfinite(m)) { lmax = fmax(lmax, m); continue; }
+    double u = (a[0] - b[0]) / m, v = (a[1] - b[1]) / m, w = (a[2] - b[2]) / m;
+    lmax = fmax(lmax, m * sqrt(u * u + v * v + w * w));
+  }
+  return lmax;
+}
+
+/* Every derived quantity of the start state is a finite double: x0, the
+ * kinetic energy of v0, each term's energy at x0 (so the rest lengths too:
+ * an infinite one makes its spring's energy NaN) and the divergence scale.
+ * A non-finite one would make row 0 of every run NaN. */
+static int check_finite(const cb_scene *s, const cb_scene_def *d, const char **key) {
+  int nv = s->mesh.nv;
+  for (int i = 0; i < 3 * nv; i++)
+    if (!isfinite(s->x0[i]))
+      return at_key(cb_fail("scene.initial_scale: vertex %d's initial position, %g x its offset from the centroid, "
+                            "is not a finite double", i / 3, d->initial_scale), key, "scene.initial_scale");
+  double K = cb_scene_kinetic(s, s->v0);
+  if (!isfinite(K))
+    return at_key(cb_fail("scene.pin_squeeze: the initial kinetic energy of the driven pins is %g J, not a finite "
+                          "double (masses up to the mesh's)", K), key, "scene.pin_squeeze");
+  double per[CB_MAX_TERMS];
+  cb_system_energy(&s->sys, s->x0, NULL, per);
+  for (int k = 0; k < s->sys.nterms; k++) {
+    if (isfinite(per[k])) continue;
+    const char *label = s->sys.terms[k]->label, *tkey = "material.stretch_k";
+    char what[96];
+    snprintf(what, sizeof what, "material.stretch_k = %g N/m", d->stretch_k);
+    if (strcmp(label, "gravity") == 0) {
+      tkey = "scene.gravity";
+      snprintf(what, sizeof what, "|scene.gravity| = %g m/s^2", cb_v3_norm(d->gravity));
+    } else if (strcmp(label, "stretch") != 0) {
+      tkey = "material.bend_k";
+      snprintf(what, sizeof what, "material.bend_k = %g N/m", d->bend_k);
+    }
+    return at_key(cb_fail("%s: the %s energy at the initial state is %g J, not a finite double (%s, total mass "
+                          "%g kg, longest edge %g m, scene.initial_scale = %g): the scene is too large for double "
+                          "precision", tkey, label, per[k], what, cb_scene_total_mass(s), longest_edge(s),
+                          d->initial_scale), key, tkey);
+  }
+  if (!isfinite(s->energy_scale))
+    return at_key(labelled(cb_fail("the energy scale S (elastic energy + total mass %g kg x |g| x the bounding-box "
+                                   "diagonal %g m) is %g J, not a finite double", cb_scene_total_mass(s),
+                                   cb_mesh_bbox_diagonal(&s->mesh), s->energy_scale), mesh_key(d)), key, mesh_key(d));
+  return CB_OK;
+}
+
 static int build_mesh(const cb_scene_def *d, cb_mesh *mesh, const char **key) {
   if (d->mesh == CB_MESH_OBJ) {
     if (!d->mesh_file) return at_key(cb_fail("mesh.file: required for an OBJ mesh"), key, "mesh.file");
@@ -174,10 +248,19 @@ int cb_scene_build(const cb_scene_def *d, cb_scene **out, const char **key) {
     if (d->vertex_mass > 0)
       for (int i = 0; i < nv; i++) s->mass[i] = d->vertex_mass;
     else
-      for (int t = 0; t < s->mesh.nt; t++) {
+      for (int t = 0; st == CB_OK && t < s->mesh.nt; t++) {
         double a = cb_mesh_triangle_area(&s->mesh, s->mesh.x, t);
+        if (!isfinite(a)) {
+          st = at_key(mesh_fail(d, &s->mesh, -1, "triangle %d has area %g m^2, not a finite double: "
+                                "the mesh's coordinates are too large", t + 1, a), key, mesh_key(d));
+          break;
+        }
         for (int k = 0; k < 3; k++) s->mass[s->mesh.tri[3 * t + k]] += d->density * a / 3.0;
       }
+    for (int i = 0; st == CB_OK && i < nv; i++)
+      if (!isfinite(s->mass[i]))
+        st = at_key(cb_fail("material.density: vertex %d's mass, density %g kg/m^2 x its triangles' area / 3, is %g kg, "
+                            "not a finite double", i, d->density, s->mass[i]), key, "material.density");
   }
   if (st == CB_OK) {
     st = at_key(cb_pins_resolve(d->pins, &s->mesh, &s->pinned, &s->npinned), key, "scene.pins");
@@ -191,8 +274,14 @@ int cb_scene_build(const cb_scene_def *d, cb_scene **out, const char **key) {
         continue;
       }
       if (!(s->mass[i] > 0)) {
-        st = cb_fail("vertex %d has no mass: it belongs to no triangle (remove it, pin it, or set material.vertex_mass; "
-                     "chains and line elements always need material.vertex_mass)", i);
+        if (s->mesh.nt == 0) /* a chain, or an OBJ of line elements only */
+          st = at_key(cb_fail("material.vertex_mass: the mesh has no triangles, so its vertices have no area and no "
+                              "mass: set material.vertex_mass > 0 (vertex %d is the first free one)", i),
+                      key, "material.vertex_mass");
+        else
+          st = at_key(mesh_fail(d, &s->mesh, i, "vertex %d (0-based; %d in the file's indices) belongs to no triangle "
+                                "and has no mass: remove it, pin it (scene.pins), or set material.vertex_mass", i, i + 1),
+                      key, mesh_key(d));
         break;
       }
       s->free_vertex[nfree] = i;
@@ -251,6 +340,7 @@ int cb_scene_build(const cb_scene_def *d, cb_scene **out, const char **key) {
     s->energy_scale = cb_system_elastic_energy(&s->sys, s->x0) +
                       cb_scene_total_mass(s) * cb_v3_norm(d->gravity) * cb_mesh_bbox_diagonal(&s->mesh) * fmax(1.0, d->initial_scale) +
                       1e-12;
+    st = check_finite(s, d, key);
   }
   /* the post-step stage: each response's state from its type's size */
   for (int k = 0; st == CB_OK && k < d->nresponses; k++) {
