@@ -29,7 +29,7 @@ const cb_claim cb_claims[] = {
    "Counted on grids and on unstructured meshes; the DoFs as 3#V - rank of the rigidity matrix at a generic embedding.", NULL, cb_check_T2},
   {"E1", "explicit_stability", "Explicit integration becomes unstable when k and/or dt are too large.",
    "(k, dt) stability map; measured critical dt within 15% of 2/omega_max; slope of log dt_crit vs log k is -1/2 +- 0.05.",
-   "explicit_stability_map.png", cb_check_E1},
+   "explicit_stability_map.png explicit_stability_ratio.png", cb_check_E1},
   {"E2", "explicit_stability", "Using a small dt makes explicit integration stable but slow.",
    "Wall time to simulate 1 s: explicit at its largest stable dt against implicit at dt = 1/30, against k and resolution; explicit cost about O(n^2).",
    "explicit_stability_cost.png", cb_check_E2},
@@ -41,14 +41,14 @@ const cb_claim cb_claims[] = {
    cb_check_newton_vs_bw_i2},
   {"I3", "newton_vs_bw", "Baraff-Witkin's single Newton iteration is fast but can fail to converge.",
    "Step error and wall time for K = 1, 2, 3, 5, 10 and converged; the (dt, k, stretch) regime where K = 1 has error above 1% or diverges.",
-   "newton_vs_bw_pareto.png", cb_check_newton_vs_bw_i3},
+   "newton_vs_bw_pareto.png newton_vs_bw_regime.png newton_vs_bw_trajectory.png newton_vs_bw_energy.png", cb_check_newton_vs_bw_i3},
   {"H1", "definiteness", "A spring's Hessian is SPD when stretched and may be indefinite when compressed; A = M/dt^2 + H can then be indefinite.",
    "Fraction of Newton iterations with indefinite A on compression scenes.", "definiteness_h1.png", cb_check_h1},
   {"H2", "definiteness", "Dropping the (1 - L/|x|) term when |x| < L restores definiteness; other fixes work at different costs.",
-   "Per fix: SPD rate, CG breakdowns, Newton iterations, wall time, final energy.", "definiteness_residual.png", cb_check_h2},
+   "Per fix: SPD rate, CG breakdowns, Newton iterations, wall time, final energy.", "definiteness_residual.png definiteness_shapes.png", cb_check_h2},
   {"J1", "linear_solvers", "Vanilla Jacobi needs A diagonally dominant; alpha < 2/lambda_max(D^-1 A) makes it converge for any SPD A.",
    "alpha sweep on a non-diagonally-dominant SPD A: divergence at alpha = 1 where predicted, convergence for small alpha, measured rate matches rho(I - alpha D^-1 A).",
-   "linear_solvers_j1_alpha.png", cb_check_j1},
+   "linear_solvers_j1_alpha.png linear_solvers_j1_rates.png", cb_check_j1},
   {"J2", "linear_solvers", "Chebyshev acceleration makes Jacobi much faster (Wang 2015: at least an order of magnitude).",
    "Iterations and wall time to relative residual 1e-6, Jacobi against Chebyshev-Jacobi on the same A.", "linear_solvers_j2_speedup.png", cb_check_j2},
   {"J3", "linear_solvers", "Chebyshev needs an estimate of rho, and an overestimate diverges; the lab default 0.995 is reported to diverge where about 0.95 works.",
@@ -63,6 +63,22 @@ const cb_claim cb_claims[] = {
    "Fold angle reached under a fixed load against in-plane stiffness, with bending stiffness 0.", NULL, NULL},
 };
 const int cb_nclaims = (int)(sizeof cb_claims / sizeof cb_claims[0]);
+
+void cb_claim_figures(FILE *f, const cb_claim *c, const char *dir, const char *sep) {
+  if (!c->figure || !c->figure[0]) {
+    if (!dir) fputs("-", f);
+    return;
+  }
+  for (const char *p = c->figure; *p;) {
+    size_t n = strcspn(p, " ");
+    if (n > 0) {
+      if (dir) fprintf(f, "%s![%s](%s/%.*s)", p == c->figure ? "" : sep, c->id, dir, (int)n, p);
+      else fprintf(f, "%s`%.*s`", p == c->figure ? "" : sep, (int)n, p);
+    }
+    p += n;
+    while (*p == ' ') p++;
+  }
+}
 
 const char *cb_verdict_name(cb_verdict v) {
   switch (v) {

@@ -7,6 +7,7 @@
 #define CB_CLAIMS_H
 
 #include <stddef.h>
+#include <stdio.h>
 
 #include "table.h"
 
@@ -26,7 +27,7 @@ typedef struct cb_claim {
   const char *experiment; /* CSV stem in results/, or NULL if no experiment exists yet */
   const char *text;       /* the claim */
   const char *decided_by; /* the deciding measurement */
-  const char *figure;     /* PNG in plots/out/, or NULL */
+  const char *figure;     /* PNGs in plots/out/, separated by spaces (the first is the main one), or NULL */
   cb_claim_check check;
 } cb_claim;
 
@@ -34,6 +35,10 @@ extern const cb_claim cb_claims[];
 extern const int cb_nclaims;
 
 const char *cb_verdict_name(cb_verdict v);
+
+/* Writes each figure of c as `name` (code) or ![id](dir/name) (image), with
+ * sep between them; "-" (code) or nothing (image) when c has none. */
+void cb_claim_figures(FILE *f, const cb_claim *c, const char *dir, const char *sep);
 
 /* Append printf-style text to a result's numbers or reason. */
 void cb_claim_numbers(cb_claim_result *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));

@@ -20,7 +20,9 @@ void cb_report_verdicts(FILE *f, const cb_claim_result *res) {
       else if (*p == '|') fputs("\\|", f);
       else fputc(*p, f);
     }
-    fprintf(f, " | %s%s%s |\n", c->figure ? "`" : "", c->figure ? c->figure : "–", c->figure ? "`" : "");
+    fputs(" | ", f);
+    cb_claim_figures(f, c, NULL, " ");
+    fputs(" |\n", f);
   }
 }
 

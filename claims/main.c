@@ -83,8 +83,9 @@ static int write_report(const char *outpath, const cb_claim_result *res, const c
   fputs("## Verdicts\n\n| claim | verdict | experiment | figure |\n|---|---|---|---|\n", f);
   for (int i = 0; i < cb_nclaims; i++) {
     const cb_claim *c = &cb_claims[i];
-    fprintf(f, "| [%s](#%s) | %s | %s | %s%s%s |\n", c->id, c->id, cb_verdict_name(res[i].verdict),
-            c->experiment ? c->experiment : "-", c->figure ? "`" : "", c->figure ? c->figure : "-", c->figure ? "`" : "");
+    fprintf(f, "| [%s](#%s) | %s | %s | ", c->id, c->id, cb_verdict_name(res[i].verdict), c->experiment ? c->experiment : "-");
+    cb_claim_figures(f, c, NULL, " ");
+    fputs(" |\n", f);
   }
   for (int i = 0; i < cb_nclaims; i++) {
     const cb_claim *c = &cb_claims[i];
@@ -92,7 +93,11 @@ static int write_report(const char *outpath, const cb_claim_result *res, const c
     fprintf(f, "**Claim.** %s\n\n**Deciding measurement.** %s\n\n", c->text, c->decided_by);
     if (res[i].numbers[0]) fprintf(f, "**Numbers** (from `%s/%s.csv`):\n\n%s\n\n", results, c->experiment, res[i].numbers);
     fprintf(f, "**Verdict: %s.** %s\n", cb_verdict_name(res[i].verdict), res[i].reason);
-    if (c->figure && res[i].verdict != CB_NOT_RUN) fprintf(f, "\n![%s](%s/%s)\n", c->id, plots_rel, c->figure);
+    if (c->figure && res[i].verdict != CB_NOT_RUN) {
+      fputs("\n", f);
+      cb_claim_figures(f, c, plots_rel, "\n\n");
+      fputs("\n", f);
+    }
     write_movies(f, c->id, plots, plots_rel);
   }
   if (cb_outfile_commit(&o)) {

@@ -1,6 +1,9 @@
 # Shared gnuplot settings, loaded by every plots/<experiment>.gp.
 # scripts/plots.sh sets: ext ('png' or 'svg'), out (output folder), results
-# (CSV folder). Each figure then does: set output out.'/<name>.'.ext
+# (CSV folder) and plots (this folder), as absolute paths, so a script runs
+# from any directory:
+#   gnuplot -e "plots='/path/plots'; results='/path/results'; out='/tmp'" /path/plots/x.gp
+# Each figure then does: set output out.'/<name>.'.ext
 if (!exists("ext")) ext = 'png'
 if (!exists("out")) out = 'plots/out'
 if (!exists("results")) results = 'results'

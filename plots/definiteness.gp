@@ -1,6 +1,7 @@
 # definiteness (claims H1, H2): figures from results/definiteness*.csv and the
 # final meshes results/definiteness_<scene>_<policy>.obj.
-load 'plots/common.gp'
+if (!exists("plots")) plots = 'plots'
+load plots.'/common.gp'
 f = results.'/definiteness.csv'
 fp = results.'/definiteness_pair.csv'
 # Scenes and policies come from the CSV (distinct() in common.gp); 'none' is

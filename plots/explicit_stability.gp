@@ -1,6 +1,7 @@
 # Figures of explicit_stability (claims E1, E2, I1), from results/explicit_stability.csv
 # and its side tables _boundary.csv and _timing.csv. Rendered by scripts/plots.sh.
-load 'plots/common.gp'
+if (!exists("plots")) plots = 'plots'
+load plots.'/common.gp'
 set datafile missing NaN  # filtered rows (NaN) do not break a series' line
 main  = results.'/explicit_stability.csv'
 bound = results.'/explicit_stability_boundary.csv'

@@ -1,7 +1,8 @@
 # Figures of the linear_solvers experiment (claims J1-J4).
 # Data: results/linear_solvers.csv (per iteration), _runs.csv (per run),
 # _scenes.csv (spectra of D^-1 A per captured Newton matrix).
-load 'plots/common.gp'
+if (!exists("plots")) plots = 'plots'
+load plots.'/common.gp'
 set datafile columnheaders  # column('name') also in stats
 main   = results.'/linear_solvers.csv'
 runs   = results.'/linear_solvers_runs.csv'

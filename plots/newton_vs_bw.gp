@@ -1,6 +1,7 @@
 # newton_vs_bw (claims I2, I3): error against run time, the K = 1 regime map,
 # Newton's convergence, trajectory error. Data: results/newton_vs_bw*.csv.
-load 'plots/common.gp'
+if (!exists("plots")) plots = 'plots'
+load plots.'/common.gp'
 
 main   = results.'/newton_vs_bw.csv'
 pareto = results.'/newton_vs_bw_pareto.csv'

@@ -1,12 +1,18 @@
 #!/bin/sh
 # Renders every plots/<experiment>.gp whose results/<experiment>.csv exists,
 # to PNG (pngcairo) and SVG in plots/out/. Fails if gnuplot reports an error.
+# Runs from any directory: the scripts are found beside this one, and every
+# path handed to gnuplot is absolute (RESULTS and PLOTS_OUT relative to the
+# working directory, default results/ and plots/out/ of the repository).
 set -u
-out=${PLOTS_OUT:-plots/out}
-results=${RESULTS:-results}
+root=$(cd "$(dirname "$0")/.." && pwd)
+abs() { case $1 in /*) printf '%s' "$1" ;; *) printf '%s/%s' "$(pwd)" "$1" ;; esac; }
+out=$(abs "${PLOTS_OUT:-$root/plots/out}")
+results=$(abs "${RESULTS:-$root/results}")
+plots=$root/plots
 mkdir -p "$out"
 status=0
-for gp in plots/*.gp; do
+for gp in "$plots"/*.gp; do
   name=$(basename "$gp" .gp)
   [ "$name" = common ] && continue
   if [ ! -f "$results/$name.csv" ]; then
@@ -14,7 +20,7 @@ for gp in plots/*.gp; do
     continue
   fi
   for ext in png svg; do
-    if ! gnuplot -e "ext='$ext'; out='$out'; results='$results'" "$gp" 2>"$out/$name.$ext.log"; then
+    if ! gnuplot -e "ext='$ext'; out='$out'; results='$results'; plots='$plots'" "$gp" 2>"$out/$name.$ext.log"; then
       echo "plots: $gp failed ($ext):" >&2; cat "$out/$name.$ext.log" >&2; status=1
     elif grep -qi "warning\|error" "$out/$name.$ext.log"; then
       echo "plots: $gp ($ext) printed:" >&2; cat "$out/$name.$ext.log" >&2

@@ -59,5 +59,11 @@ for doc in README.md docs/experiments/*.md; do
   n=$((n + 1))
   "$B/report" --results "$T/empty" --fill-only --fill "$T/copy.md" 2>"$T/copy.err" || { echo "report: FAIL: $doc:"; cat "$T/copy.err"; fail=1; }
 done
+# every figure a plot script draws backs a claim: the report's verdict table lists it
+mkdir -p "$T/empty"
+"$B/report" --results "$T/empty" --out "$T/all.md" 2>/dev/null
+for name in $(sed -n "s/.*set output out\.'\/\([a-z0-9_]*\)\.'\.ext.*/\1/p" plots/*.gp | sort -u); do
+  has "figure $name.png is referenced by a claim" "\`$name.png\`" "$T/all.md"
+done
 [ $fail = 0 ] && echo "report: ok ($n checks)"
 exit $fail
