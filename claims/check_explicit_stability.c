@@ -139,7 +139,7 @@ void cb_check_E1(const cb_table *t, const char *results_dir, cb_claim_result *ou
 
 /* ---- E2 ------------------------------------------------------------------- */
 
-typedef struct { char scene[32]; double n, k, wall, steps; int method, stable; } trow;
+typedef struct { char scene[32]; double n, k, wall, steps, not_conv; int method, stable; } trow;
 
 void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *out) {
   (void)t;
@@ -148,6 +148,7 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
   static const char *const tn[] = {"scene", "n_vertices", "k", "method", "wall_ms_per_s", "steps", "status"};
   int c[7];
   if (cols(&b, tn, c, 7, "explicit_stability_timing.csv", out)) { cb_table_free(&b); return; }
+  int cnc = cb_table_col(&b, "not_converged_steps"); /* optional: older tables lack it */
   static trow rows[MAXPTS];
   int n = 0, unstable = 0;
   for (int r = 0; r < b.nrows && n < MAXPTS; r++) {
@@ -158,6 +159,7 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
     x->wall = cb_table_num(&b, r, c[4]); x->steps = cb_table_num(&b, r, c[5]);
     x->method = !strcmp(m, "explicit") ? 0 : !strcmp(m, "newton") ? 1 : !strcmp(m, "newton_bw") ? 2 : 3;
     x->stable = !strcmp(cb_table_str(&b, r, c[6]), "stable");
+    x->not_conv = cnc >= 0 ? cb_table_num(&b, r, cnc) : NAN;
     unstable += !x->stable;
   }
   cb_table_free(&b);
@@ -169,16 +171,30 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
   cb_claim_numbers(out, "Wall time to simulate 1 s (explicit at 0.9 x its measured dt_crit; Newton + CHOLMOD at dt = 1/30 s, "
                         "converged, and Baraff-Witkin's single iteration for reference).\n\n"
                         "| scene | k (N/m) | explicit (ms) | explicit steps | Newton (ms) | Baraff-Witkin (ms) |\n|---|---|---|---|---|---|\n");
+  int newton_rows = 0, newton_unconverged = 0;
   for (int i = 0; i < n; i++) {
     if (rows[i].method != 0) continue;
-    double nt = NAN, bw = NAN;
+    const trow *nt = NULL, *bw = NULL;
     for (int j = 0; j < n; j++)
       if (!strcmp(rows[j].scene, rows[i].scene) && rows[j].k == rows[i].k) {
-        if (rows[j].method == 1) nt = rows[j].wall;
-        if (rows[j].method == 2) bw = rows[j].wall;
+        if (rows[j].method == 1) nt = &rows[j];
+        if (rows[j].method == 2) bw = &rows[j];
       }
-    cb_claim_numbers(out, "| %s | %.3g | %.4g | %.0f | %.4g | %.4g |\n", rows[i].scene, rows[i].k, rows[i].wall, rows[i].steps, nt, bw);
+    char ntxt[96] = "not timed", btxt[32] = "not timed";
+    if (nt) {
+      newton_rows++;
+      newton_unconverged += nt->not_conv > 0;
+      if (nt->not_conv > 0)
+        snprintf(ntxt, sizeof ntxt, "%.4g (**not converged**: %.0f of %.0f steps at max_iters)", nt->wall, nt->not_conv, nt->steps);
+      else snprintf(ntxt, sizeof ntxt, "%.4g%s", nt->wall, isnan(nt->not_conv) ? " (convergence not recorded)" : "");
+    }
+    if (bw) snprintf(btxt, sizeof btxt, "%.4g", bw->wall);
+    cb_claim_numbers(out, "| %s | %.3g | %.4g | %.0f | %s | %s |\n", rows[i].scene, rows[i].k, rows[i].wall, rows[i].steps, ntxt, btxt);
   }
+  if (newton_rows)
+    cb_claim_numbers(out, "\nConverged Newton (to integrator.tol, at most 400 iterations a step) is timed on %d (scene, k) rows; "
+                          "%d of them had steps that stopped at max_iters, marked **not converged** above. `not timed`: only "
+                          "explicit and Baraff-Witkin were run there.\n", newton_rows, newton_unconverged);
   cb_claim_numbers(out, "\nAgainst stiffness (explicit wall time ~ k^a; where the fit reaches converged Newton's time):\n\n");
   for (int s = 0; s < ns; s++) {
     double lx[64], ly[64], kmax = -1, ex_at = NAN, nt_at = NAN;

@@ -33,6 +33,8 @@ static void put(const char *name, const char *hdr, const char *rows) {
   fclose(f);
 }
 
+static cb_claim_result last; /* the result of the last decide() */
+
 static cb_verdict decide(void (*check)(const cb_table *, const char *, cb_claim_result *)) {
   snprintf(dir, sizeof dir, "/tmp/cbclaimsXXXXXX");
   cr_assert(mkdtemp(dir));
@@ -43,9 +45,10 @@ static cb_verdict decide(void (*check)(const cb_table *, const char *, cb_claim_
   snprintf(path, sizeof path, "%s/explicit_stability.csv", dir);
   cb_table t;
   cr_assert_eq(cb_table_read(path, &t), 0);
-  static cb_claim_result r;
+  cb_claim_result r;
   memset(&r, 0, sizeof r);
   check(&t, dir, &r);
+  last = r;
   cb_table_free(&t);
   const char *names[] = {"explicit_stability.csv", "explicit_stability_boundary.csv", "explicit_stability_timing.csv"};
   for (int i = 0; i < 3; i++) {
@@ -125,6 +128,25 @@ Test(claims_explicit_stability, E2_partly_or_not_reproduced) {
   cr_assert_eq(decide(cb_check_E2), CB_PARTLY);
   timing(0.0, 2.0, 1); /* cost independent of k: small dt is not what makes it slow */
   cr_assert_eq(decide(cb_check_E2), CB_NOT_REPRODUCED);
+}
+
+Test(claims_explicit_stability, E2_labels_newton_rows_that_did_not_converge) {
+  static const char *hdr_nc = "# test\nscene,n_vertices,k,method,wall_ms_per_s,steps,status,not_converged_steps\n";
+  const char *saved = time_hdr;
+  time_hdr = hdr_nc;
+  /* k = 10: Newton converged; k = 1e4: 5 of 30 steps stopped at max_iters; 41^2: Newton not timed */
+  snprintf(time_rows, sizeof time_rows,
+           "cloth21,441,10,explicit,0.05,6,stable,0\ncloth21,441,10,newton,150,30,stable,0\ncloth21,441,10,newton_bw,30,30,stable,0\n"
+           "cloth21,441,10000,explicit,1.3,147,stable,0\ncloth21,441,10000,newton,570,30,stable,5\n"
+           "cloth21,441,1e7,explicit,42,4630,stable,0\ncloth21,441,1e7,newton,520,30,stable,0\n"
+           "cloth41,1681,10000,explicit,10,287,stable,0\ncloth41,1681,10000,newton_bw,200,30,stable,0\n");
+  decide(cb_check_E2);
+  time_hdr = saved;
+  cr_expect(strstr(last.numbers, "| 570 (**not converged**: 5 of 30 steps at max_iters) |"), "%s", last.numbers);
+  cr_expect(strstr(last.numbers, "| 150 | 30 |"), "%s", last.numbers);
+  cr_expect(strstr(last.numbers, "| cloth41 | 1e+04 | 10 | 287 | not timed | 200 |"), "%s", last.numbers);
+  cr_expect(strstr(last.numbers, "timed on 3 (scene, k) rows; 1 of them had steps that stopped at max_iters"), "%s", last.numbers);
+  cr_expect(!strstr(last.numbers, "nan"), "no nan cells: %s", last.numbers);
 }
 
 Test(claims_explicit_stability, I1_reproduced_when_newton_never_diverges_and_damps_more_with_dt) {
