@@ -45,6 +45,7 @@ typedef struct cb_config {
   char method[CB_NAME_LEN];        /* explicit | newton */
   double dt;                       /* s */
   int steps;
+  double damping;                  /* v <- damping v at the start of every step; 1 = none */
   /* the integrator types' own keys (integrator.max_iters, tol, ... of
    * cb_integrator_type.keys), in key-table order: numbers as they are,
    * booleans 0/1, a choice as its index. Read them with
