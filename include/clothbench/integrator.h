@@ -84,6 +84,29 @@ typedef struct cb_newton_params {
 
 cb_newton_params cb_newton_params_default(void);
 
+/* The nonlinear Jacobi iterations' parameters (jacobi-nl, chebyshev-nl;
+ * integrator_nljacobi.c has the formulas). */
+typedef struct cb_nljacobi_params {
+  int iters;                   /* iterations per step (the lab: 32). Default 32 */
+  int diagonal;                /* D: 0 lab (m/dt^2 + 4k), 1 valence (m/dt^2 + k n_i), 2 exact (3x3 blocks of
+                                  M/dt^2 + H). Default 0 (lab) */
+  double alpha;                /* step weight x <- x - alpha D^-1 g (Wang's gamma). Default 1 */
+  double rho;                  /* Chebyshev rho in [0, 1), or CB_PARAM_AUTO. Default 0.995 (chebyshev-nl),
+                                  0 and not a key (jacobi-nl) */
+  int rho_iters;               /* plain iterations of the `auto` estimate, run once. Default 64 */
+  cb_definiteness definiteness;/* Hessian policy of the exact diagonal. Default drop */
+} cb_nljacobi_params;
+cb_nljacobi_params cb_nljacobi_params_default(void); /* chebyshev-nl's */
+extern const char *const cb_nljacobi_diagonal_names[]; /* "lab", "valence", "exact", NULL */
+
+/* Projective dynamics' parameters (pd, pd-chebyshev; integrator_pd.c). */
+typedef struct cb_pd_params {
+  int iters;                   /* local/global iterations per step (Liu et al. 2013: 10). Default 32 */
+  double rho;                  /* pd-chebyshev's rho in [0, 1), or CB_PARAM_AUTO. Default 0.995 (0 for pd) */
+  int rho_iters;               /* plain iterations of the `auto` estimate, run once. Default 64 */
+} cb_pd_params;
+cb_pd_params cb_pd_params_default(void); /* pd-chebyshev's */
+
 typedef struct cb_integrator cb_integrator;
 
 /* One of a type's parameters as a config key, `integrator.<name>`. The
@@ -146,6 +169,10 @@ struct cb_integrator {
 
 extern const cb_integrator_type cb_integrator_explicit;
 extern const cb_integrator_type cb_integrator_newton;
+extern const cb_integrator_type cb_integrator_jacobi_nl;
+extern const cb_integrator_type cb_integrator_chebyshev_nl;
+extern const cb_integrator_type cb_integrator_pd;
+extern const cb_integrator_type cb_integrator_pd_chebyshev;
 extern const cb_integrator_type *const cb_integrator_types[]; /* NULL-terminated */
 const char *cb_integrator_name(int i);
 const cb_integrator_type *cb_integrator_type_find(const char *name);

@@ -70,7 +70,7 @@ static const keydef keys_head[] = {
   {"scene.pin_squeeze", T_VEC3, O(pin_squeeze), "0 0 0", "m/s", -1e6, 1e6, 0, NULL, NULL,
    "Driven pins (3 numbers s): pinned vertex i moves at the constant velocity -sign((p_i - c).s) s, c being the centroid of the pins' initial positions p_i, so pins on the two sides of c close in on each other at 2|s| (pins with (p_i - c).s = 0 stay). Its prescribed position x0 + t v enters every step (implicit: through x0 + dt v0; explicit: x += dt v). `0 0 0`: pins are fixed."},
   {"integrator.method", T_ENUM, O(method), "newton", "-", 0, 0, 0, NULL, cb_integrator_name,
-   "`explicit` (symplectic Euler) or `newton` (implicit Euler by Newton's method)."},
+   "`explicit` (symplectic Euler), `newton` (implicit Euler by Newton's method), `jacobi-nl` and `chebyshev-nl` (the GAMES103 lab's Jacobi on F(x), plain or Chebyshev-accelerated), `pd` and `pd-chebyshev` (projective dynamics, Liu et al. 2013, plain or Chebyshev-accelerated)."},
   {"integrator.dt", T_DOUBLE, O(dt), "1/30", "s", 0, 1e6, 1, NULL, NULL,
    "Time step; a fraction such as `1/30` is accepted."},
   {"integrator.steps", T_INT, O(steps), "60", "steps", 0, 2000000000, 0, NULL, NULL,

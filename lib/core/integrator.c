@@ -14,6 +14,10 @@
 const cb_integrator_type *const cb_integrator_types[] = {
     &cb_integrator_explicit,
     &cb_integrator_newton,
+    &cb_integrator_jacobi_nl,
+    &cb_integrator_chebyshev_nl,
+    &cb_integrator_pd,
+    &cb_integrator_pd_chebyshev,
     NULL,
 };
 
