@@ -62,7 +62,7 @@ const cb_claim cb_claims[] = {
    "nonlinear_w1.png", cb_check_w1},
   {"P1", "nonlinear", "Projective dynamics reaches a visually converged step much faster than exact Newton (Liu et al. 2013: 50 ms against 13 s per frame on a 6561-vertex cloth, 260x).",
    "Wall time per frame of pd (10 iterations) against converged Newton (CHOLMOD) and Baraff-Witkin on an 81^2 cloth and a stiff one, and each method's step error against the converged step.",
-   "nonlinear_error_time.png", cb_check_p1},
+   "nonlinear_p1.png", cb_check_p1},
   {"J4", "linear_solvers", "Direct solvers are one-shot, exact and expensive; iterative solvers are cheaper per iteration and their accuracy is controllable.",
    "Error against run time for CHOLMOD, Jacobi, Chebyshev, CG and PCG on the same Newton systems, at three mesh sizes.", "linear_solvers_j4_error_time.png", cb_check_j4},
   {"B1", NULL, "A bending spring offers little resistance when the cloth is nearly planar.",
