@@ -5,7 +5,7 @@
 ## make all           build the library, simulate, the experiments, bench and report
 ## make plots         draw plots/out/*.png and .svg from results/*.csv (gnuplot)
 ## make report        decide every claim from results/*.csv into results/REPORT.md
-## make bench         the core benchmarks (results/bench_core.csv)
+## make bench         the benchmarks (results/bench_core.csv, results/bench_nonlinear.csv)
 ## make san           the tests under AddressSanitizer + UndefinedBehaviorSanitizer
 ## make fuzz          libFuzzer on the config parser, OBJ reader, scene building (FUZZ_SECONDS=60)
 ## make deps          install the missing Debian packages (or print the command)
@@ -200,6 +200,7 @@ report: $(BUILD)/report
 bench: deps
 	@$(MAKE) --no-print-directory $(BENCHES)
 	$(EXP_ENV) $(BUILD)/bench_core --out results/bench_core.csv
+	$(EXP_ENV) $(BUILD)/bench_nonlinear --out results/bench_nonlinear.csv
 
 clean:
 	rm -rf build

@@ -179,10 +179,11 @@ typedef struct {
 } scene_def;
 
 /* the lab cloth at 21^2, and the same cloth (441 kg, k, 10 m) at 64^2, 128^2
- * and 81^2 (P1), pinned at the lab's corners 0 and n-1; P1's stiff variant */
+ * quads (129^2 = 16 641 vertices, Wang's dress size) and 81^2 (6561 vertices,
+ * Liu's cloth, P1), pinned at the lab's corners 0 and n-1; P1's stiff variant */
 static const scene_def LAB = {"lab", {NULL}};
 static const scene_def G64 = {"grid64", {"mesh.n=64", "material.vertex_mass=441/4096", "scene.pins=0 63", NULL}};
-static const scene_def G128 = {"grid128", {"mesh.n=128", "material.vertex_mass=441/16384", "scene.pins=0 127", NULL}};
+static const scene_def G128 = {"grid128", {"mesh.n=129", "material.vertex_mass=441/16641", "scene.pins=0 128", NULL}}; /* 128^2 quads */
 static const scene_def G81 = {"grid81", {"mesh.n=81", "material.vertex_mass=441/6561", "scene.pins=0 80", NULL}};
 static const scene_def G81S = {"grid81_stiff",
                                {"mesh.n=81", "material.vertex_mass=441/6561", "scene.pins=0 80", "material.stretch_k=1e6", NULL}};
