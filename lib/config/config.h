@@ -4,7 +4,7 @@
  * documentation; the parser, the validator, `simulate --help-config` and the
  * README's config reference all come from that table. An integrator type's
  * own keys come from its type table (cb_integrator_type.keys) and join the
- * table between integrator.steps and integrator.diverge_ratio. An unknown key, a bad
+ * table between integrator.damping and integrator.diverge_ratio. An unknown key, a bad
  * value or a missing file is an error naming file, line and key.
  *
  * This is the config layer (lib/config/), above the core: the core never sees
