@@ -133,17 +133,23 @@ static int nlj_init(cb_integrator *it) {
       if (cb_sparse_block_slot(&it->sys->A, b, b, &w->slot[b], &w->stride[b]) < 0)
         return cb_fail("%s: diagonal block %d missing from the system's pattern", it->type->name, b);
   } else {
+    int *deg = cb_calloc((size_t)s->mesh.nv + 1, sizeof(int)); /* each vertex's stretch springs (valence) */
+    if (!deg) return CB_ENOMEM;
+    for (int e = 0; e < s->topo.ne; e++) {
+      deg[s->topo.edge[2 * e]]++;
+      deg[s->topo.edge[2 * e + 1]]++;
+    }
     for (int b = 0; b < nf; b++) {
       int i = s->free_vertex[b];
-      double springs = 4.0; /* lab: 4k whatever the vertex */
-      if (p->diagonal == DIAG_VALENCE) {
-        springs = 0;
-        for (int e = 0; e < s->topo.ne; e++) springs += (s->topo.edge[2 * e] == i) + (s->topo.edge[2 * e + 1] == i);
+      double springs = p->diagonal == DIAG_VALENCE ? deg[i] : 4.0; /* lab: 4k whatever the vertex */
+      double d = s->mass[i] / (dt * dt) + springs * k;            /* d_i = m_i/dt^2 + n_i k */
+      if (!(d > 0)) {
+        free(deg);
+        return cb_fail("%s: vertex %d has diagonal %g (no mass and no springs)", it->type->name, i, d);
       }
-      double d = s->mass[i] / (dt * dt) + springs * k; /* d_i = m_i/dt^2 + n_i k */
-      if (!(d > 0)) return cb_fail("%s: vertex %d has diagonal %g (no mass and no springs)", it->type->name, i, d);
       w->dinv[b] = 1.0 / d;
     }
+    free(deg);
   }
   return CB_OK;
 }

@@ -110,22 +110,17 @@ static int pd_init(cb_integrator *it) {
   if (p->iters < 1) return cb_fail("%s: iters must be >= 1, got %d", name, p->iters);
   if (!(p->rho == CB_PARAM_AUTO || (p->rho >= 0 && p->rho < 1))) return cb_fail("%s: rho must be in [0, 1) or auto, got %g", name, p->rho);
   if (p->rho == CB_PARAM_AUTO && p->rho_iters < 4) return cb_fail("%s: rho_iters must be >= 4", name);
-  int stretch = 0;
   for (int t = 0; t < s->sys.nterms; t++) {
     const cb_term *term = s->sys.terms[t];
     if (term->type == cb_term_gravity) {
       memcpy(w->grav, s->gravity, sizeof w->grav);
       continue;
     }
-    if (term->type == cb_term_spring && strcmp(term->label, "stretch") == 0 && !cb_spring_term_is_choi_ko(term)) {
-      stretch = 1;
-      continue;
-    }
+    if (term->type == cb_term_spring && strcmp(term->label, "stretch") == 0 && !cb_spring_term_is_choi_ko(term)) continue;
     return cb_fail("%s: projective dynamics here covers the stretch springs and gravity; the scene has the term '%s'%s "
                    "(set material.bend = none and a definiteness other than choi-ko)",
                    name, term->label, cb_spring_term_is_choi_ko(term) ? " with the Choi-Ko response" : "");
   }
-  (void)stretch;
   int nf = s->model.nfree, nv = s->mesh.nv;
   int st = cb_objective_init(&w->obj, s);
   if (st == CB_OK) st = copy_pattern(&it->sys->A, &w->P);
