@@ -94,7 +94,7 @@ static int run_j3(cb_experiment *e, int frames) {
   cb_outfile sp = {0};
   cb_experiment_side_path(e, "spectrum.csv", path, sizeof path);
   char extra[256];
-  snprintf(extra, sizeof extra, "# frames: %d\n", frames);
+  snprintf(extra, sizeof extra, "# frames: %d (configs/lab.ini: chebyshev-nl, 32 iterations, damping 0.99; integrator.rho swept)\n", frames);
   if (cb_experiment_csv(e, &e->csv, NULL, extra,
                         "panel,scene,method,rho_given,rho,frames,frames_run,diverged,diverge_frame,median_rel_grad,"
                         "p90_rel_grad,max_rel_grad,frames_grad_up,rho_lin_median,rho_lin_max,lmin_min,lmax_max,"
@@ -384,7 +384,7 @@ static int run_p1(cb_experiment *e, int quick) {
   int frames = quick ? 2 : 6;
   char path[2048], extra[256];
   cb_outfile o = {0};
-  snprintf(extra, sizeof extra, "# frames: %d (start states: frames 5, 10, ... of the lab's method)\n", frames);
+  snprintf(extra, sizeof extra, "# frames: %d (start states: frames 5, 10, ... of the lab's method; the step without damping)\n", frames);
   cb_experiment_side_path(e, "p1.csv", path, sizeof path);
   if (cb_experiment_csv(e, &o, path, extra, "scene,n,k,method,frame,iters,wall_ms,alloc_ms,step_error,rel_grad,status"))
     return fail("csv");
