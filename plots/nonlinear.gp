@@ -56,9 +56,9 @@ set ylabel '|grad F(x_k)| / |grad F(xhat)|'
 set key bottom left
 do for [s = 1:nsc] {
   sc = nth(trace, 1, s)
-  set title sc
+  set title sc noenhanced
   plot for [m = 1:nme] trace using (is('scene', sc) && is('method', nth(trace, 3, m)) && column('iter') > 0 ? column('iter') : NaN):'rel_grad' \
-         with lines lw 2 title nth(trace, 3, m), \
+         with lines lw 2 title nth(trace, 3, m) noenhanced, \
        1e-2 with lines dt 2 lc 'gray' notitle, 1e-4 with lines dt 2 lc 'gray' notitle
 }
 unset multiplot
@@ -80,9 +80,9 @@ set ylabel 'step error |x - x^*|_M / |x^* - x_0|_M'
 set key outside right
 do for [s = 1:nsc] {
   sc = nth(et, 1, s)
-  set title sc
+  set title sc noenhanced
   plot for [m = 1:nme] et using (is('scene', sc) && is('method', nth(et, 3, m)) && column('step_error') > 0 ? column('wall_ms') : NaN):'step_error' \
-         with linespoints pt (m % 7 + 1) ps 0.8 lw 1.5 title nth(et, 3, m)
+         with linespoints pt (m % 7 + 1) ps 0.8 lw 1.5 title nth(et, 3, m) noenhanced
 }
 unset multiplot
 set terminal pop
@@ -102,9 +102,9 @@ set ylabel 'step error against the converged step'
 set key top right
 do for [s = 1:nsc] {
   sc = nth(p1, 1, s)
-  set title sc
+  set title sc noenhanced
   plot for [m = 1:nme] p1 using (is('scene', sc) && is('method', nth(p1, 4, m)) ? column('wall_ms') : NaN):'step_error' \
-         with points pt 7 ps 1.4 title nth(p1, 4, m)
+         with points pt 7 ps 1.4 title nth(p1, 4, m) noenhanced
 }
 unset multiplot
 set terminal pop
