@@ -6,7 +6,7 @@
 ## make plots         draw plots/out/*.png and .svg from results/*.csv (gnuplot)
 ## make movies        animated GIFs of paired runs (explicit blow-up, Baraff-Witkin vs Newton)
 ## make report        decide every claim from results/*.csv into results/REPORT.md
-## make bench         the core benchmarks (results/bench_core.csv)
+## make bench         the benchmarks (results/bench_core.csv, results/bench_nonlinear.csv)
 ## make determinism  every experiment's --quick run twice, compared (timing columns aside)
 ## make san           the tests under AddressSanitizer + UndefinedBehaviorSanitizer
 ## make fuzz          libFuzzer on the config parser, OBJ reader, scene building (FUZZ_SECONDS=60)
@@ -227,6 +227,7 @@ report: $(BUILD)/report
 bench: deps
 	@$(MAKE) --no-print-directory $(BENCHES)
 	$(EXP_ENV) $(BUILD)/bench_core --out results/bench_core.csv
+	$(EXP_ENV) $(BUILD)/bench_nonlinear --out results/bench_nonlinear.csv
 
 clean:
 	rm -rf build

@@ -325,7 +325,7 @@ void cb_check_j3(const cb_table *csv, const char *dir, cb_claim_result *out) {
                   div_over, nover, div_under, nunder, d995 < 0 ? "was not run" : d995 ? "diverged" : "converged",
                   d95 < 0 ? "was not run" : d95 ? "diverged" : "converged", div_true1, ntrue1);
   if (out->verdict == CB_NOT_REPRODUCED)
-    cb_claim_reason(out, "A wrong rho only slows Chebyshev down (see the iterations); the lab's 0.995 does not diverge on these systems.");
+    cb_claim_reason(out, "In these linear solves a wrong rho only slows Chebyshev down (see the iterations); the lab's 0.995 does not diverge on these systems (the lab's own nonlinear iteration is panel (a), experiment nonlinear).");
   unload(&d);
 }
 

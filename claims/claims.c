@@ -20,6 +20,9 @@ void cb_check_j1(const cb_table *csv, const char *dir, cb_claim_result *out);
 void cb_check_j2(const cb_table *csv, const char *dir, cb_claim_result *out);
 void cb_check_j3(const cb_table *csv, const char *dir, cb_claim_result *out);
 void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out);
+void cb_check_nonlinear_j3(const cb_table *csv, const char *dir, cb_claim_result *out);
+void cb_check_w1(const cb_table *csv, const char *dir, cb_claim_result *out);
+void cb_check_p1(const cb_table *csv, const char *dir, cb_claim_result *out);
 
 const cb_claim cb_claims[] = {
   {"T1", "topology", "Sorting edge triples (i<j, triangle) gives the unique edge list and the neighbouring-triangle pairs.",
@@ -51,8 +54,15 @@ const cb_claim cb_claims[] = {
    "linear_solvers_j1_alpha.png linear_solvers_j1_rates.png", cb_check_j1},
   {"J2", "linear_solvers", "Chebyshev acceleration makes Jacobi much faster (Wang 2015: at least an order of magnitude).",
    "Iterations and wall time to relative residual 1e-6, Jacobi against Chebyshev-Jacobi on the same A.", "linear_solvers_j2_speedup.png", cb_check_j2},
-  {"J3", "linear_solvers", "Chebyshev needs an estimate of rho, and an overestimate diverges; the lab default 0.995 is reported to diverge where about 0.95 works.",
-   "rho sweep 0.9 to 0.9999: divergence boundary, and the automatic estimate.", "linear_solvers_j3_rho.png", cb_check_j3},
+  {"J3", "nonlinear", "Chebyshev needs an estimate of rho, and an overestimate diverges; the lab default 0.995 is reported to diverge where about 0.95 works.",
+   "Two panels, rho swept 0.9 to 0.9999: (a) the lab's own nonlinear Chebyshev-Jacobi on F(x) (32 iterations a frame, 2000 frames): divergence and its frame, median relative |grad F|, the true linearised rho; (b) linear Chebyshev-Jacobi solves of captured Newton systems (linear_solvers): divergence boundary and the automatic estimate.",
+   "nonlinear_j3_rho.png linear_solvers_j3_rho.png", cb_check_nonlinear_j3},
+  {"W1", "nonlinear", "Chebyshev accelerates the nonlinear iteration (Jacobi on F(x), projective dynamics) by at least an order of magnitude (Wang 2015).",
+   "Iterations and wall time to relative |grad F| 1e-2 and 1e-4, jacobi-nl against chebyshev-nl and pd against pd-chebyshev (rho = auto), at 21^2, 64^2 and 128^2.",
+   "nonlinear_w1.png", cb_check_w1},
+  {"P1", "nonlinear", "Projective dynamics reaches a visually converged step much faster than exact Newton (Liu et al. 2013: 50 ms against 13 s per frame on a 6561-vertex cloth, 260x).",
+   "Wall time per frame of pd (10 iterations) against converged Newton (CHOLMOD) and Baraff-Witkin on an 81^2 cloth and a stiff one, and each method's step error against the converged step.",
+   "nonlinear_p1.png nonlinear_error_time.png", cb_check_p1},
   {"J4", "linear_solvers", "Direct solvers are one-shot, exact and expensive; iterative solvers are cheaper per iteration and their accuracy is controllable.",
    "Error against run time for CHOLMOD, Jacobi, Chebyshev, CG and PCG on the same Newton systems, at three mesh sizes.", "linear_solvers_j4_error_time.png", cb_check_j4},
   {"B1", NULL, "A bending spring offers little resistance when the cloth is nearly planar.",

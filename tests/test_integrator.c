@@ -534,10 +534,14 @@ Test(integrator, every_type_gets_what_its_flags_ask_for) {
     cr_expect_eq(it->state != NULL, t->size > 0, "%s", t->name);
     cb_integrator_free(it);
   }
-  cr_expect_eq(n, 2);
-  /* what the two built-in types declare */
+  cr_expect_eq(n, 6);
+  /* what the built-in types declare */
   cr_expect_eq(cb_integrator_explicit.flags, 0u);
   cr_expect_eq(cb_integrator_newton.flags, CB_INTEGRATOR_LINEAR_SOLVER | CB_INTEGRATOR_HESSIAN);
+  cr_expect_eq(cb_integrator_jacobi_nl.flags, CB_INTEGRATOR_HESSIAN);    /* the exact diagonal assembles H */
+  cr_expect_eq(cb_integrator_chebyshev_nl.flags, CB_INTEGRATOR_HESSIAN);
+  cr_expect_eq(cb_integrator_pd.flags, CB_INTEGRATOR_LINEAR_SOLVER);     /* its constant matrix, factorised once */
+  cr_expect_eq(cb_integrator_pd_chebyshev.flags, CB_INTEGRATOR_LINEAR_SOLVER);
   cb_scene_free(s);
 }
 

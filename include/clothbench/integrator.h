@@ -23,16 +23,20 @@
 
 typedef struct cb_step_stats {
   int status;           /* CB_OK, CB_NOT_CONVERGED (max_iters hit), CB_NOT_SPD, CB_DIVERGED, ... */
-  int newton_iters;     /* linear solves in this step (0 for explicit) */
+  int newton_iters;     /* iterations of the step: Newton's linear solves, the nonlinear Jacobi/Chebyshev
+                           sweeps, the local/global rounds of projective dynamics (0 for explicit) */
   int linear_iters;     /* sum of the inner solver's iterations */
   int ls_backtracks;    /* halvings done by the line search */
   double rel_grad;      /* |grad F(x1)| / |grad F(x(0))| at the end of the step */
+  double rel_grad_hat;  /* |grad F(x1)| / |grad F(xhat)|, xhat = x0 + dt v0: one yardstick for every method that
+                           minimises F (equal to rel_grad when the initial guess is xhat); 0 for explicit */
   double grad_norm;     /* |grad F(x1)|, free DOFs */
   double F;             /* F(x1), J */
   double assemble_ms, factor_ms, solve_ms, wall_ms;
   int linear_status;    /* status of the last inner solve */
   int factorizations;   /* factor calls (more than newton_iters when `shift` retried) */
   double shift_mu;      /* largest shift mu added to A in this step (`shift` policy), N/m; 0 = none */
+  double rho;           /* Chebyshev spectral radius the step used (given or estimated); 0 = none */
 } cb_step_stats;
 
 /* What a Newton hook sees. Events: CB_NEWTON_GRADIENT after each evaluation
@@ -58,6 +62,9 @@ typedef void (*cb_newton_hook)(void *ctx, int event, const cb_newton_event *ev);
 /* Parameters every integrator reads. */
 typedef struct cb_integrator_params {
   double dt;                   /* time step, s. Default 1/30 */
+  double damping;              /* velocity damping: v <- damping v on the free vertices at the start of
+                                  every step, before the predictor (the GAMES103 lab's 0.99), for every
+                                  type; in [0, 1], 1 = none. Default 1 */
   cb_newton_hook hook;         /* optional observer of the step's iterations (events above); NULL = none */
   void *hook_ctx;
 } cb_integrator_params;
@@ -77,6 +84,29 @@ typedef struct cb_newton_params {
 
 cb_newton_params cb_newton_params_default(void);
 
+/* The nonlinear Jacobi iterations' parameters (jacobi-nl, chebyshev-nl;
+ * integrator_nljacobi.c has the formulas). */
+typedef struct cb_nljacobi_params {
+  int iters;                   /* iterations per step (the lab: 32). Default 32 */
+  int diagonal;                /* D: 0 lab (m/dt^2 + 4k), 1 valence (m/dt^2 + k n_i), 2 exact (3x3 blocks of
+                                  M/dt^2 + H). Default 0 (lab) */
+  double alpha;                /* step weight x <- x - alpha D^-1 g (Wang's gamma). Default 1 */
+  double rho;                  /* Chebyshev rho in [0, 1), or CB_PARAM_AUTO. Default 0.995 (chebyshev-nl),
+                                  0 and not a key (jacobi-nl) */
+  int rho_iters;               /* plain iterations of the `auto` estimate, run once. Default 64 */
+  cb_definiteness definiteness;/* Hessian policy of the exact diagonal. Default drop */
+} cb_nljacobi_params;
+cb_nljacobi_params cb_nljacobi_params_default(void); /* chebyshev-nl's */
+extern const char *const cb_nljacobi_diagonal_names[]; /* "lab", "valence", "exact", NULL */
+
+/* Projective dynamics' parameters (pd, pd-chebyshev; integrator_pd.c). */
+typedef struct cb_pd_params {
+  int iters;                   /* local/global iterations per step (Liu et al. 2013: 10). Default 32 */
+  double rho;                  /* pd-chebyshev's rho in [0, 1), or CB_PARAM_AUTO. Default 0.995 (0 for pd) */
+  int rho_iters;               /* plain iterations of the `auto` estimate, run once. Default 64 */
+} cb_pd_params;
+cb_pd_params cb_pd_params_default(void); /* pd-chebyshev's */
+
 typedef struct cb_integrator cb_integrator;
 
 /* One of a type's parameters as a config key, `integrator.<name>`. The
@@ -84,12 +114,14 @@ typedef struct cb_integrator cb_integrator;
  * documents (`simulate --help-config`) and binds it into the type's
  * parameter struct, so a type's keys live in the type's file. Two types may
  * share a key by declaring the same name with the same definition. */
-typedef enum { CB_PARAM_INT, CB_PARAM_DOUBLE, CB_PARAM_BOOL, CB_PARAM_CHOICE } cb_param_kind;
+typedef enum { CB_PARAM_INT, CB_PARAM_DOUBLE, CB_PARAM_BOOL, CB_PARAM_CHOICE,
+               CB_PARAM_DOUBLE_AUTO /* a double, or `auto`, stored as CB_PARAM_AUTO */ } cb_param_kind;
+#define CB_PARAM_AUTO (-1.0) /* the value of a CB_PARAM_DOUBLE_AUTO key set to `auto` (its range must exclude it) */
 typedef struct cb_param_key {
   const char *name;            /* key in [integrator]; NULL ends a type's list */
   cb_param_kind kind;
   size_t offset;               /* of the field in the params struct: int (INT, BOOL, CHOICE; an enum is
-                                  int-sized) or double (DOUBLE) */
+                                  int-sized) or double (DOUBLE, DOUBLE_AUTO) */
   const char *def;             /* default, as a config writes it; must give the type's params_default */
   const char *unit;
   double lo, hi;               /* accepted range of INT and DOUBLE values (inclusive) ... */
@@ -137,6 +169,10 @@ struct cb_integrator {
 
 extern const cb_integrator_type cb_integrator_explicit;
 extern const cb_integrator_type cb_integrator_newton;
+extern const cb_integrator_type cb_integrator_jacobi_nl;
+extern const cb_integrator_type cb_integrator_chebyshev_nl;
+extern const cb_integrator_type cb_integrator_pd;
+extern const cb_integrator_type cb_integrator_pd_chebyshev;
 extern const cb_integrator_type *const cb_integrator_types[]; /* NULL-terminated */
 const char *cb_integrator_name(int i);
 const cb_integrator_type *cb_integrator_type_find(const char *name);

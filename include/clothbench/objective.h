@@ -43,4 +43,18 @@ double cb_objective_eval(cb_objective *o, const double *x, double *gF, double *s
 /* v = (x - x0)/dt on the free vertices; pinned vertices keep their v. */
 void cb_objective_velocity(const cb_objective *o, const double *x, double *v);
 
+/* ---- shared by the fixed-point iterations on F (nonlinear Jacobi, projective
+ * dynamics) and their Chebyshev acceleration (Wang 2015) ----
+ * Chebyshev's weight of iteration k: omega_0 = 1, omega_1 = 2/(2 - rho^2),
+ * omega_k = 4/(4 - rho^2 omega_{k-1}); the update is
+ * x_{k+1} = omega_k y_k + (1 - omega_k) x_{k-1}, y_k the plain iteration's
+ * result from x_k. rho = 0 gives omega = 1 throughout: the plain iteration. */
+double cb_chebyshev_omega(int k, double rho, double omega_prev);
+/* Wang's estimate of rho from the unaccelerated iteration: d[0..n-1] the
+ * norms |x_{k+1} - x_k| of n plain iterations; rho = the geometric mean of
+ * the ratio d_{k+1}/d_k over the second half, (d_{n-1}/d_{n/2})^(1/(n-1-n/2)),
+ * the linearised iteration's dominant |eigenvalue| once the others have died
+ * out. Clamped to [0, 0.9999]; 0 if n < 4 or a norm is 0 or not finite. */
+double cb_rho_from_updates(const double *d, int n);
+
 #endif

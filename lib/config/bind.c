@@ -62,6 +62,7 @@ int cb_scene_from_config(const cb_config *c, cb_scene **out) {
 int cb_integrator_params_from_config(const cb_config *c, cb_integrator_params *p) {
   *p = cb_integrator_params_default();
   p->dt = c->dt;
+  p->damping = c->damping;
   return CB_OK;
 }
 
@@ -77,7 +78,7 @@ int cb_integrator_type_params_from_config(const cb_config *c, const cb_integrato
     if (cb_config_type_value(c, key, &v)) return cb_fail("%s: not in the config's key table", key);
     char *field = (char *)params + k->offset;
     switch (k->kind) {
-    case CB_PARAM_DOUBLE: memcpy(field, &v, sizeof v); break;
+    case CB_PARAM_DOUBLE: case CB_PARAM_DOUBLE_AUTO: memcpy(field, &v, sizeof v); break;
     case CB_PARAM_CHOICE: {
       int i = (int)v, value = k->values ? k->values[i] : i;
       memcpy(field, &value, sizeof value);

@@ -16,7 +16,7 @@
 #include <clothbench/status.h>
 
 typedef enum { T_INT, T_DOUBLE, T_SIZE, T_VEC3, T_ENUM, T_PATH, T_PINS, T_BOOL, T_RHO,
-               T_PINT, T_PDOUBLE, T_PBOOL, T_PCHOICE /* an integrator type's keys, stored as doubles */ } ktype;
+               T_PINT, T_PDOUBLE, T_PBOOL, T_PCHOICE, T_PAUTO /* an integrator type's keys, stored as doubles */ } ktype;
 
 static const char *const mesh_types[] = {"grid", "chain", "obj", NULL};
 static const char *const planes[] = {"xy", "xz", "yz", NULL};
@@ -72,11 +72,13 @@ static const keydef keys_head[] = {
   {"scene.pin_squeeze", T_VEC3, O(pin_squeeze), "0 0 0", "m/s", -1e6, 1e6, 0, NULL, NULL,
    "Driven pins (3 numbers s): pinned vertex i moves at the constant velocity -sign((p_i - c).s) s, c being the centroid of the pins' initial positions p_i, so pins on the two sides of c close in on each other at 2|s| (pins with (p_i - c).s = 0 stay). Its prescribed position x0 + t v enters every step (implicit: through x0 + dt v0; explicit: x += dt v). `0 0 0`: pins are fixed."},
   {"integrator.method", T_ENUM, O(method), "newton", "-", 0, 0, 0, NULL, cb_integrator_name,
-   "`explicit` (symplectic Euler) or `newton` (implicit Euler by Newton's method)."},
+   "`explicit` (symplectic Euler), `newton` (implicit Euler by Newton's method), `jacobi-nl` and `chebyshev-nl` (the GAMES103 lab's Jacobi on F(x), plain or Chebyshev-accelerated), `pd` and `pd-chebyshev` (projective dynamics, Liu et al. 2013, plain or Chebyshev-accelerated)."},
   {"integrator.dt", T_DOUBLE, O(dt), "1/30", "s", 0, 1e6, 1, NULL, NULL,
    "Time step; a fraction such as `1/30` is accepted."},
   {"integrator.steps", T_INT, O(steps), "60", "steps", 0, 2000000000, 0, NULL, NULL,
    "Number of time steps `simulate` runs (overridden by `--steps`)."},
+  {"integrator.damping", T_DOUBLE, O(damping), "1", "-", 0, 1, 0, NULL, NULL,
+   "Velocity damping for every integrator: v <- damping v on the free vertices at the start of every step, before the predictor x0 + dt v0 (where the GAMES103 lab applies its 0.99). 1 = no damping."},
 };
 
 /* Then every registered integrator type's own keys (cb_integrator_type.keys),
@@ -120,7 +122,7 @@ static void build_table(void) {
   for (int t = 0; cb_integrator_types[t]; t++)
     for (const cb_param_key *p = cb_integrator_types[t]->keys; p && p->name; p++) {
       static const ktype kinds[] = {[CB_PARAM_INT] = T_PINT, [CB_PARAM_DOUBLE] = T_PDOUBLE, [CB_PARAM_BOOL] = T_PBOOL,
-                                    [CB_PARAM_CHOICE] = T_PCHOICE};
+                                    [CB_PARAM_CHOICE] = T_PCHOICE, [CB_PARAM_DOUBLE_AUTO] = T_PAUTO};
       char name[sizeof type_key_names[0]];
       snprintf(name, sizeof name, "integrator.%s", p->name);
       int seen = 0;
@@ -263,6 +265,14 @@ static int assign(cb_config *c, const keydef *k, const char *value, char *why, s
     }
     snprintf(why, nwhy, "'%s' is not a boolean (0/1, true/false, yes/no, on/off)", value);
     return -1;
+  }
+  case T_PAUTO: {
+    double v;
+    if (strcmp(value, "auto") == 0) { *(double *)field = CB_PARAM_AUTO; return 0; }
+    if (cb_parse_double(value, &v)) { snprintf(why, nwhy, "'%s' is neither `auto` nor a number", value); return -1; }
+    if (!in_range(k, v)) { snprintf(why, nwhy, "%s is out of range (must be `auto` or %s)", value, rng); return -1; }
+    *(double *)field = v;
+    return 0;
   }
   case T_RHO: {
     double v;
@@ -572,6 +582,10 @@ static void write_value(const cb_config *c, const keydef *k, FILE *f) {
   case T_INT: case T_BOOL: fprintf(f, "%d", *(const int *)field); break;
   case T_PINT: case T_PBOOL: fprintf(f, "%d", (int)*(const double *)field); break;
   case T_PDOUBLE: fprintf(f, "%.17g", *(const double *)field); break;
+  case T_PAUTO:
+    if (*(const double *)field == CB_PARAM_AUTO) fputs("auto", f);
+    else fprintf(f, "%.17g", *(const double *)field);
+    break;
   case T_PCHOICE: fputs(choice_at(k, (int)*(const double *)field), f); break;
   case T_DOUBLE: fprintf(f, "%.17g", *(const double *)field); break;
   case T_SIZE: fprintf(f, "%.17g %.17g", ((const double *)field)[0], ((const double *)field)[1]); break;

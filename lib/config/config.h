@@ -4,7 +4,7 @@
  * documentation; the parser, the validator, `simulate --help-config` and the
  * README's config reference all come from that table. An integrator type's
  * own keys come from its type table (cb_integrator_type.keys) and join the
- * table between integrator.steps and integrator.diverge_ratio. An unknown key, a bad
+ * table between integrator.damping and integrator.diverge_ratio. An unknown key, a bad
  * value or a missing file is an error naming file, line and key.
  *
  * This is the config layer (lib/config/), above the core: the core never sees
@@ -48,6 +48,7 @@ typedef struct cb_config {
   char method[CB_NAME_LEN];        /* explicit | newton */
   double dt;                       /* s */
   int steps;
+  double damping;                  /* v <- damping v at the start of every step; 1 = none */
   /* the integrator types' own keys (integrator.max_iters, tol, ... of
    * cb_integrator_type.keys), in key-table order: numbers as they are,
    * booleans 0/1, a choice as its index. Read them with

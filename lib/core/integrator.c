@@ -14,6 +14,10 @@
 const cb_integrator_type *const cb_integrator_types[] = {
     &cb_integrator_explicit,
     &cb_integrator_newton,
+    &cb_integrator_jacobi_nl,
+    &cb_integrator_chebyshev_nl,
+    &cb_integrator_pd,
+    &cb_integrator_pd_chebyshev,
     NULL,
 };
 
@@ -30,7 +34,7 @@ const cb_integrator_type *cb_integrator_type_find(const char *name) {
 }
 
 cb_integrator_params cb_integrator_params_default(void) {
-  cb_integrator_params p = {.dt = 1.0 / 30, .hook = NULL, .hook_ctx = NULL};
+  cb_integrator_params p = {.dt = 1.0 / 30, .damping = 1.0, .hook = NULL, .hook_ctx = NULL};
   return p;
 }
 
@@ -40,6 +44,7 @@ int cb_integrator_alloc(const char *method, cb_scene *scene, const cb_integrator
   const cb_integrator_type *t = cb_integrator_type_find(method);
   if (!t) return cb_fail("unknown integrator '%s'", method);
   if (!(p->dt > 0)) return cb_fail("integrator: dt must be > 0, got %g", p->dt);
+  if (!(p->damping >= 0 && p->damping <= 1)) return cb_fail("integrator: damping must be in [0, 1], got %g", p->damping);
   if ((t->flags & CB_INTEGRATOR_LINEAR_SOLVER) && !solver) return cb_fail("%s: needs a linear solver", t->name);
   cb_integrator *it = cb_calloc(1, sizeof *it);
   if (!it) return CB_ENOMEM;
@@ -79,6 +84,11 @@ int cb_integrator_alloc(const char *method, cb_scene *scene, const cb_integrator
 int cb_integrator_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
   memset(st, 0, sizeof *st);
   double t0 = cb_now_ms();
+  if (it->params.damping != 1.0) { /* v <- damping v, before the step's predictor (the lab's place); pins keep theirs */
+    const cb_scene *s = it->scene;
+    for (int k = 0; k < s->model.nfree; k++)
+      for (int a = 0; a < 3; a++) v[3 * s->free_vertex[k] + a] *= it->params.damping;
+  }
   int r = it->type->step(it, x, v, st);
   int post = cb_scene_post_step(it->scene, x, v, it->params.dt); /* the scene's post-step responses */
   if (r == CB_OK && post) r = post;

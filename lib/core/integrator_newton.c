@@ -140,7 +140,7 @@ static int nt_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
   cb_newton_event ev;
   memset(&ev, 0, sizeof ev);
   ev.alpha = 1.0;
-  double g0 = 0.0;
+  double g0 = 0.0, ghat = 0.0;
   int status = CB_OK, dx_converged = 0;
   for (int k = 0;; k++) {
     double t0 = cb_now_ms();
@@ -148,10 +148,19 @@ static int nt_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
     double F = cb_objective_eval(&w->obj, x, w->gF, &Fscale);
     double gn = cblas_dnrm2(nf, w->gF, 1);
     st->assemble_ms += cb_now_ms() - t0;
-    if (k == 0) g0 = gn;
+    if (k == 0) {
+      g0 = gn;
+      ghat = gn;
+      if (!p->init_predict) { /* the common yardstick: |grad F(xhat)| */
+        cb_objective_guess(&w->obj, w->xtrial, 1);
+        cb_objective_eval(&w->obj, w->xtrial, w->b, NULL);
+        ghat = cblas_dnrm2(nf, w->b, 1);
+      }
+    }
     st->F = F;
     st->grad_norm = gn;
     st->rel_grad = g0 > 0 ? gn / g0 : 0.0;
+    st->rel_grad_hat = ghat > 0 ? gn / ghat : 0.0;
     st->newton_iters = k;
     if (!isfinite(F) || !isfinite(gn)) { status = CB_DIVERGED; break; }
     ev.iter = k; ev.F = F; ev.grad_norm = gn; ev.rel_grad = st->rel_grad; ev.x = x;

@@ -72,3 +72,18 @@ void cb_objective_velocity(const cb_objective *o, const double *x, double *v) {
     for (int a = 0; a < 3; a++) v[3 * i + a] = (x[3 * i + a] - o->x0[3 * i + a]) / o->dt;
   }
 }
+
+double cb_chebyshev_omega(int k, double rho, double omega_prev) {
+  if (k == 0) return 1.0;
+  if (k == 1) return 2.0 / (2.0 - rho * rho);      /* omega_1 = 2/(2 - rho^2) */
+  return 4.0 / (4.0 - rho * rho * omega_prev);     /* omega_k = 4/(4 - rho^2 omega_{k-1}) */
+}
+
+double cb_rho_from_updates(const double *d, int n) {
+  if (n < 4) return 0.0;
+  int a = n / 2, b = n - 1;
+  if (!(d[a] > 0) || !(d[b] > 0) || !isfinite(d[a]) || !isfinite(d[b])) return 0.0;
+  double rho = pow(d[b] / d[a], 1.0 / (b - a)); /* (d_{n-1}/d_{n/2})^(1/(n-1-n/2)) */
+  if (!isfinite(rho) || rho < 0) return 0.0;
+  return rho > 0.9999 ? 0.9999 : rho;
+}

@@ -1,0 +1,256 @@
+/* Claims decided by experiments/nonlinear (J3 with linear_solvers, W1, P1).
+ *
+ * J3 has two panels:
+ *   (a) the lab's own iteration (nonlinear.csv, panel lab_iteration):
+ *       chebyshev-nl on F(x), 32 iterations a frame, over a trajectory, per rho;
+ *       "overestimated" means rho > the iteration's true linearised spectral radius
+ *       rho(I - D^-1 A) along the run (the median of the sampled frames, over
+ *       every run that did not diverge);
+ *   (b) linear Chebyshev-Jacobi solves of captured Newton systems
+ *       (linear_solvers.csv, decided by cb_check_j3 in check_linear_solvers.c).
+ *   Panel (a): reproduced when some overestimate diverged, no rho at or below
+ *   the true one diverged, and the lab's 0.995 diverged; partly when the first
+ *   two hold but 0.995 did not diverge; not reproduced otherwise. J3 is
+ *   reproduced when both panels are, not reproduced when neither is (at least
+ *   partly), partly otherwise.
+ * W1: iterations to relative |grad F| 1e-4 (nonlinear_w1.csv), plain against
+ *   accelerated (jacobi-nl vs chebyshev-nl with rho = auto; pd vs pd-chebyshev
+ *   with rho = auto) on every scene; a plain run that never reached the
+ *   tolerance counts with its iteration cap (a lower bound on the speedup).
+ *   Reproduced when every pair on every scene is >= 10x; partly when some are;
+ *   not reproduced when none is.
+ * P1: per scene of nonlinear_p1.csv, the median wall time per frame of
+ *   converged Newton over that of pd (10 iterations), and pd's median step
+ *   error. "Visually converged" is read as a step error <= 5% (M-norm of
+ *   x - x*, relative to the step's displacement |x* - x0|_M). Reproduced when
+ *   on every scene pd is >= 10x faster and visually converged; partly when it
+ *   is >= 10x faster on every scene but not visually converged on some; not
+ *   reproduced otherwise. Liu et al. report 260x (50 ms against 13 s). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <clothbench/status.h>
+
+#include "claims.h"
+
+void cb_check_j3(const cb_table *csv, const char *dir, cb_claim_result *out); /* check_linear_solvers.c */
+void cb_check_nonlinear_j3(const cb_table *csv, const char *dir, cb_claim_result *out);
+void cb_check_w1(const cb_table *csv, const char *dir, cb_claim_result *out);
+void cb_check_p1(const cb_table *csv, const char *dir, cb_claim_result *out);
+
+static int need(const cb_table *t, const char *name, const char *file, cb_claim_result *out) {
+  int c = cb_table_col(t, name);
+  if (c < 0) cb_claim_reason(out, "%s has no column '%s'. ", file, name);
+  return c;
+}
+
+static double median(double *v, int n) {
+  if (n <= 0) return NAN;
+  for (int i = 1; i < n; i++)
+    for (int j = i; j > 0 && v[j] < v[j - 1]; j--) { double t = v[j]; v[j] = v[j - 1]; v[j - 1] = t; }
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* ---- J3 ---- */
+
+/* Panel (a) from nonlinear.csv; returns its verdict. */
+static cb_verdict j3_lab(const cb_table *t, cb_claim_result *out) {
+  const char *F = "nonlinear.csv";
+  int cp = need(t, "panel", F, out), cg = need(t, "rho_given", F, out), cr = need(t, "rho", F, out),
+      cd = need(t, "diverged", F, out), cf = need(t, "diverge_frame", F, out), cm = need(t, "median_rel_grad", F, out),
+      cl = need(t, "rho_lin_median", F, out), cx = need(t, "rho_lin_max", F, out), cn = need(t, "frames", F, out),
+      cu = need(t, "frames_run", F, out);
+  if (cp < 0 || cg < 0 || cr < 0 || cd < 0 || cf < 0 || cm < 0 || cl < 0 || cx < 0 || cn < 0 || cu < 0) return CB_NOT_RUN;
+  double lin[256];
+  int nl = 0;
+  for (int r = 0; r < t->nrows && nl < 256; r++)
+    if (!strcmp(cb_table_str(t, r, cp), "lab_iteration") && cb_table_num(t, r, cd) == 0 && isfinite(cb_table_num(t, r, cl)))
+      lin[nl++] = cb_table_num(t, r, cl);
+  if (!nl) {
+    cb_claim_reason(out, "Panel (a): no lab-iteration run without divergence, so no true rho. ");
+    return CB_NOT_RUN;
+  }
+  double truth = median(lin, nl);
+  int nover = 0, dover = 0, nunder = 0, dunder = 0, d995 = -1;
+  double lowest_div = INFINITY, highest_ok = -INFINITY;
+  cb_claim_numbers(out, "**Panel (a), the lab's iteration** (chebyshev-nl on F(x), 32 iterations a frame, d = m/dt^2 + 4k, "
+                        "damping 0.99; true linearised rho(I - D^-1 A) = %.4f, the median over the runs' sampled frames):\n\n"
+                        "| rho | diverged | at frame | frames run | median rel. grad F after the iterations | linearised rho (median, max) |\n"
+                        "|---|---|---|---|---|---|\n", truth);
+  for (int r = 0; r < t->nrows; r++) {
+    if (strcmp(cb_table_str(t, r, cp), "lab_iteration")) continue;
+    double rho = cb_table_num(t, r, cr);
+    int dv = cb_table_num(t, r, cd) != 0;
+    if (rho > truth) { nover++; dover += dv; }
+    else { nunder++; dunder += dv; }
+    if (fabs(rho - 0.995) < 1e-9) d995 = dv;
+    if (dv && rho < lowest_div) lowest_div = rho;
+    if (!dv && rho > highest_ok) highest_ok = rho;
+    char at[32] = "-";
+    if (dv) snprintf(at, sizeof at, "%d", (int)cb_table_num(t, r, cf));
+    char given[64];
+    if (strcmp(cb_table_str(t, r, cg), "auto")) snprintf(given, sizeof given, "%s", cb_table_str(t, r, cg));
+    else snprintf(given, sizeof given, "auto (estimated %.4f)", rho);
+    cb_claim_numbers(out, "| %s | %s | %s | %d of %d | %.3g | %.4f, %.4f |\n", given, dv ? "yes" : "no", at,
+                     (int)cb_table_num(t, r, cu), (int)cb_table_num(t, r, cn), cb_table_num(t, r, cm), cb_table_num(t, r, cl),
+                     cb_table_num(t, r, cx));
+  }
+  cb_verdict v;
+  if (dover > 0 && dunder == 0 && d995 == 1) v = CB_REPRODUCED;
+  else if (dover > 0 && dunder == 0) v = CB_PARTLY;
+  else v = CB_NOT_REPRODUCED;
+  char low[32] = "none";
+  if (isfinite(lowest_div)) snprintf(low, sizeof low, "%.6g", lowest_div);
+  cb_claim_reason(out, "Panel (a), the lab's iteration: %d of %d overestimates (rho > %.4f) diverged, %d of %d at or below it; "
+                       "the lab's 0.995 %s; the smallest diverging rho was %s, the largest converging %.6g: %s. ",
+                  dover, nover, truth, dunder, nunder, d995 == 1 ? "diverged" : d995 == 0 ? "did not diverge" : "was not run",
+                  low, highest_ok, cb_verdict_name(v));
+  return v;
+}
+
+void cb_check_nonlinear_j3(const cb_table *csv, const char *dir, cb_claim_result *out) {
+  cb_verdict a = j3_lab(csv, out);
+  /* panel (b): linear_solvers' own checker on its CSV */
+  char path[4096];
+  snprintf(path, sizeof path, "%s/linear_solvers.csv", dir);
+  cb_table lt;
+  cb_verdict b = CB_NOT_RUN;
+  cb_claim_result *sub = calloc(1, sizeof *sub);
+  if (!sub) { cb_claim_reason(out, "out of memory"); return; }
+  if (cb_table_read(path, &lt) == CB_OK) {
+    cb_check_j3(&lt, dir, sub);
+    cb_table_free(&lt);
+    b = sub->verdict;
+    cb_claim_numbers(out, "\n**Panel (b), linear Chebyshev-Jacobi solves** of captured Newton systems (linear_solvers, figure "
+                          "`linear_solvers_j3_rho.png`):\n\n%s", sub->numbers);
+    cb_claim_reason(out, "Panel (b), linear solves: %s (%s) ", cb_verdict_name(b), sub->reason);
+  } else {
+    cb_claim_reason(out, "Panel (b), linear solves: not run (%s is missing). ", path);
+  }
+  free(sub);
+  if (a == CB_NOT_RUN && b == CB_NOT_RUN) out->verdict = CB_NOT_RUN;
+  else if (a == CB_REPRODUCED && b == CB_REPRODUCED) out->verdict = CB_REPRODUCED;
+  else if ((a == CB_NOT_REPRODUCED || a == CB_NOT_RUN) && (b == CB_NOT_REPRODUCED || b == CB_NOT_RUN)) out->verdict = CB_NOT_REPRODUCED;
+  else out->verdict = CB_PARTLY;
+  cb_claim_reason(out, "J3 from both panels: %s.", cb_verdict_name(out->verdict));
+}
+
+/* ---- W1 ---- */
+
+void cb_check_w1(const cb_table *csv, const char *dir, cb_claim_result *out) {
+  char path[4096];
+  snprintf(path, sizeof path, "%s/nonlinear_w1.csv", dir);
+  cb_table t;
+  if (cb_table_read(path, &t)) {
+    cb_claim_reason(out, "%s is missing or unreadable: run build/nonlinear.", path);
+    return;
+  }
+  (void)csv;
+  const char *F = "nonlinear_w1.csv";
+  int cs = need(&t, "scene", F, out), cm = need(&t, "method", F, out), ct = need(&t, "tol", F, out),
+      ci = need(&t, "iters_to_tol", F, out), cw = need(&t, "wall_ms_to_tol", F, out), cx = need(&t, "max_iters", F, out),
+      cr = need(&t, "rho", F, out);
+  if (cs < 0 || cm < 0 || ct < 0 || ci < 0 || cw < 0 || cx < 0 || cr < 0) { cb_table_free(&t); return; }
+  static const char *const PLAIN[] = {"jacobi-nl", "pd"}, *const ACC[] = {"chebyshev-nl auto", "pd-chebyshev auto"};
+  int pairs = 0, ten = 0;
+  cb_claim_numbers(out, "| scene | plain | accelerated (rho) | tol | iterations plain | iterations accelerated | speedup (iterations) | "
+                        "wall ms plain | wall ms accelerated | speedup (time) |\n|---|---|---|---|---|---|---|---|---|---|\n");
+  for (int r = 0; r < t.nrows; r++) {
+    for (int p = 0; p < 2; p++) {
+      if (strcmp(cb_table_str(&t, r, cm), PLAIN[p])) continue;
+      for (int a = 0; a < t.nrows; a++) {
+        if (strcmp(cb_table_str(&t, a, cm), ACC[p]) || strcmp(cb_table_str(&t, a, cs), cb_table_str(&t, r, cs)) ||
+            cb_table_num(&t, a, ct) != cb_table_num(&t, r, ct))
+          continue;
+        double ip = cb_table_num(&t, r, ci), ia = cb_table_num(&t, a, ci), tol = cb_table_num(&t, r, ct);
+        int lower = ip < 0; /* plain never got there: its cap bounds the speedup from below */
+        if (lower) ip = cb_table_num(&t, r, cx);
+        double sp = ia > 0 ? ip / ia : NAN;
+        double wp = cb_table_num(&t, r, cw), wa = cb_table_num(&t, a, cw);
+        char spt[64], ipt[64], iat[64], wpt[32], wat[32], swt[32];
+        if (ia > 0) snprintf(spt, sizeof spt, "%s%.1fx", lower ? ">= " : "", sp);
+        else snprintf(spt, sizeof spt, "- (accelerated did not reach it)");
+        snprintf(ipt, sizeof ipt, lower ? "> %.0f" : "%.0f", ip);
+        snprintf(iat, sizeof iat, ia > 0 ? "%.0f" : "> %.0f", ia > 0 ? ia : cb_table_num(&t, a, cx));
+        snprintf(wpt, sizeof wpt, isfinite(wp) ? "%.3g" : "-", wp);
+        snprintf(wat, sizeof wat, isfinite(wa) ? "%.3g" : "-", wa);
+        snprintf(swt, sizeof swt, isfinite(wp) && isfinite(wa) && wa > 0 ? "%.1fx" : "-", wp / wa);
+        cb_claim_numbers(out, "| %s | %s | %s (%.4f) | %g | %s | %s | %s | %s | %s | %s |\n", cb_table_str(&t, r, cs), PLAIN[p], ACC[p],
+                         cb_table_num(&t, a, cr), tol, ipt, iat, spt, wpt, wat, swt);
+        if (fabs(tol - 1e-4) > 1e-12) continue;
+        pairs++;
+        ten += ia > 0 && sp >= 10;
+      }
+    }
+  }
+  cb_table_free(&t);
+  if (!pairs) { cb_claim_reason(out, "No plain/accelerated pair at tolerance 1e-4 in %s.", F); return; }
+  out->verdict = ten == pairs ? CB_REPRODUCED : ten > 0 ? CB_PARTLY : CB_NOT_REPRODUCED;
+  cb_claim_reason(out, "Chebyshev (rho = auto) reached relative |grad F| 1e-4 in >= 10x fewer iterations than the plain "
+                       "iteration in %d of %d (scene, method) pairs.", ten, pairs);
+}
+
+/* ---- P1 ---- */
+
+void cb_check_p1(const cb_table *csv, const char *dir, cb_claim_result *out) {
+  char path[4096];
+  snprintf(path, sizeof path, "%s/nonlinear_p1.csv", dir);
+  cb_table t;
+  if (cb_table_read(path, &t)) {
+    cb_claim_reason(out, "%s is missing or unreadable: run build/nonlinear.", path);
+    return;
+  }
+  (void)csv;
+  const char *F = "nonlinear_p1.csv";
+  int cs = need(&t, "scene", F, out), cm = need(&t, "method", F, out), cw = need(&t, "wall_ms", F, out),
+      ce = need(&t, "step_error", F, out), cn = need(&t, "n", F, out);
+  if (cs < 0 || cm < 0 || cw < 0 || ce < 0 || cn < 0) { cb_table_free(&t); return; }
+  const char *scenes[16];
+  int nsc = 0;
+  for (int r = 0; r < t.nrows; r++) {
+    int seen = 0;
+    for (int k = 0; k < nsc; k++) seen |= !strcmp(scenes[k], cb_table_str(&t, r, cs));
+    if (!seen && nsc < 16) scenes[nsc++] = cb_table_str(&t, r, cs);
+  }
+  static const char *const M[] = {"pd10", "newton", "baraff_witkin"};
+  double *buf = malloc((size_t)(t.nrows + 1) * sizeof(double));
+  if (!buf) { cb_table_free(&t); return; }
+  int fast = 0, visual = 0, scored = 0;
+  cb_claim_numbers(out, "| scene | vertices | method | frames | median wall ms per frame | median step error |\n|---|---|---|---|---|---|\n");
+  char ratios[1024] = "";
+  for (int k = 0; k < nsc; k++) {
+    double wall[3] = {NAN, NAN, NAN}, err[3] = {NAN, NAN, NAN};
+    int nv = 0;
+    for (int m = 0; m < 3; m++) {
+      int n = 0;
+      for (int r = 0; r < t.nrows; r++)
+        if (!strcmp(cb_table_str(&t, r, cs), scenes[k]) && !strcmp(cb_table_str(&t, r, cm), M[m])) {
+          buf[n++] = cb_table_num(&t, r, cw);
+          nv = (int)cb_table_num(&t, r, cn);
+        }
+      wall[m] = median(buf, n);
+      int n2 = 0;
+      for (int r = 0; r < t.nrows; r++)
+        if (!strcmp(cb_table_str(&t, r, cs), scenes[k]) && !strcmp(cb_table_str(&t, r, cm), M[m])) buf[n2++] = cb_table_num(&t, r, ce);
+      err[m] = median(buf, n2);
+      if (n) cb_claim_numbers(out, "| %s | %d | %s | %d | %.4g | %.3g |\n", scenes[k], nv * nv, M[m], n, wall[m], err[m]);
+    }
+    if (!isfinite(wall[0]) || !isfinite(wall[1])) continue;
+    scored++;
+    double ratio = wall[1] / wall[0];
+    fast += ratio >= 10;
+    visual += err[0] <= 0.05;
+    size_t used = strlen(ratios);
+    snprintf(ratios + used, sizeof ratios - used, "%s%s: %.0fx (pd error %.3g; Baraff-Witkin %.3g in %.3g ms)", used ? "; " : "",
+             scenes[k], ratio, err[0], err[2], wall[2]);
+  }
+  free(buf);
+  cb_table_free(&t);
+  if (!scored) { cb_claim_reason(out, "%s has no scene with both pd10 and newton rows.", F); return; }
+  out->verdict = fast == scored && visual == scored ? CB_REPRODUCED : fast == scored ? CB_PARTLY : CB_NOT_REPRODUCED;
+  cb_claim_reason(out, "Converged Newton over pd (10 iterations), median wall time per frame: %s. Liu et al. report 260x. "
+                       "pd is >= 10x faster on %d of %d scenes and within 5%% step error on %d of %d.",
+                  ratios, fast, scored, visual, scored);
+}

@@ -1,0 +1,287 @@
+/* The GAMES103 lab's implicit solver: Jacobi on the nonlinear problem
+ * min F(x), without linearising, and its Chebyshev acceleration (Wang 2015,
+ * "A Chebyshev semi-iterative approach for accelerating projective and
+ * position-based dynamics").
+ *
+ *   xhat = x0 + dt v0,  x_0 = xhat                       (objective.h)
+ *   K times (integrator.iters; the lab uses 32):
+ *     g_k     = M (x_k - xhat)/dt^2 + grad E(x_k)         (gravity included)
+ *     y_k     = x_k - alpha D^-1 g_k                      (free vertices only)
+ *     x_{k+1} = omega_k y_k + (1 - omega_k) x_{k-1}       (chebyshev-nl; jacobi-nl: omega = 1)
+ *     omega_0 = 1, omega_1 = 2/(2 - rho^2), omega_k = 4/(4 - rho^2 omega_{k-1})
+ *   v1 = (x_K - x0)/dt
+ *
+ * D (integrator.diagonal), per free vertex i:
+ *   lab      d_i = m_i/dt^2 + 4k, constant: the lab's "4k", the valence of
+ *            its grid's axis springs (k = material.stretch_k), whatever the mesh;
+ *   valence  d_i = m_i/dt^2 + k n_i, n_i the vertex's stretch springs
+ *            (pinned neighbours included): the same rule for any mesh (6k at
+ *            an interior vertex of the regular grid);
+ *   exact    the 3x3 block (M/dt^2 + H(x_k))_ii, with the definiteness policy
+ *            (integrator.definiteness), reassembled every iteration; a block
+ *            that is not positive definite ends the step with not_spd.
+ * alpha (integrator.alpha, default 1) scales the step: it is Wang's
+ * under-relaxation gamma, x_{k+1} = omega (gamma (y - x_k) + x_k) + (1 - omega) x_{k-1}.
+ *
+ * rho (chebyshev-nl, integrator.rho): a number in [0, 1), or `auto`: before
+ * its first step the integrator runs integrator.rho_iters plain Jacobi
+ * iterations (omega = 1) of that step from xhat, records |x_{k+1} - x_k|,
+ * and takes Wang's estimate, the decay rate of those updates over the second
+ * half (cb_rho_from_updates). It costs rho_iters gradient evaluations once
+ * per integrator, counted in that first step's factor_ms and wall_ms; the
+ * rho used is in the step stats. rho = 0 is jacobi-nl exactly.
+ *
+ * Step stats: newton_iters = K; rel_grad = rel_grad_hat = |grad F(x_K)| /
+ * |grad F(xhat)| (one extra gradient evaluation at the end); assemble_ms the
+ * gradient (and, for exact, Hessian) evaluations, solve_ms the updates.
+ * A non-finite gradient ends the step with `diverged`. The hook sees
+ * CB_NEWTON_GRADIENT at every iterate (iter 0 = xhat, ..., K). */
+#include <cblas.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <clothbench/integrator.h>
+#include <clothbench/objective.h>
+#include <clothbench/status.h>
+#include <clothbench/timer.h>
+
+enum { DIAG_LAB = 0, DIAG_VALENCE = 1, DIAG_EXACT = 2 };
+
+static const cb_nljacobi_params jacobi_defaults = {.iters = 32, .diagonal = DIAG_LAB, .alpha = 1.0, .rho = 0.0,
+                                                   .rho_iters = 64, .definiteness = CB_DEF_DROP};
+static const cb_nljacobi_params chebyshev_defaults = {.iters = 32, .diagonal = DIAG_LAB, .alpha = 1.0, .rho = 0.995,
+                                                      .rho_iters = 64, .definiteness = CB_DEF_DROP};
+
+cb_nljacobi_params cb_nljacobi_params_default(void) { return chebyshev_defaults; }
+
+const char *const cb_nljacobi_diagonal_names[] = {"lab", "valence", "exact", NULL};
+
+/* The keys; iters, rho and rho_iters are shared with projective dynamics
+ * (integrator_pd.c) and definiteness with Newton: same names, same definitions. */
+#define NJ(f) offsetof(cb_nljacobi_params, f)
+#define KEY_ITERS {"iters", CB_PARAM_INT, NJ(iters), "32", "iterations", 1, 100000000, 0, NULL, NULL, \
+  "Iterations per step of the fixed-iteration methods (jacobi-nl, chebyshev-nl, pd, pd-chebyshev); the GAMES103 lab uses 32, Liu et al. 2013 use 10 for projective dynamics."}
+#define KEY_DIAG {"diagonal", CB_PARAM_CHOICE, NJ(diagonal), "lab", "-", 0, 0, 0, cb_nljacobi_diagonal_names, NULL, \
+  "Diagonal D of the nonlinear Jacobi update x <- x - alpha D^-1 grad F(x): `lab` m_i/dt^2 + 4k (the lab's constant, k = material.stretch_k), `valence` m_i/dt^2 + k x (the vertex's spring count), `exact` the 3x3 diagonal blocks of M/dt^2 + H(x) with integrator.definiteness, recomputed every iteration."}
+#define KEY_ALPHA {"alpha", CB_PARAM_DOUBLE, NJ(alpha), "1", "-", 0, 2, 1, NULL, NULL, \
+  "Step weight of the nonlinear Jacobi update (Wang's under-relaxation gamma); 1 is the lab's."}
+#define KEY_DEF {"definiteness", CB_PARAM_CHOICE, NJ(definiteness), "drop", "-", 0, 0, 0, cb_definiteness_names, NULL, \
+  "Spring Hessian treatment when a spring is compressed: `none` keeps the exact Hessian; `drop` drops the k(1 - L/|x|) term when |x| < L (the lecture's fix; the transverse eigenvalue clamped at 0); `mirror` uses |1 - L/|x||; `shift` keeps the exact Hessian and adds mu I to Newton's matrix, raising mu until Cholesky (or CG) succeeds; `choi-ko` replaces the compressed spring by Choi & Ko's (2002) immediate-buckling response (see `material.buckling_kb`), a different energy, with its exact Hessian."}
+#define KEY_RHO {"rho", CB_PARAM_DOUBLE_AUTO, NJ(rho), "0.995", "-", 0, 0.999999, 0, NULL, NULL, \
+  "Chebyshev spectral radius of chebyshev-nl and pd-chebyshev (Wang 2015): a number in [0, 1) (0 = no acceleration; the lab uses 0.995), or `auto`: estimated once, before the first step, from the decay of the updates of integrator.rho_iters unaccelerated iterations."}
+#define KEY_RHO_ITERS {"rho_iters", CB_PARAM_INT, NJ(rho_iters), "64", "iterations", 4, 100000, 0, NULL, NULL, \
+  "Unaccelerated iterations run once, on the first step, to estimate rho when integrator.rho = auto."}
+static const cb_param_key jacobi_keys[] = {
+    KEY_ITERS, KEY_DIAG, KEY_ALPHA, KEY_DEF,
+    {NULL, CB_PARAM_INT, 0, NULL, NULL, 0, 0, 0, NULL, NULL, NULL},
+};
+static const cb_param_key chebyshev_keys[] = {
+    KEY_ITERS, KEY_DIAG, KEY_ALPHA, KEY_DEF, KEY_RHO, KEY_RHO_ITERS,
+    {NULL, CB_PARAM_INT, 0, NULL, NULL, 0, 0, 0, NULL, NULL, NULL},
+};
+#undef NJ
+
+typedef struct {
+  cb_objective obj;
+  double *gF;        /* 3*nfree */
+  double *xprev;     /* 3*nv: x_{k-1} */
+  double *dinv;      /* nfree: 1/d_i (lab, valence) */
+  double *blk;       /* 6*nfree: Cholesky factors of the diagonal blocks (exact) */
+  int *slot, *stride;/* nfree: slot of block (i, i) in A (exact) */
+  double *dnorm;     /* rho_iters: update norms of the rho estimate */
+  double rho;        /* the rho in use (-1 until auto has been estimated) */
+  double rho_ms;     /* time of the estimate, ms */
+} nlj_work;
+
+static void nlj_free(cb_integrator *it) {
+  nlj_work *w = it->state;
+  cb_objective_free(&w->obj);
+  free(w->gF); free(w->xprev); free(w->dinv); free(w->blk); free(w->slot); free(w->stride); free(w->dnorm);
+}
+
+static int nlj_init(cb_integrator *it) {
+  cb_nljacobi_params *p = it->type_params;
+  nlj_work *w = it->state;
+  const cb_scene *s = it->scene;
+  int nf = s->model.nfree;
+  if (p->diagonal < DIAG_LAB || p->diagonal > DIAG_EXACT) return cb_fail("%s: unknown diagonal %d", it->type->name, p->diagonal);
+  if (p->diagonal == DIAG_EXACT && p->definiteness == CB_DEF_SHIFT)
+    return cb_fail("%s: integrator.definiteness = shift is a linear-solve policy; the exact diagonal takes none, drop, "
+                   "mirror or choi-ko", it->type->name);
+  if (!(p->alpha > 0 && p->alpha <= 2)) return cb_fail("%s: alpha must be in (0, 2], got %g", it->type->name, p->alpha);
+  if (p->iters < 1) return cb_fail("%s: iters must be >= 1, got %d", it->type->name, p->iters);
+  if (!(p->rho == CB_PARAM_AUTO || (p->rho >= 0 && p->rho < 1)))
+    return cb_fail("%s: rho must be in [0, 1) or auto, got %g", it->type->name, p->rho);
+  if (p->rho == CB_PARAM_AUTO && p->rho_iters < 4) return cb_fail("%s: rho_iters must be >= 4", it->type->name);
+  int st = cb_objective_init(&w->obj, s);
+  if (st) return st;
+  w->gF = cb_malloc((size_t)3 * nf + 1, sizeof(double));
+  w->xprev = cb_malloc((size_t)3 * s->mesh.nv, sizeof(double));
+  w->dinv = cb_malloc((size_t)nf + 1, sizeof(double));
+  if (!w->gF || !w->xprev || !w->dinv) return CB_ENOMEM;
+  if (p->rho == CB_PARAM_AUTO && !(w->dnorm = cb_malloc((size_t)p->rho_iters, sizeof(double)))) return CB_ENOMEM;
+  w->rho = p->rho;
+  double dt = it->params.dt, k = s->def.stretch_k;
+  if (p->diagonal == DIAG_EXACT) {
+    w->blk = cb_malloc((size_t)6 * nf + 1, sizeof(double));
+    w->slot = cb_malloc((size_t)nf + 1, sizeof(int));
+    w->stride = cb_malloc((size_t)nf + 1, sizeof(int));
+    if (!w->blk || !w->slot || !w->stride) return CB_ENOMEM;
+    for (int b = 0; b < nf; b++)
+      if (cb_sparse_block_slot(&it->sys->A, b, b, &w->slot[b], &w->stride[b]) < 0)
+        return cb_fail("%s: diagonal block %d missing from the system's pattern", it->type->name, b);
+  } else {
+    int *deg = cb_calloc((size_t)s->mesh.nv + 1, sizeof(int)); /* each vertex's stretch springs (valence) */
+    if (!deg) return CB_ENOMEM;
+    for (int e = 0; e < s->topo.ne; e++) {
+      deg[s->topo.edge[2 * e]]++;
+      deg[s->topo.edge[2 * e + 1]]++;
+    }
+    for (int b = 0; b < nf; b++) {
+      int i = s->free_vertex[b];
+      double springs = p->diagonal == DIAG_VALENCE ? deg[i] : 4.0; /* lab: 4k whatever the vertex */
+      double d = s->mass[i] / (dt * dt) + springs * k;            /* d_i = m_i/dt^2 + n_i k */
+      if (!(d > 0)) {
+        free(deg);
+        return cb_fail("%s: vertex %d has diagonal %g (no mass and no springs)", it->type->name, i, d);
+      }
+      w->dinv[b] = 1.0 / d;
+    }
+    free(deg);
+  }
+  return CB_OK;
+}
+
+/* Cholesky of the symmetric 3x3 block B (column-major at val + slot, column
+ * stride `stride`): l = {l00, l10, l20, l11, l21, l22}. 0 unless SPD. */
+static int chol3(const double *val, int slot, int stride, double *l) {
+  const double *c0 = val + slot, *c1 = c0 + stride, *c2 = c1 + stride;
+  double a00 = c0[0], a10 = c0[1], a20 = c0[2], a11 = c1[1], a21 = c1[2], a22 = c2[2];
+  if (!(a00 > 0)) return 0;
+  double l00 = sqrt(a00), l10 = a10 / l00, l20 = a20 / l00;
+  double s11 = a11 - l10 * l10;
+  if (!(s11 > 0)) return 0;
+  double l11 = sqrt(s11), l21 = (a21 - l20 * l10) / l11;
+  double s22 = a22 - l20 * l20 - l21 * l21;
+  if (!(s22 > 0)) return 0;
+  l[0] = l00; l[1] = l10; l[2] = l20; l[3] = l11; l[4] = l21; l[5] = sqrt(s22);
+  return 1;
+}
+
+/* y = B^-1 g with B = L L^T. */
+static void chol3_solve(const double *l, const double *g, double *y) {
+  double z0 = g[0] / l[0], z1 = (g[1] - l[1] * z0) / l[3], z2 = (g[2] - l[2] * z0 - l[4] * z1) / l[5];
+  y[2] = z2 / l[5];
+  y[1] = (z1 - l[4] * y[2]) / l[3];
+  y[0] = (z0 - l[1] * y[1] - l[2] * y[2]) / l[0];
+}
+
+/* K iterations from xhat with the given rho; dnorm (if not NULL) receives
+ * |x_{k+1} - x_k| of each. Leaves x_K in x. */
+static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnorm, cb_step_stats *st, int report) {
+  nlj_work *w = it->state;
+  const cb_scene *s = it->scene;
+  const cb_nljacobi_params *p = it->type_params;
+  cb_newton_hook hook = report ? it->params.hook : NULL;
+  int nf = s->model.nfree, nf3 = 3 * nf;
+  double dt = it->params.dt, alpha = p->alpha, omega = 1.0, g0 = 0.0;
+  cb_objective_guess(&w->obj, x, 1); /* x_0 = xhat, pins at their prescribed positions */
+  memcpy(w->xprev, x, (size_t)3 * s->mesh.nv * sizeof(double));
+  cb_newton_event ev;
+  memset(&ev, 0, sizeof ev);
+  ev.alpha = alpha;
+  for (int k = 0;; k++) {
+    double t0 = cb_now_ms();
+    double F = cb_objective_eval(&w->obj, x, w->gF, NULL); /* g = M (x - xhat)/dt^2 + grad E(x) */
+    double gn = cblas_dnrm2(nf3, w->gF, 1);
+    st->assemble_ms += cb_now_ms() - t0;
+    if (k == 0) g0 = gn;
+    if (report) {
+      st->F = F;
+      st->grad_norm = gn;
+      st->rel_grad = st->rel_grad_hat = g0 > 0 ? gn / g0 : 0.0;
+      st->newton_iters = k;
+    }
+    if (!isfinite(F) || !isfinite(gn)) return CB_DIVERGED;
+    if (hook) {
+      ev.iter = k; ev.F = F; ev.grad_norm = gn; ev.rel_grad = g0 > 0 ? gn / g0 : 0.0; ev.x = x;
+      hook(it->params.hook_ctx, CB_NEWTON_GRADIENT, &ev);
+    }
+    if (k == K) break;
+    if (p->diagonal == DIAG_EXACT) {
+      t0 = cb_now_ms();
+      cb_system_assemble(it->sys, x, 1.0 / (dt * dt), p->definiteness, 0.0); /* A = M/dt^2 + H(x) */
+      for (int b = 0; b < nf; b++)
+        if (!chol3(it->sys->A.val, w->slot[b], w->stride[b], w->blk + 6 * b)) return CB_NOT_SPD;
+      st->assemble_ms += cb_now_ms() - t0;
+    }
+    t0 = cb_now_ms();
+    omega = cb_chebyshev_omega(k, rho, omega);
+    double dmax = 0.0, d2 = 0.0;
+    for (int b = 0; b < nf; b++) {
+      double *xi = x + 3 * s->free_vertex[b], *xp = w->xprev + 3 * s->free_vertex[b];
+      const double *g = w->gF + 3 * b;
+      double step[3];
+      if (p->diagonal == DIAG_EXACT) chol3_solve(w->blk + 6 * b, g, step);
+      else for (int a = 0; a < 3; a++) step[a] = w->dinv[b] * g[a];
+      for (int a = 0; a < 3; a++) {
+        double xk = xi[a];
+        double xn = omega * (xk - alpha * step[a]) + (1.0 - omega) * xp[a]; /* x_{k+1} = w y_k + (1-w) x_{k-1} */
+        double dx = xn - xk;
+        d2 += dx * dx;
+        if (fabs(dx) > dmax) dmax = fabs(dx);
+        xp[a] = xk;
+        xi[a] = xn;
+      }
+    }
+    st->solve_ms += cb_now_ms() - t0;
+    if (dnorm) dnorm[k] = sqrt(d2);
+    ev.step_max = dmax;
+  }
+  return CB_OK;
+}
+
+static int nlj_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
+  nlj_work *w = it->state;
+  const cb_nljacobi_params *p = it->type_params;
+  cb_objective_begin(&w->obj, x, v, it->params.dt); /* x0 = x, xhat = x0 + dt v0 */
+  if (w->rho == CB_PARAM_AUTO) { /* Wang's estimate, once: the decay of rho_iters plain updates of this step */
+    double t0 = cb_now_ms();
+    cb_step_stats scratch;
+    memset(&scratch, 0, sizeof scratch);
+    int r = iterate(it, x, p->rho_iters, 0.0, w->dnorm, &scratch, 0);
+    w->rho = r == CB_OK ? cb_rho_from_updates(w->dnorm, p->rho_iters) : 0.0;
+    w->rho_ms = cb_now_ms() - t0;
+    st->factor_ms += w->rho_ms;
+  }
+  st->rho = w->rho;
+  int status = iterate(it, x, p->iters, w->rho, NULL, st, 1);
+  cb_objective_velocity(&w->obj, x, v); /* v1 = (x_K - x0)/dt; pinned vertices keep their v0 */
+  return status;
+}
+
+const cb_integrator_type cb_integrator_jacobi_nl = {
+    .name = "jacobi-nl",
+    .flags = CB_INTEGRATOR_HESSIAN, /* only the exact diagonal assembles it */
+    .size = sizeof(nlj_work),
+    .params_size = sizeof(cb_nljacobi_params),
+    .params_default = &jacobi_defaults,
+    .keys = jacobi_keys,
+    .init = nlj_init,
+    .step = nlj_step,
+    .free = nlj_free,
+};
+
+const cb_integrator_type cb_integrator_chebyshev_nl = {
+    .name = "chebyshev-nl",
+    .flags = CB_INTEGRATOR_HESSIAN,
+    .size = sizeof(nlj_work),
+    .params_size = sizeof(cb_nljacobi_params),
+    .params_default = &chebyshev_defaults,
+    .keys = chebyshev_keys,
+    .init = nlj_init,
+    .step = nlj_step,
+    .free = nlj_free,
+};

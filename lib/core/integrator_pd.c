@@ -1,0 +1,289 @@
+/* Projective dynamics for mass-spring systems (Liu, Bargteil, O'Brien and
+ * Kavan 2013, "Fast simulation of mass-spring systems"), and its Chebyshev
+ * acceleration (Wang 2015).
+ *
+ * The implicit-Euler objective with springs E_e = k/2 (|x_i - x_j| - L_e)^2
+ * equals min over directions |d_e| = L_e of k/2 |x_i - x_j - d_e|^2, so
+ *   F(x) = min_d  1/(2 dt^2)|x - xhat|_M^2 + sum_e k/2 |x_i - x_j - d_e|^2 - sum_i m_i g.x_i
+ * and alternating minimisation over d and x is a descent method on F:
+ *   local   d_e = L_e (x_i - x_j)/|x_i - x_j|                 (each spring, closed form)
+ *   global  (M/dt^2 + L) y = M xhat/dt^2 + f_ext + J d         (one linear solve)
+ * with L = sum_e k A_e A_e^T (x) I_3 the spring Laplacian, (J d)_i =
+ * sum_{e = (i, j)} k d_e - sum_{e = (j, i)} k d_e, f_ext = m g, and a pinned
+ * neighbour p of a free i moving k x_p to the right-hand side. The matrix is
+ * constant: it is assembled on the system's 3x3-block pattern (a copy, so
+ * Newton's matrix is untouched), factorised once when the integrator is built
+ * (init) with the linear solver named by solver.method (CHOLMOD by
+ * default), and each iteration is one local step and one back-solve; no
+ * factorisation happens inside a step.
+ *
+ *   pd            x_{k+1} = y_k                                   (K = integrator.iters)
+ *   pd-chebyshev  x_{k+1} = omega_k y_k + (1 - omega_k) x_{k-1}   (rho = integrator.rho or `auto`)
+ * starting from x_0 = xhat; then v1 = (x_K - x0)/dt. Plain pd never raises F
+ * (Liu's guarantee: each half-step minimises over its own variables). The
+ * `auto` rho is Wang's estimate from rho_iters plain iterations of the first
+ * step, once (see cb_rho_from_updates, and integrator_nljacobi.c).
+ *
+ * Scope: the stretch springs and gravity. A scene with any other energy
+ * term, or with Choi-Ko springs, is refused at init. A spring of zero length
+ * keeps its rest direction. Step stats as for jacobi-nl: newton_iters = K,
+ * rel_grad = rel_grad_hat = |grad F(x_K)|/|grad F(xhat)| (two gradient
+ * evaluations per step: at xhat and at x_K; one per iteration more when a
+ * hook observes the iterates), linear_iters the solver's iterations. */
+#include <cblas.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <clothbench/integrator.h>
+#include <clothbench/objective.h>
+#include <clothbench/status.h>
+#include <clothbench/timer.h>
+
+static const cb_pd_params pd_defaults = {.iters = 32, .rho = 0.0, .rho_iters = 64};
+static const cb_pd_params pdc_defaults = {.iters = 32, .rho = 0.995, .rho_iters = 64};
+
+cb_pd_params cb_pd_params_default(void) { return pdc_defaults; }
+
+/* The same keys (names and definitions) as integrator_nljacobi.c's. */
+#define PP(f) offsetof(cb_pd_params, f)
+#define KEY_ITERS {"iters", CB_PARAM_INT, PP(iters), "32", "iterations", 1, 100000000, 0, NULL, NULL, \
+  "Iterations per step of the fixed-iteration methods (jacobi-nl, chebyshev-nl, pd, pd-chebyshev)."}
+static const cb_param_key pd_keys[] = {
+    KEY_ITERS,
+    {NULL, CB_PARAM_INT, 0, NULL, NULL, 0, 0, 0, NULL, NULL, NULL},
+};
+static const cb_param_key pdc_keys[] = {
+    KEY_ITERS,
+    {"rho", CB_PARAM_DOUBLE_AUTO, PP(rho), "0.995", "-", 0, 0.999999, 0, NULL, NULL, "Chebyshev spectral radius, or `auto`."},
+    {"rho_iters", CB_PARAM_INT, PP(rho_iters), "64", "iterations", 4, 100000, 0, NULL, NULL,
+     "Unaccelerated iterations of the `auto` estimate."},
+    {NULL, CB_PARAM_INT, 0, NULL, NULL, 0, 0, 0, NULL, NULL, NULL},
+};
+#undef PP
+
+typedef struct {
+  cb_objective obj;
+  cb_sparse P;          /* M/dt^2 + L on the system's pattern (free DOFs) */
+  int ns;               /* springs */
+  const int *ends;      /* 2*ns: the stretch springs, the mesh's edges */
+  double *rest;         /* ns: rest lengths L_e, m */
+  double k;             /* N/m */
+  double grav[3];       /* m/s^2, zero without a gravity term */
+  double *c;            /* 3*nfree: M xhat/dt^2 + m g of the step */
+  double *b, *y;        /* 3*nfree: right-hand side, global solution */
+  double *gF;           /* 3*nfree */
+  double *xprev;        /* 3*nv */
+  double *dnorm;        /* rho_iters */
+  double rho;           /* in use; CB_PARAM_AUTO until estimated */
+} pd_work;
+
+static void pd_free(cb_integrator *it) {
+  pd_work *w = it->state;
+  cb_objective_free(&w->obj);
+  cb_sparse_free(&w->P);
+  free(w->rest); free(w->c); free(w->b); free(w->y); free(w->gF); free(w->xprev); free(w->dnorm);
+}
+
+static int copy_pattern(const cb_sparse *A, cb_sparse *P) {
+  memset(P, 0, sizeof *P);
+  P->n = A->n; P->nnz = A->nnz; P->nblk = A->nblk;
+  P->colp = cb_malloc((size_t)A->n + 1, sizeof(int));
+  P->rowi = cb_malloc((size_t)A->nnz + 1, sizeof(int));
+  P->val = cb_calloc((size_t)A->nnz + 1, sizeof(double));
+  P->bcolp = cb_malloc((size_t)A->nblk + 1, sizeof(int));
+  P->brow = cb_malloc((size_t)A->bcolp[A->nblk] + 1, sizeof(int));
+  if (!P->colp || !P->rowi || !P->val || !P->bcolp || !P->brow) return CB_ENOMEM;
+  memcpy(P->colp, A->colp, ((size_t)A->n + 1) * sizeof(int));
+  memcpy(P->rowi, A->rowi, (size_t)A->nnz * sizeof(int));
+  memcpy(P->bcolp, A->bcolp, ((size_t)A->nblk + 1) * sizeof(int));
+  memcpy(P->brow, A->brow, (size_t)A->bcolp[A->nblk] * sizeof(int));
+  return CB_OK;
+}
+
+static int pd_init(cb_integrator *it) {
+  const cb_pd_params *p = it->type_params;
+  pd_work *w = it->state;
+  const cb_scene *s = it->scene;
+  const char *name = it->type->name;
+  if (p->iters < 1) return cb_fail("%s: iters must be >= 1, got %d", name, p->iters);
+  if (!(p->rho == CB_PARAM_AUTO || (p->rho >= 0 && p->rho < 1))) return cb_fail("%s: rho must be in [0, 1) or auto, got %g", name, p->rho);
+  if (p->rho == CB_PARAM_AUTO && p->rho_iters < 4) return cb_fail("%s: rho_iters must be >= 4", name);
+  for (int t = 0; t < s->sys.nterms; t++) {
+    const cb_term *term = s->sys.terms[t];
+    if (term->type == cb_term_gravity) {
+      memcpy(w->grav, s->gravity, sizeof w->grav);
+      continue;
+    }
+    if (term->type == cb_term_spring && strcmp(term->label, "stretch") == 0 && !cb_spring_term_is_choi_ko(term)) continue;
+    return cb_fail("%s: projective dynamics here covers the stretch springs and gravity; the scene has the term '%s'%s "
+                   "(set material.bend = none and a definiteness other than choi-ko)",
+                   name, term->label, cb_spring_term_is_choi_ko(term) ? " with the Choi-Ko response" : "");
+  }
+  int nf = s->model.nfree, nv = s->mesh.nv;
+  int st = cb_objective_init(&w->obj, s);
+  if (st == CB_OK) st = copy_pattern(&it->sys->A, &w->P);
+  if (st) return st;
+  w->ns = s->topo.ne;
+  w->ends = s->topo.edge;
+  w->k = s->def.stretch_k;
+  w->rest = cb_malloc((size_t)w->ns + 1, sizeof(double));
+  w->c = cb_malloc((size_t)3 * nf + 1, sizeof(double));
+  w->b = cb_malloc((size_t)3 * nf + 1, sizeof(double));
+  w->y = cb_malloc((size_t)3 * nf + 1, sizeof(double));
+  w->gF = cb_malloc((size_t)3 * nf + 1, sizeof(double));
+  w->xprev = cb_malloc((size_t)3 * nv, sizeof(double));
+  if (!w->rest || !w->c || !w->b || !w->y || !w->gF || !w->xprev) return CB_ENOMEM;
+  if (p->rho == CB_PARAM_AUTO && !(w->dnorm = cb_malloc((size_t)p->rho_iters, sizeof(double)))) return CB_ENOMEM;
+  w->rho = p->rho;
+  const double *X = s->mesh.x;
+  for (int e = 0; e < w->ns; e++) {
+    int i = w->ends[2 * e], j = w->ends[2 * e + 1];
+    double d[3] = {X[3 * i] - X[3 * j], X[3 * i + 1] - X[3 * j + 1], X[3 * i + 2] - X[3 * j + 2]};
+    w->rest[e] = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  }
+  /* P = M/dt^2 + sum_e k A_e A_e^T (x) I_3 over the free DOFs */
+  static const double I3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  double dt = it->params.dt;
+  const int *fi = s->free_index;
+  for (int b = 0; b < nf; b++) {
+    int slot, stride;
+    cb_sparse_block_slot(&w->P, b, b, &slot, &stride);
+    cb_sparse_add_block(w->P.val, slot, stride, I3, s->mass[s->free_vertex[b]] / (dt * dt));
+  }
+  for (int e = 0; e < w->ns; e++) {
+    int bi = fi[w->ends[2 * e]], bj = fi[w->ends[2 * e + 1]], slot, stride;
+    if (bi >= 0 && cb_sparse_block_slot(&w->P, bi, bi, &slot, &stride) >= 0) cb_sparse_add_block(w->P.val, slot, stride, I3, w->k);
+    if (bj >= 0 && cb_sparse_block_slot(&w->P, bj, bj, &slot, &stride) >= 0) cb_sparse_add_block(w->P.val, slot, stride, I3, w->k);
+    if (bi >= 0 && bj >= 0) {
+      if (cb_sparse_block_slot(&w->P, bi, bj, &slot, &stride) >= 0) cb_sparse_add_block(w->P.val, slot, stride, I3, -w->k);
+      if (cb_sparse_block_slot(&w->P, bj, bi, &slot, &stride) >= 0) cb_sparse_add_block(w->P.val, slot, stride, I3, -w->k);
+    }
+  }
+  if (nf == 0) return CB_OK;
+  st = cb_solver_factor(it->solver, &w->P); /* once per scene */
+  if (st) return cb_fail_status(st, "%s: factorising M/dt^2 + L failed (%s)", name, cb_status_name(st));
+  return CB_OK;
+}
+
+/* K local/global iterations from xhat; dnorm (if not NULL) gets |x_{k+1} - x_k|. */
+static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnorm, cb_step_stats *st, int report) {
+  pd_work *w = it->state;
+  const cb_scene *s = it->scene;
+  const int *fi = s->free_index;
+  cb_newton_hook hook = report ? it->params.hook : NULL;
+  int nf = s->model.nfree, nf3 = 3 * nf, nv3 = 3 * s->mesh.nv;
+  double dt = it->params.dt, omega = 1.0, g0 = 0.0;
+  cb_objective_guess(&w->obj, x, 1); /* x_0 = xhat */
+  memcpy(w->xprev, x, (size_t)nv3 * sizeof(double));
+  for (int b = 0; b < nf; b++) { /* c = M xhat/dt^2 + m g */
+    int i = s->free_vertex[b];
+    for (int a = 0; a < 3; a++) w->c[3 * b + a] = s->mass[i] * (w->obj.xhat[3 * i + a] / (dt * dt) + w->grav[a]);
+  }
+  cb_newton_event ev;
+  memset(&ev, 0, sizeof ev);
+  ev.alpha = 1.0;
+  for (int k = 0;; k++) {
+    if (report && (k == 0 || k == K || hook)) {
+      double t0 = cb_now_ms();
+      double F = cb_objective_eval(&w->obj, x, w->gF, NULL);
+      double gn = cblas_dnrm2(nf3, w->gF, 1);
+      st->assemble_ms += cb_now_ms() - t0;
+      if (k == 0) g0 = gn;
+      st->F = F;
+      st->grad_norm = gn;
+      st->rel_grad = st->rel_grad_hat = g0 > 0 ? gn / g0 : 0.0;
+      st->newton_iters = k;
+      if (!isfinite(F) || !isfinite(gn)) return CB_DIVERGED;
+      if (hook) {
+        ev.iter = k; ev.F = F; ev.grad_norm = gn; ev.rel_grad = st->rel_grad; ev.x = x;
+        hook(it->params.hook_ctx, CB_NEWTON_GRADIENT, &ev);
+      }
+    }
+    if (k == K || nf == 0) break;
+    double t0 = cb_now_ms();
+    memcpy(w->b, w->c, (size_t)nf3 * sizeof(double));
+    for (int e = 0; e < w->ns; e++) { /* local: d_e = L_e (x_i - x_j)/|x_i - x_j|; b += J d (+ pinned neighbours) */
+      int i = w->ends[2 * e], j = w->ends[2 * e + 1], bi = fi[i], bj = fi[j];
+      if (bi < 0 && bj < 0) continue;
+      const double *xi = x + 3 * i, *xj = x + 3 * j;
+      double d[3] = {xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]};
+      double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      if (l > 0) {
+        for (int a = 0; a < 3; a++) d[a] *= w->rest[e] / l;
+      } else { /* no direction: keep the rest one */
+        const double *X = s->mesh.x;
+        for (int a = 0; a < 3; a++) d[a] = X[3 * i + a] - X[3 * j + a];
+      }
+      for (int a = 0; a < 3; a++) {
+        if (bi >= 0) w->b[3 * bi + a] += w->k * (d[a] + (bj < 0 ? xj[a] : 0.0));
+        if (bj >= 0) w->b[3 * bj + a] += w->k * (-d[a] + (bi < 0 ? xi[a] : 0.0));
+      }
+    }
+    for (int b = 0; b < nf; b++) /* initial guess of an iterative solver: the current iterate */
+      for (int a = 0; a < 3; a++) w->y[3 * b + a] = x[3 * s->free_vertex[b] + a];
+    st->assemble_ms += cb_now_ms() - t0;
+    int ls = cb_solver_solve(it->solver, &w->P, w->b, w->y); /* global: (M/dt^2 + L) y = b */
+    st->solve_ms += it->solver->stats.solve_ms;
+    st->linear_iters += it->solver->stats.iters;
+    st->linear_status = ls;
+    if (ls != CB_OK && ls != CB_NOT_CONVERGED) return CB_LINEAR_FAILED;
+    omega = cb_chebyshev_omega(k, rho, omega);
+    double d2 = 0.0;
+    for (int b = 0; b < nf; b++) {
+      double *xi = x + 3 * s->free_vertex[b], *xp = w->xprev + 3 * s->free_vertex[b];
+      for (int a = 0; a < 3; a++) {
+        double xk = xi[a], xn = omega * w->y[3 * b + a] + (1.0 - omega) * xp[a]; /* x_{k+1} = w y + (1-w) x_{k-1} */
+        d2 += (xn - xk) * (xn - xk);
+        xp[a] = xk;
+        xi[a] = xn;
+      }
+    }
+    if (!isfinite(d2)) return CB_DIVERGED;
+    if (dnorm) dnorm[k] = sqrt(d2);
+  }
+  return CB_OK;
+}
+
+static int pd_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
+  pd_work *w = it->state;
+  const cb_pd_params *p = it->type_params;
+  cb_objective_begin(&w->obj, x, v, it->params.dt);
+  if (w->rho == CB_PARAM_AUTO) { /* Wang's estimate, once, from the first step's plain iterations */
+    double t0 = cb_now_ms();
+    cb_step_stats scratch;
+    memset(&scratch, 0, sizeof scratch);
+    int r = iterate(it, x, p->rho_iters, 0.0, w->dnorm, &scratch, 0);
+    w->rho = r == CB_OK ? cb_rho_from_updates(w->dnorm, p->rho_iters) : 0.0;
+    st->factor_ms += cb_now_ms() - t0;
+  }
+  st->rho = w->rho;
+  int status = iterate(it, x, p->iters, w->rho, NULL, st, 1);
+  cb_objective_velocity(&w->obj, x, v);
+  return status;
+}
+
+const cb_integrator_type cb_integrator_pd = {
+    .name = "pd",
+    .flags = CB_INTEGRATOR_LINEAR_SOLVER,
+    .size = sizeof(pd_work),
+    .params_size = sizeof(cb_pd_params),
+    .params_default = &pd_defaults,
+    .keys = pd_keys,
+    .init = pd_init,
+    .step = pd_step,
+    .free = pd_free,
+};
+
+const cb_integrator_type cb_integrator_pd_chebyshev = {
+    .name = "pd-chebyshev",
+    .flags = CB_INTEGRATOR_LINEAR_SOLVER,
+    .size = sizeof(pd_work),
+    .params_size = sizeof(cb_pd_params),
+    .params_default = &pdc_defaults,
+    .keys = pdc_keys,
+    .init = pd_init,
+    .step = pd_step,
+    .free = pd_free,
+};

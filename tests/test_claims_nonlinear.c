@@ -1,0 +1,179 @@
+/* Verdict logic of the J3 (both panels), W1 and P1 checkers
+ * (claims/check_nonlinear.c) on small constructed CSVs, through the claims
+ * table: a passing and a failing case per claim. */
+#define _DEFAULT_SOURCE /* mkdtemp */
+#include <criterion/criterion.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "claims.h"
+
+static char dir[64];
+
+static void setup(void) {
+  snprintf(dir, sizeof dir, "/tmp/cbclaims_nl_XXXXXX");
+  cr_assert(mkdtemp(dir), "mkdtemp failed");
+}
+
+static void teardown(void) {
+  const char *names[] = {"nonlinear.csv", "nonlinear_w1.csv", "nonlinear_p1.csv", "linear_solvers.csv",
+                         "linear_solvers_scenes.csv"};
+  char path[256];
+  for (int i = 0; i < 5; i++) {
+    snprintf(path, sizeof path, "%s/%s", dir, names[i]);
+    remove(path);
+  }
+  remove(dir);
+}
+
+static void put(const char *name, const char *text) {
+  char path[256];
+  snprintf(path, sizeof path, "%s/%s", dir, name);
+  FILE *f = fopen(path, "w");
+  cr_assert(f);
+  fputs("# experiment: nonlinear\n", f);
+  fputs(text, f);
+  fclose(f);
+}
+
+static cb_verdict decide(const char *id, cb_claim_result *res) {
+  for (int i = 0; i < cb_nclaims; i++)
+    if (!strcmp(cb_claims[i].id, id)) {
+      cr_assert_str_eq(cb_claims[i].experiment, "nonlinear");
+      cb_claim_decide(&cb_claims[i], dir, res);
+      return res->verdict;
+    }
+  cr_assert_fail("claim %s not in the table", id);
+  return CB_NOT_RUN;
+}
+
+/* ---- J3 ---- */
+
+#define J3_HEAD "panel,rho_given,rho,frames,frames_run,diverged,diverge_frame,median_rel_grad,rho_lin_median,rho_lin_max\n"
+
+/* panel (b) as linear_solvers writes it: true rho 0.96 at alpha = 1 (eig(D^-1 A) in [0.04, 1.96]);
+ * diverging overestimates when div is 1 */
+static void linear_panel(int div) {
+  char path[256];
+  snprintf(path, sizeof path, "%s/linear_solvers_scenes.csv", dir);
+  FILE *f = fopen(path, "w");
+  cr_assert(f);
+  fputs("# experiment: linear_solvers\nscene,grid_n,n_dofs,non_dd_rows,lmin_lanczos,lmax_lanczos,lmin_dense,lmax_dense,spectrum\n"
+        "lab,21,1323,21,0.04,1.96,0.04,1.96,dense\n", f);
+  fclose(f);
+  snprintf(path, sizeof path, "%s/linear_solvers.csv", dir);
+  f = fopen(path, "w");
+  cr_assert(f);
+  fputs("# experiment: linear_solvers\nscene,sweep,solver,alpha,rho,iter,rel_residual,wall_ms,status,error\n", f);
+  const double rhos[] = {0.95, 0.98, 0.995}, rates[] = {0.8, 2.0, 2.0};
+  for (int r = 0; r < 3; r++) {
+    double rate = div ? rates[r] : 0.8;
+    int n = rate > 1 ? 20 : 70;
+    for (int k = 0; k <= n; k++)
+      fprintf(f, "lab,rho,chebyshev,1,%g,%d,%.17g,%d,%s,%.17g\n", rhos[r], k, pow(rate, k), k, rate > 1 ? "diverged" : "ok",
+              pow(rate, k));
+  }
+  fclose(f);
+}
+
+/* true linearised rho 0.97 in every converging run */
+static void lab_panel(int div995, int div_under) {
+  char buf[2048] = J3_HEAD;
+  const char *rhos[] = {"0.9", "0.95", "0.99", "0.995", "0.9999"};
+  const double vals[] = {0.9, 0.95, 0.99, 0.995, 0.9999};
+  for (int r = 0; r < 5; r++) {
+    int dv = vals[r] == 0.9999 || (vals[r] == 0.995 && div995) || (vals[r] == 0.9 && div_under);
+    sprintf(buf + strlen(buf), "lab_iteration,%s,%g,2000,%d,%d,%d,0.01,%s,0.975\n", rhos[r], vals[r], dv ? 40 : 2000, dv,
+            dv ? 41 : -1, dv ? "0.99" : "0.97");
+  }
+  put("nonlinear.csv", buf);
+}
+
+TestSuite(claims_nonlinear, .init = setup, .fini = teardown);
+
+Test(claims_nonlinear, j3_reproduced_when_both_panels_see_overestimates_diverge) {
+  lab_panel(1, 0);
+  linear_panel(1);
+  cb_claim_result r;
+  cr_expect_eq(decide("J3", &r), CB_REPRODUCED, "%s", r.reason);
+  cr_expect(strstr(r.reason, "Panel (a), the lab's iteration") && strstr(r.reason, "Panel (b), linear solves"), "%s", r.reason);
+}
+
+Test(claims_nonlinear, j3_partly_when_only_the_lab_iteration_diverges) {
+  lab_panel(1, 0);
+  linear_panel(0);
+  cb_claim_result r;
+  cr_expect_eq(decide("J3", &r), CB_PARTLY, "%s", r.reason);
+}
+
+Test(claims_nonlinear, j3_not_reproduced_when_an_underestimate_diverges_and_linear_never_does) {
+  lab_panel(0, 1);
+  linear_panel(0);
+  cb_claim_result r;
+  cr_expect_eq(decide("J3", &r), CB_NOT_REPRODUCED, "%s", r.reason);
+}
+
+/* ---- W1 ---- */
+
+#define W1_HEAD "scene,n,method,pair,rho,max_iters,tol,iters_to_tol,wall_ms_to_tol,setup_ms,alloc_ms,final_rel_grad,status\n"
+
+static void w1(int cheb_iters, int pd_plain_iters) {
+  char buf[2048] = W1_HEAD;
+  sprintf(buf + strlen(buf),
+          "lab,21,jacobi-nl,jacobi,0,20000,0.0001,3000,30,0,0,1e-9,ok\n"
+          "lab,21,chebyshev-nl auto,jacobi,0.97,20000,0.0001,%d,3,1,0,1e-12,ok\n"
+          "lab,21,pd,pd,0,1000,0.0001,%d,300,0,5,1e-5,ok\n"
+          "lab,21,pd-chebyshev auto,pd,0.95,1000,0.0001,50,50,8,5,1e-10,ok\n",
+          cheb_iters, pd_plain_iters);
+  put("nonlinear_w1.csv", buf);
+  put("nonlinear.csv", J3_HEAD);
+}
+
+Test(claims_nonlinear, w1_reproduced_at_an_order_of_magnitude) {
+  w1(250, -1); /* 12x; pd plain never reached it: >= 1000/50 = 20x */
+  cb_claim_result r;
+  cr_expect_eq(decide("W1", &r), CB_REPRODUCED, "%s", r.reason);
+}
+
+Test(claims_nonlinear, w1_not_reproduced_below_ten) {
+  w1(1000, 200); /* 3x and 4x */
+  cb_claim_result r;
+  cr_expect_eq(decide("W1", &r), CB_NOT_REPRODUCED, "%s", r.reason);
+}
+
+/* ---- P1 ---- */
+
+#define P1_HEAD "scene,n,k,method,frame,iters,wall_ms,alloc_ms,step_error,rel_grad,status\n"
+
+static void p1(double pd_ms, double pd_err) {
+  char buf[2048] = P1_HEAD;
+  for (int f = 5; f <= 10; f += 5)
+    sprintf(buf + strlen(buf),
+            "grid81,81,8000,pd10,%d,10,%g,40,%g,0.05,ok\n"
+            "grid81,81,8000,newton,%d,20,1000,6,1e-9,1e-9,ok\n"
+            "grid81,81,8000,baraff_witkin,%d,1,40,6,0.001,0.1,max_iters\n",
+            f, pd_ms, pd_err, f, f);
+  put("nonlinear_p1.csv", buf);
+  put("nonlinear.csv", J3_HEAD);
+}
+
+Test(claims_nonlinear, p1_reproduced_when_pd_is_fast_and_close) {
+  p1(20, 0.01); /* 50x, 1% */
+  cb_claim_result r;
+  cr_expect_eq(decide("P1", &r), CB_REPRODUCED, "%s", r.reason);
+  cr_expect(strstr(r.reason, "50x") != NULL, "%s", r.reason);
+}
+
+Test(claims_nonlinear, p1_not_reproduced_when_pd_is_not_ten_times_faster) {
+  p1(200, 0.01); /* 5x */
+  cb_claim_result r;
+  cr_expect_eq(decide("P1", &r), CB_NOT_REPRODUCED, "%s", r.reason);
+}
+
+Test(claims_nonlinear, p1_partly_when_fast_but_not_visually_converged) {
+  p1(20, 0.2);
+  cb_claim_result r;
+  cr_expect_eq(decide("P1", &r), CB_PARTLY, "%s", r.reason);
+}
