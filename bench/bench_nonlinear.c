@@ -92,6 +92,7 @@ int main(int argc, char **argv) {
   cb_experiment e;
   int r = cb_experiment_begin(&e, "bench_nonlinear", "Cost of the nonlinear iterations: the lab's frame rate, bandwidth, pd.", argc, argv);
   if (r) return r > 0 ? 0 : 1;
+  cb_experiment_timed(&e); /* timings: run alone */
   cb_runtime_init();
   cb_outfile csv;
   if (cb_experiment_csv(&e, &csv, NULL,
