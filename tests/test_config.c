@@ -1071,7 +1071,7 @@ Test(bind, every_types_keys_are_config_keys_and_their_defaults_are_the_types) {
     cr_expect(memcmp(p, t->params_default, t->params_size) == 0, "%s: key defaults differ from params_default", t->name);
     free(p);
   }
-  cr_expect_eq(nkeys, 6); /* newton's six */
+  cr_expect_eq(nkeys, 7); /* newton's six and shape_matching's alpha */
 }
 
 /* The binding reads a type's keys into its struct: Newton from a file. */

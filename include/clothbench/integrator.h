@@ -5,6 +5,8 @@
  *             F(x) = 1/(2 dt^2) |x - x0 - dt v0|_M^2 + E(x),  v1 = (x1 - x0)/dt,
  *             by Newton's method: (M/dt^2 + H) dx = -grad F;  x += dx.
  *             max_iters = 1 is Baraff-Witkin's single linear solve.
+ *   shape_matching  Müller et al. 2005: v <- v + alpha (g - x)/dt + dt f_ext/m;
+ *             x <- x + dt v, goals g from one-ring clusters (integrator_shape_matching.c).
  *
  * Newton minimises the shared implicit-Euler objective (objective.h); each
  * integrator owns its loop, and the linear solver is a parameter. After every
@@ -77,6 +79,13 @@ typedef struct cb_newton_params {
 
 cb_newton_params cb_newton_params_default(void);
 
+/* Shape matching's parameters (cb_integrator_shape_matching, integrator_shape_matching.c). */
+typedef struct cb_shape_matching_params {
+  double alpha;                /* pull toward the goals, in (0, 1]. Default 1 */
+} cb_shape_matching_params;
+
+cb_shape_matching_params cb_shape_matching_params_default(void);
+
 typedef struct cb_integrator cb_integrator;
 
 /* One of a type's parameters as a config key, `integrator.<name>`. The
@@ -137,6 +146,7 @@ struct cb_integrator {
 
 extern const cb_integrator_type cb_integrator_explicit;
 extern const cb_integrator_type cb_integrator_newton;
+extern const cb_integrator_type cb_integrator_shape_matching;
 extern const cb_integrator_type *const cb_integrator_types[]; /* NULL-terminated */
 const char *cb_integrator_name(int i);
 const cb_integrator_type *cb_integrator_type_find(const char *name);

@@ -14,6 +14,7 @@
 const cb_integrator_type *const cb_integrator_types[] = {
     &cb_integrator_explicit,
     &cb_integrator_newton,
+    &cb_integrator_shape_matching,
     NULL,
 };
 
