@@ -318,3 +318,44 @@ Test(shape_matching, alpha_out_of_range_is_a_config_error) {
   cr_expect_neq(cb_config_set(&c, "integrator.alpha=1.5"), CB_OK);
   cr_expect_eq(cb_config_set(&c, "integrator.alpha=0.01"), CB_OK);
 }
+
+/* A constant Newton matrix (every Hessian term constant: frozen-R FEM and
+ * gravity) is factorised once and reused over iterations and steps at the
+ * same dt; a change of dt refactorises; springs factorise every iteration. */
+Test(fem, newton_factorises_a_constant_matrix_once) {
+  const char *sets[] = {"mesh.n=6", "mesh.size=1", "material.stretch=fem", "material.fem_hessian=frozen",
+                        "material.stretch_k=500", "integrator.max_iters=100", "integrator.tol=1e-10", NULL};
+  cb_scene *s = test_scene(sets);
+  cb_integrator *it = test_integrator(sets, s, NULL, NULL);
+  int n3 = 3 * s->mesh.nv;
+  double *x = malloc((size_t)n3 * sizeof(double)), *v = calloc((size_t)n3, sizeof(double));
+  memcpy(x, s->x0, (size_t)n3 * sizeof(double));
+  int total = 0;
+  for (int k = 0; k < 3; k++) {
+    cb_step_stats st;
+    memset(&st, 0, sizeof st);
+    cb_integrator_step(it, x, v, &st);
+    cr_expect(st.newton_iters > 1, "step %d: %d iterations", k, st.newton_iters);
+    cr_expect_eq(st.factorizations, k == 0 ? 1 : 0, "step %d: %d factorisations", k, st.factorizations);
+    total += st.factorizations;
+  }
+  it->params.dt *= 0.5;
+  cb_step_stats st;
+  memset(&st, 0, sizeof st);
+  cb_integrator_step(it, x, v, &st);
+  cr_expect_eq(st.factorizations, 1, "a new dt refactorises");
+  cr_expect_eq(total, 1);
+  cb_integrator_free(it);
+  cb_scene_free(s);
+  const char *springs[] = {"mesh.n=6", "mesh.size=1", "material.stretch_k=500", NULL};
+  s = test_scene(springs);
+  it = test_integrator(springs, s, NULL, NULL);
+  memcpy(x, s->x0, (size_t)n3 * sizeof(double));
+  memset(v, 0, (size_t)n3 * sizeof(double));
+  memset(&st, 0, sizeof st);
+  cb_integrator_step(it, x, v, &st);
+  cr_expect_eq(st.factorizations, st.newton_iters, "springs: one factorisation per iteration");
+  free(x); free(v);
+  cb_integrator_free(it);
+  cb_scene_free(s);
+}
