@@ -111,8 +111,10 @@ typedef struct cb_param_key {
 /* What a type needs from the wrapper. */
 enum {
   CB_INTEGRATOR_LINEAR_SOLVER = 1u, /* solves with the linear solver named at alloc (analysed there, once) */
-  CB_INTEGRATOR_HESSIAN = 2u        /* assembles the system's matrix M/dt^2 + H into scene->sys.A, so a
+  CB_INTEGRATOR_HESSIAN = 2u,       /* assembles the system's matrix M/dt^2 + H into scene->sys.A, so a
                                        caller sharing that matrix knows a step overwrites it */
+  CB_INTEGRATOR_OWN_ELASTICITY = 4u /* ignores the scene's elastic terms (shape matching's goals replace
+                                       them): a run's energy bound counts kinetic + gravity only */
 };
 
 /* A plug-in (gsl_multiroot_fsolver_type style). The wrapper allocates the

@@ -5,7 +5,9 @@
  * (kinetic + elastic + gravity potential) above its initial value by more
  * than integrator.diverge_ratio x S, where S is the scene's energy scale
  * (cb_scene.energy_scale). Implicit Euler only loses energy, and a stable
- * explicit run oscillates well inside that bound. */
+ * explicit run oscillates well inside that bound. An integrator flagged
+ * CB_INTEGRATOR_OWN_ELASTICITY (shape matching) is held to kinetic + gravity
+ * only, the scene's elastic terms being no part of its model. */
 #ifndef CB_RUN_H
 #define CB_RUN_H
 

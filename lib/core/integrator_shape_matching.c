@@ -15,7 +15,9 @@
  *   v_i <- v_i + alpha (g_i - x_i) / dt + dt f_ext,i / m_i,   x_i <- x_i + dt v_i
  * with alpha in (0, 1] (`integrator.alpha`) and f_ext = m g (scene.gravity).
  * Shape matching replaces the scene's elastic terms: the stretch and bending
- * terms are not evaluated (they still measure the energy of a run).
+ * terms are not evaluated (CB_INTEGRATOR_OWN_ELASTICITY: a run's energy bound
+ * counts kinetic + gravity; its elastic_j column still reports them, as a
+ * measure of how far the cloth stretches).
  * Pinned vertices follow their prescribed velocity, as in the explicit
  * integrator.
  *
@@ -150,7 +152,7 @@ static int sm_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
 
 const cb_integrator_type cb_integrator_shape_matching = {
     .name = "shape_matching",
-    .flags = 0,
+    .flags = CB_INTEGRATOR_OWN_ELASTICITY,
     .size = sizeof(sm_work),
     .params_size = sizeof(cb_shape_matching_params),
     .params_default = &sm_defaults,
