@@ -51,6 +51,7 @@ void cb_check_L1(const cb_table *t, const char *results_dir, cb_claim_result *ou
   if (cols(t, names, c, 7, "locking.csv", out)) return;
   int *done = calloc((size_t)t->nrows + 1, sizeof(int));
   int judged = 0, pass = 0, across = 0, along = 0, unconverged = 0, skipped = 0;
+  double min_fall = INFINITY, max_dev = 0; /* over the judged cases across / along mesh lines */
   cb_claim_numbers(out, "| model | mesh | fold line | along mesh edges | k range (N/m) | angle at low k | angle at high k | "
                         "max deviation | verdict |\n|---|---|---|---|---|---|---|---|---|\n");
   for (int r = 0; r < t->nrows; r++) {
@@ -77,6 +78,8 @@ void cb_check_L1(const cb_table *t, const char *results_dir, cb_claim_result *ou
     if (ok_range) {
       judged++;
       int p = on ? dev <= L1_MAX_DEV : alo - ahi >= L1_MIN_FALL;
+      if (on) max_dev = fmax(max_dev, dev);
+      else min_fall = fmin(min_fall, alo - ahi);
       pass += p;
       across += !on;
       along += on;
@@ -95,7 +98,9 @@ void cb_check_L1(const cb_table *t, const char *results_dir, cb_claim_result *ou
   out->verdict = pass == judged && across > 0 && along > 0 ? CB_REPRODUCED : 2 * pass >= judged ? CB_PARTLY : CB_NOT_REPRODUCED;
   cb_claim_reason(out, "%d of %d cases as predicted: across mesh lines (%d cases) the fold angle must fall by at least "
                        "%.0f deg from the lowest to the highest stiffness, along mesh edges (%d cases) stay within %.0f deg "
-                       "of its low-k value.", pass, judged, across, L1_MIN_FALL, along, L1_MAX_DEV);
+                       "of its low-k value. The smallest fall across mesh lines is %.1f deg, the largest deviation along "
+                       "mesh edges %.1f deg.", pass, judged, across, L1_MIN_FALL, along, L1_MAX_DEV,
+                  across ? min_fall : NAN, max_dev);
   if (unconverged) cb_claim_reason(out, " %d static solves did not converge and are left out.", unconverged);
   if (skipped) cb_claim_reason(out, " %d cases lacked converged solves over %.0f decades.", skipped, L1_MIN_DECADES);
 }
@@ -113,6 +118,7 @@ void cb_check_L2(const cb_table *t, const char *results_dir, cb_claim_result *ou
   if (cols(&d, names, c, 9, "locking_dofs.csv", out)) { cb_table_free(&d); return; }
   static const char *const fam[3] = {"_regular", "_alternating", "ring_disk"};
   int exact_c = 0, exact_nc = 0, n = 0, fam_ok = 0, fams = 0;
+  double worst_c = 0, worst_nc = INFINITY; /* on the largest mesh of each family */
   cb_claim_numbers(out, "| mesh | #V | #B | conforming DoFs (3+#B) | per vertex | nonconforming DoFs (3#V-3) | per vertex |\n"
                         "|---|---|---|---|---|---|---|\n");
   for (int r = 0; r < d.nrows; r++) {
@@ -140,6 +146,8 @@ void cb_check_L2(const cb_table *t, const char *results_dir, cb_claim_result *ou
     if (rows < 2) continue;
     fams++;
     int ok = mono && last_c <= L2_C_MAX && last_nc >= L2_NC_MIN;
+    worst_c = fmax(worst_c, last_c);
+    worst_nc = fmin(worst_nc, last_nc);
     fam_ok += ok;
     cb_claim_numbers(out, "\n- %s meshes: conforming DoFs per vertex %s with size, %.3f on the largest; nonconforming %.3f.",
                      f == 2 ? "ring disk" : fam[f] + 1, mono ? "fall" : "do not fall", last_c, last_nc);
@@ -153,7 +161,8 @@ void cb_check_L2(const cb_table *t, const char *results_dir, cb_claim_result *ou
   out->verdict = fam_ok == fams ? CB_REPRODUCED : fam_ok > 0 ? CB_PARTLY : CB_NOT_REPRODUCED;
   cb_claim_reason(out, "Conforming DoFs equal 3 + #B on %d of %d meshes and nonconforming ones 3#V - 3 on %d of %d; in %d of %d "
                        "mesh families the conforming DoFs per vertex fall with size to at most %.1f while the nonconforming "
-                       "ones reach at least %.1f.", exact_c, n, exact_nc, n, fam_ok, fams, L2_C_MAX, L2_NC_MIN);
+                       "ones reach at least %.1f (on the largest meshes: conforming at most %.3f, nonconforming at least "
+                       "%.3f per vertex).", exact_c, n, exact_nc, n, fam_ok, fams, L2_C_MAX, L2_NC_MIN, worst_c, worst_nc);
 }
 
 /* ---- F1 ------------------------------------------------------------------------ */
@@ -221,6 +230,7 @@ void cb_check_F1(const cb_table *t, const char *results_dir, cb_claim_result *ou
   cb_table_free(&a);
   /* the Newton step: per method, iterations, time, convergence order */
   cb_table nt, ns;
+  char summary[512] = "";
   if (side_table(results_dir, "newton", &nt, out) == 0) {
     static const char *const nn[] = {"model", "rep", "iter", "rel_grad"};
     int cn[4];
@@ -243,6 +253,10 @@ void cb_check_F1(const cb_table *t, const char *results_dir, cb_claim_result *ou
         for (int i = 1; i < nw; i++)
           for (int j = i; j > 0 && w[j] < w[j - 1]; j--) { double s = w[j]; w[j] = w[j - 1]; w[j - 1] = s; }
         double rate, order = conv_order(&nt, cn, m, &rate);
+        size_t used = strlen(summary);
+        if (used < sizeof summary - 1)
+          snprintf(summary + used, sizeof summary - used, "%s%s %.0f iterations, %.0f factorisations, order %.2f, %.0f ms",
+                   used ? "; " : "", m, cb_table_num(&ns, r, cs[1]), cb_table_num(&ns, r, cs[2]), order, nw ? w[nw / 2] : NAN);
         cb_claim_numbers(out, "| %s | %.0f | %.0f | %.2e | %.0f [%.0f-%.0f] | %.2f | %.3g | %s |\n", m, cb_table_num(&ns, r, cs[1]),
                          cb_table_num(&ns, r, cs[2]), cb_table_num(&ns, r, cs[3]), nw ? w[nw / 2] : NAN, nw ? w[0] : NAN,
                          nw ? w[nw - 1] : NAN, order, rate, cb_table_str(&ns, r, cs[5]));
@@ -260,6 +274,7 @@ void cb_check_F1(const cb_table *t, const char *results_dir, cb_claim_result *ou
   cb_claim_reason(out, "FEM's largest anisotropy ratio over every mesh and test is %.4f (isotropic if <= %.2f); springs on the "
                        "regular grid answer %.2f times more in one stretch direction than another (mesh-dependent if >= %.1f).",
                   fem_max, F1_FEM_MAX, spring_regular, F1_SPRING_MIN);
+  if (summary[0]) cb_claim_reason(out, " One Newton step (median wall time): %s.", summary);
 }
 
 /* ---- S1 ------------------------------------------------------------------------ */
