@@ -23,6 +23,10 @@ void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out);
 void cb_check_nonlinear_j3(const cb_table *csv, const char *dir, cb_claim_result *out);
 void cb_check_w1(const cb_table *csv, const char *dir, cb_claim_result *out);
 void cb_check_p1(const cb_table *csv, const char *dir, cb_claim_result *out);
+void cb_check_L1(const cb_table *t, const char *results_dir, cb_claim_result *out);
+void cb_check_L2(const cb_table *t, const char *results_dir, cb_claim_result *out);
+void cb_check_F1(const cb_table *t, const char *results_dir, cb_claim_result *out);
+void cb_check_S1(const cb_table *t, const char *results_dir, cb_claim_result *out);
 
 const cb_claim cb_claims[] = {
   {"T1", "topology", "Sorting edge triples (i<j, triangle) gives the unique edge list and the neighbouring-triangle pairs.",
@@ -69,8 +73,17 @@ const cb_claim cb_claims[] = {
    "Restoring force against fold angle near 0, bending springs against the dihedral model.", NULL, NULL},
   {"B2", NULL, "The quadratic bending model has a constant Hessian and makes simulation up to 3x faster than the nonlinear hinge model.",
    "Wall time per step under Newton, quadratic against dihedral, on the sphere drape.", NULL, NULL},
-  {"L1", NULL, "Locking: stiff in-plane edges resist folding even with zero bending stiffness.",
-   "Fold angle reached under a fixed load against in-plane stiffness, with bending stiffness 0.", NULL, NULL},
+  {"L1", "locking", "Locking: stiff in-plane edges resist folding even with zero bending stiffness.",
+   "Fold angle at rest under gravity, bending stiffness 0, against in-plane stiffness (1e1-1e7), for fold lines along mesh edges, along and across the diagonals and at an angle no mesh line follows; regular, alternating and unstructured meshes; springs and co-rotational FEM.",
+   "locking_l1.png", cb_check_L1},
+  {"L2", "locking", "Nonconforming (edge-midpoint) elements (English & Bridson 2008) keep about 3 DoFs per vertex where conforming meshes keep 3 + #boundary_edges in all.",
+   "3 #variables - rank of the rigidity matrix, per vertex, against mesh size, both discretisations.", "locking_l2.png", cb_check_L2},
+  {"F1", "locking", "Co-rotational FEM can replace planar springs (lecture summary): it is isotropic where a spring network depends on its mesh, and its frozen-rotation Hessian is constant.",
+   "Anisotropy ratio of shear and stretch responses, springs on three meshes against FEM; one Newton step at 64^2 as error against time, FEM frozen/exact against springs.",
+   "locking_f1_aniso.png locking_f1_newton.png", cb_check_F1},
+  {"S1", "locking", "Shape matching (Mueller 2005) is unconditionally stable under explicit integration.",
+   "alpha in [0.01, 1] x explicit_stability's dt range: diverged cells (none expected), energy drift, shape error, against springs under the same integrator.",
+   "locking_s1.png", cb_check_S1},
 };
 const int cb_nclaims = (int)(sizeof cb_claims / sizeof cb_claims[0]);
 

@@ -16,7 +16,9 @@
  *   - the matrix is symmetric under every policy;
  *   - a type without a Hessian gives an exactly zero matrix and a gradient
  *     that does not change with x; a type flagged CB_TERM_CONSTANT_HESSIAN
- *     gives the same matrix at every state.
+ *     gives the same matrix at every state; a type flagged
+ *     CB_TERM_MODEL_HESSIAN (a PSD model such as the frozen-rotation FEM
+ *     matrix) is checked for PSD instead of against the FD Hessian.
  * Then: the system's constant-Hessian path on a term defined here (a
  * zero-length spring to fixed anchors, E = k/2 |x - a|^2, H = k I), whose
  * Hessian callback must run once; and the stencil helper on 3-vertex
@@ -227,7 +229,23 @@ static int check_type(const cb_term_type *type) {
             for (size_t j = 0; j < i; j++) asym = fmax(asym, fabs(gsl_matrix_get(H, i, j) - gsl_matrix_get(H, j, i)));
           cr_expect(asym <= 1e-14 * hmax, "%s, %s: max |H - H^T| = %.3g", where, cb_definiteness_names[d], asym);
           if (!type->hessian) cr_expect(hmax == 0, "%s: a term without a Hessian assembled %.3g", where, hmax);
-          if (cb_definiteness_projection((cb_definiteness)d) == CB_PROJ_NONE) {
+          if (cb_definiteness_projection((cb_definiteness)d) == CB_PROJ_NONE && (type->flags & CB_TERM_MODEL_HESSIAN)) {
+            /* a model of the Hessian: PSD and constant if flagged, not the FD Hessian */
+            double emax, lmin = H->size1 > 0 ? min_eigenvalue(H, &emax) : 0;
+            if (H->size1 > 0)
+              cr_expect(lmin >= -1e-12 * fmax(emax, 1.0), "%s, %s: model Hessian has eigenvalue %.3g (max %.3g)", where,
+                        cb_definiteness_names[d], lmin, emax);
+            if (d == CB_DEF_NONE && (type->flags & CB_TERM_CONSTANT_HESSIAN)) {
+              if (!H0) {
+                H0 = gsl_matrix_alloc(H->size1, H->size2);
+                gsl_matrix_memcpy(H0, H);
+              } else {
+                for (size_t i = 0; i < H->size1; i++)
+                  for (size_t j = 0; j < H->size2; j++)
+                    cr_expect(gsl_matrix_get(H, i, j) == gsl_matrix_get(H0, i, j), "%s: constant Hessian changed", where);
+              }
+            }
+          } else if (cb_definiteness_projection((cb_definiteness)d) == CB_PROJ_NONE) {
             double err = 0;
             for (size_t i = 0; i < H->size1; i++)
               for (size_t j = 0; j < H->size2; j++)

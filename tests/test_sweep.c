@@ -64,17 +64,24 @@ static int cell(long i, void *ctx, FILE *const *out) {
 static char *slurp(const char *path) {
   FILE *f = fopen(path, "r");
   cr_assert_not_null(f, "%s", path);
-  static char buf[4096];
+  static char buf[1 << 20]; /* the provenance lines list every config's keys: tens of kB */
   size_t n = fread(buf, 1, sizeof buf - 1, f);
   buf[n] = 0;
+  cr_assert(feof(f), "%s: larger than the test's buffer", path);
   fclose(f);
   return buf;
 }
 
 static const char *data(const char *text) { /* after the header row (the first line not starting with '#') */
   const char *p = text;
-  while (*p == '#') p = strchr(p, '\n') + 1;
-  return strchr(p, '\n') + 1;
+  while (*p == '#') {
+    p = strchr(p, '\n');
+    cr_assert_not_null(p, "no header row");
+    p++;
+  }
+  p = strchr(p, '\n');
+  cr_assert_not_null(p, "no line after the header row");
+  return p + 1;
 }
 
 Test(sweep, rows_in_cell_order_and_a_shard_runs_every_nth_cell) {

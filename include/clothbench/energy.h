@@ -56,7 +56,13 @@ enum {
    * values at every assembly: such a Hessian must be PSD (no projection is
    * applied to it) and must not depend on x (the conformance test checks
    * both). */
-  CB_TERM_CONSTANT_HESSIAN = 1u << 0
+  CB_TERM_CONSTANT_HESSIAN = 1u << 0,
+  /* The hessian callback gives a PSD model of the Hessian, not the Hessian
+   * of E itself (the frozen-rotation FEM matrix; a projective-dynamics
+   * matrix): Newton with it is a quasi-Newton method. The conformance test
+   * checks such a type's gradient, symmetry and positive semidefiniteness,
+   * but not that its matrix equals the finite-difference Hessian. */
+  CB_TERM_MODEL_HESSIAN = 1u << 1
 };
 
 typedef struct cb_term_type {
@@ -109,6 +115,24 @@ int cb_spring_term_set_response(cb_term *t, cb_definiteness def, double kb);
 int cb_spring_term_count_compressed(const cb_term *t, const double *x, int *nsprings);
 /* Nonzero if t is a spring term with the Choi-Ko response. */
 int cb_spring_term_is_choi_ko(const cb_term *t);
+
+/* Co-rotational triangle FEM (energy_fem.c): E_t = mu A_t |F - R|_F^2 on every
+ * triangle, mu in N/m (an energy per unit rest area), R the polar rotation of
+ * the deformation gradient F. Type `fem` has the exact Hessian (projected
+ * like any element), `fem_frozen` the lecture's constant frozen-R matrix.
+ * material.stretch picks springs or FEM (cb_stretch_names), and
+ * material.fem_hessian the Hessian (cb_fem_hessian_names, by enum value). */
+typedef enum { CB_FEM_EXACT = 0, CB_FEM_FROZEN = 1 } cb_fem_hessian;
+extern const char *const cb_stretch_names[];     /* "spring", "fem" */
+extern const char *const cb_fem_hessian_names[]; /* "exact", "frozen" */
+/* Fails on a zero-area rest triangle or mu < 0. */
+int cb_fem_term_alloc(const cb_model *m, const char *label, double mu, cb_fem_hessian h, cb_term **out);
+/* Triangles of t that are degenerate at x (collapsed: sigma_2 <= 1e-8 sigma_1;
+ * energy_fem.c says how they are treated); 0 if t is not an FEM term. ntri
+ * gets the number of triangles of t. */
+int cb_fem_term_degenerate(const cb_term *t, const double *x, int *ntri);
+/* max over triangles of |sigma_i - 1| at x (the largest principal strain); NaN if not FEM. */
+double cb_fem_term_max_strain(const cb_term *t, const double *x);
 
 /* E = -sum_i m_i g . x_i */
 int cb_gravity_term_alloc(const cb_model *m, const double g[3], cb_term **out);

@@ -5,6 +5,8 @@
  *             F(x) = 1/(2 dt^2) |x - x0 - dt v0|_M^2 + E(x),  v1 = (x1 - x0)/dt,
  *             by Newton's method: (M/dt^2 + H) dx = -grad F;  x += dx.
  *             max_iters = 1 is Baraff-Witkin's single linear solve.
+ *   shape_matching  Müller et al. 2005: v <- v + alpha (g - x)/dt + dt f_ext/m;
+ *             x <- x + dt v, goals g from one-ring clusters (integrator_shape_matching.c).
  *
  * Newton minimises the shared implicit-Euler objective (objective.h); each
  * integrator owns its loop, and the linear solver is a parameter. After every
@@ -107,6 +109,13 @@ typedef struct cb_pd_params {
 } cb_pd_params;
 cb_pd_params cb_pd_params_default(void); /* pd-chebyshev's */
 
+/* Shape matching's parameters (cb_integrator_shape_matching, integrator_shape_matching.c). */
+typedef struct cb_shape_matching_params {
+  double alpha;                /* pull toward the goals, in (0, 1]. Default 1 */
+} cb_shape_matching_params;
+
+cb_shape_matching_params cb_shape_matching_params_default(void);
+
 typedef struct cb_integrator cb_integrator;
 
 /* One of a type's parameters as a config key, `integrator.<name>`. The
@@ -134,8 +143,10 @@ typedef struct cb_param_key {
 /* What a type needs from the wrapper. */
 enum {
   CB_INTEGRATOR_LINEAR_SOLVER = 1u, /* solves with the linear solver named at alloc (analysed there, once) */
-  CB_INTEGRATOR_HESSIAN = 2u        /* assembles the system's matrix M/dt^2 + H into scene->sys.A, so a
+  CB_INTEGRATOR_HESSIAN = 2u,       /* assembles the system's matrix M/dt^2 + H into scene->sys.A, so a
                                        caller sharing that matrix knows a step overwrites it */
+  CB_INTEGRATOR_OWN_ELASTICITY = 4u /* ignores the scene's elastic terms (shape matching's goals replace
+                                       them): a run's energy bound counts kinetic + gravity only */
 };
 
 /* A plug-in (gsl_multiroot_fsolver_type style). The wrapper allocates the
@@ -173,6 +184,8 @@ extern const cb_integrator_type cb_integrator_jacobi_nl;
 extern const cb_integrator_type cb_integrator_chebyshev_nl;
 extern const cb_integrator_type cb_integrator_pd;
 extern const cb_integrator_type cb_integrator_pd_chebyshev;
+
+extern const cb_integrator_type cb_integrator_shape_matching;
 extern const cb_integrator_type *const cb_integrator_types[]; /* NULL-terminated */
 const char *cb_integrator_name(int i);
 const cb_integrator_type *cb_integrator_type_find(const char *name);

@@ -8,7 +8,9 @@
  * integrator.diverge_ratio x S, where S is the scene's energy scale
  * (cb_scene.energy_scale) plus the initial kinetic energy. Implicit Euler
  * only loses energy, and a stable explicit run oscillates well inside that
- * bound. A step the integrator failed (not_spd, linear_failed, ...) keeps
+ * bound. An integrator flagged CB_INTEGRATOR_OWN_ELASTICITY (shape matching)
+ * is held to kinetic + gravity only, the scene's elastic terms being no part
+ * of its model. A step the integrator failed (not_spd, linear_failed, ...) keeps
  * its own status. The reason for `diverged` (which test, at which step) is
  * the error message (cb_error_message).
  *

@@ -50,7 +50,10 @@ typedef struct cb_scene_def {
   const char *mesh_file;       /* OBJ path for CB_MESH_OBJ, as given to fopen. Default NULL */
   double density;              /* kg/m^2, for area-lumped masses. Default 1 */
   double vertex_mass;          /* kg per vertex; 0 = lumped from density. Default 0 */
-  double stretch_k;            /* N/m, the spring on every edge. Default 8000 */
+  const char *stretch;         /* in-plane model, a name of cb_stretch_names: "spring" (one on every
+                                  edge) or "fem" (co-rotational triangles). Default "spring" */
+  double stretch_k;            /* N/m: the spring stiffness k, or FEM's mu (energy per rest area). Default 8000 */
+  const char *fem_hessian;     /* FEM Hessian, a name of cb_fem_hessian_names ("exact", "frozen"). Default "exact" */
   const char *bend;            /* bending model, a name of cb_bend_names. Default "none" */
   double bend_k;               /* N/m. Default 100 */
   const char *definiteness;    /* compressed-spring response of the springs, a name of

@@ -31,7 +31,9 @@ int cb_scene_def_from_config(const cb_config *c, cb_scene_def *d, char *path, si
   d->grid.diagonal = strcmp(c->mesh_diagonal, "alternating") == 0 ? CB_DIAG_ALTERNATING : CB_DIAG_REGULAR;
   d->density = c->density;
   d->vertex_mass = c->vertex_mass;
+  d->stretch = cb_config_choice(c, "material.stretch");
   d->stretch_k = c->stretch_k;
+  d->fem_hessian = cb_config_choice(c, "material.fem_hessian");
   d->bend = cb_config_choice(c, "material.bend"); /* the registry's name: it outlives c */
   d->bend_k = c->bend_k;
   const char *def = cb_config_choice(c, "integrator.definiteness"); /* Newton's policy is also the springs' response */

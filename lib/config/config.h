@@ -35,7 +35,9 @@ typedef struct cb_config {
   /* [material] */
   double density;                  /* kg/m^2, for area-lumped masses */
   double vertex_mass;              /* kg per vertex; 0 = use density */
-  double stretch_k;                /* N/m */
+  char stretch[CB_NAME_LEN];       /* spring | fem */
+  double stretch_k;                /* N/m: spring k or FEM mu */
+  char fem_hessian[CB_NAME_LEN];   /* exact | frozen */
   char bend[CB_NAME_LEN];          /* none | spring */
   double bend_k;                   /* N/m */
   double buckling_kb;              /* N m^2, Choi-Ko bending stiffness of a buckled spring */

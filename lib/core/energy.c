@@ -15,10 +15,14 @@
 
 extern const cb_term_type cb_term_spring_type;  /* energy_spring.c */
 extern const cb_term_type cb_term_gravity_type; /* energy_gravity.c */
+extern const cb_term_type cb_term_fem_type;        /* energy_fem.c: exact Hessian */
+extern const cb_term_type cb_term_fem_frozen_type; /* energy_fem.c: frozen-R constant Hessian */
 
 const cb_term_type *const cb_term_types[] = {
     &cb_term_spring_type,
     &cb_term_gravity_type,
+    &cb_term_fem_type,
+    &cb_term_fem_frozen_type,
     NULL,
 };
 

@@ -18,6 +18,7 @@ const cb_integrator_type *const cb_integrator_types[] = {
     &cb_integrator_chebyshev_nl,
     &cb_integrator_pd,
     &cb_integrator_pd_chebyshev,
+    &cb_integrator_shape_matching,
     NULL,
 };
 

@@ -27,6 +27,13 @@
  * the `shift` policy's retries with A + mu I happen there, for every solver;
  * the largest mu of the step is reported in the step stats.
  *
+ * A constant matrix is factorised once: when every term with a Hessian is
+ * CB_TERM_CONSTANT_HESSIAN (frozen-R FEM, gravity), A = M/dt^2 + H does
+ * not depend on x, so with a direct solver and any policy but `shift` the
+ * factorisation of the first iteration serves every later iteration and
+ * step at the same dt (A is still assembled, cheaply, for the hooks). This is
+ * projective dynamics' prefactorisation.
+ *
  * F, grad F, the predictor and the velocity update are the shared objective
  * (objective.h). Newton's parameters are cb_newton_params (integrator.h). */
 #include <cblas.h>
@@ -49,6 +56,8 @@ typedef struct {
   double *xtrial;                 /* 3*nv */
   double *gF, *b, *dx;            /* 3*nfree */
   cb_shift *shift;                /* workspace of the shift policy */
+  int constant_A;                 /* every Hessian term is constant and the solver direct */
+  double factored_dt;             /* dt of the factorisation kept for a constant A; 0 = none */
 } newton_work;
 
 static const cb_newton_params newton_defaults = {.max_iters = 50, .tol = 1e-8, .tol_dx = 0, .init_predict = 1,
@@ -115,6 +124,11 @@ static int nt_init(cb_integrator *it) {
   w->b = cb_malloc(nf, sizeof(double));
   w->dx = cb_malloc(nf, sizeof(double));
   if (!w->xtrial || !w->gF || !w->b || !w->dx) return CB_ENOMEM;
+  w->constant_A = (it->solver->type->flags & CB_SOLVER_DIRECT) && p->definiteness != CB_DEF_SHIFT;
+  for (int k = 0; k < it->sys->nterms; k++) {
+    const cb_term_type *t = it->sys->terms[k]->type;
+    if (t->hessian && !(t->flags & CB_TERM_CONSTANT_HESSIAN)) w->constant_A = 0;
+  }
   return cb_shift_alloc((int)nf, NULL, &w->shift);
 }
 
@@ -178,7 +192,16 @@ static int nt_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
 
     cb_shift_stats ds; /* factor + solve; `shift` retries with A + mu I */
     cb_shift *sh = p->definiteness == CB_DEF_SHIFT ? w->shift : NULL;
-    int ls = cb_shift_solve(sh, it->solver, A, it->sys->diag, w->b, w->dx, &ds);
+    int ls;
+    if (w->constant_A && w->factored_dt == dt) { /* constant A, already factorised: solve only */
+      memset(&ds, 0, sizeof ds);
+      ls = cb_solver_solve(it->solver, A, w->b, w->dx);
+      ds.solve_ms = it->solver->stats.solve_ms;
+      ds.linear_iters = it->solver->stats.iters;
+    } else {
+      ls = cb_shift_solve(sh, it->solver, A, it->sys->diag, w->b, w->dx, &ds);
+      w->factored_dt = w->constant_A && ls == CB_OK ? dt : 0.0;
+    }
     st->factor_ms += ds.factor_ms; /* includes any set-up such as a rho estimate */
     st->solve_ms += ds.solve_ms;
     st->linear_iters += ds.linear_iters;

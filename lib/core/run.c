@@ -42,6 +42,13 @@ static int finite_state(const cb_run *r) {
   return CB_OK;
 }
 
+/* The energy the divergence bound follows: kinetic + potential, less the
+ * elastic terms for an integrator that replaces them (shape matching). */
+static double tracked(const cb_run *r) {
+  int own = (r->integ->type->flags & CB_INTEGRATOR_OWN_ELASTICITY) != 0;
+  return r->kinetic + r->potential - (own ? r->elastic : 0.0);
+}
+
 int cb_run_init(cb_run *r, cb_scene *s, cb_integrator *it) {
   memset(r, 0, sizeof *r);
   size_t n3 = (size_t)3 * s->mesh.nv;
@@ -56,7 +63,7 @@ int cb_run_init(cb_run *r, cb_scene *s, cb_integrator *it) {
   memcpy(r->x, s->x0, n3 * sizeof(double));
   memcpy(r->v, s->v0, n3 * sizeof(double));
   energies(r, &r->power);
-  r->total0 = r->kinetic + r->potential;
+  r->total0 = tracked(r);
   r->bound = s->diverge_ratio * (s->energy_scale + r->kinetic);
   r->last.status = finite_state(r); /* row 0 is ok only if it is finite */
   return CB_OK;
@@ -81,7 +88,7 @@ int cb_run_step(cb_run *r) {
    * divergence. */
   if (!cb_status_is_fatal(st)) {
     int fs = finite_state(r);
-    double gain = r->kinetic + r->potential - r->total0 - r->work;
+    double gain = tracked(r) - r->total0 - r->work;
     if (fs) st = fs;
     else if (gain > r->bound)
       st = cb_fail_status(CB_DIVERGED, "energy bound: the total energy rose by %.6g J above its initial "

@@ -71,6 +71,30 @@ int cb_pins_resolve(const char *spec, const cb_mesh *m, int **out, int *n) {
   return CB_OK;
 }
 
+/* The in-plane term material.stretch names: springs on every edge, or
+ * co-rotational FEM on every triangle (energy_fem.c). */
+static int stretch_term_alloc(const cb_scene_def *d, const cb_model *m, cb_term **out, const char **key) {
+  const char *name = d->stretch ? d->stretch : "spring";
+  if (strcmp(name, "spring") == 0) return cb_spring_term_alloc(m, "stretch", m->topo->ne, m->topo->edge, d->stretch_k, out);
+  if (strcmp(name, "fem") != 0) {
+    if (key) *key = "material.stretch";
+    return cb_fail("material.stretch: unknown model '%s' (spring or fem)", name);
+  }
+  const char *h = d->fem_hessian ? d->fem_hessian : "exact";
+  cb_fem_hessian kind = strcmp(h, "frozen") == 0 ? CB_FEM_FROZEN : CB_FEM_EXACT;
+  if (strcmp(h, "frozen") != 0 && strcmp(h, "exact") != 0) {
+    if (key) *key = "material.fem_hessian";
+    return cb_fail("material.fem_hessian: unknown Hessian '%s' (exact or frozen)", h);
+  }
+  if (m->mesh->nt == 0) {
+    if (key) *key = "material.stretch";
+    return cb_fail("material.stretch: fem needs triangles; the mesh has none (use spring for chains and line elements)");
+  }
+  int st = cb_fem_term_alloc(m, "stretch", d->stretch_k, kind, out);
+  if (st && key) *key = "material.stretch";
+  return st;
+}
+
 void cb_scene_free(cb_scene *s) {
   if (!s) return;
   for (int k = 0; k < s->nresponses; k++) {
@@ -94,7 +118,7 @@ double cb_scene_total_mass(const cb_scene *s) {
 
 cb_scene_def cb_scene_def_default(void) {
   cb_scene_def d = {.mesh = CB_MESH_GRID, .grid = cb_grid_params_default(), .mesh_file = NULL, .density = 1,
-                    .vertex_mass = 0, .stretch_k = 8000, .bend = "none", .bend_k = 100, .definiteness = "drop",
+                    .vertex_mass = 0, .stretch = "spring", .stretch_k = 8000, .fem_hessian = "exact", .bend = "none", .bend_k = 100, .definiteness = "drop",
                     .buckling_kb = 0.01, .gravity = {0, -9.8, 0}, .pins = "top-corners", .initial_scale = 1,
                     .pin_squeeze = {0, 0, 0}, .diverge_ratio = 10, .nresponses = 0};
   return d;
@@ -292,7 +316,7 @@ int cb_scene_build(const cb_scene_def *d, cb_scene **out, const char **key) {
   /* terms: stretch springs on every edge, optional bending, optional gravity */
   cb_term *terms[CB_MAX_TERMS];
   int nterms = 0;
-  if (st == CB_OK) st = cb_spring_term_alloc(&s->model, "stretch", s->topo.ne, s->topo.edge, d->stretch_k, &terms[nterms]);
+  if (st == CB_OK) st = stretch_term_alloc(d, &s->model, &terms[nterms], key);
   if (st == CB_OK) nterms++;
   if (st == CB_OK) {
     cb_term *bend = NULL;

@@ -1,0 +1,331 @@
+/* Checkers for L1, L2, F1 and S1 from results/locking.csv and its side tables
+ * locking_dofs.csv (L2), locking_aniso.csv, locking_newton.csv and
+ * locking_newton_steps.csv (F1) and locking_shape.csv (S1). The rules are in
+ * docs/experiments/locking.md. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "claims.h"
+
+void cb_check_L1(const cb_table *t, const char *results_dir, cb_claim_result *out);
+void cb_check_L2(const cb_table *t, const char *results_dir, cb_claim_result *out);
+void cb_check_F1(const cb_table *t, const char *results_dir, cb_claim_result *out);
+void cb_check_S1(const cb_table *t, const char *results_dir, cb_claim_result *out);
+
+#define L1_MIN_FALL 20.0   /* deg: across mesh lines the fold angle falls at least this much over the sweep */
+#define L1_MAX_DEV 5.0     /* deg: along mesh edges it stays within this of its low-k value */
+#define L1_MIN_DECADES 4.0 /* converged k must span at least this many decades to judge a case */
+#define L2_NC_MIN 2.5      /* nonconforming DoFs per vertex on the largest mesh of each family, at least */
+#define L2_C_MAX 0.6       /* conforming DoFs per vertex on the largest mesh, at most */
+#define F1_FEM_MAX 1.02    /* FEM anisotropy ratio at most */
+#define F1_SPRING_MIN 1.2  /* springs on the regular grid: anisotropy ratio at least */
+#define F1_ROUNDOFF 1e-10  /* rel_grad above this counts for the convergence order */
+
+static int side_table(const char *results_dir, const char *suffix, cb_table *t, cb_claim_result *out) {
+  char path[4096];
+  snprintf(path, sizeof path, "%s/locking_%s.csv", results_dir, suffix);
+  int st = cb_table_read(path, t);
+  if (st) cb_claim_reason(out, "%s is missing or unreadable: run build/locking.", path);
+  return st;
+}
+
+static int cols(const cb_table *t, const char *const *names, int *idx, int n, const char *file, cb_claim_result *out) {
+  for (int i = 0; i < n; i++)
+    if ((idx[i] = cb_table_col(t, names[i])) < 0) {
+      cb_claim_reason(out, "%s lacks the column %s.", file, names[i]);
+      return -1;
+    }
+  return 0;
+}
+
+static int same(const cb_table *t, int r, int c, const char *s) { return strcmp(cb_table_str(t, r, c), s) == 0; }
+
+/* ---- L1 ------------------------------------------------------------------------ */
+
+void cb_check_L1(const cb_table *t, const char *results_dir, cb_claim_result *out) {
+  (void)results_dir;
+  static const char *const names[] = {"model", "mesh", "fold", "on_edges", "k_n_per_m", "fold_angle_deg", "status"};
+  int c[7];
+  if (cols(t, names, c, 7, "locking.csv", out)) return;
+  int *done = calloc((size_t)t->nrows + 1, sizeof(int));
+  int judged = 0, pass = 0, across = 0, along = 0, unconverged = 0, skipped = 0;
+  double min_fall = INFINITY, max_dev = 0; /* over the judged cases across / along mesh lines */
+  cb_claim_numbers(out, "| model | mesh | fold line | along mesh edges | k range (N/m) | angle at low k | angle at high k | "
+                        "max deviation | verdict |\n|---|---|---|---|---|---|---|---|---|\n");
+  for (int r = 0; r < t->nrows; r++) {
+    if (done[r]) continue;
+    double klo = INFINITY, khi = -INFINITY, alo = NAN, ahi = NAN;
+    int on = (int)cb_table_num(t, r, c[3]);
+    for (int q = r; q < t->nrows; q++) { /* the case: same model, mesh, fold */
+      if (!same(t, q, c[0], cb_table_str(t, r, c[0])) || !same(t, q, c[1], cb_table_str(t, r, c[1])) ||
+          !same(t, q, c[2], cb_table_str(t, r, c[2])))
+        continue;
+      done[q] = 1;
+      if (!same(t, q, c[6], "ok")) { unconverged++; continue; }
+      double k = cb_table_num(t, q, c[4]), a = cb_table_num(t, q, c[5]);
+      if (k < klo) { klo = k; alo = a; }
+      if (k > khi) { khi = k; ahi = a; }
+    }
+    double dev = 0;
+    for (int q = r; q < t->nrows; q++)
+      if (same(t, q, c[0], cb_table_str(t, r, c[0])) && same(t, q, c[1], cb_table_str(t, r, c[1])) &&
+          same(t, q, c[2], cb_table_str(t, r, c[2])) && same(t, q, c[6], "ok"))
+        dev = fmax(dev, fabs(cb_table_num(t, q, c[5]) - alo));
+    int ok_range = isfinite(klo) && khi / klo >= pow(10.0, L1_MIN_DECADES);
+    const char *v = "not judged";
+    if (ok_range) {
+      judged++;
+      int p = on ? dev <= L1_MAX_DEV : alo - ahi >= L1_MIN_FALL;
+      if (on) max_dev = fmax(max_dev, dev);
+      else min_fall = fmin(min_fall, alo - ahi);
+      pass += p;
+      across += !on;
+      along += on;
+      v = p ? "as predicted" : "not as predicted";
+    } else {
+      skipped++;
+    }
+    cb_claim_numbers(out, "| %s | %s | %s | %s | %.0e-%.0e | %.1f | %.1f | %.1f | %s |\n", cb_table_str(t, r, c[0]),
+                     cb_table_str(t, r, c[1]), cb_table_str(t, r, c[2]), on ? "yes" : "no", klo, khi, alo, ahi, dev, v);
+  }
+  free(done);
+  if (judged == 0) {
+    cb_claim_reason(out, "No case has converged rest states over %.0f decades of stiffness.", L1_MIN_DECADES);
+    return;
+  }
+  out->verdict = pass == judged && across > 0 && along > 0 ? CB_REPRODUCED : 2 * pass >= judged ? CB_PARTLY : CB_NOT_REPRODUCED;
+  cb_claim_reason(out, "%d of %d cases as predicted: across mesh lines (%d cases) the fold angle must fall by at least "
+                       "%.0f deg from the lowest to the highest stiffness, along mesh edges (%d cases) stay within %.0f deg "
+                       "of its low-k value. The smallest fall across mesh lines is %.1f deg, the largest deviation along "
+                       "mesh edges %.1f deg.", pass, judged, across, L1_MIN_FALL, along, L1_MAX_DEV,
+                  across ? min_fall : NAN, max_dev);
+  if (unconverged) cb_claim_reason(out, " %d static solves did not converge and are left out.", unconverged);
+  if (skipped) cb_claim_reason(out, " %d cases lacked converged solves over %.0f decades.", skipped, L1_MIN_DECADES);
+}
+
+/* ---- L2 ------------------------------------------------------------------------ */
+
+void cb_check_L2(const cb_table *t, const char *results_dir, cb_claim_result *out) {
+  (void)t;
+  cb_table d;
+  if (side_table(results_dir, "dofs", &d, out)) return;
+  static const char *const names[] = {"mesh", "vertices", "boundary_edges", "conforming_dofs", "conforming_predicted",
+                                      "conforming_per_vertex", "nonconforming_dofs", "nonconforming_predicted",
+                                      "nonconforming_per_vertex"};
+  int c[9];
+  if (cols(&d, names, c, 9, "locking_dofs.csv", out)) { cb_table_free(&d); return; }
+  static const char *const fam[3] = {"_regular", "_alternating", "ring_disk"};
+  int exact_c = 0, exact_nc = 0, n = 0, fam_ok = 0, fams = 0;
+  double worst_c = 0, worst_nc = INFINITY; /* on the largest mesh of each family */
+  cb_claim_numbers(out, "| mesh | #V | #B | conforming DoFs (3+#B) | per vertex | nonconforming DoFs (3#V-3) | per vertex |\n"
+                        "|---|---|---|---|---|---|---|\n");
+  for (int r = 0; r < d.nrows; r++) {
+    n++;
+    exact_c += cb_table_num(&d, r, c[3]) == cb_table_num(&d, r, c[4]);
+    exact_nc += cb_table_num(&d, r, c[6]) == cb_table_num(&d, r, c[7]);
+    cb_claim_numbers(out, "| %s | %.0f | %.0f | %.0f (%.0f) | %.3f | %.0f (%.0f) | %.3f |\n", cb_table_str(&d, r, c[0]),
+                     cb_table_num(&d, r, c[1]), cb_table_num(&d, r, c[2]), cb_table_num(&d, r, c[3]), cb_table_num(&d, r, c[4]),
+                     cb_table_num(&d, r, c[5]), cb_table_num(&d, r, c[6]), cb_table_num(&d, r, c[7]), cb_table_num(&d, r, c[8]));
+  }
+  for (int f = 0; f < 3; f++) { /* per family: conforming per vertex falls with size; on the largest, the limits */
+    double prev_v = -1, prev_c = INFINITY, last_c = NAN, last_nc = NAN;
+    int mono = 1, rows = 0;
+    for (int r = 0; r < d.nrows; r++) {
+      if (!strstr(cb_table_str(&d, r, c[0]), fam[f])) continue;
+      double v = cb_table_num(&d, r, c[1]), cp = cb_table_num(&d, r, c[5]);
+      if (v <= prev_v) continue;
+      mono &= cp < prev_c;
+      prev_v = v;
+      prev_c = cp;
+      last_c = cp;
+      last_nc = cb_table_num(&d, r, c[8]);
+      rows++;
+    }
+    if (rows < 2) continue;
+    fams++;
+    int ok = mono && last_c <= L2_C_MAX && last_nc >= L2_NC_MIN;
+    worst_c = fmax(worst_c, last_c);
+    worst_nc = fmin(worst_nc, last_nc);
+    fam_ok += ok;
+    cb_claim_numbers(out, "\n- %s meshes: conforming DoFs per vertex %s with size, %.3f on the largest; nonconforming %.3f.",
+                     f == 2 ? "ring disk" : fam[f] + 1, mono ? "fall" : "do not fall", last_c, last_nc);
+  }
+  cb_claim_numbers(out, "\n");
+  cb_table_free(&d);
+  if (n == 0 || fams == 0) {
+    cb_claim_reason(out, "locking_dofs.csv has no mesh families to compare.");
+    return;
+  }
+  out->verdict = fam_ok == fams ? CB_REPRODUCED : fam_ok > 0 ? CB_PARTLY : CB_NOT_REPRODUCED;
+  cb_claim_reason(out, "Conforming DoFs equal 3 + #B on %d of %d meshes and nonconforming ones 3#V - 3 on %d of %d; in %d of %d "
+                       "mesh families the conforming DoFs per vertex fall with size to at most %.1f while the nonconforming "
+                       "ones reach at least %.1f (on the largest meshes: conforming at most %.3f, nonconforming at least "
+                       "%.3f per vertex).", exact_c, n, exact_nc, n, fam_ok, fams, L2_C_MAX, L2_NC_MIN, worst_c, worst_nc);
+}
+
+/* ---- F1 ------------------------------------------------------------------------ */
+
+/* max/min of energy_density over the rows of (model, mesh) whose family is one of fams (NULL-terminated). */
+static double ratio(const cb_table *a, const int *c, const char *model, const char *mesh, const char *const *fams) {
+  double lo = INFINITY, hi = 0;
+  for (int r = 0; r < a->nrows; r++) {
+    if (!same(a, r, c[0], model) || !same(a, r, c[1], mesh)) continue;
+    int in = 0;
+    for (int f = 0; fams[f]; f++) in |= same(a, r, c[2], fams[f]);
+    if (!in) continue;
+    double e = cb_table_num(a, r, c[4]);
+    lo = fmin(lo, e);
+    hi = fmax(hi, e);
+  }
+  return lo > 0 && isfinite(lo) ? hi / lo : NAN;
+}
+
+/* Convergence order at the last triple of rel_grad above round-off in the rep-0 trace of method m. */
+static double conv_order(const cb_table *nt, const int *c, const char *m, double *rate) {
+  double e[3] = {NAN, NAN, NAN};
+  int k = 0;
+  *rate = NAN;
+  double order = NAN;
+  for (int r = 0; r < nt->nrows; r++) {
+    if (!same(nt, r, c[0], m) || cb_table_num(nt, r, c[1]) != 0) continue;
+    double g = cb_table_num(nt, r, c[3]);
+    if (!(g > F1_ROUNDOFF) || cb_table_num(nt, r, c[2]) == 0) continue; /* skip the initial guess (rel_grad = 1) */
+    e[0] = e[1]; e[1] = e[2]; e[2] = g;
+    if (++k >= 3) {
+      order = log(e[2] / e[1]) / log(e[1] / e[0]);
+      *rate = e[2] / e[1];
+    }
+  }
+  return order;
+}
+
+void cb_check_F1(const cb_table *t, const char *results_dir, cb_claim_result *out) {
+  (void)t;
+  cb_table a;
+  if (side_table(results_dir, "aniso", &a, out)) return;
+  static const char *const names[] = {"model", "mesh", "family", "test", "energy_density_j_per_m2"};
+  int c[5];
+  if (cols(&a, names, c, 5, "locking_aniso.csv", out)) { cb_table_free(&a); return; }
+  static const char *const meshes[3] = {"regular", "alternating", "disk"};
+  static const char *const stretch[] = {"axes", "diagonals", NULL}, *const shear[] = {"shear", NULL};
+  static const char *const axes[] = {"axes", NULL}, *const diag[] = {"diagonals", NULL};
+  double fem_max = 0, spring_regular = NAN;
+  int rows = 0;
+  cb_claim_numbers(out, "Anisotropy: max/min energy over the directions of each test (5%% strain).\n\n"
+                        "| model | mesh | axes (x, y) | diagonals | all four stretches | shear along the diagonals |\n"
+                        "|---|---|---|---|---|---|\n");
+  for (int md = 0; md < 2; md++)
+    for (int m = 0; m < 3; m++) {
+      const char *model = md ? "fem" : "spring";
+      double ra = ratio(&a, c, model, meshes[m], axes), rd = ratio(&a, c, model, meshes[m], diag),
+             rs = ratio(&a, c, model, meshes[m], stretch), rh = ratio(&a, c, model, meshes[m], shear);
+      if (!isfinite(rs)) continue;
+      rows++;
+      cb_claim_numbers(out, "| %s | %s | %.4f | %.4f | %.4f | %.4f |\n", model, meshes[m], ra, rd, rs, rh);
+      if (md) fem_max = fmax(fem_max, fmax(rs, isfinite(rh) ? rh : 0));
+      else if (m == 0) spring_regular = rs;
+    }
+  cb_table_free(&a);
+  /* the Newton step: per method, iterations, time, convergence order */
+  cb_table nt, ns;
+  char summary[512] = "";
+  if (side_table(results_dir, "newton", &nt, out) == 0) {
+    static const char *const nn[] = {"model", "rep", "iter", "rel_grad"};
+    int cn[4];
+    int have_steps = side_table(results_dir, "newton_steps", &ns, out) == 0;
+    static const char *const sn[] = {"model", "newton_iters", "factorizations", "rel_grad", "step_wall_ms", "status", "n"};
+    int cs[7];
+    if (have_steps && cols(&ns, sn, cs, 7, "locking_newton_steps.csv", out)) { cb_table_free(&ns); have_steps = 0; }
+    if (cols(&nt, nn, cn, 4, "locking_newton.csv", out) == 0 && have_steps) {
+      cb_claim_numbers(out, "\nOne implicit Euler step of the lab cloth at %.0f^2 (to rel. |grad F| 1e-12 or 300 iterations; "
+                            "median of 3 runs):\n\n| method | Newton iterations | factorisations | final rel. grad | step wall (ms, "
+                            "median [min-max]) | order | last rate | status |\n|---|---|---|---|---|---|---|---|\n",
+                       cb_table_num(&ns, 0, cs[6]));
+      for (int r = 0; r < ns.nrows; r++) {
+        if (cb_table_num(&ns, r, cb_table_col(&ns, "rep")) != 0) continue;
+        const char *m = cb_table_str(&ns, r, cs[0]);
+        double w[8];
+        int nw = 0;
+        for (int q = 0; q < ns.nrows && nw < 8; q++)
+          if (same(&ns, q, cs[0], m)) w[nw++] = cb_table_num(&ns, q, cs[4]);
+        for (int i = 1; i < nw; i++)
+          for (int j = i; j > 0 && w[j] < w[j - 1]; j--) { double s = w[j]; w[j] = w[j - 1]; w[j - 1] = s; }
+        double rate, order = conv_order(&nt, cn, m, &rate);
+        size_t used = strlen(summary);
+        if (used < sizeof summary - 1)
+          snprintf(summary + used, sizeof summary - used, "%s%s %.0f iterations, %.0f factorisations, order %.2f, %.0f ms",
+                   used ? "; " : "", m, cb_table_num(&ns, r, cs[1]), cb_table_num(&ns, r, cs[2]), order, nw ? w[nw / 2] : NAN);
+        cb_claim_numbers(out, "| %s | %.0f | %.0f | %.2e | %.0f [%.0f-%.0f] | %.2f | %.3g | %s |\n", m, cb_table_num(&ns, r, cs[1]),
+                         cb_table_num(&ns, r, cs[2]), cb_table_num(&ns, r, cs[3]), nw ? w[nw / 2] : NAN, nw ? w[0] : NAN,
+                         nw ? w[nw - 1] : NAN, order, rate, cb_table_str(&ns, r, cs[5]));
+      }
+    }
+    if (have_steps) cb_table_free(&ns);
+    cb_table_free(&nt);
+  }
+  if (rows == 0 || !isfinite(spring_regular)) {
+    cb_claim_reason(out, "locking_aniso.csv lacks springs on the regular grid or FEM rows.");
+    return;
+  }
+  int fem_ok = fem_max <= F1_FEM_MAX, spring_ok = spring_regular >= F1_SPRING_MIN;
+  out->verdict = fem_ok && spring_ok ? CB_REPRODUCED : fem_ok || spring_ok ? CB_PARTLY : CB_NOT_REPRODUCED;
+  cb_claim_reason(out, "FEM's largest anisotropy ratio over every mesh and test is %.4f (isotropic if <= %.2f); springs on the "
+                       "regular grid answer %.2f times more in one stretch direction than another (mesh-dependent if >= %.1f).",
+                  fem_max, F1_FEM_MAX, spring_regular, F1_SPRING_MIN);
+  if (summary[0]) cb_claim_reason(out, " One Newton step (median wall time): %s.", summary);
+}
+
+/* ---- S1 ------------------------------------------------------------------------ */
+
+void cb_check_S1(const cb_table *t, const char *results_dir, cb_claim_result *out) {
+  (void)t;
+  cb_table s;
+  if (side_table(results_dir, "shape", &s, out)) return;
+  static const char *const names[] = {"scene", "method", "alpha", "dt_s", "class", "final_energy_ratio", "max_strain"};
+  int c[7];
+  if (cols(&s, names, c, 7, "locking_shape.csv", out)) { cb_table_free(&s); return; }
+  int sm_cells = 0, sm_bad = 0, sm_stable = 0, sp_cells = 0, sp_stable = 0;
+  int *done = calloc((size_t)s.nrows + 1, sizeof(int));
+  cb_claim_numbers(out, "| scene | method | alpha | cells | stable | unstable | diverged | energy drift (median final ratio) | "
+                        "shape error at the largest dt (max edge strain) |\n|---|---|---|---|---|---|---|---|---|\n");
+  for (int r = 0; r < s.nrows; r++) {
+    if (done[r]) continue;
+    int n = 0, st = 0, un = 0, dv = 0;
+    double drift[64], dtmax = -1, shape = NAN;
+    for (int q = r; q < s.nrows; q++) {
+      if (!same(&s, q, c[0], cb_table_str(&s, r, c[0])) || !same(&s, q, c[1], cb_table_str(&s, r, c[1])) ||
+          !same(&s, q, c[2], cb_table_str(&s, r, c[2])))
+        continue;
+      done[q] = 1;
+      const char *cls = cb_table_str(&s, q, c[4]);
+      st += !strcmp(cls, "stable");
+      un += !strcmp(cls, "unstable");
+      dv += !strcmp(cls, "diverged") || !strcmp(cls, "failed");
+      if (n < 64) drift[n] = cb_table_num(&s, q, c[5]);
+      n++;
+      if (cb_table_num(&s, q, c[3]) > dtmax) { dtmax = cb_table_num(&s, q, c[3]); shape = cb_table_num(&s, q, c[6]); }
+    }
+    int nd = n < 64 ? n : 64;
+    for (int i = 1; i < nd; i++)
+      for (int j = i; j > 0 && drift[j] < drift[j - 1]; j--) { double x = drift[j]; drift[j] = drift[j - 1]; drift[j - 1] = x; }
+    int sm = same(&s, r, c[1], "shape_matching");
+    if (sm) { sm_cells += n; sm_bad += dv; sm_stable += st; }
+    else { sp_cells += n; sp_stable += st; }
+    char alpha[32];
+    snprintf(alpha, sizeof alpha, sm ? "%.3g" : "-", cb_table_num(&s, r, c[2]));
+    cb_claim_numbers(out, "| %s | %s | %s | %d | %d | %d | %d | %.3g | %.3g |\n", cb_table_str(&s, r, c[0]),
+                     cb_table_str(&s, r, c[1]), alpha, n, st, un, dv, nd ? drift[nd / 2] : NAN, shape);
+  }
+  free(done);
+  cb_table_free(&s);
+  if (sm_cells == 0) {
+    cb_claim_reason(out, "locking_shape.csv has no shape-matching cells.");
+    return;
+  }
+  out->verdict = sm_bad == 0 ? CB_REPRODUCED : CB_NOT_REPRODUCED;
+  cb_claim_reason(out, "Shape matching: %d of %d (alpha, dt) cells diverged, stable fraction %.2f; springs under the same "
+                       "explicit integrator: stable fraction %.2f (%d cells).", sm_bad, sm_cells, (double)sm_stable / sm_cells,
+                  sp_cells ? (double)sp_stable / sp_cells : NAN, sp_cells);
+}

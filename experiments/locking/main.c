@@ -1,0 +1,521 @@
+/* locking: membrane locking, the DoF count behind it, co-rotational FEM
+ * against springs, and shape matching under explicit integration (claims L1,
+ * L2, F1, S1). docs/experiments/locking.md explains every choice.
+ *
+ * L1  results/locking.csv: a 1 m square cloth (grids, regular and
+ *     alternating) or a 1 m disk (the irregular ring disk of T2), horizontal,
+ *     bending off, pinned on one side of a straight fold line through its
+ *     centre, hangs under gravity. Its rest state is a static solve: proximal
+ *     Newton steps x <- argmin E(y) + |y - x|_M^2/(2h^2) (lib/instruments/
+ *     stability.c, cb_stability_equilibrium: implicit Euler from rest, h
+ *     doubling to 10 s) until max_i |dE/dx_i| <= 1e-5 max_i m_i g. The fold
+ *     angle is atan2(drop, offset) of the free part's centroid below and
+ *     beyond the fold line: 90 deg hangs straight down, 0 stays flat.
+ *     Sweep: in-plane stiffness k (spring) or mu (FEM) 1e1..1e7 N/m, four
+ *     fold lines (along grid edges, along and across the regular diagonal, at
+ *     30 deg), three meshes, springs and FEM. Whether the line runs along mesh
+ *     edges is measured: no triangle has vertices strictly on both sides.
+ * L2  results/locking_dofs.csv: 3 #variables - rank(rigidity matrix)
+ *     (lib/instruments/rigidity.c) with every edge hard (conforming, variables
+ *     at the vertices) and with every triangle rigid on edge-midpoint
+ *     variables (nonconforming, English & Bridson 2008), at jittered generic
+ *     positions, per vertex against mesh size.
+ * F1  results/locking_aniso.csv: a 1 m patch (grids, disk) in the plane,
+ *     boundary vertices held at F X, interior relaxed by the same static
+ *     solve, elastic energy per area for uniaxial stretch (5%) along the two
+ *     axes and the two diagonals and simple shear (5%) along the two
+ *     diagonals; results/locking_newton.csv: one implicit Euler step of the
+ *     lab cloth at 64^2 (32^2 with --quick), springs, FEM exact and FEM
+ *     frozen, |grad F| and wall time per Newton iteration.
+ * S1  results/locking_shape.csv: shape matching (integrator.shape_alpha swept) on
+ *     explicit_stability's chain and 21^2 cloth, hanging vertically from the
+ *     rest shape with a small random velocity, over explicit_stability's dt
+ *     range; cells classified as there (energy = kinetic + gravity, the only
+ *     energy shape matching has), against springs (the scene's k) under
+ *     symplectic Euler from the same start. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <clothbench/clothbench.h>
+#include <clothbench/rng.h>
+#include "bind.h"
+#include "experiment.h"
+#include "provenance.h"
+#include "rigidity.h"
+#include "stability.h"
+
+#define PI 3.14159265358979323846
+static cb_experiment E;
+static char disk_path[2048];
+
+/* ---- scenes ---------------------------------------------------------------------- */
+
+typedef enum { MESH_REGULAR = 0, MESH_ALTERNATING, MESH_DISK, NMESH } mesh_kind;
+static const char *const mesh_names[NMESH] = {"regular", "alternating", "disk"};
+
+/* The ring disk scaled to radius 0.5 m in plane xz (horizontal) or xy, as an OBJ beside the CSV. */
+static int write_disk(int rings, int plane_xy) {
+  cb_mesh m;
+  int st = cb_ring_disk(rings, &m);
+  if (st) return st;
+  double s = 0.5 / rings;
+  for (int i = 0; i < m.nv; i++) {
+    double x = m.x[3 * i] * s, y = m.x[3 * i + 1] * s;
+    m.x[3 * i] = x;
+    m.x[3 * i + 1] = plane_xy ? y : 0;
+    m.x[3 * i + 2] = plane_xy ? 0 : -y; /* xz: keep the orientation (normal +y) */
+  }
+  cb_experiment_side_path(&E, plane_xy ? "disk_xy.obj" : "disk_xz.obj", disk_path, sizeof disk_path);
+  st = cb_mesh_write_obj(&m, NULL, disk_path);
+  cb_mesh_free(&m);
+  return st;
+}
+
+/* hanging.ini with sets, on mesh kind (grid n or the disk OBJ just written), pins = pins. */
+static int build(const char *const *sets, mesh_kind mk, int n, const char *pins, cb_scene **out) {
+  const char *all[24];
+  int k = 0;
+  char sn[32];
+  snprintf(sn, sizeof sn, "mesh.n=%d", n);
+  all[k++] = sn;
+  all[k++] = mk == MESH_ALTERNATING ? "mesh.diagonal=alternating" : "mesh.diagonal=regular";
+  for (int i = 0; sets[i] && k < 23; i++) all[k++] = sets[i];
+  all[k] = NULL;
+  cb_config c;
+  int st = cb_experiment_config(&E, "hanging.ini", all, &c);
+  if (st) return st;
+  if ((st = cb_config_validate(&c))) return st;
+  cb_scene_def d;
+  char path[2 * CB_PATH_LEN];
+  if ((st = cb_scene_def_from_config(&c, &d, path, sizeof path))) return st;
+  if (mk == MESH_DISK) {
+    d.mesh = CB_MESH_OBJ;
+    d.mesh_file = disk_path;
+  }
+  if (pins) d.pins = pins;
+  return cb_scene_build(&d, out, NULL);
+}
+
+/* Rest positions of the mesh kind without building a scene (for pin lists). */
+static int rest_mesh(mesh_kind mk, int n, int plane_xy, cb_mesh *m) {
+  if (mk == MESH_DISK) return cb_mesh_read_obj(disk_path, m);
+  cb_grid_params g = cb_grid_params_default();
+  g.n = g.m = n;
+  g.size[0] = g.size[1] = 1.0;
+  g.plane = plane_xy ? CB_PLANE_XY : CB_PLANE_XZ;
+  g.diagonal = mk == MESH_ALTERNATING ? CB_DIAG_ALTERNATING : CB_DIAG_REGULAR;
+  return cb_mesh_grid(&g, m);
+}
+
+/* Edge strain (l - L)/L: max |.| and RMS over the scene's edges at x. */
+static void edge_strain(const cb_scene *s, const double *x, double *mx, double *rms) {
+  double m = 0, q = 0;
+  for (int e = 0; e < s->topo.ne; e++) {
+    int i = s->topo.edge[2 * e], j = s->topo.edge[2 * e + 1];
+    double l = 0, L = 0;
+    for (int a = 0; a < 3; a++) {
+      l += (x[3 * i + a] - x[3 * j + a]) * (x[3 * i + a] - x[3 * j + a]);
+      L += (s->mesh.x[3 * i + a] - s->mesh.x[3 * j + a]) * (s->mesh.x[3 * i + a] - s->mesh.x[3 * j + a]);
+    }
+    double eps = (sqrt(l) - sqrt(L)) / sqrt(L);
+    m = fmax(m, fabs(eps));
+    q += eps * eps;
+  }
+  *mx = m;
+  *rms = s->topo.ne ? sqrt(q / s->topo.ne) : 0;
+}
+
+static int degenerate(const cb_scene *s, const double *x) {
+  int c = 0, nt;
+  for (int k = 0; k < s->sys.nterms; k++) c += cb_fem_term_degenerate(s->sys.terms[k], x, &nt);
+  return c;
+}
+
+/* ---- L1: fold angle at rest against in-plane stiffness ------------------------------ */
+
+typedef struct { const char *name; double deg; } fold_line;
+static const fold_line folds[] = {{"edges", 90}, {"diagonal", 45}, {"cross", 135}, {"angle30", 30}};
+enum { NFOLD = 4 };
+
+static int l1(FILE *f, int quick) {
+  static const char *const models[2] = {"spring", "fem"};
+  int nk = quick ? 4 : 7, n = quick ? 9 : 13;
+  double ks[7];
+  for (int i = 0; i < nk; i++) ks[i] = pow(10.0, 1.0 + 6.0 * i / (nk - 1));
+  if (write_disk(quick ? 4 : 6, 0)) return -1;
+  cb_equilibrium_params ep = cb_equilibrium_params_default();
+  ep.tol = 1e-5;
+  ep.max_steps = quick ? 300 : 400;
+  for (int mk = 0; mk < NMESH; mk++) {
+    cb_mesh rest;
+    if (rest_mesh((mesh_kind)mk, n, 0, &rest)) return -1;
+    for (int fl = 0; fl < NFOLD; fl++) {
+      /* fold line through the centre with direction (cos, sin) in (x, z); pinned: side s <= 0 */
+      double th = folds[fl].deg * PI / 180, nrm[2] = {sin(th), -cos(th)}; /* normal of the direction (cos, sin) */
+      double tol = 1e-9;
+      char *pins = malloc(16 * (size_t)rest.nv + 16), *p = pins, *end = pins + 16 * (size_t)rest.nv + 16;
+      double *sd = malloc((size_t)rest.nv * sizeof(double));
+      if (!pins || !sd) return -1;
+      *p = 0;
+      int npin = 0;
+      for (int i = 0; i < rest.nv; i++) {
+        sd[i] = nrm[0] * rest.x[3 * i] + nrm[1] * rest.x[3 * i + 2];
+        if (sd[i] <= tol) {
+          int w = snprintf(p, (size_t)(end - p), npin ? " %d" : "%d", i);
+          p += w;
+          npin++;
+        }
+      }
+      int on_edges = 1;
+      for (int t = 0; t < rest.nt; t++) {
+        int neg = 0, pos = 0;
+        for (int a = 0; a < 3; a++) { neg |= sd[rest.tri[3 * t + a]] < -tol; pos |= sd[rest.tri[3 * t + a]] > tol; }
+        if (neg && pos) on_edges = 0;
+      }
+      for (int md = 0; md < 2; md++)
+        for (int ki = 0; ki < nk; ki++) {
+          char sk[64];
+          snprintf(sk, sizeof sk, "material.stretch_k=%.17g", ks[ki]);
+          const char *sets[] = {"mesh.size=1", "mesh.plane=xz", "material.vertex_mass=0", "material.density=0.1",
+                                md ? "material.stretch=fem" : "material.stretch=spring", sk, NULL};
+          cb_scene *s = NULL;
+          if (build(sets, (mesh_kind)mk, n, pins, &s)) { fprintf(stderr, "locking: %s\n", cb_error_message()); return -1; }
+          size_t n3 = 3 * (size_t)s->mesh.nv;
+          double *x = malloc(n3 * sizeof(double));
+          memcpy(x, s->x0, n3 * sizeof(double));
+          cb_equilibrium_stats es;
+          int rc = cb_stability_equilibrium(s, x, &ep, &es);
+          /* the free part's centroid against the fold line (through the origin, at y = 0) */
+          double cm[3] = {0, 0, 0}, M = 0;
+          for (int i = 0; i < s->mesh.nv; i++) {
+            if (s->free_index[i] < 0) continue;
+            for (int a = 0; a < 3; a++) cm[a] += s->mass[i] * x[3 * i + a];
+            M += s->mass[i];
+          }
+          for (int a = 0; a < 3; a++) cm[a] /= M;
+          double offset = nrm[0] * cm[0] + nrm[1] * cm[2], drop = -cm[1];
+          double angle = atan2(drop, offset) * 180 / PI;
+          double smax, srms;
+          edge_strain(s, x, &smax, &srms);
+          int st = rc ? rc : es.status;
+          fprintf(f, "%s,%s,%s,%.0f,%d,%.17g,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%ld,%.6g,%d,%.3f,%s\n", models[md],
+                  mesh_names[mk], folds[fl].name, folds[fl].deg, on_edges, ks[ki], s->mesh.nv, npin, angle, offset, drop,
+                  smax, srms, es.steps, es.newton_iters, es.residual, degenerate(s, x), es.ms, cb_status_name(st));
+          fflush(f);
+          free(x);
+          cb_scene_free(s);
+          cb_progress_update(&E.progress, E.progress.done + 1);
+        }
+      free(pins);
+      free(sd);
+    }
+    cb_mesh_free(&rest);
+  }
+  return 0;
+}
+
+/* ---- L2: DoFs per vertex, conforming against nonconforming ------------------------- */
+
+static void jitter(double *x, int n3, double h, unsigned seed) {
+  cb_rng rng = cb_rng_seed(seed);
+  for (int i = 0; i < n3; i++) x[i] += h * (cb_rng_uniform(&rng) - 0.5);
+}
+
+static void l2_row(FILE *f, const char *name, cb_mesh *m, unsigned seed) {
+  cb_topology tp;
+  if (cb_topology_build(m, &tp)) { fprintf(f, "%s,%d,%d,,,,,,,,,bad_input\n", name, m->nv, m->nt); return; }
+  double h = 0.3 * sqrt(cb_mesh_triangle_area(m, m->x, 0));
+  double *x = malloc((size_t)3 * m->nv * sizeof(double)), *mid = malloc((size_t)3 * tp.ne * sizeof(double));
+  memcpy(x, m->x, (size_t)3 * m->nv * sizeof(double));
+  jitter(x, 3 * m->nv, h, seed);
+  int conf = cb_rigidity_dofs(m->nv, x, tp.ne, tp.edge);
+  int *bar = NULL, nbars = 0, nonc = -1;
+  if (cb_nonconforming_bars(m, m->x, tp.ne, tp.edge, mid, &bar, &nbars) == CB_OK) {
+    jitter(mid, 3 * tp.ne, h, seed + 1000); /* generic midpoint positions */
+    nonc = cb_rigidity_dofs(tp.ne, mid, nbars, bar);
+  }
+  fprintf(f, "%s,%d,%d,%d,%d,%d,%d,%.17g,%d,%d,%d,%.17g,%s\n", name, m->nv, m->nt, tp.ne, tp.nb, conf, 3 + tp.nb,
+          (double)conf / m->nv, tp.ne, nonc, 3 * m->nv - 3, (double)nonc / m->nv, conf < 0 || nonc < 0 ? "svd_failed" : "ok");
+  free(bar);
+  free(x);
+  free(mid);
+  cb_topology_free(&tp);
+}
+
+static void l2(FILE *f, int quick) {
+  static const int sizes[] = {3, 4, 6, 8, 10};
+  int ns = quick ? 4 : 5;
+  for (int k = 0; k < ns; k++)
+    for (int d = 0; d < 2; d++) {
+      cb_grid_params g = cb_grid_params_default();
+      g.n = g.m = sizes[k];
+      g.diagonal = d ? CB_DIAG_ALTERNATING : CB_DIAG_REGULAR;
+      cb_mesh m;
+      char name[64];
+      snprintf(name, sizeof name, "grid_%dx%d_%s", g.n, g.m, d ? "alternating" : "regular");
+      if (cb_mesh_grid(&g, &m) == CB_OK) l2_row(f, name, &m, 7 + (unsigned)k);
+      cb_mesh_free(&m);
+      cb_progress_update(&E.progress, E.progress.done + 1);
+    }
+  for (int rings = 1; rings <= (quick ? 3 : 5); rings++) {
+    cb_mesh m;
+    char name[64];
+    snprintf(name, sizeof name, "ring_disk_%d", rings);
+    if (cb_ring_disk(rings, &m) == CB_OK) l2_row(f, name, &m, 100 + (unsigned)rings);
+    cb_mesh_free(&m);
+    cb_progress_update(&E.progress, E.progress.done + 1);
+  }
+}
+
+/* ---- F1: anisotropy of the response, and one Newton step ---------------------------- */
+
+typedef struct { const char *test, *family; double F[4]; } deformation; /* F (2x2 in the plane) row-major */
+static const deformation tests[] = {
+    {"stretch_x", "axes", {1.05, 0, 0, 1}},
+    {"stretch_y", "axes", {1, 0, 0, 1.05}},
+    {"stretch_d1", "diagonals", {1 + 0.05 * 0.5, 0.05 * 0.5, 0.05 * 0.5, 1 + 0.05 * 0.5}},   /* I + e d1 d1^T */
+    {"stretch_d2", "diagonals", {1 + 0.05 * 0.5, -0.05 * 0.5, -0.05 * 0.5, 1 + 0.05 * 0.5}}, /* I + e d2 d2^T */
+    {"shear_d1", "shear", {1 + 0.05 * 0.5, -0.05 * 0.5, 0.05 * 0.5, 1 - 0.05 * 0.5}},        /* I + g d1 d2^T */
+    {"shear_d2", "shear", {1 + 0.05 * 0.5, 0.05 * 0.5, -0.05 * 0.5, 1 - 0.05 * 0.5}},        /* I + g d2 d1^T */
+};
+enum { NTEST = 6 };
+
+static int f1_aniso(FILE *f, int quick) {
+  static const char *const models[2] = {"spring", "fem"};
+  int n = quick ? 11 : 15;
+  if (write_disk(quick ? 5 : 7, 1)) return -1;
+  cb_equilibrium_params ep = cb_equilibrium_params_default();
+  ep.tol = 1e-8;
+  ep.max_steps = 200;
+  for (int mk = 0; mk < NMESH; mk++) {
+    cb_mesh rest;
+    if (rest_mesh((mesh_kind)mk, n, 1, &rest)) return -1;
+    cb_topology tp;
+    if (cb_topology_build(&rest, &tp)) return -1;
+    char *pins = malloc(12 * (size_t)rest.nv + 16), *p = pins;
+    int npin = 0, *isb = calloc((size_t)rest.nv, sizeof(int));
+    for (int b = 0; b < tp.nb; b++) { isb[tp.edge[2 * tp.boundary[b]]] = 1; isb[tp.edge[2 * tp.boundary[b] + 1]] = 1; }
+    *p = 0;
+    for (int i = 0; i < rest.nv; i++)
+      if (isb[i]) p += sprintf(p, npin++ ? " %d" : "%d", i);
+    double area = 0;
+    for (int t = 0; t < rest.nt; t++) area += cb_mesh_triangle_area(&rest, rest.x, t);
+    for (int md = 0; md < 2; md++) {
+      const char *sets[] = {"mesh.size=1", "mesh.plane=xy", "material.vertex_mass=0", "material.density=1",
+                            "scene.gravity=0 0 0", "material.stretch_k=1000",
+                            md ? "material.stretch=fem" : "material.stretch=spring", NULL};
+      cb_scene *s = NULL;
+      if (build(sets, (mesh_kind)mk, n, pins, &s)) { fprintf(stderr, "locking: %s\n", cb_error_message()); return -1; }
+      size_t n3 = 3 * (size_t)s->mesh.nv;
+      double *x = malloc(n3 * sizeof(double));
+      for (int t = 0; t < NTEST; t++) {
+        const double *F = tests[t].F;
+        for (int i = 0; i < s->mesh.nv; i++) { /* x = F X in the plane */
+          const double *X = s->mesh.x + 3 * i;
+          x[3 * i] = F[0] * X[0] + F[1] * X[1];
+          x[3 * i + 1] = F[2] * X[0] + F[3] * X[1];
+          x[3 * i + 2] = X[2];
+        }
+        cb_equilibrium_stats es;
+        int rc = cb_stability_equilibrium(s, x, &ep, &es);
+        double En = cb_system_elastic_energy(&s->sys, x);
+        fprintf(f, "%s,%s,%s,%s,%d,0.05,%.17g,%.17g,%.17g,%d,%.6g,%s\n", models[md], mesh_names[mk], tests[t].family,
+                tests[t].test, s->mesh.nv, En, En / area, area, s->model.nfree, es.residual,
+                cb_status_name(rc ? rc : es.status == CB_NOT_CONVERGED && es.residual < 1e-6 ? CB_OK : es.status));
+      }
+      free(x);
+      cb_scene_free(s);
+      cb_progress_update(&E.progress, E.progress.done + 1);
+    }
+    free(pins);
+    free(isb);
+    cb_topology_free(&tp);
+    cb_mesh_free(&rest);
+  }
+  return 0;
+}
+
+typedef struct { FILE *f; const char *model; int rep; double t0; } trace_ctx;
+static void trace_hook(void *ctx, int event, const cb_newton_event *ev) {
+  trace_ctx *c = ctx;
+  if (event != CB_NEWTON_GRADIENT) return;
+  fprintf(c->f, "%s,%d,%d,%.17g,%.17g,%.17g,%.4f\n", c->model, c->rep, ev->iter, ev->F, ev->grad_norm, ev->rel_grad,
+          cb_now_ms() - c->t0);
+}
+
+/* The methods of the timed step: model, its Hessian, Newton's definiteness policy. */
+typedef struct { const char *name, *stretch, *hessian, *definiteness; } step_method;
+static const step_method step_methods[] = {
+    {"spring_drop", "spring", "exact", "drop"},        {"spring_none", "spring", "exact", "none"},
+    {"fem_exact_drop", "fem", "exact", "drop"},        {"fem_exact_none", "fem", "exact", "none"},
+    {"fem_frozen", "fem", "frozen", "drop"},
+};
+enum { NSTEP_METHODS = 5 };
+
+static int f1_newton(FILE *f, FILE *fs, int quick) {
+  int n = quick ? 32 : 64;
+  for (int md = 0; md < NSTEP_METHODS; md++) {
+    const step_method *sm = &step_methods[md];
+    char sn[32], sm_mass[64], st_[48], sh[48], sd[48];
+    snprintf(sn, sizeof sn, "mesh.n=%d", n);
+    snprintf(sm_mass, sizeof sm_mass, "material.vertex_mass=%.17g", 441.0 / ((double)n * n)); /* the lab's 441 kg */
+    snprintf(st_, sizeof st_, "material.stretch=%s", sm->stretch);
+    snprintf(sh, sizeof sh, "material.fem_hessian=%s", sm->hessian);
+    snprintf(sd, sizeof sd, "integrator.definiteness=%s", sm->definiteness);
+    const char *sets[] = {sn, sm_mass, st_, sh, "integrator.definiteness=drop", "integrator.tol=1e-8", "integrator.max_iters=300", NULL};
+    cb_config c;
+    cb_scene *s = NULL;
+    cb_integrator *it = NULL;
+    if (cb_experiment_config(&E, "hanging.ini", sets, &c) || cb_scene_from_config(&c, &s)) return -1;
+    cb_integrator_params ip;
+    cb_integrator_params_from_config(&c, &ip);
+    if (cb_integrator_from_config(&c, s, &ip, &it)) return -1;
+    size_t n3 = 3 * (size_t)s->mesh.nv;
+    double *x = malloc(n3 * sizeof(double)), *v = calloc(n3, sizeof(double)), *xs = malloc(n3 * sizeof(double)),
+           *vs = malloc(n3 * sizeof(double));
+    memcpy(x, s->x0, n3 * sizeof(double));
+    cb_step_stats st;
+    for (int k = 0; k < 5; k++) { memset(&st, 0, sizeof st); cb_integrator_step(it, x, v, &st); } /* swing down */
+    /* the timed step: to a tight tolerance, three times from the same state */
+    cb_newton_params *np = it->type_params;
+    np->tol = 1e-12;
+    np->tol_dx = 1e-12;
+    cb_config cd = c; /* the method's policy for the timed step (the warm-up used drop) */
+    if (cb_config_set(&cd, sd) || cb_newton_params_from_config(&cd, np)) return -1;
+    np->tol = 1e-12;
+    np->tol_dx = 1e-12;
+    np->max_iters = 300;
+    for (int rep = 0; rep < 3; rep++) {
+      memcpy(xs, x, n3 * sizeof(double));
+      memcpy(vs, v, n3 * sizeof(double));
+      trace_ctx tc = {f, sm->name, rep, cb_now_ms()};
+      it->params.hook = trace_hook;
+      it->params.hook_ctx = &tc;
+      memset(&st, 0, sizeof st);
+      int rc = cb_integrator_step(it, xs, vs, &st);
+      it->params.hook = NULL;
+      fprintf(fs, "%s,%d,%d,%d,%d,%.17g,%.4f,%.4f,%.4f,%.4f,%s\n", sm->name, n, rep, st.newton_iters, st.factorizations,
+              st.rel_grad, st.assemble_ms, st.factor_ms, st.solve_ms, cb_now_ms() - tc.t0, cb_status_name(rc));
+    }
+    free(x); free(v); free(xs); free(vs);
+    cb_integrator_free(it);
+    cb_scene_free(s);
+    cb_progress_update(&E.progress, E.progress.done + 1);
+  }
+  return 0;
+}
+
+/* ---- S1: shape matching under explicit integration --------------------------------- */
+
+static int s1(FILE *f, int quick) {
+  typedef struct { const char *name, *file; int n; } s1scene;
+  static const s1scene scenes[] = {{"chain20", "chain20.ini", 0}, {"cloth21", "hanging.ini", 21}};
+  double alphas[5] = {0.01, 0.03, 0.1, 0.3, 1};
+  int na = quick ? 3 : 5, ndt = quick ? 7 : 13;
+  if (quick) { alphas[1] = 0.1; alphas[2] = 1; }
+  cb_stability_params sp = cb_stability_params_default();
+  sp.sim_time = quick ? 1.0 : 2.0;
+  sp.min_steps = 200;
+  sp.max_steps = quick ? 1000 : 2000;
+  sp.energy_every = 4;
+  for (int sc = 0; sc < 2; sc++) {
+    for (int m = -1; m < na; m++) { /* m = -1: springs under symplectic Euler */
+      char sa[48];
+      snprintf(sa, sizeof sa, "integrator.shape_alpha=%.17g", m >= 0 ? alphas[m] : 1.0);
+      const char *sets[10] = {m >= 0 ? "integrator.method=shape_matching" : "integrator.method=explicit", sa};
+      int k = 2;
+      if (m >= 0) sets[k++] = "material.stretch_k=0"; /* shape matching has no elastic energy of its own */
+      if (scenes[sc].n) { sets[k++] = "mesh.plane=xy"; } /* hanging vertically, as explicit_stability */
+      sets[k] = NULL;
+      cb_config c;
+      cb_scene *s = NULL;
+      cb_integrator *it = NULL;
+      if (cb_experiment_config(&E, scenes[sc].file, sets, &c) || cb_scene_from_config(&c, &s)) {
+        fprintf(stderr, "locking: %s\n", cb_error_message());
+        return -1;
+      }
+      cb_integrator_params ip;
+      cb_integrator_params_from_config(&c, &ip);
+      if (cb_integrator_from_config(&c, s, &ip, &it)) { fprintf(stderr, "locking: %s\n", cb_error_message()); return -1; }
+      size_t n3 = 3 * (size_t)s->mesh.nv;
+      double *x0 = malloc(n3 * sizeof(double)), *v0 = calloc(n3, sizeof(double));
+      memcpy(x0, s->mesh.x, n3 * sizeof(double)); /* the rest shape */
+      double S0 = cb_stability_energy_scale(s, x0, v0);
+      cb_stability_perturb(s, 1e-6 * S0, 1, v0);
+      double S = cb_stability_energy_scale(s, x0, v0);
+      cb_cell_work w;
+      if (cb_cell_work_alloc(s, &w)) return -1;
+      for (int j = 0; j < ndt; j++) {
+        double dt = pow(10.0, -5.0 + 4.0 * j / (ndt - 1));
+        cb_cell_result r;
+        int rc = cb_stability_cell(it, dt, x0, v0, S, &sp, &w, &r);
+        double smax, srms;
+        edge_strain(s, w.x, &smax, &srms);
+        fprintf(f, "%s,%s,%.6g,%.17g,%s,%.17g,%.17g,%ld,%.17g,%.17g,%.17g,%.3f,%s\n", scenes[sc].name,
+                m >= 0 ? "shape_matching" : "spring_explicit", m >= 0 ? alphas[m] : NAN, dt,
+                rc ? "failed" : cb_cell_class_name(r.cls), r.max_energy_ratio, r.final_energy_ratio, r.steps, r.t_end,
+                isfinite(smax) ? smax : NAN, isfinite(srms) ? srms : NAN, r.wall_ms, cb_status_name(r.step_status));
+        fflush(f);
+        cb_progress_update(&E.progress, E.progress.done + 1);
+      }
+      cb_cell_work_free(&w);
+      free(x0); free(v0);
+      cb_integrator_free(it);
+      cb_scene_free(s);
+    }
+  }
+  return 0;
+}
+
+int main(int argc, char **argv) {
+  int r = cb_experiment_begin(&E, "locking", "L1, L2, F1 and S1: membrane locking of stiff in-plane edges, the DoF count "
+                                             "behind it (conforming against nonconforming elements), co-rotational FEM "
+                                             "against springs, and shape matching under explicit integration.", argc, argv);
+  if (r) return r > 0 ? 0 : 1;
+  cb_experiment_timed(&E); /* F1 times a Newton step: run alone */
+  int quick = E.quick;
+  long total = (quick ? 4L : 7L) * NFOLD * NMESH * 2 + (quick ? 11 : 15) + 2 * NMESH + NSTEP_METHODS + 2L * ((quick ? 3 : 5) + 1) * (quick ? 7 : 13);
+  cb_progress_start(&E.progress, "locking", total);
+  cb_outfile o, od, oa, on, ons, osh;
+  char path[2048];
+  int bad = 0;
+  bad |= cb_experiment_csv(&E, &o, NULL,
+                           "# L1: static rest state by proximal Newton steps (cb_stability_equilibrium), tol max|dE/dx| <= 1e-5 max m g; "
+                           "fold_angle_deg = atan2(drop, offset) of the free part's centroid; on_edges = no triangle straddles the fold line\n",
+                           "model,mesh,fold,fold_dir_deg,on_edges,k_n_per_m,vertices,pinned,fold_angle_deg,offset_m,drop_m,"
+                           "max_strain,rms_strain,eq_steps,newton_iters,residual,degenerate,eq_wall_ms,status");
+  cb_experiment_side_path(&E, "dofs.csv", path, sizeof path);
+  bad |= !bad && cb_experiment_csv(&E, &od, path, "# L2: DoFs = 3 #variables - rank(rigidity matrix) at jittered generic positions (GSL SVD, threshold 1e-9)\n",
+                                   "mesh,vertices,triangles,edges,boundary_edges,conforming_dofs,conforming_predicted,"
+                                   "conforming_per_vertex,nonconforming_variables,nonconforming_dofs,nonconforming_predicted,"
+                                   "nonconforming_per_vertex,status");
+  cb_experiment_side_path(&E, "aniso.csv", path, sizeof path);
+  bad |= !bad && cb_experiment_csv(&E, &oa, path, "# F1: boundary held at F X (5% uniaxial stretch or simple shear), interior relaxed; k = mu = 1000 N/m\n",
+                                   "model,mesh,family,test,vertices,strain,energy_j,energy_density_j_per_m2,area_m2,free_vertices,residual,status");
+  cb_experiment_side_path(&E, "newton.csv", path, sizeof path);
+  bad |= !bad && cb_experiment_csv(&E, &on, path, "# F1: one implicit Euler step of the lab cloth, |grad F| per Newton iteration; wall_ms since the step began\n",
+                                   "model,rep,iter,f_j,grad_norm,rel_grad,wall_ms");
+  cb_experiment_side_path(&E, "newton_steps.csv", path, sizeof path);
+  bad |= !bad && cb_experiment_csv(&E, &ons, path, NULL,
+                                   "model,n,rep,newton_iters,factorizations,rel_grad,assemble_ms,factor_ms,solve_ms,step_wall_ms,status");
+  cb_experiment_side_path(&E, "shape.csv", path, sizeof path);
+  bad |= !bad && cb_experiment_csv(&E, &osh, path, "# S1: cells as explicit_stability (energy = kinetic + elastic + gravity; shape matching scenes have k = 0); "
+                                   "shape error = edge strain (l - L)/L at the end\n",
+                                   "scene,method,alpha,dt_s,class,max_energy_ratio,final_energy_ratio,steps,t_end_s,"
+                                   "max_strain,rms_strain,cell_wall_ms,step_status");
+  if (bad) { fprintf(stderr, "locking: %s\n", cb_error_message()); return 2; }
+  l2(od.f, quick);
+  if (f1_aniso(oa.f, quick) || f1_newton(on.f, ons.f, quick) || s1(osh.f, quick) || l1(o.f, quick)) {
+    fprintf(stderr, "locking: %s\n", cb_error_message());
+    return 2;
+  }
+  cb_progress_end(&E.progress);
+  if (cb_outfile_commit(&od) || cb_outfile_commit(&oa) || cb_outfile_commit(&on) || cb_outfile_commit(&ons) ||
+      cb_outfile_commit(&osh) || cb_outfile_commit(&o)) {
+    fprintf(stderr, "locking: %s\n", cb_error_message());
+    return 2;
+  }
+  return 0;
+}

@@ -1,0 +1,155 @@
+/* Verdict logic of claims/check_locking.c (L1, L2, F1, S1) on small
+ * constructed CSVs: a passing and a failing case per claim. */
+#define _DEFAULT_SOURCE
+#include <criterion/criterion.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "claims.h"
+
+void cb_check_L1(const cb_table *t, const char *results_dir, cb_claim_result *out);
+void cb_check_L2(const cb_table *t, const char *results_dir, cb_claim_result *out);
+void cb_check_F1(const cb_table *t, const char *results_dir, cb_claim_result *out);
+void cb_check_S1(const cb_table *t, const char *results_dir, cb_claim_result *out);
+
+static char dir[64];
+
+static void put(const char *name, const char *text) {
+  char path[128];
+  snprintf(path, sizeof path, "%s/%s", dir, name);
+  FILE *f = fopen(path, "w");
+  cr_assert(f);
+  fputs(text, f);
+  fclose(f);
+}
+
+static void setup(void) {
+  snprintf(dir, sizeof dir, "/tmp/cblockXXXXXX");
+  cr_assert(mkdtemp(dir));
+}
+static void teardown(void) {
+  static const char *const files[] = {"locking.csv", "locking_dofs.csv", "locking_aniso.csv", "locking_newton.csv",
+                                      "locking_newton_steps.csv", "locking_shape.csv"};
+  for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
+    char path[128];
+    snprintf(path, sizeof path, "%s/%s", dir, files[i]);
+    unlink(path);
+  }
+  rmdir(dir);
+}
+
+static cb_verdict decide(void (*check)(const cb_table *, const char *, cb_claim_result *)) {
+  char path[128];
+  snprintf(path, sizeof path, "%s/locking.csv", dir);
+  cb_table t;
+  cr_assert_eq(cb_table_read(path, &t), 0);
+  static cb_claim_result r;
+  memset(&r, 0, sizeof r);
+  check(&t, dir, &r);
+  cb_table_free(&t);
+  return r.verdict;
+}
+
+static const char *l1_head = "# test\nmodel,mesh,fold,on_edges,k_n_per_m,fold_angle_deg,status\n";
+
+TestSuite(claims_locking, .init = setup, .fini = teardown);
+
+Test(claims_locking, L1_reproduced_when_across_falls_and_along_stays) {
+  char csv[2048];
+  snprintf(csv, sizeof csv, "%s"
+           "spring,regular,edges,1,10,90,ok\nspring,regular,edges,1,1e4,89,ok\nspring,regular,edges,1,1e7,88,ok\n"
+           "spring,regular,cross,0,10,85,ok\nspring,regular,cross,0,1e4,40,ok\nspring,regular,cross,0,1e7,5,ok\n"
+           "spring,regular,cross,0,1e8,99,max_iters\n", l1_head); /* an unconverged row is left out */
+  put("locking.csv", csv);
+  cr_assert_eq(decide(cb_check_L1), CB_REPRODUCED);
+}
+
+Test(claims_locking, L1_not_reproduced_without_locking) {
+  char csv[2048];
+  snprintf(csv, sizeof csv, "%s"
+           "fem,disk,angle30,0,10,90,ok\nfem,disk,angle30,0,1e7,80,ok\n"      /* falls only 10 deg */
+           "fem,regular,edges,1,10,90,ok\nfem,regular,edges,1,1e7,60,ok\n", /* along edges, yet it locks */
+           l1_head);
+  put("locking.csv", csv);
+  cr_assert_eq(decide(cb_check_L1), CB_NOT_REPRODUCED);
+  /* a range shorter than 4 decades is not judged at all */
+  snprintf(csv, sizeof csv, "%sfem,disk,angle30,0,10,90,ok\nfem,disk,angle30,0,1e3,10,ok\n", l1_head);
+  put("locking.csv", csv);
+  cr_assert_eq(decide(cb_check_L1), CB_NOT_RUN);
+}
+
+static const char *dofs_head = "# test\nmesh,vertices,boundary_edges,conforming_dofs,conforming_predicted,conforming_per_vertex,"
+                               "nonconforming_dofs,nonconforming_predicted,nonconforming_per_vertex\n";
+
+Test(claims_locking, L2_reproduced_when_conforming_vanishes_and_nonconforming_keeps_three) {
+  char csv[2048];
+  snprintf(csv, sizeof csv, "%s"
+           "grid_3x3_regular,9,8,11,11,1.222,24,24,2.667\ngrid_8x8_regular,64,28,31,31,0.484,189,189,2.953\n"
+           "ring_disk_1,8,7,10,10,1.25,21,21,2.625\nring_disk_3,41,20,23,23,0.561,120,120,2.927\n", dofs_head);
+  put("locking.csv", l1_head);
+  put("locking_dofs.csv", csv);
+  cr_assert_eq(decide(cb_check_L2), CB_REPRODUCED);
+}
+
+Test(claims_locking, L2_not_reproduced_when_nonconforming_loses_its_dofs) {
+  char csv[2048];
+  snprintf(csv, sizeof csv, "%s"
+           "grid_3x3_regular,9,8,11,11,1.222,12,24,1.333\ngrid_8x8_regular,64,28,31,31,0.484,40,189,0.625\n", dofs_head);
+  put("locking.csv", l1_head);
+  put("locking_dofs.csv", csv);
+  cr_assert_eq(decide(cb_check_L2), CB_NOT_REPRODUCED);
+}
+
+static const char *aniso_head = "# test\nmodel,mesh,family,test,energy_density_j_per_m2\n";
+
+Test(claims_locking, F1_reproduced_when_fem_is_isotropic_and_springs_are_not) {
+  char csv[2048];
+  snprintf(csv, sizeof csv, "%s"
+           "spring,regular,axes,stretch_x,2.0\nspring,regular,axes,stretch_y,2.0\nspring,regular,diagonals,stretch_d1,3.2\n"
+           "spring,regular,diagonals,stretch_d2,0.7\nfem,regular,axes,stretch_x,2.5\nfem,regular,axes,stretch_y,2.5\n"
+           "fem,regular,diagonals,stretch_d1,2.5\nfem,regular,diagonals,stretch_d2,2.5\nfem,regular,shear,shear_d1,1.25\n"
+           "fem,regular,shear,shear_d2,1.25\n", aniso_head);
+  put("locking.csv", l1_head);
+  put("locking_aniso.csv", csv);
+  put("locking_newton.csv", "# t\nmodel,rep,iter,rel_grad\nfem,0,0,1\nfem,0,1,1e-2\nfem,0,2,1e-4\nfem,0,3,1e-8\n");
+  put("locking_newton_steps.csv", "# t\nmodel,n,rep,newton_iters,factorizations,rel_grad,step_wall_ms,status\nfem,64,0,3,3,1e-8,10,ok\n");
+  cr_assert_eq(decide(cb_check_F1), CB_REPRODUCED);
+}
+
+Test(claims_locking, F1_not_reproduced_when_fem_depends_on_direction_and_springs_do_not) {
+  char csv[2048];
+  snprintf(csv, sizeof csv, "%s"
+           "spring,regular,axes,stretch_x,2.0\nspring,regular,diagonals,stretch_d1,2.0\n"
+           "fem,disk,axes,stretch_x,2.5\nfem,disk,diagonals,stretch_d1,2.0\n", aniso_head);
+  put("locking.csv", l1_head);
+  put("locking_aniso.csv", csv);
+  cr_assert_eq(decide(cb_check_F1), CB_NOT_REPRODUCED);
+}
+
+static const char *shape_head = "# test\nscene,method,alpha,dt_s,class,final_energy_ratio,max_strain\n";
+
+Test(claims_locking, S1_reproduced_when_no_shape_matching_cell_diverges) {
+  char csv[2048];
+  snprintf(csv, sizeof csv, "%s"
+           "cloth21,spring_explicit,nan,0.001,stable,0,0.01\ncloth21,spring_explicit,nan,0.1,diverged,1e9,1e6\n"
+           "cloth21,shape_matching,0.01,0.001,stable,-0.1,1\ncloth21,shape_matching,0.01,0.1,stable,-10,100\n"
+           "cloth21,shape_matching,1,0.1,unstable,2,3\n", shape_head);
+  put("locking.csv", l1_head);
+  put("locking_shape.csv", csv);
+  cr_assert_eq(decide(cb_check_S1), CB_REPRODUCED);
+}
+
+Test(claims_locking, S1_not_reproduced_when_a_cell_diverges) {
+  char csv[2048];
+  snprintf(csv, sizeof csv, "%s"
+           "cloth21,shape_matching,0.01,0.001,stable,-0.1,1\ncloth21,shape_matching,1,0.1,diverged,1e9,1e6\n", shape_head);
+  put("locking.csv", l1_head);
+  put("locking_shape.csv", csv);
+  cr_assert_eq(decide(cb_check_S1), CB_NOT_REPRODUCED);
+  /* no shape matching cells at all: not run */
+  snprintf(csv, sizeof csv, "%scloth21,spring_explicit,nan,0.1,diverged,1e9,1e6\n", shape_head);
+  put("locking_shape.csv", csv);
+  cr_assert_eq(decide(cb_check_S1), CB_NOT_RUN);
+}
