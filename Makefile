@@ -3,7 +3,8 @@
 #   make test          install missing Debian packages, build, run the tests
 #   make experiments   install missing packages, run every experiment, plots, report
 #   knobs: WERROR=1 (warnings are errors), QUICK=1 (reduced sweeps),
-#          THREADS=n (BLAS threads for experiments; default 1)
+#          THREADS=n (threads of OpenBLAS and of CHOLMOD's OpenMP regions, for
+#          experiments and bench; default 1)
 
 CC      ?= gcc
 OPT     ?= -O2
@@ -25,7 +26,7 @@ CFLAGS   := $(OPT) -g $(WARN) $(SAN)
 LDFLAGS  := $(SAN)
 # GSL is linked statically: Debian's libgsl.so pulls in libgslcblas, and we
 # link exactly one CBLAS, OpenBLAS (scripts/check-blas.sh verifies it).
-LDLIBS   := -lcholmod -Wl,-Bstatic -lgsl -Wl,-Bdynamic -lopenblas -linih -lm
+LDLIBS   := -lcholmod -Wl,-Bstatic -lgsl -Wl,-Bdynamic -lopenblas -linih -lgomp -lm
 
 LIB_SRC  := $(sort $(wildcard lib/*.c))
 LIB_OBJ  := $(LIB_SRC:%.c=$(BUILD)/%.o) $(BUILD)/version.o

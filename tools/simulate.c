@@ -47,7 +47,7 @@ static void default_out(const char *config, const char *ext, char *out, size_t n
 }
 
 int main(int argc, char **argv) {
-  cb_runtime_init();
+  if (cb_runtime_init()) { fprintf(stderr, "simulate: %s\n", cb_error_message()); return EXIT_USAGE; }
   const char *config = NULL, *csv_path = NULL, *obj_path = NULL;
   long steps = -1;
   int quiet = 0;
