@@ -13,12 +13,14 @@
 #include "solver.h"
 #include "status.h"
 
-typedef enum { T_INT, T_DOUBLE, T_SIZE, T_VEC3, T_ENUM, T_PATH, T_PINS, T_BOOL, T_RHO } ktype;
+typedef enum { T_INT, T_DOUBLE, T_SIZE, T_VEC3, T_ENUM, T_PATH, T_PINS, T_BOOL, T_RHO, T_AUTO } ktype;
 
 static const char *const mesh_types[] = {"grid", "chain", "obj", NULL};
 static const char *const planes[] = {"xy", "xz", "yz", NULL};
 static const char *const diagonals[] = {"regular", "alternating", NULL};
 static const char *const inits[] = {"predict", "x0", NULL};
+static const char *const orderings[] = {"default", "amd", "metis", "nesdis", NULL};
+static const char *const storages[] = {"full", "upper", NULL};
 
 typedef struct {
   const char *key;     /* section.key */
@@ -95,10 +97,16 @@ static const keydef keys[] = {
    "Iterative solvers stop at relative residual |b - Ax| / |b| <= tol."},
   {"solver.max_iters", T_INT, O(solver_max_iters), "1000", "iterations", 1, 2000000000, 0, NULL, NULL,
    "Iterative solvers stop after this many iterations."},
-  {"solver.alpha", T_DOUBLE, O(solver_alpha), "1", "-", 0, 2, 1, NULL, NULL,
-   "Jacobi weight: dx += alpha D^-1 r (1 is vanilla Jacobi)."},
+  {"solver.alpha", T_AUTO, O(solver_alpha), "auto", "-", 0, 2, 1, NULL, NULL,
+   "Jacobi weight: dx += alpha D^-1 r (1 is vanilla Jacobi), or `auto`: alpha* = 2/(lambda_min + lambda_max) of D^-1 A, from the same Lanczos estimate as Chebyshev's rho (the weight that minimises rho(I - alpha D^-1 A), always < 1)."},
   {"solver.rho", T_RHO, O(solver_rho), "auto", "-", 0, 1, 1, NULL, NULL,
-   "Chebyshev spectral-radius estimate rho in (0, 1), or `auto` (estimated at run time)."},
+   "Chebyshev spectral-radius estimate rho in (0, 1), or `auto` (estimated by Lanczos, re-estimated only when the diagonal of A has moved by more than 5% or a solve diverges)."},
+  {"solver.ordering", T_ENUM, O(solver_ordering), "metis", "-", 0, 0, 0, orderings, NULL,
+   "CHOLMOD's fill-reducing ordering: `default` (CHOLMOD's own choice: AMD, then METIS if AMD fills badly), `amd`, `metis`, or `nesdis` (CHOLMOD's nested dissection); see the Performance section for the measured choice."},
+  {"solver.nrelax", T_VEC3, O(solver_nrelax), "4 16 48", "columns", 0, 1e6, 0, NULL, NULL,
+   "CHOLMOD's supernode relaxation (Common->nrelax): supernodes of at most this many columns (3 numbers, for zrelax 0.8, 0.1, 0.05) are merged even if that adds zeros."},
+  {"solver.storage", T_ENUM, O(solver_storage), "upper", "-", 0, 0, 0, storages, NULL,
+   "The matrix CHOLMOD reads: `full` (both triangles, CHOLMOD skips the lower one) or `upper` (a copy of the upper triangle, refreshed at each factorisation)."},
 };
 #undef O
 enum { NKEYS = (int)(sizeof keys / sizeof keys[0]) };
@@ -219,6 +227,14 @@ static int assign(cb_config *c, const keydef *k, const char *value, char *why, s
     }
     snprintf(why, nwhy, "'%s' is not a boolean (0/1, true/false, yes/no, on/off)", value);
     return -1;
+  }
+  case T_AUTO: {
+    double v;
+    if (strcmp(value, "auto") == 0) { *(double *)field = 0; return 0; }
+    if (cb_parse_double(value, &v)) { snprintf(why, nwhy, "'%s' must be `auto` or a number", value); return -1; }
+    if (!in_range(k, v)) { snprintf(why, nwhy, "%s is out of range (must be `auto` or %s)", value, rng); return -1; }
+    *(double *)field = v;
+    return 0;
   }
   case T_RHO: {
     double v;
@@ -381,6 +397,11 @@ const char *cb_config_where(const cb_config *c, const char *key, char *buf, size
 
 int cb_config_validate(const cb_config *c) {
   char w[CB_PATH_LEN + 32];
+  for (int k = 0; k < 3; k++)
+    if (c->solver_nrelax[k] != floor(c->solver_nrelax[k]) || (k && c->solver_nrelax[k] < c->solver_nrelax[k - 1]))
+      return cb_fail("%s: solver.nrelax: must be 3 non-decreasing whole numbers, got %g %g %g",
+                     cb_config_where(c, "solver.nrelax", w, sizeof w), c->solver_nrelax[0], c->solver_nrelax[1],
+                     c->solver_nrelax[2]);
   if (strcmp(c->mesh_type, "obj") == 0 && !c->mesh_file[0])
     return cb_fail("%s: mesh.file: required when mesh.type = obj", cb_config_where(c, "mesh.type", w, sizeof w));
   return CB_OK;
@@ -395,7 +416,7 @@ static void write_value(const cb_config *c, const keydef *k, FILE *f) {
   case T_VEC3:
     fprintf(f, "%.17g %.17g %.17g", ((const double *)field)[0], ((const double *)field)[1], ((const double *)field)[2]);
     break;
-  case T_RHO:
+  case T_RHO: case T_AUTO:
     if (*(const double *)field == 0) fputs("auto", f);
     else fprintf(f, "%.17g", *(const double *)field);
     break;

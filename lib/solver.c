@@ -17,8 +17,14 @@ const char *cb_solver_name(int i) {
   return cb_solver_types[i]->name;
 }
 
+const char *cb_order_name(int ordering) {
+  static const char *const names[] = {"default", "amd", "metis", "nesdis"};
+  return ordering >= 0 && ordering < 4 ? names[ordering] : NULL;
+}
+
 cb_solver_params cb_solver_params_default(void) {
   cb_solver_params p = {.tol = 1e-8, .max_iters = 1000, .alpha = 1.0, .rho = 0.0, .history_cap = 0,
+                         .ordering = CB_ORDER_METIS, .nrelax = {4, 16, 48}, .upper = 1, .rho_reuse = 1,
                          .monitor = NULL, .monitor_ctx = NULL};
   return p;
 }
@@ -29,6 +35,10 @@ cb_solver_params cb_solver_params_from_config(const cb_config *c) {
   p.max_iters = c->solver_max_iters;
   p.alpha = c->solver_alpha;
   p.rho = c->solver_rho;
+  for (int o = 0; cb_order_name(o); o++)
+    if (strcmp(c->solver_ordering, cb_order_name(o)) == 0) p.ordering = o;
+  for (int k = 0; k < 3; k++) p.nrelax[k] = (int)c->solver_nrelax[k]; /* integers: checked by the config */
+  p.upper = strcmp(c->solver_storage, "upper") == 0;
   return p;
 }
 
