@@ -130,9 +130,17 @@ plots:
 report:
 	@scripts/report.sh
 
+# Debian's python3 (its python3-scipy), whatever python3 the PATH finds first
+PYTHON ?= /usr/bin/python3
+
 bench: deps
+	@scripts/deps.sh python3-scipy
 	@$(MAKE) --no-print-directory $(BENCHES)
-	$(EXP_ENV) $(BUILD)/bench_core --out results/bench_core.csv
+	@mkdir -p results
+	@rm -f $(BUILD)/bench_matrix_*.bin
+	$(EXP_ENV) CB_BENCH_MATRIX_DIR=$(BUILD) $(BUILD)/bench_core $(if $(filter 1,$(QUICK)),--quick) --out results/bench_core.csv
+	$(EXP_ENV) $(PYTHON) bench/spmv_scipy.py $(BUILD)/bench_spmv $(BUILD) results/bench_scipy.csv
+	$(PYTHON) scripts/readme-perf.py results README.md
 
 clean:
 	rm -rf build

@@ -2,8 +2,9 @@
 # Checks for the Debian packages clothbench builds against and installs the
 # missing ones (apt-get update first) when run as root. Otherwise it prints the
 # one command to run and fails, so `make test` stops before compiling.
+# Arguments name extra packages (make bench adds python3-scipy).
 set -u
-PKGS="libgsl-dev libsuitesparse-dev libopenblas-dev libinih-dev libcriterion-dev gnuplot-nox"
+PKGS="libgsl-dev libsuitesparse-dev libopenblas-dev libinih-dev libcriterion-dev gnuplot-nox $*"
 missing=""
 for p in $PKGS; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
