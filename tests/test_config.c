@@ -146,8 +146,8 @@ Test(defaults, documented_values) {
   cr_expect_eq(c.solver_max_iters, 1000);
   cr_expect_eq(c.solver_alpha, 0.0, "alpha = auto is stored as 0");
   cr_expect_eq(c.solver_rho, 0.0, "rho = auto is stored as 0");
-  cr_expect_str_eq(c.solver_ordering, "metis");
-  cr_expect(c.solver_nrelax[0] == 4 && c.solver_nrelax[1] == 16 && c.solver_nrelax[2] == 48);
+  cr_expect_str_eq(c.solver_ordering, "nesdis");
+  cr_expect(c.solver_nrelax[0] == 16 && c.solver_nrelax[1] == 64 && c.solver_nrelax[2] == 128);
   cr_expect_str_eq(c.solver_storage, "upper");
   cr_expect_str_eq(c.path, "");
   cr_expect_str_eq(c.overrides, "");
