@@ -368,10 +368,10 @@ static int jw_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x
   double bnorm = 0;
   for (int i = 0; i < n; i++) bnorm += b[i] * b[i];
   bnorm = sqrt(bnorm);
-  int guard = w->reused && s->params.rho == 0 && w->accelerated;
+  int guard = w->reused; /* bounds reused for rho or alpha */
   if (guard) memcpy(w->x0, x, (size_t)n * sizeof(double));
   int status = jw_iterate(s, b, bnorm, x, guard);
-  if (guard && status == CB_DIVERGED) { /* the reused rho was too low: estimate afresh, start again */
+  if (guard && status == CB_DIVERGED) { /* the reused bounds were wrong: estimate afresh, start again */
     cb_error_clear();
     w->reused = 0;
     s->stats.history_len = 0;
