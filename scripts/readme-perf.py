@@ -112,6 +112,11 @@ def main():
                  f"{pct(num(c, 'rho_share'))} of the step time, {c['rho_estimates']} Lanczos runs in {c['steps']} "
                  f"steps (target ≤ 20%); re-estimated at every factorisation it was "
                  f"{pct(num(step['cheb32_auto_every_factor'], 'rho_share'))}.")
+    allocs = ", ".join(f"{grid(n)}: {int(num(by_n[n], 'allocs_explicit_step'))} / "
+                       f"{int(num(by_n[n], 'allocs_newton_iterative_step'))} / {int(num(by_n[n], 'allocs_newton_cholmod_step'))}"
+                       for n in sorted(by_n))
+    o.append(f"- Heap allocations inside one step (explicit / Newton with CG, PCG or Chebyshev / Newton with CHOLMOD, "
+             f"which counts CHOLMOD's own: its permuted copy of A and workspace): {allocs}.")
     o.append("")
     # table 1: the step and the factorisation
     o.append("| grid | DOFs | nnz(A) | nnz(L) | explicit step ms | assembly ms | factorisation ms | solve ms | "
