@@ -14,7 +14,8 @@
 ## make clean         remove build/;  make distclean  also results/ and plots/out/
 ##
 ## knobs: WERROR=1 (warnings are errors), QUICK=1 (reduced sweeps),
-##        THREADS=n (BLAS threads for experiments; default 1)
+##        THREADS=n (threads of OpenBLAS and of CHOLMOD's OpenMP regions, for
+##        experiments and bench; default 1)
 
 CC      ?= gcc
 OPT     ?= -O2
@@ -51,7 +52,7 @@ CFLAGS   := $(OPT) -g $(WARN) $(SAN)
 LDFLAGS  := $(SAN)
 # GSL is linked statically: Debian's libgsl.so pulls in libgslcblas, and we
 # link exactly one CBLAS, OpenBLAS (scripts/check-blas.sh verifies it).
-LDLIBS   := -lcholmod -Wl,-Bstatic -lgsl -Wl,-Bdynamic -lopenblas -linih -lm
+LDLIBS   := -lcholmod -Wl,-Bstatic -lgsl -Wl,-Bdynamic -lopenblas -linih -lgomp -lm
 
 CORE_SRC  := $(sort $(wildcard lib/core/*.c))
 CONFIG_SRC:= $(sort $(wildcard lib/config/*.c))
@@ -224,9 +225,17 @@ movies: deps $(TOOLS)
 report: $(BUILD)/report
 	@BUILD=$(BUILD) scripts/report.sh
 
+# Debian's python3 (its python3-scipy), whatever python3 the PATH finds first
+PYTHON ?= /usr/bin/python3
+
 bench: deps
+	@scripts/deps.sh python3-scipy
 	@$(MAKE) --no-print-directory $(BENCHES)
-	$(EXP_ENV) $(BUILD)/bench_core --out results/bench_core.csv
+	@mkdir -p results
+	@rm -f $(BUILD)/bench_matrix_*.bin
+	$(EXP_ENV) CB_BENCH_MATRIX_DIR=$(BUILD) $(BUILD)/bench_core $(if $(filter 1,$(QUICK)),--quick) --out results/bench_core.csv
+	$(EXP_ENV) $(PYTHON) bench/spmv_scipy.py $(BUILD)/bench_spmv $(BUILD) results/bench_scipy.csv
+	$(PYTHON) scripts/readme-perf.py results README.md
 	$(EXP_ENV) $(BUILD)/bench_nonlinear --out results/bench_nonlinear.csv
 
 clean:

@@ -1,17 +1,39 @@
-/* bench_core: what one step costs, and how close the sparse matrix-vector
- * product gets to the memory bandwidth. For grids of 32^2 .. 256^2 (the lab
- * scene's cloth at finer resolution) it records, as medians of repeated runs
+/* bench_core: what one step costs, how close the factorisation gets to the
+ * machine's dgemm, and how close the sparse matrix-vector product gets to
+ * the memory bandwidth. For grids of 32^2 .. 256^2 (the lab scene's cloth at
+ * finer resolution) it records, as medians with min and max of repeated runs
  * at a mid-simulation state:
  *   - one explicit step; one Newton iteration with CHOLMOD split into
  *     assembly (gradient + Hessian), numeric factorisation and solve;
+ *   - the same factorisation by bare CHOLMOD (its own defaults, our arrays),
+ *     once under the thread settings every program uses and once with
+ *     libgomp's dynamic adjustment off (Debian's CHOLMOD then starts its
+ *     hard-coded 4 threads), paired sample by sample, with the threads
+ *     observed during each (threads.h);
+ *   - factorisation GFlop/s (Common->fl / time) next to a single-thread
+ *     dgemm interleaved with it, and the analysis next to the
+ *     factorisations of a run (integrator.steps x Newton iterations);
  *   - the DOFs and the nonzeros of A and of CHOLMOD's factor L;
  *   - heap allocations made inside a step (malloc is interposed below and
  *     counted, including calls from CHOLMOD and OpenBLAS);
- *   - the SpMV's achieved bandwidth (bytes moved / time) next to a
- *     STREAM-triad bandwidth measured in the same run.
+ *   - the SpMV of the iterative solvers (upper-block storage) and of the
+ *     full matrix: achieved bandwidth (bytes moved / time) next to a
+ *     STREAM-triad bandwidth measured interleaved with it.
+ * Side files: results/bench_core_cholmod.csv (ordering x supernode
+ * relaxation x storage, the table behind the solver.* defaults) and
+ * results/bench_core_step.csv (whole implicit steps with 32-iteration inner
+ * solves: steps per second and the share of the rho estimate).
+ * With CB_BENCH_MATRIX_DIR set, each size's A is also written there as
+ * bench_matrix_<n>.bin (CSR: int32 n, int32 nnz, int32 indptr[n+1],
+ * int32 indices[nnz], float64 data[nnz]) for bench/spmv_scipy.py.
  * Output: results/bench_core.csv (make bench). */
 #define _GNU_SOURCE
+#include <cblas.h>
+#include <cholmod.h>
 #include <malloc.h>
+#include <math.h>
+#include <omp.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,6 +44,7 @@
 #include "provenance.h"
 #include <clothbench/timer.h>
 #include "stats.h"
+#include "threads.h"
 
 /* ---- allocation counter: interposes malloc & co. for the whole process ---- */
 extern void *__libc_malloc(size_t);
@@ -61,26 +84,303 @@ static double triad_once(triad_arrays *t) {
   return 24.0 * (double)t->n / (ms * 1e-3) / 1e9;
 }
 
+/* ---- statistics: every figure is a median with its min and max ---- */
+
+enum { MAXREP = 16 };
+typedef struct {
+  double med, lo, hi;
+} mstat;
+
+static mstat stat_of(const double *v, int n) {
+  double w[MAXREP];
+  mstat m = {NAN, INFINITY, -INFINITY};
+  for (int i = 0; i < n; i++) {
+    w[i] = v[i];
+    m.lo = fmin(m.lo, v[i]);
+    m.hi = fmax(m.hi, v[i]);
+  }
+  m.med = cb_median(w, n);
+  return m;
+}
+
+static void put(FILE *f, mstat m) { fprintf(f, ",%.6g,%.6g,%.6g", m.med, m.lo, m.hi); }
+/* name, name_min, name_max; a timing x_ms gets x_min_ms and x_max_ms */
+static void put_hdr(char *h, size_t cap, const char *name) {
+  size_t u = strlen(h), len = strlen(name);
+  if (len > 3 && !strcmp(name + len - 3, "_ms"))
+    snprintf(h + u, cap - u, ",%s,%.*s_min_ms,%.*s_max_ms", name, (int)len - 3, name, (int)len - 3, name);
+  else
+    snprintf(h + u, cap - u, ",%s,%s_min,%s_max", name, name, name);
+}
+
+/* ---- single-thread dgemm (the peak a factorisation's BLAS could reach) ---- */
+
+typedef struct {
+  int n;
+  double *a, *b, *c;
+} gemm_arrays;
+
+static int gemm_alloc(gemm_arrays *g, int n) {
+  size_t nn = (size_t)n * (size_t)n;
+  g->n = n;
+  g->a = malloc(nn * sizeof(double));
+  g->b = malloc(nn * sizeof(double));
+  g->c = malloc(nn * sizeof(double));
+  if (!g->a || !g->b || !g->c) return -1;
+  for (size_t i = 0; i < nn; i++) { g->a[i] = 1.0 / (double)(i % 101 + 1); g->b[i] = (double)(i % 7) - 3.0; g->c[i] = 0; }
+  return 0;
+}
+
+/* One n^3 dgemm on one OpenBLAS thread; returns GFlop/s (2 n^3 flops). */
+static double gemm_once(gemm_arrays *g, int threads) {
+  openblas_set_num_threads(1);
+  double t0 = cb_now_ms();
+  cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, g->n, g->n, g->n, 1.0, g->a, g->n, g->b, g->n, 0.0, g->c, g->n);
+  double ms = cb_now_ms() - t0;
+  openblas_set_num_threads(threads);
+  return 2.0 * g->n * (double)g->n * g->n / (ms * 1e-3) / 1e9;
+}
+
+/* ---- bare CHOLMOD: its defaults, reading our arrays ---- */
+
+typedef struct {
+  cholmod_common c;
+  cholmod_sparse A;
+  cholmod_factor *L;
+  int ok;
+} bare_cholmod;
+
+static void bare_wrap(cholmod_sparse *s, const cb_sparse *A) {
+  memset(s, 0, sizeof *s);
+  s->nrow = s->ncol = (size_t)A->n;
+  s->nzmax = (size_t)A->nnz;
+  s->p = A->colp;
+  s->i = A->rowi;
+  s->x = A->val;
+  s->stype = 1;
+  s->itype = CHOLMOD_INT;
+  s->xtype = CHOLMOD_REAL;
+  s->dtype = CHOLMOD_DOUBLE;
+  s->sorted = 1;
+  s->packed = 1;
+}
+
+static double bare_analyze(bare_cholmod *b, const cb_sparse *A) {
+  cholmod_start(&b->c);
+  b->c.print = 0;
+  b->c.error_handler = NULL;
+  b->c.final_ll = 1;
+  bare_wrap(&b->A, A);
+  double t0 = cb_now_ms();
+  b->L = cholmod_analyze(&b->A, &b->c);
+  double ms = cb_now_ms() - t0;
+  b->ok = b->L != NULL;
+  return ms;
+}
+
+static void bare_factor(void *ctx) {
+  bare_cholmod *b = ctx;
+  if (b->ok) cholmod_factorize(&b->A, b->L, &b->c);
+}
+
+static void bare_free(bare_cholmod *b) {
+  cholmod_free_factor(&b->L, &b->c);
+  cholmod_finish(&b->c);
+}
+
+typedef struct {
+  cb_solver *s;
+  const cb_sparse *A;
+  int status;
+} our_factor_ctx;
+
+static void our_factor(void *ctx) {
+  our_factor_ctx *o = ctx;
+  o->status = cb_solver_factor(o->s, o->A);
+}
+
+/* Times fn(ctx) and counts the threads that ran meanwhile. */
+static double timed_count(void (*fn)(void *), void *ctx, double *threads) {
+  double t0 = cb_now_ms();
+  int k = cb_threads_count_during(fn, ctx);
+  *threads = k;
+  return cb_now_ms() - t0;
+}
+
+/* ---- the matrix for bench/spmv_scipy.py ---- */
+
+static int export_matrix(const char *dir, int n, const cb_sparse *A) {
+  char path[4096];
+  snprintf(path, sizeof path, "%s/bench_matrix_%d.bin", dir, n);
+  FILE *f = fopen(path, "wb");
+  if (!f) { fprintf(stderr, "bench_core: cannot write %s\n", path); return -1; }
+  int32_t hdr[2] = {A->n, A->nnz};
+  int ok = fwrite(hdr, sizeof hdr, 1, f) == 1 && fwrite(A->colp, sizeof(int), (size_t)A->n + 1, f) == (size_t)A->n + 1 &&
+           fwrite(A->rowi, sizeof(int), (size_t)A->nnz, f) == (size_t)A->nnz &&
+           fwrite(A->val, sizeof(double), (size_t)A->nnz, f) == (size_t)A->nnz; /* CSC of a symmetric A = its CSR */
+  if (fclose(f) || !ok) { fprintf(stderr, "bench_core: writing %s failed\n", path); return -1; }
+  return 0;
+}
+
+/* ---- factorisation choices (the table behind solver.ordering/nrelax/storage) ---- */
+
+/* Every (ordering, nrelax, storage) analysed once, then factorised in turn,
+ * rep after rep, so that all of them see the same machine. */
+static void sweep_cholmod(FILE *f, int n, const cb_sparse *A, int reps) {
+  const cb_solver_params def = cb_solver_params_default();
+  static const int nrelax[][3] = {{4, 16, 48}, {16, 64, 128}};
+  enum { NR = (int)(sizeof nrelax / sizeof nrelax[0]), NC = 4 * NR * 2 };
+  cb_solver *sv[NC] = {NULL};
+  int st[NC], ord[NC], rl[NC], upp[NC];
+  double tf[NC][MAXREP];
+  for (int c = 0; c < NC; c++) {
+    ord[c] = c / (2 * NR);
+    rl[c] = (c / 2) % NR;
+    upp[c] = c % 2;
+    cb_solver_params p = cb_solver_params_default();
+    p.ordering = ord[c];
+    memcpy(p.nrelax, nrelax[rl[c]], sizeof p.nrelax);
+    p.upper = upp[c];
+    st[c] = cb_solver_alloc("cholmod", &p, A->n, &sv[c]);
+    if (st[c] == CB_OK) st[c] = cb_solver_analyze(sv[c], A);
+  }
+  for (int k = 0; k < reps; k++)
+    for (int c = 0; c < NC; c++)
+      if (st[c] == CB_OK) {
+        st[c] = cb_solver_factor(sv[c], A);
+        tf[c][k] = sv[c]->stats.factor_ms;
+      }
+  for (int c = 0; c < NC; c++) {
+    cb_solver *s = sv[c];
+    mstat m = st[c] == CB_OK ? stat_of(tf[c], reps) : (mstat){NAN, NAN, NAN};
+    int is_def = ord[c] == def.ordering && upp[c] == def.upper && !memcmp(nrelax[rl[c]], def.nrelax, sizeof def.nrelax);
+    fprintf(f, "%d,%s,%d %d %d,%s,%.6g", n, cb_order_name(ord[c]), nrelax[rl[c]][0], nrelax[rl[c]][1], nrelax[rl[c]][2],
+            upp[c] ? "upper" : "full", s ? s->stats.analyze_ms : NAN);
+    put(f, m);
+    fprintf(f, ",%.6g,%.17g,%.17g,%d,%s\n", s ? s->stats.factor_flops / (m.med * 1e-3) / 1e9 : NAN,
+            s ? s->stats.factor_nnz : NAN, s ? s->stats.factor_flops : NAN, is_def, cb_status_name(st[c]));
+    cb_solver_free(s);
+  }
+  fflush(f);
+}
+
+/* ---- whole implicit steps: K = 1 Newton, inner solve cut at 32 iterations ---- */
+
+typedef struct {
+  const char *label, *solver;
+  double alpha; /* 0 = auto */
+  int reuse;    /* amortised rho estimate */
+} step_method;
+
+static void bench_steps(FILE *f, int n, cb_scene *s, const cb_integrator_params *ip0, const double *xs, const double *vs,
+                        int nsteps) {
+  static const step_method methods[] = {
+      {"cg32", "cg", 1.0, 1},
+      {"cheb32_auto", "chebyshev", 0.0, 1},
+      {"cheb32_auto_every_factor", "chebyshev", 0.0, 0},
+      {"cheb32_alpha0.5", "chebyshev", 0.5, 1},
+      {"cheb32_alpha0.5_every_factor", "chebyshev", 0.5, 0},
+  };
+  int nv3 = 3 * s->mesh.nv;
+  double *x = malloc((size_t)nv3 * sizeof *x), *v = malloc((size_t)nv3 * sizeof *v);
+  for (size_t q = 0; q < sizeof methods / sizeof methods[0]; q++) {
+    const step_method *m = &methods[q];
+    cb_integrator_params ip = *ip0;
+    cb_newton_params np = cb_newton_params_default();
+    np.max_iters = 1;
+    np.tol = 0;
+    np.tol_dx = 0;
+    cb_solver_params sp = cb_solver_params_default();
+    sp.max_iters = 32;
+    sp.tol = 1e-300; /* the cut, not the tolerance, ends every solve */
+    sp.alpha = m->alpha;
+    sp.rho = 0;
+    sp.rho_reuse = m->reuse;
+    cb_integrator *it = NULL;
+    int status = cb_integrator_alloc("newton", s, &ip, &np, m->solver, &sp, &it);
+    double wall[64], total = 0, rho_total = 0, iters = 0, logres = 0;
+    int estimates = 0, done = 0;
+    memcpy(x, xs, (size_t)nv3 * sizeof *x);
+    memcpy(v, vs, (size_t)nv3 * sizeof *v);
+    for (int k = 0; status == CB_OK && k < nsteps; k++) {
+      cb_step_stats st;
+      int r = cb_integrator_step(it, x, v, &st);
+      if (cb_status_is_fatal(r)) { status = r; break; }
+      wall[k] = st.wall_ms;
+      total += st.wall_ms;
+      rho_total += it->solver->stats.rho_ms;
+      estimates += it->solver->stats.rho_estimates;
+      iters += st.linear_iters;
+      logres += log10(it->solver->stats.rel_residual);
+      done++;
+    }
+    mstat ms = done ? stat_of(wall + (done > MAXREP ? done - MAXREP : 0), done > MAXREP ? MAXREP : done)
+                    : (mstat){NAN, NAN, NAN};
+    fprintf(f, "%d,%s,%s,%s,%s,%d", n, m->label, m->solver, m->alpha > 0 ? "fixed" : "auto", m->reuse ? "amortised" : "every_factor",
+            done);
+    put(f, ms);
+    fprintf(f, ",%.6g,%.6g,%d,%.6g,%.6g,%.6g,%s\n", 1000.0 / ms.med, done ? rho_total / total : NAN, estimates,
+            done ? iters / done : NAN, done ? pow(10.0, logres / done) : NAN, it && m->alpha == 0 ? it->solver->stats.alpha : m->alpha,
+            cb_status_name(status));
+    fflush(f);
+    cb_integrator_free(it);
+  }
+  free(x);
+  free(v);
+}
+
 int main(int argc, char **argv) {
   cb_experiment e;
-  int r = cb_experiment_begin(&e, "bench_core", "Per-step cost of the core and SpMV bandwidth against a STREAM triad.", argc, argv);
+  int r = cb_experiment_begin(&e, "bench_core", "Per-step cost of the core, factorisation against dgemm, and SpMV bandwidth against a STREAM triad.", argc, argv);
   if (r) return r > 0 ? 0 : 1;
   cb_experiment_timed(&e); /* its numbers include wall times: run alone */
   const int sizes[] = {32, 64, 128, 256};
-  const int nsizes = e.quick ? 2 : 4;
-  cb_outfile csv;
-  if (cb_experiment_csv(&e, &csv, NULL,
-                        "# bytes moved by one SpMV (cb_sparse_matvec_bytes): 8 nnz (values) + 4 nnz/9 (block-row indices) + 4 (n/3+1) + 16 n (x read, y written)\n"
-                        "# allocs_*: heap allocations inside one step after warm-up; newton_iterative: the most over CG, PCG and Chebyshev (rho = auto) as the inner solver (our code only),\n"
-                        "#   newton_cholmod adds CHOLMOD's own (its permuted copy of A, workspace, and libgomp's per-parallel-region teams)\n"
-                        "# triad: a = b + s c over 3 arrays of 2^25 doubles, 24 bytes per element (STREAM convention), median of passes interleaved with the SpMV samples\n",
-                        "n,dofs,nnz_a,nnz_l,explicit_step_ms,assemble_ms,factor_ms,solve_ms,newton_iter_ms,"
-                        "assemble_over_factor,allocs_explicit_step,allocs_newton_iterative_step,allocs_newton_cholmod_step,spmv_ms,spmv_gbs,triad_gbs,spmv_over_triad,status")) {
+  const int nsizes = e.quick ? 2 : 4, step_n = e.quick ? 64 : 128;
+  const char *mdir = getenv("CB_BENCH_MATRIX_DIR");
+  const cb_threads_info *th = cb_threads_info_get();
+  char hdr[4096] = "n,dofs,nnz_a,nnz_l,factor_gflop";
+  const char *timed[] = {"explicit_step_ms", "assemble_ms", "factor_ms", "solve_ms", "bare_factor_ms", "factor_over_bare",
+                         "bare_omp4_factor_ms", "bare_omp4_over_bare", "factor_gflops", "dgemm_gflops", "factor_over_dgemm",
+                         "spmv_ms", "spmv_full_ms", "spmv_full_over_sym", "triad_gbs", "spmv_gbs", "spmv_over_triad", NULL};
+  for (int i = 0; timed[i]; i++) put_hdr(hdr, sizeof hdr, timed[i]);
+  strcat(hdr, ",newton_iter_ms,assemble_over_factor,factor_threads,bare_omp4_threads,analyze_ms,bare_analyze_ms,"
+              "factorizations_per_run,analyze_over_run_factor,spmv_bytes,spmv_full_bytes,"
+              "allocs_explicit_step,allocs_newton_iterative_step,allocs_newton_cholmod_step,status");
+  char extra[2048];
+  snprintf(extra, sizeof extra,
+           "# every timed figure: median, _min and _max of its samples; *_over_*: median (min, max) of ratios of samples taken side by side\n"
+           "# factor: clothbench's CHOLMOD (solver.* defaults); bare: CHOLMOD's own defaults on the same arrays, same thread settings;\n"
+           "#   bare_omp4: the same with libgomp's dynamic adjustment off, as before the thread fix (Debian's CHOLMOD asks for 4 threads)\n"
+           "# *_threads: threads whose CPU time grew during one factorisation (median over samples); requested: openblas %d, openmp %d\n"
+           "# factor_gflops = Common->fl / factor time; dgemm: %d^3 on one OpenBLAS thread, interleaved with the factorisations\n"
+           "# factorizations_per_run = integrator.steps x Newton iterations per step (mean of 3 steps); analyze_over_run_factor = analyze_ms / (that x factor_ms)\n"
+           "# spmv: the iterative solvers' product on the upper blocks (cb_sparse_sym_matvec_bytes: 72 nub values + 4 nub block rows + 4 (n/3+1) + 16 n);\n"
+           "#   spmv_full: the full-storage kernel (cb_sparse_matvec_bytes: 8 nnz + 4 nnz/9 + 4 (n/3+1) + 16 n); GB/s use each one's own bytes\n"
+           "# allocs_*: heap allocations inside one step after warm-up; newton_iterative: the most over CG, PCG and Chebyshev (rho = auto) as the inner solver (our code only),\n"
+           "#   newton_cholmod adds CHOLMOD's own (its permuted copy of A, workspace)\n"
+           "# triad: a = b + s c over 3 arrays of 2^25 doubles, 24 bytes per element (STREAM convention), passes interleaved with the SpMV samples\n",
+           th->blas_requested, th->omp_requested, 1024);
+  cb_outfile csv, chol, steps;
+  char chol_path[2100], step_path[2100];
+  cb_experiment_side_path(&e, "cholmod.csv", chol_path, sizeof chol_path);
+  cb_experiment_side_path(&e, "step.csv", step_path, sizeof step_path);
+  if (cb_experiment_csv(&e, &csv, NULL, extra, hdr) ||
+      cb_experiment_csv(&e, &chol, chol_path,
+                        "# one row per (size, ordering, supernode relaxation, storage): CHOLMOD analysis, then numeric factorisations, the choices in turn rep after rep;\n"
+                        "# default = 1 on the row of the solver.* defaults\n",
+                        "n,ordering,nrelax,storage,analyze_ms,factor_ms,factor_min_ms,factor_max_ms,factor_gflops,nnz_l,flops,default,status") ||
+      cb_experiment_csv(&e, &steps, step_path,
+                        "# implicit steps from the bench state: Newton with one iteration (Baraff-Witkin), inner solve cut at 32 iterations;\n"
+                        "# rho_share = time in Lanczos rho estimates / step time, summed over the steps; rho_estimates: Lanczos runs over the steps;\n"
+                        "# rel_residual_geomean: geometric mean over the steps of the inner solve's final |b - Ax| / |b|\n",
+                        "n,method,solver,alpha_setting,rho_estimate,steps,step_ms,step_min_ms,step_max_ms,steps_per_s,rho_share,"
+                        "rho_estimates,linear_iters_mean,rel_residual_geomean,alpha_used,status")) {
     fprintf(stderr, "bench_core: %s\n", cb_error_message());
     return 2;
   }
   triad_arrays ta;
-  if (triad_alloc(&ta)) { fprintf(stderr, "bench_core: out of memory for the triad arrays\n"); return 1; }
+  gemm_arrays ga;
+  if (triad_alloc(&ta) || gemm_alloc(&ga, 1024)) { fprintf(stderr, "bench_core: out of memory for the triad and dgemm arrays\n"); return 1; }
   cb_progress_start(&e.progress, "bench_core", nsizes);
   for (int si = 0; si < nsizes; si++) {
     int n = sizes[si];
@@ -104,8 +404,13 @@ int main(int argc, char **argv) {
     memcpy(x, s->x0, (size_t)nv3 * sizeof *x);
     memcpy(v, s->v0, (size_t)nv3 * sizeof *v);
     cb_step_stats st;
-    int status = CB_OK;
-    for (int k = 0; k < 3 && !cb_status_is_fatal(status); k++) status = cb_integrator_step(nt, x, v, &st); /* swing a little */
+    int status = CB_OK, newton_iters = 0, warm = 0;
+    for (int k = 0; k < 3 && !cb_status_is_fatal(status); k++) { /* swing a little */
+      status = cb_integrator_step(nt, x, v, &st);
+      newton_iters += st.newton_iters;
+      warm++;
+    }
+    double per_run = (double)cfg.steps * newton_iters / warm;
     memcpy(xs, x, (size_t)nv3 * sizeof *x);
     memcpy(vs, v, (size_t)nv3 * sizeof *v);
     /* allocations inside one Newton step and one explicit step (after warm-up) */
@@ -131,47 +436,84 @@ int main(int argc, char **argv) {
     cb_integrator_step(ex, x, v, &st);
     long allocs_explicit = nalloc - a0;
     /* explicit step */
-    double tex[16], tas[16], tfa[16], tso[16], tmv[16];
+    double tex[MAXREP], tas[MAXREP], tfa[MAXREP], tso[MAXREP], tmv[MAXREP], tmf[MAXREP];
+    double tbare[MAXREP], rbare[MAXREP], tb4[MAXREP], rb4[MAXREP], gfl[MAXREP], dgf[MAXREP], rdg[MAXREP];
+    double thr[MAXREP], thr4[MAXREP], ttr[MAXREP], gmv[MAXREP], rmv[MAXREP], rfs[MAXREP];
     for (int k = 0; k < reps; k++) {
       memcpy(x, xs, (size_t)nv3 * sizeof *x);
       memcpy(v, vs, (size_t)nv3 * sizeof *v);
       cb_integrator_step(ex, x, v, &st);
       tex[k] = st.wall_ms;
     }
-    /* one Newton iteration at the saved state, split into its parts */
+    /* one Newton iteration at the saved state, split into its parts, with
+     * bare CHOLMOD's factorisations of the same matrix in between */
     cb_sparse *A = &s->sys.A;
     double *b = malloc((size_t)A->n * sizeof *b), *dx = malloc((size_t)A->n * sizeof *dx), *y = malloc((size_t)A->n * sizeof *y);
     for (int i = 0; i < A->n; i++) b[i] = 1.0;
+    cb_system_energy(&s->sys, xs, g, NULL);
+    cb_system_assemble(&s->sys, xs, 1.0 / (cfg.dt * cfg.dt), CB_DEF_DROP, 0.0);
+    bare_cholmod bare;
+    double bare_an = bare_analyze(&bare, A);
+    bare_factor(&bare); /* warm-up */
+    our_factor_ctx oc = {nt->solver, A, CB_OK};
+    double fl = nt->solver->stats.factor_flops;
     for (int k = 0; k < reps; k++) {
       double t0 = cb_now_ms();
       cb_system_energy(&s->sys, xs, g, NULL);
       cb_system_assemble(&s->sys, xs, 1.0 / (cfg.dt * cfg.dt), CB_DEF_DROP, 0.0);
       tas[k] = cb_now_ms() - t0;
-      t0 = cb_now_ms();
-      status = cb_solver_factor(nt->solver, A);
-      tfa[k] = cb_now_ms() - t0;
+      tfa[k] = timed_count(our_factor, &oc, &thr[k]);
+      status = oc.status;
       t0 = cb_now_ms();
       if (status == CB_OK) status = cb_solver_solve(nt->solver, A, b, dx);
       tso[k] = cb_now_ms() - t0;
+      double dummy;
+      tbare[k] = timed_count(bare_factor, &bare, &dummy);
+      omp_set_dynamic(0); /* as before the fix: CHOLMOD's num_threads(4) stands */
+      tb4[k] = timed_count(bare_factor, &bare, &thr4[k]);
+      omp_set_dynamic(1);
+      dgf[k] = gemm_once(&ga, th->blas_requested);
+      rbare[k] = tfa[k] / tbare[k];
+      rb4[k] = tb4[k] / tbare[k];
+      gfl[k] = fl / (tfa[k] * 1e-3) / 1e9;
+      rdg[k] = gfl[k] / dgf[k];
     }
+    bare_free(&bare);
     /* SpMV (enough products per sample for ~20 ms), interleaved with triad
      * passes so that both see the same machine */
+    cb_sparse_sym S;
+    if (cb_sparse_sym_alloc(&S, A)) { fprintf(stderr, "bench_core: %s\n", cb_error_message()); return 1; }
+    cb_sparse_sym_fill(&S, A);
+    double bytes = (double)cb_sparse_sym_matvec_bytes(&S), bytes_full = (double)cb_sparse_matvec_bytes(A);
     int inner = 1 + (int)(2e7 / (double)A->nnz);
-    double ttr[16];
     for (int k = 0; k < reps; k++) {
       ttr[k] = triad_once(&ta);
       double t0 = cb_now_ms();
-      for (int q = 0; q < inner; q++) cb_sparse_matvec(A, q & 1 ? y : b, q & 1 ? dx : y);
+      for (int q = 0; q < inner; q++) cb_sparse_sym_matvec(&S, q & 1 ? y : b, q & 1 ? dx : y);
       tmv[k] = (cb_now_ms() - t0) / inner;
+      t0 = cb_now_ms();
+      for (int q = 0; q < inner; q++) cb_sparse_matvec(A, q & 1 ? y : b, q & 1 ? dx : y);
+      tmf[k] = (cb_now_ms() - t0) / inner;
+      gmv[k] = bytes / (tmv[k] * 1e-3) / 1e9;
+      rmv[k] = gmv[k] / ttr[k];
+      rfs[k] = tmf[k] / tmv[k];
     }
-    double triad = cb_median(ttr, reps);
-    double mas = cb_median(tas, reps), mfa = cb_median(tfa, reps), mso = cb_median(tso, reps), mmv = cb_median(tmv, reps);
-    double bytes = (double)cb_sparse_matvec_bytes(A);
-    double gbs = bytes / (mmv * 1e-3) / 1e9;
-    fprintf(csv.f, "%d,%d,%d,%.17g,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%ld,%ld,%ld,%.6f,%.6f,%.6f,%.6f,%s\n", n, A->n, A->nnz,
-            nt->solver->stats.factor_nnz, cb_median(tex, reps), mas, mfa, mso, mas + mfa + mso, mas / mfa, allocs_explicit,
-            allocs_iter, allocs_newton, mmv, gbs, triad, gbs / triad, cb_status_name(status));
+    if (mdir && *mdir && export_matrix(mdir, n, A)) return 1;
+    double mfa = stat_of(tfa, reps).med, an = nt->solver->stats.analyze_ms;
+    fprintf(csv.f, "%d,%d,%d,%.17g,%.6g", n, A->n, A->nnz, nt->solver->stats.factor_nnz, fl / 1e9);
+    mstat ms[] = {stat_of(tex, reps), stat_of(tas, reps), stat_of(tfa, reps), stat_of(tso, reps), stat_of(tbare, reps),
+                  stat_of(rbare, reps), stat_of(tb4, reps), stat_of(rb4, reps), stat_of(gfl, reps), stat_of(dgf, reps),
+                  stat_of(rdg, reps), stat_of(tmv, reps), stat_of(tmf, reps), stat_of(rfs, reps), stat_of(ttr, reps),
+                  stat_of(gmv, reps), stat_of(rmv, reps)};
+    for (size_t q = 0; q < sizeof ms / sizeof ms[0]; q++) put(csv.f, ms[q]);
+    fprintf(csv.f, ",%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.17g,%.17g,%ld,%ld,%ld,%s\n",
+            ms[1].med + ms[2].med + ms[3].med, ms[1].med / mfa, stat_of(thr, reps).med, stat_of(thr4, reps).med, an,
+            bare_an, per_run, an / (per_run * mfa), bytes, bytes_full, allocs_explicit, allocs_iter, allocs_newton,
+            cb_status_name(status));
     fflush(csv.f);
+    cb_sparse_sym_free(&S);
+    if (n >= 64) sweep_cholmod(chol.f, n, A, n >= 256 ? 5 : 7);
+    if (n == step_n) bench_steps(steps.f, n, s, &nt->params, xs, vs, 20);
     free(x); free(v); free(xs); free(vs); free(g); free(b); free(dx); free(y);
     cb_integrator_free(ex);
     cb_integrator_free(nt);
@@ -180,7 +522,11 @@ int main(int argc, char **argv) {
   }
   cb_progress_end(&e.progress);
   free(ta.a); free(ta.b); free(ta.c);
-  if (cb_outfile_commit(&csv)) { fprintf(stderr, "bench_core: %s\n", cb_error_message()); return 2; }
-  fprintf(stderr, "bench_core: wrote %s\n", e.out);
+  free(ga.a); free(ga.b); free(ga.c);
+  if (cb_outfile_commit(&chol) || cb_outfile_commit(&steps) || cb_outfile_commit(&csv)) {
+    fprintf(stderr, "bench_core: %s\n", cb_error_message());
+    return 2;
+  }
+  fprintf(stderr, "bench_core: wrote %s, %s, %s\n", e.out, chol_path, step_path);
   return 0;
 }

@@ -2,7 +2,8 @@
 # Checks for the Debian packages clothbench builds against and installs the
 # missing ones (apt-get update first) when run as root. Otherwise it prints the
 # one command to run and fails, so `make test` stops before compiling.
-# Arguments name packages that one target needs besides these (make fuzz: clang).
+# Arguments name packages that one target needs besides these (make fuzz: clang;
+# make bench: python3-scipy).
 set -u
 PKGS="libgsl-dev libsuitesparse-dev libopenblas-dev libinih-dev libcriterion-dev gnuplot-nox $*"
 missing=""

@@ -97,6 +97,7 @@ if [ -s "$T/hang/out.csv" ]; then
   check "hang: provenance lacks '# git_revision:'" grep -q '^# git_revision:' "$csv"
   check "hang: provenance lacks '# config:'" grep -q '^# config:' "$csv"
   check "hang: provenance lacks '# blas_threads:'" grep -q '^# blas_threads:' "$csv"
+  check "hang: provenance lacks '# threads_observed:'" grep -q '^# threads_observed: cholmod_factorize [0-9]' "$csv"
   check "hang: a '#' line after the header" test "$(grep -v '^#' "$csv" | grep -c '^#')" -eq 0
   # every row has as many fields as the header
   nf=$(echo "$hdr" | awk -F, '{print NF}')
@@ -266,6 +267,24 @@ for code in 0 1 2 3 4; do
   check "--help does not document exit code $code" grep -Eq "(^|[^0-9])$code [a-z]" "$T/help.out"
 done
 
+# the thread knob: a malformed count is an error naming the variable
+OMP_NUM_THREADS=two sim badomp "$CONFIG" --steps 1 --csv "$T/badomp.csv"
+expect_rc badomp 1
+expect_err badomp "OMP_NUM_THREADS='two'"
+OPENBLAS_NUM_THREADS=0 sim badblas "$CONFIG" --steps 1 --csv "$T/badblas.csv"
+expect_rc badblas 1
+expect_err badblas "OPENBLAS_NUM_THREADS='0'"
+# one thread requested: one thread observed in CHOLMOD's factorisation and in dgemm
+OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 sim onethread "$CONFIG" --steps 1 --csv "$T/onethread.csv"
+expect_rc onethread 0
+check "THREADS=1: provenance does not show one observed thread" \
+  grep -q '^# threads_observed: cholmod_factorize 1, dgemm 1 ' "$T/onethread.csv"
+
+# Chebyshev as a new user tries it: no key but the method (alpha = auto, rho = auto)
+sim cheb "$CONFIG" --set solver.method=chebyshev --steps 10 --csv "$T/cheb.csv"
+expect_rc cheb 0
+check "chebyshev with the default keys: a step did not end ok" test "$(data_rows "$T/cheb.csv" | awk -F, -v c="$(col "$T/cheb.csv" status)" '$c != "ok"' | wc -l)" -eq 0
+
 sim helpcfg --help-config
 expect_rc helpcfg 0
 for key in mesh.type mesh.n mesh.m mesh.size mesh.plane mesh.diagonal mesh.file \
@@ -273,7 +292,7 @@ for key in mesh.type mesh.n mesh.m mesh.size mesh.plane mesh.diagonal mesh.file 
   scene.gravity scene.pins scene.initial_scale \
   integrator.method integrator.dt integrator.steps integrator.max_iters integrator.tol \
   integrator.tol_dx integrator.definiteness integrator.init integrator.line_search integrator.diverge_ratio \
-  solver.method solver.tol solver.max_iters solver.alpha solver.rho; do
+  solver.method solver.tol solver.max_iters solver.alpha solver.rho solver.ordering solver.nrelax solver.storage; do
   check "--help-config lacks $key" grep -Fq -- "| \`$key\` |" "$T/helpcfg.out"
 done
 

@@ -153,8 +153,11 @@ Test(defaults, documented_values) {
   cr_expect_str_eq(c.solver, "cholmod");
   cr_expect_eq(c.solver_tol, 1e-8);
   cr_expect_eq(c.solver_max_iters, 1000);
-  cr_expect_eq(c.solver_alpha, 1.0);
+  cr_expect_eq(c.solver_alpha, 0.0, "alpha = auto is stored as 0");
   cr_expect_eq(c.solver_rho, 0.0, "rho = auto is stored as 0");
+  cr_expect_str_eq(c.solver_ordering, "nesdis");
+  cr_expect(c.solver_nrelax[0] == 16 && c.solver_nrelax[1] == 64 && c.solver_nrelax[2] == 128);
+  cr_expect_str_eq(c.solver_storage, "upper");
   cr_expect_str_eq(c.path, "");
   cr_expect_str_eq(c.overrides, "");
   cr_expect_eq(cb_config_validate(&c), CB_OK, "%s", cb_error_message());
@@ -430,6 +433,9 @@ Test(load_error, out_of_range) {
   expect_load_error("[mesh]\nsize = 4 -2\n", 2, "mesh.size", "out of range");
   expect_load_error("[scene]\ninitial_scale = 0\n", 2, "scene.initial_scale", "out of range");
   expect_load_error("[solver]\nalpha = 0\n", 2, "solver.alpha", "out of range");
+  expect_load_error("[solver]\nalpha = fast\n", 2, "solver.alpha", "must be `auto` or a number");
+  expect_load_error("[solver]\nordering = colamd\n", 2, "solver.ordering", "not one of");
+  expect_load_error("[solver]\nstorage = lower\n", 2, "solver.storage", "not one of");
   expect_load_error("[solver]\nrho = 1\n", 2, "solver.rho", "auto");
   expect_load_error("[solver]\nrho = 0\n", 2, "solver.rho", "auto");
 }
@@ -626,7 +632,7 @@ Test(set, reference_lists_every_key) {
       "scene.gravity", "scene.pins", "scene.initial_scale", "integrator.method", "integrator.dt",
       "integrator.steps", "integrator.max_iters", "integrator.tol", "integrator.tol_dx", "integrator.definiteness",
       "integrator.init", "integrator.line_search", "integrator.diverge_ratio", "solver.method", "solver.tol",
-      "solver.max_iters", "solver.alpha", "solver.rho"};
+      "solver.max_iters", "solver.alpha", "solver.rho", "solver.ordering", "solver.nrelax", "solver.storage"};
   for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++) {
     char cell[64];
     snprintf(cell, sizeof cell, "| `%s` |", keys[k]);
@@ -1248,4 +1254,16 @@ Test(scene_finite, all_pinned_chebyshev_names_scene_pins) {
   /* was "lanczos: empty operator" */
   expect_file_scene_error("[mesh]\nn = 2\n[scene]\npins = corners\n[solver]\nmethod = chebyshev\n", NULL,
                           "scene.ini:4: scene.pins: every vertex is pinned", "lanczos: empty operator");
+}
+
+Test(validate, nrelax_needs_non_decreasing_whole_numbers) {
+  cb_config c;
+  cb_config_defaults(&c);
+  cr_assert_eq(cb_config_set(&c, "solver.nrelax=16 64 128"), CB_OK);
+  cr_expect_eq(cb_config_validate(&c), CB_OK);
+  cr_assert_eq(cb_config_set(&c, "solver.nrelax=16 8 128"), CB_OK);
+  cr_expect_eq(cb_config_validate(&c), CB_EINVAL);
+  cr_expect(strstr(cb_error_message(), "solver.nrelax") != NULL, "message: %s", cb_error_message());
+  cr_assert_eq(cb_config_set(&c, "solver.nrelax=4 16.5 48"), CB_OK);
+  cr_expect_eq(cb_config_validate(&c), CB_EINVAL);
 }

@@ -410,3 +410,47 @@ Test(solvers_iterative, nesterov_and_sgs_on_an_indefinite_matrix_give_a_status) 
   cr_expect_eq(solve("sgs", &p, &A, b, x, NULL, NULL), CB_DIVERGED);
   cb_sparse_free(&A);
 }
+
+/* The amortised estimate (alpha = auto, rho = auto): a second factorisation
+ * of the same matrix reuses the bounds (no Lanczos run) and still solves to
+ * the tolerance; a matrix assembled at a stretched state (wider spectrum)
+ * is still solved to the tolerance, whether the moved bounds fit or the
+ * solve has to re-estimate. Residuals are checked with the full-storage
+ * product, not the solver's own. */
+Test(iterative, amortised_rho_estimate_reuses_and_stays_safe) {
+  const char *sets[] = {"mesh.n=10", NULL};
+  cb_scene *sc = test_scene(sets);
+  cb_sparse *A = &sc->sys.A;
+  int n = A->n, nv3 = 3 * sc->mesh.nv;
+  cb_system_assemble(&sc->sys, sc->x0, 900.0, CB_DEF_DROP, 0.0);
+  cb_solver_params p = cb_solver_params_default();
+  p.alpha = 0; /* auto */
+  p.rho = 0;
+  p.tol = 1e-10;
+  p.max_iters = 20000;
+  cb_solver *s = NULL;
+  cr_assert_eq(cb_solver_alloc("chebyshev", &p, n, &s), CB_OK);
+  cr_assert_eq(cb_solver_analyze(s, A), CB_OK);
+  double *b = malloc((size_t)n * sizeof(double)), *x = calloc((size_t)n, sizeof(double)), *w = malloc((size_t)n * sizeof(double));
+  double *xs = malloc((size_t)nv3 * sizeof(double));
+  cr_assert(b && x && w && xs);
+  for (int i = 0; i < n; i++) b[i] = sin(0.37 * i) + 0.5;
+  for (int round = 0; round < 3; round++) {
+    if (round == 2) { /* stretch the cloth by 40% about its first vertex: stiffer, wider spectrum */
+      for (int i = 0; i < nv3; i++) xs[i] = sc->x0[i % 3] + 1.4 * (sc->x0[i] - sc->x0[i % 3]);
+      cb_system_assemble(&sc->sys, xs, 900.0, CB_DEF_DROP, 0.0);
+    }
+    cr_assert_eq(cb_solver_factor(s, A), CB_OK, "round %d: %s", round, cb_error_message());
+    if (round == 0) cr_expect_eq(s->stats.rho_estimates, 1, "the first factorisation estimates");
+    if (round == 1) cr_expect_eq(s->stats.rho_estimates, 0, "the same matrix reuses the bounds");
+    cr_expect(s->stats.alpha > 0 && s->stats.alpha < 1, "alpha* = %g", s->stats.alpha);
+    memset(x, 0, (size_t)n * sizeof(double));
+    int st = cb_solver_solve(s, A, b, x);
+    cr_expect_eq(st, CB_OK, "round %d: status %s (%s)", round, cb_status_name(st), cb_error_message());
+    double res = cb_relative_residual(A, b, x, w);
+    cr_expect(res <= 1.01e-10, "round %d: residual %.3g", round, res);
+  }
+  free(b); free(x); free(w); free(xs);
+  cb_solver_free(s);
+  cb_scene_free(sc);
+}

@@ -81,7 +81,7 @@ static void explicit_limit(cb_scene *scene, double dt, char *why, size_t n) {
 }
 
 int main(int argc, char **argv) {
-  cb_runtime_init();
+  if (cb_runtime_init()) { fprintf(stderr, "simulate: %s\n", cb_error_message()); return EXIT_USAGE; }
   const char *config = NULL, *csv_path = NULL, *obj_path = NULL, *steps = NULL, *frames = NULL;
   long every = 1;
   int quiet = 0;

@@ -21,12 +21,21 @@ typedef void (*cb_solver_monitor)(void *ctx, int k, double rel_residual, const d
 typedef struct cb_solver_params {
   double tol;       /* relative residual |b - Ax| / |b| to stop at (iterative). Default 1e-8 */
   int max_iters;    /* iterations at most (iterative). Default 1000 */
-  double alpha;     /* Jacobi weight. Default 1 */
+  double alpha;     /* Jacobi weight; 0 = auto, 2/(lambda_min + lambda_max) of D^-1 A (Chebyshev only). Default 1 */
   double rho;       /* Chebyshev spectral radius; 0 = estimate at run time. Default 0 */
   int history_cap;  /* residuals kept per solve (0 = none). Default 0 */
+  int ordering;     /* CHOLMOD: CB_ORDER_*. Default CB_ORDER_NESDIS (bench_core_cholmod.csv) */
+  int nrelax[3];    /* CHOLMOD supernode relaxation (Common->nrelax). Default {16, 64, 128} (CHOLMOD's: 4, 16, 48) */
+  int upper;        /* CHOLMOD reads a copy of the upper triangle (1) or the full matrix (0). Default 1 */
+  int rho_reuse;    /* rho = auto / alpha = auto: reuse the last estimate while D stays put (1), or estimate at
+                       every factor (0, the behaviour before the estimate was amortised). Default 1 */
   cb_solver_monitor monitor; /* per-iteration callback; NULL = none. Default NULL */
   void *monitor_ctx;
 } cb_solver_params;
+
+/* solver.ordering: CHOLMOD's own choice (nmethods = 0), or one method. */
+enum { CB_ORDER_DEFAULT = 0, CB_ORDER_AMD, CB_ORDER_METIS, CB_ORDER_NESDIS };
+const char *cb_order_name(int ordering);
 
 cb_solver_params cb_solver_params_default(void);
 
@@ -39,8 +48,13 @@ typedef struct cb_solve_stats {
   double solve_ms;     /* last solve */
   double setup_ms;     /* part of factor_ms spent estimating rho (Chebyshev with rho = auto) */
   double rho;          /* Chebyshev: the rho used (estimated or given) */
-  int rho_steps;       /* Lanczos steps of the rho estimate */
+  int rho_steps;       /* Lanczos steps of the rho estimates in the last factor and solve */
+  int rho_estimates;   /* Lanczos runs in the last factor and solve: 0 when the last bounds were reused,
+                          2 when a solve on a reused estimate restarted with a fresh one */
+  double rho_ms;       /* their time (a restart's estimate also counts in solve_ms) */
+  double alpha;        /* Jacobi/Chebyshev: the weight used (alpha* with alpha = auto) */
   double factor_nnz;   /* nonzeros of the factor L (direct solvers) */
+  double factor_flops; /* floating-point operations of one numeric factorisation (CHOLMOD's Common->fl) */
   int history_len;     /* residuals recorded in history */
   double *history;     /* rel. residual after each iteration (history_cap entries) */
 } cb_solve_stats;

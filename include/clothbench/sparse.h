@@ -65,6 +65,33 @@ void cb_sparse_matvec(const cb_sparse *A, const double *x, double *y);
  * block pointers, x once, y once): the numerator of its achieved bandwidth. */
 size_t cb_sparse_matvec_bytes(const cb_sparse *A);
 
+/* The upper blocks of a cb_sparse, for the matrix-vector product of the
+ * iterative solvers: each block A(bi, bj) with bi <= bj stored once, 9
+ * contiguous values row-major, so a product reads about half the bytes of
+ * the full matrix. y = A x walks block column bj: y(bj) gathers
+ * A(bi,bj)^T x(bi) over the column and is assigned when the column ends, and
+ * each off-diagonal block also scatters A(bi,bj) x(bj) into y(bi), bi < bj,
+ * a row assigned earlier (columns > bj later add their scatter to y(bj)).
+ * The pattern is set by alloc; fill copies the values after each assembly. */
+typedef struct cb_sparse_sym {
+  int n, nblk, nub; /* nub: stored blocks (upper ones, diagonal included) */
+  int *bcolp;       /* nblk+1 pointers into brow */
+  int *brow;        /* nub block rows, ascending within a column (the diagonal last) */
+  double *val;      /* 9 nub: block k holds val[9k + 3r + c] = A(3 bi + r, 3 bj + c) */
+} cb_sparse_sym;
+
+int cb_sparse_sym_alloc(cb_sparse_sym *S, const cb_sparse *A);
+void cb_sparse_sym_free(cb_sparse_sym *S);
+/* Copies the upper blocks' values from A (whose pattern S was built from). */
+void cb_sparse_sym_fill(cb_sparse_sym *S, const cb_sparse *A);
+/* y = A x */
+void cb_sparse_sym_matvec(const cb_sparse_sym *S, const double *x, double *y);
+/* r = b - A x; returns |r|_2. */
+double cb_sparse_sym_residual(const cb_sparse_sym *S, const double *b, const double *x, double *r);
+/* Bytes one product must move (the same convention as cb_sparse_matvec_bytes):
+ * 72 nub (values) + 4 nub (block rows) + 4 (nblk+1) + 16 n (x once, y once). */
+size_t cb_sparse_sym_matvec_bytes(const cb_sparse_sym *S);
+
 /* r = b - A x in one pass; returns |r|_2. */
 double cb_sparse_residual(const cb_sparse *A, const double *b, const double *x, double *r);
 

@@ -106,6 +106,10 @@ cb_solver_params cb_solver_params_from_config(const cb_config *c) {
   p.max_iters = c->solver_max_iters;
   p.alpha = c->solver_alpha;
   p.rho = c->solver_rho;
+  for (int o = 0; cb_order_name(o); o++)
+    if (strcmp(c->solver_ordering, cb_order_name(o)) == 0) p.ordering = o;
+  for (int k = 0; k < 3; k++) p.nrelax[k] = (int)c->solver_nrelax[k]; /* integers: checked by the config */
+  p.upper = strcmp(c->solver_storage, "upper") == 0;
   return p;
 }
 

@@ -16,11 +16,13 @@
 #include <clothbench/status.h>
 
 typedef enum { T_INT, T_DOUBLE, T_SIZE, T_VEC3, T_ENUM, T_PATH, T_PINS, T_BOOL, T_RHO,
-               T_PINT, T_PDOUBLE, T_PBOOL, T_PCHOICE, T_PAUTO /* an integrator type's keys, stored as doubles */ } ktype;
+               T_AUTO, T_PINT, T_PDOUBLE, T_PBOOL, T_PCHOICE, T_PAUTO /* an integrator type's keys, stored as doubles */ } ktype;
 
 static const char *const mesh_types[] = {"grid", "chain", "obj", NULL};
 static const char *const planes[] = {"xy", "xz", "yz", NULL};
 static const char *const diagonals[] = {"regular", "alternating", NULL};
+static const char *const orderings[] = {"default", "amd", "metis", "nesdis", NULL};
+static const char *const storages[] = {"full", "upper", NULL};
 
 typedef struct {
   const char *key;     /* section.key */
@@ -96,10 +98,16 @@ static const keydef keys_tail[] = {
    "Iterative solvers stop at relative residual |b - Ax| / |b| <= tol."},
   {"solver.max_iters", T_INT, O(solver_max_iters), "1000", "iterations", 1, 2000000000, 0, NULL, NULL,
    "Iterative solvers stop after this many iterations."},
-  {"solver.alpha", T_DOUBLE, O(solver_alpha), "1", "-", 0, 2, 1, NULL, NULL,
-   "Jacobi weight: dx += alpha D^-1 r (1 is vanilla Jacobi)."},
+  {"solver.alpha", T_AUTO, O(solver_alpha), "auto", "-", 0, 2, 1, NULL, NULL,
+   "Jacobi weight: dx += alpha D^-1 r (1 is vanilla Jacobi), or `auto`: alpha* = 2/(lambda_min + lambda_max) of D^-1 A, from the same Lanczos estimate as Chebyshev's rho (the weight that minimises rho(I - alpha D^-1 A), always < 1)."},
   {"solver.rho", T_RHO, O(solver_rho), "auto", "-", 0, 1, 1, NULL, NULL,
-   "Chebyshev spectral-radius estimate rho in (0, 1), or `auto` (estimated at run time)."},
+   "Chebyshev spectral-radius estimate rho in (0, 1), or `auto`: Lanczos bounds of eig(D^-1 A), reused across factorisations and moved with Gershgorin's bound, estimated afresh when they stop fitting (a slow or growing solve, which then restarts) or after 30 factorisations (lib/solver_jacobi.c)."},
+  {"solver.ordering", T_ENUM, O(solver_ordering), "nesdis", "-", 0, 0, 0, orderings, NULL,
+   "CHOLMOD's fill-reducing ordering: `default` (CHOLMOD's own choice: AMD, then METIS if AMD fills badly), `amd`, `metis`, or `nesdis` (CHOLMOD's nested dissection, the fastest factorisation from 64^2 to 256^2 in the Performance section's table; its slower analysis is well under 1% of a run's factorisations)."},
+  {"solver.nrelax", T_VEC3, O(solver_nrelax), "16 64 128", "columns", 0, 1e6, 0, NULL, NULL,
+   "CHOLMOD's supernode relaxation (Common->nrelax): supernodes of at most this many columns (3 numbers, for zrelax 0.8, 0.1, 0.05) are merged even if that adds zeros; CHOLMOD's own default is `4 16 48`."},
+  {"solver.storage", T_ENUM, O(solver_storage), "upper", "-", 0, 0, 0, storages, NULL,
+   "The matrix CHOLMOD reads: `full` (both triangles, CHOLMOD skips the lower one) or `upper` (a copy of the upper triangle, refreshed at each factorisation)."},
 };
 enum { NHEAD = (int)(sizeof keys_head / sizeof keys_head[0]), NTAIL = (int)(sizeof keys_tail / sizeof keys_tail[0]) };
 enum { MAX_KEYS = (int)(sizeof ((cb_config *)0)->where / sizeof ((cb_config *)0)->where[0]) };
@@ -274,6 +282,14 @@ static int assign(cb_config *c, const keydef *k, const char *value, char *why, s
     double v;
     if (strcmp(value, "auto") == 0) { *(double *)field = CB_PARAM_AUTO; return 0; }
     if (cb_parse_double(value, &v)) { snprintf(why, nwhy, "'%s' is neither `auto` nor a number", value); return -1; }
+    if (!in_range(k, v)) { snprintf(why, nwhy, "%s is out of range (must be `auto` or %s)", value, rng); return -1; }
+    *(double *)field = v;
+    return 0;
+  }
+  case T_AUTO: {
+    double v;
+    if (strcmp(value, "auto") == 0) { *(double *)field = 0; return 0; }
+    if (cb_parse_double(value, &v)) { snprintf(why, nwhy, "'%s' must be `auto` or a number", value); return -1; }
     if (!in_range(k, v)) { snprintf(why, nwhy, "%s is out of range (must be `auto` or %s)", value, rng); return -1; }
     *(double *)field = v;
     return 0;
@@ -575,6 +591,11 @@ int cb_config_validate(const cb_config *c) {
   if (table_overflow)
     return cb_fail("config: the integrator types declare more than %d keys, or one key with two definitions",
                    CB_MAX_TYPE_KEYS);
+  for (int k = 0; k < 3; k++)
+    if (c->solver_nrelax[k] != floor(c->solver_nrelax[k]) || (k && c->solver_nrelax[k] < c->solver_nrelax[k - 1]))
+      return cb_fail("%s: solver.nrelax: must be 3 non-decreasing whole numbers, got %g %g %g",
+                     cb_config_where(c, "solver.nrelax", w, sizeof w), c->solver_nrelax[0], c->solver_nrelax[1],
+                     c->solver_nrelax[2]);
   if (strcmp(c->mesh_type, "obj") == 0 && !c->mesh_file[0])
     return cb_fail("%s: mesh.file: required when mesh.type = obj", cb_config_where(c, "mesh.type", w, sizeof w));
   return CB_OK;
@@ -596,7 +617,7 @@ static void write_value(const cb_config *c, const keydef *k, FILE *f) {
   case T_VEC3:
     fprintf(f, "%.17g %.17g %.17g", ((const double *)field)[0], ((const double *)field)[1], ((const double *)field)[2]);
     break;
-  case T_RHO:
+  case T_RHO: case T_AUTO:
     if (*(const double *)field == 0) fputs("auto", f);
     else fprintf(f, "%.17g", *(const double *)field);
     break;

@@ -33,8 +33,14 @@ const char *cb_solver_name(int i) {
   return cb_solver_types[i]->name;
 }
 
+const char *cb_order_name(int ordering) {
+  static const char *const names[] = {"default", "amd", "metis", "nesdis"};
+  return ordering >= 0 && ordering < 4 ? names[ordering] : NULL;
+}
+
 cb_solver_params cb_solver_params_default(void) {
   cb_solver_params p = {.tol = 1e-8, .max_iters = 1000, .alpha = 1.0, .rho = 0.0, .history_cap = 0,
+                         .ordering = CB_ORDER_NESDIS, .nrelax = {16, 64, 128}, .upper = 1, .rho_reuse = 1,
                          .monitor = NULL, .monitor_ctx = NULL};
   return p;
 }

@@ -19,12 +19,14 @@ typedef struct {
   int precond;
   double *binv;        /* 9 per block: inverse of the diagonal block (pcg) */
   double *r, *z, *p, *q;
+  cb_sparse_sym S;     /* upper blocks of A, refreshed by factor (the products read it) */
 } cg_work;
 
 static void cgw_free(cb_solver *s) {
   cg_work *w = s->work;
   if (!w) return;
   free(w->binv); free(w->r); free(w->z); free(w->p); free(w->q);
+  cb_sparse_sym_free(&w->S);
   free(w);
   s->work = NULL;
 }
@@ -50,9 +52,9 @@ static int cg_alloc(cb_solver *s, int n) { return cgw_alloc(s, n, 0); }
 static int pcg_alloc(cb_solver *s, int n) { return cgw_alloc(s, n, 1); }
 
 static int cg_analyze(cb_solver *s, const cb_sparse *A) {
-  (void)s;
-  (void)A;
-  return CB_OK;
+  cg_work *w = s->work;
+  cb_sparse_sym_free(&w->S);
+  return cb_sparse_sym_alloc(&w->S, A);
 }
 
 /* Inverse of a symmetric positive definite 3x3 block by its Cholesky factor. */
@@ -82,6 +84,11 @@ static int inverse3_spd(const double a[9], double out[9]) {
 
 static int cg_factor(cb_solver *s, const cb_sparse *A) {
   cg_work *w = s->work;
+  if (!w->S.bcolp) { /* analyze was skipped: build the pattern now */
+    int st = cb_sparse_sym_alloc(&w->S, A);
+    if (st) return st;
+  }
+  cb_sparse_sym_fill(&w->S, A);
   if (!w->precond) return CB_OK;
   for (int b = 0; b < A->nblk; b++) {
     int slot, stride;
@@ -109,7 +116,7 @@ static int cg_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x
   cg_work *w = s->work;
   int n = A->n, status = CB_NOT_CONVERGED;
   double bnorm = sqrt(cb_vec_dot(n, b, b));
-  double r0 = cb_sparse_residual(A, b, x, w->r);
+  double r0 = cb_sparse_sym_residual(&w->S, b, x, w->r);
   if (cb_iter_stop(s, 0, r0, r0, bnorm, x, &status)) return status;
   status = CB_NOT_CONVERGED;
   double *z = w->precond ? w->z : w->r;
@@ -117,7 +124,7 @@ static int cg_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x
   memcpy(w->p, z, (size_t)n * sizeof(double));
   double rz = cb_vec_dot(n, w->r, z);
   for (int k = 0; k < s->params.max_iters; k++) {
-    cb_sparse_matvec(A, w->p, w->q); /* q = A p */
+    cb_sparse_sym_matvec(&w->S, w->p, w->q); /* q = A p */
     double pq = cb_vec_dot(n, w->p, w->q);
     if (!(pq > 0)) {
       s->stats.iters = k;

@@ -7,21 +7,18 @@
  *          CB_NOT_SPD with the failing column in L->minor, never a crash.
  * solve:   cholmod_solve2 into workspaces allocated on the first solve, so
  *          later solves do not allocate.
- * Our matrix stores both triangles; with stype = +1 CHOLMOD reads the upper
- * one, straight from our arrays without a copy. */
+ * Our matrix stores both triangles. With solver.storage = full CHOLMOD
+ * reads it straight from our arrays (stype = +1: the upper triangle is used,
+ * the lower skipped); with `upper` it gets a copy of the upper triangle
+ * (pattern built at analyse, values copied at every factorisation), which
+ * analyses and factorises faster (bench/bench_core.c measures both).
+ * solver.ordering and solver.nrelax set Common->method and Common->nrelax. */
 #include <cholmod.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <clothbench/solver.h>
 #include <clothbench/status.h>
-
-typedef struct {
-  cholmod_common c;
-  cholmod_factor *L;
-  cholmod_dense *X, *Y, *E;
-  double *work; /* residual */
-} cholmod_work;
 
 static cholmod_sparse wrap(const cb_sparse *A) {
   cholmod_sparse s;
@@ -40,12 +37,74 @@ static cholmod_sparse wrap(const cb_sparse *A) {
   return s;
 }
 
+typedef struct {
+  cholmod_common c;
+  cholmod_factor *L;
+  cholmod_dense *X, *Y, *E;
+  double *work; /* residual */
+  /* storage = upper: CSC of the upper triangle, and for each of its entries
+   * the index of the same entry in the full matrix */
+  int *up, *ui, *usrc;
+  double *ux;
+} cholmod_work;
+
+/* What CHOLMOD reads: the full arrays, or the upper copy with fresh values. */
+static cholmod_sparse wrap_for(cholmod_work *w, const cb_sparse *A, int upper) {
+  cholmod_sparse s = wrap(A);
+  if (upper && w->up) {
+    int nz = w->up[A->n];
+    for (int q = 0; q < nz; q++) w->ux[q] = A->val[w->usrc[q]]; /* U(i,j) = A(i,j), i <= j */
+    s.p = w->up;
+    s.i = w->ui;
+    s.x = w->ux;
+    s.nzmax = (size_t)nz;
+  }
+  return s;
+}
+
+static int build_upper(cholmod_work *w, const cb_sparse *A) {
+  free(w->up); free(w->ui); free(w->usrc); free(w->ux);
+  int nz = 0;
+  for (int j = 0; j < A->n; j++)
+    for (int q = A->colp[j]; q < A->colp[j + 1]; q++) nz += A->rowi[q] <= j;
+  w->up = cb_malloc((size_t)A->n + 1, sizeof(int));
+  w->ui = cb_malloc((size_t)nz + 1, sizeof(int));
+  w->usrc = cb_malloc((size_t)nz + 1, sizeof(int));
+  w->ux = cb_malloc((size_t)nz + 1, sizeof(double));
+  if (!w->up || !w->ui || !w->usrc || !w->ux) return CB_ENOMEM;
+  nz = 0;
+  for (int j = 0; j < A->n; j++) {
+    w->up[j] = nz;
+    for (int q = A->colp[j]; q < A->colp[j + 1]; q++)
+      if (A->rowi[q] <= j) { w->ui[nz] = A->rowi[q]; w->usrc[nz++] = q; }
+  }
+  w->up[A->n] = nz;
+  return CB_OK;
+}
+
+
 static int ch_alloc(cb_solver *s, int n) {
   cholmod_work *w = cb_calloc(1, sizeof *w);
   if (!w) return CB_ENOMEM;
   w->work = cb_malloc((size_t)n, sizeof(double));
   if (!w->work) { free(w); return CB_ENOMEM; }
   cholmod_start(&w->c);
+  const cb_solver_params *p = &s->params;
+  for (int k = 0; k < 3; k++)
+    if (p->nrelax[k] < 0 || (k && p->nrelax[k] < p->nrelax[k - 1])) {
+      cholmod_finish(&w->c);
+      free(w->work);
+      free(w);
+      return cb_fail("cholmod: solver.nrelax must be 3 non-decreasing counts >= 0, got %d %d %d", p->nrelax[0],
+                     p->nrelax[1], p->nrelax[2]);
+    }
+  for (int k = 0; k < 3; k++) w->c.nrelax[k] = (size_t)p->nrelax[k];
+  if (p->ordering != CB_ORDER_DEFAULT) { /* one method, no search over several */
+    static const int method[] = {0, CHOLMOD_AMD, CHOLMOD_METIS, CHOLMOD_NESDIS};
+    w->c.nmethods = 1;
+    w->c.method[0].ordering = method[p->ordering];
+    w->c.postorder = 1;
+  }
   w->c.print = 0;            /* statuses are ours to report */
   w->c.error_handler = NULL;
   w->c.final_ll = 1;         /* LL': a non-positive pivot is a failure */
@@ -55,7 +114,11 @@ static int ch_alloc(cb_solver *s, int n) {
 
 static int ch_analyze(cb_solver *s, const cb_sparse *A) {
   cholmod_work *w = s->work;
-  cholmod_sparse As = wrap(A);
+  if (s->params.upper) {
+    int st = build_upper(w, A);
+    if (st) return st;
+  }
+  cholmod_sparse As = wrap_for(w, A, s->params.upper);
   if (w->L) cholmod_free_factor(&w->L, &w->c);
   w->L = cholmod_analyze(&As, &w->c);
   if (!w->L) return cb_fail_status(CB_ENOMEM, "cholmod_analyze failed (status %d)", w->c.status);
@@ -65,10 +128,11 @@ static int ch_analyze(cb_solver *s, const cb_sparse *A) {
 static int ch_factor(cb_solver *s, const cb_sparse *A) {
   cholmod_work *w = s->work;
   if (!w->L) return cb_fail("cholmod: factor before analyze");
-  cholmod_sparse As = wrap(A);
+  cholmod_sparse As = wrap_for(w, A, s->params.upper);
   w->c.status = CHOLMOD_OK;
   cholmod_factorize(&As, w->L, &w->c);
   s->stats.factor_nnz = w->c.lnz;
+  s->stats.factor_flops = w->c.fl; /* set by the analysis for this pattern */
   if (w->c.status == CHOLMOD_NOT_POSDEF || w->L->minor < w->L->n)
     return cb_fail_status(CB_NOT_SPD, "cholmod: matrix not positive definite (column %zu)", (size_t)w->L->minor);
   if (w->c.status < CHOLMOD_OK) return cb_fail_status(CB_ENOMEM, "cholmod_factorize failed (status %d)", w->c.status);
@@ -107,6 +171,7 @@ static void ch_free(cb_solver *s) {
   cholmod_free_dense(&w->E, &w->c);
   cholmod_finish(&w->c);
   free(w->work);
+  free(w->up); free(w->ui); free(w->usrc); free(w->ux);
   free(w);
 }
 

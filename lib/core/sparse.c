@@ -181,3 +181,88 @@ size_t cb_sparse_matvec_bytes(const cb_sparse *A) {
   /* values, block-row indices, block column pointers, x read once, y written */
   return (size_t)A->nnz * 8 + (size_t)(A->nnz / 9) * 4 + (size_t)(A->nblk + 1) * 4 + (size_t)A->n * 16;
 }
+
+/* ---- upper-block (symmetric) storage ---- */
+
+void cb_sparse_sym_free(cb_sparse_sym *S) {
+  if (!S) return;
+  free(S->bcolp); free(S->brow); free(S->val);
+  memset(S, 0, sizeof *S);
+}
+
+int cb_sparse_sym_alloc(cb_sparse_sym *S, const cb_sparse *A) {
+  memset(S, 0, sizeof *S);
+  int nub = 0;
+  for (int bj = 0; bj < A->nblk; bj++)
+    for (int k = A->bcolp[bj]; k < A->bcolp[bj + 1]; k++) nub += A->brow[k] <= bj;
+  S->n = A->n;
+  S->nblk = A->nblk;
+  S->nub = nub;
+  S->bcolp = cb_malloc((size_t)A->nblk + 1, sizeof(int));
+  S->brow = cb_malloc((size_t)nub + 1, sizeof(int));
+  S->val = cb_calloc((size_t)9 * nub + 1, sizeof(double));
+  if (!S->bcolp || !S->brow || !S->val) {
+    cb_sparse_sym_free(S);
+    return cb_fail_status(CB_ENOMEM, "out of memory for the symmetric matrix copy");
+  }
+  int q = 0;
+  for (int bj = 0; bj < A->nblk; bj++) {
+    S->bcolp[bj] = q;
+    for (int k = A->bcolp[bj]; k < A->bcolp[bj + 1]; k++)
+      if (A->brow[k] <= bj) S->brow[q++] = A->brow[k]; /* sorted, so the diagonal block comes last */
+  }
+  S->bcolp[A->nblk] = q;
+  return CB_OK;
+}
+
+void cb_sparse_sym_fill(cb_sparse_sym *S, const cb_sparse *A) {
+  for (int bj = 0; bj < A->nblk; bj++) {
+    int k0 = A->bcolp[bj], stride = 3 * (A->bcolp[bj + 1] - k0);
+    double *out = S->val + 9 * (size_t)S->bcolp[bj];
+    for (int k = k0; k < A->bcolp[bj + 1] && A->brow[k] <= bj; k++, out += 9) {
+      const double *v = A->val + A->colp[3 * bj] + 3 * (k - k0); /* entry (r, c) at v[c stride + r] */
+      for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) out[3 * r + c] = v[c * stride + r];
+    }
+  }
+}
+
+void cb_sparse_sym_matvec(const cb_sparse_sym *S, const double *restrict x, double *restrict y) {
+  const int *brow = S->brow;
+  const double *a = S->val;
+  for (int bj = 0; bj < S->nblk; bj++) {
+    int k = S->bcolp[bj], kd = S->bcolp[bj + 1] - 1; /* kd: the diagonal block */
+    const double *xj = x + 3 * bj;
+    double xj0 = xj[0], xj1 = xj[1], xj2 = xj[2];
+    double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+    for (; k < kd; k++) {
+      const double *b = a + 9 * (size_t)k, *xi = x + 3 * brow[k];
+      double *yi = y + 3 * brow[k];
+      double x0 = xi[0], x1 = xi[1], x2 = xi[2];
+      s0 += b[0] * x0 + b[3] * x1 + b[6] * x2; /* y(bj) += A(bi,bj)^T x(bi) */
+      s1 += b[1] * x0 + b[4] * x1 + b[7] * x2;
+      s2 += b[2] * x0 + b[5] * x1 + b[8] * x2;
+      yi[0] += b[0] * xj0 + b[1] * xj1 + b[2] * xj2; /* y(bi) += A(bi,bj) x(bj), bi < bj */
+      yi[1] += b[3] * xj0 + b[4] * xj1 + b[5] * xj2;
+      yi[2] += b[6] * xj0 + b[7] * xj1 + b[8] * xj2;
+    }
+    const double *d = a + 9 * (size_t)kd; /* y(bj) = that sum + A(bj,bj) x(bj); later columns add their scatter */
+    y[3 * bj] = s0 + d[0] * xj0 + d[1] * xj1 + d[2] * xj2;
+    y[3 * bj + 1] = s1 + d[3] * xj0 + d[4] * xj1 + d[5] * xj2;
+    y[3 * bj + 2] = s2 + d[6] * xj0 + d[7] * xj1 + d[8] * xj2;
+  }
+}
+
+double cb_sparse_sym_residual(const cb_sparse_sym *S, const double *restrict b, const double *restrict x, double *restrict r) {
+  cb_sparse_sym_matvec(S, x, r);
+  double rr = 0.0;
+  for (int i = 0; i < S->n; i++) {
+    r[i] = b[i] - r[i]; /* r = b - A x */
+    rr += r[i] * r[i];
+  }
+  return sqrt(rr);
+}
+
+size_t cb_sparse_sym_matvec_bytes(const cb_sparse_sym *S) {
+  return (size_t)S->nub * 72 + (size_t)S->nub * 4 + (size_t)(S->nblk + 1) * 4 + (size_t)S->n * 16;
+}

@@ -35,7 +35,10 @@ void cb_experiment_timed(cb_experiment *e) {
 int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, int argc, char **argv) {
   memset(e, 0, sizeof *e);
   e->lock_fd = -1;
-  cb_runtime_init();
+  if (cb_runtime_init()) {
+    fprintf(stderr, "%s: %s\n", name, cb_error_message());
+    return -1;
+  }
   e->name = name;
   e->argc = argc;
   e->argv = argv;

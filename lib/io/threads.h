@@ -1,0 +1,45 @@
+/* One thread knob for every library that starts threads, and a way to see
+ * how many threads actually ran.
+ *
+ * Two libraries start threads in this process: OpenBLAS (its own pthread
+ * pool, sized by OPENBLAS_NUM_THREADS or openblas_set_num_threads) and
+ * CHOLMOD, whose supernodal factorisation opens OpenMP regions with a
+ * hard-coded num_threads(4) clause in Debian's build, which OMP_NUM_THREADS
+ * does not cap. libgomp's dynamic adjustment does cap it: with
+ * omp_set_dynamic(1) a region gets at most min(clause, nthreads-var, online
+ * CPUs) threads (fewer when the 15-minute load average is high), so
+ * omp_set_num_threads(n) + omp_set_dynamic(1) bounds every region by n.
+ *
+ * The requested count comes from the environment the Makefile's THREADS=n
+ * knob sets (OPENBLAS_NUM_THREADS and OMP_NUM_THREADS; each defaults to 1).
+ * What actually ran is measured: cb_threads_count_during() runs a function
+ * and counts this process's threads whose CPU time grew meanwhile (per-thread
+ * CPU clocks of every task in /proc/self/task). */
+#ifndef CB_THREADS_H
+#define CB_THREADS_H
+
+typedef struct cb_threads_info {
+  int blas_requested;   /* OpenBLAS threads set at start-up */
+  int omp_requested;    /* OpenMP nthreads-var set at start-up (dynamic adjustment on) */
+  int cholmod_observed; /* threads that ran during a CHOLMOD supernodal factorisation of the probe */
+  int dgemm_observed;   /* threads that ran during an OpenBLAS dgemm of the probe */
+} cb_threads_info;
+
+/* Reads OPENBLAS_NUM_THREADS and OMP_NUM_THREADS (unset or empty: 1) and
+ * applies them to OpenBLAS and libgomp (with dynamic adjustment on).
+ * Returns CB_OK, or CB_EINVAL with a message when a variable is not an
+ * integer in 1..1024. Called by cb_runtime_init. */
+int cb_threads_init(void);
+
+/* Runs fn(ctx) and returns how many threads of this process consumed CPU
+ * time while it ran (the caller included), or a negative status when
+ * /proc/self/task cannot be read. */
+int cb_threads_count_during(void (*fn)(void *), void *ctx);
+
+/* The requested counts, and the observed ones measured once per process on
+ * a fixed probe: a CHOLMOD supernodal factorisation of a 2D Laplacian on a
+ * 96 x 96 grid (its Map clear and supernode loops open OpenMP regions) and a
+ * 384 x 384 dgemm. An observed count < 0 means it could not be measured. */
+const cb_threads_info *cb_threads_info_get(void);
+
+#endif
