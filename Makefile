@@ -145,7 +145,7 @@ test: deps
 
 DETERMINISM_EXP ?= linear_solvers
 
-check: $(TESTS) $(TOOLS) $(BUILD)/$(DETERMINISM_EXP) $(BUILD)/topology $(BUILD)/definiteness $(BUILD)/report
+check: $(TESTS) $(TOOLS) $(BUILD)/$(DETERMINISM_EXP) $(BUILD)/topology $(BUILD)/definiteness $(BUILD)/nonlinear $(BUILD)/report
 	@scripts/check-blas.sh $(BUILD)/simulate
 	@set -e; for t in $(TESTS); do echo "== $$t"; CB_QUIET=1 CB_SIMULATE=$(BUILD)/simulate $$t --jobs 2 --short-filename; done
 	@BUILD=$(BUILD) tests/cli.sh
@@ -154,6 +154,7 @@ check: $(TESTS) $(TOOLS) $(BUILD)/$(DETERMINISM_EXP) $(BUILD)/topology $(BUILD)/
 	@BUILD=$(BUILD) tests/determinism.sh $(DETERMINISM_EXP)
 	@BUILD=$(BUILD) tests/shard.sh topology 3
 	@BUILD=$(BUILD) tests/shard.sh definiteness 2
+	@BUILD=$(BUILD) tests/shard.sh nonlinear 2
 	@CC="$(CC)" CPPFLAGS="$(CPPFLAGS)" CORE_INC="$(CORE_INC)" CONFIG_INC="$(CONFIG_INC)" INSTR_INC="$(INSTR_INC)" IO_INC="$(IO_INC)" tests/layers.sh
 	@echo "all tests passed"
 

@@ -2,8 +2,7 @@
  * iterations on the implicit-Euler objective F (claims J3 panel a, W1, P1),
  * and error against run time for every implicit method.
  *
- * Scenes come from configs/lab.ini (the lab's cloth and method) with the
- * overrides below. Outputs (results/):
+ * Outputs (results/):
  *   nonlinear.csv             J3, the lab's iteration: per rho, a trajectory of the lab scene
  *                             (chebyshev-nl, 32 iterations, d = m/dt^2 + 4k, damping 0.99):
  *                             whether and at which frame it diverged, the median relative
@@ -18,8 +17,8 @@
  *                             converged Newton (CHOLMOD) and Baraff-Witkin
  *   nonlinear_error_time.csv  one step of every implicit method at several iteration counts:
  *                             step error and relative |grad F| against wall time
- * The main loops are plain loops over tables (scenes x methods), written so that
- * they can move onto a shared sweep runner. */
+ * The scenes are the table SCENES below, the work four sweeps of cells (one
+ * per phase), run by the shared sweep runner; --shard I/N splits them. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -30,8 +29,10 @@
 #include "experiment.h"
 #include "provenance.h"
 #include "reference.h"
+#include "scene_decl.h"
 #include "spectrum.h"
 #include "stats.h"
+#include "sweep.h"
 
 static const char *const ABOUT =
     "Decides J3 on the lab's own iteration (panel a; panel b is linear_solvers' linear-solve rows),\n"
@@ -39,24 +40,59 @@ static const char *const ABOUT =
     "projective dynamics reaches a visually converged step much faster than exact Newton), and\n"
     "measures error against run time for every implicit method on the same steps.";
 
+/* Scenes: configs/lab.ini (the lab's cloth and method) with these overrides.
+ * Roles: "j3" = one trajectory per rho of RHOS (tables main and spectrum; one
+ * cell per (scene, rho)); "w1" = one step of the W1 methods from a start
+ * state (tables w1 and w1_trace); "p1" = one step of the P1 methods from
+ * each of P1's start states (table p1; one cell per (scene, start state));
+ * "error_time" = one step of every implicit method at 1, 2, 4, ... iterations
+ * (table error_time). A "w1" or "error_time" scene is one cell: its methods
+ * share the start state and the reference step computed from it. quick: the
+ * scene runs in --quick too.
+ *
+ * The lab cloth at 21^2, and the same cloth (441 kg, k, 10 m) at 64^2, 128^2
+ * quads (129^2 = 16 641 vertices, Wang's dress size) and 81^2 (6561 vertices,
+ * Liu's cloth, P1), pinned at the lab's corners 0 and n-1; P1's stiff variant. */
+typedef struct {
+  cb_scene_decl scene;
+  int quick;
+} scene_plan;
+#define G64 "mesh.n=64", "material.vertex_mass=441/4096", "scene.pins=0 63"
+#define G128 "mesh.n=129", "material.vertex_mass=441/16641", "scene.pins=0 128" /* 128^2 quads */
+#define G81 "mesh.n=81", "material.vertex_mass=441/6561", "scene.pins=0 80"
+static const scene_plan SCENES[] = {
+    {{"lab", "lab.ini", {NULL}, "j3"}, 1},
+    {{"lab", "lab.ini", {NULL}, "w1"}, 1},
+    {{"grid64", "lab.ini", {G64, NULL}, "w1"}, 1},
+    {{"grid128", "lab.ini", {G128, NULL}, "w1"}, 0},
+    {{"grid81", "lab.ini", {G81, NULL}, "p1"}, 1},
+    {{"grid81_stiff", "lab.ini", {G81, "material.stretch_k=1e6", NULL}, "p1"}, 1},
+    {{"lab", "lab.ini", {NULL}, "error_time"}, 1},
+    {{"grid64", "lab.ini", {G64, NULL}, "error_time"}, 0},
+};
+enum { NSCENES = sizeof SCENES / sizeof SCENES[0] };
+enum { T_J3, T_SPECTRUM, T_W1, T_W1_TRACE, T_P1, T_ERROR_TIME }; /* tables, in the order opened */
+
+/* J3's rho values and sampled frames */
+static const char *const RHOS[] = {"0", "0.9", "0.95", "0.97", "0.99", "0.995", "0.999", "0.9995", "0.9999", "auto"};
+enum { NRHO = sizeof RHOS / sizeof RHOS[0] };
+static const int SAMPLE[] = {1, 2, 5, 10, 20, 50, 100, 200, 500, 1000, 1500, 2000};
+
 enum { MAXSETS = 16 };
 
-/* configs/lab.ini plus the NULL-terminated lists a and b. */
-static int config(const cb_experiment *e, const char *const *a, const char *const *b, cb_config *c) {
-  const char *sets[2 * MAXSETS + 1];
-  int n = 0;
-  for (int i = 0; a && a[i] && n < MAXSETS; i++) sets[n++] = a[i];
-  for (int i = 0; b && b[i] && n < 2 * MAXSETS; i++) sets[n++] = b[i];
-  sets[n] = NULL;
-  int st = cb_experiment_config(e, "lab.ini", sets, c);
-  if (st == CB_OK) st = cb_config_validate(c);
-  return st;
-}
+/* The plan: the scenes of each role this run (--quick or not) and its sizes. */
+typedef struct {
+  const cb_experiment *e;
+  int quick;
+  int frames;        /* J3 frames per trajectory */
+  int state_frames;  /* frames of the lab's method before the W1 and error-time step */
+  int p1_states;     /* P1 start states per scene: frames 5, 10, ... */
+  int j3[NSCENES], nj3, w1[NSCENES], nw1, p1[NSCENES], np1, et[NSCENES], net; /* SCENES indices by role */
+  long nv[NSCENES];  /* vertices of each scene (cost hints) */
+  int mesh_n[NSCENES];
+} plan;
 
-static int fail(const char *what) {
-  fprintf(stderr, "nonlinear: %s: %s\n", what, cb_error_message());
-  return 1;
-}
+static const cb_scene_decl *scene_of(int i) { return &SCENES[i].scene; }
 
 /* ---- J3 panel a: the lab's iteration over 2000 frames, rho swept ------------ */
 
@@ -86,107 +122,84 @@ static int linear_rho(cb_scene *s, const double *x, double dt, double *lmin, dou
   return st == CB_NOT_CONVERGED ? CB_OK : st;
 }
 
-static int run_j3(cb_experiment *e, int frames) {
-  static const char *const RHOS[] = {"0", "0.9", "0.95", "0.97", "0.99", "0.995", "0.999", "0.9995", "0.9999", "auto"};
-  const int NR = (int)(sizeof RHOS / sizeof RHOS[0]);
-  static const int SAMPLE[] = {1, 2, 5, 10, 20, 50, 100, 200, 500, 1000, 1500, 2000};
-  char path[2048];
-  cb_outfile sp = {0};
-  cb_experiment_side_path(e, "spectrum.csv", path, sizeof path);
-  char extra[256];
-  snprintf(extra, sizeof extra, "# frames: %d (configs/lab.ini: chebyshev-nl, 32 iterations, damping 0.99; integrator.rho swept)\n", frames);
-  if (cb_experiment_csv(e, &e->csv, NULL, extra,
-                        "panel,scene,method,rho_given,rho,frames,frames_run,diverged,diverge_frame,median_rel_grad,"
-                        "p90_rel_grad,max_rel_grad,frames_grad_up,rho_lin_median,rho_lin_max,lmin_min,lmax_max,"
-                        "median_frame_ms,status") ||
-      cb_experiment_csv(e, &sp, path, extra, "scene,rho_given,frame,lmin,lmax,rho_lin,lanczos_steps"))
-    return fail("csv");
-  cb_progress_start(&e->progress, "nonlinear J3", NR);
+/* Cell i: scene j3[i / NRHO], rho RHOS[i % NRHO]: one trajectory, its row and its spectrum rows. */
+static int j3_cell(long i, void *ctx, FILE *const *out) {
+  const plan *p = ctx;
+  const cb_scene_decl *d = scene_of(p->j3[i / NRHO]);
+  const char *rho = RHOS[i % NRHO];
+  int frames = p->frames;
+  char set[64];
+  snprintf(set, sizeof set, "integrator.rho=%s", rho);
+  const char *sets[] = {set, NULL};
+  cb_config c;
+  cb_scene *s = NULL;
+  cb_integrator *it = NULL;
+  cb_run run;
+  memset(&run, 0, sizeof run);
   double *rel = malloc((size_t)frames * sizeof(double)), *ms = malloc((size_t)frames * sizeof(double));
-  if (!rel || !ms) return fail("memory");
-  for (int r = 0; r < NR; r++) {
-    char set[64];
-    snprintf(set, sizeof set, "integrator.rho=%s", RHOS[r]);
-    const char *sets[] = {set, NULL};
-    cb_config c;
-    cb_scene *s = NULL;
-    cb_integrator *it = NULL;
-    cb_run run;
-    if (config(e, sets, NULL, &c) || cb_scene_from_config(&c, &s) || cb_integrator_from_config(&c, s, NULL, &it) ||
-        cb_run_init(&run, s, it))
-      return fail("lab scene");
-    int div_frame = -1, up = 0, n = 0, ns = 0;
-    double rho_used = 0, rl[32], lmin_min = INFINITY, lmax_max = -INFINITY;
-    const char *status = "ok";
-    for (int f = 1; f <= frames; f++) {
-      int st = cb_run_step(&run);
-      rho_used = run.last.rho;
-      if (cb_status_is_fatal(st) || st == CB_DIVERGED) {
-        div_frame = f;
-        status = cb_status_name(st);
-        break;
-      }
-      rel[n] = run.last.rel_grad_hat;
-      ms[n] = run.last.wall_ms;
-      up += rel[n] > 1.0;
-      n++;
-      int sample = f == frames; /* the sampled frames, and the last */
-      for (int k = 0; k < (int)(sizeof SAMPLE / sizeof SAMPLE[0]); k++) sample |= SAMPLE[k] == f;
-      if (sample && ns < 32) {
-          double lmin, lmax;
-          int steps;
-          if (linear_rho(s, run.x, c.dt, &lmin, &lmax, &steps)) return fail("lanczos");
-          double rho_lin = cb_jacobi_rho(lmin, lmax, 1.0);
-          rl[ns++] = rho_lin;
-          if (lmin < lmin_min) lmin_min = lmin;
-          if (lmax > lmax_max) lmax_max = lmax;
-          fprintf(sp.f, "lab,%s,%d,%.17g,%.17g,%.17g,%d\n", RHOS[r], f, lmin, lmax, rho_lin, steps);
-      }
+  int st = rel && ms ? CB_OK : cb_fail_status(CB_ENOMEM, "out of memory");
+  if (st == CB_OK) st = cb_scene_decl_build(p->e, d, sets, &c, &s);
+  if (st == CB_OK) st = cb_integrator_from_config(&c, s, NULL, &it);
+  if (st == CB_OK) st = cb_run_init(&run, s, it);
+  int div_frame = -1, up = 0, n = 0, ns = 0;
+  double rho_used = 0, rl[32], lmin_min = INFINITY, lmax_max = -INFINITY;
+  const char *status = "ok";
+  for (int f = 1; st == CB_OK && f <= frames; f++) {
+    int sst = cb_run_step(&run);
+    rho_used = run.last.rho;
+    if (cb_status_is_fatal(sst) || sst == CB_DIVERGED) {
+      div_frame = f;
+      status = cb_status_name(sst);
+      break;
     }
+    rel[n] = run.last.rel_grad_hat;
+    ms[n] = run.last.wall_ms;
+    up += rel[n] > 1.0;
+    n++;
+    int sample = f == frames; /* the sampled frames, and the last */
+    for (int k = 0; k < (int)(sizeof SAMPLE / sizeof SAMPLE[0]); k++) sample |= SAMPLE[k] == f;
+    if (sample && ns < 32) {
+      double lmin, lmax;
+      int steps;
+      if ((st = linear_rho(s, run.x, c.dt, &lmin, &lmax, &steps))) break;
+      double rho_lin = cb_jacobi_rho(lmin, lmax, 1.0);
+      rl[ns++] = rho_lin;
+      if (lmin < lmin_min) lmin_min = lmin;
+      if (lmax > lmax_max) lmax_max = lmax;
+      fprintf(out[T_SPECTRUM], "%s,%s,%d,%.17g,%.17g,%.17g,%d\n", d->label, rho, f, lmin, lmax, rho_lin, steps);
+    }
+  }
+  if (st == CB_OK) {
     double med = n ? cb_median(rel, n) : NAN, mx = 0, p90 = NAN;
-    for (int i = 0; i < n; i++) mx = fmax(mx, rel[i]);
+    for (int k = 0; k < n; k++) mx = fmax(mx, rel[k]);
     if (n) { /* 90th percentile */
       double *cp = malloc((size_t)n * sizeof(double));
-      memcpy(cp, rel, (size_t)n * sizeof(double));
-      for (int i = 1; i < n; i++) /* insertion sort is fine for <= 2000 */
-        for (int j = i; j > 0 && cp[j] < cp[j - 1]; j--) { double t = cp[j]; cp[j] = cp[j - 1]; cp[j - 1] = t; }
-      p90 = cp[(int)floor(0.9 * (n - 1))];
-      free(cp);
+      if (!cp) st = cb_fail_status(CB_ENOMEM, "out of memory");
+      else {
+        memcpy(cp, rel, (size_t)n * sizeof(double));
+        for (int a = 1; a < n; a++) /* insertion sort is fine for <= 2000 */
+          for (int b = a; b > 0 && cp[b] < cp[b - 1]; b--) { double t = cp[b]; cp[b] = cp[b - 1]; cp[b - 1] = t; }
+        p90 = cp[(int)floor(0.9 * (n - 1))];
+        free(cp);
+      }
     }
     double rl_max = 0;
-    for (int i = 0; i < ns; i++) rl_max = fmax(rl_max, rl[i]);
+    for (int k = 0; k < ns; k++) rl_max = fmax(rl_max, rl[k]);
     double rl_med = ns ? cb_median(rl, ns) : NAN;
-    fprintf(e->csv.f, "lab_iteration,lab,%s,%s,%.17g,%d,%d,%d,%d,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%.17g,%.17g,%.6f,%s\n",
-            it->type->name, RHOS[r], rho_used, frames, n, div_frame > 0, div_frame, med, p90, mx, up, rl_med, rl_max,
-            lmin_min, lmax_max, n ? cb_median(ms, n) : 0.0, status);
-    cb_run_free(&run);
-    cb_integrator_free(it);
-    cb_scene_free(s);
-    cb_progress_update(&e->progress, r + 1);
+    if (st == CB_OK)
+      fprintf(out[T_J3], "lab_iteration,%s,%s,%s,%.17g,%d,%d,%d,%d,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%.17g,%.17g,%.6f,%s\n",
+              d->label, it->type->name, rho, rho_used, frames, n, div_frame > 0, div_frame, med, p90, mx, up, rl_med,
+              rl_max, lmin_min, lmax_max, n ? cb_median(ms, n) : 0.0, status);
   }
-  cb_progress_end(&e->progress);
+  cb_run_free(&run);
+  cb_integrator_free(it);
+  cb_scene_free(s);
   free(rel);
   free(ms);
-  if (cb_outfile_commit(&sp)) return fail("spectrum csv");
-  return 0;
+  return st;
 }
 
 /* ---- shared by W1, P1 and the error-time sweep: one step from a state ----- */
-
-typedef struct {
-  const char *label;
-  const char *sets[MAXSETS];
-} scene_def;
-
-/* the lab cloth at 21^2, and the same cloth (441 kg, k, 10 m) at 64^2, 128^2
- * quads (129^2 = 16 641 vertices, Wang's dress size) and 81^2 (6561 vertices,
- * Liu's cloth, P1), pinned at the lab's corners 0 and n-1; P1's stiff variant */
-static const scene_def LAB = {"lab", {NULL}};
-static const scene_def G64 = {"grid64", {"mesh.n=64", "material.vertex_mass=441/4096", "scene.pins=0 63", NULL}};
-static const scene_def G128 = {"grid128", {"mesh.n=129", "material.vertex_mass=441/16641", "scene.pins=0 128", NULL}}; /* 128^2 quads */
-static const scene_def G81 = {"grid81", {"mesh.n=81", "material.vertex_mass=441/6561", "scene.pins=0 80", NULL}};
-static const scene_def G81S = {"grid81_stiff",
-                               {"mesh.n=81", "material.vertex_mass=441/6561", "scene.pins=0 80", "material.stretch_k=1e6", NULL}};
 
 /* single steps compare methods on one F: no damping */
 static const char *const STEP_SETS[] = {"integrator.damping=1", NULL};
@@ -200,38 +213,54 @@ typedef struct {
   int n3;
 } state_t;
 
-/* The scene and a start state: `frames` frames of the lab's method (with
- * its damping), then the reference step from there. */
-static int make_state(cb_experiment *e, const scene_def *d, int frames, state_t *S) {
-  memset(S, 0, sizeof *S);
-  cb_integrator *it = NULL;
-  cb_run run;
-  if (config(e, d->sets, NULL, &S->c) || cb_scene_from_config(&S->c, &S->s) || cb_integrator_from_config(&S->c, S->s, NULL, &it) ||
-      cb_run_init(&run, S->s, it))
-    return fail(d->label);
-  for (int f = 0; f < frames; f++)
-    if (cb_status_is_fatal(cb_run_step(&run))) return fail("start state");
-  S->n3 = 3 * S->s->mesh.nv;
-  size_t b = (size_t)S->n3 * sizeof(double);
-  S->x0 = malloc(b); S->v0 = malloc(b); S->xstar = malloc(b); S->x = malloc(b); S->v = malloc(b);
-  if (!S->x0 || !S->v0 || !S->xstar || !S->x || !S->v) return fail("memory");
-  memcpy(S->x0, run.x, b);
-  memcpy(S->v0, run.v, b);
-  cb_run_free(&run);
-  cb_integrator_free(it);
-  cb_reference_params rp = cb_reference_params_default();
-  rp.dt = S->c.dt;
-  cb_reference *ref = NULL;
-  cb_reference_stats rs;
-  if (cb_reference_alloc(S->s, &rp, &ref) || cb_reference_step(ref, S->x0, S->v0, S->xstar, &rs) > CB_NOT_CONVERGED)
-    return fail("reference step");
-  cb_reference_free(ref);
-  return 0;
-}
-
 static void free_state(state_t *S) {
   cb_scene_free(S->s);
   free(S->x0); free(S->v0); free(S->xstar); free(S->x); free(S->v);
+  memset(S, 0, sizeof *S);
+}
+
+/* The scene and a start state: `frames` frames of the lab's method (with
+ * its damping), then the reference step from there. On error S is freed. */
+static int make_state(const cb_experiment *e, const cb_scene_decl *d, int frames, state_t *S) {
+  memset(S, 0, sizeof *S);
+  cb_integrator *it = NULL;
+  cb_run run;
+  memset(&run, 0, sizeof run);
+  int st = cb_scene_decl_build(e, d, NULL, &S->c, &S->s);
+  if (st == CB_OK) st = cb_integrator_from_config(&S->c, S->s, NULL, &it);
+  if (st == CB_OK) st = cb_run_init(&run, S->s, it);
+  for (int f = 0; st == CB_OK && f < frames; f++) {
+    int sst = cb_run_step(&run);
+    if (cb_status_is_fatal(sst))
+      st = cb_fail_status(sst, "scene %s: start state, frame %d: %s", d->label, f + 1, cb_error_message());
+  }
+  if (st == CB_OK) {
+    S->n3 = 3 * S->s->mesh.nv;
+    size_t b = (size_t)S->n3 * sizeof(double);
+    S->x0 = malloc(b); S->v0 = malloc(b); S->xstar = malloc(b); S->x = malloc(b); S->v = malloc(b);
+    if (!S->x0 || !S->v0 || !S->xstar || !S->x || !S->v) st = cb_fail_status(CB_ENOMEM, "out of memory");
+    else {
+      memcpy(S->x0, run.x, b);
+      memcpy(S->v0, run.v, b);
+    }
+  }
+  cb_run_free(&run);
+  cb_integrator_free(it);
+  if (st == CB_OK) {
+    cb_reference_params rp = cb_reference_params_default();
+    rp.dt = S->c.dt;
+    cb_reference *ref = NULL;
+    cb_reference_stats rs;
+    st = cb_reference_alloc(S->s, &rp, &ref);
+    if (st == CB_OK) {
+      int rst = cb_reference_step(ref, S->x0, S->v0, S->xstar, &rs);
+      if (rst > CB_NOT_CONVERGED || rst < 0)
+        st = cb_fail_status(rst, "scene %s: reference step after %d frames: %s", d->label, frames, cb_status_name(rst));
+    }
+    cb_reference_free(ref);
+  }
+  if (st) free_state(S);
+  return st;
 }
 
 typedef struct {
@@ -241,15 +270,16 @@ typedef struct {
 
 /* One step of the method `sets` names from S's start state; repeated (the
  * median wall time kept) while it is short. hook may observe it. */
-static int one_step(cb_experiment *e, const scene_def *d, state_t *S, const char *const *sets, cb_newton_hook hook, void *ctx,
-                    step_result *r) {
+static int one_step(const cb_experiment *e, const cb_scene_decl *d, state_t *S, const char *const *sets, cb_newton_hook hook,
+                    void *ctx, step_result *r) {
   cb_config c;
   const char *all[MAXSETS + 4];
   int n = 0;
   for (int i = 0; sets[i] && n < MAXSETS; i++) all[n++] = sets[i];
   all[n++] = STEP_SETS[0];
   all[n] = NULL;
-  if (config(e, d->sets, all, &c)) return fail("method config");
+  int st = cb_scene_decl_config(e, d, all, &c);
+  if (st) return st;
   cb_integrator_params ip;
   cb_integrator_params_from_config(&c, &ip);
   ip.hook = hook;
@@ -260,26 +290,26 @@ static int one_step(cb_experiment *e, const scene_def *d, state_t *S, const char
   do {
     cb_integrator *it = NULL;
     double t0 = cb_now_ms();
-    if (cb_integrator_from_config(&c, S->s, &ip, &it)) return fail("integrator");
+    if ((st = cb_integrator_from_config(&c, S->s, &ip, &it))) return st;
     r->alloc_ms = cb_now_ms() - t0; /* pd: its one factorisation */
     memcpy(S->x, S->x0, (size_t)S->n3 * sizeof(double));
     memcpy(S->v, S->v0, (size_t)S->n3 * sizeof(double));
-    cb_step_stats st;
-    r->status = cb_integrator_step(it, S->x, S->v, &st);
+    cb_step_stats ss;
+    r->status = cb_integrator_step(it, S->x, S->v, &ss);
     /* the fixed-iteration methods' factor_ms is the auto rho's estimate, once per run, not a step's cost
        (pd factorises in alloc, alloc_ms); Newton's is its factorisations, which are */
     int once = strcmp(it->type->name, "newton") != 0;
-    walls[reps++] = st.wall_ms - (once ? st.factor_ms : 0.0);
-    r->setup_ms = st.factor_ms;
-    r->rel_grad = st.rel_grad_hat;
-    r->iters = st.newton_iters;
-    r->rho = st.rho;
+    walls[reps++] = ss.wall_ms - (once ? ss.factor_ms : 0.0);
+    r->setup_ms = ss.factor_ms;
+    r->rel_grad = ss.rel_grad_hat;
+    r->iters = ss.newton_iters;
+    r->rho = ss.rho;
     cb_integrator_free(it);
     if (hook) break; /* an observed step is for its trace, not its time */
   } while (reps < 5 && cb_median(walls, reps) * reps < 30.0);
   r->wall_ms = cb_median(walls, reps);
   r->error = cb_step_error(S->s, S->x, S->xstar, S->x0);
-  return 0;
+  return CB_OK;
 }
 
 /* ---- W1: iterations and time to 1e-2 and 1e-4 -------------------------------- */
@@ -297,174 +327,196 @@ static void record(void *ctx, int event, const cb_newton_event *ev) {
   }
 }
 
-static int run_w1(cb_experiment *e, int quick) {
-  const scene_def *scenes[] = {&LAB, &G64, &G128};
-  int nsc = quick ? 2 : 3;
-  typedef struct {
-    const char *label, *pair;
-    const char *sets[4];
-    int kmax, kmax_q;
-  } wm;
-  static const wm M[] = {
-      {"jacobi-nl", "jacobi", {"integrator.method=jacobi-nl", NULL}, 20000, 4000},
-      {"chebyshev-nl auto", "jacobi", {"integrator.method=chebyshev-nl", "integrator.rho=auto", NULL}, 20000, 4000},
-      {"chebyshev-nl 0.995", "jacobi", {"integrator.method=chebyshev-nl", "integrator.rho=0.995", NULL}, 20000, 4000},
-      {"pd", "pd", {"integrator.method=pd", NULL}, 1000, 300},
-      {"pd-chebyshev auto", "pd", {"integrator.method=pd-chebyshev", "integrator.rho=auto", NULL}, 1000, 300},
-  };
-  const int NM = (int)(sizeof M / sizeof M[0]);
-  const double TOLS[] = {1e-2, 1e-4};
-  char path[2048];
-  cb_outfile o = {0}, tr = {0};
-  cb_experiment_side_path(e, "w1.csv", path, sizeof path);
-  if (cb_experiment_csv(e, &o, path, "# state: 20 frames of the lab's method (10 in --quick); the step without damping\n",
-                        "scene,n,method,pair,rho,max_iters,tol,iters_to_tol,wall_ms_to_tol,setup_ms,alloc_ms,final_rel_grad,status"))
-    return fail("csv");
-  cb_experiment_side_path(e, "w1_trace.csv", path, sizeof path);
-  if (cb_experiment_csv(e, &tr, path, NULL, "scene,n,method,iter,rel_grad")) return fail("csv");
-  cb_progress_start(&e->progress, "nonlinear W1", nsc * NM);
-  for (int sc = 0; sc < nsc; sc++) {
-    state_t S;
-    if (make_state(e, scenes[sc], quick ? 10 : 20, &S)) return 1;
-    int n = S.s->mesh.grid_n;
-    for (int m = 0; m < NM; m++) {
-      int kmax = quick ? M[m].kmax_q : M[m].kmax;
-      if (n >= 128 && M[m].pair[0] == 'p') kmax = quick ? 100 : 400; /* a 50k-DOF back-solve each */
-      trace_t t = {0, kmax + 1, calloc((size_t)kmax + 1, sizeof(double))};
-      char iters[64];
-      snprintf(iters, sizeof iters, "integrator.iters=%d", kmax);
-      const char *sets[6];
-      int ns = 0;
-      for (int i = 0; M[m].sets[i]; i++) sets[ns++] = M[m].sets[i];
-      sets[ns++] = iters;
-      sets[ns] = NULL;
-      step_result r;
-      if (!t.rel || one_step(e, scenes[sc], &S, sets, record, &t, &r)) return 1;
-      for (int k = 0; k < t.n; k++) /* every iteration up to 100, then ~50 per decade */
-        if (k <= 100 || floor(50 * log10(k)) != floor(50 * log10(k - 1)) || k == t.n - 1)
-          fprintf(tr.f, "%s,%d,%s,%d,%.17g\n", scenes[sc]->label, n, M[m].label, k, t.rel[k]);
-      for (int q = 0; q < 2; q++) {
-        int hit = -1;
-        for (int k = 0; k < t.n && hit < 0; k++)
-          if (t.rel[k] <= TOLS[q]) hit = k;
-        step_result rt = {0};
-        rt.status = r.status;
-        if (hit > 0) { /* the time of a step of exactly that many iterations */
-          snprintf(iters, sizeof iters, "integrator.iters=%d", hit);
-          if (one_step(e, scenes[sc], &S, sets, NULL, NULL, &rt)) return 1;
-        }
-        fprintf(o.f, "%s,%d,%s,%s,%.17g,%d,%g,%d,%.6f,%.6f,%.6f,%.17g,%s\n", scenes[sc]->label, n, M[m].label, M[m].pair, r.rho,
-                kmax, TOLS[q], hit, hit > 0 ? rt.wall_ms : NAN, hit > 0 ? rt.setup_ms : NAN, r.alloc_ms, t.n ? t.rel[t.n - 1] : NAN,
-                cb_status_name(r.status));
+typedef struct {
+  const char *label, *pair;
+  const char *sets[4];
+  int kmax, kmax_q;
+} w1_method;
+static const w1_method W1M[] = {
+    {"jacobi-nl", "jacobi", {"integrator.method=jacobi-nl", NULL}, 20000, 4000},
+    {"chebyshev-nl auto", "jacobi", {"integrator.method=chebyshev-nl", "integrator.rho=auto", NULL}, 20000, 4000},
+    {"chebyshev-nl 0.995", "jacobi", {"integrator.method=chebyshev-nl", "integrator.rho=0.995", NULL}, 20000, 4000},
+    {"pd", "pd", {"integrator.method=pd", NULL}, 1000, 300},
+    {"pd-chebyshev auto", "pd", {"integrator.method=pd-chebyshev", "integrator.rho=auto", NULL}, 1000, 300},
+};
+enum { NW1M = sizeof W1M / sizeof W1M[0] };
+
+/* the iteration cap of W1 method m on an n^2 grid */
+static int w1_kmax(int quick, int m, int n) {
+  int kmax = quick ? W1M[m].kmax_q : W1M[m].kmax;
+  if (n >= 128 && W1M[m].pair[0] == 'p') kmax = quick ? 100 : 400; /* a 50k-DOF back-solve each */
+  return kmax;
+}
+
+/* Cell i: scene w1[i]: its start state, then every W1 method from it. */
+static int w1_cell(long i, void *ctx, FILE *const *out) {
+  const plan *p = ctx;
+  const cb_scene_decl *d = scene_of(p->w1[i]);
+  static const double TOLS[] = {1e-2, 1e-4};
+  state_t S;
+  int st = make_state(p->e, d, p->state_frames, &S);
+  if (st) return st;
+  int n = S.s->mesh.grid_n;
+  for (int m = 0; st == CB_OK && m < NW1M; m++) {
+    int kmax = w1_kmax(p->quick, m, n);
+    trace_t t = {0, kmax + 1, calloc((size_t)kmax + 1, sizeof(double))};
+    char iters[64];
+    snprintf(iters, sizeof iters, "integrator.iters=%d", kmax);
+    const char *sets[6];
+    int ns = 0;
+    for (int k = 0; W1M[m].sets[k]; k++) sets[ns++] = W1M[m].sets[k];
+    sets[ns++] = iters;
+    sets[ns] = NULL;
+    step_result r;
+    st = t.rel ? one_step(p->e, d, &S, sets, record, &t, &r) : cb_fail_status(CB_ENOMEM, "out of memory");
+    for (int k = 0; st == CB_OK && k < t.n; k++) /* every iteration up to 100, then ~50 per decade */
+      if (k <= 100 || floor(50 * log10(k)) != floor(50 * log10(k - 1)) || k == t.n - 1)
+        fprintf(out[T_W1_TRACE], "%s,%d,%s,%d,%.17g\n", d->label, n, W1M[m].label, k, t.rel[k]);
+    for (int q = 0; st == CB_OK && q < 2; q++) {
+      int hit = -1;
+      for (int k = 0; k < t.n && hit < 0; k++)
+        if (t.rel[k] <= TOLS[q]) hit = k;
+      step_result rt = {0};
+      rt.status = r.status;
+      if (hit > 0) { /* the time of a step of exactly that many iterations */
+        snprintf(iters, sizeof iters, "integrator.iters=%d", hit);
+        if ((st = one_step(p->e, d, &S, sets, NULL, NULL, &rt))) break;
       }
-      free(t.rel);
-      cb_progress_update(&e->progress, sc * NM + m + 1);
+      fprintf(out[T_W1], "%s,%d,%s,%s,%.17g,%d,%g,%d,%.6f,%.6f,%.6f,%.17g,%s\n", d->label, n, W1M[m].label, W1M[m].pair,
+              r.rho, kmax, TOLS[q], hit, hit > 0 ? rt.wall_ms : NAN, hit > 0 ? rt.setup_ms : NAN, r.alloc_ms,
+              t.n ? t.rel[t.n - 1] : NAN, cb_status_name(r.status));
     }
-    free_state(&S);
+    free(t.rel);
   }
-  cb_progress_end(&e->progress);
-  if (cb_outfile_commit(&o) || cb_outfile_commit(&tr)) return fail("w1 csv");
-  return 0;
+  free_state(&S);
+  return st;
 }
 
 /* ---- P1: pd (10 iterations) against converged Newton and Baraff-Witkin -------- */
 
-static int run_p1(cb_experiment *e, int quick) {
-  const scene_def *scenes[] = {&G81, &G81S};
-  typedef struct {
-    const char *label;
-    const char *sets[4];
-  } pm;
-  static const pm M[] = {
-      {"pd10", {"integrator.method=pd", "integrator.iters=10", NULL}},
-      {"newton", {"integrator.method=newton", "integrator.max_iters=50", "integrator.tol=1e-8", NULL}},
-      {"baraff_witkin", {"integrator.method=newton", "integrator.max_iters=1", NULL}},
-  };
-  const int NM = (int)(sizeof M / sizeof M[0]);
-  int frames = quick ? 2 : 6;
-  char path[2048], extra[256];
-  cb_outfile o = {0};
-  snprintf(extra, sizeof extra, "# frames: %d (start states: frames 5, 10, ... of the lab's method; the step without damping)\n", frames);
-  cb_experiment_side_path(e, "p1.csv", path, sizeof path);
-  if (cb_experiment_csv(e, &o, path, extra, "scene,n,k,method,frame,iters,wall_ms,alloc_ms,step_error,rel_grad,status"))
-    return fail("csv");
-  cb_progress_start(&e->progress, "nonlinear P1", 2 * frames);
-  for (int sc = 0; sc < 2; sc++)
-    for (int f = 0; f < frames; f++) {
-      state_t S;
-      if (make_state(e, scenes[sc], 5 * (f + 1), &S)) return 1;
-      for (int m = 0; m < NM; m++) {
-        step_result r;
-        if (one_step(e, scenes[sc], &S, M[m].sets, NULL, NULL, &r)) return 1;
-        fprintf(o.f, "%s,%d,%.17g,%s,%d,%d,%.6f,%.6f,%.17g,%.17g,%s\n", scenes[sc]->label, S.s->mesh.grid_n, S.s->def.stretch_k,
-                M[m].label, 5 * (f + 1), r.iters, r.wall_ms, r.alloc_ms, r.error, r.rel_grad, cb_status_name(r.status));
-      }
-      free_state(&S);
-      cb_progress_update(&e->progress, sc * frames + f + 1);
-    }
-  cb_progress_end(&e->progress);
-  return cb_outfile_commit(&o) ? fail("p1 csv") : 0;
+typedef struct {
+  const char *label;
+  const char *sets[4];
+} p1_method;
+static const p1_method P1M[] = {
+    {"pd10", {"integrator.method=pd", "integrator.iters=10", NULL}},
+    {"newton", {"integrator.method=newton", "integrator.max_iters=50", "integrator.tol=1e-8", NULL}},
+    {"baraff_witkin", {"integrator.method=newton", "integrator.max_iters=1", NULL}},
+};
+enum { NP1M = sizeof P1M / sizeof P1M[0] };
+
+/* Cell i: scene p1[i / p1_states], the start state after 5 (i % p1_states + 1) frames; every P1 method from it. */
+static int p1_cell(long i, void *ctx, FILE *const *out) {
+  const plan *p = ctx;
+  const cb_scene_decl *d = scene_of(p->p1[i / p->p1_states]);
+  int frame = 5 * (int)(i % p->p1_states + 1);
+  state_t S;
+  int st = make_state(p->e, d, frame, &S);
+  for (int m = 0; st == CB_OK && m < NP1M; m++) {
+    step_result r;
+    if ((st = one_step(p->e, d, &S, P1M[m].sets, NULL, NULL, &r))) break;
+    fprintf(out[T_P1], "%s,%d,%.17g,%s,%d,%d,%.6f,%.6f,%.17g,%.17g,%s\n", d->label, S.s->mesh.grid_n, S.s->def.stretch_k,
+            P1M[m].label, frame, r.iters, r.wall_ms, r.alloc_ms, r.error, r.rel_grad, cb_status_name(r.status));
+  }
+  free_state(&S); /* make_state leaves it empty on error */
+  return st;
 }
 
 /* ---- error against run time: every implicit method on the same steps ---------- */
 
-static int run_error_time(cb_experiment *e, int quick) {
-  const scene_def *scenes[] = {&LAB, &G64};
-  typedef struct {
-    const char *label, *family;
-    const char *sets[4];
-    int kmax; /* iteration counts 1, 2, 4, ..., kmax; 0: the sets fix it */
-  } em;
-  static const em M[] = {
-      {"newton K=1", "newton", {"integrator.method=newton", "integrator.max_iters=1", NULL}, 0},
-      {"newton K=2", "newton", {"integrator.method=newton", "integrator.max_iters=2", NULL}, 0},
-      {"newton K=3", "newton", {"integrator.method=newton", "integrator.max_iters=3", NULL}, 0},
-      {"newton converged", "newton", {"integrator.method=newton", "integrator.max_iters=50", "integrator.tol=1e-8", NULL}, 0},
-      {"jacobi-nl lab", "jacobi-nl", {"integrator.method=jacobi-nl", "integrator.diagonal=lab", NULL}, 4096},
-      {"jacobi-nl exact", "jacobi-nl", {"integrator.method=jacobi-nl", "integrator.diagonal=exact", NULL}, 1024},
-      {"chebyshev-nl 0.9", "chebyshev-nl", {"integrator.method=chebyshev-nl", "integrator.rho=0.9", NULL}, 4096},
-      {"chebyshev-nl 0.99", "chebyshev-nl", {"integrator.method=chebyshev-nl", "integrator.rho=0.99", NULL}, 4096},
-      {"chebyshev-nl 0.995", "chebyshev-nl", {"integrator.method=chebyshev-nl", "integrator.rho=0.995", NULL}, 4096},
-      {"chebyshev-nl auto", "chebyshev-nl", {"integrator.method=chebyshev-nl", "integrator.rho=auto", NULL}, 4096},
-      {"pd", "pd", {"integrator.method=pd", NULL}, 512},
-      {"pd-chebyshev auto", "pd", {"integrator.method=pd-chebyshev", "integrator.rho=auto", NULL}, 512},
-  };
-  const int NM = (int)(sizeof M / sizeof M[0]);
-  int nsc = quick ? 1 : 2;
-  char path[2048];
-  cb_outfile o = {0};
-  cb_experiment_side_path(e, "error_time.csv", path, sizeof path);
-  if (cb_experiment_csv(e, &o, path, "# state: 20 frames of the lab's method (10 in --quick); the step without damping\n",
-                        "scene,n,method,family,iters,rho,wall_ms,setup_ms,step_error,rel_grad,status"))
-    return fail("csv");
-  cb_progress_start(&e->progress, "nonlinear error-time", nsc * NM);
-  for (int sc = 0; sc < nsc; sc++) {
-    state_t S;
-    if (make_state(e, scenes[sc], quick ? 10 : 20, &S)) return 1;
-    for (int m = 0; m < NM; m++) {
-      int kmax = M[m].kmax;
-      if (quick && kmax > 256) kmax = 256;
-      for (int K = kmax ? 1 : 0; K <= kmax; K = K ? 2 * K : 1) {
-        char iters[64];
-        snprintf(iters, sizeof iters, "integrator.iters=%d", K);
-        const char *sets[6];
-        int ns = 0;
-        for (int i = 0; M[m].sets[i]; i++) sets[ns++] = M[m].sets[i];
-        if (kmax) sets[ns++] = iters;
-        sets[ns] = NULL;
-        step_result r;
-        if (one_step(e, scenes[sc], &S, sets, NULL, NULL, &r)) return 1;
-        fprintf(o.f, "%s,%d,%s,%s,%d,%.17g,%.6f,%.6f,%.17g,%.17g,%s\n", scenes[sc]->label, S.s->mesh.grid_n, M[m].label,
-                M[m].family, r.iters, r.rho, r.wall_ms, r.setup_ms, r.error, r.rel_grad,
-                cb_status_name(r.status));
-        if (!kmax) break;
-      }
-      cb_progress_update(&e->progress, sc * NM + m + 1);
+typedef struct {
+  const char *label, *family;
+  const char *sets[4];
+  int kmax; /* iteration counts 1, 2, 4, ..., kmax; 0: the sets fix it */
+} et_method;
+static const et_method ETM[] = {
+    {"newton K=1", "newton", {"integrator.method=newton", "integrator.max_iters=1", NULL}, 0},
+    {"newton K=2", "newton", {"integrator.method=newton", "integrator.max_iters=2", NULL}, 0},
+    {"newton K=3", "newton", {"integrator.method=newton", "integrator.max_iters=3", NULL}, 0},
+    {"newton converged", "newton", {"integrator.method=newton", "integrator.max_iters=50", "integrator.tol=1e-8", NULL}, 0},
+    {"jacobi-nl lab", "jacobi-nl", {"integrator.method=jacobi-nl", "integrator.diagonal=lab", NULL}, 4096},
+    {"jacobi-nl exact", "jacobi-nl", {"integrator.method=jacobi-nl", "integrator.diagonal=exact", NULL}, 1024},
+    {"chebyshev-nl 0.9", "chebyshev-nl", {"integrator.method=chebyshev-nl", "integrator.rho=0.9", NULL}, 4096},
+    {"chebyshev-nl 0.99", "chebyshev-nl", {"integrator.method=chebyshev-nl", "integrator.rho=0.99", NULL}, 4096},
+    {"chebyshev-nl 0.995", "chebyshev-nl", {"integrator.method=chebyshev-nl", "integrator.rho=0.995", NULL}, 4096},
+    {"chebyshev-nl auto", "chebyshev-nl", {"integrator.method=chebyshev-nl", "integrator.rho=auto", NULL}, 4096},
+    {"pd", "pd", {"integrator.method=pd", NULL}, 512},
+    {"pd-chebyshev auto", "pd", {"integrator.method=pd-chebyshev", "integrator.rho=auto", NULL}, 512},
+};
+enum { NETM = sizeof ETM / sizeof ETM[0] };
+
+/* the largest iteration count of error-time method m (0: fixed by its sets) */
+static int et_kmax(int quick, int m) { return quick && ETM[m].kmax > 256 ? 256 : ETM[m].kmax; }
+
+/* Cell i: scene et[i]: its start state, then every method at every iteration count from it. */
+static int et_cell(long i, void *ctx, FILE *const *out) {
+  const plan *p = ctx;
+  const cb_scene_decl *d = scene_of(p->et[i]);
+  state_t S;
+  int st = make_state(p->e, d, p->state_frames, &S);
+  if (st) return st;
+  for (int m = 0; st == CB_OK && m < NETM; m++) {
+    int kmax = et_kmax(p->quick, m);
+    for (int K = kmax ? 1 : 0; st == CB_OK && K <= kmax; K = K ? 2 * K : 1) {
+      char iters[64];
+      snprintf(iters, sizeof iters, "integrator.iters=%d", K);
+      const char *sets[6];
+      int ns = 0;
+      for (int k = 0; ETM[m].sets[k]; k++) sets[ns++] = ETM[m].sets[k];
+      if (kmax) sets[ns++] = iters;
+      sets[ns] = NULL;
+      step_result r;
+      if ((st = one_step(p->e, d, &S, sets, NULL, NULL, &r))) break;
+      fprintf(out[T_ERROR_TIME], "%s,%d,%s,%s,%d,%.17g,%.6f,%.6f,%.17g,%.17g,%s\n", d->label, S.s->mesh.grid_n, ETM[m].label,
+              ETM[m].family, r.iters, r.rho, r.wall_ms, r.setup_ms, r.error, r.rel_grad, cb_status_name(r.status));
+      if (!kmax) break;
     }
-    free_state(&S);
   }
-  cb_progress_end(&e->progress);
-  return cb_outfile_commit(&o) ? fail("error-time csv") : 0;
+  free_state(&S);
+  return st;
+}
+
+/* ---- cost hints ----------------------------------------------------------------- */
+
+/* Estimated ms of a cell, from a --quick run (one BLAS thread) and the full
+ * run's phase times: a J3 frame 0.3 ms and a Lanczos sample 120 ms (x
+ * vertices / 441); a W1 or error-time iteration 1e-4 ms per vertex (the
+ * error-time sweep runs 1 + 2 + ... + kmax ~ 2 kmax of them, plus ~1 s of
+ * Newton and repeats); a P1 cell 0.5 ms per vertex (converged Newton). */
+static double j3_cost(long i, void *ctx) {
+  const plan *p = ctx;
+  int ns = 1;
+  for (int k = 0; k < (int)(sizeof SAMPLE / sizeof SAMPLE[0]); k++) ns += SAMPLE[k] < p->frames;
+  return (0.3 * p->frames + 120.0 * ns) * p->nv[p->j3[i / NRHO]] / 441.0;
+}
+static double w1_cost(long i, void *ctx) {
+  const plan *p = ctx;
+  double it = 0;
+  for (int m = 0; m < NW1M; m++) it += w1_kmax(p->quick, m, p->mesh_n[p->w1[i]]);
+  return 1e-4 * it * p->nv[p->w1[i]];
+}
+static double p1_cost(long i, void *ctx) {
+  const plan *p = ctx;
+  return 0.5 * p->nv[p->p1[i / p->p1_states]];
+}
+static double et_cost(long i, void *ctx) {
+  const plan *p = ctx;
+  double it = 0;
+  for (int m = 0; m < NETM; m++) it += 2.0 * et_kmax(p->quick, m);
+  return 1000.0 + 1e-4 * it * p->nv[p->et[i]];
+}
+
+/* the plan's vertex counts and grid sizes, from the scenes' configs (so a bad
+ * declaration fails here, naming the scene, before any cell runs) */
+static int scene_sizes(plan *p) {
+  for (int i = 0; i < NSCENES; i++) {
+    cb_config c;
+    int st = cb_scene_decl_config(p->e, scene_of(i), NULL, &c);
+    if (st) return st;
+    p->nv[i] = cb_scene_decl_vertices(&c);
+    p->mesh_n[i] = c.mesh_n;
+  }
+  return CB_OK;
 }
 
 int main(int argc, char **argv) {
@@ -472,12 +524,44 @@ int main(int argc, char **argv) {
   int b = cb_experiment_begin(&e, "nonlinear", ABOUT, argc, argv);
   if (b) return b > 0 ? 0 : 1;
   cb_experiment_timed(&e); /* W1, P1 and the error-time figure are wall times: run alone */
-  cb_runtime_init();
-  int frames = e.quick ? 300 : 2000;
-  if (run_j3(&e, frames) || run_w1(&e, e.quick) || run_p1(&e, e.quick) || run_error_time(&e, e.quick)) {
-    cb_outfile_abort(&e.csv);
-    return 1;
+  int q = e.quick;
+  plan p = {.e = &e, .quick = q, .frames = q ? 300 : 2000, .state_frames = q ? 10 : 20, .p1_states = q ? 2 : 6};
+  for (int i = 0; i < NSCENES; i++) {
+    const cb_scene_decl *d = scene_of(i);
+    if (q && !SCENES[i].quick) continue;
+    if (cb_scene_decl_is(d, "j3")) p.j3[p.nj3++] = i;
+    else if (cb_scene_decl_is(d, "w1")) p.w1[p.nw1++] = i;
+    else if (cb_scene_decl_is(d, "p1")) p.p1[p.np1++] = i;
+    else if (cb_scene_decl_is(d, "error_time")) p.et[p.net++] = i;
   }
-  if (cb_outfile_commit(&e.csv)) return fail("csv");
-  return 0;
+  if ((b = scene_sizes(&p))) return cb_experiment_end(&e, b), 1;
+  char j3_extra[256], p1_extra[256];
+  snprintf(j3_extra, sizeof j3_extra,
+           "# frames: %d (configs/lab.ini: chebyshev-nl, 32 iterations, damping 0.99; integrator.rho swept)\n", p.frames);
+  snprintf(p1_extra, sizeof p1_extra,
+           "# frames: %d (start states: frames 5, 10, ... of the lab's method; the step without damping)\n", p.p1_states);
+  const char *state_extra = "# state: 20 frames of the lab's method (10 in --quick); the step without damping\n";
+  if (cb_experiment_table(&e, NULL, j3_extra,
+                          "panel,scene,method,rho_given,rho,frames,frames_run,diverged,diverge_frame,median_rel_grad,"
+                          "p90_rel_grad,max_rel_grad,frames_grad_up,rho_lin_median,rho_lin_max,lmin_min,lmax_max,"
+                          "median_frame_ms,status") != T_J3 ||
+      cb_experiment_table(&e, "spectrum", j3_extra, "scene,rho_given,frame,lmin,lmax,rho_lin,lanczos_steps") != T_SPECTRUM ||
+      cb_experiment_table(&e, "w1", state_extra,
+                          "scene,n,method,pair,rho,max_iters,tol,iters_to_tol,wall_ms_to_tol,setup_ms,alloc_ms,"
+                          "final_rel_grad,status") != T_W1 ||
+      cb_experiment_table(&e, "w1_trace", NULL, "scene,n,method,iter,rel_grad") != T_W1_TRACE ||
+      cb_experiment_table(&e, "p1", p1_extra,
+                          "scene,n,k,method,frame,iters,wall_ms,alloc_ms,step_error,rel_grad,status") != T_P1 ||
+      cb_experiment_table(&e, "error_time", state_extra,
+                          "scene,n,method,family,iters,rho,wall_ms,setup_ms,step_error,rel_grad,status") != T_ERROR_TIME)
+    return cb_experiment_end(&e, CB_EIO), 2;
+  const cb_sweep sweeps[] = {
+      {"J3", (long)p.nj3 * NRHO, j3_cell, j3_cost, &p},
+      {"W1", p.nw1, w1_cell, w1_cost, &p},
+      {"P1", (long)p.np1 * p.p1_states, p1_cell, p1_cost, &p},
+      {"error-time", p.net, et_cell, et_cost, &p},
+  };
+  int st = cb_sweep_run(&e, sweeps, 4);
+  st = cb_experiment_end(&e, st);
+  return st == CB_OK ? 0 : st == CB_EIO ? 2 : 1;
 }
