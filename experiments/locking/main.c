@@ -44,16 +44,52 @@
 #include "experiment.h"
 #include "provenance.h"
 #include "rigidity.h"
+#include "scene_decl.h"
 #include "stability.h"
+#include "sweep.h"
 
 #define PI 3.14159265358979323846
 static cb_experiment E;
-static char disk_path[2048];
+static char disk_xz[2048], disk_xy[2048];
 
 /* ---- scenes ---------------------------------------------------------------------- */
 
 typedef enum { MESH_REGULAR = 0, MESH_ALTERNATING, MESH_DISK, NMESH } mesh_kind;
 static const char *const mesh_names[NMESH] = {"regular", "alternating", "disk"};
+
+/* Scenes. Roles: "fold" = L1's base (hanging.ini as a horizontal 1 m cloth;
+ * each cell adds the mesh, model and k); "aniso" = F1's patch in its plane
+ * (each cell adds the mesh and model); "step" = F1's timed Newton step on the
+ * lab cloth (one cell each; plan: the definiteness of the timed step, mesh.n
+ * and the lab's 441 kg are added per run mode); "shape" = S1's scenes (one
+ * cell per method: springs under symplectic Euler, shape matching per alpha).
+ * The disks of L1 and F1 are ring disks generated in code and written as OBJs
+ * beside the CSV before the sweeps (every shard writes them), and L2's meshes
+ * (grids and ring disks, no scene) stay in code, as in topology. */
+typedef struct { cb_scene_decl scene; const char *definiteness; } scene_plan;
+static const scene_plan SCENES[] = {
+    {{"fold", "hanging.ini", {"mesh.size=1", "mesh.plane=xz", "material.vertex_mass=0", "material.density=0.1", NULL}, "fold"}, NULL},
+    {{"aniso", "hanging.ini", {"mesh.size=1", "mesh.plane=xy", "material.vertex_mass=0", "material.density=1",
+                               "scene.gravity=0 0 0", "material.stretch_k=1000", NULL}, "aniso"}, NULL},
+#define STEP(s, h) {"material.stretch=" s, "material.fem_hessian=" h, "integrator.definiteness=drop", "integrator.tol=1e-8", "integrator.max_iters=300", NULL}
+    {{"spring_drop", "hanging.ini", STEP("spring", "exact"), "step"}, "drop"},
+    {{"spring_none", "hanging.ini", STEP("spring", "exact"), "step"}, "none"},
+    {{"fem_exact_drop", "hanging.ini", STEP("fem", "exact"), "step"}, "drop"},
+    {{"fem_exact_none", "hanging.ini", STEP("fem", "exact"), "step"}, "none"},
+    {{"fem_frozen", "hanging.ini", STEP("fem", "frozen"), "step"}, "drop"},
+#undef STEP
+    {{"chain20", "chain20.ini", {NULL}, "shape"}, NULL},
+    {{"cloth21", "hanging.ini", {"mesh.plane=xy", NULL}, "shape"}, NULL}, /* hanging vertically, as explicit_stability */
+};
+enum { NSCENES = sizeof SCENES / sizeof SCENES[0] };
+enum { T_MAIN, T_DOFS, T_ANISO, T_NEWTON, T_STEPS, T_SHAPE }; /* tables, in the order opened */
+
+/* the first scene of a role */
+static const cb_scene_decl *scene_of(const char *role) {
+  for (int i = 0; i < NSCENES; i++)
+    if (cb_scene_decl_is(&SCENES[i].scene, role)) return &SCENES[i].scene;
+  return NULL;
+}
 
 /* The ring disk scaled to radius 0.5 m in plane xz (horizontal) or xy, as an OBJ beside the CSV. */
 static int write_disk(int rings, int plane_xy) {
@@ -67,14 +103,16 @@ static int write_disk(int rings, int plane_xy) {
     m.x[3 * i + 1] = plane_xy ? y : 0;
     m.x[3 * i + 2] = plane_xy ? 0 : -y; /* xz: keep the orientation (normal +y) */
   }
-  cb_experiment_side_path(&E, plane_xy ? "disk_xy.obj" : "disk_xz.obj", disk_path, sizeof disk_path);
-  st = cb_mesh_write_obj(&m, NULL, disk_path);
+  char *path = plane_xy ? disk_xy : disk_xz;
+  cb_experiment_side_path(&E, plane_xy ? "disk_xy.obj" : "disk_xz.obj", path, sizeof disk_xy);
+  st = cb_mesh_write_obj(&m, NULL, path);
   cb_mesh_free(&m);
   return st;
 }
 
-/* hanging.ini with sets, on mesh kind (grid n or the disk OBJ just written), pins = pins. */
-static int build(const char *const *sets, mesh_kind mk, int n, const char *pins, cb_scene **out) {
+/* The scene d with the cell's sets, on mesh kind (grid n or the disk OBJ written before the sweeps), pins = pins. */
+static int build(const cb_scene_decl *dl, const char *const *sets, mesh_kind mk, int n, int plane_xy, const char *pins,
+                 cb_scene **out) {
   const char *all[24];
   int k = 0;
   char sn[32];
@@ -84,15 +122,14 @@ static int build(const char *const *sets, mesh_kind mk, int n, const char *pins,
   for (int i = 0; sets[i] && k < 23; i++) all[k++] = sets[i];
   all[k] = NULL;
   cb_config c;
-  int st = cb_experiment_config(&E, "hanging.ini", all, &c);
+  int st = cb_scene_decl_config(&E, dl, all, &c);
   if (st) return st;
-  if ((st = cb_config_validate(&c))) return st;
   cb_scene_def d;
   char path[2 * CB_PATH_LEN];
   if ((st = cb_scene_def_from_config(&c, &d, path, sizeof path))) return st;
   if (mk == MESH_DISK) {
     d.mesh = CB_MESH_OBJ;
-    d.mesh_file = disk_path;
+    d.mesh_file = plane_xy ? disk_xy : disk_xz;
   }
   if (pins) d.pins = pins;
   return cb_scene_build(&d, out, NULL);
@@ -100,7 +137,7 @@ static int build(const char *const *sets, mesh_kind mk, int n, const char *pins,
 
 /* Rest positions of the mesh kind without building a scene (for pin lists). */
 static int rest_mesh(mesh_kind mk, int n, int plane_xy, cb_mesh *m) {
-  if (mk == MESH_DISK) return cb_mesh_read_obj(disk_path, m);
+  if (mk == MESH_DISK) return cb_mesh_read_obj(plane_xy ? disk_xy : disk_xz, m);
   cb_grid_params g = cb_grid_params_default();
   g.n = g.m = n;
   g.size[0] = g.size[1] = 1.0;
@@ -139,25 +176,28 @@ typedef struct { const char *name; double deg; } fold_line;
 static const fold_line folds[] = {{"edges", 90}, {"diagonal", 45}, {"cross", 135}, {"angle30", 30}};
 enum { NFOLD = 4 };
 
-static int l1(FILE *f, int quick) {
+/* Cell ci: mesh kind ci / NFOLD, fold line ci % NFOLD, both models, every k. */
+static int l1_cell(long ci, void *ctx, FILE *const *out) {
   static const char *const models[2] = {"spring", "fem"};
+  int quick = *(const int *)ctx;
+  FILE *f = out[T_MAIN];
   int nk = quick ? 4 : 7, n = quick ? 9 : 13;
   double ks[7];
-  for (int i = 0; i < nk; i++) ks[i] = pow(10.0, 1.0 + 6.0 * i / (nk - 1));
-  if (write_disk(quick ? 4 : 6, 0)) return -1;
+  for (int j = 0; j < nk; j++) ks[j] = pow(10.0, 1.0 + 6.0 * j / (nk - 1));
   cb_equilibrium_params ep = cb_equilibrium_params_default();
   ep.tol = 1e-5;
   ep.max_steps = quick ? 300 : 400;
-  for (int mk = 0; mk < NMESH; mk++) {
+  int mk = (int)(ci / NFOLD), fl = (int)(ci % NFOLD);
+  {
     cb_mesh rest;
-    if (rest_mesh((mesh_kind)mk, n, 0, &rest)) return -1;
-    for (int fl = 0; fl < NFOLD; fl++) {
+    if (rest_mesh((mesh_kind)mk, n, 0, &rest)) return CB_EIO;
+    {
       /* fold line through the centre with direction (cos, sin) in (x, z); pinned: side s <= 0 */
       double th = folds[fl].deg * PI / 180, nrm[2] = {sin(th), -cos(th)}; /* normal of the direction (cos, sin) */
       double tol = 1e-9;
       char *pins = malloc(16 * (size_t)rest.nv + 16), *p = pins, *end = pins + 16 * (size_t)rest.nv + 16;
       double *sd = malloc((size_t)rest.nv * sizeof(double));
-      if (!pins || !sd) return -1;
+      if (!pins || !sd) return CB_ENOMEM;
       *p = 0;
       int npin = 0;
       for (int i = 0; i < rest.nv; i++) {
@@ -178,10 +218,10 @@ static int l1(FILE *f, int quick) {
         for (int ki = 0; ki < nk; ki++) {
           char sk[64];
           snprintf(sk, sizeof sk, "material.stretch_k=%.17g", ks[ki]);
-          const char *sets[] = {"mesh.size=1", "mesh.plane=xz", "material.vertex_mass=0", "material.density=0.1",
-                                md ? "material.stretch=fem" : "material.stretch=spring", sk, NULL};
+          const char *sets[] = {md ? "material.stretch=fem" : "material.stretch=spring", sk, NULL};
           cb_scene *s = NULL;
-          if (build(sets, (mesh_kind)mk, n, pins, &s)) { fprintf(stderr, "locking: %s\n", cb_error_message()); return -1; }
+          int bs = build(scene_of("fold"), sets, (mesh_kind)mk, n, 0, pins, &s);
+          if (bs) { free(pins); free(sd); cb_mesh_free(&rest); return bs; }
           size_t n3 = 3 * (size_t)s->mesh.nv;
           double *x = malloc(n3 * sizeof(double));
           memcpy(x, s->x0, n3 * sizeof(double));
@@ -203,10 +243,8 @@ static int l1(FILE *f, int quick) {
           fprintf(f, "%s,%s,%s,%.0f,%d,%.17g,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%ld,%.6g,%d,%.3f,%s\n", models[md],
                   mesh_names[mk], folds[fl].name, folds[fl].deg, on_edges, ks[ki], s->mesh.nv, npin, angle, offset, drop,
                   smax, srms, es.steps, es.newton_iters, es.residual, degenerate(s, x), es.ms, cb_status_name(st));
-          fflush(f);
           free(x);
           cb_scene_free(s);
-          cb_progress_update(&E.progress, E.progress.done + 1);
         }
       free(pins);
       free(sd);
@@ -244,11 +282,14 @@ static void l2_row(FILE *f, const char *name, cb_mesh *m, unsigned seed) {
   cb_topology_free(&tp);
 }
 
-static void l2(FILE *f, int quick) {
+/* Cells: the grids (size k = i / 2, diagonal pattern i % 2), then the ring disks. */
+static int l2_cell(long i, void *ctx, FILE *const *out) {
   static const int sizes[] = {3, 4, 6, 8, 10};
-  int ns = quick ? 4 : 5;
-  for (int k = 0; k < ns; k++)
-    for (int d = 0; d < 2; d++) {
+  int quick = *(const int *)ctx, ns = quick ? 4 : 5;
+  FILE *f = out[T_DOFS];
+  if (i < 2L * ns) {
+    int k = (int)i / 2, d = (int)i % 2;
+    {
       cb_grid_params g = cb_grid_params_default();
       g.n = g.m = sizes[k];
       g.diagonal = d ? CB_DIAG_ALTERNATING : CB_DIAG_REGULAR;
@@ -257,16 +298,16 @@ static void l2(FILE *f, int quick) {
       snprintf(name, sizeof name, "grid_%dx%d_%s", g.n, g.m, d ? "alternating" : "regular");
       if (cb_mesh_grid(&g, &m) == CB_OK) l2_row(f, name, &m, 7 + (unsigned)k);
       cb_mesh_free(&m);
-      cb_progress_update(&E.progress, E.progress.done + 1);
     }
-  for (int rings = 1; rings <= (quick ? 3 : 5); rings++) {
+  } else {
+    int rings = (int)(i - 2L * ns) + 1;
     cb_mesh m;
     char name[64];
     snprintf(name, sizeof name, "ring_disk_%d", rings);
     if (cb_ring_disk(rings, &m) == CB_OK) l2_row(f, name, &m, 100 + (unsigned)rings);
     cb_mesh_free(&m);
-    cb_progress_update(&E.progress, E.progress.done + 1);
   }
+  return CB_OK;
 }
 
 /* ---- F1: anisotropy of the response, and one Newton step ---------------------------- */
@@ -282,18 +323,20 @@ static const deformation tests[] = {
 };
 enum { NTEST = 6 };
 
-static int f1_aniso(FILE *f, int quick) {
+/* Cell ci: mesh kind ci, both models, every test. */
+static int f1_aniso_cell(long ci, void *ctx, FILE *const *out) {
   static const char *const models[2] = {"spring", "fem"};
-  int n = quick ? 11 : 15;
-  if (write_disk(quick ? 5 : 7, 1)) return -1;
+  int quick = *(const int *)ctx, n = quick ? 11 : 15;
+  FILE *f = out[T_ANISO];
   cb_equilibrium_params ep = cb_equilibrium_params_default();
   ep.tol = 1e-8;
   ep.max_steps = 200;
-  for (int mk = 0; mk < NMESH; mk++) {
+  int mk = (int)ci;
+  {
     cb_mesh rest;
-    if (rest_mesh((mesh_kind)mk, n, 1, &rest)) return -1;
+    if (rest_mesh((mesh_kind)mk, n, 1, &rest)) return CB_EIO;
     cb_topology tp;
-    if (cb_topology_build(&rest, &tp)) return -1;
+    if (cb_topology_build(&rest, &tp)) return CB_EINVAL;
     char *pins = malloc(12 * (size_t)rest.nv + 16), *p = pins;
     int npin = 0, *isb = calloc((size_t)rest.nv, sizeof(int));
     for (int b = 0; b < tp.nb; b++) { isb[tp.edge[2 * tp.boundary[b]]] = 1; isb[tp.edge[2 * tp.boundary[b] + 1]] = 1; }
@@ -303,11 +346,10 @@ static int f1_aniso(FILE *f, int quick) {
     double area = 0;
     for (int t = 0; t < rest.nt; t++) area += cb_mesh_triangle_area(&rest, rest.x, t);
     for (int md = 0; md < 2; md++) {
-      const char *sets[] = {"mesh.size=1", "mesh.plane=xy", "material.vertex_mass=0", "material.density=1",
-                            "scene.gravity=0 0 0", "material.stretch_k=1000",
-                            md ? "material.stretch=fem" : "material.stretch=spring", NULL};
+      const char *sets[] = {md ? "material.stretch=fem" : "material.stretch=spring", NULL};
       cb_scene *s = NULL;
-      if (build(sets, (mesh_kind)mk, n, pins, &s)) { fprintf(stderr, "locking: %s\n", cb_error_message()); return -1; }
+      int bs = build(scene_of("aniso"), sets, (mesh_kind)mk, n, 1, pins, &s);
+      if (bs) { free(pins); free(isb); cb_topology_free(&tp); cb_mesh_free(&rest); return bs; }
       size_t n3 = 3 * (size_t)s->mesh.nv;
       double *x = malloc(n3 * sizeof(double));
       for (int t = 0; t < NTEST; t++) {
@@ -327,7 +369,6 @@ static int f1_aniso(FILE *f, int quick) {
       }
       free(x);
       cb_scene_free(s);
-      cb_progress_update(&E.progress, E.progress.done + 1);
     }
     free(pins);
     free(isb);
@@ -345,33 +386,28 @@ static void trace_hook(void *ctx, int event, const cb_newton_event *ev) {
           cb_now_ms() - c->t0);
 }
 
-/* The methods of the timed step: model, its Hessian, Newton's definiteness policy. */
-typedef struct { const char *name, *stretch, *hessian, *definiteness; } step_method;
-static const step_method step_methods[] = {
-    {"spring_drop", "spring", "exact", "drop"},        {"spring_none", "spring", "exact", "none"},
-    {"fem_exact_drop", "fem", "exact", "drop"},        {"fem_exact_none", "fem", "exact", "none"},
-    {"fem_frozen", "fem", "frozen", "drop"},
-};
-enum { NSTEP_METHODS = 5 };
+/* the scenes of a role, in table order */
+static int nsteps, step_idx[NSCENES], nshape, shape_idx[NSCENES];
 
-static int f1_newton(FILE *f, FILE *fs, int quick) {
-  int n = quick ? 32 : 64;
-  for (int md = 0; md < NSTEP_METHODS; md++) {
-    const step_method *sm = &step_methods[md];
-    char sn[32], sm_mass[64], st_[48], sh[48], sd[48];
+/* Cell i: the i-th "step" scene (its model, Hessian and timed-step definiteness policy). */
+static int f1_newton_cell(long i, void *ctx, FILE *const *out) {
+  int quick = *(const int *)ctx, n = quick ? 32 : 64;
+  FILE *f = out[T_NEWTON], *fs = out[T_STEPS];
+  {
+    const scene_plan *sm = &SCENES[step_idx[i]];
+    char sn[32], sm_mass[64], sd[48];
     snprintf(sn, sizeof sn, "mesh.n=%d", n);
     snprintf(sm_mass, sizeof sm_mass, "material.vertex_mass=%.17g", 441.0 / ((double)n * n)); /* the lab's 441 kg */
-    snprintf(st_, sizeof st_, "material.stretch=%s", sm->stretch);
-    snprintf(sh, sizeof sh, "material.fem_hessian=%s", sm->hessian);
     snprintf(sd, sizeof sd, "integrator.definiteness=%s", sm->definiteness);
-    const char *sets[] = {sn, sm_mass, st_, sh, "integrator.definiteness=drop", "integrator.tol=1e-8", "integrator.max_iters=300", NULL};
+    const char *sets[] = {sn, sm_mass, NULL};
     cb_config c;
     cb_scene *s = NULL;
     cb_integrator *it = NULL;
-    if (cb_experiment_config(&E, "hanging.ini", sets, &c) || cb_scene_from_config(&c, &s)) return -1;
+    int bs = cb_scene_decl_build(&E, &sm->scene, sets, &c, &s);
+    if (bs) return bs;
     cb_integrator_params ip;
     cb_integrator_params_from_config(&c, &ip);
-    if (cb_integrator_from_config(&c, s, &ip, &it)) return -1;
+    if ((bs = cb_integrator_from_config(&c, s, &ip, &it))) { cb_scene_free(s); return bs; }
     size_t n3 = 3 * (size_t)s->mesh.nv;
     double *x = malloc(n3 * sizeof(double)), *v = calloc(n3, sizeof(double)), *xs = malloc(n3 * sizeof(double)),
            *vs = malloc(n3 * sizeof(double));
@@ -383,35 +419,36 @@ static int f1_newton(FILE *f, FILE *fs, int quick) {
     np->tol = 1e-12;
     np->tol_dx = 1e-12;
     cb_config cd = c; /* the method's policy for the timed step (the warm-up used drop) */
-    if (cb_config_set(&cd, sd) || cb_newton_params_from_config(&cd, np)) return -1;
+    if ((bs = cb_config_set(&cd, sd)) || (bs = cb_newton_params_from_config(&cd, np))) return bs;
     np->tol = 1e-12;
     np->tol_dx = 1e-12;
     np->max_iters = 300;
     for (int rep = 0; rep < 3; rep++) {
       memcpy(xs, x, n3 * sizeof(double));
       memcpy(vs, v, n3 * sizeof(double));
-      trace_ctx tc = {f, sm->name, rep, cb_now_ms()};
+      trace_ctx tc = {f, sm->scene.label, rep, cb_now_ms()};
       it->params.hook = trace_hook;
       it->params.hook_ctx = &tc;
       memset(&st, 0, sizeof st);
       int rc = cb_integrator_step(it, xs, vs, &st);
       it->params.hook = NULL;
-      fprintf(fs, "%s,%d,%d,%d,%d,%.17g,%.4f,%.4f,%.4f,%.4f,%s\n", sm->name, n, rep, st.newton_iters, st.factorizations,
+      fprintf(fs, "%s,%d,%d,%d,%d,%.17g,%.4f,%.4f,%.4f,%.4f,%s\n", sm->scene.label, n, rep, st.newton_iters, st.factorizations,
               st.rel_grad, st.assemble_ms, st.factor_ms, st.solve_ms, cb_now_ms() - tc.t0, cb_status_name(rc));
     }
     free(x); free(v); free(xs); free(vs);
     cb_integrator_free(it);
     cb_scene_free(s);
-    cb_progress_update(&E.progress, E.progress.done + 1);
   }
   return 0;
 }
 
 /* ---- S1: shape matching under explicit integration --------------------------------- */
 
-static int s1(FILE *f, int quick) {
-  typedef struct { const char *name, *file; int n; } s1scene;
-  static const s1scene scenes[] = {{"chain20", "chain20.ini", 0}, {"cloth21", "hanging.ini", 21}};
+/* Cell i: "shape" scene i / (na + 1), method i % (na + 1) - 1 (-1: springs under
+ * symplectic Euler, else shape matching at alpha[m]), every dt (one start state). */
+static int s1_cell(long i, void *ctx, FILE *const *out) {
+  int quick = *(const int *)ctx;
+  FILE *f = out[T_SHAPE];
   double alphas[5] = {0.01, 0.03, 0.1, 0.3, 1};
   int na = quick ? 3 : 5, ndt = quick ? 7 : 13;
   if (quick) { alphas[1] = 0.1; alphas[2] = 1; }
@@ -420,25 +457,24 @@ static int s1(FILE *f, int quick) {
   sp.min_steps = 200;
   sp.max_steps = quick ? 1000 : 2000;
   sp.energy_every = 4;
-  for (int sc = 0; sc < 2; sc++) {
-    for (int m = -1; m < na; m++) { /* m = -1: springs under symplectic Euler */
+  const cb_scene_decl *sc = &SCENES[shape_idx[i / (na + 1)]].scene;
+  {
+    int m = (int)(i % (na + 1)) - 1;
+    {
       char sa[48];
       snprintf(sa, sizeof sa, "integrator.shape_alpha=%.17g", m >= 0 ? alphas[m] : 1.0);
       const char *sets[10] = {m >= 0 ? "integrator.method=shape_matching" : "integrator.method=explicit", sa};
       int k = 2;
       if (m >= 0) sets[k++] = "material.stretch_k=0"; /* shape matching has no elastic energy of its own */
-      if (scenes[sc].n) { sets[k++] = "mesh.plane=xy"; } /* hanging vertically, as explicit_stability */
       sets[k] = NULL;
       cb_config c;
       cb_scene *s = NULL;
       cb_integrator *it = NULL;
-      if (cb_experiment_config(&E, scenes[sc].file, sets, &c) || cb_scene_from_config(&c, &s)) {
-        fprintf(stderr, "locking: %s\n", cb_error_message());
-        return -1;
-      }
+      int bs = cb_scene_decl_build(&E, sc, sets, &c, &s);
+      if (bs) return bs;
       cb_integrator_params ip;
       cb_integrator_params_from_config(&c, &ip);
-      if (cb_integrator_from_config(&c, s, &ip, &it)) { fprintf(stderr, "locking: %s\n", cb_error_message()); return -1; }
+      if ((bs = cb_integrator_from_config(&c, s, &ip, &it))) { cb_scene_free(s); return bs; }
       size_t n3 = 3 * (size_t)s->mesh.nv;
       double *x0 = malloc(n3 * sizeof(double)), *v0 = calloc(n3, sizeof(double));
       memcpy(x0, s->mesh.x, n3 * sizeof(double)); /* the rest shape */
@@ -446,19 +482,17 @@ static int s1(FILE *f, int quick) {
       cb_stability_perturb(s, 1e-6 * S0, 1, v0);
       double S = cb_stability_energy_scale(s, x0, v0);
       cb_cell_work w;
-      if (cb_cell_work_alloc(s, &w)) return -1;
+      if ((bs = cb_cell_work_alloc(s, &w))) return bs;
       for (int j = 0; j < ndt; j++) {
         double dt = pow(10.0, -5.0 + 4.0 * j / (ndt - 1));
         cb_cell_result r;
         int rc = cb_stability_cell(it, dt, x0, v0, S, &sp, &w, &r);
         double smax, srms;
         edge_strain(s, w.x, &smax, &srms);
-        fprintf(f, "%s,%s,%.6g,%.17g,%s,%.17g,%.17g,%ld,%.17g,%.17g,%.17g,%.3f,%s\n", scenes[sc].name,
+        fprintf(f, "%s,%s,%.6g,%.17g,%s,%.17g,%.17g,%ld,%.17g,%.17g,%.17g,%.3f,%s\n", sc->label,
                 m >= 0 ? "shape_matching" : "spring_explicit", m >= 0 ? alphas[m] : NAN, dt,
                 rc ? "failed" : cb_cell_class_name(r.cls), r.max_energy_ratio, r.final_energy_ratio, r.steps, r.t_end,
                 isfinite(smax) ? smax : NAN, isfinite(srms) ? srms : NAN, r.wall_ms, cb_status_name(r.step_status));
-        fflush(f);
-        cb_progress_update(&E.progress, E.progress.done + 1);
       }
       cb_cell_work_free(&w);
       free(x0); free(v0);
@@ -475,47 +509,41 @@ int main(int argc, char **argv) {
                                              "against springs, and shape matching under explicit integration.", argc, argv);
   if (r) return r > 0 ? 0 : 1;
   cb_experiment_timed(&E); /* F1 times a Newton step: run alone */
-  int quick = E.quick;
-  long total = (quick ? 4L : 7L) * NFOLD * NMESH * 2 + (quick ? 11 : 15) + 2 * NMESH + NSTEP_METHODS + 2L * ((quick ? 3 : 5) + 1) * (quick ? 7 : 13);
-  cb_progress_start(&E.progress, "locking", total);
-  cb_outfile o, od, oa, on, ons, osh;
-  char path[2048];
-  int bad = 0;
-  bad |= cb_experiment_csv(&E, &o, NULL,
-                           "# L1: static rest state by proximal Newton steps (cb_stability_equilibrium), tol max|dE/dx| <= 1e-5 max m g; "
-                           "fold_angle_deg = atan2(drop, offset) of the free part's centroid; on_edges = no triangle straddles the fold line\n",
-                           "model,mesh,fold,fold_dir_deg,on_edges,k_n_per_m,vertices,pinned,fold_angle_deg,offset_m,drop_m,"
-                           "max_strain,rms_strain,eq_steps,newton_iters,residual,degenerate,eq_wall_ms,status");
-  cb_experiment_side_path(&E, "dofs.csv", path, sizeof path);
-  bad |= !bad && cb_experiment_csv(&E, &od, path, "# L2: DoFs = 3 #variables - rank(rigidity matrix) at jittered generic positions (GSL SVD, threshold 1e-9)\n",
-                                   "mesh,vertices,triangles,edges,boundary_edges,conforming_dofs,conforming_predicted,"
-                                   "conforming_per_vertex,nonconforming_variables,nonconforming_dofs,nonconforming_predicted,"
-                                   "nonconforming_per_vertex,status");
-  cb_experiment_side_path(&E, "aniso.csv", path, sizeof path);
-  bad |= !bad && cb_experiment_csv(&E, &oa, path, "# F1: boundary held at F X (5% uniaxial stretch or simple shear), interior relaxed; k = mu = 1000 N/m\n",
-                                   "model,mesh,family,test,vertices,strain,energy_j,energy_density_j_per_m2,area_m2,free_vertices,residual,status");
-  cb_experiment_side_path(&E, "newton.csv", path, sizeof path);
-  bad |= !bad && cb_experiment_csv(&E, &on, path, "# F1: one implicit Euler step of the lab cloth, |grad F| per Newton iteration; wall_ms since the step began\n",
-                                   "model,rep,iter,f_j,grad_norm,rel_grad,wall_ms");
-  cb_experiment_side_path(&E, "newton_steps.csv", path, sizeof path);
-  bad |= !bad && cb_experiment_csv(&E, &ons, path, NULL,
-                                   "model,n,rep,newton_iters,factorizations,rel_grad,assemble_ms,factor_ms,solve_ms,step_wall_ms,status");
-  cb_experiment_side_path(&E, "shape.csv", path, sizeof path);
-  bad |= !bad && cb_experiment_csv(&E, &osh, path, "# S1: cells as explicit_stability (energy = kinetic + elastic + gravity; shape matching scenes have k = 0); "
-                                   "shape error = edge strain (l - L)/L at the end\n",
-                                   "scene,method,alpha,dt_s,class,max_energy_ratio,final_energy_ratio,steps,t_end_s,"
-                                   "max_strain,rms_strain,cell_wall_ms,step_status");
-  if (bad) { fprintf(stderr, "locking: %s\n", cb_error_message()); return 2; }
-  l2(od.f, quick);
-  if (f1_aniso(oa.f, quick) || f1_newton(on.f, ons.f, quick) || s1(osh.f, quick) || l1(o.f, quick)) {
-    fprintf(stderr, "locking: %s\n", cb_error_message());
-    return 2;
+  int quick = E.quick, st = CB_OK;
+  for (int i = 0; i < NSCENES; i++) {
+    if (cb_scene_decl_is(&SCENES[i].scene, "step")) step_idx[nsteps++] = i;
+    if (cb_scene_decl_is(&SCENES[i].scene, "shape")) shape_idx[nshape++] = i;
   }
-  cb_progress_end(&E.progress);
-  if (cb_outfile_commit(&od) || cb_outfile_commit(&oa) || cb_outfile_commit(&on) || cb_outfile_commit(&ons) ||
-      cb_outfile_commit(&osh) || cb_outfile_commit(&o)) {
-    fprintf(stderr, "locking: %s\n", cb_error_message());
-    return 2;
-  }
-  return 0;
+  if (cb_experiment_table(&E, NULL,
+                          "# L1: static rest state by proximal Newton steps (cb_stability_equilibrium), tol max|dE/dx| <= 1e-5 max m g; "
+                          "fold_angle_deg = atan2(drop, offset) of the free part's centroid; on_edges = no triangle straddles the fold line\n",
+                          "model,mesh,fold,fold_dir_deg,on_edges,k_n_per_m,vertices,pinned,fold_angle_deg,offset_m,drop_m,"
+                          "max_strain,rms_strain,eq_steps,newton_iters,residual,degenerate,eq_wall_ms,status") != T_MAIN ||
+      cb_experiment_table(&E, "dofs", "# L2: DoFs = 3 #variables - rank(rigidity matrix) at jittered generic positions (GSL SVD, threshold 1e-9)\n",
+                          "mesh,vertices,triangles,edges,boundary_edges,conforming_dofs,conforming_predicted,"
+                          "conforming_per_vertex,nonconforming_variables,nonconforming_dofs,nonconforming_predicted,"
+                          "nonconforming_per_vertex,status") != T_DOFS ||
+      cb_experiment_table(&E, "aniso", "# F1: boundary held at F X (5% uniaxial stretch or simple shear), interior relaxed; k = mu = 1000 N/m\n",
+                          "model,mesh,family,test,vertices,strain,energy_j,energy_density_j_per_m2,area_m2,free_vertices,residual,status") != T_ANISO ||
+      cb_experiment_table(&E, "newton", "# F1: one implicit Euler step of the lab cloth, |grad F| per Newton iteration; wall_ms since the step began\n",
+                          "model,rep,iter,f_j,grad_norm,rel_grad,wall_ms") != T_NEWTON ||
+      cb_experiment_table(&E, "newton_steps", NULL,
+                          "model,n,rep,newton_iters,factorizations,rel_grad,assemble_ms,factor_ms,solve_ms,step_wall_ms,status") != T_STEPS ||
+      cb_experiment_table(&E, "shape", "# S1: cells as explicit_stability (energy = kinetic + elastic + gravity; shape matching scenes have k = 0); "
+                          "shape error = edge strain (l - L)/L at the end\n",
+                          "scene,method,alpha,dt_s,class,max_energy_ratio,final_energy_ratio,steps,t_end_s,"
+                          "max_strain,rms_strain,cell_wall_ms,step_status") != T_SHAPE)
+    return cb_experiment_end(&E, CB_EIO), 2;
+  /* the disks of L1 (horizontal) and F1 (in plane xy): inputs of cells, written by every shard */
+  if ((st = write_disk(quick ? 4 : 6, 0)) || (st = write_disk(quick ? 5 : 7, 1))) return cb_experiment_end(&E, st), 2;
+  const cb_sweep sweeps[] = {
+      {"L2 meshes", 2L * (quick ? 4 : 5) + (quick ? 3 : 5), l2_cell, NULL, &quick},
+      {"F1 anisotropy", NMESH, f1_aniso_cell, NULL, &quick},
+      {"F1 Newton step", nsteps, f1_newton_cell, NULL, &quick},
+      {"S1 shape matching", nshape * ((quick ? 3L : 5L) + 1), s1_cell, NULL, &quick},
+      {"L1 fold", (long)NMESH * NFOLD, l1_cell, NULL, &quick},
+  };
+  st = cb_sweep_run(&E, sweeps, (int)(sizeof sweeps / sizeof sweeps[0]));
+  st = cb_experiment_end(&E, st);
+  return st == CB_OK ? 0 : st == CB_EIO ? 2 : 1;
 }
