@@ -33,14 +33,21 @@ typedef struct cb_config {
   double density;                  /* kg/m^2, for area-lumped masses */
   double vertex_mass;              /* kg per vertex; 0 = use density */
   double stretch_k;                /* N/m */
-  char bend[CB_NAME_LEN];          /* none | spring */
-  double bend_k;                   /* N/m */
+  char bend[CB_NAME_LEN];          /* none | spring | dihedral | quadratic */
+  double bend_k;                   /* N/m (spring) or N m (dihedral, quadratic) */
   double buckling_kb;              /* N m^2, Choi-Ko bending stiffness of a buckled spring */
   /* [scene] */
   double gravity[3];               /* m/s^2 */
   char pins[CB_PINS_LEN];          /* named set or index list */
   double initial_scale;            /* initial positions scaled about the centroid */
   double pin_squeeze[3];           /* m/s, pinned vertices driven toward each other */
+  /* [collider] */
+  char collider_type[CB_NAME_LEN]; /* none | penalty | project */
+  double collider_centre[3];       /* m */
+  double collider_radius;          /* m */
+  double collider_thickness;       /* m */
+  double collider_stiffness;       /* N/m */
+  double collider_velocity[3];     /* m/s */
   /* [integrator] */
   char method[CB_NAME_LEN];        /* explicit | newton */
   double dt;                       /* s */
