@@ -20,7 +20,7 @@ static void usage(FILE *f) {
         "Runs the scene described by CONFIG (an INI file; see --help-config) and writes\n"
         "  a per-step CSV (default results/<config name>.csv): step, t_s, kinetic_j,\n"
         "    potential_j, elastic_j, total_j, newton_iters, rel_grad, linear_iters,\n"
-        "    assemble_ms, factor_ms, solve_ms, wall_ms, status; row 0 is the initial state;\n"
+        "    assemble_ms, factor_ms, solve_ms, wall_ms, status, contacts; row 0 is the initial state;\n"
         "  the final mesh as OBJ (default results/<config name>.obj); --steps 0 writes\n"
         "    the initial mesh.\n"
         "Both files are written atomically (temporary file, then rename); PATH - streams to\n"

@@ -32,7 +32,7 @@
  * alpha_w): with n = N/|N|, P = |e|/|N|^2 (I - 2 n n^T), R = N e^T / (|e| |N|^2),
  *   dG_A = -R de - P dN_A,   dN_A = [e]x dx2 + ([a]x - [e]x) dx0 - [a]x dx1,  a = x2 - x0,
  *   dN_B = -[e]x dx3 + ([e]x - [b]x) dx0 + [b]x dx1,                         b = x3 - x0,
- *   dalpha = (e . dx_w + (x_w - x0 - 2 alpha e) . de) / |e|^2 - e . dx0 / |e|^2 ... (below).
+ *   dalpha_w = (e . (dx_w - dx0) + (x_w - x0 - 2 alpha_w e) . de) / |e|^2,  de = dx1 - dx0.
  * tests/test_energy_conformance.c checks it against finite differences of the
  * gradient. It is indefinite in general, so each element is projected by the
  * shared projection (projection.h) the assembly asks for.
