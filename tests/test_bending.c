@@ -330,3 +330,35 @@ Test(bending, project_works_under_explicit_and_newton) {
     cb_scene_free(s);
   }
 }
+
+/* Near-flat, folded to +-pi and collapsed hinges: finite energy, gradient and
+ * Hessian (the documented clamp: a collapsed wing contributes nothing). */
+Test(bending, dihedral_is_finite_flat_folded_and_degenerate) {
+  tmodel t;
+  grid_model(&t, 2, 1.0);
+  int v[4];
+  cb_hinge_vertices(&t.topo, v);
+  cb_term *h;
+  cr_assert_eq(cb_hinge_term_alloc(&t.model, "bend", 1.0, &h), CB_OK);
+  cb_system sys;
+  cr_assert_eq(cb_system_init(&sys, &t.model, &h, 1), CB_OK);
+  for (int c = 0; c < 4; c++) {
+    double x[12];
+    memcpy(x, t.mesh.x, sizeof x);
+    const double *o = t.mesh.x + 3 * v[0], *p = t.mesh.x + 3 * v[1], *w = t.mesh.x + 3 * v[2];
+    if (c == 1) x[3 * v[3] + 2] += 1e-13; /* flat to round-off */
+    if (c == 2) /* fold to pi: wing B onto wing A */
+      for (int a = 0; a < 3; a++) x[3 * v[3] + a] = w[a];
+    if (c == 3) /* wing A collapsed onto the edge's midpoint */
+      for (int a = 0; a < 3; a++) x[3 * v[2] + a] = 0.5 * (o[a] + p[a]);
+    double g[12] = {0}, E = cb_system_energy(&sys, x, g, NULL);
+    cr_expect(isfinite(E), "case %d: E = %g", c, E);
+    for (int i = 0; i < 12; i++) cr_expect(isfinite(g[i]), "case %d: gradient %d = %g", c, i, g[i]);
+    cb_system_assemble(&sys, x, 0.0, CB_DEF_DROP, 0.0);
+    for (int i = 0; i < sys.A.nnz; i++) cr_expect(isfinite(sys.A.val[i]), "case %d: Hessian entry %d", c, i);
+    if (c == 2) cr_expect(E > 0, "a fold to pi has energy");
+    if (c == 3) cr_expect_eq(E, 0.0, "a collapsed wing contributes nothing");
+  }
+  cb_system_free(&sys);
+  model_free(&t);
+}

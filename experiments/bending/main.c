@@ -18,7 +18,7 @@
  *     1/2 int |Delta x|^2 dA = A / (2 R^2), as n is refined.
  * B2 (part b2): configs/drape.ini under Newton with CHOLMOD at two grid
  *     resolutions (and, in the full run, on configs/drape_irregular.ini),
- *     quadratic against dihedral: per-step means of the assembly,
+ *     quadratic against dihedral: per-step medians of the assembly,
  *     factorisation, solve and total wall times, Newton iterations, contacts,
  *     the final kinetic energy, hinges whose Hessian the projection changed at
  *     the end; part b2_rms: the RMS vertex distance between the two models'
@@ -32,6 +32,7 @@
 #include <clothbench/clothbench.h>
 #include <clothbench/collider.h>
 #include "bind.h"
+#include "stats.h"
 #include "experiment.h"
 
 static const double PI = 3.14159265358979323846;
@@ -94,7 +95,7 @@ static int part_hinge(FILE *f, int quick) {
     for (int m = 0; m < 3; m++) {
       double E = energy_grad(t[m], x, g, 12), F = sqrt(g[9] * g[9] + g[10] * g[10] + g[11] * g[11]);
       double ph = deg * PI / 180, Ft = g[10] * sin(ph) + g[11] * cos(ph); /* -(-dE/dx3) . dx3/dphi: > 0 unfolds */
-      fprintf(f, "b1,%s,hinge,,%.17g,,%.17g,%.17g,%.17g,,,,,,,,,,,,,,ok\n", MODELS[m], deg, Ft, F, E);
+      fprintf(f, "b1,%s,hinge,,%.17g,,%.17g,%.17g,%.17g,,,,,,,,,,,,,,,,ok\n", MODELS[m], deg, Ft, F, E);
     }
   }
   /* B3: fold 20 deg, stretch 0..30% */
@@ -104,7 +105,7 @@ static int part_hinge(FILE *f, int quick) {
       double s = 0.30 * k / (quick ? 15 : 60);
       hinge_pose(fold * PI / 180, mode ? 1 + s : 1, mode ? 1 : 1 + s, x);
       double Eq = energy_grad(t[2], x, g, 12), Ed = energy_grad(t[1], x, g, 12);
-      fprintf(f, "b3,quadratic,%s,,%.17g,%.17g,,,%.17g,%.17g,%.17g,,,,,,,,,,,,ok\n", mode ? "across" : "uniform", fold, s,
+      fprintf(f, "b3,quadratic,%s,,%.17g,%.17g,,,%.17g,%.17g,%.17g,,,,,,,,,,,,,,ok\n", mode ? "across" : "uniform", fold, s,
               Eq, Ed, Eq / Ed);
     }
   for (int m = 0; m < 3; m++) cb_term_free(t[m]);
@@ -148,7 +149,7 @@ static int part_cylinder(FILE *f, int quick) {
         cb_term *t;
         if (cb_bend_term_alloc(MODELS[m], &model, 1.0, &t)) return -1;
         double E = t->type->energy(t, x, NULL);
-        fprintf(f, "conv,%s,cylinder,%d,,%.17g,,,%.17g,%.17g,%.17g,,,,,,,,,,,,ok\n", MODELS[m], ns[k], R, E, cont, E / cont);
+        fprintf(f, "conv,%s,cylinder,%d,,%.17g,,,%.17g,%.17g,%.17g,,,,,,,,,,,,,,ok\n", MODELS[m], ns[k], R, E, cont, E / cont);
         cb_term_free(t);
       }
       free(mass); free(x); free(fi);
@@ -162,7 +163,9 @@ static int part_cylinder(FILE *f, int quick) {
 
 typedef struct {
   int steps, iters, contacts, indefinite, nhinges, nv;
-  double assemble, factor, solve, wall, kinetic;
+  double assemble, factor, solve, wall; /* per-step medians, ms */
+  double wall_min, wall_max;            /* ms */
+  double kinetic;
   double *x; /* final positions */
   char status[32];
 } drape_result;
@@ -189,19 +192,30 @@ static int drape(const cb_experiment *e, const char *ini, int n, const char *mod
   }
   memset(r, 0, sizeof *r);
   snprintf(r->status, sizeof r->status, "ok");
+  double *tm = malloc((size_t)4 * (steps > 0 ? steps : 1) * sizeof *tm); /* assembly, factor, solve, wall per step */
+  if (!tm) return -1;
   for (int k = 0; k < steps; k++) {
     int ss2 = cb_run_step(&run);
     r->steps++;
     r->iters += run.last.newton_iters;
-    r->assemble += run.last.assemble_ms;
-    r->factor += run.last.factor_ms;
-    r->solve += run.last.solve_ms;
-    r->wall += run.last.wall_ms;
+    tm[k] = run.last.assemble_ms;
+    tm[steps + k] = run.last.factor_ms;
+    tm[2 * steps + k] = run.last.solve_ms;
+    tm[3 * steps + k] = run.last.wall_ms;
+    r->wall_min = k == 0 || run.last.wall_ms < r->wall_min ? run.last.wall_ms : r->wall_min;
+    r->wall_max = k == 0 || run.last.wall_ms > r->wall_max ? run.last.wall_ms : r->wall_max;
     if (cb_status_is_fatal(ss2)) {
       snprintf(r->status, sizeof r->status, "%s", cb_status_name(ss2));
       break;
     }
   }
+  if (r->steps > 0) {
+    r->assemble = cb_median(tm, r->steps);
+    r->factor = cb_median(tm + steps, r->steps);
+    r->solve = cb_median(tm + 2 * steps, r->steps);
+    r->wall = cb_median(tm + 3 * steps, r->steps);
+  }
+  free(tm);
   r->kinetic = run.kinetic;
   r->contacts = cb_scene_contacts(s, run.x);
   for (int k = 0; k < s->sys.nterms; k++)
@@ -247,15 +261,14 @@ static int part_drape(cb_experiment *e, FILE *f) {
     for (int m = 0; m < 2; m++) {
       if (drape(e, ini, n, MODELS[2 - m], steps, &r[m])) return -1; /* quadratic, then dihedral */
       drape_result *q = &r[m];
-      double per = q->steps > 0 ? 1.0 / q->steps : 0;
-      fprintf(f, "b2,%s,%s,%d,,,,,,,,%d,%d,%.6f,%.6f,%.6f,%.6f,%.17g,,%d,%d,%d,%s\n", MODELS[2 - m], k < 2 ? "grid" : "irregular",
-              k < 2 ? n : (int)lround(sqrt(q->nv)), q->steps, q->iters, q->assemble * per, q->factor * per, q->solve * per,
-              q->wall * per, q->kinetic, q->contacts, q->indefinite, q->nhinges, q->status);
+      fprintf(f, "b2,%s,%s,%d,,,,,,,,%d,%d,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.17g,,%d,%d,%d,%s\n", MODELS[2 - m], k < 2 ? "grid" : "irregular",
+              k < 2 ? n : (int)lround(sqrt(q->nv)), q->steps, q->iters, q->assemble, q->factor, q->solve, q->wall,
+              q->wall_min, q->wall_max, q->kinetic, q->contacts, q->indefinite, q->nhinges, q->status);
       cb_progress_update(&e->progress, e->progress.done + 1);
     }
     double s2 = 0;
     for (int i = 0; i < 3 * r[0].nv; i++) s2 += (r[0].x[i] - r[1].x[i]) * (r[0].x[i] - r[1].x[i]);
-    fprintf(f, "b2_rms,quadratic-dihedral,%s,%d,,,,,,,,%d,,,,,,,%.17g,,,,ok\n", k < 2 ? "grid" : "irregular",
+    fprintf(f, "b2_rms,quadratic-dihedral,%s,%d,,,,,,,,%d,,,,,,,,,%.17g,,,,ok\n", k < 2 ? "grid" : "irregular",
             k < 2 ? n : (int)lround(sqrt(r[0].nv)), r[0].steps, sqrt(s2 / r[0].nv));
     free(r[0].x);
     free(r[1].x);
@@ -278,10 +291,11 @@ int main(int argc, char **argv) {
                         "# b1: force_n = restoring force at the wing tip, the component of -dE/dx3 along -dx3/dphi (> 0 unfolds) "
                         "(the torque over the 0.8 m arm), force_total_n = |dE/dx3|, bend_k = 1 (N/m spring, N m hinges); b3: energy_j "
                         "quadratic, energy_ref_j dihedral, fold angle_deg, stretch fraction; conv: energy_ref_j = "
-                        "A/(2R^2), stretch column = R (m); b2: per-step mean times (ms), newton_iters total, "
+                        "A/(2R^2), stretch column = R (m); b2: per-step median times (ms) and the min-max of the step wall time, newton_iters total, "
                         "indefinite = hinges whose exact Hessian the projection changes at the final state\n",
                         "part,model,mesh,n,angle_deg,stretch,force_n,force_total_n,energy_j,energy_ref_j,ratio,steps,"
-                        "newton_iters,assemble_ms,factor_ms,solve_ms,wall_ms,kinetic_j,rms_m,contacts,indefinite,"
+                        "newton_iters,assemble_ms,factor_ms,solve_ms,wall_ms,wall_min_ms,wall_max_ms,kinetic_j,rms_m,contacts,"
+                        "indefinite,"
                         "hinges,status")) {
     fprintf(stderr, "bending: %s\n", cb_error_message());
     return 2;

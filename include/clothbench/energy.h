@@ -122,9 +122,6 @@ int cb_hinge_vertices(const cb_topology *tp, int *vert);
 /* Dihedral-angle hinges on every pair of neighbouring triangles (discrete
  * shells, energy_dihedral.c), k_b in N m: E = k_b 3|e|^2/(A_A + A_B) (theta - theta_bar)^2 / 2. */
 int cb_hinge_term_alloc(const cb_model *m, const char *label, double k, cb_term **out);
-/* theta and theta_bar (rad) of each hinge of a dihedral term at x (either may
- * be NULL; theta NaN for a degenerate hinge); returns the degenerate count. */
-int cb_hinge_term_angles(const cb_term *t, const double *x, double *theta, double *theta_bar);
 /* Hinges of a dihedral term whose exact element Hessian at x has a negative
  * eigenvalue (the ones the projection changes); nhinges gets the count. */
 int cb_hinge_term_count_indefinite(const cb_term *t, const double *x, int *nhinges);

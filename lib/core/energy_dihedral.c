@@ -42,7 +42,7 @@
  * edge or wing has collapsed (|e|^2 < 1e-24 |e_bar|^2, or |N|^2 < 1e-12
  * |e|^4: a wing of height below 1e-6 |e|) has no defined angle; it
  * contributes no energy, gradient or Hessian in that state (a documented
- * clamp; cb_hinge_term_count_degenerate counts them), never a NaN. */
+ * clamp), never a NaN. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -312,22 +312,6 @@ int cb_hinge_term_alloc(const cb_model *m, const char *label, double k, cb_term 
   }
   *out = &h->base;
   return CB_OK;
-}
-
-int cb_hinge_term_angles(const cb_term *t, const double *x, double *theta, double *theta_bar) {
-  if (!t || t->type != &cb_term_dihedral_type) return cb_fail("hinge angles: not a dihedral term");
-  const hinge_term *h = (const hinge_term *)t;
-  int degenerate = 0;
-  for (int e = 0; e < h->nh; e++) {
-    double p[12];
-    hinge_geo g;
-    load(h, e, x, p);
-    int ok = hinge_eval(p, h->e2_bar[e], &g);
-    degenerate += !ok;
-    if (theta) theta[e] = ok ? g.theta : NAN;
-    if (theta_bar) theta_bar[e] = h->theta_bar[e];
-  }
-  return degenerate;
 }
 
 int cb_hinge_term_count_indefinite(const cb_term *t, const double *x, int *nhinges) {
