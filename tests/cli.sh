@@ -65,7 +65,7 @@ expect_err() { # NAME FIXED-STRING: stderr of run NAME contains the string
 
 data_rows() { grep -v '^#' "$1" | tail -n +2; }          # CSV rows after the header
 header_of() { grep -v '^#' "$1" | head -n 1; }           # CSV header row
-last_field() { data_rows "$1" | tail -n 1 | awk -F, '{print $NF}'; }
+last_field() { data_rows "$1" | tail -n 1 | awk -F, -v c="$(col "$1" status)" '{print $c}'; } # the last row's status
 
 # col FILE NAME: the 1-based index of column NAME in the CSV header
 col() { header_of "$1" | tr ',' '\n' | grep -nx -- "$2" | cut -d: -f1; }
@@ -82,11 +82,11 @@ if [ -s "$T/hang/out.csv" ]; then
   check "hang: $n data rows, expected 61 (step 0 and 60 steps)" test "$n" -eq 61
   hdr=$(header_of "$csv")
   case $hdr in
-    step,t_s,kinetic_j,elastic_j,gravity_j,total_j,pin_work_j,*,status) : ;;
-    *) fail "hang: header '$hdr' does not run step,t_s,kinetic_j,elastic_j,gravity_j,total_j,pin_work_j,...,status" ;;
+    step,t_s,kinetic_j,elastic_j,gravity_j,total_j,pin_work_j,*,status,contacts) : ;;
+    *) fail "hang: header '$hdr' does not run step,t_s,kinetic_j,elastic_j,gravity_j,total_j,pin_work_j,...,status,contacts" ;;
   esac
   checks=$((checks + 1))
-  for c in step t_s kinetic_j elastic_j gravity_j total_j pin_work_j newton_iters wall_ms status; do
+  for c in step t_s kinetic_j elastic_j gravity_j total_j pin_work_j newton_iters wall_ms status contacts; do
     check "hang: header lacks column $c" test -n "$(col "$csv" "$c")"
   done
   # the provenance block: every line before the header starts with '#'
@@ -109,7 +109,7 @@ if [ -s "$T/hang/out.csv" ]; then
   badsteps=$(data_rows "$csv" | awk -F, -v s="$sc" -v t="$tc" \
     '{ if ($s != NR - 1) print; d = $t - (NR - 1) / 30; if (d < -1e-12 || d > 1e-12) print }' | wc -l | tr -d ' ')
   check "hang: $badsteps rows with a wrong step or t_s" test "$badsteps" -eq 0
-  badstat=$(data_rows "$csv" | awk -F, '$NF != "ok" && $NF != "max_iters"' | wc -l | tr -d ' ')
+  badstat=$(data_rows "$csv" | awk -F, -v c="$(col "$csv" status)" '$c != "ok" && $c != "max_iters"' | wc -l | tr -d ' ')
   check "hang: $badstat rows with a fatal status" test "$badstat" -eq 0
   # the cloth falls: the gravity potential at the end is below the start
   pc=$(col "$csv" gravity_j)

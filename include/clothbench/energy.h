@@ -139,6 +139,20 @@ int cb_gravity_term_alloc(const cb_model *m, const double g[3], cb_term **out);
 
 void cb_term_free(cb_term *t);
 
+/* The hinges of a topology, one per neighbouring-triangle pair p: vert[4p..4p+3]
+ * = the shared edge's two vertices, then the opposite vertex of each
+ * triangle (pair_opp). Returns np. */
+int cb_hinge_vertices(const cb_topology *tp, int *vert);
+/* Dihedral-angle hinges on every pair of neighbouring triangles (discrete
+ * shells, energy_dihedral.c), k_b in N m: E = k_b 3|e|^2/(A_A + A_B) (theta - theta_bar)^2 / 2. */
+int cb_hinge_term_alloc(const cb_model *m, const char *label, double k, cb_term **out);
+/* Hinges of a dihedral term whose exact element Hessian at x has a negative
+ * eigenvalue (the ones the projection changes); nhinges gets the count. */
+int cb_hinge_term_count_indefinite(const cb_term *t, const double *x, int *nhinges);
+/* Bergou et al.'s quadratic bending (energy_quadratic.c), k_b in N m:
+ * E = k_b/2 (x - x_bar)^T Q (x - x_bar), Q = 3/(A_0 + A_1) q q^T, constant Hessian. */
+int cb_quadratic_bend_term_alloc(const cb_model *m, const char *label, double k, cb_term **out);
+
 /* Bending models selectable by material.bend (energy.c; NULL-terminated
  * names; "none" is first and builds nothing). Each maps to a term type
  * built on a stencil of the topology. */

@@ -10,6 +10,7 @@
 
 #include <stddef.h>
 
+#include "collider.h"
 #include "energy.h"
 #include "mesh.h"
 #include "system.h"
@@ -55,7 +56,7 @@ typedef struct cb_scene_def {
   double stretch_k;            /* N/m: the spring stiffness k, or FEM's mu (energy per rest area). Default 8000 */
   const char *fem_hessian;     /* FEM Hessian, a name of cb_fem_hessian_names ("exact", "frozen"). Default "exact" */
   const char *bend;            /* bending model, a name of cb_bend_names. Default "none" */
-  double bend_k;               /* N/m. Default 100 */
+  double bend_k;               /* N/m for `spring`, N m for `dihedral` and `quadratic`. Default 100 */
   const char *definiteness;    /* compressed-spring response of the springs, a name of
                                   cb_definiteness_names ("choi-ko" changes the energy). Default "drop" */
   double buckling_kb;          /* N m^2, Choi-Ko bending stiffness. Default 0.01 */
@@ -64,6 +65,10 @@ typedef struct cb_scene_def {
   double initial_scale;        /* x0 = rest positions scaled about their centroid. Default 1 */
   double pin_squeeze[3];       /* m/s, pinned vertices driven toward each other. Default 0 0 0 */
   double diverge_ratio;        /* energy-growth bound of a run (run.h). Default 10 */
+  const char *collider;        /* a name of cb_collider_names: "penalty" adds a term, "project" a
+                                  response (after the def's own responses). Default "none" */
+  cb_sphere sphere;            /* the collider's sphere. Default centre 0 0 0, radius 1, thickness 0,
+                                  stiffness 10000, velocity 0 0 0 */
   int nresponses;              /* post-step responses, run in this order. Default 0 */
   struct {
     const cb_response_type *type;
@@ -105,6 +110,12 @@ double cb_scene_total_mass(const cb_scene *s);
 
 /* Runs the post-step responses on (x, v); returns the first nonzero status. */
 int cb_scene_post_step(const cb_scene *s, double *x, double *v, double dt);
+
+/* The collider's post-step response (collider.c; its params a cb_sphere). */
+extern const cb_response_type cb_response_sphere_project;
+/* Collider contacts: vertices inside a penalty sphere at x, plus the vertices
+ * a project response moved in the last step (0 without a collider). */
+int cb_scene_contacts(const cb_scene *s, const double *x);
 
 /* Kinetic energy 1/2 sum m_i |v_i|^2, J. */
 double cb_scene_kinetic(const cb_scene *s, const double *v);

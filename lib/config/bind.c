@@ -44,7 +44,13 @@ int cb_scene_def_from_config(const cb_config *c, cb_scene_def *d, char *path, si
   d->initial_scale = c->initial_scale;
   memcpy(d->pin_squeeze, c->pin_squeeze, sizeof d->pin_squeeze);
   d->diverge_ratio = c->diverge_ratio;
-  d->nresponses = 0; /* no key names a post-step response yet */
+  d->collider = cb_config_choice(c, "collider.type");
+  memcpy(d->sphere.centre, c->collider_centre, sizeof d->sphere.centre);
+  d->sphere.radius = c->collider_radius;
+  d->sphere.thickness = c->collider_thickness;
+  d->sphere.stiffness = c->collider_stiffness;
+  memcpy(d->sphere.velocity, c->collider_velocity, sizeof d->sphere.velocity);
+  d->nresponses = 0; /* the collider's `project` response is added by the scene */
   return CB_OK;
 }
 

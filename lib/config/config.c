@@ -10,6 +10,7 @@
 #include <strings.h>
 #include <sys/stat.h>
 
+#include <clothbench/collider.h>
 #include <clothbench/energy.h>
 #include <clothbench/integrator.h>
 #include <clothbench/solver.h>
@@ -64,9 +65,9 @@ static const keydef keys_head[] = {
   {"material.fem_hessian", T_ENUM, O(fem_hessian), "exact", "-", 0, 0, 0, cb_fem_hessian_names, NULL,
    "FEM Hessian (`material.stretch = fem`): `exact` (with the derivative of R, projected to PSD by `integrator.definiteness` drop/mirror) or `frozen` (R held fixed: the lecture's constant matrix, assembled once; Newton becomes a quasi-Newton method)."},
   {"material.bend", T_ENUM, O(bend), "none", "-", 0, 0, 0, cb_bend_names, NULL,
-   "Bending model: `none`, or `spring` (a spring across each pair of neighbouring triangles)."},
-  {"material.bend_k", T_DOUBLE, O(bend_k), "100", "N/m", 0, 1e15, 0, NULL, NULL,
-   "Stiffness of the bending springs."},
+   "Bending model: `none`; `spring` (a spring across each pair of neighbouring triangles, between the two opposite vertices); `dihedral` (the hinge energy of discrete shells, E = k 3|e|^2/(A_1+A_2) (theta - theta_rest)^2/2 per pair, exact Hessian projected per element by `integrator.definiteness`); `quadratic` (Bergou et al. 2006 as in the lecture, E = k/2 x^T Q x, Q = 3/(A_0+A_1) q q^T from the rest cotangents: constant Hessian, assembled once; a non-planar rest hinge is accepted with its rest curvature subtracted)."},
+  {"material.bend_k", T_DOUBLE, O(bend_k), "100", "N/m or N m", 0, 1e15, 0, NULL, NULL,
+   "Bending stiffness k; its unit depends on `material.bend`: N/m for `spring` (a spring stiffness), N m (J) for `dihedral` and `quadratic` (an energy per squared angle or curvature)."},
   {"material.buckling_kb", T_DOUBLE, O(buckling_kb), "0.01", "N m^2", 0, 1e15, 1, NULL, NULL,
    "Bending stiffness k_b of Choi & Ko's immediate-buckling response, used by every spring when `integrator.definiteness = choi-ko`: a compressed spring (|x| < L) bends into an arc of length L with energy k_b L kappa^2 / 2 instead of shortening, once its linear push k(L - |x|) reaches the arc's push f_b >= 12 k_b/L^2 (so the force stays continuous). Needs k > 12 pi^2 k_b / L^3."},
   {"scene.gravity", T_VEC3, O(gravity), "0 -9.8 0", "m/s^2", -1e6, 1e6, 0, NULL, NULL,
@@ -77,6 +78,18 @@ static const keydef keys_head[] = {
    "Initial positions are the rest positions scaled by this factor about their centroid (2 = stretched to twice the rest size, 0.5 = compressed)."},
   {"scene.pin_squeeze", T_VEC3, O(pin_squeeze), "0 0 0", "m/s", -1e6, 1e6, 0, NULL, NULL,
    "Driven pins (3 numbers s): pinned vertex i moves at the constant velocity -sign((p_i - c).s) s, c being the centroid of the pins' initial positions p_i, so pins on the two sides of c close in on each other at 2|s| (pins with (p_i - c).s = 0 stay). Its prescribed position x0 + t v enters every step (implicit: through x0 + dt v0; explicit: x += dt v). `0 0 0`: pins are fixed."},
+  {"collider.type", T_ENUM, O(collider_type), "none", "-", 0, 0, 0, cb_collider_names, NULL,
+   "Sphere collider: `none`; `penalty` (an energy term E = k_c (r + thickness - |x - c|)^2/2 on every vertex inside the shell, exact gradient and Hessian; the sphere stays still); `project` (the GAMES103 lab: after every step a free vertex inside is moved to the sphere's surface and its velocity corrected by (x_new - x)/dt; explicit and implicit integrators). Contacts per step are the `contacts` column of simulate's CSV."},
+  {"collider.centre", T_VEC3, O(collider_centre), "0 0 0", "m", -1e9, 1e9, 0, NULL, NULL,
+   "Centre c of the sphere at t = 0."},
+  {"collider.radius", T_DOUBLE, O(collider_radius), "1", "m", 0, 1e9, 1, NULL, NULL,
+   "Radius r of the sphere."},
+  {"collider.thickness", T_DOUBLE, O(collider_thickness), "0", "m", 0, 1e9, 0, NULL, NULL,
+   "Contact shell added to the radius: vertices are kept at r + thickness from c."},
+  {"collider.stiffness", T_DOUBLE, O(collider_stiffness), "10000", "N/m", 0, 1e15, 0, NULL, NULL,
+   "Penalty stiffness k_c (`penalty` only)."},
+  {"collider.velocity", T_VEC3, O(collider_velocity), "0 0 0", "m/s", -1e6, 1e6, 0, NULL, NULL,
+   "Constant velocity v of the sphere, c(t) = c + t v (`project` only, as the lab drags its ball)."},
   {"integrator.method", T_ENUM, O(method), "newton", "-", 0, 0, 0, NULL, cb_integrator_name,
    "`explicit` (symplectic Euler), `newton` (implicit Euler by Newton's method), `jacobi-nl` and `chebyshev-nl` (the GAMES103 lab's Jacobi on F(x), plain or Chebyshev-accelerated), `pd` and `pd-chebyshev` (projective dynamics, Liu et al. 2013, plain or Chebyshev-accelerated), or `shape_matching` (Müller et al. 2005, explicit; see `integrator.shape_alpha`)."},
   {"integrator.dt", T_DOUBLE, O(dt), "1/30", "s", 0, 1e6, 1, NULL, NULL,

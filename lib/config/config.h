@@ -38,14 +38,21 @@ typedef struct cb_config {
   char stretch[CB_NAME_LEN];       /* spring | fem */
   double stretch_k;                /* N/m: spring k or FEM mu */
   char fem_hessian[CB_NAME_LEN];   /* exact | frozen */
-  char bend[CB_NAME_LEN];          /* none | spring */
-  double bend_k;                   /* N/m */
+  char bend[CB_NAME_LEN];          /* none | spring | dihedral | quadratic */
+  double bend_k;                   /* N/m (spring) or N m (dihedral, quadratic) */
   double buckling_kb;              /* N m^2, Choi-Ko bending stiffness of a buckled spring */
   /* [scene] */
   double gravity[3];               /* m/s^2 */
   char pins[CB_PINS_LEN];          /* named set or index list */
   double initial_scale;            /* initial positions scaled about the centroid */
   double pin_squeeze[3];           /* m/s, pinned vertices driven toward each other */
+  /* [collider] */
+  char collider_type[CB_NAME_LEN]; /* none | penalty | project */
+  double collider_centre[3];       /* m */
+  double collider_radius;          /* m */
+  double collider_thickness;       /* m */
+  double collider_stiffness;       /* N/m */
+  double collider_velocity[3];     /* m/s */
   /* [integrator] */
   char method[CB_NAME_LEN];        /* explicit | newton */
   double dt;                       /* s */

@@ -17,12 +17,18 @@ extern const cb_term_type cb_term_spring_type;  /* energy_spring.c */
 extern const cb_term_type cb_term_gravity_type; /* energy_gravity.c */
 extern const cb_term_type cb_term_fem_type;        /* energy_fem.c: exact Hessian */
 extern const cb_term_type cb_term_fem_frozen_type; /* energy_fem.c: frozen-R constant Hessian */
+extern const cb_term_type cb_term_dihedral_type;  /* energy_dihedral.c */
+extern const cb_term_type cb_term_quadratic_type; /* energy_quadratic.c */
+extern const cb_term_type cb_term_sphere_type;    /* collider.c */
 
 const cb_term_type *const cb_term_types[] = {
     &cb_term_spring_type,
     &cb_term_gravity_type,
     &cb_term_fem_type,
     &cb_term_fem_frozen_type,
+    &cb_term_dihedral_type,
+    &cb_term_quadratic_type,
+    &cb_term_sphere_type,
     NULL,
 };
 
@@ -44,6 +50,11 @@ static int bend_springs(const cb_model *m, double k, cb_term **out) {
   return cb_spring_term_alloc(m, "bend", m->topo->np, m->topo->pair_opp, k, out);
 }
 
+static int bend_hinges(const cb_model *m, double k, cb_term **out) { return cb_hinge_term_alloc(m, "bend", k, out); }
+static int bend_quadratic(const cb_model *m, double k, cb_term **out) {
+  return cb_quadratic_bend_term_alloc(m, "bend", k, out);
+}
+
 typedef struct {
   const char *name;
   const cb_term_type *type; /* NULL: no bending term */
@@ -55,8 +66,10 @@ typedef struct {
 static const bend_model bend_models[] = {
     {"none", NULL, NULL},
     {"spring", &cb_term_spring_type, bend_springs},
+    {"dihedral", &cb_term_dihedral_type, bend_hinges},
+    {"quadratic", &cb_term_quadratic_type, bend_quadratic},
 };
-const char *const cb_bend_names[] = {"none", "spring", NULL};
+const char *const cb_bend_names[] = {"none", "spring", "dihedral", "quadratic", NULL};
 _Static_assert(sizeof bend_models / sizeof bend_models[0] + 1 == sizeof cb_bend_names / sizeof cb_bend_names[0],
                "cb_bend_names must list every bending model");
 

@@ -120,7 +120,9 @@ cb_scene_def cb_scene_def_default(void) {
   cb_scene_def d = {.mesh = CB_MESH_GRID, .grid = cb_grid_params_default(), .mesh_file = NULL, .density = 1,
                     .vertex_mass = 0, .stretch = "spring", .stretch_k = 8000, .fem_hessian = "exact", .bend = "none", .bend_k = 100, .definiteness = "drop",
                     .buckling_kb = 0.01, .gravity = {0, -9.8, 0}, .pins = "top-corners", .initial_scale = 1,
-                    .pin_squeeze = {0, 0, 0}, .diverge_ratio = 10, .nresponses = 0};
+                    .pin_squeeze = {0, 0, 0}, .diverge_ratio = 10, .collider = "none",
+                    .sphere = {.centre = {0, 0, 0}, .radius = 1, .thickness = 0, .stiffness = 10000, .velocity = {0, 0, 0}},
+                    .nresponses = 0};
   return d;
 }
 
@@ -227,6 +229,17 @@ static int check_finite(const cb_scene *s, const cb_scene_def *d, const char **k
   return CB_OK;
 }
 
+/* A collider error names its key first ("collider.radius: ..."): that key. */
+static int collider_error(int st, const char **key) {
+  static const char *const keys[] = {"collider.radius", "collider.thickness", "collider.stiffness", "collider.velocity",
+                                     "collider.centre"};
+  if (st == CB_OK || !key) return st;
+  *key = "collider.type";
+  for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++)
+    if (strncmp(cb_error_message(), keys[k], strlen(keys[k])) == 0) *key = keys[k];
+  return st;
+}
+
 static int build_mesh(const cb_scene_def *d, cb_mesh *mesh, const char **key) {
   if (d->mesh == CB_MESH_OBJ) {
     if (!d->mesh_file) return at_key(cb_fail("mesh.file: required for an OBJ mesh"), key, "mesh.file");
@@ -240,8 +253,15 @@ static int build_mesh(const cb_scene_def *d, cb_mesh *mesh, const char **key) {
 int cb_scene_build(const cb_scene_def *d, cb_scene **out, const char **key) {
   *out = NULL;
   if (key) *key = NULL;
-  if (!d->bend || !d->definiteness || !d->pins) /* e.g. a copy of cb_scene.def, whose strings are NULL */
-    return cb_fail("scene: bend, definiteness and pins must be set (start from cb_scene_def_default())");
+  if (!d->bend || !d->definiteness || !d->pins || !d->collider) /* e.g. a copy of cb_scene.def, whose strings are NULL */
+    return cb_fail("scene: bend, definiteness, pins and collider must be set (start from cb_scene_def_default())");
+  int collider = -1;
+  for (int k = 0; cb_collider_names[k]; k++)
+    if (strcmp(d->collider, cb_collider_names[k]) == 0) collider = k;
+  if (collider < 0) return at_key(cb_fail("collider.type: unknown collider '%s'", d->collider), key, "collider.type");
+  int project = strcmp(d->collider, "project") == 0;
+  if (d->nresponses + project > CB_MAX_RESPONSES)
+    return cb_fail("scene: %d post-step responses (at most %d)", d->nresponses + project, CB_MAX_RESPONSES);
   if (d->nresponses < 0 || d->nresponses > CB_MAX_RESPONSES)
     return cb_fail("scene: %d post-step responses (at most %d)", d->nresponses, CB_MAX_RESPONSES);
   for (int k = 0; k < d->nresponses; k++)
@@ -250,7 +270,7 @@ int cb_scene_build(const cb_scene_def *d, cb_scene **out, const char **key) {
   cb_scene *s = cb_calloc(1, sizeof *s);
   if (!s) return CB_ENOMEM;
   s->def = *d;
-  s->def.mesh_file = s->def.bend = s->def.definiteness = s->def.pins = NULL;
+  s->def.mesh_file = s->def.bend = s->def.definiteness = s->def.pins = s->def.collider = NULL;
   for (int k = 0; k < d->nresponses; k++) s->def.responses[k].params = NULL;
   s->diverge_ratio = d->diverge_ratio;
   int st = build_mesh(d, &s->mesh, key);
@@ -321,7 +341,12 @@ int cb_scene_build(const cb_scene_def *d, cb_scene **out, const char **key) {
   if (st == CB_OK) {
     cb_term *bend = NULL;
     st = cb_bend_term_alloc(d->bend, &s->model, d->bend_k, &bend);
+    if (st) st = at_key(labelled(st, "material.bend"), key, "material.bend");
     if (bend) terms[nterms++] = bend;
+  }
+  if (st == CB_OK && strcmp(d->collider, "penalty") == 0) {
+    st = collider_error(cb_sphere_term_alloc(&s->model, &d->sphere, &terms[nterms]), key);
+    if (st == CB_OK) nterms++;
   }
   memcpy(s->gravity, d->gravity, sizeof s->gravity);
   if (st == CB_OK && (d->gravity[0] != 0 || d->gravity[1] != 0 || d->gravity[2] != 0)) {
@@ -374,6 +399,16 @@ int cb_scene_build(const cb_scene_def *d, cb_scene **out, const char **key) {
     if (r->type->size && !r->state) { st = CB_ENOMEM; break; }
     s->nresponses++;
     if (r->type->init) st = r->type->init(r, s, d->responses[k].params);
+  }
+  if (st == CB_OK && project) { /* the collider's response runs after the def's own */
+    cb_response *r = &s->responses[s->nresponses];
+    r->type = &cb_response_sphere_project;
+    r->state = cb_calloc(1, r->type->size);
+    if (!r->state) st = CB_ENOMEM;
+    else {
+      s->nresponses++;
+      st = collider_error(r->type->init(r, s, &d->sphere), key);
+    }
   }
   if (st) {
     cb_scene_free(s);
