@@ -238,6 +238,7 @@ bench: deps
 	$(EXP_ENV) $(PYTHON) bench/spmv_scipy.py $(BUILD)/bench_spmv $(BUILD) results/bench_scipy.csv
 	$(PYTHON) scripts/readme-perf.py results README.md
 	$(EXP_ENV) $(BUILD)/bench_nonlinear --out results/bench_nonlinear.csv
+	$(PYTHON) scripts/readme-bench-nonlinear.py results README.md
 
 clean:
 	rm -rf build
