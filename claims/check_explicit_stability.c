@@ -24,24 +24,6 @@ enum { MAXS = 16, MAXPTS = 4096 };
 #define E2_N_EXP_TOL 0.25
 #define I1_MIN_EXP 0.25    /* energy lost per second ~ dt^p with p at least this: damping grows with dt */
 
-static int side_table(const char *results_dir, const char *suffix, cb_table *t, cb_claim_result *out) {
-  char path[4096];
-  snprintf(path, sizeof path, "%s/explicit_stability_%s.csv", results_dir, suffix);
-  int st = cb_table_read(path, t);
-  if (st) cb_claim_reason(out, "%s is missing or unreadable: run build/explicit_stability.", path);
-  return st;
-}
-
-/* Column indices by name; 0 if all exist, else a reason naming the first missing one. */
-static int cols(const cb_table *t, const char *const *names, int *idx, int n, const char *file, cb_claim_result *out) {
-  for (int i = 0; i < n; i++)
-    if ((idx[i] = cb_table_col(t, names[i])) < 0) {
-      cb_claim_reason(out, "%s lacks the column %s.", file, names[i]);
-      return -1;
-    }
-  return 0;
-}
-
 static int find_name(char names[][32], int *n, const char *s) {
   for (int i = 0; i < *n; i++)
     if (!strcmp(names[i], s)) return i;
@@ -54,12 +36,12 @@ static int find_name(char names[][32], int *n, const char *s) {
 
 void cb_check_E1(const cb_table *t, const char *results_dir, cb_claim_result *out) {
   cb_table b;
-  if (side_table(results_dir, "boundary", &b, out)) return;
+  if (cb_claim_side_table(results_dir, "explicit_stability", "boundary", &b, out)) return;
   static const char *const bn[] = {"scene", "k", "dt_crit_pred", "dt_crit_meas", "bisect_status", "dt_crit_pred_rest",
                                    "lambda_dense_per_s2", "lambda_lanczos_per_s2"};
   static const char *const mn[] = {"kind", "scene", "k", "dt", "method", "status", "dt_crit_pred"};
   int bc[8], mc[7];
-  if (cols(&b, bn, bc, 8, "explicit_stability_boundary.csv", out) || cols(t, mn, mc, 7, "explicit_stability.csv", out)) {
+  if (cb_claim_columns(&b, bn, bc, 8, "explicit_stability_boundary.csv", out) || cb_claim_columns(t, mn, mc, 7, "explicit_stability.csv", out)) {
     cb_table_free(&b);
     return;
   }
@@ -144,10 +126,10 @@ typedef struct { char scene[32]; double n, k, wall, steps, not_conv; int method,
 void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *out) {
   (void)t;
   cb_table b;
-  if (side_table(results_dir, "timing", &b, out)) return;
+  if (cb_claim_side_table(results_dir, "explicit_stability", "timing", &b, out)) return;
   static const char *const tn[] = {"scene", "n_vertices", "k", "method", "wall_ms_per_s", "steps", "status"};
   int c[7];
-  if (cols(&b, tn, c, 7, "explicit_stability_timing.csv", out)) { cb_table_free(&b); return; }
+  if (cb_claim_columns(&b, tn, c, 7, "explicit_stability_timing.csv", out)) { cb_table_free(&b); return; }
   int cnc = cb_table_col(&b, "not_converged_steps"); /* optional: older tables lack it */
   static trow rows[MAXPTS];
   int n = 0, unstable = 0;
@@ -280,7 +262,7 @@ void cb_check_I1(const cb_table *t, const char *results_dir, cb_claim_result *ou
   static const char *const mn[] = {"kind", "scene", "k", "dt", "method", "status", "max_energy_ratio", "steps",
                                    "not_converged_steps", "t_mark_s", "energy_loss_w", "kinetic0_j", "window_s"};
   int c[13];
-  if (cols(t, mn, c, 13, "explicit_stability.csv", out)) return;
+  if (cb_claim_columns(t, mn, c, 13, "explicit_stability.csv", out)) return;
   char names[MAXS][32];
   int ns = 0, cells = 0, bad = 0, explicit_bad = 0;
   double max_gain = 0, steps = 0, nc = 0;

@@ -23,23 +23,6 @@ void cb_check_S1(const cb_table *t, const char *results_dir, cb_claim_result *ou
 #define F1_SPRING_MIN 1.2  /* springs on the regular grid: anisotropy ratio at least */
 #define F1_ROUNDOFF 1e-10  /* rel_grad above this counts for the convergence order */
 
-static int side_table(const char *results_dir, const char *suffix, cb_table *t, cb_claim_result *out) {
-  char path[4096];
-  snprintf(path, sizeof path, "%s/locking_%s.csv", results_dir, suffix);
-  int st = cb_table_read(path, t);
-  if (st) cb_claim_reason(out, "%s is missing or unreadable: run build/locking.", path);
-  return st;
-}
-
-static int cols(const cb_table *t, const char *const *names, int *idx, int n, const char *file, cb_claim_result *out) {
-  for (int i = 0; i < n; i++)
-    if ((idx[i] = cb_table_col(t, names[i])) < 0) {
-      cb_claim_reason(out, "%s lacks the column %s.", file, names[i]);
-      return -1;
-    }
-  return 0;
-}
-
 static int same(const cb_table *t, int r, int c, const char *s) { return strcmp(cb_table_str(t, r, c), s) == 0; }
 
 /* ---- L1 ------------------------------------------------------------------------ */
@@ -48,7 +31,7 @@ void cb_check_L1(const cb_table *t, const char *results_dir, cb_claim_result *ou
   (void)results_dir;
   static const char *const names[] = {"model", "mesh", "fold", "on_edges", "k_n_per_m", "fold_angle_deg", "status"};
   int c[7];
-  if (cols(t, names, c, 7, "locking.csv", out)) return;
+  if (cb_claim_columns(t, names, c, 7, "locking.csv", out)) return;
   int *done = calloc((size_t)t->nrows + 1, sizeof(int));
   int judged = 0, pass = 0, across = 0, along = 0, unconverged = 0, skipped = 0;
   double min_fall = INFINITY, max_dev = 0; /* over the judged cases across / along mesh lines */
@@ -110,12 +93,12 @@ void cb_check_L1(const cb_table *t, const char *results_dir, cb_claim_result *ou
 void cb_check_L2(const cb_table *t, const char *results_dir, cb_claim_result *out) {
   (void)t;
   cb_table d;
-  if (side_table(results_dir, "dofs", &d, out)) return;
+  if (cb_claim_side_table(results_dir, "locking", "dofs", &d, out)) return;
   static const char *const names[] = {"mesh", "vertices", "boundary_edges", "conforming_dofs", "conforming_predicted",
                                       "conforming_per_vertex", "nonconforming_dofs", "nonconforming_predicted",
                                       "nonconforming_per_vertex"};
   int c[9];
-  if (cols(&d, names, c, 9, "locking_dofs.csv", out)) { cb_table_free(&d); return; }
+  if (cb_claim_columns(&d, names, c, 9, "locking_dofs.csv", out)) { cb_table_free(&d); return; }
   static const char *const fam[3] = {"_regular", "_alternating", "ring_disk"};
   int exact_c = 0, exact_nc = 0, n = 0, fam_ok = 0, fams = 0;
   double worst_c = 0, worst_nc = INFINITY; /* on the largest mesh of each family */
@@ -204,10 +187,10 @@ static double conv_order(const cb_table *nt, const int *c, const char *m, double
 void cb_check_F1(const cb_table *t, const char *results_dir, cb_claim_result *out) {
   (void)t;
   cb_table a;
-  if (side_table(results_dir, "aniso", &a, out)) return;
+  if (cb_claim_side_table(results_dir, "locking", "aniso", &a, out)) return;
   static const char *const names[] = {"model", "mesh", "family", "test", "energy_density_j_per_m2"};
   int c[5];
-  if (cols(&a, names, c, 5, "locking_aniso.csv", out)) { cb_table_free(&a); return; }
+  if (cb_claim_columns(&a, names, c, 5, "locking_aniso.csv", out)) { cb_table_free(&a); return; }
   static const char *const meshes[3] = {"regular", "alternating", "disk"};
   static const char *const stretch[] = {"axes", "diagonals", NULL}, *const shear[] = {"shear", NULL};
   static const char *const axes[] = {"axes", NULL}, *const diag[] = {"diagonals", NULL};
@@ -231,14 +214,14 @@ void cb_check_F1(const cb_table *t, const char *results_dir, cb_claim_result *ou
   /* the Newton step: per method, iterations, time, convergence order */
   cb_table nt, ns;
   char summary[512] = "";
-  if (side_table(results_dir, "newton", &nt, out) == 0) {
+  if (cb_claim_side_table(results_dir, "locking", "newton", &nt, out) == 0) {
     static const char *const nn[] = {"model", "rep", "iter", "rel_grad"};
     int cn[4];
-    int have_steps = side_table(results_dir, "newton_steps", &ns, out) == 0;
+    int have_steps = cb_claim_side_table(results_dir, "locking", "newton_steps", &ns, out) == 0;
     static const char *const sn[] = {"model", "newton_iters", "factorizations", "rel_grad", "step_wall_ms", "status", "n"};
     int cs[7];
-    if (have_steps && cols(&ns, sn, cs, 7, "locking_newton_steps.csv", out)) { cb_table_free(&ns); have_steps = 0; }
-    if (cols(&nt, nn, cn, 4, "locking_newton.csv", out) == 0 && have_steps) {
+    if (have_steps && cb_claim_columns(&ns, sn, cs, 7, "locking_newton_steps.csv", out)) { cb_table_free(&ns); have_steps = 0; }
+    if (cb_claim_columns(&nt, nn, cn, 4, "locking_newton.csv", out) == 0 && have_steps) {
       cb_claim_numbers(out, "\nOne implicit Euler step of the lab cloth at %.0f^2 (to rel. |grad F| 1e-12 or 300 iterations; "
                             "median of 3 runs):\n\n| method | Newton iterations | factorisations | final rel. grad | step wall (ms, "
                             "median [min-max]) | order | last rate | status |\n|---|---|---|---|---|---|---|---|\n",
@@ -282,10 +265,10 @@ void cb_check_F1(const cb_table *t, const char *results_dir, cb_claim_result *ou
 void cb_check_S1(const cb_table *t, const char *results_dir, cb_claim_result *out) {
   (void)t;
   cb_table s;
-  if (side_table(results_dir, "shape", &s, out)) return;
+  if (cb_claim_side_table(results_dir, "locking", "shape", &s, out)) return;
   static const char *const names[] = {"scene", "method", "alpha", "dt_s", "class", "final_energy_ratio", "max_strain"};
   int c[7];
-  if (cols(&s, names, c, 7, "locking_shape.csv", out)) { cb_table_free(&s); return; }
+  if (cb_claim_columns(&s, names, c, 7, "locking_shape.csv", out)) { cb_table_free(&s); return; }
   int sm_cells = 0, sm_bad = 0, sm_stable = 0, sp_cells = 0, sp_stable = 0;
   int *done = calloc((size_t)s.nrows + 1, sizeof(int));
   cb_claim_numbers(out, "| scene | method | alpha | cells | stable | unstable | diverged | energy drift (median final ratio) | "

@@ -174,3 +174,20 @@ void cb_fit_line(const double *x, const double *y, int n, double *slope, double 
   *slope = d != 0 ? (n * sxy - sx * sy) / d : 0;
   *intercept = n > 0 ? (sy - *slope * sx) / n : 0;
 }
+
+int cb_claim_side_table(const char *dir, const char *experiment, const char *table, cb_table *t, cb_claim_result *out) {
+  char path[4096];
+  snprintf(path, sizeof path, "%s/%s_%s.csv", dir, experiment, table);
+  int st = cb_table_read(path, t);
+  if (st) cb_claim_reason(out, "%s is missing or unreadable: run build/%s.", path, experiment);
+  return st;
+}
+
+int cb_claim_columns(const cb_table *t, const char *const *names, int *idx, int n, const char *file, cb_claim_result *out) {
+  for (int i = 0; i < n; i++)
+    if ((idx[i] = cb_table_col(t, names[i])) < 0) {
+      cb_claim_reason(out, "%s lacks the column %s.", file, names[i]);
+      return -1;
+    }
+  return 0;
+}

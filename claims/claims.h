@@ -48,6 +48,14 @@ void cb_claim_reason(cb_claim_result *r, const char *fmt, ...) __attribute__((fo
  * missing or it has no experiment). */
 void cb_claim_decide(const cb_claim *c, const char *results_dir, cb_claim_result *out);
 
+/* Reads the side table <dir>/<experiment>_<table>.csv into t; on failure
+ * (missing or unreadable) adds a reason naming the file and the program to
+ * run, and returns non-zero. */
+int cb_claim_side_table(const char *dir, const char *experiment, const char *table, cb_table *t, cb_claim_result *out);
+/* Column indices of names[0..n) in t; 0 if all exist, else a reason naming
+ * file and the first missing column, and -1. */
+int cb_claim_columns(const cb_table *t, const char *const *names, int *idx, int n, const char *file, cb_claim_result *out);
+
 /* Least-squares slope and intercept of y on x over n points. */
 void cb_fit_line(const double *x, const double *y, int n, double *slope, double *intercept);
 

@@ -39,6 +39,15 @@ static csv_origin read_origin(const char *results, const char *experiment) {
   return o;
 }
 
+/* The experiment of claim i if no earlier claim names it, else NULL: each
+ * experiment once, in the claims' order. */
+static const char *first_claim_of_experiment(int i) {
+  const char *e = cb_claims[i].experiment;
+  for (int j = 0; e && j < i; j++)
+    if (cb_claims[j].experiment && !strcmp(cb_claims[j].experiment, e)) return NULL;
+  return e;
+}
+
 /* "What produced it": one row per experiment whose CSV is there, and a
  * summary line saying whether the run is quick, full or mixed and whether
  * every CSV comes from one clean revision. */
@@ -49,10 +58,8 @@ void cb_report_origin(FILE *f, const char *results) {
         "| experiment | run | git revision | date (UTC) | BLAS threads | OpenMP threads | CPU | cores |\n"
         "|---|---|---|---|---|---|---|---|\n", f);
   for (int i = 0; i < cb_nclaims; i++) {
-    const char *e = cb_claims[i].experiment;
-    int seen = 0;
-    for (int j = 0; j < i && !seen; j++) seen = cb_claims[j].experiment && e && !strcmp(cb_claims[j].experiment, e);
-    if (!e || seen) continue;
+    const char *e = first_claim_of_experiment(i);
+    if (!e) continue;
     csv_origin o = read_origin(results, e);
     if (!o.found) {
       fprintf(f, "| %s | not run | | | | | | |\n", e);
@@ -93,10 +100,8 @@ void cb_report_runtimes(FILE *f, const char *results) {
   double total = 0;
   int n = 0;
   for (int i = 0; i < cb_nclaims; i++) {
-    const char *e = cb_claims[i].experiment;
-    int seen = 0;
-    for (int j = 0; j < i && !seen; j++) seen = cb_claims[j].experiment && e && !strcmp(cb_claims[j].experiment, e);
-    if (!e || seen) continue;
+    const char *e = first_claim_of_experiment(i);
+    if (!e) continue;
     csv_origin o = read_origin(results, e);
     double s = read_runtime(results, e);
     if (!o.found) continue;
