@@ -130,7 +130,9 @@ $(BUILD)/simulate: $(BUILD)/tools/simulate.o $(LIB)
 $(EXPS): $(BUILD)/%: $$(call exp_obj,%) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
-$(BUILD)/%: $(BUILD)/bench/%.o $(LIB)
+# every bench program links bench/support/ (the allocation counter, the triad)
+BENCH_SUPPORT := $(patsubst %.c,$(BUILD)/%.o,$(wildcard bench/support/*.c))
+$(BUILD)/%: $(BUILD)/bench/%.o $(BENCH_SUPPORT) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
 $(BUILD)/tests/%: $(BUILD)/tests/%.o $(TEST_OBJ) $(REPORT_LIB) $(LIB)

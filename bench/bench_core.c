@@ -30,7 +30,6 @@
 #define _GNU_SOURCE
 #include <cblas.h>
 #include <cholmod.h>
-#include <malloc.h>
 #include <math.h>
 #include <omp.h>
 #include <stdint.h>
@@ -44,45 +43,9 @@
 #include "provenance.h"
 #include <clothbench/timer.h>
 #include "stats.h"
+#include "support/bench_support.h"
 #include "threads.h"
 
-/* ---- allocation counter: interposes malloc & co. for the whole process ---- */
-extern void *__libc_malloc(size_t);
-extern void *__libc_calloc(size_t, size_t);
-extern void *__libc_realloc(void *, size_t);
-extern void *__libc_memalign(size_t, size_t);
-static long nalloc;
-void *malloc(size_t n) { nalloc++; return __libc_malloc(n); }
-void *calloc(size_t a, size_t b) { nalloc++; return __libc_calloc(a, b); }
-void *realloc(void *p, size_t n) { nalloc++; return __libc_realloc(p, n); }
-void *memalign(size_t a, size_t n) { nalloc++; return __libc_memalign(a, n); }
-int posix_memalign(void **p, size_t a, size_t n) { nalloc++; *p = __libc_memalign(a, n); return *p ? 0 : 12; }
-void *aligned_alloc(size_t a, size_t n) { nalloc++; return __libc_memalign(a, n); }
-
-/* STREAM triad a = b + s c over arrays far larger than the caches; bytes
- * counted as STREAM does: 3 x 8 per element (no write-allocate). */
-typedef struct {
-  size_t n;
-  double *a, *b, *c;
-} triad_arrays;
-
-static int triad_alloc(triad_arrays *t) {
-  t->n = (size_t)1 << 25; /* 32M doubles = 256 MiB per array */
-  t->a = malloc(t->n * sizeof(double));
-  t->b = malloc(t->n * sizeof(double));
-  t->c = malloc(t->n * sizeof(double));
-  if (!t->a || !t->b || !t->c) return -1;
-  for (size_t i = 0; i < t->n; i++) { t->a[i] = 0; t->b[i] = 1.0; t->c[i] = 2.0; }
-  return 0;
-}
-
-/* One triad pass; returns GB/s. */
-static double triad_once(triad_arrays *t) {
-  double t0 = cb_now_ms();
-  for (size_t i = 0; i < t->n; i++) t->a[i] = t->b[i] + 3.0 * t->c[i];
-  double ms = cb_now_ms() - t0;
-  return 24.0 * (double)t->n / (ms * 1e-3) / 1e9;
-}
 
 /* ---- statistics: every figure is a median with its min and max ---- */
 
@@ -378,9 +341,9 @@ int main(int argc, char **argv) {
     fprintf(stderr, "bench_core: %s\n", cb_error_message());
     return 2;
   }
-  triad_arrays ta;
+  cb_triad ta;
   gemm_arrays ga;
-  if (triad_alloc(&ta) || gemm_alloc(&ga, 1024)) { fprintf(stderr, "bench_core: out of memory for the triad and dgemm arrays\n"); return 1; }
+  if (cb_triad_alloc(&ta) || gemm_alloc(&ga, 1024)) { fprintf(stderr, "bench_core: out of memory for the triad and dgemm arrays\n"); return 1; }
   cb_progress_start(&e.progress, "bench_core", nsizes);
   for (int si = 0; si < nsizes; si++) {
     int n = sizes[si];
@@ -414,9 +377,9 @@ int main(int argc, char **argv) {
     memcpy(xs, x, (size_t)nv3 * sizeof *x);
     memcpy(vs, v, (size_t)nv3 * sizeof *v);
     /* allocations inside one Newton step and one explicit step (after warm-up) */
-    long a0 = nalloc;
+    long a0 = cb_bench_allocations();
     cb_integrator_step(nt, x, v, &st);
-    long allocs_newton = nalloc - a0;
+    long allocs_newton = cb_bench_allocations() - a0;
     long allocs_iter = 0; /* Newton with each iterative solver (Chebyshev with rho = auto) */
     const char *iters[] = {"cg", "pcg", "chebyshev"};
     for (int q = 0; q < 3; q++) {
@@ -426,15 +389,15 @@ int main(int argc, char **argv) {
       cb_integrator *it = NULL;
       if (cb_integrator_alloc("newton", s, &nt->params, nt->type_params, iters[q], &sp, &it)) continue;
       cb_integrator_step(it, x, v, &st);
-      a0 = nalloc;
+      a0 = cb_bench_allocations();
       cb_integrator_step(it, x, v, &st);
-      if (nalloc - a0 > allocs_iter) allocs_iter = nalloc - a0;
+      if (cb_bench_allocations() - a0 > allocs_iter) allocs_iter = cb_bench_allocations() - a0;
       cb_integrator_free(it);
     }
     cb_integrator_step(ex, x, v, &st);
-    a0 = nalloc;
+    a0 = cb_bench_allocations();
     cb_integrator_step(ex, x, v, &st);
-    long allocs_explicit = nalloc - a0;
+    long allocs_explicit = cb_bench_allocations() - a0;
     /* explicit step */
     double tex[MAXREP], tas[MAXREP], tfa[MAXREP], tso[MAXREP], tmv[MAXREP], tmf[MAXREP];
     double tbare[MAXREP], rbare[MAXREP], tb4[MAXREP], rb4[MAXREP], gfl[MAXREP], dgf[MAXREP], rdg[MAXREP];
@@ -487,7 +450,7 @@ int main(int argc, char **argv) {
     double bytes = (double)cb_sparse_sym_matvec_bytes(&S), bytes_full = (double)cb_sparse_matvec_bytes(A);
     int inner = 1 + (int)(2e7 / (double)A->nnz);
     for (int k = 0; k < reps; k++) {
-      ttr[k] = triad_once(&ta);
+      ttr[k] = cb_triad_once(&ta);
       double t0 = cb_now_ms();
       for (int q = 0; q < inner; q++) cb_sparse_sym_matvec(&S, q & 1 ? y : b, q & 1 ? dx : y);
       tmv[k] = (cb_now_ms() - t0) / inner;
@@ -521,7 +484,7 @@ int main(int argc, char **argv) {
     cb_progress_update(&e.progress, si + 1);
   }
   cb_progress_end(&e.progress);
-  free(ta.a); free(ta.b); free(ta.c);
+  cb_triad_free(&ta);
   free(ga.a); free(ga.b); free(ga.c);
   if (cb_outfile_commit(&chol) || cb_outfile_commit(&steps) || cb_outfile_commit(&csv)) {
     fprintf(stderr, "bench_core: %s\n", cb_error_message());

@@ -21,7 +21,6 @@
  *     free_vertex 4, x and x_prev written 48: 24 + 48 + 48 + 108 + 132 = 360 bytes.
  * Output: results/bench_nonlinear.csv. */
 #define _GNU_SOURCE
-#include <malloc.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -32,28 +31,10 @@
 #include "experiment.h"
 #include "provenance.h"
 #include "stats.h"
+#include "support/bench_support.h"
 
-/* ---- allocation counter: interposes malloc & co. for the whole process ---- */
-extern void *__libc_malloc(size_t);
-extern void *__libc_calloc(size_t, size_t);
-extern void *__libc_realloc(void *, size_t);
-extern void *__libc_memalign(size_t, size_t);
-static long nalloc;
-void *malloc(size_t n) { nalloc++; return __libc_malloc(n); }
-void *calloc(size_t a, size_t b) { nalloc++; return __libc_calloc(a, b); }
-void *realloc(void *p, size_t n) { nalloc++; return __libc_realloc(p, n); }
-void *memalign(size_t a, size_t n) { nalloc++; return __libc_memalign(a, n); }
-int posix_memalign(void **p, size_t a, size_t n) { nalloc++; *p = __libc_memalign(a, n); return *p ? 0 : 12; }
-void *aligned_alloc(size_t a, size_t n) { nalloc++; return __libc_memalign(a, n); }
 
 enum { BYTES_PER_VERTEX_ITER = 360 };
-
-/* STREAM triad a = b + s c over 3 arrays of 2^25 doubles (24 bytes per element); GB/s. */
-static double triad_gbs(double *a, const double *b, const double *c, size_t n) {
-  double t0 = cb_now_ms();
-  for (size_t i = 0; i < n; i++) a[i] = b[i] + 3.0 * c[i];
-  return 24.0 * (double)n / ((cb_now_ms() - t0) * 1e-3) / 1e9;
-}
 
 static int build(cb_experiment *e, int n, const char *const *more, cb_config *c, cb_scene **s) {
   char setn[64], mass[64], pins[64];
@@ -105,10 +86,8 @@ int main(int argc, char **argv) {
     fprintf(stderr, "bench_nonlinear: %s\n", cb_error_message());
     return 2;
   }
-  size_t tn = (size_t)1 << 25;
-  double *ta = malloc(tn * sizeof(double)), *tb = malloc(tn * sizeof(double)), *tc = malloc(tn * sizeof(double));
-  if (!ta || !tb || !tc) { fprintf(stderr, "bench_nonlinear: out of memory for the triad\n"); return 1; }
-  for (size_t i = 0; i < tn; i++) { ta[i] = 0; tb[i] = 1; tc[i] = 2; }
+  cb_triad ta;
+  if (cb_triad_alloc(&ta)) { fprintf(stderr, "bench_nonlinear: out of memory for the triad\n"); return 1; }
   const int sizes[] = {21, 64, 129};
   int nsz = e.quick ? 2 : 3;
   for (int si = 0; si < nsz; si++) {
@@ -132,7 +111,7 @@ int main(int argc, char **argv) {
     double f32 = frame_ms(lab, xs, vs, x, v, nv3, reps, &st);
     double iter_ms = f32 / 32.0;
     double tr[16];
-    for (int k = 0; k < 7; k++) tr[k] = triad_gbs(ta, tb, tc, tn);
+    for (int k = 0; k < 7; k++) tr[k] = cb_triad_once(&ta);
     double triad = cb_median(tr, 7);
     double gbs = (double)BYTES_PER_VERTEX_ITER * s->mesh.nv / (iter_ms * 1e-3) / 1e9;
     /* pd: factorisation at alloc, then frames of 10 iterations */
@@ -158,9 +137,9 @@ int main(int argc, char **argv) {
       memcpy(x, xs, (size_t)nv3 * sizeof *x);
       memcpy(v, vs, (size_t)nv3 * sizeof *v);
       cb_integrator_step(it, x, v, &st);
-      long a0 = nalloc;
+      long a0 = cb_bench_allocations();
       cb_integrator_step(it, x, v, &st);
-      allocs[q] = nalloc - a0;
+      allocs[q] = cb_bench_allocations() - a0;
       cb_integrator_free(it);
     }
     fprintf(csv.f, "%d,%d,%d,%.6f,%.3f,%.6f,%.4f,%.4f,%.4f,%.6f,%.6f,%d,%ld,%ld,%ld,%ld,%ld,%s\n", n, s->mesh.nv, s->sys.A.n, f32,
@@ -175,7 +154,7 @@ int main(int argc, char **argv) {
     cb_scene_free(s);
     free(x); free(v); free(xs); free(vs);
   }
-  free(ta); free(tb); free(tc);
+  cb_triad_free(&ta);
   if (cb_outfile_commit(&csv)) { fprintf(stderr, "bench_nonlinear: %s\n", cb_error_message()); return 2; }
   return 0;
 }
