@@ -188,21 +188,31 @@ static int export_matrix(const char *dir, int n, const cb_sparse *A) {
 /* ---- factorisation choices (the table behind solver.ordering/nrelax/storage) ---- */
 
 /* Every (ordering, nrelax, storage) analysed once, then factorised in turn,
- * rep after rep, so that all of them see the same machine. */
+ * rep after rep, so that all of them see the same machine; subnormals are
+ * flushed in all of them (solver.denormals = flush), and one more row is the
+ * defaults with subnormals kept. */
 static void sweep_cholmod(FILE *f, int n, const cb_sparse *A, int reps) {
   const cb_solver_params def = cb_solver_params_default();
   static const int nrelax[][3] = {{4, 16, 48}, {16, 64, 128}};
-  enum { NR = (int)(sizeof nrelax / sizeof nrelax[0]), NC = 4 * NR * 2 };
+  enum { NR = (int)(sizeof nrelax / sizeof nrelax[0]), NGRID = 4 * NR * 2, NC = NGRID + 1 };
   cb_solver *sv[NC] = {NULL};
-  int st[NC], ord[NC], rl[NC], upp[NC];
+  int st[NC], ord[NC], nr[NC][3], upp[NC], flush[NC];
   double tf[NC][MAXREP];
   for (int c = 0; c < NC; c++) {
-    ord[c] = c / (2 * NR);
-    rl[c] = (c / 2) % NR;
-    upp[c] = c % 2;
     cb_solver_params p = cb_solver_params_default();
+    if (c < NGRID) {
+      ord[c] = c / (2 * NR);
+      memcpy(nr[c], nrelax[(c / 2) % NR], sizeof nr[c]);
+      upp[c] = c % 2;
+    } else { /* the defaults, subnormals kept */
+      ord[c] = def.ordering;
+      memcpy(nr[c], def.nrelax, sizeof nr[c]);
+      upp[c] = def.upper;
+      p.flush_denormals = 0;
+    }
+    flush[c] = p.flush_denormals;
     p.ordering = ord[c];
-    memcpy(p.nrelax, nrelax[rl[c]], sizeof p.nrelax);
+    memcpy(p.nrelax, nr[c], sizeof p.nrelax);
     p.upper = upp[c];
     st[c] = cb_solver_alloc("cholmod", &p, A->n, &sv[c]);
     if (st[c] == CB_OK) st[c] = cb_solver_analyze(sv[c], A);
@@ -216,9 +226,9 @@ static void sweep_cholmod(FILE *f, int n, const cb_sparse *A, int reps) {
   for (int c = 0; c < NC; c++) {
     cb_solver *s = sv[c];
     mstat m = st[c] == CB_OK ? stat_of(tf[c], reps) : (mstat){NAN, NAN, NAN};
-    int is_def = ord[c] == def.ordering && upp[c] == def.upper && !memcmp(nrelax[rl[c]], def.nrelax, sizeof def.nrelax);
-    fprintf(f, "%d,%s,%d %d %d,%s,%.6g", n, cb_order_name(ord[c]), nrelax[rl[c]][0], nrelax[rl[c]][1], nrelax[rl[c]][2],
-            upp[c] ? "upper" : "full", s ? s->stats.analyze_ms : NAN);
+    int is_def = ord[c] == def.ordering && upp[c] == def.upper && flush[c] == def.flush_denormals &&
+                 !memcmp(nr[c], def.nrelax, sizeof def.nrelax);
+    fprintf(f, "%d,%s,%d %d %d,%s,%s,%.6g", n, cb_order_name(ord[c]), nr[c][0], nr[c][1], nr[c][2], upp[c] ? "upper" : "full", flush[c] ? "flush" : "keep", s ? s->stats.analyze_ms : NAN);
     put(f, m);
     fprintf(f, ",%.6g,%.17g,%.17g,%d,%s\n", s ? s->stats.factor_flops / (m.med * 1e-3) / 1e9 : NAN,
             s ? s->stats.factor_nnz : NAN, s ? s->stats.factor_flops : NAN, is_def, cb_status_name(st[c]));
@@ -329,9 +339,10 @@ int main(int argc, char **argv) {
   cb_experiment_side_path(&e, "step.csv", step_path, sizeof step_path);
   if (cb_experiment_csv(&e, &csv, NULL, extra, hdr) ||
       cb_experiment_csv(&e, &chol, chol_path,
-                        "# one row per (size, ordering, supernode relaxation, storage): CHOLMOD analysis, then numeric factorisations, the choices in turn rep after rep;\n"
+                        "# one row per (size, ordering, supernode relaxation, storage, denormals): CHOLMOD analysis, then numeric factorisations, the choices in turn rep after rep;\n"
+                        "# denormals: solver.denormals (flush in every row of the grid; one more row per size is the defaults with subnormals kept)\n"
                         "# default = 1 on the row of the solver.* defaults\n",
-                        "n,ordering,nrelax,storage,analyze_ms,factor_ms,factor_min_ms,factor_max_ms,factor_gflops,nnz_l,flops,default,status") ||
+                        "n,ordering,nrelax,storage,denormals,analyze_ms,factor_ms,factor_min_ms,factor_max_ms,factor_gflops,nnz_l,flops,default,status") ||
       cb_experiment_csv(&e, &steps, step_path,
                         "# implicit steps from the bench state: Newton with one iteration (Baraff-Witkin), inner solve cut at 32 iterations;\n"
                         "# rho_share = time in Lanczos rho estimates / step time, summed over the steps; rho_estimates: Lanczos runs over the steps;\n"

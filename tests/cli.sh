@@ -292,7 +292,7 @@ for key in mesh.type mesh.n mesh.m mesh.size mesh.plane mesh.diagonal mesh.file 
   scene.gravity scene.pins scene.initial_scale \
   integrator.method integrator.dt integrator.steps integrator.max_iters integrator.tol \
   integrator.tol_dx integrator.definiteness integrator.init integrator.line_search integrator.diverge_ratio \
-  solver.method solver.tol solver.max_iters solver.alpha solver.rho solver.ordering solver.nrelax solver.storage; do
+  solver.method solver.tol solver.max_iters solver.alpha solver.rho solver.ordering solver.nrelax solver.storage solver.denormals; do
   check "--help-config lacks $key" grep -Fq -- "| \`$key\` |" "$T/helpcfg.out"
 done
 

@@ -158,6 +158,7 @@ Test(defaults, documented_values) {
   cr_expect_str_eq(c.solver_ordering, "nesdis");
   cr_expect(c.solver_nrelax[0] == 16 && c.solver_nrelax[1] == 64 && c.solver_nrelax[2] == 128);
   cr_expect_str_eq(c.solver_storage, "upper");
+  cr_expect_str_eq(c.solver_denormals, "flush");
   cr_expect_str_eq(c.path, "");
   cr_expect_str_eq(c.overrides, "");
   cr_expect_eq(cb_config_validate(&c), CB_OK, "%s", cb_error_message());
@@ -436,6 +437,7 @@ Test(load_error, out_of_range) {
   expect_load_error("[solver]\nalpha = fast\n", 2, "solver.alpha", "must be `auto` or a number");
   expect_load_error("[solver]\nordering = colamd\n", 2, "solver.ordering", "not one of");
   expect_load_error("[solver]\nstorage = lower\n", 2, "solver.storage", "not one of");
+  expect_load_error("[solver]\ndenormals = zero\n", 2, "solver.denormals", "not one of");
   expect_load_error("[solver]\nrho = 1\n", 2, "solver.rho", "auto");
   expect_load_error("[solver]\nrho = 0\n", 2, "solver.rho", "auto");
 }
@@ -632,7 +634,8 @@ Test(set, reference_lists_every_key) {
       "scene.gravity", "scene.pins", "scene.initial_scale", "integrator.method", "integrator.dt",
       "integrator.steps", "integrator.max_iters", "integrator.tol", "integrator.tol_dx", "integrator.definiteness",
       "integrator.init", "integrator.line_search", "integrator.diverge_ratio", "solver.method", "solver.tol",
-      "solver.max_iters", "solver.alpha", "solver.rho", "solver.ordering", "solver.nrelax", "solver.storage"};
+      "solver.max_iters", "solver.alpha", "solver.rho", "solver.ordering", "solver.nrelax", "solver.storage",
+      "solver.denormals"};
   for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++) {
     char cell[64];
     snprintf(cell, sizeof cell, "| `%s` |", keys[k]);

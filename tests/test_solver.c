@@ -412,6 +412,51 @@ Test(solver, cholmod_residual_on_the_hanging_scene, .init = setup) {
   cb_scene_free(sc);
 }
 
+/* ---- solver.denormals ------------------------------------------------------------ */
+
+#if defined(__SSE2__)
+#include <xmmintrin.h>
+
+/* [2 t 0; t 2 0; 0 0 1] with a subnormal t, b = (0, 1, 0): x0 = -t/4 is
+ * subnormal too. flush (the default) reads t as zero and returns x0 = 0
+ * exactly; keep returns the IEEE value. Either way the caller's
+ * floating-point control word is the same after the call as before. */
+Test(solver, cholmod_denormals_flush_or_keep, .init = setup) {
+  const double t = 1e-310;
+  cr_assert(fpclassify(t) == FP_SUBNORMAL);
+  cb_sparse A;
+  pattern_matrix(1, NULL, 0, &A);
+  gsl_matrix *S = gsl_matrix_calloc(3, 3);
+  gsl_matrix_set(S, 0, 0, 2); gsl_matrix_set(S, 1, 1, 2); gsl_matrix_set(S, 2, 2, 1);
+  gsl_matrix_set(S, 0, 1, t); gsl_matrix_set(S, 1, 0, t);
+  fill_from_dense(&A, S);
+  for (int flush = 0; flush <= 1; flush++) {
+    cb_solver_params p = cb_solver_params_default();
+    cr_expect_eq(p.flush_denormals, 1, "flush is the default");
+    p.flush_denormals = flush;
+    cb_solver *s = NULL;
+    cr_assert_eq(cb_solver_alloc("cholmod", &p, 3, &s), CB_OK);
+    cr_assert_eq(cb_solver_analyze(s, &A), CB_OK);
+    unsigned csr = _mm_getcsr();
+    cr_assert_eq(cb_solver_factor(s, &A), CB_OK);
+    double b[3] = {0, 1, 0}, x[3] = {1, 1, 1};
+    cr_assert_eq(cb_solver_solve(s, &A, b, x), CB_OK);
+    /* the control bits (rounding, masks, FTZ, DAZ); the low 6 are sticky exception flags */
+    cr_expect_eq(_mm_getcsr() & ~0x3fu, csr & ~0x3fu, "flush=%d: control word %#x after the calls, %#x before", flush,
+                 _mm_getcsr(), csr);
+    cr_expect(fabs(x[1] - 0.5) <= 1e-15 && x[2] == 0, "flush=%d: x = %g %g %g", flush, x[0], x[1], x[2]);
+    if (flush)
+      cr_expect(x[0] == 0, "flush: x0 = %g, expected exactly 0", x[0]);
+    else
+      cr_expect(fpclassify(x[0]) == FP_SUBNORMAL && fabs(x[0] + t / 4) <= 1e-3 * t / 4, "keep: x0 = %g, expected %g",
+                x[0], -t / 4);
+    cb_solver_free(s);
+  }
+  gsl_matrix_free(S);
+  cb_sparse_free(&A);
+}
+#endif
+
 /* ---- not positive definite ------------------------------------------------------ */
 
 /* Whether CHOLMOD, left to its defaults, factorises A supernodally. */

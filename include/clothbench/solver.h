@@ -27,6 +27,8 @@ typedef struct cb_solver_params {
   int ordering;     /* CHOLMOD: CB_ORDER_*. Default CB_ORDER_NESDIS (bench_core_cholmod.csv) */
   int nrelax[3];    /* CHOLMOD supernode relaxation (Common->nrelax). Default {16, 64, 128} (CHOLMOD's: 4, 16, 48) */
   int upper;        /* CHOLMOD reads a copy of the upper triangle (1) or the full matrix (0). Default 1 */
+  int flush_denormals; /* CHOLMOD: subnormal numbers read and produced as zero (x86 FTZ/DAZ) on the calling
+                          thread during factorize and solve (1), or kept (0). Default 1 (bench_core_cholmod.csv) */
   int rho_reuse;    /* rho = auto / alpha = auto: reuse the last estimate while D stays put (1), or estimate at
                        every factor (0, the behaviour before the estimate was amortised). Default 1 */
   cb_solver_monitor monitor; /* per-iteration callback; NULL = none. Default NULL */

@@ -116,6 +116,7 @@ cb_solver_params cb_solver_params_from_config(const cb_config *c) {
     if (strcmp(c->solver_ordering, cb_order_name(o)) == 0) p.ordering = o;
   for (int k = 0; k < 3; k++) p.nrelax[k] = (int)c->solver_nrelax[k]; /* integers: checked by the config */
   p.upper = strcmp(c->solver_storage, "upper") == 0;
+  p.flush_denormals = strcmp(c->solver_denormals, "flush") == 0;
   return p;
 }
 

@@ -73,6 +73,7 @@ typedef struct cb_config {
   char solver_ordering[CB_NAME_LEN]; /* CHOLMOD fill-reducing ordering: default | amd | metis | nesdis */
   double solver_nrelax[3];         /* CHOLMOD supernode relaxation (Common->nrelax) */
   char solver_storage[CB_NAME_LEN];  /* what CHOLMOD reads: full | upper */
+  char solver_denormals[CB_NAME_LEN]; /* subnormals during CHOLMOD's factorize/solve: flush | keep */
 
   /* Where each key's value came from, for error messages (index = key). */
   struct { int line; char source; } where[64];

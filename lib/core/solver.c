@@ -40,7 +40,7 @@ const char *cb_order_name(int ordering) {
 
 cb_solver_params cb_solver_params_default(void) {
   cb_solver_params p = {.tol = 1e-8, .max_iters = 1000, .alpha = 1.0, .rho = 0.0, .history_cap = 0,
-                         .ordering = CB_ORDER_NESDIS, .nrelax = {16, 64, 128}, .upper = 1, .rho_reuse = 1,
+                         .ordering = CB_ORDER_NESDIS, .nrelax = {16, 64, 128}, .upper = 1, .flush_denormals = 1, .rho_reuse = 1,
                          .monitor = NULL, .monitor_ctx = NULL};
   return p;
 }

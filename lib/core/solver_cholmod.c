@@ -12,13 +12,42 @@
  * the lower skipped); with `upper` it gets a copy of the upper triangle
  * (pattern built at analyse, values copied at every factorisation), which
  * analyses and factorises faster (bench/bench_core.c measures both).
- * solver.ordering and solver.nrelax set Common->method and Common->nrelax. */
+ * solver.ordering and solver.nrelax set Common->method and Common->nrelax.
+ * solver.denormals = flush (the default) runs factorize and solve with x86's
+ * flush-to-zero and denormals-are-zero bits set on this thread: the fill of a
+ * large factor decays into subnormal numbers (|x| < 2.2e-308; thousands in L at
+ * 256^2), and each one costs the BLAS kernels a microcode assist. Flushing
+ * them moves the factor by less than 1e-300 per entry. */
 #include <cholmod.h>
+#if defined(__SSE2__)
+#include <xmmintrin.h>
+#endif
 #include <stdlib.h>
 #include <string.h>
 
 #include <clothbench/solver.h>
 #include <clothbench/status.h>
+
+/* The thread's floating-point control word, with FTZ and DAZ set if flush;
+ * pass what it returns to denormals_restore. */
+static unsigned denormals_begin(int flush) {
+#if defined(__SSE2__)
+  unsigned old = _mm_getcsr();
+  if (flush) _mm_setcsr(old | 0x8040u); /* FTZ (bit 15) | DAZ (bit 6) */
+  return old;
+#else
+  (void)flush;
+  return 0;
+#endif
+}
+
+static void denormals_restore(unsigned old) {
+#if defined(__SSE2__)
+  _mm_setcsr((_mm_getcsr() & ~0x8040u) | (old & 0x8040u)); /* the two modes back; exception flags kept */
+#else
+  (void)old;
+#endif
+}
 
 static cholmod_sparse wrap(const cb_sparse *A) {
   cholmod_sparse s;
@@ -130,7 +159,9 @@ static int ch_factor(cb_solver *s, const cb_sparse *A) {
   if (!w->L) return cb_fail("cholmod: factor before analyze");
   cholmod_sparse As = wrap_for(w, A, s->params.upper);
   w->c.status = CHOLMOD_OK;
+  unsigned csr = denormals_begin(s->params.flush_denormals);
   cholmod_factorize(&As, w->L, &w->c);
+  denormals_restore(csr);
   s->stats.factor_nnz = w->c.lnz;
   s->stats.factor_flops = w->c.fl; /* set by the analysis for this pattern */
   if (w->c.status == CHOLMOD_NOT_POSDEF || w->L->minor < w->L->n)
@@ -150,8 +181,10 @@ static int ch_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x
   B.x = (void *)b;
   B.xtype = CHOLMOD_REAL;
   B.dtype = CHOLMOD_DOUBLE;
-  if (!cholmod_solve2(CHOLMOD_A, w->L, &B, NULL, &w->X, NULL, &w->Y, &w->E, &w->c))
-    return cb_fail_status(CB_ENOMEM, "cholmod_solve2 failed (status %d)", w->c.status);
+  unsigned csr = denormals_begin(s->params.flush_denormals);
+  int solved = cholmod_solve2(CHOLMOD_A, w->L, &B, NULL, &w->X, NULL, &w->Y, &w->E, &w->c);
+  denormals_restore(csr);
+  if (!solved) return cb_fail_status(CB_ENOMEM, "cholmod_solve2 failed (status %d)", w->c.status);
   memcpy(x, w->X->x, (size_t)A->n * sizeof(double));
   s->stats.iters = 1;
   s->stats.rel_residual = cb_relative_residual(A, b, x, w->work);
