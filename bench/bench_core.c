@@ -20,9 +20,12 @@
  *     full matrix: achieved bandwidth (bytes moved / time) next to a
  *     STREAM-triad bandwidth measured interleaved with it.
  * Side files: results/bench_core_cholmod.csv (ordering x supernode
- * relaxation x storage, the table behind the solver.* defaults) and
- * results/bench_core_step.csv (whole implicit steps with 32-iteration inner
- * solves: steps per second and the share of the rho estimate).
+ * relaxation x storage x subnormals, the table behind the solver.*
+ * defaults), results/bench_core_blas.csv (one more factorisation per size
+ * with CHOLMOD's BLAS calls timed by routine and size: where the gap to
+ * dgemm comes from) and results/bench_core_step.csv (whole implicit steps
+ * with 32-iteration inner solves: steps per second and the share of the
+ * rho estimate).
  * With CB_BENCH_MATRIX_DIR set, each size's A is also written there as
  * bench_matrix_<n>.bin (CSR: int32 n, int32 nnz, int32 indptr[n+1],
  * int32 indices[nnz], float64 data[nnz]) for bench/spmv_scipy.py.
@@ -44,6 +47,7 @@
 #include <clothbench/timer.h>
 #include "stats.h"
 #include "support/bench_support.h"
+#include "support/blas_profile.h"
 #include "threads.h"
 
 
@@ -237,6 +241,24 @@ static void sweep_cholmod(FILE *f, int n, const cb_sparse *A, int reps) {
   fflush(f);
 }
 
+/* ---- the BLAS inside one factorisation ---- */
+
+/* Rows of bench_core_blas.csv for one profiled factorisation of factor_ms:
+ * each routine and flop class, then what was spent outside the four. */
+static void write_blas_profile(FILE *f, int n, const cb_blas_profile *p, double factor_ms) {
+  double in_blas = 0;
+  for (int r = 0; r < CB_BLAS_NROUTINES; r++)
+    for (int c = 0; c < CB_BLAS_NCLASSES; c++) {
+      in_blas += p->ms[r][c];
+      if (!p->calls[r][c]) continue;
+      fprintf(f, "%d,%s,%s,%ld,%.6g,%.6g,%.6g,%.6g,%.6g\n", n, cb_blas_routine_name(r), cb_blas_class_name(c),
+              p->calls[r][c], p->ms[r][c], p->flops[r][c] / 1e9, p->flops[r][c] / (p->ms[r][c] * 1e-3) / 1e9,
+              p->ms[r][c] / factor_ms, factor_ms);
+    }
+  fprintf(f, "%d,outside,,,%.6g,,,%.6g,%.6g\n", n, factor_ms - in_blas, (factor_ms - in_blas) / factor_ms, factor_ms);
+  fflush(f);
+}
+
 /* ---- whole implicit steps: K = 1 Newton, inner solve cut at 32 iterations ---- */
 
 typedef struct {
@@ -333,9 +355,10 @@ int main(int argc, char **argv) {
            "#   newton_cholmod adds CHOLMOD's own (its permuted copy of A, workspace)\n"
            "# triad: a = b + s c over 3 arrays of 2^25 doubles, 24 bytes per element (STREAM convention), passes interleaved with the SpMV samples\n",
            th->blas_requested, th->omp_requested, 1024);
-  cb_outfile csv, chol, steps;
-  char chol_path[2100], step_path[2100];
+  cb_outfile csv, chol, steps, blas;
+  char chol_path[2100], step_path[2100], blas_path[2100];
   cb_experiment_side_path(&e, "cholmod.csv", chol_path, sizeof chol_path);
+  cb_experiment_side_path(&e, "blas.csv", blas_path, sizeof blas_path);
   cb_experiment_side_path(&e, "step.csv", step_path, sizeof step_path);
   if (cb_experiment_csv(&e, &csv, NULL, extra, hdr) ||
       cb_experiment_csv(&e, &chol, chol_path,
@@ -348,7 +371,12 @@ int main(int argc, char **argv) {
                         "# rho_share = time in Lanczos rho estimates / step time, summed over the steps; rho_estimates: Lanczos runs over the steps;\n"
                         "# rel_residual_geomean: geometric mean over the steps of the inner solve's final |b - Ax| / |b|\n",
                         "n,method,solver,alpha_setting,rho_estimate,steps,step_ms,step_min_ms,step_max_ms,steps_per_s,rho_share,"
-                        "rho_estimates,linear_iters_mean,rel_residual_geomean,alpha_used,status")) {
+                        "rho_estimates,linear_iters_mean,rel_residual_geomean,alpha_used,status") ||
+      cb_experiment_csv(&e, &blas, blas_path,
+                        "# one extra factorisation per size (the solver.* defaults) with the BLAS calls CHOLMOD makes timed one by one:\n"
+                        "# per routine and flop class (flops per call, 2 per multiply-add), calls, time, GFlop and GFlop/s;\n"
+                        "# share = time / factor_ms (that factorisation's wall time, timing overhead included); routine = outside: the rest\n",
+                        "n,routine,flops_class,calls,ms,gflop,gflops,share,factor_ms")) {
     fprintf(stderr, "bench_core: %s\n", cb_error_message());
     return 2;
   }
@@ -453,6 +481,12 @@ int main(int argc, char **argv) {
       rdg[k] = gfl[k] / dgf[k];
     }
     bare_free(&bare);
+    /* one more factorisation, with its BLAS calls timed by size */
+    cb_blas_profile_start();
+    double thr_prof, tprof = timed_count(our_factor, &oc, &thr_prof);
+    cb_blas_profile prof;
+    cb_blas_profile_stop(&prof);
+    write_blas_profile(blas.f, n, &prof, tprof);
     /* SpMV (enough products per sample for ~20 ms), interleaved with triad
      * passes so that both see the same machine */
     cb_sparse_sym S;
@@ -497,10 +531,10 @@ int main(int argc, char **argv) {
   cb_progress_end(&e.progress);
   cb_triad_free(&ta);
   free(ga.a); free(ga.b); free(ga.c);
-  if (cb_outfile_commit(&chol) || cb_outfile_commit(&steps) || cb_outfile_commit(&csv)) {
+  if (cb_outfile_commit(&chol) || cb_outfile_commit(&steps) || cb_outfile_commit(&blas) || cb_outfile_commit(&csv)) {
     fprintf(stderr, "bench_core: %s\n", cb_error_message());
     return 2;
   }
-  fprintf(stderr, "bench_core: wrote %s, %s, %s\n", e.out, chol_path, step_path);
+  fprintf(stderr, "bench_core: wrote %s, %s, %s, %s\n", e.out, chol_path, step_path, blas_path);
   return 0;
 }

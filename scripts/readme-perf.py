@@ -1,8 +1,8 @@
 #!/usr/bin/python3
 """Regenerates README.md's Performance section (between the performance
 markers) from the CSV files `make bench` writes: results/bench_core.csv,
-results/bench_core_cholmod.csv, results/bench_core_step.csv and
-results/bench_scipy.csv. Every number in the section comes from them.
+results/bench_core_cholmod.csv, results/bench_core_blas.csv,
+results/bench_core_step.csv and results/bench_scipy.csv. Every number in the section comes from them.
 
 usage: scripts/readme-perf.py [RESULTS_DIR] [README]
 """
@@ -72,6 +72,8 @@ def main():
     prov, core = load(os.path.join(res, "bench_core.csv"))
     _, chol = load(os.path.join(res, "bench_core_cholmod.csv"))
     _, steps = load(os.path.join(res, "bench_core_step.csv"))
+    bl_path = os.path.join(res, "bench_core_blas.csv")
+    _, blas = load(bl_path) if os.path.exists(bl_path) else ({}, [])
     sp_path = os.path.join(res, "bench_scipy.csv")
     sprov, scipy_rows = load(sp_path) if os.path.exists(sp_path) else ({}, [])
     by_n = {int(r["n"]): r for r in core}
@@ -140,6 +142,29 @@ def main():
                  f"{ints(r['factorizations_per_run'])} | {100 * num(r, 'analyze_over_run_factor'):.2f}% | "
                  f"{100 * num(r, 'assemble_over_factor'):.1f}% |")
     o.append("")
+    # where the factorisation's time goes (the gap to dgemm)
+    bb = [r for r in blas if int(r["n"]) == big]
+    if bb:
+        fac = num(bb[0], "factor_ms")
+        routines = [r for r in bb if r["routine"] != "outside"]
+        tot_fl = sum(num(r, "gflop") for r in routines)
+        tot_ms = sum(num(r, "ms") for r in routines)
+        out = next((r for r in bb if r["routine"] == "outside"), None)
+        o.append(f"Where one factorisation at {grid(big)} spends its time (`results/bench_core_blas.csv`: one more "
+                 f"factorisation with the defaults, each BLAS call CHOLMOD makes timed and sorted by its flop count; "
+                 f"{ms(fac)} ms with the timing on). The BLAS calls take {pct(tot_ms / fac)} of it and run at "
+                 f"{tot_fl / (tot_ms * 1e-3):.1f} GFlop/s on average; the rest"
+                 + (f" ({pct(num(out, 'share'))})" if out else "")
+                 + " is CHOLMOD's own assembly of the updates, zeroing and permuting.")
+        o.append("")
+        o.append("| routine | flops per call | calls | ms | share of the factorisation | GFlop | GFlop/s |")
+        o.append("|---|---|---|---|---|---|---|")
+        for r in routines:
+            o.append(f"| {r['routine']} | {r['flops_class']} | {ints(r['calls'])} | {ms(num(r, 'ms'))} | "
+                     f"{pct(num(r, 'share'))} | {num(r, 'gflop'):.3f} | {num(r, 'gflops'):.1f} |")
+        if out:
+            o.append(f"| outside the BLAS | | | {ms(num(out, 'ms'))} | {pct(num(out, 'share'))} | | |")
+        o.append("")
     # table 2: SpMV
     o.append("| grid | SpMV ms (symmetric) | bytes | GB/s | triad GB/s | SpMV / triad | full-storage kernel ms | "
              "full / symmetric time | SciPy `A @ x` ms | SciPy kernel ms | SciPy / ours |")

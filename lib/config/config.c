@@ -123,7 +123,7 @@ static const keydef keys_tail[] = {
   {"solver.storage", T_ENUM, O(solver_storage), "upper", "-", 0, 0, 0, storages, NULL,
    "The matrix CHOLMOD reads: `full` (both triangles, CHOLMOD skips the lower one) or `upper` (a copy of the upper triangle, refreshed at each factorisation)."},
   {"solver.denormals", T_ENUM, O(solver_denormals), "flush", "-", 0, 0, 0, denormal_modes, NULL,
-   "Subnormal numbers (|x| < 2.2e-308) during CHOLMOD's factorisation and solve: `flush` (read and produced as zero: x86 FTZ and DAZ, set on the calling thread for the call and restored after; the fill of a large factor decays into subnormals, which the CPU handles ~100x slower) or `keep` (IEEE gradual underflow). With THREADS > 1 CHOLMOD's and OpenBLAS's worker threads keep their own setting. No effect off x86."},
+   "Subnormal numbers (|x| < 2.2e-308) during CHOLMOD's factorisation and solve: `flush` (read and produced as zero: x86 FTZ and DAZ, set on the calling thread for the call and restored after; the fill of a large factor decays into subnormals, and each costs the CPU a slow microcode assist; the Performance section's choice table measures both settings) or `keep` (IEEE gradual underflow). With THREADS > 1 CHOLMOD's and OpenBLAS's worker threads keep their own setting. No effect off x86."},
 };
 enum { NHEAD = (int)(sizeof keys_head / sizeof keys_head[0]), NTAIL = (int)(sizeof keys_tail / sizeof keys_tail[0]) };
 enum { MAX_KEYS = (int)(sizeof ((cb_config *)0)->where / sizeof ((cb_config *)0)->where[0]) };
