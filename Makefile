@@ -4,7 +4,7 @@
 ## make experiments   install missing packages, run every experiment, then plots and report
 ## make all           build the library, simulate, the experiments, bench and report
 ## make plots         draw plots/out/*.png and .svg from results/*.csv (gnuplot)
-## make movies        animated GIFs of paired runs (explicit blow-up, Baraff-Witkin vs Newton)
+## make movies        animated GIFs of paired runs (explicit blow-up, Baraff-Witkin vs Newton, drape, locking fold)
 ## make report        decide every claim from results/*.csv into results/REPORT.md
 ## make bench         the benchmarks (results/bench_core.csv, results/bench_nonlinear.csv)
 ## make determinism  every experiment's --quick run twice, compared (timing columns aside)

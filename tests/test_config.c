@@ -757,6 +757,44 @@ Test(pins, resolve_directly) {
   cb_mesh_free(&g);
 }
 
+/* `halfspace a b c d` pins the rest positions with a.p <= d, the plane included,
+ * on grids and OBJ meshes alike; its numbers may be separated by commas. */
+Test(pins, halfspace) {
+  cb_grid_params p = cb_grid_params_default();
+  p.n = p.m = 5; /* plane xz, 10 m: vertex (i, j) = j 5 + i at x = 10 (i/4 - 1/2), z = 10 (j/4 - 1/2) */
+  cb_mesh g;
+  cr_assert_eq(cb_mesh_grid(&p, &g), CB_OK);
+  int *list = NULL, n = -1;
+  cr_assert_eq(cb_pins_resolve("halfspace 1 0 0 0", &g, &list, &n), CB_OK, "%s", cb_error_message());
+  cr_expect_eq(n, 15); /* columns i <= 2 */
+  for (int k = 0; k < n; k++) cr_expect_leq(list[k] % 5, 2);
+  free(list);
+  cr_assert_eq(cb_pins_resolve("halfspace,1,0,-1,0", &g, &list, &n), CB_OK, "%s", cb_error_message());
+  cr_expect_eq(n, 15); /* i <= j: the diagonal and above */
+  for (int k = 0; k < n; k++) cr_expect_leq(list[k] % 5, list[k] / 5);
+  free(list);
+  cr_assert_eq(cb_pins_resolve("halfspace 0 0 -2 -5", &g, &list, &n), CB_OK); /* z >= 2.5: the rows j >= 3 */
+  cr_expect_eq(n, 10);
+  cr_expect_eq(list[0], 15);
+  free(list);
+  cr_assert_eq(cb_pins_resolve("halfspace 1 0 0 -90", &g, &list, &n), CB_OK); /* nothing */
+  cr_expect_eq(n, 0);
+  free(list);
+  static const char *const bad[] = {"halfspace", "halfspace 1 0 0", "halfspace 1 0 0 0 5", "halfspace 0 0 0 1",
+                                    "halfspace 1 0 x 0", "halfspace 1 0 0 inf", "halfspace 1e300 1e300 0 0 x"};
+  for (int k = 0; k < 7; k++) {
+    cr_expect_lt(cb_pins_resolve(bad[k], &g, &list, &n), 0, "'%s' was accepted", bad[k]);
+    cr_expect(strstr(cb_error_message(), "halfspace a b c d") != NULL, "'%s': %s", bad[k], cb_error_message());
+  }
+  cr_expect_lt(cb_pins_resolve("halfspaces 1 0 0 0", &g, &list, &n), 0);
+  cb_mesh_free(&g);
+  const char *const sets[] = {"mesh.n=3", "scene.pins=halfspace 0 0 1 0", NULL}; /* z <= 0: the rows j <= 1 */
+  cb_scene *s = scene_of(sets);
+  const int want[6] = {0, 1, 2, 3, 4, 5};
+  expect_pins(s, want, 6);
+  cb_scene_free(s);
+}
+
 Test(pins, errors_name_scene_pins) {
   const char *const range[] = {"mesh.n=4", "mesh.m=3", "scene.pins=0 12", NULL};
   expect_scene_error(range, "scene.pins", "12");
@@ -865,6 +903,11 @@ Test(obj_scene, named_pins_need_a_grid) {
   cb_scene *s = scene_of(list);
   const int want[2] = {1, 2};
   expect_pins(s, want, 2);
+  cb_scene_free(s);
+  const char *const half[] = {"mesh.type=obj", set, "scene.pins=halfspace 0 1 0 0", NULL}; /* y <= 0: vertices 0, 1 */
+  s = scene_of(half);
+  const int want_half[2] = {0, 1};
+  expect_pins(s, want_half, 2);
   cb_scene_free(s);
   unlink(obj);
   rmdir(dir);

@@ -61,7 +61,7 @@ typedef struct cb_scene_def {
                                   cb_definiteness_names ("choi-ko" changes the energy). Default "drop" */
   double buckling_kb;          /* N m^2, Choi-Ko bending stiffness. Default 0.01 */
   double gravity[3];           /* m/s^2; 0 0 0 = no gravity term. Default 0 -9.8 0 */
-  const char *pins;            /* named set or index list (cb_pins_resolve). Default "top-corners" */
+  const char *pins;            /* named set, halfspace or index list (cb_pins_resolve). Default "top-corners" */
   double initial_scale;        /* x0 = rest positions scaled about their centroid. Default 1 */
   double pin_squeeze[3];       /* m/s, pinned vertices driven toward each other. Default 0 0 0 */
   double diverge_ratio;        /* energy-growth bound of a run (run.h). Default 10 */
@@ -120,7 +120,9 @@ int cb_scene_contacts(const cb_scene *s, const double *x);
 /* Kinetic energy 1/2 sum m_i |v_i|^2, J. */
 double cb_scene_kinetic(const cb_scene *s, const double *v);
 
-/* Resolves scene.pins for a mesh into a sorted, duplicate-free list. */
+/* Resolves scene.pins for a mesh into a sorted, duplicate-free list: `none`,
+ * a named grid set, `halfspace a b c d` (rest positions with a.p <= d) or
+ * 0-based indices. */
 int cb_pins_resolve(const char *spec, const cb_mesh *m, int **out, int *n);
 
 #endif

@@ -74,7 +74,7 @@ static const keydef keys_head[] = {
   {"scene.gravity", T_VEC3, O(gravity), "0 -9.8 0", "m/s^2", -1e6, 1e6, 0, NULL, NULL,
    "Gravitational acceleration (3 numbers); `0 0 0` leaves the gravity term out."},
   {"scene.pins", T_PINS, O(pins), "top-corners", "-", 0, 0, 0, NULL, NULL,
-   "Pinned vertices: `none`, `corners`, `top-corners` (both ends of the top edge), `top-edge`, or 0-based vertex indices separated by spaces or commas. Named sets other than `none` need a grid or chain mesh."},
+   "Pinned vertices: `none`, `corners`, `top-corners` (both ends of the top edge), `top-edge`, `halfspace a b c d` (every vertex whose rest position p has a p_x + b p_y + c p_z <= d, to 1e-9 of the mesh size, so vertices on the plane are pinned; the 4 numbers separated by spaces or commas; any mesh), or 0-based vertex indices separated by spaces or commas. Named sets other than `none` and `halfspace` need a grid or chain mesh."},
   {"scene.initial_scale", T_DOUBLE, O(initial_scale), "1", "-", 0, 1e6, 1, NULL, NULL,
    "Initial positions are the rest positions scaled by this factor about their centroid (2 = stretched to twice the rest size, 0.5 = compressed)."},
   {"scene.pin_squeeze", T_VEC3, O(pin_squeeze), "0 0 0", "m/s", -1e6, 1e6, 0, NULL, NULL,

@@ -15,6 +15,43 @@ static int cmp_int(const void *a, const void *b) {
   return (p > q) - (p < q);
 }
 
+/* `halfspace a b c d`: the vertices whose rest position p has a.p <= d, to
+ * 1e-9 of the mesh's bounding-box diagonal (so vertices on the plane count). */
+static int pins_halfspace(const char *spec, const cb_mesh *m, int *list, int *cnt) {
+  double h[4];
+  const char *p = spec + strlen("halfspace");
+  int k = 0;
+  for (;;) {
+    while (*p == ' ' || *p == '\t' || *p == ',') p++;
+    if (!*p) break;
+    char *end;
+    double v = k < 4 ? strtod(p, &end) : 0;
+    if (k >= 4 || end == p || !isfinite(v) || (*end && *end != ' ' && *end != '\t' && *end != ',')) {
+      k = -1;
+      break;
+    }
+    h[k++] = v;
+    p = end;
+  }
+  double nn = k == 4 ? sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]) : 0;
+  if (!(nn > 0) || !isfinite(nn) || !isfinite(h[3] / nn))
+    return cb_fail("scene.pins: '%s' is not `halfspace a b c d` (4 finite numbers separated by spaces or commas, "
+                   "(a, b, c) not zero): the vertices whose rest position p has a p_x + b p_y + c p_z <= d", spec);
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, diag = 0;
+  for (int i = 0; i < m->nv; i++)
+    for (int a = 0; a < 3; a++) {
+      lo[a] = fmin(lo[a], m->x[3 * i + a]);
+      hi[a] = fmax(hi[a], m->x[3 * i + a]);
+    }
+  for (int a = 0; m->nv > 0 && a < 3; a++) diag += (hi[a] - lo[a]) * (hi[a] - lo[a]);
+  double tol = 1e-9 * sqrt(diag);
+  for (int i = 0; i < m->nv; i++) {
+    const double *x = m->x + 3 * i;
+    if ((h[0] * x[0] + h[1] * x[1] + h[2] * x[2] - h[3]) / nn <= tol) list[(*cnt)++] = i;
+  }
+  return CB_OK;
+}
+
 int cb_pins_resolve(const char *spec, const cb_mesh *m, int **out, int *n) {
   *out = NULL;
   *n = 0;
@@ -38,6 +75,12 @@ int cb_pins_resolve(const char *spec, const cb_mesh *m, int **out, int *n) {
     list[cnt++] = (gm - 1) * gn; list[cnt++] = gm * gn - 1;
   } else if (strcmp(spec, "top-edge") == 0) {
     for (int i = 0; i < gn; i++) list[cnt++] = (gm - 1) * gn + i;
+  } else if (strncmp(spec, "halfspace", 9) == 0 && (!spec[9] || spec[9] == ' ' || spec[9] == '\t' || spec[9] == ',')) {
+    int st = pins_halfspace(spec, m, list, &cnt);
+    if (st) {
+      free(list);
+      return st;
+    }
   } else if (!named) { /* 0-based indices separated by spaces or commas */
     const char *p = spec;
     while (*p) {
@@ -45,8 +88,8 @@ int cb_pins_resolve(const char *spec, const cb_mesh *m, int **out, int *n) {
       if (!*p) break;
       if (!isdigit((unsigned char)*p)) {
         free(list);
-        return cb_fail("scene.pins: '%s' is not a named set (none, corners, top-corners, top-edge) "
-                       "or a list of 0-based vertex indices", spec);
+        return cb_fail("scene.pins: '%s' is not a named set (none, corners, top-corners, top-edge), "
+                       "`halfspace a b c d` or a list of 0-based vertex indices", spec);
       }
       char *end;
       long v = strtol(p, &end, 10);
