@@ -35,7 +35,8 @@ typedef struct cb_study_point {
 /* states: steps of the reference trajectory to start from (ascending). At
  * each state every method's step is timed in interleaved rounds (each method
  * once per round; stats.h: 3 rounds with quick, 2-5 in a full run by their
- * cost), after one untimed warm-up step of every method at the first state;
+ * cost; a step shorter than CB_TIMING_WARM_MS timed right after an untimed
+ * one of its own), after one untimed warm-up step of every method at the first state;
  * a row holds the medians over the repeats, and for wall_ms also the min,
  * max and every repeat. */
 int cb_study_steps(cb_scene *s, const char *label, double dt, const int *states, int nstates, const cb_method *methods,

@@ -62,6 +62,8 @@ int cb_timing_more(int quick, int done, double spent_ms) {
   return done < 5 && spent_ms < CB_TIMING_BUDGET_MS;        /* 5 rounds while they are cheap */
 }
 
+int cb_timing_warm(double ms) { return ms < CB_TIMING_WARM_MS; }
+
 void cb_timing_csv(FILE *f, const cb_timing *t, double scale) {
   fprintf(f, "%.6f,%.6f,%.6f", cb_timing_median(t) * scale, cb_timing_min(t) * scale, cb_timing_max(t) * scale);
 }
