@@ -58,7 +58,7 @@ int cb_timing_more(int quick, int done, double spent_ms) {
   if (done >= CB_TIMING_MAX) return 0;
   if (done < 2) return 1;
   if (quick) return done < 3;
-  if (done < 3) return spent_ms / done <= CB_TIMING_LONG_MS; /* 2 rounds when one takes > 10 s */
+  if (done < 3) return spent_ms / done <= CB_TIMING_LONG_MS; /* 2 rounds when one takes > 5 s */
   return done < 5 && spent_ms < CB_TIMING_BUDGET_MS;        /* 5 rounds while they are cheap */
 }
 

@@ -17,10 +17,10 @@ double cb_median(double *v, int n);
  * nearly the same moment and their ratio is a paired sample.
  *
  * How many rounds (cb_timing_more): 3 with --quick; in a full run 5, but
- * only 3 once the rounds so far took CB_TIMING_BUDGET_MS, and only 2 when a
- * single round takes more than CB_TIMING_LONG_MS (a run that long already
- * averages over many steps; repeating it 5 times would double the
- * experiment).
+ * only 3 once the rounds so far took CB_TIMING_BUDGET_MS (2 s), and only 2
+ * when a single round takes more than CB_TIMING_LONG_MS (5 s: a run that
+ * long already averages over many steps, and each repeat of it adds its
+ * whole time to the experiment).
  *
  * CSV columns of a repeated timing <base>_ms<tail> (wall_ms, wall_ms_per_s):
  * <base>_ms<tail> the median, <base>_min_ms<tail> and <base>_max_ms<tail>
@@ -38,7 +38,7 @@ double cb_median(double *v, int n);
 
 enum { CB_TIMING_MAX = 8 };
 #define CB_TIMING_BUDGET_MS 2000.0
-#define CB_TIMING_LONG_MS 10000.0
+#define CB_TIMING_LONG_MS 5000.0
 #define CB_TIMING_WARM_MS 25.0
 
 /* The repeats of one timed measurement, in the order they ran (ms). */
