@@ -113,13 +113,13 @@ cb_claim_timing cb_claim_timing_median(const cb_claim_timing *v, int n) {
   int m = n < 256 ? n : 256, reps = v[0].each.n, nmin = 0;
   for (int k = 0; k < m; k++) {
     buf[k] = v[k].med;
-    if (v[k].each.n != reps) reps = 0;
+    if (v[k].each.n < reps) reps = v[k].each.n; /* the repeats every v has */
     r.bounds |= v[k].bounds;
     r.paired |= v[k].paired;
     if (v[k].n > 0 && (nmin == 0 || v[k].n < nmin)) nmin = v[k].n;
   }
   r.med = cb_median(buf, m);
-  if (reps > 0) { /* per repeat i, the median over v of repeat i */
+  if (reps > 0) { /* per repeat i (of those every v has), the median over v of repeat i */
     cb_timing each[256];
     for (int k = 0; k < m; k++) each[k] = v[k].each;
     if (cb_timing_median_over(each, m, &r.each) == 0) {

@@ -46,9 +46,8 @@ int cb_study_steps(cb_scene *s, const char *label, double dt, const int *states,
 extern const char *const cb_study_pareto_header;
 /* pts[state * nmethods + m] from cb_study_steps. One row per method: median
  * wall_ms (and without Chebyshev's rho set-up) over the states, with its
- * spread (wall_min_ms, wall_max_ms: per repeat the median over the states
- * when every state has the same number of repeats, else the median of the
- * states' fastest and of their slowest repeats), max step error (Inf if a
+ * spread (wall_min_ms, wall_max_ms: over the repeats that every state has,
+ * per repeat the median over the states), max step error (Inf if a
  * step failed), and whether the method is on the Pareto front of (median
  * wall_ms, max step error). Rows in method order. */
 int cb_study_pareto(FILE *csv, const char *label, const cb_method *methods, int nmethods, const cb_study_point *pts,

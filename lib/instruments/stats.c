@@ -41,12 +41,14 @@ double cb_timing_max(const cb_timing *t) {
 
 int cb_timing_median_over(const cb_timing *v, int n, cb_timing *out) {
   out->n = 0;
-  if (n <= 0 || v[0].n <= 0) return -1;
+  if (n <= 0) return -1;
+  int reps = v[0].n;
   for (int k = 1; k < n; k++)
-    if (v[k].n != v[0].n) return -1;
+    if (v[k].n < reps) reps = v[k].n;
+  if (reps <= 0) return -1;
   double *buf = malloc((size_t)n * sizeof *buf);
   if (!buf) return -1;
-  for (int i = 0; i < v[0].n; i++) {
+  for (int i = 0; i < reps; i++) {
     for (int k = 0; k < n; k++) buf[k] = v[k].ms[i];
     cb_timing_add(out, cb_median(buf, n));
   }

@@ -56,8 +56,9 @@ double cb_timing_min(const cb_timing *t);
 double cb_timing_max(const cb_timing *t);
 
 /* Per repeat i, the median over v[0..n) of repeat i (v: one timing per start
- * state, say, all with the same number of repeats): out gets that many.
- * Returns 0, or -1 (out empty) when n <= 0 or the v differ in repeats. */
+ * state, say), for the repeats that every v has (a full run may give one
+ * state more rounds than another): out gets as many as the fewest v has.
+ * Returns 0, or -1 (out empty) when n <= 0 or some v has no repeat. */
 int cb_timing_median_over(const cb_timing *v, int n, cb_timing *out);
 
 /* 1 if another round of repeats is due after `done` rounds that took
