@@ -278,7 +278,7 @@ void cb_check_p1(const cb_table *csv, const char *dir, cb_claim_result *out) {
     visual += err[0] <= 0.05;
     size_t used = strlen(ratios);
     snprintf(ratios + used, sizeof ratios - used, "%s%s: %s (pd error %.3g; Baraff-Witkin %.3g in %s ms)", used ? "; " : "",
-             scenes[k], cb_claim_spread_long(b1, sizeof b1, "%.0f", &rt, "x"), err[0], err[2],
+             scenes[k], cb_claim_spread_long(b1, sizeof b1, "%.3g", &rt, "x"), err[0], err[2],
              cb_claim_spread(b2, sizeof b2, "%.3g", &wt[2], ""));
   }
   char rtx[64];
