@@ -219,6 +219,7 @@ void cb_check_h2(const cb_table *csv, const char *dir, cb_claim_result *out) {
                         "shape vs none (m) | shape vs drop (m) | final energy (J) |\n"
                         "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   char fixes[MAXP][32]; /* the fixes of the runs CSV, every policy but none, in its order */
+  cb_claim_repeats reps = {0};
   int nfix = 0, ok[MAXP], seen[MAXP] = {0};
   for (int k = 0; k < MAXP; k++) ok[k] = 1;
   for (int r = 0; r < runs.nrows; r++) {
@@ -236,9 +237,12 @@ void cb_check_h2(const cb_table *csv, const char *dir, cb_claim_result *out) {
     char dn[32] = "-", dd[32] = "-"; /* shape differences, when the reference run finished */
     if (!isnan(cb_table_num(&runs, r, rc[8]))) snprintf(dn, sizeof dn, "%.3g", cb_table_num(&runs, r, rc[8]));
     if (!isnan(cb_table_num(&runs, r, rc[9]))) snprintf(dd, sizeof dd, "%.3g", cb_table_num(&runs, r, rc[9]));
-    cb_claim_numbers(out, "| %s | %s | %d / %d | %d | %.0f (%.0f) / %.0f | %.2f | %.2f | %.1f | %.3g | %s | %s | %.6g |\n", sn,
+    cb_claim_timing w = cb_claim_timing_at(&runs, r, "wall_ms"), wps = cb_claim_timing_scale(&w, per); /* per step */
+    char ws[96];
+    cb_claim_repeats_add(&reps, &w);
+    cb_claim_numbers(out, "| %s | %s | %d / %d | %d | %.0f (%.0f) / %.0f | %.2f | %.2f | %s | %.3g | %s | %s | %.6g |\n", sn,
                      pn, fail, sys, bd, done, conv, steps, cb_table_num(&runs, r, rc[5]) * per,
-                     cb_table_num(&runs, r, rc[6]) * per, cb_table_num(&runs, r, rc[7]) * per,
+                     cb_table_num(&runs, r, rc[6]) * per, cb_claim_spread(ws, sizeof ws, "%.1f", &wps, ""),
                      cb_table_num(&runs, r, rc[11]), dn, dd, cb_table_num(&runs, r, rc[10]));
     if (f < 0) continue;
     seen[f] = 1;
@@ -247,6 +251,11 @@ void cb_check_h2(const cb_table *csv, const char *dir, cb_claim_result *out) {
   cb_claim_numbers(out, "\nA fix works here when, on every scene, CHOLMOD factorised every matrix it was given (for "
                         "`shift`: after raising mu), CG never broke down on it, and the run finished all its steps. "
                         "Steps that stop at max_iters are a cost, not a failure of definiteness.\n");
+  char rt[64];
+  if (cb_claim_repeats_text(rt, sizeof rt, &reps)[0])
+    cb_claim_numbers(out, "\nWall ms per step: the run's integrator time over its steps, the median of %s of the run without "
+                          "the probes, in brackets the fastest and slowest; a scene's policies ran in interleaved rounds. "
+                          "Not part of the verdict.\n", rt);
   int nok = 0, nseen = 0, lec = -1;
   char bad[256] = "", others[256] = "";
   for (int k = 0; k < nfix; k++) {

@@ -121,7 +121,18 @@ void cb_check_E1(const cb_table *t, const char *results_dir, cb_claim_result *ou
 
 /* ---- E2 ------------------------------------------------------------------- */
 
-typedef struct { char scene[32]; double n, k, wall, steps, not_conv; int method, stable; } trow;
+/* wall: wall_ms_per_s with its spread over the repeats (min, max, each) */
+typedef struct { char scene[32]; double n, k, wall, steps, not_conv; int method, stable; cb_claim_timing w; } trow;
+
+/* which: 0 the median, 1 the fastest repeat, 2 the slowest */
+static double pick(const cb_claim_timing *t, int which) { return which == 0 ? t->med : which == 1 ? t->min : t->max; }
+
+/* "a (lo / hi fitted to the fastest / slowest repeats)" for a fitted exponent, or "a" */
+static const char *exp_text(char *buf, size_t n, double a, double lo, double hi) {
+  if (isfinite(lo) && isfinite(hi)) snprintf(buf, n, "%.3f (%.3f / %.3f fitted to the fastest / slowest repeats)", a, lo, hi);
+  else snprintf(buf, n, "%.3f", a);
+  return buf;
+}
 
 void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *out) {
   (void)t;
@@ -133,16 +144,19 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
   int cnc = cb_table_col(&b, "not_converged_steps"); /* optional: older tables lack it */
   static trow rows[MAXPTS];
   int n = 0, unstable = 0;
+  cb_claim_repeats reps = {0};
   for (int r = 0; r < b.nrows && n < MAXPTS; r++) {
     const char *m = cb_table_str(&b, r, c[3]);
     trow *x = &rows[n++];
     snprintf(x->scene, sizeof x->scene, "%s", cb_table_str(&b, r, c[0]));
     x->n = cb_table_num(&b, r, c[1]); x->k = cb_table_num(&b, r, c[2]);
-    x->wall = cb_table_num(&b, r, c[4]); x->steps = cb_table_num(&b, r, c[5]);
+    x->w = cb_claim_timing_at(&b, r, "wall_ms_per_s");
+    x->wall = x->w.med; x->steps = cb_table_num(&b, r, c[5]);
     x->method = !strcmp(m, "explicit") ? 0 : !strcmp(m, "newton") ? 1 : !strcmp(m, "newton_bw") ? 2 : 3;
     x->stable = !strcmp(cb_table_str(&b, r, c[6]), "stable");
     x->not_conv = cnc >= 0 ? cb_table_num(&b, r, cnc) : NAN;
     unstable += !x->stable;
+    cb_claim_repeats_add(&reps, &x->w);
   }
   cb_table_free(&b);
   /* against k: per scene, explicit wall ~ k^a; compared with Newton at the stiffest k */
@@ -150,9 +164,14 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
   int ns = 0;
   for (int i = 0; i < n; i++) find_name(names, &ns, rows[i].scene);
   int kfits = 0, kfits_ok = 0, slower = 0, compared = 0;
+  char rtxt[64], s1[96], s2[96];
+  cb_claim_repeats_text(rtxt, sizeof rtxt, &reps);
   cb_claim_numbers(out, "Wall time to simulate 1 s (explicit at 0.9 x its measured dt_crit; Newton + CHOLMOD at dt = 1/30 s, "
-                        "converged, and Baraff-Witkin's single iteration for reference).\n\n"
-                        "| scene | k (N/m) | explicit (ms) | explicit steps | Newton (ms) | Baraff-Witkin (ms) |\n|---|---|---|---|---|---|\n");
+                        "converged, and Baraff-Witkin's single iteration for reference).");
+  if (rtxt[0])
+    cb_claim_numbers(out, " Each time is the median of %s (in brackets the fastest and slowest); the methods of a row "
+                          "ran in interleaved rounds, so ratios between them are paired repeat by repeat.", rtxt);
+  cb_claim_numbers(out, "\n\n| scene | k (N/m) | explicit (ms) | explicit steps | Newton (ms) | Baraff-Witkin (ms) |\n|---|---|---|---|---|---|\n");
   int newton_rows = 0, newton_unconverged = 0;
   for (int i = 0; i < n; i++) {
     if (rows[i].method != 0) continue;
@@ -162,16 +181,18 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
         if (rows[j].method == 1) nt = &rows[j];
         if (rows[j].method == 2) bw = &rows[j];
       }
-    char ntxt[96] = "not timed", btxt[32] = "not timed";
+    char ntxt[192] = "not timed", btxt[96] = "not timed";
     if (nt) {
       newton_rows++;
       newton_unconverged += nt->not_conv > 0;
+      cb_claim_spread(s1, sizeof s1, "%.4g", &nt->w, "");
       if (nt->not_conv > 0)
-        snprintf(ntxt, sizeof ntxt, "%.4g (**not converged**: %.0f of %.0f steps at max_iters)", nt->wall, nt->not_conv, nt->steps);
-      else snprintf(ntxt, sizeof ntxt, "%.4g%s", nt->wall, isnan(nt->not_conv) ? " (convergence not recorded)" : "");
+        snprintf(ntxt, sizeof ntxt, "%s (**not converged**: %.0f of %.0f steps at max_iters)", s1, nt->not_conv, nt->steps);
+      else snprintf(ntxt, sizeof ntxt, "%s%s", s1, isnan(nt->not_conv) ? " (convergence not recorded)" : "");
     }
-    if (bw) snprintf(btxt, sizeof btxt, "%.4g", bw->wall);
-    cb_claim_numbers(out, "| %s | %.3g | %.4g | %.0f | %s | %s |\n", rows[i].scene, rows[i].k, rows[i].wall, rows[i].steps, ntxt, btxt);
+    if (bw) cb_claim_spread(btxt, sizeof btxt, "%.4g", &bw->w, "");
+    cb_claim_numbers(out, "| %s | %.3g | %s | %.0f | %s | %s |\n", rows[i].scene, rows[i].k,
+                     cb_claim_spread(s1, sizeof s1, "%.4g", &rows[i].w, ""), rows[i].steps, ntxt, btxt);
   }
   if (newton_rows)
     cb_claim_numbers(out, "\nConverged Newton (to integrator.tol, at most 400 iterations a step) is timed on %d (scene, k) rows; "
@@ -179,33 +200,48 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
                           "explicit and Baraff-Witkin were run there.\n", newton_rows, newton_unconverged);
   cb_claim_numbers(out, "\nAgainst stiffness (explicit wall time ~ k^a; where the fit reaches converged Newton's time):\n\n");
   for (int s = 0; s < ns; s++) {
-    double lx[64], ly[64], kmax = -1, ex_at = NAN, nt_at = NAN;
-    int m = 0;
+    double lx[64], ly[3][64], kmax = -1;
+    const trow *ex_at = NULL, *nt_at = NULL;
+    int m = 0, spread = 1;
     for (int i = 0; i < n; i++) {
       if (strcmp(rows[i].scene, names[s]) || rows[i].method != 0) continue;
-      double nt = NAN;
+      const trow *nt = NULL;
       for (int j = 0; j < n; j++)
-        if (!strcmp(rows[j].scene, names[s]) && rows[j].k == rows[i].k && rows[j].method == 1) nt = rows[j].wall;
-      if (m < 64 && rows[i].wall > 0) { lx[m] = log10(rows[i].k); ly[m++] = log10(rows[i].wall); }
-      if (isfinite(nt) && rows[i].k > kmax) { kmax = rows[i].k; ex_at = rows[i].wall; nt_at = nt; }
+        if (!strcmp(rows[j].scene, names[s]) && rows[j].k == rows[i].k && rows[j].method == 1) nt = &rows[j];
+      if (m < 64 && rows[i].wall > 0) {
+        lx[m] = log10(rows[i].k);
+        for (int w = 0; w < 3; w++) ly[w][m] = log10(pick(&rows[i].w, w));
+        spread &= cb_claim_timing_has_spread(&rows[i].w);
+        m++;
+      }
+      if (nt && isfinite(nt->wall) && rows[i].k > kmax) { kmax = rows[i].k; ex_at = &rows[i]; nt_at = nt; }
     }
+    cb_claim_timing ratio = {0};
+    if (ex_at) ratio = cb_claim_timing_ratio(&ex_at->w, &nt_at->w);
     if (m >= 3) {
-      double a, b0;
-      cb_fit_line(lx, ly, m, &a, &b0);
+      double a[3], b0[3];
+      for (int w = 0; w < 3; w++) cb_fit_line(lx, ly[w], m, &a[w], &b0[w]);
+      if (!spread) a[1] = a[2] = NAN;
       kfits++;
-      kfits_ok += fabs(a - E2_K_EXP) <= E2_K_EXP_TOL;
-      cb_claim_numbers(out, "- %s: explicit ~ k^%.3f over %d stiffnesses", names[s], a, m);
-      if (kmax > 0 && a > 0)
-        cb_claim_numbers(out, "; at k = %.3g explicit/Newton = %.3g; the fit reaches Newton's time at k ~ %.2g N/m",
-                         kmax, ex_at / nt_at, pow(10.0, (log10(nt_at) - b0) / a));
+      kfits_ok += fabs(a[0] - E2_K_EXP) <= E2_K_EXP_TOL;
+      cb_claim_numbers(out, "- %s: explicit ~ k^%s over %d stiffnesses", names[s], exp_text(s1, sizeof s1, a[0], a[1], a[2]), m);
+      if (ex_at && a[0] > 0) {
+        double kr = pow(10.0, (log10(nt_at->wall) - b0[0]) / a[0]);
+        cb_claim_numbers(out, "; at k = %.3g explicit/Newton = %s; the fit reaches Newton's time at k ~ %.2g N/m", kmax,
+                         cb_claim_spread_long(s2, sizeof s2, "%.3g", &ratio, ""), kr);
+        if (spread && a[1] > 0 && a[2] > 0 && cb_claim_timing_has_spread(&nt_at->w))
+          cb_claim_numbers(out, " (%.2g / %.2g from the fastest / slowest repeats)",
+                           pow(10.0, (log10(nt_at->w.min) - b0[1]) / a[1]), pow(10.0, (log10(nt_at->w.max) - b0[2]) / a[2]));
+      }
       cb_claim_numbers(out, "\n");
-    } else if (kmax > 0)
-      cb_claim_numbers(out, "- %s: at k = %.3g explicit/Newton = %.3g\n", names[s], kmax, ex_at / nt_at);
-    if (kmax > 0) { compared++; slower += ex_at > nt_at; }
+    } else if (ex_at)
+      cb_claim_numbers(out, "- %s: at k = %.3g explicit/Newton = %s\n", names[s], kmax,
+                       cb_claim_spread_long(s2, sizeof s2, "%.3g", &ratio, ""));
+    if (ex_at) { compared++; slower += ex_at->wall > nt_at->wall; }
   }
   /* against resolution: per k with explicit rows at >= 3 sizes */
   int nfits = 0, nfits_ok = 0;
-  double nexp_ex = NAN;
+  double nexp_ex[3] = {NAN, NAN, NAN};
   cb_claim_numbers(out, "\nAgainst resolution n (vertices), fitted exponents of wall time (and of explicit steps and "
                         "time per step):\n\n");
   for (int i = 0; i < n; i++) {
@@ -213,32 +249,36 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
     int seen = 0;
     for (int j = 0; j < i; j++) seen |= rows[j].method == 0 && rows[j].k == rows[i].k;
     if (seen) continue;
-    double ln[3][16], lw[3][16], ls[16], lp[16];
-    int m[3] = {0, 0, 0};
+    double ln[3][16], lw[3][3][16], ls[16], lp[16];
+    int m[3] = {0, 0, 0}, spread[3] = {1, 1, 1};
     for (int j = 0; j < n; j++) {
       if (rows[j].k != rows[i].k || rows[j].method > 2 || !(rows[j].wall > 0)) continue;
       int q = rows[j].method, dup = 0;
       for (int u = 0; u < m[q]; u++) dup |= ln[q][u] == log10(rows[j].n);
       if (dup || m[q] == 16) continue;
       ln[q][m[q]] = log10(rows[j].n);
-      lw[q][m[q]] = log10(rows[j].wall);
+      for (int w = 0; w < 3; w++) lw[q][w][m[q]] = log10(pick(&rows[j].w, w));
+      spread[q] &= cb_claim_timing_has_spread(&rows[j].w);
       if (q == 0) { ls[m[0]] = log10(rows[j].steps); lp[m[0]] = log10(rows[j].wall / rows[j].steps); }
       m[q]++;
     }
     if (m[0] < 3) continue;
-    double a, b0, as, ap;
-    cb_fit_line(ln[0], lw[0], m[0], &a, &b0);
+    double a[3], b0, as, ap;
+    for (int w = 0; w < 3; w++) cb_fit_line(ln[0], lw[0][w], m[0], &a[w], &b0);
+    if (!spread[0]) a[1] = a[2] = NAN;
     cb_fit_line(ln[0], ls, m[0], &as, &b0);
     cb_fit_line(ln[0], lp, m[0], &ap, &b0);
     nfits++;
-    nfits_ok += fabs(a - E2_N_EXP) <= E2_N_EXP_TOL;
-    nexp_ex = a;
-    cb_claim_numbers(out, "- k = %.3g: explicit ~ n^%.3f (steps ~ n^%.3f, time per step ~ n^%.3f; %d sizes)", rows[i].k, a,
-                     as, ap, m[0]);
+    nfits_ok += fabs(a[0] - E2_N_EXP) <= E2_N_EXP_TOL;
+    memcpy(nexp_ex, a, sizeof a);
+    cb_claim_numbers(out, "- k = %.3g: explicit ~ n^%s (steps ~ n^%.3f, time per step ~ n^%.3f; %d sizes)", rows[i].k,
+                     exp_text(s1, sizeof s1, a[0], a[1], a[2]), as, ap, m[0]);
     for (int q = 1; q <= 2; q++)
       if (m[q] >= 3) {
-        cb_fit_line(ln[q], lw[q], m[q], &a, &b0);
-        cb_claim_numbers(out, "; %s ~ n^%.3f", q == 1 ? "Newton" : "Baraff-Witkin", a);
+        double aq[3];
+        for (int w = 0; w < 3; w++) cb_fit_line(ln[q], lw[q][w], m[q], &aq[w], &b0);
+        if (!spread[q]) aq[1] = aq[2] = NAN;
+        cb_claim_numbers(out, "; %s ~ n^%s", q == 1 ? "Newton" : "Baraff-Witkin", exp_text(s1, sizeof s1, aq[0], aq[1], aq[2]));
       }
     cb_claim_numbers(out, "\n");
   }
@@ -250,8 +290,9 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
   out->verdict = grows && slow && n2 ? CB_REPRODUCED : grows ? CB_PARTLY : CB_NOT_REPRODUCED;
   cb_claim_reason(out, "Explicit cost grows like k^(1/2) (+-%.2f) in %d of %d scenes; at the stiffest k timed, explicit is "
                        "slower than converged Newton at 1/30 s in %d of %d scenes; explicit cost against resolution grows "
-                       "like n^2 (+-%.2f) for %d of %d stiffnesses (last exponent %.3f).", E2_K_EXP_TOL, kfits_ok, kfits,
-                  slower, compared, E2_N_EXP_TOL, nfits_ok, nfits, nexp_ex);
+                       "like n^2 (+-%.2f) for %d of %d stiffnesses (last exponent %s).", E2_K_EXP_TOL, kfits_ok, kfits,
+                  slower, compared, E2_N_EXP_TOL, nfits_ok, nfits, exp_text(s1, sizeof s1, nexp_ex[0], nexp_ex[1], nexp_ex[2]));
+  if (rtxt[0]) cb_claim_reason(out, " Times are medians of %s.", rtxt);
   if (unstable) cb_claim_reason(out, " %d timed runs were not stable.", unstable);
 }
 

@@ -27,6 +27,7 @@ typedef struct {
   double last_rel, last_wall, last_err, wall0;
   int it6;              /* first iteration with rel_residual <= 1e-6, or -1 */
   double wall6, rate, rate_prev; /* residual ratio per iteration over [3/4 N, N] and [N/2, 3/4 N] */
+  int row6, row0;       /* rows of it6 and of iteration 0 (-1 if none) */
 } run_t;
 
 typedef struct {
@@ -80,6 +81,8 @@ static int load(const cb_table *csv, const char *dir, data_t *d, cb_claim_result
     u->last_wall = cb_table_num(csv, e - 1, c[C_WALL]);
     u->last_err = cb_table_num(csv, e - 1, c[C_ERR]);
     u->wall0 = cb_table_num(csv, r, c[C_ITER]) == 0 ? cb_table_num(csv, r, c[C_WALL]) : 0;
+    u->row0 = cb_table_num(csv, r, c[C_ITER]) == 0 ? r : -1;
+    u->row6 = -1;
     u->it6 = -1;
     u->wall6 = NAN;
     for (int k = r; k < e; k++) {
@@ -88,6 +91,7 @@ static int load(const cb_table *csv, const char *dir, data_t *d, cb_claim_result
       if (u->it6 < 0 && rows[k - r].rel_residual <= 1e-6) {
         u->it6 = rows[k - r].iter;
         u->wall6 = rows[k - r].wall_ms;
+        u->row6 = k;
       }
     }
     u->rate = cb_trace_rate(rows, e - r, 0.25);
@@ -102,6 +106,13 @@ static void unload(data_t *d) {
   if (d->ok) cb_table_free(&d->sc);
   free(d->runs);
 }
+
+/* Timings of a run with their spread over the repeats (main table rows): at a row, at 1e-6, at the
+ * last row, and its set-up (the iteration-0 row; 0 if the run has none). */
+static cb_claim_timing t_row(const cb_table *csv, int row) { return cb_claim_timing_at(csv, row, "wall_ms"); }
+static cb_claim_timing t_6(const cb_table *csv, const run_t *u) { return u->row6 >= 0 ? t_row(csv, u->row6) : cb_claim_timing_value(NAN); }
+static cb_claim_timing t_last(const cb_table *csv, const run_t *u) { return t_row(csv, u->r1 - 1); }
+static cb_claim_timing t_0(const cb_table *csv, const run_t *u) { return u->row0 >= 0 ? t_row(csv, u->row0) : cb_claim_timing_value(0); }
 
 /* Scene row and a number from it (NaN if missing). */
 static int scene_row(const data_t *d, const char *scene) {
@@ -228,8 +239,12 @@ void cb_check_j2(const cb_table *csv, const char *dir, cb_claim_result *out) {
   int nctx = 0, nit = iterative_solvers(&d, ctx);
   for (int k = 0; k < nit; k++)
     if (strcmp(ctx[k], "jacobi") && strcmp(ctx[k], "chebyshev")) ctx[nctx++] = ctx[k];
-  int n = 0, it10 = 0, wall10 = 0, faster_it = 0, faster_wall = 0, solve10 = 0;
-  cb_claim_numbers(out, "| scene | alpha | Jacobi iters | Jacobi ms | Chebyshev iters | Chebyshev ms (rho estimate) | speed-up iters | speed-up wall | wall without set-up |");
+  int n = 0, it10 = 0, wall10 = 0, faster_it = 0, faster_wall = 0, solve10 = 0, paired = 0, bounded = 0;
+  cb_claim_repeats reps = {0};
+  cb_claim_timing best = cb_claim_timing_value(NAN);
+  double best_rw = -INFINITY;
+  char best_scene[64] = "";
+  cb_claim_numbers(out, "| scene | alpha | Jacobi iters | Jacobi ms | Chebyshev iters | Chebyshev ms; of it the rho estimate | speed-up iters | speed-up wall | wall without set-up |");
   for (int k = 0; k < nctx; k++) cb_claim_numbers(out, " %s iters / ms |", ctx[k]);
   cb_claim_numbers(out, "\n|---|---|---|---|---|---|---|---|---|");
   for (int k = 0; k < nctx; k++) cb_claim_numbers(out, "---|");
@@ -253,20 +268,40 @@ void cb_check_j2(const cb_table *csv, const char *dir, cb_claim_result *out) {
     solve10 += rs >= 10;
     faster_it += ri > 1;
     faster_wall += rw > 1;
-    cb_claim_numbers(out, "| %s | %.4g | %s%.0f | %s%.4g | %d | %.4g (%.3g) | %s%.1f | %s%.2f | %s%.1f |", s,
-                     j->alpha, lb ? ">" : "", ji, lb ? ">" : "", jw, c->it6, c->wall6, c->wall0, lb ? ">=" : "", ri,
-                     lb ? ">=" : "", rw, lb ? ">=" : "", rs);
+    /* the same numbers with their spread over the repeats (paired: the solvers ran in interleaved rounds) */
+    cb_claim_timing tj = lb ? t_last(csv, j) : t_6(csv, j), tc = t_6(csv, c), tj0 = t_0(csv, j), tc0 = t_0(csv, c);
+    cb_claim_timing trw = cb_claim_timing_ratio(&tj, &tc), dj = cb_claim_timing_diff(&tj, &tj0), dc = cb_claim_timing_diff(&tc, &tc0);
+    cb_claim_timing trs = cb_claim_timing_ratio(&dj, &dc);
+    cb_claim_repeats_add(&reps, &tj);
+    cb_claim_repeats_add(&reps, &tc);
+    if (trw.paired) paired++;
+    else if (cb_claim_timing_has_spread(&trw)) bounded++;
+    char b1[96], b2[96], b3[96], b4[96], b5[96];
+    cb_claim_numbers(out, "| %s | %.4g | %s%.0f | %s%s | %d | %s; %s | %s%.1f | %s%s | %s%s |", s,
+                     j->alpha, lb ? ">" : "", ji, lb ? ">" : "", cb_claim_spread(b1, sizeof b1, "%.4g", &tj, ""), c->it6,
+                     cb_claim_spread(b2, sizeof b2, "%.4g", &tc, ""), cb_claim_spread(b3, sizeof b3, "%.3g", &tc0, ""),
+                     lb ? ">=" : "", ri, lb ? ">=" : "", cb_claim_spread(b4, sizeof b4, "%.2f", &trw, ""), lb ? ">=" : "",
+                     cb_claim_spread(b5, sizeof b5, "%.1f", &trs, ""));
+    if (rw > best_rw) { best_rw = rw; best = trw; snprintf(best_scene, sizeof best_scene, "%s", s); }
     for (int k = 0; k < nctx; k++) {
       const run_t *g = find(&d, s, "main", ctx[k]);
-      cb_claim_numbers(out, " %d / %.3g |", g ? g->it6 : -1, g ? g->wall6 : NAN);
+      cb_claim_timing tg = g ? t_6(csv, g) : cb_claim_timing_value(NAN);
+      cb_claim_numbers(out, " %d / %s |", g ? g->it6 : -1, cb_claim_spread(b1, sizeof b1, "%.3g", &tg, ""));
     }
     cb_claim_numbers(out, "\n");
   }
   free(ctx);
   cb_claim_numbers(out, "\nTo a relative residual of 1e-6 from x = 0; both at the same alpha = alpha* = 2/(lambda_min + lambda_max) of D^-1 A "
                         "(Jacobi's best weight, given to it for free); Chebyshev's wall time includes its automatic rho estimate "
-                        "(in parentheses: its set-up time, the estimate). 'Wall without set-up' compares the iterations' time only, "
+                        "(after the semicolon: its set-up time, the estimate). 'Wall without set-up' compares the iterations' time only, "
                         "as when rho is reused across Newton iterations. '>' : Jacobi stopped at max_iters above 1e-6.\n");
+  char rt[64];
+  if (cb_claim_repeats_text(rt, sizeof rt, &reps)[0])
+    cb_claim_numbers(out, "\nEvery time is the median of %s, in brackets the fastest and slowest; the solvers of a scene ran in "
+                          "interleaved rounds, and the speed-ups' spreads are %s.\n", rt,
+                     bounded == 0 ? "of paired repeats (repeat i of Jacobi over repeat i of Chebyshev)"
+                     : paired == 0 ? "bounds (the fastest of one over the slowest of the other)"
+                                   : "of paired repeats where both list their repeats, else bounds");
   if (n == 0) { cb_claim_reason(out, "No Jacobi/Chebyshev main runs in the CSV."); unload(&d); return; }
   out->verdict = it10 == n && wall10 == n ? CB_REPRODUCED
                  : faster_it == n && (it10 > 0 || wall10 > 0) ? CB_PARTLY : CB_NOT_REPRODUCED;
@@ -274,6 +309,10 @@ void cb_check_j2(const cb_table *csv, const char *dir, cb_claim_result *out) {
                        "its wall time including the rho estimate is shorter on %d and at least 10x shorter on %d; "
                        "without the set-up (rho reused) at least 10x shorter on %d.",
                   faster_it, n, it10, faster_wall, wall10, solve10);
+  if (best_scene[0]) {
+    char b[128];
+    cb_claim_reason(out, " The largest wall-time speed-up: %s on %s.", cb_claim_spread_long(b, sizeof b, "%.2f", &best, "x"), best_scene);
+  }
   unload(&d);
 }
 
@@ -282,6 +321,7 @@ void cb_check_j3(const cb_table *csv, const char *dir, cb_claim_result *out) {
   if (!load(csv, dir, &d, out)) { unload(&d); return; }
   int div_over = 0, div_under = 0, nover = 0, nunder = 0, div_true1 = 0, ntrue1 = 0;
   int d995 = -1, d95 = -1;
+  cb_claim_repeats reps = {0};
   cb_claim_numbers(out, "| scene | alpha | true rho(I - alpha D^-1 A) | rho given | iterations to 1e-6 | status |\n|---|---|---|---|---|---|\n");
   for (int i = 0; i < d.nruns; i++) {
     const run_t *u = &d.runs[i];
@@ -308,9 +348,15 @@ void cb_check_j3(const cb_table *csv, const char *dir, cb_claim_result *out) {
     double lmin, lmax;
     int dense;
     spectrum(&d, u->scene, &lmin, &lmax, &dense);
-    cb_claim_numbers(out, "| %s | %.4f | %.6f | %.6f | %s | %.3g |\n", u->scene, u->alpha, u->rho, cb_jacobi_rho(lmin, lmax, u->alpha),
-                     u->status, u->wall0);
+    cb_claim_timing t0 = t_0(csv, u);
+    char b[96];
+    cb_claim_repeats_add(&reps, &t0);
+    cb_claim_numbers(out, "| %s | %.4f | %.6f | %.6f | %s | %s |\n", u->scene, u->alpha, u->rho, cb_jacobi_rho(lmin, lmax, u->alpha),
+                     u->status, cb_claim_spread(b, sizeof b, "%.3g", &t0, ""));
   }
+  char rt[64];
+  if (cb_claim_repeats_text(rt, sizeof rt, &reps)[0])
+    cb_claim_numbers(out, "\nThe estimate's time is the median of %s, in brackets the fastest and slowest.\n", rt);
   double rl = sc_num(&d, "lab", "rho_lab");
   if (!isnan(rl))
     cb_claim_numbers(out, "\nThe lab's own iteration (alpha = 1 with the constant diagonal m/dt^2 + 4k) has the true spectral radius "
@@ -336,6 +382,7 @@ void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out) {
   if (!iter_solvers) { cb_claim_reason(out, "out of memory"); unload(&d); return; }
   int nit = iterative_solvers(&d, iter_solvers);
   int n = 0, exact = 0, cheap_iter = 0, control = 0, expensive = 0, exact_costly = 0, sizes[16], nsizes = 0;
+  cb_claim_repeats reps = {0};
   cb_claim_numbers(out, "| scene | n | CHOLMOD ms / error | best iterative to error 1e-2: ms (solver) | to 1e-8: ms (solver) | max ms per iteration | final errors");
   for (int k = 0; k < nit; k++) cb_claim_numbers(out, "%s %s", k ? " /" : "", iter_solvers[k]);
   cb_claim_numbers(out, " |\n|---|---|---|---|---|---|---|\n");
@@ -348,6 +395,8 @@ void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out) {
     for (int k = 0; k < nsizes; k++) seen |= sizes[k] == g;
     if (!seen && nsizes < 16) sizes[nsizes++] = g;
     double td = ch->last_wall, t2 = INFINITY, t8 = INFINITY, per = 0;
+    int row2 = -1, row8 = -1;
+    cb_claim_timing tper = cb_claim_timing_value(0);
     const char *s2 = "-", *s8 = "-";
     int ok_ex = ch->last_iter == 1 && ch->last_err <= 1e-10 && !strcmp(ch->status, "ok"), ok_ctl = 1, nconv = 0;
     char errs[1024] = "";
@@ -356,10 +405,17 @@ void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out) {
       if (!u) { ok_ctl = 0; continue; }
       for (int row = u->r0; row < u->r1; row++) { /* first rows under 1e-2 and 1e-8 */
         double e = cb_table_num(csv, row, cb_table_col(csv, "error")), w = cb_table_num(csv, row, cb_table_col(csv, "wall_ms"));
-        if (e <= 1e-2 && w < t2) { t2 = w; s2 = u->solver; }
-        if (e <= 1e-8 && w < t8) { t8 = w; s8 = u->solver; }
+        if (e <= 1e-2 && w < t2) { t2 = w; s2 = u->solver; row2 = row; }
+        if (e <= 1e-8 && w < t8) { t8 = w; s8 = u->solver; row8 = row; }
       }
-      if (u->last_iter > 0) per = fmax(per, (u->last_wall - u->wall0) / u->last_iter);
+      if (u->last_iter > 0) {
+        double pu = (u->last_wall - u->wall0) / u->last_iter;
+        if (pu > per) { /* the costliest iteration, with its spread: (last - set-up) / iterations, paired */
+          per = pu;
+          cb_claim_timing tl = t_last(csv, u), t0 = t_0(csv, u), dl = cb_claim_timing_diff(&tl, &t0);
+          tper = cb_claim_timing_scale(&dl, 1.0 / u->last_iter);
+        }
+      }
       if (!strcmp(u->status, "ok")) { nconv++; ok_ctl &= u->last_err < 1e-4; }
       snprintf(errs + strlen(errs), sizeof errs - strlen(errs), "%s%.1e", k ? " / " : "", u->last_err);
     }
@@ -369,11 +425,22 @@ void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out) {
     control += ok_ctl;
     expensive += t2 < td;
     exact_costly += !(t8 < td);
-    cb_claim_numbers(out, "| %s | %d | %.3g / %.1e | %.3g (%s) | %.3g (%s) | %.3g | %s |\n", s, (int)sc_num(&d, s, "n_dofs"), td,
-                     ch->last_err, t2, s2, t8, s8, per, errs);
+    cb_claim_timing ttd = t_last(csv, ch), tt2 = row2 >= 0 ? t_row(csv, row2) : cb_claim_timing_value(t2),
+                    tt8 = row8 >= 0 ? t_row(csv, row8) : cb_claim_timing_value(t8);
+    cb_claim_repeats_add(&reps, &ttd);
+    cb_claim_repeats_add(&reps, &tt2);
+    char b1[96], b2[96], b3[96], b4[96];
+    cb_claim_numbers(out, "| %s | %d | %s / %.1e | %s (%s) | %s (%s) | %s | %s |\n", s, (int)sc_num(&d, s, "n_dofs"),
+                     cb_claim_spread(b1, sizeof b1, "%.3g", &ttd, ""), ch->last_err, cb_claim_spread(b2, sizeof b2, "%.3g", &tt2, ""),
+                     s2, cb_claim_spread(b3, sizeof b3, "%.3g", &tt8, ""), s8, cb_claim_spread(b4, sizeof b4, "%.3g", &tper, ""), errs);
   }
   cb_claim_numbers(out, "\nCHOLMOD's time is numeric factorisation + solve (its one-off symbolic analysis is excluded, as in a Newton loop); "
                         "iterative times include their set-up (Chebyshev: the rho estimate). Errors |x - x*|/|x*| against CHOLMOD refined once.\n");
+  char rt[64];
+  if (cb_claim_repeats_text(rt, sizeof rt, &reps)[0])
+    cb_claim_numbers(out, "\nEvery time is the median of %s (per traced iteration), in brackets the fastest and slowest repeat; "
+                          "the solvers of a scene ran in interleaved rounds. The best iterative solver is chosen by the medians; "
+                          "the time per iteration's spread is of paired repeats (each repeat's time over its iterations).\n", rt);
   free(iter_solvers);
   if (n == 0) { cb_claim_reason(out, "No CHOLMOD main runs in the CSV."); unload(&d); return; }
   int base = exact == n && cheap_iter == n && control == n;

@@ -155,6 +155,10 @@ void cb_check_w1(const cb_table *csv, const char *dir, cb_claim_result *out) {
   if (cs < 0 || cm < 0 || ct < 0 || ci < 0 || cw < 0 || cx < 0 || cr < 0) { cb_table_free(&t); return; }
   static const char *const PLAIN[] = {"jacobi-nl", "pd"}, *const ACC[] = {"chebyshev-nl auto", "pd-chebyshev auto"};
   int pairs = 0, ten = 0;
+  cb_claim_repeats reps = {0};
+  cb_claim_timing best = cb_claim_timing_value(NAN);
+  double best_sw = -INFINITY;
+  char best_what[96] = "";
   cb_claim_numbers(out, "| scene | plain | accelerated (rho) | tol | iterations plain | iterations accelerated | speedup (iterations) | "
                         "wall ms plain | wall ms accelerated | speedup (time) |\n|---|---|---|---|---|---|---|---|---|---|\n");
   for (int r = 0; r < t.nrows; r++) {
@@ -169,14 +173,26 @@ void cb_check_w1(const cb_table *csv, const char *dir, cb_claim_result *out) {
         if (lower) ip = cb_table_num(&t, r, cx);
         double sp = ia > 0 ? ip / ia : NAN;
         double wp = cb_table_num(&t, r, cw), wa = cb_table_num(&t, a, cw);
-        char spt[64], ipt[64], iat[64], wpt[32], wat[32], swt[32];
+        cb_claim_timing tp = cb_claim_timing_at(&t, r, "wall_ms_to_tol"), ta = cb_claim_timing_at(&t, a, "wall_ms_to_tol");
+        cb_claim_timing ts = cb_claim_timing_ratio(&tp, &ta);
+        char spt[64], ipt[64], iat[64], wpt[96], wat[96], swt[96];
         if (ia > 0) snprintf(spt, sizeof spt, "%s%.1fx", lower ? ">= " : "", sp);
         else snprintf(spt, sizeof spt, "- (accelerated did not reach it)");
         snprintf(ipt, sizeof ipt, lower ? "> %.0f" : "%.0f", ip);
         snprintf(iat, sizeof iat, ia > 0 ? "%.0f" : "> %.0f", ia > 0 ? ia : cb_table_num(&t, a, cx));
-        snprintf(wpt, sizeof wpt, isfinite(wp) ? "%.3g" : "-", wp);
-        snprintf(wat, sizeof wat, isfinite(wa) ? "%.3g" : "-", wa);
-        snprintf(swt, sizeof swt, isfinite(wp) && isfinite(wa) && wa > 0 ? "%.1fx" : "-", wp / wa);
+        snprintf(wpt, sizeof wpt, "-");
+        snprintf(wat, sizeof wat, "-");
+        if (isfinite(wp)) cb_claim_spread(wpt, sizeof wpt, "%.3g", &tp, "");
+        if (isfinite(wa)) cb_claim_spread(wat, sizeof wat, "%.3g", &ta, "");
+        cb_claim_repeats_add(&reps, &tp);
+        cb_claim_repeats_add(&reps, &ta);
+        if (isfinite(wp) && isfinite(wa) && wa > 0) cb_claim_spread(swt, sizeof swt, "%.1f", &ts, "x");
+        else snprintf(swt, sizeof swt, "-");
+        if (isfinite(wp) && isfinite(wa) && wa > 0 && fabs(tol - 1e-4) <= 1e-12 && wp / wa > best_sw) {
+          best_sw = wp / wa;
+          best = ts;
+          snprintf(best_what, sizeof best_what, "%s %s", cb_table_str(&t, r, cs), ACC[p]);
+        }
         cb_claim_numbers(out, "| %s | %s | %s (%.4f) | %g | %s | %s | %s | %s | %s | %s |\n", cb_table_str(&t, r, cs), PLAIN[p], ACC[p],
                          cb_table_num(&t, a, cr), tol, ipt, iat, spt, wpt, wat, swt);
         if (fabs(tol - 1e-4) > 1e-12) continue;
@@ -186,10 +202,20 @@ void cb_check_w1(const cb_table *csv, const char *dir, cb_claim_result *out) {
     }
   }
   cb_table_free(&t);
+  char rt[64];
+  if (cb_claim_repeats_text(rt, sizeof rt, &reps)[0])
+    cb_claim_numbers(out, "\nWall times: the median of %s of a step of exactly that many iterations, in brackets the fastest "
+                          "and slowest; a scene's steps ran in interleaved rounds, so the time speed-ups' spreads are of paired "
+                          "repeats.\n", rt);
   if (!pairs) { cb_claim_reason(out, "No plain/accelerated pair at tolerance 1e-4 in %s.", F); return; }
   out->verdict = ten == pairs ? CB_REPRODUCED : ten > 0 ? CB_PARTLY : CB_NOT_REPRODUCED;
   cb_claim_reason(out, "Chebyshev (rho = auto) reached relative |grad F| 1e-4 in >= 10x fewer iterations than the plain "
                        "iteration in %d of %d (scene, method) pairs.", ten, pairs);
+  if (best_what[0]) {
+    char b[128];
+    cb_claim_reason(out, " In wall time (not part of the verdict) the largest speed-up at 1e-4 is %s (%s).",
+                    cb_claim_spread_long(b, sizeof b, "%.1f", &best, "x"), best_what);
+  }
 }
 
 /* ---- P1 ---- */
@@ -216,36 +242,51 @@ void cb_check_p1(const cb_table *csv, const char *dir, cb_claim_result *out) {
   }
   static const char *const M[] = {"pd10", "newton", "baraff_witkin"};
   double *buf = malloc((size_t)(t.nrows + 1) * sizeof(double));
-  if (!buf) { cb_table_free(&t); return; }
+  cb_claim_timing *tw = malloc((size_t)(t.nrows + 1) * sizeof *tw);
+  if (!buf || !tw) { free(buf); free(tw); cb_table_free(&t); return; }
   int fast = 0, visual = 0, scored = 0;
+  cb_claim_repeats reps = {0};
   cb_claim_numbers(out, "| scene | vertices | method | frames | median wall ms per frame | median step error |\n|---|---|---|---|---|---|\n");
-  char ratios[1024] = "";
+  char ratios[2048] = "", b1[128], b2[128];
   for (int k = 0; k < nsc; k++) {
     double wall[3] = {NAN, NAN, NAN}, err[3] = {NAN, NAN, NAN};
+    cb_claim_timing wt[3];
     int nv = 0;
     for (int m = 0; m < 3; m++) {
       int n = 0;
       for (int r = 0; r < t.nrows; r++)
         if (!strcmp(cb_table_str(&t, r, cs), scenes[k]) && !strcmp(cb_table_str(&t, r, cm), M[m])) {
-          buf[n++] = cb_table_num(&t, r, cw);
+          tw[n++] = cb_claim_timing_at(&t, r, "wall_ms");
           nv = (int)cb_table_num(&t, r, cn);
         }
-      wall[m] = median(buf, n);
+      wt[m] = cb_claim_timing_median(tw, n); /* the median over frames of the frames' medians over repeats */
+      wall[m] = wt[m].med;
+      cb_claim_repeats_add(&reps, &wt[m]);
       int n2 = 0;
       for (int r = 0; r < t.nrows; r++)
         if (!strcmp(cb_table_str(&t, r, cs), scenes[k]) && !strcmp(cb_table_str(&t, r, cm), M[m])) buf[n2++] = cb_table_num(&t, r, ce);
       err[m] = median(buf, n2);
-      if (n) cb_claim_numbers(out, "| %s | %d | %s | %d | %.4g | %.3g |\n", scenes[k], nv * nv, M[m], n, wall[m], err[m]);
+      if (n)
+        cb_claim_numbers(out, "| %s | %d | %s | %d | %s | %.3g |\n", scenes[k], nv * nv, M[m], n,
+                         cb_claim_spread(b1, sizeof b1, "%.4g", &wt[m], ""), err[m]);
     }
     if (!isfinite(wall[0]) || !isfinite(wall[1])) continue;
     scored++;
     double ratio = wall[1] / wall[0];
+    cb_claim_timing rt = cb_claim_timing_ratio(&wt[1], &wt[0]);
     fast += ratio >= 10;
     visual += err[0] <= 0.05;
     size_t used = strlen(ratios);
-    snprintf(ratios + used, sizeof ratios - used, "%s%s: %.0fx (pd error %.3g; Baraff-Witkin %.3g in %.3g ms)", used ? "; " : "",
-             scenes[k], ratio, err[0], err[2], wall[2]);
+    snprintf(ratios + used, sizeof ratios - used, "%s%s: %s (pd error %.3g; Baraff-Witkin %.3g in %s ms)", used ? "; " : "",
+             scenes[k], cb_claim_spread_long(b1, sizeof b1, "%.3g", &rt, "x"), err[0], err[2],
+             cb_claim_spread(b2, sizeof b2, "%.3g", &wt[2], ""));
   }
+  char rtx[64];
+  if (cb_claim_repeats_text(rtx, sizeof rtx, &reps)[0])
+    cb_claim_numbers(out, "\nWall time per frame: per start state the median of %s, then the median over the frames; in brackets "
+                          "the spread over the repeats (per repeat the median over the frames). The methods of a frame ran in "
+                          "interleaved rounds, so the ratios' spreads are of paired repeats.\n", rtx);
+  free(tw);
   free(buf);
   cb_table_free(&t);
   if (!scored) { cb_claim_reason(out, "%s has no scene with both pd10 and newton rows.", F); return; }

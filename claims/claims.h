@@ -9,14 +9,15 @@
 #include <stddef.h>
 #include <stdio.h>
 
+#include "stats.h"
 #include "table.h"
 
 typedef enum { CB_NOT_RUN = 0, CB_REPRODUCED, CB_PARTLY, CB_NOT_REPRODUCED } cb_verdict;
 
 typedef struct cb_claim_result {
   cb_verdict verdict;
-  char reason[2048];   /* one or two sentences: why this verdict */
-  char numbers[16384]; /* Markdown: the deciding numbers (a table or a list) */
+  char reason[4096];   /* one or two sentences: why this verdict */
+  char numbers[32768]; /* Markdown: the deciding numbers (a table or a list) */
 } cb_claim_result;
 
 /* csv: results/<experiment>.csv; results_dir: where side CSVs live. */
@@ -58,5 +59,58 @@ int cb_claim_columns(const cb_table *t, const char *const *names, int *idx, int 
 
 /* Least-squares slope and intercept of y on x over n points. */
 void cb_fit_line(const double *x, const double *y, int n, double *slope, double *intercept);
+
+/* ---- timing-based numbers and their spread (claims/spread.c) ----------------
+ *
+ * A timing-based number is quoted as its median with its spread, the
+ * smallest and largest of the repeats behind it (lib/instruments/stats.h has
+ * the CSV columns). Numbers derived from timings (ratios, differences,
+ * medians over start states) carry a spread too: from paired repeats when
+ * both operands list their repeats and have the same number of them (the
+ * experiments interleave what they compare, so repeat i of A and of B ran
+ * together), else conservative bounds from the operands' min and max (the
+ * flag bounds). The median itself is always computed from the operands'
+ * medians, as before the spread existed, so verdicts do not depend on it. */
+typedef struct cb_claim_timing {
+  double med, min, max; /* min, max: NaN when the CSV records no spread */
+  int n;                /* repeats behind the number (0: unknown) */
+  int bounds;           /* 1: min and max are bounds from min/max columns, not observed repeats */
+  int paired;           /* 1: a ratio or difference whose spread comes from paired repeats */
+  cb_timing each;       /* the repeats (or paired derived values) in order; each.n = 0 if not listed */
+} cb_claim_timing;
+
+/* The timing whose median is column col (e.g. "wall_ms") of row r, with the
+ * spread columns derived from col (wall_min_ms, wall_max_ms, wall_each_ms;
+ * wall_ms_per_s gives wall_min_ms_per_s ...) and the count wall_repeats if
+ * present. A CSV without them gives min = max = NaN, n = 0. */
+cb_claim_timing cb_claim_timing_at(const cb_table *t, int r, const char *col);
+/* A number without repeats (no spread). */
+cb_claim_timing cb_claim_timing_value(double v);
+/* a / b and a - b, with the spread described above. */
+cb_claim_timing cb_claim_timing_ratio(const cb_claim_timing *a, const cb_claim_timing *b);
+cb_claim_timing cb_claim_timing_diff(const cb_claim_timing *a, const cb_claim_timing *b);
+/* a x s for a constant s > 0. */
+cb_claim_timing cb_claim_timing_scale(const cb_claim_timing *a, double s);
+/* The median over v[0..n) (e.g. over start states or frames): the median of
+ * the medians; its spread the min and max over repeats i of the median over
+ * v of repeat i (for the repeats that every v lists), else (some v lists
+ * none) the median of the mins and the median of the maxes (bounds). */
+cb_claim_timing cb_claim_timing_median(const cb_claim_timing *v, int n);
+/* 1 if t has a spread to show. */
+int cb_claim_timing_has_spread(const cb_claim_timing *t);
+
+/* "<med><unit> (<min>-<max><unit>)" with printf format fmt for each number
+ * (e.g. "%.3g"), or "<med><unit>" when t has no spread. Returns buf. */
+const char *cb_claim_spread(char *buf, size_t n, const char *fmt, const cb_claim_timing *t, const char *unit);
+/* The same followed by how the spread was obtained, inside the brackets:
+ * "12.0x (11.6-12.4x over 5 paired repeats)", "(... bounds from the min and
+ * max of 3 repeats)", "(... over 5 repeats)". Returns buf. */
+const char *cb_claim_spread_long(char *buf, size_t n, const char *fmt, const cb_claim_timing *t, const char *unit);
+
+/* The range of repeat counts seen over a table's timings, for its note. */
+typedef struct cb_claim_repeats { int lo, hi; } cb_claim_repeats;
+void cb_claim_repeats_add(cb_claim_repeats *r, const cb_claim_timing *t);
+/* "5 repeats" or "3-5 repeats" ("" if none seen). Returns buf. */
+const char *cb_claim_repeats_text(char *buf, size_t n, const cb_claim_repeats *r);
 
 #endif

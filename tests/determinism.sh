@@ -5,7 +5,9 @@
 # kept in that folder (<experiment>.csv and <experiment>_*.csv, e.g. from
 # `build/<experiment> --quick --out DIR/<experiment>.csv` at another revision).
 # Timing columns: names ending in _ms, or containing wall, time or speedup
-# (the naming convention for every wall-clock-derived column; see README).
+# (the naming convention for every wall-clock-derived column, the spread
+# columns of repeated timings included: wall_min_ms, wall_each_ms_per_s,
+# step_max_ms, wall_repeats, ...; see README and lib/instruments/stats.h).
 set -u
 B=${BUILD:-build}
 exp=${1:?usage: tests/determinism.sh EXPERIMENT [BASELINE_DIR]}

@@ -13,9 +13,16 @@ void cb_check_B1(const cb_table *t, const char *results_dir, cb_claim_result *ou
 void cb_check_B2(const cb_table *t, const char *results_dir, cb_claim_result *out);
 void cb_check_B3(const cb_table *t, const char *results_dir, cb_claim_result *out);
 
-static const char *header = "# test\npart,model,mesh,n,angle_deg,stretch,force_n,force_total_n,energy_j,energy_ref_j,ratio,"
+static const char *header_plain = "# test\npart,model,mesh,n,angle_deg,stretch,force_n,force_total_n,energy_j,energy_ref_j,ratio,"
                             "steps,newton_iters,assemble_ms,factor_ms,solve_ms,wall_ms,kinetic_j,rms_m,contacts,"
                             "indefinite,hinges,status\n";
+
+static const char *header_spread = "# test\npart,model,mesh,n,angle_deg,stretch,force_n,force_total_n,energy_j,energy_ref_j,ratio,"
+                                   "steps,newton_iters,assemble_ms,factor_ms,solve_ms,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,"
+                                   "wall_repeats,step_min_ms,step_max_ms,assemble_min_ms,assemble_max_ms,assemble_each_ms,"
+                                   "factor_min_ms,factor_max_ms,factor_each_ms,solve_min_ms,solve_max_ms,solve_each_ms,kinetic_j,"
+                                   "rms_m,contacts,indefinite,hinges,status\n";
+static const char *header;
 
 static cb_claim_result res;
 
@@ -24,7 +31,7 @@ static cb_verdict decide(const char *rows, void (*check)(const cb_table *, const
   int fd = mkstemp(path);
   cr_assert(fd >= 0);
   FILE *f = fdopen(fd, "w");
-  fputs(header, f);
+  fputs(header ? header : header_plain, f);
   fputs(rows, f);
   fclose(f);
   cb_table t;
@@ -91,6 +98,23 @@ Test(claims_bending, B2_not_reproduced_below_1_5_or_when_a_run_failed) {
   cr_expect_eq(decide(rows, cb_check_B2), CB_PARTLY, "%s", res.reason);
   b2_rows(rows, sizeof rows, 10, 25, "diverged");
   cr_expect_eq(decide(rows, cb_check_B2), CB_NOT_REPRODUCED, "%s", res.reason);
+}
+
+/* Three repeats per model, interleaved: quadratic steps of 10, 9, 11 ms (assembly 1 ms), dihedral
+ * 25, 24, 27.5 ms (assembly 20, 20, 22 ms): paired ratios 2.5, 2.67, 2.5 (bounds would be 2.18-3.06). */
+Test(claims_bending, B2_quotes_times_and_the_ratio_with_their_spread) {
+  header = header_spread;
+  char rows[4096];
+  snprintf(rows, sizeof rows,
+           "b2,quadratic,grid,16,,,,,,,,30,300,1,8,0.5,10,9,11,10;9;11,3,0.9,23,1,1,1;1;1,8,8,8;8;8,0.5,0.5,0.5;0.5;0.5,0.001,,10,0,0,ok\n"
+           "b2,dihedral,grid,16,,,,,,,,30,330,20,4,0.5,25,24,27.5,25;24;27.5,3,2.5,60,20,22,20;20;22,4,4,4;4;4,0.5,0.5,0.5;0.5;0.5,0.001,,10,100,150,ok\n"
+           "b2_rms,quadratic-dihedral,grid,16,,,,,,,,30,,,,,,,,,,,,,,,,,,,,,,0.01,,,,ok\n");
+  cr_expect_eq(decide(rows, cb_check_B2), CB_REPRODUCED, "%s", res.reason);
+  header = NULL;
+  cr_expect(strstr(res.numbers, "| 1.00 (1.00-1.00) | 8.00 (8.00-8.00) | 0.50 (0.50-0.50) | 10.00 (9.00-11.00) | 0.9-23.0 |"), "%s", res.numbers);
+  cr_expect(strstr(res.numbers, "**2.50x (2.50-2.67x)**"), "%s", res.numbers);
+  cr_expect(strstr(res.numbers, "median over 3 repeats") && strstr(res.numbers, "paired repeats"), "%s", res.numbers);
+  cr_expect(strstr(res.reason, "2.50x (2.50-2.67x over 3 paired repeats) faster"), "%s", res.reason);
 }
 
 static void b3_rows(char *buf, size_t n, double r0, double slope) {

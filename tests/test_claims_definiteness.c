@@ -117,6 +117,30 @@ Test(claims_definiteness, h2_reproduced_when_every_fix_is_spd) {
   cr_assert_eq(decide("H2", dir), CB_REPRODUCED);
 }
 
+/* wall_ms with its spread over three repeats: 10, 12, 11 ms over 5 steps: 2.2 (2.0-2.4) ms per step */
+Test(claims_definiteness, h2_quotes_the_time_per_step_with_its_spread) {
+  char *dir = tmpdir(), buf[8192] = MAIN_HEAD;
+  fixes_rows(buf, NULL, 0, 0);
+  put(dir, "definiteness.csv", buf);
+  char runs[4096] = "scene,policy,steps,steps_done,steps_converged,newton_iters,systems,not_spd,indefinite_exact,cg_breakdowns,"
+                    "mu_max,factorizations,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,probe_ms,final_f_j,"
+                    "final_energy_j,final_rel_grad,shape_diff_none_m,shape_diff_drop_m,status\n";
+  const char *pols[] = {"none", "drop", "mirror", "shift", "choi-ko"};
+  for (int p = 0; p < 5; p++) {
+    char r[512];
+    snprintf(r, sizeof r, "s1,%s,5,%d,%d,10,10,0,0,0,0,10,11,10,12,10;12;11,3,1,0,0,0,,,%s\n", pols[p], p ? 5 : 1, p ? 5 : 1,
+             p == 0 ? "not_spd" : "ok");
+    strcat(runs, r);
+  }
+  put(dir, "definiteness_runs.csv", runs);
+  cb_claim_result r;
+  for (int i = 0; i < cb_nclaims; i++)
+    if (!strcmp(cb_claims[i].id, "H2")) cb_claim_decide(&cb_claims[i], dir, &r);
+  cr_expect_eq(r.verdict, CB_REPRODUCED, "%s", r.reason);
+  cr_expect(strstr(r.numbers, "| s1 | drop | 0 / 1 | 0 | 5 (5) / 5 | 2.00 | 2.00 | 2.2 (2.0-2.4) |"), "%s", r.numbers);
+  cr_expect(strstr(r.numbers, "median of 3 repeats of the run without the probes"), "%s", r.numbers);
+}
+
 Test(claims_definiteness, h2_not_reproduced_when_drop_fails) {
   char *dir = tmpdir(), buf[8192] = MAIN_HEAD;
   fixes_rows(buf, "drop", 1, 0);

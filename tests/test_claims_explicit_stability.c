@@ -18,7 +18,8 @@ static const char *main_hdr = "# test\nkind,case,scene,k,dt,method,status,max_en
                               "not_converged_steps,t_mark_s,energy_loss_w,kinetic0_j,window_s\n";
 static const char *bound_hdr = "# test\nscene,k,dt_crit_pred,dt_crit_meas,bisect_status,dt_crit_pred_rest,"
                                "lambda_dense_per_s2,lambda_lanczos_per_s2\n";
-static const char *time_hdr = "# test\nscene,n_vertices,k,method,wall_ms_per_s,steps,status\n";
+static const char *time_hdr = "# test\nscene,n_vertices,k,method,wall_ms_per_s,wall_min_ms_per_s,wall_max_ms_per_s,"
+                              "wall_each_ms_per_s,wall_repeats,steps,status\n";
 
 static char dir[64];
 static char main_rows[65536], bound_rows[8192], time_rows[8192];
@@ -100,20 +101,32 @@ Test(claims_explicit_stability, E1_fails_when_the_boundary_is_far_off) {
   cr_assert_neq(decide(cb_check_E1), CB_REPRODUCED);
 }
 
+/* A row's repeats: its median v times 0.9, 1, 1.1 (explicit, Baraff-Witkin) or 1, 1, 1.2 (Newton), in
+ * that order: "median,min,max,each,3". */
+static void reps(char *buf, size_t n, double v, int newton) {
+  double a = newton ? 1.0 : 0.9, b = 1.0, c = newton ? 1.2 : 1.1;
+  snprintf(buf, n, "%.17g,%.17g,%.17g,%.17g;%.17g;%.17g,3", v, a * v, c * v, a * v, b * v, c * v);
+}
+
 static void timing(double kexp, double nexp, double newton_ms) {
   time_rows[0] = '\0';
+  char e[256], nt[256], bw[256];
   for (int i = 0; i < 4; i++) {
     double k = pow(10.0, 1 + 2 * i), ex = 0.5 * pow(k, kexp);
+    reps(e, sizeof e, ex, 0);
+    reps(nt, sizeof nt, newton_ms, 1);
+    reps(bw, sizeof bw, newton_ms / 10, 0);
     size_t n = strlen(time_rows);
-    snprintf(time_rows + n, sizeof time_rows - n, "cloth21,441,%.17g,explicit,%.17g,%.0f,stable\n"
-             "cloth21,441,%.17g,newton,%.17g,30,stable\ncloth21,441,%.17g,newton_bw,%.17g,30,stable\n",
-             k, ex, 100 * sqrt(k), k, newton_ms, k, newton_ms / 10);
+    snprintf(time_rows + n, sizeof time_rows - n, "cloth21,441,%.17g,explicit,%s,%.0f,stable\n"
+             "cloth21,441,%.17g,newton,%s,30,stable\ncloth21,441,%.17g,newton_bw,%s,30,stable\n",
+             k, e, 100 * sqrt(k), k, nt, k, bw);
   }
   const int nv[] = {441, 1681, 6561};
   for (int r = 0; r < 3; r++) {
     size_t n = strlen(time_rows);
     double w = 0.5 * pow(1e3, kexp) * pow(nv[r] / 441.0, nexp);
-    snprintf(time_rows + n, sizeof time_rows - n, "cloth%d,%d,1000,explicit,%.17g,%.0f,stable\n", r, nv[r], w,
+    reps(e, sizeof e, w, 0);
+    snprintf(time_rows + n, sizeof time_rows - n, "cloth%d,%d,1000,explicit,%s,%.0f,stable\n", r, nv[r], e,
              100 * pow(nv[r] / 441.0, 0.5));
   }
 }
@@ -121,6 +134,20 @@ static void timing(double kexp, double nexp, double newton_ms) {
 Test(claims_explicit_stability, E2_reproduced_when_explicit_is_slow_and_quadratic) {
   timing(0.5, 2.0, 100); /* explicit 0.5 ms .. 1.6 s; Newton 100 ms */
   cr_assert_eq(decide(cb_check_E2), CB_REPRODUCED);
+}
+
+Test(claims_explicit_stability, E2_quotes_every_time_with_its_spread) {
+  timing(0.5, 2.0, 100);
+  decide(cb_check_E2);
+  /* k = 1e7: explicit 0.5 sqrt(1e7) = 1581 ms, repeats 0.9, 1, 1.1 x; Newton 100 ms, 1, 1, 1.2 x */
+  cr_expect(strstr(last.numbers, "| cloth21 | 1e+07 | 1581 (1423-1739) | 316228 | 100 (100-120) (convergence not recorded) | 10 (9-11) |"), "%s", last.numbers);
+  cr_expect(strstr(last.numbers, "median of 3 repeats"), "%s", last.numbers);
+  /* explicit/Newton = 15.8; paired repeats 0.9/1, 1/1, 1.1/1.2 give 14.2 .. 15.8 (bounds would be 11.9 .. 17.4) */
+  cr_expect(strstr(last.numbers, "explicit/Newton = 15.8 (14.2-15.8 over 3 paired repeats)"), "%s", last.numbers);
+  /* every series scaled alike by the repeats: the fits to the fastest and slowest agree with the median's */
+  cr_expect(strstr(last.numbers, "explicit ~ k^0.500 (0.500 / 0.500 fitted to the fastest / slowest repeats)"), "%s", last.numbers);
+  cr_expect(strstr(last.reason, "last exponent 2.000 (2.000 / 2.000 fitted"), "%s", last.reason);
+  cr_expect(strstr(last.reason, "Times are medians of 3 repeats."), "%s", last.reason);
 }
 
 Test(claims_explicit_stability, E2_partly_or_not_reproduced) {

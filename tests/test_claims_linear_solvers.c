@@ -16,8 +16,14 @@ void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out);
 
 static char dir[256];
 static FILE *main_csv, *scenes_csv;
+/* with_spread: the main table has the spread columns; each run's three repeats are its times
+ * (set-up and per-iteration) scaled by rep[0..3) */
+static int with_spread;
+static double rep[3] = {1, 1, 1};
 
-static void begin(void) {
+static void begin_with(int spread) {
+  with_spread = spread;
+  rep[0] = rep[1] = rep[2] = 1;
   snprintf(dir, sizeof dir, "/tmp/cbtest_ls_XXXXXX");
   cr_assert_not_null(mkdtemp(dir));
   char p[512];
@@ -26,10 +32,14 @@ static void begin(void) {
   snprintf(p, sizeof p, "%s/linear_solvers_scenes.csv", dir);
   scenes_csv = fopen(p, "w");
   cr_assert(main_csv && scenes_csv);
-  fputs("# experiment: linear_solvers\nscene,sweep,solver,alpha,rho,iter,rel_residual,wall_ms,status,error\n", main_csv);
+  fputs(spread ? "# experiment: linear_solvers\nscene,sweep,solver,alpha,rho,iter,rel_residual,wall_ms,wall_min_ms,wall_max_ms,"
+                 "wall_each_ms,wall_repeats,status,error\n"
+               : "# experiment: linear_solvers\nscene,sweep,solver,alpha,rho,iter,rel_residual,wall_ms,status,error\n", main_csv);
   fputs("# experiment: linear_solvers\nscene,grid_n,n_dofs,non_dd_rows,lmin_lanczos,lmax_lanczos,lmin_dense,lmax_dense,spectrum\n",
         scenes_csv);
 }
+
+static void begin(void) { begin_with(0); }
 
 /* A scene whose D^-1 A has eigenvalues in [lo, hi] (dense and Lanczos agree). */
 static void scene(const char *name, int grid, double lo, double hi) {
@@ -43,9 +53,15 @@ static void run(const char *sc, const char *sweep, const char *solver, double al
   char a[32] = "", r[32] = "";
   if (alpha >= 0) snprintf(a, sizeof a, "%.17g", alpha);
   if (rho >= 0) snprintf(r, sizeof r, "%.17g", rho);
-  for (int k = 0; k <= n; k++)
-    fprintf(main_csv, "%s,%s,%s,%s,%s,%d,%.17g,%.17g,%s,%.17g\n", sc, sweep, solver, a, r, k, pow(rate, k),
-            setup_ms + k * ms_per_iter, status, pow(rate, k));
+  for (int k = 0; k <= n; k++) {
+    double w = setup_ms + k * ms_per_iter, lo = fmin(rep[0], fmin(rep[1], rep[2])), hi = fmax(rep[0], fmax(rep[1], rep[2]));
+    double med = rep[0] + rep[1] + rep[2] - lo - hi;
+    fprintf(main_csv, "%s,%s,%s,%s,%s,%d,%.17g,", sc, sweep, solver, a, r, k, pow(rate, k));
+    if (with_spread)
+      fprintf(main_csv, "%.17g,%.17g,%.17g,%.17g;%.17g;%.17g,3,", med * w, lo * w, hi * w, rep[0] * w, rep[1] * w, rep[2] * w);
+    else fprintf(main_csv, "%.17g,", w);
+    fprintf(main_csv, "%s,%.17g\n", status, pow(rate, k));
+  }
 }
 
 static cb_verdict decide(void (*check)(const cb_table *, const char *, cb_claim_result *), cb_claim_result *res) {
@@ -117,6 +133,31 @@ Test(claims_linear_solvers, j2_partly_when_the_rho_estimate_eats_the_gain) {
   cr_expect_eq(decide(cb_check_j2, &r), CB_PARTLY, "%s", r.reason);
 }
 
+/* Jacobi reaches 1e-6 at iteration 984 (984 ms), Chebyshev at 50 after a 2 ms set-up (52 ms): 18.92x.
+ * Repeats at 1, 1, 1.2 x for both: the paired speed-ups are all 18.92x; Chebyshev at 1.2, 1, 1 x
+ * instead: 15.77x, 18.92x, 22.71x. */
+Test(claims_linear_solvers, j2_quotes_times_with_their_spread_and_paired_speedups) {
+  cb_claim_result r;
+  begin_with(1);
+  scene("s", 10, 0.1, 2.5);
+  rep[2] = 1.2;
+  run("s", "main", "jacobi", 0.77, -1, pow(10, -6.1 / 1000), 1000, 0, 1, "ok");
+  run("s", "main", "chebyshev", 0.77, 0.92, pow(10, -6.1 / 50), 50, 2, 1, "ok");
+  cr_expect_eq(decide(cb_check_j2, &r), CB_REPRODUCED, "%s", r.reason);
+  cr_expect(strstr(r.numbers, "| 984 (984-1181) | 50 | 52 (52-62.4); 2 (2-2.4) | 19.7 | 18.92 (18.92-18.92) |"), "%s", r.numbers);
+  cr_expect(strstr(r.numbers, "median of 3 repeats") && strstr(r.numbers, "of paired repeats"), "%s", r.numbers);
+  cr_expect(strstr(r.reason, "18.92x (18.92-18.92x over 3 paired repeats) on s"), "%s", r.reason);
+  begin_with(1);
+  scene("s", 10, 0.1, 2.5);
+  rep[2] = 1.2;
+  run("s", "main", "jacobi", 0.77, -1, pow(10, -6.1 / 1000), 1000, 0, 1, "ok");
+  rep[0] = 1.2;
+  rep[2] = 1;
+  run("s", "main", "chebyshev", 0.77, 0.92, pow(10, -6.1 / 50), 50, 2, 1, "ok");
+  decide(cb_check_j2, &r);
+  cr_expect(strstr(r.numbers, "| 18.92 (15.77-22.71) |"), "%s", r.numbers);
+}
+
 /* eig(D^-1 A) in [0.04, 1.96]: alpha* = 1, true rho* = 0.96 */
 Test(claims_linear_solvers, j3_reproduced_when_overestimates_diverge) {
   begin();
@@ -154,6 +195,22 @@ Test(claims_linear_solvers, j4_reproduced_when_direct_is_exact_and_costly) {
   j4_scene("c", 30, 1e-15, 5);
   cb_claim_result r;
   cr_expect_eq(decide(cb_check_j4, &r), CB_REPRODUCED, "%s", r.reason);
+}
+
+/* CHOLMOD at 100 ms, repeats at 0.9, 1, 1.1 x; the iterative solvers the same; the time per
+ * iteration (5 ms) is a paired difference over the iterations: 4.5-5.5 ms */
+Test(claims_linear_solvers, j4_quotes_times_with_their_spread) {
+  begin_with(1);
+  rep[0] = 0.9;
+  rep[2] = 1.1;
+  j4_scene("a", 10, 1e-15, 5);
+  j4_scene("b", 20, 1e-15, 5);
+  j4_scene("c", 30, 1e-15, 5);
+  cb_claim_result r;
+  cr_expect_eq(decide(cb_check_j4, &r), CB_REPRODUCED, "%s", r.reason);
+  cr_expect(strstr(r.numbers, "| c | 2700 | 100 (90-110) / 1.0e-15 | 35 (31.5-38.5) (jacobi) | 135 (122-148) (jacobi) | 5 (4.5-5.5) |"),
+            "%s", r.numbers);
+  cr_expect(strstr(r.numbers, "median of 3 repeats (per traced iteration)"), "%s", r.numbers);
 }
 
 Test(claims_linear_solvers, j4_not_reproduced_when_direct_is_not_exact) {

@@ -40,16 +40,17 @@ static void teardown(void) {
   rmdir(dir);
 }
 
+static cb_claim_result last; /* the result of the last decide() */
+
 static cb_verdict decide(void (*check)(const cb_table *, const char *, cb_claim_result *)) {
   char path[128];
   snprintf(path, sizeof path, "%s/locking.csv", dir);
   cb_table t;
   cr_assert_eq(cb_table_read(path, &t), 0);
-  static cb_claim_result r;
-  memset(&r, 0, sizeof r);
-  check(&t, dir, &r);
+  memset(&last, 0, sizeof last);
+  check(&t, dir, &last);
   cb_table_free(&t);
-  return r.verdict;
+  return last.verdict;
 }
 
 static const char *l1_head = "# test\nmodel,mesh,fold,on_edges,k_n_per_m,fold_angle_deg,status\n";
@@ -114,8 +115,15 @@ Test(claims_locking, F1_reproduced_when_fem_is_isotropic_and_springs_are_not) {
   put("locking.csv", l1_head);
   put("locking_aniso.csv", csv);
   put("locking_newton.csv", "# t\nmodel,rep,iter,rel_grad\nfem,0,0,1\nfem,0,1,1e-2\nfem,0,2,1e-4\nfem,0,3,1e-8\n");
-  put("locking_newton_steps.csv", "# t\nmodel,n,rep,newton_iters,factorizations,rel_grad,step_wall_ms,status\nfem,64,0,3,3,1e-8,10,ok\n");
+  /* three interleaved rounds: fem 10, 12, 9 ms and spring 5, 4, 6 ms: medians 10 and 5, spreads 9-12 and 4-6 */
+  put("locking_newton_steps.csv", "# t\nmodel,n,rep,newton_iters,factorizations,rel_grad,step_wall_ms,status\n"
+                                  "fem,64,0,3,3,1e-8,10,ok\nspring,64,0,3,3,1e-8,5,ok\nfem,64,1,3,3,1e-8,12,ok\n"
+                                  "spring,64,1,3,3,1e-8,4,ok\nfem,64,2,3,3,1e-8,9,ok\nspring,64,2,3,3,1e-8,6,ok\n");
   cr_assert_eq(decide(cb_check_F1), CB_REPRODUCED);
+  cr_expect(strstr(last.numbers, "median of 3 runs"), "%s", last.numbers);
+  cr_expect(strstr(last.numbers, "| fem | 3 | 3 | 1.00e-08 | 10 (9-12) |"), "%s", last.numbers);
+  cr_expect(strstr(last.numbers, "| spring | 3 | 3 | 1.00e-08 | 5 (4-6) |"), "%s", last.numbers);
+  cr_expect(strstr(last.reason, "order 2.00, 10 (9-12) ms"), "%s", last.reason);
 }
 
 Test(claims_locking, F1_not_reproduced_when_fem_depends_on_direction_and_springs_do_not) {

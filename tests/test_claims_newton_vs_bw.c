@@ -2,6 +2,7 @@
  * small constructed CSVs in a temporary folder, through the claims table. */
 #define _DEFAULT_SOURCE /* mkdtemp */
 #include <criterion/criterion.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -101,17 +102,31 @@ Test(claims_newton_vs_bw, i2_missing_side_csv_is_not_run, .init = setup, .fini =
 /* ---- I3 ---- */
 
 #define MAIN_HEAD "scene,step,method,inner_solver,line_search,step_error,wall_ms,status\n"
+#define MAIN_HEAD_SPREAD "scene,step,method,inner_solver,line_search,step_error,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,status\n"
 #define REG_HEAD "dt,k,stretch,first_diverged_step,step_error_max,ref_status,k1_fails\n"
 
-static void i3_scenes(double conv_ms, int regime_fail, const char *const *scenes, int nscenes) {
-  static char buf[8192];
-  strcpy(buf, MAIN_HEAD);
+/* the timing fields of a row: "wall_ms" alone, or with its spread over three repeats, scaled by f */
+static const char *wall(char *buf, int spread, double med, const double *each) {
+  if (!spread) sprintf(buf, "%g", med);
+  else sprintf(buf, "%g,%g,%g,%g;%g;%g,3", med, fmin(each[0], fmin(each[1], each[2])), fmax(each[0], fmax(each[1], each[2])),
+               each[0], each[1], each[2]);
+  return buf;
+}
+
+static void i3_scenes_spread(double conv_ms, int regime_fail, const char *const *scenes, int nscenes, int spread) {
+  static char buf[16384];
+  strcpy(buf, spread ? MAIN_HEAD_SPREAD : MAIN_HEAD);
+  /* K = 1 repeats: state 0 at 0.9, 1, 1.2 ms, state 1 at 1.1, 1, 1 ms (per repeat the median over the two
+   * states: 1, 1, 1.1); converged: conv x (1, 1, 1.1) at both states */
+  const double k1[2][3] = {{0.9, 1.0, 1.2}, {1.1, 1.0, 1.0}}, cv[3] = {conv_ms, conv_ms, 1.1 * conv_ms};
+  const double cg[3] = {0.5, 0.5, 0.5}, ch[3] = {3, 3, 3};
+  char w[128];
   for (int s = 0; s < nscenes; s++)
     for (int st = 0; st < 2; st++) {
-      sprintf(buf + strlen(buf), "%s,%d,newton_k1,cholmod,0,%g,1.0,max_iters\n", scenes[s], st, 1e-3 * (st + 1));
-      sprintf(buf + strlen(buf), "%s,%d,newton_converged,cholmod,0,1e-10,%g,ok\n", scenes[s], st, conv_ms);
-      sprintf(buf + strlen(buf), "%s,%d,newton_k1,cg32,0,2e-3,0.5,max_iters\n", scenes[s], st);
-      sprintf(buf + strlen(buf), "%s,%d,newton_k1,cheb32_alpha1,0,0.06,3.0,linear_failed\n", scenes[s], st);
+      sprintf(buf + strlen(buf), "%s,%d,newton_k1,cholmod,0,%g,%s,max_iters\n", scenes[s], st, 1e-3 * (st + 1), wall(w, spread, 1.0, k1[st]));
+      sprintf(buf + strlen(buf), "%s,%d,newton_converged,cholmod,0,1e-10,%s,ok\n", scenes[s], st, wall(w, spread, conv_ms, cv));
+      sprintf(buf + strlen(buf), "%s,%d,newton_k1,cg32,0,2e-3,%s,max_iters\n", scenes[s], st, wall(w, spread, 0.5, cg));
+      sprintf(buf + strlen(buf), "%s,%d,newton_k1,cheb32_alpha1,0,0.06,%s,linear_failed\n", scenes[s], st, wall(w, spread, 3.0, ch));
     }
   put("newton_vs_bw.csv", buf);
   char reg[1024];
@@ -120,9 +135,13 @@ static void i3_scenes(double conv_ms, int regime_fail, const char *const *scenes
   put("newton_vs_bw_regime.csv", reg);
 }
 
+static void i3_scenes(double conv_ms, int regime_fail, const char *const *scenes, int nscenes) {
+  i3_scenes_spread(conv_ms, regime_fail, scenes, nscenes, 0);
+}
+
 static void i3_files(double conv_ms, int regime_fail) {
   const char *scenes[] = {"lab", "grid64", "stiff"};
-  i3_scenes(conv_ms, regime_fail, scenes, 3);
+  i3_scenes_spread(conv_ms, regime_fail, scenes, 3, 1);
 }
 
 Test(claims_newton_vs_bw, i3_fast_and_failing_is_reproduced, .init = setup, .fini = teardown) {
@@ -130,9 +149,21 @@ Test(claims_newton_vs_bw, i3_fast_and_failing_is_reproduced, .init = setup, .fin
   cb_claim_result r;
   cr_assert_eq(decide("I3", &r), CB_REPRODUCED, "%s", r.reason);
   /* the cheapest at 1e-2 is CG cut at 32 (0.5 ms, max error 2e-3); the failed Chebyshev never counts */
-  cr_assert(strstr(r.numbers, "newton_k1 cg32 (0.5 ms"), "%s", r.numbers);
-  cr_assert(strstr(r.numbers, "| lab | 1 | 10 | 10.0 |"), "%s", r.numbers);
+  cr_assert(strstr(r.numbers, "newton_k1 cg32 (0.5 (0.5-0.5) ms"), "%s", r.numbers);
+  /* per repeat: K = 1 at 1, 1, 1.1 ms, converged at 10, 10, 11 ms: paired speed-ups 10, 10, 10 (bounds: 9.1-11) */
+  cr_assert(strstr(r.numbers, "| lab | 1 (1-1.1) | 10 (10-11) | 10.0 (10.0-10.0) |"), "%s", r.numbers);
+  cr_assert(strstr(r.numbers, "medians of 3 repeats"), "%s", r.numbers);
+  cr_assert(strstr(r.reason, "lab 10.0x (10.0-10.0x over 3 paired repeats)"), "%s", r.reason);
   cr_assert(strstr(r.numbers, "1/10:D"), "%s", r.numbers);
+}
+
+Test(claims_newton_vs_bw, i3_without_spread_columns_quotes_the_medians, .init = setup, .fini = teardown) {
+  const char *scenes[] = {"lab"};
+  i3_scenes(10.0, 1, scenes, 1);
+  cb_claim_result r;
+  cr_assert_eq(decide("I3", &r), CB_REPRODUCED, "%s", r.reason);
+  cr_assert(strstr(r.numbers, "| lab | 1 | 10 | 10.0 |"), "%s", r.numbers);
+  cr_assert(strstr(r.reason, "lab 10.0x."), "%s", r.reason);
 }
 
 Test(claims_newton_vs_bw, i3_fast_but_never_failing_is_partly, .init = setup, .fini = teardown) {

@@ -143,6 +143,27 @@ Test(claims_nonlinear, w1_not_reproduced_below_ten) {
   cr_expect_eq(decide("W1", &r), CB_NOT_REPRODUCED, "%s", r.reason);
 }
 
+#define W1_HEAD_SPREAD "scene,n,method,pair,rho,max_iters,tol,iters_to_tol,wall_ms_to_tol,wall_min_ms_to_tol,wall_max_ms_to_tol," \
+                       "wall_each_ms_to_tol,wall_repeats,setup_ms,alloc_ms,final_rel_grad,status\n"
+
+/* Repeats: jacobi-nl 30, 33, 27 ms and chebyshev-nl 3, 3.3, 2.7 ms (interleaved): paired speed-ups 10, 10, 10
+ * (bounds from the min and max would give 8.2-12.2); pd never reached the tolerance (nan, no repeats). */
+Test(claims_nonlinear, w1_quotes_wall_times_with_their_spread) {
+  char buf[2048] = W1_HEAD_SPREAD;
+  strcat(buf, "lab,21,jacobi-nl,jacobi,0,20000,0.0001,3000,30,27,33,30;33;27,3,0,0,1e-9,ok\n"
+              "lab,21,chebyshev-nl auto,jacobi,0.97,20000,0.0001,250,3,2.7,3.3,3;3.3;2.7,3,1,0,1e-12,ok\n"
+              "lab,21,pd,pd,0,1000,0.0001,-1,nan,nan,nan,,0,nan,5,1e-5,ok\n"
+              "lab,21,pd-chebyshev auto,pd,0.95,1000,0.0001,50,50,49,52,50;52;49,3,8,5,1e-10,ok\n");
+  put("nonlinear_w1.csv", buf);
+  put("nonlinear.csv", J3_HEAD);
+  cb_claim_result r;
+  cr_expect_eq(decide("W1", &r), CB_REPRODUCED, "%s", r.reason);
+  cr_expect(strstr(r.numbers, "| 30 (27-33) | 3 (2.7-3.3) | 10.0x (10.0-10.0x) |"), "%s", r.numbers);
+  cr_expect(strstr(r.numbers, "| - | 50 (49-52) | - |"), "%s", r.numbers);
+  cr_expect(strstr(r.numbers, "median of 3 repeats"), "%s", r.numbers);
+  cr_expect(strstr(r.reason, "10.0x (10.0-10.0x over 3 paired repeats) (lab chebyshev-nl auto)"), "%s", r.reason);
+}
+
 /* ---- P1 ---- */
 
 #define P1_HEAD "scene,n,k,method,frame,iters,wall_ms,alloc_ms,step_error,rel_grad,status\n"
@@ -164,6 +185,29 @@ Test(claims_nonlinear, p1_reproduced_when_pd_is_fast_and_close) {
   cb_claim_result r;
   cr_expect_eq(decide("P1", &r), CB_REPRODUCED, "%s", r.reason);
   cr_expect(strstr(r.reason, "50x") != NULL, "%s", r.reason);
+}
+
+#define P1_HEAD_SPREAD "scene,n,k,method,frame,iters,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,alloc_ms,step_error," \
+                       "rel_grad,status\n"
+
+/* Two frames, three interleaved repeats: pd10 20, 19, 21 ms and 20, 21, 19 ms (per repeat the median over the
+ * frames: 20, 20, 20); Newton 1000, 1100, 900 ms at both: paired ratios 50, 55, 45 (bounds: 42.9-57.9). */
+Test(claims_nonlinear, p1_quotes_times_and_the_ratio_with_their_spread) {
+  char buf[2048] = P1_HEAD_SPREAD;
+  strcat(buf, "grid81,81,8000,pd10,5,10,20,19,21,20;19;21,3,40,0.01,0.05,ok\n"
+              "grid81,81,8000,newton,5,20,1000,900,1100,1000;1100;900,3,6,1e-9,1e-9,ok\n"
+              "grid81,81,8000,baraff_witkin,5,1,40,39,41,40;41;39,3,6,0.001,0.1,max_iters\n"
+              "grid81,81,8000,pd10,10,10,20,19,21,20;21;19,3,40,0.01,0.05,ok\n"
+              "grid81,81,8000,newton,10,20,1000,900,1100,1000;1100;900,3,6,1e-9,1e-9,ok\n"
+              "grid81,81,8000,baraff_witkin,10,1,40,39,41,40;39;41,3,6,0.001,0.1,max_iters\n");
+  put("nonlinear_p1.csv", buf);
+  put("nonlinear.csv", J3_HEAD);
+  cb_claim_result r;
+  cr_expect_eq(decide("P1", &r), CB_REPRODUCED, "%s", r.reason);
+  cr_expect(strstr(r.numbers, "| grid81 | 6561 | pd10 | 2 | 20 (20-20) | 0.01 |"), "%s", r.numbers);
+  cr_expect(strstr(r.numbers, "| grid81 | 6561 | newton | 2 | 1000 (900-1100) |"), "%s", r.numbers);
+  cr_expect(strstr(r.reason, "grid81: 50x (45-55x over 3 paired repeats)"), "%s", r.reason);
+  cr_expect(strstr(r.reason, "Baraff-Witkin 0.001 in 40 (40-40) ms"), "%s", r.reason);
 }
 
 Test(claims_nonlinear, p1_not_reproduced_when_pd_is_not_ten_times_faster) {

@@ -95,7 +95,7 @@ static int part_hinge(FILE *f, int quick) {
     for (int m = 0; m < 3; m++) {
       double E = energy_grad(t[m], x, g, 12), F = sqrt(g[9] * g[9] + g[10] * g[10] + g[11] * g[11]);
       double ph = deg * PI / 180, Ft = g[10] * sin(ph) + g[11] * cos(ph); /* -(-dE/dx3) . dx3/dphi: > 0 unfolds */
-      fprintf(f, "b1,%s,hinge,,%.17g,,%.17g,%.17g,%.17g,,,,,,,,,,,,,,,,ok\n", MODELS[m], deg, Ft, F, E);
+      fprintf(f, "b1,%s,hinge,,%.17g,,%.17g,%.17g,%.17g,,,,,,,,,,,,,,,,,,,,,,,,,,,,,ok\n", MODELS[m], deg, Ft, F, E);
     }
   }
   /* B3: fold 20 deg, stretch 0..30% */
@@ -105,7 +105,7 @@ static int part_hinge(FILE *f, int quick) {
       double s = 0.30 * k / (quick ? 15 : 60);
       hinge_pose(fold * PI / 180, mode ? 1 + s : 1, mode ? 1 : 1 + s, x);
       double Eq = energy_grad(t[2], x, g, 12), Ed = energy_grad(t[1], x, g, 12);
-      fprintf(f, "b3,quadratic,%s,,%.17g,%.17g,,,%.17g,%.17g,%.17g,,,,,,,,,,,,,,ok\n", mode ? "across" : "uniform", fold, s,
+      fprintf(f, "b3,quadratic,%s,,%.17g,%.17g,,,%.17g,%.17g,%.17g,,,,,,,,,,,,,,,,,,,,,,,,,,,ok\n", mode ? "across" : "uniform", fold, s,
               Eq, Ed, Eq / Ed);
     }
   for (int m = 0; m < 3; m++) cb_term_free(t[m]);
@@ -149,7 +149,7 @@ static int part_cylinder(FILE *f, int quick) {
         cb_term *t;
         if (cb_bend_term_alloc(MODELS[m], &model, 1.0, &t)) return -1;
         double E = t->type->energy(t, x, NULL);
-        fprintf(f, "conv,%s,cylinder,%d,,%.17g,,,%.17g,%.17g,%.17g,,,,,,,,,,,,,,ok\n", MODELS[m], ns[k], R, E, cont, E / cont);
+        fprintf(f, "conv,%s,cylinder,%d,,%.17g,,,%.17g,%.17g,%.17g,,,,,,,,,,,,,,,,,,,,,,,,,,,ok\n", MODELS[m], ns[k], R, E, cont, E / cont);
         cb_term_free(t);
       }
       free(mass); free(x); free(fi);
@@ -164,13 +164,14 @@ static int part_cylinder(FILE *f, int quick) {
 typedef struct {
   int steps, iters, contacts, indefinite, nhinges, nv;
   double assemble, factor, solve, wall; /* per-step medians, ms */
-  double wall_min, wall_max;            /* ms */
+  double wall_min, wall_max;            /* the fastest and slowest step, ms */
   double kinetic;
   double *x; /* final positions */
   char status[32];
 } drape_result;
 
-static int drape(const cb_experiment *e, const char *ini, int n, const char *model, int steps, drape_result *r) {
+/* One drape run; shapes: also write the final shape (results/bending_rest_<model>.dat) and keep it in r->x. */
+static int drape(const cb_experiment *e, const char *ini, int n, const char *model, int steps, int shapes, drape_result *r) {
   char sn[64], sb[64], ss[64];
   snprintf(sn, sizeof sn, "mesh.n=%d", n);
   snprintf(sb, sizeof sb, "material.bend=%s", model);
@@ -222,10 +223,10 @@ static int drape(const cb_experiment *e, const char *ini, int n, const char *mod
     if (strcmp(s->sys.terms[k]->type->name, "dihedral") == 0)
       r->indefinite = cb_hinge_term_count_indefinite(s->sys.terms[k], run.x, &r->nhinges);
   r->nv = s->mesh.nv;
-  r->x = malloc((size_t)3 * r->nv * sizeof *r->x);
+  r->x = shapes ? malloc((size_t)3 * r->nv * sizeof *r->x) : NULL;
   if (r->x) memcpy(r->x, run.x, (size_t)3 * r->nv * sizeof *r->x);
   /* the rest shape as gnuplot triangle blocks (p0 p1 / p2 p2), for pm3d */
-  if (n == 32 || (e->quick && n == 16)) {
+  if (shapes && (n == 32 || (e->quick && n == 16))) {
     char path[2200], suffix[64];
     snprintf(suffix, sizeof suffix, "rest_%s.dat", model);
     cb_experiment_side_path(e, suffix, path, sizeof path);
@@ -248,6 +249,11 @@ static int drape(const cb_experiment *e, const char *ini, int n, const char *mod
   return 0;
 }
 
+/* B2: per mesh, the quadratic and the dihedral drape in interleaved rounds (quadratic, dihedral,
+ * quadratic, ...; stats.h: 3 rounds with --quick, 2-5 in a full run by their cost). Every repeat
+ * computes the same run; a row holds the first run's results, and per time (assembly, factor,
+ * solve, step) the median over the repeats of the run's per-step median, its min, max and every
+ * repeat; step_min_ms and step_max_ms are the fastest and slowest single step of any repeat. */
 static int part_drape(cb_experiment *e, FILE *f) {
   const int quick_n[] = {12, 16}, full_n[] = {16, 32};
   const int *ns = e->quick ? quick_n : full_n;
@@ -258,17 +264,40 @@ static int part_drape(cb_experiment *e, FILE *f) {
     const char *ini = k < 2 ? "drape.ini" : "drape_irregular.ini";
     int n = k < 2 ? ns[k] : 0;
     drape_result r[2];
+    cb_timing tm[2][4]; /* per model: assembly, factor, solve, wall (per-step medians of each repeat) */
+    double step_min[2] = {INFINITY, INFINITY}, step_max[2] = {0, 0}, spent = 0;
+    memset(tm, 0, sizeof tm);
+    for (int round = 0; cb_timing_more(e->quick, round, spent); round++)
+      for (int m = 0; m < 2; m++) { /* quadratic, then dihedral */
+        drape_result x;
+        if (drape(e, ini, n, MODELS[2 - m], steps, round == 0, &x)) return -1;
+        if (round == 0) r[m] = x;
+        const double part[4] = {x.assemble, x.factor, x.solve, x.wall};
+        for (int q = 0; q < 4; q++) cb_timing_add(&tm[m][q], part[q]);
+        step_min[m] = fmin(step_min[m], x.wall_min);
+        step_max[m] = fmax(step_max[m], x.wall_max);
+        spent += x.wall * x.steps;
+        if (round == 0) cb_progress_update(&e->progress, e->progress.done + 1);
+      }
     for (int m = 0; m < 2; m++) {
-      if (drape(e, ini, n, MODELS[2 - m], steps, &r[m])) return -1; /* quadratic, then dihedral */
       drape_result *q = &r[m];
-      fprintf(f, "b2,%s,%s,%d,,,,,,,,%d,%d,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.17g,,%d,%d,%d,%s\n", MODELS[2 - m], k < 2 ? "grid" : "irregular",
-              k < 2 ? n : (int)lround(sqrt(q->nv)), q->steps, q->iters, q->assemble, q->factor, q->solve, q->wall,
-              q->wall_min, q->wall_max, q->kinetic, q->contacts, q->indefinite, q->nhinges, q->status);
-      cb_progress_update(&e->progress, e->progress.done + 1);
+      const cb_timing *T = tm[m];
+      fprintf(f, "b2,%s,%s,%d,,,,,,,,%d,%d,%.6f,%.6f,%.6f,", MODELS[2 - m], k < 2 ? "grid" : "irregular",
+              k < 2 ? n : (int)lround(sqrt(q->nv)), q->steps, q->iters, cb_timing_median(&T[0]), cb_timing_median(&T[1]),
+              cb_timing_median(&T[2]));
+      cb_timing_csv(f, &T[3], 1.0); /* wall_ms, wall_min_ms, wall_max_ms */
+      fputc(',', f);
+      cb_timing_csv_each(f, &T[3], 1.0);
+      fprintf(f, ",%d,%.6f,%.6f", T[3].n, step_min[m], step_max[m]);
+      for (int c = 0; c < 3; c++) { /* assemble, factor, solve: min, max, each */
+        fprintf(f, ",%.6f,%.6f,", cb_timing_min(&T[c]), cb_timing_max(&T[c]));
+        cb_timing_csv_each(f, &T[c], 1.0);
+      }
+      fprintf(f, ",%.17g,,%d,%d,%d,%s\n", q->kinetic, q->contacts, q->indefinite, q->nhinges, q->status);
     }
     double s2 = 0;
     for (int i = 0; i < 3 * r[0].nv; i++) s2 += (r[0].x[i] - r[1].x[i]) * (r[0].x[i] - r[1].x[i]);
-    fprintf(f, "b2_rms,quadratic-dihedral,%s,%d,,,,,,,,%d,,,,,,,,,%.17g,,,,ok\n", k < 2 ? "grid" : "irregular",
+    fprintf(f, "b2_rms,quadratic-dihedral,%s,%d,,,,,,,,%d,,,,,,,,,,,,,,,,,,,,,,%.17g,,,,ok\n", k < 2 ? "grid" : "irregular",
             k < 2 ? n : (int)lround(sqrt(r[0].nv)), r[0].steps, sqrt(s2 / r[0].nv));
     free(r[0].x);
     free(r[1].x);
@@ -292,10 +321,14 @@ int main(int argc, char **argv) {
                         "# b1: force_n = restoring force at the wing tip, the component of -dE/dx3 along -dx3/dphi (> 0 unfolds) "
                         "(the torque over the 0.8 m arm), force_total_n = |dE/dx3|, bend_k = 1 (N/m spring, N m hinges); b3: energy_j "
                         "quadratic, energy_ref_j dihedral, fold angle_deg, stretch fraction; conv: energy_ref_j = "
-                        "A/(2R^2), stretch column = R (m); b2: per-step median times (ms) and the min-max of the step wall time, newton_iters total, "
+                        "A/(2R^2), stretch column = R (m); b2: per-step median times (ms), each the median over the repeats of the run "
+                        "(wall_min_ms, wall_max_ms, wall_each_ms and assemble_/factor_/solve_ likewise: its spread and every repeat; "
+                        "step_min_ms, step_max_ms: the fastest and slowest single step), newton_iters total, "
                         "indefinite = hinges whose exact Hessian the projection changes at the final state\n",
                         "part,model,mesh,n,angle_deg,stretch,force_n,force_total_n,energy_j,energy_ref_j,ratio,steps,"
-                        "newton_iters,assemble_ms,factor_ms,solve_ms,wall_ms,wall_min_ms,wall_max_ms,kinetic_j,rms_m,contacts,"
+                        "newton_iters,assemble_ms,factor_ms,solve_ms,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,step_min_ms,"
+                        "step_max_ms,assemble_min_ms,assemble_max_ms,assemble_each_ms,factor_min_ms,factor_max_ms,factor_each_ms,"
+                        "solve_min_ms,solve_max_ms,solve_each_ms,kinetic_j,rms_m,contacts,"
                         "indefinite,"
                         "hinges,status")) {
     fprintf(stderr, "bending: %s\n", cb_error_message());

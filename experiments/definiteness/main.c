@@ -15,6 +15,7 @@
 #include "scene_decl.h"
 #include "sweep.h"
 #include "newton_trace.h"
+#include "stats.h"
 
 enum { NPOL = 5 };
 static const char *const policies[NPOL] = {"none", "drop", "mirror", "shift", "choi-ko"};
@@ -45,7 +46,8 @@ enum { T_IT, T_STEPS, T_RUNS, T_PAIR }; /* tables, in the order opened */
 #define IT_HEAD "scene,policy,step,newton_iter,system,spd,min_eig,min_eig_res,mu,spd_exact,min_eig_exact," \
   "compressed_frac,cg_breakdown,cg_status,cg_iters,rel_grad,grad_norm,f_j,energy_j,wall_ms,status"
 #define RUN_HEAD "scene,policy,steps,steps_done,steps_converged,newton_iters,systems,not_spd,indefinite_exact," \
-  "cg_breakdowns,mu_max,factorizations,wall_ms,probe_ms,final_f_j,final_energy_j,final_rel_grad," \
+  "cg_breakdowns,mu_max,factorizations,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,probe_ms,final_f_j," \
+  "final_energy_j,final_rel_grad," \
   "shape_diff_none_m,shape_diff_drop_m,status"
 
 static void put_row(FILE *f, const char *sc, const char *pol, int step, const cb_newton_trace_row *r, int exact_run) {
@@ -76,7 +78,7 @@ static void put_diff(FILE *f, const double *x, const double *y, int nv) {
 
 typedef struct {
   int steps_done, converged, iters, systems, not_spd, indef_x, cg_bd, fact, status;
-  double mu, wall, probe, F, energy, rel_grad, *x;
+  double mu, probe, F, energy, rel_grad, *x;
 } tally;
 
 static int run_policy(const cb_experiment *e, const scene_plan *sd, int p, FILE *it, FILE *stp, tally *t, int *nv) {
@@ -129,7 +131,6 @@ static int run_policy(const cb_experiment *e, const scene_plan *sd, int p, FILE 
     t->iters += ss->newton_iters;
     t->fact += ss->factorizations;
     t->mu = fmax(t->mu, ss->shift_mu);
-    t->wall += wall;
     t->probe += tr.probe_ms;
     t->F = ss->F; t->energy = fin->energy; t->rel_grad = ss->rel_grad;
     if (cb_status_is_fatal(t->status)) break;
@@ -148,6 +149,31 @@ static int run_policy(const cb_experiment *e, const scene_plan *sd, int p, FILE 
   cb_newton_trace_free(&tr);
   cb_scene_free(s);
   cb_scene_free(ref);
+  return st;
+}
+
+/* The run of policy p on sd again, without the trace (no probes, no hook): the integrator's time over
+ * the same steps, stopping where the traced run stopped (a fatal status). */
+static int timed_run(const cb_experiment *e, const scene_plan *sd, int p, double *ms) {
+  char pol[64];
+  snprintf(pol, sizeof pol, "integrator.definiteness=%s", policies[p]);
+  const char *sets[] = {"integrator.tol_dx=1e-9", pol, NULL};
+  cb_scene *s = NULL;
+  cb_integrator *integ = NULL;
+  cb_run run = {0};
+  cb_config cfg;
+  int st = cb_scene_decl_build(e, &sd->scene, sets, &cfg, &s);
+  if (st == CB_OK) st = cb_integrator_from_config(&cfg, s, NULL, &integ);
+  if (st == CB_OK) st = cb_run_init(&run, s, integ);
+  *ms = 0;
+  for (int k = 0; st == CB_OK && k < sd->steps[e->quick]; k++) {
+    int ss = cb_run_step(&run);
+    *ms += run.last.wall_ms;
+    if (cb_status_is_fatal(ss)) break;
+  }
+  cb_run_free(&run);
+  cb_integrator_free(integ);
+  cb_scene_free(s);
   return st;
 }
 
@@ -209,12 +235,29 @@ static int traj_cell(long i, void *ctx, FILE *const *out) {
   memset(t, 0, sizeof t);
   int nv = 0, st = CB_OK;
   for (int p = 0; p < NPOL && st == CB_OK; p++) st = run_policy(pl->e, sd, p, out[T_IT], out[T_STEPS], &t[p], &nv);
+  /* the runs' wall time (what the fixes cost, H2): the policies' runs again without the trace, in
+   * interleaved rounds (stats.h: 3 with --quick, 2-5 in a full run by their cost; a run under 25 ms
+   * timed right after an untimed one of its own) */
+  cb_timing wall[NPOL];
+  memset(wall, 0, sizeof wall);
+  double spent = 0;
+  for (int round = 0; st == CB_OK && cb_timing_more(pl->e->quick, round, spent); round++)
+    for (int p = 0; p < NPOL && st == CB_OK; p++) {
+      double ms;
+      st = timed_run(pl->e, sd, p, &ms);
+      if (st == CB_OK && cb_timing_warm(ms)) st = timed_run(pl->e, sd, p, &ms);
+      cb_timing_add(&wall[p], ms);
+      spent += ms;
+    }
   for (int p = 0; p < NPOL && st == CB_OK; p++) {
     const tally *a = &t[p];
     FILE *f = out[T_RUNS];
-    fprintf(f, "%s,%s,%d,%d,%d,%d,%d,%d,%d,%d,%.17g,%d,%.6f,%.6f,%.17g,%.17g,%.17g,", sd->scene.label, policies[p],
-            sd->steps[pl->e->quick], a->steps_done, a->converged, a->iters, a->systems, a->not_spd, a->indef_x,
-            a->cg_bd, a->mu, a->fact, a->wall, a->probe, a->F, a->energy, a->rel_grad);
+    fprintf(f, "%s,%s,%d,%d,%d,%d,%d,%d,%d,%d,%.17g,%d,", sd->scene.label, policies[p], sd->steps[pl->e->quick], a->steps_done,
+            a->converged, a->iters, a->systems, a->not_spd, a->indef_x, a->cg_bd, a->mu, a->fact);
+    cb_timing_csv(f, &wall[p], 1.0);
+    fputc(',', f);
+    cb_timing_csv_each(f, &wall[p], 1.0);
+    fprintf(f, ",%d,%.6f,%.17g,%.17g,%.17g,", wall[p].n, a->probe, a->F, a->energy, a->rel_grad);
     put_diff(f, a->x, t[0].x, nv);
     put_diff(f, a->x, t[1].x, nv);
     fprintf(f, "%s\n", cb_status_name(a->status));

@@ -13,6 +13,7 @@
 #include "scene_decl.h"
 #include "sweep.h"
 #include "stability.h"
+#include "stats.h"
 
 /* Scenes. Roles: "map" = the k x dt map (explicit sweep, bisection, Newton
  * cells, boundary row, E2 timings at some k; one cell per swept k);
@@ -113,12 +114,15 @@ static void keep(void *ctx, const cb_cell_result *r) {
  * the timing table's not_converged_steps, and the report says so. */
 enum { E2_CONVERGED_MAX_ITERS = 400 };
 
-/* E2: wall time to simulate 1 s from the case's start state, the best of 3
- * runs (converged Newton: of up to 3, while a run is under 300 ms), against
- * the other jobs of a shared machine. methods: 1 explicit, 2 newton, 4 newton_bw.
- * Converged Newton on 41^2 and 81^2 (35-50 solves a step with drop, ~135 s for 1 s of
- * 81^2) runs 10 steps (1/3 s); wall_ms_per_s scales every row to 1 s. */
-static int timing(cb_stability_case *c, double meas, int methods) {
+/* E2: wall time to simulate 1 s from the case's start state. The methods are
+ * timed in interleaved rounds (explicit, Newton, Baraff-Witkin, explicit, ...;
+ * lib/instruments/stats.h: 3 rounds with --quick, 2-5 in a full run by their
+ * cost; a run under 25 ms timed right after an untimed one of its own), and
+ * each row holds the median, min and max over its repeats and every repeat
+ * (repeat i of one method ran in the same round as repeat i of the others). methods: 1 explicit, 2 newton, 4 newton_bw. Converged Newton on
+ * 41^2 and 81^2 (35-50 solves a step with drop, ~135 s for 1 s of 81^2) runs
+ * 10 steps (1/3 s); wall_ms_per_s scales every row to 1 s. */
+static int timing(const cb_experiment *e, cb_stability_case *c, double meas, int methods) {
   cb_stability_params p = cb_stability_params_default();
   p.min_steps = 1; p.max_steps = 0; p.energy_every = 0;
   cb_newton_params np = *(const cb_newton_params *)c->newton->type_params; /* the case's Newton, from its config */
@@ -133,22 +137,36 @@ static int timing(cb_stability_case *c, double meas, int methods) {
   if (st == CB_OK && (methods & 2))
     st = cb_integrator_alloc("newton", c->scene, &c->newton->params, &nc, c->newton->solver->type->name,
                              &c->newton->solver->params, &conv);
+  static const char *const name[] = {"explicit", "newton", "newton_bw"};
+  cb_cell_result first[3];
+  cb_timing wall[3] = {{0}};
+  double spent = 0;
+  for (int round = 0; st == CB_OK && cb_timing_more(e->quick, round, spent); round++)
+    for (int m = 0; st == CB_OK && m < 3; m++) {
+      if (!(methods & (1 << m))) continue;
+      cb_integrator *it = m == 0 ? c->expl : m == 1 ? conv : bw;
+      double dt = m == 0 ? 0.9 * meas : 1.0 / 30.0; /* explicit at 0.9 x its measured dt_crit; implicit at 1/30 s */
+      p.sim_time = m == 1 && cur_nv > 441 ? 1.0 / 3.0 : 1.0;
+      cb_cell_result r;
+      if ((st = cb_stability_cell(it, dt, c->x_start, c->v_start, c->S, &p, &c->work, &r))) break;
+      if (cb_timing_warm(r.wall_ms) && /* a short run: that was its warm-up, time the next */
+          (st = cb_stability_cell(it, dt, c->x_start, c->v_start, c->S, &p, &c->work, &r)))
+        break;
+      if (round == 0) first[m] = r; /* every repeat computes the same run; only its time differs */
+      cb_timing_add(&wall[m], r.wall_ms);
+      spent += r.wall_ms;
+    }
   for (int m = 0; st == CB_OK && m < 3; m++) {
     if (!(methods & (1 << m))) continue;
-    static const char *const name[] = {"explicit", "newton", "newton_bw"};
-    cb_integrator *it = m == 0 ? c->expl : m == 1 ? conv : bw;
-    double dt = m == 0 ? 0.9 * meas : 1.0 / 30.0; /* explicit at 0.9 x its measured dt_crit; implicit at 1/30 s */
-    p.sim_time = m == 1 && cur_nv > 441 ? 1.0 / 3.0 : 1.0;
-    cb_cell_result r, best;
-    int reps = 0;
-    do {
-      if ((st = cb_stability_cell(it, dt, c->x_start, c->v_start, c->S, &p, &c->work, &r))) break;
-      if (reps == 0 || r.wall_ms < best.wall_ms) best = r;
-    } while (++reps < 3 && (m != 1 || r.wall_ms < 300));
-    if (st == CB_OK)
-      fprintf(ftime, "%s,%d,%.17g,%s,%.17g,%ld,%.17g,%.6f,%.6f,%d,%s,%s,%ld,%.17g,%.17g,%ld\n", cur_scene, cur_nv, cur_k, name[m],
-              dt, best.steps, best.t_end, best.wall_ms, best.wall_ms / best.t_end, reps, cb_cell_class_name(best.cls),
-              cb_status_name(best.step_status), best.newton_iters, meas, c->pred.dt_crit, m == 2 ? 0L : best.not_converged_steps);
+    const cb_cell_result *b = &first[m];
+    double dt = m == 0 ? 0.9 * meas : 1.0 / 30.0;
+    fprintf(ftime, "%s,%d,%.17g,%s,%.17g,%ld,%.17g,%.6f,", cur_scene, cur_nv, cur_k, name[m], dt, b->steps, b->t_end,
+            cb_timing_median(&wall[m]));
+    cb_timing_csv(ftime, &wall[m], 1 / b->t_end); /* wall_ms_per_s, its min and max */
+    fputc(',', ftime);
+    cb_timing_csv_each(ftime, &wall[m], 1 / b->t_end);
+    fprintf(ftime, ",%d,%s,%s,%ld,%.17g,%.17g,%ld\n", wall[m].n, cb_cell_class_name(b->cls), cb_status_name(b->step_status),
+            b->newton_iters, meas, c->pred.dt_crit, m == 2 ? 0L : b->not_converged_steps);
   }
   cb_integrator_free(bw);
   cb_integrator_free(conv);
@@ -210,7 +228,7 @@ static int run_case(const cb_experiment *e, const plan *p, const scene_plan *d, 
   int timed = grid && d->e2_k_stride[q] > 0 && ik % d->e2_k_stride[q] == 0, methods = 0;
   for (int r = 0; r < p->nres; r++) timed |= n > 0 && k == p->k_res[r];
   if (timed) methods = n == 21 || (!q && k == p->k_res[0]) ? 7 : 5;
-  if (st == CB_OK && methods && b.status == CB_OK) st = timing(&c, meas, methods);
+  if (st == CB_OK && methods && b.status == CB_OK) st = timing(e, &c, meas, methods);
   cb_stability_case_free(&c);
   return st;
 }
@@ -353,7 +371,7 @@ int main(int argc, char **argv) {
         "lambda_max_rest_per_s2,dt_crit_pred,dt_crit_pred_rest,dt_stable_grid,dt_unstable_grid,grid_monotone,dt_crit_meas,"
         "dt_crit_meas_hi,bisect_runs,bisect_status,equilibrium_ms,predict_ms") != T_BOUNDARY ||
       cb_experiment_table(&e, "timing", info,
-        "scene,n_vertices,k,method,dt,steps,sim_time_s,wall_ms,wall_ms_per_s,wall_repeats,status,step_status,newton_iters,dt_crit_meas,"
+        "scene,n_vertices,k,method,dt,steps,sim_time_s,wall_ms,wall_ms_per_s,wall_min_ms_per_s,wall_max_ms_per_s,wall_each_ms_per_s,wall_repeats,status,step_status,newton_iters,dt_crit_meas,"
         "dt_crit_pred,not_converged_steps") != T_TIMING)
     return cb_experiment_end(&e, CB_EIO), 2;
   /* cost hints: vertices + 5 (a quick run takes 2.5-4 ms per unit for a map cell

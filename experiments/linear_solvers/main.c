@@ -24,6 +24,7 @@
 #include "sweep.h"
 #include "solve_trace.h"
 #include "spectrum.h"
+#include "stats.h"
 
 /* Scenes: the lab cloth (10 m square, total mass 441 kg: vertex_mass = 441/n^2)
  * at n^2 vertices, stiffness k and time step dt. Roles: "spectrum" = the
@@ -55,7 +56,6 @@ static const double rhos[] = {0.90, 0.92, 0.94, 0.95, 0.96, 0.97, 0.98, 0.99, 0.
 static const int newton_k[] = {4, 8, 16, 32, 64};
 #define PRE_NEWTON_ITERS 5 /* Newton iterations per step on the way to the capture */
 #define TOL 1e-10          /* relative residual at which every iterative run stops */
-#define REPEAT_MS 200.0    /* main runs shorter than this are timed 3 times, the fastest kept */
 
 typedef struct {
   cb_experiment e;
@@ -73,58 +73,118 @@ static void fmt(char *buf, size_t n, double v) { /* empty for "not applicable" *
   else snprintf(buf, n, "%.17g", v);
 }
 
-/* One traced solve; writes its rows, its summary and (main runs) its inexact-Newton rows. */
-static int run(ctx *c, const char *sweep, const char *solver, double alpha, double rho, int max_iters) {
+/* A solve to trace: sweep, solver, alpha and rho (NaN: not applicable), iteration cap. */
+typedef struct {
+  const char *sweep, *solver;
+  double alpha, rho;
+  int max_iters;
+} run_spec;
+
+static int trace_one(ctx *c, const run_spec *r, cb_trace *t) {
   cb_solver_params p = cb_solver_params_default();
   p.tol = TOL;
-  p.max_iters = max_iters;
-  p.alpha = isnan(alpha) ? 1.0 : alpha;
-  p.rho = isnan(rho) ? 0.0 : rho;
-  cb_trace t;
-  int st = cb_trace_solve(solver, &p, &c->cap->A, c->cap->b, c->xref, NULL, NULL, &t);
-  /* timing noise: a main run shorter than REPEAT_MS is repeated and the fastest kept */
-  for (int k = 1; st == CB_OK && !strcmp(sweep, "main") && t.wall_ms < REPEAT_MS && k < 3; k++) {
-    cb_trace u;
-    st = cb_trace_solve(solver, &p, &c->cap->A, c->cap->b, c->xref, NULL, NULL, &u);
-    cb_trace tmp = t;
-    if (st == CB_OK && u.wall_ms < t.wall_ms) { t = u; u = tmp; }
-    cb_trace_free(&u);
-  }
-  if (st) return st;
-  if (!strcmp(solver, "chebyshev")) rho = t.rho; /* the estimate when rho = auto */
+  p.max_iters = r->max_iters;
+  p.alpha = isnan(r->alpha) ? 1.0 : r->alpha;
+  p.rho = isnan(r->rho) ? 0.0 : r->rho;
+  return cb_trace_solve(r->solver, &p, &c->cap->A, c->cap->b, c->xref, NULL, NULL, t);
+}
+
+/* The repeats of one solve trace the same iterations (the solve is deterministic); only their times differ. */
+static int same_rows(const cb_trace *a, const cb_trace *b) {
+  if (a->nrows != b->nrows || a->status != b->status) return 0;
+  for (int i = 0; i < a->nrows; i++)
+    if (a->rows[i].iter != b->rows[i].iter) return 0;
+  return 1;
+}
+
+/* Writes one solve's rows (repeats t[0..nrep), identical but for their times): the main table with
+ * every row's wall_ms as the median over the repeats and its spread, the runs summary and (main
+ * runs) its inexact-Newton rows. */
+static void write_run(ctx *c, const run_spec *spec, const cb_trace *t, int nrep) {
+  double alpha = spec->alpha, rho = spec->rho;
+  const cb_trace *t0 = &t[0];
+  if (!strcmp(spec->solver, "chebyshev")) rho = t0->rho; /* the estimate when rho = auto */
   char a[32], an[32], r[32], pr[32], rt[32], rp[32];
   fmt(a, sizeof a, alpha);
   fmt(r, sizeof r, rho);
-  const char *status = cb_status_name(t.status);
-  for (int i = 0; i < t.nrows; i++) {
-    const cb_trace_row *w = &t.rows[i];
-    fprintf(c->out[T_MAIN], "%s,%s,%s,%s,%s,%d,%.17g,%.17g,%s,%.17g\n", c->scene, sweep, solver, a, r, w->iter,
-            w->rel_residual, w->wall_ms, status, w->error);
+  const char *status = cb_status_name(t0->status);
+  cb_timing w6 = {0}, setup = {0}, rho_ms = {0}, total = {0};
+  const cb_trace_row *hit = NULL, *last = t0->nrows ? &t0->rows[t0->nrows - 1] : NULL;
+  int ihit = -1;
+  for (int i = 0; i < t0->nrows && !hit; i++)
+    if (t0->rows[i].rel_residual <= 1e-6) hit = &t0->rows[ihit = i];
+  for (int k = 0; k < nrep; k++) {
+    cb_timing_add(&setup, t[k].setup_ms);
+    cb_timing_add(&rho_ms, t[k].rho_ms);
+    cb_timing_add(&total, t[k].wall_ms);
+    if (hit) cb_timing_add(&w6, t[k].rows[ihit].wall_ms);
   }
-  const cb_trace_row *hit = NULL, *last = t.nrows ? &t.rows[t.nrows - 1] : NULL;
-  for (int i = 0; i < t.nrows && !hit; i++)
-    if (t.rows[i].rel_residual <= 1e-6) hit = &t.rows[i];
+  for (int i = 0; i < t0->nrows; i++) {
+    const cb_trace_row *w = &t0->rows[i];
+    cb_timing wr = {0};
+    for (int k = 0; k < nrep; k++) cb_timing_add(&wr, t[k].rows[i].wall_ms);
+    fprintf(c->out[T_MAIN], "%s,%s,%s,%s,%s,%d,%.17g,", c->scene, spec->sweep, spec->solver, a, r, w->iter, w->rel_residual);
+    cb_timing_csv(c->out[T_MAIN], &wr, 1.0);
+    fputc(',', c->out[T_MAIN]);
+    if (nrep > 1) cb_timing_csv_each(c->out[T_MAIN], &wr, 1.0);
+    fprintf(c->out[T_MAIN], ",%d,%s,%.17g\n", nrep, status, w->error);
+  }
   fmt(pr, sizeof pr, isnan(alpha) ? NAN : cb_jacobi_rho(c->lmin, c->lmax, alpha));
   fmt(an, sizeof an, alpha * c->lmax / 2);
-  fmt(rt, sizeof rt, cb_trace_rate(t.rows, t.nrows, 0.25));
-  fmt(rp, sizeof rp, cb_trace_rate_window(t.rows, t.nrows, 0.5, 0.75));
-  fprintf(c->out[T_RUNS], "%s,%s,%s,%s,%s,%s,%s,%d,%.17g,%s,%s,", c->scene, sweep, solver, a, an, r, pr, t.iters,
+  fmt(rt, sizeof rt, cb_trace_rate(t0->rows, t0->nrows, 0.25));
+  fmt(rp, sizeof rp, cb_trace_rate_window(t0->rows, t0->nrows, 0.5, 0.75));
+  fprintf(c->out[T_RUNS], "%s,%s,%s,%s,%s,%s,%s,%d,%.17g,%s,%s,", c->scene, spec->sweep, spec->solver, a, an, r, pr, t0->iters,
           last ? last->rel_residual : NAN, rt, rp);
-  if (hit) fprintf(c->out[T_RUNS], "%d,%.17g,", hit->iter, hit->wall_ms);
+  if (hit) fprintf(c->out[T_RUNS], "%d,%.6f,", hit->iter, cb_timing_median(&w6));
   else fputs(",,", c->out[T_RUNS]);
-  fprintf(c->out[T_RUNS], "%.17g,%.17g,%.17g,%s\n", t.setup_ms, t.rho_ms, t.wall_ms, status);
-  int lab995 = !strcmp(sweep, "rho") && fabs(rho - 0.995) < 1e-12 && fabs(alpha - 2 / (c->lmin + c->lmax)) < 1e-12;
-  if ((!strcmp(sweep, "main") && strcmp(solver, "cholmod")) || lab995)
+  fprintf(c->out[T_RUNS], "%.6f,%.6f,", cb_timing_median(&setup), cb_timing_median(&rho_ms));
+  cb_timing_csv(c->out[T_RUNS], &total, 1.0);
+  fprintf(c->out[T_RUNS], ",%d,%s\n", nrep, status);
+  int lab995 = !strcmp(spec->sweep, "rho") && fabs(rho - 0.995) < 1e-12 && fabs(alpha - 2 / (c->lmin + c->lmax)) < 1e-12;
+  if ((!strcmp(spec->sweep, "main") && strcmp(spec->solver, "cholmod")) || lab995)
     for (size_t k = 0; k < sizeof newton_k / sizeof *newton_k; k++) {
-      const cb_trace_row *w = cb_trace_at(&t, newton_k[k]);
+      const cb_trace_row *w = cb_trace_at(t0, newton_k[k]);
       if (!w) continue;
-      int cut = w->iter == newton_k[k] && w->iter < t.iters; /* stopped by the cut, not by the run */
+      cb_timing wk = {0};
+      for (int q = 0; q < nrep; q++) cb_timing_add(&wk, t[q].rows[w - t0->rows].wall_ms);
+      int cut = w->iter == newton_k[k] && w->iter < t0->iters; /* stopped by the cut, not by the run */
       const char *s = cut ? (w->rel_residual <= TOL ? "ok" : "max_iters") : status;
-      fprintf(c->out[T_NEWTON], "%s,%s,%s,%s,%d,%d,%.17g,%.17g,%.17g,%s\n", c->scene, solver, a, r, newton_k[k], w->iter,
-              w->rel_residual, w->error, w->wall_ms, s);
+      fprintf(c->out[T_NEWTON], "%s,%s,%s,%s,%d,%d,%.17g,%.17g,%.6f,%s\n", c->scene, spec->solver, a, r, newton_k[k], w->iter,
+              w->rel_residual, w->error, cb_timing_median(&wk), s);
     }
-  cb_trace_free(&t);
-  return CB_OK;
+}
+
+/* Traces the solves g[0..n): once each (repeat = 0), or in interleaved rounds (every solve once per
+ * round; stats.h: 3 rounds with --quick, 2-5 in a full run by their cost; a solve under 25 ms timed
+ * right after an untimed one of its own), and writes their rows. */
+static int run_group(ctx *c, const run_spec *g, int n, int repeat) {
+  enum { MAXG = 16 };
+  static cb_trace t[MAXG][CB_TIMING_MAX];
+  if (n > MAXG) return cb_fail("linear_solvers: more than %d solves in one group", MAXG);
+  int st = CB_OK, rounds = 0;
+  double spent = 0;
+  for (; st == CB_OK && (rounds == 0 || (repeat && cb_timing_more(c->e.quick, rounds, spent))); rounds++)
+    for (int i = 0; i < n; i++) {
+      memset(&t[i][rounds], 0, sizeof t[i][rounds]);
+      if (st == CB_OK) st = trace_one(c, &g[i], &t[i][rounds]);
+      if (st == CB_OK && repeat && cb_timing_warm(t[i][rounds].wall_ms)) { /* a short solve: that was its warm-up */
+        cb_trace_free(&t[i][rounds]);
+        st = trace_one(c, &g[i], &t[i][rounds]);
+      }
+      if (st == CB_OK && rounds > 0 && !same_rows(&t[i][0], &t[i][rounds]))
+        st = cb_fail("linear_solvers: %s %s on %s: repeat %d traced other iterations than the first", g[i].sweep,
+                     g[i].solver, c->scene, rounds + 1);
+      spent += t[i][rounds].wall_ms;
+    }
+  for (int i = 0; st == CB_OK && i < n; i++) write_run(c, &g[i], t[i], rounds);
+  for (int i = 0; i < n; i++)
+    for (int k = 0; k < rounds; k++) cb_trace_free(&t[i][k]);
+  return st;
+}
+
+static int run(ctx *c, const char *sweep, const char *solver, double alpha, double rho, int max_iters) {
+  run_spec r = {sweep, solver, alpha, rho, max_iters};
+  return run_group(c, &r, 1, !strcmp(sweep, "rho_auto")); /* rho_auto: its estimate's time is reported (J3) */
 }
 
 /* A scene whose capture or spectrum failed (e.g. the run diverged, A not SPD) keeps its row. */
@@ -177,12 +237,15 @@ static int scene(ctx *c, const scene_plan *d, FILE *sc) {
   c->scene = label;
   c->cap = &cap;
   c->xref = xref;
-  /* every registered solver; Jacobi-type ones at alpha*, Chebyshev with rho = auto */
-  for (int s = 0; st == CB_OK && cb_solver_types[s]; s++) {
+  /* every registered solver; Jacobi-type ones at alpha*, Chebyshev with rho = auto; timed in interleaved rounds */
+  run_spec mains[16];
+  int nmain = 0;
+  for (int s = 0; cb_solver_types[s] && nmain < 16; s++) {
     unsigned f = cb_solver_types[s]->flags;
-    st = run(c, "main", cb_solver_types[s]->name, f & CB_SOLVER_USES_ALPHA ? astar : NAN,
-             f & CB_SOLVER_USES_RHO ? 0.0 : NAN, c->max_iters);
+    mains[nmain++] = (run_spec){"main", cb_solver_types[s]->name, f & CB_SOLVER_USES_ALPHA ? astar : NAN,
+                                f & CB_SOLVER_USES_RHO ? 0.0 : NAN, c->max_iters};
   }
+  if (st == CB_OK) st = run_group(c, mains, nmain, 1);
   /* J1: vanilla alpha = 1 and fractions of the predicted limit 2/lambda_max */
   st = st ? st : run(c, "alpha", "jacobi", 1.0, NAN, c->sweep_iters);
   for (size_t i = 0; st == CB_OK && i < sizeof alpha_fracs / sizeof *alpha_fracs; i++)
@@ -228,13 +291,15 @@ int main(int argc, char **argv) {
   cb_experiment_timed(&c.e); /* its numbers include wall times: run alone */
   c.max_iters = c.e.quick ? 20000 : 1000000;
   c.sweep_iters = c.e.quick ? 1500 : 4000;
-  char extra[512];
+  char extra[1024];
   snprintf(extra, sizeof extra,
            "# capture: first Newton iteration of the step at t_capture; %d Newton iterations per step before it\n"
            "# solves: x0 = 0, tol = %g, max_iters = %d (sweeps %d); jacobi/chebyshev main runs at alpha* = "
            "2/(lmin+lmax) of D^-1 A\n# reference x*: CHOLMOD refined once; wall_ms includes set-up, not CHOLMOD's "
-           "symbolic analysis\n", PRE_NEWTON_ITERS, TOL, c.max_iters, c.sweep_iters);
-  rc = cb_experiment_table(&c.e, NULL, extra, "scene,sweep,solver,alpha,rho,iter,rel_residual,wall_ms,status,error") != T_MAIN ||
+           "symbolic analysis; main and rho_auto solves are repeated (wall_ms: the median, wall_min_ms, wall_max_ms, "
+           "wall_each_ms: the spread and every repeat, per row), the main ones in interleaved rounds\n", PRE_NEWTON_ITERS, TOL, c.max_iters, c.sweep_iters);
+  rc = cb_experiment_table(&c.e, NULL, extra, "scene,sweep,solver,alpha,rho,iter,rel_residual,wall_ms,wall_min_ms,wall_max_ms,"
+                           "wall_each_ms,wall_repeats,status,error") != T_MAIN ||
        cb_experiment_table(&c.e, "scenes", extra,
                            "scene,grid_n,n_dofs,nnz,stretch_k_n_per_m,dt_s,vertex_mass_kg,capture_t_s,"
                            "capture_step,capture_ms,non_dd_rows,max_offdiag_ratio,lmin_lanczos,lmax_lanczos,"
@@ -242,7 +307,7 @@ int main(int argc, char **argv) {
                            "dense_ms,spectrum,alpha_max,alpha_star,rho_vanilla,rho_star,rho_lab,status") != T_SCENES ||
        cb_experiment_table(&c.e, "runs", extra,
                            "scene,sweep,solver,alpha,alpha_over_max,rho,rho_predicted,iters,rel_residual,rate,rate_prev,"
-                           "iters_1e6,wall_ms_1e6,setup_ms,rho_ms,wall_ms,status") != T_RUNS ||
+                           "iters_1e6,wall_ms_1e6,setup_ms,rho_ms,wall_ms,wall_min_ms,wall_max_ms,wall_repeats,status") != T_RUNS ||
        cb_experiment_table(&c.e, "newton", extra,
                            "scene,solver,alpha,rho,k,iters,rel_residual,step_error,wall_ms,status") != T_NEWTON;
   if (rc) return cb_experiment_end(&c.e, CB_EIO), 2;

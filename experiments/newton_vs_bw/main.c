@@ -120,7 +120,7 @@ static int steps_cell(long i, void *ctx, FILE *const *out) {
   cb_scene *s = NULL;
   cb_config cfg;
   int st = cb_scene_decl_build(p->e, d, NULL, &cfg, &s);
-  if (st == CB_OK) st = cb_study_steps(s, d->label, cfg.dt, states, ns, M, nm, out[T_STEPS], P);
+  if (st == CB_OK) st = cb_study_steps(s, d->label, cfg.dt, states, ns, M, nm, p->q, out[T_STEPS], P);
   if (st == CB_OK) st = cb_study_pareto(out[T_PARETO], d->label, M, nm, P, ns);
   cb_scene_free(s);
   return st;

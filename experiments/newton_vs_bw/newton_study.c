@@ -13,10 +13,7 @@
 const char *const cb_study_steps_header =
     "scene,n,dt,k,stretch,step,method,max_newton_iters,inner_solver,line_search,newton_iters,linear_iters,"
     "ls_reduced,ls_backtracks,step_error,rel_grad,f_minus_fstar_j,assemble_ms,factor_ms,setup_ms,solve_ms,wall_ms,"
-    "status,ref_iters,ref_rel_grad,ref_grad_norm,ref_last_dx_m,ref_status";
-
-enum { STEP_REPS = 5 };
-#define STEP_REP_MS 25.0
+    "wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,status,ref_iters,ref_rel_grad,ref_grad_norm,ref_last_dx_m,ref_status";
 
 /* x, v, xstar: 3*nv each */
 typedef struct {
@@ -43,14 +40,16 @@ static void scene_cols(FILE *f, const cb_scene *s, const char *label, double dt)
 }
 
 int cb_study_steps(cb_scene *s, const char *label, double dt, const int *states, int nstates, const cb_method *methods,
-                   int nmethods, FILE *csv, cb_study_point *pts) {
+                   int nmethods, int quick, FILE *csv, cb_study_point *pts) {
   cb_reference_params rp = cb_reference_params_default();
   rp.dt = dt;
   cb_reference *ref = NULL;
   cb_integrator **its = cb_calloc((size_t)nmethods, sizeof *its);
+  cb_step_result *res = cb_calloc((size_t)nmethods, sizeof *res);
+  cb_timing *tm = cb_calloc((size_t)5 * nmethods, sizeof *tm); /* per method: assemble, factor, setup, solve, wall */
   state3 w = {0};
   cb_method_work mw = {0};
-  int st = its ? cb_reference_alloc(s, &rp, &ref) : CB_ENOMEM;
+  int st = its && res && tm ? cb_reference_alloc(s, &rp, &ref) : CB_ENOMEM;
   if (st == CB_OK) st = state_alloc(s, &w);
   if (st == CB_OK) st = cb_method_work_alloc(s, &mw);
   for (int m = 0; st == CB_OK && m < nmethods; m++)
@@ -62,38 +61,51 @@ int cb_study_steps(cb_scene *s, const char *label, double dt, const int *states,
     if (next < nstates && step == states[next]) {
       next++;
       double Fstar = cb_reference_objective(ref, w.x, w.v, w.xs, NULL);
-      for (int m = 0; m < nmethods; m++) {
-        const cb_method *me = &methods[m];
-        cb_step_result r;
+      for (int m = 0; m < nmethods; m++)
         if (step == states[0]) { /* untimed warm-up: first-solve workspaces, caches */
           cb_newton_params *np = its[m]->type_params;
           int K = np->max_iters;
           np->max_iters = 1;
-          cb_method_step(its[m], &mw, ref, w.x, w.v, w.xs, Fstar, &r);
+          cb_method_step(its[m], &mw, ref, w.x, w.v, w.xs, Fstar, &res[m]);
           np->max_iters = K;
         }
-        /* timing: the fastest of up to STEP_REPS runs, repeated while they add up to < STEP_REP_MS
-         * (cheap methods are timed several times, expensive ones once; results are identical) */
-        cb_method_step(its[m], &mw, ref, w.x, w.v, w.xs, Fstar, &r);
-        double spent = r.st.wall_ms;
-        for (int rep = 1; rep < STEP_REPS && spent < STEP_REP_MS; rep++) {
-          cb_step_result r2;
-          cb_method_step(its[m], &mw, ref, w.x, w.v, w.xs, Fstar, &r2);
-          spent += r2.st.wall_ms;
-          if (r2.st.wall_ms < r.st.wall_ms) r = r2;
+      /* timing: every method once per round, in interleaved rounds (stats.h: 3 with --quick, 2-5 in a
+       * full run by their cost; a step under 25 ms timed right after an untimed one of its own); the
+       * repeats compute the same step, only their times differ */
+      memset(tm, 0, (size_t)5 * nmethods * sizeof *tm);
+      double spent = 0;
+      for (int round = 0; cb_timing_more(quick, round, spent); round++)
+        for (int m = 0; m < nmethods; m++) {
+          cb_step_result r;
+          cb_method_step(its[m], &mw, ref, w.x, w.v, w.xs, Fstar, &r);
+          if (cb_timing_warm(r.st.wall_ms)) /* a short step: that was its warm-up, time the next */
+            cb_method_step(its[m], &mw, ref, w.x, w.v, w.xs, Fstar, &r);
+          if (round == 0) res[m] = r;
+          const double part[5] = {r.st.assemble_ms, r.st.factor_ms, r.setup_ms, r.st.solve_ms, r.st.wall_ms};
+          for (int q = 0; q < 5; q++) cb_timing_add(&tm[5 * m + q], part[q]);
+          spent += r.st.wall_ms;
         }
+      for (int m = 0; m < nmethods; m++) {
+        const cb_method *me = &methods[m];
+        const cb_step_result *r = &res[m];
+        const cb_timing *T = &tm[5 * m];
         scene_cols(csv, s, label, dt);
-        fprintf(csv, "%d,%s,%d,%s,%d,%d,%d,%d,%d,%.17g,%.17g,%.17g,%.6f,%.6f,%.6f,%.6f,%.6f,%s,%d,%.17g,%.17g,%.17g,%s\n",
-                step, me->name, me->K > 0 ? me->K : CB_METHOD_CONVERGED_ITERS, me->inner, me->line_search,
-                r.st.newton_iters, r.st.linear_iters, r.ls_reduced, r.st.ls_backtracks, r.step_error, r.st.rel_grad,
-                r.f_minus_fstar, r.st.assemble_ms, r.st.factor_ms, r.setup_ms, r.st.solve_ms, r.st.wall_ms,
-                cb_status_name(r.st.status), rs.iters, rs.rel_grad, rs.grad_norm, rs.last_dx, cb_status_name(rst));
+        fprintf(csv, "%d,%s,%d,%s,%d,%d,%d,%d,%d,%.17g,%.17g,%.17g,%.6f,%.6f,%.6f,%.6f,", step, me->name,
+                me->K > 0 ? me->K : CB_METHOD_CONVERGED_ITERS, me->inner, me->line_search, r->st.newton_iters,
+                r->st.linear_iters, r->ls_reduced, r->st.ls_backtracks, r->step_error, r->st.rel_grad, r->f_minus_fstar,
+                cb_timing_median(&T[0]), cb_timing_median(&T[1]), cb_timing_median(&T[2]), cb_timing_median(&T[3]));
+        cb_timing_csv(csv, &T[4], 1.0);
+        fputc(',', csv);
+        cb_timing_csv_each(csv, &T[4], 1.0);
+        fprintf(csv, ",%d,%s,%d,%.17g,%.17g,%.17g,%s\n", T[4].n, cb_status_name(r->st.status), rs.iters, rs.rel_grad,
+                rs.grad_norm, rs.last_dx, cb_status_name(rst));
         if (pts) {
           cb_study_point *pt = &pts[(next - 1) * nmethods + m];
-          pt->wall_ms = r.st.wall_ms;
-          pt->setup_ms = r.setup_ms;
-          pt->step_error = r.step_error;
-          pt->failed = r.st.status != CB_OK && r.st.status != CB_NOT_CONVERGED;
+          pt->wall = T[4];
+          pt->wall_ms = cb_timing_median(&T[4]);
+          pt->setup_ms = cb_timing_median(&T[2]);
+          pt->step_error = r->step_error;
+          pt->failed = r->st.status != CB_OK && r->st.status != CB_NOT_CONVERGED;
         }
       }
     }
@@ -105,6 +117,8 @@ int cb_study_steps(cb_scene *s, const char *label, double dt, const int *states,
   }
   for (int m = 0; its && m < nmethods; m++) cb_integrator_free(its[m]);
   free(its);
+  free(res);
+  free(tm);
   cb_method_work_free(&mw);
   state_free(&w);
   cb_reference_free(ref);
@@ -114,7 +128,7 @@ int cb_study_steps(cb_scene *s, const char *label, double dt, const int *states,
 /* ---- summary ---------------------------------------------------------------- */
 
 const char *const cb_study_pareto_header =
-    "scene,method,max_newton_iters,k_index,inner_solver,inner_index,line_search,states,wall_ms,wall_no_setup_ms,"
+    "scene,method,max_newton_iters,k_index,inner_solver,inner_index,line_search,states,wall_ms,wall_min_ms,wall_max_ms,wall_no_setup_ms,"
     "step_error_max,failed,front_by_wall";
 
 int cb_study_pareto(FILE *csv, const char *label, const cb_method *methods, int nmethods, const cb_study_point *pts,
@@ -123,9 +137,11 @@ int cb_study_pareto(FILE *csv, const char *label, const cb_method *methods, int 
   static const int Ks[] = {1, 2, 3, 5, 10, 0};
   double *cost = cb_malloc((size_t)nmethods, sizeof(double)), *nos = cb_malloc((size_t)nmethods, sizeof(double));
   double *err = cb_malloc((size_t)nmethods, sizeof(double)), *tmp = cb_malloc((size_t)nstates + 1, sizeof(double));
+  double *lo = cb_malloc((size_t)nmethods, sizeof(double)), *hi = cb_malloc((size_t)nmethods, sizeof(double));
+  cb_timing *each = cb_malloc((size_t)nstates + 1, sizeof *each);
   int *front = cb_malloc((size_t)nmethods, sizeof(int));
   int *failed = cb_calloc((size_t)nmethods, sizeof(int));
-  int st = cost && nos && err && tmp && front && failed && nstates > 0 ? CB_OK : CB_ENOMEM;
+  int st = cost && nos && err && tmp && lo && hi && each && front && failed && nstates > 0 ? CB_OK : CB_ENOMEM;
   for (int m = 0; st == CB_OK && m < nmethods; m++) {
     err[m] = 0;
     for (int k = 0; k < nstates; k++) {
@@ -138,6 +154,17 @@ int cb_study_pareto(FILE *csv, const char *label, const cb_method *methods, int 
     cost[m] = cb_median(tmp, nstates);
     for (int k = 0; k < nstates; k++) tmp[k] = pts[k * nmethods + m].wall_ms - pts[k * nmethods + m].setup_ms;
     nos[m] = cb_median(tmp, nstates);
+    cb_timing per; /* the spread of the median over states */
+    for (int k = 0; k < nstates; k++) each[k] = pts[k * nmethods + m].wall;
+    if (cb_timing_median_over(each, nstates, &per) == 0) {
+      lo[m] = cb_timing_min(&per);
+      hi[m] = cb_timing_max(&per);
+    } else {
+      for (int k = 0; k < nstates; k++) tmp[k] = cb_timing_min(&each[k]);
+      lo[m] = cb_median(tmp, nstates);
+      for (int k = 0; k < nstates; k++) tmp[k] = cb_timing_max(&each[k]);
+      hi[m] = cb_median(tmp, nstates);
+    }
   }
   if (st == CB_OK) {
     /* rows in method order, not by cost: the file's deterministic columns are
@@ -148,12 +175,12 @@ int cb_study_pareto(FILE *csv, const char *label, const cb_method *methods, int 
       int ki = 0, ii = 0;
       while (ki < 5 && Ks[ki] != methods[m].K) ki++;
       while (ii < 5 && strcmp(inners[ii], methods[m].inner)) ii++;
-      fprintf(csv, "%s,%s,%d,%d,%s,%d,%d,%d,%.6f,%.6f,%.17g,%d,%d\n", label, methods[m].name,
+      fprintf(csv, "%s,%s,%d,%d,%s,%d,%d,%d,%.6f,%.6f,%.6f,%.6f,%.17g,%d,%d\n", label, methods[m].name,
               methods[m].K > 0 ? methods[m].K : CB_METHOD_CONVERGED_ITERS, ki, methods[m].inner, ii,
-              methods[m].line_search, nstates, cost[m], nos[m], err[m], failed[m], front[m]);
+              methods[m].line_search, nstates, cost[m], lo[m], hi[m], nos[m], err[m], failed[m], front[m]);
     }
   }
-  free(cost); free(nos); free(err); free(tmp); free(front); free(failed);
+  free(cost); free(nos); free(err); free(tmp); free(lo); free(hi); free(each); free(front); free(failed);
   return st;
 }
 

@@ -20,6 +20,7 @@
 #include <stdio.h>
 
 #include "method.h"
+#include "stats.h"
 #include "reference.h"
 #include <clothbench/scene.h>
 
@@ -27,22 +28,28 @@
 extern const char *const cb_study_steps_header;
 /* What cb_study_steps keeps of each (state, method) for the summary. */
 typedef struct cb_study_point {
-  double wall_ms, setup_ms, step_error;
+  cb_timing wall;                       /* the step's wall time, every repeat */
+  double wall_ms, setup_ms, step_error; /* medians over the repeats */
   int failed; /* a status other than ok / max_iters (fixed K ends at max_iters by design) */
 } cb_study_point;
-/* states: steps of the reference trajectory to start from (ascending). Each
- * method's step is timed as the fastest of up to 5 identical runs, repeated
- * while their total stays under 25 ms (so only cheap steps are repeated),
- * after one untimed warm-up step at the first state. */
+/* states: steps of the reference trajectory to start from (ascending). At
+ * each state every method's step is timed in interleaved rounds (each method
+ * once per round; stats.h: 3 rounds with quick, 2-5 in a full run by their
+ * cost; a step shorter than CB_TIMING_WARM_MS timed right after an untimed
+ * one of its own), after one untimed warm-up step of every method at the first state;
+ * a row holds the medians over the repeats, and for wall_ms also the min,
+ * max and every repeat. */
 int cb_study_steps(cb_scene *s, const char *label, double dt, const int *states, int nstates, const cb_method *methods,
-                   int nmethods, FILE *csv, cb_study_point *pts);
+                   int nmethods, int quick, FILE *csv, cb_study_point *pts);
 
 /* ---- the error / run-time summary of one scene ---------------------------- */
 extern const char *const cb_study_pareto_header;
 /* pts[state * nmethods + m] from cb_study_steps. One row per method: median
- * wall_ms (and without Chebyshev's rho set-up) over the states, max step
- * error (Inf if a step failed), and whether the method is on the Pareto
- * front of (median wall_ms, max step error). Rows sorted by wall_ms. */
+ * wall_ms (and without Chebyshev's rho set-up) over the states, with its
+ * spread (wall_min_ms, wall_max_ms: over the repeats that every state has,
+ * per repeat the median over the states), max step error (Inf if a
+ * step failed), and whether the method is on the Pareto front of (median
+ * wall_ms, max step error). Rows in method order. */
 int cb_study_pareto(FILE *csv, const char *label, const cb_method *methods, int nmethods, const cb_study_point *pts,
                     int nstates);
 

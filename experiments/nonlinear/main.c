@@ -266,50 +266,110 @@ static int make_state(const cb_experiment *e, const cb_scene_decl *d, int frames
 typedef struct {
   double wall_ms, setup_ms, alloc_ms, error, rel_grad, rho;
   int iters, status;
+  cb_timing wall; /* the step's time at every timed repeat (wall_ms: their median) */
 } step_result;
 
-/* One step of the method `sets` names from S's start state; repeated (the
- * median wall time kept) while it is short. hook may observe it. */
-static int one_step(const cb_experiment *e, const cb_scene_decl *d, state_t *S, const char *const *sets, cb_newton_hook hook,
-                    void *ctx, step_result *r) {
-  cb_config c;
+/* The config of the method `sets` names (plus STEP_SETS) on scene d. */
+static int step_config(const cb_experiment *e, const cb_scene_decl *d, const char *const *sets, cb_config *c) {
   const char *all[MAXSETS + 4];
   int n = 0;
   for (int i = 0; sets[i] && n < MAXSETS; i++) all[n++] = sets[i];
   all[n++] = STEP_SETS[0];
   all[n] = NULL;
-  int st = cb_scene_decl_config(e, d, all, &c);
-  if (st) return st;
+  return cb_scene_decl_config(e, d, all, c);
+}
+
+/* One run: a fresh integrator from c, one step from S's start state; r gets its results, *wall its
+ * time. hook may observe it. */
+static int run_once(state_t *S, const cb_config *c, cb_newton_hook hook, void *ctx, step_result *r, double *wall) {
   cb_integrator_params ip;
-  cb_integrator_params_from_config(&c, &ip);
+  cb_integrator_params_from_config(c, &ip);
   ip.hook = hook;
   ip.hook_ctx = ctx;
-  double walls[5];
+  cb_integrator *it = NULL;
+  double t0 = cb_now_ms();
+  int st = cb_integrator_from_config(c, S->s, &ip, &it);
+  if (st) return st;
+  r->alloc_ms = cb_now_ms() - t0; /* pd: its one factorisation */
+  memcpy(S->x, S->x0, (size_t)S->n3 * sizeof(double));
+  memcpy(S->v, S->v0, (size_t)S->n3 * sizeof(double));
+  cb_step_stats ss;
+  r->status = cb_integrator_step(it, S->x, S->v, &ss);
+  /* the fixed-iteration methods' factor_ms is the auto rho's estimate, once per run, not a step's cost
+     (pd factorises in alloc, alloc_ms); Newton's is its factorisations, which are */
+  int once = strcmp(it->type->name, "newton") != 0;
+  *wall = ss.wall_ms - (once ? ss.factor_ms : 0.0);
+  r->setup_ms = ss.factor_ms;
+  r->rel_grad = ss.rel_grad_hat;
+  r->iters = ss.newton_iters;
+  r->rho = ss.rho;
+  r->error = cb_step_error(S->s, S->x, S->xstar, S->x0);
+  cb_integrator_free(it);
+  return CB_OK;
+}
+
+/* One step of the method `sets` names from S's start state, for the error-time figure: repeated
+ * (the median wall time kept) while the repeats add up to less than 30 ms, at most 5. With a hook
+ * (an observed step is for its trace, not its time): once. */
+static int one_step(const cb_experiment *e, const cb_scene_decl *d, state_t *S, const char *const *sets, cb_newton_hook hook,
+                    void *ctx, step_result *r) {
+  cb_config c;
+  int st = step_config(e, d, sets, &c);
+  if (st) return st;
+  double walls[5], w;
   int reps = 0;
   memset(r, 0, sizeof *r);
   do {
-    cb_integrator *it = NULL;
-    double t0 = cb_now_ms();
-    if ((st = cb_integrator_from_config(&c, S->s, &ip, &it))) return st;
-    r->alloc_ms = cb_now_ms() - t0; /* pd: its one factorisation */
-    memcpy(S->x, S->x0, (size_t)S->n3 * sizeof(double));
-    memcpy(S->v, S->v0, (size_t)S->n3 * sizeof(double));
-    cb_step_stats ss;
-    r->status = cb_integrator_step(it, S->x, S->v, &ss);
-    /* the fixed-iteration methods' factor_ms is the auto rho's estimate, once per run, not a step's cost
-       (pd factorises in alloc, alloc_ms); Newton's is its factorisations, which are */
-    int once = strcmp(it->type->name, "newton") != 0;
-    walls[reps++] = ss.wall_ms - (once ? ss.factor_ms : 0.0);
-    r->setup_ms = ss.factor_ms;
-    r->rel_grad = ss.rel_grad_hat;
-    r->iters = ss.newton_iters;
-    r->rho = ss.rho;
-    cb_integrator_free(it);
-    if (hook) break; /* an observed step is for its trace, not its time */
+    if ((st = run_once(S, &c, hook, ctx, r, &w))) return st;
+    walls[reps++] = w;
+    cb_timing_add(&r->wall, w);
+    if (hook) break;
   } while (reps < 5 && cb_median(walls, reps) * reps < 30.0);
   r->wall_ms = cb_median(walls, reps);
-  r->error = cb_step_error(S->s, S->x, S->xstar, S->x0);
   return CB_OK;
+}
+
+/* The steps of the methods sets[0..n) from S's start state, compared by a claim: timed in
+ * interleaved rounds (every method once per round; stats.h: 3 rounds with --quick, 2-5 in a full
+ * run by their cost; a step under 25 ms timed right after an untimed one of its own). r[i] gets
+ * method i's results (every repeat computes the same step) and its repeats. */
+static int time_group(const cb_experiment *e, const cb_scene_decl *d, state_t *S, const char *const *const *sets, int n,
+                      step_result *r) {
+  enum { MAXG = 16 };
+  static cb_config c[MAXG];
+  if (n > MAXG) return cb_fail("nonlinear: more than %d steps in one group", MAXG);
+  for (int i = 0; i < n; i++) {
+    int st = step_config(e, d, sets[i], &c[i]);
+    if (st) return st;
+    memset(&r[i], 0, sizeof r[i]);
+  }
+  double spent = 0;
+  for (int round = 0; cb_timing_more(e->quick, round, spent); round++)
+    for (int i = 0; i < n; i++) {
+      step_result x;
+      double w;
+      int st = run_once(S, &c[i], NULL, NULL, &x, &w);
+      if (st == CB_OK && cb_timing_warm(w)) st = run_once(S, &c[i], NULL, NULL, &x, &w); /* that was the warm-up */
+      if (st) return st;
+      if (round == 0) {
+        cb_timing keep = r[i].wall;
+        r[i] = x;
+        r[i].wall = keep;
+      }
+      cb_timing_add(&r[i].wall, w);
+      spent += w;
+    }
+  for (int i = 0; i < n; i++) r[i].wall_ms = cb_timing_median(&r[i].wall);
+  return CB_OK;
+}
+
+/* "median,min,max,each,repeats" of a step's timing (nan fields and no repeats when it was not timed) */
+static void put_timing(FILE *f, const step_result *r, int timed) {
+  cb_timing none = {0};
+  cb_timing_csv(f, timed ? &r->wall : &none, 1.0);
+  fputc(',', f);
+  if (timed) cb_timing_csv_each(f, &r->wall, 1.0);
+  fprintf(f, ",%d", timed ? r->wall.n : 0);
 }
 
 /* ---- W1: iterations and time to 1e-2 and 1e-4 -------------------------------- */
@@ -348,7 +408,9 @@ static int w1_kmax(int quick, int m, int n) {
   return kmax;
 }
 
-/* Cell i: scene w1[i]: its start state, then every W1 method from it. */
+/* Cell i: scene w1[i]: its start state, then every W1 method from it (a traced run for the
+ * iterations to each tolerance), then the steps of exactly that many iterations of every method,
+ * timed together (interleaved: the plain and the accelerated iteration of a pair are compared). */
 static int w1_cell(long i, void *ctx, FILE *const *out) {
   const plan *p = ctx;
   const cb_scene_decl *d = scene_of(p->w1[i]);
@@ -356,38 +418,49 @@ static int w1_cell(long i, void *ctx, FILE *const *out) {
   state_t S;
   int st = make_state(p->e, d, p->state_frames, &S);
   if (st) return st;
-  int n = S.s->mesh.grid_n;
+  int n = S.s->mesh.grid_n, hit[NW1M][2], kmax[NW1M], job[NW1M][2], njobs = 0;
+  double final_rel[NW1M];
+  step_result r[NW1M], rt[2 * NW1M];
+  static char iters[2 * NW1M + NW1M][64];
+  static const char *sets[2 * NW1M + NW1M][6], *const *jobs[2 * NW1M];
   for (int m = 0; st == CB_OK && m < NW1M; m++) {
-    int kmax = w1_kmax(p->quick, m, n);
-    trace_t t = {0, kmax + 1, calloc((size_t)kmax + 1, sizeof(double))};
-    char iters[64];
-    snprintf(iters, sizeof iters, "integrator.iters=%d", kmax);
-    const char *sets[6];
+    kmax[m] = w1_kmax(p->quick, m, n);
+    trace_t t = {0, kmax[m] + 1, calloc((size_t)kmax[m] + 1, sizeof(double))};
     int ns = 0;
-    for (int k = 0; W1M[m].sets[k]; k++) sets[ns++] = W1M[m].sets[k];
-    sets[ns++] = iters;
-    sets[ns] = NULL;
-    step_result r;
-    st = t.rel ? one_step(p->e, d, &S, sets, record, &t, &r) : cb_fail_status(CB_ENOMEM, "out of memory");
+    for (int k = 0; W1M[m].sets[k]; k++) sets[m][ns++] = W1M[m].sets[k];
+    snprintf(iters[m], sizeof iters[m], "integrator.iters=%d", kmax[m]);
+    sets[m][ns++] = iters[m];
+    sets[m][ns] = NULL;
+    st = t.rel ? one_step(p->e, d, &S, sets[m], record, &t, &r[m]) : cb_fail_status(CB_ENOMEM, "out of memory");
     for (int k = 0; st == CB_OK && k < t.n; k++) /* every iteration up to 100, then ~50 per decade */
       if (k <= 100 || floor(50 * log10(k)) != floor(50 * log10(k - 1)) || k == t.n - 1)
         fprintf(out[T_W1_TRACE], "%s,%d,%s,%d,%.17g\n", d->label, n, W1M[m].label, k, t.rel[k]);
+    final_rel[m] = t.n ? t.rel[t.n - 1] : NAN;
     for (int q = 0; st == CB_OK && q < 2; q++) {
-      int hit = -1;
-      for (int k = 0; k < t.n && hit < 0; k++)
-        if (t.rel[k] <= TOLS[q]) hit = k;
-      step_result rt = {0};
-      rt.status = r.status;
-      if (hit > 0) { /* the time of a step of exactly that many iterations */
-        snprintf(iters, sizeof iters, "integrator.iters=%d", hit);
-        if ((st = one_step(p->e, d, &S, sets, NULL, NULL, &rt))) break;
+      hit[m][q] = -1;
+      for (int k = 0; k < t.n && hit[m][q] < 0; k++)
+        if (t.rel[k] <= TOLS[q]) hit[m][q] = k;
+      job[m][q] = -1;
+      if (hit[m][q] > 0) { /* the time of a step of exactly that many iterations */
+        int j = njobs++, slot = NW1M + j, k = 0;
+        for (; W1M[m].sets[k]; k++) sets[slot][k] = W1M[m].sets[k];
+        snprintf(iters[slot], sizeof iters[slot], "integrator.iters=%d", hit[m][q]);
+        sets[slot][k++] = iters[slot];
+        sets[slot][k] = NULL;
+        jobs[j] = sets[slot];
+        job[m][q] = j;
       }
-      fprintf(out[T_W1], "%s,%d,%s,%s,%.17g,%d,%g,%d,%.6f,%.6f,%.6f,%.17g,%s\n", d->label, n, W1M[m].label, W1M[m].pair,
-              r.rho, kmax, TOLS[q], hit, hit > 0 ? rt.wall_ms : NAN, hit > 0 ? rt.setup_ms : NAN, r.alloc_ms,
-              t.n ? t.rel[t.n - 1] : NAN, cb_status_name(r.status));
     }
     free(t.rel);
   }
+  if (st == CB_OK) st = time_group(p->e, d, &S, jobs, njobs, rt);
+  for (int m = 0; st == CB_OK && m < NW1M; m++)
+    for (int q = 0; q < 2; q++) {
+      int j = job[m][q];
+      fprintf(out[T_W1], "%s,%d,%s,%s,%.17g,%d,%g,%d,", d->label, n, W1M[m].label, W1M[m].pair, r[m].rho, kmax[m], TOLS[q], hit[m][q]);
+      put_timing(out[T_W1], j >= 0 ? &rt[j] : NULL, j >= 0);
+      fprintf(out[T_W1], ",%.6f,%.6f,%.17g,%s\n", j >= 0 ? rt[j].setup_ms : NAN, r[m].alloc_ms, final_rel[m], cb_status_name(r[m].status));
+    }
   free_state(&S);
   return st;
 }
@@ -412,11 +485,14 @@ static int p1_cell(long i, void *ctx, FILE *const *out) {
   int frame = 5 * (int)(i % p->p1_states + 1);
   state_t S;
   int st = make_state(p->e, d, frame, &S);
+  step_result r[NP1M];
+  const char *const *sets[NP1M];
+  for (int m = 0; m < NP1M; m++) sets[m] = P1M[m].sets;
+  if (st == CB_OK) st = time_group(p->e, d, &S, sets, NP1M, r); /* interleaved: pd10, newton, baraff_witkin, pd10, ... */
   for (int m = 0; st == CB_OK && m < NP1M; m++) {
-    step_result r;
-    if ((st = one_step(p->e, d, &S, P1M[m].sets, NULL, NULL, &r))) break;
-    fprintf(out[T_P1], "%s,%d,%.17g,%s,%d,%d,%.6f,%.6f,%.17g,%.17g,%s\n", d->label, S.s->mesh.grid_n, S.s->def.stretch_k,
-            P1M[m].label, frame, r.iters, r.wall_ms, r.alloc_ms, r.error, r.rel_grad, cb_status_name(r.status));
+    fprintf(out[T_P1], "%s,%d,%.17g,%s,%d,%d,", d->label, S.s->mesh.grid_n, S.s->def.stretch_k, P1M[m].label, frame, r[m].iters);
+    put_timing(out[T_P1], &r[m], 1);
+    fprintf(out[T_P1], ",%.6f,%.17g,%.17g,%s\n", r[m].alloc_ms, r[m].error, r[m].rel_grad, cb_status_name(r[m].status));
   }
   free_state(&S); /* make_state leaves it empty on error */
   return st;
@@ -547,11 +623,13 @@ int main(int argc, char **argv) {
                           "median_frame_ms,status") != T_J3 ||
       cb_experiment_table(&e, "spectrum", j3_extra, "scene,rho_given,frame,lmin,lmax,rho_lin,lanczos_steps") != T_SPECTRUM ||
       cb_experiment_table(&e, "w1", state_extra,
-                          "scene,n,method,pair,rho,max_iters,tol,iters_to_tol,wall_ms_to_tol,setup_ms,alloc_ms,"
+                          "scene,n,method,pair,rho,max_iters,tol,iters_to_tol,wall_ms_to_tol,wall_min_ms_to_tol,"
+                          "wall_max_ms_to_tol,wall_each_ms_to_tol,wall_repeats,setup_ms,alloc_ms,"
                           "final_rel_grad,status") != T_W1 ||
       cb_experiment_table(&e, "w1_trace", NULL, "scene,n,method,iter,rel_grad") != T_W1_TRACE ||
       cb_experiment_table(&e, "p1", p1_extra,
-                          "scene,n,k,method,frame,iters,wall_ms,alloc_ms,step_error,rel_grad,status") != T_P1 ||
+                          "scene,n,k,method,frame,iters,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,alloc_ms,"
+                          "step_error,rel_grad,status") != T_P1 ||
       cb_experiment_table(&e, "error_time", state_extra,
                           "scene,n,method,family,iters,rho,wall_ms,setup_ms,step_error,rel_grad,status") != T_ERROR_TIME)
     return cb_experiment_end(&e, CB_EIO), 2;

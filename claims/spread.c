@@ -1,0 +1,182 @@
+/* Timing-based numbers with their spread over repeats (see claims.h). */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "claims.h"
+
+/* col with "_min", "_max" or "_each" inserted before its "_ms" (the first
+ * "_ms" that ends the name or is followed by '_'); "" if col has none. */
+static void spread_col(const char *col, const char *what, char *buf, size_t n) {
+  buf[0] = 0;
+  for (const char *p = strstr(col, "_ms"); p; p = strstr(p + 1, "_ms"))
+    if (p[3] == 0 || p[3] == '_') {
+      snprintf(buf, n, "%.*s_%s%s", (int)(p - col), col, what, p);
+      return;
+    }
+}
+
+static int has(const cb_claim_timing *t) { return isfinite(t->min) && isfinite(t->max); }
+static int varies(const cb_claim_timing *t) { return t->n > 0 || t->bounds; }
+
+static void from_each(cb_claim_timing *t) {
+  t->n = t->each.n;
+  t->min = cb_timing_min(&t->each);
+  t->max = cb_timing_max(&t->each);
+}
+
+cb_claim_timing cb_claim_timing_value(double v) {
+  cb_claim_timing t;
+  memset(&t, 0, sizeof t);
+  t.med = t.min = t.max = v;
+  return t;
+}
+
+cb_claim_timing cb_claim_timing_at(const cb_table *t, int r, const char *col) {
+  cb_claim_timing x;
+  memset(&x, 0, sizeof x);
+  x.med = cb_table_num(t, r, cb_table_col(t, col));
+  x.min = x.max = NAN;
+  char name[128];
+  spread_col(col, "min", name, sizeof name);
+  int cmin = name[0] ? cb_table_col(t, name) : -1;
+  spread_col(col, "max", name, sizeof name);
+  int cmax = name[0] ? cb_table_col(t, name) : -1;
+  spread_col(col, "each", name, sizeof name);
+  int ceach = name[0] ? cb_table_col(t, name) : -1, crep = cb_table_col(t, "wall_repeats");
+  if (ceach >= 0 && cb_timing_parse(cb_table_str(t, r, ceach), &x.each) > 0) from_each(&x);
+  if (cmin >= 0 && cmax >= 0) {
+    x.min = cb_table_num(t, r, cmin);
+    x.max = cb_table_num(t, r, cmax);
+    if (x.n == 0 && crep >= 0) {
+      double k = cb_table_num(t, r, crep);
+      x.n = isfinite(k) && k > 0 ? (int)k : 0;
+    }
+    if (x.n == 0 && has(&x)) x.n = 1; /* a spread without a count: at least one repeat */
+  }
+  return x;
+}
+
+/* op 0: a / b, 1: a - b */
+static double apply(int op, double a, double b) { return op ? a - b : a / b; }
+
+static cb_claim_timing combine(const cb_claim_timing *a, const cb_claim_timing *b, int op) {
+  cb_claim_timing r;
+  memset(&r, 0, sizeof r);
+  r.med = apply(op, a->med, b->med);
+  if (a->each.n > 0 && a->each.n == b->each.n) { /* paired repeats */
+    for (int i = 0; i < a->each.n; i++) cb_timing_add(&r.each, apply(op, a->each.ms[i], b->each.ms[i]));
+    from_each(&r);
+    r.bounds = a->bounds || b->bounds;
+    r.paired = 1;
+  } else if (varies(a) && varies(b)) { /* conservative: the extremes of each operand */
+    r.min = op ? a->min - b->max : a->min / b->max;
+    r.max = op ? a->max - b->min : a->max / b->min;
+    r.n = a->n < b->n ? a->n : b->n;
+    r.bounds = 1;
+  } else if (varies(a) || varies(b)) { /* one operand is a constant: exact */
+    const cb_claim_timing *v = varies(a) ? a : b;
+    double lo = apply(op, varies(a) ? a->min : a->med, varies(a) ? b->med : b->max);
+    double hi = apply(op, varies(a) ? a->max : a->med, varies(a) ? b->med : b->min);
+    r.min = fmin(lo, hi);
+    r.max = fmax(lo, hi);
+    r.n = v->n;
+    r.bounds = v->bounds;
+    r.paired = v->paired;
+    for (int i = 0; i < v->each.n; i++)
+      cb_timing_add(&r.each, varies(a) ? apply(op, a->each.ms[i], b->med) : apply(op, a->med, b->each.ms[i]));
+  } else { /* constants, or no spread recorded */
+    r.min = apply(op, a->min, b->max);
+    r.max = apply(op, a->max, b->min);
+  }
+  return r;
+}
+
+cb_claim_timing cb_claim_timing_ratio(const cb_claim_timing *a, const cb_claim_timing *b) { return combine(a, b, 0); }
+cb_claim_timing cb_claim_timing_diff(const cb_claim_timing *a, const cb_claim_timing *b) { return combine(a, b, 1); }
+
+cb_claim_timing cb_claim_timing_scale(const cb_claim_timing *a, double s) {
+  cb_claim_timing r = *a;
+  r.med *= s;
+  r.min *= s;
+  r.max *= s;
+  for (int i = 0; i < r.each.n; i++) r.each.ms[i] *= s;
+  return r;
+}
+
+cb_claim_timing cb_claim_timing_median(const cb_claim_timing *v, int n) {
+  cb_claim_timing r;
+  memset(&r, 0, sizeof r);
+  r.med = r.min = r.max = NAN;
+  if (n <= 0) return r;
+  static double buf[256];
+  int m = n < 256 ? n : 256, reps = v[0].each.n, nmin = 0;
+  for (int k = 0; k < m; k++) {
+    buf[k] = v[k].med;
+    if (v[k].each.n < reps) reps = v[k].each.n; /* the repeats every v has */
+    r.bounds |= v[k].bounds;
+    r.paired |= v[k].paired;
+    if (v[k].n > 0 && (nmin == 0 || v[k].n < nmin)) nmin = v[k].n;
+  }
+  r.med = cb_median(buf, m);
+  if (reps > 0) { /* per repeat i (of those every v has), the median over v of repeat i */
+    cb_timing each[256];
+    for (int k = 0; k < m; k++) each[k] = v[k].each;
+    if (cb_timing_median_over(each, m, &r.each) == 0) {
+      from_each(&r);
+      return r;
+    }
+  }
+  int bad = 0, vary = 0;
+  for (int k = 0; k < m; k++) { bad |= !has(&v[k]); vary |= varies(&v[k]); }
+  if (bad) return r;
+  for (int k = 0; k < m; k++) buf[k] = v[k].min;
+  r.min = cb_median(buf, m);
+  for (int k = 0; k < m; k++) buf[k] = v[k].max;
+  r.max = cb_median(buf, m);
+  r.n = nmin;
+  r.bounds |= vary;
+  return r;
+}
+
+int cb_claim_timing_has_spread(const cb_claim_timing *t) { return has(t) && varies(t); }
+
+static size_t put_spread(char *buf, size_t n, const char *fmt, const cb_claim_timing *t, const char *unit) {
+  size_t u = 0;
+  u += (size_t)snprintf(buf, n, fmt, t->med);
+  if (u < n) u += (size_t)snprintf(buf + u, n - u, "%s", unit);
+  if (!cb_claim_timing_has_spread(t)) return u;
+  if (u < n) u += (size_t)snprintf(buf + u, n - u, " (");
+  if (u < n) u += (size_t)snprintf(buf + u, n - u, fmt, t->min);
+  if (u < n) u += (size_t)snprintf(buf + u, n - u, "-");
+  if (u < n) u += (size_t)snprintf(buf + u, n - u, fmt, t->max);
+  if (u < n) u += (size_t)snprintf(buf + u, n - u, "%s", unit);
+  return u;
+}
+
+const char *cb_claim_spread(char *buf, size_t n, const char *fmt, const cb_claim_timing *t, const char *unit) {
+  size_t u = put_spread(buf, n, fmt, t, unit);
+  if (cb_claim_timing_has_spread(t) && u < n) snprintf(buf + u, n - u, ")");
+  return buf;
+}
+
+const char *cb_claim_spread_long(char *buf, size_t n, const char *fmt, const cb_claim_timing *t, const char *unit) {
+  size_t u = put_spread(buf, n, fmt, t, unit);
+  if (!cb_claim_timing_has_spread(t) || u >= n) return buf;
+  if (t->bounds) snprintf(buf + u, n - u, ", bounds from the min and max of %d repeats)", t->n);
+  else snprintf(buf + u, n - u, " over %d%s repeats)", t->n, t->paired ? " paired" : "");
+  return buf;
+}
+
+void cb_claim_repeats_add(cb_claim_repeats *r, const cb_claim_timing *t) {
+  if (!cb_claim_timing_has_spread(t) || t->n <= 0) return;
+  if (r->lo == 0 || t->n < r->lo) r->lo = t->n;
+  if (t->n > r->hi) r->hi = t->n;
+}
+
+const char *cb_claim_repeats_text(char *buf, size_t n, const cb_claim_repeats *r) {
+  if (r->lo <= 0) snprintf(buf, n, "%s", "");
+  else if (r->lo == r->hi) snprintf(buf, n, "%d repeat%s", r->lo, r->lo == 1 ? "" : "s");
+  else snprintf(buf, n, "%d-%d repeats", r->lo, r->hi);
+  return buf;
+}
