@@ -165,7 +165,7 @@ void cb_check_w1(const cb_table *csv, const char *dir, cb_claim_result *out) {
             cb_table_num(&t, a, ct) != cb_table_num(&t, r, ct))
           continue;
         double ip = cb_table_num(&t, r, ci), ia = cb_table_num(&t, a, ci), tol = cb_table_num(&t, r, ct);
-        int lower = ip < 0; /* plain never got there: its cap bounds the speedup from below */
+        int lower = !(ip >= 0); /* plain never got there (empty): its cap bounds the speedup from below */
         if (lower) ip = cb_table_num(&t, r, cx);
         double sp = ia > 0 ? ip / ia : NAN;
         double wp = cb_table_num(&t, r, cw), wa = cb_table_num(&t, a, cw);

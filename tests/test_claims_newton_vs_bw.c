@@ -115,7 +115,8 @@ static void i3_scenes(double conv_ms, int regime_fail, const char *const *scenes
     }
   put("newton_vs_bw.csv", buf);
   char reg[1024];
-  snprintf(reg, sizeof reg, REG_HEAD "0.1,100,1,-1,1e-4,ok,0\n0.1,1e7,2,%d,%g,ok,%d\n", regime_fail ? 2 : -1,
+  /* first_diverged_step is empty when the trajectory did not diverge */
+  snprintf(reg, sizeof reg, REG_HEAD "0.1,100,1,,1e-4,ok,0\n0.1,1e7,2,%s,%g,ok,%d\n", regime_fail ? "2" : "",
            regime_fail ? 0.2 : 1e-3, regime_fail);
   put("newton_vs_bw_regime.csv", reg);
 }

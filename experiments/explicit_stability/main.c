@@ -90,14 +90,15 @@ static int scene_config(const cb_experiment *e, const cb_scene_decl *d, double k
   return cb_scene_decl_config(e, d, more, c);
 }
 
-/* window: the requested energy-loss window (mark_time), 0 if none. */
+/* window: the requested energy-loss window (mark_time), 0 if none (written empty);
+ * meas: the bisected dt_crit, NaN if none was measured (written empty). */
 static void cell_row(const char *kind, const char *cas, const char *method, const cb_cell_result *r, double pred,
                      double meas, double kinetic0, double window, const char *note) {
-  double loss = r->t_mark > 0 ? (r->energy0 - r->energy_mark) / r->t_mark : NAN; /* W: J per simulated s */
-  fprintf(fmain, "%s,%s,%s,%d,%.17g,%.17g,%s,%s,%.17g,%.17g,%ld,%.17g,%.6f,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,"
+  double loss = r->t_mark > 0 ? (r->energy0 - r->energy_mark) / r->t_mark : cb_csv_na(); /* W: J per simulated s */
+  cb_csv_printf(fmain, "%s,%s,%s,%d,%.17g,%.17g,%s,%s,%.17g,%.17g,%ld,%.17g,%.6f,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,"
           "%.17g,%ld,%d,%ld,%s,%s\n", kind, cas, cur_scene, cur_nv, cur_k, r->dt, method, cb_cell_class_name(r->cls),
-          r->max_energy_ratio, r->final_energy_ratio, r->steps, r->t_end, r->wall_ms, pred, meas, r->energy0,
-          r->energy_end, r->energy_scale, kinetic0, window, r->t_mark, loss, r->newton_iters, r->max_newton_iters,
+          r->max_energy_ratio, r->final_energy_ratio, r->steps, r->t_end, r->wall_ms, pred, cb_csv_na_if_nan(meas), r->energy0,
+          r->energy_end, r->energy_scale, kinetic0, window > 0 ? window : cb_csv_na(), r->t_mark, loss, r->newton_iters, r->max_newton_iters,
           r->not_converged_steps, cb_status_name(r->step_status), note);
 }
 
@@ -146,7 +147,7 @@ static int timing(cb_stability_case *c, double meas, int methods) {
       if (reps == 0 || r.wall_ms < best.wall_ms) best = r;
     } while (++reps < 3 && (m != 1 || r.wall_ms < 300));
     if (st == CB_OK)
-      fprintf(ftime, "%s,%d,%.17g,%s,%.17g,%ld,%.17g,%.6f,%.6f,%d,%s,%s,%ld,%.17g,%.17g,%ld\n", cur_scene, cur_nv, cur_k, name[m],
+      cb_csv_printf(ftime, "%s,%d,%.17g,%s,%.17g,%ld,%.17g,%.6f,%.6f,%d,%s,%s,%ld,%.17g,%.17g,%ld\n", cur_scene, cur_nv, cur_k, name[m],
               dt, best.steps, best.t_end, best.wall_ms, best.wall_ms / best.t_end, reps, cb_cell_class_name(best.cls),
               cb_status_name(best.step_status), best.newton_iters, meas, c->pred.dt_crit, m == 2 ? 0L : best.not_converged_steps);
   }
@@ -195,15 +196,22 @@ static int run_case(const cb_experiment *e, const plan *p, const scene_plan *d, 
   for (int i = 0; st == CB_OK && i < sweep.n; i++) cell_row("sweep", "map", "explicit", &sweep.r[i], c.pred.dt_crit, meas, c.kinetic0, 0, "");
   for (int i = 0; st == CB_OK && i < bis.n; i++) cell_row("bisect", "boundary", "explicit", &bis.r[i], c.pred.dt_crit, meas, c.kinetic0, 0, "");
   for (int i = 0; st == CB_OK && i < newton.n; i++) cell_row("sweep", "map", "newton", &newton.r[i], c.pred.dt_crit, meas, c.kinetic0, pn.mark_time, "");
+  /* not applicable, written empty: the eigensolver that did not run (its lambda is NaN), the rest-shape
+   * prediction without a grid (NaN), the grid bracket without a grid (NaN) or without a stable / an unstable
+   * grid dt (0), the grid's monotonicity without a grid (-1), a bisection bound not found (NaN) */
   const cb_prediction *pr = &c.pred;
+  int lz = !isnan(pr->lambda_lanczos);
   if (st == CB_OK)
-    fprintf(fbound, "%s,%d,%d,%.17g,%.17g,%.17g,%d,%s,%.17g,%.17g,%.17g,%s,%.17g,%.17g,%d,%s,%.17g,%.17g,%.17g,%.17g,"
-            "%.17g,%d,%.17g,%.17g,%d,%s,%.3f,%.3f\n", cur_scene, cur_nv, c.scene->model.nfree, k,
-            c.scene->mass[c.scene->free_vertex[0]], c.eq.residual, c.eq.steps, cb_status_name(c.eq.status),
-            c.eq.max_strain, c.eq.min_strain, pr->lambda_max, pr->method == CB_EIG_DENSE ? "gsl_dense" : "lanczos",
-            pr->lambda_dense, pr->lambda_lanczos, pr->lanczos_steps, cb_status_name(pr->lanczos_status),
-            c.pred_rest.lambda_max, pr->dt_crit, c.pred_rest.dt_crit, lo, hi, mono, b.dt_stable, b.dt_unstable, b.runs,
-            cb_status_name(b.status), c.eq.ms, c.pred.ms + c.pred_rest.ms);
+    cb_csv_printf(fbound, "%s,%d,%d,%.17g,%.17g,%.17g,%d,%s,%.17g,%.17g,%.17g,%s,%.17g,%.17g,%.17g,%s,%.17g,%.17g,%.17g,%.17g,"
+                  "%.17g,%.17g,%.17g,%.17g,%d,%s,%.3f,%.3f\n", cur_scene, cur_nv, c.scene->model.nfree, k,
+                  c.scene->mass[c.scene->free_vertex[0]], c.eq.residual, c.eq.steps, cb_status_name(c.eq.status),
+                  c.eq.max_strain, c.eq.min_strain, pr->lambda_max, pr->method == CB_EIG_DENSE ? "gsl_dense" : "lanczos",
+                  cb_csv_na_if_nan(pr->lambda_dense), cb_csv_na_if_nan(pr->lambda_lanczos),
+                  lz ? pr->lanczos_steps : cb_csv_na(), lz ? cb_status_name(pr->lanczos_status) : "",
+                  cb_csv_na_if_nan(c.pred_rest.lambda_max), pr->dt_crit, cb_csv_na_if_nan(c.pred_rest.dt_crit),
+                  lo > 0 ? lo : cb_csv_na(), hi > 0 ? hi : cb_csv_na(), mono >= 0 ? mono : cb_csv_na(),
+                  cb_csv_na_if_nan(b.dt_stable), cb_csv_na_if_nan(b.dt_unstable), b.runs, cb_status_name(b.status), c.eq.ms,
+                  c.pred.ms + c.pred_rest.ms);
   /* E2 methods: 1 explicit, 2 converged Newton, 4 Baraff-Witkin. Converged Newton is
    * costly (the drop fix makes it converge linearly, ~20 solves a step): on 21^2 at
    * every timed k; on 41^2 and 81^2 only at k_res[0], and not with --quick. */
@@ -254,12 +262,12 @@ static int extreme(const cb_experiment *e, const plan *p, const extreme_case *x)
   cur_scene = "cloth21"; cur_k = x->k; cur_nv = 441;
   int st = scene_config(e, &x->scene, x->k, &cfg);
   if (st == CB_OK) st = cb_stability_case_init(&c, &cfg, &cp);
-  if (st == CB_EINVAL) { /* bad input: a clear error, recorded in the row */
+  if (st == CB_EINVAL) { /* bad input: a clear error, recorded in the row; what was never measured is empty */
     char msg[1024];
     snprintf(msg, sizeof msg, "%s: rejected when the scene is built: %s", x->note, cb_error_message());
     for (char *s = msg; *s; s++) if (*s == ',' || *s == '\n') *s = ';';
-    fprintf(fmain, "extreme,%s,cloth21,0,%.17g,nan,explicit,rejected,nan,nan,0,0,0,nan,nan,nan,nan,nan,nan,0,nan,nan,"
-            "0,0,0,invalid_input,%s\n", cas, x->k, msg);
+    cb_csv_printf(fmain, "extreme,%s,cloth21,,%.17g,,explicit,rejected,,,0,0,,,,,,,,,,,0,0,0,invalid_input,%s\n", cas, x->k,
+                  msg);
     return CB_OK;
   }
   if (st) return st;

@@ -68,11 +68,6 @@ typedef struct {
   int max_iters, sweep_iters;
 } ctx;
 
-static void fmt(char *buf, size_t n, double v) { /* empty for "not applicable" */
-  if (isnan(v)) buf[0] = 0;
-  else snprintf(buf, n, "%.17g", v);
-}
-
 /* One traced solve; writes its rows, its summary and (main runs) its inexact-Newton rows. */
 static int run(ctx *c, const char *sweep, const char *solver, double alpha, double rho, int max_iters) {
   cb_solver_params p = cb_solver_params_default();
@@ -92,27 +87,27 @@ static int run(ctx *c, const char *sweep, const char *solver, double alpha, doub
   }
   if (st) return st;
   if (!strcmp(solver, "chebyshev")) rho = t.rho; /* the estimate when rho = auto */
-  char a[32], an[32], r[32], pr[32], rt[32], rp[32];
-  fmt(a, sizeof a, alpha);
-  fmt(r, sizeof r, rho);
+  /* alpha, rho NaN: the solver has none (written empty); so have the prediction and alpha_over_max then */
+  double a = cb_csv_na_if_nan(alpha), r = cb_csv_na_if_nan(rho);
   const char *status = cb_status_name(t.status);
   for (int i = 0; i < t.nrows; i++) {
     const cb_trace_row *w = &t.rows[i];
-    fprintf(c->out[T_MAIN], "%s,%s,%s,%s,%s,%d,%.17g,%.17g,%s,%.17g\n", c->scene, sweep, solver, a, r, w->iter,
-            w->rel_residual, w->wall_ms, status, w->error);
+    cb_csv_printf(c->out[T_MAIN], "%s,%s,%s,%.17g,%.17g,%d,%.17g,%.17g,%s,%.17g\n", c->scene, sweep, solver, a, r, w->iter,
+                  w->rel_residual, w->wall_ms, status, w->error);
   }
   const cb_trace_row *hit = NULL, *last = t.nrows ? &t.rows[t.nrows - 1] : NULL;
   for (int i = 0; i < t.nrows && !hit; i++)
     if (t.rows[i].rel_residual <= 1e-6) hit = &t.rows[i];
-  fmt(pr, sizeof pr, isnan(alpha) ? NAN : cb_jacobi_rho(c->lmin, c->lmax, alpha));
-  fmt(an, sizeof an, alpha * c->lmax / 2);
-  fmt(rt, sizeof rt, cb_trace_rate(t.rows, t.nrows, 0.25));
-  fmt(rp, sizeof rp, cb_trace_rate_window(t.rows, t.nrows, 0.5, 0.75));
-  fprintf(c->out[T_RUNS], "%s,%s,%s,%s,%s,%s,%s,%d,%.17g,%s,%s,", c->scene, sweep, solver, a, an, r, pr, t.iters,
-          last ? last->rel_residual : NAN, rt, rp);
-  if (hit) fprintf(c->out[T_RUNS], "%d,%.17g,", hit->iter, hit->wall_ms);
+  double pr = isnan(alpha) ? cb_csv_na() : cb_jacobi_rho(c->lmin, c->lmax, alpha);
+  double an = isnan(alpha) ? cb_csv_na() : alpha * c->lmax / 2;
+  /* the rates are NaN when the trace is too short to measure one (written empty) */
+  double rt = cb_csv_na_if_nan(cb_trace_rate(t.rows, t.nrows, 0.25));
+  double rp = cb_csv_na_if_nan(cb_trace_rate_window(t.rows, t.nrows, 0.5, 0.75));
+  cb_csv_printf(c->out[T_RUNS], "%s,%s,%s,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%.17g,", c->scene, sweep, solver, a, an, r,
+                pr, t.iters, last ? last->rel_residual : cb_csv_na(), rt, rp);
+  if (hit) cb_csv_printf(c->out[T_RUNS], "%d,%.17g,", hit->iter, hit->wall_ms);
   else fputs(",,", c->out[T_RUNS]);
-  fprintf(c->out[T_RUNS], "%.17g,%.17g,%.17g,%s\n", t.setup_ms, t.rho_ms, t.wall_ms, status);
+  cb_csv_printf(c->out[T_RUNS], "%.17g,%.17g,%.17g,%s\n", t.setup_ms, t.rho_ms, t.wall_ms, status);
   int lab995 = !strcmp(sweep, "rho") && fabs(rho - 0.995) < 1e-12 && fabs(alpha - 2 / (c->lmin + c->lmax)) < 1e-12;
   if ((!strcmp(sweep, "main") && strcmp(solver, "cholmod")) || lab995)
     for (size_t k = 0; k < sizeof newton_k / sizeof *newton_k; k++) {
@@ -120,8 +115,8 @@ static int run(ctx *c, const char *sweep, const char *solver, double alpha, doub
       if (!w) continue;
       int cut = w->iter == newton_k[k] && w->iter < t.iters; /* stopped by the cut, not by the run */
       const char *s = cut ? (w->rel_residual <= TOL ? "ok" : "max_iters") : status;
-      fprintf(c->out[T_NEWTON], "%s,%s,%s,%s,%d,%d,%.17g,%.17g,%.17g,%s\n", c->scene, solver, a, r, newton_k[k], w->iter,
-              w->rel_residual, w->error, w->wall_ms, s);
+      cb_csv_printf(c->out[T_NEWTON], "%s,%s,%.17g,%.17g,%d,%d,%.17g,%.17g,%.17g,%s\n", c->scene, solver, a, r, newton_k[k],
+                    w->iter, w->rel_residual, w->error, w->wall_ms, s);
     }
   cb_trace_free(&t);
   return CB_OK;
@@ -129,7 +124,7 @@ static int run(ctx *c, const char *sweep, const char *solver, double alpha, doub
 
 /* A scene whose capture or spectrum failed (e.g. the run diverged, A not SPD) keeps its row. */
 static int failed(FILE *sc, const char *label, int n, int status) {
-  fprintf(sc, "%s,%d,,,,,,,,,,,,,,,,,,,,,,,,,,,%s\n", label, n, cb_status_name(status));
+  cb_csv_printf(sc, "%s,%d,,,,,,,,,,,,,,,,,,,,,,,,,,,%s\n", label, n, cb_status_name(status));
   fprintf(stderr, "linear_solvers: scene %s: %s (kept as a row)\n", label, cb_error_message());
   return CB_OK;
 }
@@ -166,11 +161,13 @@ static int scene(ctx *c, const scene_plan *d, FILE *sc) {
   c->lmin = dense ? de.lmin : lz.lmin;
   c->lmax = dense ? de.lmax : lz.lmax;
   double amax = 2 / c->lmax, astar = 2 / (c->lmin + c->lmax);
-  fprintf(sc, "%s,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%d,%.17g,", label, grid_n, n, cap.A.nnz, stiff, dt,
-          mass, cap.t_s, cap.step, cap.sim_ms, bad, ratio);
-  fprintf(sc, "%.17g,%.17g,%.17g,%.17g,%d,%d,%.17g,%.17g,%.17g,%.17g,%s,", lz.lmin, lz.lmax, lz.res_min,
-          lz.res_max, lz.steps_min, lz.steps_max, lz.ms, de.lmin, de.lmax, de.ms, dense ? "dense" : "lanczos");
-  fprintf(sc, "%.17g,%.17g,%.17g,%.17g,%.17g,ok\n", amax, astar, cb_jacobi_rho(c->lmin, c->lmax, 1.0),
+  cb_csv_printf(sc, "%s,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%d,%.17g,", label, grid_n, n, cap.A.nnz, stiff, dt,
+                mass, cap.t_s, cap.step, cap.sim_ms, bad, ratio);
+  /* the dense spectrum only on small systems: elsewhere its columns are empty */
+  cb_csv_printf(sc, "%.17g,%.17g,%.17g,%.17g,%d,%d,%.17g,%.17g,%.17g,%.17g,%s,", lz.lmin, lz.lmax, lz.res_min,
+                lz.res_max, lz.steps_min, lz.steps_max, lz.ms, dense ? de.lmin : cb_csv_na(), dense ? de.lmax : cb_csv_na(),
+                dense ? de.ms : cb_csv_na(), dense ? "dense" : "lanczos");
+  cb_csv_printf(sc, "%.17g,%.17g,%.17g,%.17g,%.17g,ok\n", amax, astar, cb_jacobi_rho(c->lmin, c->lmax, 1.0),
           cb_jacobi_rho(c->lmin, c->lmax, astar), cb_jacobi_rho(lab.lmin, lab.lmax, 1.0));
   int full = cb_scene_decl_is(&d->scene, "full") || cb_scene_decl_is(&d->scene, "j3");
   if (cb_scene_decl_is(&d->scene, "spectrum")) goto done;

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "pareto.h"
+#include <clothbench/csv.h>
 #include <clothbench/status.h>
 #include "stats.h"
 
@@ -39,7 +40,7 @@ static void state_free(state3 *w) {
 }
 
 static void scene_cols(FILE *f, const cb_scene *s, const char *label, double dt) {
-  fprintf(f, "%s,%d,%.17g,%.17g,%.17g,", label, s->def.grid.n, dt, s->def.stretch_k, s->def.initial_scale);
+  cb_csv_printf(f, "%s,%d,%.17g,%.17g,%.17g,", label, s->def.grid.n, dt, s->def.stretch_k, s->def.initial_scale);
 }
 
 int cb_study_steps(cb_scene *s, const char *label, double dt, const int *states, int nstates, const cb_method *methods,
@@ -83,7 +84,7 @@ int cb_study_steps(cb_scene *s, const char *label, double dt, const int *states,
           if (r2.st.wall_ms < r.st.wall_ms) r = r2;
         }
         scene_cols(csv, s, label, dt);
-        fprintf(csv, "%d,%s,%d,%s,%d,%d,%d,%d,%d,%.17g,%.17g,%.17g,%.6f,%.6f,%.6f,%.6f,%.6f,%s,%d,%.17g,%.17g,%.17g,%s\n",
+        cb_csv_printf(csv, "%d,%s,%d,%s,%d,%d,%d,%d,%d,%.17g,%.17g,%.17g,%.6f,%.6f,%.6f,%.6f,%.6f,%s,%d,%.17g,%.17g,%.17g,%s\n",
                 step, me->name, me->K > 0 ? me->K : CB_METHOD_CONVERGED_ITERS, me->inner, me->line_search,
                 r.st.newton_iters, r.st.linear_iters, r.ls_reduced, r.st.ls_backtracks, r.step_error, r.st.rel_grad,
                 r.f_minus_fstar, r.st.assemble_ms, r.st.factor_ms, r.setup_ms, r.st.solve_ms, r.st.wall_ms,
@@ -148,7 +149,7 @@ int cb_study_pareto(FILE *csv, const char *label, const cb_method *methods, int 
       int ki = 0, ii = 0;
       while (ki < 5 && Ks[ki] != methods[m].K) ki++;
       while (ii < 5 && strcmp(inners[ii], methods[m].inner)) ii++;
-      fprintf(csv, "%s,%s,%d,%d,%s,%d,%d,%d,%.6f,%.6f,%.17g,%d,%d\n", label, methods[m].name,
+      cb_csv_printf(csv, "%s,%s,%d,%d,%s,%d,%d,%d,%.6f,%.6f,%.17g,%d,%d\n", label, methods[m].name,
               methods[m].K > 0 ? methods[m].K : CB_METHOD_CONVERGED_ITERS, ki, methods[m].inner, ii,
               methods[m].line_search, nstates, cost[m], nos[m], err[m], failed[m], front[m]);
     }
@@ -199,7 +200,7 @@ static void order_rows(FILE *csv, const cb_scene *s, const char *label, double d
   static const char *const hname[] = {"-", "exact", "shifted", "drop"};
   for (int i = 0; i < L->n; i++) {
     scene_cols(csv, s, label, dt);
-    fprintf(csv, "%s,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%s,%s,%d\n", def, ls, step, i, L->g[i], L->rel[i], L->F[i],
+    cb_csv_printf(csv, "%s,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%s,%s,%d\n", def, ls, step, i, L->g[i], L->rel[i], L->F[i],
             L->alpha[i], hname[L->hessian[i]], cb_status_name(status), iters);
   }
 }

@@ -166,7 +166,7 @@ static int j3_cell(long i, void *ctx, FILE *const *out) {
       rl[ns++] = rho_lin;
       if (lmin < lmin_min) lmin_min = lmin;
       if (lmax > lmax_max) lmax_max = lmax;
-      fprintf(out[T_SPECTRUM], "%s,%s,%d,%.17g,%.17g,%.17g,%d\n", d->label, rho, f, lmin, lmax, rho_lin, steps);
+      cb_csv_printf(out[T_SPECTRUM], "%s,%s,%d,%.17g,%.17g,%.17g,%d\n", d->label, rho, f, lmin, lmax, rho_lin, steps);
     }
   }
   if (st == CB_OK) {
@@ -186,10 +186,14 @@ static int j3_cell(long i, void *ctx, FILE *const *out) {
     double rl_max = 0;
     for (int k = 0; k < ns; k++) rl_max = fmax(rl_max, rl[k]);
     double rl_med = ns ? cb_median(rl, ns) : NAN;
+    /* not applicable, written empty: the divergence frame of a run that did not diverge (-1), the statistics
+     * of the frames when none ran, those of the sampled spectra when none was sampled */
+    double na = cb_csv_na();
     if (st == CB_OK)
-      fprintf(out[T_J3], "lab_iteration,%s,%s,%s,%.17g,%d,%d,%d,%d,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%.17g,%.17g,%.6f,%s\n",
-              d->label, it->type->name, rho, rho_used, frames, n, div_frame > 0, div_frame, med, p90, mx, up, rl_med,
-              rl_max, lmin_min, lmax_max, n ? cb_median(ms, n) : 0.0, status);
+      cb_csv_printf(out[T_J3], "lab_iteration,%s,%s,%s,%.17g,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%.17g,%.17g,%.6f,%s\n",
+                    d->label, it->type->name, rho, rho_used, frames, n, div_frame > 0, div_frame > 0 ? div_frame : na,
+                    n ? med : na, n ? p90 : na, n ? mx : na, up, ns ? rl_med : na, ns ? rl_max : na, ns ? lmin_min : na,
+                    ns ? lmax_max : na, n ? cb_median(ms, n) : na, status);
   }
   cb_run_free(&run);
   cb_integrator_free(it);
@@ -371,7 +375,7 @@ static int w1_cell(long i, void *ctx, FILE *const *out) {
     st = t.rel ? one_step(p->e, d, &S, sets, record, &t, &r) : cb_fail_status(CB_ENOMEM, "out of memory");
     for (int k = 0; st == CB_OK && k < t.n; k++) /* every iteration up to 100, then ~50 per decade */
       if (k <= 100 || floor(50 * log10(k)) != floor(50 * log10(k - 1)) || k == t.n - 1)
-        fprintf(out[T_W1_TRACE], "%s,%d,%s,%d,%.17g\n", d->label, n, W1M[m].label, k, t.rel[k]);
+        cb_csv_printf(out[T_W1_TRACE], "%s,%d,%s,%d,%.17g\n", d->label, n, W1M[m].label, k, t.rel[k]);
     for (int q = 0; st == CB_OK && q < 2; q++) {
       int hit = -1;
       for (int k = 0; k < t.n && hit < 0; k++)
@@ -382,9 +386,11 @@ static int w1_cell(long i, void *ctx, FILE *const *out) {
         snprintf(iters, sizeof iters, "integrator.iters=%d", hit);
         if ((st = one_step(p->e, d, &S, sets, NULL, NULL, &rt))) break;
       }
-      fprintf(out[T_W1], "%s,%d,%s,%s,%.17g,%d,%g,%d,%.6f,%.6f,%.6f,%.17g,%s\n", d->label, n, W1M[m].label, W1M[m].pair,
-              r.rho, kmax, TOLS[q], hit, hit > 0 ? rt.wall_ms : NAN, hit > 0 ? rt.setup_ms : NAN, r.alloc_ms,
-              t.n ? t.rel[t.n - 1] : NAN, cb_status_name(r.status));
+      /* a tolerance never reached (hit < 0; hit = 0: reached before any iteration) has no iteration count or time */
+      double na = cb_csv_na();
+      cb_csv_printf(out[T_W1], "%s,%d,%s,%s,%.17g,%d,%g,%.17g,%.6f,%.6f,%.6f,%.17g,%s\n", d->label, n, W1M[m].label,
+                    W1M[m].pair, r.rho, kmax, TOLS[q], hit >= 0 ? hit : na, hit > 0 ? rt.wall_ms : na, hit > 0 ? rt.setup_ms : na,
+                    r.alloc_ms, t.n ? t.rel[t.n - 1] : na, cb_status_name(r.status));
     }
     free(t.rel);
   }
@@ -415,7 +421,7 @@ static int p1_cell(long i, void *ctx, FILE *const *out) {
   for (int m = 0; st == CB_OK && m < NP1M; m++) {
     step_result r;
     if ((st = one_step(p->e, d, &S, P1M[m].sets, NULL, NULL, &r))) break;
-    fprintf(out[T_P1], "%s,%d,%.17g,%s,%d,%d,%.6f,%.6f,%.17g,%.17g,%s\n", d->label, S.s->mesh.grid_n, S.s->def.stretch_k,
+    cb_csv_printf(out[T_P1], "%s,%d,%.17g,%s,%d,%d,%.6f,%.6f,%.17g,%.17g,%s\n", d->label, S.s->mesh.grid_n, S.s->def.stretch_k,
             P1M[m].label, frame, r.iters, r.wall_ms, r.alloc_ms, r.error, r.rel_grad, cb_status_name(r.status));
   }
   free_state(&S); /* make_state leaves it empty on error */
@@ -467,7 +473,7 @@ static int et_cell(long i, void *ctx, FILE *const *out) {
       sets[ns] = NULL;
       step_result r;
       if ((st = one_step(p->e, d, &S, sets, NULL, NULL, &r))) break;
-      fprintf(out[T_ERROR_TIME], "%s,%d,%s,%s,%d,%.17g,%.6f,%.6f,%.17g,%.17g,%s\n", d->label, S.s->mesh.grid_n, ETM[m].label,
+      cb_csv_printf(out[T_ERROR_TIME], "%s,%d,%s,%s,%d,%.17g,%.6f,%.6f,%.17g,%.17g,%s\n", d->label, S.s->mesh.grid_n, ETM[m].label,
               ETM[m].family, r.iters, r.rho, r.wall_ms, r.setup_ms, r.error, r.rel_grad, cb_status_name(r.status));
       if (!kmax) break;
     }
