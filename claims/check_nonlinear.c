@@ -150,7 +150,7 @@ void cb_check_w1(const cb_table *csv, const char *dir, cb_claim_result *out) {
   (void)csv;
   const char *F = "nonlinear_w1.csv";
   int cs = need(&t, "scene", F, out), cm = need(&t, "method", F, out), ct = need(&t, "tol", F, out),
-      ci = need(&t, "iters_to_tol", F, out), cw = need(&t, "wall_ms_to_tol", F, out), cx = need(&t, "max_iters", F, out),
+      ci = need(&t, "iters_to_tol", F, out), cw = need(&t, "wall_to_tol_ms", F, out), cx = need(&t, "max_iters", F, out),
       cr = need(&t, "rho", F, out);
   if (cs < 0 || cm < 0 || ct < 0 || ci < 0 || cw < 0 || cx < 0 || cr < 0) { cb_table_free(&t); return; }
   static const char *const PLAIN[] = {"jacobi-nl", "pd"}, *const ACC[] = {"chebyshev-nl auto", "pd-chebyshev auto"};

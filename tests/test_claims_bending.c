@@ -13,7 +13,7 @@ void cb_check_B1(const cb_table *t, const char *results_dir, cb_claim_result *ou
 void cb_check_B2(const cb_table *t, const char *results_dir, cb_claim_result *out);
 void cb_check_B3(const cb_table *t, const char *results_dir, cb_claim_result *out);
 
-static const char *header = "# test\npart,model,mesh,n,angle_deg,stretch,force_n,force_total_n,energy_j,energy_ref_j,ratio,"
+static const char *header = "# test\npart,model,mesh,n,angle_deg,stretch,radius_m,force_n,force_total_n,energy_j,energy_ref_j,ratio,"
                             "steps,newton_iters,assemble_ms,factor_ms,solve_ms,wall_ms,kinetic_j,rms_m,contacts,"
                             "indefinite,hinges,status\n";
 
@@ -42,9 +42,9 @@ static void b1_rows(char *buf, size_t n, double p_spring, double p_hinge) {
   const double angles[] = {1, 2, 3, 5, 8, 10, 30, 60};
   for (int k = 0; k < 8; k++) {
     double a = angles[k];
-    u += (size_t)snprintf(buf + u, n - u, "b1,spring,hinge,,%g,,%.17g,,,,,,,,,,,,,,,,ok\n", a, 1e-6 * pow(a, p_spring));
-    u += (size_t)snprintf(buf + u, n - u, "b1,dihedral,hinge,,%g,,%.17g,,,,,,,,,,,,,,,,ok\n", a, 0.08 * pow(a, p_hinge));
-    u += (size_t)snprintf(buf + u, n - u, "b1,quadratic,hinge,,%g,,%.17g,,,,,,,,,,,,,,,,ok\n", a, 0.08 * pow(a, 1.0));
+    u += (size_t)snprintf(buf + u, n - u, "b1,spring,hinge,,%g,,,%.17g,,,,,,,,,,,,,,,,ok\n", a, 1e-6 * pow(a, p_spring));
+    u += (size_t)snprintf(buf + u, n - u, "b1,dihedral,hinge,,%g,,,%.17g,,,,,,,,,,,,,,,,ok\n", a, 0.08 * pow(a, p_hinge));
+    u += (size_t)snprintf(buf + u, n - u, "b1,quadratic,hinge,,%g,,,%.17g,,,,,,,,,,,,,,,,ok\n", a, 0.08 * pow(a, 1.0));
   }
 }
 
@@ -64,12 +64,12 @@ Test(claims_bending, B1_not_reproduced_for_a_quadratic_spring_or_a_superlinear_h
 
 static void b2_rows(char *buf, size_t n, double qwall, double dwall, const char *dstatus) {
   snprintf(buf, n,
-           "b2,quadratic,grid,8,,,,,,,,30,300,1,%g,0.5,%g,0.001,,10,0,0,ok\n"
-           "b2,dihedral,grid,8,,,,,,,,30,330,20,%g,0.5,%g,0.001,,10,100,150,ok\n"
-           "b2_rms,quadratic-dihedral,grid,8,,,,,,,,30,,,,,,,0.01,,,,ok\n"
-           "b2,quadratic,grid,16,,,,,,,,30,300,1,%g,0.5,%g,0.001,,10,0,0,ok\n"
-           "b2,dihedral,grid,16,,,,,,,,30,330,20,%g,0.5,%g,0.001,,10,100,150,%s\n"
-           "b2_rms,quadratic-dihedral,grid,16,,,,,,,,30,,,,,,,0.01,,,,ok\n",
+           "b2,quadratic,grid,8,,,,,,,,,30,300,1,%g,0.5,%g,0.001,,10,0,0,ok\n"
+           "b2,dihedral,grid,8,,,,,,,,,30,330,20,%g,0.5,%g,0.001,,10,100,150,ok\n"
+           "b2_rms,quadratic-dihedral,grid,8,,,,,,,,,30,,,,,,,0.01,,,,ok\n"
+           "b2,quadratic,grid,16,,,,,,,,,30,300,1,%g,0.5,%g,0.001,,10,0,0,ok\n"
+           "b2,dihedral,grid,16,,,,,,,,,30,330,20,%g,0.5,%g,0.001,,10,100,150,%s\n"
+           "b2_rms,quadratic-dihedral,grid,16,,,,,,,,,30,,,,,,,0.01,,,,ok\n",
            qwall - 1.5, qwall, dwall - 20.5, dwall, qwall - 1.5, qwall, dwall - 20.5, dwall, dstatus);
 }
 
@@ -98,7 +98,7 @@ static void b3_rows(char *buf, size_t n, double r0, double slope) {
   for (int m = 0; m < 2; m++)
     for (int k = 0; k <= 10; k++) {
       double s = 0.03 * k;
-      u += (size_t)snprintf(buf + u, n - u, "b3,quadratic,%s,,20,%g,,,%g,1,%g,,,,,,,,,,,,ok\n", m ? "across" : "uniform", s,
+      u += (size_t)snprintf(buf + u, n - u, "b3,quadratic,%s,,20,%g,,,,%g,1,%g,,,,,,,,,,,,ok\n", m ? "across" : "uniform", s,
                             r0 + slope * s, r0 + slope * s);
     }
 }

@@ -48,7 +48,7 @@ static cb_verdict decide(const char *id, cb_claim_result *res) {
 
 /* ---- I2 ---- */
 
-#define I2_HEAD "definiteness,line_search,step,iter,grad_norm,alpha,hessian,step_status\n"
+#define I2_HEAD "definiteness,line_search,step,iter,grad_norm_n,alpha,hessian,step_status\n"
 
 /* one run: g_k given, all updates with the given Hessian */
 static void run(char *buf, const char *def, int ls, int step, const double *g, int n, const char *hess, const char *status) {
@@ -101,7 +101,7 @@ Test(claims_newton_vs_bw, i2_missing_side_csv_is_not_run, .init = setup, .fini =
 /* ---- I3 ---- */
 
 #define MAIN_HEAD "scene,step,method,inner_solver,line_search,step_error,wall_ms,status\n"
-#define REG_HEAD "dt,k,stretch,first_diverged_step,step_error_max,ref_status,k1_fails\n"
+#define REG_HEAD "dt_s,k_n_per_m,stretch,first_diverged_step,step_error_max,ref_status,k1_fails\n"
 
 static void i3_scenes(double conv_ms, int regime_fail, const char *const *scenes, int nscenes) {
   static char buf[8192];

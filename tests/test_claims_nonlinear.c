@@ -117,7 +117,7 @@ Test(claims_nonlinear, j3_not_reproduced_when_an_underestimate_diverges_and_line
 
 /* ---- W1 ---- */
 
-#define W1_HEAD "scene,n,method,pair,rho,max_iters,tol,iters_to_tol,wall_ms_to_tol,setup_ms,alloc_ms,final_rel_grad,status\n"
+#define W1_HEAD "scene,n,method,pair,rho,max_iters,tol,iters_to_tol,wall_to_tol_ms,setup_ms,alloc_ms,final_rel_grad,status\n"
 
 /* pd_plain_iters < 0: plain pd never reached the tolerance (iters_to_tol and wall_ms_to_tol empty) */
 static void w1(int cheb_iters, int pd_plain_iters) {
@@ -147,7 +147,7 @@ Test(claims_nonlinear, w1_not_reproduced_below_ten) {
 
 /* ---- P1 ---- */
 
-#define P1_HEAD "scene,n,k,method,frame,iters,wall_ms,alloc_ms,step_error,rel_grad,status\n"
+#define P1_HEAD "scene,n,k_n_per_m,method,frame,iters,wall_ms,alloc_ms,step_error,rel_grad,status\n"
 
 static void p1(double pd_ms, double pd_err) {
   char buf[2048] = P1_HEAD;

@@ -42,10 +42,11 @@ static const char *const pair_kbs[] = {"0.01", "0.01", "0.01", "0.01", "0.1", "1
 enum { NPAIR = sizeof pair_pols / sizeof pair_pols[0] };
 enum { T_IT, T_STEPS, T_RUNS, T_PAIR }; /* tables, in the order opened */
 
-#define IT_HEAD "scene,policy,step,newton_iter,system,spd,min_eig,min_eig_res,mu,spd_exact,min_eig_exact," \
-  "compressed_frac,cg_breakdown,cg_status,cg_iters,rel_grad,grad_norm,f_j,energy_j,wall_ms,status"
+/* eigenvalues of A = M/dt^2 + H and the shift mu (A + mu I) are in A's units, N/m; |grad F| in N */
+#define IT_HEAD "scene,policy,step,newton_iter,system,spd,min_eig_n_per_m,min_eig_res_n_per_m,mu_n_per_m,spd_exact," \
+  "min_eig_exact_n_per_m,compressed_frac,cg_breakdown,cg_status,cg_iters,rel_grad,grad_norm_n,f_j,energy_j,wall_ms,status"
 #define RUN_HEAD "scene,policy,steps,steps_done,steps_converged,newton_iters,systems,not_spd,indefinite_exact," \
-  "cg_breakdowns,mu_max,factorizations,wall_ms,probe_ms,final_f_j,final_energy_j,final_rel_grad," \
+  "cg_breakdowns,mu_max_n_per_m,factorizations,wall_ms,probe_ms,final_f_j,final_energy_j,final_rel_grad," \
   "shape_diff_none_m,shape_diff_drop_m,status"
 
 static void put_row(FILE *f, const char *sc, const char *pol, int step, const cb_newton_trace_row *r, int exact_run) {
@@ -254,10 +255,10 @@ int main(int argc, char **argv) {
   const char *extra = "# one row per Newton iterate x^(k); system = 1 if A(x^(k)) was assembled and solved there\n";
   if (cb_experiment_table(&e, NULL, extra, IT_HEAD) != T_IT ||
       cb_experiment_table(&e, "steps", NULL, "scene,policy,step,t_s,newton_iters,factorizations,"
-                          "f_j,energy_j,kinetic_j,rel_grad,compressed_frac,mu_max,wall_ms,status") != T_STEPS ||
+                          "f_j,energy_j,kinetic_j,rel_grad,compressed_frac,mu_max_n_per_m,wall_ms,status") != T_STEPS ||
       cb_experiment_table(&e, "runs", NULL, RUN_HEAD) != T_RUNS ||
-      cb_experiment_table(&e, "pair", NULL, "dim,policy,buckling_kb,ratio,min_eig_h,min_eig_a,"
-                          "predicted_min_eig_a,spd") != T_PAIR)
+      cb_experiment_table(&e, "pair", NULL, "dim,policy,buckling_kb_n_m2,ratio,min_eig_h_n_per_m,min_eig_a_n_per_m,"
+                          "predicted_min_eig_a_n_per_m,spd") != T_PAIR)
     return cb_experiment_end(&e, CB_EIO), 2;
   const cb_sweep sweeps[] = {{"trajectory", pl.ntraj, traj_cell, traj_cost, &pl},
                              {"static pair", (long)pl.nstat * NPAIR, static_cell, NULL, &pl}};

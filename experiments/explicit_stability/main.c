@@ -352,17 +352,17 @@ int main(int argc, char **argv) {
            "%g s (energy mark); start: equilibrium + random velocity 1e-6 S0 + swing 1e-3 S0; R_u %g; R_d %g\n", p.nk, p.ndt, p.ex.sim_time, p.ex.min_steps,
            p.ex.max_steps, p.bisect_iters, p.nt.sim_time, p.ex.unstable_ratio, p.ex.diverge_ratio);
   if (cb_experiment_table(&e, NULL, info,
-        "kind,case,scene,n_vertices,k,dt,method,status,max_energy_ratio,final_energy_ratio,steps,t_end_s,wall_ms,"
-        "dt_crit_pred,dt_crit_meas,energy0_j,energy_end_j,energy_scale_j,kinetic0_j,window_s,t_mark_s,energy_loss_w,newton_iters,"
+        "kind,case,scene,n_vertices,k_n_per_m,dt_s,method,status,max_energy_ratio,final_energy_ratio,steps,t_end_s,wall_ms,"
+        "dt_crit_pred_s,dt_crit_meas_s,energy0_j,energy_end_j,energy_scale_j,kinetic0_j,window_s,t_mark_s,energy_loss_w,newton_iters,"
         "max_newton_iters,not_converged_steps,step_status,note") != T_MAIN ||
       cb_experiment_table(&e, "boundary", info,
-        "scene,n_vertices,n_free,k,vertex_mass_kg,equilibrium_residual,equilibrium_steps,equilibrium_status,max_strain,"
+        "scene,n_vertices,n_free,k_n_per_m,vertex_mass_kg,equilibrium_residual,equilibrium_steps,equilibrium_status,max_strain,"
         "min_strain,lambda_max_per_s2,eig_method,lambda_dense_per_s2,lambda_lanczos_per_s2,lanczos_steps,lanczos_status,"
-        "lambda_max_rest_per_s2,dt_crit_pred,dt_crit_pred_rest,dt_stable_grid,dt_unstable_grid,grid_monotone,dt_crit_meas,"
-        "dt_crit_meas_hi,bisect_runs,bisect_status,equilibrium_ms,predict_ms") != T_BOUNDARY ||
+        "lambda_max_rest_per_s2,dt_crit_pred_s,dt_crit_pred_rest_s,dt_stable_grid_s,dt_unstable_grid_s,grid_monotone,"
+        "dt_crit_meas_s,dt_crit_meas_hi_s,bisect_runs,bisect_status,equilibrium_ms,predict_ms") != T_BOUNDARY ||
       cb_experiment_table(&e, "timing", info,
-        "scene,n_vertices,k,method,dt,steps,sim_time_s,wall_ms,wall_ms_per_s,wall_repeats,status,step_status,newton_iters,dt_crit_meas,"
-        "dt_crit_pred,not_converged_steps") != T_TIMING)
+        "scene,n_vertices,k_n_per_m,method,dt_s,steps,sim_time_s,wall_ms,wall_ms_per_s,wall_repeats,status,step_status,newton_iters,"
+        "dt_crit_meas_s,dt_crit_pred_s,not_converged_steps") != T_TIMING)
     return cb_experiment_end(&e, CB_EIO), 2;
   /* cost hints: vertices + 5 (a quick run takes 2.5-4 ms per unit for a map cell
    * or a resolution cell, 1.5 for an extreme case) */

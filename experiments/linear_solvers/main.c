@@ -239,9 +239,9 @@ int main(int argc, char **argv) {
                            "dense_ms,spectrum,alpha_max,alpha_star,rho_vanilla,rho_star,rho_lab,status") != T_SCENES ||
        cb_experiment_table(&c.e, "runs", extra,
                            "scene,sweep,solver,alpha,alpha_over_max,rho,rho_predicted,iters,rel_residual,rate,rate_prev,"
-                           "iters_1e6,wall_ms_1e6,setup_ms,rho_ms,wall_ms,status") != T_RUNS ||
+                           "iters_1e6,wall_to_1e6_ms,setup_ms,rho_ms,wall_ms,status") != T_RUNS ||
        cb_experiment_table(&c.e, "newton", extra,
-                           "scene,solver,alpha,rho,k,iters,rel_residual,step_error,wall_ms,status") != T_NEWTON;
+                           "scene,solver,alpha,rho,max_iters,iters,rel_residual,step_error,wall_ms,status") != T_NEWTON;
   if (rc) return cb_experiment_end(&c.e, CB_EIO), 2;
   int mode = c.e.quick ? QUICK : FULL;
   for (int i = 0; i < NSCENES; i++)

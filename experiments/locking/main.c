@@ -531,7 +531,7 @@ int main(int argc, char **argv) {
       cb_experiment_table(&E, "aniso", "# F1: boundary held at F X (5% uniaxial stretch or simple shear), interior relaxed; k = mu = 1000 N/m\n",
                           "model,mesh,family,test,vertices,strain,energy_j,energy_density_j_per_m2,area_m2,free_vertices,residual,status") != T_ANISO ||
       cb_experiment_table(&E, "newton", "# F1: one implicit Euler step of the lab cloth, |grad F| per Newton iteration; wall_ms since the step began\n",
-                          "model,rep,iter,f_j,grad_norm,rel_grad,wall_ms") != T_NEWTON ||
+                          "model,rep,iter,f_j,grad_norm_n,rel_grad,wall_ms") != T_NEWTON ||
       cb_experiment_table(&E, "newton_steps", NULL,
                           "model,n,rep,newton_iters,factorizations,rel_grad,assemble_ms,factor_ms,solve_ms,step_wall_ms,status") != T_STEPS ||
       cb_experiment_table(&E, "shape", "# S1: cells as explicit_stability (energy = kinetic + elastic + gravity; shape matching scenes have k = 0); "

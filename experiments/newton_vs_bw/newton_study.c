@@ -12,9 +12,9 @@
 #include "stats.h"
 
 const char *const cb_study_steps_header =
-    "scene,n,dt,k,stretch,step,method,max_newton_iters,inner_solver,line_search,newton_iters,linear_iters,"
+    "scene,n,dt_s,k_n_per_m,stretch,step,method,max_newton_iters,inner_solver,line_search,newton_iters,linear_iters,"
     "ls_reduced,ls_backtracks,step_error,rel_grad,f_minus_fstar_j,assemble_ms,factor_ms,setup_ms,solve_ms,wall_ms,"
-    "status,ref_iters,ref_rel_grad,ref_grad_norm,ref_last_dx_m,ref_status";
+    "status,ref_iters,ref_rel_grad,ref_grad_norm_n,ref_last_dx_m,ref_status";
 
 enum { STEP_REPS = 5 };
 #define STEP_REP_MS 25.0
@@ -161,7 +161,7 @@ int cb_study_pareto(FILE *csv, const char *label, const cb_method *methods, int 
 /* ---- I2 -------------------------------------------------------------------- */
 
 const char *const cb_study_order_header =
-    "scene,n,dt,k,stretch,definiteness,line_search,step,iter,grad_norm,rel_grad,f_j,alpha,hessian,step_status,"
+    "scene,n,dt_s,k_n_per_m,stretch,definiteness,line_search,step,iter,grad_norm_n,rel_grad,f_j,alpha,hessian,step_status,"
     "step_iters";
 
 enum { ORDER_MAX_ITERS = 60, ORDER_LOG = 256 };

@@ -10,7 +10,7 @@
 #include <clothbench/status.h>
 
 const char *const cb_study_traj_header =
-    "scene,n,dt,k,stretch,method,max_newton_iters,inner_solver,line_search,step,t_s,pos_error_m,energy_j,"
+    "scene,n,dt_s,k_n_per_m,stretch,method,max_newton_iters,inner_solver,line_search,step,t_s,pos_error_m,energy_j,"
     "ref_energy_j,energy_drift_j,newton_iters,linear_iters,wall_ms,status";
 
 /* ss NULL: the start state, where no step ran (its iterations and time are empty) */
@@ -77,7 +77,7 @@ done:
 /* ---- time-discretisation error -------------------------------------------- */
 
 const char *const cb_study_dt_header =
-    "scene,n,dt,k,stretch,fine_dt,step,t_s,pos_error_m,energy_j,fine_energy_j,ref_status,fine_status";
+    "scene,n,dt_s,k_n_per_m,stretch,fine_dt_s,step,t_s,pos_error_m,energy_j,fine_energy_j,ref_status,fine_status";
 
 int cb_study_dt_error(cb_scene *s, const char *label, double dt, int refine, int nsteps, FILE *csv) {
   size_t n3 = (size_t)3 * s->mesh.nv;
@@ -117,7 +117,7 @@ int cb_study_dt_error(cb_scene *s, const char *label, double dt, int refine, int
 /* ---- the K = 1 regime map -------------------------------------------------- */
 
 const char *const cb_study_regime_header =
-    "scene,n,dt,k,stretch,dt_index,k_index,stretch_index,steps,duration_s,first_diverged_step,traj_status,"
+    "scene,n,dt_s,k_n_per_m,stretch,dt_index,k_index,stretch_index,steps,duration_s,first_diverged_step,traj_status,"
     "step_error_0,step_error_max,worst_step,worst_f_minus_fstar_j,samples,ref_status,ref_iters_max,k1_fails,wall_ms";
 
 int cb_study_regime_cell(cb_scene *s, const char *label, double dt, double duration_s, int nsamples, double fail_level, int dt_index,

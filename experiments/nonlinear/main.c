@@ -553,11 +553,11 @@ int main(int argc, char **argv) {
                           "median_frame_ms,status") != T_J3 ||
       cb_experiment_table(&e, "spectrum", j3_extra, "scene,rho_given,frame,lmin,lmax,rho_lin,lanczos_steps") != T_SPECTRUM ||
       cb_experiment_table(&e, "w1", state_extra,
-                          "scene,n,method,pair,rho,max_iters,tol,iters_to_tol,wall_ms_to_tol,setup_ms,alloc_ms,"
+                          "scene,n,method,pair,rho,max_iters,tol,iters_to_tol,wall_to_tol_ms,setup_ms,alloc_ms,"
                           "final_rel_grad,status") != T_W1 ||
       cb_experiment_table(&e, "w1_trace", NULL, "scene,n,method,iter,rel_grad") != T_W1_TRACE ||
       cb_experiment_table(&e, "p1", p1_extra,
-                          "scene,n,k,method,frame,iters,wall_ms,alloc_ms,step_error,rel_grad,status") != T_P1 ||
+                          "scene,n,k_n_per_m,method,frame,iters,wall_ms,alloc_ms,step_error,rel_grad,status") != T_P1 ||
       cb_experiment_table(&e, "error_time", state_extra,
                           "scene,n,method,family,iters,rho,wall_ms,setup_ms,step_error,rel_grad,status") != T_ERROR_TIME)
     return cb_experiment_end(&e, CB_EIO), 2;
