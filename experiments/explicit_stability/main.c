@@ -91,15 +91,19 @@ static int scene_config(const cb_experiment *e, const cb_scene_decl *d, double k
 }
 
 /* window: the requested energy-loss window (mark_time), 0 if none (written empty);
- * meas: the bisected dt_crit, NaN if none was measured (written empty). */
+ * meas: the bisected dt_crit, NaN if none was measured (written empty); the
+ * Newton columns of an explicit cell are empty (no Newton iteration there). */
 static void cell_row(const char *kind, const char *cas, const char *method, const cb_cell_result *r, double pred,
                      double meas, double kinetic0, double window, const char *note) {
   double loss = r->t_mark > 0 ? (r->energy0 - r->energy_mark) / r->t_mark : cb_csv_na(); /* W: J per simulated s */
+  int nt = !strcmp(method, "newton");
+  double na = cb_csv_na();
   cb_csv_printf(fmain, "%s,%s,%s,%d,%.17g,%.17g,%s,%s,%.17g,%.17g,%ld,%.17g,%.6f,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,"
-          "%.17g,%ld,%d,%ld,%s,%s\n", kind, cas, cur_scene, cur_nv, cur_k, r->dt, method, cb_cell_class_name(r->cls),
-          r->max_energy_ratio, r->final_energy_ratio, r->steps, r->t_end, r->wall_ms, pred, cb_csv_na_if_nan(meas), r->energy0,
-          r->energy_end, r->energy_scale, kinetic0, window > 0 ? window : cb_csv_na(), r->t_mark, loss, r->newton_iters, r->max_newton_iters,
-          r->not_converged_steps, cb_status_name(r->step_status), note);
+                "%.17g,%.17g,%.17g,%.17g,%s,%s\n", kind, cas, cur_scene, cur_nv, cur_k, r->dt, method, cb_cell_class_name(r->cls),
+                r->max_energy_ratio, r->final_energy_ratio, r->steps, r->t_end, r->wall_ms, pred, cb_csv_na_if_nan(meas), r->energy0,
+                r->energy_end, r->energy_scale, kinetic0, window > 0 ? window : na, r->t_mark, loss,
+                nt ? (double)r->newton_iters : na, nt ? r->max_newton_iters : na, nt ? (double)r->not_converged_steps : na,
+                cb_status_name(r->step_status), note);
 }
 
 typedef struct { cb_cell_result r[MAXG * 2]; int n; } cell_list;
@@ -146,10 +150,13 @@ static int timing(cb_stability_case *c, double meas, int methods) {
       if ((st = cb_stability_cell(it, dt, c->x_start, c->v_start, c->S, &p, &c->work, &r))) break;
       if (reps == 0 || r.wall_ms < best.wall_ms) best = r;
     } while (++reps < 3 && (m != 1 || r.wall_ms < 300));
+    /* explicit has no Newton iterations; Baraff-Witkin's one iteration a step is the method, never "not converged" */
+    double na = cb_csv_na();
     if (st == CB_OK)
-      cb_csv_printf(ftime, "%s,%d,%.17g,%s,%.17g,%ld,%.17g,%.6f,%.6f,%d,%s,%s,%ld,%.17g,%.17g,%ld\n", cur_scene, cur_nv, cur_k, name[m],
-              dt, best.steps, best.t_end, best.wall_ms, best.wall_ms / best.t_end, reps, cb_cell_class_name(best.cls),
-              cb_status_name(best.step_status), best.newton_iters, meas, c->pred.dt_crit, m == 2 ? 0L : best.not_converged_steps);
+      cb_csv_printf(ftime, "%s,%d,%.17g,%s,%.17g,%ld,%.17g,%.6f,%.6f,%d,%s,%s,%.17g,%.17g,%.17g,%.17g\n", cur_scene, cur_nv, cur_k,
+                    name[m], dt, best.steps, best.t_end, best.wall_ms, best.wall_ms / best.t_end, reps, cb_cell_class_name(best.cls),
+                    cb_status_name(best.step_status), m == 0 ? na : (double)best.newton_iters, meas, c->pred.dt_crit,
+                    m == 1 ? (double)best.not_converged_steps : na);
   }
   cb_integrator_free(bw);
   cb_integrator_free(conv);
@@ -266,8 +273,7 @@ static int extreme(const cb_experiment *e, const plan *p, const extreme_case *x)
     char msg[1024];
     snprintf(msg, sizeof msg, "%s: rejected when the scene is built: %s", x->note, cb_error_message());
     for (char *s = msg; *s; s++) if (*s == ',' || *s == '\n') *s = ';';
-    cb_csv_printf(fmain, "extreme,%s,cloth21,,%.17g,,explicit,rejected,,,0,0,,,,,,,,,,,0,0,0,invalid_input,%s\n", cas, x->k,
-                  msg);
+    cb_csv_printf(fmain, "extreme,%s,cloth21,,%.17g,,explicit,rejected,,,0,0,,,,,,,,,,,,,,invalid_input,%s\n", cas, x->k, msg);
     return CB_OK;
   }
   if (st) return st;
