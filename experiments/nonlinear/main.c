@@ -386,10 +386,11 @@ static int w1_cell(long i, void *ctx, FILE *const *out) {
         snprintf(iters, sizeof iters, "integrator.iters=%d", hit);
         if ((st = one_step(p->e, d, &S, sets, NULL, NULL, &rt))) break;
       }
-      /* a tolerance never reached (hit < 0; hit = 0: reached before any iteration) has no iteration count or time */
-      double na = cb_csv_na();
+      /* a tolerance never reached (hit < 0; hit = 0: reached before any iteration) has no iteration count or
+       * time; a method without Chebyshev acceleration has no rho */
+      double na = cb_csv_na(), rho = strstr(W1M[m].label, "chebyshev") ? r.rho : na;
       cb_csv_printf(out[T_W1], "%s,%d,%s,%s,%.17g,%d,%g,%.17g,%.6f,%.6f,%.6f,%.17g,%s\n", d->label, n, W1M[m].label,
-                    W1M[m].pair, r.rho, kmax, TOLS[q], hit >= 0 ? hit : na, hit > 0 ? rt.wall_ms : na, hit > 0 ? rt.setup_ms : na,
+                    W1M[m].pair, rho, kmax, TOLS[q], hit >= 0 ? hit : na, hit > 0 ? rt.wall_ms : na, hit > 0 ? rt.setup_ms : na,
                     r.alloc_ms, t.n ? t.rel[t.n - 1] : na, cb_status_name(r.status));
     }
     free(t.rel);
@@ -473,8 +474,9 @@ static int et_cell(long i, void *ctx, FILE *const *out) {
       sets[ns] = NULL;
       step_result r;
       if ((st = one_step(p->e, d, &S, sets, NULL, NULL, &r))) break;
+      double rho = strstr(ETM[m].label, "chebyshev") ? r.rho : cb_csv_na(); /* no rho without Chebyshev */
       cb_csv_printf(out[T_ERROR_TIME], "%s,%d,%s,%s,%d,%.17g,%.6f,%.6f,%.17g,%.17g,%s\n", d->label, S.s->mesh.grid_n, ETM[m].label,
-              ETM[m].family, r.iters, r.rho, r.wall_ms, r.setup_ms, r.error, r.rel_grad, cb_status_name(r.status));
+                    ETM[m].family, r.iters, rho, r.wall_ms, r.setup_ms, r.error, r.rel_grad, cb_status_name(r.status));
       if (!kmax) break;
     }
   }
