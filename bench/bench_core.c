@@ -294,7 +294,7 @@ static void bench_steps(FILE *f, int n, cb_scene *s, const cb_integrator_params 
     mstat ms = done ? stat_of(wall + (done > MAXREP ? done - MAXREP : 0), done > MAXREP ? MAXREP : done) : unmeasured();
     double na = cb_csv_na(); /* no step done: nothing measured */
     cb_csv_printf(f, "%d,%s,%s,%s,%s,%d", n, m->label, m->solver, m->alpha > 0 ? "fixed" : "auto", m->reuse ? "amortised" : "every_factor",
-            done);
+                  done);
     put(f, ms);
     cb_csv_printf(f, ",%.6g,%.6g,%d,%.6g,%.6g,%.6g,%s\n", done ? 1000.0 / ms.med : na, done ? rho_total / total : na, estimates,
                   done ? iters / done : na, done ? pow(10.0, logres / done) : na,
@@ -484,9 +484,9 @@ int main(int argc, char **argv) {
                   stat_of(gmv, reps), stat_of(rmv, reps)};
     for (size_t q = 0; q < sizeof ms / sizeof ms[0]; q++) put(csv.f, ms[q]);
     cb_csv_printf(csv.f, ",%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.17g,%.17g,%ld,%ld,%ld,%s\n",
-            ms[1].med + ms[2].med + ms[3].med, ms[1].med / mfa, stat_of(thr, reps).med, stat_of(thr4, reps).med, an,
-            bare_an, per_run, an / (per_run * mfa), bytes, bytes_full, allocs_explicit, allocs_iter, allocs_newton,
-            cb_status_name(status));
+                  ms[1].med + ms[2].med + ms[3].med, ms[1].med / mfa, stat_of(thr, reps).med, stat_of(thr4, reps).med, an,
+                  bare_an, per_run, an / (per_run * mfa), bytes, bytes_full, allocs_explicit, allocs_iter, allocs_newton,
+                  cb_status_name(status));
     fflush(csv.f);
     cb_sparse_sym_free(&S);
     if (n >= 64) sweep_cholmod(chol.f, n, A, n >= 256 ? 5 : 7);

@@ -106,7 +106,7 @@ static int part_hinge(FILE *f, int quick) {
       hinge_pose(fold * PI / 180, mode ? 1 + s : 1, mode ? 1 : 1 + s, x);
       double Eq = energy_grad(t[2], x, g, 12), Ed = energy_grad(t[1], x, g, 12);
       cb_csv_printf(f, "b3,quadratic,%s,,%.17g,%.17g,,,,%.17g,%.17g,%.17g,,,,,,,,,,,,,,ok\n", mode ? "across" : "uniform", fold, s,
-              Eq, Ed, Eq / Ed);
+                    Eq, Ed, Eq / Ed);
     }
   for (int m = 0; m < 3; m++) cb_term_free(t[m]);
   cb_topology_free(&h.topo);
@@ -262,14 +262,14 @@ static int part_drape(cb_experiment *e, FILE *f) {
       if (drape(e, ini, n, MODELS[2 - m], steps, &r[m])) return -1; /* quadratic, then dihedral */
       drape_result *q = &r[m];
       cb_csv_printf(f, "b2,%s,%s,%d,,,,,,,,,%d,%d,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.17g,,%d,%d,%d,%s\n", MODELS[2 - m], k < 2 ? "grid" : "irregular",
-              k < 2 ? n : (int)lround(sqrt(q->nv)), q->steps, q->iters, q->assemble, q->factor, q->solve, q->wall,
-              q->wall_min, q->wall_max, q->kinetic, q->contacts, q->indefinite, q->nhinges, q->status);
+                    k < 2 ? n : (int)lround(sqrt(q->nv)), q->steps, q->iters, q->assemble, q->factor, q->solve, q->wall,
+                    q->wall_min, q->wall_max, q->kinetic, q->contacts, q->indefinite, q->nhinges, q->status);
       cb_progress_update(&e->progress, e->progress.done + 1);
     }
     double s2 = 0;
     for (int i = 0; i < 3 * r[0].nv; i++) s2 += (r[0].x[i] - r[1].x[i]) * (r[0].x[i] - r[1].x[i]);
     cb_csv_printf(f, "b2_rms,quadratic-dihedral,%s,%d,,,,,,,,,%d,,,,,,,,,%.17g,,,,ok\n", k < 2 ? "grid" : "irregular",
-            k < 2 ? n : (int)lround(sqrt(r[0].nv)), r[0].steps, sqrt(s2 / r[0].nv));
+                  k < 2 ? n : (int)lround(sqrt(r[0].nv)), r[0].steps, sqrt(s2 / r[0].nv));
     free(r[0].x);
     free(r[1].x);
   }

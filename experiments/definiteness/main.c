@@ -55,7 +55,7 @@ static void put_row(FILE *f, const char *sc, const char *pol, int step, const cb
     const cb_spd_probe_result *u = &r->used, *x = exact_run ? &r->used : &r->exact;
     int spd_x = exact_run ? r->status != CB_NOT_SPD : x->cholmod_status == CB_OK;
     cb_csv_printf(f, "%d,%.17g,%.17g,%.17g,%d,%.17g,", r->status != CB_NOT_SPD, u->min_eig, u->min_eig_res, r->mu, spd_x,
-            x->min_eig);
+                  x->min_eig);
   } else {
     fputs(",,,,,,", f);
   }
@@ -63,7 +63,7 @@ static void put_row(FILE *f, const char *sc, const char *pol, int step, const cb
   if (r->system) cb_csv_printf(f, "%d,%s,%d,", r->used.cg_status == CB_INDEFINITE, cb_status_name(r->used.cg_status), r->used.cg_iters);
   else fputs(",,,", f);
   cb_csv_printf(f, "%.17g,%.17g,%.17g,%.17g,%.6f,%s\n", r->rel_grad, r->grad_norm, r->F, r->energy, r->wall_ms,
-          cb_status_name(r->status));
+                cb_status_name(r->status));
 }
 
 /* max_i |x_i - y_i| over vertices (Euclidean), or "" when y is missing */
@@ -124,8 +124,8 @@ static int run_policy(const cb_experiment *e, const scene_plan *sd, int p, FILE 
       t->cg_bd += w->system && w->used.cg_status == CB_INDEFINITE;
     }
     cb_csv_printf(stp, "%s,%s,%d,%.17g,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.6f,%s\n", label, policies[p], run.step,
-            run.t, ss->newton_iters, ss->factorizations, ss->F, fin->energy, run.kinetic, ss->rel_grad,
-            fin->compressed_frac, ss->shift_mu, wall, cb_status_name(t->status));
+                  run.t, ss->newton_iters, ss->factorizations, ss->F, fin->energy, run.kinetic, ss->rel_grad,
+                  fin->compressed_frac, ss->shift_mu, wall, cb_status_name(t->status));
     t->steps_done++;
     t->converged += t->status == CB_OK;
     t->iters += ss->newton_iters;
@@ -189,7 +189,7 @@ static int pair_cell(const cb_experiment *e, const cb_scene_decl *sd, int p, FIL
       double pred = m * s2 + 2 * (dim == 1 ? along : fmin(along, tr));
       if (st == CB_OK)
         cb_csv_printf(f, "%d,%s,%s,%.17g,%.17g,%.17g,%.17g,%d\n", dim, pols[p], def == CB_DEF_CHOI_KO ? kbs[p] : "", q, lh, la,
-                pred, ok_a);
+                      pred, ok_a);
     }
   }
   cb_scene_free(s);
@@ -215,8 +215,8 @@ static int traj_cell(long i, void *ctx, FILE *const *out) {
     const tally *a = &t[p];
     FILE *f = out[T_RUNS];
     cb_csv_printf(f, "%s,%s,%d,%d,%d,%d,%d,%d,%d,%d,%.17g,%d,%.6f,%.6f,%.17g,%.17g,%.17g,", sd->scene.label, policies[p],
-            sd->steps[pl->e->quick], a->steps_done, a->converged, a->iters, a->systems, a->not_spd, a->indef_x,
-            a->cg_bd, a->mu, a->fact, a->wall, a->probe, a->F, a->energy, a->rel_grad);
+                  sd->steps[pl->e->quick], a->steps_done, a->converged, a->iters, a->systems, a->not_spd, a->indef_x,
+                  a->cg_bd, a->mu, a->fact, a->wall, a->probe, a->F, a->energy, a->rel_grad);
     put_diff(f, a->x, t[0].x, nv);
     put_diff(f, a->x, t[1].x, nv);
     cb_csv_printf(f, "%s\n", cb_status_name(a->status));

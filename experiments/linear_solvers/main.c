@@ -168,7 +168,7 @@ static int scene(ctx *c, const scene_plan *d, FILE *sc) {
                 lz.res_max, lz.steps_min, lz.steps_max, lz.ms, dense ? de.lmin : cb_csv_na(), dense ? de.lmax : cb_csv_na(),
                 dense ? de.ms : cb_csv_na(), dense ? "dense" : "lanczos");
   cb_csv_printf(sc, "%.17g,%.17g,%.17g,%.17g,%.17g,ok\n", amax, astar, cb_jacobi_rho(c->lmin, c->lmax, 1.0),
-          cb_jacobi_rho(c->lmin, c->lmax, astar), cb_jacobi_rho(lab.lmin, lab.lmax, 1.0));
+                cb_jacobi_rho(c->lmin, c->lmax, astar), cb_jacobi_rho(lab.lmin, lab.lmax, 1.0));
   int full = cb_scene_decl_is(&d->scene, "full") || cb_scene_decl_is(&d->scene, "j3");
   if (cb_scene_decl_is(&d->scene, "spectrum")) goto done;
   c->scene = label;

@@ -241,8 +241,8 @@ static int l1_cell(long ci, void *ctx, FILE *const *out) {
           edge_strain(s, x, &smax, &srms);
           int st = rc ? rc : es.status;
           cb_csv_printf(f, "%s,%s,%s,%.0f,%d,%.17g,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%ld,%.6g,%d,%.3f,%s\n", models[md],
-                  mesh_names[mk], folds[fl].name, folds[fl].deg, on_edges, ks[ki], s->mesh.nv, npin, angle, offset, drop,
-                  smax, srms, es.steps, es.newton_iters, es.residual, degenerate(s, x), es.ms, cb_status_name(st));
+                        mesh_names[mk], folds[fl].name, folds[fl].deg, on_edges, ks[ki], s->mesh.nv, npin, angle, offset, drop,
+                        smax, srms, es.steps, es.newton_iters, es.residual, degenerate(s, x), es.ms, cb_status_name(st));
           free(x);
           cb_scene_free(s);
         }
@@ -367,8 +367,8 @@ static int f1_aniso_cell(long ci, void *ctx, FILE *const *out) {
         int rc = cb_stability_equilibrium(s, x, &ep, &es);
         double En = cb_system_elastic_energy(&s->sys, x);
         cb_csv_printf(f, "%s,%s,%s,%s,%d,0.05,%.17g,%.17g,%.17g,%d,%.6g,%s\n", models[md], mesh_names[mk], tests[t].family,
-                tests[t].test, s->mesh.nv, En, En / area, area, s->model.nfree, es.residual,
-                cb_status_name(rc ? rc : es.status == CB_NOT_CONVERGED && es.residual < 1e-6 ? CB_OK : es.status));
+                      tests[t].test, s->mesh.nv, En, En / area, area, s->model.nfree, es.residual,
+                      cb_status_name(rc ? rc : es.status == CB_NOT_CONVERGED && es.residual < 1e-6 ? CB_OK : es.status));
       }
       free(x);
       cb_scene_free(s);
@@ -386,7 +386,7 @@ static void trace_hook(void *ctx, int event, const cb_newton_event *ev) {
   trace_ctx *c = ctx;
   if (event != CB_NEWTON_GRADIENT) return;
   cb_csv_printf(c->f, "%s,%d,%d,%.17g,%.17g,%.17g,%.4f\n", c->model, c->rep, ev->iter, ev->F, ev->grad_norm, ev->rel_grad,
-          cb_now_ms() - c->t0);
+                cb_now_ms() - c->t0);
 }
 
 /* the scenes of a role, in table order */
@@ -436,7 +436,7 @@ static int f1_newton_cell(long i, void *ctx, FILE *const *out) {
       int rc = cb_integrator_step(it, xs, vs, &st);
       it->params.hook = NULL;
       cb_csv_printf(fs, "%s,%d,%d,%d,%d,%.17g,%.4f,%.4f,%.4f,%.4f,%s\n", sm->scene.label, n, rep, st.newton_iters, st.factorizations,
-              st.rel_grad, st.assemble_ms, st.factor_ms, st.solve_ms, cb_now_ms() - tc.t0, cb_status_name(rc));
+                    st.rel_grad, st.assemble_ms, st.factor_ms, st.solve_ms, cb_now_ms() - tc.t0, cb_status_name(rc));
     }
     free(x); free(v); free(xs); free(vs);
     cb_integrator_free(it);

@@ -85,10 +85,10 @@ int cb_study_steps(cb_scene *s, const char *label, double dt, const int *states,
         }
         scene_cols(csv, s, label, dt);
         cb_csv_printf(csv, "%d,%s,%d,%s,%d,%d,%d,%d,%d,%.17g,%.17g,%.17g,%.6f,%.6f,%.6f,%.6f,%.6f,%s,%d,%.17g,%.17g,%.17g,%s\n",
-                step, me->name, me->K > 0 ? me->K : CB_METHOD_CONVERGED_ITERS, me->inner, me->line_search,
-                r.st.newton_iters, r.st.linear_iters, r.ls_reduced, r.st.ls_backtracks, r.step_error, r.st.rel_grad,
-                r.f_minus_fstar, r.st.assemble_ms, r.st.factor_ms, r.setup_ms, r.st.solve_ms, r.st.wall_ms,
-                cb_status_name(r.st.status), rs.iters, rs.rel_grad, rs.grad_norm, rs.last_dx, cb_status_name(rst));
+                      step, me->name, me->K > 0 ? me->K : CB_METHOD_CONVERGED_ITERS, me->inner, me->line_search,
+                      r.st.newton_iters, r.st.linear_iters, r.ls_reduced, r.st.ls_backtracks, r.step_error, r.st.rel_grad,
+                      r.f_minus_fstar, r.st.assemble_ms, r.st.factor_ms, r.setup_ms, r.st.solve_ms, r.st.wall_ms,
+                      cb_status_name(r.st.status), rs.iters, rs.rel_grad, rs.grad_norm, rs.last_dx, cb_status_name(rst));
         if (pts) {
           cb_study_point *pt = &pts[(next - 1) * nmethods + m];
           pt->wall_ms = r.st.wall_ms;
@@ -150,8 +150,8 @@ int cb_study_pareto(FILE *csv, const char *label, const cb_method *methods, int 
       while (ki < 5 && Ks[ki] != methods[m].K) ki++;
       while (ii < 5 && strcmp(inners[ii], methods[m].inner)) ii++;
       cb_csv_printf(csv, "%s,%s,%d,%d,%s,%d,%d,%d,%.6f,%.6f,%.17g,%d,%d\n", label, methods[m].name,
-              methods[m].K > 0 ? methods[m].K : CB_METHOD_CONVERGED_ITERS, ki, methods[m].inner, ii,
-              methods[m].line_search, nstates, cost[m], nos[m], err[m], failed[m], front[m]);
+                    methods[m].K > 0 ? methods[m].K : CB_METHOD_CONVERGED_ITERS, ki, methods[m].inner, ii,
+                    methods[m].line_search, nstates, cost[m], nos[m], err[m], failed[m], front[m]);
     }
   }
   free(cost); free(nos); free(err); free(tmp); free(front); free(failed);
@@ -201,7 +201,7 @@ static void order_rows(FILE *csv, const cb_scene *s, const char *label, double d
   for (int i = 0; i < L->n; i++) {
     scene_cols(csv, s, label, dt);
     cb_csv_printf(csv, "%s,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%s,%s,%d\n", def, ls, step, i, L->g[i], L->rel[i], L->F[i],
-            L->alpha[i], hname[L->hessian[i]], cb_status_name(status), iters);
+                  L->alpha[i], hname[L->hessian[i]], cb_status_name(status), iters);
   }
 }
 

@@ -105,8 +105,8 @@ int cb_study_dt_error(cb_scene *s, const char *label, double dt, int refine, int
       if (t != CB_OK) fst = t;
     }
     cb_csv_printf(csv, "%s,%d,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%.17g,%.17g,%s,%s\n", label, s->def.grid.n, dt,
-            s->def.stretch_k, s->def.initial_scale, fp.dt, k, k * dt, cb_mnorm_diff(s, xc, xf) * rms,
-            cb_state_energy(s, xc, vc), cb_state_energy(s, xf, vf), cb_status_name(cst), cb_status_name(fst));
+                  s->def.stretch_k, s->def.initial_scale, fp.dt, k, k * dt, cb_mnorm_diff(s, xc, xf) * rms,
+                  cb_state_energy(s, xc, vc), cb_state_energy(s, xf, vf), cb_status_name(cst), cb_status_name(fst));
   }
   cb_reference_free(rc);
   cb_reference_free(rf);

@@ -423,7 +423,7 @@ static int p1_cell(long i, void *ctx, FILE *const *out) {
     step_result r;
     if ((st = one_step(p->e, d, &S, P1M[m].sets, NULL, NULL, &r))) break;
     cb_csv_printf(out[T_P1], "%s,%d,%.17g,%s,%d,%d,%.6f,%.6f,%.17g,%.17g,%s\n", d->label, S.s->mesh.grid_n, S.s->def.stretch_k,
-            P1M[m].label, frame, r.iters, r.wall_ms, r.alloc_ms, r.error, r.rel_grad, cb_status_name(r.status));
+                  P1M[m].label, frame, r.iters, r.wall_ms, r.alloc_ms, r.error, r.rel_grad, cb_status_name(r.status));
   }
   free_state(&S); /* make_state leaves it empty on error */
   return st;
