@@ -147,7 +147,7 @@ test: deps
 
 DETERMINISM_EXP ?= linear_solvers
 
-check: $(TESTS) $(TOOLS) $(BUILD)/$(DETERMINISM_EXP) $(BUILD)/topology $(BUILD)/definiteness $(BUILD)/nonlinear $(BUILD)/report
+check: $(TESTS) $(TOOLS) $(BUILD)/$(DETERMINISM_EXP) $(BUILD)/topology $(BUILD)/definiteness $(BUILD)/nonlinear $(BUILD)/report $(EXPS)
 	@scripts/check-blas.sh $(BUILD)/simulate
 	@set -e; for t in $(TESTS); do echo "== $$t"; CB_QUIET=1 CB_SIMULATE=$(BUILD)/simulate $$t --jobs 2 --short-filename; done
 	@BUILD=$(BUILD) tests/cli.sh
@@ -157,6 +157,7 @@ check: $(TESTS) $(TOOLS) $(BUILD)/$(DETERMINISM_EXP) $(BUILD)/topology $(BUILD)/
 	@BUILD=$(BUILD) tests/shard.sh topology 3
 	@BUILD=$(BUILD) tests/shard.sh definiteness 2
 	@BUILD=$(BUILD) tests/shard.sh nonlinear 2
+	@BUILD=$(BUILD) tests/csv_convention.sh
 	@CC="$(CC)" CPPFLAGS="$(CPPFLAGS)" CORE_INC="$(CORE_INC)" CONFIG_INC="$(CONFIG_INC)" INSTR_INC="$(INSTR_INC)" IO_INC="$(IO_INC)" tests/layers.sh
 	@echo "all tests passed"
 
@@ -200,6 +201,7 @@ DOC_FILL := README.md $(wildcard docs/experiments/*.md)
 experiments: deps
 	@$(MAKE) --no-print-directory run-experiments
 	@$(MAKE) --no-print-directory plots movies report
+	@tests/csv_convention.sh --results results
 ifneq ($(QUICK),1)
 	@$(BUILD)/report --results results --fill-only $(addprefix --fill ,$(DOC_FILL))
 endif

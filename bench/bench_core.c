@@ -70,14 +70,26 @@ static mstat stat_of(const double *v, int n) {
   return m;
 }
 
-static void put(FILE *f, mstat m) { fprintf(f, ",%.6g,%.6g,%.6g", m.med, m.lo, m.hi); }
-/* name, name_min, name_max; a timing x_ms gets x_min_ms and x_max_ms */
+/* not measured (a failed factorisation, no step done): written empty */
+static mstat unmeasured(void) {
+  double na = cb_csv_na();
+  return (mstat){na, na, na};
+}
+static void put(FILE *f, mstat m) { cb_csv_printf(f, ",%.6g,%.6g,%.6g", m.med, m.lo, m.hi); }
+/* name, name_min, name_max, the unit suffix kept last (README.md, "CSV convention"): a timing x_ms gets
+ * x_min_ms and x_max_ms, a rate x_gflops x_min_gflops, ...; a ratio x_over_y gets x_over_y_min */
 static void put_hdr(char *h, size_t cap, const char *name) {
+  static const char *const units[] = {"_ms", "_gflops", "_gbs", NULL};
   size_t u = strlen(h), len = strlen(name);
-  if (len > 3 && !strcmp(name + len - 3, "_ms"))
-    snprintf(h + u, cap - u, ",%s,%.*s_min_ms,%.*s_max_ms", name, (int)len - 3, name, (int)len - 3, name);
-  else
-    snprintf(h + u, cap - u, ",%s,%s_min,%s_max", name, name, name);
+  for (int k = 0; units[k]; k++) {
+    size_t ul = strlen(units[k]);
+    if (len > ul && !strcmp(name + len - ul, units[k])) {
+      int b = (int)(len - ul);
+      snprintf(h + u, cap - u, ",%s,%.*s_min%s,%.*s_max%s", name, b, name, units[k], b, name, units[k]);
+      return;
+    }
+  }
+  snprintf(h + u, cap - u, ",%s,%s_min,%s_max", name, name, name);
 }
 
 /* ---- single-thread dgemm (the peak a factorisation's BLAS could reach) ---- */
@@ -229,13 +241,16 @@ static void sweep_cholmod(FILE *f, int n, const cb_sparse *A, int reps) {
       }
   for (int c = 0; c < NC; c++) {
     cb_solver *s = sv[c];
-    mstat m = st[c] == CB_OK ? stat_of(tf[c], reps) : (mstat){NAN, NAN, NAN};
+    int ok = st[c] == CB_OK;
+    mstat m = ok ? stat_of(tf[c], reps) : unmeasured();
     int is_def = ord[c] == def.ordering && upp[c] == def.upper && flush[c] == def.flush_denormals &&
                  !memcmp(nr[c], def.nrelax, sizeof def.nrelax);
-    fprintf(f, "%d,%s,%d %d %d,%s,%s,%.6g", n, cb_order_name(ord[c]), nr[c][0], nr[c][1], nr[c][2], upp[c] ? "upper" : "full", flush[c] ? "flush" : "keep", s ? s->stats.analyze_ms : NAN);
+    double na = cb_csv_na(); /* what a solver that failed to allocate or factorise did not measure */
+    cb_csv_printf(f, "%d,%s,%d %d %d,%s,%s,%.6g", n, cb_order_name(ord[c]), nr[c][0], nr[c][1], nr[c][2],
+                  upp[c] ? "upper" : "full", flush[c] ? "flush" : "keep", s ? s->stats.analyze_ms : na);
     put(f, m);
-    fprintf(f, ",%.6g,%.17g,%.17g,%d,%s\n", s ? s->stats.factor_flops / (m.med * 1e-3) / 1e9 : NAN,
-            s ? s->stats.factor_nnz : NAN, s ? s->stats.factor_flops : NAN, is_def, cb_status_name(st[c]));
+    cb_csv_printf(f, ",%.6g,%.17g,%.17g,%d,%s\n", s && ok ? s->stats.factor_flops / (m.med * 1e-3) / 1e9 : na,
+                  s && ok ? s->stats.factor_nnz : na, s && ok ? s->stats.factor_flops : na, is_def, cb_status_name(st[c]));
     cb_solver_free(s);
   }
   fflush(f);
@@ -251,11 +266,13 @@ static void write_blas_profile(FILE *f, int n, const cb_blas_profile *p, double 
     for (int c = 0; c < CB_BLAS_NCLASSES; c++) {
       in_blas += p->ms[r][c];
       if (!p->calls[r][c]) continue;
-      fprintf(f, "%d,%s,%s,%ld,%.6g,%.6g,%.6g,%.6g,%.6g\n", n, cb_blas_routine_name(r), cb_blas_class_name(c),
-              p->calls[r][c], p->ms[r][c], p->flops[r][c] / 1e9, p->flops[r][c] / (p->ms[r][c] * 1e-3) / 1e9,
-              p->ms[r][c] / factor_ms, factor_ms);
+      cb_csv_printf(f, "%d,%s,%s,%ld,%.6g,%.6g,%.6g,%.6g,%.6g\n", n, cb_blas_routine_name(r), cb_blas_class_name(c),
+                    p->calls[r][c], p->ms[r][c], p->flops[r][c] / 1e9, p->flops[r][c] / (p->ms[r][c] * 1e-3) / 1e9,
+                    p->ms[r][c] / factor_ms, factor_ms);
     }
-  fprintf(f, "%d,outside,,,%.6g,,,%.6g,%.6g\n", n, factor_ms - in_blas, (factor_ms - in_blas) / factor_ms, factor_ms);
+  double na = cb_csv_na(); /* flops_class, calls, gflop and gflops do not apply outside the BLAS */
+  cb_csv_printf(f, "%d,outside,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", n, na, na, factor_ms - in_blas, na, na,
+                (factor_ms - in_blas) / factor_ms, factor_ms);
   fflush(f);
 }
 
@@ -309,14 +326,14 @@ static void bench_steps(FILE *f, int n, cb_scene *s, const cb_integrator_params 
       logres += log10(it->solver->stats.rel_residual);
       done++;
     }
-    mstat ms = done ? stat_of(wall + (done > MAXREP ? done - MAXREP : 0), done > MAXREP ? MAXREP : done)
-                    : (mstat){NAN, NAN, NAN};
-    fprintf(f, "%d,%s,%s,%s,%s,%d", n, m->label, m->solver, m->alpha > 0 ? "fixed" : "auto", m->reuse ? "amortised" : "every_factor",
-            done);
+    mstat ms = done ? stat_of(wall + (done > MAXREP ? done - MAXREP : 0), done > MAXREP ? MAXREP : done) : unmeasured();
+    double na = cb_csv_na(); /* no step done: nothing measured */
+    cb_csv_printf(f, "%d,%s,%s,%s,%s,%d", n, m->label, m->solver, m->alpha > 0 ? "fixed" : "auto", m->reuse ? "amortised" : "every_factor",
+                  done);
     put(f, ms);
-    fprintf(f, ",%.6g,%.6g,%d,%.6g,%.6g,%.6g,%s\n", 1000.0 / ms.med, done ? rho_total / total : NAN, estimates,
-            done ? iters / done : NAN, done ? pow(10.0, logres / done) : NAN, it && m->alpha == 0 ? it->solver->stats.alpha : m->alpha,
-            cb_status_name(status));
+    cb_csv_printf(f, ",%.6g,%.6g,%d,%.6g,%.6g,%.6g,%s\n", done ? 1000.0 / ms.med : na, done ? rho_total / total : na, estimates,
+                  done ? iters / done : na, done ? pow(10.0, logres / done) : na,
+                  it && m->alpha == 0 ? it->solver->stats.alpha : m->alpha, cb_status_name(status));
     fflush(f);
     cb_integrator_free(it);
   }
@@ -508,16 +525,16 @@ int main(int argc, char **argv) {
     }
     if (mdir && *mdir && export_matrix(mdir, n, A)) return 1;
     double mfa = stat_of(tfa, reps).med, an = nt->solver->stats.analyze_ms;
-    fprintf(csv.f, "%d,%d,%d,%.17g,%.6g", n, A->n, A->nnz, nt->solver->stats.factor_nnz, fl / 1e9);
+    cb_csv_printf(csv.f, "%d,%d,%d,%.17g,%.6g", n, A->n, A->nnz, nt->solver->stats.factor_nnz, fl / 1e9);
     mstat ms[] = {stat_of(tex, reps), stat_of(tas, reps), stat_of(tfa, reps), stat_of(tso, reps), stat_of(tbare, reps),
                   stat_of(rbare, reps), stat_of(tb4, reps), stat_of(rb4, reps), stat_of(gfl, reps), stat_of(dgf, reps),
                   stat_of(rdg, reps), stat_of(tmv, reps), stat_of(tmf, reps), stat_of(rfs, reps), stat_of(ttr, reps),
                   stat_of(gmv, reps), stat_of(rmv, reps)};
     for (size_t q = 0; q < sizeof ms / sizeof ms[0]; q++) put(csv.f, ms[q]);
-    fprintf(csv.f, ",%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.17g,%.17g,%ld,%ld,%ld,%s\n",
-            ms[1].med + ms[2].med + ms[3].med, ms[1].med / mfa, stat_of(thr, reps).med, stat_of(thr4, reps).med, an,
-            bare_an, per_run, an / (per_run * mfa), bytes, bytes_full, allocs_explicit, allocs_iter, allocs_newton,
-            cb_status_name(status));
+    cb_csv_printf(csv.f, ",%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.17g,%.17g,%ld,%ld,%ld,%s\n",
+                  ms[1].med + ms[2].med + ms[3].med, ms[1].med / mfa, stat_of(thr, reps).med, stat_of(thr4, reps).med, an,
+                  bare_an, per_run, an / (per_run * mfa), bytes, bytes_full, allocs_explicit, allocs_iter, allocs_newton,
+                  cb_status_name(status));
     fflush(csv.f);
     cb_sparse_sym_free(&S);
     if (n >= 64) sweep_cholmod(chol.f, n, A, n >= 256 ? 5 : 7);

@@ -142,9 +142,11 @@ int main(int argc, char **argv) {
       allocs[q] = cb_bench_allocations() - a0;
       cb_integrator_free(it);
     }
-    fprintf(csv.f, "%d,%d,%d,%.6f,%.3f,%.6f,%.4f,%.4f,%.4f,%.6f,%.6f,%d,%ld,%ld,%ld,%ld,%ld,%s\n", n, s->mesh.nv, s->sys.A.n, f32,
-            1000.0 / f32, iter_ms, gbs, triad, gbs / triad, pd_factor, pd10, pd_fact_in_step, allocs[0], allocs[1], allocs[2],
-            allocs[3], allocs[4], cb_status_name(status));
+    double na = cb_csv_na(), al[5]; /* an integrator that failed to build (-1) counted nothing */
+    for (int q = 0; q < 5; q++) al[q] = allocs[q] < 0 ? na : (double)allocs[q];
+    cb_csv_printf(csv.f, "%d,%d,%d,%.6f,%.3f,%.6f,%.4f,%.4f,%.4f,%.6f,%.6f,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%s\n", n, s->mesh.nv,
+                  s->sys.A.n, f32, 1000.0 / f32, iter_ms, gbs, triad, gbs / triad, pd_factor, pd10, pd_fact_in_step, al[0], al[1],
+                  al[2], al[3], al[4], cb_status_name(status));
     fflush(csv.f);
     printf("bench_nonlinear: %dx%d (%d vertices): lab frame (chebyshev-nl, 32 iterations) %.3f ms = %.0f FPS; "
            "iteration %.4f ms, %.2f GB/s = %.0f%% of triad (%.2f GB/s); pd factorisation %.1f ms once, pd 10-iteration frame %.3f ms\n",

@@ -307,7 +307,7 @@ void cb_check_B3(const cb_table *t, const char *results_dir, cb_claim_result *ou
   cb_claim_numbers(out, "\nFold angle %.0f deg; `uniform` scales the whole hinge, `across` only the wings' distance from "
                         "the edge. The hinge (dihedral) energy depends on the angle alone, so it does not change.\n", fold);
   /* the quadratic energy against the continuous 1/2 int |Delta x|^2 on cylinders */
-  int cm = cb_table_col(t, "model"), cn = cb_table_col(t, "n"), cs = cb_table_col(t, "stretch"), cr = cb_table_col(t, "ratio");
+  int cm = cb_table_col(t, "model"), cn = cb_table_col(t, "n"), cs = cb_table_col(t, "radius_m"), cr = cb_table_col(t, "ratio");
   int header = 0;
   for (int r = 0; r < t->nrows; r++) {
     if (!is(t, r, cp, "conv")) continue;

@@ -24,8 +24,8 @@ enum { MAXS = 16, MAXP = 8 };
 #define POLICY_LECTURE "drop"
 
 enum { C_SCENE, C_POLICY, C_STEP, C_SYSTEM, C_SPD, C_MINEIG, C_SPDX, C_MINEIGX, C_COMP, C_CGBD, C_STATUS, NCOL };
-static const char *const colnames[NCOL] = {"scene", "policy", "step", "system", "spd", "min_eig", "spd_exact",
-                                           "min_eig_exact", "compressed_frac", "cg_breakdown", "status"};
+static const char *const colnames[NCOL] = {"scene", "policy", "step", "system", "spd", "min_eig_n_per_m", "spd_exact",
+                                           "min_eig_exact_n_per_m", "compressed_frac", "cg_breakdown", "status"};
 
 typedef struct {
   char scene[64];
@@ -151,7 +151,8 @@ void cb_check_h1(const cb_table *csv, const char *dir, cb_claim_result *out) {
   }
   /* the spring pair: 1D never indefinite; 2D/3D indefinite exactly where predicted */
   int cd = cb_table_col(&pair, "dim"), cp = cb_table_col(&pair, "policy"), cr = cb_table_col(&pair, "ratio"),
-      ca = cb_table_col(&pair, "min_eig_a"), cq = cb_table_col(&pair, "predicted_min_eig_a"), cs = cb_table_col(&pair, "spd");
+      ca = cb_table_col(&pair, "min_eig_a_n_per_m"), cq = cb_table_col(&pair, "predicted_min_eig_a_n_per_m"),
+      cs = cb_table_col(&pair, "spd");
   int n1 = 0, n1_spd = 0, n23 = 0, n23_match = 0, n23_indef = 0;
   double worst = 0, thr = NAN;
   for (int r = 0; cd >= 0 && cp >= 0 && cr >= 0 && ca >= 0 && cq >= 0 && cs >= 0 && r < pair.nrows; r++) {
@@ -205,7 +206,7 @@ void cb_check_h2(const cb_table *csv, const char *dir, cb_claim_result *out) {
     return;
   }
   const char *need[] = {"scene", "policy", "steps", "steps_done", "steps_converged", "newton_iters", "factorizations",
-                        "wall_ms", "shape_diff_none_m", "shape_diff_drop_m", "final_energy_j", "mu_max"};
+                        "wall_ms", "shape_diff_none_m", "shape_diff_drop_m", "final_energy_j", "mu_max_n_per_m"};
   int rc[12];
   for (int k = 0; k < 12; k++)
     if ((rc[k] = cb_table_col(&runs, need[k])) < 0) {

@@ -37,9 +37,9 @@ static int find_name(char names[][32], int *n, const char *s) {
 void cb_check_E1(const cb_table *t, const char *results_dir, cb_claim_result *out) {
   cb_table b;
   if (cb_claim_side_table(results_dir, "explicit_stability", "boundary", &b, out)) return;
-  static const char *const bn[] = {"scene", "k", "dt_crit_pred", "dt_crit_meas", "bisect_status", "dt_crit_pred_rest",
+  static const char *const bn[] = {"scene", "k_n_per_m", "dt_crit_pred_s", "dt_crit_meas_s", "bisect_status", "dt_crit_pred_rest_s",
                                    "lambda_dense_per_s2", "lambda_lanczos_per_s2"};
-  static const char *const mn[] = {"kind", "scene", "k", "dt", "method", "status", "dt_crit_pred"};
+  static const char *const mn[] = {"kind", "scene", "k_n_per_m", "dt_s", "method", "status", "dt_crit_pred_s"};
   int bc[8], mc[7];
   if (cb_claim_columns(&b, bn, bc, 8, "explicit_stability_boundary.csv", out) || cb_claim_columns(t, mn, mc, 7, "explicit_stability.csv", out)) {
     cb_table_free(&b);
@@ -138,7 +138,7 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
   (void)t;
   cb_table b;
   if (cb_claim_side_table(results_dir, "explicit_stability", "timing", &b, out)) return;
-  static const char *const tn[] = {"scene", "n_vertices", "k", "method", "wall_ms_per_s", "steps", "status"};
+  static const char *const tn[] = {"scene", "n_vertices", "k_n_per_m", "method", "wall_ms_per_s", "steps", "status"};
   int c[7];
   if (cb_claim_columns(&b, tn, c, 7, "explicit_stability_timing.csv", out)) { cb_table_free(&b); return; }
   int cnc = cb_table_col(&b, "not_converged_steps"); /* optional: older tables lack it */
@@ -300,7 +300,7 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
 
 void cb_check_I1(const cb_table *t, const char *results_dir, cb_claim_result *out) {
   (void)results_dir;
-  static const char *const mn[] = {"kind", "scene", "k", "dt", "method", "status", "max_energy_ratio", "steps",
+  static const char *const mn[] = {"kind", "scene", "k_n_per_m", "dt_s", "method", "status", "max_energy_ratio", "steps",
                                    "not_converged_steps", "t_mark_s", "energy_loss_w", "kinetic0_j", "window_s"};
   int c[13];
   if (cb_claim_columns(t, mn, c, 13, "explicit_stability.csv", out)) return;

@@ -88,7 +88,7 @@ void cb_check_newton_vs_bw_i2(const cb_table *main_csv, const char *dir, cb_clai
   cb_table t;
   if (side_table(dir, "i2.csv", &t, out)) return;
   int cd = cb_table_col(&t, "definiteness"), cl = cb_table_col(&t, "line_search"), cs = cb_table_col(&t, "step"),
-      ci = cb_table_col(&t, "iter"), cg = cb_table_col(&t, "grad_norm"), ca = cb_table_col(&t, "alpha"),
+      ci = cb_table_col(&t, "iter"), cg = cb_table_col(&t, "grad_norm_n"), ca = cb_table_col(&t, "alpha"),
       ch = cb_table_col(&t, "hessian"), cst = cb_table_col(&t, "step_status");
   if (cd < 0 || cl < 0 || cs < 0 || ci < 0 || cg < 0 || ca < 0 || ch < 0 || cst < 0) {
     cb_claim_reason(out, "newton_vs_bw_i2.csv lacks a needed column.");
@@ -354,7 +354,7 @@ void cb_check_newton_vs_bw_i3(const cb_table *t, const char *dir, cb_claim_resul
   /* the regime map */
   cb_table rg;
   if (side_table(dir, "regime.csv", &rg, out)) return;
-  int cdt = cb_table_col(&rg, "dt"), ck = cb_table_col(&rg, "k"), cs = cb_table_col(&rg, "stretch"),
+  int cdt = cb_table_col(&rg, "dt_s"), ck = cb_table_col(&rg, "k_n_per_m"), cs = cb_table_col(&rg, "stretch"),
       cf = cb_table_col(&rg, "k1_fails"), cdv = cb_table_col(&rg, "first_diverged_step"),
       cem = cb_table_col(&rg, "step_error_max"), crs = cb_table_col(&rg, "ref_status");
   int cells = 0, fails = 0, diverged = 0, ref_bad = 0;

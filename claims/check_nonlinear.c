@@ -150,7 +150,7 @@ void cb_check_w1(const cb_table *csv, const char *dir, cb_claim_result *out) {
   (void)csv;
   const char *F = "nonlinear_w1.csv";
   int cs = need(&t, "scene", F, out), cm = need(&t, "method", F, out), ct = need(&t, "tol", F, out),
-      ci = need(&t, "iters_to_tol", F, out), cw = need(&t, "wall_ms_to_tol", F, out), cx = need(&t, "max_iters", F, out),
+      ci = need(&t, "iters_to_tol", F, out), cw = need(&t, "wall_to_tol_ms", F, out), cx = need(&t, "max_iters", F, out),
       cr = need(&t, "rho", F, out);
   if (cs < 0 || cm < 0 || ct < 0 || ci < 0 || cw < 0 || cx < 0 || cr < 0) { cb_table_free(&t); return; }
   static const char *const PLAIN[] = {"jacobi-nl", "pd"}, *const ACC[] = {"chebyshev-nl auto", "pd-chebyshev auto"};
@@ -169,11 +169,11 @@ void cb_check_w1(const cb_table *csv, const char *dir, cb_claim_result *out) {
             cb_table_num(&t, a, ct) != cb_table_num(&t, r, ct))
           continue;
         double ip = cb_table_num(&t, r, ci), ia = cb_table_num(&t, a, ci), tol = cb_table_num(&t, r, ct);
-        int lower = ip < 0; /* plain never got there: its cap bounds the speedup from below */
+        int lower = !(ip >= 0); /* plain never got there (empty): its cap bounds the speedup from below */
         if (lower) ip = cb_table_num(&t, r, cx);
         double sp = ia > 0 ? ip / ia : NAN;
         double wp = cb_table_num(&t, r, cw), wa = cb_table_num(&t, a, cw);
-        cb_claim_timing tp = cb_claim_timing_at(&t, r, "wall_ms_to_tol"), ta = cb_claim_timing_at(&t, a, "wall_ms_to_tol");
+        cb_claim_timing tp = cb_claim_timing_at(&t, r, "wall_to_tol_ms"), ta = cb_claim_timing_at(&t, a, "wall_to_tol_ms");
         cb_claim_timing ts = cb_claim_timing_ratio(&tp, &ta);
         char spt[64], ipt[64], iat[64], wpt[96], wat[96], swt[96];
         if (ia > 0) snprintf(spt, sizeof spt, "%s%.1fx", lower ? ">= " : "", sp);

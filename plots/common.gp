@@ -25,7 +25,7 @@ set key box opaque
 # `for [s in ...]` walk it). In cond, v("name") is a row's value in the
 # column of that name, e.g. 'v("sweep") == "main"'; '1' takes every row.
 # distinct_n(file, expr, cond, nmin) keeps the values of the awk expression
-# `expr` (e.g. 'v("scene") ":" v("k")') met on at least nmin such rows.
+# `expr` (e.g. 'v("scene") ":" v("k_n_per_m")') met on at least nmin such rows.
 # (concatenated, not sprintf'ed: gnuplot's sprintf truncates long strings)
 AWK_HEAD = "function v(n) { return $ix[n] } /^#/ { next } !h { for (i = 1; i <= NF; i++) ix[$i] = i; h = 1; next } "
 distinct_n(file, expr, cond, nmin) = system("awk -F, '".AWK_HEAD."(".cond.") { key = ".expr."; if (!(key in c)) o[++m] = key; c[key]++ } END { for (j = 1; j <= m; j++) if (c[o[j]] >= ".sprintf("%d", nmin).") printf \"%s \", o[j] }' '".file."'")

@@ -57,7 +57,7 @@ sdl = sprintf('%d ', dlo)
 spl = 'none '
 skl = '- '
 do for [q in distinct(fp, 'policy', '1')] {
-  kbs = distinct(fp, 'buckling_kb', sprintf('v("policy") == "%s" && v("buckling_kb") != ""', q))
+  kbs = distinct(fp, 'buckling_kb_n_m2', sprintf('v("policy") == "%s" && v("buckling_kb_n_m2") != ""', q))
   if (words(kbs) == 0) { sdl = sdl.sprintf('%d ', dhi); spl = spl.q.' '; skl = skl.'- ' } \
   else {
     kmin = word(kbs, 1); kmax = word(kbs, 1)
@@ -81,17 +81,17 @@ do for [s = 1:nser] {
 do for [s = 1:nser] {
   kbs_s = word(skl, s) eq '-' ? '' : word(skl, s)
   eval sprintf('set table $pair%d separator comma', s)
-  plot fp using 'ratio':'min_eig_a' with table if (column('dim') == word(sdl, s) + 0 && strcol('policy') eq word(spl, s) && strcol('buckling_kb') eq kbs_s)
+  plot fp using 'ratio':'min_eig_a_n_per_m' with table if (column('dim') == word(sdl, s) + 0 && strcol('policy') eq word(spl, s) && strcol('buckling_kb_n_m2') eq kbs_s)
   unset table
 }
 # the prediction lambda_min(A) = m/dt^2 + 2k(1 - L/l) (L = 1 m here), with
 # m/dt^2 and 2k read from the CSV: A at l = L, and 1D A minus that
-stats fp using (column('dim') == 3 && strcol('policy') eq 'none' && column('ratio') == 1 ? column('predicted_min_eig_a') : NaN) nooutput
+stats fp using (column('dim') == 3 && strcol('policy') eq 'none' && column('ratio') == 1 ? column('predicted_min_eig_a_n_per_m') : NaN) nooutput
 m_dt2 = STATS_max
-stats fp using (column('dim') == 1 && strcol('policy') eq 'none' ? column('predicted_min_eig_a') : NaN) nooutput
+stats fp using (column('dim') == 1 && strcol('policy') eq 'none' ? column('predicted_min_eig_a_n_per_m') : NaN) nooutput
 two_k = STATS_max - m_dt2
 ratio_crit = two_k / (two_k + m_dt2)
-stats fp using (column('dim') == 3 && strcol('policy') eq 'none' ? column('ratio') : NaN):(column('dim') == 3 && strcol('policy') eq 'none' ? column('min_eig_a') : NaN) nooutput
+stats fp using (column('dim') == 3 && strcol('policy') eq 'none' ? column('ratio') : NaN):(column('dim') == 3 && strcol('policy') eq 'none' ? column('min_eig_a_n_per_m') : NaN) nooutput
 off_ratio = STATS_min_x
 off_eig = STATS_min_y
 set output out.'/definiteness_h1.'.ext
@@ -122,7 +122,7 @@ set xrange [-0.02:1.02]
 set autoscale y
 set key bottom left font ',9'
 SPAL = '#1f77b4 #d62728 #2ca02c #9467bd #ff7f0e #8c564b #e377c2 #17becf'
-plot for [s = 1:nsc] f using (strcol('scene') eq word(scenes, s) && column('system') == 1 ? column('compressed_frac') : NaN):'min_eig_exact' \
+plot for [s = 1:nsc] f using (strcol('scene') eq word(scenes, s) && column('system') == 1 ? column('compressed_frac') : NaN):'min_eig_exact_n_per_m' \
        with points pt 7 ps 0.5 lc rgb word(SPAL, (s - 1) % words(SPAL) + 1) title word(scenes, s), \
      0 with lines lc rgb '#888888' notitle
 unset multiplot

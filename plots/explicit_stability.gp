@@ -18,8 +18,8 @@ is(c, v) = strcol(c) eq v
 sweep_scenes = distinct(main, 'scene', 'v("kind") == "sweep" && v("method") == "explicit"')
 bound_scenes = distinct(bound, 'scene', '1')
 # scenes whose flat rest shape predicts another limit than the hanging state
-rest_scenes = distinct(bound, 'scene', 'v("dt_crit_pred_rest") != "" && v("dt_crit_pred_rest") != "nan" && ' . \
-                       '(v("dt_crit_pred_rest") / v("dt_crit_pred") - 1)^2 > 1e-12')
+rest_scenes = distinct(bound, 'scene', 'v("dt_crit_pred_rest_s") != "" && v("dt_crit_pred_rest_s") != "nan" && ' . \
+                       '(v("dt_crit_pred_rest_s") / v("dt_crit_pred_s") - 1)^2 > 1e-12')
 methods = distinct(tim, 'method', '1')
 mlabel(m) = m eq 'explicit' ? 'explicit' : m eq 'newton' ? 'Newton (converged)' : m eq 'newton_bw' ? 'Baraff-Witkin (1 iteration)' : m
 mshort(m) = m eq 'explicit' ? 'explicit' : m eq 'newton' ? 'Newton' : m eq 'newton_bw' ? 'Baraff-Witkin' : m
@@ -29,7 +29,7 @@ not_sweep = ''
 do for [sc in sweep_scenes] { not_sweep = not_sweep . ' && v("scene") != "' . sc . '"' }
 ktim_scenes = ''
 do for [sc in distinct(tim, 'scene', '1')] { if (wordpos(sweep_scenes, sc) > 0) { ktim_scenes = ktim_scenes . sc . ' ' } }
-res_ks = distinct(tim, 'k', '1' . not_sweep)
+res_ks = distinct(tim, 'k_n_per_m', '1' . not_sweep)
 nsw = words(sweep_scenes)
 map_cols = nsw > 1 ? int(ceil(sqrt(nsw))) : 1
 map_rows = int(ceil(nsw / (map_cols * 1.0)))
@@ -56,16 +56,16 @@ set yrange [5e-6:0.4]
 set xrange [5:2e7]
 do for [sc in sweep_scenes] {
   set title sc
-  plot main using (is('kind','sweep') && is('method','explicit') && is('scene',sc) ? column('k') : NaN):(column('dt')): \
-         (column('k')/kf):(column('k')*kf):(column('dt')/df):(column('dt')*df):(code(strcol('status'))) \
+  plot main using (is('kind','sweep') && is('method','explicit') && is('scene',sc) ? column('k_n_per_m') : NaN):(column('dt_s')): \
+         (column('k_n_per_m')/kf):(column('k_n_per_m')*kf):(column('dt_s')/df):(column('dt_s')*df):(code(strcol('status'))) \
          with boxxyerror fs solid 1.0 noborder lc palette notitle, \
-       bound using (is('scene',sc) ? column('k') : NaN):(column('dt_crit_pred')) with lines lw 3 lc rgb 'black' \
+       bound using (is('scene',sc) ? column('k_n_per_m') : NaN):(column('dt_crit_pred_s')) with lines lw 3 lc rgb 'black' \
          title 'predicted 2/{/Symbol w}_{max} (hanging)', \
-       bound using (is('scene',sc) ? column('k') : NaN):(column('dt_crit_pred_rest')) with lines lw 2 dt 2 lc rgb '#3050c0' \
+       bound using (is('scene',sc) ? column('k_n_per_m') : NaN):(column('dt_crit_pred_rest_s')) with lines lw 2 dt 2 lc rgb '#3050c0' \
          title 'predicted at the flat rest shape', \
-       bound using (is('scene',sc) ? column('k') : NaN):(column('dt_crit_meas')) with points pt 7 ps 1.0 lc rgb 'white' \
+       bound using (is('scene',sc) ? column('k_n_per_m') : NaN):(column('dt_crit_meas_s')) with points pt 7 ps 1.0 lc rgb 'white' \
          notitle, \
-       bound using (is('scene',sc) ? column('k') : NaN):(column('dt_crit_meas')) with points pt 6 ps 1.0 lw 1.5 \
+       bound using (is('scene',sc) ? column('k_n_per_m') : NaN):(column('dt_crit_meas_s')) with points pt 6 ps 1.0 lw 1.5 \
          lc rgb 'black' title 'measured (bisection)'
 }
 unset multiplot
@@ -84,10 +84,10 @@ set format y '%.2f'
 set yrange [0.8:1.2]
 set key bottom right
 plot 0.85 with lines dt 2 lw 2 lc rgb '#c05050' title '±15%', 1.15 with lines dt 2 lw 2 lc rgb '#c05050' notitle, \
-     for [sc in bound_scenes] bound using (is('scene',sc) ? column('k') : NaN): \
-       (column('dt_crit_meas')/column('dt_crit_pred')) with linespoints lw 2 pt 7 title sc.' (hanging)', \
-     for [sc in rest_scenes] bound using (is('scene',sc) ? column('k') : NaN): \
-       (column('dt_crit_meas')/column('dt_crit_pred_rest')) with linespoints dt 2 pt 6 title sc.' (vs flat rest shape)'
+     for [sc in bound_scenes] bound using (is('scene',sc) ? column('k_n_per_m') : NaN): \
+       (column('dt_crit_meas_s')/column('dt_crit_pred_s')) with linespoints lw 2 pt 7 title sc.' (hanging)', \
+     for [sc in rest_scenes] bound using (is('scene',sc) ? column('k_n_per_m') : NaN): \
+       (column('dt_crit_meas_s')/column('dt_crit_pred_rest_s')) with linespoints dt 2 pt 6 title sc.' (vs flat rest shape)'
 set yrange [*:*]
 set logscale y
 set format y '10^{%T}'
@@ -104,14 +104,14 @@ set title 'against stiffness'
 set xlabel 'spring stiffness k [N/m]'
 set ylabel 'wall time for 1 s simulated [ms]'
 plot for [sc in ktim_scenes] for [m in methods] \
-       tim using (is('scene',sc) && is('method',m) ? column('k') : NaN):(column('wall_ms_per_s')) with linespoints lw 2 \
+       tim using (is('scene',sc) && is('method',m) ? column('k_n_per_m') : NaN):(column('wall_ms_per_s')) with linespoints lw 2 \
        title sc.' '.mlabel(m)
 set yrange [*:*]
 set title 'against resolution (21^2, 41^2, 81^2)'
 set key top left font ',9'
 set xlabel 'vertices n [-]'
 plot for [kk in res_ks] for [m in methods] \
-       tim using (column('k') == kk+0 && is('method',m) ? column('n_vertices') : NaN):(column('wall_ms_per_s')) \
+       tim using (column('k_n_per_m') == kk+0 && is('method',m) ? column('n_vertices') : NaN):(column('wall_ms_per_s')) \
        with linespoints lw 2 \
        title sprintf('k = %g: ', kk+0).mshort(m), \
      [300:8000] 20*(x/441.0)**2 with lines dt 2 lw 2 lc rgb '#606060' title 'slope n^2 (reference)'
@@ -131,17 +131,17 @@ set key top left font ',9'
 set xrange [5e-6:0.2]
 # the smallest, the middle and the largest k of the sweep, on the scenes with
 # at least two converged-Newton cells that measured a damping window at one of them
-sweep_ks = distinct(main, 'k', 'v("kind") == "sweep"')
+sweep_ks = distinct(main, 'k_n_per_m', 'v("kind") == "sweep"')
 nks = words(sweep_ks)
 damp_ks = word(sweep_ks, 1).' '.word(sweep_ks, (nks + 1) / 2).' '.word(sweep_ks, nks)
 damp_cond = 'v("kind") == "sweep" && v("method") == "newton" && v("window_s") > 0 && v("t_mark_s") >= v("window_s") * 0.999999'
 damp_scenes = ''
-do for [p in distinct_n(main, 'v("scene") ":" v("k")', damp_cond, 2)] {
+do for [p in distinct_n(main, 'v("scene") ":" v("k_n_per_m")', damp_cond, 2)] {
   if (wordpos(damp_ks, pair2(p)) > 0 && wordpos(damp_scenes, pair1(p)) == 0) { damp_scenes = damp_scenes . pair1(p) . ' ' }
 }
 plot for [sc in damp_scenes] for [kk in damp_ks] \
-       main using (is('kind','sweep') && is('method','newton') && is('scene',sc) && column('k') == kk+0 && \
-       column('window_s') > 0 && column('t_mark_s') >= column('window_s')*0.999999 ? column('dt') : NaN):(column('energy_loss_w')/column('kinetic0_j')) \
+       main using (is('kind','sweep') && is('method','newton') && is('scene',sc) && column('k_n_per_m') == kk+0 && \
+       column('window_s') > 0 && column('t_mark_s') >= column('window_s')*0.999999 ? column('dt_s') : NaN):(column('energy_loss_w')/column('kinetic0_j')) \
        with linespoints lw 2 title sprintf('%s, k = %g', sc, kk+0), \
      [1e-5:0.1] 10*x with lines dt 2 lw 2 lc rgb '#606060' title 'slope 1 (reference)'
 set title 'status of every Newton cell (all scenes overlaid)'
@@ -150,8 +150,8 @@ set xlabel 'spring stiffness k [N/m]'
 set ylabel 'time step {/Symbol D}t [s]'
 set xrange [5:2e7]
 set yrange [5e-6:0.2]
-plot main using (is('kind','sweep') && is('method','newton') ? column('k') : NaN):(column('dt')): \
-       (column('k')/kf):(column('k')*kf):(column('dt')/df):(column('dt')*df):(code(strcol('status'))) \
+plot main using (is('kind','sweep') && is('method','newton') ? column('k_n_per_m') : NaN):(column('dt_s')): \
+       (column('k_n_per_m')/kf):(column('k_n_per_m')*kf):(column('dt_s')/df):(column('dt_s')*df):(code(strcol('status'))) \
        with boxxyerror fs solid 1.0 noborder lc palette notitle
 unset multiplot
 set terminal pop

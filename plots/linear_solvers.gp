@@ -96,11 +96,11 @@ plot for [s in iterative] runs using (is('sweep', 'main') && is('solver', s) ? i
        with boxes lc rgb color(s) title s
 set ylabel 'wall time to 1e-6, ms'
 if (nit > 4) {  # a taller key: room for it above the bars
-  stats runs using (idx(strcol('scene'))):(is('sweep', 'main') ? column('wall_ms_1e6') : NaN) nooutput
+  stats runs using (idx(strcol('scene'))):(is('sweep', 'main') ? column('wall_to_1e6_ms') : NaN) nooutput
   set yrange [*:STATS_max_y * 300]
 }
 set title 'wall time, including set-up (a spectral estimate such as Chebyshev''s automatic rho: the black bar)'
-plot for [s in iterative] runs using (is('sweep', 'main') && is('solver', s) ? idx(strcol('scene')) + off(s) : NaN):'wall_ms_1e6' \
+plot for [s in iterative] runs using (is('sweep', 'main') && is('solver', s) ? idx(strcol('scene')) + off(s) : NaN):'wall_to_1e6_ms' \
        with boxes lc rgb color(s) title s, \
      runs using (is('sweep', 'main') && column('rho_ms') > 0 ? idx(strcol('scene')) + off(strcol('solver')) : NaN):'rho_ms':(0.08) \
        with boxes fs solid 1.0 lc 'black' title 'spectral estimate (part of the set-up)'

@@ -37,7 +37,7 @@ setup_index = wordpos(INNERS, setup_inner) - 1
 # a panel title from the main CSV: grid and stiffness of the scene
 k_label(k) = k >= 1e5 ? sprintf('10^%d', int(log10(k) + 0.5)) : sprintf('%g', k)
 scene_title(s) = sprintf('%s (%d^2, k = %s N/m)', s, int(real(system(sprintf("awk -F, '%s v(\"scene\") == \"%s\" { print v(\"n\"); exit }' '%s'", AWK_HEAD, s, main)))), \
-                         k_label(real(system(sprintf("awk -F, '%s v(\"scene\") == \"%s\" { print v(\"k\"); exit }' '%s'", AWK_HEAD, s, main)))))
+                         k_label(real(system(sprintf("awk -F, '%s v(\"scene\") == \"%s\" { print v(\"k_n_per_m\"); exit }' '%s'", AWK_HEAD, s, main)))))
 finite(e) = (e == e && e < 1e300) ? e : NaN
 
 set output out.'/newton_vs_bw_pareto.'.ext
@@ -121,12 +121,12 @@ STRETCHES = distinct(regime, 'stretch', '1')
 nst = words(STRETCHES)
 set multiplot layout (nst > 4 ? int(ceil(nst / 2.0)) : 2), 2 title "I3: where Baraff-Witkin's single Newton iteration fails (colour: log_{10} of the largest one-step error;\nD = trajectory diverged, E = one-step error > 1%; lab scene from the stretched start; blank: not in this sweep)"
 set xtics ()
-do for [p in distinct_n(regime, 'v("dt_index") ":" v("dt")', '1', 1)] {
+do for [p in distinct_n(regime, 'v("dt_index") ":" v("dt_s")', '1', 1)] {
   dtv = real(pair2(p))
   eval sprintf("set xtics add ('%s' %d)", dtv < 1 ? sprintf('1/%d', int(1 / dtv + 0.5)) : sprintf('%g', dtv), int(pair1(p)))
 }
 set ytics ()
-do for [p in distinct_n(regime, 'v("k_index") ":" v("k")', '1', 1)] {
+do for [p in distinct_n(regime, 'v("k_index") ":" v("k_n_per_m")', '1', 1)] {
   eval sprintf("set ytics add ('10^%d' %d)", int(log10(real(pair2(p))) + 0.5), int(pair1(p)))
 }
 nxi = max_index(regime, 'dt_index')

@@ -40,14 +40,22 @@ def ms(v):
     return f"{v:.3f}"
 
 
+def spread(k, which):
+    """The min or max column of k: its unit suffix stays last (README.md, "CSV convention"):
+    x_ms -> x_min_ms, x_gflops -> x_min_gflops, a ratio x_over_y -> x_over_y_min."""
+    for u in ("_ms", "_gflops", "_gbs"):
+        if k.endswith(u):
+            return f"{k[:-len(u)]}_{which}{u}"
+    return f"{k}_{which}"
+
+
 def rng(r, k, fmt=ms, unit=""):
     """median (min-max) of column k."""
-    return f"{fmt(num(r, k))}{unit} ({fmt(num(r, k + '_min'))}–{fmt(num(r, k + '_max'))})"
+    return f"{fmt(num(r, k))}{unit} ({fmt(num(r, spread(k, 'min')))}–{fmt(num(r, spread(k, 'max')))})"
 
 
 def rng_ms(r, k):  # columns named x_ms, x_min_ms, x_max_ms
-    b = k[:-3]
-    return f"{ms(num(r, k))} ({ms(num(r, b + '_min_ms'))}–{ms(num(r, b + '_max_ms'))})"
+    return rng(r, k, ms)
 
 
 def ratio(v):

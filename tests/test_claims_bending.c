@@ -13,11 +13,11 @@ void cb_check_B1(const cb_table *t, const char *results_dir, cb_claim_result *ou
 void cb_check_B2(const cb_table *t, const char *results_dir, cb_claim_result *out);
 void cb_check_B3(const cb_table *t, const char *results_dir, cb_claim_result *out);
 
-static const char *header_plain = "# test\npart,model,mesh,n,angle_deg,stretch,force_n,force_total_n,energy_j,energy_ref_j,ratio,"
+static const char *header_plain = "# test\npart,model,mesh,n,angle_deg,stretch,radius_m,force_n,force_total_n,energy_j,energy_ref_j,ratio,"
                             "steps,newton_iters,assemble_ms,factor_ms,solve_ms,wall_ms,kinetic_j,rms_m,contacts,"
                             "indefinite,hinges,status\n";
 
-static const char *header_spread = "# test\npart,model,mesh,n,angle_deg,stretch,force_n,force_total_n,energy_j,energy_ref_j,ratio,"
+static const char *header_spread = "# test\npart,model,mesh,n,angle_deg,stretch,radius_m,force_n,force_total_n,energy_j,energy_ref_j,ratio,"
                                    "steps,newton_iters,assemble_ms,factor_ms,solve_ms,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,"
                                    "wall_repeats,step_min_ms,step_max_ms,assemble_min_ms,assemble_max_ms,assemble_each_ms,"
                                    "factor_min_ms,factor_max_ms,factor_each_ms,solve_min_ms,solve_max_ms,solve_each_ms,kinetic_j,"
@@ -49,9 +49,9 @@ static void b1_rows(char *buf, size_t n, double p_spring, double p_hinge) {
   const double angles[] = {1, 2, 3, 5, 8, 10, 30, 60};
   for (int k = 0; k < 8; k++) {
     double a = angles[k];
-    u += (size_t)snprintf(buf + u, n - u, "b1,spring,hinge,,%g,,%.17g,,,,,,,,,,,,,,,,ok\n", a, 1e-6 * pow(a, p_spring));
-    u += (size_t)snprintf(buf + u, n - u, "b1,dihedral,hinge,,%g,,%.17g,,,,,,,,,,,,,,,,ok\n", a, 0.08 * pow(a, p_hinge));
-    u += (size_t)snprintf(buf + u, n - u, "b1,quadratic,hinge,,%g,,%.17g,,,,,,,,,,,,,,,,ok\n", a, 0.08 * pow(a, 1.0));
+    u += (size_t)snprintf(buf + u, n - u, "b1,spring,hinge,,%g,,,%.17g,,,,,,,,,,,,,,,,ok\n", a, 1e-6 * pow(a, p_spring));
+    u += (size_t)snprintf(buf + u, n - u, "b1,dihedral,hinge,,%g,,,%.17g,,,,,,,,,,,,,,,,ok\n", a, 0.08 * pow(a, p_hinge));
+    u += (size_t)snprintf(buf + u, n - u, "b1,quadratic,hinge,,%g,,,%.17g,,,,,,,,,,,,,,,,ok\n", a, 0.08 * pow(a, 1.0));
   }
 }
 
@@ -71,12 +71,12 @@ Test(claims_bending, B1_not_reproduced_for_a_quadratic_spring_or_a_superlinear_h
 
 static void b2_rows(char *buf, size_t n, double qwall, double dwall, const char *dstatus) {
   snprintf(buf, n,
-           "b2,quadratic,grid,8,,,,,,,,30,300,1,%g,0.5,%g,0.001,,10,0,0,ok\n"
-           "b2,dihedral,grid,8,,,,,,,,30,330,20,%g,0.5,%g,0.001,,10,100,150,ok\n"
-           "b2_rms,quadratic-dihedral,grid,8,,,,,,,,30,,,,,,,0.01,,,,ok\n"
-           "b2,quadratic,grid,16,,,,,,,,30,300,1,%g,0.5,%g,0.001,,10,0,0,ok\n"
-           "b2,dihedral,grid,16,,,,,,,,30,330,20,%g,0.5,%g,0.001,,10,100,150,%s\n"
-           "b2_rms,quadratic-dihedral,grid,16,,,,,,,,30,,,,,,,0.01,,,,ok\n",
+           "b2,quadratic,grid,8,,,,,,,,,30,300,1,%g,0.5,%g,0.001,,10,0,0,ok\n"
+           "b2,dihedral,grid,8,,,,,,,,,30,330,20,%g,0.5,%g,0.001,,10,100,150,ok\n"
+           "b2_rms,quadratic-dihedral,grid,8,,,,,,,,,30,,,,,,,0.01,,,,ok\n"
+           "b2,quadratic,grid,16,,,,,,,,,30,300,1,%g,0.5,%g,0.001,,10,0,0,ok\n"
+           "b2,dihedral,grid,16,,,,,,,,,30,330,20,%g,0.5,%g,0.001,,10,100,150,%s\n"
+           "b2_rms,quadratic-dihedral,grid,16,,,,,,,,,30,,,,,,,0.01,,,,ok\n",
            qwall - 1.5, qwall, dwall - 20.5, dwall, qwall - 1.5, qwall, dwall - 20.5, dwall, dstatus);
 }
 
@@ -106,9 +106,9 @@ Test(claims_bending, B2_quotes_times_and_the_ratio_with_their_spread) {
   header = header_spread;
   char rows[4096];
   snprintf(rows, sizeof rows,
-           "b2,quadratic,grid,16,,,,,,,,30,300,1,8,0.5,10,9,11,10;9;11,3,0.9,23,1,1,1;1;1,8,8,8;8;8,0.5,0.5,0.5;0.5;0.5,0.001,,10,0,0,ok\n"
-           "b2,dihedral,grid,16,,,,,,,,30,330,20,4,0.5,25,24,27.5,25;24;27.5,3,2.5,60,20,22,20;20;22,4,4,4;4;4,0.5,0.5,0.5;0.5;0.5,0.001,,10,100,150,ok\n"
-           "b2_rms,quadratic-dihedral,grid,16,,,,,,,,30,,,,,,,,,,,,,,,,,,,,,,0.01,,,,ok\n");
+           "b2,quadratic,grid,16,,,,,,,,,30,300,1,8,0.5,10,9,11,10;9;11,3,0.9,23,1,1,1;1;1,8,8,8;8;8,0.5,0.5,0.5;0.5;0.5,0.001,,10,0,0,ok\n"
+           "b2,dihedral,grid,16,,,,,,,,,30,330,20,4,0.5,25,24,27.5,25;24;27.5,3,2.5,60,20,22,20;20;22,4,4,4;4;4,0.5,0.5,0.5;0.5;0.5,0.001,,10,100,150,ok\n"
+           "b2_rms,quadratic-dihedral,grid,16,,,,,,,,,30,,,,,,,,,,,,,,,,,,,,,,0.01,,,,ok\n");
   cr_expect_eq(decide(rows, cb_check_B2), CB_REPRODUCED, "%s", res.reason);
   header = NULL;
   cr_expect(strstr(res.numbers, "| 1.00 (1.00-1.00) | 8.00 (8.00-8.00) | 0.50 (0.50-0.50) | 10.00 (9.00-11.00) | 0.9-23.0 |"), "%s", res.numbers);
@@ -122,7 +122,7 @@ static void b3_rows(char *buf, size_t n, double r0, double slope) {
   for (int m = 0; m < 2; m++)
     for (int k = 0; k <= 10; k++) {
       double s = 0.03 * k;
-      u += (size_t)snprintf(buf + u, n - u, "b3,quadratic,%s,,20,%g,,,%g,1,%g,,,,,,,,,,,,ok\n", m ? "across" : "uniform", s,
+      u += (size_t)snprintf(buf + u, n - u, "b3,quadratic,%s,,20,%g,,,,%g,1,%g,,,,,,,,,,,,ok\n", m ? "across" : "uniform", s,
                             r0 + slope * s, r0 + slope * s);
     }
 }

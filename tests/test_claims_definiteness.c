@@ -6,12 +6,12 @@
 
 #include "claims.h"
 
-#define MAIN_HEAD "scene,policy,step,newton_iter,system,spd,min_eig,min_eig_res,mu,spd_exact,min_eig_exact," \
-  "compressed_frac,cg_breakdown,cg_status,cg_iters,rel_grad,grad_norm,f_j,energy_j,wall_ms,status\n"
+#define MAIN_HEAD "scene,policy,step,newton_iter,system,spd,min_eig_n_per_m,min_eig_res_n_per_m,mu_n_per_m,spd_exact," \
+  "min_eig_exact_n_per_m,compressed_frac,cg_breakdown,cg_status,cg_iters,rel_grad,grad_norm_n,f_j,energy_j,wall_ms,status\n"
 #define RUNS_HEAD "scene,policy,steps,steps_done,steps_converged,newton_iters,systems,not_spd,indefinite_exact," \
-  "cg_breakdowns,mu_max,factorizations,wall_ms,probe_ms,final_f_j,final_energy_j,final_rel_grad,shape_diff_none_m," \
+  "cg_breakdowns,mu_max_n_per_m,factorizations,wall_ms,probe_ms,final_f_j,final_energy_j,final_rel_grad,shape_diff_none_m," \
   "shape_diff_drop_m,status\n"
-#define PAIR_HEAD "dim,policy,buckling_kb,ratio,min_eig_h,min_eig_a,predicted_min_eig_a,spd\n"
+#define PAIR_HEAD "dim,policy,buckling_kb_n_m2,ratio,min_eig_h_n_per_m,min_eig_a_n_per_m,predicted_min_eig_a_n_per_m,spd\n"
 
 static void put(const char *dir, const char *name, const char *text) {
   char path[512];
@@ -123,7 +123,7 @@ Test(claims_definiteness, h2_quotes_the_time_per_step_with_its_spread) {
   fixes_rows(buf, NULL, 0, 0);
   put(dir, "definiteness.csv", buf);
   char runs[4096] = "scene,policy,steps,steps_done,steps_converged,newton_iters,systems,not_spd,indefinite_exact,cg_breakdowns,"
-                    "mu_max,factorizations,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,probe_ms,final_f_j,"
+                    "mu_max_n_per_m,factorizations,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,probe_ms,final_f_j,"
                     "final_energy_j,final_rel_grad,shape_diff_none_m,shape_diff_drop_m,status\n";
   const char *pols[] = {"none", "drop", "mirror", "shift", "choi-ko"};
   for (int p = 0; p < 5; p++) {

@@ -14,11 +14,11 @@ void cb_check_E1(const cb_table *t, const char *results_dir, cb_claim_result *ou
 void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *out);
 void cb_check_I1(const cb_table *t, const char *results_dir, cb_claim_result *out);
 
-static const char *main_hdr = "# test\nkind,case,scene,k,dt,method,status,max_energy_ratio,steps,dt_crit_pred,dt_crit_meas,"
+static const char *main_hdr = "# test\nkind,case,scene,k_n_per_m,dt_s,method,status,max_energy_ratio,steps,dt_crit_pred_s,dt_crit_meas_s,"
                               "not_converged_steps,t_mark_s,energy_loss_w,kinetic0_j,window_s\n";
-static const char *bound_hdr = "# test\nscene,k,dt_crit_pred,dt_crit_meas,bisect_status,dt_crit_pred_rest,"
+static const char *bound_hdr = "# test\nscene,k_n_per_m,dt_crit_pred_s,dt_crit_meas_s,bisect_status,dt_crit_pred_rest_s,"
                                "lambda_dense_per_s2,lambda_lanczos_per_s2\n";
-static const char *time_hdr = "# test\nscene,n_vertices,k,method,wall_ms_per_s,wall_min_ms_per_s,wall_max_ms_per_s,"
+static const char *time_hdr = "# test\nscene,n_vertices,k_n_per_m,method,wall_ms_per_s,wall_min_ms_per_s,wall_max_ms_per_s,"
                               "wall_each_ms_per_s,wall_repeats,steps,status\n";
 
 static char dir[64];
@@ -158,7 +158,7 @@ Test(claims_explicit_stability, E2_partly_or_not_reproduced) {
 }
 
 Test(claims_explicit_stability, E2_labels_newton_rows_that_did_not_converge) {
-  static const char *hdr_nc = "# test\nscene,n_vertices,k,method,wall_ms_per_s,steps,status,not_converged_steps\n";
+  static const char *hdr_nc = "# test\nscene,n_vertices,k_n_per_m,method,wall_ms_per_s,steps,status,not_converged_steps\n";
   const char *saved = time_hdr;
   time_hdr = hdr_nc;
   /* k = 10: Newton converged; k = 1e4: 5 of 30 steps stopped at max_iters; 41^2: Newton not timed */

@@ -49,7 +49,7 @@ static cb_verdict decide(const char *id, cb_claim_result *res) {
 
 /* ---- I2 ---- */
 
-#define I2_HEAD "definiteness,line_search,step,iter,grad_norm,alpha,hessian,step_status\n"
+#define I2_HEAD "definiteness,line_search,step,iter,grad_norm_n,alpha,hessian,step_status\n"
 
 /* one run: g_k given, all updates with the given Hessian */
 static void run(char *buf, const char *def, int ls, int step, const double *g, int n, const char *hess, const char *status) {
@@ -103,7 +103,7 @@ Test(claims_newton_vs_bw, i2_missing_side_csv_is_not_run, .init = setup, .fini =
 
 #define MAIN_HEAD "scene,step,method,inner_solver,line_search,step_error,wall_ms,status\n"
 #define MAIN_HEAD_SPREAD "scene,step,method,inner_solver,line_search,step_error,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,status\n"
-#define REG_HEAD "dt,k,stretch,first_diverged_step,step_error_max,ref_status,k1_fails\n"
+#define REG_HEAD "dt_s,k_n_per_m,stretch,first_diverged_step,step_error_max,ref_status,k1_fails\n"
 
 /* the timing fields of a row: "wall_ms" alone, or with its spread over three repeats, scaled by f */
 static const char *wall(char *buf, int spread, double med, const double *each) {
@@ -130,7 +130,8 @@ static void i3_scenes_spread(double conv_ms, int regime_fail, const char *const 
     }
   put("newton_vs_bw.csv", buf);
   char reg[1024];
-  snprintf(reg, sizeof reg, REG_HEAD "0.1,100,1,-1,1e-4,ok,0\n0.1,1e7,2,%d,%g,ok,%d\n", regime_fail ? 2 : -1,
+  /* first_diverged_step is empty when the trajectory did not diverge */
+  snprintf(reg, sizeof reg, REG_HEAD "0.1,100,1,,1e-4,ok,0\n0.1,1e7,2,%s,%g,ok,%d\n", regime_fail ? "2" : "",
            regime_fail ? 0.2 : 1e-3, regime_fail);
   put("newton_vs_bw_regime.csv", reg);
 }

@@ -85,8 +85,8 @@ static void lab_panel(int div995, int div_under) {
   const double vals[] = {0.9, 0.95, 0.99, 0.995, 0.9999};
   for (int r = 0; r < 5; r++) {
     int dv = vals[r] == 0.9999 || (vals[r] == 0.995 && div995) || (vals[r] == 0.9 && div_under);
-    sprintf(buf + strlen(buf), "lab_iteration,%s,%g,2000,%d,%d,%d,0.01,%s,0.975\n", rhos[r], vals[r], dv ? 40 : 2000, dv,
-            dv ? 41 : -1, dv ? "0.99" : "0.97");
+    sprintf(buf + strlen(buf), "lab_iteration,%s,%g,2000,%d,%d,%s,0.01,%s,0.975\n", rhos[r], vals[r], dv ? 40 : 2000, dv,
+            dv ? "41" : "", dv ? "0.99" : "0.97"); /* diverge_frame is empty when the run did not diverge */
   }
   put("nonlinear.csv", buf);
 }
@@ -117,16 +117,18 @@ Test(claims_nonlinear, j3_not_reproduced_when_an_underestimate_diverges_and_line
 
 /* ---- W1 ---- */
 
-#define W1_HEAD "scene,n,method,pair,rho,max_iters,tol,iters_to_tol,wall_ms_to_tol,setup_ms,alloc_ms,final_rel_grad,status\n"
+#define W1_HEAD "scene,n,method,pair,rho,max_iters,tol,iters_to_tol,wall_to_tol_ms,setup_ms,alloc_ms,final_rel_grad,status\n"
 
+/* pd_plain_iters < 0: plain pd never reached the tolerance (iters_to_tol and wall_to_tol_ms empty) */
 static void w1(int cheb_iters, int pd_plain_iters) {
-  char buf[2048] = W1_HEAD;
+  char buf[2048] = W1_HEAD, pd[64] = ",";
+  if (pd_plain_iters >= 0) snprintf(pd, sizeof pd, "%d,300", pd_plain_iters);
   sprintf(buf + strlen(buf),
           "lab,21,jacobi-nl,jacobi,0,20000,0.0001,3000,30,0,0,1e-9,ok\n"
           "lab,21,chebyshev-nl auto,jacobi,0.97,20000,0.0001,%d,3,1,0,1e-12,ok\n"
-          "lab,21,pd,pd,0,1000,0.0001,%d,300,0,5,1e-5,ok\n"
+          "lab,21,pd,pd,0,1000,0.0001,%s,0,5,1e-5,ok\n"
           "lab,21,pd-chebyshev auto,pd,0.95,1000,0.0001,50,50,8,5,1e-10,ok\n",
-          cheb_iters, pd_plain_iters);
+          cheb_iters, pd);
   put("nonlinear_w1.csv", buf);
   put("nonlinear.csv", J3_HEAD);
 }
@@ -143,8 +145,8 @@ Test(claims_nonlinear, w1_not_reproduced_below_ten) {
   cr_expect_eq(decide("W1", &r), CB_NOT_REPRODUCED, "%s", r.reason);
 }
 
-#define W1_HEAD_SPREAD "scene,n,method,pair,rho,max_iters,tol,iters_to_tol,wall_ms_to_tol,wall_min_ms_to_tol,wall_max_ms_to_tol," \
-                       "wall_each_ms_to_tol,wall_repeats,setup_ms,alloc_ms,final_rel_grad,status\n"
+#define W1_HEAD_SPREAD "scene,n,method,pair,rho,max_iters,tol,iters_to_tol,wall_to_tol_ms,wall_to_tol_min_ms,wall_to_tol_max_ms," \
+                       "wall_to_tol_each_ms,wall_repeats,setup_ms,alloc_ms,final_rel_grad,status\n"
 
 /* Repeats: jacobi-nl 30, 33, 27 ms and chebyshev-nl 3, 3.3, 2.7 ms (interleaved): paired speed-ups 10, 10, 10
  * (bounds from the min and max would give 8.2-12.2); pd never reached the tolerance (nan, no repeats). */
@@ -152,7 +154,7 @@ Test(claims_nonlinear, w1_quotes_wall_times_with_their_spread) {
   char buf[2048] = W1_HEAD_SPREAD;
   strcat(buf, "lab,21,jacobi-nl,jacobi,0,20000,0.0001,3000,30,27,33,30;33;27,3,0,0,1e-9,ok\n"
               "lab,21,chebyshev-nl auto,jacobi,0.97,20000,0.0001,250,3,2.7,3.3,3;3.3;2.7,3,1,0,1e-12,ok\n"
-              "lab,21,pd,pd,0,1000,0.0001,-1,nan,nan,nan,,0,nan,5,1e-5,ok\n"
+              "lab,21,pd,pd,,1000,0.0001,,,,,,,,5,1e-5,ok\n"
               "lab,21,pd-chebyshev auto,pd,0.95,1000,0.0001,50,50,49,52,50;52;49,3,8,5,1e-10,ok\n");
   put("nonlinear_w1.csv", buf);
   put("nonlinear.csv", J3_HEAD);
@@ -166,7 +168,7 @@ Test(claims_nonlinear, w1_quotes_wall_times_with_their_spread) {
 
 /* ---- P1 ---- */
 
-#define P1_HEAD "scene,n,k,method,frame,iters,wall_ms,alloc_ms,step_error,rel_grad,status\n"
+#define P1_HEAD "scene,n,k_n_per_m,method,frame,iters,wall_ms,alloc_ms,step_error,rel_grad,status\n"
 
 static void p1(double pd_ms, double pd_err) {
   char buf[2048] = P1_HEAD;

@@ -95,7 +95,7 @@ static int part_hinge(FILE *f, int quick) {
     for (int m = 0; m < 3; m++) {
       double E = energy_grad(t[m], x, g, 12), F = sqrt(g[9] * g[9] + g[10] * g[10] + g[11] * g[11]);
       double ph = deg * PI / 180, Ft = g[10] * sin(ph) + g[11] * cos(ph); /* -(-dE/dx3) . dx3/dphi: > 0 unfolds */
-      fprintf(f, "b1,%s,hinge,,%.17g,,%.17g,%.17g,%.17g,,,,,,,,,,,,,,,,,,,,,,,,,,,,,ok\n", MODELS[m], deg, Ft, F, E);
+      cb_csv_printf(f, "b1,%s,hinge,,%.17g,,,%.17g,%.17g,%.17g,,,,,,,,,,,,,,,,,,,,,,,,,,,,,ok\n", MODELS[m], deg, Ft, F, E);
     }
   }
   /* B3: fold 20 deg, stretch 0..30% */
@@ -105,8 +105,8 @@ static int part_hinge(FILE *f, int quick) {
       double s = 0.30 * k / (quick ? 15 : 60);
       hinge_pose(fold * PI / 180, mode ? 1 + s : 1, mode ? 1 : 1 + s, x);
       double Eq = energy_grad(t[2], x, g, 12), Ed = energy_grad(t[1], x, g, 12);
-      fprintf(f, "b3,quadratic,%s,,%.17g,%.17g,,,%.17g,%.17g,%.17g,,,,,,,,,,,,,,,,,,,,,,,,,,,ok\n", mode ? "across" : "uniform", fold, s,
-              Eq, Ed, Eq / Ed);
+      cb_csv_printf(f, "b3,quadratic,%s,,%.17g,%.17g,,,,%.17g,%.17g,%.17g,,,,,,,,,,,,,,,,,,,,,,,,,,,ok\n", mode ? "across" : "uniform", fold, s,
+                    Eq, Ed, Eq / Ed);
     }
   for (int m = 0; m < 3; m++) cb_term_free(t[m]);
   cb_topology_free(&h.topo);
@@ -149,7 +149,7 @@ static int part_cylinder(FILE *f, int quick) {
         cb_term *t;
         if (cb_bend_term_alloc(MODELS[m], &model, 1.0, &t)) return -1;
         double E = t->type->energy(t, x, NULL);
-        fprintf(f, "conv,%s,cylinder,%d,,%.17g,,,%.17g,%.17g,%.17g,,,,,,,,,,,,,,,,,,,,,,,,,,,ok\n", MODELS[m], ns[k], R, E, cont, E / cont);
+        cb_csv_printf(f, "conv,%s,cylinder,%d,,,%.17g,,,%.17g,%.17g,%.17g,,,,,,,,,,,,,,,,,,,,,,,,,,,ok\n", MODELS[m], ns[k], R, E, cont, E / cont);
         cb_term_free(t);
       }
       free(mass); free(x); free(fi);
@@ -282,22 +282,22 @@ static int part_drape(cb_experiment *e, FILE *f) {
     for (int m = 0; m < 2; m++) {
       drape_result *q = &r[m];
       const cb_timing *T = tm[m];
-      fprintf(f, "b2,%s,%s,%d,,,,,,,,%d,%d,%.6f,%.6f,%.6f,", MODELS[2 - m], k < 2 ? "grid" : "irregular",
+      cb_csv_printf(f, "b2,%s,%s,%d,,,,,,,,,%d,%d,%.6f,%.6f,%.6f,", MODELS[2 - m], k < 2 ? "grid" : "irregular",
               k < 2 ? n : (int)lround(sqrt(q->nv)), q->steps, q->iters, cb_timing_median(&T[0]), cb_timing_median(&T[1]),
               cb_timing_median(&T[2]));
       cb_timing_csv(f, &T[3], 1.0); /* wall_ms, wall_min_ms, wall_max_ms */
       fputc(',', f);
       cb_timing_csv_each(f, &T[3], 1.0);
-      fprintf(f, ",%d,%.6f,%.6f", T[3].n, step_min[m], step_max[m]);
+      cb_csv_printf(f, ",%d,%.6f,%.6f", T[3].n, step_min[m], step_max[m]);
       for (int c = 0; c < 3; c++) { /* assemble, factor, solve: min, max, each */
-        fprintf(f, ",%.6f,%.6f,", cb_timing_min(&T[c]), cb_timing_max(&T[c]));
+        cb_csv_printf(f, ",%.6f,%.6f,", cb_timing_min(&T[c]), cb_timing_max(&T[c]));
         cb_timing_csv_each(f, &T[c], 1.0);
       }
-      fprintf(f, ",%.17g,,%d,%d,%d,%s\n", q->kinetic, q->contacts, q->indefinite, q->nhinges, q->status);
+      cb_csv_printf(f, ",%.17g,,%d,%d,%d,%s\n", q->kinetic, q->contacts, q->indefinite, q->nhinges, q->status);
     }
     double s2 = 0;
     for (int i = 0; i < 3 * r[0].nv; i++) s2 += (r[0].x[i] - r[1].x[i]) * (r[0].x[i] - r[1].x[i]);
-    fprintf(f, "b2_rms,quadratic-dihedral,%s,%d,,,,,,,,%d,,,,,,,,,,,,,,,,,,,,,,%.17g,,,,ok\n", k < 2 ? "grid" : "irregular",
+    cb_csv_printf(f, "b2_rms,quadratic-dihedral,%s,%d,,,,,,,,,%d,,,,,,,,,,,,,,,,,,,,,,%.17g,,,,ok\n", k < 2 ? "grid" : "irregular",
             k < 2 ? n : (int)lround(sqrt(r[0].nv)), r[0].steps, sqrt(s2 / r[0].nv));
     free(r[0].x);
     free(r[1].x);
@@ -321,11 +321,11 @@ int main(int argc, char **argv) {
                         "# b1: force_n = restoring force at the wing tip, the component of -dE/dx3 along -dx3/dphi (> 0 unfolds) "
                         "(the torque over the 0.8 m arm), force_total_n = |dE/dx3|, bend_k = 1 (N/m spring, N m hinges); b3: energy_j "
                         "quadratic, energy_ref_j dihedral, fold angle_deg, stretch fraction; conv: energy_ref_j = "
-                        "A/(2R^2), stretch column = R (m); b2: per-step median times (ms), each the median over the repeats of the run "
+                        "A/(2R^2), radius_m = R; b2: per-step median times (ms), each the median over the repeats of the run "
                         "(wall_min_ms, wall_max_ms, wall_each_ms and assemble_/factor_/solve_ likewise: its spread and every repeat; "
                         "step_min_ms, step_max_ms: the fastest and slowest single step), newton_iters total, "
                         "indefinite = hinges whose exact Hessian the projection changes at the final state\n",
-                        "part,model,mesh,n,angle_deg,stretch,force_n,force_total_n,energy_j,energy_ref_j,ratio,steps,"
+                        "part,model,mesh,n,angle_deg,stretch,radius_m,force_n,force_total_n,energy_j,energy_ref_j,ratio,steps,"
                         "newton_iters,assemble_ms,factor_ms,solve_ms,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,step_min_ms,"
                         "step_max_ms,assemble_min_ms,assemble_max_ms,assemble_each_ms,factor_min_ms,factor_max_ms,factor_each_ms,"
                         "solve_min_ms,solve_max_ms,solve_each_ms,kinetic_j,rms_m,contacts,"

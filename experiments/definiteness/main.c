@@ -43,28 +43,29 @@ static const char *const pair_kbs[] = {"0.01", "0.01", "0.01", "0.01", "0.1", "1
 enum { NPAIR = sizeof pair_pols / sizeof pair_pols[0] };
 enum { T_IT, T_STEPS, T_RUNS, T_PAIR }; /* tables, in the order opened */
 
-#define IT_HEAD "scene,policy,step,newton_iter,system,spd,min_eig,min_eig_res,mu,spd_exact,min_eig_exact," \
-  "compressed_frac,cg_breakdown,cg_status,cg_iters,rel_grad,grad_norm,f_j,energy_j,wall_ms,status"
+/* eigenvalues of A = M/dt^2 + H and the shift mu (A + mu I) are in A's units, N/m; |grad F| in N */
+#define IT_HEAD "scene,policy,step,newton_iter,system,spd,min_eig_n_per_m,min_eig_res_n_per_m,mu_n_per_m,spd_exact," \
+  "min_eig_exact_n_per_m,compressed_frac,cg_breakdown,cg_status,cg_iters,rel_grad,grad_norm_n,f_j,energy_j,wall_ms,status"
 #define RUN_HEAD "scene,policy,steps,steps_done,steps_converged,newton_iters,systems,not_spd,indefinite_exact," \
-  "cg_breakdowns,mu_max,factorizations,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,probe_ms,final_f_j," \
+  "cg_breakdowns,mu_max_n_per_m,factorizations,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,probe_ms,final_f_j," \
   "final_energy_j,final_rel_grad," \
   "shape_diff_none_m,shape_diff_drop_m,status"
 
 static void put_row(FILE *f, const char *sc, const char *pol, int step, const cb_newton_trace_row *r, int exact_run) {
-  fprintf(f, "%s,%s,%d,%d,%d,", sc, pol, step, r->iter, r->system);
+  cb_csv_printf(f, "%s,%s,%d,%d,%d,", sc, pol, step, r->iter, r->system);
   if (r->system) {
     const cb_spd_probe_result *u = &r->used, *x = exact_run ? &r->used : &r->exact;
     int spd_x = exact_run ? r->status != CB_NOT_SPD : x->cholmod_status == CB_OK;
-    fprintf(f, "%d,%.17g,%.17g,%.17g,%d,%.17g,", r->status != CB_NOT_SPD, u->min_eig, u->min_eig_res, r->mu, spd_x,
-            x->min_eig);
+    cb_csv_printf(f, "%d,%.17g,%.17g,%.17g,%d,%.17g,", r->status != CB_NOT_SPD, u->min_eig, u->min_eig_res, r->mu, spd_x,
+                  x->min_eig);
   } else {
     fputs(",,,,,,", f);
   }
-  fprintf(f, "%.17g,", r->compressed_frac);
-  if (r->system) fprintf(f, "%d,%s,%d,", r->used.cg_status == CB_INDEFINITE, cb_status_name(r->used.cg_status), r->used.cg_iters);
+  cb_csv_printf(f, "%.17g,", r->compressed_frac);
+  if (r->system) cb_csv_printf(f, "%d,%s,%d,", r->used.cg_status == CB_INDEFINITE, cb_status_name(r->used.cg_status), r->used.cg_iters);
   else fputs(",,,", f);
-  fprintf(f, "%.17g,%.17g,%.17g,%.17g,%.6f,%s\n", r->rel_grad, r->grad_norm, r->F, r->energy, r->wall_ms,
-          cb_status_name(r->status));
+  cb_csv_printf(f, "%.17g,%.17g,%.17g,%.17g,%.6f,%s\n", r->rel_grad, r->grad_norm, r->F, r->energy, r->wall_ms,
+                cb_status_name(r->status));
 }
 
 /* max_i |x_i - y_i| over vertices (Euclidean), or "" when y is missing */
@@ -73,7 +74,7 @@ static void put_diff(FILE *f, const double *x, const double *y, int nv) {
   double m = 0;
   for (int i = 0; i < nv; i++)
     m = fmax(m, hypot(hypot(x[3 * i] - y[3 * i], x[3 * i + 1] - y[3 * i + 1]), x[3 * i + 2] - y[3 * i + 2]));
-  fprintf(f, "%.17g,", m);
+  cb_csv_printf(f, "%.17g,", m);
 }
 
 typedef struct {
@@ -111,7 +112,8 @@ static int run_policy(const cb_experiment *e, const scene_plan *sd, int p, FILE 
     cb_newton_trace_end_step(&tr, t->status);
     if ((st = tr.error)) break;
     const cb_step_stats *ss = &run.last;
-    cb_newton_trace_row none_seen = {.energy = NAN, .compressed_frac = NAN}; /* F was NaN before any hook */
+    /* no iterate was seen (the step failed before any hook): its energy and compression were not measured */
+    cb_newton_trace_row none_seen = {.energy = cb_csv_na(), .compressed_frac = cb_csv_na()};
     const cb_newton_trace_row *fin = tr.nrows ? &tr.rows[tr.nrows - 1] : &none_seen;
     double wall = ss->wall_ms - tr.probe_ms; /* the integrator's time, probes excluded */
     for (int r = 0; r < tr.nrows; r++) {
@@ -123,9 +125,9 @@ static int run_policy(const cb_experiment *e, const scene_plan *sd, int p, FILE 
                                          : w->exact.cholmod_status == CB_NOT_SPD || w->exact.min_eig < 0);
       t->cg_bd += w->system && w->used.cg_status == CB_INDEFINITE;
     }
-    fprintf(stp, "%s,%s,%d,%.17g,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.6f,%s\n", label, policies[p], run.step,
-            run.t, ss->newton_iters, ss->factorizations, ss->F, fin->energy, run.kinetic, ss->rel_grad,
-            fin->compressed_frac, ss->shift_mu, wall, cb_status_name(t->status));
+    cb_csv_printf(stp, "%s,%s,%d,%.17g,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.6f,%s\n", label, policies[p], run.step,
+                  run.t, ss->newton_iters, ss->factorizations, ss->F, fin->energy, run.kinetic, ss->rel_grad,
+                  fin->compressed_frac, ss->shift_mu, wall, cb_status_name(t->status));
     t->steps_done++;
     t->converged += t->status == CB_OK;
     t->iters += ss->newton_iters;
@@ -212,8 +214,8 @@ static int pair_cell(const cb_experiment *e, const cb_scene_decl *sd, int p, FIL
       if (st == CB_OK) st = cb_dense_restricted_spd(&s->sys.A, keep, &la, &ok_a);
       double pred = m * s2 + 2 * (dim == 1 ? along : fmin(along, tr));
       if (st == CB_OK)
-        fprintf(f, "%d,%s,%s,%.17g,%.17g,%.17g,%.17g,%d\n", dim, pols[p], def == CB_DEF_CHOI_KO ? kbs[p] : "", q, lh, la,
-                pred, ok_a);
+        cb_csv_printf(f, "%d,%s,%s,%.17g,%.17g,%.17g,%.17g,%d\n", dim, pols[p], def == CB_DEF_CHOI_KO ? kbs[p] : "", q, lh, la,
+                      pred, ok_a);
     }
   }
   cb_scene_free(s);
@@ -252,15 +254,15 @@ static int traj_cell(long i, void *ctx, FILE *const *out) {
   for (int p = 0; p < NPOL && st == CB_OK; p++) {
     const tally *a = &t[p];
     FILE *f = out[T_RUNS];
-    fprintf(f, "%s,%s,%d,%d,%d,%d,%d,%d,%d,%d,%.17g,%d,", sd->scene.label, policies[p], sd->steps[pl->e->quick], a->steps_done,
-            a->converged, a->iters, a->systems, a->not_spd, a->indef_x, a->cg_bd, a->mu, a->fact);
+    cb_csv_printf(f, "%s,%s,%d,%d,%d,%d,%d,%d,%d,%d,%.17g,%d,", sd->scene.label, policies[p], sd->steps[pl->e->quick],
+                  a->steps_done, a->converged, a->iters, a->systems, a->not_spd, a->indef_x, a->cg_bd, a->mu, a->fact);
     cb_timing_csv(f, &wall[p], 1.0);
     fputc(',', f);
     cb_timing_csv_each(f, &wall[p], 1.0);
-    fprintf(f, ",%d,%.6f,%.17g,%.17g,%.17g,", wall[p].n, a->probe, a->F, a->energy, a->rel_grad);
+    cb_csv_printf(f, ",%d,%.6f,%.17g,%.17g,%.17g,", wall[p].n, a->probe, a->F, a->energy, a->rel_grad);
     put_diff(f, a->x, t[0].x, nv);
     put_diff(f, a->x, t[1].x, nv);
-    fprintf(f, "%s\n", cb_status_name(a->status));
+    cb_csv_printf(f, "%s\n", cb_status_name(a->status));
   }
   for (int p = 0; p < NPOL; p++) free(t[p].x);
   return st;
@@ -296,10 +298,10 @@ int main(int argc, char **argv) {
   const char *extra = "# one row per Newton iterate x^(k); system = 1 if A(x^(k)) was assembled and solved there\n";
   if (cb_experiment_table(&e, NULL, extra, IT_HEAD) != T_IT ||
       cb_experiment_table(&e, "steps", NULL, "scene,policy,step,t_s,newton_iters,factorizations,"
-                          "f_j,energy_j,kinetic_j,rel_grad,compressed_frac,mu_max,wall_ms,status") != T_STEPS ||
+                          "f_j,energy_j,kinetic_j,rel_grad,compressed_frac,mu_max_n_per_m,wall_ms,status") != T_STEPS ||
       cb_experiment_table(&e, "runs", NULL, RUN_HEAD) != T_RUNS ||
-      cb_experiment_table(&e, "pair", NULL, "dim,policy,buckling_kb,ratio,min_eig_h,min_eig_a,"
-                          "predicted_min_eig_a,spd") != T_PAIR)
+      cb_experiment_table(&e, "pair", NULL, "dim,policy,buckling_kb_n_m2,ratio,min_eig_h_n_per_m,min_eig_a_n_per_m,"
+                          "predicted_min_eig_a_n_per_m,spd") != T_PAIR)
     return cb_experiment_end(&e, CB_EIO), 2;
   const cb_sweep sweeps[] = {{"trajectory", pl.ntraj, traj_cell, traj_cost, &pl},
                              {"static pair", (long)pl.nstat * NPAIR, static_cell, NULL, &pl}};

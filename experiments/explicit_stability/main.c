@@ -91,15 +91,20 @@ static int scene_config(const cb_experiment *e, const cb_scene_decl *d, double k
   return cb_scene_decl_config(e, d, more, c);
 }
 
-/* window: the requested energy-loss window (mark_time), 0 if none. */
+/* window: the requested energy-loss window (mark_time), 0 if none (written empty);
+ * meas: the bisected dt_crit, NaN if none was measured (written empty); the
+ * Newton columns of an explicit cell are empty (no Newton iteration there). */
 static void cell_row(const char *kind, const char *cas, const char *method, const cb_cell_result *r, double pred,
                      double meas, double kinetic0, double window, const char *note) {
-  double loss = r->t_mark > 0 ? (r->energy0 - r->energy_mark) / r->t_mark : NAN; /* W: J per simulated s */
-  fprintf(fmain, "%s,%s,%s,%d,%.17g,%.17g,%s,%s,%.17g,%.17g,%ld,%.17g,%.6f,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,"
-          "%.17g,%ld,%d,%ld,%s,%s\n", kind, cas, cur_scene, cur_nv, cur_k, r->dt, method, cb_cell_class_name(r->cls),
-          r->max_energy_ratio, r->final_energy_ratio, r->steps, r->t_end, r->wall_ms, pred, meas, r->energy0,
-          r->energy_end, r->energy_scale, kinetic0, window, r->t_mark, loss, r->newton_iters, r->max_newton_iters,
-          r->not_converged_steps, cb_status_name(r->step_status), note);
+  double loss = r->t_mark > 0 ? (r->energy0 - r->energy_mark) / r->t_mark : cb_csv_na(); /* W: J per simulated s */
+  int nt = !strcmp(method, "newton");
+  double na = cb_csv_na();
+  cb_csv_printf(fmain, "%s,%s,%s,%d,%.17g,%.17g,%s,%s,%.17g,%.17g,%ld,%.17g,%.6f,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,"
+                "%.17g,%.17g,%.17g,%.17g,%s,%s\n", kind, cas, cur_scene, cur_nv, cur_k, r->dt, method, cb_cell_class_name(r->cls),
+                r->max_energy_ratio, r->final_energy_ratio, r->steps, r->t_end, r->wall_ms, pred, cb_csv_na_if_nan(meas), r->energy0,
+                r->energy_end, r->energy_scale, kinetic0, window > 0 ? window : na, r->t_mark, loss,
+                nt ? (double)r->newton_iters : na, nt ? r->max_newton_iters : na, nt ? (double)r->not_converged_steps : na,
+                cb_status_name(r->step_status), note);
 }
 
 typedef struct { cb_cell_result r[MAXG * 2]; int n; } cell_list;
@@ -160,13 +165,16 @@ static int timing(const cb_experiment *e, cb_stability_case *c, double meas, int
     if (!(methods & (1 << m))) continue;
     const cb_cell_result *b = &first[m];
     double dt = m == 0 ? 0.9 * meas : 1.0 / 30.0;
-    fprintf(ftime, "%s,%d,%.17g,%s,%.17g,%ld,%.17g,%.6f,", cur_scene, cur_nv, cur_k, name[m], dt, b->steps, b->t_end,
+    cb_csv_printf(ftime, "%s,%d,%.17g,%s,%.17g,%ld,%.17g,%.6f,", cur_scene, cur_nv, cur_k, name[m], dt, b->steps, b->t_end,
             cb_timing_median(&wall[m]));
     cb_timing_csv(ftime, &wall[m], 1 / b->t_end); /* wall_ms_per_s, its min and max */
     fputc(',', ftime);
     cb_timing_csv_each(ftime, &wall[m], 1 / b->t_end);
-    fprintf(ftime, ",%d,%s,%s,%ld,%.17g,%.17g,%ld\n", wall[m].n, cb_cell_class_name(b->cls), cb_status_name(b->step_status),
-            b->newton_iters, meas, c->pred.dt_crit, m == 2 ? 0L : b->not_converged_steps);
+    /* explicit has no Newton iterations; Baraff-Witkin's one iteration a step is the method, never "not converged" */
+    double na = cb_csv_na();
+    cb_csv_printf(ftime, ",%d,%s,%s,%.17g,%.17g,%.17g,%.17g\n", wall[m].n, cb_cell_class_name(b->cls),
+                  cb_status_name(b->step_status), m == 0 ? na : (double)b->newton_iters, meas, c->pred.dt_crit,
+                  m == 1 ? (double)b->not_converged_steps : na);
   }
   cb_integrator_free(bw);
   cb_integrator_free(conv);
@@ -213,15 +221,22 @@ static int run_case(const cb_experiment *e, const plan *p, const scene_plan *d, 
   for (int i = 0; st == CB_OK && i < sweep.n; i++) cell_row("sweep", "map", "explicit", &sweep.r[i], c.pred.dt_crit, meas, c.kinetic0, 0, "");
   for (int i = 0; st == CB_OK && i < bis.n; i++) cell_row("bisect", "boundary", "explicit", &bis.r[i], c.pred.dt_crit, meas, c.kinetic0, 0, "");
   for (int i = 0; st == CB_OK && i < newton.n; i++) cell_row("sweep", "map", "newton", &newton.r[i], c.pred.dt_crit, meas, c.kinetic0, pn.mark_time, "");
+  /* not applicable, written empty: the eigensolver that did not run (its lambda is NaN), the rest-shape
+   * prediction without a grid (NaN), the grid bracket without a grid (NaN) or without a stable / an unstable
+   * grid dt (0), the grid's monotonicity without a grid (-1), a bisection bound not found (NaN) */
   const cb_prediction *pr = &c.pred;
+  int lz = !isnan(pr->lambda_lanczos);
   if (st == CB_OK)
-    fprintf(fbound, "%s,%d,%d,%.17g,%.17g,%.17g,%d,%s,%.17g,%.17g,%.17g,%s,%.17g,%.17g,%d,%s,%.17g,%.17g,%.17g,%.17g,"
-            "%.17g,%d,%.17g,%.17g,%d,%s,%.3f,%.3f\n", cur_scene, cur_nv, c.scene->model.nfree, k,
-            c.scene->mass[c.scene->free_vertex[0]], c.eq.residual, c.eq.steps, cb_status_name(c.eq.status),
-            c.eq.max_strain, c.eq.min_strain, pr->lambda_max, pr->method == CB_EIG_DENSE ? "gsl_dense" : "lanczos",
-            pr->lambda_dense, pr->lambda_lanczos, pr->lanczos_steps, cb_status_name(pr->lanczos_status),
-            c.pred_rest.lambda_max, pr->dt_crit, c.pred_rest.dt_crit, lo, hi, mono, b.dt_stable, b.dt_unstable, b.runs,
-            cb_status_name(b.status), c.eq.ms, c.pred.ms + c.pred_rest.ms);
+    cb_csv_printf(fbound, "%s,%d,%d,%.17g,%.17g,%.17g,%d,%s,%.17g,%.17g,%.17g,%s,%.17g,%.17g,%.17g,%s,%.17g,%.17g,%.17g,%.17g,"
+                  "%.17g,%.17g,%.17g,%.17g,%d,%s,%.3f,%.3f\n", cur_scene, cur_nv, c.scene->model.nfree, k,
+                  c.scene->mass[c.scene->free_vertex[0]], c.eq.residual, c.eq.steps, cb_status_name(c.eq.status),
+                  c.eq.max_strain, c.eq.min_strain, pr->lambda_max, pr->method == CB_EIG_DENSE ? "gsl_dense" : "lanczos",
+                  cb_csv_na_if_nan(pr->lambda_dense), cb_csv_na_if_nan(pr->lambda_lanczos),
+                  lz ? pr->lanczos_steps : cb_csv_na(), lz ? cb_status_name(pr->lanczos_status) : "",
+                  cb_csv_na_if_nan(c.pred_rest.lambda_max), pr->dt_crit, cb_csv_na_if_nan(c.pred_rest.dt_crit),
+                  lo > 0 ? lo : cb_csv_na(), hi > 0 ? hi : cb_csv_na(), mono >= 0 ? mono : cb_csv_na(),
+                  cb_csv_na_if_nan(b.dt_stable), cb_csv_na_if_nan(b.dt_unstable), b.runs, cb_status_name(b.status), c.eq.ms,
+                  c.pred.ms + c.pred_rest.ms);
   /* E2 methods: 1 explicit, 2 converged Newton, 4 Baraff-Witkin. Converged Newton is
    * costly (the drop fix makes it converge linearly, ~20 solves a step): on 21^2 at
    * every timed k; on 41^2 and 81^2 only at k_res[0], and not with --quick. */
@@ -272,12 +287,11 @@ static int extreme(const cb_experiment *e, const plan *p, const extreme_case *x)
   cur_scene = "cloth21"; cur_k = x->k; cur_nv = 441;
   int st = scene_config(e, &x->scene, x->k, &cfg);
   if (st == CB_OK) st = cb_stability_case_init(&c, &cfg, &cp);
-  if (st == CB_EINVAL) { /* bad input: a clear error, recorded in the row */
+  if (st == CB_EINVAL) { /* bad input: a clear error, recorded in the row; what was never measured is empty */
     char msg[1024];
     snprintf(msg, sizeof msg, "%s: rejected when the scene is built: %s", x->note, cb_error_message());
     for (char *s = msg; *s; s++) if (*s == ',' || *s == '\n') *s = ';';
-    fprintf(fmain, "extreme,%s,cloth21,0,%.17g,nan,explicit,rejected,nan,nan,0,0,0,nan,nan,nan,nan,nan,nan,0,nan,nan,"
-            "0,0,0,invalid_input,%s\n", cas, x->k, msg);
+    cb_csv_printf(fmain, "extreme,%s,cloth21,,%.17g,,explicit,rejected,,,0,0,,,,,,,,,,,,,,invalid_input,%s\n", cas, x->k, msg);
     return CB_OK;
   }
   if (st) return st;
@@ -362,17 +376,17 @@ int main(int argc, char **argv) {
            "%g s (energy mark); start: equilibrium + random velocity 1e-6 S0 + swing 1e-3 S0; R_u %g; R_d %g\n", p.nk, p.ndt, p.ex.sim_time, p.ex.min_steps,
            p.ex.max_steps, p.bisect_iters, p.nt.sim_time, p.ex.unstable_ratio, p.ex.diverge_ratio);
   if (cb_experiment_table(&e, NULL, info,
-        "kind,case,scene,n_vertices,k,dt,method,status,max_energy_ratio,final_energy_ratio,steps,t_end_s,wall_ms,"
-        "dt_crit_pred,dt_crit_meas,energy0_j,energy_end_j,energy_scale_j,kinetic0_j,window_s,t_mark_s,energy_loss_w,newton_iters,"
+        "kind,case,scene,n_vertices,k_n_per_m,dt_s,method,status,max_energy_ratio,final_energy_ratio,steps,t_end_s,wall_ms,"
+        "dt_crit_pred_s,dt_crit_meas_s,energy0_j,energy_end_j,energy_scale_j,kinetic0_j,window_s,t_mark_s,energy_loss_w,newton_iters,"
         "max_newton_iters,not_converged_steps,step_status,note") != T_MAIN ||
       cb_experiment_table(&e, "boundary", info,
-        "scene,n_vertices,n_free,k,vertex_mass_kg,equilibrium_residual,equilibrium_steps,equilibrium_status,max_strain,"
+        "scene,n_vertices,n_free,k_n_per_m,vertex_mass_kg,equilibrium_residual,equilibrium_steps,equilibrium_status,max_strain,"
         "min_strain,lambda_max_per_s2,eig_method,lambda_dense_per_s2,lambda_lanczos_per_s2,lanczos_steps,lanczos_status,"
-        "lambda_max_rest_per_s2,dt_crit_pred,dt_crit_pred_rest,dt_stable_grid,dt_unstable_grid,grid_monotone,dt_crit_meas,"
-        "dt_crit_meas_hi,bisect_runs,bisect_status,equilibrium_ms,predict_ms") != T_BOUNDARY ||
+        "lambda_max_rest_per_s2,dt_crit_pred_s,dt_crit_pred_rest_s,dt_stable_grid_s,dt_unstable_grid_s,grid_monotone,"
+        "dt_crit_meas_s,dt_crit_meas_hi_s,bisect_runs,bisect_status,equilibrium_ms,predict_ms") != T_BOUNDARY ||
       cb_experiment_table(&e, "timing", info,
-        "scene,n_vertices,k,method,dt,steps,sim_time_s,wall_ms,wall_ms_per_s,wall_min_ms_per_s,wall_max_ms_per_s,wall_each_ms_per_s,wall_repeats,status,step_status,newton_iters,dt_crit_meas,"
-        "dt_crit_pred,not_converged_steps") != T_TIMING)
+        "scene,n_vertices,k_n_per_m,method,dt_s,steps,sim_time_s,wall_ms,wall_ms_per_s,wall_min_ms_per_s,wall_max_ms_per_s,"
+        "wall_each_ms_per_s,wall_repeats,status,step_status,newton_iters,dt_crit_meas_s,dt_crit_pred_s,not_converged_steps") != T_TIMING)
     return cb_experiment_end(&e, CB_EIO), 2;
   /* cost hints: vertices + 5 (a quick run takes 2.5-4 ms per unit for a map cell
    * or a resolution cell, 1.5 for an extreme case) */

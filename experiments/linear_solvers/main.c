@@ -123,23 +123,23 @@ static void write_run(ctx *c, const run_spec *spec, const cb_trace *t, int nrep)
     const cb_trace_row *w = &t0->rows[i];
     cb_timing wr = {0};
     for (int k = 0; k < nrep; k++) cb_timing_add(&wr, t[k].rows[i].wall_ms);
-    fprintf(c->out[T_MAIN], "%s,%s,%s,%s,%s,%d,%.17g,", c->scene, spec->sweep, spec->solver, a, r, w->iter, w->rel_residual);
+    cb_csv_printf(c->out[T_MAIN], "%s,%s,%s,%s,%s,%d,%.17g,", c->scene, spec->sweep, spec->solver, a, r, w->iter, w->rel_residual);
     cb_timing_csv(c->out[T_MAIN], &wr, 1.0);
     fputc(',', c->out[T_MAIN]);
     if (nrep > 1) cb_timing_csv_each(c->out[T_MAIN], &wr, 1.0);
-    fprintf(c->out[T_MAIN], ",%d,%s,%.17g\n", nrep, status, w->error);
+    cb_csv_printf(c->out[T_MAIN], ",%d,%s,%.17g\n", nrep, status, w->error);
   }
   fmt(pr, sizeof pr, isnan(alpha) ? NAN : cb_jacobi_rho(c->lmin, c->lmax, alpha));
   fmt(an, sizeof an, alpha * c->lmax / 2);
   fmt(rt, sizeof rt, cb_trace_rate(t0->rows, t0->nrows, 0.25));
   fmt(rp, sizeof rp, cb_trace_rate_window(t0->rows, t0->nrows, 0.5, 0.75));
-  fprintf(c->out[T_RUNS], "%s,%s,%s,%s,%s,%s,%s,%d,%.17g,%s,%s,", c->scene, spec->sweep, spec->solver, a, an, r, pr, t0->iters,
-          last ? last->rel_residual : NAN, rt, rp);
-  if (hit) fprintf(c->out[T_RUNS], "%d,%.6f,", hit->iter, cb_timing_median(&w6));
+  cb_csv_printf(c->out[T_RUNS], "%s,%s,%s,%s,%s,%s,%s,%d,%.17g,%s,%s,", c->scene, spec->sweep, spec->solver, a, an, r, pr, t0->iters,
+          last ? last->rel_residual : cb_csv_na(), rt, rp);
+  if (hit) cb_csv_printf(c->out[T_RUNS], "%d,%.6f,", hit->iter, cb_timing_median(&w6));
   else fputs(",,", c->out[T_RUNS]);
-  fprintf(c->out[T_RUNS], "%.6f,%.6f,", cb_timing_median(&setup), cb_timing_median(&rho_ms));
+  cb_csv_printf(c->out[T_RUNS], "%.6f,%.6f,", cb_timing_median(&setup), cb_timing_median(&rho_ms));
   cb_timing_csv(c->out[T_RUNS], &total, 1.0);
-  fprintf(c->out[T_RUNS], ",%d,%s\n", nrep, status);
+  cb_csv_printf(c->out[T_RUNS], ",%d,%s\n", nrep, status);
   int lab995 = !strcmp(spec->sweep, "rho") && fabs(rho - 0.995) < 1e-12 && fabs(alpha - 2 / (c->lmin + c->lmax)) < 1e-12;
   if ((!strcmp(spec->sweep, "main") && strcmp(spec->solver, "cholmod")) || lab995)
     for (size_t k = 0; k < sizeof newton_k / sizeof *newton_k; k++) {
@@ -149,7 +149,7 @@ static void write_run(ctx *c, const run_spec *spec, const cb_trace *t, int nrep)
       for (int q = 0; q < nrep; q++) cb_timing_add(&wk, t[q].rows[w - t0->rows].wall_ms);
       int cut = w->iter == newton_k[k] && w->iter < t0->iters; /* stopped by the cut, not by the run */
       const char *s = cut ? (w->rel_residual <= TOL ? "ok" : "max_iters") : status;
-      fprintf(c->out[T_NEWTON], "%s,%s,%s,%s,%d,%d,%.17g,%.17g,%.6f,%s\n", c->scene, spec->solver, a, r, newton_k[k], w->iter,
+      cb_csv_printf(c->out[T_NEWTON], "%s,%s,%s,%s,%d,%d,%.17g,%.17g,%.6f,%s\n", c->scene, spec->solver, a, r, newton_k[k], w->iter,
               w->rel_residual, w->error, cb_timing_median(&wk), s);
     }
 }
@@ -189,7 +189,7 @@ static int run(ctx *c, const char *sweep, const char *solver, double alpha, doub
 
 /* A scene whose capture or spectrum failed (e.g. the run diverged, A not SPD) keeps its row. */
 static int failed(FILE *sc, const char *label, int n, int status) {
-  fprintf(sc, "%s,%d,,,,,,,,,,,,,,,,,,,,,,,,,,,%s\n", label, n, cb_status_name(status));
+  cb_csv_printf(sc, "%s,%d,,,,,,,,,,,,,,,,,,,,,,,,,,,%s\n", label, n, cb_status_name(status));
   fprintf(stderr, "linear_solvers: scene %s: %s (kept as a row)\n", label, cb_error_message());
   return CB_OK;
 }
@@ -226,12 +226,14 @@ static int scene(ctx *c, const scene_plan *d, FILE *sc) {
   c->lmin = dense ? de.lmin : lz.lmin;
   c->lmax = dense ? de.lmax : lz.lmax;
   double amax = 2 / c->lmax, astar = 2 / (c->lmin + c->lmax);
-  fprintf(sc, "%s,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%d,%.17g,", label, grid_n, n, cap.A.nnz, stiff, dt,
-          mass, cap.t_s, cap.step, cap.sim_ms, bad, ratio);
-  fprintf(sc, "%.17g,%.17g,%.17g,%.17g,%d,%d,%.17g,%.17g,%.17g,%.17g,%s,", lz.lmin, lz.lmax, lz.res_min,
-          lz.res_max, lz.steps_min, lz.steps_max, lz.ms, de.lmin, de.lmax, de.ms, dense ? "dense" : "lanczos");
-  fprintf(sc, "%.17g,%.17g,%.17g,%.17g,%.17g,ok\n", amax, astar, cb_jacobi_rho(c->lmin, c->lmax, 1.0),
-          cb_jacobi_rho(c->lmin, c->lmax, astar), cb_jacobi_rho(lab.lmin, lab.lmax, 1.0));
+  cb_csv_printf(sc, "%s,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%d,%.17g,", label, grid_n, n, cap.A.nnz, stiff, dt,
+                mass, cap.t_s, cap.step, cap.sim_ms, bad, ratio);
+  /* the dense spectrum only on small systems: elsewhere its columns are empty */
+  cb_csv_printf(sc, "%.17g,%.17g,%.17g,%.17g,%d,%d,%.17g,%.17g,%.17g,%.17g,%s,", lz.lmin, lz.lmax, lz.res_min,
+                lz.res_max, lz.steps_min, lz.steps_max, lz.ms, dense ? de.lmin : cb_csv_na(), dense ? de.lmax : cb_csv_na(),
+                dense ? de.ms : cb_csv_na(), dense ? "dense" : "lanczos");
+  cb_csv_printf(sc, "%.17g,%.17g,%.17g,%.17g,%.17g,ok\n", amax, astar, cb_jacobi_rho(c->lmin, c->lmax, 1.0),
+                cb_jacobi_rho(c->lmin, c->lmax, astar), cb_jacobi_rho(lab.lmin, lab.lmax, 1.0));
   int full = cb_scene_decl_is(&d->scene, "full") || cb_scene_decl_is(&d->scene, "j3");
   if (cb_scene_decl_is(&d->scene, "spectrum")) goto done;
   c->scene = label;
@@ -307,9 +309,9 @@ int main(int argc, char **argv) {
                            "dense_ms,spectrum,alpha_max,alpha_star,rho_vanilla,rho_star,rho_lab,status") != T_SCENES ||
        cb_experiment_table(&c.e, "runs", extra,
                            "scene,sweep,solver,alpha,alpha_over_max,rho,rho_predicted,iters,rel_residual,rate,rate_prev,"
-                           "iters_1e6,wall_ms_1e6,setup_ms,rho_ms,wall_ms,wall_min_ms,wall_max_ms,wall_repeats,status") != T_RUNS ||
+                           "iters_1e6,wall_to_1e6_ms,setup_ms,rho_ms,wall_ms,wall_min_ms,wall_max_ms,wall_repeats,status") != T_RUNS ||
        cb_experiment_table(&c.e, "newton", extra,
-                           "scene,solver,alpha,rho,k,iters,rel_residual,step_error,wall_ms,status") != T_NEWTON;
+                           "scene,solver,alpha,rho,max_iters,iters,rel_residual,step_error,wall_ms,status") != T_NEWTON;
   if (rc) return cb_experiment_end(&c.e, CB_EIO), 2;
   int mode = c.e.quick ? QUICK : FULL;
   for (int i = 0; i < NSCENES; i++)

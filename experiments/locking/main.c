@@ -241,9 +241,9 @@ static int l1_cell(long ci, void *ctx, FILE *const *out) {
           double smax, srms;
           edge_strain(s, x, &smax, &srms);
           int st = rc ? rc : es.status;
-          fprintf(f, "%s,%s,%s,%.0f,%d,%.17g,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%ld,%.6g,%d,%.3f,%s\n", models[md],
-                  mesh_names[mk], folds[fl].name, folds[fl].deg, on_edges, ks[ki], s->mesh.nv, npin, angle, offset, drop,
-                  smax, srms, es.steps, es.newton_iters, es.residual, degenerate(s, x), es.ms, cb_status_name(st));
+          cb_csv_printf(f, "%s,%s,%s,%.0f,%d,%.17g,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%ld,%.6g,%d,%.3f,%s\n", models[md],
+                        mesh_names[mk], folds[fl].name, folds[fl].deg, on_edges, ks[ki], s->mesh.nv, npin, angle, offset, drop,
+                        smax, srms, es.steps, es.newton_iters, es.residual, degenerate(s, x), es.ms, cb_status_name(st));
           free(x);
           cb_scene_free(s);
         }
@@ -264,7 +264,7 @@ static void jitter(double *x, int n3, double h, unsigned seed) {
 
 static void l2_row(FILE *f, const char *name, cb_mesh *m, unsigned seed) {
   cb_topology tp;
-  if (cb_topology_build(m, &tp)) { fprintf(f, "%s,%d,%d,,,,,,,,,bad_input\n", name, m->nv, m->nt); return; }
+  if (cb_topology_build(m, &tp)) { cb_csv_printf(f, "%s,%d,%d,,,,,,,,,bad_input\n", name, m->nv, m->nt); return; }
   double h = 0.3 * sqrt(cb_mesh_triangle_area(m, m->x, 0));
   double *x = malloc((size_t)3 * m->nv * sizeof(double)), *mid = malloc((size_t)3 * tp.ne * sizeof(double));
   memcpy(x, m->x, (size_t)3 * m->nv * sizeof(double));
@@ -275,8 +275,11 @@ static void l2_row(FILE *f, const char *name, cb_mesh *m, unsigned seed) {
     jitter(mid, 3 * tp.ne, h, seed + 1000); /* generic midpoint positions */
     nonc = cb_rigidity_dofs(tp.ne, mid, nbars, bar);
   }
-  fprintf(f, "%s,%d,%d,%d,%d,%d,%d,%.17g,%d,%d,%d,%.17g,%s\n", name, m->nv, m->nt, tp.ne, tp.nb, conf, 3 + tp.nb,
-          (double)conf / m->nv, tp.ne, nonc, 3 * m->nv - 3, (double)nonc / m->nv, conf < 0 || nonc < 0 ? "svd_failed" : "ok");
+  /* a count the SVD (or the bar construction) did not give (-1) is written empty */
+  cb_csv_printf(f, "%s,%d,%d,%d,%d,%.17g,%d,%.17g,%d,%.17g,%d,%.17g,%s\n", name, m->nv, m->nt, tp.ne, tp.nb,
+                conf < 0 ? cb_csv_na() : conf, 3 + tp.nb, conf < 0 ? cb_csv_na() : (double)conf / m->nv, tp.ne,
+                nonc < 0 ? cb_csv_na() : nonc, 3 * m->nv - 3, nonc < 0 ? cb_csv_na() : (double)nonc / m->nv,
+                conf < 0 || nonc < 0 ? "svd_failed" : "ok");
   free(bar);
   free(x);
   free(mid);
@@ -364,9 +367,9 @@ static int f1_aniso_cell(long ci, void *ctx, FILE *const *out) {
         cb_equilibrium_stats es;
         int rc = cb_stability_equilibrium(s, x, &ep, &es);
         double En = cb_system_elastic_energy(&s->sys, x);
-        fprintf(f, "%s,%s,%s,%s,%d,0.05,%.17g,%.17g,%.17g,%d,%.6g,%s\n", models[md], mesh_names[mk], tests[t].family,
-                tests[t].test, s->mesh.nv, En, En / area, area, s->model.nfree, es.residual,
-                cb_status_name(rc ? rc : es.status == CB_NOT_CONVERGED && es.residual < 1e-6 ? CB_OK : es.status));
+        cb_csv_printf(f, "%s,%s,%s,%s,%d,0.05,%.17g,%.17g,%.17g,%d,%.6g,%s\n", models[md], mesh_names[mk], tests[t].family,
+                      tests[t].test, s->mesh.nv, En, En / area, area, s->model.nfree, es.residual,
+                      cb_status_name(rc ? rc : es.status == CB_NOT_CONVERGED && es.residual < 1e-6 ? CB_OK : es.status));
       }
       free(x);
       cb_scene_free(s);
@@ -383,8 +386,8 @@ typedef struct { FILE *f; const char *model; int rep; double t0; } trace_ctx;
 static void trace_hook(void *ctx, int event, const cb_newton_event *ev) {
   trace_ctx *c = ctx;
   if (event != CB_NEWTON_GRADIENT) return;
-  fprintf(c->f, "%s,%d,%d,%.17g,%.17g,%.17g,%.4f\n", c->model, c->rep, ev->iter, ev->F, ev->grad_norm, ev->rel_grad,
-          cb_now_ms() - c->t0);
+  cb_csv_printf(c->f, "%s,%d,%d,%.17g,%.17g,%.17g,%.4f\n", c->model, c->rep, ev->iter, ev->F, ev->grad_norm, ev->rel_grad,
+                cb_now_ms() - c->t0);
 }
 
 /* the scenes of a role, in table order */
@@ -485,8 +488,8 @@ static int f1_newton_cell(long i, void *ctx, FILE *const *out) {
       fwrite(buf, 1, len, f);
       free(buf);
       spent += ms;
-      fprintf(fs, "%s,%d,%d,%d,%d,%.17g,%.4f,%.4f,%.4f,%.4f,%s\n", model, n, round, ss.newton_iters, ss.factorizations,
-              ss.rel_grad, ss.assemble_ms, ss.factor_ms, ss.solve_ms, ms, cb_status_name(rc));
+      cb_csv_printf(fs, "%s,%d,%d,%d,%d,%.17g,%.4f,%.4f,%.4f,%.4f,%s\n", model, n, round, ss.newton_iters,
+                    ss.factorizations, ss.rel_grad, ss.assemble_ms, ss.factor_ms, ss.solve_ms, ms, cb_status_name(rc));
     }
   for (int k = 0; k < nsteps; k++) f1_model_free(&M[k]);
   return st;
@@ -537,12 +540,14 @@ static int s1_cell(long i, void *ctx, FILE *const *out) {
         double dt = pow(10.0, -5.0 + 4.0 * j / (ndt - 1));
         cb_cell_result r;
         int rc = cb_stability_cell(it, dt, x0, v0, S, &sp, &w, &r);
-        double smax, srms;
+        double smax, srms, none = cb_csv_na();
         edge_strain(s, w.x, &smax, &srms);
-        fprintf(f, "%s,%s,%.6g,%.17g,%s,%.17g,%.17g,%ld,%.17g,%.17g,%.17g,%.3f,%s\n", sc->label,
-                m >= 0 ? "shape_matching" : "spring_explicit", m >= 0 ? alphas[m] : NAN, dt,
-                rc ? "failed" : cb_cell_class_name(r.cls), r.max_energy_ratio, r.final_energy_ratio, r.steps, r.t_end,
-                isfinite(smax) ? smax : NAN, isfinite(srms) ? srms : NAN, r.wall_ms, cb_status_name(r.step_status));
+        /* springs have no alpha; a cell that failed to run (rc) measured nothing */
+        cb_csv_printf(f, "%s,%s,%.6g,%.17g,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.3f,%s\n", sc->label,
+                      m >= 0 ? "shape_matching" : "spring_explicit", m >= 0 ? alphas[m] : none, dt,
+                      rc ? "failed" : cb_cell_class_name(r.cls), rc ? none : r.max_energy_ratio, rc ? none : r.final_energy_ratio,
+                      rc ? none : (double)r.steps, rc ? none : r.t_end, rc ? none : isfinite(smax) ? smax : NAN,
+                      rc ? none : isfinite(srms) ? srms : NAN, rc ? none : r.wall_ms, rc ? cb_status_name(rc) : cb_status_name(r.step_status));
       }
       cb_cell_work_free(&w);
       free(x0); free(v0);
@@ -576,7 +581,7 @@ int main(int argc, char **argv) {
       cb_experiment_table(&E, "aniso", "# F1: boundary held at F X (5% uniaxial stretch or simple shear), interior relaxed; k = mu = 1000 N/m\n",
                           "model,mesh,family,test,vertices,strain,energy_j,energy_density_j_per_m2,area_m2,free_vertices,residual,status") != T_ANISO ||
       cb_experiment_table(&E, "newton", "# F1: one implicit Euler step of the lab cloth, |grad F| per Newton iteration; wall_ms since the step began\n",
-                          "model,rep,iter,f_j,grad_norm,rel_grad,wall_ms") != T_NEWTON ||
+                          "model,rep,iter,f_j,grad_norm_n,rel_grad,wall_ms") != T_NEWTON ||
       cb_experiment_table(&E, "newton_steps", NULL,
                           "model,n,rep,newton_iters,factorizations,rel_grad,assemble_ms,factor_ms,solve_ms,step_wall_ms,status") != T_STEPS ||
       cb_experiment_table(&E, "shape", "# S1: cells as explicit_stability (energy = kinetic + elastic + gravity; shape matching scenes have k = 0); "

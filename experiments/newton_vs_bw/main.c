@@ -238,8 +238,8 @@ int main(int argc, char **argv) {
     else if (cb_scene_decl_is(d, "i2")) p.i2 = i;
   }
   if ((b = cost_hints(&p))) return cb_experiment_end(&e, b), 1;
-  const char *units = "# units: dt s; k N/m; stretch = scene.initial_scale; *_ms wall milliseconds; step_error = "
-                      "|x - x*|_M / |x* - x0|_M; f_minus_fstar_j J\n";
+  const char *units = "# units: the column suffixes (README.md, CSV convention); stretch = scene.initial_scale; "
+                      "step_error = |x - x*|_M / |x* - x0|_M\n";
   if (cb_experiment_table(&e, NULL, units, cb_study_steps_header) != T_STEPS ||
       cb_experiment_table(&e, "pareto", units, cb_study_pareto_header) != T_PARETO ||
       cb_experiment_table(&e, "traj", units, cb_study_traj_header) != T_TRAJ ||

@@ -7,13 +7,14 @@
 #include <string.h>
 
 #include "pareto.h"
+#include <clothbench/csv.h>
 #include <clothbench/status.h>
 #include "stats.h"
 
 const char *const cb_study_steps_header =
-    "scene,n,dt,k,stretch,step,method,max_newton_iters,inner_solver,line_search,newton_iters,linear_iters,"
+    "scene,n,dt_s,k_n_per_m,stretch,step,method,max_newton_iters,inner_solver,line_search,newton_iters,linear_iters,"
     "ls_reduced,ls_backtracks,step_error,rel_grad,f_minus_fstar_j,assemble_ms,factor_ms,setup_ms,solve_ms,wall_ms,"
-    "wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,status,ref_iters,ref_rel_grad,ref_grad_norm,ref_last_dx_m,ref_status";
+    "wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,status,ref_iters,ref_rel_grad,ref_grad_norm_n,ref_last_dx_m,ref_status";
 
 /* x, v, xstar: 3*nv each */
 typedef struct {
@@ -36,7 +37,7 @@ static void state_free(state3 *w) {
 }
 
 static void scene_cols(FILE *f, const cb_scene *s, const char *label, double dt) {
-  fprintf(f, "%s,%d,%.17g,%.17g,%.17g,", label, s->def.grid.n, dt, s->def.stretch_k, s->def.initial_scale);
+  cb_csv_printf(f, "%s,%d,%.17g,%.17g,%.17g,", label, s->def.grid.n, dt, s->def.stretch_k, s->def.initial_scale);
 }
 
 int cb_study_steps(cb_scene *s, const char *label, double dt, const int *states, int nstates, const cb_method *methods,
@@ -90,14 +91,14 @@ int cb_study_steps(cb_scene *s, const char *label, double dt, const int *states,
         const cb_step_result *r = &res[m];
         const cb_timing *T = &tm[5 * m];
         scene_cols(csv, s, label, dt);
-        fprintf(csv, "%d,%s,%d,%s,%d,%d,%d,%d,%d,%.17g,%.17g,%.17g,%.6f,%.6f,%.6f,%.6f,", step, me->name,
+        cb_csv_printf(csv, "%d,%s,%d,%s,%d,%d,%d,%d,%d,%.17g,%.17g,%.17g,%.6f,%.6f,%.6f,%.6f,", step, me->name,
                 me->K > 0 ? me->K : CB_METHOD_CONVERGED_ITERS, me->inner, me->line_search, r->st.newton_iters,
                 r->st.linear_iters, r->ls_reduced, r->st.ls_backtracks, r->step_error, r->st.rel_grad, r->f_minus_fstar,
                 cb_timing_median(&T[0]), cb_timing_median(&T[1]), cb_timing_median(&T[2]), cb_timing_median(&T[3]));
         cb_timing_csv(csv, &T[4], 1.0);
         fputc(',', csv);
         cb_timing_csv_each(csv, &T[4], 1.0);
-        fprintf(csv, ",%d,%s,%d,%.17g,%.17g,%.17g,%s\n", T[4].n, cb_status_name(r->st.status), rs.iters, rs.rel_grad,
+        cb_csv_printf(csv, ",%d,%s,%d,%.17g,%.17g,%.17g,%s\n", T[4].n, cb_status_name(r->st.status), rs.iters, rs.rel_grad,
                 rs.grad_norm, rs.last_dx, cb_status_name(rst));
         if (pts) {
           cb_study_point *pt = &pts[(next - 1) * nmethods + m];
@@ -175,7 +176,7 @@ int cb_study_pareto(FILE *csv, const char *label, const cb_method *methods, int 
       int ki = 0, ii = 0;
       while (ki < 5 && Ks[ki] != methods[m].K) ki++;
       while (ii < 5 && strcmp(inners[ii], methods[m].inner)) ii++;
-      fprintf(csv, "%s,%s,%d,%d,%s,%d,%d,%d,%.6f,%.6f,%.6f,%.6f,%.17g,%d,%d\n", label, methods[m].name,
+      cb_csv_printf(csv, "%s,%s,%d,%d,%s,%d,%d,%d,%.6f,%.6f,%.6f,%.6f,%.17g,%d,%d\n", label, methods[m].name,
               methods[m].K > 0 ? methods[m].K : CB_METHOD_CONVERGED_ITERS, ki, methods[m].inner, ii,
               methods[m].line_search, nstates, cost[m], lo[m], hi[m], nos[m], err[m], failed[m], front[m]);
     }
@@ -187,7 +188,7 @@ int cb_study_pareto(FILE *csv, const char *label, const cb_method *methods, int 
 /* ---- I2 -------------------------------------------------------------------- */
 
 const char *const cb_study_order_header =
-    "scene,n,dt,k,stretch,definiteness,line_search,step,iter,grad_norm,rel_grad,f_j,alpha,hessian,step_status,"
+    "scene,n,dt_s,k_n_per_m,stretch,definiteness,line_search,step,iter,grad_norm_n,rel_grad,f_j,alpha,hessian,step_status,"
     "step_iters";
 
 enum { ORDER_MAX_ITERS = 60, ORDER_LOG = 256 };
@@ -226,8 +227,8 @@ static void order_rows(FILE *csv, const cb_scene *s, const char *label, double d
   static const char *const hname[] = {"-", "exact", "shifted", "drop"};
   for (int i = 0; i < L->n; i++) {
     scene_cols(csv, s, label, dt);
-    fprintf(csv, "%s,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%s,%s,%d\n", def, ls, step, i, L->g[i], L->rel[i], L->F[i],
-            L->alpha[i], hname[L->hessian[i]], cb_status_name(status), iters);
+    cb_csv_printf(csv, "%s,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%s,%s,%d\n", def, ls, step, i, L->g[i], L->rel[i], L->F[i],
+                  L->alpha[i], hname[L->hessian[i]], cb_status_name(status), iters);
   }
 }
 

@@ -5,20 +5,23 @@
 #include <string.h>
 
 #include "newton_study.h"
+#include <clothbench/csv.h>
 #include <clothbench/run.h>
 #include <clothbench/status.h>
 
 const char *const cb_study_traj_header =
-    "scene,n,dt,k,stretch,method,max_newton_iters,inner_solver,line_search,step,t_s,pos_error_m,energy_j,"
+    "scene,n,dt_s,k_n_per_m,stretch,method,max_newton_iters,inner_solver,line_search,step,t_s,pos_error_m,energy_j,"
     "ref_energy_j,energy_drift_j,newton_iters,linear_iters,wall_ms,status";
 
+/* ss NULL: the start state, where no step ran (its iterations and time are empty) */
 static void traj_row(FILE *f, const cb_scene *s, const char *label, double dt, const char *method, int K,
                      const char *inner, int ls, int step, double err, double E, double Eref, double E0,
                      const cb_step_stats *ss, int status) {
-  fprintf(f, "%s,%d,%.17g,%.17g,%.17g,%s,%d,%s,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%d,%.6f,%s\n", label,
-          s->def.grid.n, dt, s->def.stretch_k, s->def.initial_scale, method, K, inner, ls, step, step * dt, err, E,
-          Eref, E - E0, ss ? ss->newton_iters : 0, ss ? ss->linear_iters : 0, ss ? ss->wall_ms : 0.0,
-          cb_status_name(status));
+  double na = cb_csv_na();
+  cb_csv_printf(f, "%s,%d,%.17g,%.17g,%.17g,%s,%d,%s,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.6f,%s\n", label,
+                s->def.grid.n, dt, s->def.stretch_k, s->def.initial_scale, method, K, inner, ls, step, step * dt, err, E,
+                Eref, E - E0, ss ? ss->newton_iters : na, ss ? ss->linear_iters : na, ss ? ss->wall_ms : na,
+                cb_status_name(status));
 }
 
 int cb_study_trajectories(cb_scene *s, const char *label, double dt, int nsteps, const cb_method *methods,
@@ -74,7 +77,7 @@ done:
 /* ---- time-discretisation error -------------------------------------------- */
 
 const char *const cb_study_dt_header =
-    "scene,n,dt,k,stretch,fine_dt,step,t_s,pos_error_m,energy_j,fine_energy_j,ref_status,fine_status";
+    "scene,n,dt_s,k_n_per_m,stretch,fine_dt_s,step,t_s,pos_error_m,energy_j,fine_energy_j,ref_status,fine_status";
 
 int cb_study_dt_error(cb_scene *s, const char *label, double dt, int refine, int nsteps, FILE *csv) {
   size_t n3 = (size_t)3 * s->mesh.nv;
@@ -101,9 +104,9 @@ int cb_study_dt_error(cb_scene *s, const char *label, double dt, int refine, int
       int t = cb_reference_advance(rf, xf, vf, &rs);
       if (t != CB_OK) fst = t;
     }
-    fprintf(csv, "%s,%d,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%.17g,%.17g,%s,%s\n", label, s->def.grid.n, dt,
-            s->def.stretch_k, s->def.initial_scale, fp.dt, k, k * dt, cb_mnorm_diff(s, xc, xf) * rms,
-            cb_state_energy(s, xc, vc), cb_state_energy(s, xf, vf), cb_status_name(cst), cb_status_name(fst));
+    cb_csv_printf(csv, "%s,%d,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%.17g,%.17g,%s,%s\n", label, s->def.grid.n, dt,
+                  s->def.stretch_k, s->def.initial_scale, fp.dt, k, k * dt, cb_mnorm_diff(s, xc, xf) * rms,
+                  cb_state_energy(s, xc, vc), cb_state_energy(s, xf, vf), cb_status_name(cst), cb_status_name(fst));
   }
   cb_reference_free(rc);
   cb_reference_free(rf);
@@ -114,7 +117,7 @@ int cb_study_dt_error(cb_scene *s, const char *label, double dt, int refine, int
 /* ---- the K = 1 regime map -------------------------------------------------- */
 
 const char *const cb_study_regime_header =
-    "scene,n,dt,k,stretch,dt_index,k_index,stretch_index,steps,duration_s,first_diverged_step,traj_status,"
+    "scene,n,dt_s,k_n_per_m,stretch,dt_index,k_index,stretch_index,steps,duration_s,first_diverged_step,traj_status,"
     "step_error_0,step_error_max,worst_step,worst_f_minus_fstar_j,samples,ref_status,ref_iters_max,k1_fails,wall_ms";
 
 int cb_study_regime_cell(cb_scene *s, const char *label, double dt, double duration_s, int nsamples, double fail_level, int dt_index,
@@ -171,11 +174,15 @@ int cb_study_regime_cell(cb_scene *s, const char *label, double dt, double durat
     }
   }
   if (st == CB_OK) {
+    /* not applicable, written empty: the first diverged step of a trajectory that did not diverge (-1), and
+     * the errors and worst step when no state was sampled */
     int fails = first_div >= 0 || !(errmax <= fail_level);
-    fprintf(csv, "%s,%d,%.17g,%.17g,%.17g,%d,%d,%d,%d,%.17g,%d,%s,%.17g,%.17g,%d,%.17g,%d,%s,%d,%d,%.6f\n", label,
-            s->def.grid.n, dt, s->def.stretch_k, s->def.initial_scale, dt_index, k_index, stretch_index, nsteps, nsteps * dt,
-            first_div, cb_status_name(traj_status), err0, errmax, worst, dfmax, samples, cb_status_name(ref_bad), ref_iters,
-            fails, wall);
+    double na = cb_csv_na();
+    cb_csv_printf(csv, "%s,%d,%.17g,%.17g,%.17g,%d,%d,%d,%d,%.17g,%.17g,%s,%.17g,%.17g,%.17g,%.17g,%d,%s,%d,%d,%.6f\n", label,
+                  s->def.grid.n, dt, s->def.stretch_k, s->def.initial_scale, dt_index, k_index, stretch_index, nsteps,
+                  nsteps * dt, first_div >= 0 ? first_div : na, cb_status_name(traj_status), samples ? err0 : na,
+                  samples ? errmax : na, samples ? worst : na, samples ? dfmax : na, samples, cb_status_name(ref_bad),
+                  ref_iters, fails, wall);
   }
   if (have_run) cb_run_free(&run);
   cb_integrator_free(it);

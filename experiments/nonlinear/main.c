@@ -166,7 +166,7 @@ static int j3_cell(long i, void *ctx, FILE *const *out) {
       rl[ns++] = rho_lin;
       if (lmin < lmin_min) lmin_min = lmin;
       if (lmax > lmax_max) lmax_max = lmax;
-      fprintf(out[T_SPECTRUM], "%s,%s,%d,%.17g,%.17g,%.17g,%d\n", d->label, rho, f, lmin, lmax, rho_lin, steps);
+      cb_csv_printf(out[T_SPECTRUM], "%s,%s,%d,%.17g,%.17g,%.17g,%d\n", d->label, rho, f, lmin, lmax, rho_lin, steps);
     }
   }
   if (st == CB_OK) {
@@ -186,10 +186,14 @@ static int j3_cell(long i, void *ctx, FILE *const *out) {
     double rl_max = 0;
     for (int k = 0; k < ns; k++) rl_max = fmax(rl_max, rl[k]);
     double rl_med = ns ? cb_median(rl, ns) : NAN;
+    /* not applicable, written empty: the divergence frame of a run that did not diverge (-1), the statistics
+     * of the frames when none ran, those of the sampled spectra when none was sampled */
+    double na = cb_csv_na();
     if (st == CB_OK)
-      fprintf(out[T_J3], "lab_iteration,%s,%s,%s,%.17g,%d,%d,%d,%d,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%.17g,%.17g,%.6f,%s\n",
-              d->label, it->type->name, rho, rho_used, frames, n, div_frame > 0, div_frame, med, p90, mx, up, rl_med,
-              rl_max, lmin_min, lmax_max, n ? cb_median(ms, n) : 0.0, status);
+      cb_csv_printf(out[T_J3], "lab_iteration,%s,%s,%s,%.17g,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%.17g,%.17g,%.6f,%s\n",
+                    d->label, it->type->name, rho, rho_used, frames, n, div_frame > 0, div_frame > 0 ? div_frame : na,
+                    n ? med : na, n ? p90 : na, n ? mx : na, up, ns ? rl_med : na, ns ? rl_max : na, ns ? lmin_min : na,
+                    ns ? lmax_max : na, n ? cb_median(ms, n) : na, status);
   }
   cb_run_free(&run);
   cb_integrator_free(it);
@@ -365,11 +369,11 @@ static int time_group(const cb_experiment *e, const cb_scene_decl *d, state_t *S
 
 /* "median,min,max,each,repeats" of a step's timing (nan fields and no repeats when it was not timed) */
 static void put_timing(FILE *f, const step_result *r, int timed) {
-  cb_timing none = {0};
+  cb_timing none = {0}; /* not timed: every field empty */
   cb_timing_csv(f, timed ? &r->wall : &none, 1.0);
   fputc(',', f);
   if (timed) cb_timing_csv_each(f, &r->wall, 1.0);
-  fprintf(f, ",%d", timed ? r->wall.n : 0);
+  cb_csv_printf(f, ",%.17g", timed ? (double)r->wall.n : cb_csv_na());
 }
 
 /* ---- W1: iterations and time to 1e-2 and 1e-4 -------------------------------- */
@@ -434,8 +438,8 @@ static int w1_cell(long i, void *ctx, FILE *const *out) {
     st = t.rel ? one_step(p->e, d, &S, sets[m], record, &t, &r[m]) : cb_fail_status(CB_ENOMEM, "out of memory");
     for (int k = 0; st == CB_OK && k < t.n; k++) /* every iteration up to 100, then ~50 per decade */
       if (k <= 100 || floor(50 * log10(k)) != floor(50 * log10(k - 1)) || k == t.n - 1)
-        fprintf(out[T_W1_TRACE], "%s,%d,%s,%d,%.17g\n", d->label, n, W1M[m].label, k, t.rel[k]);
-    final_rel[m] = t.n ? t.rel[t.n - 1] : NAN;
+        cb_csv_printf(out[T_W1_TRACE], "%s,%d,%s,%d,%.17g\n", d->label, n, W1M[m].label, k, t.rel[k]);
+    final_rel[m] = t.n ? t.rel[t.n - 1] : cb_csv_na(); /* no iteration traced */
     for (int q = 0; st == CB_OK && q < 2; q++) {
       hit[m][q] = -1;
       for (int k = 0; k < t.n && hit[m][q] < 0; k++)
@@ -457,9 +461,14 @@ static int w1_cell(long i, void *ctx, FILE *const *out) {
   for (int m = 0; st == CB_OK && m < NW1M; m++)
     for (int q = 0; q < 2; q++) {
       int j = job[m][q];
-      fprintf(out[T_W1], "%s,%d,%s,%s,%.17g,%d,%g,%d,", d->label, n, W1M[m].label, W1M[m].pair, r[m].rho, kmax[m], TOLS[q], hit[m][q]);
+      /* a tolerance never reached (hit < 0; hit = 0: reached before any iteration) has no iteration count or
+       * time; a method without Chebyshev acceleration has no rho */
+      double na = cb_csv_na(), rho = strstr(W1M[m].label, "chebyshev") ? r[m].rho : na;
+      cb_csv_printf(out[T_W1], "%s,%d,%s,%s,%.17g,%d,%g,%.17g,", d->label, n, W1M[m].label, W1M[m].pair, rho, kmax[m],
+                    TOLS[q], hit[m][q] >= 0 ? (double)hit[m][q] : na);
       put_timing(out[T_W1], j >= 0 ? &rt[j] : NULL, j >= 0);
-      fprintf(out[T_W1], ",%.6f,%.6f,%.17g,%s\n", j >= 0 ? rt[j].setup_ms : NAN, r[m].alloc_ms, final_rel[m], cb_status_name(r[m].status));
+      cb_csv_printf(out[T_W1], ",%.6f,%.6f,%.17g,%s\n", j >= 0 ? rt[j].setup_ms : na, r[m].alloc_ms, final_rel[m],
+                    cb_status_name(r[m].status));
     }
   free_state(&S);
   return st;
@@ -490,9 +499,9 @@ static int p1_cell(long i, void *ctx, FILE *const *out) {
   for (int m = 0; m < NP1M; m++) sets[m] = P1M[m].sets;
   if (st == CB_OK) st = time_group(p->e, d, &S, sets, NP1M, r); /* interleaved: pd10, newton, baraff_witkin, pd10, ... */
   for (int m = 0; st == CB_OK && m < NP1M; m++) {
-    fprintf(out[T_P1], "%s,%d,%.17g,%s,%d,%d,", d->label, S.s->mesh.grid_n, S.s->def.stretch_k, P1M[m].label, frame, r[m].iters);
+    cb_csv_printf(out[T_P1], "%s,%d,%.17g,%s,%d,%d,", d->label, S.s->mesh.grid_n, S.s->def.stretch_k, P1M[m].label, frame, r[m].iters);
     put_timing(out[T_P1], &r[m], 1);
-    fprintf(out[T_P1], ",%.6f,%.17g,%.17g,%s\n", r[m].alloc_ms, r[m].error, r[m].rel_grad, cb_status_name(r[m].status));
+    cb_csv_printf(out[T_P1], ",%.6f,%.17g,%.17g,%s\n", r[m].alloc_ms, r[m].error, r[m].rel_grad, cb_status_name(r[m].status));
   }
   free_state(&S); /* make_state leaves it empty on error */
   return st;
@@ -543,8 +552,9 @@ static int et_cell(long i, void *ctx, FILE *const *out) {
       sets[ns] = NULL;
       step_result r;
       if ((st = one_step(p->e, d, &S, sets, NULL, NULL, &r))) break;
-      fprintf(out[T_ERROR_TIME], "%s,%d,%s,%s,%d,%.17g,%.6f,%.6f,%.17g,%.17g,%s\n", d->label, S.s->mesh.grid_n, ETM[m].label,
-              ETM[m].family, r.iters, r.rho, r.wall_ms, r.setup_ms, r.error, r.rel_grad, cb_status_name(r.status));
+      double rho = strstr(ETM[m].label, "chebyshev") ? r.rho : cb_csv_na(); /* no rho without Chebyshev */
+      cb_csv_printf(out[T_ERROR_TIME], "%s,%d,%s,%s,%d,%.17g,%.6f,%.6f,%.17g,%.17g,%s\n", d->label, S.s->mesh.grid_n, ETM[m].label,
+                    ETM[m].family, r.iters, rho, r.wall_ms, r.setup_ms, r.error, r.rel_grad, cb_status_name(r.status));
       if (!kmax) break;
     }
   }
@@ -623,13 +633,13 @@ int main(int argc, char **argv) {
                           "median_frame_ms,status") != T_J3 ||
       cb_experiment_table(&e, "spectrum", j3_extra, "scene,rho_given,frame,lmin,lmax,rho_lin,lanczos_steps") != T_SPECTRUM ||
       cb_experiment_table(&e, "w1", state_extra,
-                          "scene,n,method,pair,rho,max_iters,tol,iters_to_tol,wall_ms_to_tol,wall_min_ms_to_tol,"
-                          "wall_max_ms_to_tol,wall_each_ms_to_tol,wall_repeats,setup_ms,alloc_ms,"
+                          "scene,n,method,pair,rho,max_iters,tol,iters_to_tol,wall_to_tol_ms,wall_to_tol_min_ms,"
+                          "wall_to_tol_max_ms,wall_to_tol_each_ms,wall_repeats,setup_ms,alloc_ms,"
                           "final_rel_grad,status") != T_W1 ||
       cb_experiment_table(&e, "w1_trace", NULL, "scene,n,method,iter,rel_grad") != T_W1_TRACE ||
       cb_experiment_table(&e, "p1", p1_extra,
-                          "scene,n,k,method,frame,iters,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,alloc_ms,"
-                          "step_error,rel_grad,status") != T_P1 ||
+                          "scene,n,k_n_per_m,method,frame,iters,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,"
+                          "alloc_ms,step_error,rel_grad,status") != T_P1 ||
       cb_experiment_table(&e, "error_time", state_extra,
                           "scene,n,method,family,iters,rho,wall_ms,setup_ms,step_error,rel_grad,status") != T_ERROR_TIME)
     return cb_experiment_end(&e, CB_EIO), 2;

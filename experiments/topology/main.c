@@ -32,8 +32,9 @@ static void count_row(FILE *f, const char *name, cb_mesh *m, unsigned seed) {
     x[i] = m->x[i] + h * (cb_rng_uniform(&rng) - 0.5);
   }
   int dofs = cb_rigidity_dofs(m->nv, x, tp.ne, tp.edge); /* lib/instruments/rigidity.c */
-  fprintf(f, "count,%s,,,%d,%d,%d,%d,%d,%d,%d,%d,%d,%s\n", name, m->nv, m->nt, tp.ne, tp.nb, 3 * m->nv - 3 - tp.nb,
-          cb_topology_boundary_loops(m, &tp), cb_topology_components(m, &tp), dofs, 3 + tp.nb, dofs < 0 ? "svd_failed" : "ok");
+  cb_csv_printf(f, "count,%s,,,%d,%d,%d,%d,%d,%d,%d,%.17g,%d,%s\n", name, m->nv, m->nt, tp.ne, tp.nb, 3 * m->nv - 3 - tp.nb,
+                cb_topology_boundary_loops(m, &tp), cb_topology_components(m, &tp), dofs < 0 ? cb_csv_na() : dofs, 3 + tp.nb,
+                dofs < 0 ? "svd_failed" : "ok"); /* free_dofs empty when the SVD failed */
   free(x);
   cb_topology_free(&tp);
 }

@@ -1,4 +1,5 @@
 #include <clothbench/run.h>
+#include <clothbench/csv.h>
 
 #include <math.h>
 #include <stdlib.h>
@@ -107,7 +108,7 @@ void cb_run_csv_header(FILE *f) {
 
 void cb_run_csv_row(FILE *f, const cb_run *r, int status) {
   const cb_step_stats *s = &r->last;
-  fprintf(f, "%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%d,%.6f,%.6f,%.6f,%.6f,%s,%d\n", r->step, r->t, r->kinetic,
-          r->elastic, r->gravity, r->kinetic + r->potential, r->work, s->newton_iters, s->rel_grad, s->rel_grad_hat, s->linear_iters,
-          s->assemble_ms, s->factor_ms, s->solve_ms, s->wall_ms, cb_status_name(status), cb_scene_contacts(r->scene, r->x));
+  cb_csv_printf(f, "%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%d,%.6f,%.6f,%.6f,%.6f,%s,%d\n", r->step, r->t, r->kinetic,
+                r->elastic, r->gravity, r->kinetic + r->potential, r->work, s->newton_iters, s->rel_grad, s->rel_grad_hat, s->linear_iters,
+                s->assemble_ms, s->factor_ms, s->solve_ms, s->wall_ms, cb_status_name(status), cb_scene_contacts(r->scene, r->x));
 }
