@@ -91,10 +91,11 @@ cb_claim_timing cb_claim_timing_ratio(const cb_claim_timing *a, const cb_claim_t
 cb_claim_timing cb_claim_timing_diff(const cb_claim_timing *a, const cb_claim_timing *b);
 /* a x s for a constant s > 0. */
 cb_claim_timing cb_claim_timing_scale(const cb_claim_timing *a, double s);
-/* The median over v[0..n) (e.g. over start states or frames): the median of
- * the medians; its spread the min and max over repeats i of the median over
- * v of repeat i (for the repeats that every v lists), else (some v lists
- * none) the median of the mins and the median of the maxes (bounds). */
+/* The median over v[0..n) (e.g. over start states or frames). When every v
+ * lists its repeats: for each repeat i (of those every v has) the median over
+ * v of repeat i, and of that series the median, min and max (so the median
+ * lies inside its spread). Else (some v lists none) the median of the
+ * medians, of the mins and of the maxes (bounds). */
 cb_claim_timing cb_claim_timing_median(const cb_claim_timing *v, int n);
 /* 1 if t has a spread to show. */
 int cb_claim_timing_has_spread(const cb_claim_timing *t);
