@@ -453,10 +453,11 @@ expect_err expl_div "predicted explicit limit at the initial state is dt_crit = 
 for sig in INT TERM HUP; do
   mkdir -p "$T/sig$sig"
   echo "previous" > "$T/sig$sig/out.csv"
-  # sh starts background jobs with SIGINT ignored (and the program keeps an
-  # ignored signal ignored, like nohup): perl (Essential in Debian) restores
-  # the default action before exec
-  perl -e '$SIG{INT} = "DEFAULT"; exec @ARGV or die' -- \
+  # sh starts background jobs with SIGINT ignored, and nohup (or a CI runner)
+  # may have SIGHUP ignored; the program keeps an ignored signal ignored, as it
+  # should. perl (Essential in Debian) restores the three default actions
+  # before exec, as a terminal would start it.
+  perl -e '$SIG{INT} = $SIG{TERM} = $SIG{HUP} = "DEFAULT"; exec @ARGV or die' -- \
     "$SIM" "$CONFIG" --steps 100000 --quiet --csv "$T/sig$sig/out.csv" --obj "$T/sig$sig/out.obj" >/dev/null 2>&1 &
   pid=$!
   for _ in 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20; do
