@@ -232,19 +232,25 @@ static int hinge_bind(cb_term *t, const cb_sparse *A) {
   return cb_stencil_bind(&((hinge_term *)t)->st, A, what);
 }
 
+/* Hinge e's exact 12x12 Hessian c (grad theta grad theta^T + (theta - theta_bar) d2theta)
+ * at x into H; 0 (H untouched) if the hinge is degenerate there. */
+static int hinge_exact_hessian(const hinge_term *h, int e, const double *x, double *H) {
+  double p[12], D[144];
+  hinge_geo g;
+  load(h, e, x, p);
+  if (!hinge_eval(p, h->e2_bar[e], &g)) return 0;
+  double d = wrap_angle(g.theta - h->theta_bar[e]);
+  hinge_d2theta(&g, D);
+  for (int i = 0; i < 12; i++)
+    for (int j = 0; j < 12; j++) H[12 * i + j] = h->c[e] * (g.grad[i] * g.grad[j] + d * D[12 * i + j]);
+  return 1;
+}
+
 static void hinge_hessian(const cb_term *t, const double *x, cb_projection proj, double *val) {
   const hinge_term *h = (const hinge_term *)t;
-  double H[144], D[144];
+  double H[144];
   for (int e = 0; e < h->nh; e++) {
-    if (!cb_stencil_active(&h->st, e)) continue;
-    double p[12];
-    hinge_geo g;
-    load(h, e, x, p);
-    if (!hinge_eval(p, h->e2_bar[e], &g)) continue;
-    double d = wrap_angle(g.theta - h->theta_bar[e]);
-    hinge_d2theta(&g, D);
-    for (int i = 0; i < 12; i++)
-      for (int j = 0; j < 12; j++) H[12 * i + j] = h->c[e] * (g.grad[i] * g.grad[j] + d * D[12 * i + j]);
+    if (!cb_stencil_active(&h->st, e) || !hinge_exact_hessian(h, e, x, H)) continue;
     if (proj != CB_PROJ_NONE) cb_projection_apply(proj, 12, H, h->work);
     cb_stencil_add_hessian(&h->st, e, H, val);
   }
@@ -319,17 +325,10 @@ int cb_hinge_term_count_indefinite(const cb_term *t, const double *x, int *nhing
   if (!t || t->type != &cb_term_dihedral_type) return 0;
   const hinge_term *h = (const hinge_term *)t;
   *nhinges = h->nh;
-  double H[144], D[144];
+  double H[144];
   int count = 0;
   for (int e = 0; e < h->nh; e++) {
-    double p[12];
-    hinge_geo g;
-    load(h, e, x, p);
-    if (!hinge_eval(p, h->e2_bar[e], &g)) continue;
-    double d = wrap_angle(g.theta - h->theta_bar[e]);
-    hinge_d2theta(&g, D);
-    for (int i = 0; i < 12; i++)
-      for (int j = 0; j < 12; j++) H[12 * i + j] = h->c[e] * (g.grad[i] * g.grad[j] + d * D[12 * i + j]);
+    if (!hinge_exact_hessian(h, e, x, H)) continue;
     count += cb_projection_apply(CB_PROJ_CLAMP, 12, H, h->work) > 0;
   }
   return count;
