@@ -111,6 +111,18 @@ static void state(const tmodel *t, int kind, uint64_t seed, double *x) {
 
 /* ---- the checks ------------------------------------------------------------------- */
 
+/* A term flagged CB_TERM_CONSTANT_HESSIAN: the first H is kept in *H0, every later one must equal it. */
+static void expect_constant_hessian(const gsl_matrix *H, gsl_matrix **H0, const char *where) {
+  if (!*H0) {
+    *H0 = gsl_matrix_alloc(H->size1, H->size2);
+    gsl_matrix_memcpy(*H0, H);
+    return;
+  }
+  for (size_t i = 0; i < H->size1; i++)
+    for (size_t j = 0; j < H->size2; j++)
+      cr_expect(gsl_matrix_get(H, i, j) == gsl_matrix_get(*H0, i, j), "%s: constant Hessian changed", where);
+}
+
 static const double FD_H = 1e-6; /* m; rest lengths are 0.27-0.6 m */
 
 static double mat_maxabs(const gsl_matrix *M) {
@@ -235,16 +247,7 @@ static int check_type(const cb_term_type *type) {
             if (H->size1 > 0)
               cr_expect(lmin >= -1e-12 * fmax(emax, 1.0), "%s, %s: model Hessian has eigenvalue %.3g (max %.3g)", where,
                         cb_definiteness_names[d], lmin, emax);
-            if (d == CB_DEF_NONE && (type->flags & CB_TERM_CONSTANT_HESSIAN)) {
-              if (!H0) {
-                H0 = gsl_matrix_alloc(H->size1, H->size2);
-                gsl_matrix_memcpy(H0, H);
-              } else {
-                for (size_t i = 0; i < H->size1; i++)
-                  for (size_t j = 0; j < H->size2; j++)
-                    cr_expect(gsl_matrix_get(H, i, j) == gsl_matrix_get(H0, i, j), "%s: constant Hessian changed", where);
-              }
-            }
+            if (d == CB_DEF_NONE && (type->flags & CB_TERM_CONSTANT_HESSIAN)) expect_constant_hessian(H, &H0, where);
           } else if (cb_definiteness_projection((cb_definiteness)d) == CB_PROJ_NONE) {
             double err = 0;
             for (size_t i = 0; i < H->size1; i++)
@@ -252,16 +255,7 @@ static int check_type(const cb_term_type *type) {
                 err = fmax(err, fabs(gsl_matrix_get(H, i, j) - gsl_matrix_get(Hfd, i, j)));
             cr_expect(err <= 1e-6 * fmax(fmax(hmax, fdmax), 1.0), "%s, %s: Hessian - FD = %.3g (max |H| %.3g)", where,
                       cb_definiteness_names[d], err, hmax);
-            if (d == CB_DEF_NONE && (type->flags & CB_TERM_CONSTANT_HESSIAN)) {
-              if (!H0) {
-                H0 = gsl_matrix_alloc(H->size1, H->size2);
-                gsl_matrix_memcpy(H0, H);
-              } else {
-                for (size_t i = 0; i < H->size1; i++)
-                  for (size_t j = 0; j < H->size2; j++)
-                    cr_expect(gsl_matrix_get(H, i, j) == gsl_matrix_get(H0, i, j), "%s: constant Hessian changed", where);
-              }
-            }
+            if (d == CB_DEF_NONE && (type->flags & CB_TERM_CONSTANT_HESSIAN)) expect_constant_hessian(H, &H0, where);
           } else if (H->size1 > 0) {
             double emax, lmin = min_eigenvalue(H, &emax);
             cr_expect(lmin >= -1e-12 * fmax(emax, 1.0), "%s, %s: projected Hessian has eigenvalue %.3g (max %.3g)", where,
