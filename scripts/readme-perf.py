@@ -66,6 +66,11 @@ def pct(v):
     return f"{100 * v:.0f}%"
 
 
+def rule(header):
+    """The |---|...| line under a table's header row, one cell per column."""
+    return "|" + "---|" * (header.count("|") - 1)
+
+
 def grid(n):
     return f"{n}²"
 
@@ -131,7 +136,7 @@ def main():
     # table 1: the step and the factorisation
     o.append("| grid | DOFs | nnz(A) | nnz(L) | explicit step ms | assembly ms | factorisation ms | solve ms | "
              "bare CHOLMOD ms | ours / bare | bare, 4 threads / bare | threads (ours, 4-thread) |")
-    o.append("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    o.append(rule(o[-1]))
     for n in sorted(by_n):
         r = by_n[n]
         o.append(f"| {grid(n)} | {ints(r['dofs'])} | {ints(r['nnz_a'])} | {ints(r['nnz_l'])} | "
@@ -142,7 +147,7 @@ def main():
     o.append("")
     o.append("| grid | factorisation GFlop/s | dgemm GFlop/s (1 thread) | of dgemm | analysis ms | bare analysis ms | "
              "factorisations per run | analysis / the run's factorisations | assembly / factorisation |")
-    o.append("|---|---|---|---|---|---|---|---|---|")
+    o.append(rule(o[-1]))
     for n in sorted(by_n):
         r = by_n[n]
         o.append(f"| {grid(n)} | {rng(r, 'factor_gflops', ms)} | {rng(r, 'dgemm_gflops', ms)} | "
@@ -166,7 +171,7 @@ def main():
                  + " is CHOLMOD's own assembly of the updates, zeroing and permuting.")
         o.append("")
         o.append("| routine | flops per call | calls | ms | share of the factorisation | GFlop | GFlop/s |")
-        o.append("|---|---|---|---|---|---|---|")
+        o.append(rule(o[-1]))
         for r in routines:
             o.append(f"| {r['routine']} | {r['flops_class']} | {ints(r['calls'])} | {ms(num(r, 'ms'))} | "
                      f"{pct(num(r, 'share'))} | {num(r, 'gflop'):.3f} | {num(r, 'gflops'):.1f} |")
@@ -176,7 +181,7 @@ def main():
     # table 2: SpMV
     o.append("| grid | SpMV ms (symmetric) | bytes | GB/s | triad GB/s | SpMV / triad | full-storage kernel ms | "
              "full / symmetric time | SciPy `A @ x` ms | SciPy kernel ms | SciPy / ours |")
-    o.append("|---|---|---|---|---|---|---|---|---|---|---|")
+    o.append(rule(o[-1]))
     for n in sorted(by_n):
         r = by_n[n]
         s = sc_n.get(n)
@@ -209,7 +214,7 @@ def main():
                      + ".")
     o.append("")
     o.append("| grid | ordering | nrelax | storage | subnormals | analysis ms | factorisation ms | GFlop/s | nnz(L) |")
-    o.append("|---|---|---|---|---|---|---|---|---|")
+    o.append(rule(o[-1]))
     sizes = sorted({int(r["n"]) for r in chol})
     for n in sizes:
         rows = [r for r in chol if int(r["n"]) == n and r["status"] == "ok"]
@@ -228,7 +233,7 @@ def main():
     o.append("")
     o.append("| inner solver | α | ρ estimate | step ms | steps per second | ρ estimate / step | Lanczos runs | "
              "final residual (geometric mean) |")
-    o.append("|---|---|---|---|---|---|---|---|")
+    o.append(rule(o[-1]))
     for r in steps:
         a = f"auto ({float(r['alpha_used']):.3f})" if r["alpha_setting"] == "auto" else r["alpha_used"]
         if r["solver"] == "cg":
