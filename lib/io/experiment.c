@@ -50,8 +50,9 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
   int out_given = 0;
   for (int i = 1; i < argc; i++) {
     if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-      printf("usage: %s [--quick] [--out PATH] [--configs DIR] [--shard I/N] [--version]\n\n%s\n\n"
+      printf("usage: %s [--quick | --smoke] [--out PATH] [--configs DIR] [--shard I/N] [--version]\n\n%s\n\n"
              "  --quick        reduced sweep for CI (also QUICK=1 in the environment)\n"
+             "  --smoke        the smallest run that writes every table and column (make test)\n"
              "  --out PATH     CSV output (default results/%s.csv); written atomically\n"
              "  --configs DIR  folder with the scene configs (default configs)\n"
              "  --shard I/N    run every N-th cell only, those with index %% N == I - 1 (I = 1..N);\n"
@@ -66,6 +67,7 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
       return 1;
     }
     if (!strcmp(argv[i], "--quick")) e->quick = 1;
+    else if (!strcmp(argv[i], "--smoke")) e->quick = e->smoke = 1;
     else if (!strcmp(argv[i], "--out") && i + 1 < argc) {
       snprintf(e->out, sizeof e->out, "%s", argv[++i]);
       out_given = 1;
@@ -132,6 +134,7 @@ static int open_csv(cb_experiment *e, cb_outfile *o, const char *path, const cha
   cb_provenance_write(o->f, e->name, e->argc, e->argv, NULL);
   write_configs(e, o->f);
   fprintf(o->f, "# experiment: %s\n# quick: %d\n", e->name, e->quick);
+  if (e->smoke) fputs("# smoke: 1\n", o->f);
   fprintf(o->f, "# cpu_lock: %s\n", e->lock_fd < 0 ? "none (the lock file could not be opened)"
                                      : e->timed ? "exclusive (timed: no other clothbench experiment ran meanwhile)"
                                                 : "shared (untimed: other untimed experiments may have run meanwhile)");

@@ -4,6 +4,10 @@
  *
  * Common options:
  *   --quick        reduced sweep (QUICK=1 in the environment does the same)
+ *   --smoke        the smallest run that still writes every table and column:
+ *                  one small cell of each sweep (make test's tier). Sets quick
+ *                  too, so an experiment reads e->smoke only where its smoke
+ *                  run must be smaller than its quick one.
  *   --out PATH     main CSV (default results/<name>.csv)
  *   --configs DIR  folder holding hanging.ini etc. (default configs)
  *   --shard I/N    run only the cells with index % N == I - 1 (I in 1..N) of
@@ -32,6 +36,7 @@ enum { CB_EXPERIMENT_MAX_TABLES = 8 };
 typedef struct cb_experiment {
   const char *name;
   int quick;
+  int smoke;                /* --smoke: one small cell per sweep (implies quick = 1) */
   char out[2048];
   const char *configs;
   int argc;
