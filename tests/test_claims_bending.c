@@ -172,7 +172,7 @@ Test(claims_bending, B2_quotes_times_and_the_ratio_with_their_spread) {
   cr_expect(strstr(res.numbers, "| 1.00 (1.00-1.00) | 8.00 (8.00-8.00) | 0.50 (0.50-0.50) | 10.00 (9.00-11.00) | 0.9-23.0 |"), "%s", res.numbers);
   cr_expect(strstr(res.numbers, "**2.50x (2.50-2.67x)**"), "%s", res.numbers);
   cr_expect(strstr(res.numbers, "median over 3 repeats") && strstr(res.numbers, "paired repeats"), "%s", res.numbers);
-  cr_expect(strstr(res.reason, "2.50x (2.50-2.67x over 3 paired repeats) faster"), "%s", res.reason);
+  cr_expect(strstr(res.reason, "takes 2.50x (2.50-2.67x over 3 paired repeats) the quadratic model's"), "%s", res.reason);
 }
 
 /* b3 rows of two stretch fields on the strip: ratio r0 + slope s in `arc`, r0 + slope_axis s in `axis`. */
