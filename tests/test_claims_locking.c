@@ -81,6 +81,38 @@ Test(claims_locking, L1_not_reproduced_without_locking) {
   cr_assert_eq(decide(cb_check_L1), CB_NOT_RUN);
 }
 
+/* Failure mode 1 (issue 19 #9): a solver that never moved. The flap stays flat (0 deg) at every k:
+ * constant along the edges, which the old rule (constancy) passed; it is 90 deg off the free fold. */
+Test(claims_locking, L1_not_reproduced_when_nothing_moved) {
+  char csv[2048];
+  snprintf(csv, sizeof csv, "%s"
+           "spring,regular,edges,1,10,0,ok\nspring,regular,edges,1,1e4,0,ok\nspring,regular,edges,1,1e7,0,ok\n"
+           "spring,regular,cross,0,10,0,ok\nspring,regular,cross,0,1e4,0,ok\nspring,regular,cross,0,1e7,0,ok\n", l1_head);
+  put("locking.csv", csv);
+  cr_assert_eq(decide(cb_check_L1), CB_NOT_REPRODUCED, "%s", last.reason);
+  cr_expect(strstr(last.reason, "largest deviation from 90 deg is 90.0 deg"), "%s", last.reason);
+  /* along the edges alone: hanging at 84 deg is more than 5 deg off even though it never changes */
+  snprintf(csv, sizeof csv, "%sfem,regular,edges,1,10,84,ok\nfem,regular,edges,1,1e7,84,ok\n"
+           "fem,regular,cross,0,10,85,ok\nfem,regular,cross,0,1e4,40,ok\nfem,regular,cross,0,1e7,5,ok\n", l1_head);
+  put("locking.csv", csv);
+  cr_assert_eq(decide(cb_check_L1), CB_PARTLY, "%s", last.reason);
+}
+
+/* Failure mode 2: across mesh lines the angle falls from the first to the last k by more than 20 deg
+ * but rises on the way (the quick run's spring, regular, angle30: 91.3 -> 76.6 -> 52.7 -> 67.0), which
+ * the old endpoint rule passed. */
+Test(claims_locking, L1_not_as_predicted_when_the_angle_rises_at_a_step) {
+  char csv[2048];
+  snprintf(csv, sizeof csv, "%s"
+           "spring,regular,edges,1,10,90,ok\nspring,regular,edges,1,1e7,90,ok\n"
+           "spring,regular,angle30,0,10,91.3,ok\nspring,regular,angle30,0,1e3,76.6,ok\nspring,regular,angle30,0,1e5,52.7,ok\n"
+           "spring,regular,angle30,0,1e7,67.0,ok\n", l1_head);
+  put("locking.csv", csv);
+  cr_assert_eq(decide(cb_check_L1), CB_PARTLY, "%s", last.reason); /* 1 of 2 cases */
+  cr_expect(strstr(last.numbers, "fall 24.3, smallest step -14.3 | not as predicted"), "%s", last.numbers);
+  cr_expect(strstr(last.reason, "1 cases rise at some step"), "%s", last.reason);
+}
+
 static const char *dofs_head = "# test\nmesh,vertices,boundary_edges,conforming_dofs,conforming_predicted,conforming_per_vertex,"
                                "nonconforming_dofs,nonconforming_predicted,nonconforming_per_vertex\n";
 
@@ -136,28 +168,56 @@ Test(claims_locking, F1_not_reproduced_when_fem_depends_on_direction_and_springs
   cr_assert_eq(decide(cb_check_F1), CB_NOT_REPRODUCED);
 }
 
-static const char *shape_head = "# test\nscene,method,alpha,dt_s,class,final_energy_ratio,max_strain\n";
+static const char *shape_head = "# test\nscene,method,alpha,dt_s,class,final_energy_ratio,max_strain,rigid_dist_over_size\n";
 
-Test(claims_locking, S1_reproduced_when_no_shape_matching_cell_diverges) {
+Test(claims_locking, S1_reproduced_when_every_shape_matching_cell_keeps_energy_and_shape_bounded) {
   char csv[2048];
   snprintf(csv, sizeof csv, "%s"
-           "cloth21,spring_explicit,nan,0.001,stable,0,0.01\ncloth21,spring_explicit,nan,0.1,diverged,1e9,1e6\n"
-           "cloth21,shape_matching,0.01,0.001,stable,-0.1,1\ncloth21,shape_matching,0.01,0.1,stable,-10,100\n"
-           "cloth21,shape_matching,1,0.1,unstable,2,3\n", shape_head);
+           "cloth21,spring_explicit,,0.001,stable,0,0.01,0.001\ncloth21,spring_explicit,,0.1,diverged,1e9,1e6,nan\n"
+           "cloth21,shape_matching,0.01,0.001,stable,-0.1,0.2,0.05\ncloth21,shape_matching,0.01,0.1,stable,-10,0.9,0.4\n"
+           "cloth21,shape_matching,1,0.1,stable,0,0.05,0.01\n", shape_head);
   put("locking.csv", l1_head);
   put("locking_shape.csv", csv);
-  cr_assert_eq(decide(cb_check_S1), CB_REPRODUCED);
+  cr_assert_eq(decide(cb_check_S1), CB_REPRODUCED, "%s", last.reason);
+  cr_expect(strstr(last.reason, "3 of 3 (alpha, dt) cells stable"), "%s", last.reason);
+}
+
+/* The old rule counted only diverged cells: energy-stable cells whose edges grew 5.3e3-fold (the
+ * full run's chain at alpha = 0.01) and energy-unstable cells passed. Both now count against. */
+Test(claims_locking, S1_not_reproduced_when_the_shape_error_is_unbounded_though_the_energy_is_not) {
+  char csv[2048];
+  snprintf(csv, sizeof csv, "%s"
+           "chain20,spring_explicit,,0.001,stable,0,0.01,0.001\nchain20,spring_explicit,,0.1,diverged,1e9,1e10,nan\n"
+           "chain20,shape_matching,0.01,0.001,stable,-0.1,0.3,0.1\nchain20,shape_matching,0.01,0.1,stable,-0.2,5.3e3,12\n",
+           shape_head);
+  put("locking.csv", l1_head);
+  put("locking_shape.csv", csv);
+  cr_assert_eq(decide(cb_check_S1), CB_NOT_REPRODUCED, "%s", last.reason); /* 1 of 2 stable, as springs */
+  cr_expect(strstr(last.reason, "1 with an unbounded shape error"), "%s", last.reason);
+  /* the rigid-fit distance alone decides too: edges at rest length, the shape far from any rigid motion */
+  snprintf(csv, sizeof csv, "%schain20,spring_explicit,,0.1,stable,0,0.01,0.001\n"
+           "chain20,shape_matching,1,0.1,stable,0,0.5,0.8\n", shape_head);
+  put("locking_shape.csv", csv);
+  cr_assert_eq(decide(cb_check_S1), CB_NOT_REPRODUCED, "%s", last.reason);
+  /* an energy-unstable cell counts against; more stable than springs is only partly */
+  snprintf(csv, sizeof csv, "%schain20,spring_explicit,,0.1,diverged,1e9,1e10,nan\nchain20,spring_explicit,,0.01,stable,0,0.01,0.01\n"
+           "chain20,shape_matching,1,0.1,unstable,2,0.5,0.1\nchain20,shape_matching,1,0.01,stable,0,0.1,0.01\n"
+           "chain20,shape_matching,1,0.001,stable,0,0.1,0.01\n", shape_head);
+  put("locking_shape.csv", csv);
+  cr_assert_eq(decide(cb_check_S1), CB_PARTLY, "%s", last.reason);
+  cr_expect(strstr(last.reason, "1 energy-unstable"), "%s", last.reason);
 }
 
 Test(claims_locking, S1_not_reproduced_when_a_cell_diverges) {
   char csv[2048];
   snprintf(csv, sizeof csv, "%s"
-           "cloth21,shape_matching,0.01,0.001,stable,-0.1,1\ncloth21,shape_matching,1,0.1,diverged,1e9,1e6\n", shape_head);
+           "cloth21,shape_matching,0.01,0.001,stable,-0.1,0.1,0.01\ncloth21,shape_matching,1,0.1,diverged,1e9,1e6,nan\n",
+           shape_head);
   put("locking.csv", l1_head);
   put("locking_shape.csv", csv);
   cr_assert_eq(decide(cb_check_S1), CB_NOT_REPRODUCED);
   /* no shape matching cells at all: not run */
-  snprintf(csv, sizeof csv, "%scloth21,spring_explicit,nan,0.1,diverged,1e9,1e6\n", shape_head);
+  snprintf(csv, sizeof csv, "%scloth21,spring_explicit,,0.1,diverged,1e9,1e6,nan\n", shape_head);
   put("locking_shape.csv", csv);
   cr_assert_eq(decide(cb_check_S1), CB_NOT_RUN);
 }

@@ -40,6 +40,7 @@
 
 #include <clothbench/clothbench.h>
 #include <clothbench/rng.h>
+#include <clothbench/polar.h>
 #include "bind.h"
 #include "experiment.h"
 #include "provenance.h"
@@ -163,6 +164,38 @@ static void edge_strain(const cb_scene *s, const double *x, double *mx, double *
   }
   *mx = m;
   *rms = s->topo.ne ? sqrt(q / s->topo.ne) : 0;
+}
+
+/* Distance to the best-fit rigid motion of the rest shape: min over rotations R and
+ * translations t of sqrt(sum m_i |x_i - R X_i - t|^2 / sum m_i) (the mass-weighted
+ * Procrustes fit: t from the centroids, R the polar rotation of sum m (x - c)(X - C)^T,
+ * polar.h, planar and collinear shapes included), in m; *size the rest shape's RMS radius
+ * sqrt(sum m |X - C|^2 / sum m) about its centroid C, in m. */
+static double rigid_distance(const cb_scene *s, const double *x, double *size) {
+  double c[3] = {0, 0, 0}, C[3] = {0, 0, 0}, M = 0, A[9] = {0}, R[9];
+  const double *X = s->mesh.x;
+  for (int i = 0; i < s->mesh.nv; i++) {
+    M += s->mass[i];
+    for (int a = 0; a < 3; a++) { c[a] += s->mass[i] * x[3 * i + a]; C[a] += s->mass[i] * X[3 * i + a]; }
+  }
+  if (!(M > 0)) { *size = NAN; return NAN; }
+  for (int a = 0; a < 3; a++) { c[a] /= M; C[a] /= M; }
+  double r2 = 0;
+  for (int i = 0; i < s->mesh.nv; i++)
+    for (int a = 0; a < 3; a++) {
+      r2 += s->mass[i] * (X[3 * i + a] - C[a]) * (X[3 * i + a] - C[a]);
+      for (int b = 0; b < 3; b++) A[3 * a + b] += s->mass[i] * (x[3 * i + a] - c[a]) * (X[3 * i + b] - C[b]);
+    }
+  cb_polar33(A, R, NULL);
+  double d2 = 0;
+  for (int i = 0; i < s->mesh.nv; i++)
+    for (int a = 0; a < 3; a++) {
+      double g = c[a];
+      for (int b = 0; b < 3; b++) g += R[3 * a + b] * (X[3 * i + b] - C[b]);
+      d2 += s->mass[i] * (x[3 * i + a] - g) * (x[3 * i + a] - g);
+    }
+  *size = sqrt(r2 / M);
+  return sqrt(d2 / M);
 }
 
 static int degenerate(const cb_scene *s, const double *x) {
@@ -540,14 +573,17 @@ static int s1_cell(long i, void *ctx, FILE *const *out) {
         double dt = pow(10.0, -5.0 + 4.0 * j / (ndt - 1));
         cb_cell_result r;
         int rc = cb_stability_cell(it, dt, x0, v0, S, &sp, &w, &r);
-        double smax, srms, none = cb_csv_na();
+        double smax, srms, size, none = cb_csv_na();
         edge_strain(s, w.x, &smax, &srms);
+        double rd = rigid_distance(s, w.x, &size);
         /* springs have no alpha; a cell that failed to run (rc) measured nothing */
-        cb_csv_printf(f, "%s,%s,%.6g,%.17g,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.3f,%s\n", sc->label,
+        cb_csv_printf(f, "%s,%s,%.6g,%.17g,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.3f,%s\n", sc->label,
                       m >= 0 ? "shape_matching" : "spring_explicit", m >= 0 ? alphas[m] : none, dt,
                       rc ? "failed" : cb_cell_class_name(r.cls), rc ? none : r.max_energy_ratio, rc ? none : r.final_energy_ratio,
                       rc ? none : (double)r.steps, rc ? none : r.t_end, rc ? none : isfinite(smax) ? smax : NAN,
-                      rc ? none : isfinite(srms) ? srms : NAN, rc ? none : r.wall_ms, rc ? cb_status_name(rc) : cb_status_name(r.step_status));
+                      rc ? none : isfinite(srms) ? srms : NAN, rc ? none : isfinite(rd) ? rd : NAN,
+                      rc ? none : isfinite(rd) ? rd / size : NAN, rc ? none : r.wall_ms,
+                      rc ? cb_status_name(rc) : cb_status_name(r.step_status));
       }
       cb_cell_work_free(&w);
       free(x0); free(v0);
@@ -585,9 +621,11 @@ int main(int argc, char **argv) {
       cb_experiment_table(&E, "newton_steps", NULL,
                           "model,n,rep,newton_iters,factorizations,rel_grad,assemble_ms,factor_ms,solve_ms,step_wall_ms,status") != T_STEPS ||
       cb_experiment_table(&E, "shape", "# S1: cells as explicit_stability (energy = kinetic + elastic + gravity; shape matching scenes have k = 0); "
-                          "shape error = edge strain (l - L)/L at the end\n",
+                          "shape error at the end: edge strain (l - L)/L against the rest shape, and the mass-weighted RMS distance "
+                          "to the best-fit rigid motion of the rest shape (rigid_dist_m; over the rest shape's RMS radius: "
+                          "rigid_dist_over_size)\n",
                           "scene,method,alpha,dt_s,class,max_energy_ratio,final_energy_ratio,steps,t_end_s,"
-                          "max_strain,rms_strain,cell_wall_ms,step_status") != T_SHAPE)
+                          "max_strain,rms_strain,rigid_dist_m,rigid_dist_over_size,cell_wall_ms,step_status") != T_SHAPE)
     return cb_experiment_end(&E, CB_EIO), 2;
   /* the disks of L1 (horizontal) and F1 (in plane xy): inputs of cells, written by every shard */
   if ((st = write_disk(quick ? 4 : 6, 0)) || (st = write_disk(quick ? 5 : 7, 1))) return cb_experiment_end(&E, st), 2;
