@@ -20,19 +20,21 @@
  *     at the vertices) and with every triangle rigid on edge-midpoint
  *     variables (nonconforming, English & Bridson 2008), at jittered generic
  *     positions, per vertex against mesh size.
- * F1  results/locking_aniso.csv: a 1 m patch (grids, disk) in the plane,
- *     boundary vertices held at F X, interior relaxed by the same static
- *     solve, elastic energy per area for uniaxial stretch (5%) along the two
- *     axes and the two diagonals and simple shear (5%) along the two
- *     diagonals; results/locking_newton.csv: one implicit Euler step of the
- *     lab cloth at 64^2 (32^2 with --quick), springs, FEM exact and FEM
- *     frozen, |grad F| and wall time per Newton iteration.
+ * F1  results/locking_aniso.csv: disks of radius 0.5 m in the plane (the grids clipped
+ *     to it, and the ring disk), boundary held at X + u(X) for a non-affine u (a
+ *     non-uniform stretch, an in-plane-bending shear) in 8 directions, interior
+ *     relaxed by the same static solve, elastic energy per area (an affine load is
+ *     FEM's patch test and would decide nothing); results/locking_newton.csv: one
+ *     implicit Euler step of the lab cloth at 64^2 (32^2 with --quick), springs, FEM
+ *     exact and FEM frozen, |grad F| and wall time per Newton iteration.
  * S1  results/locking_shape.csv: shape matching (integrator.shape_alpha swept) on
  *     explicit_stability's chain and 21^2 cloth, hanging vertically from the
  *     rest shape with a small random velocity, over explicit_stability's dt
  *     range; cells classified as there (energy = kinetic + gravity, the only
- *     energy shape matching has), against springs (the scene's k) under
- *     symplectic Euler from the same start. */
+ *     energy shape matching has), and the shape error at the end (max edge
+ *     strain, distance to the best-fit rigid motion of the rest shape), against
+ *     springs (the scene's k) under symplectic Euler from the same start.
+ * --smoke: one small cell per sweep (docs/experiments/locking.md says which). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
