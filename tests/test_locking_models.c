@@ -379,3 +379,40 @@ Test(shape_matching, a_run_bounds_its_own_energy_not_the_scenes_springs) {
   cb_integrator_free(it);
   cb_scene_free(s);
 }
+
+/* Issue 21 defect 5: shape matching skips the scene's energy terms, so with
+ * the penalty collider the cloth fell through the sphere while `contacts`
+ * counted them. It is refused with the reason and the fix; the project
+ * response (after the step) still runs, and keeps the cloth outside. */
+Test(shape_matching, refuses_the_penalty_collider_and_honours_project) {
+  const char *pen[] = {"mesh.n=6", "mesh.size=1", "mesh.plane=xz", "scene.pins=none", "integrator.method=shape_matching",
+                       "integrator.dt=0.01", "collider.type=penalty", "collider.centre=0 -0.6 0", "collider.radius=0.5", NULL};
+  cb_config c;
+  test_config(&c, pen);
+  cb_scene *s = test_scene(pen);
+  cb_integrator_params ip;
+  cb_integrator_params_from_config(&c, &ip);
+  cb_integrator *it = NULL;
+  cr_assert_neq(cb_integrator_from_config(&c, s, &ip, &it), CB_OK);
+  cr_expect(strstr(cb_error_message(), "penalty collider") && strstr(cb_error_message(), "collider.type = project"), "%s",
+            cb_error_message());
+  cb_scene_free(s);
+  const char *prj[] = {"mesh.n=6", "mesh.size=1", "mesh.plane=xz", "scene.pins=none", "integrator.method=shape_matching",
+                       "integrator.dt=0.01", "collider.type=project", "collider.centre=0 -0.6 0", "collider.radius=0.5", NULL};
+  s = test_scene(prj);
+  it = test_integrator(prj, s, NULL, NULL);
+  int n3 = 3 * s->mesh.nv;
+  double *x = malloc((size_t)n3 * sizeof(double)), *v = calloc((size_t)n3, sizeof(double));
+  memcpy(x, s->x0, (size_t)n3 * sizeof(double));
+  cb_step_stats st;
+  for (int k = 0; k < 200; k++) cr_assert_eq(cb_integrator_step(it, x, v, &st), CB_OK); /* 2 s: far through without it */
+  double dmin = INFINITY;
+  for (int i = 0; i < s->mesh.nv; i++) {
+    double d = sqrt(x[3 * i] * x[3 * i] + (x[3 * i + 1] + 0.6) * (x[3 * i + 1] + 0.6) + x[3 * i + 2] * x[3 * i + 2]);
+    dmin = fmin(dmin, d);
+  }
+  cr_expect(dmin > 0.49 && dmin < 0.6, "closest vertex %g m from the centre (radius 0.5)", dmin);
+  free(x); free(v);
+  cb_integrator_free(it);
+  cb_scene_free(s);
+}

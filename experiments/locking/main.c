@@ -20,19 +20,21 @@
  *     at the vertices) and with every triangle rigid on edge-midpoint
  *     variables (nonconforming, English & Bridson 2008), at jittered generic
  *     positions, per vertex against mesh size.
- * F1  results/locking_aniso.csv: a 1 m patch (grids, disk) in the plane,
- *     boundary vertices held at F X, interior relaxed by the same static
- *     solve, elastic energy per area for uniaxial stretch (5%) along the two
- *     axes and the two diagonals and simple shear (5%) along the two
- *     diagonals; results/locking_newton.csv: one implicit Euler step of the
- *     lab cloth at 64^2 (32^2 with --quick), springs, FEM exact and FEM
- *     frozen, |grad F| and wall time per Newton iteration.
+ * F1  results/locking_aniso.csv: disks of radius 0.5 m in the plane (the grids clipped
+ *     to it, and the ring disk), boundary held at X + u(X) for a non-affine u (a
+ *     non-uniform stretch, an in-plane-bending shear) in 8 directions, interior
+ *     relaxed by the same static solve, elastic energy per area (an affine load is
+ *     FEM's patch test and would decide nothing); results/locking_newton.csv: one
+ *     implicit Euler step of the lab cloth at 64^2 (32^2 with --quick), springs, FEM
+ *     exact and FEM frozen, |grad F| and wall time per Newton iteration.
  * S1  results/locking_shape.csv: shape matching (integrator.shape_alpha swept) on
  *     explicit_stability's chain and 21^2 cloth, hanging vertically from the
  *     rest shape with a small random velocity, over explicit_stability's dt
  *     range; cells classified as there (energy = kinetic + gravity, the only
- *     energy shape matching has), against springs (the scene's k) under
- *     symplectic Euler from the same start. */
+ *     energy shape matching has), and the shape error at the end (max edge
+ *     strain, distance to the best-fit rigid motion of the rest shape), against
+ *     springs (the scene's k) under symplectic Euler from the same start.
+ * --smoke: one small cell per sweep (docs/experiments/locking.md says which). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -40,6 +42,7 @@
 
 #include <clothbench/clothbench.h>
 #include <clothbench/rng.h>
+#include <clothbench/polar.h>
 #include "bind.h"
 #include "experiment.h"
 #include "provenance.h"
@@ -111,8 +114,9 @@ static int write_disk(int rings, int plane_xy) {
   return st;
 }
 
-/* The scene d with the cell's sets, on mesh kind (grid n or the disk OBJ written before the sweeps), pins = pins. */
-static int build(const cb_scene_decl *dl, const char *const *sets, mesh_kind mk, int n, int plane_xy, const char *pins,
+/* The scene d with the cell's sets on grid n of kind mk, or on the OBJ obj when it is not NULL
+ * (a mesh written before the sweeps), pins = pins. */
+static int build(const cb_scene_decl *dl, const char *const *sets, mesh_kind mk, int n, const char *obj, const char *pins,
                  cb_scene **out) {
   const char *all[24];
   int k = 0;
@@ -128,9 +132,9 @@ static int build(const cb_scene_decl *dl, const char *const *sets, mesh_kind mk,
   cb_scene_def d;
   char path[2 * CB_PATH_LEN];
   if ((st = cb_scene_def_from_config(&c, &d, path, sizeof path))) return st;
-  if (mk == MESH_DISK) {
+  if (obj) {
     d.mesh = CB_MESH_OBJ;
-    d.mesh_file = plane_xy ? disk_xy : disk_xz;
+    d.mesh_file = obj;
   }
   if (pins) d.pins = pins;
   return cb_scene_build(&d, out, NULL);
@@ -165,6 +169,38 @@ static void edge_strain(const cb_scene *s, const double *x, double *mx, double *
   *rms = s->topo.ne ? sqrt(q / s->topo.ne) : 0;
 }
 
+/* Distance to the best-fit rigid motion of the rest shape: min over rotations R and
+ * translations t of sqrt(sum m_i |x_i - R X_i - t|^2 / sum m_i) (the mass-weighted
+ * Procrustes fit: t from the centroids, R the polar rotation of sum m (x - c)(X - C)^T,
+ * polar.h, planar and collinear shapes included), in m; *size the rest shape's RMS radius
+ * sqrt(sum m |X - C|^2 / sum m) about its centroid C, in m. */
+static double rigid_distance(const cb_scene *s, const double *x, double *size) {
+  double c[3] = {0, 0, 0}, C[3] = {0, 0, 0}, M = 0, A[9] = {0}, R[9];
+  const double *X = s->mesh.x;
+  for (int i = 0; i < s->mesh.nv; i++) {
+    M += s->mass[i];
+    for (int a = 0; a < 3; a++) { c[a] += s->mass[i] * x[3 * i + a]; C[a] += s->mass[i] * X[3 * i + a]; }
+  }
+  if (!(M > 0)) { *size = NAN; return NAN; }
+  for (int a = 0; a < 3; a++) { c[a] /= M; C[a] /= M; }
+  double r2 = 0;
+  for (int i = 0; i < s->mesh.nv; i++)
+    for (int a = 0; a < 3; a++) {
+      r2 += s->mass[i] * (X[3 * i + a] - C[a]) * (X[3 * i + a] - C[a]);
+      for (int b = 0; b < 3; b++) A[3 * a + b] += s->mass[i] * (x[3 * i + a] - c[a]) * (X[3 * i + b] - C[b]);
+    }
+  cb_polar33(A, R, NULL);
+  double d2 = 0;
+  for (int i = 0; i < s->mesh.nv; i++)
+    for (int a = 0; a < 3; a++) {
+      double g = c[a];
+      for (int b = 0; b < 3; b++) g += R[3 * a + b] * (X[3 * i + b] - C[b]);
+      d2 += s->mass[i] * (x[3 * i + a] - g) * (x[3 * i + a] - g);
+    }
+  *size = sqrt(r2 / M);
+  return sqrt(d2 / M);
+}
+
 static int degenerate(const cb_scene *s, const double *x) {
   int c = 0, nt;
   for (int k = 0; k < s->sys.nterms; k++) c += cb_fem_term_degenerate(s->sys.terms[k], x, &nt);
@@ -182,13 +218,13 @@ static int l1_cell(long ci, void *ctx, FILE *const *out) {
   static const char *const models[2] = {"spring", "fem"};
   int quick = *(const int *)ctx;
   FILE *f = out[T_MAIN];
-  int nk = quick ? 4 : 7, n = quick ? 9 : 13;
+  int nk = E.smoke ? 2 : quick ? 4 : 7, n = E.smoke ? 5 : quick ? 9 : 13;
   double ks[7];
   for (int j = 0; j < nk; j++) ks[j] = pow(10.0, 1.0 + 6.0 * j / (nk - 1));
   cb_equilibrium_params ep = cb_equilibrium_params_default();
   ep.tol = 1e-5;
   ep.max_steps = quick ? 300 : 400;
-  int mk = (int)(ci / NFOLD), fl = (int)(ci % NFOLD);
+  int mk = (int)(ci / NFOLD), fl = E.smoke ? 2 : (int)(ci % NFOLD); /* smoke: the one cell is regular, cross */
   {
     cb_mesh rest;
     if (rest_mesh((mesh_kind)mk, n, 0, &rest)) return CB_EIO;
@@ -221,7 +257,7 @@ static int l1_cell(long ci, void *ctx, FILE *const *out) {
           snprintf(sk, sizeof sk, "material.stretch_k=%.17g", ks[ki]);
           const char *sets[] = {md ? "material.stretch=fem" : "material.stretch=spring", sk, NULL};
           cb_scene *s = NULL;
-          int bs = build(scene_of("fold"), sets, (mesh_kind)mk, n, 0, pins, &s);
+          int bs = build(scene_of("fold"), sets, (mesh_kind)mk, n, mk == MESH_DISK ? disk_xz : NULL, pins, &s);
           if (bs) { free(pins); free(sd); cb_mesh_free(&rest); return bs; }
           size_t n3 = 3 * (size_t)s->mesh.nv;
           double *x = malloc(n3 * sizeof(double));
@@ -316,33 +352,86 @@ static int l2_cell(long i, void *ctx, FILE *const *out) {
 
 /* ---- F1: anisotropy of the response, and one Newton step ---------------------------- */
 
-typedef struct { const char *test, *family; double F[4]; } deformation; /* F (2x2 in the plane) row-major */
-static const deformation tests[] = {
-    {"stretch_x", "axes", {1.05, 0, 0, 1}},
-    {"stretch_y", "axes", {1, 0, 0, 1.05}},
-    {"stretch_d1", "diagonals", {1 + 0.05 * 0.5, 0.05 * 0.5, 0.05 * 0.5, 1 + 0.05 * 0.5}},   /* I + e d1 d1^T */
-    {"stretch_d2", "diagonals", {1 + 0.05 * 0.5, -0.05 * 0.5, -0.05 * 0.5, 1 + 0.05 * 0.5}}, /* I + e d2 d2^T */
-    {"shear_d1", "shear", {1 + 0.05 * 0.5, -0.05 * 0.5, 0.05 * 0.5, 1 - 0.05 * 0.5}},        /* I + g d1 d2^T */
-    {"shear_d2", "shear", {1 + 0.05 * 0.5, 0.05 * 0.5, -0.05 * 0.5, 1 - 0.05 * 0.5}},        /* I + g d2 d1^T */
-};
-enum { NTEST = 6 };
+/* F1's patches: disks of radius F1_R in plane xy. The grids (regular, alternating) are
+ * clipped to the disk (the triangles with every vertex inside) and written as OBJs beside the CSV
+ * before the sweeps, like the ring disk, so that every mesh has the same round domain and every
+ * load direction meets the same boundary. */
+#define F1_R 0.5
+static char aniso_obj[NMESH][2048];
 
-/* Cell ci: mesh kind ci, both models, every test. */
+/* The n^2 grid of kind mk on [-0.5, 0.5]^2 (plane xy), clipped to the disk of radius F1_R, as an OBJ. */
+static int write_clipped_grid(mesh_kind mk, int n) {
+  cb_mesh g, m;
+  int st = rest_mesh(mk, n, 1, &g);
+  if (st) return st;
+  memset(&m, 0, sizeof m);
+  int *map = malloc((size_t)g.nv * sizeof(int));
+  m.tri = malloc(3 * (size_t)g.nt * sizeof(int));
+  m.x = malloc(3 * (size_t)g.nv * sizeof(double));
+  if (!map || !m.tri || !m.x) { free(map); cb_mesh_free(&m); cb_mesh_free(&g); return CB_ENOMEM; }
+  for (int i = 0; i < g.nv; i++) map[i] = -1;
+  for (int t = 0; t < g.nt; t++) {
+    int in = 1;
+    for (int a = 0; a < 3; a++) {
+      const double *X = g.x + 3 * g.tri[3 * t + a];
+      in &= X[0] * X[0] + X[1] * X[1] <= F1_R * F1_R * (1 + 1e-12);
+    }
+    if (!in) continue;
+    for (int a = 0; a < 3; a++) {
+      int v = g.tri[3 * t + a];
+      if (map[v] < 0) {
+        map[v] = m.nv++;
+        memcpy(m.x + 3 * map[v], g.x + 3 * v, 3 * sizeof(double));
+      }
+      m.tri[3 * m.nt + a] = map[v];
+    }
+    m.nt++;
+  }
+  cb_experiment_side_path(&E, mk == MESH_REGULAR ? "grid_regular_xy.obj" : "grid_alternating_xy.obj", aniso_obj[mk],
+                          sizeof aniso_obj[mk]);
+  st = cb_mesh_write_obj(&m, NULL, aniso_obj[mk]);
+  free(map);
+  cb_mesh_free(&m);
+  cb_mesh_free(&g);
+  return st;
+}
+
+/* Non-affine loads (an affine one passes the patch test by construction): along the unit
+ * direction n at dir_deg, s = n.X, t = n rotated by +90 deg,
+ *   stretch: u = eps (s + R)^2 / (4R) n  (stretch along n growing from 0 at s = -R to eps at s = R)
+ *   shear:   u = eps s^2 / (2R) t        (shear growing from -eps to eps across the disk: in-plane bending)
+ * with eps = F1_EPS. */
+#define F1_EPS 0.05
+#define F1_NDIR 8 /* directions 0, 22.5, ..., 157.5 deg (dir + 180 is the same load for shear, its mirror for stretch) */
+static const char *const f1_families[2] = {"stretch", "shear"};
+
+static void f1_load(int fam, double deg, const double *X, double *x) {
+  double th = deg * PI / 180, n[2] = {cos(th), sin(th)}, t[2] = {-sin(th), cos(th)};
+  double sc = n[0] * X[0] + n[1] * X[1];
+  double w = fam == 0 ? F1_EPS * (sc + F1_R) * (sc + F1_R) / (4 * F1_R) : F1_EPS * sc * sc / (2 * F1_R);
+  const double *d = fam == 0 ? n : t;
+  x[0] = X[0] + w * d[0];
+  x[1] = X[1] + w * d[1];
+  x[2] = X[2];
+}
+
+/* Cell ci: mesh kind ci, both models, both loads in every direction. */
 static int f1_aniso_cell(long ci, void *ctx, FILE *const *out) {
   static const char *const models[2] = {"spring", "fem"};
-  int quick = *(const int *)ctx, n = quick ? 11 : 15;
+  (void)ctx;
   FILE *f = out[T_ANISO];
   cb_equilibrium_params ep = cb_equilibrium_params_default();
   ep.tol = 1e-8;
   ep.max_steps = 200;
-  int mk = (int)ci;
+  int mk = (int)ci, ndir = E.smoke ? 2 : F1_NDIR;
   {
     cb_mesh rest;
-    if (rest_mesh((mesh_kind)mk, n, 1, &rest)) return CB_EIO;
+    if (cb_mesh_read_obj(aniso_obj[mk], &rest)) return CB_EIO;
     cb_topology tp;
-    if (cb_topology_build(&rest, &tp)) return CB_EINVAL;
+    if (cb_topology_build(&rest, &tp)) { cb_mesh_free(&rest); return CB_EINVAL; }
     char *pins = malloc(12 * (size_t)rest.nv + 16), *p = pins;
     int npin = 0, *isb = calloc((size_t)rest.nv, sizeof(int));
+    if (!pins || !isb) { free(pins); free(isb); cb_topology_free(&tp); cb_mesh_free(&rest); return CB_ENOMEM; }
     for (int b = 0; b < tp.nb; b++) { isb[tp.edge[2 * tp.boundary[b]]] = 1; isb[tp.edge[2 * tp.boundary[b] + 1]] = 1; }
     *p = 0;
     for (int i = 0; i < rest.nv; i++)
@@ -352,25 +441,23 @@ static int f1_aniso_cell(long ci, void *ctx, FILE *const *out) {
     for (int md = 0; md < 2; md++) {
       const char *sets[] = {md ? "material.stretch=fem" : "material.stretch=spring", NULL};
       cb_scene *s = NULL;
-      int bs = build(scene_of("aniso"), sets, (mesh_kind)mk, n, 1, pins, &s);
+      int bs = build(scene_of("aniso"), sets, (mesh_kind)mk, 3, aniso_obj[mk], pins, &s);
       if (bs) { free(pins); free(isb); cb_topology_free(&tp); cb_mesh_free(&rest); return bs; }
       size_t n3 = 3 * (size_t)s->mesh.nv;
       double *x = malloc(n3 * sizeof(double));
-      for (int t = 0; t < NTEST; t++) {
-        const double *F = tests[t].F;
-        for (int i = 0; i < s->mesh.nv; i++) { /* x = F X in the plane */
-          const double *X = s->mesh.x + 3 * i;
-          x[3 * i] = F[0] * X[0] + F[1] * X[1];
-          x[3 * i + 1] = F[2] * X[0] + F[3] * X[1];
-          x[3 * i + 2] = X[2];
+      for (int fam = 0; fam < 2; fam++)
+        for (int di = 0; di < ndir; di++) {
+          double deg = 180.0 * di / F1_NDIR;
+          for (int i = 0; i < s->mesh.nv; i++) f1_load(fam, deg, s->mesh.x + 3 * i, x + 3 * i); /* the start: x = X + u(X) */
+          cb_equilibrium_stats es;
+          int rc = cb_stability_equilibrium(s, x, &ep, &es);
+          double En = cb_system_elastic_energy(&s->sys, x);
+          char test[32];
+          snprintf(test, sizeof test, "%s_%g", f1_families[fam], deg);
+          cb_csv_printf(f, "%s,%s,%s,%s,%g,%d,%g,%.17g,%.17g,%.17g,%d,%.6g,%s\n", models[md], mesh_names[mk], f1_families[fam],
+                        test, deg, s->mesh.nv, F1_EPS, En, En / area, area, s->model.nfree, es.residual,
+                        cb_status_name(rc ? rc : es.status == CB_NOT_CONVERGED && es.residual < 1e-6 ? CB_OK : es.status));
         }
-        cb_equilibrium_stats es;
-        int rc = cb_stability_equilibrium(s, x, &ep, &es);
-        double En = cb_system_elastic_energy(&s->sys, x);
-        cb_csv_printf(f, "%s,%s,%s,%s,%d,0.05,%.17g,%.17g,%.17g,%d,%.6g,%s\n", models[md], mesh_names[mk], tests[t].family,
-                      tests[t].test, s->mesh.nv, En, En / area, area, s->model.nfree, es.residual,
-                      cb_status_name(rc ? rc : es.status == CB_NOT_CONVERGED && es.residual < 1e-6 ? CB_OK : es.status));
-      }
       free(x);
       cb_scene_free(s);
     }
@@ -461,7 +548,7 @@ static int f1_model_step(f1_model *m, FILE *f, const char *model, int rep, cb_st
  * the round; the step's |grad F| per iteration traced at every round. */
 static int f1_newton_cell(long i, void *ctx, FILE *const *out) {
   (void)i;
-  int quick = *(const int *)ctx, n = quick ? 32 : 64, st = CB_OK;
+  int quick = *(const int *)ctx, n = E.smoke ? 8 : quick ? 32 : 64, st = CB_OK;
   FILE *f = out[T_NEWTON], *fs = out[T_STEPS];
   static f1_model M[NSCENES];
   for (int k = 0; k < nsteps; k++) memset(&M[k], 0, sizeof M[k]);
@@ -503,16 +590,16 @@ static int s1_cell(long i, void *ctx, FILE *const *out) {
   int quick = *(const int *)ctx;
   FILE *f = out[T_SHAPE];
   double alphas[5] = {0.01, 0.03, 0.1, 0.3, 1};
-  int na = quick ? 3 : 5, ndt = quick ? 7 : 13;
+  int na = quick ? 3 : 5, ndt = E.smoke ? 2 : quick ? 7 : 13;
   if (quick) { alphas[1] = 0.1; alphas[2] = 1; }
   cb_stability_params sp = cb_stability_params_default();
   sp.sim_time = quick ? 1.0 : 2.0;
-  sp.min_steps = 200;
+  sp.min_steps = E.smoke ? 20 : 200;
   sp.max_steps = quick ? 1000 : 2000;
   sp.energy_every = 4;
   const cb_scene_decl *sc = &SCENES[shape_idx[i / (na + 1)]].scene;
   {
-    int m = (int)(i % (na + 1)) - 1;
+    int m = E.smoke ? na - 1 : (int)(i % (na + 1)) - 1; /* smoke: the one cell is shape matching at alpha = 1 */
     {
       char sa[48];
       snprintf(sa, sizeof sa, "integrator.shape_alpha=%.17g", m >= 0 ? alphas[m] : 1.0);
@@ -540,14 +627,17 @@ static int s1_cell(long i, void *ctx, FILE *const *out) {
         double dt = pow(10.0, -5.0 + 4.0 * j / (ndt - 1));
         cb_cell_result r;
         int rc = cb_stability_cell(it, dt, x0, v0, S, &sp, &w, &r);
-        double smax, srms, none = cb_csv_na();
+        double smax, srms, size, none = cb_csv_na();
         edge_strain(s, w.x, &smax, &srms);
+        double rd = rigid_distance(s, w.x, &size);
         /* springs have no alpha; a cell that failed to run (rc) measured nothing */
-        cb_csv_printf(f, "%s,%s,%.6g,%.17g,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.3f,%s\n", sc->label,
+        cb_csv_printf(f, "%s,%s,%.6g,%.17g,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.3f,%s\n", sc->label,
                       m >= 0 ? "shape_matching" : "spring_explicit", m >= 0 ? alphas[m] : none, dt,
                       rc ? "failed" : cb_cell_class_name(r.cls), rc ? none : r.max_energy_ratio, rc ? none : r.final_energy_ratio,
                       rc ? none : (double)r.steps, rc ? none : r.t_end, rc ? none : isfinite(smax) ? smax : NAN,
-                      rc ? none : isfinite(srms) ? srms : NAN, rc ? none : r.wall_ms, rc ? cb_status_name(rc) : cb_status_name(r.step_status));
+                      rc ? none : isfinite(srms) ? srms : NAN, rc ? none : isfinite(rd) ? rd : NAN,
+                      rc ? none : isfinite(rd) ? rd / size : NAN, rc ? none : r.wall_ms,
+                      rc ? cb_status_name(rc) : cb_status_name(r.step_status));
       }
       cb_cell_work_free(&w);
       free(x0); free(v0);
@@ -578,25 +668,36 @@ int main(int argc, char **argv) {
                           "mesh,vertices,triangles,edges,boundary_edges,conforming_dofs,conforming_predicted,"
                           "conforming_per_vertex,nonconforming_variables,nonconforming_dofs,nonconforming_predicted,"
                           "nonconforming_per_vertex,status") != T_DOFS ||
-      cb_experiment_table(&E, "aniso", "# F1: boundary held at F X (5% uniaxial stretch or simple shear), interior relaxed; k = mu = 1000 N/m\n",
-                          "model,mesh,family,test,vertices,strain,energy_j,energy_density_j_per_m2,area_m2,free_vertices,residual,status") != T_ANISO ||
+      cb_experiment_table(&E, "aniso", "# F1: disks of radius 0.5 m (grids clipped to it), boundary held at X + u(X) for a non-affine u along "
+                          "dir_deg (stretch: u = eps (s + R)^2/(4R) n; shear: u = eps s^2/(2R) t; s = n.X, eps = strain), "
+                          "interior relaxed; k = mu = 1000 N/m\n",
+                          "model,mesh,family,test,dir_deg,vertices,strain,energy_j,energy_density_j_per_m2,area_m2,free_vertices,"
+                          "residual,status") != T_ANISO ||
       cb_experiment_table(&E, "newton", "# F1: one implicit Euler step of the lab cloth, |grad F| per Newton iteration; wall_ms since the step began\n",
                           "model,rep,iter,f_j,grad_norm_n,rel_grad,wall_ms") != T_NEWTON ||
       cb_experiment_table(&E, "newton_steps", NULL,
                           "model,n,rep,newton_iters,factorizations,rel_grad,assemble_ms,factor_ms,solve_ms,step_wall_ms,status") != T_STEPS ||
       cb_experiment_table(&E, "shape", "# S1: cells as explicit_stability (energy = kinetic + elastic + gravity; shape matching scenes have k = 0); "
-                          "shape error = edge strain (l - L)/L at the end\n",
+                          "shape error at the end: edge strain (l - L)/L against the rest shape, and the mass-weighted RMS distance "
+                          "to the best-fit rigid motion of the rest shape (rigid_dist_m; over the rest shape's RMS radius: "
+                          "rigid_dist_over_size)\n",
                           "scene,method,alpha,dt_s,class,max_energy_ratio,final_energy_ratio,steps,t_end_s,"
-                          "max_strain,rms_strain,cell_wall_ms,step_status") != T_SHAPE)
+                          "max_strain,rms_strain,rigid_dist_m,rigid_dist_over_size,cell_wall_ms,step_status") != T_SHAPE)
     return cb_experiment_end(&E, CB_EIO), 2;
   /* the disks of L1 (horizontal) and F1 (in plane xy): inputs of cells, written by every shard */
-  if ((st = write_disk(quick ? 4 : 6, 0)) || (st = write_disk(quick ? 5 : 7, 1))) return cb_experiment_end(&E, st), 2;
+  /* and F1's clipped grids (the disk of F1 is disk_xy) */
+  if ((st = write_disk(quick ? 4 : 6, 0)) || (st = write_disk(quick ? 5 : 7, 1)) ||
+      (st = write_clipped_grid(MESH_REGULAR, E.smoke ? 7 : quick ? 11 : 15)) ||
+      (st = write_clipped_grid(MESH_ALTERNATING, E.smoke ? 7 : quick ? 11 : 15)))
+    return cb_experiment_end(&E, st), 2;
+  memcpy(aniso_obj[MESH_DISK], disk_xy, sizeof disk_xy);
   const cb_sweep sweeps[] = {
-      {"L2 meshes", 2L * (quick ? 4 : 5) + (quick ? 3 : 5), l2_cell, NULL, &quick},
-      {"F1 anisotropy", NMESH, f1_aniso_cell, NULL, &quick},
+      /* --smoke: one small cell per sweep (the cells say which) */
+      {"L2 meshes", E.smoke ? 1 : 2L * (quick ? 4 : 5) + (quick ? 3 : 5), l2_cell, NULL, &quick},
+      {"F1 anisotropy", E.smoke ? 1 : NMESH, f1_aniso_cell, NULL, &quick},
       {"F1 Newton step", nsteps > 0, f1_newton_cell, NULL, &quick},
-      {"S1 shape matching", nshape * ((quick ? 3L : 5L) + 1), s1_cell, NULL, &quick},
-      {"L1 fold", (long)NMESH * NFOLD, l1_cell, NULL, &quick},
+      {"S1 shape matching", E.smoke ? 1 : nshape * ((quick ? 3L : 5L) + 1), s1_cell, NULL, &quick},
+      {"L1 fold", E.smoke ? 1 : (long)NMESH * NFOLD, l1_cell, NULL, &quick},
   };
   st = cb_sweep_run(&E, sweeps, (int)(sizeof sweeps / sizeof sweeps[0]));
   st = cb_experiment_end(&E, st);

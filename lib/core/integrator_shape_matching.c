@@ -20,6 +20,11 @@
  * measure of how far the cloth stretches).
  * Pinned vertices follow their prescribed velocity, as in the explicit
  * integrator.
+ * The penalty collider (collider.type = penalty) is an energy term like the
+ * elastic ones, so shape matching would skip it and the cloth would fall
+ * through the sphere while the run reports contacts: init refuses it and
+ * names collider.type = project, a response applied after every step (the
+ * post-step responses, cb_scene_post_step in integrator.c), which shape matching honours.
  *
  * Conservation: the weights make sum_i m_i (g_i - x_i) = sum_c sum_{i in c}
  * w_i (g_i^c - x_i) = 0, and likewise the angular term (R A_pq^T is
@@ -66,6 +71,12 @@ static int sm_init(cb_integrator *it) {
   if (!(p->alpha > 0 && p->alpha <= 1)) return cb_fail("integrator.shape_alpha: must be in (0, 1], got %g", p->alpha);
   sm_work *w = it->state;
   const cb_scene *s = it->scene;
+  const cb_term_type *sphere = cb_term_type_find("sphere"); /* the penalty collider's term (collider.c) */
+  for (int t = 0; t < s->sys.nterms; t++)
+    if (s->sys.terms[t]->type == sphere)
+      return cb_fail("shape matching replaces the scene's energy terms by goal positions, so it would ignore the "
+                     "penalty collider's energy and the cloth would pass through the sphere: set collider.type = "
+                     "project (or none) with integrator.method = shape_matching");
   int nv = s->mesh.nv, ne = s->topo.ne;
   w->nc = nv;
   w->start = cb_calloc((size_t)nv + 1, sizeof(int));
