@@ -115,6 +115,12 @@ int cb_spring_term_set_response(cb_term *t, cb_definiteness def, double kb);
 int cb_spring_term_count_compressed(const cb_term *t, const double *x, int *nsprings);
 /* Nonzero if t is a spring term with the Choi-Ko response. */
 int cb_spring_term_is_choi_ko(const cb_term *t);
+/* The springs of a spring term, for methods that work on them directly (the
+ * constraints of XPBD, the Laplacian of projective dynamics): ns springs
+ * between ends[2s] and ends[2s+1], rest lengths rest[s] (m), stiffness k
+ * (N/m). The arrays are the term's own. Fails (CB_EINVAL) if t is not a
+ * spring term. */
+int cb_spring_term_springs(const cb_term *t, int *ns, const int **ends, const double **rest, double *k);
 
 /* Co-rotational triangle FEM (energy_fem.c): E_t = mu A_t |F - R|_F^2 on every
  * triangle, mu in N/m (an energy per unit rest area), R the polar rotation of

@@ -209,6 +209,16 @@ int cb_spring_term_is_choi_ko(const cb_term *t) {
   return t && t->type == &cb_term_spring_type && ((const spring_term *)t)->ck;
 }
 
+int cb_spring_term_springs(const cb_term *t, int *ns, const int **ends, const double **rest, double *k) {
+  if (!t || t->type != &cb_term_spring_type) return cb_fail("term '%s' is not a spring term", t ? t->label : "(null)");
+  const spring_term *s = (const spring_term *)t;
+  *ns = s->ns;
+  *ends = s->ends;
+  *rest = s->rest;
+  *k = s->k;
+  return CB_OK;
+}
+
 /* Examples: 0 stretch springs on every edge, 1 bending springs across every
  * pair of neighbouring triangles, 2 stretch springs with the Choi-Ko response
  * (k_b = 1e-4 N m^2: k > 12 pi^2 k_b / L^3 for every rest length L > 1 cm). */
