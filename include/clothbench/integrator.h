@@ -125,6 +125,7 @@ cb_xpbd_params cb_xpbd_params_default(void);
 typedef struct cb_lbfgs_params {
   int iters;                   /* iterations per step at most. Default 32 */
   double tol;                  /* relative |grad F| to stop at (Newton's tol). Default 1e-8 */
+  double tol_dx;               /* max |alpha d| to stop at, m (Newton's tol_dx); 0 = off. Default 0 */
   int window;                  /* (s, y) pairs kept, m. Default 5 */
   int line_search;             /* 0 armijo, 1 wolfe (cb_lbfgs_line_search_names). Default 0 */
 } cb_lbfgs_params;

@@ -13,8 +13,10 @@
  *     r = H0^-1 q                                          (one back-solve)
  *     oldest first:  b = rho_i y_i.r,  r += (a_i - b) s_i
  *   d_k = -r;  x_{k+1} = x_k + alpha d_k, alpha from the line search;
- *   stop when |g_k| <= tol |g_0| (integrator.tol, Newton's) or after integrator.iters
- *   iterations (status max_iters, as Newton at max_iters).
+ *   stop when |g_k| <= tol |g_0| (integrator.tol, Newton's), or when the largest
+ *   component of the update |alpha d| is <= integrator.tol_dx (Newton's; for
+ *   steps where |g_0| is round-off, e.g. from rest without gravity), or after
+ *   integrator.iters iterations (status max_iters, as Newton at max_iters).
  *
  * Line search (integrator.lbfgs_line_search):
  *   armijo  backtracking alpha = 1, 1/2, 1/4, ... until
@@ -57,7 +59,7 @@ enum { LS_MAX_TRIALS = 40 };
 #define C1 1e-4       /* Armijo's sufficient decrease */
 #define C2 0.9        /* Wolfe's curvature (Nocedal and Wright's value for quasi-Newton methods) */
 
-static const cb_lbfgs_params lbfgs_defaults = {.iters = 32, .tol = 1e-8, .window = 5, .line_search = LS_ARMIJO};
+static const cb_lbfgs_params lbfgs_defaults = {.iters = 32, .tol = 1e-8, .tol_dx = 0, .window = 5, .line_search = LS_ARMIJO};
 
 cb_lbfgs_params cb_lbfgs_params_default(void) { return lbfgs_defaults; }
 
@@ -70,6 +72,8 @@ static const cb_param_key lbfgs_keys[] = {
      "Iterations per step of the fixed-iteration methods (jacobi-nl, chebyshev-nl, pd, pd-chebyshev, pbd, xpbd); lbfgs's limit."},
     {"tol", CB_PARAM_DOUBLE, LP(tol), "1e-8", "-", 0, 1, 0, NULL, NULL,
      "Newton (and lbfgs) stop when |grad F(x)| <= tol |grad F(x(0))|."},
+    {"tol_dx", CB_PARAM_DOUBLE, LP(tol_dx), "0", "m", 0, 1e9, 0, NULL, NULL,
+     "Newton (and lbfgs) also stop when the largest component of the step |dx| is <= tol_dx; 0 turns this test off."},
     {"lbfgs_window", CB_PARAM_INT, LP(window), "5", "pairs", 1, 1000, 0, NULL, NULL,
      "lbfgs: the number m of (s, y) pairs kept (Liu et al. 2017 use 5)."},
     {"lbfgs_line_search", CB_PARAM_CHOICE, LP(line_search), "armijo", "-", 0, 0, 0, cb_lbfgs_line_search_names, NULL,
@@ -264,6 +268,14 @@ static int lb_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
     F = Fn;
     scale = w->scale_t;
     gn = cblas_dnrm2(nf3, w->g, 1);
+    if (p->tol_dx > 0 && ev.step_max <= p->tol_dx) { /* converged by its step size */
+      st->F = F;
+      st->grad_norm = gn;
+      st->rel_grad = st->rel_grad_hat = g0 > 0 ? gn / g0 : 0.0;
+      st->newton_iters = k + 1;
+      status = isfinite(F) && isfinite(gn) ? CB_OK : CB_DIVERGED;
+      break;
+    }
   }
   cb_objective_velocity(&w->obj, x, v);
   return status;
