@@ -15,6 +15,7 @@
 #include "mesh.h"
 #include "projection.h"
 #include "sparse.h"
+#include "stencil.h"
 #include "topology.h"
 
 /* Choi & Ko's immediate-buckling response of a spring of rest length L
@@ -78,6 +79,16 @@ typedef struct cb_term_type {
    * values (only free-free blocks). NULL if the Hessian is zero. */
   void (*hessian)(const cb_term *t, const double *x, cb_projection proj, double *val);
   void (*free)(cb_term *t);
+  /* Per-element access, for methods that work vertex by vertex (vertex
+   * block descent, integrator_vbd.c). stencil gives the term's elements (k
+   * vertices each); element fills, for element e at x, its gradient g (3k)
+   * and its Hessian H (3k x 3k row-major, the element projected by proj as
+   * in hessian), and returns its energy. The element sums are the term's
+   * energy, gradient and Hessian (the conformance test checks it). NULL for
+   * both when the term has no elements (gravity, whose force the methods
+   * read from the scene). */
+  const cb_stencil *(*stencil)(const cb_term *t);
+  double (*element)(const cb_term *t, int e, const double *x, cb_projection proj, double *g, double *H);
   /* Conformance (tests/test_energy_conformance.c): builds example i,
    * 0 <= i < nexamples, of this term on any model (any mesh, any pins), with
    * the parameters a scene would give it. Registering a type is all it takes

@@ -9,6 +9,8 @@
  *             constraint per spring, with substeps (integrator_xpbd.c).
  *   lbfgs     Liu et al. 2017: L-BFGS on F with projective dynamics' matrix as the initial
  *             Hessian, and a line search (integrator_lbfgs.c).
+ *   vbd, vbd-chebyshev  Chen et al. 2024: per-vertex 3x3 Newton steps in Gauss-Seidel order over a
+ *             vertex colouring, optionally Chebyshev-accelerated (integrator_vbd.c).
  *   shape_matching  Müller et al. 2005: v <- v + alpha (g - x)/dt + dt f_ext/m;
  *             x <- x + dt v, goals g from one-ring clusters (integrator_shape_matching.c).
  *
@@ -132,6 +134,16 @@ typedef struct cb_lbfgs_params {
 cb_lbfgs_params cb_lbfgs_params_default(void);
 extern const char *const cb_lbfgs_line_search_names[]; /* "armijo", "wolfe", NULL */
 
+/* Vertex block descent's parameters (vbd, vbd-chebyshev; integrator_vbd.c). */
+typedef struct cb_vbd_params {
+  int iters;                   /* sweeps over every vertex colour per step. Default 32 */
+  int init;                    /* initial guess: 0 inertia, 1 previous, 2 adaptive (cb_vbd_init_names). Default 2 */
+  double rho;                  /* vbd-chebyshev's rho in [0, 1), or CB_PARAM_AUTO. Default 0.995 (0 for vbd) */
+  int rho_iters;               /* plain sweeps of the `auto` estimate, run once. Default 64 */
+} cb_vbd_params;
+cb_vbd_params cb_vbd_params_default(void); /* vbd-chebyshev's */
+extern const char *const cb_vbd_init_names[]; /* "inertia", "previous", "adaptive", NULL */
+
 /* Shape matching's parameters (cb_integrator_shape_matching, integrator_shape_matching.c). */
 typedef struct cb_shape_matching_params {
   double alpha;                /* pull toward the goals, in (0, 1]. Default 1 */
@@ -210,6 +222,11 @@ extern const cb_integrator_type cb_integrator_pd_chebyshev;
 extern const cb_integrator_type cb_integrator_pbd;
 extern const cb_integrator_type cb_integrator_xpbd;
 extern const cb_integrator_type cb_integrator_lbfgs;
+extern const cb_integrator_type cb_integrator_vbd;
+extern const cb_integrator_type cb_integrator_vbd_chebyshev;
+/* The number of vertex colours of a vbd or vbd-chebyshev integrator (its
+ * Gauss-Seidel order, computed once per scene), or -1 for another type. */
+int cb_vbd_colors(const cb_integrator *it);
 
 extern const cb_integrator_type cb_integrator_shape_matching;
 extern const cb_integrator_type *const cb_integrator_types[]; /* NULL-terminated */
