@@ -138,6 +138,7 @@ extern const char *const cb_lbfgs_line_search_names[]; /* "armijo", "wolfe", NUL
 typedef struct cb_vbd_params {
   int iters;                   /* sweeps over every vertex colour per step. Default 32 */
   int init;                    /* initial guess: 0 inertia, 1 previous, 2 adaptive (cb_vbd_init_names). Default 2 */
+  int line_search;             /* backtracking on each vertex's own objective. Default 0 (the paper's update) */
   double rho;                  /* vbd-chebyshev's rho in [0, 1), or CB_PARAM_AUTO. Default 0.995 (0 for vbd) */
   int rho_iters;               /* plain sweeps of the `auto` estimate, run once. Default 64 */
 } cb_vbd_params;

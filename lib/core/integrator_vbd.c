@@ -16,6 +16,15 @@
  * (eigenvalues clamped at 0) and, if it is then near singular (smallest
  * eigenvalue below 1e-12 of the largest), the vertex is skipped this sweep.
  *
+ * Line search (integrator.vbd_line_search, off by default as in the paper):
+ * backtracking on the vertex's own objective F_i(x_i) = m_i/(2 dt^2)|x_i - y_i|^2
+ * - m_i g.x_i + (the energies of the elements that touch i), with Armijo's
+ * condition F_i(x_i + a dx) <= F_i(x_i) - 1e-4 a f_i.dx, a = 1, 1/2, ...,
+ * at most 30 halvings (then the vertex is left where it is). Since F changes
+ * by exactly the change of F_i when only x_i moves, this makes every sweep
+ * non-increasing in F; without it a Newton step on x_i alone can overshoot
+ * (a contact's penalty switching on or off within the step).
+ *
  * Order: Gauss-Seidel over a vertex colouring (vertices that share an
  * element get different colours), computed once per scene, greedily in
  * vertex order (each vertex takes the smallest colour none of its coloured
@@ -61,8 +70,9 @@ enum { MAXK = 4 }; /* vertices per element at most (a hinge) */
 
 const char *const cb_vbd_init_names[] = {"inertia", "previous", "adaptive", NULL};
 
-static const cb_vbd_params vbd_defaults = {.iters = 32, .init = INIT_ADAPTIVE, .rho = 0.0, .rho_iters = 64};
-static const cb_vbd_params vbdc_defaults = {.iters = 32, .init = INIT_ADAPTIVE, .rho = 0.995, .rho_iters = 64};
+static const cb_vbd_params vbd_defaults = {.iters = 32, .init = INIT_ADAPTIVE, .line_search = 0, .rho = 0.0, .rho_iters = 64};
+static const cb_vbd_params vbdc_defaults = {.iters = 32, .init = INIT_ADAPTIVE, .line_search = 0, .rho = 0.995,
+                                            .rho_iters = 64};
 
 cb_vbd_params cb_vbd_params_default(void) { return vbdc_defaults; }
 
@@ -72,12 +82,14 @@ cb_vbd_params cb_vbd_params_default(void) { return vbdc_defaults; }
   "Iterations per step of the fixed-iteration methods; vbd: sweeps over every vertex colour."}
 #define KEY_INIT {"vbd_init", CB_PARAM_CHOICE, VP(init), "adaptive", "-", 0, 0, 0, cb_vbd_init_names, NULL, \
   "vbd, vbd-chebyshev: the initial guess (Chen et al. 2024): `inertia` x0 + dt v0, `previous` x0, `adaptive` x0 + dt v0 + dt^2 a~ with a~ the last step's acceleration along gravity, clamped to [0, |g|]."}
+#define KEY_LS {"vbd_line_search", CB_PARAM_BOOL, VP(line_search), "0", "-", 0, 0, 0, NULL, NULL, \
+  "vbd, vbd-chebyshev: backtracking (Armijo) on each vertex's own objective, so that no sweep raises F (0 or 1; the paper's update is 0)."}
 static const cb_param_key vbd_keys[] = {
-    KEY_ITERS, KEY_INIT,
+    KEY_ITERS, KEY_INIT, KEY_LS,
     {NULL, CB_PARAM_INT, 0, NULL, NULL, 0, 0, 0, NULL, NULL, NULL},
 };
 static const cb_param_key vbdc_keys[] = {
-    KEY_ITERS, KEY_INIT,
+    KEY_ITERS, KEY_INIT, KEY_LS,
     {"rho", CB_PARAM_DOUBLE_AUTO, VP(rho), "0.995", "-", 0, 0.999999, 0, NULL, NULL, "Chebyshev spectral radius, or `auto`."},
     {"rho_iters", CB_PARAM_INT, VP(rho_iters), "64", "iterations", 4, 100000, 0, NULL, NULL,
      "Unaccelerated iterations of the `auto` estimate."},
@@ -245,8 +257,23 @@ static int chol3_solve(const double H[9], const double f[3], double dx[3]) {
   return 0;
 }
 
+/* F_i at x (only x_i is read as a variable): inertia, gravity, and the
+ * energies of the elements that touch i. */
+static double local_F(vbd_work *w, const cb_scene *s, double dt, const double *x, int i, double *g_e, double *H_e) {
+  double mi = s->mass[i] / (dt * dt), F = 0.0;
+  for (int a = 0; a < 3; a++) {
+    double d = x[3 * i + a] - w->obj.xhat[3 * i + a];
+    F += 0.5 * mi * d * d - s->mass[i] * w->grav[a] * x[3 * i + a];
+  }
+  for (int r = w->inc_ptr[i]; r < w->inc_ptr[i + 1]; r++) {
+    const incidence *in = &w->inc[r];
+    F += w->terms[in->term]->type->element(w->terms[in->term], in->elem, x, CB_PROJ_NONE, g_e, H_e);
+  }
+  return F;
+}
+
 /* One Gauss-Seidel sweep over the colours; returns |x_new - x_old|. */
-static double sweep(vbd_work *w, const cb_scene *s, double dt, double *x) {
+static double sweep(vbd_work *w, const cb_scene *s, double dt, int line_search, double *x) {
   double g_e[3 * MAXK], H_e[9 * MAXK * MAXK], d2 = 0.0;
   const double *y = w->obj.xhat;
   for (int q = 0; q < s->model.nfree; q++) {
@@ -273,9 +300,22 @@ static double sweep(vbd_work *w, const cb_scene *s, double dt, double *x) {
       if (!(tr > 0) || chol3_solve(Hs, f, dx)) continue;
       chol3_solve(H, f, dx);
     }
+    double alpha = 1.0;
+    if (line_search) { /* Armijo on F_i: F_i(x_i + a dx) <= F_i(x_i) - 1e-4 a f.dx */
+      double F0 = local_F(w, s, dt, x, i, g_e, H_e), slope = -(f[0] * dx[0] + f[1] * dx[1] + f[2] * dx[2]);
+      double xi[3] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
+      int ok = 0;
+      for (int h = 0; h <= 30 && !ok; h++, alpha *= 0.5) {
+        for (int c = 0; c < 3; c++) x[3 * i + c] = xi[c] + alpha * dx[c];
+        ok = local_F(w, s, dt, x, i, g_e, H_e) <= F0 + 1e-4 * alpha * slope;
+        if (ok) break;
+      }
+      for (int c = 0; c < 3; c++) x[3 * i + c] = xi[c];
+      if (!ok) continue;
+    }
     for (int c = 0; c < 3; c++) {
-      x[3 * i + c] += dx[c];
-      d2 += dx[c] * dx[c];
+      x[3 * i + c] += alpha * dx[c];
+      d2 += alpha * alpha * dx[c] * dx[c];
     }
   }
   return sqrt(d2);
@@ -319,7 +359,7 @@ static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnor
       double *tmp = w->gF; /* scratch: x_k's free DOFs, before the sweep */
       for (int b = 0; b < s->model.nfree; b++)
         for (int a = 0; a < 3; a++) tmp[3 * b + a] = x[3 * s->free_vertex[b] + a];
-      sweep(w, s, dt, x);
+      sweep(w, s, dt, ((const cb_vbd_params *)it->type_params)->line_search, x);
       double d2 = 0.0;
       for (int b = 0; b < s->model.nfree; b++) {
         int i = s->free_vertex[b];
@@ -332,7 +372,7 @@ static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnor
       }
       d = sqrt(d2);
     } else {
-      d = sweep(w, s, dt, x);
+      d = sweep(w, s, dt, ((const cb_vbd_params *)it->type_params)->line_search, x);
     }
     st->solve_ms += cb_now_ms() - t0;
     if (!isfinite(d)) return CB_DIVERGED;
