@@ -17,12 +17,12 @@ plot for [m in M1] main using (strcol('part') eq 'b1' && strcol('model') eq m ? 
      with linespoints lc rgb pcolor(M1, m) pt 7 ps 0.6 title m
 unset logscale
 
-# ---- B3: quadratic over hinge energy against in-plane stretch --------------
+# ---- B3: quadratic over hinge energy on the strip against the peak stretch -
 set output out.'/bending_b3_stretch.'.ext
 M3 = distinct(main, 'mesh', 'v("part") == "b3"')
-set xlabel 'in-plane stretch (%)'
+set xlabel 'peak in-plane stretch of the ramp (%)'
 set ylabel 'E_{quadratic} / E_{hinge}'
-set title 'B3: the quadratic model under stretch (fold 20 deg); band: within 10%'
+set title 'B3: a curved, jittered strip under a non-uniform stretch (along the arc or the axis); band: within 10%'
 set key left top
 set yrange [*:*]
 plot 0.9 with lines dt 2 lc rgb '#7f7f7f' notitle, 1.1 with lines dt 2 lc rgb '#7f7f7f' notitle, \

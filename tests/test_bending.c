@@ -21,6 +21,8 @@
 #include <clothbench/clothbench.h>
 #include <clothbench/collider.h>
 
+#include "support.h"
+
 static const double PI = 3.14159265358979323846;
 
 typedef struct {
@@ -361,4 +363,51 @@ Test(bending, dihedral_is_finite_flat_folded_and_degenerate) {
   }
   cb_system_free(&sys);
   model_free(&t);
+}
+
+/* material.bend_hessian: the dihedral term is the Gauss-Newton type by default and the exact one on
+ * request; a config names only the two choices, and a scene def with another name fails at that key. */
+Test(bending, bend_hessian_picks_the_dihedral_term_type) {
+  static const char *const names[3] = {NULL, "gauss-newton", "exact"}, *const types[3] = {"dihedral", "dihedral", "dihedral_exact"};
+  for (int k = 0; k < 3; k++) {
+    char set[64];
+    snprintf(set, sizeof set, "material.bend_hessian=%s", names[k] ? names[k] : "gauss-newton");
+    const char *sets[] = {"mesh.n=4", "material.bend=dihedral", k ? set : NULL, NULL};
+    cb_config c;
+    test_config(&c, sets);
+    cb_scene *s = NULL;
+    cr_assert_eq(cb_scene_from_config(&c, &s), CB_OK, "%s", cb_error_message());
+    int found = 0;
+    for (int i = 0; i < s->sys.nterms; i++)
+      if (strcmp(s->sys.terms[i]->label, "bend") == 0) {
+        found = 1;
+        cr_expect_str_eq(s->sys.terms[i]->type->name, types[k]);
+        cr_expect(cb_hinge_term_is(s->sys.terms[i]));
+      }
+    cr_expect(found);
+    cb_scene_free(s);
+  }
+  cb_config c;
+  const char *none[] = {NULL};
+  test_config(&c, none);
+  cr_expect_neq(cb_config_set(&c, "material.bend_hessian=projected"), CB_OK, "only gauss-newton and exact");
+  cb_scene_def d = cb_scene_def_default();
+  d.grid.n = d.grid.m = 4;
+  d.bend = "dihedral";
+  d.bend_hessian = "projected";
+  cb_scene *s = NULL;
+  const char *key = NULL;
+  cr_expect_neq(cb_scene_build(&d, &s, &key), CB_OK);
+  cr_expect_str_eq(key, "material.bend_hessian");
+  cr_expect_null(s);
+  d.bend = "quadratic"; /* other models have one Hessian: the key does not apply */
+  cr_expect_eq(cb_scene_build(&d, &s, &key), CB_OK, "%s", cb_error_message());
+  cb_scene_free(s);
+  cb_term *t = NULL;
+  tmodel tm;
+  grid_model(&tm, 2, 1.0);
+  cr_assert_eq(cb_bend_term_alloc("quadratic", &tm.model, 1.0, &t), CB_OK);
+  cr_expect_neq(cb_hinge_term_set_hessian(t, CB_BEND_EXACT), CB_OK, "a quadratic term has no dihedral Hessian");
+  cb_term_free(t);
+  model_free(&tm);
 }

@@ -19,6 +19,8 @@
  *     gives the same matrix at every state; a type flagged
  *     CB_TERM_MODEL_HESSIAN (a PSD model such as the frozen-rotation FEM
  *     matrix) is checked for PSD instead of against the FD Hessian.
+ * Then: the dihedral's Gauss-Newton matrix (type dihedral) against its exact
+ * Hessian (type dihedral_exact) and finite differences.
  * Then: the system's constant-Hessian path on a term defined here (a
  * zero-length spring to fixed anchors, E = k/2 |x - a|^2, H = k I), whose
  * Hessian callback must run once; and the stencil helper on 3-vertex
@@ -377,6 +379,132 @@ Test(energy_conformance, every_bending_model_builds_a_registered_type) {
   cr_expect_neq(cb_bend_term_alloc("dihedral-ish", &t.model, 1.0, &b), CB_OK);
   cr_expect_null(b);
   model_free(&t);
+}
+
+/* ---- the dihedral's Gauss-Newton Hessian against its exact one ------------------- */
+
+static double mat_diffabs(const gsl_matrix *A, const gsl_matrix *B) {
+  double m = 0;
+  for (size_t i = 0; i < A->size1; i++)
+    for (size_t j = 0; j < A->size2; j++) m = fmax(m, fabs(gsl_matrix_get(A, i, j) - gsl_matrix_get(B, i, j)));
+  return m;
+}
+
+static gsl_matrix *assembled(cb_system *s, const double *x) {
+  cb_system_assemble(s, x, 0.0, CB_DEF_NONE, 0.0); /* A = H, no projection */
+  return test_dense(&s->A);
+}
+
+/* x = R (X - X0) + X0 + (0.1, -0.2, 0.3): a rigid motion of the rest shape (every theta = theta_bar),
+ * R the rotation by 0.7 rad about (1, 2, 3)/|.| (Rodrigues). */
+static void rigid_rest(const tmodel *t, double *x) {
+  double k[3] = {1, 2, 3}, nk = sqrt(14.0), a = 0.7, c = cos(a), sn = sin(a);
+  for (int i = 0; i < 3; i++) k[i] /= nk;
+  for (int v = 0; v < t->mesh.nv; v++) {
+    const double *p = t->mesh.x + 3 * v;
+    double kp = k[0] * p[0] + k[1] * p[1] + k[2] * p[2], kx[3] = {k[1] * p[2] - k[2] * p[1], k[2] * p[0] - k[0] * p[2],
+                                                                   k[0] * p[1] - k[1] * p[0]};
+    static const double off[3] = {0.1, -0.2, 0.3};
+    for (int i = 0; i < 3; i++) x[3 * v + i] = p[i] * c + kx[i] * sn + k[i] * kp * (1 - c) + off[i];
+  }
+}
+
+/* H_GN = c grad theta grad theta^T (energy_dihedral.c): symmetric and PSD at every state; on one hinge
+ * equal to grad E grad E^T / (2E) with grad E from central differences of E; equal to the FD Hessian
+ * where theta = theta_bar (rigid motions of the rest shape, planar and non-planar); and not equal to it
+ * on a folded hinge, where the exact Hessian's dropped part c (theta - theta_bar) d2theta grows
+ * linearly with the fold. */
+Test(energy_conformance, dihedral_gauss_newton_hessian_is_the_exact_one_without_its_curvature_term) {
+  for (int mk = 1; mk <= 2; mk++) { /* two triangles (one hinge); 3x3 jittered non-planar rest */
+    tmodel t;
+    model_init(&t, mk, 1000 + 17 * (uint64_t)mk);
+    cb_term *gn = NULL, *ex = NULL;
+    cr_assert_eq(cb_hinge_term_alloc(&t.model, "bend", 0.37, &gn), CB_OK);
+    cr_assert_eq(cb_hinge_term_alloc(&t.model, "bend", 0.37, &ex), CB_OK);
+    cr_assert_eq(cb_hinge_term_set_hessian(ex, CB_BEND_EXACT), CB_OK);
+    cr_expect_str_eq(gn->type->name, "dihedral");
+    cr_expect_str_eq(ex->type->name, "dihedral_exact");
+    cr_expect(gn->type->flags & CB_TERM_MODEL_HESSIAN, "the Gauss-Newton matrix is a model of the Hessian");
+    cb_system sg, se;
+    cr_assert_eq(cb_system_init(&sg, &t.model, &gn, 1), CB_OK);
+    cr_assert_eq(cb_system_init(&se, &t.model, &ex, 1), CB_OK);
+    int n3 = 3 * t.mesh.nv;
+    double *x = malloc((size_t)n3 * sizeof(double)), *g = malloc((size_t)n3 * sizeof(double));
+    cr_assert(x && g);
+    /* at theta = theta_bar: H_GN = the FD Hessian */
+    rigid_rest(&t, x);
+    gsl_matrix *H = assembled(&sg, x), *Hfd = fd_hessian(&sg, &t, x);
+    double err = mat_diffabs(H, Hfd), hmax = mat_maxabs(H);
+    cr_expect(hmax > 0 && err <= 1e-6 * hmax, "%s at rest (rigidly moved): |H_GN - FD| = %.3g of %.3g", t.name, err, hmax);
+    gsl_matrix_free(H);
+    gsl_matrix_free(Hfd);
+    for (int sk = 0; sk < NSTATES; sk++) {
+      state(&t, sk, 77 + 31 * (uint64_t)(sk + NSTATES * mk), x);
+      H = assembled(&sg, x);
+      gsl_matrix *He = assembled(&se, x);
+      Hfd = fd_hessian(&se, &t, x);
+      hmax = mat_maxabs(H);
+      double asym = 0, emax, lmin = min_eigenvalue(H, &emax);
+      for (size_t i = 0; i < H->size1; i++)
+        for (size_t j = 0; j < i; j++) asym = fmax(asym, fabs(gsl_matrix_get(H, i, j) - gsl_matrix_get(H, j, i)));
+      cr_expect(asym <= 1e-14 * hmax, "%s, %s: H_GN asymmetric by %.3g", t.name, state_names[sk], asym);
+      cr_expect(lmin >= -1e-12 * emax, "%s, %s: H_GN eigenvalue %.3g (max %.3g)", t.name, state_names[sk], lmin, emax);
+      /* the exact variant is the FD Hessian (the registry loop checks it too); GN differs from it */
+      double dex = mat_diffabs(He, Hfd), dgn = mat_diffabs(H, Hfd), fdmax = mat_maxabs(Hfd);
+      cr_expect(dex <= 1e-6 * fdmax, "%s, %s: |H_exact - FD| = %.3g", t.name, state_names[sk], dex);
+      cr_expect(dgn >= 1e-3 * fdmax, "%s, %s: H_GN equals the exact Hessian (%.3g of %.3g) away from rest", t.name,
+                state_names[sk], dgn, fdmax);
+      if (mk == 1) { /* one hinge: H_GN = grad E grad E^T / (2E), grad E by central differences of E */
+        double E = cb_system_energy(&sg, x, NULL, NULL), e2 = 0;
+        cr_assert(E > 0);
+        for (int i = 0; i < n3; i++) {
+          double xi = x[i];
+          x[i] = xi + FD_H;
+          double Ep = cb_system_energy(&sg, x, NULL, NULL);
+          x[i] = xi - FD_H;
+          double Em = cb_system_energy(&sg, x, NULL, NULL);
+          x[i] = xi;
+          g[i] = (Ep - Em) / (2 * FD_H);
+        }
+        for (int i = 0; i < n3; i++)
+          for (int j = 0; j < n3; j++) e2 = fmax(e2, fabs(gsl_matrix_get(H, (size_t)i, (size_t)j) - g[i] * g[j] / (2 * E)));
+        cr_expect(e2 <= 1e-6 * hmax, "%s, %s: |H_GN - grad E grad E^T / 2E| = %.3g of %.3g", t.name, state_names[sk], e2, hmax);
+      }
+      gsl_matrix_free(H);
+      gsl_matrix_free(He);
+      gsl_matrix_free(Hfd);
+    }
+    if (mk == 1) { /* the dropped term c d d2theta is linear in the fold d: wing x3 rotated by delta, 2 delta */
+      int v[4];
+      cb_hinge_vertices(&t.topo, v);
+      double drop[2];
+      for (int f = 0; f < 2; f++) {
+        double dl = 0.02 * (f + 1);
+        memcpy(x, t.mesh.x, (size_t)n3 * sizeof(double));
+        const double *o = t.mesh.x + 3 * v[0], *p = t.mesh.x + 3 * v[1];
+        double e[3], w[3], le = 0, we = 0;
+        for (int a = 0; a < 3; a++) e[a] = p[a] - o[a], le += e[a] * e[a];
+        for (int a = 0; a < 3; a++) w[a] = x[3 * v[3] + a] - o[a], we += w[a] * e[a] / le;
+        double r[3], rr = 0;
+        for (int a = 0; a < 3; a++) r[a] = w[a] - we * e[a], rr += r[a] * r[a];
+        double ez[3] = {e[1] * r[2] - e[2] * r[1], e[2] * r[0] - e[0] * r[2], e[0] * r[1] - e[1] * r[0]}, ne = sqrt(le);
+        for (int a = 0; a < 3; a++) /* rotate r about the edge by dl: r cos + (e^ x r) sin */
+          x[3 * v[3] + a] = o[a] + we * e[a] + r[a] * cos(dl) + ez[a] / ne * sin(dl);
+        H = assembled(&sg, x);
+        gsl_matrix *He = assembled(&se, x);
+        drop[f] = mat_diffabs(He, H);
+        gsl_matrix_free(H);
+        gsl_matrix_free(He);
+      }
+      cr_expect(drop[0] > 0 && fabs(drop[1] / drop[0] - 2) < 0.05, "dropped term at folds 0.02, 0.04 rad: %.4g, %.4g",
+                drop[0], drop[1]);
+    }
+    free(x);
+    free(g);
+    cb_system_free(&sg);
+    cb_system_free(&se);
+    model_free(&t);
+  }
 }
 
 /* ---- a constant-Hessian term, registered only here ------------------------------- */

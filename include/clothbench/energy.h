@@ -163,6 +163,17 @@ int cb_hinge_vertices(const cb_topology *tp, int *vert);
 /* Dihedral-angle hinges on every pair of neighbouring triangles (discrete
  * shells, energy_dihedral.c), k_b in N m: E = k_b 3|e|^2/(A_A + A_B) (theta - theta_bar)^2 / 2. */
 int cb_hinge_term_alloc(const cb_model *m, const char *label, double k, cb_term **out);
+/* material.bend_hessian: the dihedral term's Hessian (cb_bend_hessian_names, by
+ * enum value): Gauss-Newton c grad theta grad theta^T (PSD, type `dihedral`,
+ * what cb_hinge_term_alloc builds) or the exact one projected per element
+ * (type `dihedral_exact`). energy_dihedral.c derives both. */
+typedef enum { CB_BEND_GAUSS_NEWTON = 0, CB_BEND_EXACT = 1 } cb_bend_hessian;
+extern const char *const cb_bend_hessian_names[]; /* "gauss-newton", "exact" */
+/* Switches a dihedral term (either type) to Hessian kind, before a system is
+ * built on it; fails if t is not a dihedral term. */
+int cb_hinge_term_set_hessian(cb_term *t, cb_bend_hessian kind);
+/* Nonzero if t is a dihedral term (either Hessian). */
+int cb_hinge_term_is(const cb_term *t);
 /* Hinges of a dihedral term whose exact element Hessian at x has a negative
  * eigenvalue (the ones the projection changes); nhinges gets the count. */
 int cb_hinge_term_count_indefinite(const cb_term *t, const double *x, int *nhinges);

@@ -57,6 +57,8 @@ typedef struct cb_scene_def {
   const char *fem_hessian;     /* FEM Hessian, a name of cb_fem_hessian_names ("exact", "frozen"). Default "exact" */
   const char *bend;            /* bending model, a name of cb_bend_names. Default "none" */
   double bend_k;               /* N/m for `spring`, N m for `dihedral` and `quadratic`. Default 100 */
+  const char *bend_hessian;    /* dihedral Hessian, a name of cb_bend_hessian_names ("gauss-newton", "exact"); NULL
+                                  = "gauss-newton". Default "gauss-newton" */
   const char *definiteness;    /* compressed-spring response of the springs, a name of
                                   cb_definiteness_names ("choi-ko" changes the energy). Default "drop" */
   double buckling_kb;          /* N m^2, Choi-Ko bending stiffness. Default 0.01 */

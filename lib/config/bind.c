@@ -35,6 +35,7 @@ int cb_scene_def_from_config(const cb_config *c, cb_scene_def *d, char *path, si
   d->stretch_k = c->stretch_k;
   d->fem_hessian = cb_config_choice(c, "material.fem_hessian");
   d->bend = cb_config_choice(c, "material.bend"); /* the registry's name: it outlives c */
+  d->bend_hessian = cb_config_choice(c, "material.bend_hessian");
   d->bend_k = c->bend_k;
   const char *def = cb_config_choice(c, "integrator.definiteness"); /* Newton's policy is also the springs' response */
   if (def) d->definiteness = def;

@@ -39,6 +39,7 @@ typedef struct cb_config {
   double stretch_k;                /* N/m: spring k or FEM mu */
   char fem_hessian[CB_NAME_LEN];   /* exact | frozen */
   char bend[CB_NAME_LEN];          /* none | spring | dihedral | quadratic */
+  char bend_hessian[CB_NAME_LEN];  /* gauss-newton | exact (dihedral) */
   double bend_k;                   /* N/m (spring) or N m (dihedral, quadratic) */
   double buckling_kb;              /* N m^2, Choi-Ko bending stiffness of a buckled spring */
   /* [scene] */

@@ -17,7 +17,8 @@ extern const cb_term_type cb_term_spring_type;  /* energy_spring.c */
 extern const cb_term_type cb_term_gravity_type; /* energy_gravity.c */
 extern const cb_term_type cb_term_fem_type;        /* energy_fem.c: exact Hessian */
 extern const cb_term_type cb_term_fem_frozen_type; /* energy_fem.c: frozen-R constant Hessian */
-extern const cb_term_type cb_term_dihedral_type;  /* energy_dihedral.c */
+extern const cb_term_type cb_term_dihedral_type;       /* energy_dihedral.c: Gauss-Newton Hessian */
+extern const cb_term_type cb_term_dihedral_exact_type; /* energy_dihedral.c: exact Hessian, projected */
 extern const cb_term_type cb_term_quadratic_type; /* energy_quadratic.c */
 extern const cb_term_type cb_term_sphere_type;    /* collider.c */
 
@@ -27,6 +28,7 @@ const cb_term_type *const cb_term_types[] = {
     &cb_term_fem_type,
     &cb_term_fem_frozen_type,
     &cb_term_dihedral_type,
+    &cb_term_dihedral_exact_type,
     &cb_term_quadratic_type,
     &cb_term_sphere_type,
     NULL,

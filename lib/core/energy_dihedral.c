@@ -37,6 +37,27 @@
  * gradient. It is indefinite in general, so each element is projected by the
  * shared projection (projection.h) the assembly asks for.
  *
+ * Two Hessians (material.bend_hessian), two term types in this file:
+ *   dihedral (`gauss-newton`, the default): with d = theta - theta_bar and
+ *   c = k_b c_h, E = c d^2 / 2 is half the square of the residual
+ *   r = sqrt(c) d, whose gradient is J = sqrt(c) grad theta. Gauss-Newton
+ *   keeps J J^T and drops r d2r:
+ *     exact:  d2E = c grad theta grad theta^T + c d d2theta
+ *     H_GN  =       c grad theta grad theta^T
+ *   v^T H_GN v = c (grad theta . v)^2 >= 0 for every v (c >= 0), so H_GN is
+ *   positive semidefinite by construction: rank one, no projection, no
+ *   eigen-decomposition. Its cost is that of the gradient plus one 12 x 12
+ *   outer product. The dropped term c d d2theta vanishes at theta = theta_bar,
+ *   where H_GN is the exact Hessian, and grows linearly with |d|: Newton with
+ *   H_GN is a Gauss-Newton (quasi-Newton) method (CB_TERM_MODEL_HESSIAN),
+ *   linearly convergent where the bending residual d is not small. On a
+ *   single hinge with E > 0, grad E = c d grad theta gives
+ *   H_GN = grad E grad E^T / (2E), which tests/test_energy_conformance.c
+ *   checks against central differences of E.
+ *   dihedral_exact (`exact`): the exact Hessian above, each element projected
+ *   by the assembly's projection (integrator.definiteness drop/mirror: a GSL
+ *   eigen-decomposition per hinge and assembly).
+ *
  * Degenerate hinges: a rest hinge with a zero-length edge or a zero-area wing
  * is rejected when the term is built. During a run, a hinge whose current
  * edge or wing has collapsed (|e|^2 < 1e-24 |e_bar|^2, or |N|^2 < 1e-12
@@ -52,7 +73,14 @@
 #include <clothbench/status.h>
 #include <clothbench/stencil.h>
 
-extern const cb_term_type cb_term_dihedral_type;
+extern const cb_term_type cb_term_dihedral_type;       /* Gauss-Newton Hessian */
+extern const cb_term_type cb_term_dihedral_exact_type; /* exact Hessian, projected per element */
+
+const char *const cb_bend_hessian_names[] = {"gauss-newton", "exact", NULL};
+
+int cb_hinge_term_is(const cb_term *t) {
+  return t && (t->type == &cb_term_dihedral_type || t->type == &cb_term_dihedral_exact_type);
+}
 
 typedef struct {
   cb_term base;
@@ -246,12 +274,31 @@ static int hinge_exact_hessian(const hinge_term *h, int e, const double *x, doub
   return 1;
 }
 
-static void hinge_hessian(const cb_term *t, const double *x, cb_projection proj, double *val) {
+static void hinge_hessian_exact(const cb_term *t, const double *x, cb_projection proj, double *val) {
   const hinge_term *h = (const hinge_term *)t;
   double H[144];
   for (int e = 0; e < h->nh; e++) {
     if (!cb_stencil_active(&h->st, e) || !hinge_exact_hessian(h, e, x, H)) continue;
     if (proj != CB_PROJ_NONE) cb_projection_apply(proj, 12, H, h->work);
+    cb_stencil_add_hessian(&h->st, e, H, val);
+  }
+}
+
+/* H_GN = c grad theta grad theta^T per hinge: PSD, so proj has nothing to do. */
+static void hinge_hessian_gn(const cb_term *t, const double *x, cb_projection proj, double *val) {
+  (void)proj;
+  const hinge_term *h = (const hinge_term *)t;
+  double H[144];
+  for (int e = 0; e < h->nh; e++) {
+    double p[12];
+    hinge_geo g;
+    if (!cb_stencil_active(&h->st, e)) continue;
+    load(h, e, x, p);
+    if (!hinge_eval(p, h->e2_bar[e], &g)) continue;
+    for (int i = 0; i < 12; i++) {
+      double ci = h->c[e] * g.grad[i];
+      for (int j = 0; j < 12; j++) H[12 * i + j] = ci * g.grad[j];
+    }
     cb_stencil_add_hessian(&h->st, e, H, val);
   }
 }
@@ -320,9 +367,16 @@ int cb_hinge_term_alloc(const cb_model *m, const char *label, double k, cb_term 
   return CB_OK;
 }
 
+int cb_hinge_term_set_hessian(cb_term *t, cb_bend_hessian kind) {
+  if (!cb_hinge_term_is(t)) return cb_fail("material.bend_hessian: %s is not a dihedral term", t ? t->label : "(null)");
+  if (kind != CB_BEND_GAUSS_NEWTON && kind != CB_BEND_EXACT) return cb_fail("material.bend_hessian: unknown Hessian %d", (int)kind);
+  t->type = kind == CB_BEND_EXACT ? &cb_term_dihedral_exact_type : &cb_term_dihedral_type;
+  return CB_OK;
+}
+
 int cb_hinge_term_count_indefinite(const cb_term *t, const double *x, int *nhinges) {
   *nhinges = 0;
-  if (!t || t->type != &cb_term_dihedral_type) return 0;
+  if (!cb_hinge_term_is(t)) return 0;
   const hinge_term *h = (const hinge_term *)t;
   *nhinges = h->nh;
   double H[144];
@@ -334,17 +388,31 @@ int cb_hinge_term_count_indefinite(const cb_term *t, const double *x, int *nhing
   return count;
 }
 
-/* Examples: hinges across every pair with k_b = 0.37 N m. */
+/* Examples: hinges across every pair with k_b = 0.37 N m, with either Hessian. */
 static int hinge_example(const cb_model *m, int i, cb_term **out) {
   (void)i;
   return cb_hinge_term_alloc(m, "bend", 0.37, out);
 }
+static int hinge_exact_example(const cb_model *m, int i, cb_term **out) {
+  int st = hinge_example(m, i, out);
+  if (st == CB_OK) st = cb_hinge_term_set_hessian(*out, CB_BEND_EXACT);
+  return st;
+}
 
 const cb_term_type cb_term_dihedral_type = {.name = "dihedral",
+                                            .flags = CB_TERM_MODEL_HESSIAN,
                                             .energy = hinge_energy,
                                             .pattern = hinge_pattern,
                                             .bind = hinge_bind,
-                                            .hessian = hinge_hessian,
+                                            .hessian = hinge_hessian_gn,
                                             .free = hinge_free,
                                             .nexamples = 1,
                                             .example = hinge_example};
+const cb_term_type cb_term_dihedral_exact_type = {.name = "dihedral_exact",
+                                                  .energy = hinge_energy,
+                                                  .pattern = hinge_pattern,
+                                                  .bind = hinge_bind,
+                                                  .hessian = hinge_hessian_exact,
+                                                  .free = hinge_free,
+                                                  .nexamples = 1,
+                                                  .example = hinge_exact_example};

@@ -138,6 +138,15 @@ static int stretch_term_alloc(const cb_scene_def *d, const cb_model *m, cb_term 
   return st;
 }
 
+/* material.bend_hessian on the dihedral term (the other bending models have one Hessian each). */
+static int bend_hessian_set(const cb_scene_def *d, cb_term *bend, const char **key) {
+  const char *h = d->bend_hessian ? d->bend_hessian : "gauss-newton";
+  for (int k = 0; cb_bend_hessian_names[k]; k++)
+    if (strcmp(h, cb_bend_hessian_names[k]) == 0) return cb_hinge_term_set_hessian(bend, (cb_bend_hessian)k);
+  if (key) *key = "material.bend_hessian";
+  return cb_fail("material.bend_hessian: unknown Hessian '%s' (gauss-newton or exact)", h);
+}
+
 void cb_scene_free(cb_scene *s) {
   if (!s) return;
   for (int k = 0; k < s->nresponses; k++) {
@@ -161,7 +170,7 @@ double cb_scene_total_mass(const cb_scene *s) {
 
 cb_scene_def cb_scene_def_default(void) {
   cb_scene_def d = {.mesh = CB_MESH_GRID, .grid = cb_grid_params_default(), .mesh_file = NULL, .density = 1,
-                    .vertex_mass = 0, .stretch = "spring", .stretch_k = 8000, .fem_hessian = "exact", .bend = "none", .bend_k = 100, .definiteness = "drop",
+                    .vertex_mass = 0, .stretch = "spring", .stretch_k = 8000, .fem_hessian = "exact", .bend = "none", .bend_k = 100, .bend_hessian = "gauss-newton", .definiteness = "drop",
                     .buckling_kb = 0.01, .gravity = {0, -9.8, 0}, .pins = "top-corners", .initial_scale = 1,
                     .pin_squeeze = {0, 0, 0}, .diverge_ratio = 10, .collider = "none",
                     .sphere = {.centre = {0, 0, 0}, .radius = 1, .thickness = 0, .stiffness = 10000, .velocity = {0, 0, 0}},
@@ -313,7 +322,7 @@ int cb_scene_build(const cb_scene_def *d, cb_scene **out, const char **key) {
   cb_scene *s = cb_calloc(1, sizeof *s);
   if (!s) return CB_ENOMEM;
   s->def = *d;
-  s->def.mesh_file = s->def.bend = s->def.definiteness = s->def.pins = s->def.collider = NULL;
+  s->def.mesh_file = s->def.bend = s->def.bend_hessian = s->def.definiteness = s->def.pins = s->def.collider = NULL;
   for (int k = 0; k < d->nresponses; k++) s->def.responses[k].params = NULL;
   s->diverge_ratio = d->diverge_ratio;
   int st = build_mesh(d, &s->mesh, key);
@@ -386,6 +395,7 @@ int cb_scene_build(const cb_scene_def *d, cb_scene **out, const char **key) {
     st = cb_bend_term_alloc(d->bend, &s->model, d->bend_k, &bend);
     if (st) st = at_key(labelled(st, "material.bend"), key, "material.bend");
     if (bend) terms[nterms++] = bend;
+    if (st == CB_OK && cb_hinge_term_is(bend)) st = bend_hessian_set(d, bend, key);
   }
   if (st == CB_OK && strcmp(d->collider, "penalty") == 0) {
     st = collider_error(cb_sphere_term_alloc(&s->model, &d->sphere, &terms[nterms]), key);
