@@ -252,12 +252,12 @@ Test(field, refusals_name_the_term_they_cannot_handle) {
 /* Vertex block descent run to convergence minimises F: its step equals
  * Newton's converged step on a stiff cloth (k dt^2/m = 1e3; plain
  * Gauss-Seidel is slow there, so Chebyshev's rho = 0.8 takes it to the
- * solution) and on the drape (quadratic bending and the penalty sphere, on
+ * solution) and on the drape (dihedral bending and the penalty sphere, on
  * the step after 10, with the per-vertex line search: the plain update
  * overshoots at the contacts). */
 Test(field, vbd_converges_to_newtons_step) {
   const char *stiff[] = {"mesh.n=6", "material.stretch_k=1e4", "material.vertex_mass=0.01", NULL};
-  const char *drape[] = {"mesh.n=8", "material.density=0.2", "material.stretch_k=200", "material.bend=quadratic",
+  const char *drape[] = {"mesh.n=8", "material.density=0.2", "material.stretch_k=200", "material.bend=dihedral",
                          "material.bend_k=5e-4", "scene.pins=none", "collider.type=penalty", "collider.centre=0 -0.27 0",
                          "collider.radius=0.25", "collider.thickness=0.005", "collider.stiffness=1000", "mesh.size=1",
                          "mesh.plane=xz", "integrator.method=newton", "integrator.line_search=1", "integrator.tol=1e-6",
