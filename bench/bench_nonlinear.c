@@ -82,7 +82,8 @@ int main(int argc, char **argv) {
                         "# triad: a = b + s c, 3 arrays of 2^25 doubles, 24 bytes per element, median of passes\n"
                         "# pd: factor_ms is its one factorisation per scene (at alloc, CHOLMOD); frame_ms a step of 10 iterations\n",
                         "n,vertices,dofs,lab_frame_ms,lab_fps,iter_ms,iter_gbs,triad_gbs,iter_over_triad,pd_factor_ms,pd10_frame_ms,"
-                        "pd_factorizations_in_step,allocs_jacobi_nl,allocs_chebyshev_nl,allocs_chebyshev_nl_exact,allocs_pd,allocs_pd_chebyshev,status")) {
+                        "pd_factorizations_in_step,allocs_jacobi_nl,allocs_chebyshev_nl,allocs_chebyshev_nl_exact,allocs_pd,allocs_pd_chebyshev,"
+                        "allocs_pbd,allocs_xpbd,allocs_lbfgs,status")) {
     fprintf(stderr, "bench_nonlinear: %s\n", cb_error_message());
     return 2;
   }
@@ -128,9 +129,13 @@ int main(int argc, char **argv) {
     static const char *const CE[] = {"integrator.method=chebyshev-nl", "integrator.diagonal=exact", "integrator.iters=4", NULL};
     static const char *const PC[] = {"integrator.method=pd-chebyshev", "integrator.rho=auto", "integrator.iters=10", NULL};
     static const char *const CA[] = {"integrator.method=chebyshev-nl", "integrator.rho=auto", NULL};
-    const char *const *types[] = {J, CA, CE, PD, PC};
-    long allocs[5];
-    for (int q = 0; q < 5; q++) {
+    static const char *const PB[] = {"integrator.method=pbd", "integrator.substeps=4", "integrator.iters=8", NULL};
+    static const char *const XP[] = {"integrator.method=xpbd", "integrator.substeps=4", "integrator.iters=8", NULL};
+    static const char *const LB[] = {"integrator.method=lbfgs", "integrator.iters=10", NULL};
+    enum { NALLOC = 8 };
+    const char *const *types[NALLOC] = {J, CA, CE, PD, PC, PB, XP, LB};
+    long allocs[NALLOC];
+    for (int q = 0; q < NALLOC; q++) {
       cb_integrator *it = make(&c, s, types[q]);
       allocs[q] = -1;
       if (!it) continue;
@@ -142,11 +147,11 @@ int main(int argc, char **argv) {
       allocs[q] = cb_bench_allocations() - a0;
       cb_integrator_free(it);
     }
-    double na = cb_csv_na(), al[5]; /* an integrator that failed to build (-1) counted nothing */
-    for (int q = 0; q < 5; q++) al[q] = allocs[q] < 0 ? na : (double)allocs[q];
-    cb_csv_printf(csv.f, "%d,%d,%d,%.6f,%.3f,%.6f,%.4f,%.4f,%.4f,%.6f,%.6f,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%s\n", n, s->mesh.nv,
-                  s->sys.A.n, f32, 1000.0 / f32, iter_ms, gbs, triad, gbs / triad, pd_factor, pd10, pd_fact_in_step, al[0], al[1],
-                  al[2], al[3], al[4], cb_status_name(status));
+    double na = cb_csv_na(), al[NALLOC]; /* an integrator that failed to build (-1) counted nothing */
+    for (int q = 0; q < NALLOC; q++) al[q] = allocs[q] < 0 ? na : (double)allocs[q];
+    cb_csv_printf(csv.f, "%d,%d,%d,%.6f,%.3f,%.6f,%.4f,%.4f,%.4f,%.6f,%.6f,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%s\n",
+                  n, s->mesh.nv, s->sys.A.n, f32, 1000.0 / f32, iter_ms, gbs, triad, gbs / triad, pd_factor, pd10,
+                  pd_fact_in_step, al[0], al[1], al[2], al[3], al[4], al[5], al[6], al[7], cb_status_name(status));
     fflush(csv.f);
     printf("bench_nonlinear: %dx%d (%d vertices): lab frame (chebyshev-nl, 32 iterations) %.3f ms = %.0f FPS; "
            "iteration %.4f ms, %.2f GB/s = %.0f%% of triad (%.2f GB/s); pd factorisation %.1f ms once, pd 10-iteration frame %.3f ms\n",

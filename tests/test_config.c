@@ -1124,7 +1124,8 @@ Test(bind, every_types_keys_are_config_keys_and_their_defaults_are_the_types) {
     cr_expect(memcmp(p, t->params_default, t->params_size) == 0, "%s: key defaults differ from params_default", t->name);
     free(p);
   }
-  cr_expect_eq(nkeys, 21); /* newton 6, jacobi-nl 4, chebyshev-nl 6, pd 1, pd-chebyshev 3, shape_matching 1 */
+  cr_expect_eq(nkeys, 39); /* newton 6, jacobi-nl 4, chebyshev-nl 6, pd 1, pd-chebyshev 3, pbd 3, xpbd 2, lbfgs 5,
+                              vbd 3, vbd-chebyshev 5, shape_matching 1 */
 }
 
 /* The binding reads a type's keys into its struct: Newton from a file. */

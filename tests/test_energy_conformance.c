@@ -211,6 +211,59 @@ static double fd_gradient_error(const cb_system *s, const tmodel *t, const doubl
 
 /* All checks of one term type on every mesh and state; returns the number of
  * (example, mesh, state) cases checked. */
+/* A type with per-element access (cb_term_type.element): its elements'
+ * energies, scattered gradients and scattered Hessians (each projection)
+ * equal the term's own energy, gradient and assembled Hessian at x. */
+static void check_elements(const cb_term *term, cb_system *sys, const tmodel *t, const double *x, const char *where) {
+  const cb_term_type *type = term->type;
+  cr_expect((type->element != NULL) == (type->stencil != NULL), "%s: element and stencil go together", where);
+  if (!type->element) return;
+  const cb_stencil *st = type->stencil(term);
+  int k3 = 3 * st->k, n3 = 3 * t->mesh.nv, nf3 = sys->A.n;
+  double *g = calloc((size_t)n3, sizeof(double)), *gt = calloc((size_t)n3, sizeof(double));
+  double *ge = malloc((size_t)k3 * sizeof(double)), *He = malloc((size_t)k3 * k3 * sizeof(double));
+  cr_assert(g && gt && ge && He);
+  double Et = type->energy(term, x, gt), E = 0;
+  for (int d = 0; d < CB_DEF_COUNT; d++) {
+    cb_projection proj = cb_definiteness_projection((cb_definiteness)d);
+    gsl_matrix *Hs = gsl_matrix_calloc((size_t)(nf3 > 0 ? nf3 : 1), (size_t)(nf3 > 0 ? nf3 : 1));
+    for (int e = 0; e < st->ne; e++) {
+      double Ee = type->element(term, e, x, proj, ge, He);
+      const int *v = st->vert + (size_t)st->k * e;
+      if (d == 0) {
+        E += Ee;
+        for (int a = 0; a < st->k; a++)
+          for (int c = 0; c < 3; c++) g[3 * v[a] + c] += ge[3 * a + c];
+      }
+      for (int a = 0; a < st->k; a++)
+        for (int b = 0; b < st->k; b++) {
+          int fa = t->model.free_index[v[a]], fb = t->model.free_index[v[b]];
+          if (fa < 0 || fb < 0) continue;
+          for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++)
+              *gsl_matrix_ptr(Hs, (size_t)(3 * fa + r), (size_t)(3 * fb + c)) += He[(3 * a + r) * k3 + 3 * b + c];
+        }
+    }
+    cb_system_assemble(sys, x, 0.0, (cb_definiteness)d, 0.0); /* A = H */
+    gsl_matrix *H = test_dense(&sys->A);
+    double hmax = mat_maxabs(H), err = 0;
+    for (size_t i = 0; i < H->size1; i++)
+      for (size_t j = 0; j < H->size2; j++) err = fmax(err, fabs(gsl_matrix_get(H, i, j) - gsl_matrix_get(Hs, i, j)));
+    cr_expect(err <= 1e-12 * fmax(hmax, 1.0), "%s, %s: element Hessians - assembled = %.3g (max %.3g)", where,
+              cb_definiteness_names[d], err, hmax);
+    gsl_matrix_free(H);
+    gsl_matrix_free(Hs);
+  }
+  cr_expect(fabs(E - Et) <= 1e-12 * fmax(fabs(Et), 1.0), "%s: element energies %.17g, term %.17g", where, E, Et);
+  double gerr = 0, gm = 0;
+  for (int i = 0; i < n3; i++) {
+    gerr = fmax(gerr, fabs(g[i] - gt[i]));
+    gm = fmax(gm, fabs(gt[i]));
+  }
+  cr_expect(gerr <= 1e-12 * fmax(gm, 1.0), "%s: element gradients - term gradient = %.3g", where, gerr);
+  free(g); free(gt); free(ge); free(He);
+}
+
 static int check_type(const cb_term_type *type) {
   int cases = 0;
   for (int ex = 0; ex < type->nexamples; ex++)
@@ -266,6 +319,7 @@ static int check_type(const cb_term_type *type) {
           gsl_matrix_free(H);
         }
         gsl_matrix_free(Hfd);
+        check_elements(term, &sys, &t, x, where);
       }
       if (H0) gsl_matrix_free(H0);
       free(x);

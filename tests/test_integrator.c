@@ -534,7 +534,7 @@ Test(integrator, every_type_gets_what_its_flags_ask_for) {
     cr_expect_eq(it->state != NULL, t->size > 0, "%s", t->name);
     cb_integrator_free(it);
   }
-  cr_expect_eq(n, 7);
+  cr_expect_eq(n, 12);
   cr_expect_eq(cb_integrator_shape_matching.flags, (unsigned)CB_INTEGRATOR_OWN_ELASTICITY); /* no solver, no Hessian */
   /* what the built-in types declare */
   cr_expect_eq(cb_integrator_explicit.flags, 0u);

@@ -15,6 +15,7 @@
 #include "mesh.h"
 #include "projection.h"
 #include "sparse.h"
+#include "stencil.h"
 #include "topology.h"
 
 /* Choi & Ko's immediate-buckling response of a spring of rest length L
@@ -78,6 +79,16 @@ typedef struct cb_term_type {
    * values (only free-free blocks). NULL if the Hessian is zero. */
   void (*hessian)(const cb_term *t, const double *x, cb_projection proj, double *val);
   void (*free)(cb_term *t);
+  /* Per-element access, for methods that work vertex by vertex (vertex
+   * block descent, integrator_vbd.c). stencil gives the term's elements (k
+   * vertices each); element fills, for element e at x, its gradient g (3k)
+   * and its Hessian H (3k x 3k row-major, the element projected by proj as
+   * in hessian), and returns its energy. The element sums are the term's
+   * energy, gradient and Hessian (the conformance test checks it). NULL for
+   * both when the term has no elements (gravity, whose force the methods
+   * read from the scene). */
+  const cb_stencil *(*stencil)(const cb_term *t);
+  double (*element)(const cb_term *t, int e, const double *x, cb_projection proj, double *g, double *H);
   /* Conformance (tests/test_energy_conformance.c): builds example i,
    * 0 <= i < nexamples, of this term on any model (any mesh, any pins), with
    * the parameters a scene would give it. Registering a type is all it takes
@@ -115,6 +126,12 @@ int cb_spring_term_set_response(cb_term *t, cb_definiteness def, double kb);
 int cb_spring_term_count_compressed(const cb_term *t, const double *x, int *nsprings);
 /* Nonzero if t is a spring term with the Choi-Ko response. */
 int cb_spring_term_is_choi_ko(const cb_term *t);
+/* The springs of a spring term, for methods that work on them directly (the
+ * constraints of XPBD, the Laplacian of projective dynamics): ns springs
+ * between ends[2s] and ends[2s+1], rest lengths rest[s] (m), stiffness k
+ * (N/m). The arrays are the term's own. Fails (CB_EINVAL) if t is not a
+ * spring term. */
+int cb_spring_term_springs(const cb_term *t, int *ns, const int **ends, const double **rest, double *k);
 
 /* Co-rotational triangle FEM (energy_fem.c): E_t = mu A_t |F - R|_F^2 on every
  * triangle, mu in N/m (an energy per unit rest area), R the polar rotation of

@@ -5,6 +5,12 @@
  *             F(x) = 1/(2 dt^2) |x - x0 - dt v0|_M^2 + E(x),  v1 = (x1 - x0)/dt,
  *             by Newton's method: (M/dt^2 + H) dx = -grad F;  x += dx.
  *             max_iters = 1 is Baraff-Witkin's single linear solve.
+ *   pbd, xpbd Müller et al. 2007, Macklin et al. 2016: Gauss-Seidel projection of one distance
+ *             constraint per spring, with substeps (integrator_xpbd.c).
+ *   lbfgs     Liu et al. 2017: L-BFGS on F with projective dynamics' matrix as the initial
+ *             Hessian, and a line search (integrator_lbfgs.c).
+ *   vbd, vbd-chebyshev  Chen et al. 2024: per-vertex 3x3 Newton steps in Gauss-Seidel order over a
+ *             vertex colouring, optionally Chebyshev-accelerated (integrator_vbd.c).
  *   shape_matching  Müller et al. 2005: v <- v + alpha (g - x)/dt + dt f_ext/m;
  *             x <- x + dt v, goals g from one-ring clusters (integrator_shape_matching.c).
  *
@@ -109,6 +115,36 @@ typedef struct cb_pd_params {
 } cb_pd_params;
 cb_pd_params cb_pd_params_default(void); /* pd-chebyshev's */
 
+/* Position-based dynamics' parameters (pbd, xpbd; integrator_xpbd.c). */
+typedef struct cb_xpbd_params {
+  int iters;                   /* constraint sweeps per substep. Default 32 */
+  int substeps;                /* substeps per step (Macklin et al. 2019's small steps). Default 1 */
+  double stiffness;            /* pbd's stiffness factor s in (0, 1] (xpbd uses material k). Default 1 */
+} cb_xpbd_params;
+cb_xpbd_params cb_xpbd_params_default(void);
+
+/* L-BFGS's parameters (lbfgs; integrator_lbfgs.c). */
+typedef struct cb_lbfgs_params {
+  int iters;                   /* iterations per step at most. Default 32 */
+  double tol;                  /* relative |grad F| to stop at (Newton's tol). Default 1e-8 */
+  double tol_dx;               /* max |alpha d| to stop at, m (Newton's tol_dx); 0 = off. Default 0 */
+  int window;                  /* (s, y) pairs kept, m. Default 5 */
+  int line_search;             /* 0 armijo, 1 wolfe (cb_lbfgs_line_search_names). Default 0 */
+} cb_lbfgs_params;
+cb_lbfgs_params cb_lbfgs_params_default(void);
+extern const char *const cb_lbfgs_line_search_names[]; /* "armijo", "wolfe", NULL */
+
+/* Vertex block descent's parameters (vbd, vbd-chebyshev; integrator_vbd.c). */
+typedef struct cb_vbd_params {
+  int iters;                   /* sweeps over every vertex colour per step. Default 32 */
+  int init;                    /* initial guess: 0 inertia, 1 previous, 2 adaptive (cb_vbd_init_names). Default 2 */
+  int line_search;             /* backtracking on each vertex's own objective. Default 0 (the paper's update) */
+  double rho;                  /* vbd-chebyshev's rho in [0, 1), or CB_PARAM_AUTO. Default 0.995 (0 for vbd) */
+  int rho_iters;               /* plain sweeps of the `auto` estimate, run once. Default 64 */
+} cb_vbd_params;
+cb_vbd_params cb_vbd_params_default(void); /* vbd-chebyshev's */
+extern const char *const cb_vbd_init_names[]; /* "inertia", "previous", "adaptive", NULL */
+
 /* Shape matching's parameters (cb_integrator_shape_matching, integrator_shape_matching.c). */
 typedef struct cb_shape_matching_params {
   double alpha;                /* pull toward the goals, in (0, 1]. Default 1 */
@@ -184,6 +220,14 @@ extern const cb_integrator_type cb_integrator_jacobi_nl;
 extern const cb_integrator_type cb_integrator_chebyshev_nl;
 extern const cb_integrator_type cb_integrator_pd;
 extern const cb_integrator_type cb_integrator_pd_chebyshev;
+extern const cb_integrator_type cb_integrator_pbd;
+extern const cb_integrator_type cb_integrator_xpbd;
+extern const cb_integrator_type cb_integrator_lbfgs;
+extern const cb_integrator_type cb_integrator_vbd;
+extern const cb_integrator_type cb_integrator_vbd_chebyshev;
+/* The number of vertex colours of a vbd or vbd-chebyshev integrator (its
+ * Gauss-Seidel order, computed once per scene), or -1 for another type. */
+int cb_vbd_colors(const cb_integrator *it);
 
 extern const cb_integrator_type cb_integrator_shape_matching;
 extern const cb_integrator_type *const cb_integrator_types[]; /* NULL-terminated */

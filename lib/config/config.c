@@ -94,7 +94,7 @@ static const keydef keys_head[] = {
   {"collider.velocity", T_VEC3, O(collider_velocity), "0 0 0", "m/s", -1e6, 1e6, 0, NULL, NULL,
    "Constant velocity v of the sphere, c(t) = c + t v (`project` only, as the lab drags its ball)."},
   {"integrator.method", T_ENUM, O(method), "newton", "-", 0, 0, 0, NULL, cb_integrator_name,
-   "`explicit` (symplectic Euler), `newton` (implicit Euler by Newton's method), `jacobi-nl` and `chebyshev-nl` (the GAMES103 lab's Jacobi on F(x), plain or Chebyshev-accelerated), `pd` and `pd-chebyshev` (projective dynamics, Liu et al. 2013, plain or Chebyshev-accelerated), or `shape_matching` (Müller et al. 2005, explicit; see `integrator.shape_alpha`)."},
+   "`explicit` (symplectic Euler), `newton` (implicit Euler by Newton's method), `jacobi-nl` and `chebyshev-nl` (the GAMES103 lab's Jacobi on F(x), plain or Chebyshev-accelerated), `pd` and `pd-chebyshev` (projective dynamics, Liu et al. 2013, plain or Chebyshev-accelerated), `pbd` and `xpbd` (position-based dynamics, Müller et al. 2007, and XPBD, Macklin et al. 2016: distance constraints per spring, with `integrator.substeps`), `lbfgs` (L-BFGS on F with projective dynamics' matrix as its initial Hessian, Liu et al. 2017), `vbd` and `vbd-chebyshev` (vertex block descent, Chen et al. 2024, plain or Chebyshev-accelerated), or `shape_matching` (Müller et al. 2005, explicit; see `integrator.shape_alpha`)."},
   {"integrator.dt", T_DOUBLE, O(dt), "1/30", "s", 0, 1e6, 1, NULL, NULL,
    "Time step; a fraction such as `1/30` is accepted."},
   {"integrator.steps", T_INT, O(steps), "60", "steps", 0, 2000000000, 0, NULL, NULL,

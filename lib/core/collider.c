@@ -62,20 +62,35 @@ static int sphere_pattern(const cb_term *t, cb_pattern *p) { return cb_stencil_p
 
 static int sphere_bind(cb_term *t, const cb_sparse *A) { return cb_stencil_bind(&((sphere_term *)t)->st, A, "collider sphere"); }
 
-static void sphere_hessian(const cb_term *t, const double *x, cb_projection proj, double *val) {
+static const cb_stencil *sphere_stencil(const cb_term *t) { return &((const sphere_term *)t)->st; }
+
+/* Vertex i's penalty: E = k/2 phi^2, phi = R - |d| > 0, g = -k phi d/|d|,
+ * H = k uu^T + proj(-k phi/|d|)(I - uu^T); all zero outside the sphere. */
+static double sphere_element(const cb_term *t, int i, const double *x, cb_projection proj, double *g, double *H) {
   const sphere_term *s = (const sphere_term *)t;
   double R = s->sp.radius + s->sp.thickness, k = s->sp.stiffness;
+  double d[3] = {x[3 * i] - s->sp.centre[0], x[3 * i + 1] - s->sp.centre[1], x[3 * i + 2] - s->sp.centre[2]};
+  double l2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], l = sqrt(l2), phi = R - l;
+  memset(g, 0, 3 * sizeof(double));
+  memset(H, 0, 9 * sizeof(double));
+  if (!(phi > 0) || !(l > 0)) return 0.0;
+  double tr = cb_projection_eigenvalue(proj, -k * phi / l);
+  for (int a = 0; a < 3; a++) {
+    g[a] = -k * phi * d[a] / l;
+    for (int b = 0; b < 3; b++) {
+      double uu = d[a] * d[b] / l2;
+      H[3 * a + b] = k * uu + tr * ((a == b) - uu);
+    }
+  }
+  return 0.5 * k * phi * phi;
+}
+
+static void sphere_hessian(const cb_term *t, const double *x, cb_projection proj, double *val) {
+  const sphere_term *s = (const sphere_term *)t;
   for (int i = 0; i < s->nv; i++) {
     if (!cb_stencil_active(&s->st, i)) continue;
-    double d[3] = {x[3 * i] - s->sp.centre[0], x[3 * i + 1] - s->sp.centre[1], x[3 * i + 2] - s->sp.centre[2]};
-    double l2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], l = sqrt(l2), phi = R - l;
-    if (!(phi > 0) || !(l > 0)) continue;
-    double tr = cb_projection_eigenvalue(proj, -k * phi / l), H[9];
-    for (int a = 0; a < 3; a++)
-      for (int b = 0; b < 3; b++) {
-        double uu = d[a] * d[b] / l2;
-        H[3 * a + b] = k * uu + tr * ((a == b) - uu);
-      }
+    double g[3], H[9];
+    sphere_element(t, i, x, proj, g, H);
     cb_stencil_add_block(&s->st, i, 0, 0, H, 1.0, val);
   }
 }
@@ -138,6 +153,8 @@ const cb_term_type cb_term_sphere_type = {.name = "sphere",
                                           .bind = sphere_bind,
                                           .hessian = sphere_hessian,
                                           .free = sphere_free,
+                                          .stencil = sphere_stencil,
+                                          .element = sphere_element,
                                           .nexamples = 1,
                                           .example = sphere_example};
 

@@ -303,6 +303,37 @@ static void hinge_hessian_gn(const cb_term *t, const double *x, cb_projection pr
   }
 }
 
+/* Per-element access (vertex block descent): hinge e's energy, gradient
+ * c d grad theta and Hessian (Gauss-Newton, or exact projected by proj);
+ * zeros for a hinge degenerate in this state. */
+static const cb_stencil *hinge_stencil(const cb_term *t) { return &((const hinge_term *)t)->st; }
+
+static double hinge_element(const cb_term *t, int e, const double *x, cb_projection proj, double *g, double *H, int exact) {
+  const hinge_term *h = (const hinge_term *)t;
+  double p[12];
+  hinge_geo geo;
+  memset(g, 0, 12 * sizeof(double));
+  memset(H, 0, 144 * sizeof(double));
+  load(h, e, x, p);
+  if (!hinge_eval(p, h->e2_bar[e], &geo)) return 0.0;
+  double d = wrap_angle(geo.theta - h->theta_bar[e]);
+  for (int k = 0; k < 12; k++) g[k] = h->c[e] * d * geo.grad[k];
+  if (exact) {
+    hinge_exact_hessian(h, e, x, H);
+    if (proj != CB_PROJ_NONE) cb_projection_apply(proj, 12, H, h->work);
+  } else {
+    for (int i = 0; i < 12; i++)
+      for (int j = 0; j < 12; j++) H[12 * i + j] = h->c[e] * geo.grad[i] * geo.grad[j];
+  }
+  return 0.5 * h->c[e] * d * d;
+}
+static double hinge_element_gn(const cb_term *t, int e, const double *x, cb_projection proj, double *g, double *H) {
+  return hinge_element(t, e, x, proj, g, H, 0);
+}
+static double hinge_element_exact(const cb_term *t, int e, const double *x, cb_projection proj, double *g, double *H) {
+  return hinge_element(t, e, x, proj, g, H, 1);
+}
+
 static void hinge_free(cb_term *t) {
   hinge_term *h = (hinge_term *)t;
   free(h->vert);
@@ -406,6 +437,8 @@ const cb_term_type cb_term_dihedral_type = {.name = "dihedral",
                                             .bind = hinge_bind,
                                             .hessian = hinge_hessian_gn,
                                             .free = hinge_free,
+                                            .stencil = hinge_stencil,
+                                            .element = hinge_element_gn,
                                             .nexamples = 1,
                                             .example = hinge_example};
 const cb_term_type cb_term_dihedral_exact_type = {.name = "dihedral_exact",
@@ -414,5 +447,7 @@ const cb_term_type cb_term_dihedral_exact_type = {.name = "dihedral_exact",
                                                   .bind = hinge_bind,
                                                   .hessian = hinge_hessian_exact,
                                                   .free = hinge_free,
+                                                  .stencil = hinge_stencil,
+                                                  .element = hinge_element_exact,
                                                   .nexamples = 1,
                                                   .example = hinge_exact_example};

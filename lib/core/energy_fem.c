@@ -76,27 +76,32 @@ static void deformation(const fem_term *f, int e, const double *x, double F[6]) 
       F[2 * r + c] = x[3 * v[0] + r] * b[c] + x[3 * v[1] + r] * b[2 + c] + x[3 * v[2] + r] * b[4 + c];
 }
 
+/* Energy mu A |F - R|^2 of triangle e at x and its gradient g (9: P b_a per vertex). */
+static inline double fem_elem(const fem_term *f, int e, const double *x, double g[9]) {
+  double F[6], R[6], D[6];
+  deformation(f, e, x, F);
+  cb_polar32(F, R, NULL);
+  double s = 0;
+  for (int i = 0; i < 6; i++) {
+    D[i] = F[i] - R[i];
+    s += D[i] * D[i];
+  }
+  double c = f->mu * f->area[e];
+  if (g) {
+    const double *b = f->b + 6 * e;
+    for (int a = 0; a < 3; a++)
+      for (int r = 0; r < 3; r++) g[3 * a + r] = 2 * c * (D[2 * r] * b[2 * a] + D[2 * r + 1] * b[2 * a + 1]); /* P b_a */
+  }
+  return c * s; /* mu A |F - R|^2 */
+}
+
 static double fem_energy(const cb_term *t, const double *x, double *grad) {
   const fem_term *f = (const fem_term *)t;
   double E = 0;
   for (int e = 0; e < f->nt; e++) {
-    double F[6], R[6], D[6];
-    deformation(f, e, x, F);
-    cb_polar32(F, R, NULL);
-    double s = 0;
-    for (int i = 0; i < 6; i++) {
-      D[i] = F[i] - R[i];
-      s += D[i] * D[i];
-    }
-    double c = f->mu * f->area[e];
-    E += c * s; /* mu A |F - R|^2 */
-    if (grad) {
-      const double *b = f->b + 6 * e;
-      double g[9];
-      for (int a = 0; a < 3; a++)
-        for (int r = 0; r < 3; r++) g[3 * a + r] = 2 * c * (D[2 * r] * b[2 * a] + D[2 * r + 1] * b[2 * a + 1]); /* P b_a */
-      cb_stencil_add_gradient(&f->st, e, g, grad);
-    }
+    double g[9];
+    E += fem_elem(f, e, x, grad ? g : NULL);
+    if (grad) cb_stencil_add_gradient(&f->st, e, g, grad);
   }
   return E;
 }
@@ -211,6 +216,21 @@ static void fem_hessian_frozen(const cb_term *t, const double *x, cb_projection 
   }
 }
 
+static const cb_stencil *fem_stencil(const cb_term *t) { return &((const fem_term *)t)->st; }
+
+static double fem_element_exact(const cb_term *t, int e, const double *x, cb_projection proj, double *g, double *H) {
+  const fem_term *f = (const fem_term *)t;
+  if (exact_element(f, e, x, H) == 0 && proj != CB_PROJ_NONE) cb_projection_apply(proj, 9, H, f->pw);
+  return fem_elem(f, e, x, g);
+}
+
+static double fem_element_frozen(const cb_term *t, int e, const double *x, cb_projection proj, double *g, double *H) {
+  (void)proj; /* constant and PSD */
+  const fem_term *f = (const fem_term *)t;
+  frozen_element(f, e, H);
+  return fem_elem(f, e, x, g);
+}
+
 static void fem_free(cb_term *t) {
   fem_term *f = (fem_term *)t;
   free(f->tri);
@@ -230,6 +250,8 @@ const cb_term_type cb_term_fem_type = {.name = "fem",
                                        .bind = fem_bind,
                                        .hessian = fem_hessian_exact,
                                        .free = fem_free,
+                                       .stencil = fem_stencil,
+                                       .element = fem_element_exact,
                                        .nexamples = 1,
                                        .example = fem_example};
 const cb_term_type cb_term_fem_frozen_type = {.name = "fem_frozen",
@@ -239,6 +261,8 @@ const cb_term_type cb_term_fem_frozen_type = {.name = "fem_frozen",
                                               .bind = fem_bind,
                                               .hessian = fem_hessian_frozen,
                                               .free = fem_free,
+                                              .stencil = fem_stencil,
+                                              .element = fem_element_frozen,
                                               .nexamples = 1,
                                               .example = fem_frozen_example};
 

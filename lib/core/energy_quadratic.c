@@ -25,6 +25,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include <clothbench/energy.h>
 #include <clothbench/status.h>
@@ -102,6 +103,24 @@ static void quad_hessian(const cb_term *t, const double *x, cb_projection proj, 
   }
 }
 
+static const cb_stencil *quad_stencil(const cb_term *t) { return &((const quad_term *)t)->st; }
+
+/* E_e = w/2 |q^T x - q^T x_bar|^2, g_a = w q_a r, H_ab = w q_a q_b I_3. */
+static double quad_element(const cb_term *t, int e, const double *x, cb_projection proj, double *g, double *H) {
+  (void)proj; /* constant and PSD */
+  const quad_term *s = (const quad_term *)t;
+  const double *q = s->q + 4 * e;
+  double r[3];
+  qx(s, e, x, r);
+  memset(H, 0, 144 * sizeof(double));
+  for (int a = 0; a < 4; a++)
+    for (int c = 0; c < 3; c++) {
+      g[3 * a + c] = s->w[e] * q[a] * r[c];
+      for (int b = 0; b < 4; b++) H[(3 * a + c) * 12 + 3 * b + c] = s->w[e] * q[a] * q[b];
+    }
+  return 0.5 * s->w[e] * (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+}
+
 static void quad_free(cb_term *t) {
   quad_term *s = (quad_term *)t;
   free(s->vert);
@@ -166,5 +185,7 @@ const cb_term_type cb_term_quadratic_type = {.name = "quadratic",
                                              .bind = quad_bind,
                                              .hessian = quad_hessian,
                                              .free = quad_free,
+                                             .stencil = quad_stencil,
+                                             .element = quad_element,
                                              .nexamples = 1,
                                              .example = quad_example};

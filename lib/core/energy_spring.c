@@ -45,23 +45,31 @@ typedef struct {
   cb_stencil st;  /* 2-vertex elements (i, j) = ends, bound to the pattern */
 } spring_term;
 
+/* Energy of spring e at x and its gradient coefficient c: dE/dx_i = c x_ij,
+ * x_ij = d (3 numbers, filled). */
+static inline double spring_eval(const spring_term *s, int e, const double *x, double d[3], double *c) {
+  int i = s->ends[2 * e], j = s->ends[2 * e + 1];
+  d[0] = x[3 * i] - x[3 * j];
+  d[1] = x[3 * i + 1] - x[3 * j + 1];
+  d[2] = x[3 * i + 2] - x[3 * j + 2];
+  double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  double stretch = l - s->rest[e];
+  *c = s->k * stretch / l; /* dE/dx_i = k (l - L) x_ij / l */
+  if (s->ck && stretch < 0) {
+    double Eb, dEb, d2Eb;
+    cb_choi_ko_eval(&s->ck[e], l, &Eb, &dEb, &d2Eb);
+    *c = dEb / l; /* dE/dx_i = E'(l) x_ij / l */
+    return Eb;    /* E = E(l) */
+  }
+  return 0.5 * s->k * stretch * stretch; /* E = k/2 (l - L)^2 */
+}
+
 static double spring_energy(const cb_term *t, const double *x, double *grad) {
   const spring_term *s = (const spring_term *)t;
   double E = 0.0;
   for (int e = 0; e < s->ns; e++) {
-    int i = s->ends[2 * e], j = s->ends[2 * e + 1];
-    double d[3] = {x[3 * i] - x[3 * j], x[3 * i + 1] - x[3 * j + 1], x[3 * i + 2] - x[3 * j + 2]};
-    double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    double stretch = l - s->rest[e];
-    double c = s->k * stretch / l; /* dE/dx_i = k (l - L) x_ij / l */
-    if (s->ck && stretch < 0) {
-      double Eb, dEb, d2Eb;
-      cb_choi_ko_eval(&s->ck[e], l, &Eb, &dEb, &d2Eb);
-      E += Eb;       /* E = E(l) */
-      c = dEb / l;   /* dE/dx_i = E'(l) x_ij / l */
-    } else {
-      E += 0.5 * s->k * stretch * stretch; /* E = k/2 (l - L)^2 */
-    }
+    double d[3], c;
+    E += spring_eval(s, e, x, d, &c);
     if (grad) {
       double g[6]; /* (dE/dx_i, dE/dx_j) = (c x_ij, -c x_ij) */
       for (int a = 0; a < 3; a++) {
@@ -82,33 +90,56 @@ static int spring_bind(cb_term *t, const cb_sparse *A) {
   return cb_stencil_bind(&((spring_term *)t)->st, A, what);
 }
 
+/* H_e = k uu^T + tr (I - uu^T) of spring e at x, tr projected by proj. */
+static inline void spring_block(const spring_term *s, int e, const double *x, cb_projection proj, double H[9]) {
+  int i = s->ends[2 * e], j = s->ends[2 * e + 1];
+  double d[3] = {x[3 * i] - x[3 * j], x[3 * i + 1] - x[3 * j + 1], x[3 * i + 2] - x[3 * j + 2]};
+  double l2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], l = sqrt(l2);
+  double along = s->k, tr = s->k * (1.0 - s->rest[e] / l); /* k, k(1 - L/l) */
+  if (s->ck && l < s->rest[e]) {
+    double Eb, dEb, d2Eb;
+    cb_choi_ko_eval(&s->ck[e], l, &Eb, &dEb, &d2Eb);
+    along = d2Eb;   /* E''(l) */
+    tr = dEb / l;   /* E'(l) / l */
+  }
+  tr = cb_projection_eigenvalue(proj, tr); /* the element's only possibly negative eigenvalue (2 tr) */
+  for (int a = 0; a < 3; a++)
+    for (int b = 0; b < 3; b++) {
+      double uu = d[a] * d[b] / l2;                       /* (uu^T)_ab */
+      H[3 * a + b] = along * uu + tr * ((a == b) - uu);   /* H_e = k uu^T + tr (I - uu^T) */
+    }
+}
+
 static void spring_hessian(const cb_term *t, const double *x, cb_projection proj, double *val) {
   const spring_term *s = (const spring_term *)t;
   for (int e = 0; e < s->ns; e++) {
     if (!cb_stencil_active(&s->st, e)) continue; /* both ends pinned */
-    int i = s->ends[2 * e], j = s->ends[2 * e + 1];
-    double d[3] = {x[3 * i] - x[3 * j], x[3 * i + 1] - x[3 * j + 1], x[3 * i + 2] - x[3 * j + 2]};
-    double l2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], l = sqrt(l2);
-    double along = s->k, tr = s->k * (1.0 - s->rest[e] / l); /* k, k(1 - L/l) */
-    if (s->ck && l < s->rest[e]) {
-      double Eb, dEb, d2Eb;
-      cb_choi_ko_eval(&s->ck[e], l, &Eb, &dEb, &d2Eb);
-      along = d2Eb;   /* E''(l) */
-      tr = dEb / l;   /* E'(l) / l */
-    }
-    tr = cb_projection_eigenvalue(proj, tr); /* the element's only possibly negative eigenvalue (2 tr) */
     double H[9];
-    for (int a = 0; a < 3; a++)
-      for (int b = 0; b < 3; b++) {
-        double uu = d[a] * d[b] / l2;                       /* (uu^T)_ab */
-        H[3 * a + b] = along * uu + tr * ((a == b) - uu);   /* H_e = k uu^T + tr (I - uu^T) */
-      }
+    spring_block(s, e, x, proj, H);
     /* element matrix [H_e -H_e; -H_e H_e], block by block */
     cb_stencil_add_block(&s->st, e, 0, 0, H, 1.0, val);
     cb_stencil_add_block(&s->st, e, 0, 1, H, -1.0, val);
     cb_stencil_add_block(&s->st, e, 1, 0, H, -1.0, val);
     cb_stencil_add_block(&s->st, e, 1, 1, H, 1.0, val);
   }
+}
+
+static const cb_stencil *spring_stencil(const cb_term *t) { return &((const spring_term *)t)->st; }
+
+static double spring_element(const cb_term *t, int e, const double *x, cb_projection proj, double *g, double *H) {
+  const spring_term *s = (const spring_term *)t;
+  double d[3], c, B[9];
+  double E = spring_eval(s, e, x, d, &c);
+  spring_block(s, e, x, proj, B);
+  for (int a = 0; a < 3; a++) {
+    g[a] = c * d[a];
+    g[3 + a] = -(c * d[a]);
+    for (int b = 0; b < 3; b++) { /* [H_e -H_e; -H_e H_e] */
+      H[6 * a + b] = H[6 * (3 + a) + 3 + b] = B[3 * a + b];
+      H[6 * a + 3 + b] = H[6 * (3 + a) + b] = -B[3 * a + b];
+    }
+  }
+  return E;
 }
 
 static void spring_free(cb_term *t) {
@@ -128,6 +159,8 @@ const cb_term_type cb_term_spring_type = {.name = "spring",
                                           .bind = spring_bind,
                                           .hessian = spring_hessian,
                                           .free = spring_free,
+                                          .stencil = spring_stencil,
+                                          .element = spring_element,
                                           .nexamples = 3,
                                           .example = spring_example};
 const cb_term_type *const cb_term_spring = &cb_term_spring_type;
@@ -207,6 +240,16 @@ int cb_spring_term_count_compressed(const cb_term *t, const double *x, int *nspr
 
 int cb_spring_term_is_choi_ko(const cb_term *t) {
   return t && t->type == &cb_term_spring_type && ((const spring_term *)t)->ck;
+}
+
+int cb_spring_term_springs(const cb_term *t, int *ns, const int **ends, const double **rest, double *k) {
+  if (!t || t->type != &cb_term_spring_type) return cb_fail("term '%s' is not a spring term", t ? t->label : "(null)");
+  const spring_term *s = (const spring_term *)t;
+  *ns = s->ns;
+  *ends = s->ends;
+  *rest = s->rest;
+  *k = s->k;
+  return CB_OK;
 }
 
 /* Examples: 0 stretch springs on every edge, 1 bending springs across every

@@ -18,6 +18,11 @@ const cb_integrator_type *const cb_integrator_types[] = {
     &cb_integrator_chebyshev_nl,
     &cb_integrator_pd,
     &cb_integrator_pd_chebyshev,
+    &cb_integrator_pbd,
+    &cb_integrator_xpbd,
+    &cb_integrator_lbfgs,
+    &cb_integrator_vbd,
+    &cb_integrator_vbd_chebyshev,
     &cb_integrator_shape_matching,
     NULL,
 };

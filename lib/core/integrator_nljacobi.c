@@ -62,7 +62,7 @@ const char *const cb_nljacobi_diagonal_names[] = {"lab", "valence", "exact", NUL
  * (integrator_pd.c) and definiteness with Newton: same names, same definitions. */
 #define NJ(f) offsetof(cb_nljacobi_params, f)
 #define KEY_ITERS {"iters", CB_PARAM_INT, NJ(iters), "32", "iterations", 1, 100000000, 0, NULL, NULL, \
-  "Iterations per step of the fixed-iteration methods (jacobi-nl, chebyshev-nl, pd, pd-chebyshev); the GAMES103 lab uses 32, Liu et al. 2013 use 10 for projective dynamics."}
+  "Iterations per step of the fixed-iteration methods (jacobi-nl, chebyshev-nl, pd, pd-chebyshev; constraint sweeps per substep of pbd and xpbd; the most of lbfgs); the GAMES103 lab uses 32, Liu et al. 2013 use 10 for projective dynamics."}
 #define KEY_DIAG {"diagonal", CB_PARAM_CHOICE, NJ(diagonal), "lab", "-", 0, 0, 0, cb_nljacobi_diagonal_names, NULL, \
   "Diagonal D of the nonlinear Jacobi update x <- x - alpha D^-1 grad F(x): `lab` m_i/dt^2 + 4k (the lab's constant, k = material.stretch_k), `valence` m_i/dt^2 + k x (the vertex's spring count), `exact` the 3x3 diagonal blocks of M/dt^2 + H(x) with integrator.definiteness, recomputed every iteration."}
 #define KEY_ALPHA {"alpha", CB_PARAM_DOUBLE, NJ(alpha), "1", "-", 0, 2, 1, NULL, NULL, \

@@ -41,6 +41,8 @@
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
 
+#include "pd_matrix.h"
+
 static const cb_pd_params pd_defaults = {.iters = 32, .rho = 0.0, .rho_iters = 64};
 static const cb_pd_params pdc_defaults = {.iters = 32, .rho = 0.995, .rho_iters = 64};
 
@@ -86,22 +88,6 @@ static void pd_free(cb_integrator *it) {
   free(w->rest); free(w->c); free(w->b); free(w->y); free(w->gF); free(w->xprev); free(w->dnorm);
 }
 
-static int copy_pattern(const cb_sparse *A, cb_sparse *P) {
-  memset(P, 0, sizeof *P);
-  P->n = A->n; P->nnz = A->nnz; P->nblk = A->nblk;
-  P->colp = cb_malloc((size_t)A->n + 1, sizeof(int));
-  P->rowi = cb_malloc((size_t)A->nnz + 1, sizeof(int));
-  P->val = cb_calloc((size_t)A->nnz + 1, sizeof(double));
-  P->bcolp = cb_malloc((size_t)A->nblk + 1, sizeof(int));
-  P->brow = cb_malloc((size_t)A->bcolp[A->nblk] + 1, sizeof(int));
-  if (!P->colp || !P->rowi || !P->val || !P->bcolp || !P->brow) return CB_ENOMEM;
-  memcpy(P->colp, A->colp, ((size_t)A->n + 1) * sizeof(int));
-  memcpy(P->rowi, A->rowi, (size_t)A->nnz * sizeof(int));
-  memcpy(P->bcolp, A->bcolp, ((size_t)A->nblk + 1) * sizeof(int));
-  memcpy(P->brow, A->brow, (size_t)A->bcolp[A->nblk] * sizeof(int));
-  return CB_OK;
-}
-
 static int pd_init(cb_integrator *it) {
   const cb_pd_params *p = it->type_params;
   pd_work *w = it->state;
@@ -123,7 +109,7 @@ static int pd_init(cb_integrator *it) {
   }
   int nf = s->model.nfree, nv = s->mesh.nv;
   int st = cb_objective_init(&w->obj, s);
-  if (st == CB_OK) st = copy_pattern(&it->sys->A, &w->P);
+  if (st == CB_OK) st = cb_pd_matrix_build(s, it->params.dt, 0, &w->P); /* P = M/dt^2 + sum_e k A_e A_e^T (x) I_3 */
   if (st) return st;
   w->ns = s->topo.ne;
   w->ends = s->topo.edge;
@@ -142,24 +128,6 @@ static int pd_init(cb_integrator *it) {
     int i = w->ends[2 * e], j = w->ends[2 * e + 1];
     double d[3] = {X[3 * i] - X[3 * j], X[3 * i + 1] - X[3 * j + 1], X[3 * i + 2] - X[3 * j + 2]};
     w->rest[e] = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-  }
-  /* P = M/dt^2 + sum_e k A_e A_e^T (x) I_3 over the free DOFs */
-  static const double I3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-  double dt = it->params.dt;
-  const int *fi = s->free_index;
-  for (int b = 0; b < nf; b++) {
-    int slot, stride;
-    cb_sparse_block_slot(&w->P, b, b, &slot, &stride);
-    cb_sparse_add_block(w->P.val, slot, stride, I3, s->mass[s->free_vertex[b]] / (dt * dt));
-  }
-  for (int e = 0; e < w->ns; e++) {
-    int bi = fi[w->ends[2 * e]], bj = fi[w->ends[2 * e + 1]], slot, stride;
-    if (bi >= 0 && cb_sparse_block_slot(&w->P, bi, bi, &slot, &stride) >= 0) cb_sparse_add_block(w->P.val, slot, stride, I3, w->k);
-    if (bj >= 0 && cb_sparse_block_slot(&w->P, bj, bj, &slot, &stride) >= 0) cb_sparse_add_block(w->P.val, slot, stride, I3, w->k);
-    if (bi >= 0 && bj >= 0) {
-      if (cb_sparse_block_slot(&w->P, bi, bj, &slot, &stride) >= 0) cb_sparse_add_block(w->P.val, slot, stride, I3, -w->k);
-      if (cb_sparse_block_slot(&w->P, bj, bi, &slot, &stride) >= 0) cb_sparse_add_block(w->P.val, slot, stride, I3, -w->k);
-    }
   }
   if (nf == 0) return CB_OK;
   st = cb_solver_factor(it->solver, &w->P); /* once per scene */

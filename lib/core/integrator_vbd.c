@@ -1,0 +1,451 @@
+/* Vertex block descent (Chen, Liu, Yang and Yuksel 2024, "Vertex block
+ * descent", ACM TOG 43(4)), and its Chebyshev acceleration (their section 3.7,
+ * after Wang 2015).
+ *
+ * The implicit-Euler objective F(x) = 1/(2 dt^2)|x - y|_M^2 + E(x), y = xhat =
+ * x0 + dt v0 (objective.h), is minimised one vertex at a time: for each free
+ * vertex i, with every other vertex held,
+ *   f_i = -(m_i/dt^2)(x_i - y_i) - dE/dx_i                  (gravity's m_i g included)
+ *   H_i = (m_i/dt^2) I + d2E/dx_i^2                          (3x3)
+ *   x_i += H_i^-1 f_i                                        (one Newton step on x_i alone)
+ * where dE/dx_i and d2E/dx_i^2 sum, over every element of every energy term
+ * that touches i, that element's gradient at i and the (i, i) block of its
+ * Hessian, read through the term interface (cb_term_type.element; springs,
+ * bending, FEM and the penalty collider all provide it). H_i is used as is
+ * when its Cholesky factor exists; otherwise it is projected to SPD
+ * (eigenvalues clamped at 0) and, if it is then near singular (smallest
+ * eigenvalue below 1e-12 of the largest), the vertex is skipped this sweep.
+ *
+ * Line search (integrator.vbd_line_search, off by default as in the paper):
+ * backtracking on the vertex's own objective F_i(x_i) = m_i/(2 dt^2)|x_i - y_i|^2
+ * - m_i g.x_i + (the energies of the elements that touch i), with Armijo's
+ * condition F_i(x_i + a dx) <= F_i(x_i) - 1e-4 a f_i.dx, a = 1, 1/2, ...,
+ * at most 30 halvings (then the vertex is left where it is). Since F changes
+ * by exactly the change of F_i when only x_i moves, this makes every sweep
+ * non-increasing in F; without it a Newton step on x_i alone can overshoot
+ * (a contact's penalty switching on or off within the step).
+ *
+ * Order: Gauss-Seidel over a vertex colouring (vertices that share an
+ * element get different colours), computed once per scene, greedily in
+ * vertex order (each vertex takes the smallest colour none of its coloured
+ * neighbours has); the colours are swept in order 0, 1, ..., and within a
+ * colour in vertex order (independent updates, so the order inside a colour
+ * does not change the result). One iteration is one sweep over all colours;
+ * integrator.iters sweeps per step.
+ *
+ * Initial guess (integrator.vbd_init):
+ *   inertia   x = y = x0 + dt v0
+ *   previous  x = x0
+ *   adaptive  x = x0 + dt v0 + dt^2 a~, a~ = g^ clamp(a_prev . g^, 0, |g|),
+ *             a_prev = (v0 - v_prev)/dt the last step's acceleration, g^ =
+ *             g/|g| (the paper's adaptive initialisation; inertia without
+ *             gravity or on the first step, when a_prev is unknown).
+ *
+ * vbd-chebyshev: x_{k+1} = omega_k x^_{k+1} + (1 - omega_k) x_{k-1}, x^ the
+ * plain sweep's result from x_k, omega as in cb_chebyshev_omega; rho
+ * (integrator.rho) a number in [0, 1) or `auto`: Wang's estimate from
+ * integrator.rho_iters plain sweeps of the first step, once
+ * (cb_rho_from_updates). The paper starts the acceleration at iteration 2.
+ *
+ * Pinned vertices keep their prescribed positions. Step stats: newton_iters
+ * = sweeps, rel_grad = |grad F(x_K)|/|grad F(x_init)|, rel_grad_hat =
+ * |grad F(x_K)|/|grad F(xhat)|, assemble_ms the objective evaluations,
+ * solve_ms the sweeps. With a hook, CB_NEWTON_GRADIENT at every iterate
+ * (iter 0 = the initial guess), one gradient evaluation each. No allocation
+ * in a step. */
+#include <cblas.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <clothbench/integrator.h>
+#include <clothbench/objective.h>
+#include <clothbench/projection.h>
+#include <clothbench/status.h>
+#include <clothbench/timer.h>
+
+enum { INIT_INERTIA = 0, INIT_PREVIOUS = 1, INIT_ADAPTIVE = 2 };
+enum { MAXK = 4 }; /* vertices per element at most (a hinge) */
+
+const char *const cb_vbd_init_names[] = {"inertia", "previous", "adaptive", NULL};
+
+static const cb_vbd_params vbd_defaults = {.iters = 32, .init = INIT_ADAPTIVE, .line_search = 0, .rho = 0.0, .rho_iters = 64};
+static const cb_vbd_params vbdc_defaults = {.iters = 32, .init = INIT_ADAPTIVE, .line_search = 0, .rho = 0.995,
+                                            .rho_iters = 64};
+
+cb_vbd_params cb_vbd_params_default(void) { return vbdc_defaults; }
+
+/* iters, rho and rho_iters: the same definitions as integrator_nljacobi.c's */
+#define VP(f) offsetof(cb_vbd_params, f)
+#define KEY_ITERS {"iters", CB_PARAM_INT, VP(iters), "32", "iterations", 1, 100000000, 0, NULL, NULL, \
+  "Iterations per step of the fixed-iteration methods; vbd: sweeps over every vertex colour."}
+#define KEY_INIT {"vbd_init", CB_PARAM_CHOICE, VP(init), "adaptive", "-", 0, 0, 0, cb_vbd_init_names, NULL, \
+  "vbd, vbd-chebyshev: the initial guess (Chen et al. 2024): `inertia` x0 + dt v0, `previous` x0, `adaptive` x0 + dt v0 + dt^2 a~ with a~ the last step's acceleration along gravity, clamped to [0, |g|]."}
+#define KEY_LS {"vbd_line_search", CB_PARAM_BOOL, VP(line_search), "0", "-", 0, 0, 0, NULL, NULL, \
+  "vbd, vbd-chebyshev: backtracking (Armijo) on each vertex's own objective, so that no sweep raises F (0 or 1; the paper's update is 0)."}
+static const cb_param_key vbd_keys[] = {
+    KEY_ITERS, KEY_INIT, KEY_LS,
+    {NULL, CB_PARAM_INT, 0, NULL, NULL, 0, 0, 0, NULL, NULL, NULL},
+};
+static const cb_param_key vbdc_keys[] = {
+    KEY_ITERS, KEY_INIT, KEY_LS,
+    {"rho", CB_PARAM_DOUBLE_AUTO, VP(rho), "0.995", "-", 0, 0.999999, 0, NULL, NULL, "Chebyshev spectral radius, or `auto`."},
+    {"rho_iters", CB_PARAM_INT, VP(rho_iters), "64", "iterations", 4, 100000, 0, NULL, NULL,
+     "Unaccelerated iterations of the `auto` estimate."},
+    {NULL, CB_PARAM_INT, 0, NULL, NULL, 0, 0, 0, NULL, NULL, NULL},
+};
+#undef VP
+
+typedef struct {
+  int term, elem, local; /* an element of a term that touches the vertex, and the vertex's place in it */
+} incidence;
+
+typedef struct {
+  cb_objective obj;
+  int nterms;
+  const cb_term *terms[CB_MAX_TERMS]; /* the terms with elements */
+  const cb_stencil *st[CB_MAX_TERMS];
+  int *inc_ptr;          /* nv + 1 */
+  incidence *inc;        /* the elements of every vertex */
+  int ncolors;
+  int *color_ptr;        /* ncolors + 1 */
+  int *order;            /* free vertices by colour, then index */
+  double *gF;            /* 3 nfree */
+  double *xprev;         /* 3 nv: x_{k-1} (Chebyshev) */
+  double *vprev;         /* 3 nv: the previous step's v0 (adaptive init) */
+  int have_vprev;
+  double *dnorm;         /* rho_iters */
+  double grav[3];        /* m/s^2, zero without a gravity term */
+  double rho;            /* in use; CB_PARAM_AUTO until estimated */
+  cb_projection_work *pw;/* 3x3 projection */
+} vbd_work;
+
+static void vbd_free(cb_integrator *it) {
+  vbd_work *w = it->state;
+  cb_objective_free(&w->obj);
+  free(w->inc_ptr); free(w->inc); free(w->color_ptr); free(w->order);
+  free(w->gF); free(w->xprev); free(w->vprev); free(w->dnorm);
+  cb_projection_work_free(w->pw);
+}
+
+/* The vertex -> element incidence of every term with elements (free vertices only). */
+static int build_incidence(vbd_work *w, const cb_scene *s) {
+  int nv = s->mesh.nv;
+  w->inc_ptr = cb_calloc((size_t)nv + 1, sizeof(int));
+  if (!w->inc_ptr) return CB_ENOMEM;
+  for (int pass = 0; pass < 2; pass++) {
+    int *fill = pass ? cb_calloc((size_t)nv, sizeof(int)) : NULL;
+    if (pass && !fill) return CB_ENOMEM;
+    for (int t = 0; t < w->nterms; t++) {
+      const cb_stencil *st = w->st[t];
+      for (int e = 0; e < st->ne; e++)
+        for (int a = 0; a < st->k; a++) {
+          int v = st->vert[st->k * e + a];
+          if (s->free_index[v] < 0) continue;
+          if (!pass) w->inc_ptr[v + 1]++;
+          else w->inc[w->inc_ptr[v] + fill[v]++] = (incidence){t, e, a};
+        }
+    }
+    if (!pass) {
+      for (int v = 0; v < nv; v++) w->inc_ptr[v + 1] += w->inc_ptr[v];
+      w->inc = cb_malloc((size_t)w->inc_ptr[nv] + 1, sizeof(incidence));
+      if (!w->inc) return CB_ENOMEM;
+    }
+    free(fill);
+  }
+  return CB_OK;
+}
+
+/* Greedy colouring of the free vertices: neighbours share an element. */
+static int build_colouring(vbd_work *w, const cb_scene *s) {
+  int nv = s->mesh.nv, nf = s->model.nfree;
+  int *color = cb_malloc((size_t)nv + 1, sizeof(int));
+  int *mark = cb_malloc((size_t)nv + 1, sizeof(int)); /* mark[c] = v: colour c is taken by a neighbour of v */
+  w->order = cb_malloc((size_t)nf + 1, sizeof(int));
+  if (!color || !mark || !w->order) { free(color); free(mark); return CB_ENOMEM; }
+  for (int v = 0; v < nv; v++) { color[v] = -1; mark[v] = -1; }
+  w->ncolors = 0;
+  for (int v = 0; v < nv; v++) {
+    if (s->free_index[v] < 0) continue;
+    for (int q = w->inc_ptr[v]; q < w->inc_ptr[v + 1]; q++) {
+      const incidence *in = &w->inc[q];
+      const cb_stencil *st = w->st[in->term];
+      for (int a = 0; a < st->k; a++) {
+        int u = st->vert[st->k * in->elem + a];
+        if (u != v && color[u] >= 0) mark[color[u]] = v;
+      }
+    }
+    int c = 0;
+    while (mark[c] == v) c++;
+    color[v] = c;
+    if (c + 1 > w->ncolors) w->ncolors = c + 1;
+  }
+  w->color_ptr = cb_calloc((size_t)w->ncolors + 2, sizeof(int));
+  if (!w->color_ptr) { free(color); free(mark); return CB_ENOMEM; }
+  for (int v = 0; v < nv; v++)
+    if (color[v] >= 0) w->color_ptr[color[v] + 1]++;
+  for (int c = 0; c < w->ncolors; c++) w->color_ptr[c + 1] += w->color_ptr[c];
+  for (int c = 0; c < w->ncolors + 1; c++) mark[c] = w->color_ptr[c];
+  for (int v = 0; v < nv; v++)
+    if (color[v] >= 0) w->order[mark[color[v]]++] = v;
+  free(color);
+  free(mark);
+  return CB_OK;
+}
+
+static int vbd_init(cb_integrator *it) {
+  const cb_vbd_params *p = it->type_params;
+  vbd_work *w = it->state;
+  const cb_scene *s = it->scene;
+  const char *name = it->type->name;
+  if (p->iters < 1) return cb_fail("%s: iters must be >= 1, got %d", name, p->iters);
+  if (p->init < INIT_INERTIA || p->init > INIT_ADAPTIVE) return cb_fail("%s: unknown vbd_init %d", name, p->init);
+  if (!(p->rho == CB_PARAM_AUTO || (p->rho >= 0 && p->rho < 1))) return cb_fail("%s: rho must be in [0, 1) or auto, got %g", name, p->rho);
+  if (p->rho == CB_PARAM_AUTO && p->rho_iters < 4) return cb_fail("%s: rho_iters must be >= 4", name);
+  for (int t = 0; t < s->sys.nterms; t++) {
+    const cb_term *term = s->sys.terms[t];
+    if (term->type == cb_term_gravity) { /* its force m_i g is read from the scene */
+      memcpy(w->grav, s->gravity, sizeof w->grav);
+      continue;
+    }
+    if (!term->type->element || !term->type->stencil)
+      return cb_fail("%s: the energy term '%s' (%s) gives no per-element gradient and Hessian (cb_term_type.element), "
+                     "which vertex block descent needs",
+                     name, term->label, term->type->name);
+    const cb_stencil *st = term->type->stencil(term);
+    if (st->k > MAXK) return cb_fail("%s: term '%s' has %d-vertex elements (at most %d)", name, term->label, st->k, MAXK);
+    w->terms[w->nterms] = term;
+    w->st[w->nterms++] = st;
+  }
+  int nv = s->mesh.nv, nf = s->model.nfree;
+  int st = cb_objective_init(&w->obj, s);
+  if (st == CB_OK) st = build_incidence(w, s);
+  if (st == CB_OK) st = build_colouring(w, s);
+  if (st) return st;
+  w->gF = cb_malloc(3 * (size_t)nf + 1, sizeof(double));
+  w->xprev = cb_malloc(3 * (size_t)nv + 1, sizeof(double));
+  w->vprev = cb_malloc(3 * (size_t)nv + 1, sizeof(double));
+  if (!w->gF || !w->xprev || !w->vprev) return CB_ENOMEM;
+  if ((st = cb_projection_work_alloc(3, &w->pw))) return st;
+  if (p->rho == CB_PARAM_AUTO && !(w->dnorm = cb_malloc((size_t)p->rho_iters, sizeof(double)))) return CB_ENOMEM;
+  w->rho = p->rho;
+  return CB_OK;
+}
+
+int cb_vbd_colors(const cb_integrator *it) {
+  if (!it || (it->type != &cb_integrator_vbd && it->type != &cb_integrator_vbd_chebyshev)) return -1;
+  return ((const vbd_work *)it->state)->ncolors;
+}
+
+/* Solves H dx = f (3x3 SPD); returns 0, or -1 if H is not SPD. */
+static int chol3_solve(const double H[9], const double f[3], double dx[3]) {
+  double l00 = H[0];
+  if (!(l00 > 0)) return -1;
+  l00 = sqrt(l00);
+  double l10 = H[3] / l00, l20 = H[6] / l00;
+  double d1 = H[4] - l10 * l10;
+  if (!(d1 > 0)) return -1;
+  double l11 = sqrt(d1), l21 = (H[7] - l20 * l10) / l11;
+  double d2 = H[8] - l20 * l20 - l21 * l21;
+  if (!(d2 > 0)) return -1;
+  double l22 = sqrt(d2);
+  double y0 = f[0] / l00, y1 = (f[1] - l10 * y0) / l11, y2 = (f[2] - l20 * y0 - l21 * y1) / l22; /* L y = f */
+  dx[2] = y2 / l22;                                                                               /* L^T dx = y */
+  dx[1] = (y1 - l21 * dx[2]) / l11;
+  dx[0] = (y0 - l10 * dx[1] - l20 * dx[2]) / l00;
+  return 0;
+}
+
+/* F_i at x (only x_i is read as a variable): inertia, gravity, and the
+ * energies of the elements that touch i. */
+static double local_F(vbd_work *w, const cb_scene *s, double dt, const double *x, int i, double *g_e, double *H_e) {
+  double mi = s->mass[i] / (dt * dt), F = 0.0;
+  for (int a = 0; a < 3; a++) {
+    double d = x[3 * i + a] - w->obj.xhat[3 * i + a];
+    F += 0.5 * mi * d * d - s->mass[i] * w->grav[a] * x[3 * i + a];
+  }
+  for (int r = w->inc_ptr[i]; r < w->inc_ptr[i + 1]; r++) {
+    const incidence *in = &w->inc[r];
+    F += w->terms[in->term]->type->element(w->terms[in->term], in->elem, x, CB_PROJ_NONE, g_e, H_e);
+  }
+  return F;
+}
+
+/* One Gauss-Seidel sweep over the colours; returns |x_new - x_old|. */
+static double sweep(vbd_work *w, const cb_scene *s, double dt, int line_search, double *x) {
+  double g_e[3 * MAXK], H_e[9 * MAXK * MAXK], d2 = 0.0;
+  const double *y = w->obj.xhat;
+  for (int q = 0; q < s->model.nfree; q++) {
+    int i = w->order[q];
+    double mi = s->mass[i] / (dt * dt), f[3], H[9] = {mi, 0, 0, 0, mi, 0, 0, 0, mi};
+    for (int a = 0; a < 3; a++) f[a] = -mi * (x[3 * i + a] - y[3 * i + a]) + s->mass[i] * w->grav[a]; /* - M(x - y)/dt^2 + m g */
+    for (int r = w->inc_ptr[i]; r < w->inc_ptr[i + 1]; r++) {
+      const incidence *in = &w->inc[r];
+      const cb_term *term = w->terms[in->term];
+      int k3 = 3 * w->st[in->term]->k, a = in->local;
+      term->type->element(term, in->elem, x, CB_PROJ_NONE, g_e, H_e);
+      for (int c = 0; c < 3; c++) {
+        f[c] -= g_e[3 * a + c];                                                    /* f_i -= dE_e/dx_i */
+        for (int d = 0; d < 3; d++) H[3 * c + d] += H_e[(3 * a + c) * k3 + 3 * a + d]; /* H_i += (H_e)_ii */
+      }
+    }
+    double dx[3];
+    if (chol3_solve(H, f, dx)) { /* not SPD: project (eigenvalues clamped at 0), skip if near singular */
+      cb_projection_apply(CB_PROJ_CLAMP, 3, H, w->pw);
+      double tr = H[0] + H[4] + H[8];
+      double Hs[9];
+      memcpy(Hs, H, sizeof Hs);
+      for (int c = 0; c < 3; c++) Hs[4 * c] -= 1e-12 * tr; /* SPD iff the smallest eigenvalue > 1e-12 tr */
+      if (!(tr > 0) || chol3_solve(Hs, f, dx)) continue;
+      chol3_solve(H, f, dx);
+    }
+    double alpha = 1.0;
+    if (line_search) { /* Armijo on F_i: F_i(x_i + a dx) <= F_i(x_i) - 1e-4 a f.dx */
+      double F0 = local_F(w, s, dt, x, i, g_e, H_e), slope = -(f[0] * dx[0] + f[1] * dx[1] + f[2] * dx[2]);
+      double xi[3] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
+      int ok = 0;
+      for (int h = 0; h <= 30 && !ok; h++, alpha *= 0.5) {
+        for (int c = 0; c < 3; c++) x[3 * i + c] = xi[c] + alpha * dx[c];
+        ok = local_F(w, s, dt, x, i, g_e, H_e) <= F0 + 1e-4 * alpha * slope;
+        if (ok) break;
+      }
+      for (int c = 0; c < 3; c++) x[3 * i + c] = xi[c];
+      if (!ok) continue;
+    }
+    for (int c = 0; c < 3; c++) {
+      x[3 * i + c] += alpha * dx[c];
+      d2 += alpha * alpha * dx[c] * dx[c];
+    }
+  }
+  return sqrt(d2);
+}
+
+/* K sweeps (Chebyshev-accelerated when rho > 0) from the x given; dnorm gets the update norms. */
+static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnorm, cb_step_stats *st, int report,
+                   double g_hat) {
+  vbd_work *w = it->state;
+  const cb_scene *s = it->scene;
+  cb_newton_hook hook = report ? it->params.hook : NULL;
+  int nf3 = 3 * s->model.nfree, nv3 = 3 * s->mesh.nv;
+  double dt = it->params.dt, omega = 1.0, g0 = 0.0;
+  memcpy(w->xprev, x, (size_t)nv3 * sizeof(double));
+  cb_newton_event ev;
+  memset(&ev, 0, sizeof ev);
+  ev.alpha = 1.0;
+  for (int k = 0;; k++) {
+    if (report && (k == 0 || k == K || hook)) {
+      double t0 = cb_now_ms();
+      double F = cb_objective_eval(&w->obj, x, w->gF, NULL);
+      double gn = cblas_dnrm2(nf3, w->gF, 1);
+      st->assemble_ms += cb_now_ms() - t0;
+      if (k == 0) g0 = gn;
+      st->F = F;
+      st->grad_norm = gn;
+      st->rel_grad = g0 > 0 ? gn / g0 : 0.0;
+      st->rel_grad_hat = g_hat > 0 ? gn / g_hat : 0.0;
+      st->newton_iters = k;
+      if (!isfinite(F) || !isfinite(gn)) return CB_DIVERGED;
+      if (hook) {
+        ev.iter = k; ev.F = F; ev.grad_norm = gn; ev.rel_grad = st->rel_grad; ev.x = x;
+        hook(it->params.hook_ctx, CB_NEWTON_GRADIENT, &ev);
+      }
+    }
+    if (k == K || nf3 == 0) break;
+    double t0 = cb_now_ms();
+    double d;
+    if (rho > 0) { /* x_{k+1} = omega x^_{k+1} + (1 - omega) x_{k-1}: the sweep first, then the blend */
+      omega = cb_chebyshev_omega(k, rho, omega);
+      double *tmp = w->gF; /* scratch: x_k's free DOFs, before the sweep */
+      for (int b = 0; b < s->model.nfree; b++)
+        for (int a = 0; a < 3; a++) tmp[3 * b + a] = x[3 * s->free_vertex[b] + a];
+      sweep(w, s, dt, ((const cb_vbd_params *)it->type_params)->line_search, x);
+      double d2 = 0.0;
+      for (int b = 0; b < s->model.nfree; b++) {
+        int i = s->free_vertex[b];
+        for (int a = 0; a < 3; a++) {
+          double xk = tmp[3 * b + a], xn = omega * x[3 * i + a] + (1.0 - omega) * w->xprev[3 * i + a];
+          d2 += (xn - xk) * (xn - xk);
+          w->xprev[3 * i + a] = xk;
+          x[3 * i + a] = xn;
+        }
+      }
+      d = sqrt(d2);
+    } else {
+      d = sweep(w, s, dt, ((const cb_vbd_params *)it->type_params)->line_search, x);
+    }
+    st->solve_ms += cb_now_ms() - t0;
+    if (!isfinite(d)) return CB_DIVERGED;
+    if (dnorm) dnorm[k] = d;
+  }
+  return CB_OK;
+}
+
+/* The initial guess (vbd_init) into x, from the step's (x0, v0). */
+static void initial_guess(vbd_work *w, const cb_scene *s, const cb_vbd_params *p, double dt, const double *v, double *x) {
+  cb_objective_guess(&w->obj, x, p->init != INIT_PREVIOUS); /* xhat, or x0 (pins at xhat either way) */
+  double gl = sqrt(s->gravity[0] * s->gravity[0] + s->gravity[1] * s->gravity[1] + s->gravity[2] * s->gravity[2]);
+  if (p->init != INIT_ADAPTIVE || !w->have_vprev || !(gl > 0)) return;
+  for (int b = 0; b < s->model.nfree; b++) {
+    int i = s->free_vertex[b];
+    double ag = 0.0; /* a_prev . g^ */
+    for (int a = 0; a < 3; a++) ag += (v[3 * i + a] - w->vprev[3 * i + a]) / dt * s->gravity[a] / gl;
+    ag = ag < 0 ? 0 : ag > gl ? gl : ag; /* clamp to [0, |g|] */
+    for (int a = 0; a < 3; a++) x[3 * i + a] += dt * dt * ag * s->gravity[a] / gl;
+  }
+}
+
+static int vbd_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
+  vbd_work *w = it->state;
+  const cb_vbd_params *p = it->type_params;
+  const cb_scene *s = it->scene;
+  int nf3 = 3 * s->model.nfree, nv3 = 3 * s->mesh.nv;
+  double dt = it->params.dt;
+  cb_objective_begin(&w->obj, x, v, dt);
+  /* |grad F(xhat)|, the yardstick shared with the other minimisers */
+  double t0 = cb_now_ms();
+  cb_objective_guess(&w->obj, w->xprev, 1);
+  cb_objective_eval(&w->obj, w->xprev, w->gF, NULL);
+  double g_hat = cblas_dnrm2(nf3, w->gF, 1);
+  st->assemble_ms += cb_now_ms() - t0;
+  if (w->rho == CB_PARAM_AUTO) { /* Wang's estimate, once, from the first step's plain sweeps */
+    t0 = cb_now_ms();
+    cb_step_stats scratch;
+    memset(&scratch, 0, sizeof scratch);
+    initial_guess(w, s, p, dt, v, x);
+    int r = iterate(it, x, p->rho_iters, 0.0, w->dnorm, &scratch, 0, g_hat);
+    w->rho = r == CB_OK ? cb_rho_from_updates(w->dnorm, p->rho_iters) : 0.0;
+    st->factor_ms += cb_now_ms() - t0;
+  }
+  st->rho = w->rho;
+  initial_guess(w, s, p, dt, v, x);
+  int status = iterate(it, x, p->iters, w->rho, NULL, st, 1, g_hat);
+  memcpy(w->vprev, v, (size_t)nv3 * sizeof(double));
+  w->have_vprev = 1;
+  cb_objective_velocity(&w->obj, x, v);
+  return status;
+}
+
+const cb_integrator_type cb_integrator_vbd = {
+    .name = "vbd",
+    .flags = 0,
+    .size = sizeof(vbd_work),
+    .params_size = sizeof(cb_vbd_params),
+    .params_default = &vbd_defaults,
+    .keys = vbd_keys,
+    .init = vbd_init,
+    .step = vbd_step,
+    .free = vbd_free,
+};
+
+const cb_integrator_type cb_integrator_vbd_chebyshev = {
+    .name = "vbd-chebyshev",
+    .flags = 0,
+    .size = sizeof(vbd_work),
+    .params_size = sizeof(cb_vbd_params),
+    .params_default = &vbdc_defaults,
+    .keys = vbdc_keys,
+    .init = vbd_init,
+    .step = vbd_step,
+    .free = vbd_free,
+};
