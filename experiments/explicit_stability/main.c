@@ -28,7 +28,9 @@
  * data: [0] = full run, [1] = --quick. Newton cells (I1) run the explicit
  * cells' steps (the same simulated time) at the dt of the sweep with
  * j % nt_dt_stride == (ndt - 1) % nt_dt_stride and dt >= nt_dt_min, at every
- * nt_k_stride-th k (0 = none). */
+ * nt_k_stride-th k counted from the stiffest (0 = none). A cloth cell at
+ * dt >= 0.01 runs 200 steps of converged Newton (~1-3 s on 21^2, ~10 s on
+ * 41^2), so the cloths get few: 21^2 at 3 dt x 3 k, 41^2 at dt = 0.1, k = 1e7. */
 typedef struct {
   cb_scene_decl scene;
   const char *family;                   /* E2 family of its timing rows */
@@ -45,8 +47,8 @@ typedef struct {
 static const scene_plan scenes[] = {
   {{"spring", "single_spring.ini", {NULL}, "map"}, "stretch", {1, 1}, {1, 1}, {1, 1}, {0, 0}, {0, 0}, {0, 0}},
   {{"chain20", "chain20.ini", {NULL}, "map"}, "stretch", {1, 1}, {1, 1}, {1, 1}, {0, 0}, {0, 0}, {0, 0}},
-  {{"cloth21", "hanging.ini", {CLOTH(21, 441), NULL}, "map"}, "stretch", {1, 1}, {3, 2}, {3, 3}, {9e-3, 2e-2}, {2, 3}, {0, 0}},
-  {{"cloth41", "hanging.ini", {CLOTH(41, 1681), NULL}, "map"}, "stretch", {1, 3}, {1, 1}, {12, 0}, {0.09, 1}, {4, 0}, {0, 0}},
+  {{"cloth21", "hanging.ini", {CLOTH(21, 441), NULL}, "map"}, "stretch", {1, 1}, {3, 1}, {6, 3}, {9e-3, 0.09}, {2, 3}, {0, 0}},
+  {{"cloth41", "hanging.ini", {CLOTH(41, 1681), NULL}, "map"}, "stretch", {1, 3}, {1, 1}, {13, 0}, {0.09, 1}, {4, 0}, {0, 0}},
   {{"cloth81", "hanging.ini", {CLOTH(81, 6561), NULL}, "resolution"}, "stretch", {1, 1}, {1, 1}, {0, 0}, {0, 0}, {0, 0}, {2, 1}},
   {{"bend11", "hanging.ini", {BENT(11, 121), NULL}, "resolution"}, "bending", {1, 1}, {1, 1}, {0, 0}, {0, 0}, {0, 0}, {1, 1}},
   {{"bend21", "hanging.ini", {BENT(21, 441), NULL}, "resolution"}, "bending", {1, 1}, {1, 1}, {0, 0}, {0, 0}, {0, 0}, {1, 1}},
@@ -135,39 +137,55 @@ static void keep(void *ctx, const cb_cell_result *r) {
 enum { E2_CONVERGED_MAX_ITERS = 400 };
 /* Step error of an implicit method (E2's accuracy condition): over its first
  * steps from the start state, each step's result against the converged
- * minimiser x* of the same step (lib/instruments/reference.h, solved from the
- * method's own state); the largest |x - x*|_M / |x* - x0|_M. Baraff-Witkin is
- * checked over its first 10 steps (1/3 s), converged Newton (its error is its
- * tolerance's) over 3. */
+ * minimiser x* of the same step, solved from the method's own state; the
+ * largest |x - x*|_M / |x* - x0|_M. Baraff-Witkin is checked over its first 10
+ * steps (1/3 s; 3 above 21^2) against converged Newton's step (relative
+ * |grad F| 1e-8, far below the 1% that decides); converged Newton over its
+ * first 3 steps (1 above 21^2) against the independent reference solve
+ * (lib/instruments/reference.h, 1e-12; F is not convex, so a different local
+ * minimiser shows as an error). */
 enum { E2_ERR_STEPS_BW = 10, E2_ERR_STEPS_CONVERGED = 3 };
 
-static int step_error(cb_integrator *it, cb_reference *ref, const cb_stability_case *c, double dt, int steps,
-                      double *err, int *done) {
+/* x* of the step from (x, v): ref_it's step on copies (xs, vs) if ref_it, else the reference solve */
+static int minimiser(cb_integrator *ref_it, cb_reference *ref, const double *x, const double *v, double *xs, double *vs,
+                     size_t n3) {
+  if (!ref_it) {
+    cb_reference_stats rs;
+    return cb_reference_step(ref, x, v, xs, &rs);
+  }
+  cb_step_stats ss;
+  memcpy(xs, x, n3 * sizeof *xs);
+  memcpy(vs, v, n3 * sizeof *vs);
+  return cb_integrator_step(ref_it, xs, vs, &ss);
+}
+
+static int step_error(cb_integrator *it, cb_integrator *ref_it, cb_reference *ref, const cb_stability_case *c, double dt,
+                      int steps, double *err, int *done) {
   const cb_scene *s = c->scene;
   size_t n3 = (size_t)3 * s->mesh.nv;
   double *x = malloc(n3 * sizeof *x), *v = malloc(n3 * sizeof *v), *x0 = malloc(n3 * sizeof *x0),
-         *xs = malloc(n3 * sizeof *xs);
-  int st = x && v && x0 && xs ? CB_OK : cb_fail("explicit_stability: out of memory (step error)");
+         *xs = malloc(n3 * sizeof *xs), *vs = malloc(n3 * sizeof *vs);
+  int st = x && v && x0 && xs && vs ? CB_OK : cb_fail("explicit_stability: out of memory (step error)");
   *err = 0;
   *done = 0;
   if (st == CB_OK) {
     memcpy(x, c->x_start, n3 * sizeof *x);
     memcpy(v, c->v_start, n3 * sizeof *v);
     it->params.dt = dt;
+    if (ref_it) ref_it->params.dt = dt;
   }
   for (int k = 0; st == CB_OK && k < steps; k++) {
-    cb_reference_stats rs;
     cb_step_stats ss;
     memcpy(x0, x, n3 * sizeof *x);
-    int r = cb_reference_step(ref, x, v, xs, &rs);
-    if (r != CB_OK && r != CB_NOT_CONVERGED) break; /* no reference: the steps checked so far stand */
+    int r = minimiser(ref_it, ref, x, v, xs, vs, n3);
+    if (r != CB_OK && r != CB_NOT_CONVERGED) break; /* no x*: the steps checked so far stand */
     r = cb_integrator_step(it, x, v, &ss);
     if (r != CB_OK && r != CB_NOT_CONVERGED) { *err = INFINITY; ++*done; break; } /* a failed step is no accurate step */
     double e = cb_step_error(s, x, xs, x0);
     *err = isfinite(e) ? fmax(*err, e) : INFINITY;
     ++*done;
   }
-  free(x); free(v); free(x0); free(xs);
+  free(x); free(v); free(x0); free(xs); free(vs);
   return st;
 }
 
@@ -183,12 +201,14 @@ static int step_error(cb_integrator *it, cb_reference *ref, const cb_stability_c
  * 4 newton_bw, Baraff-Witkin (one Newton iteration, the lecture's drop, no line
  * search); 8 newton_bw_shift, Baraff-Witkin on the exact Hessian (shift).
  * Explicit runs at its measured largest stable dt (dt_crit_meas_s), the
- * implicit methods at 1/30 s. Converged Newton on grids above 21^2 runs 10
- * steps (1/3 s); wall_ms_per_s scales every row to 1 s. After the timed
+ * implicit methods at 1/30 s. Converged Newton on grids above 21^2 runs 3
+ * steps (0.1 s: 16 iterations a step on 81^2); wall_ms_per_s scales every row
+ * to 1 s. After the timed
  * rounds, an untimed pass measures each implicit method's step error. */
 enum { E2_METHODS = 4 };
 static int timing(const cb_experiment *e, const plan *pl, const char *family, cb_stability_case *c, double meas,
-                  int methods) {
+                  int timed) {
+  int methods = timed;
   cb_stability_params p = cb_stability_params_default();
   p.min_steps = 1; p.max_steps = 0; p.energy_every = 0;
   const cb_newton_params *cn = c->newton->type_params; /* the case's Newton, from its config */
@@ -205,20 +225,21 @@ static int timing(const cb_experiment *e, const plan *pl, const char *family, cb
   cb_reference_params rp = cb_reference_params_default();
   rp.dt = 1.0 / 30.0;
   int st = CB_OK;
+  methods |= (methods & 12) ? 2 : 0; /* converged Newton is Baraff-Witkin's x*: built even where not timed */
   for (int m = 1; st == CB_OK && m < E2_METHODS; m++)
     if (methods & (1 << m))
       st = cb_integrator_alloc("newton", c->scene, &c->newton->params, &np[m], c->newton->solver->type->name,
                                &c->newton->solver->params, &it[m]);
-  if (st == CB_OK && (methods & ~1)) st = cb_reference_alloc(c->scene, &rp, &ref);
+  if (st == CB_OK && (timed & 2)) st = cb_reference_alloc(c->scene, &rp, &ref);
   static const char *const name[E2_METHODS] = {"explicit", "newton", "newton_bw", "newton_bw_shift"};
   cb_cell_result first[E2_METHODS];
   cb_timing wall[E2_METHODS] = {{0}};
   double spent = 0;
   for (int round = 0; st == CB_OK && cb_timing_more(e->quick, round, spent); round++)
     for (int m = 0; st == CB_OK && m < E2_METHODS; m++) {
-      if (!(methods & (1 << m))) continue;
+      if (!(timed & (1 << m))) continue;
       double dt = m == 0 ? meas : 1.0 / 30.0; /* explicit at its measured largest stable dt; implicit at 1/30 s */
-      p.sim_time = m == 1 && cur_nv > 441 ? pl->e2_time / 3 : pl->e2_time;
+      p.sim_time = m == 1 && cur_nv > 441 ? pl->e2_time / 10 : pl->e2_time; /* 3 steps above 21^2 */
       cb_cell_result r;
       if ((st = cb_stability_cell(it[m], dt, c->x_start, c->v_start, c->S, &p, &c->work, &r))) break;
       if (cb_timing_warm(r.wall_ms) && /* a short run: that was its warm-up, time the next */
@@ -231,14 +252,15 @@ static int timing(const cb_experiment *e, const plan *pl, const char *family, cb
   double err[E2_METHODS] = {NAN, NAN, NAN, NAN};
   int err_steps[E2_METHODS] = {0, 0, 0, 0};
   for (int m = 1; st == CB_OK && m < E2_METHODS; m++)
-    if (methods & (1 << m)) {
+    if (timed & (1 << m)) {
       int want = m == 1 ? E2_ERR_STEPS_CONVERGED : E2_ERR_STEPS_BW;
+      if (cur_nv > 441) want = m == 1 ? 1 : E2_ERR_STEPS_CONVERGED; /* above 21^2: 1 and 3 steps (cost) */
       if (want > first[m].steps) want = (int)first[m].steps;
-      st = step_error(it[m], ref, c, 1.0 / 30.0, want, &err[m], &err_steps[m]);
+      st = step_error(it[m], m == 1 ? NULL : it[1], ref, c, 1.0 / 30.0, want, &err[m], &err_steps[m]);
       if (err_steps[m] == 0) err[m] = NAN; /* the reference failed at once: not measured */
     }
   for (int m = 0; st == CB_OK && m < E2_METHODS; m++) {
-    if (!(methods & (1 << m))) continue;
+    if (!(timed & (1 << m))) continue;
     const cb_cell_result *b = &first[m];
     double dt = m == 0 ? meas : 1.0 / 30.0;
     cb_csv_printf(ftime, "%s,%s,%d,%.17g,%s,%.17g,%ld,%.17g,%.6f,", cur_scene, family, cur_nv, cur_k, name[m], dt, b->steps,
@@ -257,6 +279,14 @@ static int timing(const cb_experiment *e, const plan *pl, const char *family, cb
   cb_reference_free(ref);
   for (int m = 1; m < E2_METHODS; m++) cb_integrator_free(it[m]);
   return st;
+}
+
+/* Whether the map runs a Newton cell at (k[ik], dt[j]) (see scenes[]); --smoke: the largest dt only. */
+static int newton_cell(const plan *p, const scene_plan *d, int ik, int j) {
+  int q = p->quick, sd = d->nt_dt_stride[q], sk = d->nt_k_stride[q];
+  if (sk <= 0) return 0;
+  if (p->smoke) return j == p->ndt - 1;
+  return j % sd == (p->ndt - 1) % sd && ik % sk == (p->nk - 1) % sk && p->dt[j] >= d->nt_dt_min[q] * 0.999;
 }
 
 /* One (scene, k): explicit sweep, bisection, Newton cells, boundary row, E2. */
@@ -290,10 +320,8 @@ static int run_case(const cb_experiment *e, const plan *p, const scene_plan *d, 
     st = cb_stability_boundary_from_guess(c.expl, c.x_start, c.v_start, c.S, &p->ex, &c.work, c.pred.dt_crit, 1.05,
                                           p->bisect_iters - 2, keep, &bis, &b);
   const cb_stability_params pn = p->nt;
-  int sd = d->nt_dt_stride[q], sk = d->nt_k_stride[q];
-  for (int j = 0; grid && sk > 0 && st == CB_OK && j < p->ndt; j++)
-    if ((p->smoke || (j % sd == (p->ndt - 1) % sd && ik % sk == 0 && p->dt[j] >= d->nt_dt_min[q] * 0.999)) &&
-        (!p->smoke || j == p->ndt - 1)) /* --smoke: the largest dt only */
+  for (int j = 0; grid && st == CB_OK && j < p->ndt; j++)
+    if (newton_cell(p, d, ik, j))
       st = cb_stability_cell(c.newton, p->dt[j], c.x_start, c.v_start, c.S, &pn, &c.work, &newton.r[newton.n++]);
   double meas = st == CB_OK ? b.dt_stable : NAN;
   for (int i = 0; st == CB_OK && i < sweep.n; i++) cell_row("sweep", "map", "explicit", &sweep.r[i], c.pred.dt_crit, meas, c.kinetic0, 0, "");
@@ -315,15 +343,10 @@ static int run_case(const cb_experiment *e, const plan *p, const scene_plan *d, 
                   lo > 0 ? lo : cb_csv_na(), hi > 0 ? hi : cb_csv_na(), mono >= 0 ? mono : cb_csv_na(),
                   cb_csv_na_if_nan(b.dt_stable), cb_csv_na_if_nan(b.dt_unstable), b.runs, cb_status_name(b.status), c.eq.ms,
                   c.pred.ms + c.pred_rest.ms);
-  /* E2 methods: 1 explicit, 2 converged Newton, 4 and 8 Baraff-Witkin (drop, shift).
-   * Converged Newton is the costly one: on 21^2 and smaller at every timed k; on 41^2
-   * and 81^2 only at k_res[0], and not with --quick (the bending family's 41^2 has it
-   * with --quick too). */
+  /* E2, every method: 1 explicit, 2 converged Newton, 4 and 8 Baraff-Witkin (drop, shift) */
   int timed = p->smoke || !grid || (d->e2_k_stride[q] > 0 && ik % d->e2_k_stride[q] == 0) ||
-              (n > 0 && (k == p->k_res[0] || (!q && k == p->k_res[1]))), methods = 0;
-  int bending = !strcmp(d->family, "bending");
-  if (timed) methods = n <= 21 || ((!q || bending) && k == p->k_res[0]) ? 15 : 13;
-  if (st == CB_OK && methods && b.status == CB_OK) st = timing(e, p, d->family, &c, meas, methods);
+              (n > 0 && (k == p->k_res[0] || (!q && k == p->k_res[1])));
+  if (st == CB_OK && timed && b.status == CB_OK) st = timing(e, p, d->family, &c, meas, 15);
   cb_stability_case_free(&c);
   return st;
 }
@@ -472,7 +495,9 @@ int main(int argc, char **argv) {
         "not_converged_steps,step_error_max,step_error_steps") != T_TIMING)
     return cb_experiment_end(&e, CB_EIO), 2;
   /* cost hints: vertices + 5 (a quick run takes 2.5-4 ms per unit for a map cell
-   * or a resolution cell, 1.5 for an extreme case) */
+   * or a resolution cell, 1.5 for an extreme case), plus ~1.5 x vertices per cloth
+   * Newton cell (200 converged steps) and, for the bending family, whose explicit
+   * steps grow like n, a factor 1 + n/400 */
   static cells cl;
   cl.e = &e;
   cl.p = &p;
@@ -484,10 +509,16 @@ int main(int argc, char **argv) {
     /* --smoke: one cell per sweep: cloth21 at k = 1e4 (every table of a map cell), the smallest
      * bending cloth, and the first extreme case */
     if (p.smoke && strcmp(d->scene.label, "cloth21") && strcmp(d->scene.label, "bend11")) continue;
+    double nv = w - 5;
     if (cb_scene_decl_is(&d->scene, "map"))
-      for (int i = 0; i < p.nk; i += d->k_stride[p.quick]) cl.map[cl.nmap++] = (case_cell){s, i, w};
+      for (int i = 0; i < p.nk; i += d->k_stride[p.quick]) {
+        int nn = 0;
+        for (int j = 0; j < p.ndt; j++) nn += newton_cell(&p, d, i, j);
+        cl.map[cl.nmap++] = (case_cell){s, i, w + (nv > 100 ? 1.5 * nv * nn : 0)};
+      }
     if (cb_scene_decl_is(&d->scene, "resolution"))
-      for (int r = 0; r < d->nres[p.quick]; r++) cl.res[cl.nres++] = (case_cell){s, r, w};
+      for (int r = 0; r < d->nres[p.quick]; r++)
+        cl.res[cl.nres++] = (case_cell){s, r, w * (!strcmp(d->family, "bending") ? 1 + nv / 400 : 1)};
   }
   if (st) return cb_experiment_end(&e, st), 1;
   const cb_sweep sweeps[] = {{"map", cl.nmap, map_cell, map_cost, &cl},
