@@ -29,8 +29,9 @@
  * cells' steps (the same simulated time) at the dt of the sweep with
  * j % nt_dt_stride == (ndt - 1) % nt_dt_stride and dt >= nt_dt_min, at every
  * nt_k_stride-th k counted from the stiffest (0 = none). A cloth cell at
- * dt >= 0.01 runs 200 steps of converged Newton (~1-3 s on 21^2, ~10 s on
- * 41^2), so the cloths get few: 21^2 at 3 dt x 3 k, 41^2 at dt = 0.1, k = 1e7. */
+ * dt >= 0.01 runs 200 steps of converged Newton (0.5-8 s on 21^2, up to 50
+ * iterations a step at k = 1e7; ~4.5x that on 41^2), so the cloths get few:
+ * 21^2 at 3 dt x 3 k (1 dt with --quick), 41^2 none. */
 typedef struct {
   cb_scene_decl scene;
   const char *family;                   /* E2 family of its timing rows */
@@ -48,7 +49,7 @@ static const scene_plan scenes[] = {
   {{"spring", "single_spring.ini", {NULL}, "map"}, "stretch", {1, 1}, {1, 1}, {1, 1}, {0, 0}, {0, 0}, {0, 0}},
   {{"chain20", "chain20.ini", {NULL}, "map"}, "stretch", {1, 1}, {1, 1}, {1, 1}, {0, 0}, {0, 0}, {0, 0}},
   {{"cloth21", "hanging.ini", {CLOTH(21, 441), NULL}, "map"}, "stretch", {1, 1}, {3, 1}, {6, 3}, {9e-3, 0.09}, {2, 3}, {0, 0}},
-  {{"cloth41", "hanging.ini", {CLOTH(41, 1681), NULL}, "map"}, "stretch", {1, 3}, {1, 1}, {13, 0}, {0.09, 1}, {4, 0}, {0, 0}},
+  {{"cloth41", "hanging.ini", {CLOTH(41, 1681), NULL}, "map"}, "stretch", {1, 3}, {1, 1}, {0, 0}, {0.09, 1}, {4, 0}, {0, 0}},
   {{"cloth81", "hanging.ini", {CLOTH(81, 6561), NULL}, "resolution"}, "stretch", {1, 1}, {1, 1}, {0, 0}, {0, 0}, {0, 0}, {2, 1}},
   {{"bend11", "hanging.ini", {BENT(11, 121), NULL}, "resolution"}, "bending", {1, 1}, {1, 1}, {0, 0}, {0, 0}, {0, 0}, {1, 1}},
   {{"bend21", "hanging.ini", {BENT(21, 441), NULL}, "resolution"}, "bending", {1, 1}, {1, 1}, {0, 0}, {0, 0}, {0, 0}, {1, 1}},
@@ -140,8 +141,8 @@ enum { E2_CONVERGED_MAX_ITERS = 400 };
  * minimiser x* of the same step, solved from the method's own state; the
  * largest |x - x*|_M / |x* - x0|_M. Baraff-Witkin is checked over its first 10
  * steps (1/3 s; 3 above 21^2) against converged Newton's step (relative
- * |grad F| 1e-8, far below the 1% that decides); converged Newton over its
- * first 3 steps (1 above 21^2) against the independent reference solve
+ * |grad F| 1e-8, far below the 1% that decides; 1 above 41^2); converged
+ * Newton over its first 3 steps (1 above 21^2) against the independent reference solve
  * (lib/instruments/reference.h, 1e-12; F is not convex, so a different local
  * minimiser shows as an error). */
 enum { E2_ERR_STEPS_BW = 10, E2_ERR_STEPS_CONVERGED = 3 };
@@ -202,8 +203,8 @@ static int step_error(cb_integrator *it, cb_integrator *ref_it, cb_reference *re
  * search); 8 newton_bw_shift, Baraff-Witkin on the exact Hessian (shift).
  * Explicit runs at its measured largest stable dt (dt_crit_meas_s), the
  * implicit methods at 1/30 s. Converged Newton on grids above 21^2 runs 3
- * steps (0.1 s: 16 iterations a step on 81^2); wall_ms_per_s scales every row
- * to 1 s. After the timed
+ * steps (0.1 s), above 41^2 one (~30 iterations on 81^2); wall_ms_per_s
+ * scales every row to 1 s. After the timed
  * rounds, an untimed pass measures each implicit method's step error. */
 enum { E2_METHODS = 4 };
 static int timing(const cb_experiment *e, const plan *pl, const char *family, cb_stability_case *c, double meas,
@@ -239,7 +240,8 @@ static int timing(const cb_experiment *e, const plan *pl, const char *family, cb
     for (int m = 0; st == CB_OK && m < E2_METHODS; m++) {
       if (!(timed & (1 << m))) continue;
       double dt = m == 0 ? meas : 1.0 / 30.0; /* explicit at its measured largest stable dt; implicit at 1/30 s */
-      p.sim_time = m == 1 && cur_nv > 441 ? pl->e2_time / 10 : pl->e2_time; /* 3 steps above 21^2 */
+      /* converged Newton: 3 steps above 21^2, 1 above 41^2 (~30 iterations a step on 81^2) */
+      p.sim_time = m != 1 || cur_nv <= 441 ? pl->e2_time : cur_nv <= 1681 ? pl->e2_time / 10 : pl->e2_time / 30;
       cb_cell_result r;
       if ((st = cb_stability_cell(it[m], dt, c->x_start, c->v_start, c->S, &p, &c->work, &r))) break;
       if (cb_timing_warm(r.wall_ms) && /* a short run: that was its warm-up, time the next */
@@ -254,7 +256,7 @@ static int timing(const cb_experiment *e, const plan *pl, const char *family, cb
   for (int m = 1; st == CB_OK && m < E2_METHODS; m++)
     if (timed & (1 << m)) {
       int want = m == 1 ? E2_ERR_STEPS_CONVERGED : E2_ERR_STEPS_BW;
-      if (cur_nv > 441) want = m == 1 ? 1 : E2_ERR_STEPS_CONVERGED; /* above 21^2: 1 and 3 steps (cost) */
+      if (cur_nv > 441) want = m == 1 || cur_nv > 1681 ? 1 : 3; /* above 21^2 (cost): 1 and 3 steps; above 41^2: 1 */
       if (want > first[m].steps) want = (int)first[m].steps;
       st = step_error(it[m], m == 1 ? NULL : it[1], ref, c, 1.0 / 30.0, want, &err[m], &err_steps[m]);
       if (err_steps[m] == 0) err[m] = NAN; /* the reference failed at once: not measured */
@@ -343,10 +345,12 @@ static int run_case(const cb_experiment *e, const plan *p, const scene_plan *d, 
                   lo > 0 ? lo : cb_csv_na(), hi > 0 ? hi : cb_csv_na(), mono >= 0 ? mono : cb_csv_na(),
                   cb_csv_na_if_nan(b.dt_stable), cb_csv_na_if_nan(b.dt_unstable), b.runs, cb_status_name(b.status), c.eq.ms,
                   c.pred.ms + c.pred_rest.ms);
-  /* E2, every method: 1 explicit, 2 converged Newton, 4 and 8 Baraff-Witkin (drop, shift) */
+  /* E2: 1 explicit, 2 converged Newton, 4 and 8 Baraff-Witkin (drop, shift); converged Newton
+   * above 41^2 (~3 s a step on 81^2) only at k_res[0] */
   int timed = p->smoke || !grid || (d->e2_k_stride[q] > 0 && ik % d->e2_k_stride[q] == 0) ||
               (n > 0 && (k == p->k_res[0] || (!q && k == p->k_res[1])));
-  if (st == CB_OK && timed && b.status == CB_OK) st = timing(e, p, d->family, &c, meas, 15);
+  int methods = c.scene->mesh.nv > 1681 && k != p->k_res[0] ? 13 : 15;
+  if (st == CB_OK && timed && b.status == CB_OK) st = timing(e, p, d->family, &c, meas, methods);
   cb_stability_case_free(&c);
   return st;
 }
