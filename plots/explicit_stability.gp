@@ -115,7 +115,7 @@ set key top left font ',8'
 set xlabel 'vertices n [-]'
 plot for [f in families] for [kk in res_ks] for [m in methods] \
        tim using (is('family',f) && column('k_n_per_m') == kk+0 && is('method',m) ? column('n_vertices') : NaN): \
-       (column('wall_ms_per_s')) with linespoints lw 2 dt (f eq 'bending' ? 2 : 1) \
+       (column('wall_ms_per_s')) with linespoints lw 2 \
        title f.sprintf(' k = %g: ', kk+0).mshort(m), \
      [300:8000] 5*(x/441.0)**1.5 with lines dt 3 lw 2 lc rgb '#606060' title 'slope n^{1.5} (reference)', \
      [100:2000] 20*(x/121.0)**2 with lines dt 4 lw 2 lc rgb '#202020' title 'slope n^2 (reference)'
