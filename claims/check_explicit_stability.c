@@ -365,6 +365,11 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
                          "to fit anything.");
     return;
   }
+  cb_claim_numbers(out, "\nVerdict rule: reproduced when explicit is slower than the fastest accurate implicit method at "
+                        "the stiffest k and at the finest mesh of every (family, k), and every resolution exponent is within "
+                        "%.2f of 1 + its omega_max exponent, with both families measured and the bending one's omega_max "
+                        "growing faster; refuted (not reproduced) when explicit is faster than every accurate implicit "
+                        "method in every timed row; otherwise partly.\n", E2_N_EXP_TOL);
   /* the verdict: "slow" at the stiffest k of the k-sweep and at the finest mesh of each family;
    * "as the physics predicts": every resolution exponent within tolerance of its omega_max prediction,
    * with both families measured and the bending family's omega_max growing faster */
