@@ -21,8 +21,11 @@ bound_scenes = distinct(bound, 'scene', '1')
 rest_scenes = distinct(bound, 'scene', 'v("dt_crit_pred_rest_s") != "" && v("dt_crit_pred_rest_s") != "nan" && ' . \
                        '(v("dt_crit_pred_rest_s") / v("dt_crit_pred_s") - 1)^2 > 1e-12')
 methods = distinct(tim, 'method', '1')
-mlabel(m) = m eq 'explicit' ? 'explicit' : m eq 'newton' ? 'Newton (converged)' : m eq 'newton_bw' ? 'Baraff-Witkin (1 iteration)' : m
-mshort(m) = m eq 'explicit' ? 'explicit' : m eq 'newton' ? 'Newton' : m eq 'newton_bw' ? 'Baraff-Witkin' : m
+mlabel(m) = m eq 'explicit' ? 'explicit' : m eq 'newton' ? 'Newton (converged, shift)' : \
+            m eq 'newton_bw' ? 'Baraff-Witkin (drop)' : m eq 'newton_bw_shift' ? 'Baraff-Witkin (shift)' : m
+mshort(m) = m eq 'explicit' ? 'explicit' : m eq 'newton' ? 'Newton' : m eq 'newton_bw' ? 'BW drop' : \
+            m eq 'newton_bw_shift' ? 'BW shift' : m
+families = distinct(tim, 'family', '1')
 # timed against k: the timed scenes of the sweep; against resolution: the k
 # values at which scenes outside the sweep (larger grids) were timed
 not_sweep = ''
@@ -97,7 +100,7 @@ set output out.'/explicit_stability_cost.'.ext
 set terminal push
 if (ext eq 'svg') { set terminal svg size 1300,600 dynamic enhanced font 'sans,12' background rgb 'white' } \
 else { set terminal pngcairo size 1300,600 enhanced font 'sans,11' }
-set multiplot layout 1,2 title 'E2: wall time to simulate 1 s of the hanging cloth: explicit at 0.9 {/Symbol D}t_{crit} against implicit at {/Symbol D}t = 1/30 s'
+set multiplot layout 1,2 title 'E2: wall time to simulate 1 s of the hanging cloth: explicit at its largest stable {/Symbol D}t against implicit at {/Symbol D}t = 1/30 s'
 set key top left font ',9'
 set yrange [0.05:1e6]  # the top decade stays free for the key
 set title 'against stiffness'
@@ -107,14 +110,15 @@ plot for [sc in ktim_scenes] for [m in methods] \
        tim using (is('scene',sc) && is('method',m) ? column('k_n_per_m') : NaN):(column('wall_ms_per_s')) with linespoints lw 2 \
        title sc.' '.mlabel(m)
 set yrange [*:*]
-set title 'against resolution (21^2, 41^2, 81^2)'
-set key top left font ',9'
+set title 'against resolution: stretch family (21^2, 41^2, 81^2), bending family (11^2, 21^2, 41^2)'
+set key top left font ',8'
 set xlabel 'vertices n [-]'
-plot for [kk in res_ks] for [m in methods] \
-       tim using (column('k_n_per_m') == kk+0 && is('method',m) ? column('n_vertices') : NaN):(column('wall_ms_per_s')) \
-       with linespoints lw 2 \
-       title sprintf('k = %g: ', kk+0).mshort(m), \
-     [300:8000] 20*(x/441.0)**2 with lines dt 2 lw 2 lc rgb '#606060' title 'slope n^2 (reference)'
+plot for [f in families] for [kk in res_ks] for [m in methods] \
+       tim using (is('family',f) && column('k_n_per_m') == kk+0 && is('method',m) ? column('n_vertices') : NaN): \
+       (column('wall_ms_per_s')) with linespoints lw 2 \
+       title f.sprintf(' k = %g: ', kk+0).mshort(m), \
+     [300:8000] 5*(x/441.0)**1.5 with lines dt 3 lw 2 lc rgb '#606060' title 'slope n^{1.5} (reference)', \
+     [100:2000] 20*(x/121.0)**2 with lines dt 4 lw 2 lc rgb '#202020' title 'slope n^2 (reference)'
 unset multiplot
 set terminal pop
 

@@ -15,14 +15,15 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
 void cb_check_I1(const cb_table *t, const char *results_dir, cb_claim_result *out);
 
 static const char *main_hdr = "# test\nkind,case,scene,k_n_per_m,dt_s,method,status,max_energy_ratio,steps,dt_crit_pred_s,dt_crit_meas_s,"
-                              "not_converged_steps,t_mark_s,energy_loss_w,kinetic0_j,window_s\n";
+                              "not_converged_steps,t_mark_s,energy_loss_w,kinetic0_j,window_s,t_end_s\n";
 static const char *bound_hdr = "# test\nscene,k_n_per_m,dt_crit_pred_s,dt_crit_meas_s,bisect_status,dt_crit_pred_rest_s,"
                                "lambda_dense_per_s2,lambda_lanczos_per_s2\n";
-static const char *time_hdr = "# test\nscene,n_vertices,k_n_per_m,method,wall_ms_per_s,wall_min_ms_per_s,wall_max_ms_per_s,"
-                              "wall_each_ms_per_s,wall_repeats,steps,status\n";
+static const char *time_hdr = "# test\nscene,family,n_vertices,k_n_per_m,method,wall_ms_per_s,wall_min_ms_per_s,"
+                              "wall_max_ms_per_s,wall_each_ms_per_s,wall_repeats,steps,status,dt_crit_pred_s,step_error_max,"
+                              "not_converged_steps\n";
 
 static char dir[64];
-static char main_rows[65536], bound_rows[8192], time_rows[8192];
+static char main_rows[65536], bound_rows[8192], time_rows[16384];
 
 static void put(const char *name, const char *hdr, const char *rows) {
   char path[256];
@@ -64,6 +65,7 @@ static cb_verdict decide(void (*check)(const cb_table *, const char *, cb_claim_
 /* A spring-like scene: dt_pred = 2 sqrt(m/k) with m = 0.01, measured = ratio x pred;
  * an explicit map around it, and Newton cells losing energy ~ dt. */
 static double damp_exp = 1; /* energy lost per second ~ dt^damp_exp */
+static double newton_time = 1; /* simulated time of a Newton cell, s (the explicit cells': 1 s, 0.5 s where diverged) */
 static void build(double ratio, double slope, int newton_diverges) {
   main_rows[0] = bound_rows[0] = '\0';
   const char *sc[] = {"spring", "cloth"};
@@ -78,13 +80,13 @@ static void build(double ratio, double slope, int newton_diverges) {
         double dt = pred * pow(10.0, (j - 4) / 4.0); /* 0.1 .. 10 x pred */
         const char *st = dt <= meas ? "stable" : "diverged";
         n = strlen(main_rows);
-        snprintf(main_rows + n, sizeof main_rows - n, "sweep,map,%s,%.17g,%.17g,explicit,%s,0,100,%.17g,%.17g,0,0.1,0,1,0\n",
-                 sc[s], k, dt, st, pred, meas);
+        snprintf(main_rows + n, sizeof main_rows - n, "sweep,map,%s,%.17g,%.17g,explicit,%s,0,100,%.17g,%.17g,0,0.1,0,1,0,%g\n",
+                 sc[s], k, dt, st, pred, meas, dt <= meas ? 1.0 : 0.5);
         double loss = 5 * pow(dt, damp_exp); /* J per s, kinetic0 = 1 J */
         const char *nst = newton_diverges && s == 1 && i == 3 && j == 8 ? "diverged" : "stable";
         n = strlen(main_rows);
-        snprintf(main_rows + n, sizeof main_rows - n, "sweep,map,%s,%.17g,%.17g,newton,%s,0,10,%.17g,%.17g,0,0.1,%.17g,1,0.1\n",
-                 sc[s], k, dt, nst, pred, meas, loss);
+        snprintf(main_rows + n, sizeof main_rows - n, "sweep,map,%s,%.17g,%.17g,newton,%s,0,100,%.17g,%.17g,0,0.1,%.17g,1,0.1,%g\n",
+                 sc[s], k, dt, nst, pred, meas, loss, newton_time);
       }
     }
 }
@@ -108,71 +110,104 @@ static void reps(char *buf, size_t n, double v, int newton) {
   snprintf(buf, n, "%.17g,%.17g,%.17g,%.17g;%.17g;%.17g,3", v, a * v, c * v, a * v, b * v, c * v);
 }
 
-static void timing(double kexp, double nexp, double newton_ms) {
+/* One (scene, k): explicit at wall ex ms and omega_max = omega (dt_pred = 2/omega), converged Newton at nt ms
+ * (step error 1e-8), Baraff-Witkin (drop) at nt/10 ms with step error bw_err and Baraff-Witkin (shift) at
+ * nt/4 ms with step error bw_err/10. */
+static void trow3(const char *scene, const char *family, int nv, double k, double ex, double omega, double nt, double bw_err) {
+  char e[256], t[256], w[256], w2[256];
+  reps(e, sizeof e, ex, 0);
+  reps(t, sizeof t, nt, 1);
+  reps(w, sizeof w, nt / 10, 0);
+  reps(w2, sizeof w2, nt / 4, 0);
+  size_t n = strlen(time_rows);
+  snprintf(time_rows + n, sizeof time_rows - n,
+           "%s,%s,%d,%.17g,explicit,%s,%.0f,stable,%.17g,,\n%s,%s,%d,%.17g,newton,%s,30,stable,%.17g,1e-8,0\n"
+           "%s,%s,%d,%.17g,newton_bw,%s,30,stable,%.17g,%.17g,\n%s,%s,%d,%.17g,newton_bw_shift,%s,30,stable,%.17g,%.17g,\n",
+           scene, family, nv, k, e, omega * 0.5, 2 / omega, scene, family, nv, k, t, 2 / omega, scene, family, nv, k, w,
+           2 / omega, bw_err, scene, family, nv, k, w2, 2 / omega, bw_err / 10);
+}
+
+/* Stretch family: cloth21 at k = 10, 1e3, 1e4, 1e5, 1e7 with omega = sqrt(k), explicit 0.5 k^kexp ms,
+ * and 41^2, 81^2 at k = 1e4 with omega ~ n^0.5 and explicit ~ n^sexp; bending family: 11^2, 21^2, 41^2 at
+ * k = 1e4 with omega ~ n (3 x the stretch one at 121) and explicit ~ n^bexp. Implicit: nt ms on 21^2 (and
+ * smaller), growing like n^1.2 above it. So the predicted exponents are 1.5 (stretch) and 2 (bending). */
+static void timing(double kexp, double sexp, double bexp, double nt, double bw_err) {
   time_rows[0] = '\0';
-  char e[256], nt[256], bw[256];
-  for (int i = 0; i < 4; i++) {
-    double k = pow(10.0, 1 + 2 * i), ex = 0.5 * pow(k, kexp);
-    reps(e, sizeof e, ex, 0);
-    reps(nt, sizeof nt, newton_ms, 1);
-    reps(bw, sizeof bw, newton_ms / 10, 0);
-    size_t n = strlen(time_rows);
-    snprintf(time_rows + n, sizeof time_rows - n, "cloth21,441,%.17g,explicit,%s,%.0f,stable\n"
-             "cloth21,441,%.17g,newton,%s,30,stable\ncloth21,441,%.17g,newton_bw,%s,30,stable\n",
-             k, e, 100 * sqrt(k), k, nt, k, bw);
+  const double ks[] = {10, 1e3, 1e4, 1e5, 1e7};
+  for (int i = 0; i < 5; i++) trow3("cloth21", "stretch", 441, ks[i], 0.5 * pow(ks[i], kexp), sqrt(ks[i]), nt, bw_err);
+  const int nv[] = {1681, 6561};
+  for (int r = 0; r < 2; r++) {
+    double f = nv[r] / 441.0;
+    trow3(r ? "cloth81" : "cloth41", "stretch", nv[r], 1e4, 0.5 * pow(1e4, kexp) * pow(f, sexp), 100 * sqrt(f),
+          nt * pow(f, 1.2), bw_err);
   }
-  const int nv[] = {441, 1681, 6561};
+  const int nb[] = {121, 441, 1681};
   for (int r = 0; r < 3; r++) {
-    size_t n = strlen(time_rows);
-    double w = 0.5 * pow(1e3, kexp) * pow(nv[r] / 441.0, nexp);
-    reps(e, sizeof e, w, 0);
-    snprintf(time_rows + n, sizeof time_rows - n, "cloth%d,%d,1000,explicit,%s,%.0f,stable\n", r, nv[r], e,
-             100 * pow(nv[r] / 441.0, 0.5));
+    double f = nb[r] / 121.0;
+    trow3(r == 0 ? "bend11" : r == 1 ? "bend21" : "bend41", "bending", nb[r], 1e4, 150 * pow(f, bexp), 300 * f,
+          nt * pow(nb[r] > 441 ? nb[r] / 441.0 : 1, 1.2), bw_err);
   }
 }
 
-Test(claims_explicit_stability, E2_reproduced_when_explicit_is_slow_and_quadratic) {
-  timing(0.5, 2.0, 100); /* explicit 0.5 ms .. 1.6 s; Newton 100 ms */
-  cr_assert_eq(decide(cb_check_E2), CB_REPRODUCED);
-}
-
-Test(claims_explicit_stability, E2_quotes_every_time_with_its_spread) {
-  timing(0.5, 2.0, 100);
-  decide(cb_check_E2);
-  /* k = 1e7: explicit 0.5 sqrt(1e7) = 1581 ms, repeats 0.9, 1, 1.1 x; Newton 100 ms, 1, 1, 1.2 x */
-  cr_expect(strstr(last.numbers, "| cloth21 | 1e+07 | 1581 (1423-1739) | 316228 | 100 (100-120) (convergence not recorded) | 10 (9-11) |"), "%s", last.numbers);
-  cr_expect(strstr(last.numbers, "median of 3 repeats"), "%s", last.numbers);
-  /* explicit/Newton = 15.8; paired repeats 0.9/1, 1/1, 1.1/1.2 give 14.2 .. 15.8 (bounds would be 11.9 .. 17.4) */
-  cr_expect(strstr(last.numbers, "explicit/Newton = 15.8 (14.2-15.8 over 3 paired repeats)"), "%s", last.numbers);
-  /* every series scaled alike by the repeats: the fits to the fastest and slowest agree with the median's */
-  cr_expect(strstr(last.numbers, "explicit ~ k^0.500 (0.500 / 0.500 fitted to the fastest / slowest repeats)"), "%s", last.numbers);
-  cr_expect(strstr(last.reason, "last exponent 2.000 (2.000 / 2.000 fitted"), "%s", last.reason);
+Test(claims_explicit_stability, E2_reproduced_when_explicit_is_slow_and_follows_omega_max) {
+  timing(0.5, 1.5, 2.0, 100, 1e-3); /* explicit 1.6 ms .. 1.6 s against k; Baraff-Witkin 10 ms */
+  cr_assert_eq(decide(cb_check_E2), CB_REPRODUCED, "%s", last.reason);
+  /* the baseline is named, with its step error */
+  cr_expect(strstr(last.numbers, "| cloth21 | stretch | 1e+07 | 441 | 1581 (1423-1739) | 1581 | 100 (100-120); 1e-08 | "
+                                 "10 (9-11); 0.001 | 25 (22.5-27.5); 0.0001 | Baraff-Witkin (drop) | 158 (158-158 over 3 paired repeats) |"), "%s", last.numbers);
+  cr_expect(strstr(last.numbers, "Baraff-Witkin (one Newton iteration, the lecture's drop fix, CHOLMOD)"), "%s", last.numbers);
+  cr_expect(strstr(last.numbers, "stretch family, k = 1e+04: explicit ~ n^1.500 (1.500 / 1.500 fitted to the fastest / "
+                                 "slowest repeats), b_pred = 1.500 (omega_max ~ n^0.500)"), "%s", last.numbers);
+  cr_expect(strstr(last.numbers, "bending family, k = 1e+04: explicit ~ n^2.000"), "%s", last.numbers);
+  cr_expect(strstr(last.numbers, "explicit ~ k^0.500 (0.500 / 0.500 fitted to the fastest / slowest repeats) over 5 "
+                                 "stiffnesses, predicted 0.500; explicit is slower from k = 1e+03"), "%s", last.numbers);
   cr_expect(strstr(last.reason, "Times are medians of 3 repeats."), "%s", last.reason);
 }
 
-Test(claims_explicit_stability, E2_partly_or_not_reproduced) {
-  timing(0.5, 1.5, 1e5); /* cost grows with k but stays below Newton's, and n^1.5 */
-  cr_assert_eq(decide(cb_check_E2), CB_PARTLY);
-  timing(0.0, 2.0, 1); /* cost independent of k: small dt is not what makes it slow */
-  cr_assert_eq(decide(cb_check_E2), CB_NOT_REPRODUCED);
+Test(claims_explicit_stability, E2_partly_when_the_exponent_is_not_the_predicted_one) {
+  timing(0.5, 2.0, 2.0, 100, 1e-3); /* the stretch family at n^2 (the old target) where omega_max predicts n^1.5 */
+  cr_assert_eq(decide(cb_check_E2), CB_PARTLY, "%s", last.reason);
+  cr_expect(strstr(last.reason, "worst: stretch family at k = 1e+04: b = 2.000 against b_pred = 1.500"), "%s", last.reason);
+  timing(0.5, 1.5, 1.5, 100, 1e-3); /* the bending family's cost grows slower than its omega_max predicts */
+  cr_assert_eq(decide(cb_check_E2), CB_PARTLY, "%s", last.reason);
 }
 
-Test(claims_explicit_stability, E2_labels_newton_rows_that_did_not_converge) {
-  static const char *hdr_nc = "# test\nscene,n_vertices,k_n_per_m,method,wall_ms_per_s,steps,status,not_converged_steps\n";
-  const char *saved = time_hdr;
-  time_hdr = hdr_nc;
-  /* k = 10: Newton converged; k = 1e4: 5 of 30 steps stopped at max_iters; 41^2: Newton not timed */
-  snprintf(time_rows, sizeof time_rows,
-           "cloth21,441,10,explicit,0.05,6,stable,0\ncloth21,441,10,newton,150,30,stable,0\ncloth21,441,10,newton_bw,30,30,stable,0\n"
-           "cloth21,441,10000,explicit,1.3,147,stable,0\ncloth21,441,10000,newton,570,30,stable,5\n"
-           "cloth21,441,1e7,explicit,42,4630,stable,0\ncloth21,441,1e7,newton,520,30,stable,0\n"
-           "cloth41,1681,10000,explicit,10,287,stable,0\ncloth41,1681,10000,newton_bw,200,30,stable,0\n");
+Test(claims_explicit_stability, E2_not_reproduced_when_explicit_is_never_slower) {
+  timing(0.5, 1.5, 2.0, 1e7, 1e-3); /* the implicit methods cost 1e6 ms and more: explicit is faster at every (k, n) */
+  cr_assert_eq(decide(cb_check_E2), CB_NOT_REPRODUCED, "%s", last.reason);
+  cr_expect(strstr(last.reason, "slower than the fastest implicit method at 1/30 s within 1% step error in 0 of 10"), "%s",
+            last.reason);
+}
+
+Test(claims_explicit_stability, E2_an_inaccurate_baraff_witkin_does_not_count) {
+  timing(0.5, 1.5, 2.0, 100, 0.05); /* Baraff-Witkin (drop) 5% off: the shift variant (25 ms, 0.5%) is the baseline */
   decide(cb_check_E2);
-  time_hdr = saved;
-  cr_expect(strstr(last.numbers, "| 570 (**not converged**: 5 of 30 steps at max_iters) |"), "%s", last.numbers);
-  cr_expect(strstr(last.numbers, "| 150 | 30 |"), "%s", last.numbers);
-  cr_expect(strstr(last.numbers, "| cloth41 | 1e+04 | 10 | 287 | not timed | 200 |"), "%s", last.numbers);
-  cr_expect(strstr(last.numbers, "timed on 3 (scene, k) rows; 1 of them had steps that stopped at max_iters"), "%s", last.numbers);
+  cr_expect(strstr(last.numbers, "| 10 (9-11); 0.05 | 25 (22.5-27.5); 0.005 | Baraff-Witkin (shift) | 63.2 (63.2-63.2 over 3 "
+                                 "paired repeats) |"), "%s", last.numbers);
+  timing(0.5, 1.5, 2.0, 100, 0.5); /* both 5% and more off: converged Newton (100 ms) */
+  decide(cb_check_E2);
+  cr_expect(strstr(last.numbers, "; 0.05 | converged Newton | 15.8 (14.2-15.8 over 3 paired repeats) |"), "%s", last.numbers);
+  timing(0.0, 1.5, 2.0, 1e3, 0.05); /* explicit at 0.5 ms on the whole k sweep beats the 250 ms baseline */
+  decide(cb_check_E2);
+  cr_expect(strstr(last.reason, "but not at the stiffest k"), "%s", last.reason);
+  cr_expect_neq(last.verdict, CB_REPRODUCED);
+}
+
+Test(claims_explicit_stability, E2_labels_newton_rows_that_did_not_converge_and_unstable_explicit) {
+  timing(0.5, 1.5, 2.0, 100, 1e-3);
+  char *p = strstr(time_rows, "cloth21,stretch,441,10000,newton,");
+  cr_assert(p);
+  p = strchr(p, '\n');
+  cr_assert(p && p[-1] == '0');
+  p[-1] = '5'; /* 5 steps at max_iters */
+  p = strstr(time_rows, "bend41,bending,1681,10000,explicit,");
+  cr_assert(p);
+  memcpy(strstr(p, "stable"), "diverg", 6); /* explicit not stable at the finest bending mesh */
+  decide(cb_check_E2);
+  cr_expect(strstr(last.numbers, "; 1e-08, **not converged** |"), "%s", last.numbers);
+  cr_expect(strstr(last.numbers, "(**not stable**)"), "%s", last.numbers);
+  cr_expect(strstr(last.reason, "1 timed runs were not stable"), "%s", last.reason);
+  cr_expect_neq(last.verdict, CB_REPRODUCED);
   cr_expect(!strstr(last.numbers, "nan"), "no nan cells: %s", last.numbers);
 }
 
@@ -188,4 +223,34 @@ Test(claims_explicit_stability, I1_fails_when_a_newton_cell_diverges) {
   build(0.99, -0.5, 0);
   cr_assert_eq(decide(cb_check_I1), CB_PARTLY);
   damp_exp = 1;
+}
+
+Test(claims_explicit_stability, I1_partly_when_newton_runs_shorter_than_explicit) {
+  newton_time = 0.1; /* stable and damping, but over a tenth of the explicit cells' time */
+  build(0.99, -0.5, 0);
+  cr_assert_eq(decide(cb_check_I1), CB_PARTLY, "%s", last.reason);
+  cr_expect(strstr(last.reason, "0 of 72 Newton cells ran the simulated time of the explicit cell"), "%s", last.reason);
+  newton_time = 1;
+  build(0.99, -0.5, 0);
+  decide(cb_check_I1);
+  cr_expect(strstr(last.reason, "72 of 72 Newton cells ran the simulated time of the explicit cell"), "%s", last.reason);
+}
+
+Test(claims_explicit_stability, E1_says_at_which_state_it_is_judged) {
+  static const char *hdr_eq = "# test\nscene,k_n_per_m,dt_crit_pred_s,dt_crit_meas_s,bisect_status,dt_crit_pred_rest_s,"
+                              "lambda_dense_per_s2,lambda_lanczos_per_s2,equilibrium_status\n";
+  build(0.99, -0.5, 0);
+  char rows[8192] = "";
+  for (char *line = strtok(bound_rows, "\n"); line; line = strtok(NULL, "\n")) /* every row started at its equilibrium */
+    snprintf(rows + strlen(rows), sizeof rows - strlen(rows), "%s,ok\n", line);
+  snprintf(bound_rows, sizeof bound_rows, "%s", rows);
+  const char *saved = bound_hdr;
+  bound_hdr = hdr_eq;
+  decide(cb_check_E1);
+  bound_hdr = saved;
+  cr_expect(strstr(last.reason, "Judged at the state every run starts from, the static hanging equilibrium"), "%s", last.reason);
+  cr_expect(strstr(last.reason, "At the flat rest shape instead, 8 of 8 lie within 15%"), "%s", last.reason);
+  build(0.99, -0.5, 0); /* no equilibrium recorded: it says so */
+  decide(cb_check_E1);
+  cr_expect(strstr(last.reason, "the static hanging equilibrium in 0 of 8 rows"), "%s", last.reason);
 }

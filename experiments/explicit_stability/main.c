@@ -10,6 +10,7 @@
 #include <clothbench/clothbench.h>
 #include "experiment.h"
 #include "provenance.h"
+#include "reference.h"
 #include "scene_decl.h"
 #include "sweep.h"
 #include "stability.h"
@@ -20,24 +21,39 @@
  * "resolution" = E2 only (no grid: the boundary bracketed from the prediction,
  * timings at the k_res of the plan; one cell per k_res). The cloths are the
  * GAMES103 lab cloth (10 m, 21^2, 1 kg a vertex = 441 kg) refined at the same
- * total mass, hanging vertically (plane xy). Plan data: [0] = full run,
- * [1] = --quick. */
+ * total mass, hanging vertically (plane xy). E2 families: "stretch" (stretch
+ * springs only: omega_max^2 ~ k/m ~ n) and "bending" (the same cloth with the
+ * quadratic bending model at k_b = BEND_K N m, whose Hessian ~ k_b/h^2 makes
+ * omega_max^2 ~ k_b/(h^2 m) ~ n^2 dominate the stretch springs' k/m). Plan
+ * data: [0] = full run, [1] = --quick. Newton cells (I1) run the explicit
+ * cells' steps (the same simulated time) at the dt of the sweep with
+ * j % nt_dt_stride == (ndt - 1) % nt_dt_stride and dt >= nt_dt_min, at every
+ * nt_k_stride-th k counted from the stiffest (0 = none). A cloth cell at
+ * dt >= 0.01 runs 200 steps of converged Newton (0.5-8 s on 21^2, up to 50
+ * iterations a step at k = 1e7; ~4.5x that on 41^2), so the cloths get few:
+ * 21^2 at 3 dt x 3 k (1 dt with --quick), 41^2 none. */
 typedef struct {
   cb_scene_decl scene;
+  const char *family;                   /* E2 family of its timing rows */
   int k_stride[2];                      /* sweep every stride-th k */
   int nt_dt_stride[2], nt_k_stride[2];  /* Newton cells: every stride-th dt and k ... */
-  double nt_dt_min;                     /* ... with dt >= this */
-  long nt_cap[2];                       /* ... and at most this many steps */
+  double nt_dt_min[2];                  /* ... with dt >= this */
   int e2_k_stride[2];                   /* E2 timings every stride-th k (0 = none) */
+  int nres[2];                          /* "resolution": timed at the first nres k_res */
 } scene_plan;
 
 #define CLOTH(n, m) "mesh.n=" #n, "material.vertex_mass=441/" #m, "mesh.plane=xy"
+#define BEND_K "1e4"
+#define BENT(n, m) CLOTH(n, m), "material.bend=quadratic", "material.bend_k=" BEND_K
 static const scene_plan scenes[] = {
-  {{"spring", "single_spring.ini", {NULL}, "map"}, {1, 1}, {1, 1}, {1, 1}, 0, {10000, 2000}, {0, 0}},
-  {{"chain20", "chain20.ini", {NULL}, "map"}, {1, 1}, {1, 1}, {1, 1}, 0, {10000, 2000}, {0, 0}},
-  {{"cloth21", "hanging.ini", {CLOTH(21, 441), NULL}, "map"}, {1, 1}, {3, 2}, {2, 2}, 0, {10, 5}, {2, 3}},
-  {{"cloth41", "hanging.ini", {CLOTH(41, 1681), NULL}, "map"}, {1, 3}, {3, 3}, {4, 1}, 1e-3, {5, 3}, {4, 0}},
-  {{"cloth81", "hanging.ini", {CLOTH(81, 6561), NULL}, "resolution"}, {1, 1}, {1, 1}, {1, 1}, 0, {0, 0}, {0, 0}},
+  {{"spring", "single_spring.ini", {NULL}, "map"}, "stretch", {1, 1}, {1, 1}, {1, 1}, {0, 0}, {0, 0}, {0, 0}},
+  {{"chain20", "chain20.ini", {NULL}, "map"}, "stretch", {1, 1}, {1, 1}, {1, 1}, {0, 0}, {0, 0}, {0, 0}},
+  {{"cloth21", "hanging.ini", {CLOTH(21, 441), NULL}, "map"}, "stretch", {1, 1}, {3, 1}, {6, 3}, {9e-3, 0.09}, {2, 3}, {0, 0}},
+  {{"cloth41", "hanging.ini", {CLOTH(41, 1681), NULL}, "map"}, "stretch", {1, 3}, {1, 1}, {0, 0}, {0.09, 1}, {4, 0}, {0, 0}},
+  {{"cloth81", "hanging.ini", {CLOTH(81, 6561), NULL}, "resolution"}, "stretch", {1, 1}, {1, 1}, {0, 0}, {0, 0}, {0, 0}, {2, 1}},
+  {{"bend11", "hanging.ini", {BENT(11, 121), NULL}, "resolution"}, "bending", {1, 1}, {1, 1}, {0, 0}, {0, 0}, {0, 0}, {1, 1}},
+  {{"bend21", "hanging.ini", {BENT(21, 441), NULL}, "resolution"}, "bending", {1, 1}, {1, 1}, {0, 0}, {0, 0}, {0, 0}, {1, 1}},
+  {{"bend41", "hanging.ini", {BENT(41, 1681), NULL}, "resolution"}, "bending", {1, 1}, {1, 1}, {0, 0}, {0, 0}, {0, 0}, {1, 1}},
 };
 enum { NSCENES = sizeof scenes / sizeof scenes[0], MAXG = 64 };
 enum { T_MAIN, T_BOUNDARY, T_TIMING }; /* tables, in the order opened */
@@ -49,11 +65,11 @@ static int grid_n(const cb_scene_decl *d) {
 }
 
 typedef struct {
-  int quick, nk, ndt, bisect_iters;
+  int quick, smoke, nk, ndt, bisect_iters;
   double k[MAXG], dt[MAXG];
   cb_stability_params ex, nt; /* explicit and Newton cells */
   double k_res[2];            /* E2 resolution study (21^2, 41^2, 81^2) */
-  int nres;
+  double e2_time;             /* E2: simulated time of a timed run, s (1; shorter with --smoke) */
 } plan;
 
 static FILE *fmain, *fbound, *ftime;
@@ -61,33 +77,35 @@ static const char *cur_scene;
 static double cur_k;
 static int cur_nv;
 
-static void make_plan(plan *p, int quick, double sim_time) {
+static void make_plan(plan *p, int quick, int smoke, double sim_time) {
   memset(p, 0, sizeof *p);
   p->quick = quick;
-  p->nk = quick ? 7 : 13;   /* k = 10^1 .. 10^7 N/m, log-spaced */
-  p->ndt = quick ? 13 : 25; /* dt = 10^-5 .. 10^-1 s, log-spaced */
-  for (int i = 0; i < p->nk; i++) p->k[i] = pow(10.0, 1.0 + 6.0 * i / (p->nk - 1));
+  p->smoke = smoke;
+  p->nk = smoke ? 1 : quick ? 7 : 13;   /* k = 10^1 .. 10^7 N/m, log-spaced (--smoke: 10^4) */
+  p->ndt = smoke ? 5 : quick ? 13 : 25; /* dt = 10^-5 .. 10^-1 s, log-spaced */
+  for (int i = 0; i < p->nk; i++) p->k[i] = p->nk > 1 ? pow(10.0, 1.0 + 6.0 * i / (p->nk - 1)) : 1e4;
   for (int j = 0; j < p->ndt; j++) p->dt[j] = pow(10.0, -5.0 + 4.0 * j / (p->ndt - 1));
-  p->bisect_iters = quick ? 6 : 10;
+  p->bisect_iters = smoke ? 3 : quick ? 6 : 10;
   p->ex = cb_stability_params_default();
-  p->ex.sim_time = sim_time > 0 ? sim_time : quick ? 1.0 : 2.0;
-  p->ex.min_steps = 200;                 /* a large dt still gets 200 steps to show growth */
-  p->ex.max_steps = quick ? 1000 : 2000; /* a cell still below R_u after this many steps is stable */
+  p->ex.sim_time = sim_time > 0 ? sim_time : smoke ? 0.05 : quick ? 1.0 : 2.0;
+  p->ex.min_steps = smoke ? 5 : 200;   /* a large dt still gets 200 steps to show growth */
+  p->ex.max_steps = smoke ? 100 : quick ? 1000 : 2000; /* a cell still below R_u after this many steps is stable */
   p->ex.energy_every = 4;
-  p->nt = p->ex;                         /* Newton: energy lost over the first 0.1 s (I1) */
-  p->nt.sim_time = p->nt.mark_time = 0.1;
-  p->nt.min_steps = 10;
+  p->nt = p->ex;          /* Newton (I1): the explicit cells' steps, so the same simulated time ... */
+  p->nt.mark_time = 0.1;  /* ... and the energy lost over the first 0.1 s, common to every dt that reaches it */
   p->nt.energy_every = 1;
   p->k_res[0] = 1e4;
   p->k_res[1] = 1e6;
-  p->nres = quick ? 1 : 2;
+  p->e2_time = smoke ? 2.0 / 30 : 1.0;
 }
 
 /* The scene at stiffness k; Newton stops at a 0.1 nm step (round-off). */
 static int scene_config(const cb_experiment *e, const cb_scene_decl *d, double k, cb_config *c) {
   char sk[64];
   snprintf(sk, sizeof sk, "material.stretch_k=%.17g", k);
-  const char *more[] = {sk, "integrator.tol_dx=1e-10", NULL};
+  /* converged Newton (I1, E2): the exact Hessian with a shift where A is indefinite, and a line search, the
+   * fastest converging variant (drop, the lecture's, converges linearly on these compressed equilibria) */
+  const char *more[] = {sk, "integrator.tol_dx=1e-10", "integrator.definiteness=shift", "integrator.line_search=1", NULL};
   return cb_scene_decl_config(e, d, more, c);
 }
 
@@ -118,67 +136,159 @@ static void keep(void *ctx, const cb_cell_result *r) {
  * iterations a step at k = 1e7); steps that still stop there are counted in
  * the timing table's not_converged_steps, and the report says so. */
 enum { E2_CONVERGED_MAX_ITERS = 400 };
+/* Step error of an implicit method (E2's accuracy condition): over its first
+ * steps from the start state, each step's result against the converged
+ * minimiser x* of the same step, solved from the method's own state; the
+ * largest |x - x*|_M / |x* - x0|_M. Baraff-Witkin is checked over its first 10
+ * steps (1/3 s; 3 above 21^2) against converged Newton's step (relative
+ * |grad F| 1e-8, far below the 1% that decides; 1 above 41^2); converged
+ * Newton over its first 3 steps (1 above 21^2) against the independent reference solve
+ * (lib/instruments/reference.h, 1e-12; F is not convex, so a different local
+ * minimiser shows as an error). */
+enum { E2_ERR_STEPS_BW = 10, E2_ERR_STEPS_CONVERGED = 3 };
+
+/* x* of the step from (x, v): ref_it's step on copies (xs, vs) if ref_it, else the reference solve */
+static int minimiser(cb_integrator *ref_it, cb_reference *ref, const double *x, const double *v, double *xs, double *vs,
+                     size_t n3) {
+  if (!ref_it) {
+    cb_reference_stats rs;
+    return cb_reference_step(ref, x, v, xs, &rs);
+  }
+  cb_step_stats ss;
+  memcpy(xs, x, n3 * sizeof *xs);
+  memcpy(vs, v, n3 * sizeof *vs);
+  return cb_integrator_step(ref_it, xs, vs, &ss);
+}
+
+static int step_error(cb_integrator *it, cb_integrator *ref_it, cb_reference *ref, const cb_stability_case *c, double dt,
+                      int steps, double *err, int *done) {
+  const cb_scene *s = c->scene;
+  size_t n3 = (size_t)3 * s->mesh.nv;
+  double *x = malloc(n3 * sizeof *x), *v = malloc(n3 * sizeof *v), *x0 = malloc(n3 * sizeof *x0),
+         *xs = malloc(n3 * sizeof *xs), *vs = malloc(n3 * sizeof *vs);
+  int st = x && v && x0 && xs && vs ? CB_OK : cb_fail("explicit_stability: out of memory (step error)");
+  *err = 0;
+  *done = 0;
+  if (st == CB_OK) {
+    memcpy(x, c->x_start, n3 * sizeof *x);
+    memcpy(v, c->v_start, n3 * sizeof *v);
+    it->params.dt = dt;
+    if (ref_it) ref_it->params.dt = dt;
+  }
+  for (int k = 0; st == CB_OK && k < steps; k++) {
+    cb_step_stats ss;
+    memcpy(x0, x, n3 * sizeof *x);
+    int r = minimiser(ref_it, ref, x, v, xs, vs, n3);
+    if (r != CB_OK && r != CB_NOT_CONVERGED) break; /* no x*: the steps checked so far stand */
+    r = cb_integrator_step(it, x, v, &ss);
+    if (r != CB_OK && r != CB_NOT_CONVERGED) { *err = INFINITY; ++*done; break; } /* a failed step is no accurate step */
+    double e = cb_step_error(s, x, xs, x0);
+    *err = isfinite(e) ? fmax(*err, e) : INFINITY;
+    ++*done;
+  }
+  free(x); free(v); free(x0); free(xs); free(vs);
+  return st;
+}
 
 /* E2: wall time to simulate 1 s from the case's start state. The methods are
  * timed in interleaved rounds (explicit, Newton, Baraff-Witkin, explicit, ...;
  * lib/instruments/stats.h: 3 rounds with --quick, 2-5 in a full run by their
  * cost; a run under 25 ms timed right after an untimed one of its own), and
  * each row holds the median, min and max over its repeats and every repeat
- * (repeat i of one method ran in the same round as repeat i of the others). methods: 1 explicit, 2 newton, 4 newton_bw. Converged Newton on
- * 41^2 and 81^2 (35-50 solves a step with drop, ~135 s for 1 s of 81^2) runs
- * 10 steps (1/3 s); wall_ms_per_s scales every row to 1 s. */
-static int timing(const cb_experiment *e, cb_stability_case *c, double meas, int methods) {
+ * (repeat i of one method ran in the same round as repeat i of the others).
+ * Methods (bit, CSV label): 1 explicit; 2 newton, converged Newton as the map
+ * runs it (definiteness shift, line search, CHOLMOD: the fastest converging
+ * variant; the lecture's drop converges linearly here, 3x the iterations);
+ * 4 newton_bw, Baraff-Witkin (one Newton iteration, the lecture's drop, no line
+ * search); 8 newton_bw_shift, Baraff-Witkin on the exact Hessian (shift).
+ * Explicit runs at its measured largest stable dt (dt_crit_meas_s), the
+ * implicit methods at 1/30 s. Converged Newton on grids above 21^2 runs 3
+ * steps (0.1 s), above 41^2 one (~30 iterations on 81^2); wall_ms_per_s
+ * scales every row to 1 s. After the timed
+ * rounds, an untimed pass measures each implicit method's step error. */
+enum { E2_METHODS = 4 };
+static int timing(const cb_experiment *e, const plan *pl, const char *family, cb_stability_case *c, double meas,
+                  int timed) {
+  int methods = timed;
   cb_stability_params p = cb_stability_params_default();
   p.min_steps = 1; p.max_steps = 0; p.energy_every = 0;
-  cb_newton_params np = *(const cb_newton_params *)c->newton->type_params; /* the case's Newton, from its config */
-  cb_newton_params nc = np;
-  np.max_iters = 1;                       /* Baraff-Witkin: one linear solve per step */
-  nc.max_iters = E2_CONVERGED_MAX_ITERS;  /* converged Newton: to its tolerance, not to the map's 50 iterations */
-  cb_integrator *bw = NULL, *conv = NULL;
+  const cb_newton_params *cn = c->newton->type_params; /* the case's Newton, from its config */
+  cb_newton_params np[E2_METHODS];
+  for (int m = 0; m < E2_METHODS; m++) np[m] = *cn;
+  np[1].max_iters = E2_CONVERGED_MAX_ITERS; /* converged Newton: to its tolerance, not to the map's 50 iterations */
+  for (int m = 2; m < E2_METHODS; m++) {    /* Baraff-Witkin: one linear solve per step */
+    np[m].max_iters = 1;
+    np[m].line_search = 0;
+    np[m].definiteness = m == 2 ? CB_DEF_DROP : CB_DEF_SHIFT;
+  }
+  cb_integrator *it[E2_METHODS] = {c->expl, NULL, NULL, NULL};
+  cb_reference *ref = NULL;
+  cb_reference_params rp = cb_reference_params_default();
+  rp.dt = 1.0 / 30.0;
   int st = CB_OK;
-  if (methods & 4)
-    st = cb_integrator_alloc("newton", c->scene, &c->newton->params, &np, c->newton->solver->type->name,
-                             &c->newton->solver->params, &bw);
-  if (st == CB_OK && (methods & 2))
-    st = cb_integrator_alloc("newton", c->scene, &c->newton->params, &nc, c->newton->solver->type->name,
-                             &c->newton->solver->params, &conv);
-  static const char *const name[] = {"explicit", "newton", "newton_bw"};
-  cb_cell_result first[3];
-  cb_timing wall[3] = {{0}};
+  methods |= (methods & 12) ? 2 : 0; /* converged Newton is Baraff-Witkin's x*: built even where not timed */
+  for (int m = 1; st == CB_OK && m < E2_METHODS; m++)
+    if (methods & (1 << m))
+      st = cb_integrator_alloc("newton", c->scene, &c->newton->params, &np[m], c->newton->solver->type->name,
+                               &c->newton->solver->params, &it[m]);
+  if (st == CB_OK && (timed & 2)) st = cb_reference_alloc(c->scene, &rp, &ref);
+  static const char *const name[E2_METHODS] = {"explicit", "newton", "newton_bw", "newton_bw_shift"};
+  cb_cell_result first[E2_METHODS];
+  cb_timing wall[E2_METHODS] = {{0}};
   double spent = 0;
   for (int round = 0; st == CB_OK && cb_timing_more(e->quick, round, spent); round++)
-    for (int m = 0; st == CB_OK && m < 3; m++) {
-      if (!(methods & (1 << m))) continue;
-      cb_integrator *it = m == 0 ? c->expl : m == 1 ? conv : bw;
-      double dt = m == 0 ? 0.9 * meas : 1.0 / 30.0; /* explicit at 0.9 x its measured dt_crit; implicit at 1/30 s */
-      p.sim_time = m == 1 && cur_nv > 441 ? 1.0 / 3.0 : 1.0;
+    for (int m = 0; st == CB_OK && m < E2_METHODS; m++) {
+      if (!(timed & (1 << m))) continue;
+      double dt = m == 0 ? meas : 1.0 / 30.0; /* explicit at its measured largest stable dt; implicit at 1/30 s */
+      /* converged Newton: 3 steps above 21^2, 1 above 41^2 (~30 iterations a step on 81^2) */
+      p.sim_time = m != 1 || cur_nv <= 441 ? pl->e2_time : cur_nv <= 1681 ? pl->e2_time / 10 : pl->e2_time / 30;
       cb_cell_result r;
-      if ((st = cb_stability_cell(it, dt, c->x_start, c->v_start, c->S, &p, &c->work, &r))) break;
+      if ((st = cb_stability_cell(it[m], dt, c->x_start, c->v_start, c->S, &p, &c->work, &r))) break;
       if (cb_timing_warm(r.wall_ms) && /* a short run: that was its warm-up, time the next */
-          (st = cb_stability_cell(it, dt, c->x_start, c->v_start, c->S, &p, &c->work, &r)))
+          (st = cb_stability_cell(it[m], dt, c->x_start, c->v_start, c->S, &p, &c->work, &r)))
         break;
       if (round == 0) first[m] = r; /* every repeat computes the same run; only its time differs */
       cb_timing_add(&wall[m], r.wall_ms);
       spent += r.wall_ms;
     }
-  for (int m = 0; st == CB_OK && m < 3; m++) {
-    if (!(methods & (1 << m))) continue;
+  double err[E2_METHODS] = {NAN, NAN, NAN, NAN};
+  int err_steps[E2_METHODS] = {0, 0, 0, 0};
+  for (int m = 1; st == CB_OK && m < E2_METHODS; m++)
+    if (timed & (1 << m)) {
+      int want = m == 1 ? E2_ERR_STEPS_CONVERGED : E2_ERR_STEPS_BW;
+      if (cur_nv > 441) want = m == 1 || cur_nv > 1681 ? 1 : 3; /* above 21^2 (cost): 1 and 3 steps; above 41^2: 1 */
+      if (want > first[m].steps) want = (int)first[m].steps;
+      st = step_error(it[m], m == 1 ? NULL : it[1], ref, c, 1.0 / 30.0, want, &err[m], &err_steps[m]);
+      if (err_steps[m] == 0) err[m] = NAN; /* the reference failed at once: not measured */
+    }
+  for (int m = 0; st == CB_OK && m < E2_METHODS; m++) {
+    if (!(timed & (1 << m))) continue;
     const cb_cell_result *b = &first[m];
-    double dt = m == 0 ? 0.9 * meas : 1.0 / 30.0;
-    cb_csv_printf(ftime, "%s,%d,%.17g,%s,%.17g,%ld,%.17g,%.6f,", cur_scene, cur_nv, cur_k, name[m], dt, b->steps, b->t_end,
-            cb_timing_median(&wall[m]));
+    double dt = m == 0 ? meas : 1.0 / 30.0;
+    cb_csv_printf(ftime, "%s,%s,%d,%.17g,%s,%.17g,%ld,%.17g,%.6f,", cur_scene, family, cur_nv, cur_k, name[m], dt, b->steps,
+                  b->t_end, cb_timing_median(&wall[m]));
     cb_timing_csv(ftime, &wall[m], 1 / b->t_end); /* wall_ms_per_s, its min and max */
     fputc(',', ftime);
     cb_timing_csv_each(ftime, &wall[m], 1 / b->t_end);
-    /* explicit has no Newton iterations; Baraff-Witkin's one iteration a step is the method, never "not converged" */
+    /* explicit has no Newton iterations and no step error; Baraff-Witkin's one iteration a step is the method,
+     * never "not converged" */
     double na = cb_csv_na();
-    cb_csv_printf(ftime, ",%d,%s,%s,%.17g,%.17g,%.17g,%.17g\n", wall[m].n, cb_cell_class_name(b->cls),
+    cb_csv_printf(ftime, ",%d,%s,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", wall[m].n, cb_cell_class_name(b->cls),
                   cb_status_name(b->step_status), m == 0 ? na : (double)b->newton_iters, meas, c->pred.dt_crit,
-                  m == 1 ? (double)b->not_converged_steps : na);
+                  m == 1 ? (double)b->not_converged_steps : na, m == 0 ? na : cb_csv_na_if_nan(err[m]),
+                  m == 0 ? na : (double)err_steps[m]);
   }
-  cb_integrator_free(bw);
-  cb_integrator_free(conv);
+  cb_reference_free(ref);
+  for (int m = 1; m < E2_METHODS; m++) cb_integrator_free(it[m]);
   return st;
+}
+
+/* Whether the map runs a Newton cell at (k[ik], dt[j]) (see scenes[]); --smoke: the largest dt only. */
+static int newton_cell(const plan *p, const scene_plan *d, int ik, int j) {
+  int q = p->quick, sd = d->nt_dt_stride[q], sk = d->nt_k_stride[q];
+  if (sk <= 0) return 0;
+  if (p->smoke) return j == p->ndt - 1;
+  return j % sd == (p->ndt - 1) % sd && ik % sk == (p->nk - 1) % sk && p->dt[j] >= d->nt_dt_min[q] * 0.999;
 }
 
 /* One (scene, k): explicit sweep, bisection, Newton cells, boundary row, E2. */
@@ -189,7 +299,7 @@ static int run_case(const cb_experiment *e, const plan *p, const scene_plan *d, 
   cb_config cfg;
   cb_case_params cp = cb_case_params_default();
   /* dense GSL on the chains, and on cloth21 at three k to check Lanczos; Lanczos otherwise */
-  cp.eig = n == 0 || (n == 21 && ik % ((p->nk - 1) / 2) == 0) ? CB_EIG_BOTH : CB_EIG_LANCZOS;
+  cp.eig = n == 0 || (n == 21 && grid && !p->smoke && ik % ((p->nk - 1) / 2) == 0) ? CB_EIG_BOTH : CB_EIG_LANCZOS;
   cp.predict_rest = grid;
   cb_stability_case c;
   int st = scene_config(e, &d->scene, k, &cfg);
@@ -211,11 +321,9 @@ static int run_case(const cb_experiment *e, const plan *p, const scene_plan *d, 
   } else if (st == CB_OK) /* no grid: bracket from the prediction, 5% steps */
     st = cb_stability_boundary_from_guess(c.expl, c.x_start, c.v_start, c.S, &p->ex, &c.work, c.pred.dt_crit, 1.05,
                                           p->bisect_iters - 2, keep, &bis, &b);
-  cb_stability_params pn = p->nt;
-  pn.max_steps = d->nt_cap[q];
-  int sd = d->nt_dt_stride[q];
+  const cb_stability_params pn = p->nt;
   for (int j = 0; grid && st == CB_OK && j < p->ndt; j++)
-    if (j % sd == (p->ndt - 1) % sd && ik % d->nt_k_stride[q] == 0 && p->dt[j] >= d->nt_dt_min * 0.999)
+    if (newton_cell(p, d, ik, j))
       st = cb_stability_cell(c.newton, p->dt[j], c.x_start, c.v_start, c.S, &pn, &c.work, &newton.r[newton.n++]);
   double meas = st == CB_OK ? b.dt_stable : NAN;
   for (int i = 0; st == CB_OK && i < sweep.n; i++) cell_row("sweep", "map", "explicit", &sweep.r[i], c.pred.dt_crit, meas, c.kinetic0, 0, "");
@@ -237,13 +345,12 @@ static int run_case(const cb_experiment *e, const plan *p, const scene_plan *d, 
                   lo > 0 ? lo : cb_csv_na(), hi > 0 ? hi : cb_csv_na(), mono >= 0 ? mono : cb_csv_na(),
                   cb_csv_na_if_nan(b.dt_stable), cb_csv_na_if_nan(b.dt_unstable), b.runs, cb_status_name(b.status), c.eq.ms,
                   c.pred.ms + c.pred_rest.ms);
-  /* E2 methods: 1 explicit, 2 converged Newton, 4 Baraff-Witkin. Converged Newton is
-   * costly (the drop fix makes it converge linearly, ~20 solves a step): on 21^2 at
-   * every timed k; on 41^2 and 81^2 only at k_res[0], and not with --quick. */
-  int timed = grid && d->e2_k_stride[q] > 0 && ik % d->e2_k_stride[q] == 0, methods = 0;
-  for (int r = 0; r < p->nres; r++) timed |= n > 0 && k == p->k_res[r];
-  if (timed) methods = n == 21 || (!q && k == p->k_res[0]) ? 7 : 5;
-  if (st == CB_OK && methods && b.status == CB_OK) st = timing(e, &c, meas, methods);
+  /* E2: 1 explicit, 2 converged Newton, 4 and 8 Baraff-Witkin (drop, shift); converged Newton
+   * above 41^2 (~3 s a step on 81^2) only at k_res[0] */
+  int timed = p->smoke || !grid || (d->e2_k_stride[q] > 0 && ik % d->e2_k_stride[q] == 0) ||
+              (n > 0 && (k == p->k_res[0] || (!q && k == p->k_res[1])));
+  int methods = c.scene->mesh.nv > 1681 && k != p->k_res[0] ? 13 : 15;
+  if (st == CB_OK && timed && b.status == CB_OK) st = timing(e, p, d->family, &c, meas, methods);
   cb_stability_case_free(&c);
   return st;
 }
@@ -277,7 +384,7 @@ enum { NEXTREMES = sizeof extreme_cases / sizeof extreme_cases[0] };
 static int extreme(const cb_experiment *e, const plan *p, const extreme_case *x) {
   cb_stability_params pe = p->ex, pn = p->ex;
   pn.sim_time = 1.0; pn.min_steps = 1; pn.max_steps = 0; pn.energy_every = 1;
-  if (p->quick) pn.sim_time = 1.0 / 3.0;
+  if (p->quick) pn.sim_time = p->smoke ? 2.0 / 30.0 : 1.0 / 3.0;
   cb_config cfg;
   cb_case_params cp = cb_case_params_default();
   cp.equilibrium = x->eq;
@@ -348,11 +455,13 @@ static const char *about =
   "Claims E1, E2, I1. Sweeps spring stiffness k (1e1..1e7 N/m) and time step dt\n"
   "(1e-5..1e-1 s) on a single spring, a 20-spring chain and the hanging cloth at 21^2\n"
   "and 41^2, each cell starting at the static (hanging) equilibrium plus a small random\n"
-  "velocity; classifies explicit and Newton cells stable/unstable/diverged; bisects the\n"
-  "largest stable explicit dt against the prediction 2/omega_max; times 1 s of\n"
-  "simulation (explicit at 0.9 dt_crit, Newton at 1/30 s) against k and resolution\n"
-  "(21^2, 41^2, 81^2); runs stiff and extreme cases. Writes <out>,\n"
-  "<out>_boundary.csv and <out>_timing.csv (stem of --out).\n"
+  "velocity; classifies explicit and Newton cells (over the same steps) stable/unstable/\n"
+  "diverged; bisects the largest stable explicit dt against the prediction 2/omega_max;\n"
+  "times 1 s of simulation (explicit at its largest stable dt; converged Newton and\n"
+  "Baraff-Witkin at 1/30 s, with their step errors) against k and resolution, for a\n"
+  "stretch-dominated cloth (21^2, 41^2, 81^2) and a bending-dominated one (11^2, 21^2,\n"
+  "41^2); runs stiff and extreme cases. Writes <out>, <out>_boundary.csv and\n"
+  "<out>_timing.csv (stem of --out).\n"
   "  --time SECONDS   simulated time per explicit cell (default 2; 1 with --quick)";
 
 int main(int argc, char **argv) {
@@ -370,7 +479,7 @@ int main(int argc, char **argv) {
   if (st) return st > 0 ? 0 : 1;
   cb_experiment_timed(&e); /* its numbers include wall times: run alone */
   plan p;
-  make_plan(&p, e.quick, sim_time);
+  make_plan(&p, e.quick, e.smoke, sim_time);
   char info[1024];
   snprintf(info, sizeof info, "# plan: %d k x %d dt; explicit cells %g s with %ld..%ld steps; bisection %d; Newton cells "
            "%g s (energy mark); start: equilibrium + random velocity 1e-6 S0 + swing 1e-3 S0; R_u %g; R_d %g\n", p.nk, p.ndt, p.ex.sim_time, p.ex.min_steps,
@@ -385,11 +494,14 @@ int main(int argc, char **argv) {
         "lambda_max_rest_per_s2,dt_crit_pred_s,dt_crit_pred_rest_s,dt_stable_grid_s,dt_unstable_grid_s,grid_monotone,"
         "dt_crit_meas_s,dt_crit_meas_hi_s,bisect_runs,bisect_status,equilibrium_ms,predict_ms") != T_BOUNDARY ||
       cb_experiment_table(&e, "timing", info,
-        "scene,n_vertices,k_n_per_m,method,dt_s,steps,sim_time_s,wall_ms,wall_ms_per_s,wall_min_ms_per_s,wall_max_ms_per_s,"
-        "wall_each_ms_per_s,wall_repeats,status,step_status,newton_iters,dt_crit_meas_s,dt_crit_pred_s,not_converged_steps") != T_TIMING)
+        "scene,family,n_vertices,k_n_per_m,method,dt_s,steps,sim_time_s,wall_ms,wall_ms_per_s,wall_min_ms_per_s,"
+        "wall_max_ms_per_s,wall_each_ms_per_s,wall_repeats,status,step_status,newton_iters,dt_crit_meas_s,dt_crit_pred_s,"
+        "not_converged_steps,step_error_max,step_error_steps") != T_TIMING)
     return cb_experiment_end(&e, CB_EIO), 2;
   /* cost hints: vertices + 5 (a quick run takes 2.5-4 ms per unit for a map cell
-   * or a resolution cell, 1.5 for an extreme case) */
+   * or a resolution cell, 1.5 for an extreme case), plus ~1.5 x vertices per cloth
+   * Newton cell (200 converged steps) and, for the bending family, whose explicit
+   * steps grow like n, a factor 1 + n/400 */
   static cells cl;
   cl.e = &e;
   cl.p = &p;
@@ -398,15 +510,24 @@ int main(int argc, char **argv) {
     cb_config cfg;
     if ((st = cb_scene_decl_config(&e, &d->scene, NULL, &cfg))) break;
     double w = (double)cb_scene_decl_vertices(&cfg) + 5;
+    /* --smoke: one cell per sweep: cloth21 at k = 1e4 (every table of a map cell), the smallest
+     * bending cloth, and the first extreme case */
+    if (p.smoke && strcmp(d->scene.label, "cloth21") && strcmp(d->scene.label, "bend11")) continue;
+    double nv = w - 5;
     if (cb_scene_decl_is(&d->scene, "map"))
-      for (int i = 0; i < p.nk; i += d->k_stride[p.quick]) cl.map[cl.nmap++] = (case_cell){s, i, w};
+      for (int i = 0; i < p.nk; i += d->k_stride[p.quick]) {
+        int nn = 0;
+        for (int j = 0; j < p.ndt; j++) nn += newton_cell(&p, d, i, j);
+        cl.map[cl.nmap++] = (case_cell){s, i, w + (nv > 100 ? 1.5 * nv * nn : 0)};
+      }
     if (cb_scene_decl_is(&d->scene, "resolution"))
-      for (int r = 0; r < p.nres; r++) cl.res[cl.nres++] = (case_cell){s, r, w};
+      for (int r = 0; r < d->nres[p.quick]; r++)
+        cl.res[cl.nres++] = (case_cell){s, r, w * (!strcmp(d->family, "bending") ? 1 + nv / 400 : 1)};
   }
   if (st) return cb_experiment_end(&e, st), 1;
   const cb_sweep sweeps[] = {{"map", cl.nmap, map_cell, map_cost, &cl},
                              {"resolution", cl.nres, res_cell, res_cost, &cl},
-                             {"extremes", NEXTREMES, extreme_cell, extreme_cost, &cl}};
+                             {"extremes", p.smoke ? 1 : NEXTREMES, extreme_cell, extreme_cost, &cl}};
   st = cb_sweep_run(&e, sweeps, 3);
   st = cb_experiment_end(&e, st);
   return st == CB_OK ? 0 : st == CB_EIO ? 2 : 1;
