@@ -489,8 +489,8 @@ void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out) {
         if ((int)cb_table_num(&t, i, cg) == z->grid && !strcmp(cb_table_str(&t, i, cs), solv[q])) r = i;
       if (r < 0) cb_claim_numbers(out, " - |");
       else if (j4_reached(&t, r)) cb_claim_numbers(out, " %.3g |", j4_num(&t, r, "wall_ms"));
-      else cb_claim_numbers(out, " > %.3g (%s, cap %d iterations) |", j4_num(&t, r, "capped_wall_ms"), cb_table_str(&t, r, cb_table_col(&t, "status")),
-                            (int)j4_num(&t, r, "iters_cap"));
+      else cb_claim_numbers(out, " > %.3g (%s within its %.3g ms) |", j4_num(&t, r, "capped_wall_ms"), cb_table_str(&t, r, cb_table_col(&t, "status")),
+                            j4_num(&t, r, "budget_ms"));
     }
     cb_claim_numbers(out, "\n");
   }

@@ -54,15 +54,16 @@ enum { T_MAIN, T_SCENES, T_RUNS, T_NEWTON, T_SCALING }; /* tables, in the order 
 
 /* J4's scaling family: the lab cloth at grid_n^2 vertices, the system of the first Newton iteration of
  * step SCALE_STEP (one Newton iteration per step before it), with a manufactured solution x* (b = A x*).
- * Quick runs stop at 64^2, smoke runs 8^2 alone. */
+ * Quick runs stop at 32^2, smoke runs 8^2 alone. */
 static const int scale_n[] = {8, 16, 32, 64, 128, 256};
-#define SCALE_QUICK_MAX 64
+#define SCALE_QUICK_MAX 32
 #define SCALE_STEP 1       /* captured step (0-based): the cloth has started to fall */
 #define SCALE_ERR 1e-6     /* the error |x - x*|/|x*| every solver is timed to */
 #define SCALE_BUDGET 2.0   /* an iterative solver gets SCALE_BUDGET x CHOLMOD's time + SCALE_FLOOR_MS to reach it: one that
                               needs more is not the best unless all do, and then CHOLMOD is the cheaper either way */
 #define SCALE_FLOOR_MS 50.0
-#define SCALE_COLUMNS "scene,grid_n,n_dofs,nnz,solver,alpha,rho,iters_to_err,iters_cap,error,analyze_ms,factor_ms,solve_ms," \
+#define SCALE_FLOOR_QUICK_MS 1000.0 /* --quick (up to 32^2): every solver gets there, so the CSV is the same from run to run */
+#define SCALE_COLUMNS "scene,grid_n,n_dofs,nnz,solver,alpha,rho,iters_to_err,budget_ms,error,analyze_ms,factor_ms,solve_ms," \
                       "wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,capped_wall_ms,nnz_factor,lmax_over_lmin,status"
 enum { SCALE_COLS = 22 };
 static const double alpha_fracs[] = {0.1, 0.25, 0.5, 0.75, 0.9, 0.98, 1.02, 1.1, 1.5}; /* x alpha_max (J1) */
@@ -305,6 +306,7 @@ typedef struct {
   int reached;     /* the untimed traced run reached SCALE_ERR at iteration iters */
   int iters, cap;  /* iterations to SCALE_ERR (or run); the iteration cap of the traced run */
   double trace_ms; /* the traced run's wall time (a lower bound when not reached) */
+  double budget_ms; /* its time budget: SCALE_BUDGET x CHOLMOD's time + the floor */
   cb_timing total;
   double analyze[CB_TIMING_MAX], factor[CB_TIMING_MAX], solve[CB_TIMING_MAX], err, fnnz;
   int status;
@@ -380,7 +382,8 @@ static int scale_cell(ctx *c, int grid_n, FILE *const *out) {
     u->iters = 20;
     st = scale_time(c, b, xs, u, &ts);
     double per = ts.iters > 0 ? fmax(ts.solve_ms / ts.iters, 1e-6) : 1;
-    u->cap = (int)fmin(1e6, fmax(50, ceil((SCALE_BUDGET * chol_ms + SCALE_FLOOR_MS - ts.factor_ms) / per)));
+    u->budget_ms = SCALE_BUDGET * chol_ms + (c->e.quick ? SCALE_FLOOR_QUICK_MS : SCALE_FLOOR_MS);
+    u->cap = (int)fmin(1e6, fmax(50, ceil((u->budget_ms - ts.factor_ms) / per)));
     cb_solver_params p = cb_solver_params_default();
     p.tol = 1e-15;
     p.max_iters = u->cap;
@@ -442,7 +445,7 @@ static int scale_cell(ctx *c, int grid_n, FILE *const *out) {
                  : direct ? u->status : u->err <= SCALE_ERR ? CB_OK : CB_NOT_CONVERGED;
     const char *status = cb_status_name(st_row);
     char cap_s[32], err[32], lb[32];
-    fmt(cap_s, sizeof cap_s, direct ? NAN : u->cap);
+    fmt(cap_s, sizeof cap_s, direct ? NAN : u->budget_ms);
     fmt(err, sizeof err, u->reached ? u->err : NAN);
     fmt(lb, sizeof lb, u->reached ? NAN : u->trace_ms);
     cb_csv_printf(out[T_SCALING], "%s,%d,%d,%d,%s,%s,%s,%s,%s,%s,%s,%s,%s,", label, grid_n, n, cap.A.nnz, u->r.solver, a, r, it,
@@ -509,12 +512,12 @@ int main(int argc, char **argv) {
            "vertex mass 441/grid_n^2 kg, k = 8000 N/m, dt = 1/30 s; b = A x* for a manufactured x* "
            "(sin(pi u) sin(pi v) (1, 1.5, 2) per axis + 0.1 x a fixed random field in [-1, 1]); error = |x - x*|/|x*|\n"
            "# every solver from x = 0; an iterative solver's iters_to_err is its first iteration with error <= %g "
-           "(found by a traced run capped at iters_cap, its budget %g x CHOLMOD's time + %g ms; capped_wall_ms: "
+           "(found by a traced run whose iteration cap is worth budget_ms, %g x CHOLMOD's time + %g ms; capped_wall_ms: "
            "the traced time of a run that did not get there), then timed untraced for exactly those iterations; "
            "wall_ms = analyze + factor + solve, a fresh solver each time, all solvers of a size in interleaved rounds "
            "(wall_each_ms); Jacobi-type solvers get alpha* = 2/(lmin+lmax) of D^-1 A from Lanczos for free, "
            "Chebyshev estimates rho (counted); lmax_over_lmin = lmax/lmin of D^-1 A\n",
-           SCALE_STEP, SCALE_ERR, SCALE_BUDGET, SCALE_FLOOR_MS);
+           SCALE_STEP, SCALE_ERR, SCALE_BUDGET, c.e.quick ? SCALE_FLOOR_QUICK_MS : SCALE_FLOOR_MS);
   rc = cb_experiment_table(&c.e, NULL, extra, "scene,sweep,solver,alpha,rho,iter,rel_residual,wall_ms,wall_min_ms,wall_max_ms,"
                            "wall_each_ms,wall_repeats,status,error") != T_MAIN ||
        cb_experiment_table(&c.e, "scenes", extra,
