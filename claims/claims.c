@@ -76,7 +76,7 @@ const cb_claim cb_claims[] = {
    "Time to error 1e-6 against a manufactured solution (b = A x*, never against the direct solver) for CHOLMOD (analyse + factor + "
    "solve) and every iterative solver, on the lab cloth's Newton systems from 8^2 to 256^2: the crossover size from which CHOLMOD "
    "costs more than the best iterative solver, and each method's growth exponent in n (no crossover: \"expensive\" not reproduced).",
-   "linear_solvers_j4_scaling.png", cb_check_j4},
+   "linear_solvers_j4_scaling.png linear_solvers_j4_error_time.png", cb_check_j4},
   {"B1", "bending", "A bending spring offers little resistance when the cloth is nearly planar.",
    "Restoring force at the wing tip of one hinge against the fold angle 0-90 deg for spring, dihedral and quadratic: "
    "log-log slope over 1-10 deg >= 2.5 for the spring and within 1 +- 0.1 for both hinges.", "bending_b1_force.png",
