@@ -322,42 +322,21 @@ static int scale_time(const ctx *c, const double *b, const double *xs, scale_run
   return cb_trace_timed_solve(u->r.solver, &p, &c->cap->A, b, xs, ts);
 }
 
-static int scale_cell(ctx *c, int grid_n, FILE *const *out) {
-  char mn[32], vm[48];
-  snprintf(mn, sizeof mn, "mesh.n=%d", grid_n);
-  snprintf(vm, sizeof vm, "material.vertex_mass=441/%d", grid_n * grid_n);
-  char label[32];
-  snprintf(label, sizeof label, "scale%d", grid_n);
-  cb_scene_decl decl = {label, "hanging.ini", {mn, vm, "material.stretch_k=8000", "integrator.dt=1/30", NULL}, "scaling"};
-  const char *const more[] = {"integrator.max_iters=1", NULL}; /* one factorisation per step on the way (256^2: ~1.5 s) */
-  cb_config cfg;
-  int st = cb_scene_decl_config(&c->e, &decl, more, &cfg);
-  if (st) return st;
-  cb_capture cap;
-  st = cb_capture_newton_system(&cfg, SCALE_STEP, 0, &cap);
-  if (st > 0) {
-    cb_csv_printf(out[T_SCALING], "%s,%d", label, grid_n);
-    for (int k = 0; k < SCALE_COLS - 3; k++) fputc(',', out[T_SCALING]);
-    cb_csv_printf(out[T_SCALING], ",%s\n", cb_status_name(st));
-    fprintf(stderr, "linear_solvers: scene %s: %s (kept as a row)\n", label, cb_error_message());
-    return CB_OK;
-  }
-  if (st) return st;
-  int n = cap.A.n;
-  double *xs = cb_malloc((size_t)n, sizeof(double)), *b = cb_malloc((size_t)n, sizeof(double)),
-         *dh = cb_malloc((size_t)n, sizeof(double));
-  scale_run *runs = cb_calloc(16, sizeof *runs);
-  cb_spectrum lz = {0};
-  int nrun = 0;
-  st = !xs || !b || !dh || !runs ? CB_ENOMEM : CB_OK;
-  if (st == CB_OK) {
-    manufactured(&cap, grid_n, xs);
-    cb_sparse_matvec(&cap.A, xs, b); /* b = A x* */
-    st = cb_jacobi_scaling(&cap.A, dh);
-  }
-  if (st == CB_OK) st = cb_spectrum_lanczos(&cap.A, dh, &lz); /* alpha* for the Jacobi-type solvers (given free) */
-  double astar = 2 / (lz.lmin + lz.lmax);
-  c->cap = &cap;
+/* A size whose capture or matrix failed keeps one row, with the status. */
+static int scale_failed(FILE *f, const char *label, int grid_n, int status) {
+  cb_csv_printf(f, "%s,%d", label, grid_n);
+  for (int k = 0; k < SCALE_COLS - 3; k++) fputc(',', f);
+  cb_csv_printf(f, ",%s\n", cb_status_name(status));
+  fprintf(stderr, "linear_solvers: scene %s: %s (kept as a row)\n", label, cb_error_message());
+  return CB_OK;
+}
+
+/* The scaling cell's solves on the captured system (b = A x*): budget, traced runs, timed rounds, rows. */
+static int scale_solvers(ctx *c, int grid_n, const char *label, const cb_capture *cap, const double *xs, const double *b,
+                         const cb_spectrum *lz, scale_run *runs, FILE *const *out) {
+  int st = CB_OK, nrun = 0;
+  double astar = 2 / (lz->lmin + lz->lmax);
+  c->cap = cap;
   for (int s = 0; st == CB_OK && cb_solver_types[s] && nrun < 16; s++) {
     unsigned f = cb_solver_types[s]->flags;
     scale_run *u = &runs[nrun++];
@@ -394,7 +373,7 @@ static int scale_cell(ctx *c, int grid_n, FILE *const *out) {
     tp.growth = 2;
     tp.mark_err = SCALE_ERR;
     cb_trace t;
-    if (st == CB_OK) st = cb_trace_solve(u->r.solver, &p, &cap.A, b, xs, &tp, NULL, &t);
+    if (st == CB_OK) st = cb_trace_solve(u->r.solver, &p, &cap->A, b, xs, &tp, NULL, &t);
     if (st == CB_OK) {
       u->reached = t.iter_err >= 0;
       u->iters = u->reached ? t.iter_err : t.iters;
@@ -448,13 +427,45 @@ static int scale_cell(ctx *c, int grid_n, FILE *const *out) {
     fmt(cap_s, sizeof cap_s, direct ? NAN : u->budget_ms);
     fmt(err, sizeof err, u->reached ? u->err : NAN);
     fmt(lb, sizeof lb, u->reached ? NAN : u->trace_ms);
-    cb_csv_printf(out[T_SCALING], "%s,%d,%d,%d,%s,%s,%s,%s,%s,%s,%s,%s,%s,", label, grid_n, n, cap.A.nnz, u->r.solver, a, r, it,
+    cb_csv_printf(out[T_SCALING], "%s,%d,%d,%d,%s,%s,%s,%s,%s,%s,%s,%s,%s,", label, grid_n, cap->A.n, cap->A.nnz, u->r.solver, a, r, it,
                   cap_s, err, ms[0], ms[1], ms[2]);
     cb_timing_csv(out[T_SCALING], &u->total, 1.0);
     fputc(',', out[T_SCALING]);
     cb_timing_csv_each(out[T_SCALING], &u->total, 1.0);
-    cb_csv_printf(out[T_SCALING], ",%d,%s,%.17g,%.17g,%s\n", nrep, lb, direct ? u->fnnz : cb_csv_na(), lz.lmax / lz.lmin, status);
+    cb_csv_printf(out[T_SCALING], ",%d,%s,%.17g,%.17g,%s\n", nrep, lb, direct ? u->fnnz : cb_csv_na(), lz->lmax / lz->lmin, status);
   }
+  return st;
+}
+
+static int scale_cell(ctx *c, int grid_n, FILE *const *out) {
+  char mn[32], vm[48];
+  snprintf(mn, sizeof mn, "mesh.n=%d", grid_n);
+  snprintf(vm, sizeof vm, "material.vertex_mass=441/%d", grid_n * grid_n);
+  char label[32];
+  snprintf(label, sizeof label, "scale%d", grid_n);
+  cb_scene_decl decl = {label, "hanging.ini", {mn, vm, "material.stretch_k=8000", "integrator.dt=1/30", NULL}, "scaling"};
+  const char *const more[] = {"integrator.max_iters=1", NULL}; /* one factorisation per step on the way (256^2: ~1.5 s) */
+  cb_config cfg;
+  int st = cb_scene_decl_config(&c->e, &decl, more, &cfg);
+  if (st) return st;
+  cb_capture cap;
+  st = cb_capture_newton_system(&cfg, SCALE_STEP, 0, &cap);
+  if (st > 0) return scale_failed(out[T_SCALING], label, grid_n, st);
+  if (st) return st;
+  int n = cap.A.n;
+  double *xs = cb_malloc((size_t)n, sizeof(double)), *b = cb_malloc((size_t)n, sizeof(double)),
+         *dh = cb_malloc((size_t)n, sizeof(double));
+  scale_run *runs = cb_calloc(16, sizeof *runs);
+  cb_spectrum lz = {0};
+  st = !xs || !b || !dh || !runs ? CB_ENOMEM : CB_OK;
+  if (st == CB_OK) {
+    manufactured(&cap, grid_n, xs);
+    cb_sparse_matvec(&cap.A, xs, b); /* b = A x* */
+    st = cb_jacobi_scaling(&cap.A, dh);
+  }
+  if (st == CB_OK) st = cb_spectrum_lanczos(&cap.A, dh, &lz); /* alpha* for the Jacobi-type solvers (given free) */
+  if (st > 0) st = scale_failed(out[T_SCALING], label, grid_n, st); /* A not SPD: no solver row */
+  else if (st == CB_OK) st = scale_solvers(c, grid_n, label, &cap, xs, b, &lz, runs, out);
   c->cap = NULL;
   free(xs);
   free(b);
