@@ -145,8 +145,11 @@ set xlabel 'dofs n'
 set ylabel 'wall time, ms (median; bars: fastest and slowest repeat)'
 set format y '10^{%T}'
 set key top left font ',9'
+# the rows of one solver are not adjacent (the table goes size by size): bars as points, lines from that solver's rows alone
 plot for [v in scale_solvers] scaling using (is('solver', v) && is('status', 'ok') ? column('n_dofs') : NaN):'wall_ms':'wall_min_ms':'wall_max_ms' \
-       with yerrorlines pt (v eq 'cholmod' ? 9 : 7) ps (v eq 'cholmod' ? 2 : 1) lw (v eq 'cholmod' ? 3 : 1.5) lc rgb pcolor(scale_solvers, v) title v, \
+       with yerrorbars pt (v eq 'cholmod' ? 9 : 7) ps (v eq 'cholmod' ? 2 : 1) lw 1.5 lc rgb pcolor(scale_solvers, v) title v, \
+     for [v in scale_solvers] '< awk -F, '."'".'/^#/ { next } !h { h = 1; print; next } $5 == "'.v.'" && $NF == "ok"'."' '".scaling."'" \
+       using 'n_dofs':'wall_ms' with lines lw (v eq 'cholmod' ? 3 : 1.5) lc rgb pcolor(scale_solvers, v) notitle, \
      for [v in scale_solvers] scaling using (is('solver', v) && !is('status', 'ok') ? column('n_dofs') : NaN):'capped_wall_ms' \
        with points pt 6 ps 1.5 lc rgb pcolor(scale_solvers, v) notitle
 unset logscale; set format y '%g'
