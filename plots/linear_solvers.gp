@@ -1,12 +1,14 @@
 # Figures of the linear_solvers experiment (claims J1-J4).
 # Data: results/linear_solvers.csv (per iteration), _runs.csv (per run),
-# _scenes.csv (spectra of D^-1 A per captured Newton matrix).
+# _scenes.csv (spectra of D^-1 A per captured Newton matrix), _scaling.csv (J4: time to a
+# manufactured solution against mesh size).
 if (!exists("plots")) plots = 'plots'
 load plots.'/common.gp'
 set datafile columnheaders  # column('name') also in stats
 main   = results.'/linear_solvers.csv'
 runs   = results.'/linear_solvers_runs.csv'
 scenes = results.'/linear_solvers_scenes.csv'
+scaling = results.'/linear_solvers_scaling.csv'
 # Every name comes from the CSV (distinct() in common.gp):
 # scenes with runs, in the order they were run (lab_rest has a spectrum only)
 run_scenes = distinct(runs, 'scene', 'v("sweep") == "main"')
@@ -131,12 +133,35 @@ plot for [k = 0:1] runs using (is('scene', 'lab') && is('sweep', 'rho') && sel(k
        with points pt 3 ps 2.5 lw 2 lc 'black' title 'rho = auto (Lanczos estimate)'
 unset logscale; unset xrange; unset yrange; set xtics autofreq
 
-# ---- J4: error against wall time, one panel per scene --------------------------------
+# ---- J4: time to error 1e-6 against a manufactured solution, against the dofs -----------
+set output out.'/linear_solvers_j4_scaling.'.ext
+set terminal push
+if (ext eq 'svg') { set terminal svg size 1000,700 dynamic enhanced font 'sans,11' background rgb 'white' } \
+else { set terminal pngcairo size 1000,700 enhanced font 'sans,10' }
+scale_solvers = distinct(scaling, 'solver', 'v("solver") != ""')
+set title "J4: analyse + factor + solve to error |x - x*|/|x*| <= 1e-6, b = A x* (manufactured x*); open: not reached, capped time (a lower bound)"
+set logscale xy
+set xlabel 'dofs n'
+set ylabel 'wall time, ms (median; bars: fastest and slowest repeat)'
+set format y '10^{%T}'
+set key top left font ',9'
+# the rows of one solver are not adjacent (the table goes size by size): bars as points, lines from that solver's rows alone
+plot for [v in scale_solvers] scaling using (is('solver', v) && is('status', 'ok') ? column('n_dofs') : NaN):'wall_ms':'wall_min_ms':'wall_max_ms' \
+       with yerrorbars pt (v eq 'cholmod' ? 9 : 7) ps (v eq 'cholmod' ? 2 : 1) lw 1.5 lc rgb pcolor(scale_solvers, v) title v, \
+     for [v in scale_solvers] '< awk -F, '."'".'/^#/ { next } !h { h = 1; print; next } $5 == "'.v.'" && $NF == "ok"'."' '".scaling."'" \
+       using 'n_dofs':'wall_ms' with lines lw (v eq 'cholmod' ? 3 : 1.5) lc rgb pcolor(scale_solvers, v) notitle, \
+     for [v in scale_solvers] scaling using (is('solver', v) && !is('status', 'ok') ? column('n_dofs') : NaN):'capped_wall_ms' \
+       with points pt 6 ps 1.5 lc rgb pcolor(scale_solvers, v) notitle
+unset logscale; set format y '%g'
+set terminal pop
+
+# ---- error against wall time on the captured Newton systems, one panel per scene -------
+# (context for J4: the error here is against CHOLMOD refined once; J4 is decided on the figure above)
 set output out.'/linear_solvers_j4_error_time.'.ext
 set terminal push
 if (ext eq 'svg') { set terminal svg size 1500,1100 dynamic enhanced font 'sans,11' background rgb 'white' } \
 else { set terminal pngcairo size 1500,1100 enhanced font 'sans,10' }
-set multiplot layout (nsc > 6 ? 3 : 2), (nsc > 4 ? 3 : 2) title "J4: error |x - x*|/|x*| against wall time (set-up included) on the same Newton systems"
+set multiplot layout (nsc > 6 ? 3 : 2), (nsc > 4 ? 3 : 2) title "Error |x - x*|/|x*| against wall time (set-up included) on the captured Newton systems, x* = CHOLMOD refined once (context for J4)"
 set logscale xy
 set xlabel 'wall time, ms'
 set ylabel 'error |x - x*| / |x*|'

@@ -180,80 +180,115 @@ Test(claims_linear_solvers, j3_not_reproduced_when_every_rho_converges) {
   cr_expect_eq(decide(cb_check_j3, &r), CB_NOT_REPRODUCED, "%s", r.reason);
 }
 
-static void j4_scene(const char *s, int grid, double chol_err, double ms_per_iter) {
-  scene(s, grid, 0.1, 2.5);
-  run(s, "main", "cholmod", -1, -1, chol_err, 1, 99, 1, "ok"); /* rows: iter 0 (err 1) and iter 1 */
-  const char *it[] = {"jacobi", "chebyshev", "cg", "pcg"};
-  for (int k = 0; k < 4; k++) run(s, "main", it[k], 1, -1, 0.5, 40, 0, ms_per_iter, "ok");
-}
-
-Test(claims_linear_solvers, j4_reproduced_when_direct_is_exact_and_costly) {
+/* J4 reads linear_solvers_scaling.csv: one row per mesh size and solver, b = A x* for a manufactured
+ * x*, times to error 1e-6 against x*. srow: one row; wall is analyse + factor + solve, its three
+ * repeats wall x (0.9, 1, 1.1); a solver that did not reach 1e-6 gives status max_iters, no error and
+ * its capped traced time. */
+static FILE *scaling_csv;
+static void scaling_begin(void) {
   begin();
-  /* iterative: error 0.5^k at 5 ms per iteration: 1e-2 after 35 ms, 1e-8 after 135 ms; CHOLMOD 100 ms */
-  j4_scene("a", 10, 1e-15, 5);
-  j4_scene("b", 20, 1e-15, 5);
-  j4_scene("c", 30, 1e-15, 5);
-  cb_claim_result r;
-  cr_expect_eq(decide(cb_check_j4, &r), CB_REPRODUCED, "%s", r.reason);
+  char p[512];
+  snprintf(p, sizeof p, "%s/linear_solvers_scaling.csv", dir);
+  scaling_csv = fopen(p, "w");
+  cr_assert(scaling_csv);
+  fputs("# experiment: linear_solvers\nscene,grid_n,n_dofs,nnz,solver,alpha,rho,iters_to_err,budget_ms,error,analyze_ms,factor_ms,"
+        "solve_ms,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,capped_wall_ms,nnz_factor,lmax_over_lmin,status\n",
+        scaling_csv);
+}
+static void srow(int grid, const char *solver, int iters, double err, double wall, int reached) {
+  int dofs = 3 * grid * grid;
+  if (reached)
+    fprintf(scaling_csv, "g%d,%d,%d,%d,%s,,,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g;%.17g;%.17g,3,,,100,ok\n", grid,
+            grid, dofs, 27 * dofs, solver, iters, 2.5 * wall, err, 0.3 * wall, 0.5 * wall, 0.2 * wall, wall, 0.9 * wall, 1.1 * wall,
+            0.9 * wall, wall, 1.1 * wall);
+  else
+    fprintf(scaling_csv, "g%d,%d,%d,%d,%s,,,,%.17g,,,,,,,,,0,%.17g,,100,max_iters\n", grid, grid, dofs, 27 * dofs, solver, 1.01 * wall,
+            wall);
+}
+/* CHOLMOD at 8^2, 16^2, 32^2 taking chol[k] ms (error chol_err), CG iters 20, 40, 80 taking cg[k] ms,
+ * Jacobi never reaching 1e-6 (capped at 3x CHOLMOD). */
+static void j4_family(const double chol[3], double chol_err, const double cg[3]) {
+  const int grid[3] = {8, 16, 32};
+  for (int k = 0; k < 3; k++) {
+    srow(grid[k], "cholmod", 1, chol_err, chol[k], 1);
+    srow(grid[k], "cg", 20 << k, 9e-7, cg[k], 1);
+    srow(grid[k], "jacobi", 5000, NAN, 3 * chol[k], 0);
+  }
+}
+static cb_verdict decide_j4(cb_claim_result *r) {
+  fclose(scaling_csv);
+  return decide(cb_check_j4, r);
 }
 
-/* CHOLMOD at 100 ms, repeats at 0.9, 1, 1.1 x; the iterative solvers the same; the time per
- * iteration (5 ms) is a paired difference over the iterations: 4.5-5.5 ms */
-Test(claims_linear_solvers, j4_quotes_times_with_their_spread) {
-  begin_with(1);
-  rep[0] = 0.9;
-  rep[2] = 1.1;
-  j4_scene("a", 10, 1e-15, 5);
-  j4_scene("b", 20, 1e-15, 5);
-  j4_scene("c", 30, 1e-15, 5);
+/* CHOLMOD grows as n^1.5 (1, 8, 64 ms), CG as n^1 (2, 8, 32 ms): CHOLMOD is the cheaper at 8^2, ties at
+ * 16^2 (not costlier), and costs more from 32^2 on: the crossover is 32^2. */
+Test(claims_linear_solvers, j4_reproduced_with_a_crossover) {
+  scaling_begin();
+  j4_family((double[]){1, 8, 64}, 1e-15, (double[]){2, 8, 32});
   cb_claim_result r;
-  cr_expect_eq(decide(cb_check_j4, &r), CB_REPRODUCED, "%s", r.reason);
-  cr_expect(strstr(r.numbers, "| c | 2700 | 100 (90-110) / 1.0e-15 | 35 (31.5-38.5) (jacobi) | 135 (122-148) (jacobi) | 5 (4.5-5.5) |"),
+  cr_expect_eq(decide_j4(&r), CB_REPRODUCED, "%s", r.reason);
+  cr_expect(strstr(r.reason, "Crossover at 32^2 (3072 dofs): from there on"), "%s", r.reason);
+  cr_log_info("%s\n%s\n", r.numbers, r.reason);
+  cr_expect(strstr(r.reason, "(at 32^2: 2.00x (2.00-2.00x over 3 paired repeats), against cg)"), "%s", r.reason);
+  cr_expect(strstr(r.reason, "n^1.50 for CHOLMOD and n^1.00 for cg"), "%s", r.reason);
+  cr_expect(strstr(r.numbers, "| g8 |") == NULL && strstr(r.numbers, "| 32^2 | 3072 | 100 | 64 (57.6-70.4), 1.0e-15 | 44.8 | cg, 80, 32 (28.8-35.2) | 2x (2-2x) |"),
             "%s", r.numbers);
-  cr_expect(strstr(r.numbers, "median of 3 repeats (per traced iteration)"), "%s", r.numbers);
+  cr_expect(strstr(r.numbers, "> 192 (max_iters within its 194 ms)"), "%s", r.numbers);
 }
 
+/* The claim's "expensive" fails: CG is the costlier at every size. */
+Test(claims_linear_solvers, j4_partly_when_there_is_no_crossover) {
+  scaling_begin();
+  j4_family((double[]){1, 8, 64}, 1e-15, (double[]){2, 16, 128});
+  cb_claim_result r;
+  cr_expect_eq(decide_j4(&r), CB_PARTLY, "%s", r.reason);
+  cr_expect(strstr(r.reason, "No crossover up to 32^2") && strstr(r.reason, "\"expensive\" is not reproduced"), "%s", r.reason);
+}
+
+/* CHOLMOD costlier at 16^2 but the cheaper again at 32^2: no size from which it stays costlier. */
+Test(claims_linear_solvers, j4_a_crossover_must_hold_at_every_larger_size) {
+  scaling_begin();
+  j4_family((double[]){1, 8, 64}, 1e-15, (double[]){2, 4, 100});
+  cb_claim_result r;
+  cr_expect_eq(decide_j4(&r), CB_PARTLY, "%s", r.reason);
+  cr_expect(strstr(r.reason, "No crossover up to 32^2"), "%s", r.reason);
+}
+
+/* CHOLMOD's error against x* above 1e-8 at one size: not exact, not reproduced. */
 Test(claims_linear_solvers, j4_not_reproduced_when_direct_is_not_exact) {
-  begin();
-  j4_scene("a", 10, 1e-3, 5);
-  j4_scene("b", 20, 1e-3, 5);
-  j4_scene("c", 30, 1e-3, 5);
+  scaling_begin();
+  j4_family((double[]){1, 8, 64}, 1e-5, (double[]){2, 8, 32});
   cb_claim_result r;
-  cr_expect_eq(decide(cb_check_j4, &r), CB_NOT_REPRODUCED, "%s", r.reason);
+  cr_expect_eq(decide_j4(&r), CB_NOT_REPRODUCED, "%s", r.reason);
+  cr_expect(strstr(r.reason, "<= 1e-08) on 0"), "%s", r.reason);
 }
 
-/* Solver and scene names the checker has never seen: J4's iterative solvers
- * are whatever the CSV's main sweep holds (here a solver "mystery" that the
- * registry does not know), and its scenes those of the scenes CSV. Errors
- * fall like 0.5^k: 1e-2 after 7 iterations, 1e-8 after 27. The four usual
- * solvers, at 20 ms per iteration, reach 1e-2 after 140 ms, later than
- * CHOLMOD's 100 ms: not reproduced. With "mystery" at 1 ms per iteration
- * (1e-2 after 7 ms, 1e-8 after 27 ms) the 1%-accurate answer is cheaper
- * than CHOLMOD, and so is the exact one: partly, decided by the new solver. */
-static void unseen_scene(const char *s, int grid, int with_new) {
-  scene(s, grid, 0.1, 2.5);
-  run(s, "main", "cholmod", -1, -1, 1e-15, 1, 99, 1, "ok");
-  const char *it[] = {"jacobi", "chebyshev", "cg", "pcg"};
-  for (int k = 0; k < 4; k++) run(s, "main", it[k], 1, -1, 0.5, 40, 0, 20, "ok");
-  if (with_new) run(s, "main", "mystery", -1, -1, 0.5, 40, 0, 1, "ok");
+/* No iterative solver reaches 1e-6 at the largest size: accuracy not controllable there. */
+Test(claims_linear_solvers, j4_not_reproduced_when_no_iterative_solver_gets_there) {
+  scaling_begin();
+  srow(8, "cholmod", 1, 1e-15, 1, 1);
+  srow(8, "cg", 20, 9e-7, 2, 1);
+  srow(16, "cholmod", 1, 1e-15, 8, 1);
+  srow(16, "cg", 4000, NAN, 24, 0);
+  cb_claim_result r;
+  cr_expect_eq(decide_j4(&r), CB_NOT_REPRODUCED, "%s", r.reason);
+  cr_expect(strstr(r.reason, "reaches error 1e-6 on 1 (controllable)"), "%s", r.reason);
+  cr_expect(strstr(r.numbers, "none reached 1e-6"), "%s", r.numbers);
 }
 
-Test(claims_linear_solvers, j4_takes_solver_and_scene_names_from_the_csv) {
-  begin();
-  unseen_scene("zeta1", 10, 0);
-  unseen_scene("zeta2", 20, 0);
-  unseen_scene("zeta3", 30, 0);
+/* Solver names come from the CSV: a solver the registry does not know counts as iterative and can be
+ * the best one (CG alone would give no crossover). */
+Test(claims_linear_solvers, j4_takes_solver_names_from_the_csv) {
+  scaling_begin();
+  j4_family((double[]){1, 8, 64}, 1e-15, (double[]){2, 16, 128});
+  srow(8, "mystery", 10, 5e-7, 0.5, 1);
+  srow(16, "mystery", 20, 5e-7, 2, 1);
+  srow(32, "mystery", 40, 5e-7, 8, 1);
   cb_claim_result r;
-  cr_expect_eq(decide(cb_check_j4, &r), CB_NOT_REPRODUCED, "%s", r.reason);
-  cr_expect(strstr(r.numbers, "| zeta2 |") && !strstr(r.numbers, "mystery"), "%s", r.numbers);
-  begin();
-  unseen_scene("zeta1", 10, 1);
-  unseen_scene("zeta2", 20, 1);
-  unseen_scene("zeta3", 30, 1);
-  cr_expect_eq(decide(cb_check_j4, &r), CB_PARTLY, "%s", r.reason);
-  cr_expect(strstr(r.numbers, "final errors jacobi / chebyshev / cg / pcg / mystery |"), "%s", r.numbers);
-  cr_expect(strstr(r.numbers, "| zeta3 | 2700 | 100 / 1.0e-15 | 7 (mystery) | 27 (mystery) |"), "%s", r.numbers);
-  cr_expect(strstr(r.reason, "answer on 3 (expensive)") && strstr(r.reason, "before CHOLMOD finishes on 0"), "%s", r.reason);
+  cr_expect_eq(decide_j4(&r), CB_REPRODUCED, "%s", r.reason);
+  cr_expect(strstr(r.reason, "Crossover at 8^2 (192 dofs), the smallest size run, so at or below it") &&
+                strstr(r.reason, "against mystery"), "%s", r.reason);
+  cr_expect(strstr(r.numbers, " cg ms | jacobi ms | mystery ms |"), "%s", r.numbers);
 }
 
 /* J2's context columns are the CSV's other iterative solvers, new ones included. */

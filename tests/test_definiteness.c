@@ -9,6 +9,7 @@
 #include <gsl/gsl_matrix.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <clothbench/clothbench.h>
@@ -408,6 +409,33 @@ Test(pins, zero_squeeze_keeps_pins_fixed) {
 
 /* ---- SPD probes ------------------------------------------------------------ */
 
+/* Textbook CG from x = 0 (A dense-free: cb_sparse_matvec), written here so that the probe's CG
+ * witness is checked against an independent run: returns CB_INDEFINITE with *iters = k at the first
+ * k with p^T A p <= 0, CB_OK with *iters = k + 1 once |r|/|b| <= tol, else CB_NOT_CONVERGED. */
+static int textbook_cg(const cb_sparse *A, const double *b, double tol, int max_iters, int *iters) {
+  int n = A->n, st = CB_NOT_CONVERGED;
+  double *x = calloc((size_t)n, sizeof *x), *r = malloc((size_t)n * sizeof *r), *p = malloc((size_t)n * sizeof *p),
+         *q = malloc((size_t)n * sizeof *q);
+  cr_assert(x && r && p && q);
+  double rr = 0, bb = 0;
+  for (int i = 0; i < n; i++) r[i] = p[i] = b[i], rr += b[i] * b[i];
+  bb = rr;
+  *iters = max_iters;
+  for (int k = 0; k < max_iters; k++) {
+    cb_sparse_matvec(A, p, q);
+    double pq = 0;
+    for (int i = 0; i < n; i++) pq += p[i] * q[i];
+    if (pq <= 0) { st = CB_INDEFINITE; *iters = k; break; }
+    double a = rr / pq, rr1 = 0;
+    for (int i = 0; i < n; i++) x[i] += a * p[i], r[i] -= a * q[i], rr1 += r[i] * r[i];
+    if (sqrt(rr1 / bb) <= tol) { st = CB_OK; *iters = k + 1; break; }
+    for (int i = 0; i < n; i++) p[i] = r[i] + rr1 / rr * p[i];
+    rr = rr1;
+  }
+  free(x), free(r), free(p), free(q);
+  return st;
+}
+
 Test(probe, witnesses_agree_with_dense_eigenvalues) {
   gsl_set_error_handler_off();
   const char *sets[] = {"mesh.n=12", "material.vertex_mass=1", "integrator.definiteness=none", NULL};
@@ -432,8 +460,12 @@ Test(probe, witnesses_agree_with_dense_eigenvalues) {
     cr_assert(r.min_eig >= ev[0] - 1e-6 * fabs(ev[0]), "a Ritz value is never below lambda_min");
     cr_assert(fabs(r.min_eig - ev[0]) < 1e-6 * fabs(ev[n - 1]), "Lanczos %g vs dense %g", r.min_eig, ev[0]);
     cr_assert_eq(r.cholmod_status == CB_OK, ev[0] > 0, "CHOLMOD agrees with the sign of lambda_min (%g)", ev[0]);
+    /* the CG witness against an independent textbook CG on the same (A, b, tol, cap) */
+    int it_ref, st_ref = textbook_cg(&s->sys.A, b, pp.cg.tol, pp.cg.max_iters, &it_ref);
     if (ev[0] > 0) cr_assert_eq(r.cg_status, CB_OK);
-    else cr_assert(c == 0 || r.cg_status != CB_OK || r.cg_iters > 0);
+    cr_assert_eq(r.cg_status, st_ref, "probe CG %s, textbook CG %s", cb_status_name(r.cg_status), cb_status_name(st_ref));
+    if (st_ref == CB_INDEFINITE) cr_assert_eq(r.cg_iters, it_ref, "breakdown at %d, textbook at %d", r.cg_iters, it_ref);
+    else cr_assert(abs(r.cg_iters - it_ref) <= 1, "CG iterations %d, textbook %d", r.cg_iters, it_ref);
     cr_assert_eq(c == 1, ev[0] < 0, "rest is SPD, 0.9x compressed is not");
     cb_spd_probe_free(pr);
   }

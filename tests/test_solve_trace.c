@@ -101,3 +101,40 @@ Test(solve_trace, direct_solve_is_one_row_and_failures_keep_a_row, .init = setup
   cb_trace_free(&t);
   free(xref);
 }
+
+/* mark_err: the first iteration with error <= mark_err is kept and reported (checked against a run
+ * that keeps every iteration), and an untimed-monitor solve of exactly that many iterations
+ * (cb_trace_timed_solve) ends at the same error. */
+Test(solve_trace, first_iteration_under_an_error_target, .init = setup, .fini = teardown) {
+  int n = cap.A.n;
+  double *xref = malloc((size_t)n * sizeof(double));
+  cr_assert_eq(cb_trace_reference(&cap.A, cap.b, xref), CB_OK);
+  cb_solver_params p = cb_solver_params_default();
+  p.tol = 1e-14;
+  p.max_iters = 5000;
+  cb_trace_params thin = {.keep_all = 0, .growth = 2, .mark_tol = 1e-6, .mark_err = 1e-5},
+                  every = {.keep_all = 5000, .growth = 2, .mark_tol = 1e-6, .mark_err = 0};
+  cb_trace a, b;
+  cr_assert_eq(cb_trace_solve("cg", &p, &cap.A, cap.b, xref, &thin, NULL, &a), CB_OK);
+  cr_assert_eq(cb_trace_solve("cg", &p, &cap.A, cap.b, xref, &every, NULL, &b), CB_OK);
+  cr_expect_eq(b.iter_err, -1, "mark_err = 0: off");
+  int first = -1;
+  for (int i = 0; i < b.nrows && first < 0; i++)
+    if (b.rows[i].error <= 1e-5) first = b.rows[i].iter;
+  cr_assert_gt(first, 1);
+  cr_expect_eq(a.iter_err, first, "traced %d, every row %d", a.iter_err, first);
+  const cb_trace_row *r = cb_trace_at(&a, first);
+  cr_assert(r && r->iter == first, "the marked iteration is a row");
+  cr_expect_leq(r->error, 1e-5);
+  cb_solver_params q = p;
+  q.tol = 0;
+  q.max_iters = first;
+  cb_timed_solve ts;
+  cr_assert_eq(cb_trace_timed_solve("cg", &q, &cap.A, cap.b, xref, &ts), CB_OK);
+  cr_expect_eq(ts.iters, first);
+  cr_expect_float_eq(ts.error, r->error, 1e-12 + 1e-9 * r->error);
+  cr_expect(ts.total_ms > 0 && fabs(ts.total_ms - (ts.analyze_ms + ts.factor_ms + ts.solve_ms)) < 1e-9);
+  cb_trace_free(&a);
+  cb_trace_free(&b);
+  free(xref);
+}

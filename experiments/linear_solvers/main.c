@@ -50,7 +50,22 @@ static const scene_plan scenes[] = {
     {{"n64", "hanging.ini", {LAB(64, 4096, 8000, "1/30")}, "edges"}, 0.5, FULL},
     {{"n128", "hanging.ini", {LAB(128, 16384, 8000, "1/30")}, "edges"}, 0.5, FULL}};
 enum { NSCENES = sizeof scenes / sizeof scenes[0] };
-enum { T_MAIN, T_SCENES, T_RUNS, T_NEWTON }; /* tables, in the order opened */
+enum { T_MAIN, T_SCENES, T_RUNS, T_NEWTON, T_SCALING }; /* tables, in the order opened */
+
+/* J4's scaling family: the lab cloth at grid_n^2 vertices, the system of the first Newton iteration of
+ * step SCALE_STEP (one Newton iteration per step before it), with a manufactured solution x* (b = A x*).
+ * Quick runs stop at 32^2, smoke runs 8^2 alone. */
+static const int scale_n[] = {8, 16, 32, 64, 128, 256};
+#define SCALE_QUICK_MAX 32
+#define SCALE_STEP 1       /* captured step (0-based): the cloth has started to fall */
+#define SCALE_ERR 1e-6     /* the error |x - x*|/|x*| every solver is timed to */
+#define SCALE_BUDGET 2.0   /* an iterative solver gets SCALE_BUDGET x CHOLMOD's time + SCALE_FLOOR_MS to reach it: one that
+                              needs more is not the best unless all do, and then CHOLMOD is the cheaper either way */
+#define SCALE_FLOOR_MS 50.0
+#define SCALE_FLOOR_QUICK_MS 1000.0 /* --quick (up to 32^2): every solver gets there, so the CSV is the same from run to run */
+#define SCALE_COLUMNS "scene,grid_n,n_dofs,nnz,solver,alpha,rho,iters_to_err,budget_ms,error,analyze_ms,factor_ms,solve_ms," \
+                      "wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,capped_wall_ms,nnz_factor,lmax_over_lmin,status"
+enum { SCALE_COLS = 22 };
 static const double alpha_fracs[] = {0.1, 0.25, 0.5, 0.75, 0.9, 0.98, 1.02, 1.1, 1.5}; /* x alpha_max (J1) */
 static const double rhos[] = {0.90, 0.92, 0.94, 0.95, 0.96, 0.97, 0.98, 0.99, 0.995, 0.999, 0.9999}; /* J3 */
 static const int newton_k[] = {4, 8, 16, 32, 64};
@@ -61,6 +76,7 @@ typedef struct {
   cb_experiment e;
   FILE *const *out; /* the running cell's tables */
   int cell[NSCENES], ncells; /* scenes of this mode */
+  int nscale;                /* sizes of the scaling sweep in this mode */
   const char *scene;
   const cb_capture *cap;
   const double *xref;
@@ -234,7 +250,8 @@ static int scene(ctx *c, const scene_plan *d, FILE *sc) {
                 dense ? de.ms : cb_csv_na(), dense ? "dense" : "lanczos");
   cb_csv_printf(sc, "%.17g,%.17g,%.17g,%.17g,%.17g,ok\n", amax, astar, cb_jacobi_rho(c->lmin, c->lmax, 1.0),
                 cb_jacobi_rho(c->lmin, c->lmax, astar), cb_jacobi_rho(lab.lmin, lab.lmax, 1.0));
-  int full = cb_scene_decl_is(&d->scene, "full") || cb_scene_decl_is(&d->scene, "j3");
+  int j3 = cb_scene_decl_is(&d->scene, "j3") || c->e.smoke; /* smoke: its one scene runs every sweep */
+  int full = cb_scene_decl_is(&d->scene, "full") || j3;
   if (cb_scene_decl_is(&d->scene, "spectrum")) goto done;
   c->scene = label;
   c->cap = &cap;
@@ -254,7 +271,7 @@ static int scene(ctx *c, const scene_plan *d, FILE *sc) {
     if (full || alpha_fracs[i] > 1) st = run(c, "alpha", "jacobi", alpha_fracs[i] * amax, NAN, c->sweep_iters);
   /* J3 (lab): the rho sweep at alpha*, at alpha_max/2 and at vanilla alpha = 1 */
   const double alphas[] = {astar, 0.5 * amax, 1.0};
-  for (int i = 0; st == CB_OK && cb_scene_decl_is(&d->scene, "j3") && i < 3; i++) {
+  for (int i = 0; st == CB_OK && j3 && i < 3; i++) {
     for (size_t j = 0; st == CB_OK && j < sizeof rhos / sizeof *rhos; j++)
       st = run(c, "rho", "chebyshev", alphas[i], rhos[j], c->sweep_iters);
     if (st == CB_OK && i > 0) st = run(c, "rho_auto", "chebyshev", alphas[i], 0.0, c->sweep_iters);
@@ -264,6 +281,205 @@ done:
   free(xref);
   cb_capture_free(&cap);
   return st;
+}
+
+/* ---- J4: cost to a manufactured solution against mesh size ------------------------------------ */
+
+/* x*: a smooth field over the cloth, sin(pi u) sin(pi v) scaled per axis (a Newton step is smooth: the
+ * hard part for an iterative solver), plus 10% of a fixed pseudo-random field in [-1, 1]. */
+static void manufactured(const cb_capture *cap, int grid_n, double *xs) {
+  const double pi = 3.14159265358979323846;
+  unsigned long long h = 0x9e3779b97f4a7c15ULL;
+  for (int blk = 0; blk < cap->A.n / 3; blk++) {
+    int v = cap->scene->free_vertex[blk];
+    double u = (double)(v % grid_n) / (grid_n - 1), w = (double)(v / grid_n) / (grid_n - 1);
+    for (int k = 0; k < 3; k++) {
+      h ^= h >> 12, h ^= h << 25, h ^= h >> 27; /* xorshift64 */
+      double r = (double)((h * 2685821657736338717ULL) >> 11) / 9007199254740992.0 * 2 - 1;
+      xs[3 * blk + k] = (1 + 0.5 * k) * sin(pi * u) * sin(pi * w) + 0.1 * r;
+    }
+  }
+}
+
+typedef struct {
+  run_spec r;
+  int reached;     /* the untimed traced run reached SCALE_ERR at iteration iters */
+  int iters, cap;  /* iterations to SCALE_ERR (or run); the iteration cap of the traced run */
+  double trace_ms; /* the traced run's wall time (a lower bound when not reached) */
+  double budget_ms; /* its time budget: SCALE_BUDGET x CHOLMOD's time + the floor */
+  cb_timing total;
+  double analyze[CB_TIMING_MAX], factor[CB_TIMING_MAX], solve[CB_TIMING_MAX], err, fnnz;
+  int status;
+} scale_run;
+
+/* One timed, untraced solve of a scaling run (for iterative ones: exactly its iterations to SCALE_ERR). */
+static int scale_time(const ctx *c, const double *b, const double *xs, scale_run *u, cb_timed_solve *ts) {
+  cb_solver_params p = cb_solver_params_default();
+  p.tol = 0; /* run exactly max_iters iterations (direct solvers ignore both) */
+  p.max_iters = u->iters > 0 ? u->iters : 1;
+  p.alpha = isnan(u->r.alpha) ? 1.0 : u->r.alpha;
+  p.rho = isnan(u->r.rho) ? 0.0 : u->r.rho;
+  return cb_trace_timed_solve(u->r.solver, &p, &c->cap->A, b, xs, ts);
+}
+
+/* A size whose capture or matrix failed keeps one row, with the status. */
+static int scale_failed(FILE *f, const char *label, int grid_n, int status) {
+  cb_csv_printf(f, "%s,%d", label, grid_n);
+  for (int k = 0; k < SCALE_COLS - 3; k++) fputc(',', f);
+  cb_csv_printf(f, ",%s\n", cb_status_name(status));
+  fprintf(stderr, "linear_solvers: scene %s: %s (kept as a row)\n", label, cb_error_message());
+  return CB_OK;
+}
+
+/* The scaling cell's solves on the captured system (b = A x*): budget, traced runs, timed rounds, rows. */
+static int scale_solvers(ctx *c, int grid_n, const char *label, const cb_capture *cap, const double *xs, const double *b,
+                         const cb_spectrum *lz, scale_run *runs, FILE *const *out) {
+  int st = CB_OK, nrun = 0;
+  double astar = 2 / (lz->lmin + lz->lmax);
+  c->cap = cap;
+  for (int s = 0; st == CB_OK && cb_solver_types[s] && nrun < 16; s++) {
+    unsigned f = cb_solver_types[s]->flags;
+    scale_run *u = &runs[nrun++];
+    u->r = (run_spec){"scaling", cb_solver_types[s]->name, f & CB_SOLVER_USES_ALPHA ? astar : NAN, f & CB_SOLVER_USES_RHO ? 0.0 : NAN, 1};
+    u->reached = (f & CB_SOLVER_DIRECT) != 0;
+    u->iters = 1;
+  }
+  /* CHOLMOD's time (one untimed run) sets the iterative solvers' budget */
+  double chol_ms = 0;
+  for (int i = 0; st == CB_OK && i < nrun; i++) {
+    cb_timed_solve ts;
+    if (!(cb_solver_types[i]->flags & CB_SOLVER_DIRECT)) continue;
+    st = scale_time(c, b, xs, &runs[i], &ts);
+    if (st == CB_OK && ts.status == CB_OK) chol_ms = fmax(chol_ms, ts.total_ms);
+  }
+  /* each iterative solver: a short probe for its cost per iteration, then one traced run (error at every
+   * iteration) within the budget, which finds its first iteration with error <= SCALE_ERR */
+  for (int i = 0; st == CB_OK && i < nrun; i++) {
+    scale_run *u = &runs[i];
+    if (u->reached) continue;
+    cb_timed_solve ts;
+    u->iters = 20;
+    st = scale_time(c, b, xs, u, &ts);
+    double per = ts.iters > 0 ? fmax(ts.solve_ms / ts.iters, 1e-6) : 1;
+    u->budget_ms = SCALE_BUDGET * chol_ms + (c->e.quick ? SCALE_FLOOR_QUICK_MS : SCALE_FLOOR_MS);
+    u->cap = (int)fmin(1e6, fmax(50, ceil((u->budget_ms - ts.factor_ms) / per)));
+    cb_solver_params p = cb_solver_params_default();
+    p.tol = 1e-15;
+    p.max_iters = u->cap;
+    p.alpha = isnan(u->r.alpha) ? 1.0 : u->r.alpha;
+    p.rho = isnan(u->r.rho) ? 0.0 : u->r.rho;
+    cb_trace_params tp = cb_trace_params_default();
+    tp.keep_all = 0;
+    tp.growth = 2;
+    tp.mark_err = SCALE_ERR;
+    cb_trace t;
+    if (st == CB_OK) st = cb_trace_solve(u->r.solver, &p, &cap->A, b, xs, &tp, NULL, &t);
+    if (st == CB_OK) {
+      u->reached = t.iter_err >= 0;
+      u->iters = u->reached ? t.iter_err : t.iters;
+      u->trace_ms = t.wall_ms;
+      u->status = t.status;
+    }
+    cb_trace_free(&t);
+  }
+  /* the solvers that reached SCALE_ERR, timed untraced in interleaved rounds (stats.h) */
+  int rounds = 0;
+  double spent = 0;
+  for (; st == CB_OK && (rounds == 0 || cb_timing_more(c->e.quick, rounds, spent)); rounds++)
+    for (int i = 0; st == CB_OK && i < nrun; i++) {
+      scale_run *u = &runs[i];
+      if (!u->reached) continue;
+      cb_timed_solve ts;
+      st = scale_time(c, b, xs, u, &ts);
+      if (st == CB_OK && cb_timing_warm(ts.total_ms)) st = scale_time(c, b, xs, u, &ts); /* that was its warm-up */
+      if (st) break;
+      cb_timing_add(&u->total, ts.total_ms);
+      u->analyze[rounds] = ts.analyze_ms;
+      u->factor[rounds] = ts.factor_ms;
+      u->solve[rounds] = ts.solve_ms;
+      u->err = ts.error;
+      u->fnnz = ts.factor_nnz;
+      u->status = ts.status;
+      spent += ts.total_ms;
+    }
+  for (int i = 0; st == CB_OK && i < nrun; i++) {
+    scale_run *u = &runs[i];
+    char a[32], r[32], it[32], ms[3][32];
+    fmt(a, sizeof a, u->r.alpha);
+    fmt(r, sizeof r, u->r.rho);
+    fmt(it, sizeof it, u->reached ? u->iters : NAN);
+    int nrep = u->total.n;
+    double m3[3];
+    for (int k = 0; k < 3; k++) {
+      double *v = k == 0 ? u->analyze : k == 1 ? u->factor : u->solve, tmp[CB_TIMING_MAX];
+      memcpy(tmp, v, sizeof tmp);
+      m3[k] = nrep ? cb_median(tmp, nrep) : NAN;
+      if (isnan(m3[k])) ms[k][0] = 0;
+      else snprintf(ms[k], sizeof ms[k], "%.6f", m3[k]);
+    }
+    /* not reached: the status of the capped traced run (max_iters, diverged, ...), its time a lower bound */
+    /* reached: ok if the timed run's error is at the target (an iterative run stops at max_iters by design) */
+    int direct = (cb_solver_types[i]->flags & CB_SOLVER_DIRECT) != 0;
+    int st_row = !u->reached ? (u->status == CB_OK ? CB_NOT_CONVERGED : u->status)
+                 : direct ? u->status : u->err <= SCALE_ERR ? CB_OK : CB_NOT_CONVERGED;
+    const char *status = cb_status_name(st_row);
+    char cap_s[32], err[32], lb[32];
+    fmt(cap_s, sizeof cap_s, direct ? NAN : u->budget_ms);
+    fmt(err, sizeof err, u->reached ? u->err : NAN);
+    fmt(lb, sizeof lb, u->reached ? NAN : u->trace_ms);
+    cb_csv_printf(out[T_SCALING], "%s,%d,%d,%d,%s,%s,%s,%s,%s,%s,%s,%s,%s,", label, grid_n, cap->A.n, cap->A.nnz, u->r.solver, a, r, it,
+                  cap_s, err, ms[0], ms[1], ms[2]);
+    cb_timing_csv(out[T_SCALING], &u->total, 1.0);
+    fputc(',', out[T_SCALING]);
+    cb_timing_csv_each(out[T_SCALING], &u->total, 1.0);
+    cb_csv_printf(out[T_SCALING], ",%d,%s,%.17g,%.17g,%s\n", nrep, lb, direct ? u->fnnz : cb_csv_na(), lz->lmax / lz->lmin, status);
+  }
+  return st;
+}
+
+static int scale_cell(ctx *c, int grid_n, FILE *const *out) {
+  char mn[32], vm[48];
+  snprintf(mn, sizeof mn, "mesh.n=%d", grid_n);
+  snprintf(vm, sizeof vm, "material.vertex_mass=441/%d", grid_n * grid_n);
+  char label[32];
+  snprintf(label, sizeof label, "scale%d", grid_n);
+  cb_scene_decl decl = {label, "hanging.ini", {mn, vm, "material.stretch_k=8000", "integrator.dt=1/30", NULL}, "scaling"};
+  const char *const more[] = {"integrator.max_iters=1", NULL}; /* one factorisation per step on the way (256^2: ~1.5 s) */
+  cb_config cfg;
+  int st = cb_scene_decl_config(&c->e, &decl, more, &cfg);
+  if (st) return st;
+  cb_capture cap;
+  st = cb_capture_newton_system(&cfg, SCALE_STEP, 0, &cap);
+  if (st > 0) return scale_failed(out[T_SCALING], label, grid_n, st);
+  if (st) return st;
+  int n = cap.A.n;
+  double *xs = cb_malloc((size_t)n, sizeof(double)), *b = cb_malloc((size_t)n, sizeof(double)),
+         *dh = cb_malloc((size_t)n, sizeof(double));
+  scale_run *runs = cb_calloc(16, sizeof *runs);
+  cb_spectrum lz = {0};
+  st = !xs || !b || !dh || !runs ? CB_ENOMEM : CB_OK;
+  if (st == CB_OK) {
+    manufactured(&cap, grid_n, xs);
+    cb_sparse_matvec(&cap.A, xs, b); /* b = A x* */
+    st = cb_jacobi_scaling(&cap.A, dh);
+  }
+  if (st == CB_OK) st = cb_spectrum_lanczos(&cap.A, dh, &lz); /* alpha* for the Jacobi-type solvers (given free) */
+  if (st > 0) st = scale_failed(out[T_SCALING], label, grid_n, st); /* A not SPD: no solver row */
+  else if (st == CB_OK) st = scale_solvers(c, grid_n, label, &cap, xs, b, &lz, runs, out);
+  c->cap = NULL;
+  free(xs);
+  free(b);
+  free(dh);
+  free(runs);
+  cb_capture_free(&cap);
+  return st;
+}
+
+static int scale_cell_run(long i, void *vc, FILE *const *out) { return scale_cell(vc, scale_n[i], out); }
+static double scale_cost(long i, void *vc) {
+  (void)vc;
+  double g = scale_n[i];
+  return 2e-4 * g * g * g; /* CHOLMOD and CG both grow about as N^1.5 = g^3 */
 }
 
 /* Cell i: the i-th scene of the mode. */
@@ -300,6 +516,19 @@ int main(int argc, char **argv) {
            "2/(lmin+lmax) of D^-1 A\n# reference x*: CHOLMOD refined once; wall_ms includes set-up, not CHOLMOD's "
            "symbolic analysis; main and rho_auto solves are repeated (wall_ms: the median, wall_min_ms, wall_max_ms, "
            "wall_each_ms: the spread and every repeat, per row), the main ones in interleaved rounds\n", PRE_NEWTON_ITERS, TOL, c.max_iters, c.sweep_iters);
+  char scale_extra[1024];
+  snprintf(scale_extra, sizeof scale_extra,
+           "# J4 scaling: the system of the first Newton iteration of step %d (0-based; one Newton iteration per step "
+           "before it) of the lab cloth at grid_n^2, "
+           "vertex mass 441/grid_n^2 kg, k = 8000 N/m, dt = 1/30 s; b = A x* for a manufactured x* "
+           "(sin(pi u) sin(pi v) (1, 1.5, 2) per axis + 0.1 x a fixed random field in [-1, 1]); error = |x - x*|/|x*|\n"
+           "# every solver from x = 0; an iterative solver's iters_to_err is its first iteration with error <= %g "
+           "(found by a traced run whose iteration cap is worth budget_ms, %g x CHOLMOD's time + %g ms; capped_wall_ms: "
+           "the traced time of a run that did not get there), then timed untraced for exactly those iterations; "
+           "wall_ms = analyze + factor + solve, a fresh solver each time, all solvers of a size in interleaved rounds "
+           "(wall_each_ms); Jacobi-type solvers get alpha* = 2/(lmin+lmax) of D^-1 A from Lanczos for free, "
+           "Chebyshev estimates rho (counted); lmax_over_lmin = lmax/lmin of D^-1 A\n",
+           SCALE_STEP, SCALE_ERR, SCALE_BUDGET, c.e.quick ? SCALE_FLOOR_QUICK_MS : SCALE_FLOOR_MS);
   rc = cb_experiment_table(&c.e, NULL, extra, "scene,sweep,solver,alpha,rho,iter,rel_residual,wall_ms,wall_min_ms,wall_max_ms,"
                            "wall_each_ms,wall_repeats,status,error") != T_MAIN ||
        cb_experiment_table(&c.e, "scenes", extra,
@@ -311,13 +540,16 @@ int main(int argc, char **argv) {
                            "scene,sweep,solver,alpha,alpha_over_max,rho,rho_predicted,iters,rel_residual,rate,rate_prev,"
                            "iters_1e6,wall_to_1e6_ms,setup_ms,rho_ms,wall_ms,wall_min_ms,wall_max_ms,wall_repeats,status") != T_RUNS ||
        cb_experiment_table(&c.e, "newton", extra,
-                           "scene,solver,alpha,rho,max_iters,iters,rel_residual,step_error,wall_ms,status") != T_NEWTON;
+                           "scene,solver,alpha,rho,max_iters,iters,rel_residual,step_error,wall_ms,status") != T_NEWTON ||
+       cb_experiment_table(&c.e, "scaling", scale_extra, SCALE_COLUMNS) != T_SCALING;
   if (rc) return cb_experiment_end(&c.e, CB_EIO), 2;
   int mode = c.e.quick ? QUICK : FULL;
   for (int i = 0; i < NSCENES; i++)
-    if (scenes[i].when & mode) c.cell[c.ncells++] = i;
-  cb_sweep sw = {"scenes", c.ncells, scene_cell, scene_cost, &c};
-  rc = cb_sweep_run(&c.e, &sw, 1);
+    if (c.e.smoke ? i == 0 : (scenes[i].when & mode) != 0) c.cell[c.ncells++] = i; /* smoke: small11 alone */
+  for (size_t i = 0; i < sizeof scale_n / sizeof *scale_n; i++)
+    if (c.e.smoke ? i == 0 : !c.e.quick || scale_n[i] <= SCALE_QUICK_MAX) c.nscale = (int)i + 1;
+  cb_sweep sw[] = {{"scenes", c.ncells, scene_cell, scene_cost, &c}, {"scaling", c.nscale, scale_cell_run, scale_cost, &c}};
+  rc = cb_sweep_run(&c.e, sw, 2);
   rc = cb_experiment_end(&c.e, rc);
   return rc == CB_OK ? 0 : rc == CB_EIO ? 2 : 1;
 }

@@ -9,14 +9,14 @@
 #include <clothbench/timer.h>
 
 cb_trace_params cb_trace_params_default(void) {
-  cb_trace_params p = {.keep_all = 100, .growth = 1.05, .mark_tol = 1e-6};
+  cb_trace_params p = {.keep_all = 100, .growth = 1.05, .mark_tol = 1e-6, .mark_err = 0};
   return p;
 }
 
 typedef struct {
   cb_trace *t;
   cb_trace_params p;
-  int cap, n, marked, next_keep;
+  int cap, n, marked, marked_err, next_keep;
   const double *xref;
   double xref_norm, t_start, overhead;
   cb_trace_row pending; /* the latest iteration, kept or not */
@@ -46,8 +46,15 @@ static void monitor(void *ctx, int k, double rel, const double *x) {
   cb_trace_row r = {k, rel, tr->t->setup_ms + (t_in - tr->t_start - tr->overhead), NAN};
   int keep = k <= tr->p.keep_all || k >= tr->next_keep;
   if (!tr->marked && rel <= tr->p.mark_tol) keep = tr->marked = 1;
-  if (keep) {
+  if (tr->xref && tr->p.mark_err > 0 && !tr->marked_err) { /* the error at every iteration until it is under mark_err */
     r.error = rel_error(tr, x);
+    if (r.error <= tr->p.mark_err) {
+      keep = tr->marked_err = 1;
+      tr->t->iter_err = k;
+    }
+  }
+  if (keep) {
+    if (isnan(r.error)) r.error = rel_error(tr, x);
     push(tr, r);
     if (k > tr->p.keep_all) tr->next_keep = (int)ceil(k * tr->p.growth);
     if (tr->next_keep <= k) tr->next_keep = k + 1;
@@ -60,12 +67,13 @@ static void monitor(void *ctx, int k, double rel, const double *x) {
 int cb_trace_solve(const char *solver, const cb_solver_params *p, const cb_sparse *A, const double *b,
                    const double *xref, const cb_trace_params *tp, double *xout, cb_trace *out) {
   memset(out, 0, sizeof *out);
+  out->iter_err = -1;
   int n = A->n;
   tracer tr;
   memset(&tr, 0, sizeof tr);
   tr.t = out;
   tr.p = tp ? *tp : cb_trace_params_default();
-  if (tr.p.keep_all < 0 || !(tr.p.growth > 1)) return cb_fail("trace: keep_all must be >= 0 and growth > 1");
+  if (tr.p.keep_all < 0 || !(tr.p.growth > 1) || !(tr.p.mark_err >= 0)) return cb_fail("trace: keep_all must be >= 0, growth > 1 and mark_err >= 0");
   tr.n = n;
   tr.xref = xref;
   tr.next_keep = (int)ceil(tr.p.keep_all * tr.p.growth);
@@ -80,7 +88,7 @@ int cb_trace_solve(const char *solver, const cb_solver_params *p, const cb_spars
   sp.monitor_ctx = &tr;
   /* rows: every one up to keep_all, then a geometric sequence, plus the mark and the last */
   int m = sp.max_iters > 0 ? sp.max_iters : 1;
-  tr.cap = tr.p.keep_all + 4 + (m > tr.p.keep_all ? (int)ceil(log((double)m / (tr.p.keep_all + 1)) / log(tr.p.growth)) + 1 : 0);
+  tr.cap = tr.p.keep_all + 5 + (m > tr.p.keep_all ? (int)ceil(log((double)m / (tr.p.keep_all + 1)) / log(tr.p.growth)) + 1 : 0);
   out->rows = cb_malloc((size_t)tr.cap, sizeof *out->rows);
   double *x = cb_calloc((size_t)n, sizeof(double)); /* x = 0 */
   cb_solver *s = NULL;
@@ -116,6 +124,47 @@ int cb_trace_solve(const char *solver, const cb_solver_params *p, const cb_spars
   st = out->status == CB_ENOMEM ? CB_ENOMEM : CB_OK;
 done:
   if (xout && x) memcpy(xout, x, (size_t)n * sizeof(double));
+  cb_solver_free(s);
+  free(x);
+  return st;
+}
+
+int cb_trace_timed_solve(const char *solver, const cb_solver_params *p, const cb_sparse *A, const double *b,
+                         const double *xref, cb_timed_solve *out) {
+  memset(out, 0, sizeof *out);
+  out->error = NAN;
+  int n = A->n;
+  cb_solver_params sp = p ? *p : cb_solver_params_default();
+  sp.monitor = NULL;
+  sp.monitor_ctx = NULL;
+  double *x = cb_calloc((size_t)n, sizeof(double)); /* x = 0 */
+  cb_solver *s = NULL;
+  int st = !x ? CB_ENOMEM : cb_solver_alloc(solver, &sp, n, &s);
+  if (st == CB_OK) {
+    double t0 = cb_now_ms();
+    st = cb_solver_analyze(s, A);
+    double t1 = cb_now_ms();
+    int fst = st == CB_OK ? cb_solver_factor(s, A) : st;
+    double t2 = cb_now_ms();
+    out->status = fst == CB_OK ? cb_solver_solve(s, A, b, x) : fst;
+    double t3 = cb_now_ms();
+    out->analyze_ms = t1 - t0;
+    out->factor_ms = t2 - t1;
+    out->solve_ms = fst == CB_OK ? t3 - t2 : 0;
+    out->total_ms = out->analyze_ms + out->factor_ms + out->solve_ms;
+    out->iters = s->stats.iters;
+    out->factor_nnz = s->stats.factor_nnz;
+    if (out->status < 0 && out->status != CB_ENOMEM) out->status = CB_LINEAR_FAILED;
+    st = out->status == CB_ENOMEM ? CB_ENOMEM : CB_OK;
+  }
+  if (st == CB_OK && xref) {
+    double e = 0, nx = 0;
+    for (int i = 0; i < n; i++) {
+      e += (x[i] - xref[i]) * (x[i] - xref[i]);
+      nx += xref[i] * xref[i];
+    }
+    out->error = sqrt(e) / (nx > 0 ? sqrt(nx) : 1);
+  }
   cb_solver_free(s);
   free(x);
   return st;

@@ -28,6 +28,8 @@ typedef struct cb_trace_params {
   int keep_all;     /* keep every iteration up to this one. Default 100 */
   double growth;    /* then keep k when k >= growth * (last kept). Default 1.05 */
   double mark_tol;  /* also keep the first iteration with rel_residual <= mark_tol. Default 1e-6 */
+  double mark_err;  /* > 0: also keep the first iteration with error <= mark_err, which is then computed at
+                       every iteration until it is found (cb_trace.iter_err). Default 0 (off) */
 } cb_trace_params;
 
 cb_trace_params cb_trace_params_default(void);
@@ -47,6 +49,7 @@ typedef struct cb_trace {
   double rho_ms;       /* part of setup_ms spent estimating Chebyshev's rho */
   double rho;          /* Chebyshev: the rho used (estimated or given); else 0 */
   double wall_ms;      /* total: setup + solve, tracer time subtracted */
+  int iter_err;        /* the first iteration with error <= mark_err, or -1 (also for a direct solve) */
   int nrows;
   cb_trace_row *rows;
 } cb_trace;
@@ -64,6 +67,18 @@ void cb_trace_free(cb_trace *t);
  * x* = x + A^-1 (b - A x), so that CHOLMOD's own row shows its true error
  * instead of 0. Returns CB_NOT_SPD if A has no Cholesky factor. */
 int cb_trace_reference(const cb_sparse *A, const double *b, double *xref);
+
+/* One untraced solve, timed as a user meets it: a fresh solver, analyze (the
+ * symbolic analysis: CHOLMOD's ordering), factor and one solve from x = 0,
+ * with no monitor. error: |x - x*| / |x*| of the result when xref is given,
+ * else NaN. Returns as cb_trace_solve (the outcome is in out->status). */
+typedef struct cb_timed_solve {
+  int status, iters;
+  double analyze_ms, factor_ms, solve_ms, total_ms; /* total = analyze + factor + solve */
+  double error, factor_nnz;
+} cb_timed_solve;
+int cb_trace_timed_solve(const char *solver, const cb_solver_params *p, const cb_sparse *A, const double *b,
+                         const double *xref, cb_timed_solve *out);
 
 /* Asymptotic rate of a traced run: the geometric mean of the residual ratios
  * over its tail, (r_N / r_j)^(1/(N - j)), N = the last iteration and j the
