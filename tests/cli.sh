@@ -98,6 +98,8 @@ if [ -s "$T/hang/out.csv" ]; then
   check "hang: provenance lacks '# config:'" grep -q '^# config:' "$csv"
   check "hang: provenance lacks '# blas_threads:'" grep -q '^# blas_threads:' "$csv"
   check "hang: provenance lacks '# threads_observed:'" grep -q '^# threads_observed: cholmod_factorize [0-9]' "$csv"
+  check "hang: provenance lacks '# blas_kernel:'" grep -q '^# blas_kernel: [A-Za-z]' "$csv"
+  check "hang: provenance lacks how the kernel was chosen" grep -Eq '^# blas_kernel_choice: (detected|set by the environment|chosen|refused)' "$csv"
   check "hang: a '#' line after the header" test "$(grep -v '^#' "$csv" | grep -c '^#')" -eq 0
   # every row has as many fields as the header
   nf=$(echo "$hdr" | awk -F, '{print NF}')
