@@ -60,7 +60,7 @@ INSTR_SRC := $(sort $(wildcard lib/instruments/*.c))
 IO_SRC    := $(sort $(wildcard lib/io/*.c))
 LIB_OBJ  := $(CORE_SRC:%.c=$(BUILD)/%.o) $(CONFIG_SRC:%.c=$(BUILD)/%.o) $(INSTR_SRC:%.c=$(BUILD)/%.o) $(IO_SRC:%.c=$(BUILD)/%.o) $(BUILD)/version.o
 LIB      := $(BUILD)/libclothbench.a
-TOOLS    := $(BUILD)/simulate
+TOOLS    := $(BUILD)/simulate $(BUILD)/blas-kernel
 # one program per folder experiments/<name>/ (main.c plus what serves only it)
 EXP_NAMES:= $(sort $(notdir $(patsubst %/,%,$(dir $(wildcard experiments/*/main.c)))))
 EXPS     := $(EXP_NAMES:%=$(BUILD)/%)
@@ -124,6 +124,9 @@ $(BUILD)/report: $(BUILD)/claims/main.o $(REPORT_LIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
 $(BUILD)/simulate: $(BUILD)/tools/simulate.o $(LIB)
+	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
+
+$(BUILD)/blas-kernel: $(BUILD)/tools/blas_kernel.o $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
 .SECONDEXPANSION:
@@ -191,7 +194,14 @@ $(BUILD)/fuzz_%: $(BUILD)/fuzz/fuzz_%.o $(LIB)
 
 # ---- experiments, plots, report ------------------------------------------------
 
-EXP_ENV := OPENBLAS_NUM_THREADS=$(THREADS) OMP_NUM_THREADS=$(THREADS)
+# The environment of every program make starts: the thread counts, and
+# build/blas-kernel in front, which executes the program with the best safe
+# OpenBLAS kernel (OPENBLAS_CORETYPE, when OpenBLAS falls back to kernels
+# below what the CPU supports and the kernel passes its self-test, cached in
+# $(BUILD)/blas-kernel.cache; tools/blas_kernel.c). A set OPENBLAS_CORETYPE
+# is left as it is.
+BLAS_KERNEL := $(BUILD)/blas-kernel
+EXP_ENV := OPENBLAS_NUM_THREADS=$(THREADS) OMP_NUM_THREADS=$(THREADS) $(BLAS_KERNEL) --cache $(BUILD)/blas-kernel.cache
 EXP_CSV := $(EXP_NAMES:%=results/%.csv)
 
 # After a full run (not QUICK=1), the numbers in README.md and docs/experiments/
@@ -203,14 +213,14 @@ experiments: deps
 	@$(MAKE) --no-print-directory plots movies report
 	@tests/csv_convention.sh --results results
 ifneq ($(QUICK),1)
-	@$(BUILD)/report --results results --fill-only $(addprefix --fill ,$(DOC_FILL))
+	@$(EXP_ENV) $(BUILD)/report --results results --fill-only $(addprefix --fill ,$(DOC_FILL))
 endif
 
-run-experiments: $(EXPS)
+run-experiments: $(EXPS) $(BLAS_KERNEL)
 	@$(MAKE) --no-print-directory $(EXP_CSV:%=%.run)
 
 # each run records its wall time in results/<name>.runtime (for the report's run-time table)
-results/%.csv.run: $(BUILD)/%
+results/%.csv.run: $(BUILD)/% $(BLAS_KERNEL)
 	@mkdir -p results
 	@t0=$$(date +%s.%N); \
 	echo "$(EXP_ENV) $(BUILD)/$* $(if $(filter 1,$(QUICK)),--quick) --out results/$*.csv"; \
@@ -223,19 +233,19 @@ plots:
 
 # animated GIFs of paired runs (scripts/movies.sh lists them); the report embeds them
 movies: deps $(TOOLS)
-	@BUILD=$(BUILD) scripts/movies.sh
+	@BUILD=$(BUILD) $(EXP_ENV) scripts/movies.sh
 
 # the report program is a prerequisite (built under this make's jobserver), so
 # scripts/report.sh does not call make itself
-report: $(BUILD)/report
-	@BUILD=$(BUILD) scripts/report.sh
+report: $(BUILD)/report $(BLAS_KERNEL)
+	@BUILD=$(BUILD) $(EXP_ENV) scripts/report.sh
 
 # Debian's python3 (its python3-scipy), whatever python3 the PATH finds first
 PYTHON ?= /usr/bin/python3
 
 bench: deps
 	@scripts/deps.sh python3-scipy
-	@$(MAKE) --no-print-directory $(BENCHES)
+	@$(MAKE) --no-print-directory $(BENCHES) $(BLAS_KERNEL)
 	@mkdir -p results
 	@rm -f $(BUILD)/bench_matrix_*.bin
 	$(EXP_ENV) CB_BENCH_MATRIX_DIR=$(BUILD) $(BUILD)/bench_core $(if $(filter 1,$(QUICK)),--quick) --out results/bench_core.csv

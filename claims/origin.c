@@ -9,7 +9,7 @@
 /* The provenance of one experiment's CSV: the "# key: value" lines before
  * its header row. */
 typedef struct {
-  char revision[128], quick[16], date[64], blas[16], omp[16], cpu[256], cores[16];
+  char revision[128], quick[16], date[64], blas[16], omp[16], cpu[256], cores[16], kernel[64], choice[1024];
   int found;
 } csv_origin;
 
@@ -20,7 +20,7 @@ static void meta_value(const char *line, const char *key, char *out, size_t n) {
 }
 
 static csv_origin read_origin(const char *results, const char *experiment) {
-  csv_origin o = {.revision = "?", .quick = "?", .date = "?", .blas = "?", .omp = "?", .cpu = "?", .cores = "?"};
+  csv_origin o = {.revision = "?", .quick = "?", .date = "?", .blas = "?", .omp = "?", .cpu = "?", .cores = "?", .kernel = "?", .choice = ""};
   char path[4096], line[8192];
   snprintf(path, sizeof path, "%s/%s.csv", results, experiment);
   FILE *f = fopen(path, "r");
@@ -34,9 +34,23 @@ static csv_origin read_origin(const char *results, const char *experiment) {
     meta_value(line, "omp_num_threads", o.omp, sizeof o.omp);
     meta_value(line, "cpu", o.cpu, sizeof o.cpu);
     meta_value(line, "cores", o.cores, sizeof o.cores);
+    meta_value(line, "blas_kernel", o.kernel, sizeof o.kernel);
+    meta_value(line, "blas_kernel_choice", o.choice, sizeof o.choice);
   }
   fclose(f);
   return o;
+}
+
+/* "SkylakeX (chosen)", "Cooperlake (detected)", "Prescott (environment)",
+ * "Prescott (detected; SkylakeX refused)": the kernel and the first word of
+ * how it came to run (lib/io/blas_kernel.h). */
+static void kernel_cell(const csv_origin *o, char *out, size_t n) {
+  const char *how = !strncmp(o->choice, "chosen", 6) ? "chosen"
+                    : !strncmp(o->choice, "set by the environment", 22) ? "environment"
+                    : strstr(o->choice, "; refused ") ? "detected; better one refused"
+                    : !strncmp(o->choice, "detected", 8) ? (strstr(o->choice, "fallback") ? "detected fallback" : "detected")
+                    : "?";
+  snprintf(out, n, "%s (%s)", o->kernel, how);
 }
 
 /* The experiment of claim i if no earlier claim names it, else NULL: each
@@ -55,14 +69,14 @@ void cb_report_origin(FILE *f, const char *results) {
   int quick = 0, full = 0, dirty = 0, nrev = 0, n = 0, missing = 0;
   char first_rev[128] = "";
   fputs("## What produced this report\n\n"
-        "| experiment | run | git revision | date (UTC) | BLAS threads | OpenMP threads | CPU | cores |\n"
-        "|---|---|---|---|---|---|---|---|\n", f);
+        "| experiment | run | git revision | date (UTC) | BLAS threads | OpenMP threads | OpenBLAS kernel | CPU | cores |\n"
+        "|---|---|---|---|---|---|---|---|---|\n", f);
   for (int i = 0; i < cb_nclaims; i++) {
     const char *e = first_claim_of_experiment(i);
     if (!e) continue;
     csv_origin o = read_origin(results, e);
     if (!o.found) {
-      fprintf(f, "| %s | not run | | | | | | |\n", e);
+      fprintf(f, "| %s | not run | | | | | | | |\n", e);
       missing++;
       continue;
     }
@@ -72,8 +86,10 @@ void cb_report_origin(FILE *f, const char *results) {
     if (strstr(o.revision, "dirty")) dirty++;
     if (!first_rev[0]) snprintf(first_rev, sizeof first_rev, "%s", o.revision);
     if (strcmp(first_rev, o.revision) != 0) nrev++;
-    fprintf(f, "| %s | %s | %s | %s | %s | %s | %s | %s |\n", e, !strcmp(o.quick, "1") ? "quick (`QUICK=1`)" : "full", o.revision,
-            o.date, o.blas, o.omp, o.cpu, o.cores);
+    char kernel[128];
+    kernel_cell(&o, kernel, sizeof kernel);
+    fprintf(f, "| %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", e, !strcmp(o.quick, "1") ? "quick (`QUICK=1`)" : "full", o.revision,
+            o.date, o.blas, o.omp, kernel, o.cpu, o.cores);
   }
   if (n == 0) fputs("\nNo experiment CSV was found: every claim is `not run`.\n\n", f);
   else

@@ -98,6 +98,8 @@ if [ -s "$T/hang/out.csv" ]; then
   check "hang: provenance lacks '# config:'" grep -q '^# config:' "$csv"
   check "hang: provenance lacks '# blas_threads:'" grep -q '^# blas_threads:' "$csv"
   check "hang: provenance lacks '# threads_observed:'" grep -q '^# threads_observed: cholmod_factorize [0-9]' "$csv"
+  check "hang: provenance lacks '# blas_kernel:'" grep -q '^# blas_kernel: [A-Za-z]' "$csv"
+  check "hang: provenance lacks how the kernel was chosen" grep -Eq '^# blas_kernel_choice: (detected|set by the environment|chosen|refused)' "$csv"
   check "hang: a '#' line after the header" test "$(grep -v '^#' "$csv" | grep -c '^#')" -eq 0
   # every row has as many fields as the header
   nf=$(echo "$hdr" | awk -F, '{print NF}')
@@ -484,6 +486,67 @@ for bad in 0 -2 x ""; do
   expect_rc frames_bad 1
   expect_err frames_bad "--every '$bad'"
 done
+
+# ---- the OpenBLAS kernel: build/blas-kernel in front (as make runs programs) --------------
+# The fallback is injected (CB_BLAS_TEST_CORENAME=Prescott, AVX-512 flags), so
+# this runs the fallback path on a machine whose CPU OpenBLAS detects.
+
+# The chosen kernel really runs (and its self-test with it), so these need a
+# CPU with AVX-512 F/BW/VL/DQ.
+BK=$(dirname "$SIM")/blas-kernel
+AVX512="avx avx2 fma avx512f avx512bw avx512vl avx512dq"
+cpu_has() { for fl in "$@"; do grep -m1 '^flags' /proc/cpuinfo | tr ' ' '\n' | grep -qx "$fl" || return 1; done; }
+if [ ! -x "$BK" ]; then
+  fail "blas-kernel: $BK not built"
+elif ! cpu_has avx2 fma avx512f avx512bw avx512vl avx512dq; then
+  echo "cli: blas-kernel checks skipped: this CPU lacks AVX-512 F/BW/VL/DQ (the chosen kernel must run here)"
+else
+  bk() { # NAME ENV... : blas-kernel (cache in $T) in front of simulate, env as given
+    name=$1
+    shift
+    env -u OPENBLAS_CORETYPE -u CB_BLAS_CHOICE "$@" "$BK" --cache "$T/bk.cache" "$SIM" "$CONFIG" --steps 2 --quiet \
+      --csv "$T/$name.csv" >"$T/$name.out" 2>"$T/$name.err"
+    rc=$?
+  }
+  bk bk_chosen CB_BLAS_TEST_CORENAME=Prescott CB_BLAS_TEST_CPUFLAGS="$AVX512"
+  expect_rc bk_chosen 0
+  check "blas-kernel: a Prescott fallback on AVX-512 runs SkylakeX" grep -qx '# blas_kernel: SkylakeX' "$T/bk_chosen.csv"
+  check "blas-kernel: the provenance says chosen, with the self-test" \
+    grep -q '^# blas_kernel_choice: chosen SkylakeX; .*self-test passed: dgemm, dsyrk, dtrsm, dpotrf' "$T/bk_chosen.csv"
+  check "blas-kernel: the self-test's verdict is cached" grep -q "| SkylakeX	passed" "$T/bk.cache"
+  check "blas-kernel: no warning when make's wrapper chose" test ! -s "$T/bk_chosen.err"
+  bk bk_env OPENBLAS_CORETYPE=Prescott CB_BLAS_TEST_CORENAME=Prescott CB_BLAS_TEST_CPUFLAGS="$AVX512"
+  check "blas-kernel: a set OPENBLAS_CORETYPE is left alone" grep -qx '# blas_kernel: Prescott' "$T/bk_env.csv"
+  check "blas-kernel: ... and recorded as the environment's" \
+    grep -qx '# blas_kernel_choice: set by the environment (OPENBLAS_CORETYPE=Prescott)' "$T/bk_env.csv"
+  bk bk_haswell CB_BLAS_TEST_CORENAME=Prescott CB_BLAS_TEST_CPUFLAGS="avx avx2 fma"
+  check "blas-kernel: AVX2+FMA without AVX-512 gets Haswell" grep -qx '# blas_kernel: Haswell' "$T/bk_haswell.csv"
+  # a failed self-test (its verdict put in the cache) is a refusal, with the reason
+  sed 's/	passed.*/	failed: dtrsm left: 3e-09 > 1e-12 (put there by tests\/cli.sh)/' "$T/bk.cache" >"$T/bk.cache.new" &&
+    mv "$T/bk.cache.new" "$T/bk.cache"
+  bk bk_refused CB_BLAS_TEST_CORENAME=Prescott CB_BLAS_TEST_CPUFLAGS="$AVX512"
+  expect_rc bk_refused 0
+  check "blas-kernel: a failed self-test keeps the detected kernel" grep -qx '# blas_kernel: Prescott' "$T/bk_refused.csv"
+  check "blas-kernel: ... and records the refusal with its reason" \
+    grep -q '^# blas_kernel_choice: detected (CB_BLAS_TEST_CORENAME); .*; refused SkylakeX; .*self-test failed: dtrsm left' "$T/bk_refused.csv"
+  # run directly on the (injected) fallback: one line of warning with the setting
+  env -u OPENBLAS_CORETYPE -u CB_BLAS_CHOICE CB_BLAS_TEST_CORENAME=Prescott CB_BLAS_TEST_CPUFLAGS="$AVX512" \
+    "$SIM" "$CONFIG" --steps 2 --quiet --csv "$T/bk_direct.csv" >"$T/bk_direct.out" 2>"$T/bk_direct.err"
+  rc=$?
+  expect_rc bk_direct 0
+  expect_err bk_direct "simulate: warning: OpenBLAS runs its fallback Prescott kernels on this CPU, which supports SkylakeX: set OPENBLAS_CORETYPE=SkylakeX"
+  check "blas-kernel: the warning is one line" test "$(grep -c 'OPENBLAS_CORETYPE' "$T/bk_direct.err")" -eq 1
+  check "blas-kernel: the direct run's provenance names the setting" \
+    grep -q '^# blas_kernel_choice: detected (CB_BLAS_TEST_CORENAME); .*OPENBLAS_CORETYPE=SkylakeX would select it' "$T/bk_direct.csv"
+  # the self-test refuses a core OpenBLAS does not run
+  OPENBLAS_CORETYPE=NoSuchCore "$BK" --self-test >"$T/bk_bogus.out" 2>&1
+  rc=$?
+  check "blas-kernel: the self-test of a core OpenBLAS ignores fails" test "$rc" -eq 1
+  check "blas-kernel: ... saying so" grep -q '^failed: OpenBLAS runs .*, not the requested NoSuchCore' "$T/bk_bogus.out"
+  "$BK" --cache "$T/bk.cache" >/dev/null 2>&1
+  rc=$?
+  check "blas-kernel: no program is a usage error" test "$rc" -eq 2
+fi
 
 if [ "$failures" -ne 0 ]; then
   echo "cli: $failures of $checks checks failed"

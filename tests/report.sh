@@ -22,12 +22,17 @@ cpu=$(sed -n 's/^# cpu: //p' "$T/res/definiteness.csv" | head -n 1)
 has "a provenance section" "## What produced this report" "$R"
 has "the run kind" "| definiteness | quick (\`QUICK=1\`) | $rev |" "$R"
 has "the machine" "| $cpu | $(getconf _NPROCESSORS_ONLN) |" "$R"
+kernel=$(sed -n 's/^# blas_kernel: //p' "$T/res/definiteness.csv" | head -n 1)
+has "the OpenBLAS kernel and how it came to run" "| $kernel (detected" "$R"
 has "the summary line" "This is a **quick** run of 1 experiment (the others were not run)" "$R"
 has "figure links relative to the report's folder" "](../../plots/definiteness_h1.png)" "$R"
 hasnot "no link into the default plots folder" "plots/out/" "$R"
 # a full run's CSV from a dirty tree is reported as such
 sed 's/^# quick: 1$/# quick: 0/; s/^\(# git_revision: [0-9a-f]*\) (clean)$/\1 (dirty)/' "$T/res/definiteness.csv" > "$T/res/d.csv" && mv "$T/res/d.csv" "$T/res/definiteness.csv"
+sed 's/^# blas_kernel: .*/# blas_kernel: SkylakeX/; s/^# blas_kernel_choice: .*/# blas_kernel_choice: chosen SkylakeX; the detected Prescott is a fallback; self-test passed: .../' \
+  "$T/res/definiteness.csv" > "$T/res/d.csv" && mv "$T/res/d.csv" "$T/res/definiteness.csv"
 "$B/report" --results "$T/res" --plots "$T/plots" --out "$T/R2.md" 2>/dev/null
+has "a chosen kernel" "| SkylakeX (chosen) |" "$T/R2.md"
 has "a full run" "This is a **full** run of 1 experiment" "$T/R2.md"
 has "a dirty tree" "uncommitted changes" "$T/R2.md"
 has "links from the results folder itself" "](plots/definiteness_h1.png)" "$T/R2.md"

@@ -8,6 +8,7 @@
 
 #include <clothbench/clothbench.h>
 #include "bind.h"
+#include "blas_kernel.h"
 #include "experiment.h"
 #include "provenance.h"
 #include "stability.h"
@@ -118,6 +119,7 @@ int main(int argc, char **argv) {
     else { fprintf(stderr, "simulate: more than one config given ('%s', '%s')\n", config, a); return EXIT_USAGE; }
   }
   if (!config) { usage(stderr); return EXIT_USAGE; }
+  cb_blas_kernel_warning(stderr, "simulate"); /* run directly on OpenBLAS's fallback kernels */
   if (cb_config_load(config, &cfg)) { fprintf(stderr, "simulate: %s\n", cb_error_message()); return EXIT_USAGE; }
   for (int i = 1; i < argc; i++)
     if (!strcmp(argv[i], "--set") && i + 1 < argc && cb_config_set(&cfg, argv[++i])) {

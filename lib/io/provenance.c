@@ -9,6 +9,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "blas_kernel.h"
 #include "threads.h"
 
 int cb_runtime_init(void) {
@@ -41,8 +42,7 @@ void cb_provenance_config(FILE *f, const cb_config *cfg) {
   free(buf);
 }
 
-/* "model name" of the first processor in /proc/cpuinfo, or "unknown". */
-static void cpu_model(char *out, size_t n) {
+void cb_cpu_model(char *out, size_t n) {
   snprintf(out, n, "unknown");
   FILE *f = fopen("/proc/cpuinfo", "r");
   if (!f) return;
@@ -76,6 +76,14 @@ void cb_provenance_write(FILE *f, const char *program, int argc, char **argv, co
   fprintf(f, "# gsl: %s\n", gsl_version);
   fprintf(f, "# openblas: %s\n", openblas_get_config());
   fprintf(f, "# blas_threads: %d\n", openblas_get_num_threads());
+  const char *core;
+  char how[1024];
+  cb_blas_kernel_describe(&core, how, sizeof how);
+  fputs("# blas_kernel: ", f);
+  cb_provenance_escaped(f, core);
+  fputs("\n# blas_kernel_choice: ", f);
+  cb_provenance_escaped(f, how);
+  fputc('\n', f);
   fputs("# omp_num_threads: ", f);
   cb_provenance_escaped(f, omp && *omp ? omp : "unset");
   fputc('\n', f);
@@ -86,7 +94,7 @@ void cb_provenance_write(FILE *f, const char *program, int argc, char **argv, co
              "supernodal factorisation of a 96^2-grid Laplacian, 384^3 dgemm)\n",
           th->cholmod_observed, th->dgemm_observed);
   char cpu[256];
-  cpu_model(cpu, sizeof cpu);
+  cb_cpu_model(cpu, sizeof cpu);
   fputs("# cpu: ", f);
   cb_provenance_escaped(f, cpu);
   fprintf(f, "\n# cores: %ld\n", sysconf(_SC_NPROCESSORS_ONLN));

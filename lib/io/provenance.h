@@ -29,8 +29,12 @@ void cb_provenance_escaped(FILE *f, const char *s);
 /* cb_config_write(cfg, f, " "), escaped the same way. */
 void cb_provenance_config(FILE *f, const cb_config *cfg);
 
+/* "model name" of the first processor in /proc/cpuinfo, or "unknown". */
+void cb_cpu_model(char *out, size_t n);
+
 /* "# key: value" lines (every value escaped by cb_provenance_escaped),
- * including the requested and the observed thread counts (the first call runs
+ * including the BLAS kernel and how it was chosen (blas_kernel.h), the
+ * requested and the observed thread counts (the first call runs
  * the probes of threads.h, a few ms). cfg may be NULL (experiments describe their sweep in
  * extra lines); argv is echoed as the command. */
 void cb_provenance_write(FILE *f, const char *program, int argc, char **argv, const cb_config *cfg);
