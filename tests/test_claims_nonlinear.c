@@ -146,7 +146,7 @@ Test(claims_nonlinear, w1_partly_and_a_low_rho_shown_against_plains_rate) {
   cb_claim_result r;
   cr_expect_eq(decide("W1", &r), CB_PARTLY, "%s", r.reason);
   cr_expect(strstr(r.numbers, "pd-chebyshev auto (0.9500; 0.9550)"), "%s", r.numbers);
-  cr_expect(strstr(r.reason, "below plain's mean rate to 1e-4 in 1 of 2 pairs"), "%s", r.reason);
+  cr_expect(strstr(r.reason, "in 1 of 2 pairs"), "%s", r.reason);
 }
 
 Test(claims_nonlinear, w1_not_reproduced_below_ten) {

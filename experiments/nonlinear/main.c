@@ -428,10 +428,10 @@ enum { W1_CAP0 = 500 }; /* the first traced run's iterations */
 
 /* The largest iteration cap of W1 method m on an n^2 grid: a traced run that ends above the tolerance is
  * rerun with a larger cap (w1_cell) up to this one. pd at 128^2 (a 50k-DOF back-solve an iteration, ~10^4
- * iterations to 1e-4) is held to 3000 to keep the full run near 3 minutes; a pair cut off there is
+ * iterations to 1e-4) is held to 2000 to keep the full run near 3 minutes; a pair cut off there is
  * undecided (status cut_off), never a failure. */
 static int w1_capmax(int quick, int m, int n) {
-  if (W1M[m].pair[0] == 'p') return n >= 128 ? 3000 : quick ? 5000 : 10000;
+  if (W1M[m].pair[0] == 'p') return n >= 128 ? 2000 : quick ? 5000 : 10000;
   return quick ? 20000 : 100000;
 }
 
@@ -772,7 +772,7 @@ int main(int argc, char **argv) {
   cb_experiment_timed(&e); /* W1, P1 and the error-time figure are wall times: run alone */
   int q = e.quick, sm = e.smoke; /* smoke: the lab scene only, one rho, a few frames, one P1 state */
   plan p = {.e = &e, .quick = q, .smoke = sm, .rho0 = sm ? NRHO - 1 : 0, .nrho = sm ? 1 : NRHO,
-            .frames = sm ? 5 : q ? 300 : 2000, .state_frames = sm ? 2 : q ? 10 : 20, .p1_states = sm ? 1 : q ? 2 : 4};
+            .frames = sm ? 5 : q ? 300 : 2000, .state_frames = sm ? 2 : q ? 10 : 20, .p1_states = sm ? 1 : q ? 2 : 3};
   for (int i = 0; i < NSCENES; i++) {
     const cb_scene_decl *d = scene_of(i);
     int level = SCENES[i].quick;
