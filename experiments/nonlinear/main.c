@@ -11,14 +11,19 @@
  *                             exact Hessian, D the lab's diagonal; Lanczos)
  *   nonlinear_w1.csv          W1: iterations and wall time to relative |grad F| 1e-2 and 1e-4,
  *                             jacobi-nl vs chebyshev-nl and pd vs pd-chebyshev, at 21^2, 64^2, 128^2
+ *                             (each traced run rerun with a larger cap until it reaches 1e-4)
  *   nonlinear_w1_trace.csv    the relative |grad F| per iteration of those steps (the figure)
  *   nonlinear_p1.csv          P1: per frame of an 81^2 cloth (and a stiff one), wall time and
  *                             step error against the converged step, for pd (10 iterations),
- *                             converged Newton (CHOLMOD) and Baraff-Witkin
+ *                             converged Newton (exact Hessian with line search, and drop) and
+ *                             Baraff-Witkin
+ *   nonlinear_p1_error.csv    P1: per frame, the iterations and wall time pd and exact Newton
+ *                             need to reach step error 1e-2 and 1e-3
  *   nonlinear_error_time.csv  one step of every implicit method at several iteration counts:
  *                             step error and relative |grad F| against wall time
  * The scenes are the table SCENES below, the work four sweeps of cells (one
- * per phase), run by the shared sweep runner; --shard I/N splits them. */
+ * per phase), run by the shared sweep runner; --shard I/N splits them.
+ * --smoke runs one small cell per sweep, on the lab scene. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
