@@ -734,7 +734,7 @@ static int et_cell(long i, void *ctx, FILE *const *out) {
  * run's phase times: a J3 frame 0.3 ms and a Lanczos sample 120 ms (x
  * vertices / 441); a W1 or error-time iteration 1e-4 ms per vertex (the
  * error-time sweep runs 1 + 2 + ... + kmax ~ 2 kmax of them, plus ~1 s of
- * Newton and repeats); a P1 cell 0.5 ms per vertex (converged Newton). */
+ * Newton and repeats); a P1 cell 1 ms per vertex (two converged Newtons and the step-error traces). */
 static double j3_cost(long i, void *ctx) {
   const plan *p = ctx;
   int ns = 1;
@@ -749,7 +749,7 @@ static double w1_cost(long i, void *ctx) {
 }
 static double p1_cost(long i, void *ctx) {
   const plan *p = ctx;
-  return 0.5 * p->nv[p->p1[i / p->p1_states]];
+  return 1.0 * p->nv[p->p1[i / p->p1_states]];
 }
 static double et_cost(long i, void *ctx) {
   const plan *p = ctx;
