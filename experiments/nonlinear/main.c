@@ -11,14 +11,19 @@
  *                             exact Hessian, D the lab's diagonal; Lanczos)
  *   nonlinear_w1.csv          W1: iterations and wall time to relative |grad F| 1e-2 and 1e-4,
  *                             jacobi-nl vs chebyshev-nl and pd vs pd-chebyshev, at 21^2, 64^2, 128^2
+ *                             (each traced run rerun with a larger cap until it reaches 1e-4)
  *   nonlinear_w1_trace.csv    the relative |grad F| per iteration of those steps (the figure)
  *   nonlinear_p1.csv          P1: per frame of an 81^2 cloth (and a stiff one), wall time and
  *                             step error against the converged step, for pd (10 iterations),
- *                             converged Newton (CHOLMOD) and Baraff-Witkin
+ *                             converged Newton (exact Hessian with line search, and drop) and
+ *                             Baraff-Witkin
+ *   nonlinear_p1_error.csv    P1: per frame, the iterations and wall time pd and exact Newton
+ *                             need to reach step error 1e-2 and 1e-3
  *   nonlinear_error_time.csv  one step of every implicit method at several iteration counts:
  *                             step error and relative |grad F| against wall time
  * The scenes are the table SCENES below, the work four sweeps of cells (one
- * per phase), run by the shared sweep runner; --shard I/N splits them. */
+ * per phase), run by the shared sweep runner; --shard I/N splits them.
+ * --smoke runs one small cell per sweep, on the lab scene. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -55,23 +60,24 @@ static const char *const ABOUT =
  * Liu's cloth, P1), pinned at the lab's corners 0 and n-1; P1's stiff variant. */
 typedef struct {
   cb_scene_decl scene;
-  int quick;
+  int quick; /* 1: in --quick too; 2: in --smoke too; 3: in --smoke only */
 } scene_plan;
 #define G64 "mesh.n=64", "material.vertex_mass=441/4096", "scene.pins=0 63"
 #define G128 "mesh.n=129", "material.vertex_mass=441/16641", "scene.pins=0 128" /* 128^2 quads */
 #define G81 "mesh.n=81", "material.vertex_mass=441/6561", "scene.pins=0 80"
 static const scene_plan SCENES[] = {
-    {{"lab", "lab.ini", {NULL}, "j3"}, 1},
-    {{"lab", "lab.ini", {NULL}, "w1"}, 1},
+    {{"lab", "lab.ini", {NULL}, "j3"}, 2},
+    {{"lab", "lab.ini", {NULL}, "w1"}, 2},
     {{"grid64", "lab.ini", {G64, NULL}, "w1"}, 1},
     {{"grid128", "lab.ini", {G128, NULL}, "w1"}, 0},
     {{"grid81", "lab.ini", {G81, NULL}, "p1"}, 1},
     {{"grid81_stiff", "lab.ini", {G81, "material.stretch_k=1e6", NULL}, "p1"}, 1},
-    {{"lab", "lab.ini", {NULL}, "error_time"}, 1},
+    {{"lab", "lab.ini", {NULL}, "p1"}, 3},
+    {{"lab", "lab.ini", {NULL}, "error_time"}, 2},
     {{"grid64", "lab.ini", {G64, NULL}, "error_time"}, 0},
 };
 enum { NSCENES = sizeof SCENES / sizeof SCENES[0] };
-enum { T_J3, T_SPECTRUM, T_W1, T_W1_TRACE, T_P1, T_ERROR_TIME }; /* tables, in the order opened */
+enum { T_J3, T_SPECTRUM, T_W1, T_W1_TRACE, T_P1, T_P1_ERROR, T_ERROR_TIME }; /* tables, in the order opened */
 
 /* J3's rho values and sampled frames */
 static const char *const RHOS[] = {"0", "0.9", "0.95", "0.97", "0.99", "0.995", "0.999", "0.9995", "0.9999", "auto"};
@@ -82,8 +88,9 @@ enum { MAXSETS = 16 };
 
 /* The plan: the scenes of each role this run (--quick or not) and its sizes. */
 typedef struct {
-  const cb_experiment *e;
-  int quick;
+ const cb_experiment *e;
+  int quick, smoke;
+  int rho0, nrho;    /* J3's rho values: RHOS[rho0 .. rho0 + nrho) */
   int frames;        /* J3 frames per trajectory */
   int state_frames;  /* frames of the lab's method before the W1 and error-time step */
   int p1_states;     /* P1 start states per scene: frames 5, 10, ... */
@@ -122,11 +129,11 @@ static int linear_rho(cb_scene *s, const double *x, double dt, double *lmin, dou
   return st == CB_NOT_CONVERGED ? CB_OK : st;
 }
 
-/* Cell i: scene j3[i / NRHO], rho RHOS[i % NRHO]: one trajectory, its row and its spectrum rows. */
+/* Cell i: scene j3[i / nrho], rho RHOS[rho0 + i % nrho]: one trajectory, its row and its spectrum rows. */
 static int j3_cell(long i, void *ctx, FILE *const *out) {
   const plan *p = ctx;
-  const cb_scene_decl *d = scene_of(p->j3[i / NRHO]);
-  const char *rho = RHOS[i % NRHO];
+  const cb_scene_decl *d = scene_of(p->j3[i / p->nrho]);
+  const char *rho = RHOS[p->rho0 + i % p->nrho];
   int frames = p->frames;
   char set[64];
   snprintf(set, sizeof set, "integrator.rho=%s", rho);
@@ -270,6 +277,7 @@ static int make_state(const cb_experiment *e, const cb_scene_decl *d, int frames
 typedef struct {
   double wall_ms, setup_ms, alloc_ms, error, rel_grad, rho;
   int iters, status;
+  int fallback; /* the step hit a non-SPD factorisation and was rerun with the method's fallback */
   cb_timing wall; /* the step's time at every timed repeat (wall_ms: their median) */
 } step_result;
 
@@ -312,6 +320,21 @@ static int run_once(state_t *S, const cb_config *c, cb_newton_hook hook, void *c
   return CB_OK;
 }
 
+/* run_once, and when the step ends at a non-SPD factorisation and fb is given, the same step again with fb
+ * (the method's fallback, e.g. Newton's exact Hessian falling back to `drop` for that step): *wall is both
+ * runs' time, r the fallback's results with r->fallback = 1. */
+static int run_fallback(state_t *S, const cb_config *c, const cb_config *fb, cb_newton_hook hook, void *ctx, step_result *r,
+                        double *wall) {
+  int st = run_once(S, c, hook, ctx, r, wall);
+  r->fallback = 0;
+  if (st || !fb || r->status != CB_NOT_SPD) return st;
+  double w2;
+  st = run_once(S, fb, hook, ctx, r, &w2);
+  r->fallback = 1;
+  *wall += w2;
+  return st;
+}
+
 /* One step of the method `sets` names from S's start state, for the error-time figure: repeated
  * (the median wall time kept) while the repeats add up to less than 30 ms, at most 5. With a hook
  * (an observed step is for its trace, not its time): once. */
@@ -337,13 +360,14 @@ static int one_step(const cb_experiment *e, const cb_scene_decl *d, state_t *S, 
  * interleaved rounds (every method once per round; stats.h: 3 rounds with --quick, 2-5 in a full
  * run by their cost; a step under 25 ms timed right after an untimed one of its own). r[i] gets
  * method i's results (every repeat computes the same step) and its repeats. */
-static int time_group(const cb_experiment *e, const cb_scene_decl *d, state_t *S, const char *const *const *sets, int n,
-                      step_result *r) {
+static int time_group(const cb_experiment *e, const cb_scene_decl *d, state_t *S, const char *const *const *sets,
+                      const char *const *const *fallback, int n, step_result *r) {
   enum { MAXG = 16 };
-  static cb_config c[MAXG];
+  static cb_config c[MAXG], cf[MAXG];
   if (n > MAXG) return cb_fail("nonlinear: more than %d steps in one group", MAXG);
   for (int i = 0; i < n; i++) {
     int st = step_config(e, d, sets[i], &c[i]);
+    if (st == CB_OK && fallback && fallback[i]) st = step_config(e, d, fallback[i], &cf[i]);
     if (st) return st;
     memset(&r[i], 0, sizeof r[i]);
   }
@@ -352,8 +376,9 @@ static int time_group(const cb_experiment *e, const cb_scene_decl *d, state_t *S
     for (int i = 0; i < n; i++) {
       step_result x;
       double w;
-      int st = run_once(S, &c[i], NULL, NULL, &x, &w);
-      if (st == CB_OK && cb_timing_warm(w)) st = run_once(S, &c[i], NULL, NULL, &x, &w); /* that was the warm-up */
+      const cb_config *fb = fallback && fallback[i] ? &cf[i] : NULL;
+      int st = run_fallback(S, &c[i], fb, NULL, NULL, &x, &w);
+      if (st == CB_OK && cb_timing_warm(w)) st = run_fallback(S, &c[i], fb, NULL, NULL, &x, &w); /* that was the warm-up */
       if (st) return st;
       if (round == 0) {
         cb_timing keep = r[i].wall;
@@ -394,27 +419,55 @@ static void record(void *ctx, int event, const cb_newton_event *ev) {
 typedef struct {
   const char *label, *pair;
   const char *sets[4];
-  int kmax, kmax_q;
+  int auto_rho; /* sets hold integrator.rho=auto: the estimate of the first run is given as a number to the rest */
 } w1_method;
 static const w1_method W1M[] = {
-    {"jacobi-nl", "jacobi", {"integrator.method=jacobi-nl", NULL}, 20000, 4000},
-    {"chebyshev-nl auto", "jacobi", {"integrator.method=chebyshev-nl", "integrator.rho=auto", NULL}, 20000, 4000},
-    {"chebyshev-nl 0.995", "jacobi", {"integrator.method=chebyshev-nl", "integrator.rho=0.995", NULL}, 20000, 4000},
-    {"pd", "pd", {"integrator.method=pd", NULL}, 1000, 300},
-    {"pd-chebyshev auto", "pd", {"integrator.method=pd-chebyshev", "integrator.rho=auto", NULL}, 1000, 300},
+    {"jacobi-nl", "jacobi", {"integrator.method=jacobi-nl", NULL}, 0},
+    {"chebyshev-nl auto", "jacobi", {"integrator.method=chebyshev-nl", "integrator.rho=auto", NULL}, 1},
+    {"chebyshev-nl 0.995", "jacobi", {"integrator.method=chebyshev-nl", "integrator.rho=0.995", NULL}, 0},
+    {"pd", "pd", {"integrator.method=pd", NULL}, 0},
+    {"pd-chebyshev auto", "pd", {"integrator.method=pd-chebyshev", "integrator.rho=auto", NULL}, 1},
 };
 enum { NW1M = sizeof W1M / sizeof W1M[0] };
+enum { W1_CAP0 = 500 }; /* the first traced run's iterations */
 
-/* the iteration cap of W1 method m on an n^2 grid */
-static int w1_kmax(int quick, int m, int n) {
-  int kmax = quick ? W1M[m].kmax_q : W1M[m].kmax;
-  if (n >= 128 && W1M[m].pair[0] == 'p') kmax = quick ? 100 : 400; /* a 50k-DOF back-solve each */
-  return kmax;
+/* The largest iteration cap of W1 method m on an n^2 grid: a traced run that ends above the tolerance is
+ * rerun with a larger cap (w1_cell) up to this one. pd at 128^2 (a 50k-DOF back-solve an iteration, ~10^4
+ * iterations to 1e-4) is held to 2000 to keep the full run near 3 minutes, and so is pd in --quick
+ * (which leaves 64^2's pd pair undecided there: its plain run needs 3000-4000 iterations and was most of
+ * the quick run's time); a pair cut off there is undecided (status cut_off), never a failure. */
+static int w1_capmax(int quick, int m, int n) {
+  if (W1M[m].pair[0] == 'p') return n >= 128 || quick ? 2000 : 10000; /* --quick: 64^2's plain pd (~3000-4000) cut off */
+  return quick ? 20000 : 100000;
 }
 
-/* Cell i: scene w1[i]: its start state, then every W1 method from it (a traced run for the
- * iterations to each tolerance), then the steps of exactly that many iterations of every method,
- * timed together (interleaved: the plain and the accelerated iteration of a pair are compared). */
+/* the cap of the next traced run after one of `cap` iterations ended at t: the iterations the rate over its
+ * second half needs to reach tol, with a quarter more, at least twice the cap, at most capmax */
+static int w1_next_cap(const trace_t *t, int cap, int capmax, double tol) {
+  int a = t->n / 2, b = t->n - 1;
+  double need = 2.0 * cap;
+  if (b > a && t->rel[a] > 0 && t->rel[b] > 0 && t->rel[b] < t->rel[a]) {
+    double rate = pow(t->rel[b] / t->rel[a], 1.0 / (b - a));
+    need = cap + log(tol / t->rel[b]) / log(rate);
+  }
+  double next = fmax(2.0 * cap, 1.25 * need);
+  return next >= capmax ? capmax : (int)next;
+}
+
+/* W1M[m]'s sets with rho (if not NULL) for integrator.rho=auto and "integrator.iters=K" into out */
+static void w1_sets(int m, const char *rho, int K, char *buf, size_t nbuf, const char **out) {
+  int n = 0;
+  for (int k = 0; W1M[m].sets[k]; k++) out[n++] = rho && !strcmp(W1M[m].sets[k], "integrator.rho=auto") ? rho : W1M[m].sets[k];
+  snprintf(buf, nbuf, "integrator.iters=%d", K);
+  out[n++] = buf;
+  out[n] = NULL;
+}
+
+/* Cell i: scene w1[i]: its start state, then every W1 method from it (a traced run for the iterations to
+ * each tolerance, rerun with a larger cap until the tighter one is reached or the cap is w1_capmax), then
+ * the steps of exactly that many iterations of every method, timed together (interleaved: the plain and the
+ * accelerated iteration of a pair are compared). An auto rho is estimated in the first traced run (its time
+ * is setup_ms); every later run of the method is given that estimate as a number, the same iteration. */
 static int w1_cell(long i, void *ctx, FILE *const *out) {
   const plan *p = ctx;
   const cb_scene_decl *d = scene_of(p->w1[i]);
@@ -423,19 +476,30 @@ static int w1_cell(long i, void *ctx, FILE *const *out) {
   int st = make_state(p->e, d, p->state_frames, &S);
   if (st) return st;
   int n = S.s->mesh.grid_n, hit[NW1M][2], kmax[NW1M], job[NW1M][2], njobs = 0;
-  double final_rel[NW1M];
+  double final_rel[NW1M], setup_ms[NW1M];
   step_result r[NW1M], rt[2 * NW1M];
-  static char iters[2 * NW1M + NW1M][64];
+  static char iters[2 * NW1M + NW1M][64], rhos[NW1M][64];
   static const char *sets[2 * NW1M + NW1M][6], *const *jobs[2 * NW1M];
   for (int m = 0; st == CB_OK && m < NW1M; m++) {
-    kmax[m] = w1_kmax(p->quick, m, n);
-    trace_t t = {0, kmax[m] + 1, calloc((size_t)kmax[m] + 1, sizeof(double))};
-    int ns = 0;
-    for (int k = 0; W1M[m].sets[k]; k++) sets[m][ns++] = W1M[m].sets[k];
-    snprintf(iters[m], sizeof iters[m], "integrator.iters=%d", kmax[m]);
-    sets[m][ns++] = iters[m];
-    sets[m][ns] = NULL;
-    st = t.rel ? one_step(p->e, d, &S, sets[m], record, &t, &r[m]) : cb_fail_status(CB_ENOMEM, "out of memory");
+    int capmax = w1_capmax(p->quick, m, n);
+    trace_t t = {0, 0, NULL};
+    const char *rho = NULL;
+    setup_ms[m] = cb_csv_na();
+    for (kmax[m] = W1_CAP0 < capmax ? W1_CAP0 : capmax;; kmax[m] = w1_next_cap(&t, kmax[m], capmax, TOLS[1])) {
+      free(t.rel);
+      t = (trace_t){0, kmax[m] + 1, calloc((size_t)kmax[m] + 1, sizeof(double))};
+      if (!t.rel) { st = cb_fail_status(CB_ENOMEM, "out of memory"); break; }
+      w1_sets(m, rho, kmax[m], iters[m], sizeof iters[m], sets[m]);
+      if ((st = one_step(p->e, d, &S, sets[m], record, &t, &r[m]))) break;
+      if (W1M[m].auto_rho && !rho) { /* the estimate, from now on a number */
+        setup_ms[m] = r[m].setup_ms;
+        snprintf(rhos[m], sizeof rhos[m], "integrator.rho=%.17g", r[m].rho);
+        rho = rhos[m];
+      }
+      int reached = 0;
+      for (int k = 0; k < t.n && !reached; k++) reached = t.rel[k] <= TOLS[1];
+      if (reached || kmax[m] >= capmax) break;
+    }
     for (int k = 0; st == CB_OK && k < t.n; k++) /* every iteration up to 100, then ~50 per decade */
       if (k <= 100 || floor(50 * log10(k)) != floor(50 * log10(k - 1)) || k == t.n - 1)
         cb_csv_printf(out[T_W1_TRACE], "%s,%d,%s,%d,%.17g\n", d->label, n, W1M[m].label, k, t.rel[k]);
@@ -446,64 +510,163 @@ static int w1_cell(long i, void *ctx, FILE *const *out) {
         if (t.rel[k] <= TOLS[q]) hit[m][q] = k;
       job[m][q] = -1;
       if (hit[m][q] > 0) { /* the time of a step of exactly that many iterations */
-        int j = njobs++, slot = NW1M + j, k = 0;
-        for (; W1M[m].sets[k]; k++) sets[slot][k] = W1M[m].sets[k];
-        snprintf(iters[slot], sizeof iters[slot], "integrator.iters=%d", hit[m][q]);
-        sets[slot][k++] = iters[slot];
-        sets[slot][k] = NULL;
+        int j = njobs++, slot = NW1M + j;
+        w1_sets(m, rho, hit[m][q], iters[slot], sizeof iters[slot], sets[slot]);
         jobs[j] = sets[slot];
         job[m][q] = j;
       }
     }
     free(t.rel);
   }
-  if (st == CB_OK) st = time_group(p->e, d, &S, jobs, njobs, rt);
+  if (st == CB_OK) st = time_group(p->e, d, &S, jobs, NULL, njobs, rt);
   for (int m = 0; st == CB_OK && m < NW1M; m++)
     for (int q = 0; q < 2; q++) {
       int j = job[m][q];
-      /* a tolerance never reached (hit < 0; hit = 0: reached before any iteration) has no iteration count or
-       * time; a method without Chebyshev acceleration has no rho */
+      /* a tolerance never reached (hit < 0, status cut_off: not reached at the largest cap; hit = 0: reached
+       * before any iteration) has no iteration count or time; a method without Chebyshev acceleration has no
+       * rho, and one with a given rho no estimate (setup_ms) */
       double na = cb_csv_na(), rho = strstr(W1M[m].label, "chebyshev") ? r[m].rho : na;
       cb_csv_printf(out[T_W1], "%s,%d,%s,%s,%.17g,%d,%g,%.17g,", d->label, n, W1M[m].label, W1M[m].pair, rho, kmax[m],
                     TOLS[q], hit[m][q] >= 0 ? (double)hit[m][q] : na);
       put_timing(out[T_W1], j >= 0 ? &rt[j] : NULL, j >= 0);
-      cb_csv_printf(out[T_W1], ",%.6f,%.6f,%.17g,%s\n", j >= 0 ? rt[j].setup_ms : na, r[m].alloc_ms, final_rel[m],
-                    cb_status_name(r[m].status));
+      cb_csv_printf(out[T_W1], ",%.6f,%.6f,%.17g,%s\n", setup_ms[m], r[m].alloc_ms, final_rel[m],
+                    hit[m][q] < 0 ? "cut_off" : cb_status_name(r[m].status));
     }
   free_state(&S);
   return st;
 }
 
-/* ---- P1: pd (10 iterations) against converged Newton and Baraff-Witkin -------- */
+/* ---- P1: pd (10 iterations) against the fastest Newton and Baraff-Witkin ------ */
 
+/* The methods, timed together at every start state. newton_exact is the fastest converging Newton the
+ * harness has on these steps (exact Hessian, line search: 4-5 iterations a frame); a step whose exact
+ * Hessian does not factorise (not SPD) is rerun with its fallback, drop, and the row counts it (its time is
+ * both runs'). newton_drop is the definiteness fix the Newton default uses (linear convergence: 19-42
+ * iterations), kept to show the difference; baraff_witkin is Newton's single iteration. */
 typedef struct {
   const char *label;
-  const char *sets[4];
+  const char *sets[6], *fallback[6];
 } p1_method;
+#define NEWTON_EXACT "integrator.method=newton", "integrator.definiteness=none", "integrator.line_search=1"
+#define NEWTON_DROP_LS "integrator.method=newton", "integrator.definiteness=drop", "integrator.line_search=1"
 static const p1_method P1M[] = {
-    {"pd10", {"integrator.method=pd", "integrator.iters=10", NULL}},
-    {"newton", {"integrator.method=newton", "integrator.max_iters=50", "integrator.tol=1e-8", NULL}},
-    {"baraff_witkin", {"integrator.method=newton", "integrator.max_iters=1", NULL}},
+    {"pd10", {"integrator.method=pd", "integrator.iters=10", NULL}, {NULL}},
+    {"newton_exact", {NEWTON_EXACT, "integrator.max_iters=50", "integrator.tol=1e-8", NULL},
+     {NEWTON_DROP_LS, "integrator.max_iters=50", "integrator.tol=1e-8", NULL}},
+    {"newton_drop", {"integrator.method=newton", "integrator.max_iters=50", "integrator.tol=1e-8", NULL}, {NULL}},
+    {"baraff_witkin", {"integrator.method=newton", "integrator.max_iters=1", NULL}, {NULL}},
 };
 enum { NP1M = sizeof P1M / sizeof P1M[0] };
 
-/* Cell i: scene p1[i / p1_states], the start state after 5 (i % p1_states + 1) frames; every P1 method from it. */
+/* Time to equal step error: the families traced iteration by iteration (step error against the reference),
+ * then a step of exactly the iterations that reach each tolerance, timed with the methods above. */
+typedef struct {
+  const char *label, *iters_key; /* the key that sets the iteration count */
+  const char *sets[6], *fallback[6];
+  int cap, cap_q;
+} p1_family;
+static const p1_family P1F[] = {
+    {"pd", "integrator.iters", {"integrator.method=pd", NULL}, {NULL}, 400, 200},
+    {"newton_exact", "integrator.max_iters", {NEWTON_EXACT, "integrator.tol=1e-8", NULL},
+     {NEWTON_DROP_LS, "integrator.tol=1e-8", NULL}, 50, 50},
+};
+enum { NP1F = sizeof P1F / sizeof P1F[0] };
+static const double P1_TOLS[] = {1e-2, 1e-3};
+enum { NP1T = sizeof P1_TOLS / sizeof P1_TOLS[0] };
+
+typedef struct {
+  const state_t *S;
+  int n, cap;
+  double *err;
+} err_trace;
+
+static void record_error(void *ctx, int event, const cb_newton_event *ev) {
+  err_trace *t = ctx;
+  if (event == CB_NEWTON_GRADIENT && ev->iter < t->cap) {
+    t->err[ev->iter] = cb_step_error(t->S->s, ev->x, t->S->xstar, t->S->x0);
+    if (ev->iter + 1 > t->n) t->n = ev->iter + 1;
+  }
+}
+
+/* sets, then "key=K", into out (NULL-terminated); buf holds the "key=K" */
+static void with_iters(const char *const *sets, const char *key, int K, char *buf, size_t nbuf, const char **out) {
+  int k = 0;
+  for (; sets[k]; k++) out[k] = sets[k];
+  snprintf(buf, nbuf, "%s=%d", key, K);
+  out[k++] = buf;
+  out[k] = NULL;
+}
+
+/* Cell i: scene p1[i / p1_states], the start state after 5 (i % p1_states + 1) frames; every P1 method from
+ * it, and each family's step of the iterations that reach each tolerance. */
 static int p1_cell(long i, void *ctx, FILE *const *out) {
   const plan *p = ctx;
   const cb_scene_decl *d = scene_of(p->p1[i / p->p1_states]);
   int frame = 5 * (int)(i % p->p1_states + 1);
   state_t S;
   int st = make_state(p->e, d, frame, &S);
-  step_result r[NP1M];
-  const char *const *sets[NP1M];
-  for (int m = 0; m < NP1M; m++) sets[m] = P1M[m].sets;
-  if (st == CB_OK) st = time_group(p->e, d, &S, sets, NP1M, r); /* interleaved: pd10, newton, baraff_witkin, pd10, ... */
-  for (int m = 0; st == CB_OK && m < NP1M; m++) {
-    cb_csv_printf(out[T_P1], "%s,%d,%.17g,%s,%d,%d,", d->label, S.s->mesh.grid_n, S.s->def.stretch_k, P1M[m].label, frame, r[m].iters);
-    put_timing(out[T_P1], &r[m], 1);
-    cb_csv_printf(out[T_P1], ",%.6f,%.17g,%.17g,%s\n", r[m].alloc_ms, r[m].error, r[m].rel_grad, cb_status_name(r[m].status));
+  if (st) return st;
+  enum { NJ = NP1M + NP1F * NP1T };
+  step_result r[NJ];
+  const char *const *sets[NJ], *const *fb[NJ];
+  static const char *fsets[NJ][8], *ffb[NJ][8];
+  static char fbuf[NJ][2][64];
+  int nj = 0, hit[NP1F][NP1T], job[NP1F][NP1T], cap[NP1F];
+  for (int m = 0; m < NP1M; m++, nj++) {
+    sets[nj] = P1M[m].sets;
+    fb[nj] = P1M[m].fallback[0] ? P1M[m].fallback : NULL;
   }
-  free_state(&S); /* make_state leaves it empty on error */
+  for (int f = 0; st == CB_OK && f < NP1F; f++) { /* trace each family's step error */
+    cap[f] = p->smoke ? 20 : p->quick ? P1F[f].cap_q : P1F[f].cap;
+    err_trace t = {&S, 0, cap[f] + 1, calloc((size_t)cap[f] + 1, sizeof(double))};
+    if (!t.err) { st = cb_fail_status(CB_ENOMEM, "out of memory"); break; }
+    const char *ts[8], *tf[8];
+    char b1[64], b2[64];
+    with_iters(P1F[f].sets, P1F[f].iters_key, cap[f], b1, sizeof b1, ts);
+    if (P1F[f].fallback[0]) with_iters(P1F[f].fallback, P1F[f].iters_key, cap[f], b2, sizeof b2, tf);
+    cb_config c, cf;
+    st = step_config(p->e, d, ts, &c);
+    if (st == CB_OK && P1F[f].fallback[0]) st = step_config(p->e, d, tf, &cf);
+    step_result tr;
+    double w;
+    if (st == CB_OK) st = run_fallback(&S, &c, P1F[f].fallback[0] ? &cf : NULL, record_error, &t, &tr, &w);
+    if (st == CB_OK && t.n > tr.iters + 1) t.n = tr.iters + 1; /* a fallback's trace replaced the first run's */
+    for (int q = 0; st == CB_OK && q < NP1T; q++) {
+      hit[f][q] = job[f][q] = -1;
+      for (int k = 1; k < t.n && hit[f][q] < 0; k++)
+        if (t.err[k] <= P1_TOLS[q]) hit[f][q] = k;
+      if (hit[f][q] < 0) continue;
+      with_iters(P1F[f].sets, P1F[f].iters_key, hit[f][q], fbuf[nj][0], sizeof fbuf[nj][0], fsets[nj]);
+      sets[nj] = fsets[nj];
+      fb[nj] = NULL;
+      if (P1F[f].fallback[0]) {
+        with_iters(P1F[f].fallback, P1F[f].iters_key, hit[f][q], fbuf[nj][1], sizeof fbuf[nj][1], ffb[nj]);
+        fb[nj] = ffb[nj];
+      }
+      job[f][q] = nj++;
+    }
+    free(t.err);
+  }
+  if (st == CB_OK) st = time_group(p->e, d, &S, sets, fb, nj, r); /* interleaved: pd10, newton_exact, ..., pd10, ... */
+  double k = S.s->def.stretch_k, na = cb_csv_na();
+  int n = S.s->mesh.grid_n;
+  for (int m = 0; st == CB_OK && m < NP1M; m++) {
+    cb_csv_printf(out[T_P1], "%s,%d,%.17g,%s,%d,%d,", d->label, n, k, P1M[m].label, frame, r[m].iters);
+    put_timing(out[T_P1], &r[m], 1);
+    cb_csv_printf(out[T_P1], ",%.6f,%.17g,%.17g,%d,%s\n", r[m].alloc_ms, r[m].error, r[m].rel_grad, r[m].fallback,
+                  cb_status_name(r[m].status));
+  }
+  for (int f = 0; st == CB_OK && f < NP1F; f++)
+    for (int q = 0; q < NP1T; q++) {
+      int j = job[f][q];
+      /* a tolerance not reached within the cap: no iteration count, time or error, status cut_off */
+      cb_csv_printf(out[T_P1_ERROR], "%s,%d,%.17g,%s,%d,%g,%d,%.17g,", d->label, n, k, P1F[f].label, frame, P1_TOLS[q], cap[f],
+                    j >= 0 ? (double)hit[f][q] : na);
+      put_timing(out[T_P1_ERROR], j >= 0 ? &r[j] : NULL, j >= 0);
+      cb_csv_printf(out[T_P1_ERROR], ",%.17g,%.17g,%s\n", j >= 0 ? r[j].error : na, j >= 0 ? (double)r[j].fallback : na,
+                    j >= 0 ? cb_status_name(r[j].status) : "cut_off");
+    }
+  free_state(&S);
   return st;
 }
 
@@ -531,7 +694,10 @@ static const et_method ETM[] = {
 enum { NETM = sizeof ETM / sizeof ETM[0] };
 
 /* the largest iteration count of error-time method m (0: fixed by its sets) */
-static int et_kmax(int quick, int m) { return quick && ETM[m].kmax > 256 ? 256 : ETM[m].kmax; }
+static int et_kmax(const plan *p, int m) {
+  int cap = p->smoke ? 4 : p->quick ? 256 : ETM[m].kmax;
+  return ETM[m].kmax > cap ? cap : ETM[m].kmax;
+}
 
 /* Cell i: scene et[i]: its start state, then every method at every iteration count from it. */
 static int et_cell(long i, void *ctx, FILE *const *out) {
@@ -541,7 +707,7 @@ static int et_cell(long i, void *ctx, FILE *const *out) {
   int st = make_state(p->e, d, p->state_frames, &S);
   if (st) return st;
   for (int m = 0; st == CB_OK && m < NETM; m++) {
-    int kmax = et_kmax(p->quick, m);
+    int kmax = et_kmax(p, m);
     for (int K = kmax ? 1 : 0; st == CB_OK && K <= kmax; K = K ? 2 * K : 1) {
       char iters[64];
       snprintf(iters, sizeof iters, "integrator.iters=%d", K);
@@ -568,27 +734,27 @@ static int et_cell(long i, void *ctx, FILE *const *out) {
  * run's phase times: a J3 frame 0.3 ms and a Lanczos sample 120 ms (x
  * vertices / 441); a W1 or error-time iteration 1e-4 ms per vertex (the
  * error-time sweep runs 1 + 2 + ... + kmax ~ 2 kmax of them, plus ~1 s of
- * Newton and repeats); a P1 cell 0.5 ms per vertex (converged Newton). */
+ * Newton and repeats); a P1 cell 1 ms per vertex (two converged Newtons and the step-error traces). */
 static double j3_cost(long i, void *ctx) {
   const plan *p = ctx;
   int ns = 1;
   for (int k = 0; k < (int)(sizeof SAMPLE / sizeof SAMPLE[0]); k++) ns += SAMPLE[k] < p->frames;
-  return (0.3 * p->frames + 120.0 * ns) * p->nv[p->j3[i / NRHO]] / 441.0;
+  return (0.3 * p->frames + 120.0 * ns) * p->nv[p->j3[i / p->nrho]] / 441.0;
 }
 static double w1_cost(long i, void *ctx) {
   const plan *p = ctx;
   double it = 0;
-  for (int m = 0; m < NW1M; m++) it += w1_kmax(p->quick, m, p->mesh_n[p->w1[i]]);
+  for (int m = 0; m < NW1M; m++) it += 2 * W1_CAP0 + (m == 0 || m == 3 ? w1_capmax(p->quick, m, p->mesh_n[p->w1[i]]) / 4 : 0);
   return 1e-4 * it * p->nv[p->w1[i]];
 }
 static double p1_cost(long i, void *ctx) {
   const plan *p = ctx;
-  return 0.5 * p->nv[p->p1[i / p->p1_states]];
+  return 1.0 * p->nv[p->p1[i / p->p1_states]];
 }
 static double et_cost(long i, void *ctx) {
   const plan *p = ctx;
   double it = 0;
-  for (int m = 0; m < NETM; m++) it += 2.0 * et_kmax(p->quick, m);
+  for (int m = 0; m < NETM; m++) it += 2.0 * et_kmax(p, m);
   return 1000.0 + 1e-4 * it * p->nv[p->et[i]];
 }
 
@@ -610,11 +776,13 @@ int main(int argc, char **argv) {
   int b = cb_experiment_begin(&e, "nonlinear", ABOUT, argc, argv);
   if (b) return b > 0 ? 0 : 1;
   cb_experiment_timed(&e); /* W1, P1 and the error-time figure are wall times: run alone */
-  int q = e.quick;
-  plan p = {.e = &e, .quick = q, .frames = q ? 300 : 2000, .state_frames = q ? 10 : 20, .p1_states = q ? 2 : 6};
+  int q = e.quick, sm = e.smoke; /* smoke: the lab scene only, one rho, a few frames, one P1 state */
+  plan p = {.e = &e, .quick = q, .smoke = sm, .rho0 = sm ? NRHO - 1 : 0, .nrho = sm ? 1 : NRHO,
+            .frames = sm ? 5 : q ? 300 : 2000, .state_frames = sm ? 2 : q ? 10 : 20, .p1_states = sm ? 1 : q ? 2 : 3};
   for (int i = 0; i < NSCENES; i++) {
     const cb_scene_decl *d = scene_of(i);
-    if (q && !SCENES[i].quick) continue;
+    int level = SCENES[i].quick;
+    if (sm ? level < 2 : level == 3 || (q && level < 1)) continue;
     if (cb_scene_decl_is(d, "j3")) p.j3[p.nj3++] = i;
     else if (cb_scene_decl_is(d, "w1")) p.w1[p.nw1++] = i;
     else if (cb_scene_decl_is(d, "p1")) p.p1[p.np1++] = i;
@@ -626,7 +794,7 @@ int main(int argc, char **argv) {
            "# frames: %d (configs/lab.ini: chebyshev-nl, 32 iterations, damping 0.99; integrator.rho swept)\n", p.frames);
   snprintf(p1_extra, sizeof p1_extra,
            "# frames: %d (start states: frames 5, 10, ... of the lab's method; the step without damping)\n", p.p1_states);
-  const char *state_extra = "# state: 20 frames of the lab's method (10 in --quick); the step without damping\n";
+  const char *state_extra = "# state: 20 frames of the lab's method (10 in --quick, 2 in --smoke); the step without damping\n";
   if (cb_experiment_table(&e, NULL, j3_extra,
                           "panel,scene,method,rho_given,rho,frames,frames_run,diverged,diverge_frame,median_rel_grad,"
                           "p90_rel_grad,max_rel_grad,frames_grad_up,rho_lin_median,rho_lin_max,lmin_min,lmax_max,"
@@ -639,12 +807,15 @@ int main(int argc, char **argv) {
       cb_experiment_table(&e, "w1_trace", NULL, "scene,n,method,iter,rel_grad") != T_W1_TRACE ||
       cb_experiment_table(&e, "p1", p1_extra,
                           "scene,n,k_n_per_m,method,frame,iters,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,"
-                          "alloc_ms,step_error,rel_grad,status") != T_P1 ||
+                          "alloc_ms,step_error,rel_grad,fallback,status") != T_P1 ||
+      cb_experiment_table(&e, "p1_error", p1_extra,
+                          "scene,n,k_n_per_m,method,frame,tol,max_iters,iters_to_tol,wall_to_tol_ms,wall_to_tol_min_ms,"
+                          "wall_to_tol_max_ms,wall_to_tol_each_ms,wall_repeats,step_error,fallback,status") != T_P1_ERROR ||
       cb_experiment_table(&e, "error_time", state_extra,
                           "scene,n,method,family,iters,rho,wall_ms,setup_ms,step_error,rel_grad,status") != T_ERROR_TIME)
     return cb_experiment_end(&e, CB_EIO), 2;
   const cb_sweep sweeps[] = {
-      {"J3", (long)p.nj3 * NRHO, j3_cell, j3_cost, &p},
+      {"J3", (long)p.nj3 * p.nrho, j3_cell, j3_cost, &p},
       {"W1", p.nw1, w1_cell, w1_cost, &p},
       {"P1", (long)p.np1 * p.p1_states, p1_cell, p1_cost, &p},
       {"error-time", p.net, et_cell, et_cost, &p},
