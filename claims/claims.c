@@ -94,15 +94,15 @@ const cb_claim cb_claims[] = {
    "unstretched agreement (reproduced if they agree within 10% unstretched and part within 30%, in every stretch field).", "bending_b3_stretch.png",
    cb_check_B3},
   {"L1", "locking", "Locking: stiff in-plane edges resist folding even with zero bending stiffness.",
-   "Fold angle at rest under gravity, bending stiffness 0, against in-plane stiffness (1e1-1e7), for fold lines along mesh edges, along and across the diagonals and at an angle no mesh line follows; regular, alternating and unstructured meshes; springs and co-rotational FEM.",
+   "Fold angle at rest under gravity, bending stiffness 0, against in-plane stiffness (1e1-1e7), for fold lines along mesh edges, along and across the diagonals and at an angle no mesh line follows; regular, alternating and unstructured meshes; springs and co-rotational FEM. Along mesh edges the angle must stay within 5 deg of the free fold's (the flap hangs straight); across mesh lines it must fall with k at every step, not only from the first to the last.",
    "locking_l1.png", cb_check_L1},
   {"L2", "locking", "Nonconforming (edge-midpoint) elements (English & Bridson 2008) keep about 3 DoFs per vertex where conforming meshes keep 3 + #boundary_edges in all.",
    "3 #variables - rank of the rigidity matrix, per vertex, against mesh size, both discretisations.", "locking_l2.png", cb_check_L2},
   {"F1", "locking", "Co-rotational FEM can replace planar springs (lecture summary): it is isotropic where a spring network depends on its mesh, and its frozen-rotation Hessian is constant.",
-   "Anisotropy ratio of shear and stretch responses, springs on three meshes against FEM; one Newton step at 64^2 as error against time, FEM frozen/exact against springs.",
+   "Anisotropy of the response to non-affine loads (affine loads pass the patch test by construction and decide nothing): disks with the boundary held at a non-uniform stretch or an in-plane bending shear in 8 directions, springs against FEM on the regular, alternating and unstructured meshes, compared across meshes and across directions; one Newton step at 64^2 as error against time, FEM frozen/exact against springs, with every run's convergence status.",
    "locking_f1_aniso.png locking_f1_newton.png", cb_check_F1},
   {"S1", "locking", "Shape matching (Mueller 2005) is unconditionally stable under explicit integration.",
-   "alpha in [0.01, 1] x explicit_stability's dt range: diverged cells (none expected), energy drift, shape error, against springs under the same integrator.",
+   "alpha in [0.01, 1] x explicit_stability's dt range: a cell is stable only if its energy and its shape error (largest edge strain against the rest shape, and the distance to the best-fit rigid motion) both stay bounded; unstable cells count against the claim. Against springs under the same integrator.",
    "locking_s1.png", cb_check_S1},
 };
 const int cb_nclaims = (int)(sizeof cb_claims / sizeof cb_claims[0]);
