@@ -19,6 +19,7 @@ hasnot() { desc=$1; shift; n=$((n + 1)); ! grep -Fq -- "$1" "$2" || { echo "repo
 mkdir -p "$T/res" "$T/plots"
 if [ -n "${SMOKE_DIR:-}" ]; then
   cp "$SMOKE_DIR/definiteness.csv" "$T/res/definiteness.csv" || { echo "report: FAIL: no $SMOKE_DIR/definiteness.csv"; exit 1; }
+  for f in "$SMOKE_DIR"/definiteness_*.csv; do [ -f "$f" ] && cp "$f" "$T/res/"; done
 else
   CB_QUIET=1 OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 "$B/definiteness" --smoke --out "$T/res/definiteness.csv" >/dev/null 2>"$T/def.err" ||
     { echo "report: FAIL: definiteness --smoke:"; cat "$T/def.err"; exit 1; }
