@@ -1,14 +1,18 @@
 # clothbench — see README.md. `make help` prints the lines starting with ##.
 ##
-## make test          install missing Debian packages, build, run the tests
+## make test          install missing Debian packages, build, run the fast tests (about a minute once built):
+##                     unit tests, CLI, layers, and a --smoke run of every experiment, checked
+## make check-all     the long tests (CI): every experiment's --quick run (CSV convention,
+##                     determinism, shards), then make san and make fuzz
 ## make experiments   install missing packages, run every experiment, then plots and report
 ## make all           build the library, simulate, the experiments, bench and report
 ## make plots         draw plots/out/*.png and .svg from results/*.csv (gnuplot)
 ## make movies        animated GIFs of paired runs (explicit blow-up, Baraff-Witkin vs Newton, drape, locking fold)
 ## make report        decide every claim from results/*.csv into results/REPORT.md
 ## make bench         the benchmarks (results/bench_core.csv, results/bench_nonlinear.csv)
-## make determinism  every experiment's --quick run twice, compared (timing columns aside)
-## make san           the tests under AddressSanitizer + UndefinedBehaviorSanitizer
+## make check         make test without the package step;  make check-quick  check-all's --quick part
+## make determinism   every experiment's --quick run twice, compared (timing columns aside)
+## make san           make check under AddressSanitizer + UndefinedBehaviorSanitizer (build/san)
 ## make fuzz          libFuzzer on the config parser, OBJ reader, scene building (FUZZ_SECONDS=60)
 ## make deps          install the missing Debian packages (or print the command)
 ## make clean         remove build/;  make distclean  also results/ and plots/out/
