@@ -165,6 +165,7 @@ SHARDS := topology:3 definiteness:2 nonlinear:2 newton_vs_bw:2
 shard_tests = @set -e; for s in $(SHARDS); do BUILD=$(BUILD) UNSHARDED_DIR=$(2) tests/shard.sh $(1) $${s%%:*} $${s\#\#*:}; done
 
 check: $(TESTS) $(TOOLS) $(EXPS) $(BUILD)/report
+	@rm -f $(BUILD)/check.passed
 	@scripts/check-blas.sh $(BUILD)/simulate
 	@set -e; for t in $(TESTS); do echo "== $$t"; CB_QUIET=1 CB_SIMULATE=$(BUILD)/simulate $$t --jobs 2 --short-filename; done
 	@BUILD=$(BUILD) tests/cli.sh
@@ -178,7 +179,8 @@ check: $(TESTS) $(TOOLS) $(EXPS) $(BUILD)/report
 	@echo "all tests passed"
 
 # make check-all skips check if it passed since anything it tests changed
-# (so CI's make test, then make check-all, runs it once)
+# (so CI's make test, then make check-all, runs it once); a check that fails
+# or is interrupted leaves no stamp
 $(BUILD)/check.passed: $(TESTS) $(TOOLS) $(EXPS) $(BUILD)/report Makefile README.md docs/csv_columns.txt \
   $(wildcard tests/*.sh scripts/*.sh configs/*.ini plots/*.gp)
 	@$(MAKE) --no-print-directory check

@@ -16,6 +16,7 @@ all=0
 readme=${1:-README.md}
 args=${TIER_MAKE_ARGS:-}
 T=$(mktemp -d "${TMPDIR:-/tmp}/cbtiers.XXXXXX")
+load=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo unknown)
 trap 'rm -rf "$T"' EXIT INT TERM
 
 # timed NAME COMMAND...: runs it with its output in $T/NAME.log; its wall time in s to $T/NAME.s
@@ -46,7 +47,7 @@ cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo 2>/dev/null | head -
 {
   echo "<!-- tier-times:begin -->"
   echo "Measured by \`scripts/tier-times.sh$([ $all = 1 ] && echo " --all")\`${args:+ (make arguments: \`$args\`)} on $(date -u +%Y-%m-%d) at $rev,"
-  echo "${cpu:-unknown CPU}, $(getconf _NPROCESSORS_ONLN) cores (Debian packages already installed):"
+  echo "${cpu:-unknown CPU}, $(getconf _NPROCESSORS_ONLN) cores, load average $load before the first run (Debian packages already installed):"
   echo
   echo "| command | wall time |"
   echo "|---|---|"
@@ -62,7 +63,10 @@ cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo 2>/dev/null | head -
   echo
   echo "| experiment | wall time |"
   echo "|---|---|"
-  sed -n 's/^experiments: \([a-z0-9_]*\) --smoke \([0-9.]*\) s$/| \1 | \2 s |/p' "$T/built.log"
+  sed -n 's/^experiments: \([a-z0-9_]*\) --smoke \([0-9.]*\) s$/\1 \2/p' "$T/built.log" | while read -r x t; do
+    # an experiment whose code never reads e.smoke runs its --quick sweep for --smoke
+    if grep -q 'smoke' experiments/"$x"/*.c; then echo "| $x | $t s |"; else echo "| $x | $t s (no smoke cells yet: its --quick run) |"; fi
+  done
   echo "<!-- tier-times:end -->"
 } >"$T/block.md"
 cat "$T/block.md"
