@@ -171,7 +171,7 @@ check: $(TESTS) $(TOOLS) $(EXPS) $(BUILD)/report
 	@BUILD=$(BUILD) tests/cli.sh
 	@BUILD=$(BUILD) tests/lock.sh
 	@CC="$(CC)" CPPFLAGS="$(CPPFLAGS)" CORE_INC="$(CORE_INC)" CONFIG_INC="$(CONFIG_INC)" INSTR_INC="$(INSTR_INC)" IO_INC="$(IO_INC)" tests/layers.sh
-	@BUILD=$(BUILD) tests/experiments.sh --smoke $(SMOKE_DIR)
+	@BUILD=$(BUILD) tests/experiments.sh --smoke $(SMOKE_DIR) $(EXP_NAMES)
 	@BUILD=$(BUILD) tests/csv_convention.sh --runs $(SMOKE_DIR)
 	@BUILD=$(BUILD) SMOKE_DIR=$(SMOKE_DIR) tests/report.sh
 	$(call shard_tests,--smoke,$(SMOKE_DIR))
@@ -193,7 +193,7 @@ check-all: deps
 	@echo "check-all: all tests passed"
 
 check-quick: $(EXPS) $(TOOLS)
-	@BUILD=$(BUILD) tests/experiments.sh --quick $(QUICK_DIR)
+	@BUILD=$(BUILD) tests/experiments.sh --quick $(QUICK_DIR) $(EXP_NAMES)
 	@BUILD=$(BUILD) tests/csv_convention.sh --runs $(QUICK_DIR)
 	@set -e; for x in $(EXP_NAMES); do BUILD=$(BUILD) tests/determinism.sh $$x $(QUICK_DIR); done
 	$(call shard_tests,--quick,$(QUICK_DIR))

@@ -14,8 +14,8 @@
 set -u
 B=${BUILD:-build}
 mode=--quick
-[ "${1:-}" = --smoke ] && { mode=--smoke; shift; }
-exp=${1:?usage: tests/determinism.sh [--smoke] EXPERIMENT [BASELINE_DIR [NEW_DIR]]}
+case ${1:-} in --smoke | --quick) mode=$1; shift ;; esac
+exp=${1:?usage: tests/determinism.sh [--quick|--smoke] EXPERIMENT [BASELINE_DIR [NEW_DIR]]}
 base=${2:-}
 new=${3:-}
 T=$(mktemp -d "${TMPDIR:-/tmp}/cbdet.XXXXXX") || exit 1

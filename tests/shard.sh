@@ -2,7 +2,7 @@
 # --shard I/N: running an experiment's cells as N shards and merging the
 # shards' CSVs with scripts/merge-shards.sh gives the unsharded CSVs (main and
 # side tables), apart from the date, command and timing columns that
-# tests/determinism.sh strips. Usage: tests/shard.sh [--smoke] EXPERIMENT N
+# tests/determinism.sh strips. Usage: tests/shard.sh [--quick|--smoke] EXPERIMENT N
 # (the runs are --quick ones, or --smoke ones with --smoke). With
 # UNSHARDED_DIR=<dir> holding an unsharded run's CSVs of this build (make
 # check's smoke runs, make check-all's quick runs), the merge is compared
@@ -10,9 +10,9 @@
 set -u
 B=${BUILD:-build}
 mode=--quick
-[ "${1:-}" = --smoke ] && { mode=--smoke; shift; }
-exp=${1:?usage: tests/shard.sh [--smoke] EXPERIMENT N}
-n=${2:?usage: tests/shard.sh [--smoke] EXPERIMENT N}
+case ${1:-} in --smoke | --quick) mode=$1; shift ;; esac
+exp=${1:?usage: tests/shard.sh [--quick|--smoke] EXPERIMENT N}
+n=${2:?usage: tests/shard.sh [--quick|--smoke] EXPERIMENT N}
 T=$(mktemp -d "${TMPDIR:-/tmp}/cbshard.XXXXXX") || exit 1
 trap 'rm -rf "$T"' EXIT INT TERM
 files=""
