@@ -1,14 +1,18 @@
 # clothbench — see README.md. `make help` prints the lines starting with ##.
 ##
-## make test          install missing Debian packages, build, run the tests
+## make test          install missing Debian packages, build, run the fast tests (about a minute once built):
+##                     unit tests, CLI, layers, and a --smoke run of every experiment, checked
+## make check-all     the long tests (CI): every experiment's --quick run (CSV convention,
+##                     determinism, shards), then make san and make fuzz
 ## make experiments   install missing packages, run every experiment, then plots and report
 ## make all           build the library, simulate, the experiments, bench and report
 ## make plots         draw plots/out/*.png and .svg from results/*.csv (gnuplot)
 ## make movies        animated GIFs of paired runs (explicit blow-up, Baraff-Witkin vs Newton, drape, locking fold)
 ## make report        decide every claim from results/*.csv into results/REPORT.md
 ## make bench         the benchmarks (results/bench_core.csv, results/bench_nonlinear.csv)
-## make determinism  every experiment's --quick run twice, compared (timing columns aside)
-## make san           the tests under AddressSanitizer + UndefinedBehaviorSanitizer
+## make check         make test without the package step;  make check-quick  check-all's --quick part
+## make determinism   every experiment's --quick run twice, compared (timing columns aside)
+## make san           make check under AddressSanitizer + UndefinedBehaviorSanitizer (build/san)
 ## make fuzz          libFuzzer on the config parser, OBJ reader, scene building (FUZZ_SECONDS=60)
 ## make deps          install the missing Debian packages (or print the command)
 ## make clean         remove build/;  make distclean  also results/ and plots/out/
@@ -76,7 +80,7 @@ TEST_OBJ := $(BUILD)/tests/support.o
 help:
 	@sed -n 's/^##  \{0,1\}//p' $(firstword $(MAKEFILE_LIST))
 
-.PHONY: help determinism all test check experiments run-experiments plots movies report bench san fuzz fuzz-build deps clean distclean FORCE
+.PHONY: help determinism all test check check-all check-quick experiments run-experiments plots movies report bench san fuzz fuzz-build deps clean distclean FORCE
 .DEFAULT_GOAL := all
 
 all: $(LIB) $(TOOLS) $(EXPS) $(BENCHES) $(BUILD)/report
@@ -143,32 +147,66 @@ $(BUILD)/tests/%: $(BUILD)/tests/%.o $(TEST_OBJ) $(REPORT_LIB) $(LIB)
 
 # ---- tests -------------------------------------------------------------------
 
+# Three tiers (README "Tests"):
+#   make test       deps, then check: the unit tests, the CLI, report, lock and
+#                   layer checks, and a --smoke run of every experiment (one
+#                   small cell of each sweep) that the CSV-convention test, the
+#                   report and the shard tests read: about a minute
+#   make check-all  check (unless it passed on this build), then check-quick,
+#                   san and fuzz: what CI runs before the quick experiments
+#   check-quick     every experiment's --quick run once, the CSV convention on
+#                   it, a second run compared with it (determinism), the shards
 # `make test` = deps, then the build and the checks in a second make, so that
 # nothing compiles before the packages are there.
 test: deps
 	@$(MAKE) --no-print-directory check
 
-DETERMINISM_EXP ?= linear_solvers
+SMOKE_DIR := $(BUILD)/smoke
+QUICK_DIR := $(BUILD)/quick
+# experiment shard-count: the shard tests (main and side tables merged back)
+SHARDS := topology:3 definiteness:2 nonlinear:2 newton_vs_bw:2
+shard_tests = @set -e; for s in $(SHARDS); do BUILD=$(BUILD) UNSHARDED_DIR=$(2) tests/shard.sh $(1) $${s%%:*} $${s\#\#*:}; done
 
-check: $(TESTS) $(TOOLS) $(BUILD)/$(DETERMINISM_EXP) $(BUILD)/topology $(BUILD)/definiteness $(BUILD)/nonlinear $(BUILD)/report $(EXPS)
+check: $(TESTS) $(TOOLS) $(EXPS) $(BUILD)/report
+	@rm -f $(BUILD)/check.passed
 	@scripts/check-blas.sh $(BUILD)/simulate
 	@set -e; for t in $(TESTS); do echo "== $$t"; CB_QUIET=1 CB_SIMULATE=$(BUILD)/simulate $$t --jobs 2 --short-filename; done
 	@BUILD=$(BUILD) tests/cli.sh
-	@BUILD=$(BUILD) tests/report.sh
 	@BUILD=$(BUILD) tests/lock.sh
-	@BUILD=$(BUILD) tests/determinism.sh $(DETERMINISM_EXP)
-	@BUILD=$(BUILD) tests/shard.sh topology 3
-	@BUILD=$(BUILD) tests/shard.sh definiteness 2
-	@BUILD=$(BUILD) tests/shard.sh nonlinear 2
-	@BUILD=$(BUILD) tests/csv_convention.sh
 	@CC="$(CC)" CPPFLAGS="$(CPPFLAGS)" CORE_INC="$(CORE_INC)" CONFIG_INC="$(CONFIG_INC)" INSTR_INC="$(INSTR_INC)" IO_INC="$(IO_INC)" tests/layers.sh
+	@BUILD=$(BUILD) tests/experiments.sh --smoke $(SMOKE_DIR) $(EXP_NAMES)
+	@BUILD=$(BUILD) tests/csv_convention.sh --runs $(SMOKE_DIR)
+	@BUILD=$(BUILD) SMOKE_DIR=$(SMOKE_DIR) tests/report.sh
+	$(call shard_tests,--smoke,$(SMOKE_DIR))
+	@touch $(BUILD)/check.passed
 	@echo "all tests passed"
 
+# make check-all skips check if it passed since anything it tests changed
+# (so CI's make test, then make check-all, runs it once); a check that fails
+# or is interrupted leaves no stamp
+$(BUILD)/check.passed: $(TESTS) $(TOOLS) $(EXPS) $(BUILD)/report Makefile README.md docs/csv_columns.txt \
+  $(wildcard tests/*.sh scripts/*.sh configs/*.ini plots/*.gp)
+	@$(MAKE) --no-print-directory check
+
+check-all: deps
+	@$(MAKE) --no-print-directory $(BUILD)/check.passed
+	@$(MAKE) --no-print-directory check-quick
+	@$(MAKE) --no-print-directory san
+	@$(MAKE) --no-print-directory fuzz
+	@echo "check-all: all tests passed"
+
+check-quick: $(EXPS) $(TOOLS)
+	@BUILD=$(BUILD) tests/experiments.sh --quick $(QUICK_DIR) $(EXP_NAMES)
+	@BUILD=$(BUILD) tests/csv_convention.sh --runs $(QUICK_DIR)
+	@set -e; for x in $(EXP_NAMES); do BUILD=$(BUILD) tests/determinism.sh $$x $(QUICK_DIR); done
+	$(call shard_tests,--quick,$(QUICK_DIR))
+
 # every experiment's --quick run twice: identical CSVs apart from the date and
-# the timing columns (CI runs it; make test checks linear_solvers alone)
+# the timing columns (check-quick does it with one run fewer, against its own)
 determinism: $(EXPS)
 	@set -e; for x in $(EXP_NAMES); do BUILD=$(BUILD) tests/determinism.sh $$x; done
 
+# the sanitizers on check: the unit tests and the smoke set
 san: deps
 	@$(MAKE) --no-print-directory BUILD=build/san OPT=-O1 \
 	  SAN="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined" check

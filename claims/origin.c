@@ -9,9 +9,22 @@
 /* The provenance of one experiment's CSV: the "# key: value" lines before
  * its header row. */
 typedef struct {
-  char revision[128], quick[16], date[64], blas[16], omp[16], cpu[256], cores[16], kernel[64], choice[1024];
+  char revision[128], quick[16], smoke[16], date[64], blas[16], omp[16], cpu[256], cores[16], kernel[64], choice[1024];
   int found;
 } csv_origin;
+
+/* The kind of run a CSV comes from: --smoke (make test: one small cell per
+ * sweep, so its verdicts mean nothing), --quick (QUICK=1) or full. A smoke
+ * CSV says "# smoke: 1" beside "# quick: 1". */
+enum run_kind { RUN_FULL, RUN_QUICK, RUN_SMOKE, RUN_KINDS };
+static const char *const run_kind_name[RUN_KINDS] = {[RUN_FULL] = "full", [RUN_QUICK] = "quick", [RUN_SMOKE] = "smoke"};
+static const char *const run_kind_long[RUN_KINDS] = {
+    [RUN_FULL] = "full", [RUN_QUICK] = "quick (`QUICK=1`)", [RUN_SMOKE] = "smoke (`--smoke`, make test)"};
+
+static enum run_kind run_kind_of(const csv_origin *o) {
+  if (!strcmp(o->smoke, "1")) return RUN_SMOKE;
+  return !strcmp(o->quick, "1") ? RUN_QUICK : RUN_FULL;
+}
 
 static void meta_value(const char *line, const char *key, char *out, size_t n) {
   size_t k = strlen(key);
@@ -20,7 +33,8 @@ static void meta_value(const char *line, const char *key, char *out, size_t n) {
 }
 
 static csv_origin read_origin(const char *results, const char *experiment) {
-  csv_origin o = {.revision = "?", .quick = "?", .date = "?", .blas = "?", .omp = "?", .cpu = "?", .cores = "?", .kernel = "?", .choice = ""};
+  csv_origin o = {.revision = "?", .quick = "?", .smoke = "0", .date = "?", .blas = "?", .omp = "?", .cpu = "?", .cores = "?",
+                  .kernel = "?", .choice = ""};
   char path[4096], line[8192];
   snprintf(path, sizeof path, "%s/%s.csv", results, experiment);
   FILE *f = fopen(path, "r");
@@ -29,6 +43,7 @@ static csv_origin read_origin(const char *results, const char *experiment) {
   while (fgets(line, sizeof line, f) && line[0] == '#') {
     meta_value(line, "git_revision", o.revision, sizeof o.revision);
     meta_value(line, "quick", o.quick, sizeof o.quick);
+    meta_value(line, "smoke", o.smoke, sizeof o.smoke);
     meta_value(line, "date", o.date, sizeof o.date);
     meta_value(line, "blas_threads", o.blas, sizeof o.blas);
     meta_value(line, "omp_num_threads", o.omp, sizeof o.omp);
@@ -63,10 +78,10 @@ static const char *first_claim_of_experiment(int i) {
 }
 
 /* "What produced it": one row per experiment whose CSV is there, and a
- * summary line saying whether the run is quick, full or mixed and whether
- * every CSV comes from one clean revision. */
+ * summary line saying whether the run is smoke, quick, full or mixed and
+ * whether every CSV comes from one clean revision. */
 void cb_report_origin(FILE *f, const char *results) {
-  int quick = 0, full = 0, dirty = 0, nrev = 0, n = 0, missing = 0;
+  int kinds[RUN_KINDS] = {0}, dirty = 0, nrev = 0, n = 0, missing = 0;
   char first_rev[128] = "";
   fputs("## What produced this report\n\n"
         "| experiment | run | git revision | date (UTC) | BLAS threads | OpenMP threads | OpenBLAS kernel | CPU | cores |\n"
@@ -81,21 +96,39 @@ void cb_report_origin(FILE *f, const char *results) {
       continue;
     }
     n++;
-    if (!strcmp(o.quick, "1")) quick++;
-    else full++;
+    enum run_kind k = run_kind_of(&o);
+    kinds[k]++;
     if (strstr(o.revision, "dirty")) dirty++;
     if (!first_rev[0]) snprintf(first_rev, sizeof first_rev, "%s", o.revision);
     if (strcmp(first_rev, o.revision) != 0) nrev++;
     char kernel[128];
     kernel_cell(&o, kernel, sizeof kernel);
-    fprintf(f, "| %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", e, !strcmp(o.quick, "1") ? "quick (`QUICK=1`)" : "full", o.revision,
-            o.date, o.blas, o.omp, kernel, o.cpu, o.cores);
+    fprintf(f, "| %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", e, run_kind_long[k], o.revision, o.date, o.blas, o.omp, kernel,
+            o.cpu, o.cores);
   }
-  if (n == 0) fputs("\nNo experiment CSV was found: every claim is `not run`.\n\n", f);
-  else
-    fprintf(f, "\nThis is a **%s** run of %d experiment%s%s%s%s.\n\n", quick && full ? "mixed (quick and full)" : quick ? "quick" : "full", n,
-            n == 1 ? "" : "s", missing ? " (the others were not run)" : "", nrev ? "; the CSVs come from different revisions" : "",
-            dirty ? "; some CSVs come from a working tree with uncommitted changes" : "");
+  if (n == 0) {
+    fputs("\nNo experiment CSV was found: every claim is `not run`.\n\n", f);
+    return;
+  }
+  /* "smoke", "quick", "full", or "mixed (smoke and full)" etc. */
+  char kind[64] = "";
+  int nkinds = 0;
+  for (int k = RUN_KINDS - 1; k >= 0; k--)
+    if (kinds[k]) nkinds++;
+  for (int k = RUN_KINDS - 1, m = 0; k >= 0; k--) {
+    if (!kinds[k]) continue;
+    size_t len = strlen(kind);
+    snprintf(kind + len, sizeof kind - len, "%s%s", m == 0 ? (nkinds > 1 ? "mixed (" : "") : m == nkinds - 1 ? " and " : ", ",
+             run_kind_name[k]);
+    m++;
+  }
+  if (nkinds > 1) strncat(kind, ")", sizeof kind - strlen(kind) - 1);
+  fprintf(f, "\nThis is a **%s** run of %d experiment%s%s%s%s.\n\n", kind, n, n == 1 ? "" : "s",
+          missing ? " (the others were not run)" : "", nrev ? "; the CSVs come from different revisions" : "",
+          dirty ? "; some CSVs come from a working tree with uncommitted changes" : "");
+  if (kinds[RUN_SMOKE])
+    fputs("A smoke run (`--smoke`, what `make test` runs) is one small cell of each sweep: it shows that every table and "
+          "column is written, and its verdicts decide nothing about the claims.\n\n", f);
 }
 
 
@@ -129,7 +162,7 @@ void cb_report_runtimes(FILE *f, const char *results) {
       total += s;
       n++;
     }
-    fprintf(f, "| %s | %s | %s | %s | %s |\n", e, !strcmp(o.quick, "1") ? "quick" : "full", t, o.revision, o.date);
+    fprintf(f, "| %s | %s | %s | %s | %s |\n", e, run_kind_name[run_kind_of(&o)], t, o.revision, o.date);
   }
   if (n > 0) fprintf(f, "| all experiments | | %d min %02.0f s | | |\n", (int)(total / 60), total - 60 * (int)(total / 60));
 }

@@ -10,13 +10,15 @@
 # `_each_` in it (wall_each_ms: every repeat of a timing) holds a list of such
 # numbers separated by ';'.
 #
-#   tests/csv_convention.sh               the self-test, then every experiment's
-#                                         --quick run and two simulate runs, checked
+#   tests/csv_convention.sh [--quick|--smoke]  the self-test, then every experiment's
+#                                         --quick (--smoke) run and two simulate runs, checked
+#   tests/csv_convention.sh --runs DIR    the same on the experiments' CSVs already in DIR
+#                                         (make check: tests/experiments.sh --smoke DIR)
 #   tests/csv_convention.sh --self-test   the checker on constructed good and bad CSVs
 #   tests/csv_convention.sh --results DIR the experiments' CSVs in DIR (DIR/<name>.csv,
 #                                         DIR/<name>_*.csv) and DIR/movies/*/*.csv
 #   tests/csv_convention.sh FILE...       those files
-# Run from anywhere (make check: BUILD=<dir> tests/csv_convention.sh).
+# Run from anywhere (make check: BUILD=<dir> tests/csv_convention.sh --runs DIR).
 set -u
 root=$(cd "$(dirname "$0")/.." && pwd)
 B=${BUILD:-build}
@@ -141,34 +143,45 @@ experiments() { # the experiment programs, as the Makefile finds them
   for m in "$root"/experiments/*/main.c; do basename "$(dirname "$m")"; done
 }
 
+# results_csvs DIR: the experiments' CSVs in DIR, one a line
+results_csvs() {
+  for x in $(experiments); do
+    for f in "$1/$x.csv" "$1/$x"_*.csv; do [ -f "$f" ] && echo "$f"; done
+  done
+  for f in "$1"/movies/*/*.csv; do [ -f "$f" ] && echo "$f"; done
+}
+
+mode=--quick
 case ${1:-} in
 --self-test) self_test; exit $? ;;
 --results)
   dir=${2:?usage: tests/csv_convention.sh --results DIR}
-  set --
-  for x in $(experiments); do
-    for f in "$dir/$x.csv" "$dir/$x"_*.csv; do [ -f "$f" ] && set -- "$@" "$f"; done
-  done
-  for f in "$dir"/movies/*/*.csv; do [ -f "$f" ] && set -- "$@" "$f"; done
+  # shellcheck disable=SC2046 # the file names have no blanks (results/<name>.csv)
+  set -- $(results_csvs "$dir")
   [ $# -gt 0 ] || { echo "csv_convention: no experiment CSV in $dir"; exit 1; }
   check "$@"; exit $? ;;
-'') ;;
+--runs) runs=${2:?usage: tests/csv_convention.sh --runs DIR} ;;
+--quick | --smoke | '') mode=${1:---quick}; runs= ;;
 *) check "$@"; exit $? ;;
 esac
 
-# no argument: the self-test, then fresh CSVs of every experiment (--quick) and of simulate
+# the self-test, then the CSVs of every experiment (in DIR with --runs, else
+# fresh ones: --quick or --smoke) and of simulate
 self_test || exit 1
 T=$(mktemp -d "${TMPDIR:-/tmp}/cbcsvrun.XXXXXX") || exit 1
 trap 'rm -rf "$T"' EXIT INT TERM
 cd "$root" || exit 1
-for x in $(experiments); do
-  CB_QUIET=1 OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 "$B/$x" --quick --out "$T/$x.csv" >/dev/null 2>"$T/$x.err" ||
-    { echo "csv_convention: $x --quick failed:"; cat "$T/$x.err"; exit 1; }
-done
+if [ -z "$runs" ]; then
+  runs=$T/exp
+  BUILD=$B tests/experiments.sh "$mode" "$runs" >/dev/null || exit 1
+fi
 # simulate: an implicit run and an explicit one that blows up (diverged rows)
 "$B/simulate" configs/hanging.ini --steps 5 --csv "$T/simulate_implicit.csv" --obj "$T/s1.obj" --quiet >/dev/null 2>"$T/sim.err" ||
   { echo "csv_convention: simulate failed:"; cat "$T/sim.err"; exit 1; }
 "$B/simulate" configs/hanging.ini --set integrator.method=explicit --set integrator.dt=0.012 --steps 40 \
   --csv "$T/simulate_explicit.csv" --obj "$T/s2.obj" --quiet >/dev/null 2>"$T/sim.err"
 [ -s "$T/simulate_explicit.csv" ] || { echo "csv_convention: simulate (explicit) wrote no CSV:"; cat "$T/sim.err"; exit 1; }
-check "$T"/*.csv
+# shellcheck disable=SC2046
+set -- $(results_csvs "$runs")
+[ $# -gt 0 ] || { echo "csv_convention: no experiment CSV in $runs"; exit 1; }
+check "$@" "$T"/simulate_*.csv

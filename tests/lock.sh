@@ -16,7 +16,7 @@ flock -x "$L" sleep 2 &
 holder=$!
 sleep 0.3
 t0=$(now)
-CB_CPU_LOCK=$L OPENBLAS_NUM_THREADS=1 "$B/topology" --quick --out "$T/t.csv" >/dev/null 2>"$T/t.err"
+CB_CPU_LOCK=$L OPENBLAS_NUM_THREADS=1 "$B/topology" --smoke --out "$T/t.csv" >/dev/null 2>"$T/t.err"
 t1=$(now)
 wait $holder
 ok "untimed: waited for the exclusive holder" "awk -v a=$t0 -v b=$t1 'BEGIN { exit !(b - a >= 1.2) }'"
@@ -28,7 +28,7 @@ flock -s "$L" sleep 2 &
 holder=$!
 sleep 0.3
 t0=$(now)
-CB_CPU_LOCK=$L OPENBLAS_NUM_THREADS=1 "$B/topology" --quick --out "$T/t2.csv" >/dev/null 2>"$T/t2.err"
+CB_CPU_LOCK=$L OPENBLAS_NUM_THREADS=1 "$B/topology" --smoke --out "$T/t2.csv" >/dev/null 2>"$T/t2.err"
 t1=$(now)
 ok "untimed: no wait beside a shared holder" "awk -v a=$t0 -v b=$t1 'BEGIN { exit !(b - a < 1.2) }'"
 ok "untimed: no waiting message" "! grep -q waiting '$T/t2.err'"
@@ -38,7 +38,7 @@ wait $holder
 flock -s "$L" sleep 2 &
 holder=$!
 sleep 0.3
-env -u CB_QUIET CB_CPU_LOCK=$L OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 "$B/definiteness" --quick --out "$T/d.csv" >/dev/null 2>"$T/d.err"
+env -u CB_QUIET CB_CPU_LOCK=$L OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 "$B/definiteness" --smoke --out "$T/d.csv" >/dev/null 2>"$T/d.err"
 wait $holder
 ok "timed: said it was waiting for the others" "grep -q 'waiting for other experiments to finish' '$T/d.err'"
 ok "timed: its CSV records the exclusive lock" "grep -q '^# cpu_lock: exclusive' '$T/d.csv'"

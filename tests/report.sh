@@ -2,6 +2,11 @@
 # End-to-end checks of build/report: the report says what produced it (run
 # kind, revision, date, threads, machine, from the CSVs' provenance), and its
 # figure links are relative to where the report is written.
+# The report runs on a smoke CSV (--smoke, make test's tier): its verdicts
+# mean nothing, but the report must say it is a smoke run and not crash.
+# With SMOKE_DIR=<dir> (make check: every experiment's smoke CSVs), it takes
+# definiteness.csv from there instead of running definiteness --smoke itself,
+# and reports on the whole folder: every claim checker reads a smoke CSV.
 # Run from the repository root (make check does: BUILD=<dir> tests/report.sh).
 set -u
 B=${BUILD:-build}
@@ -12,19 +17,32 @@ has() { desc=$1; shift; n=$((n + 1)); grep -Fq -- "$1" "$2" || { echo "report: F
 hasnot() { desc=$1; shift; n=$((n + 1)); ! grep -Fq -- "$1" "$2" || { echo "report: FAIL: $desc ('$1' in $2)"; fail=1; }; }
 
 mkdir -p "$T/res" "$T/plots"
-CB_QUIET=1 OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 "$B/definiteness" --quick --out "$T/res/definiteness.csv" >/dev/null 2>"$T/def.err" ||
-  { echo "report: FAIL: definiteness --quick:"; cat "$T/def.err"; exit 1; }
+if [ -n "${SMOKE_DIR:-}" ]; then
+  cp "$SMOKE_DIR/definiteness.csv" "$T/res/definiteness.csv" || { echo "report: FAIL: no $SMOKE_DIR/definiteness.csv"; exit 1; }
+  for f in "$SMOKE_DIR"/definiteness_*.csv; do [ -f "$f" ] && cp "$f" "$T/res/"; done
+else
+  CB_QUIET=1 OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 "$B/definiteness" --smoke --out "$T/res/definiteness.csv" >/dev/null 2>"$T/def.err" ||
+    { echo "report: FAIL: definiteness --smoke:"; cat "$T/def.err"; exit 1; }
+fi
+n=$((n + 1)); grep -q '^# smoke: 1$' "$T/res/definiteness.csv" || { echo "report: FAIL: the smoke CSV lacks '# smoke: 1'"; fail=1; }
 "$B/report" --results "$T/res" --plots "$T/plots" --out "$T/out/sub/R.md" 2>"$T/rep.err" ||
   { echo "report: FAIL: build/report:"; cat "$T/rep.err"; exit 1; }
 R=$T/out/sub/R.md
 rev=$(sed -n 's/^# git_revision: //p' "$T/res/definiteness.csv" | head -n 1)
 cpu=$(sed -n 's/^# cpu: //p' "$T/res/definiteness.csv" | head -n 1)
 has "a provenance section" "## What produced this report" "$R"
-has "the run kind" "| definiteness | quick (\`QUICK=1\`) | $rev |" "$R"
+has "the run kind" "| definiteness | smoke (\`--smoke\`, make test) | $rev |" "$R"
 has "the machine" "| $cpu | $(getconf _NPROCESSORS_ONLN) |" "$R"
 kernel=$(sed -n 's/^# blas_kernel: //p' "$T/res/definiteness.csv" | head -n 1)
 has "the OpenBLAS kernel and how it came to run" "| $kernel (detected" "$R"
-has "the summary line" "This is a **quick** run of 1 experiment (the others were not run)" "$R"
+has "the summary line" "This is a **smoke** run of 1 experiment (the others were not run)" "$R"
+has "a smoke run's verdicts decide nothing" "its verdicts decide nothing about the claims" "$R"
+# the same CSV without its smoke line is a quick run's
+grep -v '^# smoke: 1$' "$T/res/definiteness.csv" > "$T/res/d.csv" && mv "$T/res/d.csv" "$T/res/definiteness.csv"
+"$B/report" --results "$T/res" --plots "$T/plots" --out "$T/Rq.md" 2>/dev/null
+has "a quick run" "| definiteness | quick (\`QUICK=1\`) | $rev |" "$T/Rq.md"
+has "a quick run's summary" "This is a **quick** run of 1 experiment" "$T/Rq.md"
+hasnot "a quick run is not called smoke" "its verdicts decide nothing" "$T/Rq.md"
 has "figure links relative to the report's folder" "](../../plots/definiteness_h1.png)" "$R"
 hasnot "no link into the default plots folder" "plots/out/" "$R"
 # a full run's CSV from a dirty tree is reported as such
@@ -70,5 +88,11 @@ mkdir -p "$T/empty"
 for name in $(sed -n "s/.*set output out\.'\/\([a-z0-9_]*\)\.'\.ext.*/\1/p" plots/*.gp | sort -u); do
   has "figure $name.png is referenced by a claim" "\`$name.png\`" "$T/all.md"
 done
+if [ -n "${SMOKE_DIR:-}" ]; then
+  "$B/report" --results "$SMOKE_DIR" --plots "$T/plots" --out "$T/smoke.md" 2>"$T/smoke.err" ||
+    { echo "report: FAIL: build/report on $SMOKE_DIR:"; cat "$T/smoke.err"; fail=1; }
+  has "the smoke folder's report: a smoke run" "This is a **smoke** run of " "$T/smoke.md"
+  hasnot "the smoke folder's report: every experiment's CSV is there" "the others were not run" "$T/smoke.md"
+fi
 [ $fail = 0 ] && echo "report: ok ($n checks)"
 exit $fail

@@ -1,7 +1,9 @@
 /* newton_vs_bw: Baraff-Witkin's single Newton iteration against full Newton,
  * as error against run time (claims I2, I3). The measurements live in
  * experiments/newton_vs_bw/newton_study*.c, the reference step in lib/instruments/reference.c, the methods in
- * lib/instruments/method.c; this file chooses scenes, sweeps and what runs in --quick.
+ * lib/instruments/method.c; this file chooses scenes, sweeps and what runs in --quick
+ * and --smoke (one small cell of each sweep: the lab scene's steps at one state,
+ * short trajectories, one regime cell, one I2 state).
  *
  * Outputs (results/): newton_vs_bw.csv (one step of every method from states
  * of the reference trajectory: error, times), newton_vs_bw_traj.csv
@@ -58,17 +60,20 @@ static int methods(const int *Ks, int nK, const char *const *inner, int ninner, 
   return n;
 }
 
-static const int KS[] = {1, 2, 3, 5, 10, 0}, KS_SHORT[] = {1, 2, 0};
+static const int KS[] = {1, 2, 3, 5, 10, 0}, KS_SHORT[] = {1, 2, 0}, KS_SMOKE[] = {1, 0};
 static const char *const ALL[] = {"cholmod", "cg32", "cheb32", "cg_tol", "cheb_tol"};
 static const char *const NOCHEB[] = {"cholmod", "cg32", "cg_tol"}, *const CHEB[] = {"cheb32", "cheb_tol"};
 /* the K = 1 regime map over dt x k x stretch */
 static const char *const DTS[] = {"1/240", "1/120", "1/60", "1/30", "1/20", "1/10"};
 static const char *const KV[] = {"1e2", "1e3", "1e4", "1e5", "1e6", "1e7"}, *const SV[] = {"1", "1.25", "1.5", "2"};
 static const int DI_Q[] = {0, 3, 5}, KI_Q[] = {0, 2, 5}, SI_Q[] = {0, 3}, DI[] = {0, 1, 2, 3, 4, 5}, SI[] = {0, 1, 2, 3};
+static const int DI_S[] = {3}, KI_S[] = {2}, SI_S[] = {3}; /* smoke: dt 1/30, k 1e4, stretch 2 */
 
 typedef struct {
   const cb_experiment *e;
-  int q;
+  int q, smoke;
+  double traj_s, dt_err_s, regime_s; /* simulated durations: trajectories, dt error, regime cells */
+  int regime_samples, i2_states;
   int steps[NSCENES], nsteps, traj, regime, i2; /* scene indices by role */
   const int *di, *ki, *si;
   int nd, nk, nst;
@@ -76,7 +81,8 @@ typedef struct {
 } plan;
 
 /* the trajectories' methods */
-static int traj_methods(int q, cb_method *M) {
+static int traj_methods(int q, int smoke, cb_method *M) {
+  if (smoke) return methods(KS, 1, ALL, 2, 0, M); /* K = 1 with CHOLMOD and cg32, line search off/on */
   int nm = methods(KS, q ? 3 : 5, ALL, 1, 0, M); /* K = 1..10 (fixed), CHOLMOD, line search off/on */
   if (!q) nm += methods(KS + 5, 1, ALL, 1, 0, M + nm); /* converged, CHOLMOD (the reference is converged too) */
   nm += methods(KS, 1, ALL + 1, q ? 1 : 2, 0, M + nm); /* K = 1 with cg32 (and cheb32) */
@@ -85,11 +91,14 @@ static int traj_methods(int q, cb_method *M) {
 
 /* The methods and start states of a "steps" scene, by label. */
 static int step_plan(const plan *p, const char *label, cb_method *M, const int **states, int *ns) {
-  static const int ST_LAB[] = {0, 20, 40}, ST_LAB_Q[] = {20}, ST_64[] = {0, 10}, ST_64_Q[] = {5};
+  static const int ST_LAB[] = {0, 20, 40}, ST_LAB_Q[] = {20}, ST_64[] = {0, 10}, ST_64_Q[] = {5}, ST_SMOKE[] = {1};
   int q = p->q, nm;
   *states = ST_LAB;
   *ns = 3;
-  if (!strcmp(label, "grid64")) { /* 64^2: Chebyshev (a Lanczos rho estimate per factorisation) only at K = 1, 2 */
+  if (p->smoke) { /* smoke: K = 1 and converged with every inner solve, one state */
+    nm = methods(KS_SMOKE, 2, ALL, 5, 1, M);
+    *states = ST_SMOKE, *ns = 1;
+  } else if (!strcmp(label, "grid64")) { /* 64^2: Chebyshev (a Lanczos rho estimate per factorisation) only at K = 1, 2 */
     nm = methods(q ? KS_SHORT : KS, q ? 3 : 6, NOCHEB, q ? 2 : 3, 0, M);
     if (!q) nm += methods(KS, 2, CHEB, 2, 0, M + nm);
     *states = q ? ST_64_Q : ST_64;
@@ -137,10 +146,10 @@ static int traj_cell(long i, void *ctx, FILE *const *out) {
   double dt = cfg.dt;
   if (i == 0) {
     static cb_method M[200];
-    int nm = traj_methods(p->q, M);
-    st = cb_study_trajectories(s, d->label, dt, (int)lround(2.0 / dt), M, nm, out[T_TRAJ]);
+    int nm = traj_methods(p->q, p->smoke, M);
+    st = cb_study_trajectories(s, d->label, dt, (int)lround(p->traj_s / dt), M, nm, out[T_TRAJ]);
   } else {
-    st = cb_study_dt_error(s, d->label, dt, 16, (int)lround((p->q ? 0.5 : 2.0) / dt), out[T_DT]);
+    st = cb_study_dt_error(s, d->label, dt, 16, (int)lround(p->dt_err_s / dt), out[T_DT]);
   }
   cb_scene_free(s);
   return st;
@@ -160,7 +169,7 @@ static int regime_cell(long i, void *ctx, FILE *const *out) {
   cb_config cfg;
   int st = cb_scene_decl_build(p->e, sd, sets, &cfg, &s);
   if (st == CB_OK)
-    st = cb_study_regime_cell(s, sd->label, cfg.dt, p->q ? 1.0 : 2.0, p->q ? 2 : 4, 0.01, p->di[d], p->ki[c],
+    st = cb_study_regime_cell(s, sd->label, cfg.dt, p->regime_s, p->regime_samples, 0.01, p->di[d], p->ki[c],
                               p->si[a], out[T_REGIME]);
   cb_scene_free(s);
   return st;
@@ -174,7 +183,7 @@ static int i2_cell(long i, void *ctx, FILE *const *out) {
   (void)i;
   cb_config cfg;
   int st = cb_scene_decl_build(p->e, d, NULL, &cfg, &s);
-  if (st == CB_OK) st = cb_study_order(s, d->label, cfg.dt, p->q ? 5 : 30, out[T_I2]);
+  if (st == CB_OK) st = cb_study_order(s, d->label, cfg.dt, p->i2_states, out[T_I2]);
   cb_scene_free(s);
   return st;
 }
@@ -191,7 +200,7 @@ static double regime_cost(long i, void *ctx) {
   const plan *p = ctx;
   double dt = 1;
   cb_parse_double(DTS[p->di[i % p->nd]], &dt);
-  return 2.0 * lround((p->q ? 1.0 : 2.0) / dt);
+  return 2.0 * lround(p->regime_s / dt);
 }
 
 /* vertices / 441 and dt of a scene's config */
@@ -214,11 +223,11 @@ static int cost_hints(plan *p) {
     p->steps_cost[i] = 40.0 * step_plan(p, d->label, M, &states, &ns) * ns * rel;
   }
   if (st == CB_OK && p->traj >= 0 && (st = scene_size(p->e, &SCENES[p->traj], &rel, &dt)) == CB_OK) {
-    p->traj_cost[0] = 5.0 * (traj_methods(p->q, M) + 1) * lround(2.0 / dt) * rel;
-    p->traj_cost[1] = 10.0 * 17 * lround((p->q ? 0.5 : 2.0) / dt) * rel;
+    p->traj_cost[0] = 5.0 * (traj_methods(p->q, p->smoke, M) + 1) * lround(p->traj_s / dt) * rel;
+    p->traj_cost[1] = 10.0 * 17 * lround(p->dt_err_s / dt) * rel;
   }
   if (st == CB_OK && p->i2 >= 0 && (st = scene_size(p->e, &SCENES[p->i2], &rel, &dt)) == CB_OK)
-    p->i2_cost = 300.0 * (p->q ? 5 : 30) * rel;
+    p->i2_cost = 300.0 * p->i2_states * rel;
   return st;
 }
 
@@ -227,12 +236,17 @@ int main(int argc, char **argv) {
   int b = cb_experiment_begin(&e, "newton_vs_bw", ABOUT, argc, argv);
   if (b) return b > 0 ? 0 : 1;
   cb_experiment_timed(&e); /* its numbers include wall times: run alone */
-  int q = e.quick;
-  plan p = {.e = &e, .q = q, .traj = -1, .regime = -1, .i2 = -1, .di = q ? DI_Q : DI, .ki = q ? KI_Q : DI,
-            .si = q ? SI_Q : SI, .nd = q ? 3 : 6, .nk = q ? 3 : 6, .nst = q ? 2 : 4};
+  int q = e.quick, sm = e.smoke;
+  plan p = {.e = &e, .q = q, .smoke = sm, .traj = -1, .regime = -1, .i2 = -1, .di = sm ? DI_S : q ? DI_Q : DI,
+            .ki = sm ? KI_S : q ? KI_Q : DI, .si = sm ? SI_S : q ? SI_Q : SI, .nd = sm ? 1 : q ? 3 : 6,
+            .nk = sm ? 1 : q ? 3 : 6, .nst = sm ? 1 : q ? 2 : 4, .traj_s = sm ? 0.2 : 2.0,
+            .dt_err_s = sm ? 0.1 : q ? 0.5 : 2.0, .regime_s = sm ? 0.2 : q ? 1.0 : 2.0,
+            .regime_samples = sm ? 1 : q ? 2 : 4, .i2_states = sm ? 1 : q ? 5 : 30};
   for (int i = 0; i < NSCENES; i++) {
     const cb_scene_decl *d = &SCENES[i];
-    if (cb_scene_decl_is(d, "steps")) p.steps[p.nsteps++] = i;
+    if (cb_scene_decl_is(d, "steps")) {
+      if (!sm || p.nsteps == 0) p.steps[p.nsteps++] = i; /* smoke: the first scene (lab) alone */
+    }
     else if (cb_scene_decl_is(d, "trajectory")) p.traj = i;
     else if (cb_scene_decl_is(d, "regime")) p.regime = i;
     else if (cb_scene_decl_is(d, "i2")) p.i2 = i;

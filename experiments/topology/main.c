@@ -82,7 +82,8 @@ int main(int argc, char **argv) {
   int r = cb_experiment_begin(&e, "topology", "T1 and T2: edge lists by sorting triples, Euler's count and the DoFs "
                                               "left when every edge is a hard constraint.", argc, argv);
   if (r) return r > 0 ? 0 : 1;
-  plan p = {e.quick, e.quick ? 4 : 6, e.quick ? 3 : 5};
+  /* smoke: the lecture's example, the 2x2 grid of each diagonal pattern, one ring */
+  plan p = {e.quick, e.smoke ? 1 : e.quick ? 4 : 6, e.smoke ? 1 : e.quick ? 3 : 5};
   int st = cb_experiment_table(&e, NULL, "# free_dofs = 3 #vertices - rank(rigidity matrix) at a jittered non-planar embedding (GSL SVD, relative threshold 1e-9)\n",
                                "kind,mesh,i,j,vertices,triangles,edges,boundary_edges,predicted_edges,boundary_loops,components,free_dofs,predicted_dofs,status");
   if (st < 0) return cb_experiment_end(&e, st), 2;
