@@ -485,6 +485,54 @@ for bad in 0 -2 x ""; do
   expect_err frames_bad "--every '$bad'"
 done
 
+# ---- issue 21, defects 1, 2, 12, 13: --frames is a folder, checked, never mixed or cut ------
+
+for bad in "" -; do # defect 1: '' wrote into /, - made a folder named -
+  (cd "$T" && "$SIM" "$CONFIG" --steps 1 --frames "$bad" --csv "$T/fr_bad.csv" --obj "$T/fr_bad.obj" >/dev/null 2>"$T/fr_bad.err")
+  rc=$?
+  expect_rc fr_bad 1
+  expect_err fr_bad "--frames '$bad': expected a folder name"
+  check "frames '$bad': a CSV was written" test ! -e "$T/fr_bad.csv"
+done
+check "frames -: a folder named - was made" test ! -e "$T/-"
+sim every_alone "$CONFIG" --steps 1 --every 2 --csv "$T/ea.csv" --obj "$T/ea.obj"
+expect_rc every_alone 1
+expect_err every_alone "give --frames too"
+# defect 2: the mesh file, --obj and --csv may not be frames
+mkdir -p "$T/frin"
+cp "$T/quad.obj" "$T/frin/frame_000000.obj"
+printf '[mesh]\ntype = obj\nfile = frin/frame_000000.obj\n[material]\nvertex_mass = 1\n[scene]\npins = 0\n' >"$T/frin.ini"
+sim fr_mesh "$T/frin.ini" --steps 1 --frames "$T/frin" --csv "$T/frin.csv" --obj "$T/frin.obj"
+expect_rc fr_mesh 1
+expect_err fr_mesh "would overwrite the mesh file (mesh.file)"
+check "fr_mesh: the input mesh was overwritten" cmp -s "$T/frin/frame_000000.obj" "$T/quad.obj"
+sim fr_obj "$CONFIG" --steps 2 --frames "$T/frout" --csv "$T/frout.csv" --obj "$T/frout/frame_000000.obj"
+expect_rc fr_obj 1
+expect_err fr_obj "--obj $T/frout/frame_000000.obj is a frame of --frames"
+sim fr_csv "$CONFIG" --steps 2 --frames "$T/./frout" --csv "$T/frout/frame_000001.obj" --obj "$T/frout.obj"
+expect_rc fr_csv 1
+expect_err fr_csv "is a frame of --frames"
+# defect 13: a 2-step run into a folder with a 10-step run's frames keeps none of them
+sim fr_ten "$CONFIG" --steps 10 --quiet --frames "$T/frold" --csv "$T/frold.csv" --obj "$T/frold.obj"
+echo keep >"$T/frold/notes.txt"
+sim fr_two "$CONFIG" --steps 2 --frames "$T/frold" --csv "$T/frold.csv" --obj "$T/frold.obj"
+expect_rc fr_two 0
+expect_err fr_two "removed 11 frames of an earlier run from $T/frold/ (frame_000000.obj to frame_000010.obj)"
+check "fr_two: frames 0-2 and notes.txt, nothing else" test "$(ls "$T/frold" | tr '\n' ' ')" = "frame_000000.obj frame_000001.obj frame_000002.obj notes.txt "
+# defect 12: a frame that cannot be written stops the run and nothing is committed
+mkdir -p "$T/frcut/frame_000003.obj"
+echo previous >"$T/frcut.csv"
+sim fr_cut "$CONFIG" --steps 10 --frames "$T/frcut" --csv "$T/frcut.csv" --obj "$T/frcut.obj"
+expect_rc fr_cut 2
+expect_err fr_cut "step 3 of 10: --frames"
+expect_err fr_cut "NOTHING written"
+check "fr_cut: the previous CSV was replaced by a cut one" test "$(cat "$T/frcut.csv")" = previous
+check "fr_cut: an OBJ was written" test ! -e "$T/frcut.obj"
+check "fr_cut: this run's frames were kept" test "$(ls "$T/frcut")" = frame_000003.obj
+sim version --version
+expect_rc version 0
+check "simulate --version: no 'simulate (clothbench) <revision>' line" grep -q '^simulate (clothbench) ' "$T/version.out"
+
 # ---- issue 21, defect 3: tiny stiffnesses the range check accepts finish ------------------
 # (timeout: GSL's symmetric eigensolver looped for ever on subnormal element Hessians)
 
