@@ -485,6 +485,19 @@ for bad in 0 -2 x ""; do
   expect_err frames_bad "--every '$bad'"
 done
 
+# ---- issue 21, defects 14 and 15: a dt or a scale below double precision's reach is refused, with the cause ----
+
+sim tiny_dt "$CONFIG" --steps 2 --set integrator.dt=1e-160 --csv "$T/tiny_dt.csv" --obj "$T/tiny_dt.obj"
+expect_rc tiny_dt 1
+expect_err tiny_dt "integrator.dt = 1e-160 s is too small for double precision: the inertia term M/dt^2"
+check "tiny_dt: a CSV was written" test ! -e "$T/tiny_dt.csv"
+for m in explicit newton; do
+  sim "tiny_scale_$m" "$CONFIG" --steps 2 --set scene.initial_scale=1e-200 --set integrator.method=$m --csv "$T/ts.csv" --obj "$T/ts.obj"
+  expect_rc "tiny_scale_$m" 1
+  expect_err "tiny_scale_$m" "scene.initial_scale = 1e-200: the edge between vertices 0 and 1 has zero length at the initial state"
+done
+check "tiny_scale: an OBJ of NaN vertices was written" test ! -e "$T/ts.obj"
+
 # ---- issue 21, defects 1, 2, 12, 13: --frames is a folder, checked, never mixed or cut ------
 
 for bad in "" -; do # defect 1: '' wrote into /, - made a folder named -

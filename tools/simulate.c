@@ -124,9 +124,10 @@ static void explicit_limit(cb_scene *scene, double dt, char *why, size_t n) {
   cb_prediction pred;
   size_t used = strlen(why);
   if (cb_stability_predict(scene, scene->x0, CB_EIG_AUTO, &pred) == CB_OK && isfinite(pred.dt_crit))
-    snprintf(why + used, n - used, "; the predicted explicit limit at the initial state is dt_crit = 2/omega_max = %.4g s "
-             "(omega_max = %.4g rad/s), integrator.dt = %.4g s is %.3g x that", pred.dt_crit, pred.omega_max, dt, dt / pred.dt_crit);
-  else snprintf(why + used, n - used, "; (no explicit-limit prediction: %s)", cb_error_message());
+    snprintf(why + used, n - used, "%sthe predicted explicit limit at the initial state is dt_crit = 2/omega_max = %.4g s "
+             "(omega_max = %.4g rad/s), integrator.dt = %.4g s is %.3g x that", used ? "; " : "", pred.dt_crit, pred.omega_max, dt, dt / pred.dt_crit);
+  else snprintf(why + used, n - used, "%s(no explicit-limit prediction%s%s)", used ? "; " : "", cb_error_message()[0] ? ": " : "",
+                cb_error_message());
 }
 
 int main(int argc, char **argv) {

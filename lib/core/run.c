@@ -78,6 +78,7 @@ void cb_run_free(cb_run *r) {
 }
 
 int cb_run_step(cb_run *r) {
+  cb_error_clear(); /* so that a status without a reason can be told apart */
   int st = cb_integrator_step(r->integ, r->x, r->v, &r->last);
   r->step++;
   r->t = r->step * r->integ->params.dt;
@@ -87,6 +88,12 @@ int cb_run_step(cb_run *r) {
   /* The integrator's own status wins: after a failed solve the state is
    * whatever the failure left, and testing it would call the failure a
    * divergence. */
+  if (st == CB_DIVERGED && !cb_error_message()[0]) { /* an integrator's NaN test: name what is not finite */
+    int fs = finite_state(r);
+    if (fs == CB_OK)
+      cb_fail_status(CB_DIVERGED, "%s: a value inside the step (objective, gradient or update) is not finite, "
+                     "although the state is", r->integ->type->name);
+  }
   if (!cb_status_is_fatal(st)) {
     int fs = finite_state(r);
     double gain = tracked(r) - r->total0 - r->work;

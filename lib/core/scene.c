@@ -1,6 +1,7 @@
 #include <clothbench/scene.h>
 
 #include <ctype.h>
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -242,6 +243,15 @@ static int check_finite(const cb_scene *s, const cb_scene_def *d, const char **k
     if (!isfinite(s->x0[i]))
       return at_key(cb_fail("scene.initial_scale: vertex %d's initial position, %g x its offset from the centroid, "
                             "is not a finite double", i / 3, d->initial_scale), key, "scene.initial_scale");
+  for (int e = 0; e < s->topo.ne; e++) { /* each edge's direction at x0: a squared length that underflows has none */
+    const double *a = s->x0 + 3 * s->topo.edge[2 * e], *b = s->x0 + 3 * s->topo.edge[2 * e + 1];
+    double l2 = (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
+    if (!(l2 >= DBL_MIN))
+      return at_key(cb_fail("scene.initial_scale = %g: the edge between vertices %d and %d has %s at the initial state "
+                            "(squared length %g m^2): the scaled offsets are below double precision's reach at "
+                            "these coordinates", d->initial_scale, s->topo.edge[2 * e], s->topo.edge[2 * e + 1],
+                            l2 == 0 ? "zero length" : "a length too small to square", l2), key, "scene.initial_scale");
+  }
   double K = cb_scene_kinetic(s, s->v0);
   if (!isfinite(K))
     return at_key(cb_fail("scene.pin_squeeze: the initial kinetic energy of the driven pins is %g J, not a finite "
