@@ -485,6 +485,26 @@ for bad in 0 -2 x ""; do
   expect_err frames_bad "--every '$bad'"
 done
 
+# ---- issue 21, defects 6 and 19: a duplicated face, extreme OBJ scales: the message names the real problem ----
+
+printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\nf 1 3 2\n' >"$T/dupface.obj"
+for bend in none quadratic spring; do
+  printf '[mesh]\ntype = obj\nfile = dupface.obj\n[material]\nbend = %s\n[scene]\npins = 0\n' "$bend" >"$T/dupface.ini"
+  sim "dupface_$bend" "$T/dupface.ini" --steps 1 --csv "$T/dupface.csv" --obj "$T/dupface_out.obj"
+  expect_rc "dupface_$bend" 1
+  expect_err "dupface_$bend" "dupface.obj:7: face duplicates line 5"
+done
+for case in "tiny 1e-300 too small" "huge 1e300 too large" "inf 1e308 too large"; do
+  set -- $case
+  if [ "$1" = inf ]; then printf 'v -%s 0 0\nv %s 0 0\nv 0 1 0\nf 1 2 3\n' "$2" "$2"; else printf 'v 0 0 0\nv %s 0 0\nv 0 %s 0\nf 1 2 3\n' "$2" "$2"; fi >"$T/obj_$1.obj"
+  printf '[mesh]\ntype = obj\nfile = obj_%s.obj\n[scene]\npins = 0\n' "$1" >"$T/obj_$1.ini"
+  sim "obj_$1" "$T/obj_$1.ini" --steps 1 --csv "$T/obj_$1.csv" --obj "$T/obj_$1_out.obj"
+  expect_rc "obj_$1" 1
+  expect_err "obj_$1" "coordinates are $3"
+done
+check "obj_tiny: 'belongs to no triangle' for a valid triangle" test -z "$(grep 'belongs to no triangle' "$T/obj_tiny.err")"
+check "obj_inf: called zero area" test -z "$(grep 'zero area' "$T/obj_inf.err")"
+
 # ---- issue 21, defects 14 and 15: a dt or a scale below double precision's reach is refused, with the cause ----
 
 sim tiny_dt "$CONFIG" --steps 2 --set integrator.dt=1e-160 --csv "$T/tiny_dt.csv" --obj "$T/tiny_dt.obj"

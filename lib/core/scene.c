@@ -246,11 +246,16 @@ static int check_finite(const cb_scene *s, const cb_scene_def *d, const char **k
   for (int e = 0; e < s->topo.ne; e++) { /* each edge's direction at x0: a squared length that underflows has none */
     const double *a = s->x0 + 3 * s->topo.edge[2 * e], *b = s->x0 + 3 * s->topo.edge[2 * e + 1];
     double l2 = (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
-    if (!(l2 >= DBL_MIN))
-      return at_key(cb_fail("scene.initial_scale = %g: the edge between vertices %d and %d has %s at the initial state "
-                            "(squared length %g m^2): the scaled offsets are below double precision's reach at "
-                            "these coordinates", d->initial_scale, s->topo.edge[2 * e], s->topo.edge[2 * e + 1],
-                            l2 == 0 ? "zero length" : "a length too small to square", l2), key, "scene.initial_scale");
+    if (l2 >= DBL_MIN) continue;
+    const char *what = l2 == 0 ? "zero length" : "a length too small to square";
+    if (d->initial_scale == 1) /* the mesh as given */
+      return at_key(mesh_fail(d, &s->mesh, -1, "the edge between vertices %d and %d has %s (squared length %g m^2): "
+                              "the mesh's coordinates are too small (scale the mesh up)", s->topo.edge[2 * e],
+                              s->topo.edge[2 * e + 1], what, l2), key, mesh_key(d));
+    return at_key(cb_fail("scene.initial_scale = %g: the edge between vertices %d and %d has %s at the initial state "
+                          "(squared length %g m^2): the scaled offsets are below double precision's reach at "
+                          "these coordinates", d->initial_scale, s->topo.edge[2 * e], s->topo.edge[2 * e + 1], what, l2),
+                  key, "scene.initial_scale");
   }
   double K = cb_scene_kinetic(s, s->v0);
   if (!isfinite(K))
@@ -350,6 +355,11 @@ int cb_scene_build(const cb_scene_def *d, cb_scene **out, const char **key) {
         if (!isfinite(a)) {
           st = at_key(mesh_fail(d, &s->mesh, -1, "triangle %d has area %g m^2, not a finite double: "
                                 "the mesh's coordinates are too large", t + 1, a), key, mesh_key(d));
+          break;
+        }
+        if (!(a >= DBL_MIN)) { /* its vertices' masses would underflow to nothing */
+          st = at_key(mesh_fail(d, &s->mesh, -1, "triangle %d has area %g m^2, below the smallest normal double: "
+                                "the mesh's coordinates are too small (scale the mesh up)", t + 1, a), key, mesh_key(d));
           break;
         }
         for (int k = 0; k < 3; k++) s->mass[s->mesh.tri[3 * t + k]] += d->density * a / 3.0;
