@@ -157,6 +157,7 @@ check: $(TESTS) $(TOOLS) $(BUILD)/$(DETERMINISM_EXP) $(BUILD)/topology $(BUILD)/
 	@BUILD=$(BUILD) tests/shard.sh topology 3
 	@BUILD=$(BUILD) tests/shard.sh definiteness 2
 	@BUILD=$(BUILD) tests/shard.sh nonlinear 2
+	@BUILD=$(BUILD) tests/scripts.sh
 	@BUILD=$(BUILD) tests/csv_convention.sh
 	@CC="$(CC)" CPPFLAGS="$(CPPFLAGS)" CORE_INC="$(CORE_INC)" CONFIG_INC="$(CONFIG_INC)" INSTR_INC="$(INSTR_INC)" IO_INC="$(IO_INC)" tests/layers.sh
 	@echo "all tests passed"
