@@ -583,6 +583,35 @@ for sets in "material.stretch=fem material.stretch_k=1e-300" "material.bend=dihe
   check "tinyk$i ($sets): no CSV" test -s "$T/tinyk$i.csv"
 done
 
+# ---- issue 21, defects 16, 18 and the --shard point: the experiments' shared options (lib/io/experiment.c) ----
+
+EXP_DIR=$(dirname "$SIM")
+if [ -x "$EXP_DIR/topology" ] && [ -x "$EXP_DIR/bending" ]; then
+  long=$(awk 'BEGIN { for (i = 0; i < 2100; i++) printf "x" }')
+  CB_QUIET=1 "$EXP_DIR/topology" --smoke --out "$T/$long.csv" >/dev/null 2>"$T/longout.err"
+  rc=$?
+  expect_rc longout 1
+  expect_err longout "at most 1983 are allowed"
+  check "longout: a cut --out path was written" test -z "$(ls "$T" | grep '^xxxxxxxxxx')"
+  CB_QUIET=1 "$EXP_DIR/bending" --smoke --shard 1/2 --out "$T/bshard.csv" >/dev/null 2>"$T/bshard.err"
+  rc=$?
+  expect_rc bshard 1
+  expect_err bshard "cannot be sharded"
+  check "bshard: a CSV was written" test ! -e "$T/bshard.csv"
+  mkdir -p "$T/cfg300"
+  cp "$ROOT"/configs/*.ini "$ROOT"/configs/*.obj "$T/cfg300/"
+  i=0
+  while [ $i -lt 300 ]; do printf '[mesh]\nn = 3\n' >"$T/cfg300/extra$i.ini"; i=$((i + 1)); done
+  CB_QUIET=1 "$EXP_DIR/topology" --smoke --configs "$T/cfg300" --out "$T/cfg300.csv" >/dev/null 2>"$T/cfg300.err"
+  rc=$?
+  expect_rc cfg300 0
+  want=$(ls "$T/cfg300" | grep -c '\.ini$')
+  check "cfg300: the provenance lists $(grep -c '^# config ' "$T/cfg300.csv") of the $want configs" \
+    test "$(grep -c '^# config ' "$T/cfg300.csv")" -eq "$want"
+else
+  echo "cli: notice: $EXP_DIR/topology or bending not built; the experiments' option checks skipped"
+fi
+
 if [ "$failures" -ne 0 ]; then
   echo "cli: $failures of $checks checks failed"
   exit 1
