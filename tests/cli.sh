@@ -583,6 +583,15 @@ for sets in "material.stretch=fem material.stretch_k=1e-300" "material.bend=dihe
   check "tinyk$i ($sets): no CSV" test -s "$T/tinyk$i.csv"
 done
 
+# ---- issue 21, defect 20: pd's refusal names the key that fixes it -------------------------
+
+for case in "material.stretch=fem|set material.stretch = spring" "collider.type=penalty|set collider.type = project" \
+  "material.bend=dihedral|set material.bend = none" "integrator.definiteness=choi-ko|set integrator.definiteness to none"; do
+  sim pd_refuse "$CONFIG" --steps 1 --set integrator.method=pd --set "${case%%|*}" --csv "$T/pdr.csv" --obj "$T/pdr.obj"
+  expect_rc pd_refuse 1
+  expect_err pd_refuse "${case#*|}"
+done
+
 # ---- issue 21, defects 16, 18 and the --shard point: the experiments' shared options (lib/io/experiment.c) ----
 
 EXP_DIR=$(dirname "$SIM")
