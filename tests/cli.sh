@@ -82,8 +82,8 @@ if [ -s "$T/hang/out.csv" ]; then
   check "hang: $n data rows, expected 61 (step 0 and 60 steps)" test "$n" -eq 61
   hdr=$(header_of "$csv")
   case $hdr in
-    step,t_s,kinetic_j,elastic_j,gravity_j,total_j,pin_work_j,*,status,contacts) : ;;
-    *) fail "hang: header '$hdr' does not run step,t_s,kinetic_j,elastic_j,gravity_j,total_j,pin_work_j,...,status,contacts" ;;
+    step,t_s,kinetic_j,elastic_j,gravity_j,total_j,pin_work_j,*,status,contacts,rho) : ;;
+    *) fail "hang: header '$hdr' does not run step,t_s,kinetic_j,elastic_j,gravity_j,total_j,pin_work_j,...,status,contacts,rho" ;;
   esac
   checks=$((checks + 1))
   for c in step t_s kinetic_j elastic_j gravity_j total_j pin_work_j newton_iters wall_ms status contacts; do
@@ -582,6 +582,22 @@ for sets in "material.stretch=fem material.stretch_k=1e-300" "material.bend=dihe
   check "tinyk$i ($sets): timed out or crashed (exit $rc)" test "$rc" -ne 124 -a "$rc" -lt 5
   check "tinyk$i ($sets): no CSV" test -s "$T/tinyk$i.csv"
 done
+
+# ---- issue 21, smaller points: halfspace at 1e-300, an index past long, the rho = auto estimate ----
+
+sim hs_tiny "$CONFIG" --steps 0 --quiet --set "scene.pins=halfspace 1e-300 0 0 0" --csv "$T/hs.csv" --obj "$T/hs.obj"
+expect_rc hs_tiny 0
+check "hs_tiny: halfspace 1e-300 0 0 0 does not pin the x <= 0 half (231 vertices)" grep -q '^# scene:.* 231 pinned' "$T/hs.csv"
+sim pins_huge "$CONFIG" --steps 0 --set "scene.pins=99999999999999999999" --csv "$T/ph.csv" --obj "$T/ph.obj"
+expect_rc pins_huge 1
+expect_err pins_huge "vertex 99999999999999999999 out of range"
+sim rho_auto "$CONFIG" --steps 2 --quiet --set integrator.method=chebyshev-nl --set integrator.rho=auto --csv "$T/rho.csv" --obj "$T/rho.obj"
+expect_rc rho_auto 0
+if [ -s "$T/rho.csv" ]; then
+  rc_=$(col "$T/rho.csv" rho)
+  rho=$(data_rows "$T/rho.csv" | tail -n 1 | cut -d, -f"${rc_:-1}")
+  check "rho_auto: the estimate is not in the CSV's rho column (got '$rho')" awk -v r="$rho" 'BEGIN { exit !(r > 0 && r < 1) }'
+fi
 
 # ---- issue 21, defect 20: pd's refusal names the key that fixes it -------------------------
 

@@ -1,6 +1,7 @@
 #include <clothbench/scene.h>
 
 #include <ctype.h>
+#include <errno.h>
 #include <float.h>
 #include <math.h>
 #include <stdarg.h>
@@ -34,7 +35,12 @@ static int pins_halfspace(const char *spec, const cb_mesh *m, int *list, int *cn
     h[k++] = v;
     p = end;
   }
-  double nn = k == 4 ? sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]) : 0;
+  /* (a, b, c, d) / max |a|, |b|, |c| first: the set is the same, and a b c near 1e-300 do not underflow the norm */
+  double hs = k == 4 ? fmax(fabs(h[0]), fmax(fabs(h[1]), fabs(h[2]))) : 0;
+  for (int a = 0; hs > 0 && a < 4; a++) h[a] /= hs;
+  double nn = hs > 0 ? sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]) : 0;
+  if (hs > 0 && !isfinite(h[3] / nn))
+    return cb_fail("scene.pins: '%s': the plane's offset d / |(a, b, c)| is not a finite double", spec);
   if (!(nn > 0) || !isfinite(nn) || !isfinite(h[3] / nn))
     return cb_fail("scene.pins: '%s' is not `halfspace a b c d` (4 finite numbers separated by spaces or commas, "
                    "(a, b, c) not zero): the vertices whose rest position p has a p_x + b p_y + c p_z <= d", spec);
@@ -93,14 +99,16 @@ int cb_pins_resolve(const char *spec, const cb_mesh *m, int **out, int *n) {
                        "`halfspace a b c d` or a list of 0-based vertex indices", spec);
       }
       char *end;
+      errno = 0;
       long v = strtol(p, &end, 10);
       if (*end && *end != ' ' && *end != '\t' && *end != ',') {
         free(list);
         return cb_fail("scene.pins: bad vertex index near '%.20s'", p);
       }
-      if (v >= m->nv) {
+      if (errno == ERANGE || v >= m->nv) { /* the index as written: strtol clamps an overflow to LONG_MAX */
         free(list);
-        return cb_fail("scene.pins: vertex %ld out of range (the mesh has %d vertices, 0-based)", v, m->nv);
+        return cb_fail("scene.pins: vertex %.*s out of range (the mesh has %d vertices, 0-based)",
+                       (int)(end - p > 40 ? 40 : end - p), p, m->nv);
       }
       list[cnt++] = (int)v;
       p = end;
