@@ -602,7 +602,7 @@ Test(obj_error, duplicate_face) {
 /* issue 21, defect 19: the messages name the real problem */
 Test(obj_error, extreme_scales_and_trailing_text) {
   /* (the scene's checks name a tiny or huge triangle: tests/cli.sh obj_tiny, obj_huge) */
-  expect_obj_error("v -1e308 0 0\nv 1e308 0 0\nv 0 1 0\nf 1 2 3\n", 4, "coordinates too large");
+  expect_obj_error("v -1e308 0 0\nv 1e308 0 0\nv 0 1 0\nf 1 2 3\n", 4, "coordinates are too large");
   expect_obj_error("v 0 0 0 1 junk\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 1, "unexpected 'junk'");
   expect_obj_error("v 0 0 0 1 2 3 4 5\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 1, "unexpected '5'");
 }
