@@ -173,6 +173,7 @@ check: $(TESTS) $(TOOLS) $(EXPS) $(BUILD)/report
 	@set -e; for t in $(TESTS); do echo "== $$t"; CB_QUIET=1 CB_SIMULATE=$(BUILD)/simulate $$t --jobs 2 --short-filename; done
 	@BUILD=$(BUILD) tests/cli.sh
 	@BUILD=$(BUILD) tests/lock.sh
+	@BUILD=$(BUILD) tests/scripts.sh
 	@CC="$(CC)" CPPFLAGS="$(CPPFLAGS)" CORE_INC="$(CORE_INC)" CONFIG_INC="$(CONFIG_INC)" INSTR_INC="$(INSTR_INC)" IO_INC="$(IO_INC)" tests/layers.sh
 	@BUILD=$(BUILD) tests/experiments.sh --smoke $(SMOKE_DIR) $(EXP_NAMES)
 	@BUILD=$(BUILD) tests/csv_convention.sh --runs $(SMOKE_DIR)

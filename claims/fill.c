@@ -79,6 +79,13 @@ int cb_report_fill(const char *path, const cb_claim_result *res, const char *res
   size_t n = 0;
   char *text = slurp(path, &n);
   if (!text) return cb_fail_status(CB_EIO, "%s: cannot read", path);
+  const char *nul = memchr(text, '\0', n);
+  if (nul) { /* the text after it would be lost: string functions stop there */
+    int at = 1;
+    for (const char *q = text; q < nul; q++) at += *q == '\n';
+    free(text);
+    return cb_fail("%s:%d: NUL byte; not a text file, nothing filled", path, at);
+  }
   cb_outfile o;
   int st = cb_outfile_open(&o, path);
   if (st) { free(text); return st; }
@@ -95,6 +102,13 @@ int cb_report_fill(const char *path, const cb_claim_result *res, const char *res
     const char *end = strstr(eol, "\n" END_MARK);
     if (end) end++; /* the end marker starts a line too */
     if (!end) { st = cb_fail("%s:%d: report marker with no " END_MARK " after it", path, line); break; }
+    const char *next = strstr(eol, "\n<!-- report:"); /* a block may not run on into the next one */
+    if (next && next < end) {
+      int at = line;
+      for (const char *q = m; q <= next; q++) at += *q == '\n';
+      st = cb_fail("%s:%d: report marker with no " END_MARK " before the next marker (line %d)", path, line, at);
+      break;
+    }
     fwrite(p, 1, (size_t)(eol + 1 - p), o.f); /* everything up to and including the marker line */
     const char *name = m + strlen("<!-- report:");
     st = generate(o.f, name, (size_t)(close - name), res, results);

@@ -12,7 +12,14 @@
 # the merge walks c = 0 .. C-1 and copies that many rows from that shard:
 # the rows come back in cell order, the order of the unsharded run. The
 # header (provenance) is shard 1's; the shards' headers must agree apart from
-# their "# date:" and "# command:" lines. Shards may be given in any order.
+# the lines that describe where and when a shard ran rather than what it ran
+# ("# date:", "# command:", "# threads_observed:", "# cpu_lock:", "# cpu:",
+# "# cores:"); where one of the last four differs, the merged header keeps
+# shard 1's and adds "# shard K <line>" for each other shard's. Every row must have the
+# header row's number of fields and the file must end with a newline (a shard
+# cut mid-row is refused). Nothing is written unless every table merges: the
+# tables go to temporary files that are renamed only at the end. Shards may be
+# given in any order.
 set -eu
 [ $# -ge 2 ] || { echo "usage: $0 OUT.csv SHARD1.csv ... SHARDN.csv" >&2; exit 1; }
 out=$1; shift
@@ -43,6 +50,10 @@ while [ "$i" -le "$n" ]; do
 done
 set -- $ordered
 ostem=${out%.*}
+# every output is written to a temporary file first; none is renamed unless all merged
+pending=""
+trap 'for p in $pending; do rm -f "$p"; done' EXIT
+trap 'exit 1' INT TERM HUP
 j=0
 for t in ${tables#tables }; do
   j=$((j + 1))
@@ -51,26 +62,38 @@ for t in ${tables#tables }; do
   for s in "$@"; do
     if [ "$t" = - ]; then f=$s; else f=${s%.*}_$t.csv; fi
     [ -f "$f" ] || die "$f: missing"
+    [ -z "$(tail -c 1 "$f")" ] || die "$f: does not end with a newline (cut mid-row?)"
     files="$files $f"
   done
   mkdir -p "$(dirname "$dst")"
   tmp=$dst.merge.$$
+  pending="$pending $tmp"
   # shellcheck disable=SC2086
   awk -v n="$n" -v cells="$cells" -v col="$j" -v files="$files" -v lists="$*" '
     function fail(msg) { print "merge-shards: " msg > "/dev/stderr"; bad = 1; exit 1 }
+    function env(line) { return line ~ /^# (date|command|threads_observed|cpu_lock|cpu|cores):/ }
+    function key(line) { sub(/:.*/, "", line); return line }
+    function nfields(line,   t) { t = line; gsub(/"[^"]*"/, "", t); return gsub(/,/, ",", t) + 1 }
     BEGIN {
       split(files, F, " "); split(lists, L, " ")
       for (s = 1; s <= n; s++) {
         L[s] = L[s] ".cells"; getline x < L[s]; getline x < L[s]   # "shard ..." and "tables ..."
         h = ""
+        m = 0
         while ((r = getline line < F[s]) > 0) {
-          if (s == 1) print line
-          if (line !~ /^# (date|command):/) h = h line "\n"
+          if (s == 1) H[++nh] = line
+          if (!env(line)) h = h line "\n"
+          else if (s > 1 && E[key(line)] != line && line !~ /^# (date|command):/) X[++nx] = "# shard " s " " substr(line, 3) # the environment as it was
+          else if (s == 1) E[key(line)] = line
           if (line !~ /^#/) break
         }
         if (r <= 0) fail(F[s] ": no header row")
-        if (s == 1) h1 = h; else if (h != h1) fail(F[s] ": header differs from " F[1] " (other than date and command)")
+        if (s == 1) { h1 = h; width = nfields(line) }
+        else if (h != h1) fail(F[s] ": header differs from " F[1] " (other than the date, command, cpu, cores, cpu_lock and threads_observed lines)")
       }
+      for (k = 1; k < nh; k++) print H[k]
+      for (k = 1; k <= nx; k++) print X[k]
+      print H[nh]
       for (c = 0; c < cells; c++) {
         s = c % n + 1
         if ((getline rec < L[s]) <= 0) fail(L[s] ": no entry for cell " c)
@@ -78,6 +101,7 @@ for t in ${tables#tables }; do
         if (R[1] != c) fail(L[s] ": cell " R[1] " where cell " c " was expected")
         for (k = 0; k < R[col + 1]; k++) {
           if ((getline line < F[s]) <= 0) fail(F[s] ": fewer rows than " L[s] " lists")
+          if (nfields(line) != width) fail(F[s] ": a row of " nfields(line) " fields under a header of " width " (cut mid-row?): " substr(line, 1, 60))
           print line
         }
       }
@@ -85,15 +109,21 @@ for t in ${tables#tables }; do
         if ((getline line < F[s]) > 0) fail(F[s] ": more rows than " L[s] " lists")
         if ((getline line < L[s]) > 0) fail(L[s] ": entries beyond cell " cells - 1)
       }
-    }' > "$tmp" || { rm -f "$tmp"; exit 1; }
-  mv "$tmp" "$dst"
+    }' > "$tmp" || exit 1
+  done_list="${done_list:-} $dst"
 done
-# other side files (one cell's each, so the shards' names do not collide)
+# other side files (one cell's each, so the shards' names do not collide), also via temporary copies
 for s in "$@"; do
   stem=${s%.*}
   for f in "${stem}"_*; do
     [ -f "$f" ] || continue
     case $f in *.csv|*.cells|*.tmp.*) continue ;; esac
-    cp "$f" "${ostem}${f#"$stem"}"
+    dst=${ostem}${f#"$stem"}
+    tmp=$dst.merge.$$
+    pending="$pending $tmp"
+    cp "$f" "$tmp" || die "$f: cannot copy to $tmp"
+    done_list="$done_list $dst"
   done
 done
+for dst in $done_list; do mv "$dst.merge.$$" "$dst"; done
+pending=""

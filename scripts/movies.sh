@@ -25,6 +25,9 @@
 # flat facets. The explicit run keeps going past the energy bound
 # (diverge_ratio 1e12) so the blow-up is seen, not only detected; a side that
 # stops holds its last frame, and its title says why.
+# Environment: PLOTS_OUT (default plots/out), MOVIES_WORK (the runs' frames,
+# default results/movies), BUILD; for tests, MOVIES_ONLY=NAME renders that
+# movie alone and MOVIES_STEPS=N shortens every run to N steps.
 set -u
 B=${BUILD:-build}
 OUT=${PLOTS_OUT:-plots/out}
@@ -32,7 +35,18 @@ WORK=${MOVIES_WORK:-results/movies}
 SIM=$B/simulate
 [ -x "$SIM" ] || { echo "movies: $SIM not built (run: make movies)" >&2; exit 1; }
 command -v gnuplot >/dev/null 2>&1 || { echo "movies: gnuplot not found (make deps installs gnuplot-nox)" >&2; exit 1; }
-mkdir -p "$OUT" "$WORK"
+mkdir -p "$OUT" "$WORK" || exit 1
+# gnuplot code and its '< awk ...' commands are written with paths in them:
+# they get symbolic links of fixed, plain names in a temporary folder, never
+# the user's paths (a space, a quote or a $ in PLOTS_OUT or MOVIES_WORK)
+abs() { case $1 in /*) printf '%s' "$1" ;; *) printf '%s/%s' "$(pwd)" "$1" ;; esac; }
+REAL_OUT=$(abs "$OUT")
+safe=$(mktemp -d "${TMPDIR:-/tmp}/cbmovies.XXXXXX") || exit 1
+trap 'rm -rf "$safe"' EXIT
+trap 'exit 1' INT TERM HUP
+ln -s "$REAL_OUT" "$safe/out" && ln -s "$(abs "$WORK")" "$safe/work" || exit 1
+OUT=$safe/out
+WORK=$safe/work
 
 # E1, I3: the lab cloth (hanging.ini). B2: the sphere drape (drape.ini) at 16^2,
 # one of bending's two B2 resolutions (32^2 takes a minute for the dihedral
@@ -123,6 +137,8 @@ AWKEOF
 status=0
 echo "$MOVIES" | { while IFS='|' read -r name claim steps every config ta sa tb sb opts; do
   [ -n "$name" ] || continue
+  [ -z "${MOVIES_ONLY:-}" ] || [ "$name" = "$MOVIES_ONLY" ] || continue
+  steps=${MOVIES_STEPS:-$steps}
   view_a="65, 30"
   view_b=$view_a
   clock=0
@@ -223,7 +239,7 @@ echo "$MOVIES" | { while IFS='|' read -r name claim steps every config ta sa tb 
   } > "$gp"
   if gnuplot "$gp" 2>"$d/gnuplot.log" && [ -s "$OUT/movie_${claim}_${name}.gif.tmp" ]; then
     mv "$OUT/movie_${claim}_${name}.gif.tmp" "$OUT/movie_${claim}_${name}.gif"
-    echo "movies: $OUT/movie_${claim}_${name}.gif ($n frames)"
+    echo "movies: $REAL_OUT/movie_${claim}_${name}.gif ($n frames)"
   else
     echo "movies: $name: gnuplot failed:" >&2; cat "$d/gnuplot.log" >&2; rm -f "$OUT/movie_${claim}_${name}.gif.tmp"; status=1
   fi

@@ -82,8 +82,8 @@ if [ -s "$T/hang/out.csv" ]; then
   check "hang: $n data rows, expected 61 (step 0 and 60 steps)" test "$n" -eq 61
   hdr=$(header_of "$csv")
   case $hdr in
-    step,t_s,kinetic_j,elastic_j,gravity_j,total_j,pin_work_j,*,status,contacts) : ;;
-    *) fail "hang: header '$hdr' does not run step,t_s,kinetic_j,elastic_j,gravity_j,total_j,pin_work_j,...,status,contacts" ;;
+    step,t_s,kinetic_j,elastic_j,gravity_j,total_j,pin_work_j,*,status,contacts,rho) : ;;
+    *) fail "hang: header '$hdr' does not run step,t_s,kinetic_j,elastic_j,gravity_j,total_j,pin_work_j,...,status,contacts,rho" ;;
   esac
   checks=$((checks + 1))
   for c in step t_s kinetic_j elastic_j gravity_j total_j pin_work_j newton_iters wall_ms status contacts; do
@@ -546,6 +546,156 @@ else
   "$BK" --cache "$T/bk.cache" >/dev/null 2>&1
   rc=$?
   check "blas-kernel: no program is a usage error" test "$rc" -eq 2
+# ---- issue 21, defects 6 and 19: a duplicated face, extreme OBJ scales: the message names the real problem ----
+
+printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\nf 1 3 2\n' >"$T/dupface.obj"
+for bend in none quadratic spring; do
+  printf '[mesh]\ntype = obj\nfile = dupface.obj\n[material]\nbend = %s\n[scene]\npins = 0\n' "$bend" >"$T/dupface.ini"
+  sim "dupface_$bend" "$T/dupface.ini" --steps 1 --csv "$T/dupface.csv" --obj "$T/dupface_out.obj"
+  expect_rc "dupface_$bend" 1
+  expect_err "dupface_$bend" "dupface.obj:7: face duplicates line 5"
+done
+for case in "tiny 1e-300 too small" "huge 1e300 too large" "inf 1e308 too large"; do
+  set -- $case
+  if [ "$1" = inf ]; then printf 'v -%s 0 0\nv %s 0 0\nv 0 1 0\nf 1 2 3\n' "$2" "$2"; else printf 'v 0 0 0\nv %s 0 0\nv 0 %s 0\nf 1 2 3\n' "$2" "$2"; fi >"$T/obj_$1.obj"
+  printf '[mesh]\ntype = obj\nfile = obj_%s.obj\n[scene]\npins = 0\n' "$1" >"$T/obj_$1.ini"
+  sim "obj_$1" "$T/obj_$1.ini" --steps 1 --csv "$T/obj_$1.csv" --obj "$T/obj_$1_out.obj"
+  expect_rc "obj_$1" 1
+  expect_err "obj_$1" "coordinates are $3"
+done
+check "obj_tiny: 'belongs to no triangle' for a valid triangle" test -z "$(grep 'belongs to no triangle' "$T/obj_tiny.err")"
+check "obj_inf: called zero area" test -z "$(grep 'zero area' "$T/obj_inf.err")"
+
+# ---- issue 21, defects 14 and 15: a dt or a scale below double precision's reach is refused, with the cause ----
+
+sim tiny_dt "$CONFIG" --steps 2 --set integrator.dt=1e-160 --csv "$T/tiny_dt.csv" --obj "$T/tiny_dt.obj"
+expect_rc tiny_dt 1
+expect_err tiny_dt "integrator.dt = 1e-160 s is too small for double precision: the inertia term M/dt^2"
+check "tiny_dt: a CSV was written" test ! -e "$T/tiny_dt.csv"
+for m in explicit newton; do
+  sim "tiny_scale_$m" "$CONFIG" --steps 2 --set scene.initial_scale=1e-200 --set integrator.method=$m --csv "$T/ts.csv" --obj "$T/ts.obj"
+  expect_rc "tiny_scale_$m" 1
+  expect_err "tiny_scale_$m" "scene.initial_scale = 1e-200: the edge between vertices 0 and 1 has zero length at the initial state"
+done
+check "tiny_scale: an OBJ of NaN vertices was written" test ! -e "$T/ts.obj"
+
+# ---- issue 21, defects 1, 2, 12, 13: --frames is a folder, checked, never mixed or cut ------
+
+for bad in "" -; do # defect 1: '' wrote into /, - made a folder named -
+  (cd "$T" && "$SIM" "$CONFIG" --steps 1 --frames "$bad" --csv "$T/fr_bad.csv" --obj "$T/fr_bad.obj" >/dev/null 2>"$T/fr_bad.err")
+  rc=$?
+  expect_rc fr_bad 1
+  expect_err fr_bad "--frames '$bad': expected a folder name"
+  check "frames '$bad': a CSV was written" test ! -e "$T/fr_bad.csv"
+done
+check "frames -: a folder named - was made" test ! -e "$T/-"
+sim every_alone "$CONFIG" --steps 1 --every 2 --csv "$T/ea.csv" --obj "$T/ea.obj"
+expect_rc every_alone 1
+expect_err every_alone "give --frames too"
+# defect 2: the mesh file, --obj and --csv may not be frames
+mkdir -p "$T/frin"
+cp "$T/quad.obj" "$T/frin/frame_000000.obj"
+printf '[mesh]\ntype = obj\nfile = frin/frame_000000.obj\n[material]\nvertex_mass = 1\n[scene]\npins = 0\n' >"$T/frin.ini"
+sim fr_mesh "$T/frin.ini" --steps 1 --frames "$T/frin" --csv "$T/frin.csv" --obj "$T/frin.obj"
+expect_rc fr_mesh 1
+expect_err fr_mesh "would overwrite the mesh file (mesh.file)"
+check "fr_mesh: the input mesh was overwritten" cmp -s "$T/frin/frame_000000.obj" "$T/quad.obj"
+sim fr_obj "$CONFIG" --steps 2 --frames "$T/frout" --csv "$T/frout.csv" --obj "$T/frout/frame_000000.obj"
+expect_rc fr_obj 1
+expect_err fr_obj "--obj $T/frout/frame_000000.obj is a frame of --frames"
+sim fr_csv "$CONFIG" --steps 2 --frames "$T/./frout" --csv "$T/frout/frame_000001.obj" --obj "$T/frout.obj"
+expect_rc fr_csv 1
+expect_err fr_csv "is a frame of --frames"
+# defect 13: a 2-step run into a folder with a 10-step run's frames keeps none of them
+sim fr_ten "$CONFIG" --steps 10 --quiet --frames "$T/frold" --csv "$T/frold.csv" --obj "$T/frold.obj"
+echo keep >"$T/frold/notes.txt"
+sim fr_two "$CONFIG" --steps 2 --frames "$T/frold" --csv "$T/frold.csv" --obj "$T/frold.obj"
+expect_rc fr_two 0
+expect_err fr_two "removed 11 frames of an earlier run from $T/frold/ (frame_000000.obj to frame_000010.obj)"
+check "fr_two: frames 0-2 and notes.txt, nothing else" test "$(ls "$T/frold" | tr '\n' ' ')" = "frame_000000.obj frame_000001.obj frame_000002.obj notes.txt "
+# defect 12: a frame that cannot be written stops the run and nothing is committed
+mkdir -p "$T/frcut/frame_000003.obj"
+echo previous >"$T/frcut.csv"
+sim fr_cut "$CONFIG" --steps 10 --frames "$T/frcut" --csv "$T/frcut.csv" --obj "$T/frcut.obj"
+expect_rc fr_cut 2
+expect_err fr_cut "step 3 of 10: --frames"
+expect_err fr_cut "NOTHING written"
+check "fr_cut: the previous CSV was replaced by a cut one" test "$(cat "$T/frcut.csv")" = previous
+check "fr_cut: an OBJ was written" test ! -e "$T/frcut.obj"
+check "fr_cut: this run's frames were kept" test "$(ls "$T/frcut")" = frame_000003.obj
+sim version --version
+expect_rc version 0
+check "simulate --version: no 'simulate (clothbench) <revision>' line" grep -q '^simulate (clothbench) ' "$T/version.out"
+
+# ---- issue 21, defect 3: tiny stiffnesses the range check accepts finish ------------------
+# (timeout: GSL's symmetric eigensolver looped for ever on subnormal element Hessians)
+
+printf '[mesh]\nn = 6\nsize = 1\n[integrator]\nsteps = 3\n' >"$T/grid6.ini"
+i=0
+for sets in "material.stretch=fem material.stretch_k=1e-300" "material.bend=dihedral material.bend_k=1e-300" \
+  "integrator.method=explicit material.stretch_k=1e-300 collider.type=project"; do
+  i=$((i + 1))
+  args=
+  for s_ in $sets; do args="$args --set $s_"; done
+  # shellcheck disable=SC2086
+  timeout 60 "$SIM" "$T/grid6.ini" $args --quiet --csv "$T/tinyk$i.csv" --obj "$T/tinyk$i.obj" >/dev/null 2>"$T/tinyk$i.err"
+  rc=$?
+  check "tinyk$i ($sets): timed out or crashed (exit $rc)" test "$rc" -ne 124 -a "$rc" -lt 5
+  check "tinyk$i ($sets): no CSV" test -s "$T/tinyk$i.csv"
+done
+
+# ---- issue 21, smaller points: halfspace at 1e-300, an index past long, the rho = auto estimate ----
+
+sim hs_tiny "$CONFIG" --steps 0 --quiet --set "scene.pins=halfspace 1e-300 0 0 0" --csv "$T/hs.csv" --obj "$T/hs.obj"
+expect_rc hs_tiny 0
+check "hs_tiny: halfspace 1e-300 0 0 0 does not pin the x <= 0 half (231 vertices)" grep -q '^# scene:.* 231 pinned' "$T/hs.csv"
+sim pins_huge "$CONFIG" --steps 0 --set "scene.pins=99999999999999999999" --csv "$T/ph.csv" --obj "$T/ph.obj"
+expect_rc pins_huge 1
+expect_err pins_huge "vertex 99999999999999999999 out of range"
+sim rho_auto "$CONFIG" --steps 2 --quiet --set integrator.method=chebyshev-nl --set integrator.rho=auto --csv "$T/rho.csv" --obj "$T/rho.obj"
+expect_rc rho_auto 0
+if [ -s "$T/rho.csv" ]; then
+  rc_=$(col "$T/rho.csv" rho)
+  rho=$(data_rows "$T/rho.csv" | tail -n 1 | cut -d, -f"${rc_:-1}")
+  check "rho_auto: the estimate is not in the CSV's rho column (got '$rho')" awk -v r="$rho" 'BEGIN { exit !(r > 0 && r < 1) }'
+fi
+
+# ---- issue 21, defect 20: pd's refusal names the key that fixes it -------------------------
+
+for case in "material.stretch=fem|set material.stretch = spring" "collider.type=penalty|set collider.type = project" \
+  "material.bend=dihedral|set material.bend = none" "integrator.definiteness=choi-ko|set integrator.definiteness to none"; do
+  sim pd_refuse "$CONFIG" --steps 1 --set integrator.method=pd --set "${case%%|*}" --csv "$T/pdr.csv" --obj "$T/pdr.obj"
+  expect_rc pd_refuse 1
+  expect_err pd_refuse "${case#*|}"
+done
+
+# ---- issue 21, defects 16, 18 and the --shard point: the experiments' shared options (lib/io/experiment.c) ----
+
+EXP_DIR=$(dirname "$SIM")
+if [ -x "$EXP_DIR/topology" ] && [ -x "$EXP_DIR/bending" ]; then
+  long=$(awk 'BEGIN { for (i = 0; i < 2100; i++) printf "x" }')
+  CB_QUIET=1 "$EXP_DIR/topology" --smoke --out "$T/$long.csv" >/dev/null 2>"$T/longout.err"
+  rc=$?
+  expect_rc longout 1
+  expect_err longout "at most 1983 are allowed"
+  check "longout: a cut --out path was written" test -z "$(ls "$T" | grep '^xxxxxxxxxx')"
+  CB_QUIET=1 "$EXP_DIR/bending" --smoke --shard 1/2 --out "$T/bshard.csv" >/dev/null 2>"$T/bshard.err"
+  rc=$?
+  expect_rc bshard 1
+  expect_err bshard "cannot be sharded"
+  check "bshard: a CSV was written" test ! -e "$T/bshard.csv"
+  mkdir -p "$T/cfg300"
+  cp "$ROOT"/configs/*.ini "$ROOT"/configs/*.obj "$T/cfg300/"
+  i=0
+  while [ $i -lt 300 ]; do printf '[mesh]\nn = 3\n' >"$T/cfg300/extra$i.ini"; i=$((i + 1)); done
+  CB_QUIET=1 "$EXP_DIR/topology" --smoke --configs "$T/cfg300" --out "$T/cfg300.csv" >/dev/null 2>"$T/cfg300.err"
+  rc=$?
+  expect_rc cfg300 0
+  want=$(ls "$T/cfg300" | grep -c '\.ini$')
+  check "cfg300: the provenance lists $(grep -c '^# config ' "$T/cfg300.csv") of the $want configs" \
+    test "$(grep -c '^# config ' "$T/cfg300.csv")" -eq "$want"
+else
+  echo "cli: notice: $EXP_DIR/topology or bending not built; the experiments' option checks skipped"
 fi
 
 if [ "$failures" -ne 0 ]; then

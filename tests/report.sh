@@ -76,6 +76,22 @@ rc=$?
 n=$((n + 1)); [ $rc -eq 1 ] || { echo "report: FAIL: an unknown claim marker gave exit $rc, not 1"; fail=1; }
 has "fill: the bad marker's location" "bad.md:2: report marker 'claim Z9': no claim Z9" "$T/bad.err"
 n=$((n + 1)); cmp -s "$T/bad.md" "$T/bad.keep" || { echo "report: FAIL: a failed fill changed the file"; fail=1; }
+# issue 21, defect 4: a block without its end marker may not run on into the next block
+printf 'a\n<!-- report:runtimes -->\nhand-written text\n<!-- report:verdicts -->\nold\n<!-- /report -->\nz\n' > "$T/noend.md"
+cp "$T/noend.md" "$T/noend.keep"
+"$B/report" --results "$T/res" --fill-only --fill "$T/noend.md" 2>"$T/noend.err"
+rc=$?
+n=$((n + 1)); [ $rc -eq 1 ] || { echo "report: FAIL: a missing end marker gave exit $rc, not 1"; fail=1; }
+has "fill: the missing end marker's line" "noend.md:2: report marker with no <!-- /report --> before the next marker (line 4)" "$T/noend.err"
+n=$((n + 1)); cmp -s "$T/noend.md" "$T/noend.keep" || { echo "report: FAIL: a fill with a missing end marker changed the file"; fail=1; }
+# issue 21, defect 11: a NUL byte is refused, not a cut at the NUL
+printf 'a\n<!-- report:runtimes -->\n<!-- /report -->\nx\000y\nmore\n' > "$T/nul.md"
+cp "$T/nul.md" "$T/nul.keep"
+"$B/report" --results "$T/res" --fill-only --fill "$T/nul.md" 2>"$T/nul.err"
+rc=$?
+n=$((n + 1)); [ $rc -eq 1 ] || { echo "report: FAIL: a NUL byte gave exit $rc, not 1"; fail=1; }
+has "fill: the NUL byte's line" "nul.md:4: NUL byte" "$T/nul.err"
+n=$((n + 1)); cmp -s "$T/nul.md" "$T/nul.keep" || { echo "report: FAIL: a fill of a file with a NUL byte changed it"; fail=1; }
 # every marker in README.md and docs/ is one the report knows
 for doc in README.md docs/experiments/*.md; do
   cp "$doc" "$T/copy.md"

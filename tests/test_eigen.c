@@ -258,3 +258,88 @@ Test(eigen, dense_eigenvalues_match_an_independent_gsl_solve, .init = setup) {
   free(d);
   cb_scene_free(s);
 }
+
+/* Issue 21, defect 3: GSL's symmetric QR sweeps never deflated a matrix of
+ * entries near 1e-300 (the deflation bound underflows) and looped for ever in
+ * cb_projection_apply and cb_dense_eigenvalues. The shared prescale makes the
+ * eigenvalues scale with the matrix, from 1e-300 to 1e300, in bounded time. */
+static void rotated_diagonal(double s, double *H) { /* Q diag(3, -1, 2, 0.5) Q^T, times s */
+  const double lam[4] = {3, -1, 2, 0.5};
+  double Q[16] = {0};
+  for (int i = 0; i < 4; i++) Q[5 * i] = 1;
+  const double c = cos(0.7), sn = sin(0.7), c2 = cos(1.9), s2 = sin(1.9);
+  double G[16], R[16] = {c, -sn, 0, 0, sn, c, 0, 0, 0, 0, c2, -s2, 0, 0, s2, c2};
+  double P[16] = {1, 0, 0, 0, 0, c2, 0, -s2, 0, 0, 1, 0, 0, s2, 0, c2};
+  for (int i = 0; i < 4; i++)
+    for (int j = 0; j < 4; j++) {
+      G[4 * i + j] = 0;
+      for (int k = 0; k < 4; k++) G[4 * i + j] += R[4 * i + k] * P[4 * k + j];
+    }
+  memcpy(Q, G, sizeof Q);
+  for (int i = 0; i < 4; i++)
+    for (int j = 0; j < 4; j++) {
+      H[4 * i + j] = 0;
+      for (int k = 0; k < 4; k++) H[4 * i + j] += s * Q[4 * i + k] * lam[k] * Q[4 * j + k];
+    }
+}
+
+Test(eigen, prescale_keeps_tiny_and_huge_matrices_solvable, .init = setup, .timeout = 20) {
+  cb_projection_work *w;
+  cr_assert_eq(cb_projection_work_alloc(4, &w), CB_OK);
+  double ref[16];
+  rotated_diagonal(1.0, ref);
+  cr_assert_eq(cb_projection_apply(CB_PROJ_CLAMP, 4, ref, w), 1, "one negative eigenvalue at scale 1");
+  const double scales[] = {1e-300, 1e-310, 1e-200, 1e300};
+  for (int t = 0; t < 4; t++) {
+    double s = scales[t], H[16];
+    rotated_diagonal(s, H);
+    double A[16];
+    memcpy(A, H, sizeof A);
+    double f = cb_eigen_prescale(A, 4, 4), amax = 0;
+    for (int i = 0; i < 16; i++) amax = fmax(amax, fabs(A[i]));
+    cr_expect(amax >= 0.5 && amax < 1, "scale %g: largest entry %g after the prescale", s, amax);
+    cr_expect(f > 0 && fabs(f * amax) > 0, "scale %g: factor %g", s, f);
+    cr_assert_eq(cb_projection_apply(CB_PROJ_CLAMP, 4, H, w), 1, "scale %g: the negative eigenvalue is not found", s);
+    for (int i = 0; i < 16; i++) /* 1e-310 is subnormal: only ~14 significant bits are left */
+      cr_expect(fabs(H[i] / s - ref[i]) <= (s < 1e-307 ? 1e-3 : 1e-10) * 3, "scale %g entry %d: %.10g vs %.10g", s, i,
+                H[i] / s, ref[i]);
+  }
+  cb_projection_work_free(w);
+  double z[16] = {0};
+  cr_expect_eq(cb_eigen_prescale(z, 4, 4), 1.0, "a zero matrix is left as it is");
+}
+
+/* The 9 x 9 element Hessian of a fem triangle at material.stretch_k = 1e-300
+ * (entries near 2^-997 and subnormal ones), on which gsl_eigen_symmv looped
+ * for ever before the prescale (issue 21, defect 3). */
+Test(eigen, projection_of_a_subnormal_fem_hessian_terminates, .init = setup, .timeout = 20) {
+  double H[81] = {
+      0x1.56e1fc2f8f35ap-997, -0x0p+0, 0x0.0000000bc95e4p-1022, -0x1.56e1fc2f8f359p-997, 0x0p+0,
+      -0x0.000000078024cp-1022, -0x0.00000016806e2p-1022, 0x0p+0, -0x0.0000000449399p-1022, -0x0p+0, 0x0p+0,
+      -0x0p+0, 0x0p+0, 0x0.0000001bdbf62p-1022, 0x0p+0, 0x0p+0, -0x0.000000156e1fcp-1022, 0x0p+0,
+      0x0.0000000bc95e4p-1022, -0x0p+0, 0x1.56e1fc2f8f35ap-998, 0x1.56e1fc2f8f359p-998, 0x0p+0,
+      -0x1.56e1fc2f8f359p-998, -0x1.56e1fc2f8f35ap-998, 0x0p+0, -0x0.0000001f12e14p-1022, -0x1.56e1fc2f8f359p-997,
+      0x0p+0, 0x1.56e1fc2f8f359p-998, 0x1.01297d23ab683p-996, 0x0p+0, -0x1.56e1fc2f8f35ap-998,
+      -0x1.56e1fc2f8f358p-998, 0x0p+0, -0x0.0000000336eb3p-1022, 0x0p+0, 0x0.0000001bdbf62p-1022, 0x0p+0, 0x0p+0,
+      -0x0.000000449398dp-1022, 0x0p+0, 0x0p+0, 0x0.0000001bdbf62p-1022, 0x0p+0, -0x0.000000078024cp-1022, 0x0p+0,
+      -0x1.56e1fc2f8f359p-998, -0x1.56e1fc2f8f35ap-998, 0x0p+0, 0x1.01297d23ab684p-996, 0x1.56e1fc2f8f35ap-998,
+      0x0p+0, -0x1.56e1fc2f8f35ap-997, -0x0.00000016806e2p-1022, 0x0p+0, -0x1.56e1fc2f8f35ap-998,
+      -0x1.56e1fc2f8f358p-998, 0x0p+0, 0x1.56e1fc2f8f35ap-998, 0x1.56e1fc2f8f35ap-998, 0x0p+0,
+      0x0.0000000336eb2p-1022, 0x0p+0, -0x0.000000156e1fcp-1022, 0x0p+0, 0x0p+0, 0x0.0000001bdbf62p-1022, 0x0p+0,
+      0x0p+0, 0x0p+0, 0x0p+0, -0x0.0000000449399p-1022, 0x0p+0, -0x0.0000001f12e14p-1022, -0x0.0000000336eb3p-1022,
+      0x0p+0, -0x1.56e1fc2f8f35ap-997, 0x0.0000000336eb2p-1022, 0x0p+0, 0x1.56e1fc2f8f35ap-997};
+  cb_projection_work *w;
+  cr_assert_eq(cb_projection_work_alloc(9, &w), CB_OK);
+  double H0[81];
+  memcpy(H0, H, sizeof H);
+  int changed = cb_projection_apply(CB_PROJ_CLAMP, 9, H, w);
+  cr_expect_geq(changed, 0, "projection failed: %s", cb_error_message());
+  double amax = 0, dmax = 0;
+  for (int i = 0; i < 81; i++) {
+    cr_expect(isfinite(H[i]), "entry %d is %g", i, H[i]);
+    amax = fmax(amax, fabs(H0[i]));
+    dmax = fmax(dmax, fabs(H[i] - H0[i]));
+  }
+  cr_expect(dmax <= 1e-12 * amax, "a PSD element Hessian changed by %g (largest entry %g)", dmax, amax);
+  cb_projection_work_free(w);
+}

@@ -591,6 +591,22 @@ Test(obj_error, missing_file) {
   cr_expect(m.x == NULL && m.tri == NULL);
 }
 
+/* issue 21, defect 6: a triangle listed twice (once per side) doubled the mass
+ * and built a hinge of angle 0 */
+Test(obj_error, duplicate_face) {
+  expect_obj_error(SQUARE_V "f 1 2 3\nf 1 3 2\n", 6, "face duplicates line 5");
+  expect_obj_error(SQUARE_V "f 1 2 3\nf 1 3 4\nf 2 3 1\n", 7, "face duplicates line 5"); /* same orientation, rotated */
+  expect_obj_error(SQUARE_V "f 1 2 3 4\nf 4 3 1\n", 6, "face duplicates line 5"); /* a fan triangle of the quad */
+}
+
+/* issue 21, defect 19: the messages name the real problem */
+Test(obj_error, extreme_scales_and_trailing_text) {
+  /* (the scene's checks name a tiny or huge triangle: tests/cli.sh obj_tiny, obj_huge) */
+  expect_obj_error("v -1e308 0 0\nv 1e308 0 0\nv 0 1 0\nf 1 2 3\n", 4, "coordinates are too large");
+  expect_obj_error("v 0 0 0 1 junk\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 1, "unexpected 'junk'");
+  expect_obj_error("v 0 0 0 1 2 3 4 5\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 1, "unexpected '5'");
+}
+
 Test(obj_error, first_error_wins) {
   /* the first bad line is reported, not a later one */
   expect_obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\nv bad 0 0\nf 0 1 2\n", 4, NULL);

@@ -1,15 +1,20 @@
 /* simulate: runs one scene from an INI config and writes a per-step CSV and
  * the final mesh as OBJ. See `simulate --help`. */
+#include <ctype.h>
+#include <dirent.h>
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <clothbench/clothbench.h>
 #include "bind.h"
 #include "blas_kernel.h"
 #include "experiment.h"
+#include "outfile.h"
 #include "provenance.h"
 #include "stability.h"
 
@@ -18,20 +23,22 @@ enum { EXIT_OK = 0, EXIT_USAGE = 1, EXIT_IO = 2, EXIT_DIVERGED = 3, EXIT_SOLVER 
 static void usage(FILE *f) {
   fputs("usage: simulate CONFIG [--set section.key=value]... [--steps N] [--obj PATH] [--csv PATH]\n"
         "                [--frames DIR [--every N]] [--quiet]\n"
-        "       simulate --help | --help-config\n"
+        "       simulate --help | --help-config | --version\n"
         "\n"
         "Runs the scene described by CONFIG (an INI file; see --help-config) and writes\n"
         "  a per-step CSV (default results/<config name>.csv): step, t_s, kinetic_j,\n"
         "    elastic_j (springs and bending), gravity_j (gravity potential), total_j (the\n"
         "    sum of the three), pin_work_j (work done by driven pins so far), newton_iters,\n"
         "    rel_grad, linear_iters, assemble_ms, factor_ms, solve_ms, wall_ms, status,\n"
-        "    contacts (vertices touching the collider);\n"
+        "    contacts (vertices touching the collider), rho (the Chebyshev spectral radius the step\n"
+        "    used, given or estimated by rho = auto; 0 without Chebyshev);\n"
         "    row 0 is the initial state, with its own status (diverged if not finite);\n"
         "  the final mesh as OBJ (default results/<config name>.obj); --steps 0 writes\n"
         "    the initial mesh.\n"
         "Both files are written atomically (temporary file, then rename); PATH - streams to\n"
         "  standard output, and an existing device or FIFO (/dev/null) is written into, never\n"
-        "  replaced. An output may not be the config, the mesh file or the other output.\n"
+        "  replaced. An output may not be the config, the mesh file or another output,\n"
+        "  frames included (DIR/frame_*.obj).\n"
         "\n"
         "options:\n"
         "  --set section.key=value  override a config key (repeatable), e.g. --set material.stretch_k=1e5\n"
@@ -39,8 +46,10 @@ static void usage(FILE *f) {
         "  --csv PATH               per-step CSV output\n"
         "  --obj PATH               final mesh output\n"
         "  --frames DIR             also write the mesh every N steps as DIR/frame_000000.obj, ...\n"
-        "                           (step 0 first; an OBJ sequence for Blender, MeshLab, make movies)\n"
-        "  --every N                frame interval in steps (default 1)\n"
+        "                           (step 0 first; an OBJ sequence for Blender, MeshLab, make movies);\n"
+        "                           DIR is a folder name (not '' or -); the frames of an earlier run\n"
+        "                           in DIR (its frame_<digits>.obj files) are removed first, and said so\n"
+        "  --every N                frame interval in steps (default 1; needs --frames)\n"
         "  --quiet                  no progress or summary on stderr\n"
         "  --help-config            print every config key with its unit and default (Markdown)\n"
         "\n"
@@ -52,7 +61,8 @@ static void usage(FILE *f) {
         "    explicit runs the scene's predicted explicit limit 2/omega_max);\n"
         "  4 the linear solve failed (matrix not positive definite, solver breakdown, line search).\n"
         "The CSV and OBJ are written in every case where the scene could be built;\n"
-        "the CSV's last row carries the failing status.\n",
+        "the CSV's last row carries the failing status. If a frame cannot be written, the\n"
+        "  run stops and nothing is: no CSV, no OBJ, and this run's frames are removed (exit 2).\n",
         f);
 }
 
@@ -61,6 +71,45 @@ static int write_frame(const char *dir, const cb_scene *scene, const double *x, 
   char path[4096];
   snprintf(path, sizeof path, "%s/frame_%06d.obj", dir, step);
   return cb_mesh_write_obj(&scene->mesh, x, path);
+}
+
+/* 1 if name is a frame's file name: frame_<6 or more digits>.obj */
+static int is_frame_name(const char *name) {
+  if (strncmp(name, "frame_", 6) != 0) return 0;
+  const char *p = name + 6;
+  while (isdigit((unsigned char)*p)) p++;
+  return p - (name + 6) >= 6 && strcmp(p, ".obj") == 0;
+}
+
+/* 1 if path is (or would be) one of the frames --frames dir writes */
+static int is_frame_path(const char *dir, const char *path) {
+  const char *slash = strrchr(path, '/');
+  const char *name = slash ? slash + 1 : path;
+  if (!is_frame_name(name)) return 0;
+  char f[4096];
+  snprintf(f, sizeof f, "%s/%s", dir, name);
+  return cb_same_file(f, path);
+}
+
+/* Removes the frames (regular files named frame_<digits>.obj) in dir, nothing
+ * else; returns how many, and the first and last name removed. */
+static int remove_frames(const char *dir, char *first, char *last, size_t n) {
+  DIR *d = opendir(dir);
+  int count = 0;
+  first[0] = last[0] = '\0';
+  if (!d) return 0;
+  for (struct dirent *de; (de = readdir(d));) {
+    char path[4096];
+    struct stat st;
+    if (!is_frame_name(de->d_name)) continue;
+    snprintf(path, sizeof path, "%s/%s", dir, de->d_name);
+    if (lstat(path, &st) != 0 || !S_ISREG(st.st_mode) || unlink(path) != 0) continue;
+    if (!first[0] || strcmp(de->d_name, first) < 0) snprintf(first, n, "%s", de->d_name);
+    if (!last[0] || strcmp(de->d_name, last) > 0) snprintf(last, n, "%s", de->d_name);
+    count++;
+  }
+  closedir(d);
+  return count;
 }
 
 static void default_out(const char *config, const char *ext, char *out, size_t n) {
@@ -77,19 +126,21 @@ static void explicit_limit(cb_scene *scene, double dt, char *why, size_t n) {
   cb_prediction pred;
   size_t used = strlen(why);
   if (cb_stability_predict(scene, scene->x0, CB_EIG_AUTO, &pred) == CB_OK && isfinite(pred.dt_crit))
-    snprintf(why + used, n - used, "; the predicted explicit limit at the initial state is dt_crit = 2/omega_max = %.4g s "
-             "(omega_max = %.4g rad/s), integrator.dt = %.4g s is %.3g x that", pred.dt_crit, pred.omega_max, dt, dt / pred.dt_crit);
-  else snprintf(why + used, n - used, "; (no explicit-limit prediction: %s)", cb_error_message());
+    snprintf(why + used, n - used, "%sthe predicted explicit limit at the initial state is dt_crit = 2/omega_max = %.4g s "
+             "(omega_max = %.4g rad/s), integrator.dt = %.4g s is %.3g x that", used ? "; " : "", pred.dt_crit, pred.omega_max, dt, dt / pred.dt_crit);
+  else snprintf(why + used, n - used, "%s(no explicit-limit prediction%s%s)", used ? "; " : "", cb_error_message()[0] ? ": " : "",
+                cb_error_message());
 }
 
 int main(int argc, char **argv) {
   if (cb_runtime_init()) { fprintf(stderr, "simulate: %s\n", cb_error_message()); return EXIT_USAGE; }
   const char *config = NULL, *csv_path = NULL, *obj_path = NULL, *steps = NULL, *frames = NULL;
   long every = 1;
-  int quiet = 0;
+  int quiet = 0, every_given = 0;
   for (int i = 1; i < argc; i++) { /* first pass: help and the config path */
     if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) { usage(stdout); return EXIT_OK; }
     if (!strcmp(argv[i], "--help-config")) { cb_config_write_reference(stdout); return EXIT_OK; }
+    if (!strcmp(argv[i], "--version")) { printf("simulate (clothbench) %s (%s)\n", cb_build_git, cb_build_dirty); return EXIT_OK; }
   }
   cb_config cfg;
   cb_config_defaults(&cfg);
@@ -105,6 +156,7 @@ int main(int argc, char **argv) {
       else if (!strcmp(a, "--obj")) obj_path = argv[i];
       else if (!strcmp(a, "--frames")) frames = argv[i];
       else if (!strcmp(a, "--every")) {
+        every_given = 1;
         char *end;
         errno = 0;
         every = strtol(argv[i], &end, 10);
@@ -119,6 +171,19 @@ int main(int argc, char **argv) {
     else { fprintf(stderr, "simulate: more than one config given ('%s', '%s')\n", config, a); return EXIT_USAGE; }
   }
   if (!config) { usage(stderr); return EXIT_USAGE; }
+  if (every_given && !frames) { fputs("simulate: --every sets the frame interval of --frames DIR; give --frames too\n", stderr); return EXIT_USAGE; }
+  if (frames) {
+    struct stat st;
+    if (!frames[0] || !strcmp(frames, "-")) {
+      fprintf(stderr, "simulate: --frames '%s': expected a folder name (frames are files, they cannot stream)\n", frames);
+      return EXIT_USAGE;
+    }
+    if (strlen(frames) > 4000) { fputs("simulate: --frames: folder name too long\n", stderr); return EXIT_USAGE; }
+    if (stat(frames, &st) == 0 && !S_ISDIR(st.st_mode)) {
+      fprintf(stderr, "simulate: --frames %s: exists and is not a folder\n", frames);
+      return EXIT_USAGE;
+    }
+  }
   cb_blas_kernel_warning(stderr, "simulate"); /* run directly on OpenBLAS's fallback kernels */
   if (cb_config_load(config, &cfg)) { fprintf(stderr, "simulate: %s\n", cb_error_message()); return EXIT_USAGE; }
   for (int i = 1; i < argc; i++)
@@ -139,20 +204,28 @@ int main(int argc, char **argv) {
   default_out(config, "obj", obj_def, sizeof obj_def);
   if (!csv_path) csv_path = csv_def;
   if (!obj_path) obj_path = obj_def;
-  /* an output must not overwrite an input or the other output */
+  /* an output must not overwrite an input or another output (the frames too) */
   char mesh_path[2 * CB_PATH_LEN];
   cb_config_resolve_path(&cfg, cfg.mesh_file, mesh_path, sizeof mesh_path);
+  int mesh_is_file = !strcmp(cfg.mesh_type, "obj");
   const char *outs[2][2] = {{"--csv", csv_path}, {"--obj", obj_path}};
   for (int k = 0; k < 2; k++) {
     const char *what = NULL;
     if (strcmp(outs[k][1], "-") == 0) continue;
     if (cb_same_file(outs[k][1], config)) what = "the config file";
-    else if (!strcmp(cfg.mesh_type, "obj") && cb_same_file(outs[k][1], mesh_path)) what = "the mesh file (mesh.file)";
+    else if (mesh_is_file && cb_same_file(outs[k][1], mesh_path)) what = "the mesh file (mesh.file)";
     else if (k == 0 && strcmp(obj_path, "-") != 0 && cb_same_file(csv_path, obj_path)) what = "the OBJ output (--obj)";
+    else if (frames && is_frame_path(frames, outs[k][1])) what = "a frame of --frames";
     if (what) {
       fprintf(stderr, "simulate: %s %s is %s; refusing to overwrite it\n", outs[k][0], outs[k][1], what);
       return EXIT_USAGE;
     }
+  }
+  if (frames && (is_frame_path(frames, config) || (mesh_is_file && is_frame_path(frames, mesh_path)))) {
+    fprintf(stderr, "simulate: --frames %s would overwrite %s %s (frames are %s/frame_<step>.obj); refusing\n", frames,
+            is_frame_path(frames, config) ? "the config file" : "the mesh file (mesh.file)",
+            is_frame_path(frames, config) ? config : mesh_path, frames);
+    return EXIT_USAGE;
   }
   if (!strcmp(csv_path, "-") && !strcmp(obj_path, "-")) {
     fputs("simulate: --csv - and --obj - would both stream to standard output; give one of them a path\n", stderr);
@@ -182,10 +255,15 @@ int main(int argc, char **argv) {
   char why[1024] = "";
   if (status) snprintf(why, sizeof why, "%s", cb_error_message());
   cb_run_csv_row(csv.f, &run, status);
-  int nframes = 0;
-  if (frames) {
+  int nframes = 0, frame_failed = 0;
+  char first[256], last[256];
+  if (frames) { /* an earlier run's frames would be mistaken for this run's */
+    int old = remove_frames(frames, first, last, sizeof first);
+    if (old && !quiet)
+      fprintf(stderr, "simulate: --frames: removed %d frame%s of an earlier run from %s/ (%s%s%s)\n", old, old == 1 ? "" : "s",
+              frames, first, old > 1 ? " to " : "", old > 1 ? last : "");
     if (write_frame(frames, scene, run.x, 0)) {
-      fprintf(stderr, "simulate: --frames: %s\n", cb_error_message());
+      fprintf(stderr, "simulate: --frames: %s; NOTHING written\n", cb_error_message());
       rc = EXIT_IO;
       goto done;
     }
@@ -199,8 +277,7 @@ int main(int argc, char **argv) {
     cb_run_csv_row(csv.f, &run, status);
     if (frames && ((k + 1) % every == 0 || cb_status_is_fatal(status))) { /* the failing state too */
       if (write_frame(frames, scene, run.x, k + 1)) {
-        fprintf(stderr, "simulate: --frames: %s\n", cb_error_message());
-        rc = EXIT_IO;
+        frame_failed = 1;
         break;
       }
       nframes++;
@@ -213,6 +290,14 @@ int main(int argc, char **argv) {
     }
   }
   cb_progress_end(&prog);
+  if (frame_failed) { /* a cut sequence and a CSV that ends early, as if fine: neither is kept */
+    fprintf(stderr, "simulate: step %d of %d: --frames: %s; the run stopped: NOTHING written (the CSV and OBJ are not,", run.step,
+            cfg.steps, cb_error_message());
+    int gone = remove_frames(frames, first, last, sizeof first);
+    fprintf(stderr, " and this run's %d frame%s in %s/ are removed)\n", gone, gone == 1 ? "" : "s", frames);
+    rc = EXIT_IO;
+    goto done;
+  }
   int csv_ok = cb_outfile_commit(&csv) == CB_OK;
   if (!csv_ok) { fprintf(stderr, "simulate: %s\n", cb_error_message()); rc = EXIT_IO; }
   int obj_ok = cb_mesh_write_obj(&scene->mesh, run.x, obj_path) == CB_OK;

@@ -60,6 +60,19 @@ typedef struct cb_scaled_op {
 } cb_scaled_op;
 void cb_scaled_op_apply(void *ctx, const double *x, double *y);
 
+/* Prepares a dense symmetric n x n matrix (row-major, row stride tda) for
+ * GSL's symmetric eigensolvers, in place: scales it by a power of two (exact)
+ * so that its largest entry has magnitude in [0.5, 1), and sets to zero the
+ * entries below DBL_EPSILON^2 of that, far under the solvers' own round-off
+ * (n DBL_EPSILON ||A||). GSL's implicit QR sweeps deflate only where
+ * |e_i| < DBL_EPSILON (|d_i| + |d_i+1|), a bound that underflows to 0 on
+ * subnormal numbers: unscaled, a matrix of entries near 1e-300 (a stiffness
+ * of 1e-300) or 1e300 never deflates and the sweep loops for ever.
+ * Returns the factor to multiply the computed eigenvalues by (eigenvectors
+ * are unchanged); a zero matrix or one with a non-finite entry is left as it
+ * is, and the factor is 1. Every gsl_eigen_symm / symmv call goes through it. */
+double cb_eigen_prescale(double *a, size_t n, size_t tda);
+
 /* All eigenvalues (ascending) of diag(d) A diag(d) by GSL's dense symmetric
  * solver; eval has n entries. Intended for n up to a few thousand. */
 int cb_dense_eigenvalues(const cb_sparse *A, const double *d, double *eval);

@@ -5,6 +5,7 @@
 #include <gsl/gsl_matrix.h>
 #include <gsl/gsl_sort_vector.h>
 #include <gsl/gsl_vector.h>
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -149,6 +150,26 @@ int cb_lanczos_ws(cb_linop op, void *ctx, const cb_lanczos_params *pp, cb_lanczo
   return st;
 }
 
+double cb_eigen_prescale(double *a, size_t n, size_t tda) {
+  double amax = 0;
+  for (size_t i = 0; i < n; i++)
+    for (size_t j = 0; j < n; j++) {
+      double v = fabs(a[i * tda + j]);
+      if (!isfinite(v)) return 1.0; /* NaN or Inf: left for the caller's checks to see */
+      if (v > amax) amax = v;
+    }
+  if (amax == 0) return 1.0;
+  int e;
+  frexp(amax, &e); /* amax = f 2^e, f in [0.5, 1) */
+  double tiny = DBL_EPSILON * DBL_EPSILON;
+  for (size_t i = 0; i < n; i++)
+    for (size_t j = 0; j < n; j++) {
+      double v = ldexp(a[i * tda + j], -e); /* exact unless it underflows, and then it is flushed */
+      a[i * tda + j] = fabs(v) < tiny ? 0.0 : v;
+    }
+  return ldexp(1.0, e);
+}
+
 int cb_dense_eigenvalues(const cb_sparse *A, const double *d, double *eval) {
   size_t n = (size_t)A->n;
   gsl_matrix *D = gsl_matrix_calloc(n, n);
@@ -160,10 +181,11 @@ int cb_dense_eigenvalues(const cb_sparse *A, const double *d, double *eval) {
     return cb_fail_status(CB_ENOMEM, "dense eigenvalues: out of memory for n = %zu", n);
   }
   cb_sparse_to_dense(A, d, NULL, D->data, D->tda);
+  double scale = cb_eigen_prescale(D->data, n, D->tda);
   int st = gsl_eigen_symm(D, ev, ws) ? cb_fail("gsl_eigen_symm failed") : CB_OK;
   if (st == CB_OK) {
     gsl_sort_vector(ev);
-    for (size_t i = 0; i < n; i++) eval[i] = gsl_vector_get(ev, i);
+    for (size_t i = 0; i < n; i++) eval[i] = scale * gsl_vector_get(ev, i);
   }
   gsl_matrix_free(D); gsl_vector_free(ev); gsl_eigen_symm_free(ws);
   return st;

@@ -5,6 +5,8 @@
  * cb_integrator_type and one line in cb_integrator_types[]. */
 #include <clothbench/integrator.h>
 
+#include <float.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -50,6 +52,12 @@ int cb_integrator_alloc(const char *method, cb_scene *scene, const cb_integrator
   const cb_integrator_type *t = cb_integrator_type_find(method);
   if (!t) return cb_fail("unknown integrator '%s'", method);
   if (!(p->dt > 0)) return cb_fail("integrator: dt must be > 0, got %g", p->dt);
+  double mmax = 0;
+  for (int i = 0; i < scene->mesh.nv; i++) mmax = fmax(mmax, scene->mass[i]);
+  if (!isfinite(mmax / (p->dt * p->dt))) /* every implicit method's inertia term; 1/dt^2 alone may overflow */
+    return cb_fail("integrator.dt = %g s is too small for double precision: the inertia term M/dt^2 of the heaviest "
+                   "vertex (%g kg) is not a finite double; dt must be at least %.3g s", p->dt, mmax,
+                   2 * sqrt(mmax) / sqrt(DBL_MAX));
   if (!(p->damping >= 0 && p->damping <= 1)) return cb_fail("integrator: damping must be in [0, 1], got %g", p->damping);
   if ((t->flags & CB_INTEGRATOR_LINEAR_SOLVER) && !solver) return cb_fail("%s: needs a linear solver", t->name);
   cb_integrator *it = cb_calloc(1, sizeof *it);

@@ -115,9 +115,14 @@ static int pd_init(cb_integrator *it) {
       continue;
     }
     if (term->type == cb_term_spring && strcmp(term->label, "stretch") == 0 && !cb_spring_term_is_choi_ko(term)) continue;
-    return cb_fail("%s: projective dynamics here covers the stretch springs and gravity; the scene has the term '%s'%s "
-                   "(set material.bend = none and a definiteness other than choi-ko)",
-                   name, term->label, cb_spring_term_is_choi_ko(term) ? " with the Choi-Ko response" : "");
+    /* the advice names the key that removes this term */
+    const char *fix = cb_spring_term_is_choi_ko(term) ? "set integrator.definiteness to none, drop, mirror or shift"
+                      : strcmp(term->label, "stretch") == 0 ? "set material.stretch = spring"
+                      : strcmp(term->label, "collider") == 0 ? "set collider.type = project (a post-step projection) or none"
+                      : strncmp(term->label, "bend", 4) == 0 ? "set material.bend = none"
+                                                            : "remove that term from the scene";
+    return cb_fail("%s: projective dynamics here covers the stretch springs and gravity; the scene has the term '%s'%s (%s)",
+                   name, term->label, cb_spring_term_is_choi_ko(term) ? " with the Choi-Ko response" : "", fix);
   }
   int nf = s->model.nfree, nv = s->mesh.nv;
   int st = cb_objective_init(&w->obj, s);

@@ -208,6 +208,40 @@ static int parse_corner(char **s, int nv, long *out, const char *path, int line)
   return CB_OK;
 }
 
+/* A triangle's vertices in ascending order, and its index: sorting these puts
+ * a triangle listed twice (either orientation) next to its copy. */
+typedef struct { int v[3], t; } tri_key;
+
+static int cmp_tri_key(const void *pa, const void *pb) {
+  const tri_key *a = pa, *b = pb;
+  for (int k = 0; k < 3; k++)
+    if (a->v[k] != b->v[k]) return a->v[k] < b->v[k] ? -1 : 1;
+  return (a->t > b->t) - (a->t < b->t);
+}
+
+/* CB_EINVAL naming both lines if two triangles join the same three vertices:
+ * the mass would count the area twice, and the pair forms a hinge of angle 0. */
+static int check_duplicate_faces(const int *tri, const int *line, int nt, const char *path) {
+  if (nt < 2) return CB_OK;
+  tri_key *k = cb_malloc((size_t)nt, sizeof *k);
+  if (!k) return CB_ENOMEM;
+  for (int t = 0; t < nt; t++) {
+    int a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2], s;
+    if (a > b) { s = a; a = b; b = s; }
+    if (b > c) { s = b; b = c; c = s; }
+    if (a > b) { s = a; a = b; b = s; }
+    k[t] = (tri_key){{a, b, c}, t};
+  }
+  qsort(k, (size_t)nt, sizeof *k, cmp_tri_key);
+  int st = CB_OK;
+  for (int i = 1; i < nt && st == CB_OK; i++)
+    if (k[i].v[0] == k[i - 1].v[0] && k[i].v[1] == k[i - 1].v[1] && k[i].v[2] == k[i - 1].v[2])
+      st = cb_fail("%s:%d: face duplicates line %d (the same vertices %d, %d, %d, in either orientation)", path,
+                   line[k[i].t], line[k[i - 1].t], k[i].v[0] + 1, k[i].v[1] + 1, k[i].v[2] + 1);
+  free(k);
+  return st;
+}
+
 int cb_mesh_read_obj(const char *path, cb_mesh *out) {
   memset(out, 0, sizeof *out);
   FILE *f = fopen(path, "r");
@@ -254,6 +288,15 @@ int cb_mesh_read_obj(const char *path, cb_mesh *out) {
           st = cb_fail("%s:%d: vertex needs 3 numbers, bad coordinate %d near '%.20s'", path, line, k + 1, s);
         else if (!isfinite(v[k]))
           st = cb_fail("%s:%d: vertex coordinate %d is not finite", path, line, k + 1);
+        s = end;
+      }
+      /* optional numbers after x y z (a weight w, or an r g b colour) are ignored; anything else is an error */
+      for (int k = 0; st == CB_OK && *(s = skip_space(s)); k++) {
+        char *end;
+        strtod(s, &end);
+        if (end == s || (*end && !is_space(*end)) || k == 4)
+          st = cb_fail("%s:%d: unexpected '%.*s' after the vertex's coordinates (a vertex is v x y z, optionally "
+                       "followed by w or r g b)", path, line, (int)fmin(20, (double)strcspn(s, " \t\r\n\v\f")), s);
         s = end;
       }
       if (st == CB_OK) st = push_vertex(&b, v, line);
@@ -337,8 +380,12 @@ int cb_mesh_read_obj(const char *path, cb_mesh *out) {
     double l3 = 0;
     for (int k = 0; k < 3; k++) l3 += (e2[k] - e1[k]) * (e2[k] - e1[k]);
     double lmax = fmax(l1, fmax(l2, l3));
-    if (!(sc > 0) || !(area > 1e-12 * lmax)) st = cb_fail("%s:%d: degenerate triangle (zero area)", path, b.line[t]);
+    /* the scale itself is left to the scene's checks (scene.c), which name the quantity and its key */
+    if (sc > 0 && !isfinite(sc))
+      st = cb_fail("%s:%d: triangle's edges are longer than the largest double (the mesh's coordinates are too large)", path, b.line[t]);
+    else if (!(sc > 0) || !(area > 1e-12 * lmax)) st = cb_fail("%s:%d: degenerate triangle (zero area)", path, b.line[t]);
   }
+  if (st == CB_OK) st = check_duplicate_faces(b.tri, b.line, b.nt, path);
   free(b.line);
   if (st != CB_OK) cb_mesh_free(out);
   return st;

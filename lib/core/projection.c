@@ -21,6 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <clothbench/eigen.h>
 #include <clothbench/status.h>
 
 const char *const cb_projection_names[] = {"none", "clamp", "abs", NULL};
@@ -72,10 +73,14 @@ int cb_projection_apply(cb_projection p, int n, double *H, cb_projection_work *w
   if (p == CB_PROJ_NONE) return 0;
   if (!w || n != w->n) return cb_fail("projection: a %d x %d matrix needs a workspace of that size", n, n);
   memcpy(w->A->data, H, (size_t)n * n * sizeof(double)); /* tda = n: gsl_matrix_alloc packs rows */
+  double scale = cb_eigen_prescale(w->A->data, (size_t)n, (size_t)n);
   int st = gsl_eigen_symmv(w->A, w->lambda, w->V, w->ws); /* reads the lower triangle, overwrites A */
   if (st) return cb_fail("projection: gsl_eigen_symmv failed (%s)", gsl_strerror(st));
   double lmax = 0;
-  for (int k = 0; k < n; k++) lmax = fmax(lmax, fabs(gsl_vector_get(w->lambda, (size_t)k)));
+  for (int k = 0; k < n; k++) {
+    gsl_vector_set(w->lambda, (size_t)k, scale * gsl_vector_get(w->lambda, (size_t)k));
+    lmax = fmax(lmax, fabs(gsl_vector_get(w->lambda, (size_t)k)));
+  }
   double tol = n * DBL_EPSILON * lmax; /* round-off of a zero eigenvalue: not counted as negative */
   int changed = 0;
   for (int k = 0; k < n; k++) {

@@ -78,6 +78,7 @@ void cb_run_free(cb_run *r) {
 }
 
 int cb_run_step(cb_run *r) {
+  cb_error_clear(); /* so that a status without a reason can be told apart */
   int st = cb_integrator_step(r->integ, r->x, r->v, &r->last);
   r->step++;
   r->t = r->step * r->integ->params.dt;
@@ -87,6 +88,12 @@ int cb_run_step(cb_run *r) {
   /* The integrator's own status wins: after a failed solve the state is
    * whatever the failure left, and testing it would call the failure a
    * divergence. */
+  if (st == CB_DIVERGED && !cb_error_message()[0]) { /* an integrator's NaN test: name what is not finite */
+    int fs = finite_state(r);
+    if (fs == CB_OK)
+      cb_fail_status(CB_DIVERGED, "%s: a value inside the step (objective, gradient or update) is not finite, "
+                     "although the state is", r->integ->type->name);
+  }
   if (!cb_status_is_fatal(st)) {
     int fs = finite_state(r);
     double gain = tracked(r) - r->total0 - r->work;
@@ -103,12 +110,14 @@ int cb_run_step(cb_run *r) {
 
 void cb_run_csv_header(FILE *f) {
   fputs("step,t_s,kinetic_j,elastic_j,gravity_j,total_j,pin_work_j,newton_iters,rel_grad,rel_grad_hat,linear_iters,"
-        "assemble_ms,factor_ms,solve_ms,wall_ms,status,contacts\n", f);
+        "assemble_ms,factor_ms,solve_ms,wall_ms,status,contacts,rho\n", f);
 }
 
 void cb_run_csv_row(FILE *f, const cb_run *r, int status) {
   const cb_step_stats *s = &r->last;
-  cb_csv_printf(f, "%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%d,%.6f,%.6f,%.6f,%.6f,%s,%d\n", r->step, r->t, r->kinetic,
+  /* the Chebyshev rho the step used, given or estimated (rho = auto): the integrator's, else its linear solver's */
+  double rho = s->rho > 0 ? s->rho : r->integ->solver ? r->integ->solver->stats.rho : 0.0;
+  cb_csv_printf(f, "%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%d,%.6f,%.6f,%.6f,%.6f,%s,%d,%.17g\n", r->step, r->t, r->kinetic,
                 r->elastic, r->gravity, r->kinetic + r->potential, r->work, s->newton_iters, s->rel_grad, s->rel_grad_hat, s->linear_iters,
-                s->assemble_ms, s->factor_ms, s->solve_ms, s->wall_ms, cb_status_name(status), cb_scene_contacts(r->scene, r->x));
+                s->assemble_ms, s->factor_ms, s->solve_ms, s->wall_ms, cb_status_name(status), cb_scene_contacts(r->scene, r->x), rho);
 }

@@ -1,6 +1,8 @@
 #include <clothbench/scene.h>
 
 #include <ctype.h>
+#include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -33,7 +35,12 @@ static int pins_halfspace(const char *spec, const cb_mesh *m, int *list, int *cn
     h[k++] = v;
     p = end;
   }
-  double nn = k == 4 ? sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]) : 0;
+  /* (a, b, c, d) / max |a|, |b|, |c| first: the set is the same, and a b c near 1e-300 do not underflow the norm */
+  double hs = k == 4 ? fmax(fabs(h[0]), fmax(fabs(h[1]), fabs(h[2]))) : 0;
+  for (int a = 0; hs > 0 && a < 4; a++) h[a] /= hs;
+  double nn = hs > 0 ? sqrt(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]) : 0;
+  if (hs > 0 && !isfinite(h[3] / nn))
+    return cb_fail("scene.pins: '%s': the plane's offset d / |(a, b, c)| is not a finite double", spec);
   if (!(nn > 0) || !isfinite(nn) || !isfinite(h[3] / nn))
     return cb_fail("scene.pins: '%s' is not `halfspace a b c d` (4 finite numbers separated by spaces or commas, "
                    "(a, b, c) not zero): the vertices whose rest position p has a p_x + b p_y + c p_z <= d", spec);
@@ -92,14 +99,16 @@ int cb_pins_resolve(const char *spec, const cb_mesh *m, int **out, int *n) {
                        "`halfspace a b c d` or a list of 0-based vertex indices", spec);
       }
       char *end;
+      errno = 0;
       long v = strtol(p, &end, 10);
       if (*end && *end != ' ' && *end != '\t' && *end != ',') {
         free(list);
         return cb_fail("scene.pins: bad vertex index near '%.20s'", p);
       }
-      if (v >= m->nv) {
+      if (errno == ERANGE || v >= m->nv) { /* the index as written: strtol clamps an overflow to LONG_MAX */
         free(list);
-        return cb_fail("scene.pins: vertex %ld out of range (the mesh has %d vertices, 0-based)", v, m->nv);
+        return cb_fail("scene.pins: vertex %.*s out of range (the mesh has %d vertices, 0-based)",
+                       (int)(end - p > 40 ? 40 : end - p), p, m->nv);
       }
       list[cnt++] = (int)v;
       p = end;
@@ -251,6 +260,20 @@ static int check_finite(const cb_scene *s, const cb_scene_def *d, const char **k
     if (!isfinite(s->x0[i]))
       return at_key(cb_fail("scene.initial_scale: vertex %d's initial position, %g x its offset from the centroid, "
                             "is not a finite double", i / 3, d->initial_scale), key, "scene.initial_scale");
+  for (int e = 0; e < s->topo.ne; e++) { /* each edge's direction at x0: a squared length that underflows has none */
+    const double *a = s->x0 + 3 * s->topo.edge[2 * e], *b = s->x0 + 3 * s->topo.edge[2 * e + 1];
+    double l2 = (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
+    if (l2 >= DBL_MIN) continue;
+    const char *what = l2 == 0 ? "zero length" : "a length too small to square";
+    if (d->initial_scale == 1) /* the mesh as given */
+      return at_key(mesh_fail(d, &s->mesh, -1, "the edge between vertices %d and %d has %s (squared length %g m^2): "
+                              "the mesh's coordinates are too small (scale the mesh up)", s->topo.edge[2 * e],
+                              s->topo.edge[2 * e + 1], what, l2), key, mesh_key(d));
+    return at_key(cb_fail("scene.initial_scale = %g: the edge between vertices %d and %d has %s at the initial state "
+                          "(squared length %g m^2): the scaled offsets are below double precision's reach at "
+                          "these coordinates", d->initial_scale, s->topo.edge[2 * e], s->topo.edge[2 * e + 1], what, l2),
+                  key, "scene.initial_scale");
+  }
   double K = cb_scene_kinetic(s, s->v0);
   if (!isfinite(K))
     return at_key(cb_fail("scene.pin_squeeze: the initial kinetic energy of the driven pins is %g J, not a finite "
@@ -349,6 +372,11 @@ int cb_scene_build(const cb_scene_def *d, cb_scene **out, const char **key) {
         if (!isfinite(a)) {
           st = at_key(mesh_fail(d, &s->mesh, -1, "triangle %d has area %g m^2, not a finite double: "
                                 "the mesh's coordinates are too large", t + 1, a), key, mesh_key(d));
+          break;
+        }
+        if (!(a >= DBL_MIN)) { /* its vertices' masses would underflow to nothing */
+          st = at_key(mesh_fail(d, &s->mesh, -1, "triangle %d has area %g m^2, below the smallest normal double: "
+                                "the mesh's coordinates are too small (scale the mesh up)", t + 1, a), key, mesh_key(d));
           break;
         }
         for (int k = 0; k < 3; k++) s->mass[s->mesh.tri[3 * t + k]] += d->density * a / 3.0;

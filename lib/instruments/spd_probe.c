@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <clothbench/eigen.h>
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
 
@@ -124,9 +125,10 @@ int cb_dense_restricted_spd(const cb_sparse *A, const int *keep, double *min_eig
     gsl_matrix_memcpy(C, D);
     gsl_error_handler_t *old = gsl_set_error_handler_off();
     *chol_ok = gsl_linalg_cholesky_decomp1(C) == GSL_SUCCESS; /* GSL_EDOM: not positive definite */
+    double scale = cb_eigen_prescale(D->data, (size_t)m, D->tda);
     if (gsl_eigen_symm(D, ev, ws)) st = cb_fail("gsl_eigen_symm failed");
     gsl_set_error_handler(old);
-    if (st == CB_OK) *min_eig = gsl_vector_min(ev);
+    if (st == CB_OK) *min_eig = scale * gsl_vector_min(ev);
   }
   free(map);
   gsl_matrix_free(D); gsl_matrix_free(C); gsl_vector_free(ev);

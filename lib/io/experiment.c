@@ -57,7 +57,8 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
              "  --configs DIR  folder with the scene configs (default configs)\n"
              "  --shard I/N    run every N-th cell only, those with index %% N == I - 1 (I = 1..N);\n"
              "                 default --out results/shard-<I>of<N>/%s.csv; merge the N shards with\n"
-             "                 scripts/merge-shards.sh OUT.csv SHARD1.csv ... SHARDN.csv\n"
+             "                 scripts/merge-shards.sh OUT.csv SHARD1.csv ... SHARDN.csv (a program\n"
+             "                 whose CSV is not written cell by cell refuses it: exit 1)\n"
              "Progress goes to stderr (CB_QUIET=1 silences it); data goes to the CSV only.\n",
              name, about, name, name);
       return 1;
@@ -69,9 +70,19 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
     if (!strcmp(argv[i], "--quick")) e->quick = 1;
     else if (!strcmp(argv[i], "--smoke")) e->quick = e->smoke = 1;
     else if (!strcmp(argv[i], "--out") && i + 1 < argc) {
-      snprintf(e->out, sizeof e->out, "%s", argv[++i]);
+      if (strlen(argv[++i]) >= sizeof e->out - 64) { /* room for the side tables' _<name>.csv and .cells */
+        fprintf(stderr, "%s: --out: a path of %zu bytes; at most %zu are allowed\n", name, strlen(argv[i]), sizeof e->out - 65);
+        return -1;
+      }
+      snprintf(e->out, sizeof e->out, "%s", argv[i]);
       out_given = 1;
-    } else if (!strcmp(argv[i], "--configs") && i + 1 < argc) e->configs = argv[++i];
+    } else if (!strcmp(argv[i], "--configs") && i + 1 < argc) {
+      e->configs = argv[++i];
+      if (strlen(e->configs) >= CB_PATH_LEN - 256) { /* room for a config's name */
+        fprintf(stderr, "%s: --configs: a path of %zu bytes; at most %d are allowed\n", name, strlen(e->configs), CB_PATH_LEN - 257);
+        return -1;
+      }
+    }
     else if (!strcmp(argv[i], "--shard") && i + 1 < argc) {
       int a, b, used = 0;
       if (sscanf(argv[++i], "%d/%d%n", &a, &b, &used) != 2 || argv[i][used] || b < 1 || a < 1 || a > b) {
@@ -106,13 +117,22 @@ static void write_configs(const cb_experiment *e, FILE *f) {
     fputs(" (cannot open)\n", f);
     return;
   }
-  char *names[256];
-  int n = 0;
-  for (struct dirent *de; (de = readdir(d)) && n < 256;) {
+  char **names = NULL; /* every .ini, however many: a cap applied in readdir order would drop arbitrary ones */
+  int n = 0, cap = 0, oom = 0;
+  for (struct dirent *de; (de = readdir(d));) {
     size_t len = strlen(de->d_name);
-    if (len > 4 && strcmp(de->d_name + len - 4, ".ini") == 0) names[n++] = strdup(de->d_name);
+    if (len <= 4 || strcmp(de->d_name + len - 4, ".ini") != 0) continue;
+    if (n == cap) {
+      char **nn = realloc(names, (size_t)(cap ? 2 * cap : 64) * sizeof *names);
+      if (!nn) { oom = 1; break; }
+      names = nn;
+      cap = cap ? 2 * cap : 64;
+    }
+    if (!(names[n] = strdup(de->d_name))) { oom = 1; break; }
+    n++;
   }
   closedir(d);
+  if (oom) fputs("# configs: (out of memory listing the folder: the list below is incomplete)\n", f);
   qsort(names, (size_t)n, sizeof *names, cmp_str);
   for (int i = 0; i < n; i++) {
     char path[CB_PATH_LEN];
@@ -126,6 +146,7 @@ static void write_configs(const cb_experiment *e, FILE *f) {
     fputc('\n', f);
     free(names[i]);
   }
+  free(names);
 }
 
 static int open_csv(cb_experiment *e, cb_outfile *o, const char *path, const char *extra, const char *header) {
@@ -145,8 +166,11 @@ static int open_csv(cb_experiment *e, cb_outfile *o, const char *path, const cha
 
 int cb_experiment_csv(cb_experiment *e, cb_outfile *o, const char *path, const char *extra, const char *header) {
   memset(o, 0, sizeof *o);
-  if (e->shard)
-    return cb_fail("%s: --shard: this program writes its CSV outside the sweep runner and cannot be sharded", e->name);
+  if (e->shard) { /* a usage error, as a bad --shard value is: exit 1, nothing written */
+    fprintf(stderr, "%s: --shard %d/%d: this program writes its CSV outside the sweep runner and cannot be sharded; "
+            "run it without --shard\n", e->name, e->shard, e->nshards);
+    exit(1);
+  }
   return open_csv(e, o, path, extra, header);
 }
 

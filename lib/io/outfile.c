@@ -80,20 +80,26 @@ static const char *file_kind(mode_t m) {
   return S_ISDIR(m) ? "a directory" : S_ISLNK(m) ? "a symbolic link" : S_ISSOCK(m) ? "a socket" : S_ISBLK(m) ? "a block device" : "not a regular file";
 }
 
+/* The canonical form of path, which need not exist: realpath of its longest
+ * existing leading folder, then the remaining names, "." ones dropped. */
+static void canonical(const char *path, char *out, size_t n) {
+  char dir[PATH_MAX], real[PATH_MAX];
+  const char *slash = strrchr(path, '/');
+  const char *name = slash ? slash + 1 : path;
+  snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - path) + (slash == path) : 1, slash ? path : ".");
+  if (realpath(dir, real)) snprintf(out, n, "%s", real);
+  else if (strcmp(dir, path) != 0 && strlen(dir) < strlen(path)) canonical(dir, out, n); /* a folder still to be made */
+  else snprintf(out, n, "%s", dir);
+  size_t used = strlen(out);
+  if (*name && strcmp(name, ".") != 0 && used + 1 < n) snprintf(out + used, n - used, "%s%s", used && out[used - 1] == '/' ? "" : "/", name);
+}
+
 int cb_same_file(const char *a, const char *b) {
   struct stat sa, sb;
   if (stat(a, &sa) == 0 && stat(b, &sb) == 0) return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
   char ca[PATH_MAX * 2], cb[PATH_MAX * 2];
-  const char *paths[2] = {a, b};
-  char *canon[2] = {ca, cb};
-  for (int k = 0; k < 2; k++) { /* realpath of the folder, plus the name */
-    char dir[PATH_MAX], real[PATH_MAX];
-    const char *slash = strrchr(paths[k], '/');
-    const char *name = slash ? slash + 1 : paths[k];
-    snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - paths[k]) + (slash == paths[k]) : 1, slash ? paths[k] : ".");
-    if (!realpath(dir, real)) snprintf(real, sizeof real, "%s", dir);
-    snprintf(canon[k], sizeof ca, "%s/%s", real, name);
-  }
+  canonical(a, ca, sizeof ca);
+  canonical(b, cb, sizeof cb);
   return strcmp(ca, cb) == 0;
 }
 

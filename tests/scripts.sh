@@ -1,0 +1,81 @@
+#!/bin/sh
+# End-to-end checks of the shell scripts a user runs after the experiments:
+# scripts/merge-shards.sh (issue 21, defects 7, 8, 9), scripts/plots.sh and
+# scripts/movies.sh (defects 10, 17: paths are data, never code).
+# Run from the repository root (make check does: BUILD=<dir> tests/scripts.sh).
+set -u
+B=${BUILD:-build}
+T=$(mktemp -d "${TMPDIR:-/tmp}/cbscripts.XXXXXX") || exit 1
+trap 'rm -rf "$T"' EXIT INT TERM
+fail=0 n=0
+ok() { desc=$1; shift; n=$((n + 1)); "$@" || { echo "scripts: FAIL: $desc"; fail=1; }; }
+export CB_QUIET=1 OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
+
+# ---- merge-shards.sh: two shards of definiteness --smoke (a main CSV and three side tables) ----
+for i in 1 2; do
+  "$B/definiteness" --smoke --shard $i/2 --out "$T/s$i/d.csv" >/dev/null 2>"$T/err" || { echo "scripts: FAIL: definiteness --shard $i/2:"; cat "$T/err"; exit 1; }
+done
+fresh() { rm -rf "$T/w1" "$T/w2" "$T/m"; cp -r "$T/s1" "$T/w1" && cp -r "$T/s2" "$T/w2"; }
+merge() { scripts/merge-shards.sh "$T/m/d.csv" "$T/w1/d.csv" "$T/w2/d.csv" >"$T/merge.out" 2>"$T/merge.err"; }
+nothing_written() { [ -z "$(ls "$T/m" 2>/dev/null)" ]; }
+fresh
+merge
+ok "merge of two valid shards: exit 0" test $? -eq 0
+ok "merge of two valid shards: the main CSV" test -s "$T/m/d.csv"
+# defect 9: shards differing only in the environment they ran in (observed threads) merge,
+# and the merged header keeps what each shard observed
+fresh
+sed -i 's/^# threads_observed: .*/# threads_observed: cholmod_factorize 2, dgemm 2 (edited)/' "$T/w2/d.csv" "$T/w2"/d_*.csv
+merge
+ok "defect 9: shards whose threads_observed differ do not merge: $(cat "$T/merge.err")" test -s "$T/m/d.csv"
+ok "defect 9: the merged header lacks shard 2's threads_observed" grep -q '^# shard 2 threads_observed: cholmod_factorize 2, dgemm 2 (edited)' "$T/m/d.csv"
+# ... but a difference in what was run (a config key) still refuses the merge
+fresh
+sed -i 's/^# quick: 1$/# quick: 0/' "$T/w2/d.csv"
+merge
+ok "shards of different runs (quick 1 and 0) merged" test $? -ne 0
+ok "a refused merge left files: $(ls "$T/m" 2>/dev/null)" nothing_written
+# defect 7: a shard cut mid-row is refused (with and without its last newline)
+fresh
+last=$(tail -n 1 "$T/w2/d.csv")
+sed -i '$d' "$T/w2/d.csv"
+printf '%s\n' "$(echo "$last" | cut -d, -f1-2)" >>"$T/w2/d.csv"
+merge
+ok "defect 7: a 2-field row merged under the header" test $? -ne 0
+ok "defect 7: the message names the cut row" grep -q 'fields under a header of' "$T/merge.err"
+ok "defect 7: a merge of a cut shard left files" nothing_written
+fresh
+printf '%s' "$(head -c -10 "$T/w2/d.csv")" >"$T/w2/cut" && mv "$T/w2/cut" "$T/w2/d.csv"
+merge
+ok "defect 7: a shard without its final newline merged" test $? -ne 0
+ok "defect 7: the message says it does not end with a newline" grep -q 'does not end with a newline' "$T/merge.err"
+# defect 8: a missing third side table leaves nothing, not the main CSV and two side tables
+fresh
+third=$(ls "$T/w2"/d_*.csv | sed -n 3p)
+rm -f "$third"
+merge
+ok "defect 8: a missing side table merged" test $? -ne 0
+ok "defect 8: a failed merge left a partial merge: $(ls "$T/m" 2>/dev/null | tr '\n' ' ')" nothing_written
+ok "defect 8: temporary files left" test -z "$(ls "$T/m" 2>/dev/null | grep merge)"
+
+# ---- plots.sh and movies.sh: quotes, spaces and gnuplot code in the paths are data ----
+if command -v gnuplot >/dev/null 2>&1; then
+  R="$T/res x';system('touch $T/PWNED');a='"
+  mkdir -p "$R"
+  "$B/definiteness" --smoke --out "$R/definiteness.csv" >/dev/null 2>"$T/err" || { echo "scripts: FAIL: definiteness --smoke:"; cat "$T/err"; exit 1; }
+  O="$T/out 'q \$HOME"
+  RESULTS="$R" PLOTS_OUT="$O" scripts/plots.sh >"$T/plots.out" 2>"$T/plots.err"
+  ok "defect 10: plots.sh with a quote in RESULTS failed: $(head -c 300 "$T/plots.err")" test $? -eq 0
+  ok "defect 10: a path in RESULTS ran as gnuplot code" test ! -e "$T/PWNED"
+  ok "defect 10: no definiteness_h1.png in PLOTS_OUT" test -s "$O/definiteness_h1.png"
+  ok "defect 10: no success line for definiteness" grep -q "^plots: definiteness -> $O/" "$T/plots.out"
+  W="$T/work 'a b"
+  BUILD=$B MOVIES_ONLY=explicit_blowup MOVIES_STEPS=3 MOVIES_WORK="$W" PLOTS_OUT="$O" scripts/movies.sh >"$T/movies.out" 2>"$T/movies.err"
+  ok "defect 17: movies.sh with a space and a quote in MOVIES_WORK and PLOTS_OUT failed: $(head -c 300 "$T/movies.err")" test $? -eq 0
+  ok "defect 17: no movie GIF" test -s "$O/movie_E1_explicit_blowup.gif"
+else
+  echo "scripts: notice: gnuplot not installed (make deps); plots.sh and movies.sh not checked"
+fi
+
+[ $fail = 0 ] && echo "scripts: ok ($n checks)"
+exit $fail
