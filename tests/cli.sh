@@ -546,6 +546,8 @@ else
   "$BK" --cache "$T/bk.cache" >/dev/null 2>&1
   rc=$?
   check "blas-kernel: no program is a usage error" test "$rc" -eq 2
+fi
+
 # ---- issue 21, defects 6 and 19: a duplicated face, extreme OBJ scales: the message names the real problem ----
 
 printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\nf 1 3 2\n' >"$T/dupface.obj"
