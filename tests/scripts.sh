@@ -35,17 +35,18 @@ sed -i 's/^# quick: 1$/# quick: 0/' "$T/w2/d.csv"
 merge
 ok "shards of different runs (quick 1 and 0) merged" test $? -ne 0
 ok "a refused merge left files: $(ls "$T/m" 2>/dev/null)" nothing_written
-# defect 7: a shard cut mid-row is refused (with and without its last newline)
+# defect 7: a shard cut mid-row is refused (with and without its last newline); shard 1's
+# main CSV has rows under its header (shard 2's may have none: the smoke run's cells)
 fresh
-last=$(tail -n 1 "$T/w2/d.csv")
-sed -i '$d' "$T/w2/d.csv"
-printf '%s\n' "$(echo "$last" | cut -d, -f1-2)" >>"$T/w2/d.csv"
+last=$(tail -n 1 "$T/w1/d.csv")
+sed -i '$d' "$T/w1/d.csv"
+printf '%s\n' "$(echo "$last" | cut -d, -f1-2)" >>"$T/w1/d.csv"
 merge
 ok "defect 7: a 2-field row merged under the header" test $? -ne 0
 ok "defect 7: the message names the cut row" grep -q 'fields under a header of' "$T/merge.err"
 ok "defect 7: a merge of a cut shard left files" nothing_written
 fresh
-printf '%s' "$(head -c -10 "$T/w2/d.csv")" >"$T/w2/cut" && mv "$T/w2/cut" "$T/w2/d.csv"
+printf '%s' "$(head -c -10 "$T/w1/d.csv")" >"$T/w1/cut" && mv "$T/w1/cut" "$T/w1/d.csv"
 merge
 ok "defect 7: a shard without its final newline merged" test $? -ne 0
 ok "defect 7: the message says it does not end with a newline" grep -q 'does not end with a newline' "$T/merge.err"
