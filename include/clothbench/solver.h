@@ -75,6 +75,11 @@ typedef struct cb_solver_type {
   int (*factor)(cb_solver *s, const cb_sparse *A);
   int (*solve)(cb_solver *s, const cb_sparse *A, const double *b, double *x);
   void (*free)(cb_solver *s);
+  /* Drops what the solver carries from one factorisation to the next (an
+   * amortised estimate, such as Chebyshev's reused spectral bounds), so the
+   * next factor() works as the first one after analyze() did. NULL: the
+   * solver carries nothing. */
+  void (*forget)(cb_solver *s);
 } cb_solver_type;
 
 struct cb_solver {
@@ -100,6 +105,10 @@ int cb_solver_factor(cb_solver *s, const cb_sparse *A);
  * the lecture's choice) and the solution on return. */
 int cb_solver_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x);
 void cb_solver_free(cb_solver *s);
+/* The type's forget (above), if it has one: a computation that must not
+ * depend on what the solver did before (one measured step, repeated a number
+ * of times that depends on the clock) calls it first. */
+void cb_solver_forget(cb_solver *s);
 
 /* rho(I - alpha D^-1 A) estimated by Lanczos on D^-1/2 A D^-1/2 (dhalf =
  * D^-1/2), widened by the Ritz residual bounds; steps = Lanczos steps. */

@@ -100,6 +100,10 @@ int cb_solver_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x
   return st;
 }
 
+void cb_solver_forget(cb_solver *s) {
+  if (s && s->type->forget) s->type->forget(s);
+}
+
 void cb_solver_free(cb_solver *s) {
   if (!s) return;
   s->type->free(s);

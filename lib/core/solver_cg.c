@@ -149,5 +149,21 @@ static int cg_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x
   return status;
 }
 
-const cb_solver_type cb_solver_cg = {"cg", 0, cg_alloc, cg_analyze, cg_factor, cg_solve, cgw_free};
-const cb_solver_type cb_solver_pcg = {"pcg", 0, pcg_alloc, cg_analyze, cg_factor, cg_solve, cgw_free};
+const cb_solver_type cb_solver_cg = {
+    .name = "cg",
+    .flags = 0,
+    .alloc = cg_alloc,
+    .analyze = cg_analyze,
+    .factor = cg_factor,
+    .solve = cg_solve,
+    .free = cgw_free,
+};
+const cb_solver_type cb_solver_pcg = {
+    .name = "pcg",
+    .flags = 0,
+    .alloc = pcg_alloc,
+    .analyze = cg_analyze,
+    .factor = cg_factor,
+    .solve = cg_solve,
+    .free = cgw_free,
+};

@@ -208,4 +208,12 @@ static void ch_free(cb_solver *s) {
   free(w);
 }
 
-const cb_solver_type cb_solver_cholmod = {"cholmod", CB_SOLVER_DIRECT, ch_alloc, ch_analyze, ch_factor, ch_solve, ch_free};
+const cb_solver_type cb_solver_cholmod = {
+    .name = "cholmod",
+    .flags = CB_SOLVER_DIRECT,
+    .alloc = ch_alloc,
+    .analyze = ch_analyze,
+    .factor = ch_factor,
+    .solve = ch_solve,
+    .free = ch_free,
+};

@@ -392,5 +392,31 @@ static int jw_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x
   return status;
 }
 
-const cb_solver_type cb_solver_jacobi = {"jacobi", CB_SOLVER_USES_ALPHA, jacobi_alloc, jw_analyze, jw_factor, jw_solve, jw_free};
-const cb_solver_type cb_solver_chebyshev = {"chebyshev", CB_SOLVER_USES_ALPHA | CB_SOLVER_USES_RHO, chebyshev_alloc, jw_analyze, jw_factor, jw_solve, jw_free};
+/* The reused bounds are the only thing carried between factorisations. */
+static void jw_forget(cb_solver *s) {
+  jacobi_work *w = s->work;
+  w->have_bounds = 0;
+  w->stale = 0;
+  w->uses = 0;
+}
+
+const cb_solver_type cb_solver_jacobi = {
+    .name = "jacobi",
+    .flags = CB_SOLVER_USES_ALPHA,
+    .alloc = jacobi_alloc,
+    .analyze = jw_analyze,
+    .factor = jw_factor,
+    .solve = jw_solve,
+    .free = jw_free,
+    .forget = jw_forget,
+};
+const cb_solver_type cb_solver_chebyshev = {
+    .name = "chebyshev",
+    .flags = CB_SOLVER_USES_ALPHA | CB_SOLVER_USES_RHO,
+    .alloc = chebyshev_alloc,
+    .analyze = jw_analyze,
+    .factor = jw_factor,
+    .solve = jw_solve,
+    .free = jw_free,
+    .forget = jw_forget,
+};

@@ -156,4 +156,12 @@ static int nw_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x
   return status;
 }
 
-const cb_solver_type cb_solver_nesterov = {"nesterov", 0, nw_alloc, nw_analyze, nw_factor, nw_solve, nw_free};
+const cb_solver_type cb_solver_nesterov = {
+    .name = "nesterov",
+    .flags = 0,
+    .alloc = nw_alloc,
+    .analyze = nw_analyze,
+    .factor = nw_factor,
+    .solve = nw_solve,
+    .free = nw_free,
+};

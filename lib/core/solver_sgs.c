@@ -137,4 +137,12 @@ static int sgs_solve(cb_solver *s, const cb_sparse *A, const double *b, double *
   return status;
 }
 
-const cb_solver_type cb_solver_sgs = {"sgs", 0, sgs_alloc, sgs_analyze, sgs_factor, sgs_solve, sgs_free};
+const cb_solver_type cb_solver_sgs = {
+    .name = "sgs",
+    .flags = 0,
+    .alloc = sgs_alloc,
+    .analyze = sgs_analyze,
+    .factor = sgs_factor,
+    .solve = sgs_solve,
+    .free = sgs_free,
+};

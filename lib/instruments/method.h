@@ -73,7 +73,9 @@ void cb_method_work_free(cb_method_work *w);
 /* The hook that cb_method_step needs (pass it with &work to cb_method_integrator). */
 void cb_method_hook(void *work, int event, const cb_newton_event *ev);
 
-/* One step of it from (x0, v0); the result is compared with xstar (whose
+/* One step of it from (x0, v0), with the inner solver's carried state
+ * dropped first (cb_solver_forget), so the result does not depend on how
+ * many steps it made before; the result is compared with xstar (whose
  * objective value is Fstar, from cb_reference_objective). x_out (may be NULL)
  * receives the new positions. A failed step keeps its status and, when x is
  * finite, its error. */
