@@ -81,8 +81,8 @@ typedef struct {
   cb_objective obj;
   cb_sparse P;          /* M/dt^2 + L on the system's pattern (free DOFs) */
   int ns;               /* springs */
-  const int *ends;      /* 2*ns: the stretch springs, the mesh's edges */
-  double *rest;         /* ns: rest lengths L_e, m */
+  const int *ends;      /* 2*ns: the stretch springs, the mesh's edges (the spring term's arrays) */
+  const double *rest;   /* ns: rest lengths L_e, m */
   double k;             /* N/m */
   double grav[3];       /* m/s^2, zero without a gravity term */
   double *c;            /* 3*nfree: M xhat/dt^2 + m g of the step */
@@ -97,7 +97,7 @@ static void pd_free(cb_integrator *it) {
   pd_work *w = it->state;
   cb_objective_free(&w->obj);
   cb_sparse_free(&w->P);
-  free(w->rest); free(w->c); free(w->b); free(w->y); free(w->gF); free(w->xprev); free(w->dnorm);
+  free(w->c); free(w->b); free(w->y); free(w->gF); free(w->xprev); free(w->dnorm);
 }
 
 static int pd_init(cb_integrator *it) {
@@ -114,7 +114,10 @@ static int pd_init(cb_integrator *it) {
       memcpy(w->grav, s->gravity, sizeof w->grav);
       continue;
     }
-    if (term->type == cb_term_spring && strcmp(term->label, "stretch") == 0 && !cb_spring_term_is_choi_ko(term)) continue;
+    if (term->type == cb_term_spring && strcmp(term->label, "stretch") == 0 && !cb_spring_term_is_choi_ko(term)) {
+      cb_spring_term_springs(term, &w->ns, &w->ends, &w->rest, &w->k); /* the local step's springs */
+      continue;
+    }
     /* the advice names the key that removes this term */
     const char *fix = cb_spring_term_is_choi_ko(term) ? "set integrator.definiteness to none, drop, mirror or shift"
                       : strcmp(term->label, "stretch") == 0 ? "set material.stretch = spring"
@@ -128,24 +131,14 @@ static int pd_init(cb_integrator *it) {
   int st = cb_objective_init(&w->obj, s);
   if (st == CB_OK) st = cb_pd_matrix_build(s, it->params.dt, 0, &w->P); /* P = M/dt^2 + sum_e k A_e A_e^T (x) I_3 */
   if (st) return st;
-  w->ns = s->topo.ne;
-  w->ends = s->topo.edge;
-  w->k = s->def.stretch_k;
-  w->rest = cb_malloc((size_t)w->ns + 1, sizeof(double));
   w->c = cb_malloc((size_t)3 * nf + 1, sizeof(double));
   w->b = cb_malloc((size_t)3 * nf + 1, sizeof(double));
   w->y = cb_malloc((size_t)3 * nf + 1, sizeof(double));
   w->gF = cb_malloc((size_t)3 * nf + 1, sizeof(double));
   w->xprev = cb_malloc((size_t)3 * nv, sizeof(double));
-  if (!w->rest || !w->c || !w->b || !w->y || !w->gF || !w->xprev) return CB_ENOMEM;
+  if (!w->c || !w->b || !w->y || !w->gF || !w->xprev) return CB_ENOMEM;
   if (p->rho == CB_PARAM_AUTO && !(w->dnorm = cb_malloc((size_t)p->rho_iters << RHO_DOUBLINGS, sizeof(double)))) return CB_ENOMEM;
   w->rho = p->rho;
-  const double *X = s->mesh.x;
-  for (int e = 0; e < w->ns; e++) {
-    int i = w->ends[2 * e], j = w->ends[2 * e + 1];
-    double d[3] = {X[3 * i] - X[3 * j], X[3 * i + 1] - X[3 * j + 1], X[3 * i + 2] - X[3 * j + 2]};
-    w->rest[e] = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-  }
   if (nf == 0) return CB_OK;
   st = cb_solver_factor(it->solver, &w->P); /* once per scene */
   if (st) return cb_fail_status(st, "%s: factorising M/dt^2 + L failed (%s)", name, cb_status_name(st));
