@@ -26,6 +26,7 @@
 #define CB_INTEGRATOR_H
 
 #include "energy.h"
+#include "objective.h"
 #include "scene.h"
 #include "solver.h"
 
@@ -244,6 +245,18 @@ int cb_integrator_alloc(const char *method, cb_scene *scene, const cb_integrator
                         const char *solver, const cb_solver_params *sp, cb_integrator **out);
 /* One step of the type, then the scene's post-step responses (scene.h). */
 int cb_integrator_step(cb_integrator *it, double *x, double *v, cb_step_stats *st);
+
+/* The measurement that the fixed-iteration methods on F (pd, vbd, xpbd) make
+ * at an iterate x, for their step stats and their hook: F(x) and |grad F(x)|
+ * (gF: 3 nfree scratch, receives grad F) into st, with rel_grad =
+ * |grad F| / *g0 (iter 0 sets *g0) and rel_grad_hat the same, or
+ * |grad F| / g_hat when g_hat >= 0 (a method whose first iterate is not
+ * xhat); newton_iters = iter; the evaluation's time added to assemble_ms.
+ * Then hook's CB_NEWTON_GRADIENT event (iter, F, |grad F|, rel_grad, x), if
+ * hook is not NULL. Returns CB_DIVERGED, before any event, when F or
+ * |grad F| is not finite; else CB_OK. */
+int cb_integrator_measure(const cb_integrator *it, cb_objective *o, const double *x, double *gF, int iter, double *g0,
+                          double g_hat, cb_newton_hook hook, cb_step_stats *st);
 void cb_integrator_free(cb_integrator *it);
 
 #endif

@@ -5,6 +5,8 @@
  * cb_integrator_type and one line in cb_integrator_types[]. */
 #include <clothbench/integrator.h>
 
+#include <cblas.h>
+
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -109,6 +111,29 @@ int cb_integrator_step(cb_integrator *it, double *x, double *v, cb_step_stats *s
   st->wall_ms = cb_now_ms() - t0;
   st->status = r;
   return r;
+}
+
+int cb_integrator_measure(const cb_integrator *it, cb_objective *o, const double *x, double *gF, int iter, double *g0,
+                          double g_hat, cb_newton_hook hook, cb_step_stats *st) {
+  double t0 = cb_now_ms();
+  double F = cb_objective_eval(o, x, gF, NULL);
+  double gn = cblas_dnrm2(3 * it->scene->model.nfree, gF, 1);
+  st->assemble_ms += cb_now_ms() - t0;
+  if (iter == 0) *g0 = gn;
+  st->F = F;
+  st->grad_norm = gn;
+  st->rel_grad = *g0 > 0 ? gn / *g0 : 0.0;
+  st->rel_grad_hat = g_hat < 0 ? st->rel_grad : g_hat > 0 ? gn / g_hat : 0.0;
+  st->newton_iters = iter;
+  if (!isfinite(F) || !isfinite(gn)) return CB_DIVERGED;
+  if (hook) {
+    cb_newton_event ev;
+    memset(&ev, 0, sizeof ev);
+    ev.alpha = 1.0;
+    ev.iter = iter; ev.F = F; ev.grad_norm = gn; ev.rel_grad = st->rel_grad; ev.x = x;
+    hook(it->params.hook_ctx, CB_NEWTON_GRADIENT, &ev);
+  }
+  return CB_OK;
 }
 
 void cb_integrator_free(cb_integrator *it) {

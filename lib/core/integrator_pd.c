@@ -160,26 +160,9 @@ static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnor
     int i = s->free_vertex[b];
     for (int a = 0; a < 3; a++) w->c[3 * b + a] = s->mass[i] * (w->obj.xhat[3 * i + a] / (dt * dt) + w->grav[a]);
   }
-  cb_newton_event ev;
-  memset(&ev, 0, sizeof ev);
-  ev.alpha = 1.0;
   for (int k = 0;; k++) {
-    if (report && (k == 0 || k == K || hook)) {
-      double t0 = cb_now_ms();
-      double F = cb_objective_eval(&w->obj, x, w->gF, NULL);
-      double gn = cblas_dnrm2(nf3, w->gF, 1);
-      st->assemble_ms += cb_now_ms() - t0;
-      if (k == 0) g0 = gn;
-      st->F = F;
-      st->grad_norm = gn;
-      st->rel_grad = st->rel_grad_hat = g0 > 0 ? gn / g0 : 0.0;
-      st->newton_iters = k;
-      if (!isfinite(F) || !isfinite(gn)) return CB_DIVERGED;
-      if (hook) {
-        ev.iter = k; ev.F = F; ev.grad_norm = gn; ev.rel_grad = st->rel_grad; ev.x = x;
-        hook(it->params.hook_ctx, CB_NEWTON_GRADIENT, &ev);
-      }
-    }
+    if (report && (k == 0 || k == K || hook) && cb_integrator_measure(it, &w->obj, x, w->gF, k, &g0, -1.0, hook, st))
+      return CB_DIVERGED;
     if (k == K || nf == 0) break;
     double t0 = cb_now_ms();
     memcpy(w->b, w->c, (size_t)nf3 * sizeof(double));

@@ -330,27 +330,9 @@ static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnor
   int nf3 = 3 * s->model.nfree, nv3 = 3 * s->mesh.nv;
   double dt = it->params.dt, omega = 1.0, g0 = 0.0;
   memcpy(w->xprev, x, (size_t)nv3 * sizeof(double));
-  cb_newton_event ev;
-  memset(&ev, 0, sizeof ev);
-  ev.alpha = 1.0;
   for (int k = 0;; k++) {
-    if (report && (k == 0 || k == K || hook)) {
-      double t0 = cb_now_ms();
-      double F = cb_objective_eval(&w->obj, x, w->gF, NULL);
-      double gn = cblas_dnrm2(nf3, w->gF, 1);
-      st->assemble_ms += cb_now_ms() - t0;
-      if (k == 0) g0 = gn;
-      st->F = F;
-      st->grad_norm = gn;
-      st->rel_grad = g0 > 0 ? gn / g0 : 0.0;
-      st->rel_grad_hat = g_hat > 0 ? gn / g_hat : 0.0;
-      st->newton_iters = k;
-      if (!isfinite(F) || !isfinite(gn)) return CB_DIVERGED;
-      if (hook) {
-        ev.iter = k; ev.F = F; ev.grad_norm = gn; ev.rel_grad = st->rel_grad; ev.x = x;
-        hook(it->params.hook_ctx, CB_NEWTON_GRADIENT, &ev);
-      }
-    }
+    if (report && (k == 0 || k == K || hook) && cb_integrator_measure(it, &w->obj, x, w->gF, k, &g0, g_hat, hook, st))
+      return CB_DIVERGED;
     if (k == K || nf3 == 0) break;
     double t0 = cb_now_ms();
     double d;

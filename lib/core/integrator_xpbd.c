@@ -48,7 +48,6 @@
  * = |grad F(x1)| / |grad F(xhat)|, assemble_ms the two gradient evaluations,
  * solve_ms the sweeps. With a hook and S = 1, CB_NEWTON_GRADIENT is sent at
  * every iterate (iter 0 = xhat, ..., K), which costs a gradient each. */
-#include <cblas.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
@@ -193,36 +192,19 @@ static void sweep(xpbd_work *w, double *x, double h, double sprime) {
   }
 }
 
-/* |grad F(x)| of the whole step's objective, into the stats. */
-static int measure(xpbd_work *w, const double *x, int nf3, double g0, cb_step_stats *st) {
-  double t0 = cb_now_ms();
-  st->F = cb_objective_eval(&w->obj, x, w->gF, NULL);
-  st->grad_norm = cblas_dnrm2(nf3, w->gF, 1);
-  st->rel_grad = st->rel_grad_hat = g0 > 0 ? st->grad_norm / g0 : 0.0;
-  st->assemble_ms += cb_now_ms() - t0;
-  return isfinite(st->F) && isfinite(st->grad_norm) ? CB_OK : CB_DIVERGED;
-}
-
 static int xp_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
   xpbd_work *w = it->state;
   const cb_xpbd_params *p = it->type_params;
   const cb_scene *s = it->scene;
   cb_newton_hook hook = p->substeps == 1 ? it->params.hook : NULL;
-  int nf = s->model.nfree, nf3 = 3 * nf, nv = s->mesh.nv;
+  int nf = s->model.nfree, nv = s->mesh.nv;
   double dt = it->params.dt, h = dt / p->substeps;
   double sprime = w->pbd ? 1.0 - pow(1.0 - p->stiffness, 1.0 / p->iters) : 0.0; /* s' = 1 - (1 - s)^(1/K) */
   /* F of the whole step, for the stats: begin at (x0, v0), measure at xhat */
   cb_objective_begin(&w->obj, x, v, dt);
   cb_objective_guess(&w->obj, w->xprev, 1);
-  int status = measure(w, w->xprev, nf3, 0.0, st);
-  double g0 = st->grad_norm;
-  cb_newton_event ev;
-  memset(&ev, 0, sizeof ev);
-  ev.alpha = 1.0;
-  if (hook) {
-    ev.F = st->F; ev.grad_norm = g0; ev.rel_grad = 1.0; ev.x = w->xprev;
-    hook(it->params.hook_ctx, CB_NEWTON_GRADIENT, &ev);
-  }
+  double g0 = 0.0; /* |grad F(xhat)|, the yardstick of rel_grad */
+  int status = cb_integrator_measure(it, &w->obj, w->xprev, w->gF, 0, &g0, -1.0, hook, st);
   double t0 = cb_now_ms();
   for (int sub = 0; status == CB_OK && sub < p->substeps; sub++) {
     memcpy(w->xprev, x, (size_t)3 * nv * sizeof(double));
@@ -235,9 +217,7 @@ static int xp_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
       sweep(w, x, h, sprime);
       if (!hook) continue;
       st->solve_ms += cb_now_ms() - t0; /* S = 1 with a hook: F after every sweep */
-      status = measure(w, x, nf3, g0, st);
-      ev.iter = k; ev.F = st->F; ev.grad_norm = st->grad_norm; ev.rel_grad = st->rel_grad; ev.x = x;
-      hook(it->params.hook_ctx, CB_NEWTON_GRADIENT, &ev);
+      status = cb_integrator_measure(it, &w->obj, x, w->gF, k, &g0, -1.0, hook, st);
       t0 = cb_now_ms();
     }
     double inv_h = 1.0 / h;
@@ -247,8 +227,9 @@ static int xp_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
     }
   }
   st->solve_ms += cb_now_ms() - t0;
+  if (status == CB_OK && !hook) /* the end of the step */
+    status = cb_integrator_measure(it, &w->obj, x, w->gF, p->iters * p->substeps, &g0, -1.0, NULL, st);
   st->newton_iters = p->iters * p->substeps;
-  if (status == CB_OK && !hook) status = measure(w, x, nf3, g0, st);
   for (int i = 0; status == CB_OK && i < 3 * nv; i++)
     if (!isfinite(x[i]) || !isfinite(v[i])) status = CB_DIVERGED;
   return status;
