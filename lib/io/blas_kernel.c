@@ -7,6 +7,8 @@
 #include <string.h>
 #include <strings.h>
 
+#include <clothbench/rng.h>
+
 /* LAPACK's Cholesky factorisation (OpenBLAS's own, libopenblas exports it). */
 extern void dpotrf_(const char *uplo, const int *n, double *a, const int *lda, int *info);
 
@@ -102,13 +104,8 @@ double cb_blas_rel_error(const double *x, const double *ref, size_t n) {
   return num / den;
 }
 
-static uint64_t rng_state;
-static double urand(void) { /* uniform in [-1, 1) (xorshift64*) */
-  rng_state ^= rng_state >> 12;
-  rng_state ^= rng_state << 25;
-  rng_state ^= rng_state >> 27;
-  return (double)((rng_state * 2685821657736338717ULL) >> 11) * 0x1p-52 - 1.0;
-}
+static cb_rng rng; /* the project's generator (rng.h), seeded by cb_blas_selftest */
+static double urand(void) { return 2.0 * cb_rng_uniform(&rng) - 1.0; } /* uniform in [-1, 1) */
 static void fill(double *a, size_t n) {
   for (size_t i = 0; i < n; i++) a[i] = urand();
 }
@@ -237,7 +234,7 @@ double cb_blas_selftest(char *msg, size_t n) {
     snprintf(msg, n, "out of memory for the self-test");
     return -1;
   }
-  rng_state = 0x9e3779b97f4a7c15ULL;
+  rng = cb_rng_seed(1);
   tally t = {0, "none"};
   /* odd sizes: the edge kernels; k and n beyond the blocking of every core */
   test_gemm(&t, 0, 0, 197, 213, 417, buf);
