@@ -535,14 +535,14 @@ Test(integrator, every_type_gets_what_its_flags_ask_for) {
     cb_integrator_free(it);
   }
   cr_expect_eq(n, 12);
-  cr_expect_eq(cb_integrator_shape_matching.flags, (unsigned)CB_INTEGRATOR_OWN_ELASTICITY); /* no solver, no Hessian */
+  cr_expect_eq(cb_integrator_type_find("shape_matching")->flags, (unsigned)CB_INTEGRATOR_OWN_ELASTICITY); /* no solver, no Hessian */
   /* what the built-in types declare */
-  cr_expect_eq(cb_integrator_explicit.flags, 0u);
-  cr_expect_eq(cb_integrator_newton.flags, CB_INTEGRATOR_LINEAR_SOLVER | CB_INTEGRATOR_HESSIAN);
-  cr_expect_eq(cb_integrator_jacobi_nl.flags, CB_INTEGRATOR_HESSIAN);    /* the exact diagonal assembles H */
-  cr_expect_eq(cb_integrator_chebyshev_nl.flags, CB_INTEGRATOR_HESSIAN);
-  cr_expect_eq(cb_integrator_pd.flags, CB_INTEGRATOR_LINEAR_SOLVER);     /* its constant matrix, factorised once */
-  cr_expect_eq(cb_integrator_pd_chebyshev.flags, CB_INTEGRATOR_LINEAR_SOLVER);
+  cr_expect_eq(cb_integrator_type_find("explicit")->flags, 0u);
+  cr_expect_eq(cb_integrator_type_find("newton")->flags, CB_INTEGRATOR_LINEAR_SOLVER | CB_INTEGRATOR_HESSIAN);
+  cr_expect_eq(cb_integrator_type_find("jacobi-nl")->flags, CB_INTEGRATOR_HESSIAN);    /* the exact diagonal assembles H */
+  cr_expect_eq(cb_integrator_type_find("chebyshev-nl")->flags, CB_INTEGRATOR_HESSIAN);
+  cr_expect_eq(cb_integrator_type_find("pd")->flags, CB_INTEGRATOR_LINEAR_SOLVER);     /* its constant matrix, factorised once */
+  cr_expect_eq(cb_integrator_type_find("pd-chebyshev")->flags, CB_INTEGRATOR_LINEAR_SOLVER);
   cb_scene_free(s);
 }
 

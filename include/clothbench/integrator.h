@@ -80,7 +80,7 @@ typedef struct cb_integrator_params {
 
 cb_integrator_params cb_integrator_params_default(void);
 
-/* Newton's own parameters (cb_integrator_newton's params_size). */
+/* Newton's own parameters (the newton type's params_size). */
 typedef struct cb_newton_params {
   int max_iters;               /* linear solves per step at most; 1 = Baraff-Witkin. Default 50 */
   double tol;                  /* relative |grad F| to stop at. Default 1e-8 */
@@ -146,7 +146,7 @@ typedef struct cb_vbd_params {
 cb_vbd_params cb_vbd_params_default(void); /* vbd-chebyshev's */
 extern const char *const cb_vbd_init_names[]; /* "inertia", "previous", "adaptive", NULL */
 
-/* Shape matching's parameters (cb_integrator_shape_matching, integrator_shape_matching.c). */
+/* Shape matching's parameters (shape_matching, integrator_shape_matching.c). */
 typedef struct cb_shape_matching_params {
   double alpha;                /* pull toward the goals, in (0, 1]. Default 1 */
 } cb_shape_matching_params;
@@ -215,23 +215,13 @@ struct cb_integrator {
   void *state;                /* the type's state */
 };
 
-extern const cb_integrator_type cb_integrator_explicit;
-extern const cb_integrator_type cb_integrator_newton;
-extern const cb_integrator_type cb_integrator_jacobi_nl;
-extern const cb_integrator_type cb_integrator_chebyshev_nl;
-extern const cb_integrator_type cb_integrator_pd;
-extern const cb_integrator_type cb_integrator_pd_chebyshev;
-extern const cb_integrator_type cb_integrator_pbd;
-extern const cb_integrator_type cb_integrator_xpbd;
-extern const cb_integrator_type cb_integrator_lbfgs;
-extern const cb_integrator_type cb_integrator_vbd;
-extern const cb_integrator_type cb_integrator_vbd_chebyshev;
 /* The number of vertex colours of a vbd or vbd-chebyshev integrator (its
  * Gauss-Seidel order, computed once per scene), or -1 for another type. */
 int cb_vbd_colors(const cb_integrator *it);
 
-extern const cb_integrator_type cb_integrator_shape_matching;
-extern const cb_integrator_type *const cb_integrator_types[]; /* NULL-terminated */
+/* The registry (lib/core/integrator.c, one X(id) line per type), NULL-terminated;
+ * a type is reached by its name (cb_integrator_type_find), never by a symbol. */
+extern const cb_integrator_type *const cb_integrator_types[];
 const char *cb_integrator_name(int i);
 const cb_integrator_type *cb_integrator_type_find(const char *name);
 

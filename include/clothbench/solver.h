@@ -71,7 +71,7 @@ typedef struct cb_solver_type {
   const char *name;
   unsigned flags; /* CB_SOLVER_* */
   int (*alloc)(cb_solver *s, int n);
-  int (*analyze)(cb_solver *s, const cb_sparse *A);
+  int (*analyze)(cb_solver *s, const cb_sparse *A); /* symbolic analysis, once per pattern; NULL: none needed */
   int (*factor)(cb_solver *s, const cb_sparse *A);
   int (*solve)(cb_solver *s, const cb_sparse *A, const double *b, double *x);
   void (*free)(cb_solver *s);

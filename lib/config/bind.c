@@ -104,7 +104,7 @@ int cb_integrator_type_params_from_config(const cb_config *c, const cb_integrato
 }
 
 int cb_newton_params_from_config(const cb_config *c, cb_newton_params *p) {
-  return cb_integrator_type_params_from_config(c, &cb_integrator_newton, p);
+  return cb_integrator_type_params_from_config(c, cb_integrator_type_find("newton"), p);
 }
 
 cb_solver_params cb_solver_params_from_config(const cb_config *c) {

@@ -2,7 +2,7 @@
  * and parameters from the type's sizes, the linear solver when the type's
  * flags ask for one, and runs the scene's post-step stage after every step.
  * It knows nothing about any one type: a new one is a file with its
- * cb_integrator_type and one line in cb_integrator_types[]. */
+ * cb_integrator_type and one X(id) line in CB_INTEGRATOR_REGISTRY below. */
 #include <clothbench/integrator.h>
 
 #include <cblas.h>
@@ -15,21 +15,29 @@
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
 
-const cb_integrator_type *const cb_integrator_types[] = {
-    &cb_integrator_explicit,
-    &cb_integrator_newton,
-    &cb_integrator_jacobi_nl,
-    &cb_integrator_chebyshev_nl,
-    &cb_integrator_pd,
-    &cb_integrator_pd_chebyshev,
-    &cb_integrator_pbd,
-    &cb_integrator_xpbd,
-    &cb_integrator_lbfgs,
-    &cb_integrator_vbd,
-    &cb_integrator_vbd_chebyshev,
-    &cb_integrator_shape_matching,
-    NULL,
-};
+/* The registry. Each plug-in file lib/core/integrator_<file>.c defines
+ * `const cb_integrator_type cb_integrator_<id>` (one file may define
+ * several, as integrator_pd.c does pd and pd-chebyshev); its one X(id) line
+ * below declares and lists it. The order is that of integrator.method's
+ * choices, of the config keys (--help-config) and of the tests' loops. */
+#define CB_INTEGRATOR_REGISTRY(X) \
+  X(explicit)                     \
+  X(newton)                       \
+  X(jacobi_nl)                    \
+  X(chebyshev_nl)                 \
+  X(pd)                           \
+  X(pd_chebyshev)                 \
+  X(pbd)                          \
+  X(xpbd)                         \
+  X(lbfgs)                        \
+  X(vbd)                          \
+  X(vbd_chebyshev)                \
+  X(shape_matching)               \
+  /* one X(id) line per integrator, above this line */
+#define CB_INTEGRATOR_DECLARE(id) extern const cb_integrator_type cb_integrator_##id;
+#define CB_INTEGRATOR_ENTRY(id) &cb_integrator_##id,
+CB_INTEGRATOR_REGISTRY(CB_INTEGRATOR_DECLARE)
+const cb_integrator_type *const cb_integrator_types[] = {CB_INTEGRATOR_REGISTRY(CB_INTEGRATOR_ENTRY) NULL};
 
 const char *cb_integrator_name(int i) {
   for (int k = 0; k <= i; k++)

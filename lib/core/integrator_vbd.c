@@ -233,6 +233,8 @@ static int vbd_init(cb_integrator *it) {
   return CB_OK;
 }
 
+extern const cb_integrator_type cb_integrator_vbd, cb_integrator_vbd_chebyshev; /* below */
+
 int cb_vbd_colors(const cb_integrator *it) {
   if (!it || (it->type != &cb_integrator_vbd && it->type != &cb_integrator_vbd_chebyshev)) return -1;
   return ((const vbd_work *)it->state)->ncolors;

@@ -76,7 +76,7 @@ int cb_solver_alloc(const char *name, const cb_solver_params *p, int n, cb_solve
 
 int cb_solver_analyze(cb_solver *s, const cb_sparse *A) {
   double t0 = cb_now_ms();
-  int st = s->type->analyze(s, A);
+  int st = s->type->analyze ? s->type->analyze(s, A) : CB_OK;
   s->stats.analyze_ms = cb_now_ms() - t0;
   return st;
 }

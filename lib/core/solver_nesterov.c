@@ -80,12 +80,6 @@ static int nw_alloc(cb_solver *s, int n) {
   return st;
 }
 
-static int nw_analyze(cb_solver *s, const cb_sparse *A) {
-  (void)s;
-  (void)A;
-  return CB_OK;
-}
-
 /* Widened bounds [mu, L] of the spectrum of D^-1 A from the Ritz values. */
 static void bounds(const cb_eig_result *e, double *mu, double *L) {
   *L = e->lmax + e->res_max;
@@ -160,7 +154,6 @@ const cb_solver_type cb_solver_nesterov = {
     .name = "nesterov",
     .flags = 0,
     .alloc = nw_alloc,
-    .analyze = nw_analyze,
     .factor = nw_factor,
     .solve = nw_solve,
     .free = nw_free,

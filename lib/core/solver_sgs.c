@@ -51,12 +51,6 @@ static int sgs_alloc(cb_solver *s, int n) {
   return CB_OK;
 }
 
-static int sgs_analyze(cb_solver *s, const cb_sparse *A) {
-  (void)s;
-  (void)A;
-  return CB_OK;
-}
-
 /* B = L L^T for a symmetric 3x3 block (entry (r, c) at a[3r + c]); L row by
  * row into l, its diagonal as reciprocals (the sweeps multiply instead of
  * divide: the block solves are a dependency chain). Returns -1 if B is not
@@ -141,7 +135,6 @@ const cb_solver_type cb_solver_sgs = {
     .name = "sgs",
     .flags = 0,
     .alloc = sgs_alloc,
-    .analyze = sgs_analyze,
     .factor = sgs_factor,
     .solve = sgs_solve,
     .free = sgs_free,
