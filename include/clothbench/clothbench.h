@@ -14,6 +14,7 @@
 #include "eigen.h"
 #include "energy.h"
 #include "integrator.h"
+#include "material.h"
 #include "mesh.h"
 #include "objective.h"
 #include "projection.h"

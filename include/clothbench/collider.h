@@ -23,8 +23,19 @@ typedef struct cb_sphere {
   double velocity[3]; /* m/s, constant (project only) */
 } cb_sphere;
 
-/* Collider kinds (collider.type): "none", "penalty", "project"; NULL-terminated. */
-extern const char *const cb_collider_names[];
+/* The colliders collider.type names, one X line each in collider.c: what
+ * each adds to a scene, an energy term or a post-step response (or
+ * nothing); a scene builds what its definition's row gives. */
+struct cb_response_type;
+typedef struct cb_collider {
+  const char *name;
+  int (*term_alloc)(const cb_model *m, const cb_sphere *sp, cb_term **out); /* its term, or NULL */
+  const struct cb_response_type *response; /* its post-step response (params: the cb_sphere), or NULL */
+} cb_collider;
+extern const cb_collider cb_colliders[];      /* ended by a NULL name */
+extern const char *const cb_collider_names[]; /* "none", "penalty", "project"; NULL-terminated */
+/* The collider called name, or NULL. */
+const cb_collider *cb_collider_find(const char *name);
 
 /* The penalty term of sphere sp on every vertex of the model; fails on a
  * non-positive radius, negative thickness or stiffness, or a moving sphere. */

@@ -2,7 +2,7 @@
  * Hessian. Forces and Hessians are stackable." (lecture, summary slide)
  *
  * A term is a plug-in described by a cb_term_type table, in the manner of
- * gsl_multiroot_fsolver_type, and registered in cb_term_types[] (energy.c).
+ * gsl_multiroot_fsolver_type, and registered by one X(id) line in energy.c.
  * It computes E, adds its gradient, declares the 3x3 blocks of its Hessian
  * once, looks up their slots once (stencil.h does both for k-vertex
  * elements), and then adds Hessian values into the fixed-pattern matrix
@@ -95,6 +95,12 @@ typedef struct cb_term_type {
    * to have its gradient and Hessian checked by finite differences. */
   int nexamples;
   int (*example)(const cb_model *m, int i, cb_term **out);
+  /* The elements whose Hessian at x can be indefinite before projection
+   * (a spring with l < L, a hinge whose exact element Hessian has a
+   * negative eigenvalue, a vertex inside the penalty sphere); *nelements
+   * gets the term's number of elements. NULL: the type does not count them
+   * (cb_term_count_indefinite gives 0 of 0). */
+  int (*indefinite)(const cb_term *t, const double *x, int *nelements);
 } cb_term_type;
 
 struct cb_term {
@@ -103,7 +109,7 @@ struct cb_term {
   char label[32]; /* role in the scene: "stretch", "bend", "gravity" */
 };
 
-/* Every term type, one line each (energy.c); NULL-terminated. */
+/* Every term type, one X(id) line each (energy.c); NULL-terminated. */
 extern const cb_term_type *const cb_term_types[];
 /* The registered type called name, or NULL. */
 const cb_term_type *cb_term_type_find(const char *name);
@@ -121,9 +127,6 @@ int cb_spring_term_alloc(const cb_model *m, const char *label, int ns, const int
  * spring. Set when the scene is built (integrator.definiteness,
  * material.buckling_kb). Fails if t is not a spring term. */
 int cb_spring_term_set_response(cb_term *t, cb_definiteness def, double kb);
-/* Springs of t with l < L at x (0 if t is not a spring term); nsprings gets
- * the number of springs of t. */
-int cb_spring_term_count_compressed(const cb_term *t, const double *x, int *nsprings);
 /* Nonzero if t is a spring term with the Choi-Ko response. */
 int cb_spring_term_is_choi_ko(const cb_term *t);
 /* The springs of a spring term, for methods that work on them directly (the
@@ -137,10 +140,9 @@ int cb_spring_term_springs(const cb_term *t, int *ns, const int **ends, const do
  * triangle, mu in N/m (an energy per unit rest area), R the polar rotation of
  * the deformation gradient F. Type `fem` has the exact Hessian (projected
  * like any element), `fem_frozen` the lecture's constant frozen-R matrix.
- * material.stretch picks springs or FEM (cb_stretch_names), and
+ * material.stretch picks springs or FEM (material.h), and
  * material.fem_hessian the Hessian (cb_fem_hessian_names, by enum value). */
 typedef enum { CB_FEM_EXACT = 0, CB_FEM_FROZEN = 1 } cb_fem_hessian;
-extern const char *const cb_stretch_names[];     /* "spring", "fem" */
 extern const char *const cb_fem_hessian_names[]; /* "exact", "frozen" */
 /* Fails on a zero-area rest triangle or mu < 0. */
 int cb_fem_term_alloc(const cb_model *m, const char *label, double mu, cb_fem_hessian h, cb_term **out);
@@ -155,6 +157,9 @@ double cb_fem_term_max_strain(const cb_term *t, const double *x);
 int cb_gravity_term_alloc(const cb_model *m, const double g[3], cb_term **out);
 
 void cb_term_free(cb_term *t);
+/* The term's indefinite elements at x through its type's `indefinite`
+ * (0 of 0 when the type does not count them); *nelements gets its elements. */
+int cb_term_count_indefinite(const cb_term *t, const double *x, int *nelements);
 
 /* The hinges of a topology, one per neighbouring-triangle pair p: vert[4p..4p+3]
  * = the shared edge's two vertices, then the opposite vertex of each
@@ -180,11 +185,5 @@ int cb_hinge_term_count_indefinite(const cb_term *t, const double *x, int *nhing
 /* Bergou et al.'s quadratic bending (energy_quadratic.c), k_b in N m:
  * E = k_b/2 (x - x_bar)^T Q (x - x_bar), Q = 3/(A_0 + A_1) q q^T, constant Hessian. */
 int cb_quadratic_bend_term_alloc(const cb_model *m, const char *label, double k, cb_term **out);
-
-/* Bending models selectable by material.bend (energy.c; NULL-terminated
- * names; "none" is first and builds nothing). Each maps to a term type
- * built on a stencil of the topology. */
-extern const char *const cb_bend_names[];
-int cb_bend_term_alloc(const char *name, const cb_model *m, double bend_k, cb_term **out);
 
 #endif

@@ -12,6 +12,7 @@
 
 #include "collider.h"
 #include "energy.h"
+#include "material.h"
 #include "mesh.h"
 #include "system.h"
 #include "topology.h"

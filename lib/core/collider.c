@@ -23,7 +23,23 @@
 #include <clothbench/status.h>
 #include <clothbench/stencil.h>
 
-const char *const cb_collider_names[] = {"none", "penalty", "project", NULL};
+/* The colliders: X(name, its term's alloc, its post-step response), one line
+ * each, in the order of collider.type's choices. */
+#define CB_COLLIDERS(X)                                  \
+  X("none", NULL, NULL)                                  \
+  X("penalty", cb_sphere_term_alloc, NULL)               \
+  X("project", NULL, &cb_response_sphere_project)        \
+  /* one X(...) line per collider, above this line */
+#define CB_COLLIDER_ROW(name_, term_, response_) {.name = name_, .term_alloc = term_, .response = response_},
+#define CB_COLLIDER_NAME(name_, term_, response_) name_,
+const cb_collider cb_colliders[] = {CB_COLLIDERS(CB_COLLIDER_ROW){.name = NULL}};
+const char *const cb_collider_names[] = {CB_COLLIDERS(CB_COLLIDER_NAME) NULL};
+
+const cb_collider *cb_collider_find(const char *name) {
+  for (const cb_collider *c = cb_colliders; c->name; c++)
+    if (strcmp(c->name, name) == 0) return c;
+  return NULL;
+}
 
 extern const cb_term_type cb_term_sphere_type;
 
@@ -139,6 +155,21 @@ int cb_sphere_term_count_contacts(const cb_term *t, const double *x) {
   return n;
 }
 
+/* The vertices inside the shell, off the centre: their transverse
+ * eigenvalue -k_c phi / l is negative. */
+static int sphere_indefinite(const cb_term *t, const double *x, int *nv) {
+  const sphere_term *s = (const sphere_term *)t;
+  double R = s->sp.radius + s->sp.thickness;
+  int n = 0;
+  for (int i = 0; i < s->nv; i++) {
+    double d[3] = {x[3 * i] - s->sp.centre[0], x[3 * i + 1] - s->sp.centre[1], x[3 * i + 2] - s->sp.centre[2]};
+    double l2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    n += l2 > 0 && l2 < R * R;
+  }
+  *nv = s->nv;
+  return n;
+}
+
 /* Example: a sphere through the middle of the example meshes (about 1 x 0.8 m
  * around the origin), so some vertices of every state are inside. */
 static int sphere_example(const cb_model *m, int i, cb_term **out) {
@@ -156,7 +187,8 @@ const cb_term_type cb_term_sphere_type = {.name = "sphere",
                                           .stencil = sphere_stencil,
                                           .element = sphere_element,
                                           .nexamples = 1,
-                                          .example = sphere_example};
+                                          .example = sphere_example,
+                                          .indefinite = sphere_indefinite};
 
 /* ---- the project response --------------------------------------------------- */
 

@@ -440,7 +440,8 @@ const cb_term_type cb_term_dihedral_type = {.name = "dihedral",
                                             .stencil = hinge_stencil,
                                             .element = hinge_element_gn,
                                             .nexamples = 1,
-                                            .example = hinge_example};
+                                            .example = hinge_example,
+                                            .indefinite = cb_hinge_term_count_indefinite};
 const cb_term_type cb_term_dihedral_exact_type = {.name = "dihedral_exact",
                                                   .energy = hinge_energy,
                                                   .pattern = hinge_pattern,
@@ -450,4 +451,5 @@ const cb_term_type cb_term_dihedral_exact_type = {.name = "dihedral_exact",
                                                   .stencil = hinge_stencil,
                                                   .element = hinge_element_exact,
                                                   .nexamples = 1,
-                                                  .example = hinge_exact_example};
+                                                  .example = hinge_exact_example,
+                                                  .indefinite = cb_hinge_term_count_indefinite};

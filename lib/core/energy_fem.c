@@ -53,7 +53,6 @@
 
 #define FEM_DEGENERATE 1e-8 /* sigma_2 / sigma_1 below which the exact Hessian uses the frozen one */
 
-const char *const cb_stretch_names[] = {"spring", "fem", NULL};
 const char *const cb_fem_hessian_names[] = {"exact", "frozen", NULL};
 
 typedef struct {

@@ -152,6 +152,7 @@ static void spring_free(cb_term *t) {
 }
 
 static int spring_example(const cb_model *m, int i, cb_term **out);
+static int spring_indefinite(const cb_term *t, const double *x, int *nsprings);
 
 const cb_term_type cb_term_spring_type = {.name = "spring",
                                           .energy = spring_energy,
@@ -162,7 +163,8 @@ const cb_term_type cb_term_spring_type = {.name = "spring",
                                           .stencil = spring_stencil,
                                           .element = spring_element,
                                           .nexamples = 3,
-                                          .example = spring_example};
+                                          .example = spring_example,
+                                          .indefinite = spring_indefinite};
 const cb_term_type *const cb_term_spring = &cb_term_spring_type;
 
 int cb_spring_term_alloc(const cb_model *m, const char *label, int ns, const int *ends, double k, cb_term **out) {
@@ -224,7 +226,9 @@ int cb_spring_term_set_response(cb_term *t, cb_definiteness def, double kb) {
   return CB_OK;
 }
 
-int cb_spring_term_count_compressed(const cb_term *t, const double *x, int *nsprings) {
+/* The springs with l < L at x: the only ones whose transverse eigenvalue
+ * k (1 - L/l) is negative. */
+static int spring_indefinite(const cb_term *t, const double *x, int *nsprings) {
   *nsprings = 0;
   if (!t || t->type != &cb_term_spring_type) return 0;
   const spring_term *s = (const spring_term *)t;

@@ -123,39 +123,6 @@ int cb_pins_resolve(const char *spec, const cb_mesh *m, int **out, int *n) {
   return CB_OK;
 }
 
-/* The in-plane term material.stretch names: springs on every edge, or
- * co-rotational FEM on every triangle (energy_fem.c). */
-static int stretch_term_alloc(const cb_scene_def *d, const cb_model *m, cb_term **out, const char **key) {
-  const char *name = d->stretch ? d->stretch : "spring";
-  if (strcmp(name, "spring") == 0) return cb_spring_term_alloc(m, "stretch", m->topo->ne, m->topo->edge, d->stretch_k, out);
-  if (strcmp(name, "fem") != 0) {
-    if (key) *key = "material.stretch";
-    return cb_fail("material.stretch: unknown model '%s' (spring or fem)", name);
-  }
-  const char *h = d->fem_hessian ? d->fem_hessian : "exact";
-  cb_fem_hessian kind = strcmp(h, "frozen") == 0 ? CB_FEM_FROZEN : CB_FEM_EXACT;
-  if (strcmp(h, "frozen") != 0 && strcmp(h, "exact") != 0) {
-    if (key) *key = "material.fem_hessian";
-    return cb_fail("material.fem_hessian: unknown Hessian '%s' (exact or frozen)", h);
-  }
-  if (m->mesh->nt == 0) {
-    if (key) *key = "material.stretch";
-    return cb_fail("material.stretch: fem needs triangles; the mesh has none (use spring for chains and line elements)");
-  }
-  int st = cb_fem_term_alloc(m, "stretch", d->stretch_k, kind, out);
-  if (st && key) *key = "material.stretch";
-  return st;
-}
-
-/* material.bend_hessian on the dihedral term (the other bending models have one Hessian each). */
-static int bend_hessian_set(const cb_scene_def *d, cb_term *bend, const char **key) {
-  const char *h = d->bend_hessian ? d->bend_hessian : "gauss-newton";
-  for (int k = 0; cb_bend_hessian_names[k]; k++)
-    if (strcmp(h, cb_bend_hessian_names[k]) == 0) return cb_hinge_term_set_hessian(bend, (cb_bend_hessian)k);
-  if (key) *key = "material.bend_hessian";
-  return cb_fail("material.bend_hessian: unknown Hessian '%s' (gauss-newton or exact)", h);
-}
-
 void cb_scene_free(cb_scene *s) {
   if (!s) return;
   for (int k = 0; k < s->nresponses; k++) {
@@ -325,172 +292,225 @@ static int build_mesh(const cb_scene_def *d, cb_mesh *mesh, const char **key) {
   return at_key(labelled(cb_mesh_grid(&d->grid, mesh), "mesh"), key, "mesh.n");
 }
 
-int cb_scene_build(const cb_scene_def *d, cb_scene **out, const char **key) {
-  *out = NULL;
-  if (key) *key = NULL;
+/* ---- cb_scene_build, phase by phase: each returns CB_OK or the error, with
+ * *key (if asked) set to the config key it is about. ----------------------- */
+
+/* The definition's names and responses, before anything is allocated. */
+static int check_def(const cb_scene_def *d, const cb_collider **collider, const char **key) {
   if (!d->bend || !d->definiteness || !d->pins || !d->collider) /* e.g. a copy of cb_scene.def, whose strings are NULL */
     return cb_fail("scene: bend, definiteness, pins and collider must be set (start from cb_scene_def_default())");
-  int collider = -1;
-  for (int k = 0; cb_collider_names[k]; k++)
-    if (strcmp(d->collider, cb_collider_names[k]) == 0) collider = k;
-  if (collider < 0) return at_key(cb_fail("collider.type: unknown collider '%s'", d->collider), key, "collider.type");
-  int project = strcmp(d->collider, "project") == 0;
-  if (d->nresponses + project > CB_MAX_RESPONSES)
-    return cb_fail("scene: %d post-step responses (at most %d)", d->nresponses + project, CB_MAX_RESPONSES);
+  *collider = cb_collider_find(d->collider);
+  if (!*collider) return at_key(cb_fail("collider.type: unknown collider '%s'", d->collider), key, "collider.type");
+  int extra = (*collider)->response != NULL;
+  if (d->nresponses + extra > CB_MAX_RESPONSES)
+    return cb_fail("scene: %d post-step responses (at most %d)", d->nresponses + extra, CB_MAX_RESPONSES);
   if (d->nresponses < 0 || d->nresponses > CB_MAX_RESPONSES)
     return cb_fail("scene: %d post-step responses (at most %d)", d->nresponses, CB_MAX_RESPONSES);
   for (int k = 0; k < d->nresponses; k++)
     if (!d->responses[k].type || !d->responses[k].type->apply)
       return cb_fail("scene: post-step response %d has no type (or no apply)", k);
+  return CB_OK;
+}
+
+/* The mesh, its topology, and the per-vertex arrays. */
+static int build_geometry(const cb_scene_def *d, cb_scene *s, const char **key) {
+  int st = build_mesh(d, &s->mesh, key);
+  if (st == CB_OK) st = cb_topology_build(&s->mesh, &s->topo);
+  if (st == CB_OK && s->topo.nonmanifold > 0 && strcmp(d->bend, "none") != 0)
+    st = at_key(cb_fail("material.bend: the mesh has %d non-manifold edges (shared by more than two triangles); "
+                        "bending needs a manifold mesh", s->topo.nonmanifold), key, "material.bend");
+  if (st) return st;
+  int nv = s->mesh.nv;
+  s->mass = cb_calloc((size_t)nv, sizeof(double));
+  s->free_index = cb_malloc((size_t)nv, sizeof(int));
+  s->free_vertex = cb_malloc((size_t)nv, sizeof(int));
+  s->x0 = cb_malloc((size_t)3 * nv, sizeof(double));
+  s->v0 = cb_calloc((size_t)3 * nv, sizeof(double));
+  if (!s->mass || !s->free_index || !s->free_vertex || !s->x0 || !s->v0) return CB_ENOMEM;
+  return CB_OK;
+}
+
+/* Masses: uniform, or lumped m_i = density * (sum of adjacent rest areas) / 3. */
+static int build_masses(const cb_scene_def *d, cb_scene *s, const char **key) {
+  int nv = s->mesh.nv;
+  if (d->vertex_mass > 0)
+    for (int i = 0; i < nv; i++) s->mass[i] = d->vertex_mass;
+  else
+    for (int t = 0; t < s->mesh.nt; t++) {
+      double a = cb_mesh_triangle_area(&s->mesh, s->mesh.x, t);
+      if (!isfinite(a))
+        return at_key(mesh_fail(d, &s->mesh, -1, "triangle %d has area %g m^2, not a finite double: "
+                                "the mesh's coordinates are too large", t + 1, a), key, mesh_key(d));
+      if (!(a >= DBL_MIN)) /* its vertices' masses would underflow to nothing */
+        return at_key(mesh_fail(d, &s->mesh, -1, "triangle %d has area %g m^2, below the smallest normal double: "
+                                "the mesh's coordinates are too small (scale the mesh up)", t + 1, a), key, mesh_key(d));
+      for (int k = 0; k < 3; k++) s->mass[s->mesh.tri[3 * t + k]] += d->density * a / 3.0;
+    }
+  for (int i = 0; i < nv; i++)
+    if (!isfinite(s->mass[i]))
+      return at_key(cb_fail("material.density: vertex %d's mass, density %g kg/m^2 x its triangles' area / 3, is %g kg, "
+                            "not a finite double", i, d->density, s->mass[i]), key, "material.density");
+  return CB_OK;
+}
+
+/* The pins, and the free vertices' block indices: the model terms are built on. */
+static int build_free(const cb_scene_def *d, cb_scene *s, const char **key) {
+  int st = at_key(cb_pins_resolve(d->pins, &s->mesh, &s->pinned, &s->npinned), key, "scene.pins");
+  if (st) return st;
+  int nfree = 0, p = 0;
+  for (int i = 0; i < s->mesh.nv; i++) {
+    if (p < s->npinned && s->pinned[p] == i) {
+      s->free_index[i] = -1;
+      p++;
+      continue;
+    }
+    if (!(s->mass[i] > 0)) {
+      if (s->mesh.nt == 0) /* a chain, or an OBJ of line elements only */
+        return at_key(cb_fail("material.vertex_mass: the mesh has no triangles, so its vertices have no area and no "
+                              "mass: set material.vertex_mass > 0 (vertex %d is the first free one)", i),
+                      key, "material.vertex_mass");
+      return at_key(mesh_fail(d, &s->mesh, i, "vertex %d (0-based; %d in the file's indices) belongs to no triangle "
+                              "and has no mass: remove it, pin it (scene.pins), or set material.vertex_mass", i, i + 1),
+                    key, mesh_key(d));
+    }
+    s->free_vertex[nfree] = i;
+    s->free_index[i] = nfree++;
+  }
+  s->model = (cb_model){&s->mesh, &s->topo, s->mass, s->free_index, nfree};
+  return CB_OK;
+}
+
+/* The Hessian a role's key names (material.fem_hessian for stretch,
+ * material.bend_hessian for bend), into *kind; read only for a model that
+ * has two Hessians (a row with term_alt), so the key does not apply to the
+ * others. */
+static int hessian_choice(const cb_material *mat, const char *given, const char *const *names, const char *keyname,
+                          int *kind, const char **key) {
+  if (!mat->term_alt) return CB_OK;
+  const char *h = given ? given : names[0];
+  for (int k = 0; names[k]; k++)
+    if (strcmp(h, names[k]) == 0) {
+      *kind = k;
+      return CB_OK;
+    }
+  return at_key(cb_fail("%s: unknown Hessian '%s' (%s or %s)", keyname, h, names[0], names[1]), key, keyname);
+}
+
+/* The terms (the stretch material, the bend material, the collider's term,
+ * gravity) and the system over them. */
+static int build_terms(const cb_scene_def *d, cb_scene *s, const cb_collider *collider, const char **key) {
+  memcpy(s->gravity, d->gravity, sizeof s->gravity);
+  cb_material_params mp = cb_material_params_default();
+  mp.buckling_kb = d->buckling_kb;
+  int st = cb_definiteness_from_name(d->definiteness, &mp.definiteness);
+  if (st) return st;
+  cb_term *terms[CB_MAX_TERMS];
+  int nterms = 0, kind = 0;
+  const char *stretch = d->stretch ? d->stretch : "spring", *mkey = NULL;
+  const cb_material *mat = cb_material_find(CB_MATERIAL_STRETCH, stretch);
+  if (!mat) return at_key(cb_fail("material.stretch: unknown model '%s' (spring or fem)", stretch), key, "material.stretch");
+  st = hessian_choice(mat, d->fem_hessian, cb_fem_hessian_names, "material.fem_hessian", &kind, key);
+  if (st) return st;
+  mp.k = d->stretch_k;
+  mp.fem_hessian = (cb_fem_hessian)kind;
+  st = cb_material_term_alloc(mat, &s->model, &mp, &terms[nterms], &mkey);
+  if (st) return mkey ? at_key(st, key, mkey) : st;
+  if (terms[nterms]) nterms++;
+  mat = cb_material_find(CB_MATERIAL_BEND, d->bend);
+  if (!mat) st = at_key(labelled(cb_fail("unknown bending model '%s'", d->bend), "material.bend"), key, "material.bend");
+  mp.k = d->bend_k;
+  kind = 0;
+  if (st == CB_OK && (st = hessian_choice(mat, d->bend_hessian, cb_bend_hessian_names, "material.bend_hessian", &kind, key)))
+    mat = NULL; /* an error of its own key */
+  mp.bend_hessian = (cb_bend_hessian)kind;
+  if (st == CB_OK) st = cb_material_term_alloc(mat, &s->model, &mp, &terms[nterms], &mkey);
+  if (st == CB_OK && terms[nterms]) nterms++;
+  else if (st && mkey) st = at_key(st, key, mkey);
+  else if (st && mat) st = at_key(labelled(st, "material.bend"), key, "material.bend");
+  if (st == CB_OK && collider->term_alloc) {
+    st = collider_error(collider->term_alloc(&s->model, &d->sphere, &terms[nterms]), key);
+    if (st == CB_OK) nterms++;
+  }
+  if (st == CB_OK && (d->gravity[0] != 0 || d->gravity[1] != 0 || d->gravity[2] != 0)) {
+    st = cb_gravity_term_alloc(&s->model, d->gravity, &terms[nterms]);
+    if (st == CB_OK) nterms++;
+  }
+  if (st == CB_OK) return cb_system_init(&s->sys, &s->model, terms, nterms);
+  for (int k = 0; k < nterms; k++) cb_term_free(terms[k]);
+  return st;
+}
+
+/* The start state x0, v0 and the divergence scale; every derived quantity finite. */
+static int build_start(const cb_scene_def *d, cb_scene *s, const char **key) {
+  int nv = s->mesh.nv;
+  /* x0: rest positions scaled about their centroid; v0 = 0 */
+  double c[3] = {0, 0, 0};
+  for (int i = 0; i < nv; i++)
+    for (int a = 0; a < 3; a++) c[a] += s->mesh.x[3 * i + a] / nv;
+  for (int i = 0; i < 3 * nv; i++) s->x0[i] = c[i % 3] + d->initial_scale * (s->mesh.x[i] - c[i % 3]);
+  /* driven pins: v_i = -sign((p_i - pc).sq) sq, pc = centroid of the pins' initial positions */
+  const double *sq = d->pin_squeeze;
+  if (s->npinned > 0 && (sq[0] != 0 || sq[1] != 0 || sq[2] != 0)) {
+    double pc[3] = {0, 0, 0};
+    for (int k = 0; k < s->npinned; k++)
+      for (int a = 0; a < 3; a++) pc[a] += s->x0[3 * s->pinned[k] + a] / s->npinned;
+    for (int k = 0; k < s->npinned; k++) {
+      const double *p = s->x0 + 3 * s->pinned[k];
+      double side = (p[0] - pc[0]) * sq[0] + (p[1] - pc[1]) * sq[1] + (p[2] - pc[2]) * sq[2];
+      double sg = side > 0 ? -1.0 : side < 0 ? 1.0 : 0.0;
+      for (int a = 0; a < 3; a++) s->v0[3 * s->pinned[k] + a] = sg * sq[a];
+    }
+  }
+  /* the divergence scale, less the kinetic energy (cb_run adds it):
+   * S = elastic(x0) + (sum m_i) |g| D max(1, initial_scale) + 1e-12 J, D the rest bounding-box diagonal.
+   * lib/instruments/stability.c's energy scale is a different one, of a perturbed start state. */
+  s->energy_scale = cb_system_elastic_energy(&s->sys, s->x0) +
+                    cb_scene_total_mass(s) * cb_v3_norm(d->gravity) * cb_mesh_bbox_diagonal(&s->mesh) * fmax(1.0, d->initial_scale) +
+                    1e-12;
+  return check_finite(s, d, key);
+}
+
+/* The post-step stage: each response's state from its type's size, the
+ * definition's own first, then the collider's. */
+static int build_responses(const cb_scene_def *d, cb_scene *s, const cb_collider *collider, const char **key) {
+  for (int k = 0; k < d->nresponses; k++) {
+    cb_response *r = &s->responses[k];
+    r->type = d->responses[k].type;
+    r->state = r->type->size ? cb_calloc(1, r->type->size) : NULL;
+    if (r->type->size && !r->state) return CB_ENOMEM;
+    s->nresponses++;
+    if (r->type->init) {
+      int st = r->type->init(r, s, d->responses[k].params);
+      if (st) return st;
+    }
+  }
+  if (!collider->response) return CB_OK;
+  cb_response *r = &s->responses[s->nresponses];
+  r->type = collider->response;
+  r->state = r->type->size ? cb_calloc(1, r->type->size) : NULL;
+  if (r->type->size && !r->state) return CB_ENOMEM;
+  s->nresponses++;
+  return r->type->init ? collider_error(r->type->init(r, s, &d->sphere), key) : CB_OK;
+}
+
+int cb_scene_build(const cb_scene_def *d, cb_scene **out, const char **key) {
+  *out = NULL;
+  if (key) *key = NULL;
+  const cb_collider *collider = NULL;
+  int st = check_def(d, &collider, key);
+  if (st) return st;
   cb_scene *s = cb_calloc(1, sizeof *s);
   if (!s) return CB_ENOMEM;
   s->def = *d;
   s->def.mesh_file = s->def.bend = s->def.bend_hessian = s->def.definiteness = s->def.pins = s->def.collider = NULL;
   for (int k = 0; k < d->nresponses; k++) s->def.responses[k].params = NULL;
   s->diverge_ratio = d->diverge_ratio;
-  int st = build_mesh(d, &s->mesh, key);
-  if (st == CB_OK) st = cb_topology_build(&s->mesh, &s->topo);
-  if (st == CB_OK && s->topo.nonmanifold > 0 && strcmp(d->bend, "none") != 0)
-    st = at_key(cb_fail("material.bend: the mesh has %d non-manifold edges (shared by more than two triangles); "
-                        "bending needs a manifold mesh", s->topo.nonmanifold), key, "material.bend");
-  int nv = s->mesh.nv;
-  if (st == CB_OK) {
-    s->mass = cb_calloc((size_t)nv, sizeof(double));
-    s->free_index = cb_malloc((size_t)nv, sizeof(int));
-    s->free_vertex = cb_malloc((size_t)nv, sizeof(int));
-    s->x0 = cb_malloc((size_t)3 * nv, sizeof(double));
-    s->v0 = cb_calloc((size_t)3 * nv, sizeof(double));
-    if (!s->mass || !s->free_index || !s->free_vertex || !s->x0 || !s->v0) st = CB_ENOMEM;
-  }
-  /* masses: uniform, or lumped m_i = density * (sum of adjacent rest areas) / 3 */
-  if (st == CB_OK) {
-    if (d->vertex_mass > 0)
-      for (int i = 0; i < nv; i++) s->mass[i] = d->vertex_mass;
-    else
-      for (int t = 0; st == CB_OK && t < s->mesh.nt; t++) {
-        double a = cb_mesh_triangle_area(&s->mesh, s->mesh.x, t);
-        if (!isfinite(a)) {
-          st = at_key(mesh_fail(d, &s->mesh, -1, "triangle %d has area %g m^2, not a finite double: "
-                                "the mesh's coordinates are too large", t + 1, a), key, mesh_key(d));
-          break;
-        }
-        if (!(a >= DBL_MIN)) { /* its vertices' masses would underflow to nothing */
-          st = at_key(mesh_fail(d, &s->mesh, -1, "triangle %d has area %g m^2, below the smallest normal double: "
-                                "the mesh's coordinates are too small (scale the mesh up)", t + 1, a), key, mesh_key(d));
-          break;
-        }
-        for (int k = 0; k < 3; k++) s->mass[s->mesh.tri[3 * t + k]] += d->density * a / 3.0;
-      }
-    for (int i = 0; st == CB_OK && i < nv; i++)
-      if (!isfinite(s->mass[i]))
-        st = at_key(cb_fail("material.density: vertex %d's mass, density %g kg/m^2 x its triangles' area / 3, is %g kg, "
-                            "not a finite double", i, d->density, s->mass[i]), key, "material.density");
-  }
-  if (st == CB_OK) {
-    st = at_key(cb_pins_resolve(d->pins, &s->mesh, &s->pinned, &s->npinned), key, "scene.pins");
-  }
-  if (st == CB_OK) {
-    int nfree = 0, p = 0;
-    for (int i = 0; i < nv; i++) {
-      if (p < s->npinned && s->pinned[p] == i) {
-        s->free_index[i] = -1;
-        p++;
-        continue;
-      }
-      if (!(s->mass[i] > 0)) {
-        if (s->mesh.nt == 0) /* a chain, or an OBJ of line elements only */
-          st = at_key(cb_fail("material.vertex_mass: the mesh has no triangles, so its vertices have no area and no "
-                              "mass: set material.vertex_mass > 0 (vertex %d is the first free one)", i),
-                      key, "material.vertex_mass");
-        else
-          st = at_key(mesh_fail(d, &s->mesh, i, "vertex %d (0-based; %d in the file's indices) belongs to no triangle "
-                                "and has no mass: remove it, pin it (scene.pins), or set material.vertex_mass", i, i + 1),
-                      key, mesh_key(d));
-        break;
-      }
-      s->free_vertex[nfree] = i;
-      s->free_index[i] = nfree++;
-    }
-    s->model = (cb_model){&s->mesh, &s->topo, s->mass, s->free_index, nfree};
-  }
-  /* terms: stretch springs on every edge, optional bending, optional gravity */
-  cb_term *terms[CB_MAX_TERMS];
-  int nterms = 0;
-  if (st == CB_OK) st = stretch_term_alloc(d, &s->model, &terms[nterms], key);
-  if (st == CB_OK) nterms++;
-  if (st == CB_OK) {
-    cb_term *bend = NULL;
-    st = cb_bend_term_alloc(d->bend, &s->model, d->bend_k, &bend);
-    if (st) st = at_key(labelled(st, "material.bend"), key, "material.bend");
-    if (bend) terms[nterms++] = bend;
-    if (st == CB_OK && cb_hinge_term_is(bend)) st = bend_hessian_set(d, bend, key);
-  }
-  if (st == CB_OK && strcmp(d->collider, "penalty") == 0) {
-    st = collider_error(cb_sphere_term_alloc(&s->model, &d->sphere, &terms[nterms]), key);
-    if (st == CB_OK) nterms++;
-  }
-  memcpy(s->gravity, d->gravity, sizeof s->gravity);
-  if (st == CB_OK && (d->gravity[0] != 0 || d->gravity[1] != 0 || d->gravity[2] != 0)) {
-    st = cb_gravity_term_alloc(&s->model, d->gravity, &terms[nterms]);
-    if (st == CB_OK) nterms++;
-  }
-  /* compressed-spring response of every spring term (Choi-Ko changes the energy) */
-  cb_definiteness def = CB_DEF_DROP;
-  if (st == CB_OK) st = cb_definiteness_from_name(d->definiteness, &def);
-  for (int k = 0; st == CB_OK && k < nterms; k++)
-    if (terms[k]->type == cb_term_spring) {
-      st = cb_spring_term_set_response(terms[k], def, d->buckling_kb);
-      if (st) st = at_key(labelled(CB_EINVAL, "material.buckling_kb"), key, "material.buckling_kb");
-    }
-  if (st == CB_OK) st = cb_system_init(&s->sys, &s->model, terms, nterms);
-  else
-    for (int k = 0; k < nterms; k++) cb_term_free(terms[k]);
-  if (st == CB_OK) {
-    /* x0: rest positions scaled about their centroid; v0 = 0 */
-    double c[3] = {0, 0, 0};
-    for (int i = 0; i < nv; i++)
-      for (int a = 0; a < 3; a++) c[a] += s->mesh.x[3 * i + a] / nv;
-    for (int i = 0; i < 3 * nv; i++) s->x0[i] = c[i % 3] + d->initial_scale * (s->mesh.x[i] - c[i % 3]);
-    /* driven pins: v_i = -sign((p_i - pc).sq) sq, pc = centroid of the pins' initial positions */
-    const double *sq = d->pin_squeeze;
-    if (s->npinned > 0 && (sq[0] != 0 || sq[1] != 0 || sq[2] != 0)) {
-      double pc[3] = {0, 0, 0};
-      for (int k = 0; k < s->npinned; k++)
-        for (int a = 0; a < 3; a++) pc[a] += s->x0[3 * s->pinned[k] + a] / s->npinned;
-      for (int k = 0; k < s->npinned; k++) {
-        const double *p = s->x0 + 3 * s->pinned[k];
-        double side = (p[0] - pc[0]) * sq[0] + (p[1] - pc[1]) * sq[1] + (p[2] - pc[2]) * sq[2];
-        double sg = side > 0 ? -1.0 : side < 0 ? 1.0 : 0.0;
-        for (int a = 0; a < 3; a++) s->v0[3 * s->pinned[k] + a] = sg * sq[a];
-      }
-    }
-    /* the divergence scale, less the kinetic energy (cb_run adds it):
-     * S = elastic(x0) + (sum m_i) |g| D max(1, initial_scale) + 1e-12 J, D the rest bounding-box diagonal.
-     * lib/instruments/stability.c's energy scale is a different one, of a perturbed start state. */
-    s->energy_scale = cb_system_elastic_energy(&s->sys, s->x0) +
-                      cb_scene_total_mass(s) * cb_v3_norm(d->gravity) * cb_mesh_bbox_diagonal(&s->mesh) * fmax(1.0, d->initial_scale) +
-                      1e-12;
-    st = check_finite(s, d, key);
-  }
-  /* the post-step stage: each response's state from its type's size */
-  for (int k = 0; st == CB_OK && k < d->nresponses; k++) {
-    cb_response *r = &s->responses[k];
-    r->type = d->responses[k].type;
-    r->state = r->type->size ? cb_calloc(1, r->type->size) : NULL;
-    if (r->type->size && !r->state) { st = CB_ENOMEM; break; }
-    s->nresponses++;
-    if (r->type->init) st = r->type->init(r, s, d->responses[k].params);
-  }
-  if (st == CB_OK && project) { /* the collider's response runs after the def's own */
-    cb_response *r = &s->responses[s->nresponses];
-    r->type = &cb_response_sphere_project;
-    r->state = cb_calloc(1, r->type->size);
-    if (!r->state) st = CB_ENOMEM;
-    else {
-      s->nresponses++;
-      st = collider_error(r->type->init(r, s, &d->sphere), key);
-    }
-  }
+  st = build_geometry(d, s, key);
+  if (st == CB_OK) st = build_masses(d, s, key);
+  if (st == CB_OK) st = build_free(d, s, key);
+  if (st == CB_OK) st = build_terms(d, s, collider, key);
+  if (st == CB_OK) st = build_start(d, s, key);
+  if (st == CB_OK) st = build_responses(d, s, collider, key);
   if (st) {
     cb_scene_free(s);
     return st;

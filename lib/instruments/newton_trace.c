@@ -9,10 +9,10 @@
 
 double cb_compressed_fraction(const cb_system *sys, const double *x) {
   int c = 0, n = 0;
-  for (int k = 0; k < sys->nterms; k++) {
-    int ns;
-    c += cb_spring_term_count_compressed(sys->terms[k], x, &ns);
-    n += ns;
+  for (int k = 0; k < sys->nterms; k++) { /* every term that counts its indefinite elements (energy.h) */
+    int ne;
+    c += cb_term_count_indefinite(sys->terms[k], x, &ne);
+    n += ne;
   }
   return n > 0 ? (double)c / n : 0.0;
 }

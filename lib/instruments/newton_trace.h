@@ -21,7 +21,7 @@ typedef struct cb_newton_trace_row {
   double rel_grad, grad_norm; /* |grad F(x)| / |grad F(x^(0))|, |grad F(x)| (N) */
   double F;               /* F(x), J */
   double energy;          /* E(x): springs + gravity potential, J */
-  double compressed_frac; /* springs with l < L, over all springs */
+  double compressed_frac; /* indefinite elements over all counted ones (springs: l < L), cb_compressed_fraction */
   int status;             /* system row: the factor/solve status; last row: the step's status */
   double mu;              /* shift in the matrix solved (`shift` policy), N/m */
   int linear_ok;          /* the integrator's factor/solve succeeded (CHOLMOD: A was SPD) */
@@ -57,7 +57,9 @@ void cb_newton_trace_end_step(cb_newton_trace *t, int status);
 /* The hook: set params.hook = cb_newton_trace_hook, params.hook_ctx = &trace. */
 void cb_newton_trace_hook(void *ctx, int event, const cb_newton_event *ev);
 
-/* Fraction of springs with l < L at x over every spring term of sys. */
+/* Fraction of the elements whose Hessian at x can be indefinite, over the
+ * elements of every term of sys that counts them (cb_term_count_indefinite):
+ * on a spring scene, the springs with l < L over all springs. */
 double cb_compressed_fraction(const cb_system *sys, const double *x);
 
 #endif
