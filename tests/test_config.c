@@ -1314,3 +1314,38 @@ Test(validate, nrelax_needs_non_decreasing_whole_numbers) {
   cr_assert_eq(cb_config_set(&c, "solver.nrelax=4 16.5 48"), CB_OK);
   cr_expect_eq(cb_config_validate(&c), CB_EINVAL);
 }
+
+/* A key two integrator types share has one definition: the config layer
+ * refuses one name declared with two (here the same key with another help
+ * text, another default, or declared twice by one type), naming the key, the
+ * types and what differs; the same definition in two types is one key. */
+#define SHARED_ITERS(doc_, def_) \
+  {.name = "iters", .kind = CB_PARAM_INT, .offset = 0, .def = def_, .unit = "iterations", .lo = 1, .hi = 100, .doc = doc_}
+static const cb_param_key keys_a[] = {SHARED_ITERS("Iterations per step.", "32"), {.name = NULL}};
+static const cb_param_key keys_other_doc[] = {SHARED_ITERS("Sweeps per step.", "32"), {.name = NULL}};
+static const cb_param_key keys_other_def[] = {SHARED_ITERS("Iterations per step.", "16"), {.name = NULL}};
+static const cb_param_key keys_twice[] = {SHARED_ITERS("Iterations per step.", "32"),
+                                          SHARED_ITERS("Iterations per step.", "32"), {.name = NULL}};
+
+Test(config, shared_key_has_one_definition) {
+  const cb_integrator_type a = {.name = "type-a", .keys = keys_a}, a2 = {.name = "type-a2", .keys = keys_a},
+                           doc = {.name = "type-doc", .keys = keys_other_doc},
+                           def = {.name = "type-def", .keys = keys_other_def},
+                           twice = {.name = "type-twice", .keys = keys_twice};
+  const cb_integrator_type *same[] = {&a, &a2, NULL};
+  cr_expect_eq(cb_config_check_type_keys(same), CB_OK, "%s", cb_error_message());
+  const cb_integrator_type *by_doc[] = {&a, &doc, NULL};
+  cr_assert_neq(cb_config_check_type_keys(by_doc), CB_OK, "a shared key with another help text");
+  const char *msg = cb_error_message();
+  cr_expect(strstr(msg, "integrator.iters") && strstr(msg, "type-a") && strstr(msg, "type-doc") && strstr(msg, "help text"),
+            "%s", msg);
+  const cb_integrator_type *by_def[] = {&a, &def, NULL};
+  cr_assert_neq(cb_config_check_type_keys(by_def), CB_OK, "a shared key with another default");
+  cr_expect(strstr(cb_error_message(), "default"), "%s", cb_error_message());
+  const cb_integrator_type *dup[] = {&twice, NULL};
+  cr_assert_neq(cb_config_check_type_keys(dup), CB_OK, "one type declaring a key twice");
+  cr_expect(strstr(cb_error_message(), "twice"), "%s", cb_error_message());
+  /* the registered types pass, so every config validates */
+  cr_expect_eq(cb_config_check_type_keys(cb_integrator_types), CB_OK, "%s", cb_error_message());
+}
+#undef SHARED_ITERS

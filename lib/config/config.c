@@ -138,16 +138,52 @@ enum { SRC_DEFAULT = 0, SRC_FILE = 1, SRC_SET = 2 };
 static keydef keys[MAX_KEYS];
 static char type_key_names[CB_MAX_TYPE_KEYS][CB_NAME_LEN + 16];
 static int nkeys;
-static int table_overflow; /* the registered types declare more keys than cb_config holds */
+static char table_error[512]; /* why the types' keys make no table: too many, or one name with two definitions */
 
-static int same_key(const keydef *k, const cb_param_key *p, ktype t) {
-  return k->type == t && strcmp(k->def, p->def) == 0 && k->lo == p->lo && k->hi == p->hi && k->lo_open == p->lo_open &&
-         k->choices == p->choices;
+static int str_same(const char *a, const char *b) { return a == b || (a && b && strcmp(a, b) == 0); }
+
+/* The part in which two declarations of one key differ ("help text", ...),
+ * or NULL when they are one definition. The offset is each type's own. */
+static const char *key_difference(const cb_param_key *a, const cb_param_key *b) {
+  if (a->kind != b->kind) return "kind";
+  if (!str_same(a->def, b->def)) return "default";
+  if (!str_same(a->unit, b->unit)) return "unit";
+  if (a->lo != b->lo || a->hi != b->hi || a->lo_open != b->lo_open) return "range";
+  if (a->choices != b->choices) return "choices";
+  if (a->values != b->values) return "choice values";
+  if (!str_same(a->doc, b->doc)) return "help text";
+  return NULL;
+}
+
+/* Writes into msg why the types' keys conflict and returns 1, or returns 0. */
+static int type_keys_conflict(const cb_integrator_type *const *types, char *msg, size_t n) {
+  for (int t = 0; types[t]; t++)
+    for (const cb_param_key *p = types[t]->keys; p && p->name; p++)
+      for (int u = 0; u <= t; u++)
+        for (const cb_param_key *q = types[u]->keys; q && q->name && q != p; q++) {
+          if (strcmp(p->name, q->name) != 0) continue;
+          const char *what = u == t ? "twice" : key_difference(q, p);
+          if (!what) continue;
+          if (u == t)
+            snprintf(msg, n, "integrator.%s: declared twice by integrator type %s", p->name, types[t]->name);
+          else
+            snprintf(msg, n, "integrator.%s: integrator types %s and %s declare it with two definitions (the %s "
+                     "differs); a key two types share is defined once (lib/core/integrator_keys.h)",
+                     p->name, types[u]->name, types[t]->name, what);
+          return 1;
+        }
+  return 0;
+}
+
+int cb_config_check_type_keys(const cb_integrator_type *const *types) {
+  char msg[sizeof table_error];
+  return type_keys_conflict(types, msg, sizeof msg) ? cb_fail("config: %s", msg) : CB_OK;
 }
 
 static void build_table(void) {
   if (nkeys) return;
   int n = 0, slots = 0;
+  type_keys_conflict(cb_integrator_types, table_error, sizeof table_error);
   for (int i = 0; i < NHEAD; i++) keys[n++] = keys_head[i];
   for (int t = 0; cb_integrator_types[t]; t++)
     for (const cb_param_key *p = cb_integrator_types[t]->keys; p && p->name; p++) {
@@ -156,13 +192,13 @@ static void build_table(void) {
       char name[sizeof type_key_names[0]];
       snprintf(name, sizeof name, "integrator.%s", p->name);
       int seen = 0;
-      for (int i = NHEAD; i < n; i++)
-        if (strcmp(keys[i].key, name) == 0) {
-          seen = 1;
-          if (!same_key(&keys[i], p, kinds[p->kind])) table_overflow = 1; /* one key, two meanings */
-        }
+      for (int i = NHEAD; i < n; i++) seen |= strcmp(keys[i].key, name) == 0; /* one definition (type_keys_conflict) */
       if (seen) continue;
-      if (slots == CB_MAX_TYPE_KEYS || n + NTAIL > MAX_KEYS) { table_overflow = 1; continue; }
+      if (slots == CB_MAX_TYPE_KEYS || n + NTAIL > MAX_KEYS) {
+        if (!table_error[0])
+          snprintf(table_error, sizeof table_error, "the integrator types declare more than %d keys", CB_MAX_TYPE_KEYS);
+        continue;
+      }
       snprintf(type_key_names[slots], sizeof type_key_names[slots], "%s", name);
       keys[n++] = (keydef){type_key_names[slots], kinds[p->kind], O(type_value) + (size_t)slots * sizeof(double), p->def,
                            p->unit, p->lo, p->hi, p->lo_open, p->choices, NULL, p->doc};
@@ -606,9 +642,7 @@ const char *cb_config_where(const cb_config *c, const char *key, char *buf, size
 int cb_config_validate(const cb_config *c) {
   char w[CB_PATH_LEN + 32];
   build_table();
-  if (table_overflow)
-    return cb_fail("config: the integrator types declare more than %d keys, or one key with two definitions",
-                   CB_MAX_TYPE_KEYS);
+  if (table_error[0]) return cb_fail("config: %s", table_error);
   for (int k = 0; k < 3; k++)
     if (c->solver_nrelax[k] != floor(c->solver_nrelax[k]) || (k && c->solver_nrelax[k] < c->solver_nrelax[k - 1]))
       return cb_fail("%s: solver.nrelax: must be 3 non-decreasing whole numbers, got %g %g %g",

@@ -94,8 +94,17 @@ int cb_config_load(const char *path, cb_config *c);
 int cb_config_set(cb_config *c, const char *assignment);
 
 /* Cross-key checks (mesh.file given for obj, enum values known to the
- * registries, ...). Call after all overrides. */
+ * registries, ...). Call after all overrides. Fails, too, when the
+ * registered integrator types' keys make no table (cb_config_check_type_keys). */
 int cb_config_validate(const cb_config *c);
+
+/* The integrator types' config keys (NULL-terminated list of types) form one
+ * table: a name two types declare has one definition (kind, default, unit,
+ * range, choices and help text; only the offset is each type's own), and no
+ * type declares a name twice. Fails naming the key, the types and what
+ * differs. The config layer checks cb_integrator_types so. */
+struct cb_integrator_type;
+int cb_config_check_type_keys(const struct cb_integrator_type *const *types);
 
 /* "file:line" (or "--set", or "default") for the key "section.key". */
 const char *cb_config_where(const cb_config *c, const char *key, char *buf, size_t n);

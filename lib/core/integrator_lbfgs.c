@@ -50,6 +50,7 @@
 #include <clothbench/objective.h>
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
+#include "integrator_keys.h"
 
 #include "pd_matrix.h"
 
@@ -67,18 +68,14 @@ const char *const cb_lbfgs_line_search_names[] = {"armijo", "wolfe", NULL};
 
 #define LP(f) offsetof(cb_lbfgs_params, f)
 static const cb_param_key lbfgs_keys[] = {
-    /* iters and tol: the same definitions as integrator_nljacobi.c's and integrator_newton.c's */
-    {"iters", CB_PARAM_INT, LP(iters), "32", "iterations", 1, 100000000, 0, NULL, NULL,
-     "Iterations per step of the fixed-iteration methods (jacobi-nl, chebyshev-nl, pd, pd-chebyshev, pbd, xpbd); lbfgs's limit."},
-    {"tol", CB_PARAM_DOUBLE, LP(tol), "1e-8", "-", 0, 1, 0, NULL, NULL,
-     "Newton (and lbfgs) stop when |grad F(x)| <= tol |grad F(x(0))|."},
-    {"tol_dx", CB_PARAM_DOUBLE, LP(tol_dx), "0", "m", 0, 1e9, 0, NULL, NULL,
-     "Newton (and lbfgs) also stop when the largest component of the step |dx| is <= tol_dx; 0 turns this test off."},
-    {"lbfgs_window", CB_PARAM_INT, LP(window), "5", "pairs", 1, 1000, 0, NULL, NULL,
-     "lbfgs: the number m of (s, y) pairs kept (Liu et al. 2017 use 5)."},
-    {"lbfgs_line_search", CB_PARAM_CHOICE, LP(line_search), "armijo", "-", 0, 0, 0, cb_lbfgs_line_search_names, NULL,
-     "lbfgs: `armijo` backtracking, or `wolfe` (the strong Wolfe conditions, c1 = 1e-4, c2 = 0.9)."},
-    {NULL, CB_PARAM_INT, 0, NULL, NULL, 0, 0, 0, NULL, NULL, NULL},
+    CB_KEY_ITERS(LP(iters)),
+    CB_KEY_TOL(LP(tol)),
+    CB_KEY_TOL_DX(LP(tol_dx)),
+    {.name = "lbfgs_window", .kind = CB_PARAM_INT, .offset = LP(window), .def = "5", .unit = "pairs", .lo = 1, .hi = 1000,
+     .doc = "lbfgs: the number m of (s, y) pairs kept (Liu et al. 2017 use 5)."},
+    {.name = "lbfgs_line_search", .kind = CB_PARAM_CHOICE, .offset = LP(line_search), .def = "armijo", .unit = "-", .choices = cb_lbfgs_line_search_names,
+     .doc = "lbfgs: `armijo` backtracking, or `wolfe` (the strong Wolfe conditions, c1 = 1e-4, c2 = 0.9)."},
+    CB_KEY_END,
 };
 #undef LP
 

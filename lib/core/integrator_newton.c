@@ -47,6 +47,7 @@
 #include <clothbench/objective.h>
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
+#include "integrator_keys.h"
 
 enum { LS_MAX_HALVINGS = 40 };
 #define LS_FLAT 1e-12 /* |grad F . dx| / S below which F cannot resolve the decrease */
@@ -72,19 +73,16 @@ static const char *const init_names[] = {"predict", "x0", NULL};
 static const int init_values[] = {1, 0}; /* init_predict */
 #define NP(f) offsetof(cb_newton_params, f)
 static const cb_param_key newton_keys[] = {
-    {"max_iters", CB_PARAM_INT, NP(max_iters), "50", "iterations", 1, 1000000, 0, NULL, NULL,
-     "Newton iterations per step at most; 1 is Baraff-Witkin's single linear solve."},
-    {"tol", CB_PARAM_DOUBLE, NP(tol), "1e-8", "-", 0, 1, 0, NULL, NULL,
-     "Newton stops when |grad F(x)| <= tol |grad F(x(0))|, x(0) being the step's initial guess. Below about 1e-11 the tolerance may be under round-off (e.g. a step from rest, where grad F(x(0)) is gravity alone): pair it with `tol_dx`."},
-    {"tol_dx", CB_PARAM_DOUBLE, NP(tol_dx), "0", "m", 0, 1e9, 0, NULL, NULL,
-     "Newton also stops when the largest component of the step |dx| is <= tol_dx; 0 turns this test off."},
-    {"definiteness", CB_PARAM_CHOICE, NP(definiteness), "drop", "-", 0, 0, 0, cb_definiteness_names, NULL,
-     "Spring Hessian treatment when a spring is compressed: `none` keeps the exact Hessian; `drop` drops the k(1 - L/|x|) term when |x| < L (the lecture's fix; the transverse eigenvalue clamped at 0); `mirror` uses |1 - L/|x||; `shift` keeps the exact Hessian and adds mu I to Newton's matrix, raising mu until Cholesky (or CG) succeeds; `choi-ko` replaces the compressed spring by Choi & Ko's (2002) immediate-buckling response (see `material.buckling_kb`), a different energy, with its exact Hessian."},
-    {"init", CB_PARAM_CHOICE, NP(init_predict), "predict", "-", 0, 0, 0, init_names, init_values,
-     "Newton's initial guess: `predict` (x0 + dt v0) or `x0`."},
-    {"line_search", CB_PARAM_BOOL, NP(line_search), "0", "-", 0, 0, 0, NULL, NULL,
-     "Backtracking (Armijo) line search on F in every Newton iteration (0 or 1)."},
-    {NULL, CB_PARAM_INT, 0, NULL, NULL, 0, 0, 0, NULL, NULL, NULL},
+    {.name = "max_iters", .kind = CB_PARAM_INT, .offset = NP(max_iters), .def = "50", .unit = "iterations", .lo = 1, .hi = 1000000,
+     .doc = "Newton iterations per step at most; 1 is Baraff-Witkin's single linear solve."},
+    CB_KEY_TOL(NP(tol)),
+    CB_KEY_TOL_DX(NP(tol_dx)),
+    CB_KEY_DEFINITENESS(NP(definiteness)),
+    {.name = "init", .kind = CB_PARAM_CHOICE, .offset = NP(init_predict), .def = "predict", .unit = "-", .choices = init_names, .values = init_values,
+     .doc = "Newton's initial guess: `predict` (x0 + dt v0) or `x0`."},
+    {.name = "line_search", .kind = CB_PARAM_BOOL, .offset = NP(line_search), .def = "0", .unit = "-",
+     .doc = "Backtracking (Armijo) line search on F in every Newton iteration (0 or 1)."},
+    CB_KEY_END,
 };
 #undef NP
 

@@ -46,6 +46,7 @@
 #include <clothbench/objective.h>
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
+#include "integrator_keys.h"
 
 enum { DIAG_LAB = 0, DIAG_VALENCE = 1, DIAG_EXACT = 2 };
 
@@ -58,28 +59,21 @@ cb_nljacobi_params cb_nljacobi_params_default(void) { return chebyshev_defaults;
 
 const char *const cb_nljacobi_diagonal_names[] = {"lab", "valence", "exact", NULL};
 
-/* The keys; iters, rho and rho_iters are shared with projective dynamics
- * (integrator_pd.c) and definiteness with Newton: same names, same definitions. */
+/* The keys; iters, rho, rho_iters and definiteness are the shared ones of
+ * integrator_keys.h (projective dynamics, vbd and Newton declare them too). */
 #define NJ(f) offsetof(cb_nljacobi_params, f)
-#define KEY_ITERS {"iters", CB_PARAM_INT, NJ(iters), "32", "iterations", 1, 100000000, 0, NULL, NULL, \
-  "Iterations per step of the fixed-iteration methods (jacobi-nl, chebyshev-nl, pd, pd-chebyshev; constraint sweeps per substep of pbd and xpbd; the most of lbfgs); the GAMES103 lab uses 32, Liu et al. 2013 use 10 for projective dynamics."}
-#define KEY_DIAG {"diagonal", CB_PARAM_CHOICE, NJ(diagonal), "lab", "-", 0, 0, 0, cb_nljacobi_diagonal_names, NULL, \
-  "Diagonal D of the nonlinear Jacobi update x <- x - alpha D^-1 grad F(x): `lab` m_i/dt^2 + 4k (the lab's constant, k = material.stretch_k), `valence` m_i/dt^2 + k x (the vertex's spring count), `exact` the 3x3 diagonal blocks of M/dt^2 + H(x) with integrator.definiteness, recomputed every iteration."}
-#define KEY_ALPHA {"alpha", CB_PARAM_DOUBLE, NJ(alpha), "1", "-", 0, 2, 1, NULL, NULL, \
-  "Step weight of the nonlinear Jacobi update (Wang's under-relaxation gamma); 1 is the lab's."}
-#define KEY_DEF {"definiteness", CB_PARAM_CHOICE, NJ(definiteness), "drop", "-", 0, 0, 0, cb_definiteness_names, NULL, \
-  "Spring Hessian treatment when a spring is compressed: `none` keeps the exact Hessian; `drop` drops the k(1 - L/|x|) term when |x| < L (the lecture's fix; the transverse eigenvalue clamped at 0); `mirror` uses |1 - L/|x||; `shift` keeps the exact Hessian and adds mu I to Newton's matrix, raising mu until Cholesky (or CG) succeeds; `choi-ko` replaces the compressed spring by Choi & Ko's (2002) immediate-buckling response (see `material.buckling_kb`), a different energy, with its exact Hessian."}
-#define KEY_RHO {"rho", CB_PARAM_DOUBLE_AUTO, NJ(rho), "0.995", "-", 0, 0.999999, 0, NULL, NULL, \
-  "Chebyshev spectral radius of chebyshev-nl and pd-chebyshev (Wang 2015): a number in [0, 1) (0 = no acceleration; the lab uses 0.995), or `auto`: estimated once, before the first step, from the decay of the updates of integrator.rho_iters unaccelerated iterations."}
-#define KEY_RHO_ITERS {"rho_iters", CB_PARAM_INT, NJ(rho_iters), "64", "iterations", 4, 100000, 0, NULL, NULL, \
-  "Unaccelerated iterations run once, on the first step, to estimate rho when integrator.rho = auto."}
+#define KEY_DIAG {.name = "diagonal", .kind = CB_PARAM_CHOICE, .offset = NJ(diagonal), .def = "lab", .unit = "-", .choices = cb_nljacobi_diagonal_names, \
+  .doc = "Diagonal D of the nonlinear Jacobi update x <- x - alpha D^-1 grad F(x): `lab` m_i/dt^2 + 4k (the lab's constant, k = material.stretch_k), `valence` m_i/dt^2 + k x (the vertex's spring count), `exact` the 3x3 diagonal blocks of M/dt^2 + H(x) with integrator.definiteness, recomputed every iteration."}
+#define KEY_ALPHA {.name = "alpha", .kind = CB_PARAM_DOUBLE, .offset = NJ(alpha), .def = "1", .unit = "-", .hi = 2, .lo_open = 1, \
+  .doc = "Step weight of the nonlinear Jacobi update (Wang's under-relaxation gamma); 1 is the lab's."}
 static const cb_param_key jacobi_keys[] = {
-    KEY_ITERS, KEY_DIAG, KEY_ALPHA, KEY_DEF,
-    {NULL, CB_PARAM_INT, 0, NULL, NULL, 0, 0, 0, NULL, NULL, NULL},
+    CB_KEY_ITERS(NJ(iters)), KEY_DIAG, KEY_ALPHA, CB_KEY_DEFINITENESS(NJ(definiteness)),
+    CB_KEY_END,
 };
 static const cb_param_key chebyshev_keys[] = {
-    KEY_ITERS, KEY_DIAG, KEY_ALPHA, KEY_DEF, KEY_RHO, KEY_RHO_ITERS,
-    {NULL, CB_PARAM_INT, 0, NULL, NULL, 0, 0, 0, NULL, NULL, NULL},
+    CB_KEY_ITERS(NJ(iters)), KEY_DIAG, KEY_ALPHA, CB_KEY_DEFINITENESS(NJ(definiteness)), CB_KEY_RHO(NJ(rho)),
+    CB_KEY_RHO_ITERS(NJ(rho_iters)),
+    CB_KEY_END,
 };
 #undef NJ
 

@@ -49,6 +49,7 @@
 #include <clothbench/objective.h>
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
+#include "integrator_keys.h"
 
 #include "pd_matrix.h"
 
@@ -62,18 +63,15 @@ cb_pd_params cb_pd_params_default(void) { return pdc_defaults; }
 
 /* The same keys (names and definitions) as integrator_nljacobi.c's. */
 #define PP(f) offsetof(cb_pd_params, f)
-#define KEY_ITERS {"iters", CB_PARAM_INT, PP(iters), "32", "iterations", 1, 100000000, 0, NULL, NULL, \
-  "Iterations per step of the fixed-iteration methods (jacobi-nl, chebyshev-nl, pd, pd-chebyshev)."}
 static const cb_param_key pd_keys[] = {
-    KEY_ITERS,
-    {NULL, CB_PARAM_INT, 0, NULL, NULL, 0, 0, 0, NULL, NULL, NULL},
+    CB_KEY_ITERS(PP(iters)),
+    CB_KEY_END,
 };
 static const cb_param_key pdc_keys[] = {
-    KEY_ITERS,
-    {"rho", CB_PARAM_DOUBLE_AUTO, PP(rho), "0.995", "-", 0, 0.999999, 0, NULL, NULL, "Chebyshev spectral radius, or `auto`."},
-    {"rho_iters", CB_PARAM_INT, PP(rho_iters), "64", "iterations", 4, 100000, 0, NULL, NULL,
-     "Unaccelerated iterations of the `auto` estimate, doubled while the estimate still rises (at most 32x)."},
-    {NULL, CB_PARAM_INT, 0, NULL, NULL, 0, 0, 0, NULL, NULL, NULL},
+    CB_KEY_ITERS(PP(iters)),
+    CB_KEY_RHO(PP(rho)),
+    CB_KEY_RHO_ITERS(PP(rho_iters)),
+    CB_KEY_END,
 };
 #undef PP
 

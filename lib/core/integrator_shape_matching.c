@@ -46,9 +46,9 @@ static const cb_shape_matching_params sm_defaults = {.alpha = 1.0};
 cb_shape_matching_params cb_shape_matching_params_default(void) { return sm_defaults; }
 
 static const cb_param_key sm_keys[] = {
-    {"shape_alpha", CB_PARAM_DOUBLE, offsetof(cb_shape_matching_params, alpha), "1", "-", 0, 1, 1, NULL, NULL,
-     "Shape matching (`integrator.method = shape_matching`): stiffness alpha in (0, 1] of the pull toward the goal positions, v += alpha (g - x)/dt; 1 moves every vertex onto its goal in one step."},
-    {NULL, CB_PARAM_INT, 0, NULL, NULL, 0, 0, 0, NULL, NULL, NULL},
+    {.name = "shape_alpha", .kind = CB_PARAM_DOUBLE, .offset = offsetof(cb_shape_matching_params, alpha), .def = "1", .unit = "-", .hi = 1, .lo_open = 1,
+     .doc = "Shape matching (`integrator.method = shape_matching`): stiffness alpha in (0, 1] of the pull toward the goal positions, v += alpha (g - x)/dt; 1 moves every vertex onto its goal in one step."},
+    {.name = NULL},
 };
 
 typedef struct {

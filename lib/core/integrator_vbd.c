@@ -64,6 +64,7 @@
 #include <clothbench/projection.h>
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
+#include "integrator_keys.h"
 
 enum { INIT_INERTIA = 0, INIT_PREVIOUS = 1, INIT_ADAPTIVE = 2 };
 enum { MAXK = 4 }; /* vertices per element at most (a hinge) */
@@ -76,24 +77,21 @@ static const cb_vbd_params vbdc_defaults = {.iters = 32, .init = INIT_ADAPTIVE, 
 
 cb_vbd_params cb_vbd_params_default(void) { return vbdc_defaults; }
 
-/* iters, rho and rho_iters: the same definitions as integrator_nljacobi.c's */
+/* iters, rho and rho_iters: the shared keys of integrator_keys.h */
 #define VP(f) offsetof(cb_vbd_params, f)
-#define KEY_ITERS {"iters", CB_PARAM_INT, VP(iters), "32", "iterations", 1, 100000000, 0, NULL, NULL, \
-  "Iterations per step of the fixed-iteration methods; vbd: sweeps over every vertex colour."}
-#define KEY_INIT {"vbd_init", CB_PARAM_CHOICE, VP(init), "adaptive", "-", 0, 0, 0, cb_vbd_init_names, NULL, \
-  "vbd, vbd-chebyshev: the initial guess (Chen et al. 2024): `inertia` x0 + dt v0, `previous` x0, `adaptive` x0 + dt v0 + dt^2 a~ with a~ the last step's acceleration along gravity, clamped to [0, |g|]."}
-#define KEY_LS {"vbd_line_search", CB_PARAM_BOOL, VP(line_search), "0", "-", 0, 0, 0, NULL, NULL, \
-  "vbd, vbd-chebyshev: backtracking (Armijo) on each vertex's own objective, so that no sweep raises F (0 or 1; the paper's update is 0)."}
+#define KEY_INIT {.name = "vbd_init", .kind = CB_PARAM_CHOICE, .offset = VP(init), .def = "adaptive", .unit = "-", .choices = cb_vbd_init_names, \
+  .doc = "vbd, vbd-chebyshev: the initial guess (Chen et al. 2024): `inertia` x0 + dt v0, `previous` x0, `adaptive` x0 + dt v0 + dt^2 a~ with a~ the last step's acceleration along gravity, clamped to [0, |g|]."}
+#define KEY_LS {.name = "vbd_line_search", .kind = CB_PARAM_BOOL, .offset = VP(line_search), .def = "0", .unit = "-", \
+  .doc = "vbd, vbd-chebyshev: backtracking (Armijo) on each vertex's own objective, so that no sweep raises F (0 or 1; the paper's update is 0)."}
 static const cb_param_key vbd_keys[] = {
-    KEY_ITERS, KEY_INIT, KEY_LS,
-    {NULL, CB_PARAM_INT, 0, NULL, NULL, 0, 0, 0, NULL, NULL, NULL},
+    CB_KEY_ITERS(VP(iters)), KEY_INIT, KEY_LS,
+    CB_KEY_END,
 };
 static const cb_param_key vbdc_keys[] = {
-    KEY_ITERS, KEY_INIT, KEY_LS,
-    {"rho", CB_PARAM_DOUBLE_AUTO, VP(rho), "0.995", "-", 0, 0.999999, 0, NULL, NULL, "Chebyshev spectral radius, or `auto`."},
-    {"rho_iters", CB_PARAM_INT, VP(rho_iters), "64", "iterations", 4, 100000, 0, NULL, NULL,
-     "Unaccelerated iterations of the `auto` estimate."},
-    {NULL, CB_PARAM_INT, 0, NULL, NULL, 0, 0, 0, NULL, NULL, NULL},
+    CB_KEY_ITERS(VP(iters)), KEY_INIT, KEY_LS,
+    CB_KEY_RHO(VP(rho)),
+    CB_KEY_RHO_ITERS(VP(rho_iters)),
+    CB_KEY_END,
 };
 #undef VP
 

@@ -57,28 +57,26 @@
 #include <clothbench/objective.h>
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
+#include "integrator_keys.h"
 
 static const cb_xpbd_params xpbd_defaults = {.iters = 32, .substeps = 1, .stiffness = 1.0};
 
 cb_xpbd_params cb_xpbd_params_default(void) { return xpbd_defaults; }
 
 #define XP(f) offsetof(cb_xpbd_params, f)
-/* iters: the same definition as integrator_nljacobi.c's and integrator_pd.c's */
-#define KEY_ITERS {"iters", CB_PARAM_INT, XP(iters), "32", "iterations", 1, 100000000, 0, NULL, NULL, \
-  "Iterations per step of the fixed-iteration methods (jacobi-nl, chebyshev-nl, pd, pd-chebyshev, pbd, xpbd)."}
-#define KEY_SUBSTEPS {"substeps", CB_PARAM_INT, XP(substeps), "1", "substeps", 1, 1000000, 0, NULL, NULL, \
-  "pbd, xpbd: substeps per step (Macklin et al. 2019's small steps): dt is split into this many substeps of dt/substeps, each with integrator.iters constraint sweeps."}
+#define KEY_SUBSTEPS {.name = "substeps", .kind = CB_PARAM_INT, .offset = XP(substeps), .def = "1", .unit = "substeps", .lo = 1, .hi = 1000000, \
+  .doc = "pbd, xpbd: substeps per step (Macklin et al. 2019's small steps): dt is split into this many substeps of dt/substeps, each with integrator.iters constraint sweeps."}
 static const cb_param_key xpbd_keys[] = {
-    KEY_ITERS,
+    CB_KEY_ITERS(XP(iters)),
     KEY_SUBSTEPS,
-    {NULL, CB_PARAM_INT, 0, NULL, NULL, 0, 0, 0, NULL, NULL, NULL},
+    CB_KEY_END,
 };
 static const cb_param_key pbd_keys[] = {
-    KEY_ITERS,
+    CB_KEY_ITERS(XP(iters)),
     KEY_SUBSTEPS,
-    {"pbd_stiffness", CB_PARAM_DOUBLE, XP(stiffness), "1", "-", 0, 1, 1, NULL, NULL,
-     "pbd: the constraint stiffness factor s in (0, 1] of Müller et al. 2007; each projection moves by s' = 1 - (1 - s)^(1/iters) of the violation (their correction for the iteration count). It does not depend on material.stretch_k."},
-    {NULL, CB_PARAM_INT, 0, NULL, NULL, 0, 0, 0, NULL, NULL, NULL},
+    {.name = "pbd_stiffness", .kind = CB_PARAM_DOUBLE, .offset = XP(stiffness), .def = "1", .unit = "-", .hi = 1, .lo_open = 1,
+     .doc = "pbd: the constraint stiffness factor s in (0, 1] of Müller et al. 2007; each projection moves by s' = 1 - (1 - s)^(1/iters) of the violation (their correction for the iteration count). It does not depend on material.stretch_k."},
+    CB_KEY_END,
 };
 #undef XP
 
