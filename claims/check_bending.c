@@ -7,9 +7,6 @@
 
 #include "claims.h"
 
-void cb_check_B1(const cb_table *t, const char *results_dir, cb_claim_result *out);
-void cb_check_B2(const cb_table *t, const char *results_dir, cb_claim_result *out);
-void cb_check_B3(const cb_table *t, const char *results_dir, cb_claim_result *out);
 
 enum { MAXM = 8, MAXP = 256 };
 

@@ -14,7 +14,6 @@
 #include "claims.h"
 #include <clothbench/status.h>
 
-void cb_check_h1(const cb_table *csv, const char *dir, cb_claim_result *out);
 enum { MAXS = 16, MAXP = 8 };
 /* The claims' subjects: the exact Hessian (no fix) and the lecture's fix.
  * Every other policy of the CSV is another fix. */
@@ -280,7 +279,6 @@ static void h2_rank_text(const h2_rank *rank, int nrank, char fixes[][32], int l
   cb_claim_reason(out, ".");
 }
 
-void cb_check_h2(const cb_table *csv, const char *dir, cb_claim_result *out);
 
 void cb_check_h2(const cb_table *csv, const char *dir, cb_claim_result *out) {
   data_t *d = calloc(1, sizeof *d);

@@ -8,9 +8,6 @@
 
 #include "claims.h"
 
-void cb_check_E1(const cb_table *t, const char *results_dir, cb_claim_result *out);
-void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *out);
-void cb_check_I1(const cb_table *t, const char *results_dir, cb_claim_result *out);
 
 enum { MAXS = 16, MAXPTS = 4096 };
 

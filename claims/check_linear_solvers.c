@@ -14,10 +14,6 @@
 #include <clothbench/solver.h>
 #include <clothbench/status.h>
 
-void cb_check_j1(const cb_table *csv, const char *dir, cb_claim_result *out);
-void cb_check_j2(const cb_table *csv, const char *dir, cb_claim_result *out);
-void cb_check_j3(const cb_table *csv, const char *dir, cb_claim_result *out);
-void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out);
 
 typedef struct {
   const char *scene, *sweep, *solver, *status;

@@ -9,10 +9,6 @@
 
 #include "claims.h"
 
-void cb_check_L1(const cb_table *t, const char *results_dir, cb_claim_result *out);
-void cb_check_L2(const cb_table *t, const char *results_dir, cb_claim_result *out);
-void cb_check_F1(const cb_table *t, const char *results_dir, cb_claim_result *out);
-void cb_check_S1(const cb_table *t, const char *results_dir, cb_claim_result *out);
 
 #define L1_MIN_FALL 20.0   /* deg: across mesh lines the fold angle falls at least this much over the sweep, */
                            /* and at every step of k */

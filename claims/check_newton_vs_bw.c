@@ -27,8 +27,6 @@
 #include "stats.h"
 
 /* registered in claims.c */
-void cb_check_newton_vs_bw_i2(const cb_table *csv, const char *results_dir, cb_claim_result *out);
-void cb_check_newton_vs_bw_i3(const cb_table *csv, const char *results_dir, cb_claim_result *out);
 
 #define I2_LOCAL 0.1
 #define I2_FLOOR 1e-11

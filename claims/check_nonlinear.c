@@ -43,10 +43,6 @@
 
 #include "claims.h"
 
-void cb_check_j3(const cb_table *csv, const char *dir, cb_claim_result *out); /* check_linear_solvers.c */
-void cb_check_nonlinear_j3(const cb_table *csv, const char *dir, cb_claim_result *out);
-void cb_check_w1(const cb_table *csv, const char *dir, cb_claim_result *out);
-void cb_check_p1(const cb_table *csv, const char *dir, cb_claim_result *out);
 
 static int need(const cb_table *t, const char *name, const char *file, cb_claim_result *out) {
   int c = cb_table_col(t, name);

@@ -4,8 +4,6 @@
 
 #include "claims.h"
 
-void cb_check_T1(const cb_table *t, const char *results_dir, cb_claim_result *out);
-void cb_check_T2(const cb_table *t, const char *results_dir, cb_claim_result *out);
 
 /* The lecture's slide: edges and neighbouring-triangle pairs, in this order. */
 static const int want_edges[][2] = {{0, 1}, {0, 3}, {0, 4}, {1, 2}, {1, 3}, {2, 3}, {3, 4}};

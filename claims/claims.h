@@ -1,8 +1,9 @@
 /* The claims report: one entry per claim of CLAIMS.md, each decided by a
  * checker that reads its experiment's CSV. Verdicts come from the data only.
  *
- * To add a claim: write claims/check_<experiment>.c with a function of type
- * cb_claim_check, and add a row to the table in claims/claims.c. */
+ * To add a claim: write its checker, a function of type cb_claim_check, in
+ * claims/check_<experiment>.c, and add its X(...) entry to the list in
+ * claims/claims_list.h (which declares the checker and puts it in cb_claims[]). */
 #ifndef CB_CLAIMS_H
 #define CB_CLAIMS_H
 
@@ -31,6 +32,15 @@ typedef struct cb_claim {
   const char *figure;     /* PNGs in plots/out/, separated by spaces (the first is the main one), or NULL */
   cb_claim_check check;
 } cb_claim;
+
+/* Every checker of the list, declared from it. */
+#include "claims_list.h"
+#define CB_CLAIM_DECLARE(check_, id_, experiment_, text_, decided_by_, figure_) \
+  void check_(const cb_table *csv, const char *results_dir, cb_claim_result *out);
+CB_CLAIMS(CB_CLAIM_DECLARE)
+#undef CB_CLAIM_DECLARE
+/* J3's linear panel (check_linear_solvers.c), which cb_check_nonlinear_j3 runs. */
+void cb_check_j3(const cb_table *csv, const char *dir, cb_claim_result *out);
 
 extern const cb_claim cb_claims[];
 extern const int cb_nclaims;

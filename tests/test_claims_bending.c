@@ -9,9 +9,6 @@
 
 #include "claims.h"
 
-void cb_check_B1(const cb_table *t, const char *results_dir, cb_claim_result *out);
-void cb_check_B2(const cb_table *t, const char *results_dir, cb_claim_result *out);
-void cb_check_B3(const cb_table *t, const char *results_dir, cb_claim_result *out);
 
 static const char *header_plain = "# test\npart,model,mesh,n,angle_deg,stretch,radius_m,force_n,force_total_n,energy_j,energy_ref_j,ratio,"
                             "steps,newton_iters,assemble_ms,factor_ms,solve_ms,wall_ms,kinetic_j,rms_m,contacts,"

@@ -10,9 +10,6 @@
 
 #include "claims.h"
 
-void cb_check_E1(const cb_table *t, const char *results_dir, cb_claim_result *out);
-void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *out);
-void cb_check_I1(const cb_table *t, const char *results_dir, cb_claim_result *out);
 
 static const char *main_hdr = "# test\nkind,case,scene,k_n_per_m,dt_s,method,status,max_energy_ratio,steps,dt_crit_pred_s,dt_crit_meas_s,"
                               "not_converged_steps,t_mark_s,energy_loss_w,kinetic0_j,window_s,t_end_s\n";

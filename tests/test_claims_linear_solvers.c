@@ -9,10 +9,6 @@
 #include "claims.h"
 #include "support.h"
 
-void cb_check_j1(const cb_table *csv, const char *dir, cb_claim_result *out);
-void cb_check_j2(const cb_table *csv, const char *dir, cb_claim_result *out);
-void cb_check_j3(const cb_table *csv, const char *dir, cb_claim_result *out);
-void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out);
 
 static char dir[256];
 static FILE *main_csv, *scenes_csv;

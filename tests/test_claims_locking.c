@@ -9,10 +9,6 @@
 
 #include "claims.h"
 
-void cb_check_L1(const cb_table *t, const char *results_dir, cb_claim_result *out);
-void cb_check_L2(const cb_table *t, const char *results_dir, cb_claim_result *out);
-void cb_check_F1(const cb_table *t, const char *results_dir, cb_claim_result *out);
-void cb_check_S1(const cb_table *t, const char *results_dir, cb_claim_result *out);
 
 static char dir[64];
 

@@ -8,8 +8,6 @@
 
 #include "claims.h"
 
-void cb_check_T1(const cb_table *t, const char *results_dir, cb_claim_result *out);
-void cb_check_T2(const cb_table *t, const char *results_dir, cb_claim_result *out);
 
 static const char *header = "# test\nkind,mesh,i,j,vertices,triangles,edges,boundary_edges,predicted_edges,"
                             "boundary_loops,components,free_dofs,predicted_dofs,status\n";
