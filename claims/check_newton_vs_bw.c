@@ -26,7 +26,7 @@
 #include <clothbench/status.h>
 #include "stats.h"
 
-/* registered in claims.c */
+/* I2 and I3: their entries in claims_list.h */
 
 #define I2_LOCAL 0.1
 #define I2_FLOOR 1e-11
