@@ -39,17 +39,18 @@ endif
 # Layers, each compiled with only its own include paths, so the direction is
 # enforced by the build: a core file that includes an instrument or I/O header
 # does not compile (tests/layers.sh checks that it does not).
-# Order: core <- config <- {instruments, io} <- programs.
+# Order: core <- config <- instruments <- io <- programs.
 #   core         include/clothbench/ (public API) + lib/core/ (internal headers)
 #   config       lib/config/: the INI key table and its binding to core structs
-#   instruments  lib/instruments/: measurements on core objects
-#   io           lib/io/: what every program shares (CSV, provenance, progress)
+#   instruments  lib/instruments/: measurements on core objects (the thread probe too)
+#   io           lib/io/: what every program shares (CSV writing, provenance, progress);
+#                it writes the instruments' measurements (timings, observed threads)
 #   programs     tools/, experiments/<name>/, bench/, claims/, tests/: everything
 SYS_INC     := -I/usr/include/suitesparse $(if $(OPENBLAS_INC),-I$(OPENBLAS_INC))
 CORE_INC    := -Iinclude -Ilib/core
 CONFIG_INC  := -Iinclude -Ilib/config
 INSTR_INC   := -Iinclude -Ilib/config -Ilib/instruments
-IO_INC      := -Iinclude -Ilib/config -Ilib/io
+IO_INC      := -Iinclude -Ilib/config -Ilib/instruments -Ilib/io
 PROGRAM_INC := -Iinclude -Ilib/config -Ilib/instruments -Ilib/io -Iclaims
 CPPFLAGS := -D_POSIX_C_SOURCE=200809L $(SYS_INC)
 CFLAGS   := $(OPT) -g $(WARN) $(SAN)

@@ -43,6 +43,7 @@
 #include <clothbench/clothbench.h>
 #include <clothbench/rng.h>
 #include <clothbench/polar.h>
+#include "csv.h"
 #include "bind.h"
 #include "experiment.h"
 #include "provenance.h"
