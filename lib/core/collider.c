@@ -22,6 +22,7 @@
 #include <clothbench/scene.h>
 #include <clothbench/status.h>
 #include <clothbench/stencil.h>
+#include <clothbench/vec.h>
 
 const char *const cb_collider_names[] = {"none", "penalty", "project", NULL};
 
@@ -108,7 +109,7 @@ int cb_sphere_term_alloc(const cb_model *m, const cb_sphere *sp, cb_term **out) 
   if (st) return st;
   if (!(sp->stiffness >= 0) || !isfinite(sp->stiffness))
     return cb_fail("collider.stiffness: must be >= 0, got %g", sp->stiffness);
-  if (sp->velocity[0] != 0 || sp->velocity[1] != 0 || sp->velocity[2] != 0)
+  if (cb_v3_nonzero(sp->velocity))
     return cb_fail("collider.velocity: a moving sphere needs collider.type = project (the penalty energy has no time)");
   sphere_term *s = cb_calloc(1, sizeof *s);
   if (!s) return CB_ENOMEM;
