@@ -2,7 +2,8 @@
  * and parameters from the type's sizes, the linear solver when the type's
  * flags ask for one, and runs the scene's post-step stage after every step.
  * It knows nothing about any one type: a new one is a file with its
- * cb_integrator_type and one line in cb_integrator_types[]. */
+ * cb_integrator_type, its extern in integrator.h and a line in
+ * cb_integrator_types[]. */
 #include <clothbench/integrator.h>
 
 #include <cblas.h>
