@@ -15,6 +15,8 @@
 ## make san           make check under AddressSanitizer + UndefinedBehaviorSanitizer (build/san)
 ## make fuzz          libFuzzer on the config parser, OBJ reader, scene building (FUZZ_SECONDS=60)
 ## make deps          install the missing Debian packages (or print the command)
+## make format-check  clang-format 14 --dry-run -Werror over the C sources and headers (.clang-format)
+## make format        the same, rewriting the files in place
 ## make clean         remove build/;  make distclean  also results/ and plots/out/
 ##
 ## knobs: WERROR=1 (warnings are errors), QUICK=1 (reduced sweeps),
@@ -39,17 +41,18 @@ endif
 # Layers, each compiled with only its own include paths, so the direction is
 # enforced by the build: a core file that includes an instrument or I/O header
 # does not compile (tests/layers.sh checks that it does not).
-# Order: core <- config <- {instruments, io} <- programs.
+# Order: core <- config <- instruments <- io <- programs.
 #   core         include/clothbench/ (public API) + lib/core/ (internal headers)
 #   config       lib/config/: the INI key table and its binding to core structs
-#   instruments  lib/instruments/: measurements on core objects
-#   io           lib/io/: what every program shares (CSV, provenance, progress)
+#   instruments  lib/instruments/: measurements on core objects (the thread probe too)
+#   io           lib/io/: what every program shares (CSV writing, provenance, progress);
+#                it writes the instruments' measurements (timings, observed threads)
 #   programs     tools/, experiments/<name>/, bench/, claims/, tests/: everything
 SYS_INC     := -I/usr/include/suitesparse $(if $(OPENBLAS_INC),-I$(OPENBLAS_INC))
 CORE_INC    := -Iinclude -Ilib/core
 CONFIG_INC  := -Iinclude -Ilib/config
 INSTR_INC   := -Iinclude -Ilib/config -Ilib/instruments
-IO_INC      := -Iinclude -Ilib/config -Ilib/io
+IO_INC      := -Iinclude -Ilib/config -Ilib/instruments -Ilib/io
 PROGRAM_INC := -Iinclude -Ilib/config -Ilib/instruments -Ilib/io -Iclaims
 CPPFLAGS := -D_POSIX_C_SOURCE=200809L $(SYS_INC)
 CFLAGS   := $(OPT) -g $(WARN) $(SAN)
@@ -80,7 +83,7 @@ TEST_OBJ := $(BUILD)/tests/support.o
 help:
 	@sed -n 's/^##  \{0,1\}//p' $(firstword $(MAKEFILE_LIST))
 
-.PHONY: help determinism all test check check-all check-quick experiments run-experiments plots movies report bench san fuzz fuzz-build deps clean distclean FORCE
+.PHONY: help determinism all test check check-all check-quick experiments run-experiments plots movies report bench san fuzz fuzz-build deps format format-check clean distclean FORCE
 .DEFAULT_GOAL := all
 
 all: $(LIB) $(TOOLS) $(EXPS) $(BENCHES) $(BUILD)/report
@@ -292,6 +295,19 @@ bench: deps
 	$(PYTHON) scripts/readme-perf.py results README.md
 	$(EXP_ENV) $(BUILD)/bench_nonlinear --out results/bench_nonlinear.csv
 	$(PYTHON) scripts/readme-bench-nonlinear.py results README.md
+
+# ---- source format: .clang-format, by Debian 12's clang-format 14 ------------------
+CLANG_FORMAT ?= clang-format-14
+FORMAT_SRC := $(sort $(wildcard include/clothbench/*.h lib/*/*.[ch] tools/*.c experiments/*/*.[ch] claims/*.[ch] \
+  tests/*.[ch] bench/*.c bench/support/*.[ch] fuzz/*.[ch]))
+
+format-check:
+	@scripts/deps.sh clang-format-14
+	@$(CLANG_FORMAT) --dry-run -Werror $(FORMAT_SRC) && echo "format-check: $(words $(FORMAT_SRC)) files formatted"
+
+format:
+	@scripts/deps.sh clang-format-14
+	$(CLANG_FORMAT) -i $(FORMAT_SRC)
 
 clean:
 	rm -rf build

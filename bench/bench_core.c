@@ -9,7 +9,7 @@
  *     once under the thread settings every program uses and once with
  *     libgomp's dynamic adjustment off (Debian's CHOLMOD then starts its
  *     hard-coded 4 threads), paired sample by sample, with the threads
- *     observed during each (threads.h);
+ *     observed during each (thread_probe.h);
  *   - factorisation GFlop/s (Common->fl / time) next to a single-thread
  *     dgemm interleaved with it, and the analysis next to the
  *     factorisations of a run (integrator.steps x Newton iterations);
@@ -41,6 +41,7 @@
 #include <string.h>
 
 #include <clothbench/clothbench.h>
+#include "csv.h"
 #include "bind.h"
 #include "experiment.h"
 #include "provenance.h"
@@ -48,6 +49,7 @@
 #include "stats.h"
 #include "support/bench_support.h"
 #include "support/blas_profile.h"
+#include "thread_probe.h"
 #include "threads.h"
 
 

@@ -27,6 +27,7 @@
 
 #include <clothbench/clothbench.h>
 #include <clothbench/timer.h>
+#include "csv.h"
 #include "bind.h"
 #include "experiment.h"
 #include "provenance.h"

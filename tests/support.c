@@ -45,6 +45,50 @@ const char *test_tmpfile(const char *suffix, const char *text) {
   return path;
 }
 
+void test_put(const char *dir, const char *name, const char *head, const char *text) {
+  char path[512];
+  snprintf(path, sizeof path, "%s/%s", dir, name);
+  FILE *f = fopen(path, "w");
+  cr_assert_not_null(f, "cannot write %s", path);
+  if (head) fputs(head, f);
+  fputs(text, f);
+  cr_assert_eq(fclose(f), 0, "cannot write %s", path);
+}
+
+cb_verdict test_decide_check(cb_claim_check check, const char *path, const char *dir, cb_claim_result *res) {
+  cb_table t;
+  cr_assert_eq(cb_table_read(path, &t), CB_OK, "%s", cb_error_message());
+  memset(res, 0, sizeof *res);
+  check(&t, dir, res);
+  cb_table_free(&t);
+  return res->verdict;
+}
+
+cb_verdict test_decide_rows(cb_claim_check check, const char *head, const char *rows, cb_claim_result *res) {
+  char path[] = "/tmp/cbclaimXXXXXX";
+  int fd = mkstemp(path);
+  cr_assert(fd >= 0, "mkstemp failed");
+  FILE *f = fdopen(fd, "w");
+  cr_assert_not_null(f);
+  fputs(head, f);
+  fputs(rows, f);
+  cr_assert_eq(fclose(f), 0, "cannot write %s", path);
+  cb_verdict v = test_decide_check(check, path, "/tmp", res);
+  unlink(path);
+  return v;
+}
+
+cb_verdict test_decide_claim(const char *id, const char *experiment, const char *dir, cb_claim_result *res) {
+  for (int i = 0; i < cb_nclaims; i++)
+    if (!strcmp(cb_claims[i].id, id)) {
+      if (experiment) cr_assert_str_eq(cb_claims[i].experiment, experiment);
+      cb_claim_decide(&cb_claims[i], dir, res);
+      return res->verdict;
+    }
+  cr_assert_fail("claim %s not registered", id);
+  return CB_NOT_RUN;
+}
+
 gsl_matrix *test_dense(const cb_sparse *A) {
   gsl_matrix *D = gsl_matrix_calloc((size_t)A->n, (size_t)A->n);
   for (int j = 0; j < A->n; j++)

@@ -6,6 +6,7 @@
 
 #include <clothbench/clothbench.h>
 #include "bind.h"
+#include "claims.h"
 #include "experiment.h"
 #include "provenance.h"
 
@@ -24,6 +25,23 @@ const char *test_tmpfile(const char *suffix, const char *text);
 /* m_i = density * (sum of adjacent rest triangle areas) / 3, computed here
  * from the mesh alone (independently of the library's lumping). */
 void test_lumped_masses(const cb_mesh *m, double density, double *mass);
+
+/* ---- the claims tests: fixture CSVs and verdicts ---- */
+
+/* Writes dir/name: head (unless NULL: a provenance line or the header row),
+ * then text. Aborts the test when the file cannot be written. */
+void test_put(const char *dir, const char *name, const char *head, const char *text);
+/* Reads the CSV at path and runs check on it with results_dir dir; res
+ * (cleared first) gets the result, whose verdict is returned. Aborts the
+ * test when the CSV cannot be read. */
+cb_verdict test_decide_check(cb_claim_check check, const char *path, const char *dir, cb_claim_result *res);
+/* The same on a CSV of head followed by rows, written to a temporary file
+ * (removed after), with /tmp as results_dir. */
+cb_verdict test_decide_rows(cb_claim_check check, const char *head, const char *rows, cb_claim_result *res);
+/* Decides the registered claim id on the CSVs in dir (cb_claim_decide);
+ * aborts the test when id is not registered or, unless experiment is NULL,
+ * belongs to another experiment. */
+cb_verdict test_decide_claim(const char *id, const char *experiment, const char *dir, cb_claim_result *res);
 
 /* Dense copy of a cb_sparse (caller frees with gsl_matrix_free). */
 gsl_matrix *test_dense(const cb_sparse *A);

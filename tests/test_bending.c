@@ -20,6 +20,8 @@
 
 #include <clothbench/clothbench.h>
 #include <clothbench/collider.h>
+#include <clothbench/rng.h>
+#include <clothbench/vec.h>
 
 #include "support.h"
 
@@ -57,14 +59,6 @@ static void model_free(tmodel *t) {
   free(t->fi);
 }
 
-static void sub(const double *a, const double *b, double *o) { for (int k = 0; k < 3; k++) o[k] = a[k] - b[k]; }
-static double dot(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-static void cross(const double *a, const double *b, double *o) {
-  o[0] = a[1] * b[2] - a[2] * b[1];
-  o[1] = a[2] * b[0] - a[0] * b[2];
-  o[2] = a[0] * b[1] - a[1] * b[0];
-}
-
 Test(bending, dihedral_gradient_is_parallel_to_the_lecture_u) {
   tmodel t;
   grid_model(&t, 2, 1.0); /* two triangles, one hinge */
@@ -73,39 +67,36 @@ Test(bending, dihedral_gradient_is_parallel_to_the_lecture_u) {
   cb_hinge_vertices(&t.topo, v);
   cb_term *term;
   cr_assert_eq(cb_hinge_term_alloc(&t.model, "bend", 0.7, &term), CB_OK);
-  uint64_t seed = 5;
+  cb_rng seed = cb_rng_raw(5);
   for (int trial = 0; trial < 20; trial++) {
     double x[12];
-    for (int i = 0; i < 12; i++) {
-      seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
-      x[i] = t.mesh.x[i] + 0.25 * ((double)(seed >> 11) / 9007199254740992.0 - 0.5);
-    }
+    for (int i = 0; i < 12; i++) x[i] = t.mesh.x[i] + 0.25 * (cb_rng_uniform(&seed) - 0.5);
     double g[12] = {0};
     term->type->energy(term, x, g);
     /* the slide's labels: x1, x2 the wings, x3, x4 the edge, E = x4 - x3 */
     const double *x1 = x + 3 * v[2], *x2 = x + 3 * v[3], *x3 = x + 3 * v[0], *x4 = x + 3 * v[1];
     double E[3], a[3], b[3], N1[3], N2[3];
-    sub(x4, x3, E);
-    sub(x1, x3, a); sub(x1, x4, b); cross(a, b, N1);
-    sub(x2, x4, a); sub(x2, x3, b); cross(a, b, N2);
-    double lE = sqrt(dot(E, E)), n1 = dot(N1, N1), n2 = dot(N2, N2), u[4][3], d14[3], d24[3], d13[3], d23[3];
-    sub(x1, x4, d14); sub(x2, x4, d24); sub(x1, x3, d13); sub(x2, x3, d23);
+    cb_v3_sub(x4, x3, E);
+    cb_v3_sub(x1, x3, a); cb_v3_sub(x1, x4, b); cb_v3_cross(a, b, N1);
+    cb_v3_sub(x2, x4, a); cb_v3_sub(x2, x3, b); cb_v3_cross(a, b, N2);
+    double lE = sqrt(cb_v3_dot(E, E)), n1 = cb_v3_dot(N1, N1), n2 = cb_v3_dot(N2, N2), u[4][3], d14[3], d24[3], d13[3], d23[3];
+    cb_v3_sub(x1, x4, d14); cb_v3_sub(x2, x4, d24); cb_v3_sub(x1, x3, d13); cb_v3_sub(x2, x3, d23);
     for (int k = 0; k < 3; k++) {
       u[0][k] = lE * N1[k] / n1;
       u[1][k] = lE * N2[k] / n2;
-      u[2][k] = dot(d14, E) / lE * N1[k] / n1 + dot(d24, E) / lE * N2[k] / n2;
-      u[3][k] = -dot(d13, E) / lE * N1[k] / n1 - dot(d23, E) / lE * N2[k] / n2;
+      u[2][k] = cb_v3_dot(d14, E) / lE * N1[k] / n1 + cb_v3_dot(d24, E) / lE * N2[k] / n2;
+      u[3][k] = -cb_v3_dot(d13, E) / lE * N1[k] / n1 - cb_v3_dot(d23, E) / lE * N2[k] / n2;
     }
     const int role[4] = {v[2], v[3], v[0], v[1]};
     double lambda = NAN;
     for (int i = 0; i < 4; i++) {
       const double *gi = g + 3 * role[i];
       double c[3];
-      cross(gi, u[i], c);
-      double gn = sqrt(dot(gi, gi)), un = sqrt(dot(u[i], u[i]));
-      cr_expect(sqrt(dot(c, c)) <= 1e-9 * gn * un, "trial %d: grad at u_%d not parallel (|g x u| = %g)", trial, i + 1,
-                sqrt(dot(c, c)));
-      double l = dot(gi, u[i]) / dot(u[i], u[i]); /* grad_i E = lambda u_i, one lambda = k c (theta - theta_bar) */
+      cb_v3_cross(gi, u[i], c);
+      double gn = sqrt(cb_v3_dot(gi, gi)), un = sqrt(cb_v3_dot(u[i], u[i]));
+      cr_expect(sqrt(cb_v3_dot(c, c)) <= 1e-9 * gn * un, "trial %d: grad at u_%d not parallel (|g x u| = %g)", trial, i + 1,
+                sqrt(cb_v3_dot(c, c)));
+      double l = cb_v3_dot(gi, u[i]) / cb_v3_dot(u[i], u[i]); /* grad_i E = lambda u_i, one lambda = k c (theta - theta_bar) */
       if (i == 0) lambda = l;
       else cr_expect(fabs(l - lambda) <= 1e-9 * fabs(lambda), "trial %d: u_%d scale %g, u_1 scale %g", trial, i + 1, l, lambda);
     }
@@ -210,19 +201,19 @@ Test(bending, b1_restoring_force_slopes_near_flat) {
       memcpy(x, t.mesh.x, sizeof x);
       const double *o = t.mesh.x + 3 * v[0];
       double e[3], w[3], n[3];
-      sub(t.mesh.x + 3 * v[1], o, e);
-      double le = sqrt(dot(e, e));
+      cb_v3_sub(t.mesh.x + 3 * v[1], o, e);
+      double le = sqrt(cb_v3_dot(e, e));
       for (int a = 0; a < 3; a++) e[a] /= le;
-      sub(t.mesh.x + 3 * v[3], o, w);
-      double along = dot(w, e), r[3];
+      cb_v3_sub(t.mesh.x + 3 * v[3], o, w);
+      double along = cb_v3_dot(w, e), r[3];
       for (int a = 0; a < 3; a++) r[a] = w[a] - along * e[a];
-      cross(e, r, n);
+      cb_v3_cross(e, r, n);
       for (int a = 0; a < 3; a++) x[3 * v[3] + a] = o[a] + along * e[a] + cos(phi) * r[a] + sin(phi) * n[a];
       term->type->energy(term, x, g);
       /* the restoring part: along dx3/dphi = cos(phi) n - sin(phi) r (|r| = |n|, the arm) */
-      double tan_[3], lr = sqrt(dot(r, r));
+      double tan_[3], lr = sqrt(cb_v3_dot(r, r));
       for (int a = 0; a < 3; a++) tan_[a] = (cos(phi) * n[a] - sin(phi) * r[a]) / lr;
-      F[k] = fabs(dot(g + 3 * v[3], tan_));
+      F[k] = fabs(cb_v3_dot(g + 3 * v[3], tan_));
     }
     double slope = log(F[1] / F[0]) / log(2.0);
     cr_expect(fabs(slope - want[m]) < 0.05, "%s: slope %.4f, expected %g", models[m], slope, want[m]);
@@ -249,16 +240,16 @@ Test(bending, project_leaves_no_vertex_inside_and_corrects_velocity) {
   int inside = 0;
   for (int i = 0; i < nv; i++) {
     double dd[3];
-    sub(x + 3 * i, c, dd);
-    inside += s->free_index[i] >= 0 && dot(dd, dd) < R * R;
+    cb_v3_sub(x + 3 * i, c, dd);
+    inside += s->free_index[i] >= 0 && cb_v3_dot(dd, dd) < R * R;
   }
   cr_assert_gt(inside, 0, "the test needs vertices inside the sphere");
   cr_assert_eq(cb_scene_post_step(s, x, v, dt), CB_OK);
   cr_expect_eq(cb_scene_contacts(s, x), inside);
   for (int i = 0; i < nv; i++) {
     double dd[3];
-    sub(x + 3 * i, c, dd);
-    if (s->free_index[i] >= 0) cr_expect(sqrt(dot(dd, dd)) >= R * (1 - 1e-12), "vertex %d inside: %g", i, sqrt(dot(dd, dd)));
+    cb_v3_sub(x + 3 * i, c, dd);
+    if (s->free_index[i] >= 0) cr_expect(sqrt(cb_v3_dot(dd, dd)) >= R * (1 - 1e-12), "vertex %d inside: %g", i, sqrt(cb_v3_dot(dd, dd)));
     for (int a = 0; a < 3; a++)
       cr_expect(fabs(v[3 * i + a] - (x[3 * i + a] - x0[3 * i + a]) / dt) < 1e-12, "vertex %d: velocity not corrected", i);
   }
@@ -277,8 +268,8 @@ Test(bending, penalty_counts_contacts_and_rejects_a_moving_sphere) {
   int inside = 0;
   for (int i = 0; i < s->mesh.nv; i++) {
     double dd[3];
-    sub(s->x0 + 3 * i, d.sphere.centre, dd);
-    inside += dot(dd, dd) < 0.31 * 0.31;
+    cb_v3_sub(s->x0 + 3 * i, d.sphere.centre, dd);
+    inside += cb_v3_dot(dd, dd) < 0.31 * 0.31;
   }
   cr_expect_gt(inside, 0);
   cr_expect_eq(cb_scene_contacts(s, s->x0), inside);
@@ -324,7 +315,7 @@ Test(bending, project_works_under_explicit_and_newton) {
     cr_expect_gt(contacts, 0, "%s: the cloth never touched the sphere", methods[m]);
     for (int i = 0; i < nv; i++) {
       double dd[3] = {x[3 * i], x[3 * i + 1] + 0.3, x[3 * i + 2]};
-      cr_expect(sqrt(dot(dd, dd)) >= 0.25 * (1 - 1e-12), "%s: vertex %d inside", methods[m], i);
+      cr_expect(sqrt(cb_v3_dot(dd, dd)) >= 0.25 * (1 - 1e-12), "%s: vertex %d inside", methods[m], i);
     }
     free(x);
     free(v);

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "claims.h"
+#include "support.h"
 
 
 static const char *header_plain = "# test\npart,model,mesh,n,angle_deg,stretch,radius_m,force_n,force_total_n,energy_j,energy_ref_j,ratio,"
@@ -23,21 +24,8 @@ static const char *header;
 
 static cb_claim_result res;
 
-static cb_verdict decide(const char *rows, void (*check)(const cb_table *, const char *, cb_claim_result *)) {
-  char path[] = "/tmp/cbclaimXXXXXX";
-  int fd = mkstemp(path);
-  cr_assert(fd >= 0);
-  FILE *f = fdopen(fd, "w");
-  fputs(header ? header : header_plain, f);
-  fputs(rows, f);
-  fclose(f);
-  cb_table t;
-  cr_assert_eq(cb_table_read(path, &t), 0);
-  memset(&res, 0, sizeof res);
-  check(&t, "/tmp", &res);
-  cb_table_free(&t);
-  unlink(path);
-  return res.verdict;
+static cb_verdict decide(const char *rows, cb_claim_check check) {
+  return test_decide_rows(check, header ? header : header_plain, rows, &res);
 }
 
 /* b1 rows F = c theta^p for the spring (p_spring) and two hinges (p_hinge) */

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "claims.h"
+#include "support.h"
 
 
 static const char *main_hdr = "# test\nkind,case,scene,k_n_per_m,dt_s,method,status,max_energy_ratio,steps,dt_crit_pred_s,dt_crit_meas_s,"
@@ -22,33 +23,19 @@ static const char *time_hdr = "# test\nscene,family,n_vertices,k_n_per_m,method,
 static char dir[64];
 static char main_rows[65536], bound_rows[8192], time_rows[16384];
 
-static void put(const char *name, const char *hdr, const char *rows) {
-  char path[256];
-  snprintf(path, sizeof path, "%s/%s", dir, name);
-  FILE *f = fopen(path, "w");
-  cr_assert(f);
-  fputs(hdr, f);
-  fputs(rows, f);
-  fclose(f);
-}
-
 static cb_claim_result last; /* the result of the last decide() */
 
-static cb_verdict decide(void (*check)(const cb_table *, const char *, cb_claim_result *)) {
+static cb_verdict decide(cb_claim_check check) {
   snprintf(dir, sizeof dir, "/tmp/cbclaimsXXXXXX");
   cr_assert(mkdtemp(dir));
-  put("explicit_stability.csv", main_hdr, main_rows);
-  put("explicit_stability_boundary.csv", bound_hdr, bound_rows);
-  put("explicit_stability_timing.csv", time_hdr, time_rows);
+  test_put(dir, "explicit_stability.csv", main_hdr, main_rows);
+  test_put(dir, "explicit_stability_boundary.csv", bound_hdr, bound_rows);
+  test_put(dir, "explicit_stability_timing.csv", time_hdr, time_rows);
   char path[256];
   snprintf(path, sizeof path, "%s/explicit_stability.csv", dir);
-  cb_table t;
-  cr_assert_eq(cb_table_read(path, &t), 0);
   cb_claim_result r;
-  memset(&r, 0, sizeof r);
-  check(&t, dir, &r);
+  test_decide_check(check, path, dir, &r);
   last = r;
-  cb_table_free(&t);
   const char *names[] = {"explicit_stability.csv", "explicit_stability_boundary.csv", "explicit_stability_timing.csv"};
   for (int i = 0; i < 3; i++) {
     snprintf(path, sizeof path, "%s/%s", dir, names[i]);

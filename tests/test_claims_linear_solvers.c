@@ -60,17 +60,12 @@ static void run(const char *sc, const char *sweep, const char *solver, double al
   }
 }
 
-static cb_verdict decide(void (*check)(const cb_table *, const char *, cb_claim_result *), cb_claim_result *res) {
+static cb_verdict decide(cb_claim_check check, cb_claim_result *res) {
   fclose(main_csv);
   fclose(scenes_csv);
   char p[512];
   snprintf(p, sizeof p, "%s/linear_solvers.csv", dir);
-  cb_table t;
-  cr_assert_eq(cb_table_read(p, &t), CB_OK, "%s", cb_error_message());
-  memset(res, 0, sizeof *res);
-  check(&t, dir, res);
-  cb_table_free(&t);
-  return res->verdict;
+  return test_decide_check(check, p, dir, res);
 }
 
 /* eig(D^-1 A) in [0.1, 2.5]: rho(1) = 1.5, rho(0.5) = 0.95, limit 2/2.5 = 0.8 */

@@ -8,18 +8,12 @@
 #include <unistd.h>
 
 #include "claims.h"
+#include "support.h"
 
 
 static char dir[64];
 
-static void put(const char *name, const char *text) {
-  char path[128];
-  snprintf(path, sizeof path, "%s/%s", dir, name);
-  FILE *f = fopen(path, "w");
-  cr_assert(f);
-  fputs(text, f);
-  fclose(f);
-}
+static void put(const char *name, const char *text) { test_put(dir, name, NULL, text); }
 
 static void setup(void) {
   snprintf(dir, sizeof dir, "/tmp/cblockXXXXXX");
@@ -38,15 +32,10 @@ static void teardown(void) {
 
 static cb_claim_result last; /* the result of the last decide() */
 
-static cb_verdict decide(void (*check)(const cb_table *, const char *, cb_claim_result *)) {
+static cb_verdict decide(cb_claim_check check) {
   char path[128];
   snprintf(path, sizeof path, "%s/locking.csv", dir);
-  cb_table t;
-  cr_assert_eq(cb_table_read(path, &t), 0);
-  memset(&last, 0, sizeof last);
-  check(&t, dir, &last);
-  cb_table_free(&t);
-  return last.verdict;
+  return test_decide_check(check, path, dir, &last);
 }
 
 static const char *l1_head = "# test\nmodel,mesh,fold,on_edges,k_n_per_m,fold_angle_deg,status\n";

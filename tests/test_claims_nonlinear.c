@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "claims.h"
+#include "support.h"
 
 static char dir[64];
 
@@ -28,26 +29,9 @@ static void teardown(void) {
   remove(dir);
 }
 
-static void put(const char *name, const char *text) {
-  char path[256];
-  snprintf(path, sizeof path, "%s/%s", dir, name);
-  FILE *f = fopen(path, "w");
-  cr_assert(f);
-  fputs("# experiment: nonlinear\n", f);
-  fputs(text, f);
-  fclose(f);
-}
+static void put(const char *name, const char *text) { test_put(dir, name, "# experiment: nonlinear\n", text); }
 
-static cb_verdict decide(const char *id, cb_claim_result *res) {
-  for (int i = 0; i < cb_nclaims; i++)
-    if (!strcmp(cb_claims[i].id, id)) {
-      cr_assert_str_eq(cb_claims[i].experiment, "nonlinear");
-      cb_claim_decide(&cb_claims[i], dir, res);
-      return res->verdict;
-    }
-  cr_assert_fail("claim %s not in the table", id);
-  return CB_NOT_RUN;
-}
+static cb_verdict decide(const char *id, cb_claim_result *res) { return test_decide_claim(id, "nonlinear", dir, res); }
 
 /* ---- J3 ---- */
 

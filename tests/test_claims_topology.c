@@ -7,27 +7,15 @@
 #include <unistd.h>
 
 #include "claims.h"
+#include "support.h"
 
 
 static const char *header = "# test\nkind,mesh,i,j,vertices,triangles,edges,boundary_edges,predicted_edges,"
                             "boundary_loops,components,free_dofs,predicted_dofs,status\n";
 
-static cb_verdict decide(const char *rows, void (*check)(const cb_table *, const char *, cb_claim_result *)) {
-  char path[] = "/tmp/cbclaimXXXXXX";
-  int fd = mkstemp(path);
-  cr_assert(fd >= 0);
-  FILE *f = fdopen(fd, "w");
-  fputs(header, f);
-  fputs(rows, f);
-  fclose(f);
-  cb_table t;
-  cr_assert_eq(cb_table_read(path, &t), 0);
+static cb_verdict decide(const char *rows, cb_claim_check check) {
   static cb_claim_result r;
-  memset(&r, 0, sizeof r);
-  check(&t, "/tmp", &r);
-  cb_table_free(&t);
-  unlink(path);
-  return r.verdict;
+  return test_decide_rows(check, header, rows, &r);
 }
 
 static const char *slide = "edge,lecture,0,1,,,,,,,,,,ok\nedge,lecture,0,3,,,,,,,,,,ok\nedge,lecture,0,4,,,,,,,,,,ok\n"

@@ -1,6 +1,6 @@
 /* Config (INI + --set), pins, scene contents and lumped masses.
  *
- * Defaults are the documented ones (the key table in lib/core/config.c and the
+ * Defaults are the documented ones (the key table in lib/config/config.c and the
  * physical model in DESIGN.md). Error messages must read
  * "file:LINE: section.key: reason". Masses are checked against hand counts of
  * the triangles around each grid vertex: m_i = density * (sum of adjacent

@@ -1,4 +1,4 @@
-/* cb_csv_printf (include/clothbench/csv.h): NaN of either sign is `nan`,
+/* cb_csv_printf (lib/io/csv.h): NaN of either sign is `nan`,
  * infinities `inf` / `-inf`, cb_csv_na() the empty field, and every other
  * conversion what fprintf writes. Expected strings are spelled out here. */
 #include <criterion/criterion.h>
@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/csv.h>
+#include "csv.h"
 
 /* cb_csv_printf into a string (the format checked by the compiler) */
 #define PRINT(buf, ...)                                                                       \

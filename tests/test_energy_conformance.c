@@ -34,12 +34,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <clothbench/rng.h>
 #include "support.h"
-
-static double urand(uint64_t *s) { /* uniform in [0, 1), 64-bit LCG */
-  *s = *s * 6364136223846793005ULL + 1442695040888963407ULL;
-  return (double)(*s >> 11) / 9007199254740992.0;
-}
 
 /* ---- small models -------------------------------------------------------------- */
 
@@ -58,7 +54,8 @@ enum { NMESHES = 5 };
  * 2: 3x3 alternating grid with a non-planar, jittered rest shape;
  * 3: 4x3 grid with vertices 0 and 5 pinned; 4: 3x4 grid with a whole row
  * pinned (elements between two pinned vertices). Random masses. */
-static void model_init(tmodel *t, int kind, uint64_t seed) {
+static void model_init(tmodel *t, int kind, uint64_t seed0) {
+  cb_rng seed = cb_rng_raw(seed0);
   memset(t, 0, sizeof *t);
   static const char *const names[NMESHES] = {"one spring", "two triangles", "3x3 jittered", "4x3 pinned 0,5",
                                              "3x4 pinned row"};
@@ -76,14 +73,14 @@ static void model_init(tmodel *t, int kind, uint64_t seed) {
     cr_assert_eq(cb_mesh_grid(&g, &t->mesh), CB_OK);
   }
   if (kind == 2)
-    for (int i = 0; i < 3 * t->mesh.nv; i++) t->mesh.x[i] += 0.05 * (2 * urand(&seed) - 1);
+    for (int i = 0; i < 3 * t->mesh.nv; i++) t->mesh.x[i] += 0.05 * (2 * cb_rng_uniform(&seed) - 1);
   cr_assert_eq(cb_topology_build(&t->mesh, &t->topo), CB_OK);
   int nv = t->mesh.nv, nfree = 0;
   t->mass = malloc((size_t)nv * sizeof(double));
   t->free_index = malloc((size_t)nv * sizeof(int));
   cr_assert(t->mass && t->free_index);
   for (int i = 0; i < nv; i++) {
-    t->mass[i] = 0.5 + urand(&seed);
+    t->mass[i] = 0.5 + cb_rng_uniform(&seed);
     int pinned = (kind == 3 && (i == 0 || i == 5)) || (kind == 4 && i >= 9);
     t->free_index[i] = pinned ? -1 : nfree++;
   }
@@ -102,13 +99,14 @@ static const char *const state_names[NSTATES] = {"stretched", "compressed", "ran
 
 /* x = c + s (X - c) + jitter: s = 1.3 (stretched), 0.7 (compressed), or the
  * rest shape with large 3D jitter (random). */
-static void state(const tmodel *t, int kind, uint64_t seed, double *x) {
+static void state(const tmodel *t, int kind, uint64_t seed0, double *x) {
+  cb_rng seed = cb_rng_raw(seed0);
   int nv = t->mesh.nv;
   double c[3] = {0, 0, 0};
   for (int i = 0; i < nv; i++)
     for (int a = 0; a < 3; a++) c[a] += t->mesh.x[3 * i + a] / nv;
   double s = kind == 0 ? 1.3 : kind == 1 ? 0.7 : 1.0, amp = kind == 2 ? 0.12 : 0.02;
-  for (int i = 0; i < 3 * nv; i++) x[i] = c[i % 3] + s * (t->mesh.x[i] - c[i % 3]) + amp * (2 * urand(&seed) - 1);
+  for (int i = 0; i < 3 * nv; i++) x[i] = c[i % 3] + s * (t->mesh.x[i] - c[i % 3]) + amp * (2 * cb_rng_uniform(&seed) - 1);
 }
 
 /* ---- the checks ------------------------------------------------------------------- */
@@ -657,11 +655,11 @@ Test(energy_conformance, stencil_scatters_dense_triangle_elements) {
   cr_assert_eq(cb_stencil_bind(&st, &A, "triangle"), CB_OK, "%s", cb_error_message());
   double *He = malloc((size_t)nt * 81 * sizeof(double)), *ge = malloc((size_t)nt * 9 * sizeof(double));
   cr_assert(He && ge);
-  uint64_t seed = 4;
+  cb_rng seed = cb_rng_raw(4);
   for (int e = 0; e < nt; e++) {
     for (int i = 0; i < 9; i++)
-      for (int j = 0; j <= i; j++) He[81 * e + 9 * i + j] = He[81 * e + 9 * j + i] = 2 * urand(&seed) - 1;
-    for (int i = 0; i < 9; i++) ge[9 * e + i] = 2 * urand(&seed) - 1;
+      for (int j = 0; j <= i; j++) He[81 * e + 9 * i + j] = He[81 * e + 9 * j + i] = 2 * cb_rng_uniform(&seed) - 1;
+    for (int i = 0; i < 9; i++) ge[9 * e + i] = 2 * cb_rng_uniform(&seed) - 1;
   }
   gsl_matrix *D = gsl_matrix_calloc((size_t)3 * nf, (size_t)3 * nf);
   double *gd = calloc((size_t)3 * t.mesh.nv, sizeof(double)), *g = calloc((size_t)3 * t.mesh.nv, sizeof(double));

@@ -13,22 +13,19 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <clothbench/rng.h>
 #include "support.h"
 
-static double urand(uint64_t *s) { /* uniform in [0, 1), 64-bit LCG */
-  *s = *s * 6364136223846793005ULL + 1442695040888963407ULL;
-  return (double)(*s >> 11) / 9007199254740992.0;
-}
-
 /* Q = product of 3 Householder reflections I - 2 v v^T / (v^T v), row-major n x n. */
-static void random_orthogonal(int n, uint64_t seed, double *Q) {
+static void random_orthogonal(int n, uint64_t seed0, double *Q) {
+  cb_rng seed = cb_rng_raw(seed0);
   double *v = malloc((size_t)n * sizeof(double)), *R = malloc((size_t)n * n * sizeof(double));
   cr_assert(v && R);
   for (int i = 0; i < n * n; i++) Q[i] = (i % (n + 1)) == 0;
   for (int h = 0; h < 3; h++) {
     double vv = 0;
     for (int i = 0; i < n; i++) {
-      v[i] = 2 * urand(&seed) - 1;
+      v[i] = 2 * cb_rng_uniform(&seed) - 1;
       vv += v[i] * v[i];
     }
     for (int i = 0; i < n; i++) /* R = Q (I - 2 v v^T / vv) */
@@ -64,10 +61,10 @@ Test(projection, clamp_and_abs_match_the_chosen_spectrum) {
     int n = sizes[s];
     double Q[144], lambda[12], H[144], P[144], E[144];
     random_orthogonal(n, 11 + s, Q);
-    uint64_t seed = 100 + s;
+    cb_rng seed = cb_rng_raw(100 + s);
     int neg = 0;
     for (int k = 0; k < n; k++) { /* eigenvalues in [-50, 100], every third one negative */
-      lambda[k] = k % 3 == 1 ? -(1 + 49 * urand(&seed)) : 1 + 99 * urand(&seed);
+      lambda[k] = k % 3 == 1 ? -(1 + 49 * cb_rng_uniform(&seed)) : 1 + 99 * cb_rng_uniform(&seed);
       neg += lambda[k] < 0;
     }
     compose(n, Q, lambda, 0, H);

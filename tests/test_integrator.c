@@ -14,6 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "csv.h"
 #include "support.h"
 
 /* ---- helpers ------------------------------------------------------------------ */

@@ -13,21 +13,17 @@
 #include <string.h>
 
 #include <clothbench/polar.h>
+#include <clothbench/rng.h>
 #include "support.h"
-
-static double urand(uint64_t *s) {
-  *s = *s * 6364136223846793005ULL + 1442695040888963407ULL;
-  return (double)(*s >> 11) / 9007199254740992.0;
-}
 
 /* ---- polar decomposition ------------------------------------------------------- */
 
 Test(polar, matches_gsl_svd_on_random_3x2_and_3x3) {
-  uint64_t seed = 12;
+  cb_rng seed = cb_rng_raw(12);
   for (int trial = 0; trial < 200; trial++) {
     double F[6], A[9], R[9], sg[3];
-    for (int i = 0; i < 6; i++) F[i] = 2 * urand(&seed) - 1;
-    for (int i = 0; i < 9; i++) A[i] = 2 * urand(&seed) - 1;
+    for (int i = 0; i < 6; i++) F[i] = 2 * cb_rng_uniform(&seed) - 1;
+    for (int i = 0; i < 9; i++) A[i] = 2 * cb_rng_uniform(&seed) - 1;
     /* 3x2: R = U V^T from an independent GSL SVD */
     gsl_matrix *U = gsl_matrix_alloc(3, 2), *V = gsl_matrix_alloc(2, 2);
     gsl_vector *S = gsl_vector_alloc(2), *w = gsl_vector_alloc(2);
@@ -130,10 +126,10 @@ Test(fem, energy_is_zero_under_rigid_motions_and_the_gradient_is_the_frozen_R_fo
   triangle(&t, 0.3, 0);
   cb_term *f = NULL;
   cr_assert_eq(cb_fem_term_alloc(&t.model, "stretch", 700.0, CB_FEM_EXACT, &f), CB_OK);
-  uint64_t seed = 5;
+  cb_rng seed = cb_rng_raw(5);
   for (int trial = 0; trial < 20; trial++) {
     /* a random rotation (GSL QR-free: Rodrigues about a random axis) and translation */
-    double ax[3] = {urand(&seed) - 0.5, urand(&seed) - 0.5, urand(&seed) - 0.5}, n = 0, th = 6 * urand(&seed);
+    double ax[3] = {cb_rng_uniform(&seed) - 0.5, cb_rng_uniform(&seed) - 0.5, cb_rng_uniform(&seed) - 0.5}, n = 0, th = 6 * cb_rng_uniform(&seed);
     for (int a = 0; a < 3; a++) n += ax[a] * ax[a];
     n = sqrt(n);
     for (int a = 0; a < 3; a++) ax[a] /= n;
@@ -144,7 +140,7 @@ Test(fem, energy_is_zero_under_rigid_motions_and_the_gradient_is_the_frozen_R_fo
         for (int k = 0; k < 3; k++) kk += K[3 * i + k] * K[3 * k + j];
         Q[3 * i + j] = (i == j) + sin(th) * K[3 * i + j] + (1 - cos(th)) * kk;
       }
-    double x[9], g[9] = {0}, tr[3] = {urand(&seed), urand(&seed), urand(&seed)};
+    double x[9], g[9] = {0}, tr[3] = {cb_rng_uniform(&seed), cb_rng_uniform(&seed), cb_rng_uniform(&seed)};
     for (int v = 0; v < 3; v++)
       for (int a = 0; a < 3; a++)
         x[3 * v + a] = tr[a] + Q[3 * a] * t.mesh.x[3 * v] + Q[3 * a + 1] * t.mesh.x[3 * v + 1] + Q[3 * a + 2] * t.mesh.x[3 * v + 2];
@@ -152,7 +148,7 @@ Test(fem, energy_is_zero_under_rigid_motions_and_the_gradient_is_the_frozen_R_fo
     cr_expect(fabs(E) < 1e-20, "trial %d: E = %g under a rigid motion", trial, E);
     for (int i = 0; i < 9; i++) cr_expect(fabs(g[i]) < 1e-9, "trial %d: grad %d = %g", trial, i, g[i]);
     /* deform, then compare with the lecture's force: f_1 = -mu (x1 - x0 - R(r1 - r0)) etc. (D_m = h I) */
-    for (int i = 0; i < 9; i++) x[i] += 0.05 * (2 * urand(&seed) - 1);
+    for (int i = 0; i < 9; i++) x[i] += 0.05 * (2 * cb_rng_uniform(&seed) - 1);
     memset(g, 0, sizeof g);
     f->type->energy(f, x, g);
     double h = 0.3, F[6], R[6];
@@ -292,10 +288,10 @@ Test(shape_matching, conserves_linear_and_angular_momentum) {
   cb_integrator *it = test_integrator(sets, s, NULL, NULL);
   int n3 = 3 * s->mesh.nv;
   double *x = malloc((size_t)n3 * sizeof(double)), *v = malloc((size_t)n3 * sizeof(double));
-  uint64_t seed = 3;
+  cb_rng seed = cb_rng_raw(3);
   for (int i = 0; i < n3; i++) { /* deformed and spinning */
-    x[i] = s->mesh.x[i] * (1 + 0.2 * (i % 3 == 0)) + 0.03 * (2 * urand(&seed) - 1);
-    v[i] = 0.5 * (2 * urand(&seed) - 1);
+    x[i] = s->mesh.x[i] * (1 + 0.2 * (i % 3 == 0)) + 0.03 * (2 * cb_rng_uniform(&seed) - 1);
+    v[i] = 0.5 * (2 * cb_rng_uniform(&seed) - 1);
   }
   double P0[3], L0[3], P[3], L[3];
   momenta(s, x, v, P0, L0);

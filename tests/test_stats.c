@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "csv.h"
 #include "stats.h"
 
 Test(stats, median_min_max_leave_the_order_alone) {

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <clothbench/clothbench.h>
+#include "csv.h"
 #include "bind.h"
 #include "blas_kernel.h"
 #include "experiment.h"

@@ -43,6 +43,7 @@
 #include <clothbench/clothbench.h>
 #include <clothbench/collider.h>
 #include <clothbench/rng.h>
+#include "csv.h"
 #include "bind.h"
 #include "stats.h"
 #include "experiment.h"

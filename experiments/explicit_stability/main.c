@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include <clothbench/clothbench.h>
+#include "csv.h"
 #include "experiment.h"
 #include "provenance.h"
 #include "reference.h"

@@ -16,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "csv.h"
 #include "capture.h"
 #include <clothbench/clothbench.h>
 #include "experiment.h"

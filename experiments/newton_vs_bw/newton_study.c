@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "pareto.h"
-#include <clothbench/csv.h>
+#include "csv.h"
 #include <clothbench/status.h>
 #include "stats.h"
 

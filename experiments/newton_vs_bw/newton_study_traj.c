@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include "newton_study.h"
-#include <clothbench/csv.h>
+#include "csv.h"
 #include <clothbench/run.h>
 #include <clothbench/status.h>
 

@@ -30,6 +30,7 @@
 #include <string.h>
 
 #include <clothbench/clothbench.h>
+#include "csv.h"
 #include "bind.h"
 #include "experiment.h"
 #include "provenance.h"

@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include <clothbench/clothbench.h>
+#include "csv.h"
 #include "experiment.h"
 #include "provenance.h"
 #include "rigidity.h"

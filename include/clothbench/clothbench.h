@@ -9,7 +9,6 @@
 #ifndef CLOTHBENCH_H
 #define CLOTHBENCH_H
 
-#include "csv.h"
 #include "definiteness.h"
 #include "eigen.h"
 #include "energy.h"

@@ -50,11 +50,4 @@ void cb_run_free(cb_run *r);
 /* One step; returns its status (CB_DIVERGED also for the energy bound). */
 int cb_run_step(cb_run *r);
 
-/* Per-step CSV: the header row and one row of the current state. Energy
- * columns: kinetic_j, elastic_j (the terms with a Hessian: springs,
- * bending), gravity_j (the gravity potential), total_j = their sum, and
- * pin_work_j (the driven pins' work so far; 0 without them). */
-void cb_run_csv_header(FILE *f);
-void cb_run_csv_row(FILE *f, const cb_run *r, int status);
-
 #endif

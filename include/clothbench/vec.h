@@ -26,6 +26,12 @@ static inline double cb_v3_dist2(const double *a, const double *b) {
   cb_v3_sub(a, b, d);
   return cb_v3_dot(d, d);
 }
+/* out = a x b (out must not alias a or b) */
+static inline void cb_v3_cross(const double *a, const double *b, double *out) {
+  out[0] = a[1] * b[2] - a[2] * b[1];
+  out[1] = a[2] * b[0] - a[0] * b[2];
+  out[2] = a[0] * b[1] - a[1] * b[0];
+}
 /* whether any component is nonzero */
 static inline int cb_v3_nonzero(const double *a) { return a[0] != 0 || a[1] != 0 || a[2] != 0; }
 

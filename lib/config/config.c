@@ -117,7 +117,7 @@ static const keydef keys_tail[] = {
   {"solver.alpha", T_AUTO, O(solver_alpha), "auto", "-", 0, 2, 1, NULL, NULL,
    "Jacobi weight: dx += alpha D^-1 r (1 is vanilla Jacobi), or `auto`: alpha* = 2/(lambda_min + lambda_max) of D^-1 A, from the same Lanczos estimate as Chebyshev's rho (the weight that minimises rho(I - alpha D^-1 A), always < 1)."},
   {"solver.rho", T_RHO, O(solver_rho), "auto", "-", 0, 1, 1, NULL, NULL,
-   "Chebyshev spectral-radius estimate rho in (0, 1), or `auto`: Lanczos bounds of eig(D^-1 A), reused across factorisations and moved with Gershgorin's bound, estimated afresh when they stop fitting (a slow or growing solve, which then restarts) or after 30 factorisations (lib/solver_jacobi.c)."},
+   "Chebyshev spectral-radius estimate rho in (0, 1), or `auto`: Lanczos bounds of eig(D^-1 A), reused across factorisations and moved with Gershgorin's bound, estimated afresh when they stop fitting (a slow or growing solve, which then restarts) or after 30 factorisations (lib/core/solver_jacobi.c)."},
   {"solver.ordering", T_ENUM, O(solver_ordering), "nesdis", "-", 0, 0, 0, orderings, NULL,
    "CHOLMOD's fill-reducing ordering: `default` (CHOLMOD's own choice: AMD, then METIS if AMD fills badly), `amd`, `metis`, or `nesdis` (CHOLMOD's nested dissection, the fastest factorisation from 64^2 to 256^2 in the Performance section's table; its slower analysis is well under 1% of a run's factorisations)."},
   {"solver.nrelax", T_VEC3, O(solver_nrelax), "16 64 128", "columns", 0, 1e6, 0, NULL, NULL,

@@ -22,6 +22,7 @@
 #include <clothbench/scene.h>
 #include <clothbench/status.h>
 #include <clothbench/stencil.h>
+#include <clothbench/vec.h>
 
 /* The colliders: X(name, its term's alloc, its post-step response), one line
  * each, in the order of collider.type's choices. */
@@ -124,7 +125,7 @@ int cb_sphere_term_alloc(const cb_model *m, const cb_sphere *sp, cb_term **out) 
   if (st) return st;
   if (!(sp->stiffness >= 0) || !isfinite(sp->stiffness))
     return cb_fail("collider.stiffness: must be >= 0, got %g", sp->stiffness);
-  if (sp->velocity[0] != 0 || sp->velocity[1] != 0 || sp->velocity[2] != 0)
+  if (cb_v3_nonzero(sp->velocity))
     return cb_fail("collider.velocity: a moving sphere needs collider.type = project (the penalty energy has no time)");
   sphere_term *s = cb_calloc(1, sizeof *s);
   if (!s) return CB_ENOMEM;

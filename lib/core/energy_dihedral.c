@@ -72,6 +72,7 @@
 #include <clothbench/energy.h>
 #include <clothbench/status.h>
 #include <clothbench/stencil.h>
+#include <clothbench/vec.h>
 
 extern const cb_term_type cb_term_dihedral_type;       /* Gauss-Newton Hessian */
 extern const cb_term_type cb_term_dihedral_exact_type; /* exact Hessian, projected per element */
@@ -93,15 +94,6 @@ typedef struct {
   cb_projection_work *work; /* 12 x 12; used by one assembly at a time */
 } hinge_term;
 
-static inline void sub3(const double *a, const double *b, double *o) {
-  o[0] = a[0] - b[0]; o[1] = a[1] - b[1]; o[2] = a[2] - b[2];
-}
-static inline double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-static inline void cross3(const double *a, const double *b, double *o) {
-  o[0] = a[1] * b[2] - a[2] * b[1];
-  o[1] = a[2] * b[0] - a[0] * b[2];
-  o[2] = a[0] * b[1] - a[1] * b[0];
-}
 /* [v]x, row-major: [v]x u = v x u */
 static inline void skew(const double *v, double *S) {
   S[0] = 0; S[1] = -v[2]; S[2] = v[1];
@@ -121,26 +113,26 @@ typedef struct {
 
 /* Returns 0 if the hinge is degenerate in this state (see the header). */
 static int hinge_eval(const double *p, double e2_bar, hinge_geo *g) {
-  sub3(p + 3, p, g->e);
-  sub3(p + 6, p, g->a);
-  sub3(p + 9, p, g->b);
-  g->e2 = dot3(g->e, g->e);
+  cb_v3_sub(p + 3, p, g->e);
+  cb_v3_sub(p + 6, p, g->a);
+  cb_v3_sub(p + 9, p, g->b);
+  g->e2 = cb_v3_dot(g->e, g->e);
   if (!(g->e2 >= 1e-24 * e2_bar)) return 0;
   g->le = sqrt(g->e2);
-  cross3(g->e, g->a, g->NA);
-  cross3(g->b, g->e, g->NB);
-  g->nA2 = dot3(g->NA, g->NA);
-  g->nB2 = dot3(g->NB, g->NB);
+  cb_v3_cross(g->e, g->a, g->NA);
+  cb_v3_cross(g->b, g->e, g->NB);
+  g->nA2 = cb_v3_dot(g->NA, g->NA);
+  g->nB2 = cb_v3_dot(g->NB, g->NB);
   if (!(g->nA2 >= 1e-12 * g->e2 * g->e2) || !(g->nB2 >= 1e-12 * g->e2 * g->e2)) return 0;
   double cx[3];
-  cross3(g->NA, g->NB, cx);
-  g->theta = atan2(dot3(cx, g->e) / g->le, dot3(g->NA, g->NB));
+  cb_v3_cross(g->NA, g->NB, cx);
+  g->theta = atan2(cb_v3_dot(cx, g->e) / g->le, cb_v3_dot(g->NA, g->NB));
   for (int k = 0; k < 3; k++) {
     g->G[0][k] = -g->le * g->NA[k] / g->nA2;
     g->G[1][k] = -g->le * g->NB[k] / g->nB2;
   }
-  g->alpha[0] = dot3(g->a, g->e) / g->e2;
-  g->alpha[1] = dot3(g->b, g->e) / g->e2;
+  g->alpha[0] = cb_v3_dot(g->a, g->e) / g->e2;
+  g->alpha[1] = cb_v3_dot(g->b, g->e) / g->e2;
   for (int k = 0; k < 3; k++) {
     g->grad[k] = (g->alpha[0] - 1) * g->G[0][k] + (g->alpha[1] - 1) * g->G[1][k];
     g->grad[3 + k] = -g->alpha[0] * g->G[0][k] - g->alpha[1] * g->G[1][k];
@@ -381,8 +373,8 @@ int cb_hinge_term_alloc(const cb_model *m, const char *label, double k, cb_term 
     load(h, e, m->mesh->x, p);
     hinge_geo g;
     double e2[3];
-    sub3(p + 3, p, e2);
-    double l2 = dot3(e2, e2);
+    cb_v3_sub(p + 3, p, e2);
+    double l2 = cb_v3_dot(e2, e2);
     if (!(l2 > 0) || !hinge_eval(p, l2, &g)) {
       int v0 = h->vert[4 * e], v1 = h->vert[4 * e + 1];
       hinge_free(&h->base);

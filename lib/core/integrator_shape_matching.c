@@ -30,7 +30,7 @@
  * w_i (g_i^c - x_i) = 0, and likewise the angular term (R A_pq^T is
  * symmetric for the polar R), so without external forces and pins the goal
  * impulses conserve linear and angular momentum up to round-off
- * (tests/test_shape_matching.c). Goals lie on well-defined positions, which
+ * (tests/test_locking_models.c). Goals lie on well-defined positions, which
  * is the paper's argument for unconditional stability (claim S1, experiment
  * locking). */
 #include <math.h>

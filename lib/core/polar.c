@@ -7,11 +7,7 @@
 #include <math.h>
 #include <string.h>
 
-static void cross(const double a[3], const double b[3], double c[3]) {
-  c[0] = a[1] * b[2] - a[2] * b[1];
-  c[1] = a[2] * b[0] - a[0] * b[2];
-  c[2] = a[0] * b[1] - a[1] * b[0];
-}
+#include <clothbench/vec.h>
 
 /* A unit vector normal to the unit vector u: the coordinate axis on which u
  * is smallest, made orthogonal to u. */
@@ -89,12 +85,12 @@ unsigned cb_polar33(const double A[9], double R[9], double sigma[3]) {
   }
   if (s[2] <= tol) { /* rank <= 2: right-handed completion, det R = +1 */
     flags |= CB_POLAR_RANK_DEFICIENT;
-    cross(u[0], u[1], u[2]);
-    cross(v[0], v[1], v[2]);
+    cb_v3_cross(u[0], u[1], u[2]);
+    cb_v3_cross(v[0], v[1], v[2]);
   } else {
     double cu[3], cv[3];
-    cross(u[0], u[1], cu);
-    cross(v[0], v[1], cv);
+    cb_v3_cross(u[0], u[1], cu);
+    cb_v3_cross(v[0], v[1], cv);
     double du = cu[0] * u[2][0] + cu[1] * u[2][1] + cu[2] * u[2][2];
     double dv = cv[0] * v[2][0] + cv[1] * v[2][1] + cv[2] * v[2][2];
     if (du * dv < 0) { /* det(U V^T) = -1: A is a reflection; flip the weakest direction */

@@ -1,4 +1,5 @@
-/* Shared by the iterative solvers (solver_jacobi.c, solver_cg.c): the
+/* Shared by the iterative solvers (solver_jacobi.c: jacobi, chebyshev;
+ * solver_sgs.c: sgs; solver_cg.c: cg, pcg; solver_nesterov.c: nesterov): the
  * stopping and divergence tests, and the residual history, so that every
  * iterative method stops and fails the same way.
  *

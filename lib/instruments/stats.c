@@ -1,7 +1,5 @@
 #include "stats.h"
 
-#include <clothbench/csv.h>
-
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -67,19 +65,6 @@ int cb_timing_more(int quick, int done, double spent_ms) {
 }
 
 int cb_timing_warm(double ms) { return ms < CB_TIMING_WARM_MS; }
-
-void cb_timing_csv(FILE *f, const cb_timing *t, double scale) {
-  if (t->n == 0) { /* not measured: three empty fields */
-    double na = cb_csv_na();
-    cb_csv_printf(f, "%.6f,%.6f,%.6f", na, na, na);
-    return;
-  }
-  cb_csv_printf(f, "%.6f,%.6f,%.6f", cb_timing_median(t) * scale, cb_timing_min(t) * scale, cb_timing_max(t) * scale);
-}
-
-void cb_timing_csv_each(FILE *f, const cb_timing *t, double scale) {
-  for (int i = 0; i < t->n; i++) cb_csv_printf(f, "%s%.6f", i ? ";" : "", t->ms[i] * scale);
-}
 
 int cb_timing_parse(const char *s, cb_timing *t) {
   t->n = 0;

@@ -25,7 +25,7 @@ double cb_median(double *v, int n);
  * CSV columns of a repeated timing <base>_ms<tail> (wall_ms, wall_ms_per_s):
  * <base>_ms<tail> the median, <base>_min_ms<tail> and <base>_max_ms<tail>
  * the smallest and largest repeat, <base>_each_ms<tail> every repeat in the
- * order run, separated by ';' (cb_timing_csv_each), and a count column
+ * order run, separated by ';' (cb_timing_csv_each in lib/io/csv.h), and a count column
  * wall_repeats. Every such name ends in _ms or contains "wall", so
  * tests/determinism.sh leaves them out of its comparison.
  *
@@ -69,11 +69,7 @@ int cb_timing_more(int quick, int done, double spent_ms);
  * repeat (which is then the next run). */
 int cb_timing_warm(double ms);
 
-/* CSV fields "median,min,max" of the repeats times scale, each %.6f. */
-void cb_timing_csv(FILE *f, const cb_timing *t, double scale);
-/* The field "r1;r2;...": every repeat times scale, %.6f, in order. */
-void cb_timing_csv_each(FILE *f, const cb_timing *t, double scale);
-/* Parses a field written by cb_timing_csv_each into t; returns the number of
+/* Parses a field written by cb_timing_csv_each (lib/io/csv.h) into t; returns the number of
  * repeats read (0 for an empty or malformed field, which leaves t empty). */
 int cb_timing_parse(const char *s, cb_timing *t);
 

@@ -12,9 +12,8 @@
  *
  * The requested count comes from the environment the Makefile's THREADS=n
  * knob sets (OPENBLAS_NUM_THREADS and OMP_NUM_THREADS; each defaults to 1).
- * What actually ran is measured: cb_threads_count_during() runs a function
- * and counts this process's threads whose CPU time grew meanwhile (per-thread
- * CPU clocks of every task in /proc/self/task). */
+ * What actually ran is measured, by the probes of
+ * lib/instruments/thread_probe.h (cb_threads_info_get runs them once). */
 #ifndef CB_THREADS_H
 #define CB_THREADS_H
 
@@ -31,15 +30,9 @@ typedef struct cb_threads_info {
  * integer in 1..1024. Called by cb_runtime_init. */
 int cb_threads_init(void);
 
-/* Runs fn(ctx) and returns how many threads of this process consumed CPU
- * time while it ran (the caller included), or a negative status when
- * /proc/self/task cannot be read. */
-int cb_threads_count_during(void (*fn)(void *), void *ctx);
-
 /* The requested counts, and the observed ones measured once per process on
- * a fixed probe: a CHOLMOD supernodal factorisation of a 2D Laplacian on a
- * 96 x 96 grid (its Map clear and supernode loops open OpenMP regions) and a
- * 384 x 384 dgemm. An observed count < 0 means it could not be measured. */
+ * a fixed probe (thread_probe.h: a CHOLMOD supernodal factorisation and a
+ * dgemm). An observed count < 0 means it could not be measured. */
 const cb_threads_info *cb_threads_info_get(void);
 
 #endif

@@ -1,9 +1,11 @@
-#include <clothbench/csv.h>
+#include "csv.h"
 
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <string.h>
+
+#include <clothbench/status.h>
 
 /* a quiet NaN (exponent all ones, top mantissa bit set) with payload 0x4e41 ("NA") */
 #define NA_BITS UINT64_C(0x7ff8000000004e41)
@@ -142,4 +144,33 @@ int cb_csv_printf(FILE *f, const char *fmt, ...) {
   int n = cb_csv_vprintf(f, fmt, ap);
   va_end(ap);
   return n;
+}
+
+/* ---- the rows of the instruments' timings and of simulate's trajectories ---- */
+
+void cb_timing_csv(FILE *f, const cb_timing *t, double scale) {
+  if (t->n == 0) { /* not measured: three empty fields */
+    double na = cb_csv_na();
+    cb_csv_printf(f, "%.6f,%.6f,%.6f", na, na, na);
+    return;
+  }
+  cb_csv_printf(f, "%.6f,%.6f,%.6f", cb_timing_median(t) * scale, cb_timing_min(t) * scale, cb_timing_max(t) * scale);
+}
+
+void cb_timing_csv_each(FILE *f, const cb_timing *t, double scale) {
+  for (int i = 0; i < t->n; i++) cb_csv_printf(f, "%s%.6f", i ? ";" : "", t->ms[i] * scale);
+}
+
+void cb_run_csv_header(FILE *f) {
+  fputs("step,t_s,kinetic_j,elastic_j,gravity_j,total_j,pin_work_j,newton_iters,rel_grad,rel_grad_hat,linear_iters,"
+        "assemble_ms,factor_ms,solve_ms,wall_ms,status,contacts,rho\n", f);
+}
+
+void cb_run_csv_row(FILE *f, const cb_run *r, int status) {
+  const cb_step_stats *s = &r->last;
+  /* the Chebyshev rho the step used, given or estimated (rho = auto): the integrator's, else its linear solver's */
+  double rho = s->rho > 0 ? s->rho : r->integ->solver ? r->integ->solver->stats.rho : 0.0;
+  cb_csv_printf(f, "%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%d,%.6f,%.6f,%.6f,%.6f,%s,%d,%.17g\n", r->step, r->t, r->kinetic,
+                r->elastic, r->gravity, r->kinetic + r->potential, r->work, s->newton_iters, s->rel_grad, s->rel_grad_hat, s->linear_iters,
+                s->assemble_ms, s->factor_ms, s->solve_ms, s->wall_ms, cb_status_name(status), cb_scene_contacts(r->scene, r->x), rho);
 }

@@ -1,6 +1,7 @@
 /* Writing CSV rows by one convention (README.md, section "CSV convention";
- * the column names' unit suffixes are listed in docs/csv_columns.txt):
- *
+ * the column names' unit suffixes are listed in docs/csv_columns.txt). It is
+ * I/O, above the core and the instruments: the simulation does not depend on
+ * how it is written. The convention:
  *   - a value that does not apply, or was not measured, is the empty field;
  *   - a value that was computed and is not finite is `nan`, `inf` or `-inf`,
  *     spelled exactly so (never `-nan`, whatever the NaN's sign bit);
@@ -26,6 +27,10 @@
 #include <stdarg.h>
 #include <stdio.h>
 
+#include <clothbench/run.h>
+
+#include "stats.h"
+
 /* The "not applicable / not measured" value: written as the empty field. */
 double cb_csv_na(void);
 /* Whether v is cb_csv_na() (of either sign). An ordinary NaN is not. */
@@ -42,5 +47,19 @@ double cb_csv_na_if_nan(double v);
  * conversion. */
 int cb_csv_printf(FILE *f, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 int cb_csv_vprintf(FILE *f, const char *fmt, va_list ap) __attribute__((format(printf, 2, 0)));
+
+/* CSV fields "median,min,max" of the repeats times scale, each %.6f (three
+ * empty fields when t has none; stats.h names the columns). */
+void cb_timing_csv(FILE *f, const cb_timing *t, double scale);
+/* The field "r1;r2;...": every repeat times scale, %.6f, in order
+ * (cb_timing_parse reads it back). */
+void cb_timing_csv_each(FILE *f, const cb_timing *t, double scale);
+
+/* Per-step CSV: the header row and one row of the current state. Energy
+ * columns: kinetic_j, elastic_j (the terms with a Hessian: springs,
+ * bending), gravity_j (the gravity potential), total_j = their sum, and
+ * pin_work_j (the driven pins' work so far; 0 without them). */
+void cb_run_csv_header(FILE *f);
+void cb_run_csv_row(FILE *f, const cb_run *r, int status);
 
 #endif
