@@ -144,6 +144,8 @@ $(BUILD)/%: $(BUILD)/bench/%.o $(BENCH_SUPPORT) $(LIB)
 
 $(BUILD)/tests/%: $(BUILD)/tests/%.o $(TEST_OBJ) $(REPORT_LIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -lcriterion -o $@
+# the allocation-failure test routes CHOLMOD's allocations (SuiteSparse_config) through the counter
+$(BUILD)/tests/test_enomem: LDLIBS += -lsuitesparseconfig
 
 # ---- tests -------------------------------------------------------------------
 

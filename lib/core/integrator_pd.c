@@ -190,7 +190,7 @@ static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnor
     st->solve_ms += it->solver->stats.solve_ms;
     st->linear_iters += it->solver->stats.iters;
     st->linear_status = ls;
-    if (ls != CB_OK && ls != CB_NOT_CONVERGED) return CB_LINEAR_FAILED;
+    if (ls != CB_OK && ls != CB_NOT_CONVERGED) return ls == CB_ENOMEM ? CB_ENOMEM : CB_LINEAR_FAILED;
     omega = cb_chebyshev_omega(k, rho, omega);
     double d2 = 0.0;
     for (int b = 0; b < nf; b++) {

@@ -440,7 +440,7 @@ int cb_scene_build(const cb_scene_def *d, cb_scene **out, const char **key) {
   for (int k = 0; st == CB_OK && k < nterms; k++)
     if (terms[k]->type == cb_term_spring) {
       st = cb_spring_term_set_response(terms[k], def, d->buckling_kb);
-      if (st) st = at_key(labelled(CB_EINVAL, "material.buckling_kb"), key, "material.buckling_kb");
+      if (st) st = at_key(labelled(st == CB_ENOMEM ? st : CB_EINVAL, "material.buckling_kb"), key, "material.buckling_kb");
     }
   if (st == CB_OK) st = cb_system_init(&s->sys, &s->model, terms, nterms);
   else
