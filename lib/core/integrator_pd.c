@@ -217,7 +217,9 @@ static int pd_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
     cb_step_stats scratch;
     memset(&scratch, 0, sizeof scratch);
     for (int n = p->rho_iters, done = 0, dbl = 0;; dbl++, n *= 2) {
-      if (iterate(it, x, n - done, 0.0, w->dnorm + done, &scratch, 0, done == 0) != CB_OK) { rho = 0.0; break; }
+      int es = iterate(it, x, n - done, 0.0, w->dnorm + done, &scratch, 0, done == 0);
+      if (es < 0) return es; /* an error (out of memory in the solve), not an estimate of 0 */
+      if (es != CB_OK) { rho = 0.0; break; }
       done = n;
       int m = n; /* the updates above round-off */
       while (m > 4 && !(w->dnorm[m - 1] > RHO_ROUNDOFF * w->dnorm[0])) m--;
