@@ -36,10 +36,10 @@ python3 - "$B/coverage.json" "$B/coverage.block" "$min" "$rev" "$((t1 - t0))" "$
 import json, sys, datetime
 summary, out, minimum, rev, secs, nexp = sys.argv[1], sys.argv[2], float(sys.argv[3]), sys.argv[4], sys.argv[5], sys.argv[6]
 files = json.load(open(summary))["files"]
-def total(prefix):
+def total(prefix, what="line"):
     fs = [f for f in files if f["filename"].startswith(prefix)]
-    cov = sum(f["line_covered"] for f in fs)
-    n = sum(f["line_total"] for f in fs)
+    cov = sum(f[what + "_covered"] for f in fs)
+    n = sum(f[what + "_total"] for f in fs)
     return cov, n, 100.0 * cov / n if n else 0.0
 rows = [("lib/", "all of lib/")] + [(p, p) for p in ("lib/core/", "lib/config/", "lib/instruments/", "lib/io/")]
 core = total("lib/core/")
@@ -47,10 +47,11 @@ with open(out, "w") as f:
     f.write("<!-- coverage:begin -->\n")
     f.write("Measured by `make coverage` (scripts/coverage.sh) on %s at %s: the unit tests, `tests/cli.sh` and %s "
             "`--smoke` runs, %s s in the coverage build.\n\n" % (datetime.date.today().isoformat(), rev, nexp, secs))
-    f.write("| code | lines | covered | line coverage |\n|---|---|---|---|\n")
+    f.write("| code | lines | covered | line coverage | branches | taken | branch coverage |\n|---|---|---|---|---|---|---|\n")
     for prefix, name in rows:
         cov, n, pct = total(prefix)
-        f.write("| %s | %d | %d | %.1f %% |\n" % (name, n, cov, pct))
+        bcov, bn, bpct = total(prefix, "branch")
+        f.write("| %s | %d | %d | %.1f %% | %d | %d | %.1f %% |\n" % (name, n, cov, pct, bn, bcov, bpct))
     low = sorted((f for f in files if f["filename"].startswith("lib/core/") and f["line_total"]),
                  key=lambda f: f["line_covered"] / f["line_total"])
     low = [f for f in low if f["line_covered"] < f["line_total"]]
