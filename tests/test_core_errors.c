@@ -2,6 +2,8 @@
  * most of it first): each gives its status and a message that names the
  * parameter, and nothing is built. */
 #include <criterion/criterion.h>
+#include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "support.h"
@@ -92,5 +94,33 @@ Test(core_errors, integrator_parameters) {
   nj.definiteness = CB_DEF_SHIFT; /* a linear-solve policy: the exact diagonal takes none of it */
   assert_fails(cb_integrator_alloc("chebyshev-nl", s, &p, &nj, NULL, NULL, &it), CB_EINVAL, "linear-solve policy");
   cr_assert_null(it);
+  cb_scene_free(s);
+}
+
+/* cb_jacobi_spectral_radius (public, no caller in lib/ yet) against the
+ * dense eigenvalues of D^-1/2 A D^-1/2: rho(I - alpha D^-1 A) =
+ * max |1 - alpha lambda|, and the Lanczos bound must not be below it. */
+Test(core_errors, jacobi_spectral_radius_bounds_the_dense_one) {
+  cb_scene *s = test_scene((const char *const[]){"mesh.n=5", "material.stretch_k=1000", "material.vertex_mass=0.1",
+                                                 "scene.initial_scale=1.2", NULL});
+  cb_system_assemble(&s->sys, s->x0, 1.0 / (0.01 * 0.01), CB_DEF_DROP, 0.0);
+  const cb_sparse *A = &s->sys.A;
+  int n = A->n;
+  double *dhalf = cb_malloc((size_t)n, sizeof(double)), *eval = cb_malloc((size_t)n, sizeof(double));
+  cr_assert(dhalf && eval);
+  for (int i = 0; i < n; i++) dhalf[i] = 1.0 / sqrt(A->val[s->sys.diag[i]]);
+  cr_assert_eq(cb_dense_eigenvalues(A, dhalf, eval), CB_OK, "%s", cb_error_message());
+  for (int k = 0; k < 2; k++) {
+    double alpha = k ? 0.8 : 1.0, exact = 0;
+    for (int i = 0; i < n; i++) exact = fmax(exact, fabs(1 - alpha * eval[i]));
+    double rho = -1;
+    int steps = 0;
+    cr_assert_eq(cb_jacobi_spectral_radius(A, dhalf, alpha, &rho, &steps), CB_OK, "%s", cb_error_message());
+    cr_assert_gt(steps, 0);
+    cr_assert_geq(rho, exact * (1 - 1e-9), "alpha %g: rho %.12g below the dense %.12g", alpha, rho, exact);
+    cr_assert_leq(rho, exact + 1e-3, "alpha %g: rho %.12g far above the dense %.12g", alpha, rho, exact);
+  }
+  free(dhalf);
+  free(eval);
   cb_scene_free(s);
 }
