@@ -19,7 +19,8 @@ enum {
   CB_DIVERGED = 3,       /* NaN/Inf, or growth past a documented bound */
   CB_INDEFINITE = 4,     /* CG breakdown: p^T A p <= 0 */
   CB_LS_FAILED = 5,      /* line search found no decrease (not a descent direction) */
-  CB_LINEAR_FAILED = 6   /* the inner linear solve failed (its own status is recorded) */
+  CB_LINEAR_FAILED = 6   /* the inner linear solve failed (its own status is recorded); out of memory
+                            in it is CB_ENOMEM instead */
 };
 
 /* Short snake_case name of a status, as written to CSV ("ok", "not_spd", ...). */
@@ -37,8 +38,24 @@ void cb_error_clear(void);
  * not_converged (Newton at max_iters, e.g. Baraff-Witkin's single iteration). */
 int cb_status_is_fatal(int status);
 
-/* malloc/calloc that set an error message on failure. n*size overflow is checked. */
+/* malloc/calloc/realloc that set an error message (and CB_ENOMEM's) on
+ * failure. n*size overflow is checked. cb_realloc leaves p allocated when it
+ * fails, as realloc does. */
 void *cb_calloc(size_t n, size_t size);
 void *cb_malloc(size_t n, size_t size);
+void *cb_realloc(void *p, size_t n, size_t size);
+
+/* Allocation-failure injection, a test mode (tests/test_enomem.c, CHOLMOD's
+ * Tcov habit). cb_alloc_fail_at(k), k >= 1, makes the k-th allocation that
+ * this thread makes from now on fail as if out of memory, once; k = 0 turns
+ * it off. Either way it restarts the count. While armed, every cb_malloc,
+ * cb_calloc and cb_realloc counts; cb_alloc_tick counts one allocation made
+ * elsewhere (a test routes CHOLMOD's SuiteSparse_config hooks through it) and
+ * returns 1 when that one must fail. cb_alloc_count: allocations counted
+ * since the last cb_alloc_fail_at. cb_alloc_fail_at(LONG_MAX) counts without
+ * failing. Off (the default), nothing is counted. */
+void cb_alloc_fail_at(long k);
+long cb_alloc_count(void);
+int cb_alloc_tick(void);
 
 #endif

@@ -231,12 +231,12 @@ static int lb_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
     if (gn <= p->tol * g0 || nf3 == 0) { status = CB_OK; break; }
     if (k == p->iters) break; /* max_iters */
     int ls = direction(it, w, nf3, st);
-    if (ls != CB_OK && ls != CB_NOT_CONVERGED) { status = CB_LINEAR_FAILED; break; }
+    if (ls != CB_OK && ls != CB_NOT_CONVERGED) { status = ls == CB_ENOMEM ? CB_ENOMEM : CB_LINEAR_FAILED; break; }
     double slope = cblas_ddot(nf3, w->g, 1, w->d, 1);
     if (!(slope < 0) && w->npairs > 0) { /* not a descent direction: drop the history, -H0^-1 g */
       w->npairs = 0;
       ls = direction(it, w, nf3, st);
-      if (ls != CB_OK && ls != CB_NOT_CONVERGED) { status = CB_LINEAR_FAILED; break; }
+      if (ls != CB_OK && ls != CB_NOT_CONVERGED) { status = ls == CB_ENOMEM ? CB_ENOMEM : CB_LINEAR_FAILED; break; }
       slope = cblas_ddot(nf3, w->g, 1, w->d, 1);
     }
     if (!(slope < 0)) { status = CB_LS_FAILED; break; }

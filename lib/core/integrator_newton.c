@@ -210,7 +210,7 @@ static int nt_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
     if (hook) hook(hook_ctx, CB_NEWTON_SOLVED, &ev);
     if (ls == CB_NOT_SPD) { status = CB_NOT_SPD; break; }
     /* an iterative solve cut at its max_iters is inexact Newton, not a failure */
-    if (ls != CB_OK && ls != CB_NOT_CONVERGED) { status = CB_LINEAR_FAILED; break; }
+    if (ls != CB_OK && ls != CB_NOT_CONVERGED) { status = ls == CB_ENOMEM ? CB_ENOMEM : CB_LINEAR_FAILED; break; }
 
     double alpha = 1.0;
     if (p->line_search) {

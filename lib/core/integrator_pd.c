@@ -188,7 +188,7 @@ static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnor
     st->solve_ms += it->solver->stats.solve_ms;
     st->linear_iters += it->solver->stats.iters;
     st->linear_status = ls;
-    if (ls != CB_OK && ls != CB_NOT_CONVERGED) return CB_LINEAR_FAILED;
+    if (ls != CB_OK && ls != CB_NOT_CONVERGED) return ls == CB_ENOMEM ? CB_ENOMEM : CB_LINEAR_FAILED;
     omega = cb_chebyshev_omega(k, rho, omega);
     double d2 = 0.0;
     for (int b = 0; b < nf; b++) {
@@ -215,7 +215,9 @@ static int pd_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
     cb_step_stats scratch;
     memset(&scratch, 0, sizeof scratch);
     for (int n = p->rho_iters, done = 0, dbl = 0;; dbl++, n *= 2) {
-      if (iterate(it, x, n - done, 0.0, w->dnorm + done, &scratch, 0, done == 0) != CB_OK) { rho = 0.0; break; }
+      int es = iterate(it, x, n - done, 0.0, w->dnorm + done, &scratch, 0, done == 0);
+      if (es < 0) return es; /* an error (out of memory in the solve), not an estimate of 0 */
+      if (es != CB_OK) { rho = 0.0; break; }
       done = n;
       int m = n; /* the updates above round-off */
       while (m > 4 && !(w->dnorm[m - 1] > RHO_ROUNDOFF * w->dnorm[0])) m--;

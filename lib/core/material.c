@@ -32,7 +32,7 @@ static int springs(const cb_model *m, const char *label, int ns, const int *ends
     cb_term_free(*out);
     *out = NULL;
     *key = "material.buckling_kb";
-    return cb_fail_status(CB_EINVAL, "material.buckling_kb: %s", msg);
+    return cb_fail_status(st == CB_ENOMEM ? st : CB_EINVAL, "material.buckling_kb: %s", msg);
   }
   return CB_OK;
 }

@@ -138,10 +138,10 @@ typedef struct {
 static int push_vertex(objbuf *b, const double v[3], int line) {
   if (b->nv == b->capv) {
     int cap = b->capv ? 2 * b->capv : 256;
-    double *nx = realloc(b->x, (size_t)cap * 3 * sizeof(double));
+    double *nx = cb_realloc(b->x, (size_t)cap * 3, sizeof(double));
     if (!nx) return cb_fail_status(CB_ENOMEM, "out of memory reading OBJ");
     b->x = nx;
-    int *nl = realloc(b->vline, (size_t)cap * sizeof(int));
+    int *nl = cb_realloc(b->vline, (size_t)cap, sizeof(int));
     if (!nl) return cb_fail_status(CB_ENOMEM, "out of memory reading OBJ");
     b->vline = nl; b->capv = cap;
   }
@@ -153,10 +153,10 @@ static int push_vertex(objbuf *b, const double v[3], int line) {
 static int push_tri(objbuf *b, int i0, int i1, int i2, int line) {
   if (b->nt == b->capt) {
     int cap = b->capt ? 2 * b->capt : 256;
-    int *nt = realloc(b->tri, (size_t)cap * 3 * sizeof(int));
+    int *nt = cb_realloc(b->tri, (size_t)cap * 3, sizeof(int));
     if (!nt) return cb_fail_status(CB_ENOMEM, "out of memory reading OBJ");
     b->tri = nt;
-    int *nl = realloc(b->line, (size_t)cap * sizeof(int));
+    int *nl = cb_realloc(b->line, (size_t)cap, sizeof(int));
     if (!nl) return cb_fail_status(CB_ENOMEM, "out of memory reading OBJ");
     b->line = nl; b->capt = cap;
   }
@@ -168,10 +168,10 @@ static int push_tri(objbuf *b, int i0, int i1, int i2, int line) {
 static int push_seg(objbuf *b, int i0, int i1, int line) {
   if (b->ns == b->caps) {
     int cap = b->caps ? 2 * b->caps : 64;
-    int *ns = realloc(b->seg, (size_t)cap * 2 * sizeof(int));
+    int *ns = cb_realloc(b->seg, (size_t)cap * 2, sizeof(int));
     if (!ns) return cb_fail_status(CB_ENOMEM, "out of memory reading OBJ");
     b->seg = ns;
-    int *nl = realloc(b->segline, (size_t)cap * sizeof(int));
+    int *nl = cb_realloc(b->segline, (size_t)cap, sizeof(int));
     if (!nl) return cb_fail_status(CB_ENOMEM, "out of memory reading OBJ");
     b->segline = nl; b->caps = cap;
   }
@@ -344,7 +344,7 @@ int cb_mesh_read_obj(const char *path, cb_mesh *out) {
   fclose(f);
   if (st == CB_OK && b.nv == 0) st = cb_fail("%s: no vertices", path);
   if (st == CB_OK && b.nt == 0 && b.ns == 0) st = cb_fail("%s: no faces or line elements", path);
-  if (!b.tri) b.tri = malloc(sizeof(int));
+  if (!b.tri && !(b.tri = cb_malloc(1, sizeof(int))) && st == CB_OK) st = CB_ENOMEM;
   out->nv = b.nv; out->nt = b.nt; out->x = b.x; out->tri = b.tri;
   out->nl = b.ns; out->lines = b.seg; out->vline = b.vline;
   for (int k = 0; st == CB_OK && k < b.ns; k++) {

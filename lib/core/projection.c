@@ -57,13 +57,16 @@ int cb_projection_work_alloc(int n, cb_projection_work **out) {
   cb_projection_work *w = cb_calloc(1, sizeof *w);
   if (!w) return CB_ENOMEM;
   w->n = n;
-  w->A = gsl_matrix_alloc((size_t)n, (size_t)n);
-  w->V = gsl_matrix_alloc((size_t)n, (size_t)n);
-  w->lambda = gsl_vector_alloc((size_t)n);
-  w->ws = gsl_eigen_symmv_alloc((size_t)n);
-  if (!w->A || !w->V || !w->lambda || !w->ws) {
+  /* GSL allocates with malloc; each call counts as one allocation of the
+   * failure injection (status.h), which then skips it as if it returned NULL */
+  size_t m = (size_t)n;
+  if (!cb_alloc_tick()) w->A = gsl_matrix_alloc(m, m);
+  if (w->A && !cb_alloc_tick()) w->V = gsl_matrix_alloc(m, m);
+  if (w->V && !cb_alloc_tick()) w->lambda = gsl_vector_alloc(m);
+  if (w->lambda && !cb_alloc_tick()) w->ws = gsl_eigen_symmv_alloc(m);
+  if (!w->ws) {
     cb_projection_work_free(w);
-    return CB_ENOMEM;
+    return cb_fail_status(CB_ENOMEM, "projection: out of memory for the %d x %d eigensolver workspace", n, n);
   }
   *out = w;
   return CB_OK;

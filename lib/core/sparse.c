@@ -21,7 +21,7 @@ void cb_pattern_free(cb_pattern *p) {
 
 static int push(cb_pattern *p, int bi, int bj) {
   if (p->n == p->cap) {
-    int *n = realloc(p->ij, (size_t)4 * p->cap * sizeof(int));
+    int *n = cb_realloc(p->ij, (size_t)4 * p->cap, sizeof(int));
     if (!n) return cb_fail_status(CB_ENOMEM, "out of memory building the sparsity pattern");
     p->ij = n;
     p->cap *= 2;

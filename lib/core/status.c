@@ -48,24 +48,59 @@ int cb_fail_status(int status, const char *fmt, ...) {
 
 int cb_status_is_fatal(int status) { return status != CB_OK && status != CB_NOT_CONVERGED; }
 
-void *cb_calloc(size_t n, size_t size) {
-  if (n == 0 || size == 0) n = size = 1;
+/* Allocation-failure injection (status.h): the countdown to the failing
+ * allocation of this thread, 0 when off, and the allocations counted since it
+ * was armed. The normal path pays one thread-local test per allocation, and
+ * allocations happen at set-up only. */
+static _Thread_local long fail_at, counted;
+
+void cb_alloc_fail_at(long k) {
+  fail_at = k > 0 ? k : 0;
+  counted = 0;
+}
+
+long cb_alloc_count(void) { return counted; }
+
+int cb_alloc_tick(void) {
+  if (fail_at <= 0) return 0;
+  counted++;
+  return fail_at > 0 && counted == fail_at;
+}
+
+/* n*size, or 0 when it overflows (after setting the message); n, size >= 1 */
+static size_t checked_bytes(size_t n, size_t size) {
   if (n > SIZE_MAX / size) {
     cb_fail_status(CB_ENOMEM, "allocation of %zu x %zu bytes overflows", n, size);
-    return NULL;
+    return 0;
   }
-  void *p = calloc(n, size);
-  if (!p) cb_fail_status(CB_ENOMEM, "out of memory allocating %zu bytes", n * size);
-  return p;
+  return n * size;
+}
+
+static void *out_of_memory(size_t bytes) {
+  cb_fail_status(CB_ENOMEM, "out of memory allocating %zu bytes", bytes);
+  return NULL;
+}
+
+void *cb_calloc(size_t n, size_t size) {
+  if (n == 0 || size == 0) n = size = 1;
+  size_t bytes = checked_bytes(n, size);
+  if (!bytes) return NULL;
+  void *p = cb_alloc_tick() ? NULL : calloc(n, size);
+  return p ? p : out_of_memory(bytes);
 }
 
 void *cb_malloc(size_t n, size_t size) {
   if (n == 0 || size == 0) n = size = 1;
-  if (n > SIZE_MAX / size) {
-    cb_fail_status(CB_ENOMEM, "allocation of %zu x %zu bytes overflows", n, size);
-    return NULL;
-  }
-  void *p = malloc(n * size);
-  if (!p) cb_fail_status(CB_ENOMEM, "out of memory allocating %zu bytes", n * size);
-  return p;
+  size_t bytes = checked_bytes(n, size);
+  if (!bytes) return NULL;
+  void *p = cb_alloc_tick() ? NULL : malloc(bytes);
+  return p ? p : out_of_memory(bytes);
+}
+
+void *cb_realloc(void *p, size_t n, size_t size) {
+  if (n == 0 || size == 0) n = size = 1;
+  size_t bytes = checked_bytes(n, size);
+  if (!bytes) return NULL;
+  void *q = cb_alloc_tick() ? NULL : realloc(p, bytes);
+  return q ? q : out_of_memory(bytes);
 }
