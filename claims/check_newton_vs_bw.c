@@ -13,7 +13,10 @@
  *     partly when the median is >= 1.5 or some step reaches 1.8; otherwise
  *     not reproduced.
  * I3: K = 1 "is fast": its median step time with CHOLMOD is at most half of
- *     converged Newton's with CHOLMOD on every scene; it "can fail": at least
+ *     the fastest converged Newton's on every scene (the fastest, by median
+ *     step time, of every converged variant the scene ran: drop or exact
+ *     Hessian, with or without line search, any inner solve, whose step error
+ *     stays <= 1e-6 at every start state; the report names it); it "can fail": at least
  *     one cell of the regime map has one-step error > 1% or a diverging
  *     trajectory. Reproduced when both hold, partly when one does. */
 #include <math.h>
@@ -32,6 +35,7 @@
 #define I2_FLOOR 1e-11
 #define I2_TARGET 1.8
 #define SPEEDUP_MIN 2.0
+#define I3_CONVERGED_ERR 1e-6 /* a "converged" variant's step error at every start state */
 
 static int side_table(const char *dir, const char *suffix, cb_table *t, cb_claim_result *out) {
   char path[4096];
@@ -286,8 +290,11 @@ void cb_check_newton_vs_bw_i3(const cb_table *t, const char *dir, cb_claim_resul
   cb_claim_numbers(out, "Step error = max over start states of |x - x*|_M / |x* - x0|_M; time = median wall_ms over "
                         "start states of each state's median over its repeats, in brackets the spread over the repeats "
                         "(per repeat the median over the states; the methods ran in interleaved rounds, so the speed-up's "
-                        "spread is of paired repeats); failed steps count as infinite error.\n\n"
-                        "| scene | K = 1 (CHOLMOD) ms | converged (CHOLMOD) ms | speed-up | K = 1 error | "
+                        "spread is of paired repeats); failed steps count as infinite error. The converged baseline is "
+                        "the fastest converged Newton variant of the scene (step error <= 1e-6 at every state): "
+                        "newton_converged is the drop fix, newton_converged_exact the exact Hessian (shifted where "
+                        "A is not SPD).\n\n"
+                        "| scene | K = 1 (CHOLMOD) ms | fastest converged Newton: ms | speed-up | K = 1 error | "
                         "cheapest at 1e-2 | cheapest at 1e-3 | cheapest at 1e-6 | Pareto front |\n"
                         "|---|---|---|---|---|---|---|---|---|\n");
   int cscene = cb_table_col(t, "scene");
@@ -318,7 +325,8 @@ void cb_check_newton_vs_bw_i3(const cb_table *t, const char *dir, cb_claim_resul
       cb_claim_repeats_add(&reps, &ct[p]);
       err[p] = P[p].err_max;
       if (!strcmp(P[p].inner, "cholmod") && P[p].ls == 0 && !strcmp(P[p].method, "newton_k1")) bw = p;
-      if (!strcmp(P[p].inner, "cholmod") && P[p].ls == 0 && !strcmp(P[p].method, "newton_converged")) conv = p;
+      int converged = !strncmp(P[p].method, "newton_converged", 16) && !P[p].failed && err[p] <= I3_CONVERGED_ERR;
+      if (converged && (conv < 0 || cost[p] < cost[conv])) conv = p; /* the fastest converged Newton */
     }
     cb_pareto_front(np, cost, err, front);
     double speed = bw >= 0 && conv >= 0 ? cost[conv] / cost[bw] : NAN;
@@ -326,9 +334,13 @@ void cb_check_newton_vs_bw_i3(const cb_table *t, const char *dir, cb_claim_resul
     if (bw >= 0 && conv >= 0) sp = cb_claim_timing_ratio(&ct[conv], &ct[bw]);
     if (!(speed >= SPEEDUP_MIN)) fast_all = 0;
     if (bw >= 0 && conv >= 0 && strlen(speeds) < sizeof speeds - 200)
-      snprintf(speeds + strlen(speeds), sizeof speeds - strlen(speeds), "%s%s %s", speeds[0] ? "; " : "", scene,
-               cb_claim_spread_long(b3, sizeof b3, "%.1f", &sp, "x"));
-    cb_claim_numbers(out, "| %s | %s | %s | %s | %.2g |", scene, bw >= 0 ? cb_claim_spread(b1, sizeof b1, "%.3g", &ct[bw], "") : "-",
+      snprintf(speeds + strlen(speeds), sizeof speeds - strlen(speeds), "%s%s %s against %s %s%s", speeds[0] ? "; " : "",
+               scene, cb_claim_spread_long(b3, sizeof b3, "%.1f", &sp, "x"), P[conv].method, P[conv].inner,
+               P[conv].ls ? " +LS" : "");
+    cb_claim_numbers(out, "| %s | %s | %s%s%s%s%s%s | %s | %.2g |", scene,
+                     bw >= 0 ? cb_claim_spread(b1, sizeof b1, "%.3g", &ct[bw], "") : "-",
+                     conv >= 0 ? P[conv].method : "none", conv >= 0 ? " " : "", conv >= 0 ? P[conv].inner : "",
+                     conv >= 0 && P[conv].ls ? " +LS" : "", conv >= 0 ? ": " : "",
                      conv >= 0 ? cb_claim_spread(b2, sizeof b2, "%.3g", &ct[conv], "") : "-",
                      cb_claim_spread(b3, sizeof b3, "%.1f", &sp, ""), bw >= 0 ? err[bw] : NAN);
     for (int l = 0; l < 3; l++) {
@@ -380,22 +392,22 @@ void cb_check_newton_vs_bw_i3(const cb_table *t, const char *dir, cb_claim_resul
                    cells, diverged, ref_bad);
   trajectories(dir, out);
   int can_fail = fails > 0;
-  if (speeds[0] && scenes > 0 && cells > 0) cb_claim_reason(out, "Speed-up of K = 1 over converged Newton (CHOLMOD): %s. ", speeds);
+  if (speeds[0] && scenes > 0 && cells > 0) cb_claim_reason(out, "Speed-up of K = 1 over the fastest converged Newton: %s. ", speeds);
   if (scenes == 0 || cells == 0) {
     out->verdict = CB_NOT_RUN;
     cb_claim_reason(out, "No step or regime rows.");
   } else if (fast_all && can_fail) {
     out->verdict = CB_REPRODUCED;
-    cb_claim_reason(out, "K = 1 is at least %.0fx faster than converged Newton (CHOLMOD) on all %d scenes, and it fails "
+    cb_claim_reason(out, "K = 1 is at least %.0fx faster than the fastest converged Newton on all %d scenes, and it fails "
                     "(error > 1%% or divergence) in %d of %d (dt, k, stretch) cells.", SPEEDUP_MIN, scenes, fails, cells);
   } else if (fast_all || can_fail) {
     out->verdict = CB_PARTLY;
     cb_claim_reason(out, "%s; K = 1 fails in %d of %d regime cells.",
-                    fast_all ? "K = 1 is faster than converged Newton on every scene" : "K = 1 is not at least 2x faster on every scene",
+                    fast_all ? "K = 1 is at least 2x faster than the fastest converged Newton on every scene" : "K = 1 is not at least 2x faster on every scene",
                     fails, cells);
   } else {
     out->verdict = CB_NOT_REPRODUCED;
-    cb_claim_reason(out, "K = 1 is neither at least %.0fx faster than converged Newton on every scene nor failing in any "
+    cb_claim_reason(out, "K = 1 is neither at least %.0fx faster than the fastest converged Newton on every scene nor failing in any "
                     "regime cell.", SPEEDUP_MIN);
   }
 }

@@ -114,6 +114,9 @@ static int step_plan(const plan *p, const char *label, cb_method *M, const int *
   } else {
     nm = methods(KS, 6, ALL, 5, 1, M);
   }
+  /* the converged Newton that I3 compares K = 1 with is the fastest converging variant: these too */
+  for (int ls = 0; ls < 2; ls++)
+    if (cb_method_make_exact(ls, "cholmod", &M[nm++])) return -1;
   return nm;
 }
 

@@ -12,6 +12,7 @@ int cb_method_make(int K, int line_search, const char *inner, cb_method *m) {
   memset(m, 0, sizeof *m);
   if (K < 0) return cb_fail("method: K must be >= 0 (0 = converged), got %d", K);
   m->K = K;
+  m->definiteness = CB_DEF_DROP;
   m->line_search = line_search ? 1 : 0;
   if (K == 0) snprintf(m->name, sizeof m->name, "newton_converged");
   else snprintf(m->name, sizeof m->name, "newton_k%d", K);
@@ -38,6 +39,14 @@ int cb_method_make(int K, int line_search, const char *inner, cb_method *m) {
   return CB_OK;
 }
 
+int cb_method_make_exact(int line_search, const char *inner, cb_method *m) {
+  int st = cb_method_make(0, line_search, inner, m);
+  if (st) return st;
+  m->definiteness = CB_DEF_SHIFT;
+  snprintf(m->name, sizeof m->name, "newton_converged_exact");
+  return CB_OK;
+}
+
 int cb_method_integrator(const cb_method *m, cb_scene *s, double dt, cb_newton_hook hook, void *hook_ctx,
                          cb_integrator **out) {
   cb_integrator_params p = cb_integrator_params_default();
@@ -50,7 +59,7 @@ int cb_method_integrator(const cb_method *m, cb_scene *s, double dt, cb_newton_h
   np.tol_dx = 0;
   np.init_predict = 1;
   np.line_search = m->line_search;
-  np.definiteness = CB_DEF_DROP;
+  np.definiteness = (cb_definiteness)m->definiteness;
   return cb_integrator_alloc("newton", s, &p, &np, m->solver, &m->sp, out);
 }
 

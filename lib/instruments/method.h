@@ -35,8 +35,9 @@
 #define CB_METHOD_CHEB_ALPHA (1.0 / 3.0)
 
 typedef struct cb_method {
-  char name[32];      /* "newton_k1", ..., "newton_converged" */
+  char name[32];      /* "newton_k1", ..., "newton_converged", "newton_converged_exact" */
   int K;              /* Newton iterations; 0 = converged (tol above) */
+  int definiteness;   /* cb_definiteness of every Newton update: CB_DEF_DROP, or CB_DEF_SHIFT (exact) */
   int line_search;    /* 0 or 1 */
   char inner[24];     /* inner-solve label (see above) */
   char solver[24];    /* registry name */
@@ -46,9 +47,14 @@ typedef struct cb_method {
 /* Fills m for K (0 = converged), line search and an inner-solve label.
  * Returns CB_EINVAL for an unknown label. */
 int cb_method_make(int K, int line_search, const char *inner, cb_method *m);
+/* Converged Newton with the exact Hessian, shifted (mu I) only where A is not
+ * SPD (definiteness shift): "newton_converged_exact". With the line search it
+ * converges quadratically, so it is often the fastest converging variant that
+ * the drop fix (linear convergence) is compared with. */
+int cb_method_make_exact(int line_search, const char *inner, cb_method *m);
 
-/* Newton integrator for the method on a scene at dt (definiteness drop, init
- * predict, no tol_dx). For a fixed K, tol = 0: exactly K linear solves (unless
+/* Newton integrator for the method on a scene at dt (the method's
+ * definiteness, init predict, no tol_dx). For a fixed K, tol = 0: exactly K linear solves (unless
  * the gradient is exactly 0). hook may be NULL. */
 int cb_method_integrator(const cb_method *m, cb_scene *s, double dt, cb_newton_hook hook, void *hook_ctx,
                          cb_integrator **out);
