@@ -92,7 +92,7 @@ typedef struct {
   double *xprev;        /* 3*nv */
   double *dnorm;        /* rho_iters << RHO_DOUBLINGS */
   cb_spring_layout lay; /* the springs as structure of arrays, and each vertex's springs */
-  double *p;            /* 3*ns: the local step's d_e (x, y, z blocks) */
+  double *p;            /* 4*ns: the local step's d_e (x, y, z blocks), then |x_ij|^2 */
   double rho;           /* in use; CB_PARAM_AUTO until estimated */
 } pd_work;
 
@@ -114,7 +114,7 @@ static void pd_local(pd_work *w, const cb_scene *s, const double *restrict x) {
   const int ns = L->ns, *restrict ei = L->ei, *restrict ej = L->ej, *restrict fi = s->free_index;
   const double *restrict rest = L->rest;
   double *restrict px = w->p, *restrict py = w->p + ns, *restrict pz = w->p + 2 * (size_t)ns;
-  int degenerate = 0;
+  double *restrict len2 = w->p + 3 * (size_t)ns; /* |x_ij|^2, for the check below (a reduction here would stop the vectoriser) */
   for (int e = 0; e < ns; e++) {
     int i = ei[e], j = ej[e];
     double dx = x[3 * i] - x[3 * j], dy = x[3 * i + 1] - x[3 * j + 1], dz = x[3 * i + 2] - x[3 * j + 2];
@@ -122,18 +122,16 @@ static void pd_local(pd_work *w, const cb_scene *s, const double *restrict x) {
     px[e] = dx * r; /* d_e = L_e (x_i - x_j)/|x_i - x_j| */
     py[e] = dy * r;
     pz[e] = dz * r;
-    degenerate += !(l2 > 0);
+    len2[e] = l2;
   }
-  if (degenerate) /* no direction: keep the rest one */
-    for (int e = 0; e < ns; e++) {
-      int i = ei[e], j = ej[e];
-      double dx = x[3 * i] - x[3 * j], dy = x[3 * i + 1] - x[3 * j + 1], dz = x[3 * i + 2] - x[3 * j + 2];
-      if (sqrt(dx * dx + dy * dy + dz * dz) > 0) continue;
-      const double *X = s->mesh.x;
-      px[e] = X[3 * i] - X[3 * j];
-      py[e] = X[3 * i + 1] - X[3 * j + 1];
-      pz[e] = X[3 * i + 2] - X[3 * j + 2];
-    }
+  for (int e = 0; e < ns; e++) {
+    if (len2[e] > 0) continue; /* no direction (|x_ij| = 0 or not a number): keep the rest one */
+    const double *X = s->mesh.x;
+    int i = ei[e], j = ej[e];
+    px[e] = X[3 * i] - X[3 * j];
+    py[e] = X[3 * i + 1] - X[3 * j + 1];
+    pz[e] = X[3 * i + 2] - X[3 * j + 2];
+  }
   const double k = w->k;
   for (int bb = 0; bb < s->model.nfree; bb++) {
     int v = s->free_vertex[bb];
@@ -189,7 +187,7 @@ static int pd_init(cb_integrator *it) {
   w->y = cb_malloc((size_t)3 * nf + 1, sizeof(double));
   w->gF = cb_malloc((size_t)3 * nf + 1, sizeof(double));
   w->xprev = cb_malloc((size_t)3 * nv, sizeof(double));
-  w->p = cb_malloc((size_t)3 * w->ns + 1, sizeof(double));
+  w->p = cb_malloc((size_t)4 * w->ns + 1, sizeof(double));
   if (!w->c || !w->b || !w->y || !w->gF || !w->xprev || !w->p) return CB_ENOMEM;
   if (p->rho == CB_PARAM_AUTO && !(w->dnorm = cb_malloc((size_t)p->rho_iters << RHO_DOUBLINGS, sizeof(double)))) return CB_ENOMEM;
   w->rho = p->rho;
