@@ -97,6 +97,12 @@ deps:
 $(BUILD)/version.c: FORCE
 	@scripts/version.sh $@ $(CFLAGS)
 
+# the nonlinear iterations' kernels: sqrt without errno (so that the compiler
+# may vectorise it; sqrtpd rounds as sqrt does) and the vectoriser's full cost
+# model; no FMA contraction (-std=c11), so results stay bit for bit.
+# VECINFO=1 prints what vectorised (-fopt-info-vec).
+KERNEL_CFLAGS := -fno-math-errno -fvect-cost-model=dynamic $(if $(filter 1,$(VECINFO)),-fopt-info-vec-optimized)
+$(BUILD)/lib/core/energy_spring.o $(BUILD)/lib/core/integrator_nljacobi.o $(BUILD)/lib/core/integrator_pd.o: CFLAGS += $(KERNEL_CFLAGS)
 $(BUILD)/lib/core/%.o: lib/core/%.c
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(CORE_INC) $(CFLAGS) -MMD -MP -c $< -o $@

@@ -7,6 +7,8 @@
 #include <clothbench/energy.h>
 #include <clothbench/status.h>
 
+#include "nl_kernel.h"
+
 typedef struct {
   cb_term base;
   double g[3]; /* m/s^2 */
@@ -48,5 +50,11 @@ int cb_gravity_term_alloc(const cb_model *m, const double g[3], cb_term **out) {
   strcpy(s->base.label, "gravity");
   memcpy(s->g, g, sizeof s->g);
   *out = &s->base;
+  return CB_OK;
+}
+
+int cb_gravity_term_vector(const cb_term *t, double g[3]) {
+  if (!t || t->type != &cb_term_gravity_type) return cb_fail("term '%s' is not a gravity term", t ? t->label : "(null)");
+  memcpy(g, ((const gravity_term *)t)->g, 3 * sizeof(double));
   return CB_OK;
 }

@@ -35,14 +35,24 @@
 #include <clothbench/status.h>
 #include <clothbench/stencil.h>
 
+#include "nl_kernel.h"
+
 typedef struct {
   cb_term base;
   int ns;
-  int *ends;    /* 2*ns vertex indices */
+  int *ends;    /* 2*ns vertex indices (the pairs: the stencil's and cb_spring_term_springs') */
+  int *ei, *ej; /* ns each: the same ends as two arrays (structure of arrays, for the kernel) */
   double *rest; /* ns rest lengths L, m */
   double k;     /* N/m */
   cb_choi_ko *ck; /* ns: Choi-Ko response of each spring, or NULL (linear springs) */
   cb_stencil st;  /* 2-vertex elements (i, j) = ends, bound to the pattern */
+  int nv;         /* vertices of the mesh */
+  int *mid;       /* nv: where each vertex's list turns from second ends to first ends (when split) */
+  int split;      /* every vertex's list is second ends, then first ends */
+  int *off, *inc; /* nv + 1, 2*ns: each vertex's springs, inc[off[v]..off[v+1]) = 2e + side (0: v = ei[e], 1: v = ej[e]),
+                   * e increasing: the gather's order is the scatter's */
+  int sorted;     /* ei nondecreasing (the mesh's edges are): the gather sums E too */
+  double *f;      /* 4*ns scratch of the kernel: dE/dx_i of each spring (x, y, z blocks of ns), then its energy */
 } spring_term;
 
 /* Energy of spring e at x and its gradient coefficient c: dE/dx_i = c x_ij,
@@ -64,21 +74,61 @@ static inline double spring_eval(const spring_term *s, int e, const double *x, d
   return 0.5 * s->k * stretch * stretch; /* E = k/2 (l - L)^2 */
 }
 
+/* The kernel, in three loops (the gradient, the objective and its terms in
+ * one pass over the springs; no scatter):
+ *   1. forces: for every spring, independently, x_ij = x_i - x_j, l = |x_ij|,
+ *      c = k (l - L)/l, f_e = c x_ij and E_e = k/2 (l - L)^2 into
+ *      structure-of-arrays scratch: no loop-carried dependence, so the
+ *      compiler vectorises it (sqrt and divide included: one divide per
+ *      spring, 1/l, is the only one; -fno-math-errno, Makefile KERNEL_CFLAGS);
+ *      compressed Choi-Ko springs are then redone one by one;
+ *   2. E = sum of E_e, in spring order;
+ *   3. gradient: each vertex, in mesh order, gathers its springs' +-f_e in
+ *      spring order (off/inc), starting from grad's value.
+ * Loop 3 adds to each grad entry the same numbers in the same order as the
+ * scatter grad_i += f_e, grad_j += -f_e over e did, and loops 1-2 evaluate
+ * the same expressions, so energy and gradient are bit for bit those of the
+ * one-spring-at-a-time kernel (spring_eval). The scratch makes a term
+ * non-reentrant: one thread evaluates a term at a time (as everywhere here). */
+static void spring_forces(const spring_term *s, const double *restrict x) {
+  const int ns = s->ns, *restrict ei = s->ei, *restrict ej = s->ej;
+  const double *restrict rest = s->rest, k = s->k;
+  double *restrict fx = s->f, *restrict fy = s->f + ns, *restrict fz = s->f + 2 * (size_t)ns, *restrict en = s->f + 3 * (size_t)ns;
+  for (int e = 0; e < ns; e++) {
+    int i = ei[e], j = ej[e];
+    double dx = x[3 * i] - x[3 * j], dy = x[3 * i + 1] - x[3 * j + 1], dz = x[3 * i + 2] - x[3 * j + 2];
+    double l = sqrt(dx * dx + dy * dy + dz * dz);
+    double stretch = l - rest[e];
+    double c = k * stretch / l;           /* dE/dx_i = k (l - L) x_ij / l */
+    fx[e] = c * dx;
+    fy[e] = c * dy;
+    fz[e] = c * dz;
+    en[e] = 0.5 * k * stretch * stretch; /* E = k/2 (l - L)^2 */
+  }
+  if (!s->ck) return;
+  for (int e = 0; e < ns; e++) { /* compressed Choi-Ko springs: spring_eval's other branch */
+    double d[3], c;
+    double E = spring_eval(s, e, x, d, &c);
+    fx[e] = c * d[0];
+    fy[e] = c * d[1];
+    fz[e] = c * d[2];
+    en[e] = E;
+  }
+}
+
 static double spring_energy(const cb_term *t, const double *x, double *grad) {
   const spring_term *s = (const spring_term *)t;
-  double E = 0.0;
-  for (int e = 0; e < s->ns; e++) {
-    double d[3], c;
-    E += spring_eval(s, e, x, d, &c);
-    if (grad) {
-      double g[6]; /* (dE/dx_i, dE/dx_j) = (c x_ij, -c x_ij) */
-      for (int a = 0; a < 3; a++) {
-        g[a] = c * d[a];
-        g[3 + a] = -(c * d[a]);
-      }
-      cb_stencil_add_gradient(&s->st, e, g, grad);
-    }
+  cb_spring_gather g;
+  cb_spring_term_forces(t, x, &g);
+  if (!grad || !g.sorted) {
+    double E = cb_spring_gather_energy(&g);
+    double none = 0.0;
+    if (grad)
+      for (int v = 0; v < s->nv; v++) cb_spring_gather_add(&g, v, grad + 3 * v, grad + 3 * v + 1, grad + 3 * v + 2, &none);
+    return E;
   }
+  double E = 0.0; /* sorted springs: E summed in the gather, in spring order */
+  for (int v = 0; v < s->nv; v++) cb_spring_gather_add(&g, v, grad + 3 * v, grad + 3 * v + 1, grad + 3 * v + 2, &E);
   return E;
 }
 
@@ -145,6 +195,12 @@ static double spring_element(const cb_term *t, int e, const double *x, cb_projec
 static void spring_free(cb_term *t) {
   spring_term *s = (spring_term *)t;
   free(s->ends);
+  free(s->ei);
+  free(s->ej);
+  free(s->off);
+  free(s->inc);
+  free(s->mid);
+  free(s->f);
   free(s->rest);
   cb_stencil_free(&s->st);
   free(s->ck);
@@ -167,6 +223,32 @@ const cb_term_type cb_term_spring_type = {.name = "spring",
                                           .indefinite = spring_indefinite};
 const cb_term_type *const cb_term_spring = &cb_term_spring_type;
 
+void cb_spring_term_forces(const cb_term *t, const double *x, cb_spring_gather *g) {
+  const spring_term *s = (const spring_term *)t;
+  spring_forces(s, x);
+  g->ns = s->ns;
+  g->sorted = s->sorted;
+  g->split = s->split;
+  g->mid = s->mid;
+  g->off = s->off;
+  g->inc = s->inc;
+  g->f = s->f;
+}
+
+int cb_spring_term_layout(const cb_term *t, cb_spring_layout *out) {
+  if (!t || t->type != &cb_term_spring_type) return cb_fail("term '%s' is not a spring term", t ? t->label : "(null)");
+  const spring_term *s = (const spring_term *)t;
+  out->ns = s->ns;
+  out->nv = s->nv;
+  out->ei = s->ei;
+  out->ej = s->ej;
+  out->rest = s->rest;
+  out->k = s->k;
+  out->off = s->off;
+  out->inc = s->inc;
+  return CB_OK;
+}
+
 int cb_spring_term_alloc(const cb_model *m, const char *label, int ns, const int *ends, double k, cb_term **out) {
   *out = NULL;
   if (!(k >= 0) || !isfinite(k)) return cb_fail("%s springs: stiffness must be >= 0, got %g", label, k);
@@ -177,9 +259,17 @@ int cb_spring_term_alloc(const cb_model *m, const char *label, int ns, const int
   snprintf(s->base.label, sizeof s->base.label, "%s", label);
   s->ns = ns;
   s->k = k;
+  s->nv = m->mesh->nv;
   s->ends = cb_malloc((size_t)2 * ns, sizeof(int));
-  s->rest = cb_malloc((size_t)ns, sizeof(double));
-  if (!s->ends || !s->rest || cb_stencil_init(&s->st, 2, ns, s->ends, m->free_index)) {
+  s->ei = cb_malloc((size_t)ns + 1, sizeof(int));
+  s->ej = cb_malloc((size_t)ns + 1, sizeof(int));
+  s->inc = cb_malloc((size_t)2 * ns + 1, sizeof(int));
+  s->off = cb_calloc((size_t)s->nv + 1, sizeof(int));
+  s->mid = cb_malloc((size_t)s->nv + 1, sizeof(int));
+  s->f = cb_malloc((size_t)4 * ns + 1, sizeof(double));
+  s->rest = cb_malloc((size_t)ns + 1, sizeof(double));
+  if (!s->ends || !s->ei || !s->ej || !s->inc || !s->off || !s->mid || !s->f || !s->rest ||
+      cb_stencil_init(&s->st, 2, ns, s->ends, m->free_index)) {
     spring_free(&s->base);
     return CB_ENOMEM;
   }
@@ -198,6 +288,34 @@ int cb_spring_term_alloc(const cb_model *m, const char *label, int ns, const int
       spring_free(&s->base);
       return cb_fail("%s spring %d between vertices %d and %d has zero rest length (coincident vertices)", label, e, i, j);
     }
+    s->ei[e] = i;
+    s->ej[e] = j;
+  }
+  /* each vertex's springs, e increasing (a counting sort): the gather's order */
+  for (int e = 0; e < ns; e++) {
+    s->off[s->ei[e] + 1]++;
+    s->off[s->ej[e] + 1]++;
+  }
+  for (int v = 0; v < s->nv; v++) s->off[v + 1] += s->off[v];
+  int *fill = cb_malloc((size_t)s->nv + 1, sizeof(int));
+  if (!fill) {
+    spring_free(&s->base);
+    return CB_ENOMEM;
+  }
+  memcpy(fill, s->off, (size_t)s->nv * sizeof(int));
+  for (int e = 0; e < ns; e++) {
+    s->inc[fill[s->ei[e]]++] = 2 * e;
+    s->inc[fill[s->ej[e]]++] = 2 * e + 1;
+  }
+  free(fill);
+  s->sorted = 1;
+  for (int e = 1; e < ns; e++) s->sorted &= s->ei[e] >= s->ei[e - 1];
+  s->split = 1;
+  for (int v = 0; v < s->nv; v++) {
+    int q = s->off[v];
+    while (q < s->off[v + 1] && (s->inc[q] & 1)) q++;
+    s->mid[v] = q;
+    for (; q < s->off[v + 1]; q++) s->split &= !(s->inc[q] & 1);
   }
   *out = &s->base;
   return CB_OK;

@@ -37,6 +37,7 @@
  * A non-finite gradient ends the step with `diverged`. The hook sees
  * CB_NEWTON_GRADIENT at every iterate (iter 0 = xhat, ..., K). */
 #include <cblas.h>
+#include <float.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
@@ -47,6 +48,8 @@
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
 #include "integrator_keys.h"
+
+#include "nl_kernel.h"
 
 enum { DIAG_LAB = 0, DIAG_VALENCE = 1, DIAG_EXACT = 2 };
 
@@ -87,12 +90,35 @@ typedef struct {
   double *dnorm;     /* rho_iters: update norms of the rho estimate */
   double rho;        /* the rho in use (-1 until auto has been estimated) */
   double rho_ms;     /* time of the estimate, ms */
+  int fast;          /* the fused kernel applies (fast_init) */
+  int nterms;
+  const cb_term *term[CB_MAX_TERMS]; /* the system's terms, in its order */
+  int gravity[CB_MAX_TERMS];         /* term t is gravity (else springs) */
+  double grav[CB_MAX_TERMS][3];      /* its g */
 } nlj_work;
 
 static void nlj_free(cb_integrator *it) {
   nlj_work *w = it->state;
   cb_objective_free(&w->obj);
   free(w->gF); free(w->xprev); free(w->dinv); free(w->blk); free(w->slot); free(w->stride); free(w->dnorm);
+}
+
+/* The fused kernel applies to the lab and valence diagonals when every term
+ * is springs or gravity and the free vertices are in mesh order. */
+static void fast_init(nlj_work *w, const cb_scene *s, int diagonal) {
+  w->fast = 0;
+  if (diagonal == DIAG_EXACT || s->sys.nterms > CB_MAX_TERMS) return;
+  for (int b = 1; b < s->model.nfree; b++)
+    if (s->free_vertex[b] <= s->free_vertex[b - 1]) return;
+  w->nterms = s->sys.nterms;
+  for (int t = 0; t < s->sys.nterms; t++) {
+    const cb_term *term = s->sys.terms[t];
+    w->term[t] = term;
+    w->gravity[t] = term->type == cb_term_gravity;
+    if (w->gravity[t]) cb_gravity_term_vector(term, w->grav[t]);
+    else if (term->type != cb_term_spring) return;
+  }
+  w->fast = 1;
 }
 
 static int nlj_init(cb_integrator *it) {
@@ -145,6 +171,7 @@ static int nlj_init(cb_integrator *it) {
     }
     free(deg);
   }
+  fast_init(w, s, p->diagonal);
   return CB_OK;
 }
 
@@ -172,6 +199,166 @@ static void chol3_solve(const double *l, const double *g, double *y) {
   y[0] = (z0 - l[1] * y[1] - l[2] * y[2]) / l[0];
 }
 
+/* One pass of the fused kernel at x: each term's springs (cb_spring_term_forces), then one loop over
+ * the vertices in mesh order that gathers each vertex's gradient (the terms in the system's order,
+ * from 0: cb_system_energy's), gravity's energy, the objective's inertia and grad F
+ * (cb_objective_eval's), and, when xn is not NULL, the update of x_{k+1} into xn (xn holds x_{k-1}
+ * of the free vertices on entry; iterate's update). Every sum runs in its old order, so F, grad F
+ * and x_{k+1} are bit for bit those of cb_objective_eval and the update loop. gF (if not NULL)
+ * receives grad F; *gg gets sum (grad F)^2 and *d2 sum |x_{k+1} - x_k|^2. Returns F. */
+/* The objective and the update at free vertex v (block b) with gradient g of E: iterate's arithmetic. */
+static inline __attribute__((always_inline)) void fast_vertex(const double *xv, const double *xh, double mv, double dinv,
+                                                               double inv_dt2, const double g[3], double *gF, double *xn,
+                                                               double omega, double alpha, double *inertia, double *gg,
+                                                               double *d2) {
+  double gf[3];
+  for (int a = 0; a < 3; a++) {
+    double d = xv[a] - xh[a];
+    *inertia += mv * d * d;            /* |x - xhat|_M^2 */
+    gf[a] = mv * d * inv_dt2 + g[a];   /* M(x - xhat)/dt^2 + dE/dx */
+    *gg += gf[a] * gf[a];
+  }
+  if (gF)
+    for (int a = 0; a < 3; a++) gF[a] = gf[a];
+  if (xn)
+    for (int a = 0; a < 3; a++) {
+      double xk = xv[a];
+      double xnew = omega * (xk - alpha * (dinv * gf[a])) + (1.0 - omega) * xn[a]; /* iterate's update */
+      double dx = xnew - xk;
+      *d2 += dx * dx;
+      xn[a] = xnew;
+    }
+}
+
+static double fast_pass(nlj_work *w, const cb_scene *s, const double *x, double *gF, double *xn, double omega,
+                        double alpha, double *gg, double *d2) {
+  cb_spring_gather G[CB_MAX_TERMS];
+  double Et[CB_MAX_TERMS];
+  int nt = w->nterms, nv = s->mesh.nv;
+  for (int t = 0; t < nt; t++) {
+    Et[t] = 0.0;
+    if (!w->gravity[t]) cb_spring_term_forces(w->term[t], x, &G[t]);
+  }
+  const double *m = s->model.mass, *ms = s->mass, *xhat = w->obj.xhat, *dinv = w->dinv;
+  const int *fi = s->free_index;
+  double inv_dt2 = 1.0 / (w->obj.dt * w->obj.dt), inertia = 0.0, sgg = 0.0, sd2 = 0.0;
+  if (nt == 2 && !w->gravity[0] && w->gravity[1]) { /* springs, then gravity: the common scene, in registers */
+    const cb_spring_gather *G0 = &G[0];
+    const double g0 = w->grav[1][0], g1 = w->grav[1][1], g2 = w->grav[1][2];
+    double Es = 0.0, Eg = 0.0;
+    for (int v = 0; v < nv; v++) {
+      const double *xv = x + 3 * v;
+      double g[3] = {0.0, 0.0, 0.0};
+      cb_spring_gather_add(G0, v, &g[0], &g[1], &g[2], &Es);
+      Eg -= m[v] * (g0 * xv[0] + g1 * xv[1] + g2 * xv[2]); /* gravity_energy */
+      g[0] -= m[v] * g0;
+      g[1] -= m[v] * g1;
+      g[2] -= m[v] * g2;
+      int b = fi[v];
+      if (b >= 0)
+        fast_vertex(xv, xhat + 3 * v, ms[v], dinv[b], inv_dt2, g, gF ? gF + 3 * b : NULL, xn ? xn + 3 * v : NULL, omega,
+                    alpha, &inertia, &sgg, &sd2);
+    }
+    Et[0] = Es;
+    Et[1] = Eg;
+  } else {
+    for (int v = 0; v < nv; v++) {
+      const double *xv = x + 3 * v;
+      double g[3] = {0.0, 0.0, 0.0};
+      for (int t = 0; t < nt; t++) {
+        if (w->gravity[t]) { /* gravity_energy */
+          const double *gr = w->grav[t];
+          Et[t] -= m[v] * (gr[0] * xv[0] + gr[1] * xv[1] + gr[2] * xv[2]);
+          for (int a = 0; a < 3; a++) g[a] -= m[v] * gr[a];
+        } else {
+          cb_spring_gather_add(&G[t], v, &g[0], &g[1], &g[2], &Et[t]);
+        }
+      }
+      int b = fi[v];
+      if (b >= 0)
+        fast_vertex(xv, xhat + 3 * v, ms[v], dinv[b], inv_dt2, g, gF ? gF + 3 * b : NULL, xn ? xn + 3 * v : NULL, omega,
+                    alpha, &inertia, &sgg, &sd2);
+    }
+  }
+  double E = 0.0;
+  for (int t = 0; t < nt; t++) {
+    if (!w->gravity[t] && !G[t].sorted) Et[t] = cb_spring_gather_energy(&G[t]);
+    E += Et[t]; /* cb_system_energy's order */
+  }
+  *gg = sgg;
+  *d2 = sd2;
+  return 0.5 * inv_dt2 * inertia + E;
+}
+
+/* iterate with the fused kernel (no hook, lab or valence diagonal): the
+ * first and last iterates are measured as iterate measures them (grad F
+ * stored, cblas_dnrm2); the ones between evaluate and update in one pass,
+ * writing x_{k+1} over x_{k-1} and swapping the two arrays. A pass whose F
+ * is not finite or whose sum (grad F)^2 overflows is measured again the
+ * old way at x_k, which is intact, so the step diverges exactly where
+ * iterate's does, with the same stats and x. */
+static int iterate_fast(cb_integrator *it, double *x, int K, double rho, double *dnorm, cb_step_stats *st, int report) {
+  nlj_work *w = it->state;
+  const cb_scene *s = it->scene;
+  const cb_nljacobi_params *p = it->type_params;
+  int nf = s->model.nfree, nf3 = 3 * nf;
+  size_t nv3 = (size_t)3 * s->mesh.nv;
+  double alpha = p->alpha, omega = 1.0, g0 = 0.0, gg, d2, d2k = 0.0;
+  cb_objective_guess(&w->obj, x, 1); /* x_0 = xhat, pins at their prescribed positions */
+  memcpy(w->xprev, x, nv3 * sizeof(double));
+  double *cur = x, *prev = w->xprev;
+  int status = CB_OK;
+  for (int k = 0;; k++) {
+    double t0 = cb_now_ms();
+    if (k > 0 && k < K) { /* evaluate and update in one pass */
+      omega = cb_chebyshev_omega(k, rho, omega);
+      double F = fast_pass(w, s, cur, NULL, prev, omega, alpha, &gg, &d2k);
+      if (isfinite(F) && gg <= DBL_MAX) {
+        double *tmp = cur; cur = prev; prev = tmp;
+        if (dnorm) dnorm[k] = sqrt(d2k);
+        st->assemble_ms += cb_now_ms() - t0;
+        continue;
+      }
+    }
+    double F = fast_pass(w, s, cur, w->gF, NULL, 1.0, alpha, &gg, &d2); /* measured: F, grad F, |grad F| */
+    double gn = cblas_dnrm2(nf3, w->gF, 1);
+    st->assemble_ms += cb_now_ms() - t0;
+    if (k == 0) g0 = gn;
+    if (report) {
+      st->F = F;
+      st->grad_norm = gn;
+      st->rel_grad = st->rel_grad_hat = g0 > 0 ? gn / g0 : 0.0;
+      st->newton_iters = k;
+    }
+    if (!isfinite(F) || !isfinite(gn)) { status = CB_DIVERGED; break; }
+    if (k == K) break;
+    if (k > 0) { /* a pass measured again and found finite: its update stands */
+      double *tmp = cur; cur = prev; prev = tmp;
+      if (dnorm) dnorm[k] = sqrt(d2k);
+      continue;
+    }
+    t0 = cb_now_ms();
+    omega = cb_chebyshev_omega(k, rho, omega); /* k = 0: the update of iterate */
+    d2 = 0.0;
+    for (int b = 0; b < nf; b++) {
+      double *xi = cur + 3 * s->free_vertex[b], *xp = prev + 3 * s->free_vertex[b];
+      const double *g = w->gF + 3 * b;
+      for (int a = 0; a < 3; a++) {
+        double xk = xi[a];
+        double xn = omega * (xk - alpha * (w->dinv[b] * g[a])) + (1.0 - omega) * xp[a];
+        double dx = xn - xk;
+        d2 += dx * dx;
+        xp[a] = xk;
+        xi[a] = xn;
+      }
+    }
+    st->solve_ms += cb_now_ms() - t0;
+    if (dnorm) dnorm[k] = sqrt(d2);
+  }
+  if (cur != x) memcpy(x, cur, nv3 * sizeof(double));
+  return status;
+}
+
 /* K iterations from xhat with the given rho; dnorm (if not NULL) receives
  * |x_{k+1} - x_k| of each. Leaves x_K in x. */
 static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnorm, cb_step_stats *st, int report) {
@@ -179,6 +366,7 @@ static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnor
   const cb_scene *s = it->scene;
   const cb_nljacobi_params *p = it->type_params;
   cb_newton_hook hook = report ? it->params.hook : NULL;
+  if (w->fast && !hook) return iterate_fast(it, x, K, rho, dnorm, st, report);
   int nf = s->model.nfree, nf3 = 3 * nf;
   double dt = it->params.dt, alpha = p->alpha, omega = 1.0, g0 = 0.0;
   cb_objective_guess(&w->obj, x, 1); /* x_0 = xhat, pins at their prescribed positions */

@@ -51,6 +51,7 @@
 #include <clothbench/timer.h>
 #include "integrator_keys.h"
 
+#include "nl_kernel.h"
 #include "pd_matrix.h"
 
 enum { RHO_DOUBLINGS = 5 }; /* the auto estimate runs at most rho_iters << RHO_DOUBLINGS plain iterations */
@@ -88,6 +89,8 @@ typedef struct {
   double *gF;           /* 3*nfree */
   double *xprev;        /* 3*nv */
   double *dnorm;        /* rho_iters << RHO_DOUBLINGS */
+  cb_spring_layout lay; /* the springs as structure of arrays, and each vertex's springs */
+  double *p;            /* 4*ns: the local step's d_e (x, y, z blocks), then |x_ij|^2 */
   double rho;           /* in use; CB_PARAM_AUTO until estimated */
 } pd_work;
 
@@ -95,7 +98,54 @@ static void pd_free(cb_integrator *it) {
   pd_work *w = it->state;
   cb_objective_free(&w->obj);
   cb_sparse_free(&w->P);
-  free(w->c); free(w->b); free(w->y); free(w->gF); free(w->xprev); free(w->dnorm);
+  free(w->c); free(w->b); free(w->y); free(w->gF); free(w->xprev); free(w->dnorm); free(w->p);
+}
+
+/* The local step, b = c + J d (+ pinned neighbours), in two loops with the
+ * old one's arithmetic: d_e = L_e x_ij/|x_ij| of every spring (independent:
+ * vectorised; the rare spring of zero or non-finite length redone with its
+ * rest direction), then each free vertex gathers its springs' terms in
+ * spring order, which is the order the scatter b_i += k(d_e + ...),
+ * b_j += k(-d_e + ...) added them in: b is bit for bit the same. */
+static void pd_local(pd_work *w, const cb_scene *s, const double *restrict x) {
+  const cb_spring_layout *L = &w->lay;
+  const int ns = L->ns, *restrict ei = L->ei, *restrict ej = L->ej, *restrict fi = s->free_index;
+  const double *restrict rest = L->rest;
+  double *restrict px = w->p, *restrict py = w->p + ns, *restrict pz = w->p + 2 * (size_t)ns;
+  double *restrict len2 = w->p + 3 * (size_t)ns; /* |x_ij|^2, for the check below (a reduction here would stop the vectoriser) */
+  for (int e = 0; e < ns; e++) {
+    int i = ei[e], j = ej[e];
+    double dx = x[3 * i] - x[3 * j], dy = x[3 * i + 1] - x[3 * j + 1], dz = x[3 * i + 2] - x[3 * j + 2];
+    double l2 = dx * dx + dy * dy + dz * dz, r = rest[e] / sqrt(l2);
+    px[e] = dx * r; /* d_e = L_e (x_i - x_j)/|x_i - x_j| */
+    py[e] = dy * r;
+    pz[e] = dz * r;
+    len2[e] = l2;
+  }
+  for (int e = 0; e < ns; e++) {
+    if (len2[e] > 0) continue; /* no direction (|x_ij| = 0 or not a number): keep the rest one */
+    const double *X = s->mesh.x;
+    int i = ei[e], j = ej[e];
+    px[e] = X[3 * i] - X[3 * j];
+    py[e] = X[3 * i + 1] - X[3 * j + 1];
+    pz[e] = X[3 * i + 2] - X[3 * j + 2];
+  }
+  const double k = w->k;
+  for (int bb = 0; bb < s->model.nfree; bb++) {
+    int v = s->free_vertex[bb];
+    double b0 = w->c[3 * bb], b1 = w->c[3 * bb + 1], b2 = w->c[3 * bb + 2];
+    for (int q = L->off[v]; q < L->off[v + 1]; q++) {
+      int e = L->inc[q] >> 1, side = L->inc[q] & 1, o = side ? ei[e] : ej[e];
+      double d0 = side ? -px[e] : px[e], d1 = side ? -py[e] : py[e], d2 = side ? -pz[e] : pz[e];
+      int pinned = fi[o] < 0; /* a pinned neighbour moves k x_o to the right-hand side */
+      b0 += k * (d0 + (pinned ? x[3 * o] : 0.0));
+      b1 += k * (d1 + (pinned ? x[3 * o + 1] : 0.0));
+      b2 += k * (d2 + (pinned ? x[3 * o + 2] : 0.0));
+    }
+    w->b[3 * bb] = b0;
+    w->b[3 * bb + 1] = b1;
+    w->b[3 * bb + 2] = b2;
+  }
 }
 
 static int pd_init(cb_integrator *it) {
@@ -114,6 +164,7 @@ static int pd_init(cb_integrator *it) {
     }
     if (term->type == cb_term_spring && strcmp(term->label, "stretch") == 0 && !cb_spring_term_is_choi_ko(term)) {
       cb_spring_term_springs(term, &w->ns, &w->ends, &w->rest, &w->k); /* the local step's springs */
+      cb_spring_term_layout(term, &w->lay);
       continue;
     }
     /* the advice names the key that removes this term */
@@ -134,7 +185,8 @@ static int pd_init(cb_integrator *it) {
   w->y = cb_malloc((size_t)3 * nf + 1, sizeof(double));
   w->gF = cb_malloc((size_t)3 * nf + 1, sizeof(double));
   w->xprev = cb_malloc((size_t)3 * nv, sizeof(double));
-  if (!w->c || !w->b || !w->y || !w->gF || !w->xprev) return CB_ENOMEM;
+  w->p = cb_malloc((size_t)4 * w->ns + 1, sizeof(double));
+  if (!w->c || !w->b || !w->y || !w->gF || !w->xprev || !w->p) return CB_ENOMEM;
   if (p->rho == CB_PARAM_AUTO && !(w->dnorm = cb_malloc((size_t)p->rho_iters << RHO_DOUBLINGS, sizeof(double)))) return CB_ENOMEM;
   w->rho = p->rho;
   if (nf == 0) return CB_OK;
@@ -148,9 +200,8 @@ static int pd_init(cb_integrator *it) {
 static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnorm, cb_step_stats *st, int report, int restart) {
   pd_work *w = it->state;
   const cb_scene *s = it->scene;
-  const int *fi = s->free_index;
   cb_newton_hook hook = report ? it->params.hook : NULL;
-  int nf = s->model.nfree, nf3 = 3 * nf, nv3 = 3 * s->mesh.nv;
+  int nf = s->model.nfree, nv3 = 3 * s->mesh.nv;
   double dt = it->params.dt, omega = 1.0, g0 = 0.0;
   if (restart) cb_objective_guess(&w->obj, x, 1); /* x_0 = xhat */
   memcpy(w->xprev, x, (size_t)nv3 * sizeof(double));
@@ -163,24 +214,7 @@ static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnor
       return CB_DIVERGED;
     if (k == K || nf == 0) break;
     double t0 = cb_now_ms();
-    memcpy(w->b, w->c, (size_t)nf3 * sizeof(double));
-    for (int e = 0; e < w->ns; e++) { /* local: d_e = L_e (x_i - x_j)/|x_i - x_j|; b += J d (+ pinned neighbours) */
-      int i = w->ends[2 * e], j = w->ends[2 * e + 1], bi = fi[i], bj = fi[j];
-      if (bi < 0 && bj < 0) continue;
-      const double *xi = x + 3 * i, *xj = x + 3 * j;
-      double d[3] = {xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]};
-      double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-      if (l > 0) {
-        for (int a = 0; a < 3; a++) d[a] *= w->rest[e] / l;
-      } else { /* no direction: keep the rest one */
-        const double *X = s->mesh.x;
-        for (int a = 0; a < 3; a++) d[a] = X[3 * i + a] - X[3 * j + a];
-      }
-      for (int a = 0; a < 3; a++) {
-        if (bi >= 0) w->b[3 * bi + a] += w->k * (d[a] + (bj < 0 ? xj[a] : 0.0));
-        if (bj >= 0) w->b[3 * bj + a] += w->k * (-d[a] + (bi < 0 ? xi[a] : 0.0));
-      }
-    }
+    pd_local(w, s, x); /* local: d_e = L_e (x_i - x_j)/|x_i - x_j|; b = c + J d (+ pinned neighbours) */
     for (int b = 0; b < nf; b++) /* initial guess of an iterative solver: the current iterate */
       for (int a = 0; a < 3; a++) w->y[3 * b + a] = x[3 * s->free_vertex[b] + a];
     st->assemble_ms += cb_now_ms() - t0;

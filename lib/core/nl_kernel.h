@@ -1,0 +1,87 @@
+/* The nonlinear iterations' kernel (internal to lib/core): what the spring
+ * and gravity terms expose, beyond the term interface, so that jacobi-nl,
+ * chebyshev-nl and pd can fuse the gradient, the objective and the update
+ * into one pass over the vertices (integrator_nljacobi.c, integrator_pd.c)
+ * with the terms' own arithmetic, in the terms' own order. */
+#ifndef CB_NL_KERNEL_H
+#define CB_NL_KERNEL_H
+
+#include <clothbench/energy.h>
+
+/* A spring term's springs as structure of arrays, and each vertex's springs:
+ * inc[off[v] .. off[v+1]) = 2e + side, e increasing (side 0: v = ei[e], 1: v = ej[e]). */
+typedef struct {
+  int ns, nv;
+  const int *ei, *ej;
+  const double *rest;
+  double k;
+  const int *off, *inc;
+} cb_spring_layout;
+
+int cb_spring_term_layout(const cb_term *t, cb_spring_layout *out);
+
+/* The per-spring results of one kernel pass (cb_spring_term_forces): f =
+ * dE/dx_i of each spring and its energy, four blocks of ns (x, y, z, E). */
+typedef struct {
+  int ns;
+  int sorted; /* springs sorted by their first end (ei nondecreasing): the gather can sum E in spring order */
+  int split;  /* every vertex lists its springs as second end before those as first end: mid splits them */
+  const int *off, *mid, *inc;
+  const double *f;
+} cb_spring_gather;
+
+/* One pass over the springs at x (no gradient yet): the forces and energies
+ * into the term's scratch. */
+void cb_spring_term_forces(const cb_term *t, const double *x, cb_spring_gather *g);
+
+/* g += vertex v's share of the spring term's gradient, in spring order:
+ * exactly what the term's energy() adds to grad + 3v. If g->sorted, *E also
+ * gets the energies of the springs whose first end is v (else it is unchanged): called for v = 0,
+ * 1, ..., nv-1 from *E = 0 this sums E_e in spring order, bit for bit the
+ * term's energy (its summation order). */
+static inline __attribute__((always_inline)) void cb_spring_gather_add(const cb_spring_gather *g, int v, double *gx, double *gy, double *gz, double *E) {
+  const double *fx = g->f, *fy = g->f + g->ns, *fz = g->f + 2 * (size_t)g->ns, *en = g->f + 3 * (size_t)g->ns;
+  double ax = *gx, ay = *gy, az = *gz, ae = *E;
+  if (g->split && g->sorted) { /* the common case (a mesh's edges): -f_e of the springs ending at v, then +f_e, E_e */
+    int q = g->off[v], qm = g->mid[v], q1 = g->off[v + 1];
+    for (; q < qm; q++) {
+      int e = g->inc[q] >> 1;
+      ax -= fx[e]; /* + (-f_e) exactly */
+      ay -= fy[e];
+      az -= fz[e];
+    }
+    for (; q < q1; q++) {
+      int e = g->inc[q] >> 1;
+      ax += fx[e];
+      ay += fy[e];
+      az += fz[e];
+      ae += en[e];
+    }
+  } else {
+    for (int q = g->off[v]; q < g->off[v + 1]; q++) {
+      int e = g->inc[q] >> 1, side = g->inc[q] & 1;
+      double sg = side ? -1.0 : 1.0; /* -f_e exactly */
+      ax += sg * fx[e];
+      ay += sg * fy[e];
+      az += sg * fz[e];
+      if (g->sorted) ae += side ? 0.0 : en[e]; /* + 0.0 is exact: a sum from +0 is never -0 */
+    }
+  }
+  *gx = ax;
+  *gy = ay;
+  *gz = az;
+  *E = ae;
+}
+
+/* The energy sum of the last cb_spring_term_forces, in spring order (when not g->sorted). */
+static inline double cb_spring_gather_energy(const cb_spring_gather *g) {
+  const double *en = g->f + 3 * (size_t)g->ns;
+  double E = 0.0;
+  for (int e = 0; e < g->ns; e++) E += en[e];
+  return E;
+}
+
+/* The gravity term's acceleration g (E = -sum_i m_i g . x_i). */
+int cb_gravity_term_vector(const cb_term *t, double g[3]);
+
+#endif
