@@ -97,8 +97,12 @@ def main():
         cells = []
         for n in sizes:
             r = cell.get((m, n))
-            cells.append(ms(num(r["step_ms"])) if measured(r) else (r["status"] if r else "–"))
+            star = " *" if measured(r) and r["steps_timed"] == "0" else ""
+            cells.append(ms(num(r["step_ms"])) + star if measured(r) else (r["status"] if r else "–"))
         out.append("| %s | %s | %s |" % (LABELS.get(m, m), " | ".join(cells), " | ".join(expo(m, "step_ms"))))
+    if any(measured(r) and r["steps_timed"] == "0" for r in rows):
+        out += ["", "\\* the warm-up step itself (it took longer than the bench's threshold, so no further step was "
+                "timed; it includes the first touch of the factor's pages)."]
     out += ["", "Peak resident set of the process:", "", hdr, sep]
     for m in methods:
         cells = []
