@@ -136,13 +136,13 @@ def main():
 
     # the crossover: CHOLMOD against the fastest iterative step at equal accuracy
     out += ["", "**Direct or iterative.**"]
-    verdict, faster_from = [], None
+    verdict, outcome = [], []  # outcome: (n, "iterative" | "direct" | "unlike")
     for n in sizes:
         c = cell.get(("newton_cholmod", n))
         if not measured(c):
             continue
         tc = num(c["step_ms"])
-        best, best_g, best_gc, unlike = None, None, None, []
+        best, best_g, best_gc, unlike, compared = None, None, None, [], 0
         for m in ITERATIVE:
             r = cell.get((m, n))
             if not measured(r):
@@ -156,36 +156,46 @@ def main():
             if math.isnan(g) or math.isnan(gc):
                 unlike.append(m)
                 continue
+            compared += 1
             if g <= EQUAL_ACCURACY * gc and (best is None or num(r["step_ms"]) < num(best["step_ms"])):
                 best, best_g, best_gc = r, g, gc
+        if best is None and not compared:
+            verdict.append("%d²: CHOLMOD %s; not compared: the accuracies were measured on different steps (CHOLMOD's "
+                           "on its warm-up step) and this CSV has no warm-up accuracy to compare" % (n, ms(tc)))
+            outcome.append((n, "unlike"))
+            continue
         if best is None:
-            why = ("their accuracies were measured on different steps (CHOLMOD's on its warm-up step, "
-                   "and this CSV has no warm-up accuracy to compare)" if unlike else "no iterative step as accurate")
-            verdict.append("%d²: CHOLMOD %s; %s" % (n, ms(tc), why))
-            faster_from = None
+            verdict.append("%d²: CHOLMOD %s; no iterative step as accurate" % (n, ms(tc)))
+            outcome.append((n, "direct"))
             continue
         tb = num(best["step_ms"])
         verdict.append("%d²: CHOLMOD %s (‖∇F‖ %.3g) against %s %s (%.3g): %s" % (
             n, ms(tc), best_gc, LABELS.get(best["method"], best["method"]), ms(tb), best_g,
             "CHOLMOD %.2f× faster" % (tb / tc) if tc < tb else "iterative %.2f× faster" % (tc / tb)))
-        if tb < tc and faster_from is None:
-            faster_from = n
-        elif tb >= tc:
-            faster_from = None
-    measured_c = [n for n in sizes if measured(cell.get(("newton_cholmod", n)))]
-    if not measured_c:
-        out.append("CHOLMOD was not measured at any size, so no crossover can be stated.")
-    elif faster_from is None:
-        out.append("At equal accuracy (an iterative step's relative ‖∇F‖ at most %.2f× CHOLMOD's), the direct solve is the "
-                   "faster one-iteration Newton step at every size measured (%s²–%s²)." % (EQUAL_ACCURACY, measured_c[0], measured_c[-1]))
-    elif faster_from == measured_c[0]:
-        out.append("At equal accuracy (an iterative step's relative ‖∇F‖ at most %.2f× CHOLMOD's), an iterative inner solve "
-                   "is already faster than the direct solve at the smallest size measured, %d², and stays faster at every "
-                   "larger one: on this scene the direct solve is not the right default at any size measured." % (EQUAL_ACCURACY, faster_from))
+        outcome.append((n, "iterative" if tb < tc else "direct"))
+    comp = [(n, o) for n, o in outcome if o != "unlike"]
+    rule = "(an iterative step counts when its relative ‖∇F‖ is at most %.2f× CHOLMOD's on the same step)" % EQUAL_ACCURACY
+    if not comp:
+        out.append("No size where CHOLMOD and an iterative inner solve could be compared at equal accuracy %s." % rule)
+    elif all(o == "direct" for _, o in comp):
+        out.append("At equal accuracy %s, the direct solve is the faster one-iteration Newton step at every size compared (%s)."
+                   % (rule, ", ".join("%d²" % n for n, _ in comp)))
+    elif comp[-1][1] == "iterative":
+        k = len(comp) - 1
+        while k > 0 and comp[k - 1][1] == "iterative":
+            k -= 1
+        if k == 0:
+            out.append("At equal accuracy %s, an iterative inner solve is faster than the direct solve at every size compared "
+                       "(%s), already at the smallest: on this scene the direct solve is not the right default at any size "
+                       "measured." % (rule, ", ".join("%d²" % n for n, _ in comp)))
+        else:
+            out.append("At equal accuracy %s, the direct solve stops being the right default from %d² on: from there an "
+                       "iterative inner solve is faster at every size compared." % (rule, comp[k][0]))
     else:
-        out.append("At equal accuracy (an iterative step's relative ‖∇F‖ at most %.2f× CHOLMOD's), the direct solve stops "
-                   "being the right default from %d² on: from there an iterative inner solve is faster at every size measured." % (
-                       EQUAL_ACCURACY, faster_from))
+        out.append("At equal accuracy %s, the direct solve is faster at the largest size compared (%d²); the iterative inner "
+                   "solve was faster at %s." % (rule, comp[-1][0], ", ".join("%d²" % n for n, o in comp if o == "iterative")))
+    if any(o == "unlike" for _, o in outcome):
+        out.append("Not compared: %s (see below)." % ", ".join("%d²" % n for n, o in outcome if o == "unlike"))
     out += [""] + ["- " + v for v in verdict]
 
     # memory of the largest factor against the machine
@@ -200,8 +210,9 @@ def main():
             share = " (%.2g%% of the machine's %s)" % (100 * rss / total, gib(total)) if not math.isnan(total) else ""
             note = ""
             if not math.isnan(total):
+                k = int(total // rss)
                 note = (" More than half of the machine's memory: it does not fit twice, nor beside another job of its size."
-                        if rss > total / 2 else " It fits in the machine's memory with room to spare.")
+                        if k < 2 else " It fits; at most %d such processes fit side by side." % k)
             out.append("- Memory at %d², %s: peak RSS %s%s, factor nnz(L) %.3g.%s" % (big, LABELS.get(m, m), gib(rss), share,
                                                                                      num(r["nnz_l"]), note))
         else:
