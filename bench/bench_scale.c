@@ -74,6 +74,7 @@
 #include <clothbench/clothbench.h>
 #include <clothbench/timer.h>
 #include "bind.h"
+#include "csv.h"
 #include "experiment.h"
 #include "provenance.h"
 #include "stats.h"
