@@ -92,7 +92,7 @@ def main():
              "above 1 the peer is slower. clothbench is its CHOLMOD solve as the harness runs it (its solve includes "
              "the harness's residual check) and, for `cg`, its CG.")
     o.append("")
-    hdr = ("| peer | grid | analyse | factorise | analyse + factorise | solve | whole solve | per CG iteration | "
+    hdr = ("| peer | grid | rounds | analyse | factorise | analyse + factorise | solve | whole solve | per CG iteration | "
            "peer residual | clothbench residual | status |")
     o.append(hdr)
     o.append("|" + "---|" * (hdr.count("|") - 1))
@@ -102,7 +102,7 @@ def main():
             any_row = next((c for c in cells if c), None)
             if not any_row:
                 continue
-            o.append(f"| {label} | {n}² | " + " | ".join(cell(c) for c in cells) +
+            o.append(f"| {label} | {n}² | {any_row['rounds']} | " + " | ".join(cell(c) for c in cells) +
                      f" | {any_row['peer_rel_residual'] or '–'} | {any_row['clothbench_rel_residual']} | {any_row['status']} |")
     o.append("")
     o.append("clothbench's own times in the same runs (medians, ms): " + "; ".join(
