@@ -314,9 +314,9 @@ bench: deps
 	@$(MAKE) --no-print-directory $(BENCHES) $(BLAS_KERNEL)
 	@mkdir -p results
 	@rm -f $(BUILD)/bench_matrix_*.bin
-	$(EXP_ENV) CB_BENCH_MATRIX_DIR=$(BUILD) $(BUILD)/bench_core $(if $(filter 1,$(QUICK)),--quick) --out results/bench_core.csv
+	CB_BENCH_MATRIX_DIR=$(BUILD) $(EXP_ENV) $(BUILD)/bench_core $(if $(filter 1,$(QUICK)),--quick) --out results/bench_core.csv
 	$(EXP_ENV) $(PYTHON) bench/spmv_scipy.py $(BUILD)/bench_spmv $(BUILD) results/bench_scipy.csv
-	$(EXP_ENV) CB_BENCH_MATRIX_DIR=$(BUILD) $(BUILD)/bench_peers $(if $(filter 1,$(QUICK)),--quick) --out results/bench_peers.csv
+	CB_BENCH_MATRIX_DIR=$(BUILD) $(EXP_ENV) $(BUILD)/bench_peers $(if $(filter 1,$(QUICK)),--quick) --out results/bench_peers.csv
 	$(EXP_ENV) $(PYTHON) bench/peers_scipy.py $(if $(filter 1,$(QUICK)),--quick) $(BUILD)/bench_peers $(BUILD) results/bench_peers_scipy.csv
 	$(PYTHON) scripts/readme-peers.py results README.md
 	$(PYTHON) scripts/readme-perf.py results README.md
