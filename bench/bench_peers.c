@@ -46,6 +46,7 @@
 
 #include <clothbench/clothbench.h>
 #include <clothbench/timer.h>
+#include "csv.h"
 #include "experiment.h"
 #include "provenance.h"
 #include "stats.h"
