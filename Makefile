@@ -76,6 +76,10 @@ EXPS     := $(EXP_NAMES:%=$(BUILD)/%)
 exp_obj   = $(patsubst %.c,$(BUILD)/%.o,$(sort $(wildcard experiments/$(1)/*.c)))
 BENCH_SRC:= $(sort $(wildcard bench/*.c))
 BENCHES  := $(BENCH_SRC:bench/%.c=$(BUILD)/%)
+# bench_peers needs MUMPS and SuperLU: make all builds it where they are installed, make bench installs them
+PEER_PKGS := libmumps-seq-dev libsuperlu-dev
+PEER_HDRS := /usr/include/dmumps_c.h /usr/include/superlu/slu_ddefs.h
+ALL_BENCHES := $(if $(filter-out $(wildcard $(PEER_HDRS)),$(PEER_HDRS)),$(filter-out $(BUILD)/bench_peers,$(BENCHES)),$(BENCHES))
 REPORT_SRC := $(filter-out claims/main.c,$(sort $(wildcard claims/*.c)))
 REPORT_LIB := $(BUILD)/libreport.a
 TEST_SRC := $(sort $(wildcard tests/test_*.c))
@@ -88,7 +92,7 @@ help:
 .PHONY: help determinism all test check check-all check-quick experiments run-experiments plots movies report bench san fuzz fuzz-build coverage coverage-build deps format format-check clean distclean FORCE
 .DEFAULT_GOAL := all
 
-all: $(LIB) $(TOOLS) $(EXPS) $(BENCHES) $(BUILD)/report
+all: $(LIB) $(TOOLS) $(EXPS) $(ALL_BENCHES) $(BUILD)/report
 
 deps:
 	@scripts/deps.sh
@@ -152,6 +156,9 @@ $(EXPS): $(BUILD)/%: $$(call exp_obj,%) $(LIB)
 BENCH_SUPPORT := $(patsubst %.c,$(BUILD)/%.o,$(wildcard bench/support/*.c))
 $(BUILD)/%: $(BUILD)/bench/%.o $(BENCH_SUPPORT) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
+# the peers bench_peers compares with (MUMPS, SuperLU): linked into it only, never the library
+$(BUILD)/bench/bench_peers.o: CPPFLAGS += -I/usr/include/superlu
+$(BUILD)/bench_peers: LDLIBS += -ldmumps_seq -lsuperlu
 
 $(BUILD)/tests/%: $(BUILD)/tests/%.o $(TEST_OBJ) $(REPORT_LIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -lcriterion -o $@
@@ -310,12 +317,15 @@ report: $(BUILD)/report $(BLAS_KERNEL)
 PYTHON ?= /usr/bin/python3
 
 bench: deps
-	@scripts/deps.sh python3-scipy
+	@scripts/deps.sh python3-scipy $(PEER_PKGS)
 	@$(MAKE) --no-print-directory $(BENCHES) $(BLAS_KERNEL)
 	@mkdir -p results
 	@rm -f $(BUILD)/bench_matrix_*.bin
-	$(EXP_ENV) CB_BENCH_MATRIX_DIR=$(BUILD) $(BUILD)/bench_core $(if $(filter 1,$(QUICK)),--quick) --out results/bench_core.csv
+	CB_BENCH_MATRIX_DIR=$(BUILD) $(EXP_ENV) $(BUILD)/bench_core $(if $(filter 1,$(QUICK)),--quick) --out results/bench_core.csv
 	$(EXP_ENV) $(PYTHON) bench/spmv_scipy.py $(BUILD)/bench_spmv $(BUILD) results/bench_scipy.csv
+	CB_BENCH_MATRIX_DIR=$(BUILD) $(EXP_ENV) $(BUILD)/bench_peers $(if $(filter 1,$(QUICK)),--quick) --out results/bench_peers.csv
+	$(EXP_ENV) $(PYTHON) bench/peers_scipy.py $(if $(filter 1,$(QUICK)),--quick) $(BUILD)/bench_peers $(BUILD) results/bench_peers_scipy.csv
+	$(PYTHON) scripts/readme-peers.py results README.md
 	$(PYTHON) scripts/readme-perf.py results README.md
 	$(EXP_ENV) $(BUILD)/bench_nonlinear --out results/bench_nonlinear.csv
 	$(PYTHON) scripts/readme-bench-nonlinear.py results README.md

@@ -78,5 +78,34 @@ else
   echo "scripts: notice: gnuplot not installed (make deps); plots.sh and movies.sh not checked"
 fi
 
+# ---- readme-peers.py: the peer table comes from the two bench CSVs of one run, or not at all ----
+P="$T/peers"
+mkdir -p "$P"
+hdr="n,dofs,nnz,peer,clothbench,phase,rounds,peer_ms,peer_min_ms,peer_max_ms,clothbench_ms,clothbench_min_ms,clothbench_max_ms,peer_over_clothbench,peer_over_clothbench_min,peer_over_clothbench_max,peer_rel_residual,clothbench_rel_residual,peer_detail,status"
+{ printf '# program: bench_peers\n# git_revision: abc123\n# blas_kernel: Haswell\n# blas_kernel_choice: chosen (fixture)\n%s\n' "$hdr"
+  for ph in analyse factorise analyse_factorise solve total; do
+    echo "128,49146,1022886,mumps,cholmod,$ph,5,28,27,30,10,9,11,2.8,2.6,3.1,4e-15,5e-15,SCOTCH,ok"
+  done; } >"$P/bench_peers.csv"
+{ printf '# program: bench/peers_scipy.py\n# scipy: 1.10.1\n# scipy_blas_kernel: Haswell (fixture)\n# git_revision: abc123\n# blas_kernel: Haswell\n%s\n' "$hdr"
+  echo "128,49146,1022886,scipy_cg,cg,iteration,5,3,2.9,3.2,1,0.9,1.1,3.0,2.8,3.3,1e-3,1e-3,100 iterations,ok"; } >"$P/bench_peers_scipy.csv"
+printf 'head\n<!-- peers:begin -->\nold\n<!-- peers:end -->\ntail\n' >"$P/README.md"
+${PYTHON:-/usr/bin/python3} scripts/readme-peers.py "$P" "$P/README.md" 2>"$T/peers.err"
+ok "readme-peers.py on one run's CSVs failed: $(cat "$T/peers.err")" test $? -eq 0
+ok "readme-peers.py: no MUMPS factorisation ratio from the CSV" grep -q '| MUMPS (sequential, SPD mode) | 128² | 5 | 2.80× (2.60–3.10) | 2.80× (2.60–3.10) |' "$P/README.md"
+ok "readme-peers.py: no cg ratio" grep -q "| SciPy \`cg\` | 128² | 5 | – | – | – | – | – | 3.00× (2.80–3.30) |" "$P/README.md"
+ok "readme-peers.py: the kernel is not stated" grep -q 'OpenBLAS kernel: Haswell (chosen (fixture))' "$P/README.md"
+ok "readme-peers.py: the old block or the text around it" sh -c "! grep -q '^old$' '$P/README.md' && grep -q '^tail$' '$P/README.md'"
+cp "$P/README.md" "$P/README.before"
+sed -i 's/^# scipy_blas_kernel: Haswell/# scipy_blas_kernel: Prescott/' "$P/bench_peers_scipy.csv"
+${PYTHON:-/usr/bin/python3} scripts/readme-peers.py "$P" "$P/README.md" 2>"$T/peers.err"
+ok "readme-peers.py accepted SciPy on another kernel than clothbench" test $? -ne 0
+ok "readme-peers.py changed the README on a refused run" cmp -s "$P/README.md" "$P/README.before"
+sed -i 's/^# scipy_blas_kernel: Prescott/# scipy_blas_kernel: Haswell/; s/^# git_revision: abc123/# git_revision: def456/' "$P/bench_peers_scipy.csv"
+${PYTHON:-/usr/bin/python3} scripts/readme-peers.py "$P" "$P/README.md" 2>"$T/peers.err"
+ok "readme-peers.py accepted CSVs of two builds" test $? -ne 0
+printf 'no markers\n' >"$P/README.md"
+${PYTHON:-/usr/bin/python3} scripts/readme-peers.py "$P" "$P/README.md" 2>"$T/peers.err"
+ok "readme-peers.py accepted a README without the markers" test $? -ne 0
+
 [ $fail = 0 ] && echo "scripts: ok ($n checks)"
 exit $fail
