@@ -113,8 +113,9 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
   }
   if (!out_given && e->shard) snprintf(e->out, sizeof e->out, "results/shard-%dof%d/%s.csv", e->shard, e->nshards, name);
   else if (!out_given) snprintf(e->out, sizeof e->out, "results/%s.csv", name);
-  /* the CPU lock, shared: a timed experiment (cb_experiment_timed) waits for us */
-  e->lock_fd = open(cpu_lock_path(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+  /* the CPU lock, shared: a timed experiment (cb_experiment_timed) waits for us;
+   * --list-cells runs no cell, so it neither takes nor waits for the lock */
+  if (!e->list_cells) e->lock_fd = open(cpu_lock_path(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
   if (e->lock_fd >= 0) lock_waiting(e, LOCK_SH, "a timed experiment to finish");
   return 0;
 }
