@@ -105,5 +105,5 @@ while [ "$i" -le "$n" ]; do shards="$shards $dir/shard-$i/$exp.csv"; i=$((i + 1)
 # shellcheck disable=SC2086
 scripts/merge-shards.sh "$out" $shards || die "merge failed (above)"
 echo "parallel-run: merged $n shards of $exp into $out"
-# shellcheck disable=SC2086
+# shellcheck disable=SC2046
 scripts/calibrate-hints $(for s in $shards; do printf ' %s.cells' "$s"; done)

@@ -133,9 +133,9 @@ for spec in topology:--quick definiteness:--smoke; do
   s=$(wait_job "$m")
   [ "$s" = "COMPLETED " ] || { show_logs "$T/w-$x"; fail "$x: merge job $m ended $s (array job $a: $(wait_job "$a"))"; }
   [ "$(wait_job "$a")" = "COMPLETED " ] || fail "$x: array job $a did not complete"
-  n=$(ls "$T/w-$x"/logs/"$x-${a}"_*.log 2>/dev/null | wc -l)
+  n=$(ls "$T/w-$x/logs/$x-${a}"_*.log 2>/dev/null | wc -l)
   [ "$n" = 3 ] || fail "$x: $n task logs for array job $a, expected 3"
-  grep -q "merged 3 shards" "$T/w-$x"/logs/"$x-merge-$m.log" || fail "$x: the merge log says no merge"
+  grep -q "merged 3 shards" "$T/w-$x/logs/$x-merge-$m.log" || fail "$x: the merge log says no merge"
   out=$(BUILD=$B tests/determinism.sh $mode "$x" "$T/ref" "$T/w-$x") || { echo "$out"; fail "$x: the Slurm run's merged CSVs differ from the one-process run's"; }
   echo "slurm: $x $mode as a 3-task array (job $a) and its merge (job $m): the one-process run's CSVs (apart from date and timing columns)"
 done
