@@ -3,7 +3,8 @@
 # starts munged (as the munge user), slurmctld and slurmd for one node (this
 # host, CPUs=2) with a slurm.conf generated in a temporary folder, submits
 # topology --quick and definiteness --smoke as 3-task arrays plus their merge
-# jobs, waits (bounded: SLURM_TEST_TIMEOUT seconds per job, default 300) and
+# jobs (topology with --cpus-per-task=2: its tasks run 2 threads), after a
+# --dry-run that must print both scripts and write nothing; waits (bounded: SLURM_TEST_TIMEOUT seconds per job, default 300) and
 # checks that the merged CSVs equal a one-process run's apart from the date,
 # command and timing columns (tests/determinism.sh's comparison). Then a run
 # whose task 2 fails: its log stays, the merge job never runs, and a rerun of
@@ -116,28 +117,38 @@ wait_job() {
     sleep 0.5
   done
 }
-submit() { # dir mode experiment: prints the array and merge job ids
-  BUILD=$B scripts/slurm-submit.sh --dir "$1" "$2" "$3" 3 -- --cpus-per-task=1 >"$T/submit.out" 2>&1 || { cat "$T/submit.out"; fail "slurm-submit.sh $2 $3 3 failed"; }
+submit() { # dir mode experiment [cpus per task]: sets a and m, the array and merge job ids
+  BUILD=$B scripts/slurm-submit.sh --dir "$1" "$2" "$3" 3 -- --cpus-per-task="${4:-1}" >"$T/submit.out" 2>&1 || { cat "$T/submit.out"; fail "slurm-submit.sh $2 $3 3 failed"; }
   a=$(sed -n 's/^array job \([0-9]*\).*/\1/p' "$T/submit.out")
   m=$(sed -n 's/^merge job \([0-9]*\).*/\1/p' "$T/submit.out")
   [ -n "$a" ] && [ -n "$m" ] || { cat "$T/submit.out"; fail "slurm-submit.sh printed no job ids"; }
 }
 show_logs() { for f in "$1"/logs/*.log; do echo "--- $f"; tail -5 "$f"; done; }
 
-for spec in topology:--quick definiteness:--smoke; do
-  x=${spec%%:*} mode=${spec#*:}
+# --dry-run: both scripts and the sbatch commands printed, nothing written or submitted
+BUILD=$B scripts/slurm-submit.sh --dry-run --dir "$T/dry" --quick topology 3 -- --cpus-per-task=2 >"$T/dry.out" 2>&1 || { cat "$T/dry.out"; fail "--dry-run failed"; }
+grep -q '^#SBATCH --array=1-3$' "$T/dry.out" && grep -q 'dependency=afterok:<array job> --cpus-per-task=2' "$T/dry.out" &&
+  grep -q 'OPENBLAS_NUM_THREADS=$t OMP_NUM_THREADS=$t' "$T/dry.out" && grep -q 'scripts/merge-shards.sh' "$T/dry.out" ||
+  { cat "$T/dry.out"; fail "--dry-run: not the array script (threads from --cpus-per-task), the merge script and the sbatch lines"; }
+[ ! -e "$T/dry" ] || fail "--dry-run wrote $T/dry"
+
+# topology with 2 CPUs per task (so 2 threads: the one-process run gets 2 too), definiteness with 1
+for spec in topology:--quick:2 definiteness:--smoke:1; do
+  x=${spec%%:*} rest=${spec#*:}
+  mode=${rest%%:*} cpus=${rest#*:}
   mkdir -p "$T/ref"
-  CB_QUIET=1 OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 "$B/$x" $mode --out "$T/ref/$x.csv" >/dev/null 2>"$T/err" ||
+  CB_QUIET=1 OPENBLAS_NUM_THREADS=$cpus OMP_NUM_THREADS=$cpus "$B/$x" $mode --out "$T/ref/$x.csv" >/dev/null 2>"$T/err" ||
     { cat "$T/err"; fail "$x $mode (one process) failed"; }
-  submit "$T/w-$x" "$mode" "$x"
+  submit "$T/w-$x" "$mode" "$x" "$cpus"
   s=$(wait_job "$m")
   [ "$s" = "COMPLETED " ] || { show_logs "$T/w-$x"; fail "$x: merge job $m ended $s (array job $a: $(wait_job "$a"))"; }
   [ "$(wait_job "$a")" = "COMPLETED " ] || fail "$x: array job $a did not complete"
   n=$(ls "$T/w-$x/logs/$x-${a}"_*.log 2>/dev/null | wc -l)
   [ "$n" = 3 ] || fail "$x: $n task logs for array job $a, expected 3"
+  grep -q ", $cpus thread(s)," "$T/w-$x/logs/$x-${a}_1.log" || { cat "$T/w-$x/logs/$x-${a}_1.log"; fail "$x: task 1 did not run with $cpus threads (--cpus-per-task=$cpus)"; }
   grep -q "merged 3 shards" "$T/w-$x/logs/$x-merge-$m.log" || fail "$x: the merge log says no merge"
   out=$(BUILD=$B tests/determinism.sh $mode "$x" "$T/ref" "$T/w-$x") || { echo "$out"; fail "$x: the Slurm run's merged CSVs differ from the one-process run's"; }
-  echo "slurm: $x $mode as a 3-task array (job $a) and its merge (job $m): the one-process run's CSVs (apart from date and timing columns)"
+  echo "slurm: $x $mode as a 3-task array (job $a, $cpus CPU(s) and thread(s) per task) and its merge (job $m): the one-process run's CSVs (apart from date and timing columns)"
 done
 
 # a failed task: shard 2 cannot create its folder (a file stands there); its log
