@@ -3,7 +3,8 @@
 ## make test          install missing Debian packages, build, run the fast tests (about a minute once built):
 ##                     unit tests, CLI, layers, and a --smoke run of every experiment, checked
 ## make check-all     the long tests (CI): every experiment's --quick run (CSV convention,
-##                     determinism, shards), then make san and make fuzz
+##                     determinism, shards), GNU parallel and a real local Slurm running shards
+##                     (tests/parallel.sh, tests/slurm.sh), then make san and make fuzz
 ## make experiments   install missing packages, run every experiment, then plots and report
 ## make all           build the library, simulate, the experiments, bench and report
 ## make plots         draw plots/out/*.png and .svg from results/*.csv (gnuplot)
@@ -89,7 +90,7 @@ TEST_OBJ := $(BUILD)/tests/support.o
 help:
 	@sed -n 's/^##  \{0,1\}//p' $(firstword $(MAKEFILE_LIST))
 
-.PHONY: help determinism all test check check-all check-quick experiments run-experiments plots movies report bench san fuzz fuzz-build coverage coverage-build deps format format-check clean distclean FORCE
+.PHONY: help determinism all test check check-all check-quick check-cluster experiments run-experiments plots movies report bench san fuzz fuzz-build coverage coverage-build deps format format-check clean distclean FORCE
 .DEFAULT_GOAL := all
 
 all: $(LIB) $(TOOLS) $(EXPS) $(ALL_BENCHES) $(BUILD)/report
@@ -173,9 +174,11 @@ $(BUILD)/tests/test_enomem: LDLIBS += -lsuitesparseconfig
 #                   small cell of each sweep) that the CSV-convention test, the
 #                   report and the shard tests read: about a minute
 #   make check-all  check (unless it passed on this build), then check-quick,
+#                   check-cluster,
 #                   san and fuzz: what CI runs before the quick experiments
 #   check-quick     every experiment's --quick run once, the CSV convention on
 #                   it, a second run compared with it (determinism), the shards
+#   check-cluster   GNU parallel and a real local Slurm running shards (check-all)
 # `make test` = deps, then the build and the checks in a second make, so that
 # nothing compiles before the packages are there.
 test: deps
@@ -210,8 +213,10 @@ $(BUILD)/check.passed: $(TESTS) $(TOOLS) $(EXPS) $(BUILD)/report Makefile README
 	@$(MAKE) --no-print-directory check
 
 check-all: deps
+	@scripts/deps.sh $(CLUSTER_PKGS)
 	@$(MAKE) --no-print-directory $(BUILD)/check.passed
 	@$(MAKE) --no-print-directory check-quick
+	@$(MAKE) --no-print-directory check-cluster
 	@$(MAKE) --no-print-directory san
 	@$(MAKE) --no-print-directory fuzz
 	@echo "check-all: all tests passed"
@@ -221,6 +226,16 @@ check-quick: $(EXPS) $(TOOLS)
 	@BUILD=$(BUILD) tests/csv_convention.sh --runs $(QUICK_DIR)
 	@set -e; for x in $(EXP_NAMES); do BUILD=$(BUILD) tests/determinism.sh $$x $(QUICK_DIR); done
 	$(call shard_tests,--quick,$(QUICK_DIR))
+
+# the cluster runners (README "Running on a cluster"): scripts/parallel-run.sh
+# under GNU parallel, with an interrupted run that resumes, and
+# scripts/slurm-submit.sh against a real Slurm started on this machine
+# (munged, slurmctld, slurmd; needs root), each merged run compared with the
+# one-process run's CSVs
+CLUSTER_PKGS := slurm-wlm munge parallel
+check-cluster: $(BUILD)/topology $(BUILD)/definiteness
+	@BUILD=$(BUILD) tests/parallel.sh
+	@BUILD=$(BUILD) tests/slurm.sh
 
 # every experiment's --quick run twice: identical CSVs apart from the date and
 # the timing columns (check-quick does it with one run fewer, against its own)

@@ -7,10 +7,15 @@
 # side files (e.g. <stem>_*.obj, one cell's each) are copied across.
 #
 # The key is <SHARDk.csv>.cells, written by every shard (lib/io/sweep.h):
-# "shard I N C", "tables - side1 ...", then per cell the shard ran its global
-# index and the rows it wrote to each table. Cell c ran in shard c % N + 1, so
-# the merge walks c = 0 .. C-1 and copies that many rows from that shard:
-# the rows come back in cell order, the order of the unsharded run. The
+# "shard I N C MODE", "tables - side1 ...", then per cell the shard ran its
+# global index and the rows it wrote to each table (then its sweep, hint and
+# measured seconds, which the merge does not read). The merge checks that the
+# shards are the N shards of one run (the same N, cell count C, assignment
+# MODE and tables, each I once) and that every cell 0 .. C-1 is listed by
+# exactly one shard (in increasing order within it); it then walks c = 0 .. C-1
+# and copies that cell's rows from the shard that ran it: the rows come back
+# in cell order, the order of the unsharded run. It also writes OUT.csv.cells,
+# all shards' cell lines in cell order (for scripts/calibrate-hints). The
 # header (provenance) is shard 1's; the shards' headers must agree apart from
 # the lines that describe where and when a shard ran rather than what it ran
 # ("# date:", "# command:", "# threads_observed:", "# cpu_lock:", "# cpu:",
@@ -29,16 +34,19 @@ die() { echo "merge-shards: $*" >&2; exit 1; }
 ordered=""
 tables=""
 cells=""
+mode=""
 i=1
 while [ "$i" -le "$n" ]; do
   found=""
   for s in "$@"; do
     [ -f "$s.cells" ] || die "$s.cells: missing (was $s written with --shard?)"
-    read -r word si sn sc < "$s.cells" || die "$s.cells: empty"
+    read -r word si sn sc smode < "$s.cells" || die "$s.cells: empty"
     [ "$word" = shard ] || die "$s.cells: not a shard cell list"
     [ "$sn" = "$n" ] || die "$s: shard of $sn, but $n shard files were given"
     [ -z "$cells" ] || [ "$sc" = "$cells" ] || die "$s: $sc cells, another shard has $cells (different runs?)"
+    [ -z "$mode" ] || [ "$smode" = "$mode" ] || die "$s: --shard-mode ${smode:-(none)}, another shard has $mode (different runs?)"
     cells=$sc
+    mode=${smode:-(none)}
     t=$(sed -n 2p "$s.cells")
     [ -z "$tables" ] || [ "$t" = "$tables" ] || die "$s: tables '$t' differ from '$tables'"
     tables=$t
@@ -68,8 +76,10 @@ for t in ${tables#tables }; do
   mkdir -p "$(dirname "$dst")"
   tmp=$dst.merge.$$
   pending="$pending $tmp"
+  ctmp=$out.cells.merge.$$
+  [ "$j" != 1 ] || pending="$pending $ctmp"
   # shellcheck disable=SC2086
-  awk -v n="$n" -v cells="$cells" -v col="$j" -v files="$files" -v lists="$*" '
+  awk -v n="$n" -v cells="$cells" -v col="$j" -v files="$files" -v lists="$*" -v cellsout="$ctmp" '
     function fail(msg) { print "merge-shards: " msg > "/dev/stderr"; bad = 1; exit 1 }
     function env(line) { return line ~ /^# (date|command|threads_observed|cpu_lock|cpu|cores):/ }
     function key(line) { sub(/:.*/, "", line); return line }
@@ -91,24 +101,38 @@ for t in ${tables#tables }; do
         if (s == 1) { h1 = h; width = nfields(line) }
         else if (h != h1) fail(F[s] ": header differs from " F[1] " (other than the date, command, cpu, cores, cpu_lock and threads_observed lines)")
       }
+      # which shard ran each cell: every cell exactly once, in increasing order within a shard
+      for (s = 1; s <= n; s++) {
+        last = -1
+        while ((r = getline rec < L[s]) > 0) {
+          split(rec, R, " ")
+          c = R[1]
+          if (c !~ /^[0-9]+$/ || c + 0 >= cells + 0) fail(L[s] ": cell \"" c "\" is not one of the " cells " cells 0 .. " cells - 1)
+          c += 0
+          if (c in owner) fail("cell " c " is listed by two shards (" L[owner[c]] " and " L[s] ")")
+          if (c <= last) fail(L[s] ": cell " c " after cell " last " (not in cell order)")
+          last = c
+          owner[c] = s
+          rows[c] = R[col + 1]
+          if (col == 1) line_of[c] = rec
+        }
+        if (r < 0) fail(L[s] ": cannot read")
+      }
+      for (c = 0; c < cells; c++) if (!(c in owner)) fail("cell " c " is listed by no shard (a shard missing or cut short?)")
+      if (col == 1) for (c = 0; c < cells; c++) print line_of[c] > cellsout
       for (k = 1; k < nh; k++) print H[k]
       for (k = 1; k <= nx; k++) print X[k]
       print H[nh]
       for (c = 0; c < cells; c++) {
-        s = c % n + 1
-        if ((getline rec < L[s]) <= 0) fail(L[s] ": no entry for cell " c)
-        split(rec, R, " ")
-        if (R[1] != c) fail(L[s] ": cell " R[1] " where cell " c " was expected")
-        for (k = 0; k < R[col + 1]; k++) {
+        s = owner[c]
+        for (k = 0; k < rows[c]; k++) {
           if ((getline line < F[s]) <= 0) fail(F[s] ": fewer rows than " L[s] " lists")
           if (nfields(line) != width) fail(F[s] ": a row of " nfields(line) " fields under a header of " width " (cut mid-row?): " substr(line, 1, 60))
           print line
         }
       }
-      for (s = 1; s <= n; s++) {
+      for (s = 1; s <= n; s++)
         if ((getline line < F[s]) > 0) fail(F[s] ": more rows than " L[s] " lists")
-        if ((getline line < L[s]) > 0) fail(L[s] ": entries beyond cell " cells - 1)
-      }
     }' > "$tmp" || exit 1
   done_list="${done_list:-} $dst"
 done
@@ -125,5 +149,10 @@ for s in "$@"; do
     done_list="$done_list $dst"
   done
 done
+{ printf 'shard 1 1 %s %s\n' "$cells" "$mode"; sed -n 2p "$1.cells"; cat "$out.cells.merge.$$"; } > "$out.cells.merge.$$.all" ||
+  die "$out.cells: cannot write"
+pending="$pending $out.cells.merge.$$.all"
+mv "$out.cells.merge.$$.all" "$out.cells.merge.$$"
+done_list="$done_list $out.cells"
 for dst in $done_list; do mv "$dst.merge.$$" "$dst"; done
 pending=""

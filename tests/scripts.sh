@@ -1,6 +1,7 @@
 #!/bin/sh
 # End-to-end checks of the shell scripts a user runs after the experiments:
-# scripts/merge-shards.sh (issue 21, defects 7, 8, 9), scripts/plots.sh and
+# scripts/merge-shards.sh (issue 21, defects 7, 8, 9; issue 23: the cell
+# lists), scripts/calibrate-hints (issue 23), scripts/plots.sh and
 # scripts/movies.sh (defects 10, 17: paths are data, never code).
 # Run from the repository root (make check does: BUILD=<dir> tests/scripts.sh).
 set -u
@@ -58,6 +59,42 @@ merge
 ok "defect 8: a missing side table merged" test $? -ne 0
 ok "defect 8: a failed merge left a partial merge: $(ls "$T/m" 2>/dev/null | tr '\n' ' ')" nothing_written
 ok "defect 8: temporary files left" test -z "$(ls "$T/m" 2>/dev/null | grep merge)"
+# issue 23: the merge is keyed by each shard's cell list: every cell exactly once, one shard mode
+fresh
+merge
+ok "issue 23: the merged cell list (OUT.csv.cells) lacks the 2 cells" test "$(sed 1,2d "$T/m/d.csv.cells" | wc -l)" = 2
+fresh
+sed -n 3p "$T/w1/d.csv.cells" >>"$T/w2/d.csv.cells"
+merge
+ok "issue 23: a cell listed by two shards merged" test $? -ne 0
+ok "issue 23: the message names the twice-listed cell: $(cat "$T/merge.err")" grep -q 'cell 0 is listed by two shards' "$T/merge.err"
+ok "issue 23: a refused merge left files" nothing_written
+fresh
+sed -i 3d "$T/w2/d.csv.cells"
+merge
+ok "issue 23: a shard's cell missing merged" test $? -ne 0
+ok "issue 23: the message names the missing cell: $(cat "$T/merge.err")" grep -q 'cell 1 is listed by no shard' "$T/merge.err"
+fresh
+sed -i '1s/ balanced$/ modulo/' "$T/w2/d.csv.cells"
+merge
+ok "issue 23: shards of two shard modes merged" test $? -ne 0
+ok "issue 23: the message names the shard mode: $(cat "$T/merge.err")" grep -q 'shard-mode' "$T/merge.err"
+
+# ---- calibrate-hints: hints against measured seconds (a fixture: 8 of 10 cells within 2x, one 10x off) ----
+{ echo "shard 1 1 10 balanced"; echo "tables -"
+  for i in 0 1 2 3 4 5 6 7; do echo "$i 1 0 fix $i 2 0.5"; done
+  echo "8 1 0 fix 8 2 5"; echo "9 1 0 fix 9 2 0.1"; } >"$T/fix.cells"
+scripts/calibrate-hints "$T/fix.cells" >"$T/cal.out" 2>&1
+ok "calibrate-hints on a fixture failed: $(cat "$T/cal.out")" test $? -eq 0
+ok "calibrate-hints: not 8 of 10 within 2x: $(cat "$T/cal.out")" grep -q 'within 2x: 8 of 10 cells (80.0%)' "$T/cal.out"
+ok "calibrate-hints: the worst ratio is not cell 8's 10: $(cat "$T/cal.out")" grep -q 'worst ratio: 10 (cell 8, fix 8' "$T/cal.out"
+scripts/calibrate-hints --min-within2 0.9 "$T/fix.cells" >/dev/null 2>&1
+ok "calibrate-hints --min-within2 0.9 passed 80%" test $? -eq 1
+scripts/calibrate-hints --min-within2 0.8 "$T/fix.cells" >/dev/null 2>&1
+ok "calibrate-hints --min-within2 0.8 failed 80%" test $? -eq 0
+sed -i '$d' "$T/fix.cells"
+scripts/calibrate-hints "$T/fix.cells" >/dev/null 2>"$T/cal.err"
+ok "calibrate-hints: a run with a cell missing accepted" grep -q 'cells \[9\] are not in the files given' "$T/cal.err"
 
 # ---- plots.sh and movies.sh: quotes, spaces and gnuplot code in the paths are data ----
 if command -v gnuplot >/dev/null 2>&1; then

@@ -1,6 +1,7 @@
 /* The scene declarations (lib/io/scene_decl.c) and the sweep runner with
  * --shard (lib/io/sweep.c): overrides in order, errors that name the scene,
- * rows in cell order, which cells a shard runs and its cell list. */
+ * rows in cell order, which cells a shard runs (modulo and balanced) and its
+ * cell list. */
 #include <criterion/criterion.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -10,7 +11,7 @@
 #include "support.h"
 #include "sweep.h"
 
-static cb_experiment begin(const char *out, const char *shard) {
+static cb_experiment begin_mode(const char *out, const char *shard, const char *mode) {
   static char *argv[8];
   int argc = 0;
   argv[argc++] = "test_sweep";
@@ -20,10 +21,16 @@ static cb_experiment begin(const char *out, const char *shard) {
     argv[argc++] = "--shard";
     argv[argc++] = (char *)shard;
   }
+  if (mode) {
+    argv[argc++] = "--shard-mode";
+    argv[argc++] = (char *)mode;
+  }
   cb_experiment e;
   cr_assert_eq(cb_experiment_begin(&e, "test_sweep", "", argc, argv), 0);
   return e;
 }
+
+static cb_experiment begin(const char *out, const char *shard) { return begin_mode(out, shard, NULL); }
 
 Test(scene_decl, overrides_apply_in_order_then_the_cells_own) {
   cb_experiment e = begin("/tmp/unused.csv", NULL);
@@ -84,6 +91,24 @@ static const char *data(const char *text) { /* after the header row (the first l
   return p + 1;
 }
 
+/* the text with each line's last field (a cell's measured seconds) dropped */
+static char *without_seconds(const char *text) {
+  static char buf[1 << 16];
+  size_t n = 0;
+  for (const char *p = text; *p;) {
+    const char *nl = strchr(p, '\n'), *end = nl ? nl : p + strlen(p), *sp = end;
+    while (sp > p && sp[-1] != ' ') sp--;
+    if (sp > p && strncmp(p, "shard ", 6) && strncmp(p, "tables", 6)) end = sp - 1; /* a cell line */
+    cr_assert_lt(n + (size_t)(end - p) + 2, sizeof buf);
+    memcpy(buf + n, p, (size_t)(end - p));
+    n += (size_t)(end - p);
+    buf[n++] = '\n';
+    p = nl ? nl + 1 : end + strlen(end);
+  }
+  buf[n] = 0;
+  return buf;
+}
+
 Test(sweep, rows_in_cell_order_and_a_shard_runs_every_nth_cell) {
   char dir[] = "/tmp/cbsweepXXXXXX", out[128], side[160], cells[160];
   cr_assert_not_null(mkdtemp(dir));
@@ -91,7 +116,7 @@ Test(sweep, rows_in_cell_order_and_a_shard_runs_every_nth_cell) {
   snprintf(side, sizeof side, "%s/s_side.csv", dir);
   snprintf(cells, sizeof cells, "%s.cells", out);
   for (int sharded = 0; sharded < 2; sharded++) {
-    cb_experiment e = begin(out, sharded ? "2/3" : NULL);
+    cb_experiment e = begin_mode(out, sharded ? "2/3" : NULL, sharded ? "modulo" : NULL);
     cr_assert_eq(cb_experiment_table(&e, NULL, NULL, "i,r"), 0);
     cr_assert_eq(cb_experiment_table(&e, "side", NULL, "i"), 1);
     long ran[5] = {0}, ran2[3] = {0};
@@ -108,9 +133,51 @@ Test(sweep, rows_in_cell_order_and_a_shard_runs_every_nth_cell) {
     cr_assert(ran[1] == 1 && ran[4] == 1 && ran2[2] == 1 && ran[0] + ran[2] + ran[3] + ran2[0] + ran2[1] == 0);
     cr_assert_str_eq(data(slurp(out)), "1,0\n4,0\n4,1\n4,2\n4,3\n2,0\n2,1\n");
     cr_assert_str_eq(data(slurp(side)), "4\n2\n");
-    cr_assert_str_eq(slurp(cells), "shard 2 3 8\ntables - side\n1 1 0\n4 4 1\n7 2 1\n");
+    /* per cell: index, rows per table, sweep group, sweep, index there, hint (then the seconds) */
+    cr_assert_str_eq(without_seconds(slurp(cells)),
+                     "shard 2 3 8 modulo\ntables - side\n1 1 0 0 first 1 1\n4 4 1 0 first 4 1\n7 2 1 0 second 2 1\n");
   }
   remove(out); remove(side); remove(cells); remove(dir);
+}
+
+static double hint(long i, void *ctx) {
+  (void)ctx;
+  static const double c[] = {1, 9, 2, 7, 3, 3, 5};
+  return c[i];
+}
+
+static int quiet_cell(long i, void *ctx, FILE *const *out) {
+  ((long *)ctx)[i]++;
+  fprintf(out[0], "%ld\n", i);
+  return CB_OK;
+}
+
+/* the longest-processing-time rule on hints 1 9 2 7 3 3 5 over 3 shards:
+ * 9, 7, 5 open the shards; 3 (cell 4) to the 5, 3 (cell 5) to the 7, 2 to
+ * the 8, 1 to the 9: every shard carries 10; each cell runs exactly once */
+Test(sweep, balanced_shards_follow_the_longest_processing_time_rule) {
+  char dir[] = "/tmp/cbsweepXXXXXX", out[128], cells[160];
+  cr_assert_not_null(mkdtemp(dir));
+  snprintf(out, sizeof out, "%s/b.csv", dir);
+  snprintf(cells, sizeof cells, "%s.cells", out);
+  const char *want[] = {"0 1", "3 5", "2 4 6"}; /* shard I's cells; of the equal hints, cell 4 (the earlier) goes first */
+  long ran[3][7] = {{0}};
+  for (int k = 0; k < 3; k++) {
+    char shard[8];
+    snprintf(shard, sizeof shard, "%d/3", k + 1);
+    cb_experiment e = begin(out, shard);
+    cr_assert_eq(cb_experiment_table(&e, NULL, NULL, "i"), 0);
+    cb_sweep sw = {"lpt", 7, quiet_cell, hint, ran[k]};
+    cr_assert_eq(cb_sweep_run(&e, &sw, 1), CB_OK);
+    cr_assert_eq(cb_experiment_end(&e, CB_OK), CB_OK);
+    char got[32] = "";
+    for (int i = 0; i < 7; i++)
+      if (ran[k][i]) snprintf(got + strlen(got), sizeof got - strlen(got), "%s%d", *got ? " " : "", i);
+    cr_assert_str_eq(got, want[k], "shard %d ran cells %s", k + 1, got);
+    cr_assert(!strncmp(slurp(cells), "shard ", 6) && strstr(slurp(cells), " balanced\n"), "%s", slurp(cells));
+  }
+  for (int i = 0; i < 7; i++) cr_assert_eq(ran[0][i] + ran[1][i] + ran[2][i], 1, "cell %d ran %ld times", i, ran[0][i] + ran[1][i] + ran[2][i]);
+  remove(out); remove(cells); remove(dir);
 }
 
 Test(sweep, a_failing_cell_is_named_and_drops_the_tables) {
@@ -131,6 +198,9 @@ Test(sweep, a_failing_cell_is_named_and_drops_the_tables) {
 
 Test(sweep, bad_shard_options_are_refused) {
   const char *bad[] = {"0/3", "4/3", "2/x", "2/3x", "/3", "1/0"};
+  char *badmode[] = {"test_sweep", "--shard", "1/2", "--shard-mode", "random", NULL};
+  cb_experiment em;
+  cr_assert_lt(cb_experiment_begin(&em, "test_sweep", "", 5, badmode), 0, "--shard-mode random accepted");
   for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
     char *argv[] = {"test_sweep", "--shard", (char *)bad[i], NULL};
     cb_experiment e;

@@ -423,6 +423,7 @@ typedef struct {
   const cb_experiment *e;
   const plan *p;
   case_cell map[NSCENES * MAXG], res[NSCENES * 2];
+  double ext_cost[NEXTREMES];
   int nmap, nres;
 } cells;
 
@@ -450,7 +451,7 @@ static int extreme_cell(long i, void *ctx, FILE *const *out) {
 
 static double map_cost(long i, void *ctx) { return ((const cells *)ctx)->map[i].cost; }
 static double res_cost(long i, void *ctx) { return ((const cells *)ctx)->res[i].cost; }
-static double extreme_cost(long i, void *ctx) { (void)i; (void)ctx; return 0.4 * (441 + 5); }
+static double extreme_cost(long i, void *ctx) { return ((const cells *)ctx)->ext_cost[i]; }
 
 static const char *about =
   "Claims E1, E2, I1. Sweeps spring stiffness k (1e1..1e7 N/m) and time step dt\n"
@@ -501,8 +502,10 @@ int main(int argc, char **argv) {
     return cb_experiment_end(&e, CB_EIO), 2;
   /* cost hints: vertices + 5 (a quick run takes 2.5-4 ms per unit for a map cell
    * or a resolution cell, 1.5 for an extreme case), plus ~1.5 x vertices per cloth
-   * Newton cell (200 converged steps) and, for the bending family, whose explicit
-   * steps grow like n, a factor 1 + n/400 */
+   * Newton cell (200 converged steps); a resolution cell's explicit steps at its
+   * stable dt grow like the grid's side sqrt(n): a factor 1 + sqrt(n)/50, and
+   * 0.5 + sqrt(n)/20 for the bending family (scripts/calibrate-hints on a quick
+   * run's measured cell times) */
   static cells cl;
   cl.e = &e;
   cl.p = &p;
@@ -523,7 +526,13 @@ int main(int argc, char **argv) {
       }
     if (cb_scene_decl_is(&d->scene, "resolution"))
       for (int r = 0; r < d->nres[p.quick]; r++)
-        cl.res[cl.nres++] = (case_cell){s, r, w * (!strcmp(d->family, "bending") ? 1 + nv / 400 : 1)};
+        cl.res[cl.nres++] = (case_cell){s, r, w * (!strcmp(d->family, "bending") ? 0.5 + sqrt(nv) / 20 : 1 + sqrt(nv) / 50)};
+  }
+  /* an extreme case: 0.4 x (vertices + 5); an OBJ mesh (zero_rest_length: rejected when built) counts 0 */
+  for (int i = 0; st == CB_OK && i < NEXTREMES; i++) {
+    cb_config cfg;
+    if ((st = cb_scene_decl_config(&e, &extreme_cases[i].scene, NULL, &cfg))) break;
+    cl.ext_cost[i] = 0.4 * ((double)cb_scene_decl_vertices(&cfg) + 5);
   }
   if (st) return cb_experiment_end(&e, st), 1;
   const cb_sweep sweeps[] = {{"map", cl.nmap, map_cell, map_cost, &cl},

@@ -50,15 +50,20 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
   int out_given = 0;
   for (int i = 1; i < argc; i++) {
     if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-      printf("usage: %s [--quick | --smoke] [--out PATH] [--configs DIR] [--shard I/N] [--version]\n\n%s\n\n"
+      printf("usage: %s [--quick | --smoke] [--out PATH] [--configs DIR] [--shard I/N [--shard-mode M]] [--list-cells] [--version]\n\n%s\n\n"
              "  --quick        reduced sweep for CI (also QUICK=1 in the environment)\n"
              "  --smoke        the smallest run that writes every table and column (make test)\n"
              "  --out PATH     CSV output (default results/%s.csv); written atomically\n"
              "  --configs DIR  folder with the scene configs (default configs)\n"
-             "  --shard I/N    run every N-th cell only, those with index %% N == I - 1 (I = 1..N);\n"
+             "  --shard I/N    run shard I of N (I = 1..N) only: its share of the cells, balanced by\n"
+             "                 their cost hints (largest first, to the least-loaded shard);\n"
              "                 default --out results/shard-<I>of<N>/%s.csv; merge the N shards with\n"
              "                 scripts/merge-shards.sh OUT.csv SHARD1.csv ... SHARDN.csv (a program\n"
-             "                 whose CSV is not written cell by cell refuses it: exit 1)\n"
+             "                 whose CSV is not written cell by cell refuses it: exit 1); <out>.cells\n"
+             "                 lists the shard's cells with their hints and measured seconds\n"
+             "  --shard-mode M balanced (default) or modulo: the cells with index %% N == I - 1\n"
+             "  --list-cells   print every cell: index, sweep group, sweep, index in it, cost hint and\n"
+             "                 shard (under --shard I/N, of N); run none, write nothing\n"
              "Progress goes to stderr (CB_QUIET=1 silences it); data goes to the CSV only.\n",
              name, about, name, name);
       return 1;
@@ -91,6 +96,16 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
       }
       e->shard = a;
       e->nshards = b;
+    } else if (!strcmp(argv[i], "--list-cells")) {
+      e->list_cells = 1;
+    } else if (!strcmp(argv[i], "--shard-mode") && i + 1 < argc) {
+      i++;
+      if (!strcmp(argv[i], "balanced")) e->shard_mode = CB_SHARD_BALANCED;
+      else if (!strcmp(argv[i], "modulo")) e->shard_mode = CB_SHARD_MODULO;
+      else {
+        fprintf(stderr, "%s: --shard-mode '%s': expected balanced or modulo\n", name, argv[i]);
+        return -1;
+      }
     } else {
       fprintf(stderr, "%s: unknown or incomplete option '%s' (see --help)\n", name, argv[i]);
       return -1;
@@ -98,8 +113,9 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
   }
   if (!out_given && e->shard) snprintf(e->out, sizeof e->out, "results/shard-%dof%d/%s.csv", e->shard, e->nshards, name);
   else if (!out_given) snprintf(e->out, sizeof e->out, "results/%s.csv", name);
-  /* the CPU lock, shared: a timed experiment (cb_experiment_timed) waits for us */
-  e->lock_fd = open(cpu_lock_path(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+  /* the CPU lock, shared: a timed experiment (cb_experiment_timed) waits for us;
+   * --list-cells runs no cell, so it neither takes nor waits for the lock */
+  if (!e->list_cells) e->lock_fd = open(cpu_lock_path(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
   if (e->lock_fd >= 0) lock_waiting(e, LOCK_SH, "a timed experiment to finish");
   return 0;
 }
@@ -192,15 +208,17 @@ int cb_experiment_table(cb_experiment *e, const char *name, const char *extra, c
   return t;
 }
 
-/* <out>.cells: "shard I N C", "tables - side1 side2 ...", then one line per
- * cell this shard ran: its index and the rows it wrote to each table. */
+/* <out>.cells: "shard I N C MODE", "tables - side1 side2 ...", then one line
+ * per cell this shard ran (sweep.c): its index, the rows it wrote to each
+ * table, its sweep group, sweep name and index there, cost hint and seconds. */
 static int write_cells(cb_experiment *e) {
   char path[sizeof e->out + 8];
   snprintf(path, sizeof path, "%s.cells", e->out);
   cb_outfile o;
   int st = cb_outfile_open(&o, path);
   if (st) return st;
-  fprintf(o.f, "shard %d %d %ld\ntables", e->shard, e->nshards, e->ncells);
+  fprintf(o.f, "shard %d %d %ld %s\ntables", e->shard, e->nshards, e->ncells,
+          e->shard_mode == CB_SHARD_MODULO ? "modulo" : "balanced");
   for (int t = 0; t < e->ntables; t++) fprintf(o.f, " %s", e->table_name[t][0] ? e->table_name[t] : "-");
   fputc('\n', o.f);
   if (e->cells) fflush(e->cells);
@@ -211,12 +229,20 @@ static int write_cells(cb_experiment *e) {
 static void drop_cells(cb_experiment *e) {
   if (e->cells) fclose(e->cells);
   free(e->cells_log);
+  free(e->shard_load);
+  e->shard_load = NULL;
   e->cells = NULL;
   e->cells_log = NULL;
   e->cells_len = 0;
 }
 
 int cb_experiment_end(cb_experiment *e, int st) {
+  if (e->list_cells) { /* the cells were listed; nothing is written */
+    for (int t = 0; t < e->ntables; t++) cb_outfile_abort(&e->table[t]);
+    drop_cells(e);
+    if (st) fprintf(stderr, "%s: %s\n", e->name, cb_error_message());
+    return st;
+  }
   for (int t = 0; t < e->ntables; t++) {
     if (st == CB_OK && cb_outfile_commit(&e->table[t])) st = CB_EIO;
     else if (st != CB_OK) cb_outfile_abort(&e->table[t]);

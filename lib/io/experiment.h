@@ -10,10 +10,16 @@
  *                  run must be smaller than its quick one.
  *   --out PATH     main CSV (default results/<name>.csv)
  *   --configs DIR  folder holding hanging.ini etc. (default configs)
- *   --shard I/N    run only the cells with index % N == I - 1 (I in 1..N) of
- *                  the experiment's sweeps (sweep.h); default --out is then
+ *   --shard I/N    run only shard I's share (I in 1..N) of the cells of the
+ *                  experiment's sweeps (sweep.h): balanced by the cost hints
+ *                  (default), or --shard-mode modulo, the cells with index
+ *                  % N == I - 1; default --out is then
  *                  results/shard-<I>of<N>/<name>.csv. scripts/merge-shards.sh
  *                  merges the shards' CSVs into the unsharded ones.
+ *   --shard-mode balanced|modulo
+ *   --list-cells   prints every cell (global index, sweep group, sweep, index
+ *                  in the sweep, cost hint, shard under --shard ./N) and
+ *                  exits 0 without running a cell or writing a file
  *   --help         usage and what the experiment decides
  *
  * Tables: an experiment opens every CSV it writes with cb_experiment_table
@@ -32,6 +38,7 @@
 #include "progress.h"
 
 enum { CB_EXPERIMENT_MAX_TABLES = 8 };
+enum { CB_SHARD_BALANCED = 0, CB_SHARD_MODULO = 1 }; /* --shard-mode (sweep.h) */
 
 typedef struct cb_experiment {
   const char *name;
@@ -42,6 +49,8 @@ typedef struct cb_experiment {
   int argc;
   char **argv;
   int shard, nshards;       /* --shard I/N: I in 1..N; 0 and 1 when not sharded */
+  int shard_mode;           /* --shard-mode: CB_SHARD_BALANCED (default) or CB_SHARD_MODULO */
+  int list_cells;           /* --list-cells: print the cells (hint, shard), run none, write nothing */
   int timed;                /* 1 after cb_experiment_timed: it holds the CPU lock exclusively */
   int lock_fd;              /* the CPU lock (cb_experiment_begin takes it shared), or -1 */
   cb_outfile csv;           /* for programs that write one CSV themselves (bench) */
@@ -53,6 +62,8 @@ typedef struct cb_experiment {
   /* sweep bookkeeping (sweep.c): cells declared so far over all sweeps, and
    * the "<cell> <rows per table>" lines of the cells this shard ran */
   long ncells;
+  int nsweep_runs;          /* cb_sweep_run calls so far */
+  double *shard_load;       /* balanced mode: the hinted load of each shard so far */
   char *cells_log;
   size_t cells_len;
   FILE *cells;

@@ -7,16 +7,25 @@
  * table t (the index cb_experiment_table returned), and returns 0 or a
  * status (non-zero stops the run; the message names the sweep and cell).
  * A cell must not depend on another cell having run: under --shard I/N only
- * the cells whose global index (counted over all the sweeps of the
- * experiment, in order) is I - 1 modulo N run. A shared input (a reference
- * trajectory, a captured system) is computed by each cell that needs it, or
- * the cells that share it are made one cell.
+ * shard I's cells run. Which cells those are is a pure function of the
+ * cells, their cost hints and N, so every shard computes it alone: by
+ * default (--shard-mode balanced) the longest-processing-time rule, the
+ * cells of a cb_sweep_run call by decreasing hint (cell order on ties), each
+ * to the shard with the least hinted load so far (the lowest shard on ties);
+ * with --shard-mode modulo the cells whose global index (counted over all
+ * the sweeps of the experiment, in order) is I - 1 modulo N. A shared input
+ * (a reference trajectory, a captured system) is computed by each cell that
+ * needs it, or the cells that share it are made one cell.
+ *
+ * Cost hints are relative (any unit, one scale per experiment); they balance
+ * the shards and weight the progress estimate. scripts/calibrate-hints
+ * compares them with the seconds measured per cell (in <out>.cells).
  *
  * The runner buffers each cell's rows and appends them to the tables when
  * the cell ends, so the tables hold the rows in cell order; under --shard it
- * notes, per cell, how many rows went to each table (cb_experiment_end
- * writes the note as <out>.cells), which is what scripts/merge-shards.sh
- * interleaves the shards by. The CSVs themselves are the same bytes as the
+ * notes, per cell, how many rows went to each table, the hint and the
+ * measured wall seconds (cb_experiment_end writes the note as <out>.cells),
+ * which is what scripts/merge-shards.sh interleaves the shards by. The CSVs themselves are the same bytes as the
  * unsharded run's rows for those cells. */
 #ifndef CB_SWEEP_H
 #define CB_SWEEP_H
