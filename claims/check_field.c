@@ -59,7 +59,7 @@ void cb_check_X1(const cb_table *csv, const char *dir, cb_claim_result *out) {
   (void)csv;
   cb_table t;
   if (cb_claim_side_table(dir, "field", "x1", &t, out)) return;
-  static const char *const names[] = {"scene", "method", "dt", "iters", "k_ratio", "status"};
+  static const char *const names[] = {"scene", "method", "dt_s", "iters", "k_ratio", "status"};
   int c[6];
   if (cb_claim_columns(&t, names, c, 6, "field_x1.csv", out)) { cb_table_free(&t); return; }
   const char *sc[MAXS];
@@ -99,7 +99,7 @@ void cb_check_X1(const cb_table *csv, const char *dir, cb_claim_result *out) {
     return;
   }
   out->verdict = all_x ? CB_REPRODUCED : all_less ? CB_PARTLY : CB_NOT_REPRODUCED;
-  cb_claim_reason(out, "Effective stiffness k_eff = k strain_ref/strain (static stretch against the converged static state), over "
+  cb_claim_reason(out, "Effective stiffness k_eff = k ref_strain/strain (static stretch against the converged static state), over "
                        "1-100 iterations and dt = 1/30, 1/60, 1/120 s, on %d scenes: XPBD's spread %s within 10%% on every scene, and "
                        "%s below PBD's on every scene (table). ",
                   nd, all_x ? "is" : "is not", all_less ? "is" : "is not");
@@ -112,7 +112,7 @@ void cb_check_X2(const cb_table *csv, const char *dir, cb_claim_result *out) {
   (void)csv;
   cb_table t;
   if (cb_claim_side_table(dir, "field", "x2", &t, out)) return;
-  static const char *const names[] = {"scene", "n", "variant", "wall_ms", "step_error", "max_stretch", "ref_max_stretch", "status"};
+  static const char *const names[] = {"scene", "n", "variant", "wall_ms", "step_error", "max_strain", "ref_max_strain", "status"};
   int c[8];
   if (cb_claim_columns(&t, names, c, 8, "field_x2.csv", out)) { cb_table_free(&t); return; }
   int pairs = 0, beats = 0, err_lower = 0;
@@ -300,7 +300,7 @@ void cb_check_V1(const cb_table *csv, const char *dir, cb_claim_result *out) {
   if (cb_claim_side_table(dir, "field", "scramble", &sc, out)) { cb_table_free(&ri); return; }
   if (tol_table(dir, &t, &tc, out)) { cb_table_free(&ri); cb_table_free(&sc); return; }
   static const char *const rn[] = {"scene", "method", "start", "frames_run", "iters", "rises", "steps_with_rise", "diverged"};
-  static const char *const sn[] = {"scene", "method", "strain_start", "strain_end", "diverged", "recovered"};
+  static const char *const sn[] = {"scene", "method", "start_strain", "end_strain", "diverged", "recovered"};
   int rc[8], cc[6];
   if (cb_claim_columns(&ri, rn, rc, 8, "field_rises.csv", out) || cb_claim_columns(&sc, sn, cc, 6, "field_scramble.csv", out)) {
     cb_table_free(&ri); cb_table_free(&sc); cb_table_free(&t);

@@ -59,9 +59,9 @@ do for [s = 1:nx] {
   sc = nth(x1, 1, s)
   nd = countw(x1, 3, 1, sc)
   set title sc
-  plot for [d = 1:nd] x1 using (is('scene', sc) && is('method', 'xpbd') && strcol('dt') eq nthw(x1, 3, d, 1, sc) ? column('iters') : NaN):'k_ratio' \
+  plot for [d = 1:nd] x1 using (is('scene', sc) && is('method', 'xpbd') && strcol('dt_s') eq nthw(x1, 3, d, 1, sc) ? column('iters') : NaN):'k_ratio' \
          with linespoints pt 7 lw 2 lc d title sprintf('xpbd dt = %.4g', real(nthw(x1, 3, d, 1, sc))), \
-       for [d = 1:nd] x1 using (is('scene', sc) && is('method', 'pbd') && strcol('dt') eq nthw(x1, 3, d, 1, sc) ? column('iters') : NaN):'k_ratio' \
+       for [d = 1:nd] x1 using (is('scene', sc) && is('method', 'pbd') && strcol('dt_s') eq nthw(x1, 3, d, 1, sc) ? column('iters') : NaN):'k_ratio' \
          with linespoints pt 4 dt 2 lw 2 lc d title sprintf('pbd dt = %.4g', real(nthw(x1, 3, d, 1, sc))), \
        1 with lines lc 'black' dt 3 title 'k'
 }
@@ -85,9 +85,9 @@ do for [s = 1:n2] {
   set logscale y
   set format y '10^{%T}'
   set title sc.': largest edge stretch'
-  plot x2 using (is('scene', sc) && is('variant', 'nx1') ? column('n') : NaN):'max_stretch' with linespoints pt 7 lw 2 title 'nx1', \
-       x2 using (is('scene', sc) && is('variant', '1xn') ? column('n') : NaN):'max_stretch' with linespoints pt 4 lw 2 title '1xn', \
-       x2 using (is('scene', sc) ? column('n') : NaN):'ref_max_stretch' with lines dt 2 lc 'black' title 'converged step'
+  plot x2 using (is('scene', sc) && is('variant', 'nx1') ? column('n') : NaN):'max_strain' with linespoints pt 7 lw 2 title 'nx1', \
+       x2 using (is('scene', sc) && is('variant', '1xn') ? column('n') : NaN):'max_strain' with linespoints pt 4 lw 2 title '1xn', \
+       x2 using (is('scene', sc) ? column('n') : NaN):'ref_max_strain' with lines dt 2 lc 'black' title 'converged step'
   set title sc.': step error against the converged step'
   plot x2 using (is('scene', sc) && is('variant', 'nx1') ? column('n') : NaN):'step_error' with linespoints pt 7 lw 2 title 'nx1', \
        x2 using (is('scene', sc) && is('variant', '1xn') ? column('n') : NaN):'step_error' with linespoints pt 4 lw 2 title '1xn'

@@ -53,7 +53,7 @@ TestSuite(claims_field, .init = setup, .fini = teardown);
 
 /* k_ratio of pbd and xpbd at (iters, dt): pbd = p0 * iters, xpbd = x0 + xs * iters */
 static void x1(double p0, double x0, double xs) {
-  char buf[4096] = "scene,method,dt,iters,k_n_per_m,settle_s,strain_ref,strain,k_eff_n_per_m,k_ratio,status\n";
+  char buf[4096] = "scene,method,dt_s,iters,k_n_per_m,settle_s,ref_strain,strain,k_eff_n_per_m,k_ratio,status\n";
   const int ks[] = {1, 10, 100};
   const double dts[] = {1 / 30.0, 1 / 120.0};
   for (int m = 0; m < 2; m++)
@@ -74,7 +74,7 @@ Test(claims_field, x1_reproduced_when_xpbd_is_flat_and_pbd_is_not) {
 
 Test(claims_field, x1_not_reproduced_when_xpbd_varies_more_than_pbd) {
   /* pbd flat, xpbd ten times softer at one iteration */
-  char buf[4096] = "scene,method,dt,iters,k_n_per_m,settle_s,strain_ref,strain,k_eff_n_per_m,k_ratio,status\n"
+  char buf[4096] = "scene,method,dt_s,iters,k_n_per_m,settle_s,ref_strain,strain,k_eff_n_per_m,k_ratio,status\n"
                    "strip,pbd,0.03,1,1000,2,0.02,0.02,1000,1,ok\n"
                    "strip,pbd,0.03,100,1000,2,0.02,0.02,1000,1.01,ok\n"
                    "strip,xpbd,0.03,1,1000,2,0.02,0.2,100,0.1,ok\n"
@@ -87,8 +87,8 @@ Test(claims_field, x1_not_reproduced_when_xpbd_varies_more_than_pbd) {
 /* ---- X2 ---- */
 
 static void x2(int substeps_win) {
-  char buf[4096] = "scene,nv,n,variant,substeps,iters,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,step_error,"
-                   "max_stretch,ref_max_stretch,rel_grad,status\n";
+  char buf[4096] = "scene,vertices,n,variant,substeps,iters,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,step_error,"
+                   "max_strain,ref_max_strain,rel_grad,status\n";
   for (int n = 2; n <= 8; n *= 2) {
     double a = substeps_win ? 0.01 / n : 0.1, b = substeps_win ? 0.1 : 0.01 / n;
     sprintf(buf + strlen(buf), "lab,441,%d,nx1,%d,1,%d,,,,3,0.1,%.17g,0.003,0.1,ok\n", n, n, n, a);
@@ -111,7 +111,7 @@ Test(claims_field, x2_not_reproduced_when_iterations_stretch_less) {
 
 /* ---- Q1 and V1's speed: field_tol.csv ---- */
 
-#define TOL_HEAD "scene,nv,method,family,tol,max_iters,iters_to_tol,wall_to_tol_ms,wall_to_tol_min_ms,wall_to_tol_max_ms," \
+#define TOL_HEAD "scene,vertices,method,family,tol,max_iters,iters_to_tol,wall_to_tol_ms,wall_to_tol_min_ms,wall_to_tol_max_ms," \
                  "wall_to_tol_each_ms,wall_repeats,alloc_ms,final_rel_grad,fallback,status\n"
 
 /* ms of lbfgs, pd, pd-chebyshev, newton_exact, newton_drop, vbd, vbd line search, jacobi-nl, chebyshev-nl
@@ -157,13 +157,13 @@ Test(claims_field, q1_counts_a_cut_off_lbfgs_as_a_loss) {
 static void v1(int rises, int diverged, int slow) {
   char buf[2048];
   snprintf(buf, sizeof buf,
-           "scene,method,start,frames,frames_run,iters,rises,steps_with_rise,max_rise_rel,diverged,diverge_frame,status\n"
+           "scene,method,start,frames,frames_run,iters,rises,steps_with_rise,rel_max_rise,diverged,diverge_frame,status\n"
            "lab,vbd,initial,20,20,640,%d,%d,0.1,0,,ok\nlab,vbd,scrambled,20,20,640,3,2,1,0,,ok\n"
            "lab,vbd line search,initial,20,20,640,0,0,0,0,,ok\n",
            rises, rises ? 1 : 0);
   put("field_rises.csv", buf);
   snprintf(buf, sizeof buf,
-           "scene,method,frames,frames_run,displacement_m,strain_start,strain_end,strain_normal,max_strain_end,diverged,diverge_frame,"
+           "scene,method,frames,frames_run,displacement_m,start_strain,end_strain,normal_strain,end_max_strain,diverged,diverge_frame,"
            "recovered,status\n"
            "lab,vbd,20,%d,10,12,%s,0.001,0.1,%d,%s,%d,%s\nlab,jacobi-nl,20,20,10,12,0.5,0.001,1,0,,0,ok\n",
            diverged ? 4 : 20, diverged ? "" : "0.05", diverged, diverged ? "5" : "", !diverged, diverged ? "diverged" : "ok");

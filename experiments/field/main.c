@@ -171,26 +171,26 @@ int main(int argc, char **argv) {
   if ((b = scene_sizes(&p))) return cb_experiment_end(&e, b), 1;
   const char *state_extra = "# state: 10 frames of the scene's own method (2 in --smoke); the step without damping\n";
   if (cb_experiment_table(&e, NULL, state_extra,
-                          "scene,nv,method,family,iters,substeps,rho,wall_ms,setup_ms,step_error,rel_grad,"
+                          "scene,vertices,method,family,iters,substeps,rho,wall_ms,setup_ms,step_error,rel_grad,"
                           "on_method_front,on_scene_front,status") != T_FRONT ||
       cb_experiment_table(&e, "gap", state_extra,
-                          "scene,nv,method,iters,rel_grad,rel_grad_half,step_error,step_error_half,newton_method,"
-                          "newton_rel_grad,newton_step_error,status") != T_GAP ||
+                          "scene,vertices,method,iters,rel_grad,rel_grad_half,step_error,step_error_half,newton_method,"
+                          "newton_rel_grad,step_error_newton,status") != T_GAP ||
       cb_experiment_table(&e, "x1", "# x1: static stretch after settling from the converged static state (see x1.c)\n",
-                          "scene,method,dt,iters,k_n_per_m,settle_s,strain_ref,strain,k_eff_n_per_m,k_ratio,status") != T_X1 ||
+                          "scene,method,dt_s,iters,k_n_per_m,settle_s,ref_strain,strain,k_eff_n_per_m,k_ratio,status") != T_X1 ||
       cb_experiment_table(&e, "x2", state_extra,
-                          "scene,nv,n,variant,substeps,iters,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,"
-                          "step_error,max_stretch,ref_max_stretch,rel_grad,status") != T_X2 ||
+                          "scene,vertices,n,variant,substeps,iters,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,"
+                          "step_error,max_strain,ref_max_strain,rel_grad,status") != T_X2 ||
       cb_experiment_table(&e, "tol", state_extra,
-                          "scene,nv,method,family,tol,max_iters,iters_to_tol,wall_to_tol_ms,wall_to_tol_min_ms,"
+                          "scene,vertices,method,family,tol,max_iters,iters_to_tol,wall_to_tol_ms,wall_to_tol_min_ms,"
                           "wall_to_tol_max_ms,wall_to_tol_each_ms,wall_repeats,alloc_ms,final_rel_grad,fallback,status") != T_TOL ||
-      cb_experiment_table(&e, "tol_trace", NULL, "scene,method,iter,rel_grad,F_rel,wall_ms") != T_TOL_TRACE ||
+      cb_experiment_table(&e, "tol_trace", NULL, "scene,method,iter,rel_grad,rel_f,wall_ms") != T_TOL_TRACE ||
       cb_experiment_table(&e, "rises", NULL,
-                          "scene,method,start,frames,frames_run,iters,rises,steps_with_rise,max_rise_rel,diverged,"
+                          "scene,method,start,frames,frames_run,iters,rises,steps_with_rise,rel_max_rise,diverged,"
                           "diverge_frame,status") != T_RISES ||
       cb_experiment_table(&e, "scramble", NULL,
-                          "scene,method,frames,frames_run,displacement_m,strain_start,strain_end,strain_normal,"
-                          "max_strain_end,diverged,diverge_frame,recovered,status") != T_SCRAMBLE)
+                          "scene,method,frames,frames_run,displacement_m,start_strain,end_strain,normal_strain,"
+                          "end_max_strain,diverged,diverge_frame,recovered,status") != T_SCRAMBLE)
     return cb_experiment_end(&e, CB_EIO), 2;
   const cb_sweep sweeps[] = {
       {"front", p.nfront, fd_front_cell, fd_front_cost, &p},
