@@ -49,6 +49,11 @@ void fd_strain(const cb_scene *s, const double *x, double *max_strain, double *m
 /* sets + "key=K" into out (NULL-terminated; at most 12 sets); buf holds the "key=K" */
 void fd_with(const char *const *sets, const char *key, int K, char *buf, size_t nbuf, const char **out);
 
+/* sets with integrator.rho=auto replaced by the estimate of one run of it (the estimate is the same in
+ * every run of the method on S's step; W1 in nonlinear does the same): out gets the sets (at most 12),
+ * buf the "integrator.rho=<estimate>", *est_ms the estimate's time. Sets without auto are copied. */
+int fd_fix_rho(cb_step_state *S, const char *const *sets, const char **out, char *buf, size_t nbuf, double *est_ms);
+
 int fd_front_cell(long i, void *ctx, FILE *const *out);
 double fd_front_cost(long i, void *ctx);
 long fd_x1_cells(const fd_plan *p);

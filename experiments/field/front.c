@@ -22,19 +22,19 @@ typedef struct {
 #define NEWTON_EXACT "integrator.method=newton", "integrator.definiteness=none", "integrator.line_search=1", "integrator.tol=1e-10"
 #define NEWTON_DROP "integrator.method=newton", "integrator.definiteness=drop", "integrator.line_search=1", "integrator.tol=1e-10"
 static const fr_method FM[] = {
-    {"newton_exact", "newton", {NEWTON_EXACT, NULL}, "integrator.max_iters", 32, 16, {NEWTON_DROP, NULL}},
-    {"newton_drop", "newton", {NEWTON_DROP, NULL}, "integrator.max_iters", 64, 32, {NULL}},
+    {"newton_exact", "newton", {NEWTON_EXACT, NULL}, "integrator.max_iters", 32, 8, {NEWTON_DROP, NULL}},
+    {"newton_drop", "newton", {NEWTON_DROP, NULL}, "integrator.max_iters", 64, 16, {NULL}},
     {"baraff_witkin", "newton", {"integrator.method=newton", "integrator.max_iters=1", NULL}, NULL, 0, 0, {NULL}},
-    {"jacobi-nl", "jacobi-nl", {"integrator.method=jacobi-nl", NULL}, "integrator.iters", 1024, 128, {NULL}},
-    {"chebyshev-nl auto", "jacobi-nl", {"integrator.method=chebyshev-nl", "integrator.rho=auto", NULL}, "integrator.iters", 1024, 128, {NULL}},
-    {"pd", "pd", {"integrator.method=pd", NULL}, "integrator.iters", 512, 128, {NULL}},
-    {"pd-chebyshev auto", "pd", {"integrator.method=pd-chebyshev", "integrator.rho=auto", NULL}, "integrator.iters", 512, 128, {NULL}},
-    {"lbfgs", "lbfgs", {"integrator.method=lbfgs", "integrator.tol=1e-10", NULL}, "integrator.iters", 256, 64, {NULL}},
-    {"vbd", "vbd", {"integrator.method=vbd", NULL}, "integrator.iters", 512, 128, {NULL}},
-    {"vbd line search", "vbd", {"integrator.method=vbd", "integrator.vbd_line_search=1", NULL}, "integrator.iters", 512, 128, {NULL}},
-    {"vbd-chebyshev auto", "vbd", {"integrator.method=vbd-chebyshev", "integrator.rho=auto", NULL}, "integrator.iters", 512, 128, {NULL}},
-    {"xpbd 1xn", "xpbd", {"integrator.method=xpbd", "integrator.substeps=1", NULL}, "integrator.iters", 1024, 256, {NULL}},
-    {"xpbd nx1", "xpbd", {"integrator.method=xpbd", "integrator.iters=1", NULL}, "integrator.substeps", 64, 32, {NULL}},
+    {"jacobi-nl", "jacobi-nl", {"integrator.method=jacobi-nl", NULL}, "integrator.iters", 1024, 32, {NULL}},
+    {"chebyshev-nl auto", "jacobi-nl", {"integrator.method=chebyshev-nl", "integrator.rho=auto", NULL}, "integrator.iters", 1024, 32, {NULL}},
+    {"pd", "pd", {"integrator.method=pd", NULL}, "integrator.iters", 512, 32, {NULL}},
+    {"pd-chebyshev auto", "pd", {"integrator.method=pd-chebyshev", "integrator.rho=auto", NULL}, "integrator.iters", 512, 32, {NULL}},
+    {"lbfgs", "lbfgs", {"integrator.method=lbfgs", "integrator.tol=1e-10", NULL}, "integrator.iters", 256, 32, {NULL}},
+    {"vbd", "vbd", {"integrator.method=vbd", NULL}, "integrator.iters", 512, 32, {NULL}},
+    {"vbd line search", "vbd", {"integrator.method=vbd", "integrator.vbd_line_search=1", NULL}, "integrator.iters", 512, 32, {NULL}},
+    {"vbd-chebyshev auto", "vbd", {"integrator.method=vbd-chebyshev", "integrator.rho=auto", NULL}, "integrator.iters", 512, 32, {NULL}},
+    {"xpbd 1xn", "xpbd", {"integrator.method=xpbd", "integrator.substeps=1", NULL}, "integrator.iters", 1024, 64, {NULL}},
+    {"xpbd nx1", "xpbd", {"integrator.method=xpbd", "integrator.iters=1", NULL}, "integrator.substeps", 64, 16, {NULL}},
 };
 enum { NFM = sizeof FM / sizeof FM[0] };
 enum { MAXPTS = 512 };
@@ -66,10 +66,14 @@ int fd_front_cell(long i, void *ctx, FILE *const *out) {
       pt[np++] = (point){m, 0, NAN, NAN, INFINITY, NAN, NAN, CB_EINVAL, 0};
       continue;
     }
+    const char *ms[16];
+    char rb[64];
+    double est_ms;
+    if ((st = fd_fix_rho(&S, FM[m].sets, ms, rb, sizeof rb, &est_ms))) break;
     for (int K = FM[m].key ? 1 : 0; st == CB_OK && K <= kmax && np < MAXPTS; K = K ? 2 * K : 1) {
       const char *sets[16], *fb[16];
       char b1[64], b2[64];
-      if (FM[m].key) fd_with(FM[m].sets, FM[m].key, K, b1, sizeof b1, sets);
+      if (FM[m].key) fd_with(ms, FM[m].key, K, b1, sizeof b1, sets);
       else memcpy(sets, FM[m].sets, sizeof FM[m].sets);
       cb_step_result r;
       st = cb_step_repeat(&S, sets, NULL, NULL, &r);
@@ -86,7 +90,7 @@ int fd_front_cell(long i, void *ctx, FILE *const *out) {
       }
       if (st) break;
       int bad = cb_status_is_fatal(r.status) && r.status != CB_LS_FAILED;
-      pt[np++] = (point){m, FM[m].key ? K : 1, r.wall_ms, r.setup_ms, bad || !isfinite(r.error) ? INFINITY : r.error,
+      pt[np++] = (point){m, FM[m].key ? K : 1, r.wall_ms, r.setup_ms + est_ms, bad || !isfinite(r.error) ? INFINITY : r.error,
                          r.rel_grad, r.rho, r.status, 1};
       if (!FM[m].key) break;
     }

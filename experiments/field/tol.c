@@ -36,7 +36,7 @@ enum { NTM = sizeof TM / sizeof TM[0] };
 static const double TOLS[] = {1e-3, 1e-5};
 enum { NTOL = sizeof TOLS / sizeof TOLS[0] };
 
-static int cap_of(const fd_plan *p, int m) { return TM[m].newton ? (p->smoke ? 5 : 50) : p->smoke ? 10 : p->quick ? 400 : 2000; }
+static int cap_of(const fd_plan *p, int m) { return TM[m].newton ? (p->smoke ? 5 : 50) : p->smoke ? 10 : p->quick ? 200 : 2000; }
 
 typedef struct {
   int n, cap;
@@ -72,7 +72,8 @@ int fd_tol_cell(long i, void *ctx, FILE *const *out) {
   int hit[NTM][NTOL], cap[NTM], ok[NTM];
   double final_rel[NTM], alloc_ms[NTM];
   static char buf[NTM][NTOL][2][64];
-  static const char *js[NTM][NTOL][16], *jf[NTM][NTOL][16];
+  static const char *js[NTM][NTOL][16], *jf[NTM][NTOL][16], *msets[NTM][16];
+  static char rbuf[NTM][64];
   for (int m = 0; st == CB_OK && m < NTM; m++) {
     char why[512];
     for (int q = 0; q < NTOL; q++) hit[m][q] = -1;
@@ -87,7 +88,10 @@ int fd_tol_cell(long i, void *ctx, FILE *const *out) {
     const char *ts[16], *tf[16];
     char b1[64], b2[64];
     static cb_config c, cf;
-    fd_with(TM[m].sets, TM[m].key, cap[m], b1, sizeof b1, ts);
+    double est_ms;
+    if (st == CB_OK) st = fd_fix_rho(&S, TM[m].sets, msets[m], rbuf[m], sizeof rbuf[m], &est_ms); /* an auto rho: estimated once */
+    if (st) { free(t.rel); free(t.F); free(t.ms); break; }
+    fd_with(msets[m], TM[m].key, cap[m], b1, sizeof b1, ts);
     if (TM[m].fallback[0]) fd_with(TM[m].fallback, TM[m].key, cap[m], b2, sizeof b2, tf);
     if (st == CB_OK) st = cb_step_config(&S, ts, &c);
     if (st == CB_OK && TM[m].fallback[0]) st = cb_step_config(&S, tf, &cf);
@@ -106,7 +110,7 @@ int fd_tol_cell(long i, void *ctx, FILE *const *out) {
         for (int k = 1; k < t.n && hit[m][q] < 0; k++)
           if (t.rel[k] <= TOLS[q] && isfinite(t.rel[k])) hit[m][q] = k;
         if (hit[m][q] < 0) continue;
-        fd_with(TM[m].sets, TM[m].key, hit[m][q], buf[m][q][0], sizeof buf[m][q][0], js[m][q]);
+        fd_with(msets[m], TM[m].key, hit[m][q], buf[m][q][0], sizeof buf[m][q][0], js[m][q]);
         if (TM[m].fallback[0]) fd_with(TM[m].fallback, TM[m].key, hit[m][q], buf[m][q][1], sizeof buf[m][q][1], jf[m][q]);
       }
     }
