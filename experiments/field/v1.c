@@ -8,7 +8,8 @@
  *   cloth's size L (direction uniform on the sphere, length uniform in [0, L]; the project's generator,
  *   rng.h, seeded per scene), at rest, then `frames` frames of vbd, vbd line search, jacobi-nl,
  *   chebyshev-nl (rho auto) and pd-chebyshev (rho auto) with the scene's damping. Diverged: a fatal
- *   status or a vertex beyond 1e3 L of the origin. Recovered: not diverged and the mean |strain| of the
+ *   status or a vertex beyond 1e3 L of the origin. A method that refuses the scene gets one row, status
+ *   unsupported. Recovered: not diverged and the mean |strain| of the
  *   springs at the end at most max(2 strain_normal, 0.01), strain_normal the mean |strain| after the
  *   same frames of the scene's own method from its unscrambled initial state. */
 #include <math.h>
@@ -150,6 +151,13 @@ int fd_v1_cell(long i, void *ctx, FILE *const *out) {
     int nrun, div, iters, srise, status;
     const char *sets[] = {SCR_M[m][1], SCR_M[m][2], NULL};
     st = trajectory(p, d, s, sets, x, v, frames, L, NULL, &nrun, &div, &iters, &srise, &status);
+    if (st == CB_EINVAL) { /* the method refuses the scene (pd and the drape's dihedral bending): one row saying so */
+      cb_error_clear();
+      st = CB_OK;
+      cb_csv_printf(out[T_SCRAMBLE], "%s,%s,%d,0,%.17g,%.17g,%.17g,%.17g,%.17g,0,%.17g,0,unsupported\n", d->label, SCR_M[m][0], frames, L, s0,
+                    na, strain_normal, na, na);
+      continue;
+    }
     if (st) break;
     double smax = na, smean = na;
     if (!div) fd_strain(s, x, &smax, &smean);

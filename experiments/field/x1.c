@@ -1,7 +1,7 @@
 /* field, X1: the effective stiffness of PBD and XPBD (Macklin et al. 2016). For a scene (the hanging
  * strip, configs/chain20.ini, and the lab cloth) and a dt, the converged static state x_s under
- * gravity is found first (Newton at dt = 1 s with the velocity zeroed every step, until no vertex moves
- * by more than 1e-12 of the cloth's size: the minimiser of E, springs at their stiffness k). Then each
+ * gravity is found first (Newton at dt = 10 s with the velocity zeroed every step, until no vertex moves
+ * by more than 1e-10 of the cloth's size: the minimiser of E, springs at their stiffness k). Then each
  * method, at K = 1 ... 100 iterations a step (one substep), starts at rest from x_s and runs for
  * settle_s seconds with velocity damping exp(-4 dt) per step (a decay e^-4 per second whatever dt), and
  * its static stretch is the mean over the last quarter of the frames of the mean |strain| of the
@@ -31,8 +31,8 @@ static double settle_s(const fd_plan *p) { return p->smoke ? 0.2 : p->quick ? 1.
 
 /* the static state: Newton at dt = 1 s, v <- 0 every step, until it stops moving */
 static int static_state(const fd_plan *p, const cb_scene_decl *d, cb_scene *s, double *xs) {
-  static const char *const sets[] = {"integrator.method=newton", "integrator.dt=1", "integrator.damping=0",
-                                     "integrator.max_iters=100", "integrator.tol=1e-12", "integrator.line_search=1",
+  static const char *const sets[] = {"integrator.method=newton", "integrator.dt=10", "integrator.damping=0",
+                                     "integrator.max_iters=50", "integrator.tol=1e-10", "integrator.line_search=1",
                                      "integrator.definiteness=drop", NULL};
   static cb_config c;
   int st = cb_scene_decl_config(p->e, d, sets, &c);
@@ -43,15 +43,15 @@ static int static_state(const fd_plan *p, const cb_scene_decl *d, cb_scene *s, d
   if (st == CB_OK) st = cb_run_init(&run, s, it);
   int n3 = 3 * s->mesh.nv, moved = 1;
   double size = fmax(c.mesh_size[0], c.mesh_size[1]);
-  for (int f = 0; st == CB_OK && moved && f < 400; f++) {
+  for (int f = 0; st == CB_OK && moved && f < 200; f++) {
     memcpy(xs, run.x, (size_t)n3 * sizeof(double));
     int sst = cb_run_step(&run);
     if (cb_status_is_fatal(sst)) st = cb_fail_status(sst, "scene %s: static state, step %d: %s", d->label, f + 1, cb_status_name(sst));
     double dx = 0;
     for (int k = 0; k < n3; k++) dx = fmax(dx, fabs(run.x[k] - xs[k]));
-    moved = dx > 1e-12 * size;
+    moved = dx > 1e-10 * size;
   }
-  if (st == CB_OK && moved) st = cb_fail_status(CB_NOT_CONVERGED, "scene %s: static state still moving after 400 steps", d->label);
+  if (st == CB_OK && moved) st = cb_fail_status(CB_NOT_CONVERGED, "scene %s: static state still moving after 200 steps", d->label);
   if (st == CB_OK) memcpy(xs, run.x, (size_t)n3 * sizeof(double));
   cb_run_free(&run);
   cb_integrator_free(it);
