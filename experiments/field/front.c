@@ -22,18 +22,18 @@ typedef struct {
 #define NEWTON_EXACT "integrator.method=newton", "integrator.definiteness=none", "integrator.line_search=1", "integrator.tol=1e-10"
 #define NEWTON_DROP "integrator.method=newton", "integrator.definiteness=drop", "integrator.line_search=1", "integrator.tol=1e-10"
 static const fr_method FM[] = {
-    {"newton_exact", "newton", {NEWTON_EXACT, NULL}, "integrator.max_iters", 32, 8, {NEWTON_DROP, NULL}},
-    {"newton_drop", "newton", {NEWTON_DROP, NULL}, "integrator.max_iters", 64, 16, {NULL}},
+    {"newton_exact", "newton", {NEWTON_EXACT, NULL}, "integrator.max_iters", 16, 8, {NEWTON_DROP, NULL}},
+    {"newton_drop", "newton", {NEWTON_DROP, NULL}, "integrator.max_iters", 32, 16, {NULL}},
     {"baraff_witkin", "newton", {"integrator.method=newton", "integrator.max_iters=1", NULL}, NULL, 0, 0, {NULL}},
-    {"jacobi-nl", "jacobi-nl", {"integrator.method=jacobi-nl", NULL}, "integrator.iters", 1024, 32, {NULL}},
-    {"chebyshev-nl auto", "jacobi-nl", {"integrator.method=chebyshev-nl", "integrator.rho=auto", NULL}, "integrator.iters", 1024, 32, {NULL}},
-    {"pd", "pd", {"integrator.method=pd", NULL}, "integrator.iters", 512, 32, {NULL}},
-    {"pd-chebyshev auto", "pd", {"integrator.method=pd-chebyshev", "integrator.rho=auto", NULL}, "integrator.iters", 512, 32, {NULL}},
-    {"lbfgs", "lbfgs", {"integrator.method=lbfgs", "integrator.tol=1e-10", NULL}, "integrator.iters", 256, 32, {NULL}},
-    {"vbd", "vbd", {"integrator.method=vbd", NULL}, "integrator.iters", 512, 32, {NULL}},
-    {"vbd line search", "vbd", {"integrator.method=vbd", "integrator.vbd_line_search=1", NULL}, "integrator.iters", 512, 32, {NULL}},
-    {"vbd-chebyshev auto", "vbd", {"integrator.method=vbd-chebyshev", "integrator.rho=auto", NULL}, "integrator.iters", 512, 32, {NULL}},
-    {"xpbd 1xn", "xpbd", {"integrator.method=xpbd", "integrator.substeps=1", NULL}, "integrator.iters", 1024, 64, {NULL}},
+    {"jacobi-nl", "jacobi-nl", {"integrator.method=jacobi-nl", NULL}, "integrator.iters", 256, 32, {NULL}},
+    {"chebyshev-nl auto", "jacobi-nl", {"integrator.method=chebyshev-nl", "integrator.rho=auto", NULL}, "integrator.iters", 256, 32, {NULL}},
+    {"pd", "pd", {"integrator.method=pd", NULL}, "integrator.iters", 256, 32, {NULL}},
+    {"pd-chebyshev auto", "pd", {"integrator.method=pd-chebyshev", "integrator.rho=auto", NULL}, "integrator.iters", 256, 32, {NULL}},
+    {"lbfgs", "lbfgs", {"integrator.method=lbfgs", "integrator.tol=1e-10", NULL}, "integrator.iters", 128, 32, {NULL}},
+    {"vbd", "vbd", {"integrator.method=vbd", NULL}, "integrator.iters", 256, 32, {NULL}},
+    {"vbd line search", "vbd", {"integrator.method=vbd", "integrator.vbd_line_search=1", NULL}, "integrator.iters", 256, 32, {NULL}},
+    {"vbd-chebyshev auto", "vbd", {"integrator.method=vbd-chebyshev", "integrator.rho=auto", NULL}, "integrator.iters", 256, 32, {NULL}},
+    {"xpbd 1xn", "xpbd", {"integrator.method=xpbd", "integrator.substeps=1", NULL}, "integrator.iters", 512, 64, {NULL}},
     {"xpbd nx1", "xpbd", {"integrator.method=xpbd", "integrator.iters=1", NULL}, "integrator.substeps", 64, 16, {NULL}},
 };
 enum { NFM = sizeof FM / sizeof FM[0] };

@@ -36,7 +36,7 @@ enum { NTM = sizeof TM / sizeof TM[0] };
 static const double TOLS[] = {1e-3, 1e-5};
 enum { NTOL = sizeof TOLS / sizeof TOLS[0] };
 
-static int cap_of(const fd_plan *p, int m) { return TM[m].newton ? (p->smoke ? 5 : 50) : p->smoke ? 10 : p->quick ? 100 : 2000; }
+static int cap_of(const fd_plan *p, int m) { return TM[m].newton ? (p->smoke ? 5 : 30) : p->smoke ? 10 : p->quick ? 100 : 1000; }
 
 typedef struct {
   int n, cap;

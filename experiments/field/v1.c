@@ -31,7 +31,7 @@ static const char *const SCR_M[][3] = {{"vbd", "integrator.method=vbd", NULL},
 enum { NRISE = 2, NSCR = 5 };
 
 long fd_v1_cells(const fd_plan *p) { return p->nv1; }
-static int frames_of(const fd_plan *p) { return p->smoke ? 3 : p->quick ? 8 : 20; }
+static int frames_of(const fd_plan *p) { return p->smoke ? 3 : p->quick ? 8 : 10; }
 
 typedef struct {
   double prev;
