@@ -34,9 +34,9 @@ do for [s = 1:ns] {
   set title sc
   plot for [m = 1:nm] main using (is('scene', sc) && is('method', nthw(main, 3, m, 1, sc)) ? column('wall_ms') : NaN):'step_error' \
          with linespoints pt 7 ps 0.4 lw 1 lc m title nthw(main, 3, m, 1, sc) noenhanced, \
-       for [m = 1:nm] main using (is('scene', sc) && is('method', nthw(main, 3, m, 1, sc)) && column('on_method_front') == 1 ? \
+       for [m = 1:nm] main using (is('scene', sc) && is('method', nthw(main, 3, m, 1, sc)) && column('on_method_front_by_wall') == 1 ? \
          column('wall_ms') : NaN):'step_error' with lines lw 3 lc m notitle, \
-       main using (is('scene', sc) && column('on_scene_front') == 1 ? column('wall_ms') : NaN):'step_error' with points pt 6 ps 1.6 lc 'black' title 'scene front'
+       main using (is('scene', sc) && column('on_scene_front_by_wall') == 1 ? column('wall_ms') : NaN):'step_error' with points pt 6 ps 1.6 lc 'black' title 'scene front'
 }
 unset multiplot
 set terminal pop

@@ -197,7 +197,7 @@ int main(int argc, char **argv) {
   const char *state_extra = "# state: 10 frames of the scene's own method (2 in --smoke); the step without damping\n";
   if (cb_experiment_table(&e, NULL, state_extra,
                           "scene,vertices,method,family,iters,substeps,rho,wall_ms,setup_ms,step_error,rel_grad,"
-                          "on_method_front,on_scene_front,status") != T_FRONT ||
+                          "on_method_front_by_wall,on_scene_front_by_wall,status") != T_FRONT ||
       cb_experiment_table(&e, "gap", state_extra,
                           "scene,vertices,method,iters,rel_grad,rel_grad_half,step_error,step_error_half,newton_method,"
                           "newton_rel_grad,step_error_newton,status") != T_GAP ||
