@@ -31,10 +31,12 @@ set key outside right font ',8'
 do for [s = 1:ns] {
   sc = nth(main, 1, s)
   nm = countw(main, 3, 1, sc)
+  array mn[nm]  # the scene's method names, read once (not once per row)
+  do for [m = 1:nm] { mn[m] = nthw(main, 3, m, 1, sc) }
   set title sc
-  plot for [m = 1:nm] main using (is('scene', sc) && is('method', nthw(main, 3, m, 1, sc)) ? column('wall_ms') : NaN):'step_error' \
-         with linespoints pt 7 ps 0.4 lw 1 lc m title nthw(main, 3, m, 1, sc) noenhanced, \
-       for [m = 1:nm] main using (is('scene', sc) && is('method', nthw(main, 3, m, 1, sc)) && column('on_method_front_by_wall') == 1 ? \
+  plot for [m = 1:nm] main using (is('scene', sc) && is('method', mn[m]) ? column('wall_ms') : NaN):'step_error' \
+         with linespoints pt 7 ps 0.4 lw 1 lc m title mn[m] noenhanced, \
+       for [m = 1:nm] main using (is('scene', sc) && is('method', mn[m]) && column('on_method_front_by_wall') == 1 ? \
          column('wall_ms') : NaN):'step_error' with lines lw 3 lc m notitle, \
        main using (is('scene', sc) && column('on_scene_front_by_wall') == 1 ? column('wall_ms') : NaN):'step_error' with points pt 6 ps 1.6 lc 'black' title 'scene front'
 }
@@ -114,14 +116,16 @@ do for [fig = 1:2] {
     do for [s = 1:nt] {
       sc = nth(trace, 1, s)
       nm = countw(trace, 2, 1, sc)
+      array tn[nm]  # the scene's method names, read once
+      do for [m = 1:nm] { tn[m] = nthw(trace, 2, m, 1, sc) }
       set title sc
       if (row == 1) { set logscale x; set format x '10^{%T}'; set xlabel 'elapsed ms of the traced run (with the hook''s gradients)' } \
       else { unset logscale x; set format x '%g'; set xlabel 'iteration'; set logscale x; set format x '%g' }
       set ylabel '|grad F(x_k)| / |grad F(xhat)|'
-      plot for [m = 1:nm] trace using (mm = nthw(trace, 2, m, 1, sc), is('scene', sc) && is('method', mm) && \
+      plot for [m = 1:nm] trace using (mm = tn[m], is('scene', sc) && is('method', mm) && \
              (fig == 1 ? (mm eq 'lbfgs' || mm eq 'pd' || mm eq 'pd-chebyshev auto' || mm[1:6] eq 'newton') \
                        : (mm[1:3] eq 'vbd' || mm eq 'jacobi-nl' || mm eq 'chebyshev-nl auto' || mm eq 'pd-chebyshev auto')) ? \
-             (row == 1 ? column('wall_ms') : column('iter') + 1) : NaN):'rel_grad' with lines lw 2 lc m title nthw(trace, 2, m, 1, sc) noenhanced
+             (row == 1 ? column('wall_ms') : column('iter') + 1) : NaN):'rel_grad' with lines lw 2 lc m title tn[m] noenhanced
     }
   }
   unset multiplot
