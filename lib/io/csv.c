@@ -174,3 +174,11 @@ void cb_run_csv_row(FILE *f, const cb_run *r, int status) {
                 r->elastic, r->gravity, r->kinetic + r->potential, r->work, s->newton_iters, s->rel_grad, s->rel_grad_hat, s->linear_iters,
                 s->assemble_ms, s->factor_ms, s->solve_ms, s->wall_ms, cb_status_name(status), cb_scene_contacts(r->scene, r->x), rho);
 }
+
+void cb_timing_csv_repeats(FILE *f, const cb_timing *t) {
+  cb_timing none = {0}; /* not timed: every field empty */
+  cb_timing_csv(f, t ? t : &none, 1.0);
+  fputc(',', f);
+  if (t) cb_timing_csv_each(f, t, 1.0);
+  cb_csv_printf(f, ",%.17g", t ? (double)t->n : cb_csv_na());
+}

@@ -54,6 +54,8 @@ void cb_timing_csv(FILE *f, const cb_timing *t, double scale);
 /* The field "r1;r2;...": every repeat times scale, %.6f, in order
  * (cb_timing_parse reads it back). */
 void cb_timing_csv_each(FILE *f, const cb_timing *t, double scale);
+/* "median,min,max,each,repeats" of a timing (t NULL: not timed, every field empty). */
+void cb_timing_csv_repeats(FILE *f, const cb_timing *t);
 
 /* Per-step CSV: the header row and one row of the current state. Energy
  * columns: kinetic_j, elastic_j (the terms with a Hessian: springs,

@@ -1,0 +1,57 @@
+build-check/experiments/locking/main.o: experiments/locking/main.c \
+ include/clothbench/clothbench.h include/clothbench/csv.h \
+ include/clothbench/definiteness.h include/clothbench/projection.h \
+ include/clothbench/eigen.h include/clothbench/sparse.h \
+ include/clothbench/energy.h include/clothbench/mesh.h \
+ include/clothbench/stencil.h include/clothbench/topology.h \
+ include/clothbench/integrator.h include/clothbench/objective.h \
+ include/clothbench/scene.h include/clothbench/collider.h \
+ include/clothbench/system.h include/clothbench/solver.h \
+ include/clothbench/run.h include/clothbench/solver_shift.h \
+ include/clothbench/status.h include/clothbench/timer.h \
+ include/clothbench/rng.h include/clothbench/polar.h lib/config/bind.h \
+ include/clothbench/integrator.h include/clothbench/scene.h \
+ include/clothbench/solver.h lib/config/config.h lib/io/experiment.h \
+ lib/config/config.h lib/io/outfile.h include/clothbench/mesh.h \
+ lib/io/progress.h lib/io/provenance.h lib/instruments/rigidity.h \
+ lib/io/scene_decl.h lib/io/experiment.h lib/instruments/stability.h \
+ lib/instruments/stats.h lib/io/sweep.h
+include/clothbench/clothbench.h:
+include/clothbench/csv.h:
+include/clothbench/definiteness.h:
+include/clothbench/projection.h:
+include/clothbench/eigen.h:
+include/clothbench/sparse.h:
+include/clothbench/energy.h:
+include/clothbench/mesh.h:
+include/clothbench/stencil.h:
+include/clothbench/topology.h:
+include/clothbench/integrator.h:
+include/clothbench/objective.h:
+include/clothbench/scene.h:
+include/clothbench/collider.h:
+include/clothbench/system.h:
+include/clothbench/solver.h:
+include/clothbench/run.h:
+include/clothbench/solver_shift.h:
+include/clothbench/status.h:
+include/clothbench/timer.h:
+include/clothbench/rng.h:
+include/clothbench/polar.h:
+lib/config/bind.h:
+include/clothbench/integrator.h:
+include/clothbench/scene.h:
+include/clothbench/solver.h:
+lib/config/config.h:
+lib/io/experiment.h:
+lib/config/config.h:
+lib/io/outfile.h:
+include/clothbench/mesh.h:
+lib/io/progress.h:
+lib/io/provenance.h:
+lib/instruments/rigidity.h:
+lib/io/scene_decl.h:
+lib/io/experiment.h:
+lib/instruments/stability.h:
+lib/instruments/stats.h:
+lib/io/sweep.h:

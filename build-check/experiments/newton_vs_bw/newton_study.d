@@ -1,0 +1,37 @@
+build-check/experiments/newton_vs_bw/newton_study.o: \
+ experiments/newton_vs_bw/newton_study.c \
+ experiments/newton_vs_bw/newton_study.h lib/instruments/method.h \
+ include/clothbench/integrator.h include/clothbench/energy.h \
+ include/clothbench/definiteness.h include/clothbench/projection.h \
+ include/clothbench/mesh.h include/clothbench/sparse.h \
+ include/clothbench/stencil.h include/clothbench/topology.h \
+ include/clothbench/objective.h include/clothbench/scene.h \
+ include/clothbench/collider.h include/clothbench/system.h \
+ include/clothbench/solver.h lib/instruments/reference.h \
+ include/clothbench/scene.h include/clothbench/solver.h \
+ lib/instruments/stats.h lib/instruments/reference.h \
+ lib/instruments/pareto.h include/clothbench/csv.h \
+ include/clothbench/status.h
+experiments/newton_vs_bw/newton_study.h:
+lib/instruments/method.h:
+include/clothbench/integrator.h:
+include/clothbench/energy.h:
+include/clothbench/definiteness.h:
+include/clothbench/projection.h:
+include/clothbench/mesh.h:
+include/clothbench/sparse.h:
+include/clothbench/stencil.h:
+include/clothbench/topology.h:
+include/clothbench/objective.h:
+include/clothbench/scene.h:
+include/clothbench/collider.h:
+include/clothbench/system.h:
+include/clothbench/solver.h:
+lib/instruments/reference.h:
+include/clothbench/scene.h:
+include/clothbench/solver.h:
+lib/instruments/stats.h:
+lib/instruments/reference.h:
+lib/instruments/pareto.h:
+include/clothbench/csv.h:
+include/clothbench/status.h:

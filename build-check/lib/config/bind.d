@@ -1,0 +1,29 @@
+build-check/lib/config/bind.o: lib/config/bind.c lib/config/bind.h \
+ include/clothbench/integrator.h include/clothbench/energy.h \
+ include/clothbench/definiteness.h include/clothbench/projection.h \
+ include/clothbench/mesh.h include/clothbench/sparse.h \
+ include/clothbench/stencil.h include/clothbench/topology.h \
+ include/clothbench/objective.h include/clothbench/scene.h \
+ include/clothbench/collider.h include/clothbench/system.h \
+ include/clothbench/solver.h include/clothbench/scene.h \
+ include/clothbench/solver.h lib/config/config.h \
+ include/clothbench/energy.h include/clothbench/status.h
+lib/config/bind.h:
+include/clothbench/integrator.h:
+include/clothbench/energy.h:
+include/clothbench/definiteness.h:
+include/clothbench/projection.h:
+include/clothbench/mesh.h:
+include/clothbench/sparse.h:
+include/clothbench/stencil.h:
+include/clothbench/topology.h:
+include/clothbench/objective.h:
+include/clothbench/scene.h:
+include/clothbench/collider.h:
+include/clothbench/system.h:
+include/clothbench/solver.h:
+include/clothbench/scene.h:
+include/clothbench/solver.h:
+lib/config/config.h:
+include/clothbench/energy.h:
+include/clothbench/status.h:

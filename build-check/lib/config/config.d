@@ -1,0 +1,28 @@
+build-check/lib/config/config.o: lib/config/config.c lib/config/config.h \
+ include/clothbench/collider.h include/clothbench/energy.h \
+ include/clothbench/definiteness.h include/clothbench/projection.h \
+ include/clothbench/mesh.h include/clothbench/sparse.h \
+ include/clothbench/stencil.h include/clothbench/topology.h \
+ include/clothbench/energy.h include/clothbench/integrator.h \
+ include/clothbench/objective.h include/clothbench/scene.h \
+ include/clothbench/collider.h include/clothbench/system.h \
+ include/clothbench/solver.h include/clothbench/solver.h \
+ include/clothbench/status.h
+lib/config/config.h:
+include/clothbench/collider.h:
+include/clothbench/energy.h:
+include/clothbench/definiteness.h:
+include/clothbench/projection.h:
+include/clothbench/mesh.h:
+include/clothbench/sparse.h:
+include/clothbench/stencil.h:
+include/clothbench/topology.h:
+include/clothbench/energy.h:
+include/clothbench/integrator.h:
+include/clothbench/objective.h:
+include/clothbench/scene.h:
+include/clothbench/collider.h:
+include/clothbench/system.h:
+include/clothbench/solver.h:
+include/clothbench/solver.h:
+include/clothbench/status.h:

@@ -1,0 +1,2 @@
+build-check/lib/core/csv.o: lib/core/csv.c include/clothbench/csv.h
+include/clothbench/csv.h:

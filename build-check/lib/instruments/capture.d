@@ -1,0 +1,37 @@
+build-check/lib/instruments/capture.o: lib/instruments/capture.c \
+ lib/instruments/capture.h lib/config/config.h include/clothbench/scene.h \
+ include/clothbench/collider.h include/clothbench/energy.h \
+ include/clothbench/definiteness.h include/clothbench/projection.h \
+ include/clothbench/mesh.h include/clothbench/sparse.h \
+ include/clothbench/stencil.h include/clothbench/topology.h \
+ include/clothbench/system.h include/clothbench/sparse.h \
+ lib/config/bind.h include/clothbench/integrator.h \
+ include/clothbench/objective.h include/clothbench/scene.h \
+ include/clothbench/solver.h include/clothbench/solver.h \
+ lib/config/config.h include/clothbench/run.h \
+ include/clothbench/integrator.h include/clothbench/status.h \
+ include/clothbench/timer.h
+lib/instruments/capture.h:
+lib/config/config.h:
+include/clothbench/scene.h:
+include/clothbench/collider.h:
+include/clothbench/energy.h:
+include/clothbench/definiteness.h:
+include/clothbench/projection.h:
+include/clothbench/mesh.h:
+include/clothbench/sparse.h:
+include/clothbench/stencil.h:
+include/clothbench/topology.h:
+include/clothbench/system.h:
+include/clothbench/sparse.h:
+lib/config/bind.h:
+include/clothbench/integrator.h:
+include/clothbench/objective.h:
+include/clothbench/scene.h:
+include/clothbench/solver.h:
+include/clothbench/solver.h:
+lib/config/config.h:
+include/clothbench/run.h:
+include/clothbench/integrator.h:
+include/clothbench/status.h:
+include/clothbench/timer.h:

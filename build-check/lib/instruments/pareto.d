@@ -1,0 +1,3 @@
+build-check/lib/instruments/pareto.o: lib/instruments/pareto.c \
+ lib/instruments/pareto.h
+lib/instruments/pareto.h:

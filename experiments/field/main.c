@@ -1,0 +1,230 @@
+/* field: the field's baselines of 2016-2024 (PBD and XPBD with small steps,
+ * vertex block descent, quasi-Newton L-BFGS) next to the lecture's methods,
+ * on the same scenes, as error against the converged implicit-Euler step
+ * against wall time (issue 20; claims X1, X2, Q1, V1).
+ *
+ * Outputs (results/):
+ *   field.csv            the main figure: per scene, one step of every method at 1, 2, 4, ...
+ *                        iterations from a start state: step error against the converged step,
+ *                        relative |grad F|, wall time, and whether the point is on its method's
+ *                        error-time front and on the scene's (front.c)
+ *   field_gap.csv        XPBD's gap: relative |grad F| and step error at XPBD's fixed point (1 x n,
+ *                        n large) against converged Newton's, per scene
+ *   field_x1.csv         X1: effective stiffness of PBD and XPBD (static stretch of a hanging strip
+ *                        and of the lab cloth against the converged static state) for 1-100
+ *                        iterations and three dt (x1.c)
+ *   field_x2.csv         X2: XPBD n x 1 against 1 x n, n = 1..64: largest edge stretch, step error
+ *                        and wall time (x2.c)
+ *   field_tol.csv        Q1 and V1: iterations and wall time to relative |grad F| 1e-3 and 1e-5 of
+ *                        every minimiser (tol.c)
+ *   field_tol_trace.csv  the relative |grad F| per iteration of those steps, with the time
+ *   field_rises.csv      V1: objective rises between VBD iterations over trajectories (v1.c)
+ *   field_scramble.csv   V1: a scrambled start (vertices displaced at random by up to the cloth's
+ *                        size): diverged or recovered, per method
+ * The scenes are the table SCENES below, the work five sweeps of cells run by
+ * the shared sweep runner; --shard I/N splits them. --smoke runs one small
+ * cell per sweep, on the lab scene (and the strip). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "field.h"
+#include "provenance.h"
+#include "sweep.h"
+
+static const char *const ABOUT =
+    "Puts the field's baselines (pbd, xpbd with substeps, vbd, vbd-chebyshev, lbfgs) and the lecture's\n"
+    "minimisers (Newton, Baraff-Witkin, jacobi-nl, chebyshev-nl, pd, pd-chebyshev) on the same scenes as\n"
+    "error against the converged implicit-Euler step against wall time, and decides X1 (XPBD's stiffness\n"
+    "does not depend on iterations and dt, PBD's does), X2 (small steps: n x 1 beats 1 x n), Q1 (L-BFGS\n"
+    "faster than PD and Newton) and V1 (VBD descends monotonically, survives a scrambled start, beats\n"
+    "Jacobi-type iterations).";
+
+/* Scenes. Roles: "front" = the main figure's step (one cell per scene: every method shares its start
+ * state and reference step), also the scene of tol (Q1, V1's speed) and v1 (rises, scrambled start);
+ * "x2" = the X2 comparison; "x1" = X1's static stretch. The lab cloth (configs/lab.ini, 21^2), Liu's
+ * 81^2 cloth (the same 441 kg, k and 10 m, pinned at two corners) and its stiff variant (nonlinear's P1
+ * scenes), the 32^2 drape over the sphere (configs/drape.ini), the hanging strip (configs/chain20.ini).
+ * level: 1 in --quick too, 2 in --smoke too (--quick leaves out the 81^2 scenes, and runs the drape
+ * in the main figure only). */
+typedef struct {
+  cb_scene_decl scene;
+  int level;
+  int tol, v1; /* levels of the front scene in the tol and v1 sweeps (as level; -1: not in them) */
+} scene_plan;
+#define G81 "mesh.n=81", "material.vertex_mass=441/6561", "scene.pins=0 80"
+static const scene_plan SCENES[] = {
+    {{"lab", "lab.ini", {NULL}, "front"}, 2, 2, 2},
+    {{"grid81", "lab.ini", {G81, NULL}, "front"}, 0, 0, 0},
+    {{"grid81_stiff", "lab.ini", {G81, "material.stretch_k=1e6", NULL}, "front"}, 0, 0, 0},
+    {{"drape", "drape.ini", {NULL}, "front"}, 1, 0, 0}, /* tol and V1 in the full run only */
+    {{"lab", "lab.ini", {NULL}, "x2"}, 2, -1, -1},
+    {{"grid81_stiff", "lab.ini", {G81, "material.stretch_k=1e6", NULL}, "x2"}, 0, -1, -1},
+    {{"strip", "chain20.ini", {NULL}, "x1"}, 2, -1, -1},
+    {{"lab", "lab.ini", {NULL}, "x1"}, 1, -1, -1},
+};
+enum { NSCENES = sizeof SCENES / sizeof SCENES[0] };
+_Static_assert((int)NSCENES <= (int)FD_MAXSCENES, "field.h: FD_MAXSCENES");
+
+const cb_scene_decl *fd_scene_of(int i) { return &SCENES[i].scene; }
+
+int fd_state(const cb_experiment *e, const cb_scene_decl *d, int frames, cb_step_state *S) {
+  static cb_config c; /* large: not on the stack */
+  cb_scene *s = NULL;
+  int st = cb_scene_decl_build(e, d, NULL, &c, &s);
+  return st ? st : cb_step_state_init(S, d->label, &c, s, frames);
+}
+
+int fd_supported(cb_step_state *S, const char *const *sets, char *why, size_t nwhy) {
+  static cb_config c;
+  int st = cb_step_config(S, sets, &c);
+  if (st) return st;
+  cb_integrator *it = NULL;
+  st = cb_integrator_from_config(&c, S->s, NULL, &it);
+  cb_integrator_free(it);
+  if (st == CB_EINVAL) { /* the method refuses the scene (e.g. xpbd and a penalty collider): say why */
+    snprintf(why, nwhy, "%s", cb_error_message());
+    cb_error_clear();
+    return 0;
+  }
+  return st ? st : 1;
+}
+
+double fd_grad_hat(const cb_step_state *S) {
+  cb_objective o;
+  if (cb_objective_init(&o, S->s)) return NAN;
+  int nf = 3 * S->s->model.nfree;
+  double *g = malloc((size_t)(nf > 0 ? nf : 1) * sizeof(double)), gn = NAN;
+  if (g) {
+    cb_objective_begin(&o, S->x0, S->v0, S->c.dt);
+    cb_objective_eval(&o, o.xhat, g, NULL);
+    gn = 0;
+    for (int k = 0; k < nf; k++) gn += g[k] * g[k];
+    gn = sqrt(gn);
+  }
+  free(g);
+  cb_objective_free(&o);
+  return gn;
+}
+
+void fd_strain(const cb_scene *s, const double *x, double *max_strain, double *mean_abs) {
+  *max_strain = NAN;
+  *mean_abs = NAN;
+  for (int t = 0; t < s->sys.nterms; t++) {
+    int ns;
+    const int *ends;
+    const double *rest;
+    double k;
+    if (strcmp(s->sys.terms[t]->label, "stretch") || cb_spring_term_springs(s->sys.terms[t], &ns, &ends, &rest, &k)) continue;
+    double mx = -INFINITY, sum = 0;
+    for (int c = 0; c < ns; c++) {
+      const double *a = x + 3 * ends[2 * c], *b = x + 3 * ends[2 * c + 1];
+      double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+      double e = sqrt(dx * dx + dy * dy + dz * dz) / rest[c] - 1.0; /* strain = |x_i - x_j| / L - 1 */
+      mx = fmax(mx, e);
+      sum += fabs(e);
+    }
+    *max_strain = mx;
+    *mean_abs = ns ? sum / ns : NAN;
+  }
+}
+
+void fd_with(const char *const *sets, const char *key, int K, char *buf, size_t nbuf, const char **out) {
+  int k = 0;
+  for (; sets[k] && k < 12; k++) out[k] = sets[k];
+  snprintf(buf, nbuf, "%s=%d", key, K);
+  out[k++] = buf;
+  out[k] = NULL;
+}
+
+int fd_fix_rho(cb_step_state *S, const char *const *sets, const char **out, char *buf, size_t nbuf, double *est_ms) {
+  int n = 0, aut = -1;
+  for (; sets[n] && n < 12; n++) {
+    out[n] = sets[n];
+    if (!strcmp(sets[n], "integrator.rho=auto")) aut = n;
+  }
+  out[n] = NULL;
+  *est_ms = 0;
+  if (aut < 0) return CB_OK;
+  const char *one[16];
+  char b[64];
+  fd_with(sets, "integrator.iters", 1, b, sizeof b, one);
+  static cb_config c;
+  cb_step_result r;
+  double w;
+  int st = cb_step_config(S, one, &c);
+  if (st == CB_OK) st = cb_step_once(S, &c, NULL, NULL, &r, &w);
+  if (st) return st;
+  *est_ms = r.setup_ms;
+  snprintf(buf, nbuf, "integrator.rho=%.17g", r.rho);
+  out[aut] = buf;
+  return CB_OK;
+}
+
+/* the plan's vertex counts, from the scenes' configs (so a bad declaration fails here, naming the
+ * scene, before any cell runs) */
+static int scene_sizes(fd_plan *p) {
+  static cb_config c;
+  for (int i = 0; i < NSCENES; i++) {
+    int st = cb_scene_decl_config(p->e, fd_scene_of(i), NULL, &c);
+    if (st) return st;
+    p->nv[i] = cb_scene_decl_vertices(&c);
+    if (!p->nv[i]) p->nv[i] = 1024;
+  }
+  return CB_OK;
+}
+
+int main(int argc, char **argv) {
+  cb_experiment e;
+  int b = cb_experiment_begin(&e, "field", ABOUT, argc, argv);
+  if (b) return b > 0 ? 0 : 1;
+  cb_experiment_timed(&e); /* the figure, X2, Q1 and V1's speed are wall times: run alone */
+  int q = e.quick, sm = e.smoke;
+  fd_plan p = {.e = &e, .quick = q, .smoke = sm, .state_frames = sm ? 2 : 10};
+  for (int i = 0; i < NSCENES; i++) {
+    const cb_scene_decl *d = fd_scene_of(i);
+    int need = sm ? 2 : q ? 1 : 0;
+    if (SCENES[i].level < need) continue;
+    if (cb_scene_decl_is(d, "front")) {
+      p.front[p.nfront++] = i;
+      if (SCENES[i].tol >= need) p.tol[p.ntol++] = i;
+      if (SCENES[i].v1 >= need) p.v1[p.nv1++] = i;
+    } else if (cb_scene_decl_is(d, "x1")) p.x1[p.nx1++] = i;
+    else if (cb_scene_decl_is(d, "x2")) p.x2[p.nx2++] = i;
+  }
+  if ((b = scene_sizes(&p))) return cb_experiment_end(&e, b), 1;
+  const char *state_extra = "# state: 10 frames of the scene's own method (2 in --smoke); the step without damping\n";
+  if (cb_experiment_table(&e, NULL, state_extra,
+                          "scene,vertices,method,family,iters,substeps,rho,wall_ms,setup_ms,step_error,rel_grad,"
+                          "on_method_front_by_wall,on_scene_front_by_wall,status") != T_FRONT ||
+      cb_experiment_table(&e, "gap", state_extra,
+                          "scene,vertices,method,iters,rel_grad,rel_grad_half,step_error,step_error_half,newton_method,"
+                          "newton_rel_grad,step_error_newton,status") != T_GAP ||
+      cb_experiment_table(&e, "x1", "# x1: static stretch after settling from the converged static state (see x1.c)\n",
+                          "scene,method,dt_s,iters,k_n_per_m,settle_s,ref_strain,strain,k_eff_n_per_m,k_ratio,status") != T_X1 ||
+      cb_experiment_table(&e, "x2", state_extra,
+                          "scene,vertices,n,variant,substeps,iters,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,"
+                          "step_error,max_strain,ref_max_strain,rel_grad,status") != T_X2 ||
+      cb_experiment_table(&e, "tol", state_extra,
+                          "scene,vertices,method,family,tol,max_iters,iters_to_tol,wall_to_tol_ms,wall_to_tol_min_ms,"
+                          "wall_to_tol_max_ms,wall_to_tol_each_ms,wall_repeats,alloc_ms,final_rel_grad,fallback,status") != T_TOL ||
+      cb_experiment_table(&e, "tol_trace", NULL, "scene,method,iter,rel_grad,rel_f,wall_ms") != T_TOL_TRACE ||
+      cb_experiment_table(&e, "rises", NULL,
+                          "scene,method,start,frames,frames_run,iters,rises,steps_with_rise,rel_max_rise,diverged,"
+                          "diverge_frame,status") != T_RISES ||
+      cb_experiment_table(&e, "scramble", NULL,
+                          "scene,method,frames,frames_run,displacement_m,start_strain,end_strain,normal_strain,"
+                          "end_max_strain,diverged,diverge_frame,recovered,status") != T_SCRAMBLE)
+    return cb_experiment_end(&e, CB_EIO), 2;
+  const cb_sweep sweeps[] = {
+      {"front", p.nfront, fd_front_cell, fd_front_cost, &p},
+      {"X1", fd_x1_cells(&p), fd_x1_cell, fd_x1_cost, &p},
+      {"X2", p.nx2, fd_x2_cell, fd_x2_cost, &p},
+      {"tol", p.ntol, fd_tol_cell, fd_tol_cost, &p},
+      {"V1", fd_v1_cells(&p), fd_v1_cell, fd_v1_cost, &p},
+  };
+  int st = cb_sweep_run(&e, sweeps, 5);
+  st = cb_experiment_end(&e, st);
+  return st == CB_OK ? 0 : st == CB_EIO ? 2 : 1;
+}

@@ -1,0 +1,80 @@
+/* One implicit-Euler step of a method from a fixed start state, measured
+ * against the converged step from that state: what the nonlinear and field
+ * experiments compare methods on (step error, relative |grad F|, wall time).
+ *
+ *   cb_step_state   a scene, its config, a start state (x0, v0) reached by
+ *                   some frames of the scene's own method, and the converged
+ *                   reference step x* from it (cb_reference_step)
+ *   cb_step_config  a method's config: the scene's config, the method's
+ *                   "section.key=value" sets, then integrator.damping=1
+ *                   (single steps compare methods on one F: no damping)
+ *   cb_step_once    a fresh integrator, one step from (x0, v0)
+ *   cb_step_repeat  the step repeated while the repeats add up to < 30 ms
+ *                   (at most 5; once with a hook), the median time kept
+ *   cb_step_time_group  several methods' steps timed in interleaved rounds
+ *                   (stats.h's round rule), for the claims that compare them
+ *
+ * A method whose step ends at a non-SPD factorisation can be given a
+ * fallback config (e.g. Newton's exact Hessian falling back to drop): the
+ * step is rerun with it, the time counts both runs and the result says so.
+ * Every workspace is allocated in cb_step_state_init; the steps allocate only
+ * what their integrators allocate in init. */
+#ifndef CB_STEP_BENCH_H
+#define CB_STEP_BENCH_H
+
+#include <stdio.h>
+
+#include "config.h"
+#include "stats.h"
+#include <clothbench/integrator.h>
+#include <clothbench/scene.h>
+
+typedef struct cb_step_state {
+  const char *label; /* the scene's name in errors */
+  cb_scene *s;       /* owned */
+  cb_config c;       /* the scene's config (no method sets) */
+  double *x0, *v0;   /* the start state */
+  double *xstar;     /* the converged step from it (reference) */
+  double *x, *v;     /* scratch: the last step's end state */
+  int n3;
+} cb_step_state;
+
+/* Takes s (built from c; freed on error too): `frames` frames of c's method
+ * (with its damping) from the scene's initial state, then the reference step
+ * from there. label names the scene in errors. */
+int cb_step_state_init(cb_step_state *S, const char *label, const cb_config *c, cb_scene *s, int frames);
+void cb_step_state_free(cb_step_state *S);
+
+typedef struct cb_step_result {
+  double wall_ms, setup_ms, alloc_ms, error, rel_grad, rho;
+  int iters, status;
+  int fallback;   /* the step hit a non-SPD factorisation and was rerun with the method's fallback */
+  cb_timing wall; /* the step's time at every timed repeat (wall_ms: their median) */
+} cb_step_result;
+
+/* S's config with sets (NULL-terminated, at most 16) and integrator.damping=1, validated. */
+int cb_step_config(const cb_step_state *S, const char *const *sets, cb_config *out);
+
+/* One step: a fresh integrator from c, one step from S's start state (end state in S->x, S->v); r gets
+ * its results, *wall its time (without a fixed-iteration method's once-per-run rho estimate, setup_ms).
+ * hook may observe it. */
+int cb_step_once(cb_step_state *S, const cb_config *c, cb_newton_hook hook, void *ctx, cb_step_result *r, double *wall);
+
+/* cb_step_once, and when the step ends at a non-SPD factorisation and fb is given, the same step again
+ * with fb: *wall is both runs' time, r the fallback's results with r->fallback = 1. */
+int cb_step_fallback(cb_step_state *S, const cb_config *c, const cb_config *fb, cb_newton_hook hook, void *ctx,
+                     cb_step_result *r, double *wall);
+
+/* The step of the method `sets` names, repeated while the repeats add up to less than 30 ms, at most 5,
+ * the median wall time kept; with a hook (an observed step is for its trace, not its time): once. */
+int cb_step_repeat(cb_step_state *S, const char *const *sets, cb_newton_hook hook, void *ctx, cb_step_result *r);
+
+enum { CB_STEP_GROUP_MAX = 16 };
+/* The steps of the methods sets[0..n) (fallback[i] may be NULL, fallback itself NULL), timed in
+ * interleaved rounds (every method once per round; cb_timing_more(quick, ...); a step under the warm
+ * limit timed right after an untimed one of its own). r[i] gets method i's results and its repeats. */
+int cb_step_time_group(int quick, cb_step_state *S, const char *const *const *sets, const char *const *const *fallback,
+                       int n, cb_step_result *r);
+
+
+#endif
