@@ -108,7 +108,11 @@ static int gemm_alloc(gemm_arrays *g, int n) {
   g->b = malloc(nn * sizeof(double));
   g->c = malloc(nn * sizeof(double));
   if (!g->a || !g->b || !g->c) return -1;
-  for (size_t i = 0; i < nn; i++) { g->a[i] = 1.0 / (double)(i % 101 + 1); g->b[i] = (double)(i % 7) - 3.0; g->c[i] = 0; }
+  for (size_t i = 0; i < nn; i++) {
+    g->a[i] = 1.0 / (double)(i % 101 + 1);
+    g->b[i] = (double)(i % 7) - 3.0;
+    g->c[i] = 0;
+  }
   return 0;
 }
 
@@ -116,7 +120,8 @@ static int gemm_alloc(gemm_arrays *g, int n) {
 static double gemm_once(gemm_arrays *g, int threads) {
   openblas_set_num_threads(1);
   double t0 = cb_now_ms();
-  cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, g->n, g->n, g->n, 1.0, g->a, g->n, g->b, g->n, 0.0, g->c, g->n);
+  cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, g->n, g->n, g->n, 1.0, g->a, g->n, g->b, g->n, 0.0, g->c,
+              g->n);
   double ms = cb_now_ms() - t0;
   openblas_set_num_threads(threads);
   return 2.0 * g->n * (double)g->n * g->n / (ms * 1e-3) / 1e9;
@@ -194,12 +199,19 @@ static int export_matrix(const char *dir, int n, const cb_sparse *A) {
   char path[4096];
   snprintf(path, sizeof path, "%s/bench_matrix_%d.bin", dir, n);
   FILE *f = fopen(path, "wb");
-  if (!f) { fprintf(stderr, "bench_core: cannot write %s\n", path); return -1; }
+  if (!f) {
+    fprintf(stderr, "bench_core: cannot write %s\n", path);
+    return -1;
+  }
   int32_t hdr[2] = {A->n, A->nnz};
-  int ok = fwrite(hdr, sizeof hdr, 1, f) == 1 && fwrite(A->colp, sizeof(int), (size_t)A->n + 1, f) == (size_t)A->n + 1 &&
+  int ok = fwrite(hdr, sizeof hdr, 1, f) == 1 &&
+           fwrite(A->colp, sizeof(int), (size_t)A->n + 1, f) == (size_t)A->n + 1 &&
            fwrite(A->rowi, sizeof(int), (size_t)A->nnz, f) == (size_t)A->nnz &&
            fwrite(A->val, sizeof(double), (size_t)A->nnz, f) == (size_t)A->nnz; /* CSC of a symmetric A = its CSR */
-  if (fclose(f) || !ok) { fprintf(stderr, "bench_core: writing %s failed\n", path); return -1; }
+  if (fclose(f) || !ok) {
+    fprintf(stderr, "bench_core: writing %s failed\n", path);
+    return -1;
+  }
   return 0;
 }
 
@@ -252,7 +264,8 @@ static void sweep_cholmod(FILE *f, int n, const cb_sparse *A, int reps) {
                   upp[c] ? "upper" : "full", flush[c] ? "flush" : "keep", s ? s->stats.analyze_ms : na);
     put(f, m);
     cb_csv_printf(f, ",%.6g,%.17g,%.17g,%d,%s\n", s && ok ? s->stats.factor_flops / (m.med * 1e-3) / 1e9 : na,
-                  s && ok ? s->stats.factor_nnz : na, s && ok ? s->stats.factor_flops : na, is_def, cb_status_name(st[c]));
+                  s && ok ? s->stats.factor_nnz : na, s && ok ? s->stats.factor_flops : na, is_def,
+                  cb_status_name(st[c]));
     cb_solver_free(s);
   }
   fflush(f);
@@ -286,8 +299,8 @@ typedef struct {
   int reuse;    /* amortised rho estimate */
 } step_method;
 
-static void bench_steps(FILE *f, int n, cb_scene *s, const cb_integrator_params *ip0, const double *xs, const double *vs,
-                        int nsteps) {
+static void bench_steps(FILE *f, int n, cb_scene *s, const cb_integrator_params *ip0, const double *xs,
+                        const double *vs, int nsteps) {
   static const step_method methods[] = {
       {"cg32", "cg", 1.0, 1},
       {"cheb32_auto", "chebyshev", 0.0, 1},
@@ -319,7 +332,10 @@ static void bench_steps(FILE *f, int n, cb_scene *s, const cb_integrator_params 
     for (int k = 0; status == CB_OK && k < nsteps; k++) {
       cb_step_stats st;
       int r = cb_integrator_step(it, x, v, &st);
-      if (cb_status_is_fatal(r)) { status = r; break; }
+      if (cb_status_is_fatal(r)) {
+        status = r;
+        break;
+      }
       wall[k] = st.wall_ms;
       total += st.wall_ms;
       rho_total += it->solver->stats.rho_ms;
@@ -330,11 +346,11 @@ static void bench_steps(FILE *f, int n, cb_scene *s, const cb_integrator_params 
     }
     mstat ms = done ? stat_of(wall + (done > MAXREP ? done - MAXREP : 0), done > MAXREP ? MAXREP : done) : unmeasured();
     double na = cb_csv_na(); /* no step done: nothing measured */
-    cb_csv_printf(f, "%d,%s,%s,%s,%s,%d", n, m->label, m->solver, m->alpha > 0 ? "fixed" : "auto", m->reuse ? "amortised" : "every_factor",
-                  done);
+    cb_csv_printf(f, "%d,%s,%s,%s,%s,%d", n, m->label, m->solver, m->alpha > 0 ? "fixed" : "auto",
+                  m->reuse ? "amortised" : "every_factor", done);
     put(f, ms);
-    cb_csv_printf(f, ",%.6g,%.6g,%d,%.6g,%.6g,%.6g,%s\n", done ? 1000.0 / ms.med : na, done ? rho_total / total : na, estimates,
-                  done ? iters / done : na, done ? pow(10.0, logres / done) : na,
+    cb_csv_printf(f, ",%.6g,%.6g,%d,%.6g,%.6g,%.6g,%s\n", done ? 1000.0 / ms.med : na, done ? rho_total / total : na,
+                  estimates, done ? iters / done : na, done ? pow(10.0, logres / done) : na,
                   it && m->alpha == 0 ? it->solver->stats.alpha : m->alpha, cb_status_name(status));
     fflush(f);
     cb_integrator_free(it);
@@ -345,7 +361,10 @@ static void bench_steps(FILE *f, int n, cb_scene *s, const cb_integrator_params 
 
 int main(int argc, char **argv) {
   cb_experiment e;
-  int r = cb_experiment_begin(&e, "bench_core", "Per-step cost of the core, factorisation against dgemm, and SpMV bandwidth against a STREAM triad.", argc, argv);
+  int r = cb_experiment_begin(&e, "bench_core",
+                              "Per-step cost of the core, factorisation against dgemm, and SpMV bandwidth against a "
+                              "STREAM triad.",
+                              argc, argv);
   if (r) return r > 0 ? 0 : 1;
   cb_experiment_timed(&e); /* its numbers include wall times: run alone */
   const int sizes[] = {32, 64, 128, 256};
@@ -353,26 +372,42 @@ int main(int argc, char **argv) {
   const char *mdir = getenv("CB_BENCH_MATRIX_DIR");
   const cb_threads_info *th = cb_threads_info_get();
   char hdr[4096] = "n,dofs,nnz_a,nnz_l,factor_gflop";
-  const char *timed[] = {"explicit_step_ms", "assemble_ms", "factor_ms", "solve_ms", "bare_factor_ms", "factor_over_bare",
-                         "bare_omp4_factor_ms", "bare_omp4_over_bare", "factor_gflops", "dgemm_gflops", "factor_over_dgemm",
-                         "spmv_ms", "spmv_full_ms", "spmv_full_over_sym", "triad_gbs", "spmv_gbs", "spmv_over_triad", NULL};
+  const char *timed[] = {"explicit_step_ms",    "assemble_ms",
+                         "factor_ms",           "solve_ms",
+                         "bare_factor_ms",      "factor_over_bare",
+                         "bare_omp4_factor_ms", "bare_omp4_over_bare",
+                         "factor_gflops",       "dgemm_gflops",
+                         "factor_over_dgemm",   "spmv_ms",
+                         "spmv_full_ms",        "spmv_full_over_sym",
+                         "triad_gbs",           "spmv_gbs",
+                         "spmv_over_triad",     NULL};
   for (int i = 0; timed[i]; i++) put_hdr(hdr, sizeof hdr, timed[i]);
   strcat(hdr, ",newton_iter_ms,assemble_over_factor,factor_threads,bare_omp4_threads,analyze_ms,bare_analyze_ms,"
               "factorizations_per_run,analyze_over_run_factor,spmv_bytes,spmv_full_bytes,"
               "allocs_explicit_step,allocs_newton_iterative_step,allocs_newton_cholmod_step,status");
   char extra[2048];
   snprintf(extra, sizeof extra,
-           "# every timed figure: median, _min and _max of its samples; *_over_*: median (min, max) of ratios of samples taken side by side\n"
-           "# factor: clothbench's CHOLMOD (solver.* defaults); bare: CHOLMOD's own defaults on the same arrays, same thread settings;\n"
-           "#   bare_omp4: the same with libgomp's dynamic adjustment off, as before the thread fix (Debian's CHOLMOD asks for 4 threads)\n"
-           "# *_threads: threads whose CPU time grew during one factorisation (median over samples); requested: openblas %d, openmp %d\n"
-           "# factor_gflops = Common->fl / factor time; dgemm: %d^3 on one OpenBLAS thread, interleaved with the factorisations\n"
-           "# factorizations_per_run = integrator.steps x Newton iterations per step (mean of 3 steps); analyze_over_run_factor = analyze_ms / (that x factor_ms)\n"
-           "# spmv: the iterative solvers' product on the upper blocks (cb_sparse_sym_matvec_bytes: 72 nub values + 4 nub block rows + 4 (n/3+1) + 16 n);\n"
-           "#   spmv_full: the full-storage kernel (cb_sparse_matvec_bytes: 8 nnz + 4 nnz/9 + 4 (n/3+1) + 16 n); GB/s use each one's own bytes\n"
-           "# allocs_*: heap allocations inside one step after warm-up; newton_iterative: the most over CG, PCG and Chebyshev (rho = auto) as the inner solver (our code only),\n"
+           "# every timed figure: median, _min and _max of its samples; *_over_*: median (min, max) of ratios of "
+           "samples taken side by side\n"
+           "# factor: clothbench's CHOLMOD (solver.* defaults); bare: CHOLMOD's own defaults on the same arrays, same "
+           "thread settings;\n"
+           "#   bare_omp4: the same with libgomp's dynamic adjustment off, as before the thread fix (Debian's CHOLMOD "
+           "asks for 4 threads)\n"
+           "# *_threads: threads whose CPU time grew during one factorisation (median over samples); requested: "
+           "openblas %d, openmp %d\n"
+           "# factor_gflops = Common->fl / factor time; dgemm: %d^3 on one OpenBLAS thread, interleaved with the "
+           "factorisations\n"
+           "# factorizations_per_run = integrator.steps x Newton iterations per step (mean of 3 steps); "
+           "analyze_over_run_factor = analyze_ms / (that x factor_ms)\n"
+           "# spmv: the iterative solvers' product on the upper blocks (cb_sparse_sym_matvec_bytes: 72 nub values + 4 "
+           "nub block rows + 4 (n/3+1) + 16 n);\n"
+           "#   spmv_full: the full-storage kernel (cb_sparse_matvec_bytes: 8 nnz + 4 nnz/9 + 4 (n/3+1) + 16 n); GB/s "
+           "use each one's own bytes\n"
+           "# allocs_*: heap allocations inside one step after warm-up; newton_iterative: the most over CG, PCG and "
+           "Chebyshev (rho = auto) as the inner solver (our code only),\n"
            "#   newton_cholmod adds CHOLMOD's own (its permuted copy of A, workspace)\n"
-           "# triad: a = b + s c over 3 arrays of 2^25 doubles, 24 bytes per element (STREAM convention), passes interleaved with the SpMV samples\n",
+           "# triad: a = b + s c over 3 arrays of 2^25 doubles, 24 bytes per element (STREAM convention), passes "
+           "interleaved with the SpMV samples\n",
            th->blas_requested, th->omp_requested, 1024);
   cb_outfile csv, chol, steps, blas;
   char chol_path[2100], step_path[2100], blas_path[2100];
@@ -381,27 +416,40 @@ int main(int argc, char **argv) {
   cb_experiment_side_path(&e, "step.csv", step_path, sizeof step_path);
   if (cb_experiment_csv(&e, &csv, NULL, extra, hdr) ||
       cb_experiment_csv(&e, &chol, chol_path,
-                        "# one row per (size, ordering, supernode relaxation, storage, denormals): CHOLMOD analysis, then numeric factorisations, the choices in turn rep after rep;\n"
-                        "# denormals: solver.denormals (flush in every row of the grid; one more row per size is the defaults with subnormals kept)\n"
+                        "# one row per (size, ordering, supernode relaxation, storage, denormals): CHOLMOD analysis, "
+                        "then numeric factorisations, the choices in turn rep after rep;\n"
+                        "# denormals: solver.denormals (flush in every row of the grid; one more row per size is the "
+                        "defaults with subnormals kept)\n"
                         "# default = 1 on the row of the solver.* defaults\n",
-                        "n,ordering,nrelax,storage,denormals,analyze_ms,factor_ms,factor_min_ms,factor_max_ms,factor_gflops,nnz_l,flops,default,status") ||
+                        "n,ordering,nrelax,storage,denormals,analyze_ms,factor_ms,factor_min_ms,factor_max_ms,factor_"
+                        "gflops,nnz_l,flops,default,status") ||
       cb_experiment_csv(&e, &steps, step_path,
-                        "# implicit steps from the bench state: Newton with one iteration (Baraff-Witkin), inner solve cut at 32 iterations;\n"
-                        "# rho_share = time in Lanczos rho estimates / step time, summed over the steps; rho_estimates: Lanczos runs over the steps;\n"
-                        "# rel_residual_geomean: geometric mean over the steps of the inner solve's final |b - Ax| / |b|\n",
-                        "n,method,solver,alpha_setting,rho_estimate,steps,step_ms,step_min_ms,step_max_ms,steps_per_s,rho_share,"
+                        "# implicit steps from the bench state: Newton with one iteration (Baraff-Witkin), inner solve "
+                        "cut at 32 iterations;\n"
+                        "# rho_share = time in Lanczos rho estimates / step time, summed over the steps; "
+                        "rho_estimates: Lanczos runs over the steps;\n"
+                        "# rel_residual_geomean: geometric mean over the steps of the inner solve's final |b - Ax| / "
+                        "|b|\n",
+                        "n,method,solver,alpha_setting,rho_estimate,steps,step_ms,step_min_ms,step_max_ms,steps_per_s,"
+                        "rho_share,"
                         "rho_estimates,linear_iters_mean,rel_residual_geomean,alpha_used,status") ||
       cb_experiment_csv(&e, &blas, blas_path,
-                        "# one extra factorisation per size (the solver.* defaults) with the BLAS calls CHOLMOD makes timed one by one:\n"
-                        "# per routine and flop class (flops per call, 2 per multiply-add), calls, time, GFlop and GFlop/s;\n"
-                        "# share = time / factor_ms (that factorisation's wall time, timing overhead included); routine = outside: the rest\n",
+                        "# one extra factorisation per size (the solver.* defaults) with the BLAS calls CHOLMOD makes "
+                        "timed one by one:\n"
+                        "# per routine and flop class (flops per call, 2 per multiply-add), calls, time, GFlop and "
+                        "GFlop/s;\n"
+                        "# share = time / factor_ms (that factorisation's wall time, timing overhead included); "
+                        "routine = outside: the rest\n",
                         "n,routine,flops_class,calls,ms,gflop,gflops,share,factor_ms")) {
     fprintf(stderr, "bench_core: %s\n", cb_error_message());
     return 2;
   }
   cb_triad ta;
   gemm_arrays ga;
-  if (cb_triad_alloc(&ta) || gemm_alloc(&ga, 1024)) { fprintf(stderr, "bench_core: out of memory for the triad and dgemm arrays\n"); return 1; }
+  if (cb_triad_alloc(&ta) || gemm_alloc(&ga, 1024)) {
+    fprintf(stderr, "bench_core: out of memory for the triad and dgemm arrays\n");
+    return 1;
+  }
   cb_progress_start(&e.progress, "bench_core", nsizes);
   for (int si = 0; si < nsizes; si++) {
     int n = sizes[si];
@@ -411,7 +459,8 @@ int main(int argc, char **argv) {
     cb_config cfg;
     cb_scene *s = NULL;
     cb_integrator *nt = NULL, *ex = NULL;
-    if (cb_experiment_config(&e, "hanging.ini", sets, &cfg) || cb_scene_from_config(&cfg, &s) || cb_integrator_from_config(&cfg, s, NULL, &nt)) {
+    if (cb_experiment_config(&e, "hanging.ini", sets, &cfg) || cb_scene_from_config(&cfg, &s) ||
+        cb_integrator_from_config(&cfg, s, NULL, &nt)) {
       fprintf(stderr, "bench_core: %s\n", cb_error_message());
       return 1;
     }
@@ -469,7 +518,8 @@ int main(int argc, char **argv) {
     /* one Newton iteration at the saved state, split into its parts, with
      * bare CHOLMOD's factorisations of the same matrix in between */
     cb_sparse *A = &s->sys.A;
-    double *b = malloc((size_t)A->n * sizeof *b), *dx = malloc((size_t)A->n * sizeof *dx), *y = malloc((size_t)A->n * sizeof *y);
+    double *b = malloc((size_t)A->n * sizeof *b), *dx = malloc((size_t)A->n * sizeof *dx),
+           *y = malloc((size_t)A->n * sizeof *y);
     for (int i = 0; i < A->n; i++) b[i] = 1.0;
     cb_system_energy(&s->sys, xs, g, NULL);
     cb_system_assemble(&s->sys, xs, 1.0 / (cfg.dt * cfg.dt), CB_DEF_DROP, 0.0);
@@ -509,7 +559,10 @@ int main(int argc, char **argv) {
     /* SpMV (enough products per sample for ~20 ms), interleaved with triad
      * passes so that both see the same machine */
     cb_sparse_sym S;
-    if (cb_sparse_sym_alloc(&S, A)) { fprintf(stderr, "bench_core: %s\n", cb_error_message()); return 1; }
+    if (cb_sparse_sym_alloc(&S, A)) {
+      fprintf(stderr, "bench_core: %s\n", cb_error_message());
+      return 1;
+    }
     cb_sparse_sym_fill(&S, A);
     double bytes = (double)cb_sparse_sym_matvec_bytes(&S), bytes_full = (double)cb_sparse_matvec_bytes(A);
     int inner = 1 + (int)(2e7 / (double)A->nnz);
@@ -528,20 +581,28 @@ int main(int argc, char **argv) {
     if (mdir && *mdir && export_matrix(mdir, n, A)) return 1;
     double mfa = stat_of(tfa, reps).med, an = nt->solver->stats.analyze_ms;
     cb_csv_printf(csv.f, "%d,%d,%d,%.17g,%.6g", n, A->n, A->nnz, nt->solver->stats.factor_nnz, fl / 1e9);
-    mstat ms[] = {stat_of(tex, reps), stat_of(tas, reps), stat_of(tfa, reps), stat_of(tso, reps), stat_of(tbare, reps),
-                  stat_of(rbare, reps), stat_of(tb4, reps), stat_of(rb4, reps), stat_of(gfl, reps), stat_of(dgf, reps),
-                  stat_of(rdg, reps), stat_of(tmv, reps), stat_of(tmf, reps), stat_of(rfs, reps), stat_of(ttr, reps),
-                  stat_of(gmv, reps), stat_of(rmv, reps)};
+    mstat ms[] = {stat_of(tex, reps),   stat_of(tas, reps),   stat_of(tfa, reps), stat_of(tso, reps),
+                  stat_of(tbare, reps), stat_of(rbare, reps), stat_of(tb4, reps), stat_of(rb4, reps),
+                  stat_of(gfl, reps),   stat_of(dgf, reps),   stat_of(rdg, reps), stat_of(tmv, reps),
+                  stat_of(tmf, reps),   stat_of(rfs, reps),   stat_of(ttr, reps), stat_of(gmv, reps),
+                  stat_of(rmv, reps)};
     for (size_t q = 0; q < sizeof ms / sizeof ms[0]; q++) put(csv.f, ms[q]);
     cb_csv_printf(csv.f, ",%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.17g,%.17g,%ld,%ld,%ld,%s\n",
-                  ms[1].med + ms[2].med + ms[3].med, ms[1].med / mfa, stat_of(thr, reps).med, stat_of(thr4, reps).med, an,
-                  bare_an, per_run, an / (per_run * mfa), bytes, bytes_full, allocs_explicit, allocs_iter, allocs_newton,
-                  cb_status_name(status));
+                  ms[1].med + ms[2].med + ms[3].med, ms[1].med / mfa, stat_of(thr, reps).med, stat_of(thr4, reps).med,
+                  an, bare_an, per_run, an / (per_run * mfa), bytes, bytes_full, allocs_explicit, allocs_iter,
+                  allocs_newton, cb_status_name(status));
     fflush(csv.f);
     cb_sparse_sym_free(&S);
     if (n >= 64) sweep_cholmod(chol.f, n, A, n >= 256 ? 5 : 7);
     if (n == step_n) bench_steps(steps.f, n, s, &nt->params, xs, vs, 20);
-    free(x); free(v); free(xs); free(vs); free(g); free(b); free(dx); free(y);
+    free(x);
+    free(v);
+    free(xs);
+    free(vs);
+    free(g);
+    free(b);
+    free(dx);
+    free(y);
     cb_integrator_free(ex);
     cb_integrator_free(nt);
     cb_scene_free(s);
@@ -549,7 +610,9 @@ int main(int argc, char **argv) {
   }
   cb_progress_end(&e.progress);
   cb_triad_free(&ta);
-  free(ga.a); free(ga.b); free(ga.c);
+  free(ga.a);
+  free(ga.b);
+  free(ga.c);
   if (cb_outfile_commit(&chol) || cb_outfile_commit(&steps) || cb_outfile_commit(&blas) || cb_outfile_commit(&csv)) {
     fprintf(stderr, "bench_core: %s\n", cb_error_message());
     return 2;

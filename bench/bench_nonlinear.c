@@ -59,7 +59,8 @@ static int build(cb_experiment *e, int n, const char *const *more, cb_config *c,
 }
 
 /* median ms of `reps` steps of it from (xs, vs) */
-static double frame_ms(cb_integrator *it, const double *xs, const double *vs, double *x, double *v, int nv3, int reps, cb_step_stats *st) {
+static double frame_ms(cb_integrator *it, const double *xs, const double *vs, double *x, double *v, int nv3, int reps,
+                       cb_step_stats *st) {
   double t[32];
   for (int r = 0; r < reps; r++) {
     memcpy(x, xs, (size_t)nv3 * sizeof *x);
@@ -80,28 +81,42 @@ static cb_integrator *make(const cb_config *base, cb_scene *s, const char *const
 
 int main(int argc, char **argv) {
   cb_experiment e;
-  int r = cb_experiment_begin(&e, "bench_nonlinear", "Cost of the nonlinear iterations: the lab's frame rate, bandwidth, pd.", argc, argv);
+  int r = cb_experiment_begin(&e, "bench_nonlinear",
+                              "Cost of the nonlinear iterations: the lab's frame rate, bandwidth, pd.", argc, argv);
   if (r) return r > 0 ? 0 : 1;
   cb_experiment_timed(&e); /* timings: run alone */
   cb_runtime_init();
   cb_outfile csv;
   if (cb_experiment_csv(&e, &csv, NULL,
-                        "# frame: the lab's step (chebyshev-nl, 32 iterations, d = m/dt^2 + 4k, rho = 0.995) from a state 5 frames in, one core; "
-                        "new kernel (lib/core/nl_kernel.h) and old kernel (bench/support/nl_old.c), medians of interleaved rounds (new, old, one triad pass)\n"
-                        "# iteration: frame / 32 (an upper bound: the frame also evaluates the final gradient); ns_per_spring_iter = iteration / springs\n"
-                        "# bound: bytes_per_iter (what one iteration must move: model in bench/bench_nonlinear.c) at the triad's bandwidth; iter_over_bound = iteration / bound\n"
-                        "# triad: a = b + s c, 3 arrays of 2^25 doubles, 24 bytes per element, median of the rounds' passes\n"
-                        "# old_new_identical: 1 if a step of each kernel from the same state gives bit-identical x, v, F and rel_grad; old_new_max_rel_diff the largest relative difference of x and v\n"
-                        "# pd: factor_ms is its one factorisation per scene (at alloc, CHOLMOD); frame_ms a step of 10 iterations\n",
-                        "n,vertices,springs,dofs,lab_frame_ms,lab_fps,old_frame_ms,speedup_vs_old,iter_ms,ns_per_spring_iter,old_ns_per_spring_iter,"
-                        "bytes_per_iter,triad_gbs,bound_ms,iter_over_bound,old_over_bound,old_new_identical,old_new_max_rel_diff,pd_factor_ms,pd10_frame_ms,"
-                        "pd_factorizations_in_step,allocs_jacobi_nl,allocs_chebyshev_nl,allocs_chebyshev_nl_exact,allocs_pd,allocs_pd_chebyshev,"
+                        "# frame: the lab's step (chebyshev-nl, 32 iterations, d = m/dt^2 + 4k, rho = 0.995) from a "
+                        "state 5 frames in, one core; "
+                        "new kernel (lib/core/nl_kernel.h) and old kernel (bench/support/nl_old.c), medians of "
+                        "interleaved rounds (new, old, one triad pass)\n"
+                        "# iteration: frame / 32 (an upper bound: the frame also evaluates the final gradient); "
+                        "ns_per_spring_iter = iteration / springs\n"
+                        "# bound: bytes_per_iter (what one iteration must move: model in bench/bench_nonlinear.c) at "
+                        "the triad's bandwidth; iter_over_bound = iteration / bound\n"
+                        "# triad: a = b + s c, 3 arrays of 2^25 doubles, 24 bytes per element, median of the rounds' "
+                        "passes\n"
+                        "# old_new_identical: 1 if a step of each kernel from the same state gives bit-identical x, v, "
+                        "F and rel_grad; old_new_max_rel_diff the largest relative difference of x and v\n"
+                        "# pd: factor_ms is its one factorisation per scene (at alloc, CHOLMOD); frame_ms a step of 10 "
+                        "iterations\n",
+                        "n,vertices,springs,dofs,lab_frame_ms,lab_fps,old_frame_ms,speedup_vs_old,iter_ms,ns_per_"
+                        "spring_iter,old_ns_per_spring_iter,"
+                        "bytes_per_iter,triad_gbs,bound_ms,iter_over_bound,old_over_bound,old_new_identical,old_new_"
+                        "max_rel_diff,pd_factor_ms,pd10_frame_ms,"
+                        "pd_factorizations_in_step,allocs_jacobi_nl,allocs_chebyshev_nl,allocs_chebyshev_nl_exact,"
+                        "allocs_pd,allocs_pd_chebyshev,"
                         "allocs_pbd,allocs_xpbd,allocs_lbfgs,status")) {
     fprintf(stderr, "bench_nonlinear: %s\n", cb_error_message());
     return 2;
   }
   cb_triad ta;
-  if (cb_triad_alloc(&ta)) { fprintf(stderr, "bench_nonlinear: out of memory for the triad\n"); return 1; }
+  if (cb_triad_alloc(&ta)) {
+    fprintf(stderr, "bench_nonlinear: out of memory for the triad\n");
+    return 1;
+  }
   cb_triad_once(&ta); /* first touch */
   const int sizes[] = {21, 64, 129, 256};
   int nsz = e.quick ? 2 : 4;
@@ -109,14 +124,20 @@ int main(int argc, char **argv) {
     int n = sizes[si];
     cb_config c;
     cb_scene *s = NULL;
-    if (build(&e, n, NULL, &c, &s)) { fprintf(stderr, "bench_nonlinear: %s\n", cb_error_message()); return 1; }
+    if (build(&e, n, NULL, &c, &s)) {
+      fprintf(stderr, "bench_nonlinear: %s\n", cb_error_message());
+      return 1;
+    }
     int nv3 = 3 * s->mesh.nv, reps = n >= 128 ? ROUNDS_LARGE : ROUNDS_SMALL;
     double *x = malloc((size_t)nv3 * sizeof *x), *v = malloc((size_t)nv3 * sizeof *v);
     double *xs = malloc((size_t)nv3 * sizeof *xs), *vs = malloc((size_t)nv3 * sizeof *vs);
     double *xo = malloc((size_t)nv3 * sizeof *xo), *vo = malloc((size_t)nv3 * sizeof *vo);
     static const char *const LAB[] = {"integrator.method=chebyshev-nl", NULL};
     cb_integrator *lab = make(&c, s, LAB);
-    if (!x || !v || !xs || !vs || !xo || !vo || !lab) { fprintf(stderr, "bench_nonlinear: %s\n", cb_error_message()); return 1; }
+    if (!x || !v || !xs || !vs || !xo || !vo || !lab) {
+      fprintf(stderr, "bench_nonlinear: %s\n", cb_error_message());
+      return 1;
+    }
     const cb_nljacobi_params *lp = lab->type_params;
     cb_old_lab old;
     if (cb_old_lab_init(&old, s, lab->params.dt, lab->params.damping, lp->iters, lp->alpha, lp->rho)) {
@@ -129,7 +150,9 @@ int main(int argc, char **argv) {
       const int *ends;
       const double *rest;
       double k;
-      if (s->sys.terms[t]->type == cb_term_spring && cb_spring_term_springs(s->sys.terms[t], &ns, &ends, &rest, &k) == CB_OK) springs += ns;
+      if (s->sys.terms[t]->type == cb_term_spring &&
+          cb_spring_term_springs(s->sys.terms[t], &ns, &ends, &rest, &k) == CB_OK)
+        springs += ns;
     }
     memcpy(x, s->x0, (size_t)nv3 * sizeof *x);
     memcpy(v, s->v0, (size_t)nv3 * sizeof *v);
@@ -178,14 +201,19 @@ int main(int argc, char **argv) {
     double t0 = cb_now_ms();
     cb_integrator *pd = make(&c, s, PD);
     double pd_factor = cb_now_ms() - t0;
-    if (!pd) { fprintf(stderr, "bench_nonlinear: pd: %s\n", cb_error_message()); return 1; }
+    if (!pd) {
+      fprintf(stderr, "bench_nonlinear: pd: %s\n", cb_error_message());
+      return 1;
+    }
     double fact_before = pd->solver->stats.factor_ms;
     double pd10 = frame_ms(pd, xs, vs, x, v, nv3, reps, &st);
     int pd_fact_in_step = pd->solver->stats.factor_ms != fact_before;
     /* allocations inside a step, after a warm-up step */
     static const char *const J[] = {"integrator.method=jacobi-nl", NULL};
-    static const char *const CE[] = {"integrator.method=chebyshev-nl", "integrator.diagonal=exact", "integrator.iters=4", NULL};
-    static const char *const PC[] = {"integrator.method=pd-chebyshev", "integrator.rho=auto", "integrator.iters=10", NULL};
+    static const char *const CE[] = {"integrator.method=chebyshev-nl", "integrator.diagonal=exact",
+                                     "integrator.iters=4", NULL};
+    static const char *const PC[] = {"integrator.method=pd-chebyshev", "integrator.rho=auto", "integrator.iters=10",
+                                     NULL};
     static const char *const CA[] = {"integrator.method=chebyshev-nl", "integrator.rho=auto", NULL};
     static const char *const PB[] = {"integrator.method=pbd", "integrator.substeps=4", "integrator.iters=8", NULL};
     static const char *const XP[] = {"integrator.method=xpbd", "integrator.substeps=4", "integrator.iters=8", NULL};
@@ -207,25 +235,37 @@ int main(int argc, char **argv) {
     }
     double na = cb_csv_na(), al[NALLOC]; /* an integrator that failed to build (-1) counted nothing */
     for (int q = 0; q < NALLOC; q++) al[q] = allocs[q] < 0 ? na : (double)allocs[q];
-    cb_csv_printf(csv.f, "%d,%d,%ld,%d,%.6f,%.3f,%.6f,%.4f,%.6f,%.4f,%.4f,%.0f,%.4f,%.6f,%.4f,%.4f,%d,%.6g,%.6f,%.6f,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%s\n",
-                  n, s->mesh.nv, springs, s->sys.A.n, f32, 1000.0 / f32, fold, fold / f32, iter_ms, iter_ms * 1e6 / (double)springs,
-                  old_iter_ms * 1e6 / (double)springs, bytes, triad, bound_ms, iter_ms / bound_ms, old_iter_ms / bound_ms, identical,
-                  maxrel, pd_factor, pd10, pd_fact_in_step, al[0], al[1], al[2], al[3], al[4], al[5], al[6], al[7], cb_status_name(status));
+    cb_csv_printf(csv.f,
+                  "%d,%d,%ld,%d,%.6f,%.3f,%.6f,%.4f,%.6f,%.4f,%.4f,%.0f,%.4f,%.6f,%.4f,%.4f,%d,%.6g,%.6f,%.6f,%d,%.17g,"
+                  "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%s\n",
+                  n, s->mesh.nv, springs, s->sys.A.n, f32, 1000.0 / f32, fold, fold / f32, iter_ms,
+                  iter_ms * 1e6 / (double)springs, old_iter_ms * 1e6 / (double)springs, bytes, triad, bound_ms,
+                  iter_ms / bound_ms, old_iter_ms / bound_ms, identical, maxrel, pd_factor, pd10, pd_fact_in_step,
+                  al[0], al[1], al[2], al[3], al[4], al[5], al[6], al[7], cb_status_name(status));
     fflush(csv.f);
-    printf("bench_nonlinear: %dx%d (%d vertices, %ld springs): lab frame %.3f ms = %.0f FPS (old kernel %.3f ms: %.2fx); "
-           "iteration %.4f ms = %.2f ns per spring (old %.2f), %.2fx its bound (%.4f ms: %.0f bytes at the triad's %.2f GB/s; old %.2fx); "
+    printf("bench_nonlinear: %dx%d (%d vertices, %ld springs): lab frame %.3f ms = %.0f FPS (old kernel %.3f ms: "
+           "%.2fx); "
+           "iteration %.4f ms = %.2f ns per spring (old %.2f), %.2fx its bound (%.4f ms: %.0f bytes at the triad's "
+           "%.2f GB/s; old %.2fx); "
            "old and new %s; pd factorisation %.1f ms once, pd 10-iteration frame %.3f ms\n",
            n, n, s->mesh.nv, springs, f32, 1000.0 / f32, fold, fold / f32, iter_ms, iter_ms * 1e6 / (double)springs,
            old_iter_ms * 1e6 / (double)springs, iter_ms / bound_ms, bound_ms, bytes, triad, old_iter_ms / bound_ms,
            identical ? "bit-identical" : "differ", pd_factor, pd10);
     cb_old_lab_free(&old);
-    free(xo); free(vo);
+    free(xo);
+    free(vo);
     cb_integrator_free(lab);
     cb_integrator_free(pd);
     cb_scene_free(s);
-    free(x); free(v); free(xs); free(vs);
+    free(x);
+    free(v);
+    free(xs);
+    free(vs);
   }
   cb_triad_free(&ta);
-  if (cb_outfile_commit(&csv)) { fprintf(stderr, "bench_nonlinear: %s\n", cb_error_message()); return 2; }
+  if (cb_outfile_commit(&csv)) {
+    fprintf(stderr, "bench_nonlinear: %s\n", cb_error_message());
+    return 2;
+  }
   return 0;
 }

@@ -212,7 +212,9 @@ static int superlu_round(const cb_sparse *A, const double *b, double *x, double 
   int *perm_c = malloc((size_t)n * sizeof *perm_c), *perm_r = malloc((size_t)n * sizeof *perm_r);
   int *etree = malloc((size_t)n * sizeof *etree);
   if (!perm_c || !perm_r || !etree) {
-    free(perm_c); free(perm_r); free(etree);
+    free(perm_c);
+    free(perm_r);
+    free(etree);
     Destroy_SuperMatrix_Store(&As);
     snprintf(r->detail, sizeof r->detail, "out of memory");
     return -1;
@@ -255,7 +257,9 @@ static int superlu_round(const cb_sparse *A, const double *b, double *x, double 
   Destroy_CompCol_Permuted(&AC);
   Destroy_SuperMatrix_Store(&As);
   StatFree(&stat);
-  free(perm_c); free(perm_r); free(etree);
+  free(perm_c);
+  free(perm_r);
+  free(etree);
   r->resid = ok ? cb_relative_residual(A, b, x, work) : NAN;
   return ok ? 0 : -1;
 }
@@ -279,8 +283,8 @@ static double worst(const round_t *r, int n) {
 }
 
 /* The rows of one peer at one size: one per phase. */
-static void write_peer(FILE *f, int n, const cb_sparse *A, const char *peer, const round_t *pr, const round_t *cr, int rounds,
-                       int failed) {
+static void write_peer(FILE *f, int n, const cb_sparse *A, const char *peer, const round_t *pr, const round_t *cr,
+                       int rounds, int failed) {
   double pres = worst(pr, rounds), cres = worst(cr, rounds);
   const char *status = failed ? "failed" : pres > DIRECT_TOL || cres > DIRECT_TOL ? "inaccurate" : "ok";
   for (int p = 0; p < CB_NPHASES; p++) {
@@ -311,7 +315,10 @@ static int serve(const char *path) {
   if (cb_bench_matrix_read("bench_peers", path, &A)) return 1;
   const int n = A.n;
   double *b = malloc((size_t)n * sizeof *b), *x = malloc((size_t)n * sizeof *x), *w = malloc((size_t)n * sizeof *w);
-  if (!b || !x || !w) { fprintf(stderr, "bench_peers: out of memory\n"); return 1; }
+  if (!b || !x || !w) {
+    fprintf(stderr, "bench_peers: out of memory\n");
+    return 1;
+  }
   for (int i = 0; i < n; i++) b[i] = 1.0;
   printf("ready %d %d\n", n, A.nnz);
   fflush(stdout);
@@ -354,24 +361,34 @@ static int serve(const char *path) {
   }
   cb_solver_free(cg);
   cb_sparse_free(&A);
-  free(b); free(x); free(w);
+  free(b);
+  free(x);
+  free(w);
   return rc;
 }
 
 int main(int argc, char **argv) {
   if (argc == 3 && !strcmp(argv[1], "--serve")) {
-    if (cb_runtime_init()) { fprintf(stderr, "bench_peers: %s\n", cb_error_message()); return 1; }
+    if (cb_runtime_init()) {
+      fprintf(stderr, "bench_peers: %s\n", cb_error_message());
+      return 1;
+    }
     return serve(argv[2]);
   }
   if (argc == 2 && !strcmp(argv[1], "--provenance")) {
-    if (cb_runtime_init()) { fprintf(stderr, "bench_peers: %s\n", cb_error_message()); return 1; }
+    if (cb_runtime_init()) {
+      fprintf(stderr, "bench_peers: %s\n", cb_error_message());
+      return 1;
+    }
     cb_provenance_write(stdout, "bench_peers", argc, argv, NULL);
     return fflush(stdout) ? 1 : 0;
   }
   cb_experiment e;
   int r = cb_experiment_begin(&e, "bench_peers",
-                              "clothbench's CHOLMOD solve against MUMPS and SuperLU on bench_core's exported Newton matrices "
-                              "(CB_BENCH_MATRIX_DIR), interleaved rounds; --serve and --provenance for bench/peers_scipy.py.",
+                              "clothbench's CHOLMOD solve against MUMPS and SuperLU on bench_core's exported Newton "
+                              "matrices "
+                              "(CB_BENCH_MATRIX_DIR), interleaved rounds; --serve and --provenance for "
+                              "bench/peers_scipy.py.",
                               argc, argv);
   if (r) return r > 0 ? 0 : 1;
   cb_experiment_timed(&e);
@@ -384,14 +401,19 @@ int main(int argc, char **argv) {
   const int nsizes = e.quick ? 1 : 3;
   char extra[1024];
   snprintf(extra, sizeof extra,
-           "# matrices: %s/bench_matrix_<n>.bin (bench_core's Newton matrix of the lab cloth at n^2 vertices); b = (1, ..., 1)\n"
-           "# each round: clothbench (solver cholmod, solver.* defaults; its solve includes the harness's residual check), MUMPS %s "
-           "(sequential, sym = 1, ICNTL(7) = 7 automatic ordering), SuperLU (MMD on A'+A, SymmetricMode, DiagPivotThresh 0), each from scratch\n"
-           "# peer_ms, clothbench_ms: median, _min, _max over the rounds; peer_over_clothbench: of the ratios within a round\n"
+           "# matrices: %s/bench_matrix_<n>.bin (bench_core's Newton matrix of the lab cloth at n^2 vertices); b = (1, "
+           "..., 1)\n"
+           "# each round: clothbench (solver cholmod, solver.* defaults; its solve includes the harness's residual "
+           "check), MUMPS %s "
+           "(sequential, sym = 1, ICNTL(7) = 7 automatic ordering), SuperLU (MMD on A'+A, SymmetricMode, "
+           "DiagPivotThresh 0), each from scratch\n"
+           "# peer_ms, clothbench_ms: median, _min, _max over the rounds; peer_over_clothbench: of the ratios within a "
+           "round\n"
            "# *_rel_residual: the largest |b - Ax| / |b| over the rounds; status inaccurate: above %g\n",
            mdir, MUMPS_VERSION, DIRECT_TOL);
   if (cb_experiment_csv(&e, &e.csv, NULL, extra,
-                        "n,dofs,nnz,peer,clothbench,phase,rounds,peer_ms,peer_min_ms,peer_max_ms,clothbench_ms,clothbench_min_ms,"
+                        "n,dofs,nnz,peer,clothbench,phase,rounds,peer_ms,peer_min_ms,peer_max_ms,clothbench_ms,"
+                        "clothbench_min_ms,"
                         "clothbench_max_ms,peer_over_clothbench,peer_over_clothbench_min,peer_over_clothbench_max,"
                         "peer_rel_residual,clothbench_rel_residual,peer_detail,status")) {
     fprintf(stderr, "bench_peers: %s\n", cb_error_message());
@@ -408,7 +430,8 @@ int main(int argc, char **argv) {
       return 1;
     }
     mumps_input mi;
-    double *b = malloc((size_t)A.n * sizeof *b), *x = malloc((size_t)A.n * sizeof *x), *w = malloc((size_t)A.n * sizeof *w);
+    double *b = malloc((size_t)A.n * sizeof *b), *x = malloc((size_t)A.n * sizeof *x),
+           *w = malloc((size_t)A.n * sizeof *w);
     if (!b || !x || !w || mumps_input_make(&A, &mi)) {
       fprintf(stderr, "bench_peers: out of memory at %d^2\n", n);
       cb_outfile_abort(&e.csv);
@@ -437,10 +460,15 @@ int main(int argc, char **argv) {
       rm[k] = mu[k].factor / cbm[k].factor;
       rs[k] = su[k].factor / cbs[k].factor;
     }
-    fprintf(stderr, "bench_peers: %d^2: factorise MUMPS / clothbench %.2f, SuperLU / clothbench %.2f (medians of %d rounds)\n", n,
-            cb_median(rm, rounds), cb_median(rs, rounds), rounds);
-    free(mi.irn); free(mi.jcn); free(mi.a);
-    free(b); free(x); free(w);
+    fprintf(stderr,
+            "bench_peers: %d^2: factorise MUMPS / clothbench %.2f, SuperLU / clothbench %.2f (medians of %d rounds)\n",
+            n, cb_median(rm, rounds), cb_median(rs, rounds), rounds);
+    free(mi.irn);
+    free(mi.jcn);
+    free(mi.a);
+    free(b);
+    free(x);
+    free(w);
     cb_sparse_free(&A);
     cb_progress_update(&e.progress, si + 1);
   }

@@ -87,14 +87,25 @@ typedef struct {
 
 static const scale_method METHODS[] = {
     {"explicit", "hanging.ini", {"integrator.method=explicit", "integrator.dt=1e-5", NULL}, 0},
-    {"newton_cholmod", "hanging.ini", {"integrator.method=newton", "integrator.max_iters=1", "integrator.tol=0", "solver.method=cholmod", NULL}, 0},
-    {"newton_cg32", "hanging.ini",
-     {"integrator.method=newton", "integrator.max_iters=1", "integrator.tol=0", "solver.method=cg", "solver.max_iters=32", "solver.tol=0", NULL}, 0},
-    {"newton_cheb32", "hanging.ini",
-     {"integrator.method=newton", "integrator.max_iters=1", "integrator.tol=0", "solver.method=chebyshev", "solver.max_iters=32", "solver.tol=0",
-      "solver.alpha=auto", "solver.rho=auto"}, 0},
-    {"newton_pcg_matched", "hanging.ini",
-     {"integrator.method=newton", "integrator.max_iters=1", "integrator.tol=0", "solver.method=pcg", "solver.max_iters=100000", NULL}, 1},
+    {"newton_cholmod",
+     "hanging.ini",
+     {"integrator.method=newton", "integrator.max_iters=1", "integrator.tol=0", "solver.method=cholmod", NULL},
+     0},
+    {"newton_cg32",
+     "hanging.ini",
+     {"integrator.method=newton", "integrator.max_iters=1", "integrator.tol=0", "solver.method=cg",
+      "solver.max_iters=32", "solver.tol=0", NULL},
+     0},
+    {"newton_cheb32",
+     "hanging.ini",
+     {"integrator.method=newton", "integrator.max_iters=1", "integrator.tol=0", "solver.method=chebyshev",
+      "solver.max_iters=32", "solver.tol=0", "solver.alpha=auto", "solver.rho=auto"},
+     0},
+    {"newton_pcg_matched",
+     "hanging.ini",
+     {"integrator.method=newton", "integrator.max_iters=1", "integrator.tol=0", "solver.method=pcg",
+      "solver.max_iters=100000", NULL},
+     1},
     {"lab", "lab.ini", {"integrator.method=chebyshev-nl", "integrator.iters=32", NULL}, 0},
     {"pd10", "hanging.ini", {"integrator.method=pd", "integrator.iters=10", "solver.method=cholmod", NULL}, 0},
     {"lbfgs32", "hanging.ini", {"integrator.method=lbfgs", "integrator.iters=32", "solver.method=cholmod", NULL}, 0},
@@ -122,7 +133,10 @@ static int child_fail(int st, const char *what) {
 
 static int child(const char *configs, const char *mname, int n, double tol, double budget_ms, double max_warm_ms) {
   const scale_method *m = method_find(mname);
-  if (!m) { fprintf(stderr, "bench_scale: unknown method '%s'\n", mname); return 1; }
+  if (!m) {
+    fprintf(stderr, "bench_scale: unknown method '%s'\n", mname);
+    return 1;
+  }
   double t0 = cb_now_ms();
   char path[4096], setn[64], pins[64], tols[64];
   snprintf(path, sizeof path, "%s/%s", configs, m->config);
@@ -179,19 +193,28 @@ static int child(const char *configs, const char *mname, int n, double tol, doub
   }
   int nk = timed ? k : 1;
   double lo = wall[0], hi = wall[0];
-  for (int i = 1; i < nk; i++) { lo = fmin(lo, wall[i]); hi = fmax(hi, wall[i]); }
+  for (int i = 1; i < nk; i++) {
+    lo = fmin(lo, wall[i]);
+    hi = fmax(hi, wall[i]);
+  }
   double med = cb_median(wall, nk), g = cb_median(relg, nk), r = cb_median(relr, nk);
   int is_explicit = !strcmp(it->type->name, "explicit");
   int direct = it->solver && it->solver->stats.factor_nnz > 0;
   /* ok <vertices> <dofs> <steps> <step> <min> <max> <first> <setup> <analyze> <rel_grad_hat> <rel_residual>
-   *    <iters/step> <linear iters/step> <nnz_l> <the warm-up step's rel_grad_hat> <status of the last step>; "-" = not applicable */
+   *    <iters/step> <linear iters/step> <nnz_l> <the warm-up step's rel_grad_hat> <status of the last step>; "-" = not
+   * applicable */
   printf("ok %d %d %d %.6g %.6g %.6g %.6g %.6g ", s->mesh.nv, s->sys.A.n, k, med, lo, hi, first_ms, setup_ms);
-  if (it->solver) printf("%.6g ", it->solver->stats.analyze_ms); else printf("- ");
-  if (is_explicit) printf("- "); else printf("%.17g ", g);
-  if (it->solver && !direct && isfinite(r)) printf("%.17g ", r); else printf("- ");
+  if (it->solver) printf("%.6g ", it->solver->stats.analyze_ms);
+  else printf("- ");
+  if (is_explicit) printf("- ");
+  else printf("%.17g ", g);
+  if (it->solver && !direct && isfinite(r)) printf("%.17g ", r);
+  else printf("- ");
   printf("%.6g %.6g ", iters / nk, liters / nk);
-  if (direct) printf("%.17g ", it->solver->stats.factor_nnz); else printf("- ");
-  if (is_explicit) printf("- "); else printf("%.17g ", first_relg);
+  if (direct) printf("%.17g ", it->solver->stats.factor_nnz);
+  else printf("- ");
+  if (is_explicit) printf("- ");
+  else printf("%.17g ", first_relg);
   printf("%s\n", cb_status_name(st));
   fflush(stdout);
   cb_integrator_free(it);
@@ -204,7 +227,7 @@ static int child(const char *configs, const char *mname, int n, double tol, doub
 /* ---- the driver ---- */
 
 typedef struct {
-  int ok;                         /* 1: measured */
+  int ok; /* 1: measured */
   char status[64], note[600];
   int vertices, dofs, steps;
   double step, lo, hi, first, setup, analyze, relg, relr, iters, liters, nnzl, rss_bytes, wall_s, tol, first_relg;
@@ -218,7 +241,11 @@ static void run_child(const char *self, const char *configs, const char *mname, 
   memset(r, 0, sizeof *r);
   r->tol = tol;
   int fd[2];
-  if (pipe(fd)) { snprintf(r->status, sizeof r->status, "failed"); snprintf(r->note, sizeof r->note, "pipe: %s", strerror(errno)); return; }
+  if (pipe(fd)) {
+    snprintf(r->status, sizeof r->status, "failed");
+    snprintf(r->note, sizeof r->note, "pipe: %s", strerror(errno));
+    return;
+  }
   char ns[32], ts[64], bs[64], ws_[64];
   snprintf(ns, sizeof ns, "%d", n);
   snprintf(ts, sizeof ts, "%.17g", tol);
@@ -236,7 +263,8 @@ static void run_child(const char *self, const char *configs, const char *mname, 
     if (mem_gib > 0) setrlimit(RLIMIT_AS, &as);
     if (cpu_s > 0) setrlimit(RLIMIT_CPU, &cpu);
     if (wall_s > 0) alarm((unsigned)ceil(wall_s)); /* kept across exec: SIGALRM ends the child */
-    execl(self, self, "--child", mname, ns, "--configs", configs, "--tol", ts, "--budget-ms", bs, "--max-warm-ms", ws_, (char *)NULL);
+    execl(self, self, "--child", mname, ns, "--configs", configs, "--tol", ts, "--budget-ms", bs, "--max-warm-ms", ws_,
+          (char *)NULL);
     _exit(127);
   }
   close(fd[1]);
@@ -260,9 +288,8 @@ static void run_child(const char *self, const char *configs, const char *mname, 
   int ws = 0;
   struct rusage ru;
   memset(&ru, 0, sizeof ru);
-  while (wait4(pid, &ws, 0, &ru) < 0 && errno == EINTR) {
-  }
-  r->wall_s = (cb_now_ms() - t0) / 1000.0; /* (r->wall_s: this child's; wall_s: the budget) */
+  while (wait4(pid, &ws, 0, &ru) < 0 && errno == EINTR) {}
+  r->wall_s = (cb_now_ms() - t0) / 1000.0;      /* (r->wall_s: this child's; wall_s: the budget) */
   r->rss_bytes = (double)ru.ru_maxrss * 1024.0; /* Linux: kilobytes */
   /* the last line is the result; "setup" and "warm" lines say how far a child that did not finish got */
   char *last = line, *p = line; /* p: the line being read */
@@ -274,19 +301,29 @@ static void run_child(const char *self, const char *configs, const char *mname, 
   }
   memmove(line, last, strlen(last) + 1);
   char got_to[160] = "";
-  if (r->first > 0) snprintf(got_to, sizeof got_to, "; it had set up in %.3g s and taken its warm-up step in %.3g s", r->setup / 1000, r->first / 1000);
+  if (r->first > 0)
+    snprintf(got_to, sizeof got_to, "; it had set up in %.3g s and taken its warm-up step in %.3g s", r->setup / 1000,
+             r->first / 1000);
   else if (r->setup > 0) snprintf(got_to, sizeof got_to, "; it had set up in %.3g s", r->setup / 1000);
   if (!strncmp(line, "ok ", 3)) {
     char f[16][64];
-    int nf = sscanf(line + 3, "%63s %63s %63s %63s %63s %63s %63s %63s %63s %63s %63s %63s %63s %63s %63s %63s", f[0], f[1], f[2], f[3], f[4],
-                    f[5], f[6], f[7], f[8], f[9], f[10], f[11], f[12], f[13], f[14], f[15]);
+    int nf = sscanf(line + 3, "%63s %63s %63s %63s %63s %63s %63s %63s %63s %63s %63s %63s %63s %63s %63s %63s", f[0],
+                    f[1], f[2], f[3], f[4], f[5], f[6], f[7], f[8], f[9], f[10], f[11], f[12], f[13], f[14], f[15]);
     if (nf == 16) {
       r->ok = 1;
       r->vertices = atoi(f[0]);
       r->dofs = atoi(f[1]);
       r->steps = atoi(f[2]);
-      r->step = field(f[3]); r->lo = field(f[4]); r->hi = field(f[5]); r->first = field(f[6]); r->setup = field(f[7]);
-      r->analyze = field(f[8]); r->relg = field(f[9]); r->relr = field(f[10]); r->iters = field(f[11]); r->liters = field(f[12]);
+      r->step = field(f[3]);
+      r->lo = field(f[4]);
+      r->hi = field(f[5]);
+      r->first = field(f[6]);
+      r->setup = field(f[7]);
+      r->analyze = field(f[8]);
+      r->relg = field(f[9]);
+      r->relr = field(f[10]);
+      r->iters = field(f[11]);
+      r->liters = field(f[12]);
       r->nnzl = field(f[13]);
       r->first_relg = field(f[14]);
       snprintf(r->status, sizeof r->status, "%s", f[15]);
@@ -298,15 +335,18 @@ static void run_child(const char *self, const char *configs, const char *mname, 
     int used = 0;
     sscanf(line + 5, "%63s %n", stname, &used);
     snprintf(r->status, sizeof r->status, "%s", stname);
-    snprintf(r->note, sizeof r->note, "%s (RLIMIT_AS %.3g GiB; peak RSS %.3g GiB)", line + 5 + used, mem_gib, r->rss_bytes / 1073741824.0);
+    snprintf(r->note, sizeof r->note, "%s (RLIMIT_AS %.3g GiB; peak RSS %.3g GiB)", line + 5 + used, mem_gib,
+             r->rss_bytes / 1073741824.0);
     return;
   }
   if (WIFSIGNALED(ws) && WTERMSIG(ws) == SIGXCPU) {
     snprintf(r->status, sizeof r->status, "over_budget");
-    snprintf(r->note, sizeof r->note, "CPU time budget exceeded (RLIMIT_CPU %.0f s) at peak RSS %.3g GiB%s", cpu_s, r->rss_bytes / 1073741824.0, got_to);
+    snprintf(r->note, sizeof r->note, "CPU time budget exceeded (RLIMIT_CPU %.0f s) at peak RSS %.3g GiB%s", cpu_s,
+             r->rss_bytes / 1073741824.0, got_to);
   } else if (WIFSIGNALED(ws) && WTERMSIG(ws) == SIGALRM) {
     snprintf(r->status, sizeof r->status, "over_budget");
-    snprintf(r->note, sizeof r->note, "wall-clock budget exceeded (%.0f s) at peak RSS %.3g GiB%s", wall_s, r->rss_bytes / 1073741824.0, got_to);
+    snprintf(r->note, sizeof r->note, "wall-clock budget exceeded (%.0f s) at peak RSS %.3g GiB%s", wall_s,
+             r->rss_bytes / 1073741824.0, got_to);
   } else if (WIFSIGNALED(ws)) {
     snprintf(r->status, sizeof r->status, "killed");
     snprintf(r->note, sizeof r->note, "killed by signal %d (%s) at peak RSS %.3g GiB under RLIMIT_AS %.3g GiB%s",
@@ -325,8 +365,8 @@ static void put_num(FILE *f, double v, const char *fmt) {
 }
 
 /* the growth exponent of y in vertices over points [a, b) of (lv, ly), and its fit row */
-static void fit_row(FILE *f, const char *method, const char *quantity, const char *range, const double *lv, const double *ly,
-                    const int *ns, int a, int b) {
+static void fit_row(FILE *f, const char *method, const char *quantity, const char *range, const double *lv,
+                    const double *ly, const int *ns, int a, int b) {
   int k = b - a;
   if (k < 2) return;
   double c0, c1, cov00, cov01, cov11, sumsq, mean = 0, ss = 0;
@@ -355,7 +395,10 @@ static int parse_list(const char *s, int *out, int cap) {
 int main(int argc, char **argv) {
   /* the child: no CPU lock (the driver holds it exclusively), no CSV */
   if (argc >= 4 && !strcmp(argv[1], "--child")) {
-    if (cb_runtime_init()) { fprintf(stderr, "bench_scale: %s\n", cb_error_message()); return 1; }
+    if (cb_runtime_init()) {
+      fprintf(stderr, "bench_scale: %s\n", cb_error_message());
+      return 1;
+    }
     const char *configs = "configs";
     double tol = 0, budget = 3000, max_warm = 120000;
     for (int i = 4; i + 1 < argc; i += 2) {
@@ -382,7 +425,9 @@ int main(int argc, char **argv) {
     int has = i + 1 < argc;
     if (!strcmp(a, "--sizes") && has) {
       if ((nsizes = parse_list(argv[++i], sizes, MAXSIZES)) < 1) {
-        fprintf(stderr, "bench_scale: --sizes '%s': expected grid sizes (vertices per side, 4..4096) separated by commas\n", argv[i]);
+        fprintf(stderr,
+                "bench_scale: --sizes '%s': expected grid sizes (vertices per side, 4..4096) separated by commas\n",
+                argv[i]);
         return 1;
       }
       sizes_given = 1;
@@ -400,12 +445,14 @@ int main(int argc, char **argv) {
         }
         run[nrun++] = m;
       }
-    } else if ((!strcmp(a, "--mem-limit-gib") || !strcmp(a, "--cpu-limit-s") || !strcmp(a, "--wall-limit-s") || !strcmp(a, "--budget-ms") ||
-                !strcmp(a, "--max-warm-s") || !strcmp(a, "--match-frac")) && has) {
+    } else if ((!strcmp(a, "--mem-limit-gib") || !strcmp(a, "--cpu-limit-s") || !strcmp(a, "--wall-limit-s") ||
+                !strcmp(a, "--budget-ms") || !strcmp(a, "--max-warm-s") || !strcmp(a, "--match-frac")) &&
+               has) {
       char *end;
       double v = strtod(argv[++i], &end);
       if (*end || !(v >= 0) || !isfinite(v) || (!strcmp(a, "--match-frac") && !(v > 0 && v <= 1))) {
-        fprintf(stderr, "bench_scale: %s '%s': expected a number >= 0%s\n", a, argv[i], !strcmp(a, "--match-frac") ? " in (0, 1]" : "");
+        fprintf(stderr, "bench_scale: %s '%s': expected a number >= 0%s\n", a, argv[i],
+                !strcmp(a, "--match-frac") ? " in (0, 1]" : "");
         return 1;
       }
       if (!strcmp(a, "--mem-limit-gib")) mem_gib = v;
@@ -416,8 +463,10 @@ int main(int argc, char **argv) {
       else match_frac = v;
     } else if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
       printf("bench_scale options: [--sizes 64,128,...] [--methods a,b,...] [--mem-limit-gib G (16; 0 = none)]\n"
-             "  [--cpu-limit-s S (900 per configuration; 0 = none)] [--wall-limit-s S (1800 per configuration; 0 = none)]\n"
-             "  [--budget-ms MS (3000: stepping time per configuration)] [--max-warm-s S (120: a longer warm-up step is the one measured)]\n"
+             "  [--cpu-limit-s S (900 per configuration; 0 = none)] [--wall-limit-s S (1800 per configuration; 0 = "
+             "none)]\n"
+             "  [--budget-ms MS (3000: stepping time per configuration)] [--max-warm-s S (120: a longer warm-up step "
+             "is the one measured)]\n"
              "  [--match-frac F (0.2: newton_pcg_matched's solver.tol = F x newton_cholmod's rel_grad_hat)]\n"
              "  --quick: sizes 32 and 64. Methods:");
       for (int q = 0; q < NMETHODS; q++) printf(" %s", METHODS[q].name);
@@ -427,36 +476,57 @@ int main(int argc, char **argv) {
   }
   rest[nrest] = NULL;
   cb_experiment e;
-  int r = cb_experiment_begin(&e, "bench_scale", "Time per step and peak RSS against the number of vertices, one process per configuration.", nrest, rest);
+  int r = cb_experiment_begin(&e, "bench_scale",
+                              "Time per step and peak RSS against the number of vertices, one process per "
+                              "configuration.",
+                              nrest, rest);
   if (r) return r > 0 ? 0 : 1;
   e.argc = argc; /* the provenance echoes the whole command */
   e.argv = argv;
-  if (e.quick && !sizes_given) { sizes[0] = 32; sizes[1] = 64; nsizes = 2; }
+  if (e.quick && !sizes_given) {
+    sizes[0] = 32;
+    sizes[1] = 64;
+    nsizes = 2;
+  }
   cb_experiment_timed(&e);
   char extra[3072], fit_path[2100];
   double mem_total = (double)sysconf(_SC_PHYS_PAGES) * (double)sysconf(_SC_PAGESIZE);
   snprintf(extra, sizeof extra,
            "# mem_total_bytes: %.17g\n"
-           "# one process per (method, n): the driver starts itself with --child and reads the child's peak RSS from wait4() (ru_maxrss)\n"
-           "# budgets per child: RLIMIT_AS %.3g GiB (0 = none), RLIMIT_CPU %.0f s (0 = none), wall clock %.0f s (SIGALRM; 0 = none);\n"
-           "#   a failure or an exceeded budget keeps its row (status, note; what the child measured before it ended: set-up, warm-up step, peak RSS),\n"
+           "# one process per (method, n): the driver starts itself with --child and reads the child's peak RSS from "
+           "wait4() (ru_maxrss)\n"
+           "# budgets per child: RLIMIT_AS %.3g GiB (0 = none), RLIMIT_CPU %.0f s (0 = none), wall clock %.0f s "
+           "(SIGALRM; 0 = none);\n"
+           "#   a failure or an exceeded budget keeps its row (status, note; what the child measured before it ended: "
+           "set-up, warm-up step, peak RSS),\n"
            "#   and the method is then skipped at the larger sizes (status skipped)\n"
-           "# step_ms: median (min, max) of steps after one warm-up step from the initial state, as many as fit in %.0f ms of stepping (1 to 15);\n"
-           "#   a warm-up step longer than %.3g s is itself the step measured (steps_timed = 0; it also pays the first touch of the factor's pages)\n"
-           "# setup_ms: scene + integrator (CHOLMOD's analysis; pd's and lbfgs's factorisation); first_step_ms: the warm-up step\n"
-           "# rel_grad_hat: |grad F(x1)| / |grad F(xhat)| of the timed steps (median); first_rel_grad_hat: the same of the warm-up step (from the initial state,\n"
-           "#   the same step for every method: the accuracies to compare where a row measured its warm-up step); rel_residual: the inner solve's |b - Ax| / |b| (median)\n"
-           "# newton_pcg_matched: solver.tol = %.3g x newton_cholmod's rel_grad_hat at the same n (its first_rel_grad_hat where steps_timed = 0) (tol)\n",
+           "# step_ms: median (min, max) of steps after one warm-up step from the initial state, as many as fit in "
+           "%.0f ms of stepping (1 to 15);\n"
+           "#   a warm-up step longer than %.3g s is itself the step measured (steps_timed = 0; it also pays the first "
+           "touch of the factor's pages)\n"
+           "# setup_ms: scene + integrator (CHOLMOD's analysis; pd's and lbfgs's factorisation); first_step_ms: the "
+           "warm-up step\n"
+           "# rel_grad_hat: |grad F(x1)| / |grad F(xhat)| of the timed steps (median); first_rel_grad_hat: the same of "
+           "the warm-up step (from the initial state,\n"
+           "#   the same step for every method: the accuracies to compare where a row measured its warm-up step); "
+           "rel_residual: the inner solve's |b - Ax| / |b| (median)\n"
+           "# newton_pcg_matched: solver.tol = %.3g x newton_cholmod's rel_grad_hat at the same n (its "
+           "first_rel_grad_hat where steps_timed = 0) (tol)\n",
            mem_total, mem_gib, cpu_s, wall_s, budget_ms, max_warm_s, match_frac);
   cb_experiment_side_path(&e, "fit.csv", fit_path, sizeof fit_path);
   cb_outfile csv, fit;
   if (cb_experiment_csv(&e, &csv, NULL, extra,
-                        "method,n,vertices,dofs,steps_timed,step_ms,step_min_ms,step_max_ms,first_step_ms,setup_ms,analyze_ms,peak_rss_bytes,"
-                        "rel_grad_hat,first_rel_grad_hat,rel_residual,iters_per_step,linear_iters_per_step,nnz_l,tol,wall_s,status,note") ||
+                        "method,n,vertices,dofs,steps_timed,step_ms,step_min_ms,step_max_ms,first_step_ms,setup_ms,"
+                        "analyze_ms,peak_rss_bytes,"
+                        "rel_grad_hat,first_rel_grad_hat,rel_residual,iters_per_step,linear_iters_per_step,nnz_l,tol,"
+                        "wall_s,status,note") ||
       cb_experiment_csv(&e, &fit, fit_path,
-                        "# growth exponent p of y ~ c vertices^p: least squares on (log vertices, log y) (gsl_fit_linear), over the sizes measured (range all)\n"
-                        "#   or the three largest measured (range top3); exponent_err: its standard error from the fit's residuals (empty for 2 points)\n"
-                        "# quantity: step_ms (time per step) or peak_rss_bytes (peak resident set of the child process)\n",
+                        "# growth exponent p of y ~ c vertices^p: least squares on (log vertices, log y) "
+                        "(gsl_fit_linear), over the sizes measured (range all)\n"
+                        "#   or the three largest measured (range top3); exponent_err: its standard error from the "
+                        "fit's residuals (empty for 2 points)\n"
+                        "# quantity: step_ms (time per step) or peak_rss_bytes (peak resident set of the child "
+                        "process)\n",
                         "method,kind,part,samples,n_min,n_max,exponent,exponent_err,fit_r2")) {
     fprintf(stderr, "bench_scale: %s\n", cb_error_message());
     return 2;
@@ -475,8 +545,8 @@ int main(int argc, char **argv) {
       if (prev >= 0 && !res[q][prev].ok) {
         memset(rr, 0, sizeof *rr);
         snprintf(rr->status, sizeof rr->status, "skipped");
-        snprintf(rr->note, sizeof rr->note, "not run: %s at n = %d (%s)", !strcmp(res[q][prev].status, "skipped") ? "skipped" : "failed",
-                 sizes[prev], res[q][prev].status);
+        snprintf(rr->note, sizeof rr->note, "not run: %s at n = %d (%s)",
+                 !strcmp(res[q][prev].status, "skipped") ? "skipped" : "failed", sizes[prev], res[q][prev].status);
       } else {
         if (m->matched) { /* newton_cholmod's accuracy at this size, measured just before */
           int qc = -1;
@@ -523,10 +593,12 @@ int main(int argc, char **argv) {
         fflush(f);
       }
       if (rr->ok)
-        fprintf(stderr, "bench_scale: [%d/%d] %s at %d^2: step %.4g ms, peak RSS %.0f MiB, rel |grad F| %.3g (%.1f s; %.0f s so far)\n", done,
-                nsteps, m->name, n, rr->step, rr->rss_bytes / 1048576.0, rr->relg, rr->wall_s, (cb_now_ms() - t_all) / 1000);
-      else
-        fprintf(stderr, "bench_scale: [%d/%d] %s at %d^2: %s: %s\n", done, nsteps, m->name, n, rr->status, rr->note);
+        fprintf(stderr,
+                "bench_scale: [%d/%d] %s at %d^2: step %.4g ms, peak RSS %.0f MiB, rel |grad F| %.3g (%.1f s; %.0f s "
+                "so far)\n",
+                done, nsteps, m->name, n, rr->step, rr->rss_bytes / 1048576.0, rr->relg, rr->wall_s,
+                (cb_now_ms() - t_all) / 1000);
+      else fprintf(stderr, "bench_scale: [%d/%d] %s at %d^2: %s: %s\n", done, nsteps, m->name, n, rr->status, rr->note);
     }
   }
   /* growth exponents over the measured sizes */
@@ -549,7 +621,10 @@ int main(int argc, char **argv) {
       fit_row(fit.f, run[q]->name, "peak_rss_bytes", "top3", lv, lm, ns, k - 3, k);
     }
   }
-  if (cb_outfile_commit(&fit) || cb_outfile_commit(&csv)) { fprintf(stderr, "bench_scale: %s\n", cb_error_message()); return 2; }
+  if (cb_outfile_commit(&fit) || cb_outfile_commit(&csv)) {
+    fprintf(stderr, "bench_scale: %s\n", cb_error_message());
+    return 2;
+  }
   fprintf(stderr, "bench_scale: wrote %s and %s in %.0f s\n", e.out, fit_path, (cb_now_ms() - t_all) / 1000);
   free(rest);
   return 0;

@@ -26,12 +26,18 @@ int main(int argc, char **argv) {
     fprintf(argc == 2 ? stdout : stderr, "usage: bench_spmv FILE (see bench/spmv_scipy.py)\n");
     return argc == 2 ? 0 : 1;
   }
-  if (cb_runtime_init()) { fprintf(stderr, "bench_spmv: %s\n", cb_error_message()); return 1; }
+  if (cb_runtime_init()) {
+    fprintf(stderr, "bench_spmv: %s\n", cb_error_message());
+    return 1;
+  }
   cb_sparse A;
   if (cb_bench_matrix_read("bench_spmv", argv[1], &A)) return 1;
   int n = A.n, nnz = A.nnz;
   cb_sparse_sym S;
-  if (cb_sparse_sym_alloc(&S, &A)) { fprintf(stderr, "bench_spmv: %s\n", cb_error_message()); return 1; }
+  if (cb_sparse_sym_alloc(&S, &A)) {
+    fprintf(stderr, "bench_spmv: %s\n", cb_error_message());
+    return 1;
+  }
   cb_sparse_sym_fill(&S, &A);
   double *x = malloc((size_t)n * sizeof *x), *y = malloc((size_t)n * sizeof *y), *z = malloc((size_t)n * sizeof *z);
   for (int i = 0; i < n; i++) x[i] = 1.0;
@@ -42,7 +48,8 @@ int main(int argc, char **argv) {
     int k = atoi(line);
     if (k <= 0) break;
     double t0 = cb_now_ms();
-    for (int q = 0; q < k; q++) cb_sparse_sym_matvec(&S, q & 1 ? y : x, q & 1 ? z : y); /* y = A x, z = A y: no growth */
+    for (int q = 0; q < k; q++)
+      cb_sparse_sym_matvec(&S, q & 1 ? y : x, q & 1 ? z : y); /* y = A x, z = A y: no growth */
     double sym = (cb_now_ms() - t0) / k;
     t0 = cb_now_ms();
     for (int q = 0; q < k; q++) cb_sparse_matvec(&A, q & 1 ? y : x, q & 1 ? z : y);
@@ -50,7 +57,9 @@ int main(int argc, char **argv) {
     printf("%.6f %.6f\n", sym, full);
     fflush(stdout);
   }
-  free(x); free(y); free(z);
+  free(x);
+  free(y);
+  free(z);
   cb_sparse_sym_free(&S);
   cb_sparse_free(&A);
   return 0;

@@ -21,8 +21,17 @@ enum { MAXS = 16, MAXP = 8 };
 #define POLICY_LECTURE "drop"
 
 enum { C_SCENE, C_POLICY, C_STEP, C_SYSTEM, C_SPD, C_MINEIG, C_SPDX, C_MINEIGX, C_COMP, C_CGBD, C_STATUS, NCOL };
-static const char *const colnames[NCOL] = {"scene", "policy", "step", "system", "spd", "min_eig_n_per_m", "spd_exact",
-                                           "min_eig_exact_n_per_m", "compressed_frac", "cg_breakdown", "status"};
+static const char *const colnames[NCOL] = {"scene",
+                                           "policy",
+                                           "step",
+                                           "system",
+                                           "spd",
+                                           "min_eig_n_per_m",
+                                           "spd_exact",
+                                           "min_eig_exact_n_per_m",
+                                           "compressed_frac",
+                                           "cg_breakdown",
+                                           "status"};
 
 typedef struct {
   char scene[64];
@@ -126,7 +135,8 @@ void cb_check_h1(const cb_table *csv, const char *dir, cb_claim_result *out) {
                         "| scene | none: indefinite / systems | none fails at step | none: max compressed fraction |");
   for (int p = 0; p < d->npol; p++)
     if (strcmp(d->pol[p], POLICY_EXACT)) cb_claim_numbers(out, " exact along %s |", d->pol[p]);
-  cb_claim_numbers(out, " compressed fraction when indefinite (mean) | no spring compressed: systems (indefinite) |\n|---|---|---|---|");
+  cb_claim_numbers(out, " compressed fraction when indefinite (mean) | no spring compressed: systems (indefinite) "
+                        "|\n|---|---|---|---|");
   for (int p = 0; p < d->npol; p++)
     if (strcmp(d->pol[p], POLICY_EXACT)) cb_claim_numbers(out, "---|");
   cb_claim_numbers(out, "---|---|\n");
@@ -157,20 +167,27 @@ void cb_check_h1(const cb_table *csv, const char *dir, cb_claim_result *out) {
     int dim = (int)cb_table_num(&pair, r, cd), spd = cb_table_num(&pair, r, cs) == 1;
     double a = cb_table_num(&pair, r, ca), q = cb_table_num(&pair, r, cq);
     worst = fmax(worst, fabs(a - q) / fmax(1.0, fabs(q)));
-    if (dim == 1) { n1++; n1_spd += spd && a > 0; continue; }
+    if (dim == 1) {
+      n1++;
+      n1_spd += spd && a > 0;
+      continue;
+    }
     n23++;
     n23_match += spd == (q > 0);
     n23_indef += !spd;
     if (!spd && !(cb_table_num(&pair, r, cr) <= thr)) thr = cb_table_num(&pair, r, cr); /* largest indefinite ratio */
   }
-  cb_claim_numbers(out, "\nSpring pair held still (two springs compressed to l = ratio L between pins, `none`):\n\n"
-                        "- 1D: A SPD at %d of %d compressions (E'' = k > 0).\n"
-                        "- 2D/3D: A indefinite at %d of %d; a dense Cholesky (GSL) agrees with the sign of the predicted lambda_min = "
-                        "m/dt^2 + 2k(1 - L/l) at %d of %d; largest indefinite ratio %g; worst relative error of "
-                        "lambda_min against the prediction %.2g.\n",
+  cb_claim_numbers(out,
+                   "\nSpring pair held still (two springs compressed to l = ratio L between pins, `none`):\n\n"
+                   "- 1D: A SPD at %d of %d compressions (E'' = k > 0).\n"
+                   "- 2D/3D: A indefinite at %d of %d; a dense Cholesky (GSL) agrees with the sign of the predicted "
+                   "lambda_min = "
+                   "m/dt^2 + 2k(1 - L/l) at %d of %d; largest indefinite ratio %g; worst relative error of "
+                   "lambda_min against the prediction %.2g.\n",
                    n1_spd, n1, n23_indef, n23, n23_match, n23, thr, worst);
-  cb_claim_numbers(out, "- Witness consistency: %d systems where CHOLMOD succeeded but a Ritz value was < 0 (must be 0); "
-                        "%d where CHOLMOD failed and Lanczos had not yet reached a negative value.\n",
+  cb_claim_numbers(out,
+                   "- Witness consistency: %d systems where CHOLMOD succeeded but a Ritz value was < 0 (must be 0); "
+                   "%d where CHOLMOD failed and Lanczos had not yet reached a negative value.\n",
                    contradictions, unresolved);
   int pair_ok = n1 > 0 && n1_spd == n1 && n23 > 0 && n23_match == n23 && n23_indef > 0 && worst < 1e-6;
   if (scenes_exact == 0 && n23_indef == 0) {
@@ -178,17 +195,19 @@ void cb_check_h1(const cb_table *csv, const char *dir, cb_claim_result *out) {
     cb_claim_reason(out, "No indefinite A was found on any compression scene or in the spring pair.");
   } else if (pair_ok && stretched_indef == 0 && contradictions == 0 && scenes_indef > 0) {
     out->verdict = CB_REPRODUCED;
-    cb_claim_reason(out, "The exact A was indefinite on %d of %d scenes' `none` runs (CHOLMOD's non-positive pivot ends "
-                         "them) and along the trajectories of the fixes on %d of %d scenes; never when no spring was "
-                         "compressed; compression alone is not enough (see the scenes where `none` stays SPD). The spring "
-                         "pair is indefinite in 2D/3D exactly below the predicted compression (largest indefinite ratio "
-                         "%g) and SPD at every compression in 1D.",
+    cb_claim_reason(out,
+                    "The exact A was indefinite on %d of %d scenes' `none` runs (CHOLMOD's non-positive pivot ends "
+                    "them) and along the trajectories of the fixes on %d of %d scenes; never when no spring was "
+                    "compressed; compression alone is not enough (see the scenes where `none` stays SPD). The spring "
+                    "pair is indefinite in 2D/3D exactly below the predicted compression (largest indefinite ratio "
+                    "%g) and SPD at every compression in 1D.",
                     scenes_indef, d->nscene, scenes_exact, d->nscene, thr);
   } else {
     out->verdict = CB_PARTLY;
-    cb_claim_reason(out, "Indefinite matrices were found (%d scenes; pair 2D/3D: %d), but a check failed: "
-                         "pair prediction %s, %d indefinite systems without compressed springs, %d witness "
-                         "contradictions.",
+    cb_claim_reason(out,
+                    "Indefinite matrices were found (%d scenes; pair 2D/3D: %d), but a check failed: "
+                    "pair prediction %s, %d indefinite systems without compressed springs, %d witness "
+                    "contradictions.",
                     scenes_indef, n23_indef, pair_ok ? "ok" : "failed", stretched_indef, contradictions);
   }
   cb_table_free(&pair);
@@ -204,25 +223,33 @@ void cb_check_h1(const cb_table *csv, const char *dir, cb_claim_result *out) {
  * spread excludes 1, or its Newton iterations per step differ by more than 5%. */
 typedef struct {
   int fix, nsc, differs;
-  double iters, facts;      /* medians over the scenes of the ratios to drop */
-  double shape;             /* median over the scenes of the final shape's distance to drop's, m */
-  cb_claim_timing wall;     /* median over the scenes of the paired wall ratios */
+  double iters, facts;  /* medians over the scenes of the ratios to drop */
+  double shape;         /* median over the scenes of the final shape's distance to drop's, m */
+  cb_claim_timing wall; /* median over the scenes of the paired wall ratios */
 } h2_rank;
 
 static double h2_median(double *v, int n) { /* sorts v */
   for (int i = 1; i < n; i++)
-    for (int j = i; j > 0 && v[j] < v[j - 1]; j--) { double t = v[j]; v[j] = v[j - 1]; v[j - 1] = t; }
+    for (int j = i; j > 0 && v[j] < v[j - 1]; j--) {
+      double t = v[j];
+      v[j] = v[j - 1];
+      v[j - 1] = t;
+    }
   return n == 0 ? NAN : n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
 }
 
-static int h2_costs(const cb_table *runs, const int *rc, const data_t *d, int row[][MAXP], char fixes[][32], int nfix, int lec,
-                    const int *ok, h2_rank *rank, cb_claim_result *out) {
+static int h2_costs(const cb_table *runs, const int *rc, const data_t *d, int row[][MAXP], char fixes[][32], int nfix,
+                    int lec, const int *ok, h2_rank *rank, cb_claim_result *out) {
   int nrank = 0;
-  cb_claim_numbers(out, "\nCosts against `drop` (the lecture's fix) on the same scene, per step: ratio of Newton iterations, of "
-                        "factorisations and of wall time (paired repeats, in brackets the fastest and slowest); per fix the median "
-                        "over the scenes, ranked by wall time; and the median distance of the final shape from drop's (a fix that changes the energy, "
+  cb_claim_numbers(out, "\nCosts against `drop` (the lecture's fix) on the same scene, per step: ratio of Newton "
+                        "iterations, of "
+                        "factorisations and of wall time (paired repeats, in brackets the fastest and slowest); per "
+                        "fix the median "
+                        "over the scenes, ranked by wall time; and the median distance of the final shape from drop's "
+                        "(a fix that changes the energy, "
                         "as choi-ko does, or walks into another local minimum ends elsewhere):\n\n"
-                        "| rank | fix | scenes | Newton iterations / drop's | factorisations / drop's | wall time / drop's | differs | shape vs drop (m) |\n"
+                        "| rank | fix | scenes | Newton iterations / drop's | factorisations / drop's | wall time / "
+                        "drop's | differs | shape vs drop (m) |\n"
                         "|---|---|---|---|---|---|---|---|\n");
   for (int f = 0; f < nfix; f++) {
     if (!ok[f]) continue;
@@ -250,16 +277,24 @@ static int h2_costs(const cb_table *runs, const int *rc, const data_t *d, int ro
     k->facts = h2_median(fa, k->nsc);
     k->shape = h2_median(sh, nsh);
     k->wall = cb_claim_timing_median(w, k->nsc);
-    k->differs = f != lec && ((cb_claim_timing_has_spread(&k->wall) ? k->wall.min > 1 || k->wall.max < 1 : k->wall.med != 1) ||
-                              fabs(k->iters - 1) > 0.05);
+    k->differs =
+        f != lec && ((cb_claim_timing_has_spread(&k->wall) ? k->wall.min > 1 || k->wall.max < 1 : k->wall.med != 1) ||
+                     fabs(k->iters - 1) > 0.05);
     nrank++;
   }
   for (int i = 1; i < nrank; i++) /* by the wall-time median, cheapest first */
-    for (int j = i; j > 0 && rank[j].wall.med < rank[j - 1].wall.med; j--) { h2_rank t = rank[j]; rank[j] = rank[j - 1]; rank[j - 1] = t; }
+    for (int j = i; j > 0 && rank[j].wall.med < rank[j - 1].wall.med; j--) {
+      h2_rank t = rank[j];
+      rank[j] = rank[j - 1];
+      rank[j - 1] = t;
+    }
   for (int i = 0; i < nrank; i++) {
     char b[128];
-    cb_claim_numbers(out, "| %d | %s | %d | %.2f | %.2f | %s | %s | %.3g |\n", i + 1, fixes[rank[i].fix], rank[i].nsc, rank[i].iters, rank[i].facts,
-                     cb_claim_spread_long(b, sizeof b, "%.2f", &rank[i].wall, "x"), rank[i].fix == lec ? "(baseline)" : rank[i].differs ? "yes" : "no",
+    cb_claim_numbers(out, "| %d | %s | %d | %.2f | %.2f | %s | %s | %.3g |\n", i + 1, fixes[rank[i].fix], rank[i].nsc,
+                     rank[i].iters, rank[i].facts, cb_claim_spread_long(b, sizeof b, "%.2f", &rank[i].wall, "x"),
+                     rank[i].fix == lec ? "(baseline)"
+                     : rank[i].differs  ? "yes"
+                                        : "no",
                      rank[i].shape);
   }
   return nrank;
@@ -268,13 +303,15 @@ static int h2_costs(const cb_table *runs, const int *rc, const data_t *d, int ro
 /* The ranking in one sentence: each fix's wall time and Newton iterations per step against drop's. */
 static void h2_rank_text(const h2_rank *rank, int nrank, char fixes[][32], int lec, cb_claim_result *out) {
   if (nrank == 0) return;
-  cb_claim_reason(out, "Ranked by wall time per step against `drop` (median over the scenes, spread of paired repeats): ");
+  cb_claim_reason(out, "Ranked by wall time per step against `drop` (median over the scenes, spread of paired "
+                       "repeats): ");
   for (int i = 0; i < nrank; i++) {
     char b[96];
     if (rank[i].fix == lec) cb_claim_reason(out, "%s%d. drop (1x, the baseline)", i ? "; " : "", i + 1);
     else
       cb_claim_reason(out, "%s%d. %s %s, %.2fx the Newton iterations%s", i ? "; " : "", i + 1, fixes[rank[i].fix],
-                      cb_claim_spread(b, sizeof b, "%.2f", &rank[i].wall, "x"), rank[i].iters, rank[i].differs ? "" : " (no measurable difference)");
+                      cb_claim_spread(b, sizeof b, "%.2f", &rank[i].wall, "x"), rank[i].iters,
+                      rank[i].differs ? "" : " (no measurable difference)");
   }
   cb_claim_reason(out, ".");
 }
@@ -287,8 +324,9 @@ void cb_check_h2(const cb_table *csv, const char *dir, cb_claim_result *out) {
     free(d);
     return;
   }
-  const char *need[] = {"scene", "policy", "steps", "steps_done", "steps_converged", "newton_iters", "factorizations",
-                        "wall_ms", "shape_diff_none_m", "shape_diff_drop_m", "final_energy_j", "mu_max_n_per_m"};
+  const char *need[] = {"scene",          "policy",         "steps",   "steps_done",        "steps_converged",
+                        "newton_iters",   "factorizations", "wall_ms", "shape_diff_none_m", "shape_diff_drop_m",
+                        "final_energy_j", "mu_max_n_per_m"};
   int rc[12];
   for (int k = 0; k < 12; k++)
     if ((rc[k] = cb_table_col(&runs, need[k])) < 0) {
@@ -297,7 +335,8 @@ void cb_check_h2(const cb_table *csv, const char *dir, cb_claim_result *out) {
       free(d);
       return;
     }
-  cb_claim_numbers(out, "| scene | policy | CHOLMOD failures / systems | CG breakdowns | steps done (converged) / steps | "
+  cb_claim_numbers(out, "| scene | policy | CHOLMOD failures / systems | CG breakdowns | steps done (converged) / "
+                        "steps | "
                         "Newton iterations per step | factorisations per step | wall ms per step | max shift mu | "
                         "shape vs none (m) | shape vs drop (m) | final energy (J) |\n"
                         "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
@@ -317,7 +356,8 @@ void cb_check_h2(const cb_table *csv, const char *dir, cb_claim_result *out) {
     if (strcmp(pn, POLICY_EXACT)) f = index_of(fixes, &nfix, MAXP, pn);
     int sys = si >= 0 && pi >= 0 ? d->sc[si].sys[pi] : 0, fail = si >= 0 && pi >= 0 ? d->sc[si].spd_fail[pi] : 0;
     int bd = si >= 0 && pi >= 0 ? d->sc[si].cg_bd[pi] : 0;
-    double steps = cb_table_num(&runs, r, rc[2]), done = cb_table_num(&runs, r, rc[3]), conv = cb_table_num(&runs, r, rc[4]);
+    double steps = cb_table_num(&runs, r, rc[2]), done = cb_table_num(&runs, r, rc[3]),
+           conv = cb_table_num(&runs, r, rc[4]);
     double per = done > 0 ? 1.0 / done : NAN;
     char dn[32] = "-", dd[32] = "-"; /* shape differences, when the reference run finished */
     if (!isnan(cb_table_num(&runs, r, rc[8]))) snprintf(dn, sizeof dn, "%.3g", cb_table_num(&runs, r, rc[8]));
@@ -325,7 +365,8 @@ void cb_check_h2(const cb_table *csv, const char *dir, cb_claim_result *out) {
     cb_claim_timing w = cb_claim_timing_at(&runs, r, "wall_ms"), wps = cb_claim_timing_scale(&w, per); /* per step */
     char ws[96];
     cb_claim_repeats_add(&reps, &w);
-    cb_claim_numbers(out, "| %s | %s | %d / %d | %d | %.0f (%.0f) / %.0f | %.2f | %.2f | %s | %.3g | %s | %s | %.6g |\n", sn,
+    cb_claim_numbers(out,
+                     "| %s | %s | %d / %d | %d | %.0f (%.0f) / %.0f | %.2f | %.2f | %s | %.3g | %s | %s | %.6g |\n", sn,
                      pn, fail, sys, bd, done, conv, steps, cb_table_num(&runs, r, rc[5]) * per,
                      cb_table_num(&runs, r, rc[6]) * per, cb_claim_spread(ws, sizeof ws, "%.1f", &wps, ""),
                      cb_table_num(&runs, r, rc[11]), dn, dd, cb_table_num(&runs, r, rc[10]));
@@ -339,8 +380,11 @@ void cb_check_h2(const cb_table *csv, const char *dir, cb_claim_result *out) {
                         "Steps that stop at max_iters are a cost, not a failure of definiteness.\n");
   char rt[64];
   if (cb_claim_repeats_text(rt, sizeof rt, &reps)[0])
-    cb_claim_numbers(out, "\nWall ms per step: the run's integrator time over its steps, the median of %s of the run without "
-                          "the probes, in brackets the fastest and slowest; a scene's policies ran in interleaved rounds.\n", rt);
+    cb_claim_numbers(out,
+                     "\nWall ms per step: the run's integrator time over its steps, the median of %s of the run "
+                     "without "
+                     "the probes, in brackets the fastest and slowest; a scene's policies ran in interleaved rounds.\n",
+                     rt);
   int lec0 = -1;
   for (int k = 0; k < nfix; k++)
     if (!strcmp(fixes[k], POLICY_LECTURE)) lec0 = k;
@@ -357,19 +401,24 @@ void cb_check_h2(const cb_table *csv, const char *dir, cb_claim_result *out) {
   }
   if (lec < 0 || !seen[lec] || !ok[lec]) {
     out->verdict = CB_NOT_REPRODUCED;
-    cb_claim_reason(out, "%s", lec >= 0 && seen[lec] ? "`drop` did not restore definiteness everywhere: see the CHOLMOD failures, CG "
-                                         "breakdowns or unfinished runs above."
-                                       : "No `drop` run in the data.");
+    cb_claim_reason(out, "%s",
+                    lec >= 0 && seen[lec] ? "`drop` did not restore definiteness everywhere: see the CHOLMOD failures, "
+                                            "CG "
+                                            "breakdowns or unfinished runs above."
+                                          : "No `drop` run in the data.");
   } else if (nok == nfix) {
     int differ = 0;
     for (int k = 0; k < nrank; k++) differ += rank[k].differs;
     out->verdict = differ > 0 ? CB_REPRODUCED : CB_PARTLY;
-    cb_claim_reason(out, "`drop` and the %d other fixes (%s) gave CHOLMOD an SPD matrix at every "
-                         "Newton iteration of every scene and CG never broke down (a fix with a non-SPD matrix, a CG "
-                         "breakdown or an unfinished run on any scene would refute this). ", nfix - 1, others);
+    cb_claim_reason(out,
+                    "`drop` and the %d other fixes (%s) gave CHOLMOD an SPD matrix at every "
+                    "Newton iteration of every scene and CG never broke down (a fix with a non-SPD matrix, a CG "
+                    "breakdown or an unfinished run on any scene would refute this). ",
+                    nfix - 1, others);
     h2_rank_text(rank, nrank, fixes, lec0, out);
     if (!differ)
-      cb_claim_reason(out, " No fix's cost differs from `drop`'s beyond the spread of the repeats and by 5%% in Newton iterations: "
+      cb_claim_reason(out, " No fix's cost differs from `drop`'s beyond the spread of the repeats and by 5%% in Newton "
+                           "iterations: "
                            "\"at different costs\" is not reproduced.");
   } else {
     out->verdict = CB_PARTLY;

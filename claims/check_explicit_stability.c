@@ -12,12 +12,12 @@
 enum { MAXS = 16, MAXPTS = 4096 };
 
 /* The tolerances the claims state. */
-#define E1_RATIO_TOL 0.15  /* |dt_meas / dt_pred - 1| */
-#define E1_SLOPE 0.5       /* -d log dt_crit / d log k */
+#define E1_RATIO_TOL 0.15 /* |dt_meas / dt_pred - 1| */
+#define E1_SLOPE 0.5      /* -d log dt_crit / d log k */
 #define E1_SLOPE_TOL 0.05
-#define E2_ERR_TOL 0.01   /* an implicit method counts when its step error is within 1% */
-#define E2_N_EXP_TOL 0.2   /* |b - b_pred|: explicit cost ~ n^b against 1 + d log omega_max / d log n */
-#define I1_MIN_EXP 0.25    /* energy lost per second ~ dt^p with p at least this: damping grows with dt */
+#define E2_ERR_TOL 0.01  /* an implicit method counts when its step error is within 1% */
+#define E2_N_EXP_TOL 0.2 /* |b - b_pred|: explicit cost ~ n^b against 1 + d log omega_max / d log n */
+#define I1_MIN_EXP 0.25  /* energy lost per second ~ dt^p with p at least this: damping grows with dt */
 
 static int find_name(char names[][32], int *n, const char *s) {
   for (int i = 0; i < *n; i++)
@@ -32,11 +32,13 @@ static int find_name(char names[][32], int *n, const char *s) {
 void cb_check_E1(const cb_table *t, const char *results_dir, cb_claim_result *out) {
   cb_table b;
   if (cb_claim_side_table(results_dir, "explicit_stability", "boundary", &b, out)) return;
-  static const char *const bn[] = {"scene", "k_n_per_m", "dt_crit_pred_s", "dt_crit_meas_s", "bisect_status", "dt_crit_pred_rest_s",
-                                   "lambda_dense_per_s2", "lambda_lanczos_per_s2"};
+  static const char *const bn[] = {
+      "scene",         "k_n_per_m",           "dt_crit_pred_s",      "dt_crit_meas_s",
+      "bisect_status", "dt_crit_pred_rest_s", "lambda_dense_per_s2", "lambda_lanczos_per_s2"};
   static const char *const mn[] = {"kind", "scene", "k_n_per_m", "dt_s", "method", "status", "dt_crit_pred_s"};
   int bc[8], mc[7], ceq = cb_table_col(&b, "equilibrium_status"); /* optional: which state the runs start from */
-  if (cb_claim_columns(&b, bn, bc, 8, "explicit_stability_boundary.csv", out) || cb_claim_columns(t, mn, mc, 7, "explicit_stability.csv", out)) {
+  if (cb_claim_columns(&b, bn, bc, 8, "explicit_stability_boundary.csv", out) ||
+      cb_claim_columns(t, mn, mc, 7, "explicit_stability.csv", out)) {
     cb_table_free(&b);
     return;
   }
@@ -45,9 +47,11 @@ void cb_check_E1(const cb_table *t, const char *results_dir, cb_claim_result *ou
   static double lk[MAXS][64], lm[MAXS][64], lp[MAXS][64];
   double worst = 1, lanczos_diff = 0, worst_rest = 1;
   int checked = 0, at_eq = 0, rest_rows = 0, rest_within = 0;
-  cb_claim_numbers(out, "Per (scene, k): the largest stable explicit dt (bisection) against dt_pred = 2/omega_max at the "
+  cb_claim_numbers(out, "Per (scene, k): the largest stable explicit dt (bisection) against dt_pred = 2/omega_max at "
+                        "the "
                         "hanging equilibrium, and against the prediction at the flat rest shape.\n\n"
-                        "| scene | k (N/m) | dt_pred (s) | dt_meas (s) | meas/pred | meas/pred(rest) |\n|---|---|---|---|---|---|\n");
+                        "| scene | k (N/m) | dt_pred (s) | dt_meas (s) | meas/pred | meas/pred(rest) "
+                        "|\n|---|---|---|---|---|---|\n");
   for (int r = 0; r < b.nrows; r++) {
     const char *sc = cb_table_str(&b, r, bc[0]);
     double k = cb_table_num(&b, r, bc[1]), pred = cb_table_num(&b, r, bc[2]), meas = cb_table_num(&b, r, bc[3]);
@@ -78,7 +82,8 @@ void cb_check_E1(const cb_table *t, const char *results_dir, cb_claim_result *ou
   }
   /* slopes of log dt_crit against log k, per scene with at least 3 stiffnesses */
   int slopes = 0, slopes_ok = 0;
-  cb_claim_numbers(out, "\nFitted slope of log10 dt_crit against log10 k (target -%.2f +- %.2f):\n\n", E1_SLOPE, E1_SLOPE_TOL);
+  cb_claim_numbers(out, "\nFitted slope of log10 dt_crit against log10 k (target -%.2f +- %.2f):\n\n", E1_SLOPE,
+                   E1_SLOPE_TOL);
   for (int s = 0; s < ns; s++) {
     if (npts[s] < 3) continue;
     double a, c, ap;
@@ -95,14 +100,25 @@ void cb_check_E1(const cb_table *t, const char *results_dir, cb_claim_result *ou
     double x = cb_table_num(t, r, mc[3]) / cb_table_num(t, r, mc[6]);
     int stable = !strcmp(cb_table_str(t, r, mc[5]), "stable");
     unstable += !stable;
-    if (x < 1 - E1_RATIO_TOL) { below++; below_bad += !stable; }
-    if (x > 1 + E1_RATIO_TOL) { above++; above_bad += stable; }
+    if (x < 1 - E1_RATIO_TOL) {
+      below++;
+      below_bad += !stable;
+    }
+    if (x > 1 + E1_RATIO_TOL) {
+      above++;
+      above_bad += stable;
+    }
   }
-  cb_claim_numbers(out, "\nStability map (explicit sweep cells): %d not stable; %d of %d cells with dt < %.2f dt_pred are not "
-                        "stable, %d of %d cells with dt > %.2f dt_pred are stable.\n", unstable, below_bad, below,
-                   1 - E1_RATIO_TOL, above_bad, above, 1 + E1_RATIO_TOL);
-  if (checked) cb_claim_numbers(out, "\nLanczos against GSL's dense solver: largest relative difference of lambda_max %.2g "
-                                     "(%d scenes where both ran).\n", lanczos_diff, checked);
+  cb_claim_numbers(out,
+                   "\nStability map (explicit sweep cells): %d not stable; %d of %d cells with dt < %.2f dt_pred are "
+                   "not "
+                   "stable, %d of %d cells with dt > %.2f dt_pred are stable.\n",
+                   unstable, below_bad, below, 1 - E1_RATIO_TOL, above_bad, above, 1 + E1_RATIO_TOL);
+  if (checked)
+    cb_claim_numbers(out,
+                     "\nLanczos against GSL's dense solver: largest relative difference of lambda_max %.2g "
+                     "(%d scenes where both ran).\n",
+                     lanczos_diff, checked);
   cb_table_free(&b);
   if (nrows == 0) {
     cb_claim_reason(out, "The boundary table has no rows.");
@@ -114,19 +130,28 @@ void cb_check_E1(const cb_table *t, const char *results_dir, cb_claim_result *ou
   else if (2 * within >= nrows && unstable > 0) out->verdict = CB_PARTLY;
   else out->verdict = CB_NOT_REPRODUCED;
   /* CLAIMS.md: omega_max at the state the runs start from, rest or the hanging equilibrium; say which */
-  if (at_eq == nrows) cb_claim_reason(out, "Judged at the state every run starts from, the static hanging equilibrium (v = 0 "
-                                           "before the small start velocity), not the flat rest shape: ");
-  else cb_claim_reason(out, "Judged at the state every run starts from (the static hanging equilibrium in %d of %d rows, "
-                            "the scene's own start in the others): ", at_eq, nrows);
-  cb_claim_reason(out, "%d of %d measured boundaries lie within %.0f%% of 2/omega_max (worst ratio %.4f%s); %d of %d scenes "
-                       "have a slope within -%.2f +- %.2f; the map has %d cells off the predicted side outside the +-%.0f%% band",
+  if (at_eq == nrows)
+    cb_claim_reason(out, "Judged at the state every run starts from, the static hanging equilibrium (v = 0 "
+                         "before the small start velocity), not the flat rest shape: ");
+  else
+    cb_claim_reason(out,
+                    "Judged at the state every run starts from (the static hanging equilibrium in %d of %d rows, "
+                    "the scene's own start in the others): ",
+                    at_eq, nrows);
+  cb_claim_reason(out,
+                  "%d of %d measured boundaries lie within %.0f%% of 2/omega_max (worst ratio %.4f%s); %d of %d scenes "
+                  "have a slope within -%.2f +- %.2f; the map has %d cells off the predicted side outside the +-%.0f%% "
+                  "band",
                   within, nrows, 100 * E1_RATIO_TOL, worst, failed ? ", some bisections failed" : "", slopes_ok, slopes,
                   E1_SLOPE, E1_SLOPE_TOL, below_bad + above_bad, 100 * E1_RATIO_TOL);
   cb_claim_reason(out, unstable ? "." : " and no unstable cell at all.");
   if (!lanczos_ok) cb_claim_reason(out, " Lanczos and GSL disagree by %.2g.", lanczos_diff);
   if (rest_rows)
-    cb_claim_reason(out, " At the flat rest shape instead, %d of %d lie within %.0f%% (worst %.4f); that prediction does not "
-                         "decide.", rest_within, rest_rows, 100 * E1_RATIO_TOL, worst_rest);
+    cb_claim_reason(out,
+                    " At the flat rest shape instead, %d of %d lie within %.0f%% (worst %.4f); that prediction does "
+                    "not "
+                    "decide.",
+                    rest_within, rest_rows, 100 * E1_RATIO_TOL, worst_rest);
 }
 
 /* ---- E2 ------------------------------------------------------------------- */
@@ -145,18 +170,22 @@ static double pick(const cb_claim_timing *t, int which) { return which == 0 ? t-
 
 /* "a (lo / hi fitted to the fastest / slowest repeats)" for a fitted exponent, or "a" */
 static const char *exp_text(char *buf, size_t n, double a, double lo, double hi) {
-  if (isfinite(lo) && isfinite(hi)) snprintf(buf, n, "%.3f (%.3f / %.3f fitted to the fastest / slowest repeats)", a, lo, hi);
+  if (isfinite(lo) && isfinite(hi))
+    snprintf(buf, n, "%.3f (%.3f / %.3f fitted to the fastest / slowest repeats)", a, lo, hi);
   else snprintf(buf, n, "%.3f", a);
   return buf;
 }
 
 enum { E2_NM = 4 }; /* methods: explicit, newton, newton_bw, newton_bw_shift */
 static const char *const e2_method[E2_NM] = {"explicit", "newton", "newton_bw", "newton_bw_shift"};
-static const char *const e2_variant[E2_NM] = {
-  "explicit (symplectic Euler)", "converged Newton (exact Hessian, shift where indefinite, line search, CHOLMOD)",
-  "Baraff-Witkin (one Newton iteration, the lecture's drop fix, CHOLMOD)",
-  "Baraff-Witkin on the exact Hessian (one Newton iteration, shift, CHOLMOD)"};
-static const char *const e2_short[E2_NM] = {"explicit", "converged Newton", "Baraff-Witkin (drop)", "Baraff-Witkin (shift)"};
+static const char *const e2_variant[E2_NM] = {"explicit (symplectic Euler)",
+                                              "converged Newton (exact Hessian, shift where indefinite, line search, "
+                                              "CHOLMOD)",
+                                              "Baraff-Witkin (one Newton iteration, the lecture's drop fix, CHOLMOD)",
+                                              "Baraff-Witkin on the exact Hessian (one Newton iteration, shift, "
+                                              "CHOLMOD)"};
+static const char *const e2_short[E2_NM] = {"explicit", "converged Newton", "Baraff-Witkin (drop)",
+                                            "Baraff-Witkin (shift)"};
 
 /* The fastest implicit row of (scene, k) that stayed stable with a measured step error within E2_ERR_TOL. */
 static const trow *e2_best(const trow *rows, int n, const trow *ex) {
@@ -180,10 +209,14 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
   (void)t;
   cb_table b;
   if (cb_claim_side_table(results_dir, "explicit_stability", "timing", &b, out)) return;
-  static const char *const tn[] = {"scene", "family", "n_vertices", "k_n_per_m", "method", "wall_ms_per_s", "steps", "status",
-                                   "dt_crit_pred_s", "step_error_max", "not_converged_steps"};
+  static const char *const tn[] = {
+      "scene",  "family",         "n_vertices",     "k_n_per_m",          "method", "wall_ms_per_s", "steps",
+      "status", "dt_crit_pred_s", "step_error_max", "not_converged_steps"};
   int c[11];
-  if (cb_claim_columns(&b, tn, c, 11, "explicit_stability_timing.csv", out)) { cb_table_free(&b); return; }
+  if (cb_claim_columns(&b, tn, c, 11, "explicit_stability_timing.csv", out)) {
+    cb_table_free(&b);
+    return;
+  }
   static trow rows[MAXPTS];
   int n = 0, unstable = 0;
   cb_claim_repeats reps = {0};
@@ -192,9 +225,11 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
     trow *x = &rows[n++];
     snprintf(x->scene, sizeof x->scene, "%s", cb_table_str(&b, r, c[0]));
     snprintf(x->family, sizeof x->family, "%s", cb_table_str(&b, r, c[1]));
-    x->n = cb_table_num(&b, r, c[2]); x->k = cb_table_num(&b, r, c[3]);
+    x->n = cb_table_num(&b, r, c[2]);
+    x->k = cb_table_num(&b, r, c[3]);
     x->w = cb_claim_timing_at(&b, r, "wall_ms_per_s");
-    x->wall = x->w.med; x->steps = cb_table_num(&b, r, c[6]);
+    x->wall = x->w.med;
+    x->steps = cb_table_num(&b, r, c[6]);
     x->method = E2_NM;
     for (int q = 0; q < E2_NM; q++)
       if (!strcmp(m, e2_method[q])) x->method = q;
@@ -208,16 +243,23 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
   cb_table_free(&b);
   char rtxt[64], s1[128], s3[96];
   cb_claim_repeats_text(rtxt, sizeof rtxt, &reps);
-  cb_claim_numbers(out, "Wall time to simulate 1 s: explicit (symplectic Euler) at its measured largest stable dt, against "
-                        "the fastest implicit method at dt = 1/30 s whose step error (|x - x*|_M / |x* - x0|_M against the "
-                        "converged minimiser of each step, largest over the steps checked) is within %.0f%%. Implicit "
-                        "variants: %s; %s; %s.", 100 * E2_ERR_TOL, e2_variant[1], e2_variant[2], e2_variant[3]);
+  cb_claim_numbers(out,
+                   "Wall time to simulate 1 s: explicit (symplectic Euler) at its measured largest stable dt, against "
+                   "the fastest implicit method at dt = 1/30 s whose step error (|x - x*|_M / |x* - x0|_M against the "
+                   "converged minimiser of each step, largest over the steps checked) is within %.0f%%. Implicit "
+                   "variants: %s; %s; %s.",
+                   100 * E2_ERR_TOL, e2_variant[1], e2_variant[2], e2_variant[3]);
   if (rtxt[0])
-    cb_claim_numbers(out, " Each time is the median of %s (in brackets the fastest and slowest); the methods of a row "
-                          "ran in interleaved rounds, so ratios between them are paired repeat by repeat.", rtxt);
-  cb_claim_numbers(out, "\n\n| scene | family | k (N/m) | n | explicit (ms) | explicit steps | converged Newton (ms; step error) "
-                        "| Baraff-Witkin, drop (ms; step error) | Baraff-Witkin, shift (ms; step error) | fastest implicit "
-                        "within %.0f%% | explicit / it |\n|---|---|---|---|---|---|---|---|---|---|---|\n", 100 * E2_ERR_TOL);
+    cb_claim_numbers(out,
+                     " Each time is the median of %s (in brackets the fastest and slowest); the methods of a row "
+                     "ran in interleaved rounds, so ratios between them are paired repeat by repeat.",
+                     rtxt);
+  cb_claim_numbers(out,
+                   "\n\n| scene | family | k (N/m) | n | explicit (ms) | explicit steps | converged Newton (ms; step "
+                   "error) "
+                   "| Baraff-Witkin, drop (ms; step error) | Baraff-Witkin, shift (ms; step error) | fastest implicit "
+                   "within %.0f%% | explicit / it |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
+                   100 * E2_ERR_TOL);
   int compared = 0, slower = 0, newton_unconverged = 0, no_best = 0;
   for (int i = 0; i < n; i++) {
     const trow *ex = &rows[i];
@@ -241,12 +283,14 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
       compared++;
       slower += ex->wall > best->wall;
     } else no_best++;
-    cb_claim_numbers(out, "| %s | %s | %.3g | %.0f | %s%s | %.0f | %s | %s | %s | %s | %s |\n", ex->scene, ex->family, ex->k,
-                     ex->n, cb_claim_spread(s1, sizeof s1, "%.4g", &ex->w, ""), ex->stable ? "" : " (**not stable**)",
-                     ex->steps, itxt[1], itxt[2], itxt[3], best ? e2_short[best->method] : "none", rat);
+    cb_claim_numbers(out, "| %s | %s | %.3g | %.0f | %s%s | %.0f | %s | %s | %s | %s | %s |\n", ex->scene, ex->family,
+                     ex->k, ex->n, cb_claim_spread(s1, sizeof s1, "%.4g", &ex->w, ""),
+                     ex->stable ? "" : " (**not stable**)", ex->steps, itxt[1], itxt[2], itxt[3],
+                     best ? e2_short[best->method] : "none", rat);
   }
   if (newton_unconverged)
-    cb_claim_numbers(out, "\n%d converged-Newton rows had steps that stopped at max_iters (marked **not converged**).\n",
+    cb_claim_numbers(out,
+                     "\n%d converged-Newton rows had steps that stopped at max_iters (marked **not converged**).\n",
                      newton_unconverged);
   /* against stiffness: per scene, explicit wall ~ k^a against a = d log omega_max / d log k (steps ~ omega_max) */
   char names[MAXS][32];
@@ -283,16 +327,20 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
     if (!spread) a[1] = a[2] = NAN;
     cb_fit_line(lx, lo, m, &ap, &b0);
     kfits++;
-    if (last && last->k > stiff_k) { stiff_k = last->k; stiff_ex = last; }
+    if (last && last->k > stiff_k) {
+      stiff_k = last->k;
+      stiff_ex = last;
+    }
     cb_claim_numbers(out, "- %s: explicit ~ k^%s over %d stiffnesses, predicted %.3f; explicit is slower ", names[s],
                      exp_text(s1, sizeof s1, a[0], a[1], a[2]), m, ap);
     if (isnan(from)) cb_claim_numbers(out, "at no k timed up to %.3g N/m\n", last ? last->k : NAN);
     else cb_claim_numbers(out, "from k = %.3g N/m on (timed up to %.3g)\n", from, last->k);
   }
   /* against resolution: per (family, k) with explicit rows at >= 3 sizes */
-  cb_claim_numbers(out, "\nAgainst resolution n (vertices): fitted exponent b of explicit wall time, against b_pred = 1 + "
-                        "c, c = d log omega_max / d log n (steps ~ omega_max, work ~ n per step; target |b - b_pred| <= "
-                        "%.2f); and the exponents of steps, of time per step and of the fastest accurate implicit time:\n\n",
+  cb_claim_numbers(out,
+                   "\nAgainst resolution n (vertices): fitted exponent b of explicit wall time, against b_pred = 1 + "
+                   "c, c = d log omega_max / d log n (steps ~ omega_max, work ~ n per step; target |b - b_pred| <= "
+                   "%.2f); and the exponents of steps, of time per step and of the fastest accurate implicit time:\n\n",
                    E2_N_EXP_TOL);
   int nfits = 0, nfits_ok = 0, fam_fit[2] = {0, 0}, fam_slow[2] = {0, 0}, fam_fine[2] = {0, 0};
   double fam_c[2] = {NAN, NAN}, worst_dev = 0;
@@ -301,14 +349,16 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
     const trow *r0 = &rows[i];
     if (r0->method != 0) continue;
     int seen = 0;
-    for (int j = 0; j < i; j++) seen |= rows[j].method == 0 && rows[j].k == r0->k && !strcmp(rows[j].family, r0->family);
+    for (int j = 0; j < i; j++)
+      seen |= rows[j].method == 0 && rows[j].k == r0->k && !strcmp(rows[j].family, r0->family);
     if (seen) continue;
     double ln[16], lw[3][16], ls[16], lp[16], lo[16], li[16];
     int m = 0, mi = 0, spread = 1;
     const trow *fine = NULL;
     for (int j = 0; j < n && m < 16; j++) {
       const trow *ex = &rows[j];
-      if (ex->method != 0 || ex->k != r0->k || strcmp(ex->family, r0->family) || !(ex->wall > 0) || !(ex->dtp > 0)) continue;
+      if (ex->method != 0 || ex->k != r0->k || strcmp(ex->family, r0->family) || !(ex->wall > 0) || !(ex->dtp > 0))
+        continue;
       int dup = 0;
       for (int u = 0; u < m; u++) dup |= ln[u] == log10(ex->n);
       if (dup) continue;
@@ -342,31 +392,37 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
     fam_slow[f] += best && fine->stable && fine->wall > best->wall;
     if (fabs(dev) >= fabs(worst_dev)) {
       worst_dev = dev;
-      snprintf(worst_txt, sizeof worst_txt, "%s family at k = %.3g: b = %.3f against b_pred = %.3f", r0->family, r0->k, a[0],
-               1 + ac);
+      snprintf(worst_txt, sizeof worst_txt, "%s family at k = %.3g: b = %.3f against b_pred = %.3f", r0->family, r0->k,
+               a[0], 1 + ac);
     }
     char fine_rat[128] = "-";
     if (best && fine->stable) {
       cb_claim_timing r = cb_claim_timing_ratio(&fine->w, &best->w);
       cb_claim_spread_long(fine_rat, sizeof fine_rat, "%.3g", &r, "");
     }
-    cb_claim_numbers(out, "- %s family, k = %.3g: explicit ~ n^%s, b_pred = %.3f (omega_max ~ n^%.3f)%s; steps ~ n^%.3f, "
-                          "time per step ~ n^%.3f; fastest accurate implicit ~ %s (%d sizes); at n = %.0f explicit / "
-                          "fastest accurate implicit = %s\n", r0->family, r0->k,
-                     exp_text(s1, sizeof s1, a[0], a[1], a[2]), 1 + ac, ac, ok ? "" : " (**outside the tolerance**)", as, ap,
+    cb_claim_numbers(out,
+                     "- %s family, k = %.3g: explicit ~ n^%s, b_pred = %.3f (omega_max ~ n^%.3f)%s; steps ~ n^%.3f, "
+                     "time per step ~ n^%.3f; fastest accurate implicit ~ %s (%d sizes); at n = %.0f explicit / "
+                     "fastest accurate implicit = %s\n",
+                     r0->family, r0->k, exp_text(s1, sizeof s1, a[0], a[1], a[2]), 1 + ac, ac,
+                     ok ? "" : " (**outside the tolerance**)", as, ap,
                      isfinite(ai) ? (snprintf(s3, sizeof s3, "n^%.3f", ai), s3) : "not fitted (a size without one)", m,
                      fine->n, fine_rat);
   }
   if (compared == 0 && nfits == 0) {
-    cb_claim_reason(out, "The timing table has no explicit row with an accurate implicit one to compare, and too few sizes "
+    cb_claim_reason(out, "The timing table has no explicit row with an accurate implicit one to compare, and too few "
+                         "sizes "
                          "to fit anything.");
     return;
   }
-  cb_claim_numbers(out, "\nVerdict rule: reproduced when explicit is slower than the fastest accurate implicit method at "
-                        "the stiffest k and at the finest mesh of every (family, k), and every resolution exponent is within "
-                        "%.2f of 1 + its omega_max exponent, with both families measured and the bending one's omega_max "
-                        "growing faster; refuted (not reproduced) when explicit is faster than every accurate implicit "
-                        "method in every timed row; otherwise partly.\n", E2_N_EXP_TOL);
+  cb_claim_numbers(out,
+                   "\nVerdict rule: reproduced when explicit is slower than the fastest accurate implicit method at "
+                   "the stiffest k and at the finest mesh of every (family, k), and every resolution exponent is "
+                   "within "
+                   "%.2f of 1 + its omega_max exponent, with both families measured and the bending one's omega_max "
+                   "growing faster; refuted (not reproduced) when explicit is faster than every accurate implicit "
+                   "method in every timed row; otherwise partly.\n",
+                   E2_N_EXP_TOL);
   /* the verdict: "slow" at the stiffest k of the k-sweep and at the finest mesh of each family;
    * "as the physics predicts": every resolution exponent within tolerance of its omega_max prediction,
    * with both families measured and the bending family's omega_max growing faster */
@@ -381,18 +437,26 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
   if (slower == 0) out->verdict = CB_NOT_REPRODUCED;
   else if (exps_ok && slow_all) out->verdict = CB_REPRODUCED;
   else out->verdict = CB_PARTLY;
-  cb_claim_reason(out, "Explicit at its largest stable dt is slower than the fastest implicit method at 1/30 s within %.0f%% "
-                       "step error in %d of %d timed rows", 100 * E2_ERR_TOL, slower, compared);
-  if (stiff_ex) cb_claim_reason(out, ", %s at the stiffest k (%.3g N/m, %s)", stiff_slow ? "including" : "but not", stiff_k,
-                                stiff_ex->scene);
-  cb_claim_reason(out, "; at the finest mesh it is slower in %d of %d stretch-family and %d of %d bending-family "
-                       "stiffnesses. Explicit cost against resolution follows b_pred = 1 + d log omega_max / d log n "
-                       "within %.2f in %d of %d (family, k) fits (worst: %s); omega_max ~ n^%.3f (stretch) and n^%.3f "
-                       "(bending).", fam_slow[0], fam_fine[0], fam_slow[1], fam_fine[1], E2_N_EXP_TOL, nfits_ok, nfits,
+  cb_claim_reason(out,
+                  "Explicit at its largest stable dt is slower than the fastest implicit method at 1/30 s within "
+                  "%.0f%% "
+                  "step error in %d of %d timed rows",
+                  100 * E2_ERR_TOL, slower, compared);
+  if (stiff_ex)
+    cb_claim_reason(out, ", %s at the stiffest k (%.3g N/m, %s)", stiff_slow ? "including" : "but not", stiff_k,
+                    stiff_ex->scene);
+  cb_claim_reason(out,
+                  "; at the finest mesh it is slower in %d of %d stretch-family and %d of %d bending-family "
+                  "stiffnesses. Explicit cost against resolution follows b_pred = 1 + d log omega_max / d log n "
+                  "within %.2f in %d of %d (family, k) fits (worst: %s); omega_max ~ n^%.3f (stretch) and n^%.3f "
+                  "(bending).",
+                  fam_slow[0], fam_fine[0], fam_slow[1], fam_fine[1], E2_N_EXP_TOL, nfits_ok, nfits,
                   worst_txt[0] ? worst_txt : "none", fam_c[0], fam_c[1]);
   if (!both) cb_claim_reason(out, " Only one family was measured.");
-  else if (!distinct) cb_claim_reason(out, " The bending family's omega_max does not grow faster than the stretch family's.");
-  if (no_best) cb_claim_reason(out, " %d rows have no stable implicit method within %.0f%%.", no_best, 100 * E2_ERR_TOL);
+  else if (!distinct)
+    cb_claim_reason(out, " The bending family's omega_max does not grow faster than the stretch family's.");
+  if (no_best)
+    cb_claim_reason(out, " %d rows have no stable implicit method within %.0f%%.", no_best, 100 * E2_ERR_TOL);
   if (rtxt[0]) cb_claim_reason(out, " Times are medians of %s.", rtxt);
   if (unstable) cb_claim_reason(out, " %d timed runs were not stable.", unstable);
 }
@@ -401,8 +465,20 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
 
 void cb_check_I1(const cb_table *t, const char *results_dir, cb_claim_result *out) {
   (void)results_dir;
-  static const char *const mn[] = {"kind", "scene", "k_n_per_m", "dt_s", "method", "status", "max_energy_ratio", "steps",
-                                   "not_converged_steps", "t_mark_s", "energy_loss_w", "kinetic0_j", "window_s", "t_end_s"};
+  static const char *const mn[] = {"kind",
+                                   "scene",
+                                   "k_n_per_m",
+                                   "dt_s",
+                                   "method",
+                                   "status",
+                                   "max_energy_ratio",
+                                   "steps",
+                                   "not_converged_steps",
+                                   "t_mark_s",
+                                   "energy_loss_w",
+                                   "kinetic0_j",
+                                   "window_s",
+                                   "t_end_s"};
   int c[14];
   if (cb_claim_columns(t, mn, c, 14, "explicit_stability.csv", out)) return;
   char names[MAXS][32];
@@ -414,7 +490,10 @@ void cb_check_I1(const cb_table *t, const char *results_dir, cb_claim_result *ou
   for (int r = 0; r < t->nrows; r++) {
     if (strcmp(cb_table_str(t, r, c[0]), "sweep")) continue;
     int stable = !strcmp(cb_table_str(t, r, c[5]), "stable");
-    if (strcmp(cb_table_str(t, r, c[4]), "newton")) { explicit_bad += !stable; continue; }
+    if (strcmp(cb_table_str(t, r, c[4]), "newton")) {
+      explicit_bad += !stable;
+      continue;
+    }
     cells++;
     bad += !stable;
     max_gain = fmax(max_gain, cb_table_num(t, r, c[6]));
@@ -444,11 +523,14 @@ void cb_check_I1(const cb_table *t, const char *results_dir, cb_claim_result *ou
   for (int r = 0; r < t->nrows; r++) {
     if (strcmp(cb_table_str(t, r, c[0]), "sweep") || strcmp(cb_table_str(t, r, c[4]), "newton")) continue;
     double te = cb_table_num(t, r, c[13]), sn = cb_table_num(t, r, c[7]);
-    tmin = fmin(tmin, te); tmax = fmax(tmax, te); smin = fmin(smin, sn); smax = fmax(smax, sn);
+    tmin = fmin(tmin, te);
+    tmax = fmax(tmax, te);
+    smin = fmin(smin, sn);
+    smax = fmax(smax, sn);
     for (int q = 0; q < t->nrows; q++) {
       if (strcmp(cb_table_str(t, q, c[0]), "sweep") || strcmp(cb_table_str(t, q, c[4]), "explicit") ||
-          strcmp(cb_table_str(t, q, c[1]), cb_table_str(t, r, c[1])) || cb_table_num(t, q, c[2]) != cb_table_num(t, r, c[2]) ||
-          cb_table_num(t, q, c[3]) != cb_table_num(t, r, c[3]))
+          strcmp(cb_table_str(t, q, c[1]), cb_table_str(t, r, c[1])) ||
+          cb_table_num(t, q, c[2]) != cb_table_num(t, r, c[2]) || cb_table_num(t, q, c[3]) != cb_table_num(t, r, c[3]))
         continue;
       double tx = cb_table_num(t, q, c[13]);
       int ex_full = !strcmp(cb_table_str(t, q, c[5]), "stable");
@@ -457,17 +539,23 @@ void cb_check_I1(const cb_table *t, const char *results_dir, cb_claim_result *ou
       break;
     }
   }
-  cb_claim_numbers(out, "Converged Newton (CHOLMOD, |grad F| <= 1e-8 |grad F(x0)| or a step below 1e-10 m) on the sweep: "
-                        "%d cells, %d not stable (explicit: %d of its sweep cells not stable); largest energy gain "
-                        "(E - E0)/S = %.3g; %.0f of %.0f steps stopped at max_iters (%.2g%%).\n\n",
+  cb_claim_numbers(out,
+                   "Converged Newton (CHOLMOD, |grad F| <= 1e-8 |grad F(x0)| or a step below 1e-10 m) on the sweep: "
+                   "%d cells, %d not stable (explicit: %d of its sweep cells not stable); largest energy gain "
+                   "(E - E0)/S = %.3g; %.0f of %.0f steps stopped at max_iters (%.2g%%).\n\n",
                    cells, bad, explicit_bad, max_gain, nc, steps, steps > 0 ? 100 * nc / steps : 0);
-  cb_claim_numbers(out, "Simulated time: %d of %d Newton cells ran as long as the explicit cell at the same (scene, k, dt) "
-                        "(exactly, where that one ran to its end; at least as long where it diverged); %d have no explicit "
-                        "cell to pair with. Newton cells ran %.0f to %.0f steps, %.3g to %.3g s simulated.\n\n",
+  cb_claim_numbers(out,
+                   "Simulated time: %d of %d Newton cells ran as long as the explicit cell at the same (scene, k, dt) "
+                   "(exactly, where that one ran to its end; at least as long where it diverged); %d have no explicit "
+                   "cell to pair with. Newton cells ran %.0f to %.0f steps, %.3g to %.3g s simulated.\n\n",
                    same, paired, cells - paired, smin, smax, tmin, tmax);
-  cb_claim_numbers(out, "Energy lost per simulated second over the first %.3g s (cells that reached it), as a fraction of the initial kinetic "
-                        "energy: fitted exponent of dt (loss ~ dt^p) and the range over dt, per scene and k.\n\n"
-                        "| scene | k (N/m) | cells | loss/s at smallest dt | loss/s at largest dt | p |\n|---|---|---|---|---|---|\n", tmark);
+  cb_claim_numbers(out,
+                   "Energy lost per simulated second over the first %.3g s (cells that reached it), as a fraction of "
+                   "the initial kinetic "
+                   "energy: fitted exponent of dt (loss ~ dt^p) and the range over dt, per scene and k.\n\n"
+                   "| scene | k (N/m) | cells | loss/s at smallest dt | loss/s at largest dt | p "
+                   "|\n|---|---|---|---|---|---|\n",
+                   tmark);
   int series = 0, grows = 0, gained = 0;
   double pmin = INFINITY, pmax = -INFINITY;
   for (int s = 0; s < ns; s++)
@@ -479,10 +567,19 @@ void cb_check_I1(const cb_table *t, const char *results_dir, cb_claim_result *ou
       int m = 0;
       for (int j = 0; j < np[s]; j++) {
         if (ks[s][j] != ks[s][i]) continue;
-        if (dts[s][j] < dmin) { dmin = dts[s][j]; lmin = loss[s][j]; }
-        if (dts[s][j] > dmax) { dmax = dts[s][j]; lmax = loss[s][j]; }
+        if (dts[s][j] < dmin) {
+          dmin = dts[s][j];
+          lmin = loss[s][j];
+        }
+        if (dts[s][j] > dmax) {
+          dmax = dts[s][j];
+          lmax = loss[s][j];
+        }
         gained += loss[s][j] < -1e-9;
-        if (loss[s][j] > 0 && m < MAXPTS / 8) { lx[m] = log10(dts[s][j]); ly[m++] = log10(loss[s][j]); }
+        if (loss[s][j] > 0 && m < MAXPTS / 8) {
+          lx[m] = log10(dts[s][j]);
+          ly[m++] = log10(loss[s][j]);
+        }
       }
       if (m < 3) continue;
       double p, b0;
@@ -497,12 +594,18 @@ void cb_check_I1(const cb_table *t, const char *results_dir, cb_claim_result *ou
   if (bad) out->verdict = CB_NOT_REPRODUCED;
   else if (series > 0 && grows == series && gained == 0 && same_time) out->verdict = CB_REPRODUCED;
   else out->verdict = CB_PARTLY;
-  cb_claim_reason(out, "%s of %d Newton cells became unstable or diverged; the energy lost per simulated second grows "
-                       "with dt (fitted exponent >= %.2f and more loss at the largest dt than at the smallest) in %d of %d "
-                       "(scene, k) series, exponents %.2f to %.2f (1 is implicit Euler's h omega^2 damping of a slow mode)%s.",
+  cb_claim_reason(out,
+                  "%s of %d Newton cells became unstable or diverged; the energy lost per simulated second grows "
+                  "with dt (fitted exponent >= %.2f and more loss at the largest dt than at the smallest) in %d of %d "
+                  "(scene, k) series, exponents %.2f to %.2f (1 is implicit Euler's h omega^2 damping of a slow "
+                  "mode)%s.",
                   bad ? "Some" : "None", cells, I1_MIN_EXP, grows, series, pmin, pmax,
                   gained ? "; some cells gained energy" : "");
   if (bad) cb_claim_reason(out, " %d Newton cells were not stable.", bad);
-  cb_claim_reason(out, " %d of %d Newton cells ran the simulated time of the explicit cell at the same (scene, k, dt)%s.", same,
-                  cells, same_time ? "" : " (the others ran shorter, or have no explicit cell: no-divergence is not shown over the same time)");
+  cb_claim_reason(out,
+                  " %d of %d Newton cells ran the simulated time of the explicit cell at the same (scene, k, dt)%s.",
+                  same, cells,
+                  same_time ? ""
+                            : " (the others ran shorter, or have no explicit cell: no-divergence is not shown over the "
+                              "same time)");
 }

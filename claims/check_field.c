@@ -57,10 +57,14 @@ void cb_check_X1(const cb_table *csv, const char *dir, cb_claim_result *out) {
   if (cb_claim_side_table(dir, "field", "x1", &t, out)) return;
   static const char *const names[] = {"scene", "method", "dt_s", "iters", "k_ratio", "status"};
   int c[6];
-  if (cb_claim_columns(&t, names, c, 6, "field_x1.csv", out)) { cb_table_free(&t); return; }
+  if (cb_claim_columns(&t, names, c, 6, "field_x1.csv", out)) {
+    cb_table_free(&t);
+    return;
+  }
   const char *sc[MAXS];
   int ns = distinct(&t, c[0], sc, MAXS), all_x = 1, all_less = 1, nd = 0;
-  cb_claim_numbers(out, "| scene | method | k_eff/k: min, max | spread over iterations and dt | spread over dt at the largest "
+  cb_claim_numbers(out, "| scene | method | k_eff/k: min, max | spread over iterations and dt | spread over dt at the "
+                        "largest "
                         "iterations | k_eff/k at the largest iterations |\n|---|---|---|---|---|---|\n");
   for (int s = 0; s < ns; s++) {
     double spread[2] = {NAN, NAN};
@@ -68,21 +72,28 @@ void cb_check_X1(const cb_table *csv, const char *dir, cb_claim_result *out) {
       const char *meth = m ? "xpbd" : "pbd";
       double lo = INFINITY, hi = -INFINITY, kmax = -1, dlo = INFINITY, dhi = -INFINITY;
       for (int r = 0; r < t.nrows; r++)
-        if (!strcmp(cb_table_str(&t, r, c[0]), sc[s]) && !strcmp(cb_table_str(&t, r, c[1]), meth)) kmax = fmax(kmax, cb_table_num(&t, r, c[3]));
+        if (!strcmp(cb_table_str(&t, r, c[0]), sc[s]) && !strcmp(cb_table_str(&t, r, c[1]), meth))
+          kmax = fmax(kmax, cb_table_num(&t, r, c[3]));
       int bad = 0, rows = 0;
       for (int r = 0; r < t.nrows; r++) {
         if (strcmp(cb_table_str(&t, r, c[0]), sc[s]) || strcmp(cb_table_str(&t, r, c[1]), meth)) continue;
         rows++;
         double k = cb_table_num(&t, r, c[4]);
-        if (strcmp(cb_table_str(&t, r, c[5]), "ok") || !(k > 0)) { bad++; continue; }
+        if (strcmp(cb_table_str(&t, r, c[5]), "ok") || !(k > 0)) {
+          bad++;
+          continue;
+        }
         lo = fmin(lo, k);
         hi = fmax(hi, k);
-        if (cb_table_num(&t, r, c[3]) == kmax) { dlo = fmin(dlo, k); dhi = fmax(dhi, k); }
+        if (cb_table_num(&t, r, c[3]) == kmax) {
+          dlo = fmin(dlo, k);
+          dhi = fmax(dhi, k);
+        }
       }
       if (!rows) continue;
       spread[m] = bad ? INFINITY : hi / lo;
-      cb_claim_numbers(out, "| %s | %s | %.4g, %.4g | %.4g%s | %.4g | %.4g-%.4g (%g iterations) |\n", sc[s], meth, lo, hi, spread[m],
-                       bad ? " (a run failed)" : "", dhi / dlo, dlo, dhi, kmax);
+      cb_claim_numbers(out, "| %s | %s | %.4g, %.4g | %.4g%s | %.4g | %.4g-%.4g (%g iterations) |\n", sc[s], meth, lo,
+                       hi, spread[m], bad ? " (a run failed)" : "", dhi / dlo, dlo, dhi, kmax);
     }
     if (isnan(spread[0]) || isnan(spread[1])) continue; /* a method without rows on this scene */
     nd++;
@@ -95,9 +106,12 @@ void cb_check_X1(const cb_table *csv, const char *dir, cb_claim_result *out) {
     return;
   }
   out->verdict = all_x ? CB_REPRODUCED : all_less ? CB_PARTLY : CB_NOT_REPRODUCED;
-  cb_claim_reason(out, "Effective stiffness k_eff = k ref_strain/strain (static stretch against the converged static state), over "
-                       "1-100 iterations and dt = 1/30, 1/60, 1/120 s, on %d scenes: XPBD's spread %s within 10%% on every scene, and "
-                       "%s below PBD's on every scene (table). ",
+  cb_claim_reason(out,
+                  "Effective stiffness k_eff = k ref_strain/strain (static stretch against the converged static "
+                  "state), over "
+                  "1-100 iterations and dt = 1/30, 1/60, 1/120 s, on %d scenes: XPBD's spread %s within 10%% on every "
+                  "scene, and "
+                  "%s below PBD's on every scene (table). ",
                   nd, all_x ? "is" : "is not", all_less ? "is" : "is not");
   cb_table_free(&t);
 }
@@ -108,11 +122,16 @@ void cb_check_X2(const cb_table *csv, const char *dir, cb_claim_result *out) {
   (void)csv;
   cb_table t;
   if (cb_claim_side_table(dir, "field", "x2", &t, out)) return;
-  static const char *const names[] = {"scene", "n", "variant", "wall_ms", "step_error", "max_strain", "ref_max_strain", "status"};
+  static const char *const names[] = {"scene",      "n",          "variant",        "wall_ms",
+                                      "step_error", "max_strain", "ref_max_strain", "status"};
   int c[8];
-  if (cb_claim_columns(&t, names, c, 8, "field_x2.csv", out)) { cb_table_free(&t); return; }
+  if (cb_claim_columns(&t, names, c, 8, "field_x2.csv", out)) {
+    cb_table_free(&t);
+    return;
+  }
   int pairs = 0, beats = 0, err_lower = 0;
-  cb_claim_numbers(out, "| scene | n | largest stretch nx1, 1xn (converged step's) | step error nx1, 1xn | wall ms nx1, 1xn | nx1 beats |\n"
+  cb_claim_numbers(out, "| scene | n | largest stretch nx1, 1xn (converged step's) | step error nx1, 1xn | wall ms "
+                        "nx1, 1xn | nx1 beats |\n"
                         "|---|---|---|---|---|---|\n");
   for (int r = 0; r < t.nrows; r++) {
     if (strcmp(cb_table_str(&t, r, c[2]), "nx1") || cb_table_num(&t, r, c[1]) < 2) continue;
@@ -122,7 +141,8 @@ void cb_check_X2(const cb_table *csv, const char *dir, cb_claim_result *out) {
           cb_table_num(&t, q, c[1]) == cb_table_num(&t, r, c[1]))
         o = q;
     if (o < 0) continue;
-    double sa = cb_table_num(&t, r, c[5]), sb = cb_table_num(&t, o, c[5]), wa = cb_table_num(&t, r, c[3]), wb = cb_table_num(&t, o, c[3]);
+    double sa = cb_table_num(&t, r, c[5]), sb = cb_table_num(&t, o, c[5]), wa = cb_table_num(&t, r, c[3]),
+           wb = cb_table_num(&t, o, c[3]);
     double ea = cb_table_num(&t, r, c[4]), eb = cb_table_num(&t, o, c[4]);
     int ok = !strcmp(cb_table_str(&t, r, c[7]), "ok"), b = ok && sa < sb && wa <= 1.5 * wb;
     pairs++;
@@ -137,26 +157,33 @@ void cb_check_X2(const cb_table *csv, const char *dir, cb_claim_result *out) {
     return;
   }
   out->verdict = beats == pairs ? CB_REPRODUCED : 2 * beats >= pairs ? CB_PARTLY : CB_NOT_REPRODUCED;
-  cb_claim_reason(out, "XPBD n substeps x 1 iteration has the lower largest edge stretch at no more than 1.5x the wall time of 1 step x n "
-                       "iterations in %d of %d (scene, n >= 2) pairs; its step error against the converged implicit step is the lower in "
-                       "%d of them (substeps approach a finer time discretisation, not that step). ",
+  cb_claim_reason(out,
+                  "XPBD n substeps x 1 iteration has the lower largest edge stretch at no more than 1.5x the wall time "
+                  "of 1 step x n "
+                  "iterations in %d of %d (scene, n >= 2) pairs; its step error against the converged implicit step is "
+                  "the lower in "
+                  "%d of them (substeps approach a finer time discretisation, not that step). ",
                   beats, pairs, err_lower);
   cb_table g;
   if (cb_claim_side_table(dir, "field", "gap", &g, out) == 0) {
-    int gs = cb_table_col(&g, "scene"), gi = cb_table_col(&g, "iters"), gr = cb_table_col(&g, "rel_grad"), gh = cb_table_col(&g, "rel_grad_half"),
-        ge = cb_table_col(&g, "step_error"), gm = cb_table_col(&g, "newton_method"), gn = cb_table_col(&g, "newton_rel_grad"),
+    int gs = cb_table_col(&g, "scene"), gi = cb_table_col(&g, "iters"), gr = cb_table_col(&g, "rel_grad"),
+        gh = cb_table_col(&g, "rel_grad_half"), ge = cb_table_col(&g, "step_error"),
+        gm = cb_table_col(&g, "newton_method"), gn = cb_table_col(&g, "newton_rel_grad"),
         gt = cb_table_col(&g, "status");
     if (gs >= 0 && gi >= 0 && gr >= 0 && gh >= 0 && ge >= 0 && gm >= 0 && gn >= 0 && gt >= 0) {
-      cb_claim_numbers(out, "\n**XPBD's gap** (1 x n at the largest n against converged Newton, relative |grad F| of the frame's F):\n\n"
-                            "| scene | xpbd iterations | rel. grad F (at n/2) | step error | Newton (variant) rel. grad F |\n|---|---|---|---|---|\n");
+      cb_claim_numbers(out, "\n**XPBD's gap** (1 x n at the largest n against converged Newton, relative |grad F| of "
+                            "the frame's F):\n\n"
+                            "| scene | xpbd iterations | rel. grad F (at n/2) | step error | Newton (variant) rel. "
+                            "grad F |\n|---|---|---|---|---|\n");
       for (int r = 0; r < g.nrows; r++)
         if (!strcmp(cb_table_str(&g, r, gt), "unsupported"))
-          cb_claim_numbers(out, "| %s | unsupported (the scene has a term xpbd has no constraint for) | | | %s %.2g |\n", cb_table_str(&g, r, gs),
-                           cb_table_str(&g, r, gm), cb_table_num(&g, r, gn));
+          cb_claim_numbers(out,
+                           "| %s | unsupported (the scene has a term xpbd has no constraint for) | | | %s %.2g |\n",
+                           cb_table_str(&g, r, gs), cb_table_str(&g, r, gm), cb_table_num(&g, r, gn));
         else
-          cb_claim_numbers(out, "| %s | %g | %.3g (%.3g) | %.3g | %s %.2g |\n", cb_table_str(&g, r, gs), cb_table_num(&g, r, gi),
-                           cb_table_num(&g, r, gr), cb_table_num(&g, r, gh), cb_table_num(&g, r, ge), cb_table_str(&g, r, gm),
-                           cb_table_num(&g, r, gn));
+          cb_claim_numbers(out, "| %s | %g | %.3g (%.3g) | %.3g | %s %.2g |\n", cb_table_str(&g, r, gs),
+                           cb_table_num(&g, r, gi), cb_table_num(&g, r, gr), cb_table_num(&g, r, gh),
+                           cb_table_num(&g, r, ge), cb_table_str(&g, r, gm), cb_table_num(&g, r, gn));
     }
     cb_table_free(&g);
   }
@@ -172,7 +199,10 @@ typedef struct {
 static int tol_table(const char *dir, cb_table *t, tol_cols *tc, cb_claim_result *out) {
   if (cb_claim_side_table(dir, "field", "tol", t, out)) return -1;
   static const char *const names[] = {"scene", "method", "tol", "iters_to_tol", "wall_to_tol_ms", "status"};
-  if (cb_claim_columns(t, names, tc->c, 6, "field_tol.csv", out)) { cb_table_free(t); return -1; }
+  if (cb_claim_columns(t, names, tc->c, 6, "field_tol.csv", out)) {
+    cb_table_free(t);
+    return -1;
+  }
   return 0;
 }
 
@@ -200,15 +230,22 @@ static int compare(double a, double b) {
 /* The main figure's leaders (field.csv): per scene, the cheapest point (wall time per frame) whose step
  * error is at most 1e-2 and 1e-4, with its method and iterations. Shown with Q1; not part of a verdict. */
 static void front_leaders(const cb_table *f, cb_claim_result *out) {
-  int cs = cb_table_col(f, "scene"), cm = cb_table_col(f, "method"), ci = cb_table_col(f, "iters"), cu = cb_table_col(f, "substeps"),
-      cw = cb_table_col(f, "wall_ms"), ce = cb_table_col(f, "step_error");
+  int cs = cb_table_col(f, "scene"), cm = cb_table_col(f, "method"), ci = cb_table_col(f, "iters"),
+      cu = cb_table_col(f, "substeps"), cw = cb_table_col(f, "wall_ms"), ce = cb_table_col(f, "step_error");
   if (cs < 0 || cm < 0 || ci < 0 || cu < 0 || cw < 0 || ce < 0) return;
   const char *sc[MAXS];
   int ns = distinct(f, cs, sc, MAXS);
-  double *cost = malloc((size_t)(f->nrows + 1) * sizeof(double)), *err = malloc((size_t)(f->nrows + 1) * sizeof(double));
+  double *cost = malloc((size_t)(f->nrows + 1) * sizeof(double)),
+         *err = malloc((size_t)(f->nrows + 1) * sizeof(double));
   int *row = malloc((size_t)(f->nrows + 1) * sizeof(int));
-  if (!cost || !err || !row) { free(cost); free(err); free(row); return; }
-  cb_claim_numbers(out, "\n**The main figure's leaders** (field.csv: the cheapest step whose error against the converged step is at "
+  if (!cost || !err || !row) {
+    free(cost);
+    free(err);
+    free(row);
+    return;
+  }
+  cb_claim_numbers(out, "\n**The main figure's leaders** (field.csv: the cheapest step whose error against the "
+                        "converged step is at "
                         "most the level):\n\n| scene | error <= 1e-2 | error <= 1e-4 |\n|---|---|---|\n");
   for (int s = 0; s < ns; s++) {
     int n = 0;
@@ -224,10 +261,11 @@ static void front_leaders(const cb_table *f, cb_claim_result *out) {
       if (k < 0) snprintf(cell[q], sizeof cell[q], "none");
       else {
         int r = row[k];
-        snprintf(cell[q], sizeof cell[q], "%s, %g iterations%s, %.3g ms (error %.2g)", cb_table_str(f, r, cm), cb_table_num(f, r, ci),
-                 cb_table_num(f, r, cu) > 1 ? " x substeps" : "", cost[k], err[k]);
+        snprintf(cell[q], sizeof cell[q], "%s, %g iterations%s, %.3g ms (error %.2g)", cb_table_str(f, r, cm),
+                 cb_table_num(f, r, ci), cb_table_num(f, r, cu) > 1 ? " x substeps" : "", cost[k], err[k]);
         if (cb_table_num(f, r, cu) > 1)
-          snprintf(cell[q], sizeof cell[q], "%s, %g substeps, %.3g ms (error %.2g)", cb_table_str(f, r, cm), cb_table_num(f, r, cu), cost[k], err[k]);
+          snprintf(cell[q], sizeof cell[q], "%s, %g substeps, %.3g ms (error %.2g)", cb_table_str(f, r, cm),
+                   cb_table_num(f, r, cu), cost[k], err[k]);
       }
     }
     cb_claim_numbers(out, "| %s | %s | %s |\n", sc[s], cell[0], cell[1]);
@@ -245,13 +283,15 @@ void cb_check_Q1(const cb_table *csv, const char *dir, cb_claim_result *out) {
   int ns = distinct(&t, tc.c[0], sc, MAXS), wins = 0, decided = 0;
   static const double TOLS[] = {1e-3, 1e-5};
   double ratio_min = INFINITY, ratio_max = -INFINITY;
-  cb_claim_numbers(out, "| scene | rel. grad F | lbfgs ms | pd ms | pd-chebyshev ms | fastest Newton ms (variant) | lbfgs wins |\n"
+  cb_claim_numbers(out, "| scene | rel. grad F | lbfgs ms | pd ms | pd-chebyshev ms | fastest Newton ms (variant) | "
+                        "lbfgs wins |\n"
                         "|---|---|---|---|---|---|---|\n");
   for (int s = 0; s < ns; s++)
     for (int q = 0; q < 2; q++) {
       int h1, h2, h3, h4, h5;
       double l = to_tol(&t, &tc, sc[s], "lbfgs", TOLS[q], &h1), pd = to_tol(&t, &tc, sc[s], "pd", TOLS[q], &h2),
-             pc = to_tol(&t, &tc, sc[s], "pd-chebyshev auto", TOLS[q], &h3), ne = to_tol(&t, &tc, sc[s], "newton_exact", TOLS[q], &h4),
+             pc = to_tol(&t, &tc, sc[s], "pd-chebyshev auto", TOLS[q], &h3),
+             ne = to_tol(&t, &tc, sc[s], "newton_exact", TOLS[q], &h4),
              nd = to_tol(&t, &tc, sc[s], "newton_drop", TOLS[q], &h5);
       if (!h1) continue;
       double nw = isnan(ne) ? nd : isnan(nd) ? ne : fmin(ne, nd);
@@ -262,12 +302,19 @@ void cb_check_Q1(const cb_table *csv, const char *dir, cb_claim_result *out) {
       for (int k = 0; k < 3; k++) {
         if (!have[k]) continue;
         int cmp = compare(l, rivals[k]);
-        if (cmp) { d++; w += cmp > 0; }
+        if (cmp) {
+          d++;
+          w += cmp > 0;
+        }
       }
       wins += w;
       decided += d;
-      if (isfinite(l) && isfinite(nw)) { ratio_min = fmin(ratio_min, nw / l); ratio_max = fmax(ratio_max, nw / l); }
-      cb_claim_numbers(out, "| %s | %g | %.4g | %.4g | %.4g | %.4g (%s) | %d of %d |\n", sc[s], TOLS[q], l, pd, pc, nw, nname, w, d);
+      if (isfinite(l) && isfinite(nw)) {
+        ratio_min = fmin(ratio_min, nw / l);
+        ratio_max = fmax(ratio_max, nw / l);
+      }
+      cb_claim_numbers(out, "| %s | %g | %.4g | %.4g | %.4g | %.4g (%s) | %d of %d |\n", sc[s], TOLS[q], l, pd, pc, nw,
+                       nname, w, d);
     }
   if (!decided) {
     cb_claim_reason(out, "field_tol.csv has no decided comparison of lbfgs with pd, pd-chebyshev or Newton.");
@@ -277,10 +324,14 @@ void cb_check_Q1(const cb_table *csv, const char *dir, cb_claim_result *out) {
   out->verdict = wins == decided ? CB_REPRODUCED : 2 * wins >= decided ? CB_PARTLY : CB_NOT_REPRODUCED;
   char sp[128] = "not measured (no tolerance both reached)";
   if (isfinite(ratio_min)) snprintf(sp, sizeof sp, "%.3g-%.3gx where both reached the tolerance", ratio_min, ratio_max);
-  cb_claim_reason(out, "L-BFGS (window 5, PD's matrix as H0, Armijo) reaches relative |grad F| 1e-3 and 1e-5 faster than its rival in %d of "
-                       "%d decided comparisons with pd, pd-chebyshev (rho auto) and the fastest converging Newton variant (named per row); "
-                       "L-BFGS's speed-up over the fastest Newton (Newton's time / L-BFGS's) is %s (Liu et al. 2017: 15x, 308 against "
-                       "20.1 ms). ",
+  cb_claim_reason(out,
+                  "L-BFGS (window 5, PD's matrix as H0, Armijo) reaches relative |grad F| 1e-3 and 1e-5 faster than "
+                  "its rival in %d of "
+                  "%d decided comparisons with pd, pd-chebyshev (rho auto) and the fastest converging Newton variant "
+                  "(named per row); "
+                  "L-BFGS's speed-up over the fastest Newton (Newton's time / L-BFGS's) is %s (Liu et al. 2017: 15x, "
+                  "308 against "
+                  "20.1 ms). ",
                   wins, decided, sp);
   front_leaders(csv, out);
   cb_table_free(&t);
@@ -293,18 +344,30 @@ void cb_check_V1(const cb_table *csv, const char *dir, cb_claim_result *out) {
   cb_table ri, sc, t;
   tol_cols tc;
   if (cb_claim_side_table(dir, "field", "rises", &ri, out)) return;
-  if (cb_claim_side_table(dir, "field", "scramble", &sc, out)) { cb_table_free(&ri); return; }
-  if (tol_table(dir, &t, &tc, out)) { cb_table_free(&ri); cb_table_free(&sc); return; }
-  static const char *const rn[] = {"scene", "method", "start", "frames_run", "iters", "rises", "steps_with_rise", "diverged"};
+  if (cb_claim_side_table(dir, "field", "scramble", &sc, out)) {
+    cb_table_free(&ri);
+    return;
+  }
+  if (tol_table(dir, &t, &tc, out)) {
+    cb_table_free(&ri);
+    cb_table_free(&sc);
+    return;
+  }
+  static const char *const rn[] = {"scene", "method", "start",           "frames_run",
+                                   "iters", "rises",  "steps_with_rise", "diverged"};
   static const char *const sn[] = {"scene", "method", "start_strain", "end_strain", "diverged", "recovered"};
   int rc[8], cc[6];
-  if (cb_claim_columns(&ri, rn, rc, 8, "field_rises.csv", out) || cb_claim_columns(&sc, sn, cc, 6, "field_scramble.csv", out)) {
-    cb_table_free(&ri); cb_table_free(&sc); cb_table_free(&t);
+  if (cb_claim_columns(&ri, rn, rc, 8, "field_rises.csv", out) ||
+      cb_claim_columns(&sc, sn, cc, 6, "field_scramble.csv", out)) {
+    cb_table_free(&ri);
+    cb_table_free(&sc);
+    cb_table_free(&t);
     return;
   }
   int part[2][3] = {{1, 1, 1}, {1, 1, 1}}, seen[2][3] = {{0}}; /* [plain, line search][a, b, c] */
   cb_claim_numbers(out, "**Objective rises** (F_k > F_{k-1} above round-off) over trajectories:\n\n"
-                        "| scene | method | start | frames run | iterations | rises | steps with a rise | diverged |\n|---|---|---|---|---|---|---|---|\n");
+                        "| scene | method | start | frames run | iterations | rises | steps with a rise | diverged "
+                        "|\n|---|---|---|---|---|---|---|---|\n");
   for (int r = 0; r < ri.nrows; r++) {
     int ls = strcmp(cb_table_str(&ri, r, rc[1]), "vbd") != 0;
     int init = !strcmp(cb_table_str(&ri, r, rc[2]), "initial");
@@ -313,9 +376,10 @@ void cb_check_V1(const cb_table *csv, const char *dir, cb_claim_result *out) {
       seen[ls][0] = 1;
       if (!(rises == 0) || cb_table_num(&ri, r, rc[7]) != 0) part[ls][0] = 0;
     }
-    cb_claim_numbers(out, "| %s | %s | %s | %g | %g | %g | %g | %s |\n", cb_table_str(&ri, r, rc[0]), cb_table_str(&ri, r, rc[1]),
-                     cb_table_str(&ri, r, rc[2]), cb_table_num(&ri, r, rc[3]), cb_table_num(&ri, r, rc[4]), rises,
-                     cb_table_num(&ri, r, rc[6]), cb_table_num(&ri, r, rc[7]) != 0 ? "yes" : "no");
+    cb_claim_numbers(out, "| %s | %s | %s | %g | %g | %g | %g | %s |\n", cb_table_str(&ri, r, rc[0]),
+                     cb_table_str(&ri, r, rc[1]), cb_table_str(&ri, r, rc[2]), cb_table_num(&ri, r, rc[3]),
+                     cb_table_num(&ri, r, rc[4]), rises, cb_table_num(&ri, r, rc[6]),
+                     cb_table_num(&ri, r, rc[7]) != 0 ? "yes" : "no");
   }
   cb_claim_numbers(out, "\n**Scrambled start** (free vertices displaced by up to the cloth's size):\n\n"
                         "| scene | method | mean strain start, end | diverged | recovered |\n|---|---|---|---|---|\n");
@@ -327,14 +391,15 @@ void cb_check_V1(const cb_table *csv, const char *dir, cb_claim_result *out) {
       seen[ls][1] = 1;
       if (dv || !rec) part[ls][1] = 0;
     }
-    cb_claim_numbers(out, "| %s | %s | %.3g, %.3g | %s | %s |\n", cb_table_str(&sc, r, cc[0]), m, cb_table_num(&sc, r, cc[2]),
-                     cb_table_num(&sc, r, cc[3]), dv ? "yes" : "no", rec ? "yes" : "no");
+    cb_claim_numbers(out, "| %s | %s | %.3g, %.3g | %s | %s |\n", cb_table_str(&sc, r, cc[0]), m,
+                     cb_table_num(&sc, r, cc[2]), cb_table_num(&sc, r, cc[3]), dv ? "yes" : "no", rec ? "yes" : "no");
   }
   const char *scn[MAXS];
   int ns = distinct(&t, tc.c[0], scn, MAXS);
   static const char *const rivals[] = {"jacobi-nl", "chebyshev-nl auto", "pd-chebyshev auto"};
   cb_claim_numbers(out, "\n**Wall time to relative |grad F| 1e-3** (ms; empty: not reached within the cap):\n\n"
-                        "| scene | vbd | vbd line search | jacobi-nl | chebyshev-nl | pd-chebyshev |\n|---|---|---|---|---|---|\n");
+                        "| scene | vbd | vbd line search | jacobi-nl | chebyshev-nl | pd-chebyshev "
+                        "|\n|---|---|---|---|---|---|\n");
   for (int s = 0; s < ns; s++) {
     int h[5];
     double v[2], rv[3];
@@ -358,9 +423,12 @@ void cb_check_V1(const cb_table *csv, const char *dir, cb_claim_result *out) {
   }
   out->verdict = n0 == 3 ? CB_REPRODUCED : n0 > 0 || n1 == 3 ? CB_PARTLY : CB_NOT_REPRODUCED;
   static const char *const yes[] = {"fails", "holds"};
-  cb_claim_reason(out, "vbd (the paper's method, no line search): (a) no objective rise on every step from every scene's initial state %s, "
-                       "(b) survives and recovers from every scrambled start %s, (c) reaches relative |grad F| 1e-3 faster than jacobi-nl, "
-                       "chebyshev-nl and pd-chebyshev on every scene %s; with its line search: %s, %s, %s. ",
+  cb_claim_reason(out,
+                  "vbd (the paper's method, no line search): (a) no objective rise on every step from every scene's "
+                  "initial state %s, "
+                  "(b) survives and recovers from every scrambled start %s, (c) reaches relative |grad F| 1e-3 faster "
+                  "than jacobi-nl, "
+                  "chebyshev-nl and pd-chebyshev on every scene %s; with its line search: %s, %s, %s. ",
                   yes[part[0][0]], yes[part[0][1]], yes[part[0][2]], yes[part[1][0]], yes[part[1][1]], yes[part[1][2]]);
   cb_table_free(&ri);
   cb_table_free(&sc);

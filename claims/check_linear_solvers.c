@@ -18,24 +18,24 @@
 typedef struct {
   const char *scene, *sweep, *solver, *status;
   double alpha, rho;
-  int r0, r1;           /* rows [r0, r1) */
+  int r0, r1; /* rows [r0, r1) */
   int last_iter;
   double last_rel, last_wall, last_err, wall0;
-  int it6;              /* first iteration with rel_residual <= 1e-6, or -1 */
+  int it6;                       /* first iteration with rel_residual <= 1e-6, or -1 */
   double wall6, rate, rate_prev; /* residual ratio per iteration over [3/4 N, N] and [N/2, 3/4 N] */
-  int row6, row0;       /* rows of it6 and of iteration 0 (-1 if none) */
+  int row6, row0;                /* rows of it6 and of iteration 0 (-1 if none) */
 } run_t;
 
 typedef struct {
-  cb_table sc;          /* the scenes CSV */
+  cb_table sc; /* the scenes CSV */
   int ok;
   run_t *runs;
   int nruns;
 } data_t;
 
 enum { C_SCENE, C_SWEEP, C_SOLVER, C_ALPHA, C_RHO, C_ITER, C_REL, C_WALL, C_STATUS, C_ERR, NCOL };
-static const char *colnames[NCOL] = {"scene", "sweep", "solver", "alpha", "rho", "iter", "rel_residual", "wall_ms",
-                                     "status", "error"};
+static const char *colnames[NCOL] = {"scene", "sweep",        "solver",  "alpha",  "rho",
+                                     "iter",  "rel_residual", "wall_ms", "status", "error"};
 
 static int load(const cb_table *csv, const char *dir, data_t *d, cb_claim_result *out) {
   memset(d, 0, sizeof *d);
@@ -54,14 +54,19 @@ static int load(const cb_table *csv, const char *dir, data_t *d, cb_claim_result
   d->ok = 1;
   d->runs = calloc((size_t)csv->nrows + 1, sizeof *d->runs);
   cb_trace_row *rows = calloc((size_t)csv->nrows + 1, sizeof *rows);
-  if (!d->runs || !rows) { free(rows); cb_claim_reason(out, "out of memory"); return 0; }
+  if (!d->runs || !rows) {
+    free(rows);
+    cb_claim_reason(out, "out of memory");
+    return 0;
+  }
   for (int r = 0; r < csv->nrows;) {
     run_t *u = &d->runs[d->nruns++];
     u->r0 = r;
     int e = r + 1;
     while (e < csv->nrows && cb_table_num(csv, e, c[C_ITER]) > cb_table_num(csv, e - 1, c[C_ITER])) {
       int same = 1;
-      for (int k = C_SCENE; k <= C_RHO; k++) same = same && !strcmp(cb_table_str(csv, e, c[k]), cb_table_str(csv, r, c[k]));
+      for (int k = C_SCENE; k <= C_RHO; k++)
+        same = same && !strcmp(cb_table_str(csv, e, c[k]), cb_table_str(csv, r, c[k]));
       if (!same) break;
       e++;
     }
@@ -106,9 +111,13 @@ static void unload(data_t *d) {
 /* Timings of a run with their spread over the repeats (main table rows): at a row, at 1e-6, at the
  * last row, and its set-up (the iteration-0 row; 0 if the run has none). */
 static cb_claim_timing t_row(const cb_table *csv, int row) { return cb_claim_timing_at(csv, row, "wall_ms"); }
-static cb_claim_timing t_6(const cb_table *csv, const run_t *u) { return u->row6 >= 0 ? t_row(csv, u->row6) : cb_claim_timing_value(NAN); }
+static cb_claim_timing t_6(const cb_table *csv, const run_t *u) {
+  return u->row6 >= 0 ? t_row(csv, u->row6) : cb_claim_timing_value(NAN);
+}
 static cb_claim_timing t_last(const cb_table *csv, const run_t *u) { return t_row(csv, u->r1 - 1); }
-static cb_claim_timing t_0(const cb_table *csv, const run_t *u) { return u->row0 >= 0 ? t_row(csv, u->row0) : cb_claim_timing_value(0); }
+static cb_claim_timing t_0(const cb_table *csv, const run_t *u) {
+  return u->row0 >= 0 ? t_row(csv, u->row0) : cb_claim_timing_value(0);
+}
 
 /* Scene row and a number from it (NaN if missing). */
 static int scene_row(const data_t *d, const char *scene) {
@@ -161,10 +170,14 @@ static double rate_dev(double measured, double predicted) { return log(measured)
 
 void cb_check_j1(const cb_table *csv, const char *dir, cb_claim_result *out) {
   data_t d;
-  if (!load(csv, dir, &d, out)) { unload(&d); return; }
+  if (!load(csv, dir, &d, out)) {
+    unload(&d);
+    return;
+  }
   int nsc = 0, vanilla_div = 0, disagree = 0, nrate = 0, bad_rate = 0, nshort = 0, dd_conv = 0;
   double worst = 0, spec_diff = 0;
-  cb_claim_numbers(out, "| scene | non-DD rows / n | lambda(D^-1 A) dense | lambda Lanczos | 2/lambda_max | rho(alpha=1) | alpha = 1 |\n|---|---|---|---|---|---|---|\n");
+  cb_claim_numbers(out, "| scene | non-DD rows / n | lambda(D^-1 A) dense | lambda Lanczos | 2/lambda_max | "
+                        "rho(alpha=1) | alpha = 1 |\n|---|---|---|---|---|---|---|\n");
   for (int r = 0; r < d.sc.nrows; r++) {
     const char *s = cb_table_str(&d.sc, r, cb_table_col(&d.sc, "scene"));
     int has_runs = find(&d, s, "alpha", "jacobi") != NULL;
@@ -184,10 +197,12 @@ void cb_check_j1(const cb_table *csv, const char *dir, cb_claim_result *out) {
     if (dense) snprintf(dz, sizeof dz, "[%.6g, %.6g]", ld, hd);
     char van[64] = "spectrum only (no runs)";
     if (v) snprintf(van, sizeof van, "%s (rate %.4f)", v->status, v->rate);
-    cb_claim_numbers(out, "| %s | %d / %d | %s | [%.6g, %.6g] | %.4g | %.4f | %s |\n", s, nondd, (int)sc_num(&d, s, "n_dofs"),
-                     dz, ll, hl, 2 / lmax, rho1, van);
+    cb_claim_numbers(out, "| %s | %d / %d | %s | [%.6g, %.6g] | %.4g | %.4f | %s |\n", s, nondd,
+                     (int)sc_num(&d, s, "n_dofs"), dz, ll, hl, 2 / lmax, rho1, van);
   }
-  cb_claim_numbers(out, "\n| scene | alpha / (2/lambda_max) | predicted rho | measured rate, last quarter (exponent deviation) | previous quarter | iterations | status | agrees |\n|---|---|---|---|---|---|---|---|\n");
+  cb_claim_numbers(out, "\n| scene | alpha / (2/lambda_max) | predicted rho | measured rate, last quarter (exponent "
+                        "deviation) | previous quarter | iterations | status | agrees "
+                        "|\n|---|---|---|---|---|---|---|---|\n");
   for (int i = 0; i < d.nruns; i++) {
     const run_t *u = &d.runs[i];
     if (strcmp(u->solver, "jacobi") || isnan(u->alpha)) continue;
@@ -200,38 +215,65 @@ void cb_check_j1(const cb_table *csv, const char *dir, cb_claim_result *out) {
     const char *rt = "";
     /* settled: the rate over the last quarter agrees with the previous quarter's (5% in the exponent) */
     int settled = isfinite(u->rate_prev) && fabs(rate_dev(u->rate, u->rate_prev)) <= 0.05;
-    if (isfinite(u->rate) && !settled) { nshort++; rt = " (rate not settled)"; }
+    if (isfinite(u->rate) && !settled) {
+      nshort++;
+      rt = " (rate not settled)";
+    }
     if (isfinite(u->rate) && settled) {
       double dev = rate_dev(u->rate, p);
       nrate++;
-      if (fabs(dev) > 0.15) { bad_rate++; rt = " (rate off)"; }
+      if (fabs(dev) > 0.15) {
+        bad_rate++;
+        rt = " (rate off)";
+      }
       worst = fmax(worst, fabs(dev));
     }
-    cb_claim_numbers(out, "| %s | %.3f | %.5f | %.5f (%+.1f%%) | %.5f | %d | %s | %s%s |\n", u->scene, u->alpha * lmax / 2, p,
-                     u->rate, 100 * rate_dev(u->rate, p), u->rate_prev, u->last_iter, u->status, ok ? "yes" : "no", rt);
+    cb_claim_numbers(out, "| %s | %.3f | %.5f | %.5f (%+.1f%%) | %.5f | %d | %s | %s%s |\n", u->scene,
+                     u->alpha * lmax / 2, p, u->rate, 100 * rate_dev(u->rate, p), u->rate_prev, u->last_iter, u->status,
+                     ok ? "yes" : "no", rt);
   }
-  cb_claim_numbers(out, "\nPredicted rho from GSL's dense eigenvalues where computed, else Lanczos (top) and shift-invert Lanczos (bottom); "
-                        "largest relative difference between the two: %.2g. Measured rate: geometric mean of the residual ratios over the last quarter of the run; "
-                        "compared with the prediction when the run has settled on its rate (the last and the previous quarter agree within 5%% "
-                        "in the exponent ln rate); the exponent deviation is ln(measured)/ln(predicted) - 1.\n", spec_diff);
-  if (nsc == 0) { cb_claim_reason(out, "No alpha sweep in the CSV."); unload(&d); return; }
+  cb_claim_numbers(out,
+                   "\nPredicted rho from GSL's dense eigenvalues where computed, else Lanczos (top) and shift-invert "
+                   "Lanczos (bottom); "
+                   "largest relative difference between the two: %.2g. Measured rate: geometric mean of the residual "
+                   "ratios over the last quarter of the run; "
+                   "compared with the prediction when the run has settled on its rate (the last and the previous "
+                   "quarter agree within 5%% "
+                   "in the exponent ln rate); the exponent deviation is ln(measured)/ln(predicted) - 1.\n",
+                   spec_diff);
+  if (nsc == 0) {
+    cb_claim_reason(out, "No alpha sweep in the CSV.");
+    unload(&d);
+    return;
+  }
   out->verdict = vanilla_div > 0 && disagree == 0 ? (bad_rate == 0 ? CB_REPRODUCED : CB_PARTLY) : CB_NOT_REPRODUCED;
-  cb_claim_reason(out, "Vanilla Jacobi diverged on %d non-diagonally-dominant SPD matrices where rho(I - D^-1 A) > 1; "
-                       "%d of the Jacobi runs disagree with the prediction (converge iff alpha < 2/lambda_max); "
-                       "the measured rate is within 15%% of the predicted rho in the iteration exponent "
-                       "(ln rate / ln rho) on %d of %d runs that settled on their rate (worst deviation %.1f%%; %d runs whose "
-                       "rate had not settled by the end of the run are not compared).",
+  cb_claim_reason(out,
+                  "Vanilla Jacobi diverged on %d non-diagonally-dominant SPD matrices where rho(I - D^-1 A) > 1; "
+                  "%d of the Jacobi runs disagree with the prediction (converge iff alpha < 2/lambda_max); "
+                  "the measured rate is within 15%% of the predicted rho in the iteration exponent "
+                  "(ln rate / ln rho) on %d of %d runs that settled on their rate (worst deviation %.1f%%; %d runs "
+                  "whose "
+                  "rate had not settled by the end of the run are not compared).",
                   vanilla_div, disagree, nrate - bad_rate, nrate, 100 * worst, nshort);
-  if (dd_conv) cb_claim_reason(out, " On %d diagonally dominant matrix(es) vanilla Jacobi converged, as dominance guarantees.", dd_conv);
+  if (dd_conv)
+    cb_claim_reason(out, " On %d diagonally dominant matrix(es) vanilla Jacobi converged, as dominance guarantees.",
+                    dd_conv);
   unload(&d);
 }
 
 void cb_check_j2(const cb_table *csv, const char *dir, cb_claim_result *out) {
   data_t d;
-  if (!load(csv, dir, &d, out)) { unload(&d); return; }
+  if (!load(csv, dir, &d, out)) {
+    unload(&d);
+    return;
+  }
   /* context: the other iterative solvers of the CSV */
   const char **ctx = calloc((size_t)d.nruns + 1, sizeof *ctx);
-  if (!ctx) { cb_claim_reason(out, "out of memory"); unload(&d); return; }
+  if (!ctx) {
+    cb_claim_reason(out, "out of memory");
+    unload(&d);
+    return;
+  }
   int nctx = 0, nit = iterative_solvers(&d, ctx);
   for (int k = 0; k < nit; k++)
     if (strcmp(ctx[k], "jacobi") && strcmp(ctx[k], "chebyshev")) ctx[nctx++] = ctx[k];
@@ -240,7 +282,8 @@ void cb_check_j2(const cb_table *csv, const char *dir, cb_claim_result *out) {
   cb_claim_timing best = cb_claim_timing_value(NAN);
   double best_rw = -INFINITY;
   char best_scene[64] = "";
-  cb_claim_numbers(out, "| scene | alpha | Jacobi iters | Jacobi ms | Chebyshev iters | Chebyshev ms; of it the rho estimate | speed-up iters | speed-up wall | wall without set-up |");
+  cb_claim_numbers(out, "| scene | alpha | Jacobi iters | Jacobi ms | Chebyshev iters | Chebyshev ms; of it the rho "
+                        "estimate | speed-up iters | speed-up wall | wall without set-up |");
   for (int k = 0; k < nctx; k++) cb_claim_numbers(out, " %s iters / ms |", ctx[k]);
   cb_claim_numbers(out, "\n|---|---|---|---|---|---|---|---|---|");
   for (int k = 0; k < nctx; k++) cb_claim_numbers(out, "---|");
@@ -251,7 +294,8 @@ void cb_check_j2(const cb_table *csv, const char *dir, cb_claim_result *out) {
     if (!j || !c) continue;
     n++;
     if (c->it6 < 0) {
-      cb_claim_numbers(out, "| %s | %.4g | %d | %.4g | not reached (%s) | | | |", s, j->alpha, j->it6, j->wall6, c->status);
+      cb_claim_numbers(out, "| %s | %.4g | %d | %.4g | not reached (%s) | | | |", s, j->alpha, j->it6, j->wall6,
+                       c->status);
       for (int k = 0; k < nctx; k++) cb_claim_numbers(out, " |");
       cb_claim_numbers(out, "\n");
       continue;
@@ -266,19 +310,24 @@ void cb_check_j2(const cb_table *csv, const char *dir, cb_claim_result *out) {
     faster_wall += rw > 1;
     /* the same numbers with their spread over the repeats (paired: the solvers ran in interleaved rounds) */
     cb_claim_timing tj = lb ? t_last(csv, j) : t_6(csv, j), tc = t_6(csv, c), tj0 = t_0(csv, j), tc0 = t_0(csv, c);
-    cb_claim_timing trw = cb_claim_timing_ratio(&tj, &tc), dj = cb_claim_timing_diff(&tj, &tj0), dc = cb_claim_timing_diff(&tc, &tc0);
+    cb_claim_timing trw = cb_claim_timing_ratio(&tj, &tc), dj = cb_claim_timing_diff(&tj, &tj0),
+                    dc = cb_claim_timing_diff(&tc, &tc0);
     cb_claim_timing trs = cb_claim_timing_ratio(&dj, &dc);
     cb_claim_repeats_add(&reps, &tj);
     cb_claim_repeats_add(&reps, &tc);
     if (trw.paired) paired++;
     else if (cb_claim_timing_has_spread(&trw)) bounded++;
     char b1[96], b2[96], b3[96], b4[96], b5[96];
-    cb_claim_numbers(out, "| %s | %.4g | %s%.0f | %s%s | %d | %s; %s | %s%.1f | %s%s | %s%s |", s,
-                     j->alpha, lb ? ">" : "", ji, lb ? ">" : "", cb_claim_spread(b1, sizeof b1, "%.4g", &tj, ""), c->it6,
+    cb_claim_numbers(out, "| %s | %.4g | %s%.0f | %s%s | %d | %s; %s | %s%.1f | %s%s | %s%s |", s, j->alpha,
+                     lb ? ">" : "", ji, lb ? ">" : "", cb_claim_spread(b1, sizeof b1, "%.4g", &tj, ""), c->it6,
                      cb_claim_spread(b2, sizeof b2, "%.4g", &tc, ""), cb_claim_spread(b3, sizeof b3, "%.3g", &tc0, ""),
-                     lb ? ">=" : "", ri, lb ? ">=" : "", cb_claim_spread(b4, sizeof b4, "%.2f", &trw, ""), lb ? ">=" : "",
-                     cb_claim_spread(b5, sizeof b5, "%.1f", &trs, ""));
-    if (rw > best_rw) { best_rw = rw; best = trw; snprintf(best_scene, sizeof best_scene, "%s", s); }
+                     lb ? ">=" : "", ri, lb ? ">=" : "", cb_claim_spread(b4, sizeof b4, "%.2f", &trw, ""),
+                     lb ? ">=" : "", cb_claim_spread(b5, sizeof b5, "%.1f", &trs, ""));
+    if (rw > best_rw) {
+      best_rw = rw;
+      best = trw;
+      snprintf(best_scene, sizeof best_scene, "%s", s);
+    }
     for (int k = 0; k < nctx; k++) {
       const run_t *g = find(&d, s, "main", ctx[k]);
       cb_claim_timing tg = g ? t_6(csv, g) : cb_claim_timing_value(NAN);
@@ -287,38 +336,56 @@ void cb_check_j2(const cb_table *csv, const char *dir, cb_claim_result *out) {
     cb_claim_numbers(out, "\n");
   }
   free(ctx);
-  cb_claim_numbers(out, "\nTo a relative residual of 1e-6 from x = 0; both at the same alpha = alpha* = 2/(lambda_min + lambda_max) of D^-1 A "
-                        "(Jacobi's best weight, given to it for free); Chebyshev's wall time includes its automatic rho estimate "
-                        "(after the semicolon: its set-up time, the estimate). 'Wall without set-up' compares the iterations' time only, "
-                        "as when rho is reused across Newton iterations. '>' : Jacobi stopped at max_iters above 1e-6.\n");
+  cb_claim_numbers(out, "\nTo a relative residual of 1e-6 from x = 0; both at the same alpha = alpha* = 2/(lambda_min "
+                        "+ lambda_max) of D^-1 A "
+                        "(Jacobi's best weight, given to it for free); Chebyshev's wall time includes its automatic "
+                        "rho estimate "
+                        "(after the semicolon: its set-up time, the estimate). 'Wall without set-up' compares the "
+                        "iterations' time only, "
+                        "as when rho is reused across Newton iterations. '>' : Jacobi stopped at max_iters above "
+                        "1e-6.\n");
   char rt[64];
   if (cb_claim_repeats_text(rt, sizeof rt, &reps)[0])
-    cb_claim_numbers(out, "\nEvery time is the median of %s, in brackets the fastest and slowest; the solvers of a scene ran in "
-                          "interleaved rounds, and the speed-ups' spreads are %s.\n", rt,
-                     bounded == 0 ? "of paired repeats (repeat i of Jacobi over repeat i of Chebyshev)"
+    cb_claim_numbers(out,
+                     "\nEvery time is the median of %s, in brackets the fastest and slowest; the solvers of a scene "
+                     "ran in "
+                     "interleaved rounds, and the speed-ups' spreads are %s.\n",
+                     rt,
+                     bounded == 0  ? "of paired repeats (repeat i of Jacobi over repeat i of Chebyshev)"
                      : paired == 0 ? "bounds (the fastest of one over the slowest of the other)"
                                    : "of paired repeats where both list their repeats, else bounds");
-  if (n == 0) { cb_claim_reason(out, "No Jacobi/Chebyshev main runs in the CSV."); unload(&d); return; }
-  out->verdict = it10 == n && wall10 == n ? CB_REPRODUCED
-                 : faster_it == n && (it10 > 0 || wall10 > 0) ? CB_PARTLY : CB_NOT_REPRODUCED;
-  cb_claim_reason(out, "Chebyshev needs fewer iterations than Jacobi on %d of %d scenes, at least 10x fewer on %d; "
-                       "its wall time including the rho estimate is shorter on %d and at least 10x shorter on %d; "
-                       "without the set-up (rho reused) at least 10x shorter on %d.",
+  if (n == 0) {
+    cb_claim_reason(out, "No Jacobi/Chebyshev main runs in the CSV.");
+    unload(&d);
+    return;
+  }
+  out->verdict = it10 == n && wall10 == n                     ? CB_REPRODUCED
+                 : faster_it == n && (it10 > 0 || wall10 > 0) ? CB_PARTLY
+                                                              : CB_NOT_REPRODUCED;
+  cb_claim_reason(out,
+                  "Chebyshev needs fewer iterations than Jacobi on %d of %d scenes, at least 10x fewer on %d; "
+                  "its wall time including the rho estimate is shorter on %d and at least 10x shorter on %d; "
+                  "without the set-up (rho reused) at least 10x shorter on %d.",
                   faster_it, n, it10, faster_wall, wall10, solve10);
   if (best_scene[0]) {
     char b[128];
-    cb_claim_reason(out, " The largest wall-time speed-up: %s on %s.", cb_claim_spread_long(b, sizeof b, "%.2f", &best, "x"), best_scene);
+    cb_claim_reason(out, " The largest wall-time speed-up: %s on %s.",
+                    cb_claim_spread_long(b, sizeof b, "%.2f", &best, "x"), best_scene);
   }
   unload(&d);
 }
 
 void cb_check_j3(const cb_table *csv, const char *dir, cb_claim_result *out) {
   data_t d;
-  if (!load(csv, dir, &d, out)) { unload(&d); return; }
+  if (!load(csv, dir, &d, out)) {
+    unload(&d);
+    return;
+  }
   int div_over = 0, div_under = 0, nover = 0, nunder = 0, div_true1 = 0, ntrue1 = 0;
   int d995 = -1, d95 = -1;
   cb_claim_repeats reps = {0};
-  cb_claim_numbers(out, "| scene | alpha | true rho(I - alpha D^-1 A) | rho given | iterations to 1e-6 | status |\n|---|---|---|---|---|---|\n");
+  cb_claim_numbers(out, "| scene | alpha | true rho(I - alpha D^-1 A) | rho given | iterations to 1e-6 | status "
+                        "|\n|---|---|---|---|---|---|\n");
   for (int i = 0; i < d.nruns; i++) {
     const run_t *u = &d.runs[i];
     if (strcmp(u->sweep, "rho")) continue;
@@ -327,17 +394,26 @@ void cb_check_j3(const cb_table *csv, const char *dir, cb_claim_result *out) {
     spectrum(&d, u->scene, &lmin, &lmax, &dense);
     double t = cb_jacobi_rho(lmin, lmax, u->alpha), astar = 2 / (lmin + lmax);
     int dv = diverged(u), is_star = fabs(u->alpha - astar) <= 1e-9 * astar;
-    if (t >= 1) { ntrue1++; div_true1 += dv; }
-    else if (u->rho > t) { nover++; div_over += dv; }
-    else { nunder++; div_under += dv; }
+    if (t >= 1) {
+      ntrue1++;
+      div_true1 += dv;
+    } else if (u->rho > t) {
+      nover++;
+      div_over += dv;
+    } else {
+      nunder++;
+      div_under += dv;
+    }
     if (t < 1 && is_star && fabs(u->rho - 0.995) < 1e-9) d995 = dv;
     if (t < 1 && is_star && fabs(u->rho - 0.95) < 1e-9) d95 = dv;
     char it[32] = "-";
     if (u->it6 >= 0) snprintf(it, sizeof it, "%d", u->it6);
-    cb_claim_numbers(out, "| %s | %.4f%s | %.6f | %.6g | %s | %s |\n", u->scene, u->alpha, is_star ? " (alpha*)" : "", t, u->rho, it,
-                     u->status);
+    cb_claim_numbers(out, "| %s | %.4f%s | %.6f | %.6g | %s | %s |\n", u->scene, u->alpha, is_star ? " (alpha*)" : "",
+                     t, u->rho, it, u->status);
   }
-  cb_claim_numbers(out, "\nAutomatic rho (Lanczos, widened by its Ritz residuals) against the true rho(I - alpha D^-1 A):\n\n| scene | alpha | auto rho | true rho | status | rho estimate ms |\n|---|---|---|---|---|---|\n");
+  cb_claim_numbers(out, "\nAutomatic rho (Lanczos, widened by its Ritz residuals) against the true rho(I - alpha D^-1 "
+                        "A):\n\n| scene | alpha | auto rho | true rho | status | rho estimate ms "
+                        "|\n|---|---|---|---|---|---|\n");
   for (int i = 0; i < d.nruns; i++) {
     const run_t *u = &d.runs[i];
     if (!(!strcmp(u->sweep, "main") && !strcmp(u->solver, "chebyshev")) && strcmp(u->sweep, "rho_auto")) continue;
@@ -347,27 +423,47 @@ void cb_check_j3(const cb_table *csv, const char *dir, cb_claim_result *out) {
     cb_claim_timing t0 = t_0(csv, u);
     char b[96];
     cb_claim_repeats_add(&reps, &t0);
-    cb_claim_numbers(out, "| %s | %.4f | %.6f | %.6f | %s | %s |\n", u->scene, u->alpha, u->rho, cb_jacobi_rho(lmin, lmax, u->alpha),
-                     u->status, cb_claim_spread(b, sizeof b, "%.3g", &t0, ""));
+    cb_claim_numbers(out, "| %s | %.4f | %.6f | %.6f | %s | %s |\n", u->scene, u->alpha, u->rho,
+                     cb_jacobi_rho(lmin, lmax, u->alpha), u->status, cb_claim_spread(b, sizeof b, "%.3g", &t0, ""));
   }
   char rt[64];
   if (cb_claim_repeats_text(rt, sizeof rt, &reps)[0])
     cb_claim_numbers(out, "\nThe estimate's time is the median of %s, in brackets the fastest and slowest.\n", rt);
   double rl = sc_num(&d, "lab", "rho_lab");
   if (!isnan(rl))
-    cb_claim_numbers(out, "\nThe lab's own iteration (alpha = 1 with the constant diagonal m/dt^2 + 4k) has the true spectral radius "
-                          "rho(I - A/(m/dt^2 + 4k)) = %.4f on the lab matrix: there 0.995 is an overestimate and 0.95 an underestimate.\n", rl);
-  if (nover + nunder == 0) { cb_claim_reason(out, "No rho sweep at a convergent alpha in the CSV."); unload(&d); return; }
+    cb_claim_numbers(out,
+                     "\nThe lab's own iteration (alpha = 1 with the constant diagonal m/dt^2 + 4k) has the true "
+                     "spectral radius "
+                     "rho(I - A/(m/dt^2 + 4k)) = %.4f on the lab matrix: there 0.995 is an overestimate and 0.95 an "
+                     "underestimate.\n",
+                     rl);
+  if (nover + nunder == 0) {
+    cb_claim_reason(out, "No rho sweep at a convergent alpha in the CSV.");
+    unload(&d);
+    return;
+  }
   if (div_over == nover && d995 == 1 && d95 == 0) out->verdict = CB_REPRODUCED;
   else if (div_over + div_under == 0) out->verdict = CB_NOT_REPRODUCED;
   else out->verdict = CB_PARTLY;
-  cb_claim_reason(out, "Where the true rho(I - alpha D^-1 A) < 1, %d of %d overestimates and %d of %d underestimates diverged; "
-                       "rho = 0.995 at alpha* %s and 0.95 %s. Where the true rho >= 1 (alpha past 2/lambda_max), %d of %d runs "
-                       "diverged whatever rho was given: divergence is decided by the true spectral radius, not by the estimate. ",
-                  div_over, nover, div_under, nunder, d995 < 0 ? "was not run" : d995 ? "diverged" : "converged",
-                  d95 < 0 ? "was not run" : d95 ? "diverged" : "converged", div_true1, ntrue1);
+  cb_claim_reason(out,
+                  "Where the true rho(I - alpha D^-1 A) < 1, %d of %d overestimates and %d of %d underestimates "
+                  "diverged; "
+                  "rho = 0.995 at alpha* %s and 0.95 %s. Where the true rho >= 1 (alpha past 2/lambda_max), %d of %d "
+                  "runs "
+                  "diverged whatever rho was given: divergence is decided by the true spectral radius, not by the "
+                  "estimate. ",
+                  div_over, nover, div_under, nunder,
+                  d995 < 0 ? "was not run"
+                  : d995   ? "diverged"
+                           : "converged",
+                  d95 < 0 ? "was not run"
+                  : d95   ? "diverged"
+                          : "converged",
+                  div_true1, ntrue1);
   if (out->verdict == CB_NOT_REPRODUCED)
-    cb_claim_reason(out, "In these linear solves a wrong rho only slows Chebyshev down (see the iterations); the lab's 0.995 does not diverge on these systems (the lab's own nonlinear iteration is panel (a), experiment nonlinear).");
+    cb_claim_reason(out, "In these linear solves a wrong rho only slows Chebyshev down (see the iterations); the lab's "
+                         "0.995 does not diverge on these systems (the lab's own nonlinear iteration is panel (a), "
+                         "experiment nonlinear).");
   unload(&d);
 }
 
@@ -397,14 +493,17 @@ typedef struct {
 } j4_size;
 
 static double j4_num(const cb_table *t, int r, const char *col) { return cb_table_num(t, r, cb_table_col(t, col)); }
-static int j4_reached(const cb_table *t, int r) { return !strcmp(cb_table_str(t, r, cb_table_col(t, "status")), "ok") && j4_num(t, r, "error") <= J4_TARGET; }
+static int j4_reached(const cb_table *t, int r) {
+  return !strcmp(cb_table_str(t, r, cb_table_col(t, "status")), "ok") && j4_num(t, r, "error") <= J4_TARGET;
+}
 
 /* exponent p of wall = C dofs^p over the largest (up to) three sizes where solver reached the target */
 static int j4_fit(const cb_table *t, const char *solver, double *p, double *logc, int *g0, int *g1) {
   double x[J4_MAXS], y[J4_MAXS];
   int gs[J4_MAXS], m = 0;
   for (int r = 0; r < t->nrows && m < J4_MAXS; r++)
-    if (!strcmp(cb_table_str(t, r, cb_table_col(t, "solver")), solver) && j4_reached(t, r) && j4_num(t, r, "wall_ms") > 0) {
+    if (!strcmp(cb_table_str(t, r, cb_table_col(t, "solver")), solver) && j4_reached(t, r) &&
+        j4_num(t, r, "wall_ms") > 0) {
       x[m] = log(j4_num(t, r, "n_dofs"));
       y[m] = log(j4_num(t, r, "wall_ms"));
       gs[m++] = (int)j4_num(t, r, "grid_n");
@@ -421,10 +520,14 @@ void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out) {
   (void)csv;
   cb_table t;
   if (cb_claim_side_table(dir, "linear_solvers", "scaling", &t, out)) return;
-  static const char *const need[] = {"scene", "grid_n", "n_dofs", "solver", "iters_to_err", "error", "analyze_ms", "factor_ms",
-                                     "solve_ms", "wall_ms", "capped_wall_ms", "lmax_over_lmin", "status"};
+  static const char *const need[] = {"scene",          "grid_n",         "n_dofs",    "solver",   "iters_to_err",
+                                     "error",          "analyze_ms",     "factor_ms", "solve_ms", "wall_ms",
+                                     "capped_wall_ms", "lmax_over_lmin", "status"};
   int idx[sizeof need / sizeof *need];
-  if (cb_claim_columns(&t, need, idx, (int)(sizeof need / sizeof *need), "linear_solvers_scaling.csv", out)) { cb_table_free(&t); return; }
+  if (cb_claim_columns(&t, need, idx, (int)(sizeof need / sizeof *need), "linear_solvers_scaling.csv", out)) {
+    cb_table_free(&t);
+    return;
+  }
   j4_size sz[J4_MAXS];
   const char *solv[J4_MAXSOLV];
   int ns = 0, nsolv = 0, cs = cb_table_col(&t, "solver"), cg = cb_table_col(&t, "grid_n");
@@ -438,15 +541,20 @@ void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out) {
       if (ns == J4_MAXS) continue;
       sz[ns++] = (j4_size){g, (int)j4_num(&t, r, "n_dofs"), -1, -1, j4_num(&t, r, "lmax_over_lmin")};
     }
-    if (direct) { if (!strcmp(so, "cholmod") || sz[k].chol < 0) sz[k].chol = r; continue; }
+    if (direct) {
+      if (!strcmp(so, "cholmod") || sz[k].chol < 0) sz[k].chol = r;
+      continue;
+    }
     int seen = 0;
     for (int q = 0; q < nsolv; q++) seen |= !strcmp(solv[q], so);
     if (!seen && nsolv < J4_MAXSOLV) solv[nsolv++] = so;
-    if (j4_reached(&t, r) && (sz[k].best < 0 || j4_num(&t, r, "wall_ms") < j4_num(&t, sz[k].best, "wall_ms"))) sz[k].best = r;
+    if (j4_reached(&t, r) && (sz[k].best < 0 || j4_num(&t, r, "wall_ms") < j4_num(&t, sz[k].best, "wall_ms")))
+      sz[k].best = r;
   }
   int exact = 0, control = 0, cheap = 0, nchol = 0;
   cb_claim_repeats reps = {0};
-  cb_claim_numbers(out, "| grid | dofs | cond(D^-1 A) | CHOLMOD ms (analyse + factor + solve), error | of it factor + solve | best iterative to 1e-6: solver, iterations, ms | CHOLMOD / best |");
+  cb_claim_numbers(out, "| grid | dofs | cond(D^-1 A) | CHOLMOD ms (analyse + factor + solve), error | of it factor + "
+                        "solve | best iterative to 1e-6: solver, iterations, ms | CHOLMOD / best |");
   for (int q = 0; q < nsolv; q++) cb_claim_numbers(out, " %s ms |", solv[q]);
   cb_claim_numbers(out, "\n|---|---|---|---|---|---|---|");
   for (int q = 0; q < nsolv; q++) cb_claim_numbers(out, "---|");
@@ -473,11 +581,13 @@ void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out) {
       cb_claim_repeats_add(&reps, &tb);
     }
     cb_claim_timing ratio = cb_claim_timing_ratio(&tc, &tb);
-    cb_claim_numbers(out, "| %d^2 | %d | %.3g | %s, %.1e | %.3g | ", z->grid, z->dofs, z->cond, cb_claim_spread(b1, sizeof b1, "%.3g", &tc, ""), ce,
+    cb_claim_numbers(out, "| %d^2 | %d | %.3g | %s, %.1e | %.3g | ", z->grid, z->dofs, z->cond,
+                     cb_claim_spread(b1, sizeof b1, "%.3g", &tc, ""), ce,
                      z->chol >= 0 ? j4_num(&t, z->chol, "factor_ms") + j4_num(&t, z->chol, "solve_ms") : NAN);
     if (z->best >= 0)
-      cb_claim_numbers(out, "%s, %d, %s | %s |", cb_table_str(&t, z->best, cs), (int)j4_num(&t, z->best, "iters_to_err"),
-                       cb_claim_spread(b2, sizeof b2, "%.3g", &tb, ""), cb_claim_spread(b3, sizeof b3, "%.3g", &ratio, "x"));
+      cb_claim_numbers(out, "%s, %d, %s | %s |", cb_table_str(&t, z->best, cs),
+                       (int)j4_num(&t, z->best, "iters_to_err"), cb_claim_spread(b2, sizeof b2, "%.3g", &tb, ""),
+                       cb_claim_spread(b3, sizeof b3, "%.3g", &ratio, "x"));
     else cb_claim_numbers(out, "none reached 1e-6 | - |");
     for (int q = 0; q < nsolv; q++) {
       int r = -1;
@@ -485,8 +595,9 @@ void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out) {
         if ((int)cb_table_num(&t, i, cg) == z->grid && !strcmp(cb_table_str(&t, i, cs), solv[q])) r = i;
       if (r < 0) cb_claim_numbers(out, " - |");
       else if (j4_reached(&t, r)) cb_claim_numbers(out, " %.3g |", j4_num(&t, r, "wall_ms"));
-      else cb_claim_numbers(out, " > %.3g (%s within its %.3g ms) |", j4_num(&t, r, "capped_wall_ms"), cb_table_str(&t, r, cb_table_col(&t, "status")),
-                            j4_num(&t, r, "budget_ms"));
+      else
+        cb_claim_numbers(out, " > %.3g (%s within its %.3g ms) |", j4_num(&t, r, "capped_wall_ms"),
+                         cb_table_str(&t, r, cb_table_col(&t, "status")), j4_num(&t, r, "budget_ms"));
     }
     cb_claim_numbers(out, "\n");
   }
@@ -497,67 +608,103 @@ void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out) {
   /* growth exponents */
   double pc = NAN, lc = NAN;
   int g0, g1, have_c = j4_fit(&t, "cholmod", &pc, &lc, &g0, &g1);
-  cb_claim_numbers(out, "\nGrowth of the time to error 1e-6 with the dofs n, fitted as C n^p over each method's largest three sizes that reached it:\n\n| method | p | sizes |\n|---|---|---|\n");
+  cb_claim_numbers(out, "\nGrowth of the time to error 1e-6 with the dofs n, fitted as C n^p over each method's "
+                        "largest three sizes that reached it:\n\n| method | p | sizes |\n|---|---|---|\n");
   if (have_c) cb_claim_numbers(out, "| cholmod | %.2f | %d^2-%d^2 |\n", pc, g0, g1);
   double pbest = NAN, lbest = NAN;
   char bname_buf[64];
   const char *bname = ns > 0 && sz[ns - 1].best >= 0 ? cb_table_str(&t, sz[ns - 1].best, cs) : NULL;
   for (int q = 0; q < nsolv; q++) {
     double p, l;
-    if (!j4_fit(&t, solv[q], &p, &l, &g0, &g1)) { cb_claim_numbers(out, "| %s | - | reached 1e-6 at fewer than 2 sizes |\n", solv[q]); continue; }
+    if (!j4_fit(&t, solv[q], &p, &l, &g0, &g1)) {
+      cb_claim_numbers(out, "| %s | - | reached 1e-6 at fewer than 2 sizes |\n", solv[q]);
+      continue;
+    }
     cb_claim_numbers(out, "| %s | %.2f | %d^2-%d^2 |\n", solv[q], p, g0, g1);
-    if (bname && !strcmp(bname, solv[q])) { pbest = p; lbest = l; }
+    if (bname && !strcmp(bname, solv[q])) {
+      pbest = p;
+      lbest = l;
+    }
   }
   char rt[64], last_ratio[128] = "-";
   if (ns > 0 && sz[ns - 1].chol >= 0 && sz[ns - 1].best >= 0) {
-    cb_claim_timing a = cb_claim_timing_at(&t, sz[ns - 1].chol, "wall_ms"), bb = cb_claim_timing_at(&t, sz[ns - 1].best, "wall_ms");
+    cb_claim_timing a = cb_claim_timing_at(&t, sz[ns - 1].chol, "wall_ms"),
+                    bb = cb_claim_timing_at(&t, sz[ns - 1].best, "wall_ms");
     cb_claim_timing rr = cb_claim_timing_ratio(&a, &bb);
     cb_claim_spread_long(last_ratio, sizeof last_ratio, "%.2f", &rr, "x");
   }
-  cb_claim_numbers(out, "\nb = A x* for a manufactured x* (a smooth field plus 10%% noise), error |x - x*|/|x*|, never against CHOLMOD; "
-                        "every time is analyse + factor + solve from x = 0 with a fresh solver; an iterative solver runs exactly its iterations "
-                        "to 1e-6 (found by a traced run); '>': it did not get there within its budget (a multiple of CHOLMOD's time), the time "
-                        "is a lower bound. Jacobi-type solvers are given alpha* for free; Chebyshev's rho estimate is counted. 'Of it factor + solve': "
-                        "CHOLMOD with its symbolic analysis reused, as inside a Newton loop (medians of the parts; context, not the verdict).%s%s%s\n",
+  cb_claim_numbers(out,
+                   "\nb = A x* for a manufactured x* (a smooth field plus 10%% noise), error |x - x*|/|x*|, never "
+                   "against CHOLMOD; "
+                   "every time is analyse + factor + solve from x = 0 with a fresh solver; an iterative solver runs "
+                   "exactly its iterations "
+                   "to 1e-6 (found by a traced run); '>': it did not get there within its budget (a multiple of "
+                   "CHOLMOD's time), the time "
+                   "is a lower bound. Jacobi-type solvers are given alpha* for free; Chebyshev's rho estimate is "
+                   "counted. 'Of it factor + solve': "
+                   "CHOLMOD with its symbolic analysis reused, as inside a Newton loop (medians of the parts; context, "
+                   "not the verdict).%s%s%s\n",
                    cb_claim_repeats_text(rt, sizeof rt, &reps)[0] ? " Every time is the median of " : "", rt,
-                   rt[0] ? ", in brackets the fastest and slowest, the solvers of a size in interleaved rounds (ratios: paired repeats)." : "");
+                   rt[0] ? ", in brackets the fastest and slowest, the solvers of a size in interleaved rounds "
+                           "(ratios: paired repeats)."
+                         : "");
   if (bname) { /* outlives the table */
     snprintf(bname_buf, sizeof bname_buf, "%s", bname);
     bname = bname_buf;
   }
   cb_table_free(&t);
-  if (ns == 0 || nchol == 0) { cb_claim_reason(out, "No CHOLMOD rows in linear_solvers_scaling.csv."); return; }
+  if (ns == 0 || nchol == 0) {
+    cb_claim_reason(out, "No CHOLMOD rows in linear_solvers_scaling.csv.");
+    return;
+  }
   int base = exact == ns && control == ns;
   out->verdict = base && cheap == ns && cross >= 0 ? CB_REPRODUCED : base ? CB_PARTLY : CB_NOT_REPRODUCED;
-  cb_claim_reason(out, "Manufactured solutions at %d mesh sizes, %d^2 to %d^2: CHOLMOD is exact in one shot (error against x* <= %.0e) on %d; "
-                       "an iterative solver reaches error 1e-6 on %d (controllable), with an iteration cheaper than a CHOLMOD solve on %d. ",
+  cb_claim_reason(out,
+                  "Manufactured solutions at %d mesh sizes, %d^2 to %d^2: CHOLMOD is exact in one shot (error against "
+                  "x* <= %.0e) on %d; "
+                  "an iterative solver reaches error 1e-6 on %d (controllable), with an iteration cheaper than a "
+                  "CHOLMOD solve on %d. ",
                   ns, sz[0].grid, sz[ns - 1].grid, J4_EXACT, exact, control, cheap);
   if (cross >= 0) {
-    cb_claim_reason(out, "Crossover at %d^2 (%d dofs)%s: from there on CHOLMOD (analyse + factor + solve) costs more than the best iterative "
-                         "solver's time to 1e-6 (at %d^2: %s, against %s). ", sz[cross].grid, sz[cross].dofs,
-                    cross == 0 ? ", the smallest size run, so at or below it" : "", sz[ns - 1].grid, last_ratio, bname);
+    cb_claim_reason(out,
+                    "Crossover at %d^2 (%d dofs)%s: from there on CHOLMOD (analyse + factor + solve) costs more than "
+                    "the best iterative "
+                    "solver's time to 1e-6 (at %d^2: %s, against %s). ",
+                    sz[cross].grid, sz[cross].dofs, cross == 0 ? ", the smallest size run, so at or below it" : "",
+                    sz[ns - 1].grid, last_ratio, bname);
   } else {
     int nc = 0;
     for (int k = 0; k < ns; k++) nc += costly[k];
-    cb_claim_reason(out, "No crossover up to %d^2: CHOLMOD costs more than the best iterative solver's time to 1e-6 on %d of %d sizes, "
-                         "but not at %d^2, so there is no size from which it stays the costlier and \"expensive\" is not reproduced "
-                         "(at %d^2: CHOLMOD / %s = %s). ", sz[ns - 1].grid, nc, ns, sz[ns - 1].grid, sz[ns - 1].grid, bname ? bname : "-", last_ratio);
+    cb_claim_reason(out,
+                    "No crossover up to %d^2: CHOLMOD costs more than the best iterative solver's time to 1e-6 on %d "
+                    "of %d sizes, "
+                    "but not at %d^2, so there is no size from which it stays the costlier and \"expensive\" is not "
+                    "reproduced "
+                    "(at %d^2: CHOLMOD / %s = %s). ",
+                    sz[ns - 1].grid, nc, ns, sz[ns - 1].grid, sz[ns - 1].grid, bname ? bname : "-", last_ratio);
   }
   if (cross_fs >= 0)
-    cb_claim_reason(out, "With CHOLMOD's analysis reused (factor + solve only) the crossover is at %d^2. ", sz[cross_fs].grid);
+    cb_claim_reason(out, "With CHOLMOD's analysis reused (factor + solve only) the crossover is at %d^2. ",
+                    sz[cross_fs].grid);
   else
-    cb_claim_reason(out, "With CHOLMOD's analysis reused (factor + solve only) there is no crossover up to %d^2. ", sz[ns - 1].grid);
+    cb_claim_reason(out, "With CHOLMOD's analysis reused (factor + solve only) there is no crossover up to %d^2. ",
+                    sz[ns - 1].grid);
   if (have_c && !isnan(pbest)) {
-    cb_claim_reason(out, "Time grows as n^%.2f for CHOLMOD and n^%.2f for %s (the best iterative solver at %d^2)", pc, pbest, bname, sz[ns - 1].grid);
+    cb_claim_reason(out, "Time grows as n^%.2f for CHOLMOD and n^%.2f for %s (the best iterative solver at %d^2)", pc,
+                    pbest, bname, sz[ns - 1].grid);
     if (cross < 0 && pbest < pc) {
       double nx = exp((lbest - lc) / (pc - pbest)); /* C_c n^pc = C_b n^pb */
-      cb_claim_reason(out, "; extrapolated, the two would cross near %.0f dofs (about %.0f^2 vertices), not measured", nx, sqrt(nx / 3));
+      cb_claim_reason(out, "; extrapolated, the two would cross near %.0f dofs (about %.0f^2 vertices), not measured",
+                      nx, sqrt(nx / 3));
     } else if (cross < 0)
       cb_claim_reason(out, ": CHOLMOD's time grows the more slowly, so its advantage widens with n");
     else if (pbest > pc) {
       double nx = exp((lbest - lc) / (pc - pbest));
-      cb_claim_reason(out, ": the gap closes with n, and extrapolated CHOLMOD would be the cheaper again above about %.0f dofs "
-                           "(%.0f^2 vertices), not measured", nx, sqrt(nx / 3));
+      cb_claim_reason(out,
+                      ": the gap closes with n, and extrapolated CHOLMOD would be the cheaper again above about %.0f "
+                      "dofs "
+                      "(%.0f^2 vertices), not measured",
+                      nx, sqrt(nx / 3));
     }
     cb_claim_reason(out, ".");
   }

@@ -10,17 +10,17 @@
 #include "claims.h"
 
 
-#define L1_MIN_FALL 20.0   /* deg: across mesh lines the fold angle falls at least this much over the sweep, */
-                           /* and at every step of k */
-#define L1_FREE_FOLD 90.0  /* deg: a free fold's angle, the flap hanging straight down (centroid below the line) */
-#define L1_MAX_DEV 5.0     /* deg: along mesh edges the angle stays within this of the free fold's at every k */
-#define L1_MIN_DECADES 4.0 /* converged k must span at least this many decades to judge a case */
-#define L2_NC_MIN 2.5      /* nonconforming DoFs per vertex on the largest mesh of each family, at least */
-#define L2_C_MAX 0.6       /* conforming DoFs per vertex on the largest mesh, at most */
-#define F1_FEM_MAX 1.05    /* FEM: max/min energy over the directions of a non-affine load, at most */
+#define L1_MIN_FALL 20.0     /* deg: across mesh lines the fold angle falls at least this much over the sweep, */
+                             /* and at every step of k */
+#define L1_FREE_FOLD 90.0    /* deg: a free fold's angle, the flap hanging straight down (centroid below the line) */
+#define L1_MAX_DEV 5.0       /* deg: along mesh edges the angle stays within this of the free fold's at every k */
+#define L1_MIN_DECADES 4.0   /* converged k must span at least this many decades to judge a case */
+#define L2_NC_MIN 2.5        /* nonconforming DoFs per vertex on the largest mesh of each family, at least */
+#define L2_C_MAX 0.6         /* conforming DoFs per vertex on the largest mesh, at most */
+#define F1_FEM_MAX 1.05      /* FEM: max/min energy over the directions of a non-affine load, at most */
 #define F1_FEM_MESH_MAX 1.10 /* FEM: max/min energy across the three meshes at one direction, at most */
-#define F1_SPRING_MIN 1.2  /* springs: anisotropy over the directions, on some mesh, at least */
-#define F1_ROUNDOFF 1e-10  /* rel_grad above this counts for the convergence order */
+#define F1_SPRING_MIN 1.2    /* springs: anisotropy over the directions, on some mesh, at least */
+#define F1_ROUNDOFF 1e-10    /* rel_grad above this counts for the convergence order */
 
 static int same(const cb_table *t, int r, int c, const char *s) { return strcmp(cb_table_str(t, r, c), s) == 0; }
 
@@ -35,7 +35,8 @@ void cb_check_L1(const cb_table *t, const char *results_dir, cb_claim_result *ou
   double *ks = malloc(((size_t)t->nrows + 1) * sizeof(double)), *as = malloc(((size_t)t->nrows + 1) * sizeof(double));
   int judged = 0, pass = 0, across = 0, along = 0, unconverged = 0, skipped = 0, rises = 0, stuck = 0;
   double min_fall = INFINITY, min_step = INFINITY, max_dev = 0; /* over the judged cases across / along mesh lines */
-  cb_claim_numbers(out, "| model | mesh | fold line | along mesh edges | k range (N/m) | angle by k, low to high (deg) | "
+  cb_claim_numbers(out, "| model | mesh | fold line | along mesh edges | k range (N/m) | angle by k, low to high (deg) "
+                        "| "
                         "deciding number | verdict |\n|---|---|---|---|---|---|---|---|\n");
   for (int r = 0; r < t->nrows; r++) {
     if (done[r]) continue;
@@ -45,10 +46,16 @@ void cb_check_L1(const cb_table *t, const char *results_dir, cb_claim_result *ou
           !same(t, q, c[2], cb_table_str(t, r, c[2])))
         continue;
       done[q] = 1;
-      if (!same(t, q, c[6], "ok")) { unconverged++; continue; }
+      if (!same(t, q, c[6], "ok")) {
+        unconverged++;
+        continue;
+      }
       double k = cb_table_num(t, q, c[4]), a = cb_table_num(t, q, c[5]);
       int p = n++;
-      for (; p > 0 && ks[p - 1] > k; p--) { ks[p] = ks[p - 1]; as[p] = as[p - 1]; }
+      for (; p > 0 && ks[p - 1] > k; p--) {
+        ks[p] = ks[p - 1];
+        as[p] = as[p - 1];
+      }
       ks[p] = k;
       as[p] = a;
     }
@@ -84,8 +91,9 @@ void cb_check_L1(const cb_table *t, const char *results_dir, cb_claim_result *ou
     } else {
       skipped++;
     }
-    cb_claim_numbers(out, "| %s | %s | %s | %s | %.0e-%.0e | %s | %s | %s |\n", cb_table_str(t, r, c[0]), cb_table_str(t, r, c[1]),
-                     cb_table_str(t, r, c[2]), on ? "yes" : "no", n ? ks[0] : NAN, n ? ks[n - 1] : NAN, angles, decide, v);
+    cb_claim_numbers(out, "| %s | %s | %s | %s | %.0e-%.0e | %s | %s | %s |\n", cb_table_str(t, r, c[0]),
+                     cb_table_str(t, r, c[1]), cb_table_str(t, r, c[2]), on ? "yes" : "no", n ? ks[0] : NAN,
+                     n ? ks[n - 1] : NAN, angles, decide, v);
   }
   free(done);
   free(ks);
@@ -94,12 +102,16 @@ void cb_check_L1(const cb_table *t, const char *results_dir, cb_claim_result *ou
     cb_claim_reason(out, "No case has converged rest states over %.0f decades of stiffness.", L1_MIN_DECADES);
     return;
   }
-  out->verdict = pass == judged && across > 0 && along > 0 ? CB_REPRODUCED : 2 * pass >= judged ? CB_PARTLY : CB_NOT_REPRODUCED;
-  cb_claim_reason(out, "%d of %d cases as predicted: across mesh lines (%d cases) the fold angle must fall at every step of "
-                       "stiffness and by at least %.0f deg in all; along mesh edges (%d cases) it must stay within %.0f deg "
-                       "of the free fold's %.0f deg (the flap hangs straight down) at every stiffness. Across mesh lines the "
-                       "smallest total fall is %.1f deg and the smallest single step %.1f deg (%d cases rise at some step); "
-                       "along mesh edges the largest deviation from %.0f deg is %.1f deg (%d cases off).",
+  out->verdict = pass == judged && across > 0 && along > 0 ? CB_REPRODUCED
+                 : 2 * pass >= judged                      ? CB_PARTLY
+                                                           : CB_NOT_REPRODUCED;
+  cb_claim_reason(out,
+                  "%d of %d cases as predicted: across mesh lines (%d cases) the fold angle must fall at every step of "
+                  "stiffness and by at least %.0f deg in all; along mesh edges (%d cases) it must stay within %.0f deg "
+                  "of the free fold's %.0f deg (the flap hangs straight down) at every stiffness. Across mesh lines "
+                  "the "
+                  "smallest total fall is %.1f deg and the smallest single step %.1f deg (%d cases rise at some step); "
+                  "along mesh edges the largest deviation from %.0f deg is %.1f deg (%d cases off).",
                   pass, judged, across, L1_MIN_FALL, along, L1_MAX_DEV, L1_FREE_FOLD, across ? min_fall : NAN,
                   across ? min_step : NAN, rises, L1_FREE_FOLD, max_dev, stuck);
   if (unconverged) cb_claim_reason(out, " %d static solves did not converge and are left out.", unconverged);
@@ -112,23 +124,34 @@ void cb_check_L2(const cb_table *t, const char *results_dir, cb_claim_result *ou
   (void)t;
   cb_table d;
   if (cb_claim_side_table(results_dir, "locking", "dofs", &d, out)) return;
-  static const char *const names[] = {"mesh", "vertices", "boundary_edges", "conforming_dofs", "conforming_predicted",
-                                      "conforming_per_vertex", "nonconforming_dofs", "nonconforming_predicted",
+  static const char *const names[] = {"mesh",
+                                      "vertices",
+                                      "boundary_edges",
+                                      "conforming_dofs",
+                                      "conforming_predicted",
+                                      "conforming_per_vertex",
+                                      "nonconforming_dofs",
+                                      "nonconforming_predicted",
                                       "nonconforming_per_vertex"};
   int c[9];
-  if (cb_claim_columns(&d, names, c, 9, "locking_dofs.csv", out)) { cb_table_free(&d); return; }
+  if (cb_claim_columns(&d, names, c, 9, "locking_dofs.csv", out)) {
+    cb_table_free(&d);
+    return;
+  }
   static const char *const fam[3] = {"_regular", "_alternating", "ring_disk"};
   int exact_c = 0, exact_nc = 0, n = 0, fam_ok = 0, fams = 0;
   double worst_c = 0, worst_nc = INFINITY; /* on the largest mesh of each family */
-  cb_claim_numbers(out, "| mesh | #V | #B | conforming DoFs (3+#B) | per vertex | nonconforming DoFs (3#V-3) | per vertex |\n"
+  cb_claim_numbers(out, "| mesh | #V | #B | conforming DoFs (3+#B) | per vertex | nonconforming DoFs (3#V-3) | per "
+                        "vertex |\n"
                         "|---|---|---|---|---|---|---|\n");
   for (int r = 0; r < d.nrows; r++) {
     n++;
     exact_c += cb_table_num(&d, r, c[3]) == cb_table_num(&d, r, c[4]);
     exact_nc += cb_table_num(&d, r, c[6]) == cb_table_num(&d, r, c[7]);
     cb_claim_numbers(out, "| %s | %.0f | %.0f | %.0f (%.0f) | %.3f | %.0f (%.0f) | %.3f |\n", cb_table_str(&d, r, c[0]),
-                     cb_table_num(&d, r, c[1]), cb_table_num(&d, r, c[2]), cb_table_num(&d, r, c[3]), cb_table_num(&d, r, c[4]),
-                     cb_table_num(&d, r, c[5]), cb_table_num(&d, r, c[6]), cb_table_num(&d, r, c[7]), cb_table_num(&d, r, c[8]));
+                     cb_table_num(&d, r, c[1]), cb_table_num(&d, r, c[2]), cb_table_num(&d, r, c[3]),
+                     cb_table_num(&d, r, c[4]), cb_table_num(&d, r, c[5]), cb_table_num(&d, r, c[6]),
+                     cb_table_num(&d, r, c[7]), cb_table_num(&d, r, c[8]));
   }
   for (int f = 0; f < 3; f++) { /* per family: conforming per vertex falls with size; on the largest, the limits */
     double prev_v = -1, prev_c = INFINITY, last_c = NAN, last_nc = NAN;
@@ -150,7 +173,8 @@ void cb_check_L2(const cb_table *t, const char *results_dir, cb_claim_result *ou
     worst_c = fmax(worst_c, last_c);
     worst_nc = fmin(worst_nc, last_nc);
     fam_ok += ok;
-    cb_claim_numbers(out, "\n- %s meshes: conforming DoFs per vertex %s with size, %.3f on the largest; nonconforming %.3f.",
+    cb_claim_numbers(out,
+                     "\n- %s meshes: conforming DoFs per vertex %s with size, %.3f on the largest; nonconforming %.3f.",
                      f == 2 ? "ring disk" : fam[f] + 1, mono ? "fall" : "do not fall", last_c, last_nc);
   }
   cb_claim_numbers(out, "\n");
@@ -160,20 +184,25 @@ void cb_check_L2(const cb_table *t, const char *results_dir, cb_claim_result *ou
     return;
   }
   out->verdict = fam_ok == fams ? CB_REPRODUCED : fam_ok > 0 ? CB_PARTLY : CB_NOT_REPRODUCED;
-  cb_claim_reason(out, "Conforming DoFs equal 3 + #B on %d of %d meshes and nonconforming ones 3#V - 3 on %d of %d; in %d of %d "
-                       "mesh families the conforming DoFs per vertex fall with size to at most %.1f while the nonconforming "
-                       "ones reach at least %.1f (on the largest meshes: conforming at most %.3f, nonconforming at least "
-                       "%.3f per vertex).", exact_c, n, exact_nc, n, fam_ok, fams, L2_C_MAX, L2_NC_MIN, worst_c, worst_nc);
+  cb_claim_reason(out,
+                  "Conforming DoFs equal 3 + #B on %d of %d meshes and nonconforming ones 3#V - 3 on %d of %d; in %d "
+                  "of %d "
+                  "mesh families the conforming DoFs per vertex fall with size to at most %.1f while the nonconforming "
+                  "ones reach at least %.1f (on the largest meshes: conforming at most %.3f, nonconforming at least "
+                  "%.3f per vertex).",
+                  exact_c, n, exact_nc, n, fam_ok, fams, L2_C_MAX, L2_NC_MIN, worst_c, worst_nc);
 }
 
 /* ---- F1 ------------------------------------------------------------------------ */
 
 /* max/min of energy_density over the ok rows of (model, mesh, family) (mesh or family NULL: any), over
  * every direction when dir is NaN, else at that direction only. */
-static double ratio(const cb_table *a, const int *c, const char *model, const char *mesh, const char *family, double dir) {
+static double ratio(const cb_table *a, const int *c, const char *model, const char *mesh, const char *family,
+                    double dir) {
   double lo = INFINITY, hi = 0;
   for (int r = 0; r < a->nrows; r++) {
-    if (!same(a, r, c[0], model) || (mesh && !same(a, r, c[1], mesh)) || (family && !same(a, r, c[2], family))) continue;
+    if (!same(a, r, c[0], model) || (mesh && !same(a, r, c[1], mesh)) || (family && !same(a, r, c[2], family)))
+      continue;
     if (!same(a, r, c[5], "ok") || (!isnan(dir) && cb_table_num(a, r, c[3]) != dir)) continue;
     double e = cb_table_num(a, r, c[4]);
     lo = fmin(lo, e);
@@ -192,7 +221,9 @@ static double conv_order(const cb_table *nt, const int *c, const char *m, double
     if (!same(nt, r, c[0], m) || cb_table_num(nt, r, c[1]) != 0) continue;
     double g = cb_table_num(nt, r, c[3]);
     if (!(g > F1_ROUNDOFF) || cb_table_num(nt, r, c[2]) == 0) continue; /* skip the initial guess (rel_grad = 1) */
-    e[0] = e[1]; e[1] = e[2]; e[2] = g;
+    e[0] = e[1];
+    e[1] = e[2];
+    e[2] = g;
     if (++k >= 3) {
       order = log(e[2] / e[1]) / log(e[1] / e[0]);
       *rate = e[2] / e[1];
@@ -214,19 +245,26 @@ void cb_check_F1(const cb_table *t, const char *results_dir, cb_claim_result *ou
   if (cb_claim_side_table(results_dir, "locking", "aniso", &a, out)) return;
   static const char *const names[] = {"model", "mesh", "family", "dir_deg", "energy_density_j_per_m2", "status"};
   int c[6];
-  if (cb_claim_columns(&a, names, c, 6, "locking_aniso.csv", out)) { cb_table_free(&a); return; }
+  if (cb_claim_columns(&a, names, c, 6, "locking_aniso.csv", out)) {
+    cb_table_free(&a);
+    return;
+  }
   static const char *const meshes[3] = {"regular", "alternating", "disk"}, *const fams[2] = {"stretch", "shear"};
   static const char *const models[2] = {"spring", "fem"};
-  double dir_worst[2] = {0, 0}, mesh_worst[2] = {0, 0}; /* per model: over meshes and loads / over loads and directions */
+  double dir_worst[2] = {0, 0},
+         mesh_worst[2] = {0, 0}; /* per model: over meshes and loads / over loads and directions */
   int rows = 0, bad = 0, meshes_seen[2] = {0, 0};
   for (int r = 0; r < a.nrows; r++) bad += !same(&a, r, c[5], "ok");
-  cb_claim_numbers(out, "Anisotropy of the response to non-affine loads (boundary of a disk held at X + u(X), 5%% strain "
-                        "at its largest): max/min of the energy per area over the load's directions, per mesh, and across "
+  cb_claim_numbers(out, "Anisotropy of the response to non-affine loads (boundary of a disk held at X + u(X), 5%% "
+                        "strain "
+                        "at its largest): max/min of the energy per area over the load's directions, per mesh, and "
+                        "across "
                         "the meshes at each direction (the largest over the directions).\n\n"
                         "| model | mesh | stretch: over directions | shear: over directions |\n|---|---|---|---|\n");
   for (int md = 0; md < 2; md++)
     for (int m = 0; m < 3; m++) {
-      double rs = ratio(&a, c, models[md], meshes[m], fams[0], NAN), rh = ratio(&a, c, models[md], meshes[m], fams[1], NAN);
+      double rs = ratio(&a, c, models[md], meshes[m], fams[0], NAN),
+             rh = ratio(&a, c, models[md], meshes[m], fams[1], NAN);
       if (!isfinite(rs) && !isfinite(rh)) continue;
       rows++;
       meshes_seen[md]++;
@@ -255,16 +293,24 @@ void cb_check_F1(const cb_table *t, const char *results_dir, cb_claim_result *ou
     static const char *const nn[] = {"model", "rep", "iter", "rel_grad"};
     int cn[4];
     int have_steps = cb_claim_side_table(results_dir, "locking", "newton_steps", &ns, out) == 0;
-    static const char *const sn[] = {"model", "newton_iters", "factorizations", "rel_grad", "step_wall_ms", "status", "n"};
+    static const char *const sn[] = {"model", "newton_iters", "factorizations", "rel_grad", "step_wall_ms", "status",
+                                     "n"};
     int cs[7];
-    if (have_steps && cb_claim_columns(&ns, sn, cs, 7, "locking_newton_steps.csv", out)) { cb_table_free(&ns); have_steps = 0; }
+    if (have_steps && cb_claim_columns(&ns, sn, cs, 7, "locking_newton_steps.csv", out)) {
+      cb_table_free(&ns);
+      have_steps = 0;
+    }
     if (cb_claim_columns(&nt, nn, cn, 4, "locking_newton.csv", out) == 0 && have_steps) {
       int nrep = 0;
       for (int r = 0; r < ns.nrows; r++) nrep += same(&ns, r, cs[0], cb_table_str(&ns, 0, cs[0]));
-      cb_claim_numbers(out, "\nOne implicit Euler step of the lab cloth at %.0f^2 (to rel. |grad F| 1e-12 or 300 iterations; "
-                            "the methods timed in interleaved rounds, the step's wall time the median of %d runs, in brackets "
-                            "the fastest and slowest):\n\n| method | Newton iterations | factorisations | final rel. grad | step wall "
-                            "(ms) | order | last rate | status |\n|---|---|---|---|---|---|---|---|\n",
+      cb_claim_numbers(out,
+                       "\nOne implicit Euler step of the lab cloth at %.0f^2 (to rel. |grad F| 1e-12 or 300 "
+                       "iterations; "
+                       "the methods timed in interleaved rounds, the step's wall time the median of %d runs, in "
+                       "brackets "
+                       "the fastest and slowest):\n\n| method | Newton iterations | factorisations | final rel. grad | "
+                       "step wall "
+                       "(ms) | order | last rate | status |\n|---|---|---|---|---|---|---|---|\n",
                        cb_table_num(&ns, 0, cs[6]), nrep);
       for (int r = 0; r < ns.nrows; r++) {
         if (cb_table_num(&ns, r, cb_table_col(&ns, "rep")) != 0) continue;
@@ -281,13 +327,14 @@ void cb_check_F1(const cb_table *t, const char *results_dir, cb_claim_result *ou
         double rate, order = conv_order(&nt, cn, m, &rate);
         size_t used = strlen(summary);
         if (used < sizeof summary - 1)
-          snprintf(summary + used, sizeof summary - used, "%s%s %.0f iterations, %.0f factorisations, order %.2f, %s ms, %s",
-                   used ? "; " : "", m, cb_table_num(&ns, r, cs[1]), cb_table_num(&ns, r, cs[2]), order,
-                   cb_claim_spread(wt, sizeof wt, "%.0f", &w, ""), conv_status(cb_table_str(&ns, r, cs[5]),
-                   cb_table_num(&ns, r, cs[3]), st, sizeof st));
+          snprintf(summary + used, sizeof summary - used,
+                   "%s%s %.0f iterations, %.0f factorisations, order %.2f, %s ms, %s", used ? "; " : "", m,
+                   cb_table_num(&ns, r, cs[1]), cb_table_num(&ns, r, cs[2]), order,
+                   cb_claim_spread(wt, sizeof wt, "%.0f", &w, ""),
+                   conv_status(cb_table_str(&ns, r, cs[5]), cb_table_num(&ns, r, cs[3]), st, sizeof st));
         cb_claim_numbers(out, "| %s | %.0f | %.0f | %.2e | %s | %.2f | %.3g | %s |\n", m, cb_table_num(&ns, r, cs[1]),
-                         cb_table_num(&ns, r, cs[2]), cb_table_num(&ns, r, cs[3]), cb_claim_spread(wt, sizeof wt, "%.0f", &w, ""),
-                         order, rate, cb_table_str(&ns, r, cs[5]));
+                         cb_table_num(&ns, r, cs[2]), cb_table_num(&ns, r, cs[3]),
+                         cb_claim_spread(wt, sizeof wt, "%.0f", &w, ""), order, rate, cb_table_str(&ns, r, cs[5]));
       }
     }
     if (have_steps) cb_table_free(&ns);
@@ -298,17 +345,22 @@ void cb_check_F1(const cb_table *t, const char *results_dir, cb_claim_result *ou
     return;
   }
   /* FEM isotropic and mesh-independent; springs mesh-dependent; FEM less anisotropic than springs */
-  int fem_ok = dir_worst[1] <= F1_FEM_MAX && mesh_worst[1] <= F1_FEM_MESH_MAX, spring_aniso = dir_worst[0] >= F1_SPRING_MIN;
+  int fem_ok = dir_worst[1] <= F1_FEM_MAX && mesh_worst[1] <= F1_FEM_MESH_MAX,
+      spring_aniso = dir_worst[0] >= F1_SPRING_MIN;
   int fem_better = dir_worst[1] < dir_worst[0];
   out->verdict = !fem_better ? CB_NOT_REPRODUCED : fem_ok && spring_aniso ? CB_REPRODUCED : CB_PARTLY;
-  cb_claim_reason(out, "Under non-affine loads on %d meshes, FEM's largest anisotropy over the directions is %.4f "
-                       "(isotropic if <= %.2f) and its largest spread across the meshes %.4f (mesh-independent if <= %.2f); "
-                       "springs' are %.4f (direction-dependent if >= %.1f) and %.4f.%s",
+  cb_claim_reason(out,
+                  "Under non-affine loads on %d meshes, FEM's largest anisotropy over the directions is %.4f "
+                  "(isotropic if <= %.2f) and its largest spread across the meshes %.4f (mesh-independent if <= %.2f); "
+                  "springs' are %.4f (direction-dependent if >= %.1f) and %.4f.%s",
                   meshes_seen[1], dir_worst[1], F1_FEM_MAX, mesh_worst[1], F1_FEM_MESH_MAX, dir_worst[0], F1_SPRING_MIN,
                   mesh_worst[0], fem_better ? "" : " FEM is not less anisotropic than springs.");
   if (bad) cb_claim_reason(out, " %d static solves did not converge and are left out.", bad);
-  if (summary[0]) cb_claim_reason(out, " One Newton step (median wall time, in brackets the fastest and slowest run; the "
-                                       "status says whether it converged to rel. |grad F| 1e-12): %s.", summary);
+  if (summary[0])
+    cb_claim_reason(out,
+                    " One Newton step (median wall time, in brackets the fastest and slowest run; the "
+                    "status says whether it converged to rel. |grad F| 1e-12): %s.",
+                    summary);
 }
 
 /* ---- S1 ------------------------------------------------------------------------ */
@@ -323,19 +375,26 @@ void cb_check_S1(const cb_table *t, const char *results_dir, cb_claim_result *ou
   (void)t;
   cb_table s;
   if (cb_claim_side_table(results_dir, "locking", "shape", &s, out)) return;
-  static const char *const names[] = {"scene", "method", "alpha", "dt_s", "class", "final_energy_ratio", "max_strain",
-                                      "rigid_dist_over_size"};
+  static const char *const names[] = {
+      "scene", "method", "alpha", "dt_s", "class", "final_energy_ratio", "max_strain", "rigid_dist_over_size"};
   int c[8];
-  if (cb_claim_columns(&s, names, c, 8, "locking_shape.csv", out)) { cb_table_free(&s); return; }
+  if (cb_claim_columns(&s, names, c, 8, "locking_shape.csv", out)) {
+    cb_table_free(&s);
+    return;
+  }
   int sm_cells = 0, sm_stable = 0, sm_energy = 0, sm_shape = 0, sm_div = 0, sp_cells = 0, sp_stable = 0;
   double sm_worst_strain = 0, sm_worst_rigid = 0;
   int *done = calloc((size_t)s.nrows + 1, sizeof(int));
-  cb_claim_numbers(out, "A cell is stable only if its energy stays bounded (class `stable`) and its shape error at the end "
-                        "is bounded too: max edge strain <= %.0f and distance to the best-fit rigid motion <= %.1f of the "
-                        "rest shape's RMS radius.\n\n"
-                        "| scene | method | alpha | cells | stable | energy unstable | shape unbounded | diverged | energy drift "
-                        "(median final ratio) | max edge strain at the largest dt | rigid-fit distance / size at the largest "
-                        "dt |\n|---|---|---|---|---|---|---|---|---|---|---|\n", S1_MAX_STRAIN, S1_MAX_RIGID);
+  cb_claim_numbers(out,
+                   "A cell is stable only if its energy stays bounded (class `stable`) and its shape error at the end "
+                   "is bounded too: max edge strain <= %.0f and distance to the best-fit rigid motion <= %.1f of the "
+                   "rest shape's RMS radius.\n\n"
+                   "| scene | method | alpha | cells | stable | energy unstable | shape unbounded | diverged | energy "
+                   "drift "
+                   "(median final ratio) | max edge strain at the largest dt | rigid-fit distance / size at the "
+                   "largest "
+                   "dt |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
+                   S1_MAX_STRAIN, S1_MAX_RIGID);
   for (int r = 0; r < s.nrows; r++) {
     if (done[r]) continue;
     int n = 0, st = 0, un = 0, sh = 0, dv = 0;
@@ -363,13 +422,29 @@ void cb_check_S1(const cb_table *t, const char *results_dir, cb_claim_result *ou
       }
       if (n < 64) drift[n] = cb_table_num(&s, q, c[5]);
       n++;
-      if (cb_table_num(&s, q, c[3]) > dtmax) { dtmax = cb_table_num(&s, q, c[3]); strain = e; rigid = g; }
+      if (cb_table_num(&s, q, c[3]) > dtmax) {
+        dtmax = cb_table_num(&s, q, c[3]);
+        strain = e;
+        rigid = g;
+      }
     }
     int nd = n < 64 ? n : 64;
     for (int i = 1; i < nd; i++)
-      for (int j = i; j > 0 && drift[j] < drift[j - 1]; j--) { double x = drift[j]; drift[j] = drift[j - 1]; drift[j - 1] = x; }
-    if (sm) { sm_cells += n; sm_stable += st; sm_energy += un; sm_shape += sh; sm_div += dv; }
-    else { sp_cells += n; sp_stable += st; }
+      for (int j = i; j > 0 && drift[j] < drift[j - 1]; j--) {
+        double x = drift[j];
+        drift[j] = drift[j - 1];
+        drift[j - 1] = x;
+      }
+    if (sm) {
+      sm_cells += n;
+      sm_stable += st;
+      sm_energy += un;
+      sm_shape += sh;
+      sm_div += dv;
+    } else {
+      sp_cells += n;
+      sp_stable += st;
+    }
     char alpha[32];
     snprintf(alpha, sizeof alpha, sm ? "%.3g" : "-", cb_table_num(&s, r, c[2]));
     cb_claim_numbers(out, "| %s | %s | %s | %d | %d | %d | %d | %d | %.3g | %.3g | %.3g |\n", cb_table_str(&s, r, c[0]),
@@ -383,13 +458,13 @@ void cb_check_S1(const cb_table *t, const char *results_dir, cb_claim_result *ou
   }
   double fsm = (double)sm_stable / sm_cells, fsp = sp_cells ? (double)sp_stable / sp_cells : NAN;
   out->verdict = sm_stable == sm_cells ? CB_REPRODUCED : sp_cells && fsm > fsp ? CB_PARTLY : CB_NOT_REPRODUCED;
-  cb_claim_reason(out, "Shape matching: %d of %d (alpha, dt) cells stable (energy and shape error bounded: max edge strain "
-                       "<= %.0f, rigid-fit distance <= %.1f of the size); %d energy-unstable, %d with an unbounded shape "
-                       "error although their energy stayed bounded, %d diverged. Among the energy-stable cells the largest "
-                       "edge strain is %.3g and the largest rigid-fit distance %.3g of the size. Springs under the same "
-                       "explicit integrator: %d of %d cells stable (fraction %.2f against shape matching's %.2f).",
+  cb_claim_reason(out,
+                  "Shape matching: %d of %d (alpha, dt) cells stable (energy and shape error bounded: max edge strain "
+                  "<= %.0f, rigid-fit distance <= %.1f of the size); %d energy-unstable, %d with an unbounded shape "
+                  "error although their energy stayed bounded, %d diverged. Among the energy-stable cells the largest "
+                  "edge strain is %.3g and the largest rigid-fit distance %.3g of the size. Springs under the same "
+                  "explicit integrator: %d of %d cells stable (fraction %.2f against shape matching's %.2f).",
                   sm_stable, sm_cells, S1_MAX_STRAIN, S1_MAX_RIGID, sm_energy, sm_shape, sm_div, sm_worst_strain,
                   sm_worst_rigid, sp_stable, sp_cells, fsp, fsm);
-  if (out->verdict == CB_PARTLY)
-    cb_claim_reason(out, " Partly: more stable than springs, not unconditionally.");
+  if (out->verdict == CB_PARTLY) cb_claim_reason(out, " Partly: more stable than springs, not unconditionally.");
 }

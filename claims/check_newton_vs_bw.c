@@ -145,11 +145,13 @@ void cb_check_newton_vs_bw_i2(const cb_table *main_csv, const char *dir, cb_clai
     r = end;
   }
   cb_table_free(&t);
-  cb_claim_numbers(out, "Each run: Newton with CHOLMOD from one state of the stretched trajectory, to relative |grad F| "
+  cb_claim_numbers(out, "Each run: Newton with CHOLMOD from one state of the stretched trajectory, to relative |grad "
+                        "F| "
                         "1e-14 or the round-off floor (max|dx| <= 1e-12 x mesh size), at most 60 iterations "
                         "(exact_or_shift: 500).\n\n"
                         "| Newton variant | line search | steps | reached the tolerance | reached 1e-8 | steps with an "
-                        "order estimate | median order | min | max | steps with alpha < 1 | iterations with alpha < 1 | "
+                        "order estimate | median order | min | max | steps with alpha < 1 | iterations with alpha < 1 "
+                        "| "
                         "shifted iterations |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   double med[I2_VARIANTS];
   int reach[I2_VARIANTS];
@@ -167,26 +169,32 @@ void cb_check_newton_vs_bw_i2(const cb_table *main_csv, const char *dir, cb_clai
     if (S[v].ls_where[0])
       cb_claim_numbers(out, "\n%s, line search: alpha < 1 at steps (iterations): %s.\n", var_def[v], S[v].ls_where);
   for (int v = 1; v < nvar; v++)
-    if (S[v].fails[0]) cb_claim_numbers(out, "\n%s Hessian, line search %s, did not reach the tolerance: %s.\n", var_def[v],
-                                        var_ls[v] ? "on" : "off", S[v].fails);
+    if (S[v].fails[0])
+      cb_claim_numbers(out, "\n%s Hessian, line search %s, did not reach the tolerance: %s.\n", var_def[v],
+                       var_ls[v] ? "on" : "off", S[v].fails);
   int n = S[0].with_order;
   if (S[0].runs == 0) {
     out->verdict = CB_NOT_RUN;
     cb_claim_reason(out, "No exact_or_shift runs in newton_vs_bw_i2.csv.");
   } else if (n >= 5 && med[0] >= I2_TARGET) {
     out->verdict = CB_REPRODUCED;
-    cb_claim_reason(out, "Newton with the exact Hessian converges with median order %.2f (>= %.1f) over %d steps of the "
-                    "stretched hanging cloth; %d of %d steps reach %.1f.", med[0], I2_TARGET, n, reach[0], n, I2_TARGET);
+    cb_claim_reason(out,
+                    "Newton with the exact Hessian converges with median order %.2f (>= %.1f) over %d steps of the "
+                    "stretched hanging cloth; %d of %d steps reach %.1f.",
+                    med[0], I2_TARGET, n, reach[0], n, I2_TARGET);
   } else if (n >= 1 && (med[0] >= 1.5 || reach[0] > 0)) {
     out->verdict = CB_PARTLY;
-    cb_claim_reason(out, "Median order %.2f over %d steps (target %.1f); %d steps reach it.", med[0], n, I2_TARGET, reach[0]);
+    cb_claim_reason(out, "Median order %.2f over %d steps (target %.1f); %d steps reach it.", med[0], n, I2_TARGET,
+                    reach[0]);
   } else {
     out->verdict = CB_NOT_REPRODUCED;
     cb_claim_reason(out, "Median order %.2f over %d steps with an estimate (target %.1f).", med[0], n, I2_TARGET);
   }
   if (fix >= 0 && S[fix].with_order)
-    cb_claim_reason(out, " With the lecture's drop fix the order is %.2f (median): the modified Hessian converges "
-                    "linearly once springs are compressed.", med[fix]);
+    cb_claim_reason(out,
+                    " With the lecture's drop fix the order is %.2f (median): the modified Hessian converges "
+                    "linearly once springs are compressed.",
+                    med[fix]);
 }
 
 /* ---- I3 ------------------------------------------------------------------ */
@@ -274,8 +282,10 @@ static void trajectories(const char *dir, cb_claim_result *out) {
   if (cb_table_read(path, &d)) return;
   int dt_ = cb_table_col(&d, "t_s"), de = cb_table_col(&d, "pos_error_m");
   if (dt_ >= 0 && de >= 0 && d.nrows > 0)
-    cb_claim_numbers(out, "\nTime-discretisation error (converged implicit Euler at dt against dt/16), RMS position: "
-                          "%.2e m at t = %.3g s.\n", cb_table_num(&d, d.nrows - 1, de), cb_table_num(&d, d.nrows - 1, dt_));
+    cb_claim_numbers(out,
+                     "\nTime-discretisation error (converged implicit Euler at dt against dt/16), RMS position: "
+                     "%.2e m at t = %.3g s.\n",
+                     cb_table_num(&d, d.nrows - 1, de), cb_table_num(&d, d.nrows - 1, dt_));
   cb_table_free(&d);
 }
 
@@ -289,7 +299,8 @@ void cb_check_newton_vs_bw_i3(const cb_table *t, const char *dir, cb_claim_resul
   cb_claim_repeats reps = {0};
   cb_claim_numbers(out, "Step error = max over start states of |x - x*|_M / |x* - x0|_M; time = median wall_ms over "
                         "start states of each state's median over its repeats, in brackets the spread over the repeats "
-                        "(per repeat the median over the states; the methods ran in interleaved rounds, so the speed-up's "
+                        "(per repeat the median over the states; the methods ran in interleaved rounds, so the "
+                        "speed-up's "
                         "spread is of paired repeats); failed steps count as infinite error. The converged baseline is "
                         "the fastest converged Newton variant of the scene (step error <= 1e-6 at every state): "
                         "newton_converged is the drop fix, newton_converged_exact the exact Hessian (shifted where "
@@ -334,9 +345,9 @@ void cb_check_newton_vs_bw_i3(const cb_table *t, const char *dir, cb_claim_resul
     if (bw >= 0 && conv >= 0) sp = cb_claim_timing_ratio(&ct[conv], &ct[bw]);
     if (!(speed >= SPEEDUP_MIN)) fast_all = 0;
     if (bw >= 0 && conv >= 0 && strlen(speeds) < sizeof speeds - 200)
-      snprintf(speeds + strlen(speeds), sizeof speeds - strlen(speeds), "%s%s %s against %s %s%s", speeds[0] ? "; " : "",
-               scene, cb_claim_spread_long(b3, sizeof b3, "%.1f", &sp, "x"), P[conv].method, P[conv].inner,
-               P[conv].ls ? " +LS" : "");
+      snprintf(speeds + strlen(speeds), sizeof speeds - strlen(speeds), "%s%s %s against %s %s%s",
+               speeds[0] ? "; " : "", scene, cb_claim_spread_long(b3, sizeof b3, "%.1f", &sp, "x"), P[conv].method,
+               P[conv].inner, P[conv].ls ? " +LS" : "");
     cb_claim_numbers(out, "| %s | %s | %s%s%s%s%s%s | %s | %.2g |", scene,
                      bw >= 0 ? cb_claim_spread(b1, sizeof b1, "%.3g", &ct[bw], "") : "-",
                      conv >= 0 ? P[conv].method : "none", conv >= 0 ? " " : "", conv >= 0 ? P[conv].inner : "",
@@ -346,8 +357,9 @@ void cb_check_newton_vs_bw_i3(const cb_table *t, const char *dir, cb_claim_resul
     for (int l = 0; l < 3; l++) {
       int c = cb_cheapest_at(np, cost, err, levels[l]);
       if (c < 0) cb_claim_numbers(out, " none |");
-      else cb_claim_numbers(out, " %s %s%s (%s ms, %.1e) |", P[c].method, P[c].inner, P[c].ls ? " +LS" : "",
-                            cb_claim_spread(b1, sizeof b1, "%.3g", &ct[c], ""), err[c]);
+      else
+        cb_claim_numbers(out, " %s %s%s (%s ms, %.1e) |", P[c].method, P[c].inner, P[c].ls ? " +LS" : "",
+                         cb_claim_spread(b1, sizeof b1, "%.3g", &ct[c], ""), err[c]);
     }
     int first = 1;
     for (int p = 0; p < np; p++)
@@ -373,8 +385,10 @@ void cb_check_newton_vs_bw_i3(const cb_table *t, const char *dir, cb_claim_resul
     cb_table_free(&rg);
     return;
   }
-  cb_claim_numbers(out, "\nK = 1 regime map (one-step error: max over the sampled states of its own trajectory; D = trajectory "
-                        "diverged, E = error > 1%%, . = fine):\n\n| stretch | k (N/m) | dt (s): cells |\n|---|---|---|\n");
+  cb_claim_numbers(out, "\nK = 1 regime map (one-step error: max over the sampled states of its own trajectory; D = "
+                        "trajectory "
+                        "diverged, E = error > 1%%, . = fine):\n\n| stretch | k (N/m) | dt (s): cells "
+                        "|\n|---|---|---|\n");
   for (int r = 0; r < rg.nrows; r++) {
     cells++;
     int f = (int)cb_table_num(&rg, r, cf), d = cb_table_num(&rg, r, cdv) >= 0;
@@ -383,7 +397,8 @@ void cb_check_newton_vs_bw_i3(const cb_table *t, const char *dir, cb_claim_resul
     ref_bad += strcmp(cb_table_str(&rg, r, crs), "ok") != 0;
     int newrow = r == 0 || cb_table_num(&rg, r, ck) != cb_table_num(&rg, r - 1, ck) ||
                  cb_table_num(&rg, r, cs) != cb_table_num(&rg, r - 1, cs);
-    if (newrow) cb_claim_numbers(out, "%s| %g | %g |", r ? " |\n" : "", cb_table_num(&rg, r, cs), cb_table_num(&rg, r, ck));
+    if (newrow)
+      cb_claim_numbers(out, "%s| %g | %g |", r ? " |\n" : "", cb_table_num(&rg, r, cs), cb_table_num(&rg, r, ck));
     cb_claim_numbers(out, " 1/%.0f:%s", 1.0 / cb_table_num(&rg, r, cdt), d ? "D" : f ? "E" : ".");
   }
   if (cells) cb_claim_numbers(out, " |\n");
@@ -392,22 +407,29 @@ void cb_check_newton_vs_bw_i3(const cb_table *t, const char *dir, cb_claim_resul
                    cells, diverged, ref_bad);
   trajectories(dir, out);
   int can_fail = fails > 0;
-  if (speeds[0] && scenes > 0 && cells > 0) cb_claim_reason(out, "Speed-up of K = 1 over the fastest converged Newton: %s. ", speeds);
+  if (speeds[0] && scenes > 0 && cells > 0)
+    cb_claim_reason(out, "Speed-up of K = 1 over the fastest converged Newton: %s. ", speeds);
   if (scenes == 0 || cells == 0) {
     out->verdict = CB_NOT_RUN;
     cb_claim_reason(out, "No step or regime rows.");
   } else if (fast_all && can_fail) {
     out->verdict = CB_REPRODUCED;
-    cb_claim_reason(out, "K = 1 is at least %.0fx faster than the fastest converged Newton on all %d scenes, and it fails "
-                    "(error > 1%% or divergence) in %d of %d (dt, k, stretch) cells.", SPEEDUP_MIN, scenes, fails, cells);
+    cb_claim_reason(out,
+                    "K = 1 is at least %.0fx faster than the fastest converged Newton on all %d scenes, and it fails "
+                    "(error > 1%% or divergence) in %d of %d (dt, k, stretch) cells.",
+                    SPEEDUP_MIN, scenes, fails, cells);
   } else if (fast_all || can_fail) {
     out->verdict = CB_PARTLY;
     cb_claim_reason(out, "%s; K = 1 fails in %d of %d regime cells.",
-                    fast_all ? "K = 1 is at least 2x faster than the fastest converged Newton on every scene" : "K = 1 is not at least 2x faster on every scene",
+                    fast_all ? "K = 1 is at least 2x faster than the fastest converged Newton on every scene"
+                             : "K = 1 is not at least 2x faster on every scene",
                     fails, cells);
   } else {
     out->verdict = CB_NOT_REPRODUCED;
-    cb_claim_reason(out, "K = 1 is neither at least %.0fx faster than the fastest converged Newton on every scene nor failing in any "
-                    "regime cell.", SPEEDUP_MIN);
+    cb_claim_reason(out,
+                    "K = 1 is neither at least %.0fx faster than the fastest converged Newton on every scene nor "
+                    "failing in any "
+                    "regime cell.",
+                    SPEEDUP_MIN);
   }
 }

@@ -53,7 +53,11 @@ static int need(const cb_table *t, const char *name, const char *file, cb_claim_
 static double median(double *v, int n) {
   if (n <= 0) return NAN;
   for (int i = 1; i < n; i++)
-    for (int j = i; j > 0 && v[j] < v[j - 1]; j--) { double t = v[j]; v[j] = v[j - 1]; v[j - 1] = t; }
+    for (int j = i; j > 0 && v[j] < v[j - 1]; j--) {
+      double t = v[j];
+      v[j] = v[j - 1];
+      v[j - 1] = t;
+    }
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
@@ -66,11 +70,13 @@ static cb_verdict j3_lab(const cb_table *t, cb_claim_result *out) {
       cd = need(t, "diverged", F, out), cf = need(t, "diverge_frame", F, out), cm = need(t, "median_rel_grad", F, out),
       cl = need(t, "rho_lin_median", F, out), cx = need(t, "rho_lin_max", F, out), cn = need(t, "frames", F, out),
       cu = need(t, "frames_run", F, out);
-  if (cp < 0 || cg < 0 || cr < 0 || cd < 0 || cf < 0 || cm < 0 || cl < 0 || cx < 0 || cn < 0 || cu < 0) return CB_NOT_RUN;
+  if (cp < 0 || cg < 0 || cr < 0 || cd < 0 || cf < 0 || cm < 0 || cl < 0 || cx < 0 || cn < 0 || cu < 0)
+    return CB_NOT_RUN;
   double lin[256];
   int nl = 0;
   for (int r = 0; r < t->nrows && nl < 256; r++)
-    if (!strcmp(cb_table_str(t, r, cp), "lab_iteration") && cb_table_num(t, r, cd) == 0 && isfinite(cb_table_num(t, r, cl)))
+    if (!strcmp(cb_table_str(t, r, cp), "lab_iteration") && cb_table_num(t, r, cd) == 0 &&
+        isfinite(cb_table_num(t, r, cl)))
       lin[nl++] = cb_table_num(t, r, cl);
   if (!nl) {
     cb_claim_reason(out, "Panel (a): no lab-iteration run without divergence, so no true rho. ");
@@ -79,16 +85,25 @@ static cb_verdict j3_lab(const cb_table *t, cb_claim_result *out) {
   double truth = median(lin, nl);
   int nover = 0, dover = 0, nunder = 0, dunder = 0, d995 = -1;
   double lowest_div = INFINITY, highest_ok = -INFINITY;
-  cb_claim_numbers(out, "**Panel (a), the lab's iteration** (chebyshev-nl on F(x), 32 iterations a frame, d = m/dt^2 + 4k, "
-                        "damping 0.99; true linearised rho(I - D^-1 A) = %.4f, the median over the runs' sampled frames):\n\n"
-                        "| rho | diverged | at frame | frames run | median rel. grad F after the iterations | linearised rho (median, max) |\n"
-                        "|---|---|---|---|---|---|\n", truth);
+  cb_claim_numbers(out,
+                   "**Panel (a), the lab's iteration** (chebyshev-nl on F(x), 32 iterations a frame, d = m/dt^2 + 4k, "
+                   "damping 0.99; true linearised rho(I - D^-1 A) = %.4f, the median over the runs' sampled "
+                   "frames):\n\n"
+                   "| rho | diverged | at frame | frames run | median rel. grad F after the iterations | linearised "
+                   "rho (median, max) |\n"
+                   "|---|---|---|---|---|---|\n",
+                   truth);
   for (int r = 0; r < t->nrows; r++) {
     if (strcmp(cb_table_str(t, r, cp), "lab_iteration")) continue;
     double rho = cb_table_num(t, r, cr);
     int dv = cb_table_num(t, r, cd) != 0;
-    if (rho > truth) { nover++; dover += dv; }
-    else { nunder++; dunder += dv; }
+    if (rho > truth) {
+      nover++;
+      dover += dv;
+    } else {
+      nunder++;
+      dunder += dv;
+    }
     if (fabs(rho - 0.995) < 1e-9) d995 = dv;
     if (dv && rho < lowest_div) lowest_div = rho;
     if (!dv && rho > highest_ok) highest_ok = rho;
@@ -98,8 +113,8 @@ static cb_verdict j3_lab(const cb_table *t, cb_claim_result *out) {
     if (strcmp(cb_table_str(t, r, cg), "auto")) snprintf(given, sizeof given, "%s", cb_table_str(t, r, cg));
     else snprintf(given, sizeof given, "auto (estimated %.4f)", rho);
     cb_claim_numbers(out, "| %s | %s | %s | %d of %d | %.3g | %.4f, %.4f |\n", given, dv ? "yes" : "no", at,
-                     (int)cb_table_num(t, r, cu), (int)cb_table_num(t, r, cn), cb_table_num(t, r, cm), cb_table_num(t, r, cl),
-                     cb_table_num(t, r, cx));
+                     (int)cb_table_num(t, r, cu), (int)cb_table_num(t, r, cn), cb_table_num(t, r, cm),
+                     cb_table_num(t, r, cl), cb_table_num(t, r, cx));
   }
   cb_verdict v;
   if (dover > 0 && dunder == 0 && d995 == 1) v = CB_REPRODUCED;
@@ -107,9 +122,14 @@ static cb_verdict j3_lab(const cb_table *t, cb_claim_result *out) {
   else v = CB_NOT_REPRODUCED;
   char low[32] = "none";
   if (isfinite(lowest_div)) snprintf(low, sizeof low, "%.6g", lowest_div);
-  cb_claim_reason(out, "Panel (a), the lab's iteration: %d of %d overestimates (rho > %.4f) diverged, %d of %d at or below it; "
-                       "the lab's 0.995 %s; the smallest diverging rho was %s, the largest converging %.6g: %s. ",
-                  dover, nover, truth, dunder, nunder, d995 == 1 ? "diverged" : d995 == 0 ? "did not diverge" : "was not run",
+  cb_claim_reason(out,
+                  "Panel (a), the lab's iteration: %d of %d overestimates (rho > %.4f) diverged, %d of %d at or below "
+                  "it; "
+                  "the lab's 0.995 %s; the smallest diverging rho was %s, the largest converging %.6g: %s. ",
+                  dover, nover, truth, dunder, nunder,
+                  d995 == 1   ? "diverged"
+                  : d995 == 0 ? "did not diverge"
+                              : "was not run",
                   low, highest_ok, cb_verdict_name(v));
   return v;
 }
@@ -122,13 +142,19 @@ void cb_check_nonlinear_j3(const cb_table *csv, const char *dir, cb_claim_result
   cb_table lt;
   cb_verdict b = CB_NOT_RUN;
   cb_claim_result *sub = calloc(1, sizeof *sub);
-  if (!sub) { cb_claim_reason(out, "out of memory"); return; }
+  if (!sub) {
+    cb_claim_reason(out, "out of memory");
+    return;
+  }
   if (cb_table_read(path, &lt) == CB_OK) {
     cb_check_j3(&lt, dir, sub);
     cb_table_free(&lt);
     b = sub->verdict;
-    cb_claim_numbers(out, "\n**Panel (b), linear Chebyshev-Jacobi solves** of captured Newton systems (linear_solvers, figure "
-                          "`linear_solvers_j3_rho.png`):\n\n%s", sub->numbers);
+    cb_claim_numbers(out,
+                     "\n**Panel (b), linear Chebyshev-Jacobi solves** of captured Newton systems (linear_solvers, "
+                     "figure "
+                     "`linear_solvers_j3_rho.png`):\n\n%s",
+                     sub->numbers);
     cb_claim_reason(out, "Panel (b), linear solves: %s (%s) ", cb_verdict_name(b), sub->reason);
   } else {
     cb_claim_reason(out, "Panel (b), linear solves: not run (%s is missing). ", path);
@@ -136,7 +162,8 @@ void cb_check_nonlinear_j3(const cb_table *csv, const char *dir, cb_claim_result
   free(sub);
   if (a == CB_NOT_RUN && b == CB_NOT_RUN) out->verdict = CB_NOT_RUN;
   else if (a == CB_REPRODUCED && b == CB_REPRODUCED) out->verdict = CB_REPRODUCED;
-  else if ((a == CB_NOT_REPRODUCED || a == CB_NOT_RUN) && (b == CB_NOT_REPRODUCED || b == CB_NOT_RUN)) out->verdict = CB_NOT_REPRODUCED;
+  else if ((a == CB_NOT_REPRODUCED || a == CB_NOT_RUN) && (b == CB_NOT_REPRODUCED || b == CB_NOT_RUN))
+    out->verdict = CB_NOT_REPRODUCED;
   else out->verdict = CB_PARTLY;
   cb_claim_reason(out, "J3 from both panels: %s.", cb_verdict_name(out->verdict));
 }
@@ -154,9 +181,12 @@ void cb_check_w1(const cb_table *csv, const char *dir, cb_claim_result *out) {
   (void)csv;
   const char *F = "nonlinear_w1.csv";
   int cs = need(&t, "scene", F, out), cm = need(&t, "method", F, out), ct = need(&t, "tol", F, out),
-      ci = need(&t, "iters_to_tol", F, out), cw = need(&t, "wall_to_tol_ms", F, out), cx = need(&t, "max_iters", F, out),
-      cr = need(&t, "rho", F, out);
-  if (cs < 0 || cm < 0 || ct < 0 || ci < 0 || cw < 0 || cx < 0 || cr < 0) { cb_table_free(&t); return; }
+      ci = need(&t, "iters_to_tol", F, out), cw = need(&t, "wall_to_tol_ms", F, out),
+      cx = need(&t, "max_iters", F, out), cr = need(&t, "rho", F, out);
+  if (cs < 0 || cm < 0 || ct < 0 || ci < 0 || cw < 0 || cx < 0 || cr < 0) {
+    cb_table_free(&t);
+    return;
+  }
   static const char *const PLAIN[] = {"jacobi-nl", "pd"}, *const ACC[] = {"chebyshev-nl auto", "pd-chebyshev auto"};
   int pairs = 0, ten = 0;
   cb_claim_repeats reps = {0};
@@ -164,7 +194,8 @@ void cb_check_w1(const cb_table *csv, const char *dir, cb_claim_result *out) {
   double best_sw = -INFINITY;
   char best_what[96] = "";
   int undecided = 0, rho_low = 0, rho_n = 0;
-  cb_claim_numbers(out, "| scene | plain | accelerated (rho; plain's rate) | tol | iterations plain | iterations accelerated | "
+  cb_claim_numbers(out, "| scene | plain | accelerated (rho; plain's rate) | tol | iterations plain | iterations "
+                        "accelerated | "
                         "speedup (iterations) | wall ms plain | wall ms accelerated | speedup (time) |\n"
                         "|---|---|---|---|---|---|---|---|---|---|\n");
   for (int r = 0; r < t.nrows; r++) {
@@ -182,7 +213,8 @@ void cb_check_w1(const cb_table *csv, const char *dir, cb_claim_result *out) {
            accelerated rho should be at least */
         double rate = !cut_p && ip > 0 ? pow(tol, 1.0 / ip) : NAN, rho = cb_table_num(&t, a, cr);
         double wp = cb_table_num(&t, r, cw), wa = cb_table_num(&t, a, cw);
-        cb_claim_timing tp = cb_claim_timing_at(&t, r, "wall_to_tol_ms"), ta = cb_claim_timing_at(&t, a, "wall_to_tol_ms");
+        cb_claim_timing tp = cb_claim_timing_at(&t, r, "wall_to_tol_ms"),
+                        ta = cb_claim_timing_at(&t, a, "wall_to_tol_ms");
         cb_claim_timing ts = cb_claim_timing_ratio(&tp, &ta);
         char spt[64], ipt[64], iat[64], wpt[96], wat[96], swt[96];
         if (isfinite(sp)) snprintf(spt, sizeof spt, "%.1fx", sp);
@@ -205,11 +237,17 @@ void cb_check_w1(const cb_table *csv, const char *dir, cb_claim_result *out) {
           best = ts;
           snprintf(best_what, sizeof best_what, "%s %s", cb_table_str(&t, r, cs), ACC[p]);
         }
-        cb_claim_numbers(out, "| %s | %s | %s (%.4f; %s) | %g | %s | %s | %s | %s | %s | %s |\n", cb_table_str(&t, r, cs), PLAIN[p],
-                         ACC[p], rho, rr, tol, ipt, iat, spt, wpt, wat, swt);
+        cb_claim_numbers(out, "| %s | %s | %s (%.4f; %s) | %g | %s | %s | %s | %s | %s | %s |\n",
+                         cb_table_str(&t, r, cs), PLAIN[p], ACC[p], rho, rr, tol, ipt, iat, spt, wpt, wat, swt);
         if (fabs(tol - 1e-4) > 1e-12) continue;
-        if (isfinite(rate)) { rho_n++; rho_low += 1.0 - rho > 1.1 * (1.0 - rate); } /* 10% of the gap to 1 */
-        if (!isfinite(sp)) { undecided++; continue; }
+        if (isfinite(rate)) {
+          rho_n++;
+          rho_low += 1.0 - rho > 1.1 * (1.0 - rate);
+        } /* 10% of the gap to 1 */
+        if (!isfinite(sp)) {
+          undecided++;
+          continue;
+        }
         pairs++;
         ten += sp >= 10;
       }
@@ -218,19 +256,29 @@ void cb_check_w1(const cb_table *csv, const char *dir, cb_claim_result *out) {
   cb_table_free(&t);
   char rt[64];
   if (cb_claim_repeats_text(rt, sizeof rt, &reps)[0])
-    cb_claim_numbers(out, "\nWall times: the median of %s of a step of exactly that many iterations, in brackets the fastest "
-                          "and slowest; a scene's steps ran in interleaved rounds, so the time speed-ups' spreads are of paired "
-                          "repeats.\n", rt);
+    cb_claim_numbers(out,
+                     "\nWall times: the median of %s of a step of exactly that many iterations, in brackets the "
+                     "fastest "
+                     "and slowest; a scene's steps ran in interleaved rounds, so the time speed-ups' spreads are of "
+                     "paired "
+                     "repeats.\n",
+                     rt);
   if (!pairs) {
     cb_claim_reason(out, "No decided plain/accelerated pair at tolerance 1e-4 in %s (%d cut off).", F, undecided);
     return;
   }
   out->verdict = ten == pairs ? CB_REPRODUCED : ten > 0 ? CB_PARTLY : CB_NOT_REPRODUCED;
-  cb_claim_reason(out, "Chebyshev (rho = auto) reached relative |grad F| 1e-4 in >= 10x fewer iterations than the plain "
-                       "iteration in %d of %d decided (scene, method) pairs", ten, pairs);
-  if (undecided) cb_claim_reason(out, "; %d more undecided (a side cut off at its largest cap, not counted)", undecided);
-  cb_claim_reason(out, ". The estimated rho was below plain's mean rate to 1e-4 (1 - rho more than 1.1 (1 - rate)) in %d of %d "
-                       "pairs.", rho_low, rho_n);
+  cb_claim_reason(out,
+                  "Chebyshev (rho = auto) reached relative |grad F| 1e-4 in >= 10x fewer iterations than the plain "
+                  "iteration in %d of %d decided (scene, method) pairs",
+                  ten, pairs);
+  if (undecided)
+    cb_claim_reason(out, "; %d more undecided (a side cut off at its largest cap, not counted)", undecided);
+  cb_claim_reason(out,
+                  ". The estimated rho was below plain's mean rate to 1e-4 (1 - rho more than 1.1 (1 - rate)) in %d of "
+                  "%d "
+                  "pairs.",
+                  rho_low, rho_n);
   if (best_what[0]) {
     char b[128];
     cb_claim_reason(out, " In wall time (not part of the verdict) the largest speed-up at 1e-4 is %s (%s).",
@@ -242,8 +290,8 @@ void cb_check_w1(const cb_table *csv, const char *dir, cb_claim_result *out) {
 
 /* median over the frames of scene `sc`, method `m`: column `col` of t (NAN when none); *n the rows, *bad
  * those whose status is not "ok" (if cs >= 0), *sum the sum of column `cf` (if cf >= 0) */
-static double p1_median(const cb_table *t, int cs, int cm, const char *sc, const char *m, int col, int cst, int *n, int *bad,
-                        int cf, double *sum, double *buf) {
+static double p1_median(const cb_table *t, int cs, int cm, const char *sc, const char *m, int col, int cst, int *n,
+                        int *bad, int cf, double *sum, double *buf) {
   int k = 0, b = 0;
   double sm = 0;
   for (int r = 0; r < t->nrows; r++)
@@ -260,14 +308,16 @@ static double p1_median(const cb_table *t, int cs, int cm, const char *sc, const
 
 /* the median time to step error tol of family m on scene sc (nonlinear_p1_error.csv); *cut the frames that
  * did not reach it within the cap (their time then bounds the median from below, and it is NAN if any) */
-static double p1_to_error(const cb_table *t, const char *sc, const char *m, double tol, int *cut, int *nf, double *buf) {
+static double p1_to_error(const cb_table *t, const char *sc, const char *m, double tol, int *cut, int *nf,
+                          double *buf) {
   int cs = cb_table_col(t, "scene"), cm = cb_table_col(t, "method"), ct = cb_table_col(t, "tol"),
       cw = cb_table_col(t, "wall_to_tol_ms"), ci = cb_table_col(t, "iters_to_tol");
   *cut = *nf = 0;
   if (cs < 0 || cm < 0 || ct < 0 || cw < 0 || ci < 0) return NAN;
   int k = 0;
   for (int r = 0; r < t->nrows; r++)
-    if (!strcmp(cb_table_str(t, r, cs), sc) && !strcmp(cb_table_str(t, r, cm), m) && fabs(cb_table_num(t, r, ct) - tol) <= 1e-3 * tol) {
+    if (!strcmp(cb_table_str(t, r, cs), sc) && !strcmp(cb_table_str(t, r, cm), m) &&
+        fabs(cb_table_num(t, r, ct) - tol) <= 1e-3 * tol) {
       (*nf)++;
       if (!(cb_table_num(t, r, ci) >= 0)) (*cut)++;
       else buf[k++] = cb_table_num(t, r, cw);
@@ -290,7 +340,11 @@ void cb_check_p1(const cb_table *csv, const char *dir, cb_claim_result *out) {
   int cs = need(&t, "scene", F, out), cm = need(&t, "method", F, out), cw = need(&t, "wall_ms", F, out),
       ce = need(&t, "step_error", F, out), cn = need(&t, "n", F, out), cst = need(&t, "status", F, out),
       cf = cb_table_col(&t, "fallback");
-  if (cs < 0 || cm < 0 || cw < 0 || ce < 0 || cn < 0 || cst < 0) { cb_table_free(&t); if (have_te) cb_table_free(&te); return; }
+  if (cs < 0 || cm < 0 || cw < 0 || ce < 0 || cn < 0 || cst < 0) {
+    cb_table_free(&t);
+    if (have_te) cb_table_free(&te);
+    return;
+  }
   const char *scenes[16];
   int nsc = 0;
   for (int r = 0; r < t.nrows; r++) {
@@ -305,10 +359,17 @@ void cb_check_p1(const cb_table *csv, const char *dir, cb_claim_result *out) {
   static const double TOLS[] = {1e-2, 1e-3};
   double *buf = malloc((size_t)(t.nrows + (have_te ? te.nrows : 0) + 1) * sizeof(double));
   cb_claim_timing *tw = malloc((size_t)(t.nrows + 1) * sizeof *tw);
-  if (!buf || !tw) { free(buf); free(tw); cb_table_free(&t); if (have_te) cb_table_free(&te); return; }
+  if (!buf || !tw) {
+    free(buf);
+    free(tw);
+    cb_table_free(&t);
+    if (have_te) cb_table_free(&te);
+    return;
+  }
   int fast = 0, visual = 0, equal = 0, scored = 0;
   cb_claim_repeats reps = {0};
-  cb_claim_numbers(out, "| scene | vertices | method | frames | median wall ms per frame | median step error | converged frames | "
+  cb_claim_numbers(out, "| scene | vertices | method | frames | median wall ms per frame | median step error | "
+                        "converged frames | "
                         "fallbacks |\n|---|---|---|---|---|---|---|---|\n");
   char ratios[4096] = "", eqs[4096] = "", b1[128], b2[128];
   char toerr[4096] = "";
@@ -343,9 +404,9 @@ void cb_check_p1(const cb_table *csv, const char *dir, cb_claim_result *out) {
     fast += ratio >= 10;
     visual += err[0] <= 0.05;
     size_t used = strlen(ratios);
-    snprintf(ratios + used, sizeof ratios - used, "%s%s: %s over %s (pd error %.3g; Baraff-Witkin %.3g in %s ms)", used ? "; " : "",
-             scenes[k], cb_claim_spread_long(b1, sizeof b1, "%.3g", &rt, "x"), M[best], err[0], err[BW],
-             cb_claim_spread(b2, sizeof b2, "%.3g", &wt[BW], ""));
+    snprintf(ratios + used, sizeof ratios - used, "%s%s: %s over %s (pd error %.3g; Baraff-Witkin %.3g in %s ms)",
+             used ? "; " : "", scenes[k], cb_claim_spread_long(b1, sizeof b1, "%.3g", &rt, "x"), M[best], err[0],
+             err[BW], cb_claim_spread(b2, sizeof b2, "%.3g", &wt[BW], ""));
     /* equal step error: pd against the fastest Newton to reach it (newton_exact's iterations, or Baraff-Witkin
        when its one iteration is enough on every frame) */
     double eq_ratio = NAN;
@@ -360,7 +421,10 @@ void cb_check_p1(const cb_table *csv, const char *dir, cb_claim_result *out) {
           bw_n++;
           bw_ok += cb_table_num(&t, r, ce) <= TOLS[q];
         }
-      if (bw_n && bw_ok == bw_n && isfinite(wall[BW]) && !(tn <= wall[BW])) { tn = wall[BW]; nwho = "baraff_witkin"; }
+      if (bw_n && bw_ok == bw_n && isfinite(wall[BW]) && !(tn <= wall[BW])) {
+        tn = wall[BW];
+        nwho = "baraff_witkin";
+      }
       char pt[96], nt[96];
       if (isfinite(tp)) snprintf(pt, sizeof pt, "%.3g ms", tp);
       else snprintf(pt, sizeof pt, "not reached within the cap on %d of %d frames", cut_p, nf_p);
@@ -375,30 +439,45 @@ void cb_check_p1(const cb_table *csv, const char *dir, cb_claim_result *out) {
     equal += eq_ratio >= 10;
     used = strlen(eqs);
     snprintf(eqs + used, sizeof eqs - used, "%s%s %s", used ? ", " : "", scenes[k],
-             isfinite(eq_ratio) && eq_ratio > 0 ? (snprintf(b1, sizeof b1, "%.2fx", eq_ratio), b1) : "- (pd did not get there)");
+             isfinite(eq_ratio) && eq_ratio > 0 ? (snprintf(b1, sizeof b1, "%.2fx", eq_ratio), b1)
+                                                : "- (pd did not get there)");
   }
   char rtx[64];
   if (cb_claim_repeats_text(rtx, sizeof rtx, &reps)[0])
-    cb_claim_numbers(out, "\nWall time per frame: per start state the median of %s, then the median over the frames; in brackets "
-                          "the spread over the repeats (per repeat the median over the frames). The methods of a frame ran in "
-                          "interleaved rounds, so the ratios' spreads are of paired repeats. newton_exact: exact Hessian "
-                          "(definiteness none) with line search, a step whose factorisation is not SPD rerun with drop "
-                          "(fallbacks); newton_drop: the Newton default's drop.\n", rtx);
+    cb_claim_numbers(out,
+                     "\nWall time per frame: per start state the median of %s, then the median over the frames; in "
+                     "brackets "
+                     "the spread over the repeats (per repeat the median over the frames). The methods of a frame ran "
+                     "in "
+                     "interleaved rounds, so the ratios' spreads are of paired repeats. newton_exact: exact Hessian "
+                     "(definiteness none) with line search, a step whose factorisation is not SPD rerun with drop "
+                     "(fallbacks); newton_drop: the Newton default's drop.\n",
+                     rtx);
   if (toerr[0])
-    cb_claim_numbers(out, "\nTime to the same step error (median over the frames of a step of exactly the iterations that reach "
-                          "it; Newton's is newton_exact's, or Baraff-Witkin's one iteration when that is enough on every "
-                          "frame):\n\n| scene | step error | pd | fastest Newton | Newton over pd |\n|---|---|---|---|---|\n%s", toerr);
+    cb_claim_numbers(out,
+                     "\nTime to the same step error (median over the frames of a step of exactly the iterations that "
+                     "reach "
+                     "it; Newton's is newton_exact's, or Baraff-Witkin's one iteration when that is enough on every "
+                     "frame):\n\n| scene | step error | pd | fastest Newton | Newton over pd "
+                     "|\n|---|---|---|---|---|\n%s",
+                     toerr);
   free(tw);
   free(buf);
   cb_table_free(&t);
   if (have_te) cb_table_free(&te);
-  if (!scored) { cb_claim_reason(out, "%s has no scene with pd10 and a Newton variant converged on every frame.", F); return; }
+  if (!scored) {
+    cb_claim_reason(out, "%s has no scene with pd10 and a Newton variant converged on every frame.", F);
+    return;
+  }
   out->verdict = fast == scored && visual == scored && equal == scored ? CB_REPRODUCED
                  : fast == scored                                      ? CB_PARTLY
                                                                        : CB_NOT_REPRODUCED;
-  cb_claim_reason(out, "The fastest converged Newton over pd (10 iterations), median wall time per frame: %s. Liu et al. report "
-                       "260x. pd is >= 10x faster per frame on %d of %d scenes and within 5%% step error on %d of %d; at the "
-                       "same step error 1e-2 the fastest Newton (Baraff-Witkin included) over pd is %s: >= 10x on %d of %d. "
-                       "Reproduced needs all three on every scene; partly, only the per-frame speed-up.",
+  cb_claim_reason(out,
+                  "The fastest converged Newton over pd (10 iterations), median wall time per frame: %s. Liu et al. "
+                  "report "
+                  "260x. pd is >= 10x faster per frame on %d of %d scenes and within 5%% step error on %d of %d; at "
+                  "the "
+                  "same step error 1e-2 the fastest Newton (Baraff-Witkin included) over pd is %s: >= 10x on %d of %d. "
+                  "Reproduced needs all three on every scene; partly, only the per-frame speed-up.",
                   ratios, fast, scored, visual, scored, eqs[0] ? eqs : "not measured", equal, scored);
 }

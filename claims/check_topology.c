@@ -32,7 +32,8 @@ void cb_check_T1(const cb_table *t, const char *results_dir, cb_claim_result *ou
   }
   int e = match(t, "edge", want_edges, 7, out), p = match(t, "pair", want_pairs, 2, out);
   out->verdict = e && p ? CB_REPRODUCED : CB_NOT_REPRODUCED;
-  cb_claim_reason(out, e && p ? "Sorting the edge triples gives exactly the slide's edge list and neighbour pairs, in order."
+  cb_claim_reason(out, e && p ? "Sorting the edge triples gives exactly the slide's edge list and neighbour pairs, in "
+                                "order."
                               : "The computed lists differ from the slide's (see above).");
 }
 
@@ -47,7 +48,8 @@ void cb_check_T2(const cb_table *t, const char *results_dir, cb_claim_result *ou
     return;
   }
   int disks = 0, euler_ok = 0, dofs_ok = 0, irregular = 0;
-  cb_claim_numbers(out, "| mesh | #V | #E | #B | 3#V-3-#B | DoFs (3#V - rank) | 3+#B |\n|---|---|---|---|---|---|---|\n");
+  cb_claim_numbers(out, "| mesh | #V | #E | #B | 3#V-3-#B | DoFs (3#V - rank) | 3+#B "
+                        "|\n|---|---|---|---|---|---|---|\n");
   for (int r = 0; r < t->nrows; r++) {
     if (strcmp(cb_table_str(t, r, ck), "count")) continue;
     if (cb_table_num(t, r, cl) != 1 || cb_table_num(t, r, cc) != 1) continue; /* disks only */
@@ -55,9 +57,9 @@ void cb_check_T2(const cb_table *t, const char *results_dir, cb_claim_result *ou
     irregular += strncmp(cb_table_str(t, r, cm), "ring_disk", 9) == 0;
     euler_ok += cb_table_num(t, r, ce) == cb_table_num(t, r, cp);
     dofs_ok += cb_table_num(t, r, cd) == cb_table_num(t, r, cq);
-    cb_claim_numbers(out, "| %s | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f |\n", cb_table_str(t, r, cm), cb_table_num(t, r, cv),
-                     cb_table_num(t, r, ce), cb_table_num(t, r, cb), cb_table_num(t, r, cp), cb_table_num(t, r, cd),
-                     cb_table_num(t, r, cq));
+    cb_claim_numbers(out, "| %s | %.0f | %.0f | %.0f | %.0f | %.0f | %.0f |\n", cb_table_str(t, r, cm),
+                     cb_table_num(t, r, cv), cb_table_num(t, r, ce), cb_table_num(t, r, cb), cb_table_num(t, r, cp),
+                     cb_table_num(t, r, cd), cb_table_num(t, r, cq));
   }
   if (disks == 0) {
     cb_claim_reason(out, "No disk meshes in the data.");
@@ -65,7 +67,9 @@ void cb_check_T2(const cb_table *t, const char *results_dir, cb_claim_result *ou
   }
   int all = euler_ok == disks && dofs_ok == disks;
   out->verdict = all && irregular > 0 ? CB_REPRODUCED : euler_ok == disks ? CB_PARTLY : CB_NOT_REPRODUCED;
-  cb_claim_reason(out, "Euler's count holds on %d of %d disk meshes (%d irregular); the DoFs left with every edge rigid "
-                       "equal 3 + #B on %d of %d.", euler_ok, disks, irregular, dofs_ok, disks);
+  cb_claim_reason(out,
+                  "Euler's count holds on %d of %d disk meshes (%d irregular); the DoFs left with every edge rigid "
+                  "equal 3 + #B on %d of %d.",
+                  euler_ok, disks, irregular, dofs_ok, disks);
   if (irregular == 0) cb_claim_reason(out, " No unstructured mesh was counted.");
 }

@@ -82,7 +82,10 @@ void cb_claim_decide(const cb_claim *c, const char *results_dir, cb_claim_result
 void cb_fit_line(const double *x, const double *y, int n, double *slope, double *intercept) {
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
   for (int i = 0; i < n; i++) {
-    sx += x[i]; sy += y[i]; sxx += x[i] * x[i]; sxy += x[i] * y[i];
+    sx += x[i];
+    sy += y[i];
+    sxx += x[i] * x[i];
+    sxy += x[i] * y[i];
   }
   double d = n * sxx - sx * sx;
   *slope = d != 0 ? (n * sxy - sx * sy) / d : 0;
@@ -97,7 +100,8 @@ int cb_claim_side_table(const char *dir, const char *experiment, const char *tab
   return st;
 }
 
-int cb_claim_columns(const cb_table *t, const char *const *names, int *idx, int n, const char *file, cb_claim_result *out) {
+int cb_claim_columns(const cb_table *t, const char *const *names, int *idx, int n, const char *file,
+                     cb_claim_result *out) {
   for (int i = 0; i < n; i++)
     if ((idx[i] = cb_table_col(t, names[i])) < 0) {
       cb_claim_reason(out, "%s lacks the column %s.", file, names[i]);

@@ -65,7 +65,8 @@ void cb_claim_decide(const cb_claim *c, const char *results_dir, cb_claim_result
 int cb_claim_side_table(const char *dir, const char *experiment, const char *table, cb_table *t, cb_claim_result *out);
 /* Column indices of names[0..n) in t; 0 if all exist, else a reason naming
  * file and the first missing column, and -1. */
-int cb_claim_columns(const cb_table *t, const char *const *names, int *idx, int n, const char *file, cb_claim_result *out);
+int cb_claim_columns(const cb_table *t, const char *const *names, int *idx, int n, const char *file,
+                     cb_claim_result *out);
 
 /* Least-squares slope and intercept of y on x over n points. */
 void cb_fit_line(const double *x, const double *y, int n, double *slope, double *intercept);
@@ -119,7 +120,9 @@ const char *cb_claim_spread(char *buf, size_t n, const char *fmt, const cb_claim
 const char *cb_claim_spread_long(char *buf, size_t n, const char *fmt, const cb_claim_timing *t, const char *unit);
 
 /* The range of repeat counts seen over a table's timings, for its note. */
-typedef struct cb_claim_repeats { int lo, hi; } cb_claim_repeats;
+typedef struct cb_claim_repeats {
+  int lo, hi;
+} cb_claim_repeats;
 void cb_claim_repeats_add(cb_claim_repeats *r, const cb_claim_timing *t);
 /* "5 repeats" or "3-5 repeats" ("" if none seen). Returns buf. */
 const char *cb_claim_repeats_text(char *buf, size_t n, const cb_claim_repeats *r);

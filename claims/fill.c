@@ -62,14 +62,21 @@ static char *slurp(const char *path, size_t *n) {
     len += r;
     if (len == cap) {
       char *nb = realloc(buf, 2 * cap + 1);
-      if (!nb) { free(buf); buf = NULL; break; }
+      if (!nb) {
+        free(buf);
+        buf = NULL;
+        break;
+      }
       buf = nb;
       cap *= 2;
     }
   }
   int bad = ferror(f);
   fclose(f);
-  if (bad) { free(buf); return NULL; }
+  if (bad) {
+    free(buf);
+    return NULL;
+  }
   if (buf) buf[len] = '\0';
   *n = len;
   return buf;
@@ -88,7 +95,10 @@ int cb_report_fill(const char *path, const cb_claim_result *res, const char *res
   }
   cb_outfile o;
   int st = cb_outfile_open(&o, path);
-  if (st) { free(text); return st; }
+  if (st) {
+    free(text);
+    return st;
+  }
   const char *p = text;
   int line = 1;
   for (;;) {
@@ -98,10 +108,16 @@ int cb_report_fill(const char *path, const cb_claim_result *res, const char *res
     for (const char *q = p; q < m; q++) line += *q == '\n';
     const char *close = strstr(m, " -->");
     const char *eol = strchr(m, '\n');
-    if (!close || !eol || close > eol) { st = cb_fail("%s:%d: report marker without its closing ' -->'", path, line); break; }
+    if (!close || !eol || close > eol) {
+      st = cb_fail("%s:%d: report marker without its closing ' -->'", path, line);
+      break;
+    }
     const char *end = strstr(eol, "\n" END_MARK);
     if (end) end++; /* the end marker starts a line too */
-    if (!end) { st = cb_fail("%s:%d: report marker with no " END_MARK " after it", path, line); break; }
+    if (!end) {
+      st = cb_fail("%s:%d: report marker with no " END_MARK " after it", path, line);
+      break;
+    }
     const char *next = strstr(eol, "\n<!-- report:"); /* a block may not run on into the next one */
     if (next && next < end) {
       int at = line;

@@ -33,8 +33,16 @@ static void meta_value(const char *line, const char *key, char *out, size_t n) {
 }
 
 static csv_origin read_origin(const char *results, const char *experiment) {
-  csv_origin o = {.revision = "?", .quick = "?", .smoke = "0", .date = "?", .blas = "?", .omp = "?", .cpu = "?", .cores = "?",
-                  .kernel = "?", .choice = ""};
+  csv_origin o = {.revision = "?",
+                  .quick = "?",
+                  .smoke = "0",
+                  .date = "?",
+                  .blas = "?",
+                  .omp = "?",
+                  .cpu = "?",
+                  .cores = "?",
+                  .kernel = "?",
+                  .choice = ""};
   char path[4096], line[8192];
   snprintf(path, sizeof path, "%s/%s.csv", results, experiment);
   FILE *f = fopen(path, "r");
@@ -60,11 +68,12 @@ static csv_origin read_origin(const char *results, const char *experiment) {
  * "Prescott (detected; SkylakeX refused)": the kernel and the first word of
  * how it came to run (lib/io/blas_kernel.h). */
 static void kernel_cell(const csv_origin *o, char *out, size_t n) {
-  const char *how = !strncmp(o->choice, "chosen", 6) ? "chosen"
+  const char *how = !strncmp(o->choice, "chosen", 6)                    ? "chosen"
                     : !strncmp(o->choice, "set by the environment", 22) ? "environment"
-                    : strstr(o->choice, "; refused ") ? "detected; better one refused"
-                    : !strncmp(o->choice, "detected", 8) ? (strstr(o->choice, "fallback") ? "detected fallback" : "detected")
-                    : "?";
+                    : strstr(o->choice, "; refused ")                   ? "detected; better one refused"
+                    : !strncmp(o->choice, "detected", 8)
+                        ? (strstr(o->choice, "fallback") ? "detected fallback" : "detected")
+                        : "?";
   snprintf(out, n, "%s (%s)", o->kernel, how);
 }
 
@@ -84,8 +93,10 @@ void cb_report_origin(FILE *f, const char *results) {
   int kinds[RUN_KINDS] = {0}, dirty = 0, nrev = 0, n = 0, missing = 0;
   char first_rev[128] = "";
   fputs("## What produced this report\n\n"
-        "| experiment | run | git revision | date (UTC) | BLAS threads | OpenMP threads | OpenBLAS kernel | CPU | cores |\n"
-        "|---|---|---|---|---|---|---|---|---|\n", f);
+        "| experiment | run | git revision | date (UTC) | BLAS threads | OpenMP threads | OpenBLAS kernel | CPU | "
+        "cores |\n"
+        "|---|---|---|---|---|---|---|---|---|\n",
+        f);
   for (int i = 0; i < cb_nclaims; i++) {
     const char *e = first_claim_of_experiment(i);
     if (!e) continue;
@@ -103,8 +114,8 @@ void cb_report_origin(FILE *f, const char *results) {
     if (strcmp(first_rev, o.revision) != 0) nrev++;
     char kernel[128];
     kernel_cell(&o, kernel, sizeof kernel);
-    fprintf(f, "| %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", e, run_kind_long[k], o.revision, o.date, o.blas, o.omp, kernel,
-            o.cpu, o.cores);
+    fprintf(f, "| %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", e, run_kind_long[k], o.revision, o.date, o.blas,
+            o.omp, kernel, o.cpu, o.cores);
   }
   if (n == 0) {
     fputs("\nNo experiment CSV was found: every claim is `not run`.\n\n", f);
@@ -118,7 +129,10 @@ void cb_report_origin(FILE *f, const char *results) {
   for (int k = RUN_KINDS - 1, m = 0; k >= 0; k--) {
     if (!kinds[k]) continue;
     size_t len = strlen(kind);
-    snprintf(kind + len, sizeof kind - len, "%s%s", m == 0 ? (nkinds > 1 ? "mixed (" : "") : m == nkinds - 1 ? " and " : ", ",
+    snprintf(kind + len, sizeof kind - len, "%s%s",
+             m == 0            ? (nkinds > 1 ? "mixed (" : "")
+             : m == nkinds - 1 ? " and "
+                               : ", ",
              run_kind_name[k]);
     m++;
   }
@@ -127,8 +141,10 @@ void cb_report_origin(FILE *f, const char *results) {
           missing ? " (the others were not run)" : "", nrev ? "; the CSVs come from different revisions" : "",
           dirty ? "; some CSVs come from a working tree with uncommitted changes" : "");
   if (kinds[RUN_SMOKE])
-    fputs("A smoke run (`--smoke`, what `make test` runs) is one small cell of each sweep: it shows that every table and "
-          "column is written, and its verdicts decide nothing about the claims.\n\n", f);
+    fputs("A smoke run (`--smoke`, what `make test` runs) is one small cell of each sweep: it shows that every table "
+          "and "
+          "column is written, and its verdicts decide nothing about the claims.\n\n",
+          f);
 }
 
 
@@ -164,5 +180,6 @@ void cb_report_runtimes(FILE *f, const char *results) {
     }
     fprintf(f, "| %s | %s | %s | %s | %s |\n", e, run_kind_name[run_kind_of(&o)], t, o.revision, o.date);
   }
-  if (n > 0) fprintf(f, "| all experiments | | %d min %02.0f s | | |\n", (int)(total / 60), total - 60 * (int)(total / 60));
+  if (n > 0)
+    fprintf(f, "| all experiments | | %d min %02.0f s | | |\n", (int)(total / 60), total - 60 * (int)(total / 60));
 }

@@ -131,7 +131,10 @@ cb_claim_timing cb_claim_timing_median(const cb_claim_timing *v, int n) {
     }
   }
   int bad = 0, vary = 0;
-  for (int k = 0; k < m; k++) { bad |= !has(&v[k]); vary |= varies(&v[k]); }
+  for (int k = 0; k < m; k++) {
+    bad |= !has(&v[k]);
+    vary |= varies(&v[k]);
+  }
   if (bad) return r;
   for (int k = 0; k < m; k++) buf[k] = v[k].min;
   r.min = cb_median(buf, m);

@@ -30,7 +30,11 @@ static int split(char *line, char ***out, int *n) {
     if (cnt == cap) {
       cap *= 2;
       char **g = realloc(f, (size_t)cap * sizeof *f);
-      if (!g) { for (int i = 0; i < cnt; i++) free(f[i]); free(f); return CB_ENOMEM; }
+      if (!g) {
+        for (int i = 0; i < cnt; i++) free(f[i]);
+        free(f);
+        return CB_ENOMEM;
+      }
       f = g;
     }
     f[cnt++] = strdup(p);
@@ -57,7 +61,10 @@ int cb_table_read(const char *path, cb_table *t) {
       if (mlen + n + 1 > mcap) {
         mcap = 2 * (mlen + n + 1);
         char *m = realloc(t->meta, mcap);
-        if (!m) { st = CB_ENOMEM; break; }
+        if (!m) {
+          st = CB_ENOMEM;
+          break;
+        }
         t->meta = m;
       }
       memcpy(t->meta + mlen, line, n + 1);
@@ -82,7 +89,10 @@ int cb_table_read(const char *path, cb_table *t) {
     if (t->nrows == rcap) {
       rcap = rcap ? 2 * rcap : 256;
       char **c = realloc(t->cells, (size_t)rcap * t->ncols * sizeof *c);
-      if (!c) { st = CB_ENOMEM; break; }
+      if (!c) {
+        st = CB_ENOMEM;
+        break;
+      }
       t->cells = c;
     }
     memcpy(t->cells + (size_t)t->nrows * t->ncols, fields, (size_t)nf * sizeof *fields);

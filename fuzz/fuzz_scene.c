@@ -32,8 +32,16 @@
 
 #define FUZZ_MAX_LINES 200
 
-static const char *const PINS[] = {"0", "none", "0 1", "0,2", "halfspace 1 0 0 0", "halfspace 1e-300 0 0 0",
-                                   "halfspace 0 1 0 1e300", "99999999999999999999", "corners", "2147483647"};
+static const char *const PINS[] = {"0",
+                                   "none",
+                                   "0 1",
+                                   "0,2",
+                                   "halfspace 1 0 0 0",
+                                   "halfspace 1e-300 0 0 0",
+                                   "halfspace 0 1 0 1e300",
+                                   "99999999999999999999",
+                                   "corners",
+                                   "2147483647"};
 static const char *const EXTREME[] = {"0", "1e-300", "1e-200", "1e-12", "1", "100", "8000", "1e6", "1e12", "1e15"};
 static const char *const DTS[] = {"1/30", "1e-300", "1e-160", "1e-154", "1e-6", "0.001", "0.1", "1", "1e6"};
 static const char *const SCALES[] = {"1", "1e-300", "1e-200", "1e-100", "0.5", "2", "1e6"};
@@ -114,7 +122,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     set_key(&c, "collider.type", cb_collider_names[sel[3] % count_names(cb_collider_names)]);
     set_key(&c, "collider.centre", "0.5 0.5 -1.2");
   }
-  if (nsel > 4) set_key(&c, "integrator.definiteness", cb_definiteness_names[sel[4] % count_names(cb_definiteness_names)]);
+  if (nsel > 4)
+    set_key(&c, "integrator.definiteness", cb_definiteness_names[sel[4] % count_names(cb_definiteness_names)]);
   set_key(&c, "scene.pins", nsel > 5 ? PINS[sel[5] % COUNT(PINS)] : "0");
   if (nsel > 6) set_key(&c, "material.stretch_k", EXTREME[sel[6] % COUNT(EXTREME)]);
   if (nsel > 7) set_key(&c, "material.bend_k", EXTREME[sel[7] % COUNT(EXTREME)]);

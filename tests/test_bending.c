@@ -77,10 +77,18 @@ Test(bending, dihedral_gradient_is_parallel_to_the_lecture_u) {
     const double *x1 = x + 3 * v[2], *x2 = x + 3 * v[3], *x3 = x + 3 * v[0], *x4 = x + 3 * v[1];
     double E[3], a[3], b[3], N1[3], N2[3];
     cb_v3_sub(x4, x3, E);
-    cb_v3_sub(x1, x3, a); cb_v3_sub(x1, x4, b); cb_v3_cross(a, b, N1);
-    cb_v3_sub(x2, x4, a); cb_v3_sub(x2, x3, b); cb_v3_cross(a, b, N2);
-    double lE = sqrt(cb_v3_dot(E, E)), n1 = cb_v3_dot(N1, N1), n2 = cb_v3_dot(N2, N2), u[4][3], d14[3], d24[3], d13[3], d23[3];
-    cb_v3_sub(x1, x4, d14); cb_v3_sub(x2, x4, d24); cb_v3_sub(x1, x3, d13); cb_v3_sub(x2, x3, d23);
+    cb_v3_sub(x1, x3, a);
+    cb_v3_sub(x1, x4, b);
+    cb_v3_cross(a, b, N1);
+    cb_v3_sub(x2, x4, a);
+    cb_v3_sub(x2, x3, b);
+    cb_v3_cross(a, b, N2);
+    double lE = sqrt(cb_v3_dot(E, E)), n1 = cb_v3_dot(N1, N1), n2 = cb_v3_dot(N2, N2), u[4][3], d14[3], d24[3], d13[3],
+           d23[3];
+    cb_v3_sub(x1, x4, d14);
+    cb_v3_sub(x2, x4, d24);
+    cb_v3_sub(x1, x3, d13);
+    cb_v3_sub(x2, x3, d23);
     for (int k = 0; k < 3; k++) {
       u[0][k] = lE * N1[k] / n1;
       u[1][k] = lE * N2[k] / n2;
@@ -94,11 +102,14 @@ Test(bending, dihedral_gradient_is_parallel_to_the_lecture_u) {
       double c[3];
       cb_v3_cross(gi, u[i], c);
       double gn = sqrt(cb_v3_dot(gi, gi)), un = sqrt(cb_v3_dot(u[i], u[i]));
-      cr_expect(sqrt(cb_v3_dot(c, c)) <= 1e-9 * gn * un, "trial %d: grad at u_%d not parallel (|g x u| = %g)", trial, i + 1,
-                sqrt(cb_v3_dot(c, c)));
-      double l = cb_v3_dot(gi, u[i]) / cb_v3_dot(u[i], u[i]); /* grad_i E = lambda u_i, one lambda = k c (theta - theta_bar) */
+      cr_expect(sqrt(cb_v3_dot(c, c)) <= 1e-9 * gn * un, "trial %d: grad at u_%d not parallel (|g x u| = %g)", trial,
+                i + 1, sqrt(cb_v3_dot(c, c)));
+      double l =
+          cb_v3_dot(gi, u[i]) / cb_v3_dot(u[i], u[i]); /* grad_i E = lambda u_i, one lambda = k c (theta - theta_bar) */
       if (i == 0) lambda = l;
-      else cr_expect(fabs(l - lambda) <= 1e-9 * fabs(lambda), "trial %d: u_%d scale %g, u_1 scale %g", trial, i + 1, l, lambda);
+      else
+        cr_expect(fabs(l - lambda) <= 1e-9 * fabs(lambda), "trial %d: u_%d scale %g, u_1 scale %g", trial, i + 1, l,
+                  lambda);
     }
   }
   cb_term_free(term);
@@ -122,8 +133,8 @@ Test(bending, quadratic_energy_is_zero_flat_and_under_rigid_motions) {
     }
   for (int i = 0; i < nv; i++)
     for (int a = 0; a < 3; a++)
-      x[3 * i + a] = R[3 * a] * t.mesh.x[3 * i] + R[3 * a + 1] * t.mesh.x[3 * i + 1] + R[3 * a + 2] * t.mesh.x[3 * i + 2] +
-                     (a + 1) * 0.3;
+      x[3 * i + a] = R[3 * a] * t.mesh.x[3 * i] + R[3 * a + 1] * t.mesh.x[3 * i + 1] +
+                     R[3 * a + 2] * t.mesh.x[3 * i + 2] + (a + 1) * 0.3;
   double E = q->type->energy(q, x, NULL);
   cr_expect(fabs(E) < 1e-24, "rigid motion: E = %g", E);
   /* a flat in-plane shear changes the cotangents: not zero (the model assumes little stretching) */
@@ -228,7 +239,8 @@ Test(bending, project_leaves_no_vertex_inside_and_corrects_velocity) {
   d.grid.size[0] = d.grid.size[1] = 1.0;
   d.pins = "corners";
   d.collider = "project";
-  d.sphere = (cb_sphere){.centre = {0.1, -0.2, 0.05}, .radius = 0.3, .thickness = 0.01, .stiffness = 0, .velocity = {0, 0.5, 0}};
+  d.sphere = (cb_sphere){
+      .centre = {0.1, -0.2, 0.05}, .radius = 0.3, .thickness = 0.01, .stiffness = 0, .velocity = {0, 0.5, 0}};
   cb_scene *s;
   cr_assert_eq(cb_scene_build(&d, &s, NULL), CB_OK, "%s", cb_error_message());
   int nv = s->mesh.nv;
@@ -249,11 +261,15 @@ Test(bending, project_leaves_no_vertex_inside_and_corrects_velocity) {
   for (int i = 0; i < nv; i++) {
     double dd[3];
     cb_v3_sub(x + 3 * i, c, dd);
-    if (s->free_index[i] >= 0) cr_expect(sqrt(cb_v3_dot(dd, dd)) >= R * (1 - 1e-12), "vertex %d inside: %g", i, sqrt(cb_v3_dot(dd, dd)));
+    if (s->free_index[i] >= 0)
+      cr_expect(sqrt(cb_v3_dot(dd, dd)) >= R * (1 - 1e-12), "vertex %d inside: %g", i, sqrt(cb_v3_dot(dd, dd)));
     for (int a = 0; a < 3; a++)
-      cr_expect(fabs(v[3 * i + a] - (x[3 * i + a] - x0[3 * i + a]) / dt) < 1e-12, "vertex %d: velocity not corrected", i);
+      cr_expect(fabs(v[3 * i + a] - (x[3 * i + a] - x0[3 * i + a]) / dt) < 1e-12, "vertex %d: velocity not corrected",
+                i);
   }
-  free(x); free(v); free(x0);
+  free(x);
+  free(v);
+  free(x0);
   cb_scene_free(s);
 }
 
@@ -262,7 +278,8 @@ Test(bending, penalty_counts_contacts_and_rejects_a_moving_sphere) {
   d.grid.n = d.grid.m = 9;
   d.grid.size[0] = d.grid.size[1] = 1.0;
   d.collider = "penalty";
-  d.sphere = (cb_sphere){.centre = {0, -0.2, 0}, .radius = 0.3, .thickness = 0.01, .stiffness = 100, .velocity = {0, 0, 0}};
+  d.sphere =
+      (cb_sphere){.centre = {0, -0.2, 0}, .radius = 0.3, .thickness = 0.01, .stiffness = 100, .velocity = {0, 0, 0}};
   cb_scene *s;
   cr_assert_eq(cb_scene_build(&d, &s, NULL), CB_OK, "%s", cb_error_message());
   int inside = 0;
@@ -296,7 +313,8 @@ Test(bending, project_works_under_explicit_and_newton) {
     d.stretch_k = 100;
     d.density = 0.2;
     d.collider = "project";
-    d.sphere = (cb_sphere){.centre = {0, -0.3, 0}, .radius = 0.25, .thickness = 0, .stiffness = 0, .velocity = {0, 0, 0}};
+    d.sphere =
+        (cb_sphere){.centre = {0, -0.3, 0}, .radius = 0.25, .thickness = 0, .stiffness = 0, .velocity = {0, 0, 0}};
     cb_scene *s;
     cr_assert_eq(cb_scene_build(&d, &s, NULL), CB_OK, "%s", cb_error_message());
     cb_integrator_params ip = cb_integrator_params_default();
@@ -340,7 +358,7 @@ Test(bending, dihedral_is_finite_flat_folded_and_degenerate) {
     memcpy(x, t.mesh.x, sizeof x);
     const double *o = t.mesh.x + 3 * v[0], *p = t.mesh.x + 3 * v[1], *w = t.mesh.x + 3 * v[2];
     if (c == 1) x[3 * v[3] + 2] += 1e-13; /* flat to round-off */
-    if (c == 2) /* fold to pi: wing B onto wing A */
+    if (c == 2)                           /* fold to pi: wing B onto wing A */
       for (int a = 0; a < 3; a++) x[3 * v[3] + a] = w[a];
     if (c == 3) /* wing A collapsed onto the edge's midpoint */
       for (int a = 0; a < 3; a++) x[3 * v[2] + a] = 0.5 * (o[a] + p[a]);
@@ -359,7 +377,8 @@ Test(bending, dihedral_is_finite_flat_folded_and_degenerate) {
 /* material.bend_hessian: the dihedral term is the Gauss-Newton type by default and the exact one on
  * request; a config names only the two choices, and a scene def with another name fails at that key. */
 Test(bending, bend_hessian_picks_the_dihedral_term_type) {
-  static const char *const names[3] = {NULL, "gauss-newton", "exact"}, *const types[3] = {"dihedral", "dihedral", "dihedral_exact"};
+  static const char *const names[3] = {NULL, "gauss-newton", "exact"}, *const types[3] = {"dihedral", "dihedral",
+                                                                                          "dihedral_exact"};
   for (int k = 0; k < 3; k++) {
     char set[64];
     snprintf(set, sizeof set, "material.bend_hessian=%s", names[k] ? names[k] : "gauss-newton");

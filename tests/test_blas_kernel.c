@@ -103,7 +103,8 @@ Test(blas_kernel, injected_fallback_is_recorded_and_warned, .init = clear_env) {
   cr_expect_eq(strchr(buf, '\n') - buf, (long)len - 1, "one line: %s", buf);
   free(buf);
   /* a refusal recorded by build/blas-kernel: no warning, the reason in the provenance */
-  setenv("CB_BLAS_CHOICE", "refused SkylakeX; the detected Prescott is a fallback; self-test failed: dtrsm left: 3e-09 > 1e-12", 1);
+  setenv("CB_BLAS_CHOICE",
+         "refused SkylakeX; the detected Prescott is a fallback; self-test failed: dtrsm left: 3e-09 > 1e-12", 1);
   cb_blas_kernel_describe(&core, how, sizeof how);
   cr_expect(strstr(how, "refused SkylakeX") && strstr(how, "self-test failed"), "%s", how);
   f = fopen("/dev/null", "w");
@@ -134,11 +135,13 @@ Test(blas_kernel, environment_and_chosen, .init = clear_env) {
   cb_blas_kernel_describe(&core, how, sizeof how);
   cr_expect(strncmp(how, "set by the environment", 22) == 0, "%s", how);
   char ch[256];
-  snprintf(ch, sizeof ch, "chosen %s; the detected Prescott is a fallback below the CPU's %s; self-test passed: ...", running, running);
+  snprintf(ch, sizeof ch, "chosen %s; the detected Prescott is a fallback below the CPU's %s; self-test passed: ...",
+           running, running);
   setenv("CB_BLAS_CHOICE", ch, 1);
   cb_blas_kernel_describe(&core, how, sizeof how);
   cr_expect_str_eq(how, ch);
   setenv("CB_BLAS_CHOICE", "chosen NotTheRunningOne; x; self-test passed", 1);
   cb_blas_kernel_describe(&core, how, sizeof how);
-  cr_expect(strncmp(how, "set by the environment", 22) == 0, "a choice that does not match what runs is not believed: %s", how);
+  cr_expect(strncmp(how, "set by the environment", 22) == 0,
+            "a choice that does not match what runs is not believed: %s", how);
 }

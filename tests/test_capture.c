@@ -49,7 +49,8 @@ Test(capture, copies_the_system_newton_assembles) {
   cr_expect_eq(memcmp(cap.b, sp.b, (size_t)cap.A.n * sizeof(double)), 0, "b differs");
   /* the captured A is M/dt^2 + H(x) at the captured iterate x */
   cb_system_assemble(&s->sys, cap.x, 1 / (c.dt * c.dt), CB_DEF_DROP, 0);
-  for (int q = 0; q < cap.A.nnz; q++) cr_expect_float_eq(cap.A.val[q], s->sys.A.val[q], 1e-9 * (1 + fabs(s->sys.A.val[q])));
+  for (int q = 0; q < cap.A.nnz; q++)
+    cr_expect_float_eq(cap.A.val[q], s->sys.A.val[q], 1e-9 * (1 + fabs(s->sys.A.val[q])));
   cb_run_free(&r);
   cb_integrator_free(it);
   cb_scene_free(s);

@@ -11,15 +11,18 @@
 #include "support.h"
 
 
-static const char *header_plain = "# test\npart,model,mesh,n,angle_deg,stretch,radius_m,force_n,force_total_n,energy_j,energy_ref_j,ratio,"
-                            "steps,newton_iters,assemble_ms,factor_ms,solve_ms,wall_ms,kinetic_j,rms_m,contacts,"
-                            "indefinite,hinges,status\n";
+static const char *header_plain = "# "
+                                  "test\npart,model,mesh,n,angle_deg,stretch,radius_m,force_n,force_total_n,energy_j,"
+                                  "energy_ref_j,ratio,"
+                                  "steps,newton_iters,assemble_ms,factor_ms,solve_ms,wall_ms,kinetic_j,rms_m,contacts,"
+                                  "indefinite,hinges,status\n";
 
-static const char *header_spread = "# test\npart,model,mesh,n,angle_deg,stretch,radius_m,force_n,force_total_n,energy_j,energy_ref_j,ratio,"
-                                   "steps,newton_iters,assemble_ms,factor_ms,solve_ms,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,"
-                                   "wall_repeats,step_min_ms,step_max_ms,assemble_min_ms,assemble_max_ms,assemble_each_ms,"
-                                   "factor_min_ms,factor_max_ms,factor_each_ms,solve_min_ms,solve_max_ms,solve_each_ms,kinetic_j,"
-                                   "rms_m,contacts,indefinite,hinges,status\n";
+static const char *header_spread =
+    "# test\npart,model,mesh,n,angle_deg,stretch,radius_m,force_n,force_total_n,energy_j,energy_ref_j,ratio,"
+    "steps,newton_iters,assemble_ms,factor_ms,solve_ms,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,"
+    "wall_repeats,step_min_ms,step_max_ms,assemble_min_ms,assemble_max_ms,assemble_each_ms,"
+    "factor_min_ms,factor_max_ms,factor_each_ms,solve_min_ms,solve_max_ms,solve_each_ms,kinetic_j,"
+    "rms_m,contacts,indefinite,hinges,status\n";
 static const char *header;
 
 static cb_claim_result res;
@@ -34,8 +37,10 @@ static void b1_rows(char *buf, size_t n, double p_spring, double p_hinge) {
   const double angles[] = {1, 2, 3, 5, 8, 10, 30, 60};
   for (int k = 0; k < 8; k++) {
     double a = angles[k];
-    u += (size_t)snprintf(buf + u, n - u, "b1,spring,hinge,,%g,,,%.17g,,,,,,,,,,,,,,,,ok\n", a, 1e-6 * pow(a, p_spring));
-    u += (size_t)snprintf(buf + u, n - u, "b1,dihedral,hinge,,%g,,,%.17g,,,,,,,,,,,,,,,,ok\n", a, 0.08 * pow(a, p_hinge));
+    u +=
+        (size_t)snprintf(buf + u, n - u, "b1,spring,hinge,,%g,,,%.17g,,,,,,,,,,,,,,,,ok\n", a, 1e-6 * pow(a, p_spring));
+    u += (size_t)snprintf(buf + u, n - u, "b1,dihedral,hinge,,%g,,,%.17g,,,,,,,,,,,,,,,,ok\n", a,
+                          0.08 * pow(a, p_hinge));
     u += (size_t)snprintf(buf + u, n - u, "b1,quadratic,hinge,,%g,,,%.17g,,,,,,,,,,,,,,,,ok\n", a, 0.08 * pow(a, 1.0));
   }
 }
@@ -54,9 +59,10 @@ Test(claims_bending, B1_not_reproduced_for_a_quadratic_spring_or_a_superlinear_h
   cr_expect_eq(decide(rows, cb_check_B1), CB_NOT_REPRODUCED, "%s", res.reason);
 }
 
-static const char *header_hessian = "# test\npart,model,mesh,n,angle_deg,stretch,radius_m,force_n,force_total_n,energy_j,energy_ref_j,"
-                                    "ratio,steps,newton_iters,assemble_ms,factor_ms,solve_ms,wall_ms,kinetic_j,rms_m,contacts,"
-                                    "indefinite,hinges,hessian,newton_iters_max,unconverged_steps,wing_ratio,status\n";
+static const char *header_hessian =
+    "# test\npart,model,mesh,n,angle_deg,stretch,radius_m,force_n,force_total_n,energy_j,energy_ref_j,"
+    "ratio,steps,newton_iters,assemble_ms,factor_ms,solve_ms,wall_ms,kinetic_j,rms_m,contacts,"
+    "indefinite,hinges,hessian,newton_iters_max,unconverged_steps,wing_ratio,status\n";
 
 /* Before the hessian column: quadratic and one (exact) dihedral per grid, 8^2 and 16^2. */
 static void b2_rows(char *buf, size_t n, double qwall, double dwall, const char *dstatus) {
@@ -72,18 +78,24 @@ static void b2_rows(char *buf, size_t n, double qwall, double dwall, const char 
 
 /* With the hessian column: quadratic, dihedral gauss-newton and dihedral exact per grid (8^2, 16^2);
  * wall times in ms per step (assembly = wall - factor - 0.5), statuses of the finest grid's runs. */
-static void b2_variants(char *buf, size_t n, double q, double gn, double ex, const char *qst, const char *gst, const char *est) {
+static void b2_variants(char *buf, size_t n, double q, double gn, double ex, const char *qst, const char *gst,
+                        const char *est) {
   size_t u = 0;
   for (int g = 0; g < 2; g++) {
     int size = g ? 16 : 8;
-    u += (size_t)snprintf(buf + u, n - u, "b2,quadratic,grid,%d,,,,,,,,,30,300,1,%g,0.5,%g,0.001,,10,0,0,constant,12,0,,%s\n",
-                          size, q - 1.5, q, g ? qst : "ok");
-    u += (size_t)snprintf(buf + u, n - u, "b2,dihedral,grid,%d,,,,,,,,,30,420,%g,4,0.5,%g,0.001,,10,150,150,gauss-newton,20,1,,%s\n",
+    u += (size_t)snprintf(buf + u, n - u,
+                          "b2,quadratic,grid,%d,,,,,,,,,30,300,1,%g,0.5,%g,0.001,,10,0,0,constant,12,0,,%s\n", size,
+                          q - 1.5, q, g ? qst : "ok");
+    u += (size_t)snprintf(buf + u, n - u,
+                          "b2,dihedral,grid,%d,,,,,,,,,30,420,%g,4,0.5,%g,0.001,,10,150,150,gauss-newton,20,1,,%s\n",
                           size, gn - 4.5, gn, g ? gst : "ok");
-    u += (size_t)snprintf(buf + u, n - u, "b2,dihedral,grid,%d,,,,,,,,,30,330,%g,4,0.5,%g,0.001,,10,150,150,exact,15,0,,%s\n", size,
+    u += (size_t)snprintf(buf + u, n - u,
+                          "b2,dihedral,grid,%d,,,,,,,,,30,330,%g,4,0.5,%g,0.001,,10,150,150,exact,15,0,,%s\n", size,
                           ex - 4.5, ex, g ? est : "ok");
-    u += (size_t)snprintf(buf + u, n - u, "b2_rms,quadratic-dihedral,grid,%d,,,,,,,,,30,,,,,,,0.01,,,,gauss-newton,,,,ok\n", size);
-    u += (size_t)snprintf(buf + u, n - u, "b2_rms,dihedral-dihedral,grid,%d,,,,,,,,,30,,,,,,,1e-6,,,,gauss-newton-exact,,,,ok\n", size);
+    u += (size_t)snprintf(buf + u, n - u,
+                          "b2_rms,quadratic-dihedral,grid,%d,,,,,,,,,30,,,,,,,0.01,,,,gauss-newton,,,,ok\n", size);
+    u += (size_t)snprintf(buf + u, n - u,
+                          "b2_rms,dihedral-dihedral,grid,%d,,,,,,,,,30,,,,,,,1e-6,,,,gauss-newton-exact,,,,ok\n", size);
   }
 }
 
@@ -98,8 +110,9 @@ static cb_verdict decide_variants(double q, double gn, double ex, const char *qs
 
 Test(claims_bending, B2_reproduced_from_1_5_to_4_5_against_the_fastest_dihedral_hessian) {
   cr_expect_eq(decide_variants(10, 25, 100, "ok", "ok", "ok"), CB_REPRODUCED, "%s", res.reason);
-  cr_expect(strstr(res.reason, "Reproduced") && strstr(res.reason, "2.50x") && strstr(res.reason, "gauss-newton Hessian"), "%s",
-            res.reason);
+  cr_expect(strstr(res.reason, "Reproduced") && strstr(res.reason, "2.50x") &&
+                strstr(res.reason, "gauss-newton Hessian"),
+            "%s", res.reason);
   cr_expect(strstr(res.reason, "exact, per-hinge projected Hessian it is 10.0x"), "%s", res.reason);
   cr_expect(strstr(res.reason, "steps at max_iters: dihedral 1, quadratic 0 of 30"), "%s", res.reason);
   cr_expect(strstr(res.numbers, "| grid 16 | dihedral | gauss-newton (fastest) |"), "%s", res.numbers);
@@ -149,15 +162,20 @@ Test(claims_bending, B2_quotes_times_and_the_ratio_with_their_spread) {
   header = header_spread;
   char rows[4096];
   snprintf(rows, sizeof rows,
-           "b2,quadratic,grid,16,,,,,,,,,30,300,1,8,0.5,10,9,11,10;9;11,3,0.9,23,1,1,1;1;1,8,8,8;8;8,0.5,0.5,0.5;0.5;0.5,0.001,,10,0,0,ok\n"
-           "b2,dihedral,grid,16,,,,,,,,,30,330,20,4,0.5,25,24,27.5,25;24;27.5,3,2.5,60,20,22,20;20;22,4,4,4;4;4,0.5,0.5,0.5;0.5;0.5,0.001,,10,100,150,ok\n"
+           "b2,quadratic,grid,16,,,,,,,,,30,300,1,8,0.5,10,9,11,10;9;11,3,0.9,23,1,1,1;1;1,8,8,8;8;8,0.5,0.5,0.5;0.5;0."
+           "5,0.001,,10,0,0,ok\n"
+           "b2,dihedral,grid,16,,,,,,,,,30,330,20,4,0.5,25,24,27.5,25;24;27.5,3,2.5,60,20,22,20;20;22,4,4,4;4;4,0.5,0."
+           "5,0.5;0.5;0.5,0.001,,10,100,150,ok\n"
            "b2_rms,quadratic-dihedral,grid,16,,,,,,,,,30,,,,,,,,,,,,,,,,,,,,,,0.01,,,,ok\n");
   cr_expect_eq(decide(rows, cb_check_B2), CB_REPRODUCED, "%s", res.reason);
   header = NULL;
-  cr_expect(strstr(res.numbers, "| 1.00 (1.00-1.00) | 8.00 (8.00-8.00) | 0.50 (0.50-0.50) | 10.00 (9.00-11.00) | 0.9-23.0 |"), "%s", res.numbers);
+  cr_expect(strstr(res.numbers, "| 1.00 (1.00-1.00) | 8.00 (8.00-8.00) | 0.50 (0.50-0.50) | 10.00 (9.00-11.00) | "
+                                "0.9-23.0 |"),
+            "%s", res.numbers);
   cr_expect(strstr(res.numbers, "**2.50x (2.50-2.67x)**"), "%s", res.numbers);
   cr_expect(strstr(res.numbers, "median over 3 repeats") && strstr(res.numbers, "paired repeats"), "%s", res.numbers);
-  cr_expect(strstr(res.reason, "takes 2.50x (2.50-2.67x over 3 paired repeats) the quadratic model's"), "%s", res.reason);
+  cr_expect(strstr(res.reason, "takes 2.50x (2.50-2.67x over 3 paired repeats) the quadratic model's"), "%s",
+            res.reason);
 }
 
 /* b3 rows of two stretch fields on the strip: ratio r0 + slope s in `arc`, r0 + slope_axis s in `axis`. */
@@ -166,8 +184,8 @@ static void b3_rows(char *buf, size_t n, double r0, double slope, double slope_a
   for (int m = 0; m < 2; m++)
     for (int k = 0; k <= 10; k++) {
       double s = 0.03 * k, r = r0 + (m ? slope_axis : slope) * s;
-      u += (size_t)snprintf(buf + u, n - u, "b3,quadratic,%s,17,7.16,%g,0.5,,,%g,1,%g,,,,,,,,,,,38,,,,1.45,ok\n", m ? "axis" : "arc", s,
-                            r, r);
+      u += (size_t)snprintf(buf + u, n - u, "b3,quadratic,%s,17,7.16,%g,0.5,,,%g,1,%g,,,,,,,,,,,38,,,,1.45,ok\n",
+                            m ? "axis" : "arc", s, r, r);
     }
 }
 
@@ -183,7 +201,8 @@ static cb_verdict decide_b3(double r0, double slope, double slope_axis) {
 Test(claims_bending, B3_reproduced_when_agreeing_unstretched_and_parting_within_30_percent_in_every_field) {
   cr_expect_eq(decide_b3(0.99, 2.0, 0.5), CB_REPRODUCED, "%s", res.reason); /* 10% at s = 5.5% (arc), 22% (axis) */
   cr_expect(strstr(res.reason, "5.5%") != NULL && strstr(res.reason, "2 of 2"), "%s", res.reason);
-  cr_expect(strstr(res.numbers, "| axis | 17, 38 | 1.45 | 7.16 deg | 0.9900 | 1.1400 (30%) | 22.0% |"), "%s", res.numbers);
+  cr_expect(strstr(res.numbers, "| axis | 17, 38 | 1.45 | 7.16 deg | 0.9900 | 1.1400 (30%) | 22.0% |"), "%s",
+            res.numbers);
 }
 
 Test(claims_bending, B3_partly_when_one_field_stays_within_10_percent) {

@@ -7,14 +7,21 @@
 #include "claims.h"
 #include "support.h"
 
-#define MAIN_HEAD "scene,policy,step,newton_iter,system,spd,min_eig_n_per_m,min_eig_res_n_per_m,mu_n_per_m,spd_exact," \
-  "min_eig_exact_n_per_m,compressed_frac,cg_breakdown,cg_status,cg_iters,rel_grad,grad_norm_n,f_j,energy_j,wall_ms,status\n"
-#define RUNS_HEAD "scene,policy,steps,steps_done,steps_converged,newton_iters,systems,not_spd,indefinite_exact," \
-  "cg_breakdowns,mu_max_n_per_m,factorizations,wall_ms,probe_ms,final_f_j,final_energy_j,final_rel_grad,shape_diff_none_m," \
+#define MAIN_HEAD \
+  "scene,policy,step,newton_iter,system,spd,min_eig_n_per_m,min_eig_res_n_per_m,mu_n_per_m,spd_exact," \
+  "min_eig_exact_n_per_m,compressed_frac,cg_breakdown,cg_status,cg_iters,rel_grad,grad_norm_n,f_j,energy_j,wall_ms," \
+  "status\n"
+#define RUNS_HEAD \
+  "scene,policy,steps,steps_done,steps_converged,newton_iters,systems,not_spd,indefinite_exact," \
+  "cg_breakdowns,mu_max_n_per_m,factorizations,wall_ms,probe_ms,final_f_j,final_energy_j,final_rel_grad,shape_diff_" \
+  "none_m," \
   "shape_diff_drop_m,status\n"
-#define PAIR_HEAD "dim,policy,buckling_kb_n_m2,ratio,min_eig_h_n_per_m,min_eig_a_n_per_m,predicted_min_eig_a_n_per_m,spd\n"
+#define PAIR_HEAD \
+  "dim,policy,buckling_kb_n_m2,ratio,min_eig_h_n_per_m,min_eig_a_n_per_m,predicted_min_eig_a_n_per_m,spd\n"
 
-static void put(const char *dir, const char *name, const char *text) { test_put(dir, name, "# provenance: test\n", text); }
+static void put(const char *dir, const char *name, const char *text) {
+  test_put(dir, name, "# provenance: test\n", text);
+}
 
 /* A system row: policy, spd (used), min_eig, spd_exact, min_eig_exact, compressed fraction, CG breakdown. */
 static void row(char *buf, const char *pol, int spd, double me, int spdx, double mex, double comp, int bd) {
@@ -24,9 +31,9 @@ static void row(char *buf, const char *pol, int spd, double me, int spdx, double
   strcat(buf, r);
 }
 
-static const char *good_pair = PAIR_HEAD
-  "1,none,,0.7,16000,16900,16900,1\n2,none,,0.7,-6857,-5957,-5957,0\n3,none,,0.7,-6857,-5957,-5957,0\n"
-  "1,none,,0.99,16000,16900,16900,1\n3,none,,0.99,-161,739,739,1\n";
+static const char *good_pair = PAIR_HEAD "1,none,,0.7,16000,16900,16900,1\n2,none,,0.7,-6857,-5957,-5957,0\n3,none,,0."
+                                         "7,-6857,-5957,-5957,0\n"
+                                         "1,none,,0.99,16000,16900,16900,1\n3,none,,0.99,-161,739,739,1\n";
 
 static cb_verdict decide(const char *id, const char *dir) {
   cb_claim_result *r = calloc(1, sizeof *r); /* 36 KiB: not on the stack */
@@ -53,8 +60,8 @@ static void runs_all_finished(const char *dir, const char *broken) {
   for (int p = 0; p < 5; p++) {
     char r[512];
     int done = p == 0 ? 1 : (broken && !strcmp(broken, pols[p])) ? 3 : 5;
-    snprintf(r, sizeof r, "s1,%s,5,%d,%d,%d,10,0,0,0,0,%d,%g,1,0,0,0,,,%s\n", pols[p], done, done, iters[p], iters[p], wall[p],
-             p == 0 ? "not_spd" : "ok");
+    snprintf(r, sizeof r, "s1,%s,5,%d,%d,%d,10,0,0,0,0,%d,%g,1,0,0,0,,,%s\n", pols[p], done, done, iters[p], iters[p],
+             wall[p], p == 0 ? "not_spd" : "ok");
     strcat(buf, r);
   }
   put(dir, "definiteness_runs.csv", buf);
@@ -121,7 +128,9 @@ Test(claims_definiteness, h2_ranks_the_fixes_by_their_cost_against_drop) {
     if (!strcmp(cb_claims[i].id, "H2")) cb_claim_decide(&cb_claims[i], dir, r);
   cr_expect_eq(r->verdict, CB_REPRODUCED, "%s", r->reason);
   cr_expect(strstr(r->reason, "1. choi-ko 0.80x, 0.60x the Newton iterations; 2. drop (1x, the baseline); "
-                              "3. mirror 1.30x, 1.30x the Newton iterations; 4. shift 1.50x, 1.10x the Newton iterations."), "%s", r->reason);
+                              "3. mirror 1.30x, 1.30x the Newton iterations; 4. shift 1.50x, 1.10x the Newton "
+                              "iterations."),
+            "%s", r->reason);
   cr_expect(strstr(r->numbers, "| 4 | shift | 1 | 1.10 | 1.10 | 1.50x | yes | nan |"), "%s", r->numbers);
   free(r);
 }
@@ -131,14 +140,16 @@ Test(claims_definiteness, h2_quotes_the_time_per_step_with_its_spread) {
   char *dir = tmpdir(), buf[8192] = MAIN_HEAD;
   fixes_rows(buf, NULL, 0, 0);
   put(dir, "definiteness.csv", buf);
-  char runs[4096] = "scene,policy,steps,steps_done,steps_converged,newton_iters,systems,not_spd,indefinite_exact,cg_breakdowns,"
-                    "mu_max_n_per_m,factorizations,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,probe_ms,final_f_j,"
+  char runs[4096] = "scene,policy,steps,steps_done,steps_converged,newton_iters,systems,not_spd,indefinite_exact,cg_"
+                    "breakdowns,"
+                    "mu_max_n_per_m,factorizations,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,probe_ms,"
+                    "final_f_j,"
                     "final_energy_j,final_rel_grad,shape_diff_none_m,shape_diff_drop_m,status\n";
   const char *pols[] = {"none", "drop", "mirror", "shift", "choi-ko"};
   for (int p = 0; p < 5; p++) {
     char r[512];
-    snprintf(r, sizeof r, "s1,%s,5,%d,%d,10,10,0,0,0,0,10,11,10,12,10;12;11,3,1,0,0,0,,,%s\n", pols[p], p ? 5 : 1, p ? 5 : 1,
-             p == 0 ? "not_spd" : "ok");
+    snprintf(r, sizeof r, "s1,%s,5,%d,%d,10,10,0,0,0,0,10,11,10,12,10;12;11,3,1,0,0,0,,,%s\n", pols[p], p ? 5 : 1,
+             p ? 5 : 1, p == 0 ? "not_spd" : "ok");
     strcat(runs, r);
   }
   put(dir, "definiteness_runs.csv", runs);
@@ -147,7 +158,9 @@ Test(claims_definiteness, h2_quotes_the_time_per_step_with_its_spread) {
     if (!strcmp(cb_claims[i].id, "H2")) cb_claim_decide(&cb_claims[i], dir, &r);
   /* every fix costs what drop costs, repeat by repeat: "at different costs" fails */
   cr_expect_eq(r.verdict, CB_PARTLY, "%s", r.reason);
-  cr_expect(strstr(r.reason, "\"at different costs\" is not reproduced") && strstr(r.reason, "mirror 1.00x (1.00-1.00x)"), "%s", r.reason);
+  cr_expect(strstr(r.reason, "\"at different costs\" is not reproduced") && strstr(r.reason, "mirror 1.00x "
+                                                                                             "(1.00-1.00x)"),
+            "%s", r.reason);
   cr_expect(strstr(r.numbers, "| s1 | drop | 0 / 1 | 0 | 5 (5) / 5 | 2.00 | 2.00 | 2.2 (2.0-2.4) |"), "%s", r.numbers);
   cr_expect(strstr(r.numbers, "median of 3 repeats of the run without the probes"), "%s", r.numbers);
 }
@@ -187,7 +200,8 @@ Test(claims_definiteness, h2_takes_policy_and_scene_names_from_the_csv) {
     const char *pols[] = {"none", "drop", "newfix"};
     for (int p = 0; p < 3; p++) {
       char r[512];
-      snprintf(r, sizeof r, "zeta,%s,1,0,1,%d,900,0,0,1,900,0.5,0,ok,3,1,1,0,0,0.1,%s\n", pols[p], p > 0, p ? "ok" : "not_spd");
+      snprintf(r, sizeof r, "zeta,%s,1,0,1,%d,900,0,0,1,900,0.5,0,ok,3,1,1,0,0,0.1,%s\n", pols[p], p > 0,
+               p ? "ok" : "not_spd");
       strcat(buf, r);
       int done = p == 0 ? 1 : broken && p == 2 ? 3 : 5;
       snprintf(r, sizeof r, "zeta,%s,5,%d,%d,%d,10,0,0,0,0,10,1,1,0,0,0,,,%s\n", pols[p], done, done, p == 2 ? 12 : 10,

@@ -12,12 +12,16 @@
 #include "support.h"
 
 
-static const char *main_hdr = "# test\nkind,case,scene,k_n_per_m,dt_s,method,status,max_energy_ratio,steps,dt_crit_pred_s,dt_crit_meas_s,"
+static const char *main_hdr = "# "
+                              "test\nkind,case,scene,k_n_per_m,dt_s,method,status,max_energy_ratio,steps,dt_crit_pred_"
+                              "s,dt_crit_meas_s,"
                               "not_converged_steps,t_mark_s,energy_loss_w,kinetic0_j,window_s,t_end_s\n";
-static const char *bound_hdr = "# test\nscene,k_n_per_m,dt_crit_pred_s,dt_crit_meas_s,bisect_status,dt_crit_pred_rest_s,"
+static const char *bound_hdr = "# "
+                               "test\nscene,k_n_per_m,dt_crit_pred_s,dt_crit_meas_s,bisect_status,dt_crit_pred_rest_s,"
                                "lambda_dense_per_s2,lambda_lanczos_per_s2\n";
 static const char *time_hdr = "# test\nscene,family,n_vertices,k_n_per_m,method,wall_ms_per_s,wall_min_ms_per_s,"
-                              "wall_max_ms_per_s,wall_each_ms_per_s,wall_repeats,steps,status,dt_crit_pred_s,step_error_max,"
+                              "wall_max_ms_per_s,wall_each_ms_per_s,wall_repeats,steps,status,dt_crit_pred_s,step_"
+                              "error_max,"
                               "not_converged_steps\n";
 
 static char dir[64];
@@ -48,7 +52,7 @@ static cb_verdict decide(cb_claim_check check) {
 
 /* A spring-like scene: dt_pred = 2 sqrt(m/k) with m = 0.01, measured = ratio x pred;
  * an explicit map around it, and Newton cells losing energy ~ dt. */
-static double damp_exp = 1; /* energy lost per second ~ dt^damp_exp */
+static double damp_exp = 1;    /* energy lost per second ~ dt^damp_exp */
 static double newton_time = 1; /* simulated time of a Newton cell, s (the explicit cells': 1 s, 0.5 s where diverged) */
 static void build(double ratio, double slope, int newton_diverges) {
   main_rows[0] = bound_rows[0] = '\0';
@@ -64,13 +68,15 @@ static void build(double ratio, double slope, int newton_diverges) {
         double dt = pred * pow(10.0, (j - 4) / 4.0); /* 0.1 .. 10 x pred */
         const char *st = dt <= meas ? "stable" : "diverged";
         n = strlen(main_rows);
-        snprintf(main_rows + n, sizeof main_rows - n, "sweep,map,%s,%.17g,%.17g,explicit,%s,0,100,%.17g,%.17g,0,0.1,0,1,0,%g\n",
-                 sc[s], k, dt, st, pred, meas, dt <= meas ? 1.0 : 0.5);
+        snprintf(main_rows + n, sizeof main_rows - n,
+                 "sweep,map,%s,%.17g,%.17g,explicit,%s,0,100,%.17g,%.17g,0,0.1,0,1,0,%g\n", sc[s], k, dt, st, pred,
+                 meas, dt <= meas ? 1.0 : 0.5);
         double loss = 5 * pow(dt, damp_exp); /* J per s, kinetic0 = 1 J */
         const char *nst = newton_diverges && s == 1 && i == 3 && j == 8 ? "diverged" : "stable";
         n = strlen(main_rows);
-        snprintf(main_rows + n, sizeof main_rows - n, "sweep,map,%s,%.17g,%.17g,newton,%s,0,100,%.17g,%.17g,0,0.1,%.17g,1,0.1,%g\n",
-                 sc[s], k, dt, nst, pred, meas, loss, newton_time);
+        snprintf(main_rows + n, sizeof main_rows - n,
+                 "sweep,map,%s,%.17g,%.17g,newton,%s,0,100,%.17g,%.17g,0,0.1,%.17g,1,0.1,%g\n", sc[s], k, dt, nst, pred,
+                 meas, loss, newton_time);
       }
     }
 }
@@ -97,7 +103,8 @@ static void reps(char *buf, size_t n, double v, int newton) {
 /* One (scene, k): explicit at wall ex ms and omega_max = omega (dt_pred = 2/omega), converged Newton at nt ms
  * (step error 1e-8), Baraff-Witkin (drop) at nt/10 ms with step error bw_err and Baraff-Witkin (shift) at
  * nt/4 ms with step error bw_err/10. */
-static void trow3(const char *scene, const char *family, int nv, double k, double ex, double omega, double nt, double bw_err) {
+static void trow3(const char *scene, const char *family, int nv, double k, double ex, double omega, double nt,
+                  double bw_err) {
   char e[256], t[256], w[256], w2[256];
   reps(e, sizeof e, ex, 0);
   reps(t, sizeof t, nt, 1);
@@ -106,7 +113,8 @@ static void trow3(const char *scene, const char *family, int nv, double k, doubl
   size_t n = strlen(time_rows);
   snprintf(time_rows + n, sizeof time_rows - n,
            "%s,%s,%d,%.17g,explicit,%s,%.0f,stable,%.17g,,\n%s,%s,%d,%.17g,newton,%s,30,stable,%.17g,1e-8,0\n"
-           "%s,%s,%d,%.17g,newton_bw,%s,30,stable,%.17g,%.17g,\n%s,%s,%d,%.17g,newton_bw_shift,%s,30,stable,%.17g,%.17g,\n",
+           "%s,%s,%d,%.17g,newton_bw,%s,30,stable,%.17g,%.17g,\n%s,%s,%d,%.17g,newton_bw_shift,%s,30,stable,%.17g,%."
+           "17g,\n",
            scene, family, nv, k, e, omega * 0.5, 2 / omega, scene, family, nv, k, t, 2 / omega, scene, family, nv, k, w,
            2 / omega, bw_err, scene, family, nv, k, w2, 2 / omega, bw_err / 10);
 }
@@ -128,8 +136,10 @@ static void timing(double kexp, double sexp, double bexp, double nt, double bw_e
   const int nb[] = {121, 441, 1681};
   for (int r = 0; r < 3; r++) {
     double f = nb[r] / 121.0;
-    trow3(r == 0 ? "bend11" : r == 1 ? "bend21" : "bend41", "bending", nb[r], 1e4, 150 * pow(f, bexp), 300 * f,
-          nt * pow(nb[r] > 441 ? nb[r] / 441.0 : 1, 1.2), bw_err);
+    trow3(r == 0   ? "bend11"
+          : r == 1 ? "bend21"
+                   : "bend41",
+          "bending", nb[r], 1e4, 150 * pow(f, bexp), 300 * f, nt * pow(nb[r] > 441 ? nb[r] / 441.0 : 1, 1.2), bw_err);
   }
 }
 
@@ -138,20 +148,26 @@ Test(claims_explicit_stability, E2_reproduced_when_explicit_is_slow_and_follows_
   cr_assert_eq(decide(cb_check_E2), CB_REPRODUCED, "%s", last.reason);
   /* the baseline is named, with its step error */
   cr_expect(strstr(last.numbers, "| cloth21 | stretch | 1e+07 | 441 | 1581 (1423-1739) | 1581 | 100 (100-120); 1e-08 | "
-                                 "10 (9-11); 0.001 | 25 (22.5-27.5); 0.0001 | Baraff-Witkin (drop) | 158 (158-158 over 3 paired repeats) |"), "%s", last.numbers);
-  cr_expect(strstr(last.numbers, "Baraff-Witkin (one Newton iteration, the lecture's drop fix, CHOLMOD)"), "%s", last.numbers);
+                                 "10 (9-11); 0.001 | 25 (22.5-27.5); 0.0001 | Baraff-Witkin (drop) | 158 (158-158 over "
+                                 "3 paired repeats) |"),
+            "%s", last.numbers);
+  cr_expect(strstr(last.numbers, "Baraff-Witkin (one Newton iteration, the lecture's drop fix, CHOLMOD)"), "%s",
+            last.numbers);
   cr_expect(strstr(last.numbers, "stretch family, k = 1e+04: explicit ~ n^1.500 (1.500 / 1.500 fitted to the fastest / "
-                                 "slowest repeats), b_pred = 1.500 (omega_max ~ n^0.500)"), "%s", last.numbers);
+                                 "slowest repeats), b_pred = 1.500 (omega_max ~ n^0.500)"),
+            "%s", last.numbers);
   cr_expect(strstr(last.numbers, "bending family, k = 1e+04: explicit ~ n^2.000"), "%s", last.numbers);
   cr_expect(strstr(last.numbers, "explicit ~ k^0.500 (0.500 / 0.500 fitted to the fastest / slowest repeats) over 5 "
-                                 "stiffnesses, predicted 0.500; explicit is slower from k = 1e+03"), "%s", last.numbers);
+                                 "stiffnesses, predicted 0.500; explicit is slower from k = 1e+03"),
+            "%s", last.numbers);
   cr_expect(strstr(last.reason, "Times are medians of 3 repeats."), "%s", last.reason);
 }
 
 Test(claims_explicit_stability, E2_partly_when_the_exponent_is_not_the_predicted_one) {
   timing(0.5, 2.0, 2.0, 100, 1e-3); /* the stretch family at n^2 (the old target) where omega_max predicts n^1.5 */
   cr_assert_eq(decide(cb_check_E2), CB_PARTLY, "%s", last.reason);
-  cr_expect(strstr(last.reason, "worst: stretch family at k = 1e+04: b = 2.000 against b_pred = 1.500"), "%s", last.reason);
+  cr_expect(strstr(last.reason, "worst: stretch family at k = 1e+04: b = 2.000 against b_pred = 1.500"), "%s",
+            last.reason);
   timing(0.5, 1.5, 1.5, 100, 1e-3); /* the bending family's cost grows slower than its omega_max predicts */
   cr_assert_eq(decide(cb_check_E2), CB_PARTLY, "%s", last.reason);
 }
@@ -159,18 +175,21 @@ Test(claims_explicit_stability, E2_partly_when_the_exponent_is_not_the_predicted
 Test(claims_explicit_stability, E2_not_reproduced_when_explicit_is_never_slower) {
   timing(0.5, 1.5, 2.0, 1e7, 1e-3); /* the implicit methods cost 1e6 ms and more: explicit is faster at every (k, n) */
   cr_assert_eq(decide(cb_check_E2), CB_NOT_REPRODUCED, "%s", last.reason);
-  cr_expect(strstr(last.reason, "slower than the fastest implicit method at 1/30 s within 1% step error in 0 of 10"), "%s",
-            last.reason);
+  cr_expect(strstr(last.reason, "slower than the fastest implicit method at 1/30 s within 1% step error in 0 of 10"),
+            "%s", last.reason);
 }
 
 Test(claims_explicit_stability, E2_an_inaccurate_baraff_witkin_does_not_count) {
   timing(0.5, 1.5, 2.0, 100, 0.05); /* Baraff-Witkin (drop) 5% off: the shift variant (25 ms, 0.5%) is the baseline */
   decide(cb_check_E2);
-  cr_expect(strstr(last.numbers, "| 10 (9-11); 0.05 | 25 (22.5-27.5); 0.005 | Baraff-Witkin (shift) | 63.2 (63.2-63.2 over 3 "
-                                 "paired repeats) |"), "%s", last.numbers);
+  cr_expect(strstr(last.numbers, "| 10 (9-11); 0.05 | 25 (22.5-27.5); 0.005 | Baraff-Witkin (shift) | 63.2 (63.2-63.2 "
+                                 "over 3 "
+                                 "paired repeats) |"),
+            "%s", last.numbers);
   timing(0.5, 1.5, 2.0, 100, 0.5); /* both 5% and more off: converged Newton (100 ms) */
   decide(cb_check_E2);
-  cr_expect(strstr(last.numbers, "; 0.05 | converged Newton | 15.8 (14.2-15.8 over 3 paired repeats) |"), "%s", last.numbers);
+  cr_expect(strstr(last.numbers, "; 0.05 | converged Newton | 15.8 (14.2-15.8 over 3 paired repeats) |"), "%s",
+            last.numbers);
   timing(0.0, 1.5, 2.0, 1e3, 0.05); /* explicit at 0.5 ms on the whole k sweep beats the 250 ms baseline */
   decide(cb_check_E2);
   cr_expect(strstr(last.reason, "but not at the stiffest k"), "%s", last.reason);
@@ -217,7 +236,8 @@ Test(claims_explicit_stability, I1_partly_when_newton_runs_shorter_than_explicit
   newton_time = 1;
   build(0.99, -0.5, 0);
   decide(cb_check_I1);
-  cr_expect(strstr(last.reason, "72 of 72 Newton cells ran the simulated time of the explicit cell"), "%s", last.reason);
+  cr_expect(strstr(last.reason, "72 of 72 Newton cells ran the simulated time of the explicit cell"), "%s",
+            last.reason);
 }
 
 Test(claims_explicit_stability, E1_says_at_which_state_it_is_judged) {
@@ -225,14 +245,16 @@ Test(claims_explicit_stability, E1_says_at_which_state_it_is_judged) {
                               "lambda_dense_per_s2,lambda_lanczos_per_s2,equilibrium_status\n";
   build(0.99, -0.5, 0);
   char rows[8192] = "";
-  for (char *line = strtok(bound_rows, "\n"); line; line = strtok(NULL, "\n")) /* every row started at its equilibrium */
+  for (char *line = strtok(bound_rows, "\n"); line;
+       line = strtok(NULL, "\n")) /* every row started at its equilibrium */
     snprintf(rows + strlen(rows), sizeof rows - strlen(rows), "%s,ok\n", line);
   snprintf(bound_rows, sizeof bound_rows, "%s", rows);
   const char *saved = bound_hdr;
   bound_hdr = hdr_eq;
   decide(cb_check_E1);
   bound_hdr = saved;
-  cr_expect(strstr(last.reason, "Judged at the state every run starts from, the static hanging equilibrium"), "%s", last.reason);
+  cr_expect(strstr(last.reason, "Judged at the state every run starts from, the static hanging equilibrium"), "%s",
+            last.reason);
   cr_expect(strstr(last.reason, "At the flat rest shape instead, 8 of 8 lie within 15%"), "%s", last.reason);
   build(0.99, -0.5, 0); /* no equilibrium recorded: it says so */
   decide(cb_check_E1);

@@ -9,7 +9,8 @@
 #include "claims.h"
 
 static char dir[64];
-static const char *const FILES[] = {"field.csv", "field_x1.csv", "field_x2.csv", "field_tol.csv", "field_rises.csv", "field_scramble.csv"};
+static const char *const FILES[] = {"field.csv",     "field_x1.csv",    "field_x2.csv",
+                                    "field_tol.csv", "field_rises.csv", "field_scramble.csv"};
 
 static void setup(void) {
   snprintf(dir, sizeof dir, "/tmp/cbclaims_field_XXXXXX");
@@ -60,8 +61,8 @@ static void x1(double p0, double x0, double xs) {
     for (int d = 0; d < 2; d++)
       for (int k = 0; k < 3; k++) {
         double r = m ? x0 + xs * ks[k] : p0 * ks[k] * (d + 1);
-        sprintf(buf + strlen(buf), "strip,%s,%.17g,%d,1000,2,0.02,%.17g,%.17g,%.17g,ok\n", m ? "xpbd" : "pbd", dts[d], ks[k], 0.02 / r,
-                1000 * r, r);
+        sprintf(buf + strlen(buf), "strip,%s,%.17g,%d,1000,2,0.02,%.17g,%.17g,%.17g,ok\n", m ? "xpbd" : "pbd", dts[d],
+                ks[k], 0.02 / r, 1000 * r, r);
       }
   put("field_x1.csv", buf);
 }
@@ -87,7 +88,8 @@ Test(claims_field, x1_not_reproduced_when_xpbd_varies_more_than_pbd) {
 /* ---- X2 ---- */
 
 static void x2(int substeps_win) {
-  char buf[4096] = "scene,vertices,n,variant,substeps,iters,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,step_error,"
+  char buf[4096] = "scene,vertices,n,variant,substeps,iters,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,"
+                   "step_error,"
                    "max_strain,ref_max_strain,rel_grad,status\n";
   for (int n = 2; n <= 8; n *= 2) {
     double a = substeps_win ? 0.01 / n : 0.1, b = substeps_win ? 0.1 : 0.01 / n;
@@ -111,21 +113,23 @@ Test(claims_field, x2_not_reproduced_when_iterations_stretch_less) {
 
 /* ---- Q1 and V1's speed: field_tol.csv ---- */
 
-#define TOL_HEAD "scene,vertices,method,family,tol,max_iters,iters_to_tol,wall_to_tol_ms,wall_to_tol_min_ms,wall_to_tol_max_ms," \
-                 "wall_to_tol_each_ms,wall_repeats,alloc_ms,final_rel_grad,fallback,status\n"
+#define TOL_HEAD \
+  "scene,vertices,method,family,tol,max_iters,iters_to_tol,wall_to_tol_ms,wall_to_tol_min_ms,wall_to_tol_max_ms," \
+  "wall_to_tol_each_ms,wall_repeats,alloc_ms,final_rel_grad,fallback,status\n"
 
 /* ms of lbfgs, pd, pd-chebyshev, newton_exact, newton_drop, vbd, vbd line search, jacobi-nl, chebyshev-nl
  * (negative: cut off) at both tolerances */
 static void tol(const double *ms) {
-  static const char *const m[] = {"lbfgs", "pd", "pd-chebyshev auto", "newton_exact", "newton_drop", "vbd", "vbd line search", "jacobi-nl",
-                                  "chebyshev-nl auto"};
+  static const char *const m[] = {"lbfgs",           "pd",          "pd-chebyshev auto",
+                                  "newton_exact",    "newton_drop", "vbd",
+                                  "vbd line search", "jacobi-nl",   "chebyshev-nl auto"};
   char buf[8192] = TOL_HEAD;
   for (int q = 0; q < 2; q++)
     for (int k = 0; k < 9; k++) {
       if (ms[k] >= 0)
-        sprintf(buf + strlen(buf), "grid81,6561,%s,x,%g,100,10,%.17g,,,,3,1,1e-9,0,ok\n", m[k], q ? 1e-5 : 1e-3, ms[k] * (q + 1));
-      else
-        sprintf(buf + strlen(buf), "grid81,6561,%s,x,%g,100,,,,,,,1,1e-2,,cut_off\n", m[k], q ? 1e-5 : 1e-3);
+        sprintf(buf + strlen(buf), "grid81,6561,%s,x,%g,100,10,%.17g,,,,3,1,1e-9,0,ok\n", m[k], q ? 1e-5 : 1e-3,
+                ms[k] * (q + 1));
+      else sprintf(buf + strlen(buf), "grid81,6561,%s,x,%g,100,,,,,,,1,1e-2,,cut_off\n", m[k], q ? 1e-5 : 1e-3);
     }
   put("field_tol.csv", buf);
 }
@@ -157,18 +161,22 @@ Test(claims_field, q1_counts_a_cut_off_lbfgs_as_a_loss) {
 static void v1(int rises, int diverged, int slow) {
   char buf[2048];
   snprintf(buf, sizeof buf,
-           "scene,method,start,frames,frames_run,iters,rises,steps_with_rise,rel_max_rise,diverged,diverge_frame,status\n"
+           "scene,method,start,frames,frames_run,iters,rises,steps_with_rise,rel_max_rise,diverged,diverge_frame,"
+           "status\n"
            "lab,vbd,initial,20,20,640,%d,%d,0.1,0,,ok\nlab,vbd,scrambled,20,20,640,3,2,1,0,,ok\n"
            "lab,vbd line search,initial,20,20,640,0,0,0,0,,ok\n",
            rises, rises ? 1 : 0);
   put("field_rises.csv", buf);
   snprintf(buf, sizeof buf,
-           "scene,method,frames,frames_run,displacement_m,start_strain,end_strain,normal_strain,end_max_strain,diverged,diverge_frame,"
+           "scene,method,frames,frames_run,displacement_m,start_strain,end_strain,normal_strain,end_max_strain,"
+           "diverged,diverge_frame,"
            "recovered,status\n"
            "lab,vbd,20,%d,10,12,%s,0.001,0.1,%d,%s,%d,%s\nlab,jacobi-nl,20,20,10,12,0.5,0.001,1,0,,0,ok\n",
-           diverged ? 4 : 20, diverged ? "" : "0.05", diverged, diverged ? "5" : "", !diverged, diverged ? "diverged" : "ok");
+           diverged ? 4 : 20, diverged ? "" : "0.05", diverged, diverged ? "5" : "", !diverged,
+           diverged ? "diverged" : "ok");
   put("field_scramble.csv", buf);
-  const double fast[] = {10, 100, 50, 150, 300, 20, 25, 900, 400}, slower[] = {10, 100, 50, 150, 300, 2000, 2500, 900, 400};
+  const double fast[] = {10, 100, 50, 150, 300, 20, 25, 900, 400},
+               slower[] = {10, 100, 50, 150, 300, 2000, 2500, 900, 400};
   tol(slow ? slower : fast);
 }
 

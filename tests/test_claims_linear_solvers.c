@@ -28,10 +28,13 @@ static void begin_with(int spread) {
   snprintf(p, sizeof p, "%s/linear_solvers_scenes.csv", dir);
   scenes_csv = fopen(p, "w");
   cr_assert(main_csv && scenes_csv);
-  fputs(spread ? "# experiment: linear_solvers\nscene,sweep,solver,alpha,rho,iter,rel_residual,wall_ms,wall_min_ms,wall_max_ms,"
+  fputs(spread ? "# experiment: "
+                 "linear_solvers\nscene,sweep,solver,alpha,rho,iter,rel_residual,wall_ms,wall_min_ms,wall_max_ms,"
                  "wall_each_ms,wall_repeats,status,error\n"
-               : "# experiment: linear_solvers\nscene,sweep,solver,alpha,rho,iter,rel_residual,wall_ms,status,error\n", main_csv);
-  fputs("# experiment: linear_solvers\nscene,grid_n,n_dofs,non_dd_rows,lmin_lanczos,lmax_lanczos,lmin_dense,lmax_dense,spectrum\n",
+               : "# experiment: linear_solvers\nscene,sweep,solver,alpha,rho,iter,rel_residual,wall_ms,status,error\n",
+        main_csv);
+  fputs("# experiment: "
+        "linear_solvers\nscene,grid_n,n_dofs,non_dd_rows,lmin_lanczos,lmax_lanczos,lmin_dense,lmax_dense,spectrum\n",
         scenes_csv);
 }
 
@@ -50,11 +53,13 @@ static void run(const char *sc, const char *sweep, const char *solver, double al
   if (alpha >= 0) snprintf(a, sizeof a, "%.17g", alpha);
   if (rho >= 0) snprintf(r, sizeof r, "%.17g", rho);
   for (int k = 0; k <= n; k++) {
-    double w = setup_ms + k * ms_per_iter, lo = fmin(rep[0], fmin(rep[1], rep[2])), hi = fmax(rep[0], fmax(rep[1], rep[2]));
+    double w = setup_ms + k * ms_per_iter, lo = fmin(rep[0], fmin(rep[1], rep[2])),
+           hi = fmax(rep[0], fmax(rep[1], rep[2]));
     double med = rep[0] + rep[1] + rep[2] - lo - hi;
     fprintf(main_csv, "%s,%s,%s,%s,%s,%d,%.17g,", sc, sweep, solver, a, r, k, pow(rate, k));
     if (with_spread)
-      fprintf(main_csv, "%.17g,%.17g,%.17g,%.17g;%.17g;%.17g,3,", med * w, lo * w, hi * w, rep[0] * w, rep[1] * w, rep[2] * w);
+      fprintf(main_csv, "%.17g,%.17g,%.17g,%.17g;%.17g;%.17g,3,", med * w, lo * w, hi * w, rep[0] * w, rep[1] * w,
+              rep[2] * w);
     else fprintf(main_csv, "%.17g,", w);
     fprintf(main_csv, "%s,%.17g\n", status, pow(rate, k));
   }
@@ -135,7 +140,8 @@ Test(claims_linear_solvers, j2_quotes_times_with_their_spread_and_paired_speedup
   run("s", "main", "jacobi", 0.77, -1, pow(10, -6.1 / 1000), 1000, 0, 1, "ok");
   run("s", "main", "chebyshev", 0.77, 0.92, pow(10, -6.1 / 50), 50, 2, 1, "ok");
   cr_expect_eq(decide(cb_check_j2, &r), CB_REPRODUCED, "%s", r.reason);
-  cr_expect(strstr(r.numbers, "| 984 (984-1181) | 50 | 52 (52-62.4); 2 (2-2.4) | 19.7 | 18.92 (18.92-18.92) |"), "%s", r.numbers);
+  cr_expect(strstr(r.numbers, "| 984 (984-1181) | 50 | 52 (52-62.4); 2 (2-2.4) | 19.7 | 18.92 (18.92-18.92) |"), "%s",
+            r.numbers);
   cr_expect(strstr(r.numbers, "median of 3 repeats") && strstr(r.numbers, "of paired repeats"), "%s", r.numbers);
   cr_expect(strstr(r.reason, "18.92x (18.92-18.92x over 3 paired repeats) on s"), "%s", r.reason);
   begin_with(1);
@@ -182,19 +188,22 @@ static void scaling_begin(void) {
   snprintf(p, sizeof p, "%s/linear_solvers_scaling.csv", dir);
   scaling_csv = fopen(p, "w");
   cr_assert(scaling_csv);
-  fputs("# experiment: linear_solvers\nscene,grid_n,n_dofs,nnz,solver,alpha,rho,iters_to_err,budget_ms,error,analyze_ms,factor_ms,"
-        "solve_ms,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,capped_wall_ms,nnz_factor,lmax_over_lmin,status\n",
+  fputs("# experiment: "
+        "linear_solvers\nscene,grid_n,n_dofs,nnz,solver,alpha,rho,iters_to_err,budget_ms,error,analyze_ms,factor_ms,"
+        "solve_ms,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,capped_wall_ms,nnz_factor,lmax_over_lmin,"
+        "status\n",
         scaling_csv);
 }
 static void srow(int grid, const char *solver, int iters, double err, double wall, int reached) {
   int dofs = 3 * grid * grid;
   if (reached)
-    fprintf(scaling_csv, "g%d,%d,%d,%d,%s,,,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g;%.17g;%.17g,3,,,100,ok\n", grid,
-            grid, dofs, 27 * dofs, solver, iters, 2.5 * wall, err, 0.3 * wall, 0.5 * wall, 0.2 * wall, wall, 0.9 * wall, 1.1 * wall,
-            0.9 * wall, wall, 1.1 * wall);
+    fprintf(scaling_csv,
+            "g%d,%d,%d,%d,%s,,,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g;%.17g;%.17g,3,,,100,ok\n", grid,
+            grid, dofs, 27 * dofs, solver, iters, 2.5 * wall, err, 0.3 * wall, 0.5 * wall, 0.2 * wall, wall, 0.9 * wall,
+            1.1 * wall, 0.9 * wall, wall, 1.1 * wall);
   else
-    fprintf(scaling_csv, "g%d,%d,%d,%d,%s,,,,%.17g,,,,,,,,,0,%.17g,,100,max_iters\n", grid, grid, dofs, 27 * dofs, solver, 1.01 * wall,
-            wall);
+    fprintf(scaling_csv, "g%d,%d,%d,%d,%s,,,,%.17g,,,,,,,,,0,%.17g,,100,max_iters\n", grid, grid, dofs, 27 * dofs,
+            solver, 1.01 * wall, wall);
 }
 /* CHOLMOD at 8^2, 16^2, 32^2 taking chol[k] ms (error chol_err), CG iters 20, 40, 80 taking cg[k] ms,
  * Jacobi never reaching 1e-6 (capped at 3x CHOLMOD). */
@@ -222,7 +231,8 @@ Test(claims_linear_solvers, j4_reproduced_with_a_crossover) {
   cr_log_info("%s\n%s\n", r.numbers, r.reason);
   cr_expect(strstr(r.reason, "(at 32^2: 2.00x (2.00-2.00x over 3 paired repeats), against cg)"), "%s", r.reason);
   cr_expect(strstr(r.reason, "n^1.50 for CHOLMOD and n^1.00 for cg"), "%s", r.reason);
-  cr_expect(strstr(r.numbers, "| g8 |") == NULL && strstr(r.numbers, "| 32^2 | 3072 | 100 | 64 (57.6-70.4), 1.0e-15 | 44.8 | cg, 80, 32 (28.8-35.2) | 2x (2-2x) |"),
+  cr_expect(strstr(r.numbers, "| g8 |") == NULL && strstr(r.numbers, "| 32^2 | 3072 | 100 | 64 (57.6-70.4), 1.0e-15 | "
+                                                                     "44.8 | cg, 80, 32 (28.8-35.2) | 2x (2-2x) |"),
             "%s", r.numbers);
   cr_expect(strstr(r.numbers, "> 192 (max_iters within its 194 ms)"), "%s", r.numbers);
 }
@@ -233,7 +243,8 @@ Test(claims_linear_solvers, j4_partly_when_there_is_no_crossover) {
   j4_family((double[]){1, 8, 64}, 1e-15, (double[]){2, 16, 128});
   cb_claim_result r;
   cr_expect_eq(decide_j4(&r), CB_PARTLY, "%s", r.reason);
-  cr_expect(strstr(r.reason, "No crossover up to 32^2") && strstr(r.reason, "\"expensive\" is not reproduced"), "%s", r.reason);
+  cr_expect(strstr(r.reason, "No crossover up to 32^2") && strstr(r.reason, "\"expensive\" is not reproduced"), "%s",
+            r.reason);
 }
 
 /* CHOLMOD costlier at 16^2 but the cheaper again at 32^2: no size from which it stays costlier. */
@@ -278,7 +289,8 @@ Test(claims_linear_solvers, j4_takes_solver_names_from_the_csv) {
   cb_claim_result r;
   cr_expect_eq(decide_j4(&r), CB_REPRODUCED, "%s", r.reason);
   cr_expect(strstr(r.reason, "Crossover at 8^2 (192 dofs), the smallest size run, so at or below it") &&
-                strstr(r.reason, "against mystery"), "%s", r.reason);
+                strstr(r.reason, "against mystery"),
+            "%s", r.reason);
   cr_expect(strstr(r.numbers, " cg ms | jacobi ms | mystery ms |"), "%s", r.numbers);
 }
 

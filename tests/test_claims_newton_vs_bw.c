@@ -29,14 +29,17 @@ static void teardown(void) {
 
 static void put(const char *name, const char *text) { test_put(dir, name, "# experiment: newton_vs_bw\n", text); }
 
-static cb_verdict decide(const char *id, cb_claim_result *res) { return test_decide_claim(id, "newton_vs_bw", dir, res); }
+static cb_verdict decide(const char *id, cb_claim_result *res) {
+  return test_decide_claim(id, "newton_vs_bw", dir, res);
+}
 
 /* ---- I2 ---- */
 
 #define I2_HEAD "definiteness,line_search,step,iter,grad_norm_n,alpha,hessian,step_status\n"
 
 /* one run: g_k given, all updates with the given Hessian */
-static void run(char *buf, const char *def, int ls, int step, const double *g, int n, const char *hess, const char *status) {
+static void run(char *buf, const char *def, int ls, int step, const double *g, int n, const char *hess,
+                const char *status) {
   for (int i = 0; i < n; i++)
     sprintf(buf + strlen(buf), "%s,%d,%d,%d,%.17g,%g,%s,%s\n", def, ls, step, i, g[i], i == 2 ? 0.5 : 1.0,
             i ? hess : "-", status);
@@ -86,19 +89,26 @@ Test(claims_newton_vs_bw, i2_missing_side_csv_is_not_run, .init = setup, .fini =
 /* ---- I3 ---- */
 
 #define MAIN_HEAD "scene,step,method,inner_solver,line_search,step_error,wall_ms,status\n"
-#define MAIN_HEAD_SPREAD "scene,step,method,inner_solver,line_search,step_error,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,status\n"
+#define MAIN_HEAD_SPREAD \
+  "scene,step,method,inner_solver,line_search,step_error,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats," \
+  "status\n"
 #define REG_HEAD "dt_s,k_n_per_m,stretch,first_diverged_step,step_error_max,ref_status,k1_fails\n"
 
 /* the timing fields of a row: "wall_ms" alone, or with its spread over three repeats, scaled by f */
 static const char *wall(char *buf, int spread, double med, const double *each) {
   if (!spread) sprintf(buf, "%g", med);
-  else sprintf(buf, "%g,%g,%g,%g;%g;%g,3", med, fmin(each[0], fmin(each[1], each[2])), fmax(each[0], fmax(each[1], each[2])),
-               each[0], each[1], each[2]);
+  else
+    sprintf(buf, "%g,%g,%g,%g;%g;%g,3", med, fmin(each[0], fmin(each[1], each[2])),
+            fmax(each[0], fmax(each[1], each[2])), each[0], each[1], each[2]);
   return buf;
 }
 
 /* an extra converged variant: its method, inner solve, line search, step error and median ms (NULL: none) */
-typedef struct { const char *method, *inner; int ls; double err, ms; } i3_extra;
+typedef struct {
+  const char *method, *inner;
+  int ls;
+  double err, ms;
+} i3_extra;
 
 static void i3_scenes_extra(double conv_ms, int regime_fail, const char *const *scenes, int nscenes, int spread,
                             const i3_extra *x) {
@@ -111,10 +121,13 @@ static void i3_scenes_extra(double conv_ms, int regime_fail, const char *const *
   char w[128];
   for (int s = 0; s < nscenes; s++)
     for (int st = 0; st < 2; st++) {
-      sprintf(buf + strlen(buf), "%s,%d,newton_k1,cholmod,0,%g,%s,max_iters\n", scenes[s], st, 1e-3 * (st + 1), wall(w, spread, 1.0, k1[st]));
-      sprintf(buf + strlen(buf), "%s,%d,newton_converged,cholmod,0,1e-10,%s,ok\n", scenes[s], st, wall(w, spread, conv_ms, cv));
+      sprintf(buf + strlen(buf), "%s,%d,newton_k1,cholmod,0,%g,%s,max_iters\n", scenes[s], st, 1e-3 * (st + 1),
+              wall(w, spread, 1.0, k1[st]));
+      sprintf(buf + strlen(buf), "%s,%d,newton_converged,cholmod,0,1e-10,%s,ok\n", scenes[s], st,
+              wall(w, spread, conv_ms, cv));
       sprintf(buf + strlen(buf), "%s,%d,newton_k1,cg32,0,2e-3,%s,max_iters\n", scenes[s], st, wall(w, spread, 0.5, cg));
-      sprintf(buf + strlen(buf), "%s,%d,newton_k1,cheb32_alpha1,0,0.06,%s,linear_failed\n", scenes[s], st, wall(w, spread, 3.0, ch));
+      sprintf(buf + strlen(buf), "%s,%d,newton_k1,cheb32_alpha1,0,0.06,%s,linear_failed\n", scenes[s], st,
+              wall(w, spread, 3.0, ch));
       if (x) {
         const double xe[3] = {x->ms, x->ms, x->ms};
         sprintf(buf + strlen(buf), "%s,%d,%s,%s,%d,%g,%s,ok\n", scenes[s], st, x->method, x->inner, x->ls, x->err,
@@ -145,9 +158,11 @@ Test(claims_newton_vs_bw, i3_fast_and_failing_is_reproduced, .init = setup, .fin
   /* the cheapest at 1e-2 is CG cut at 32 (0.5 ms, max error 2e-3); the failed Chebyshev never counts */
   cr_assert(strstr(r.numbers, "newton_k1 cg32 (0.5 (0.5-0.5) ms"), "%s", r.numbers);
   /* per repeat: K = 1 at 1, 1, 1.1 ms, converged at 10, 10, 11 ms: paired speed-ups 10, 10, 10 (bounds: 9.1-11) */
-  cr_assert(strstr(r.numbers, "| lab | 1 (1-1.1) | newton_converged cholmod: 10 (10-11) | 10.0 (10.0-10.0) |"), "%s", r.numbers);
+  cr_assert(strstr(r.numbers, "| lab | 1 (1-1.1) | newton_converged cholmod: 10 (10-11) | 10.0 (10.0-10.0) |"), "%s",
+            r.numbers);
   cr_assert(strstr(r.numbers, "medians of 3 repeats"), "%s", r.numbers);
-  cr_assert(strstr(r.reason, "lab 10.0x (10.0-10.0x over 3 paired repeats) against newton_converged cholmod"), "%s", r.reason);
+  cr_assert(strstr(r.reason, "lab 10.0x (10.0-10.0x over 3 paired repeats) against newton_converged cholmod"), "%s",
+            r.reason);
   cr_assert(strstr(r.numbers, "1/10:D"), "%s", r.numbers);
 }
 
@@ -214,7 +229,14 @@ Test(claims_newton_vs_bw, i3_takes_scene_names_from_the_csv, .init = setup, .fin
   i3_scenes(10.0, 1, scenes, 4);
   cb_claim_result r;
   cr_assert_eq(decide("I3", &r), CB_REPRODUCED, "%s", r.reason);
-  cr_assert(strstr(r.numbers, "| zeta | 1 | newton_converged cholmod: 10 | 10.0 |") && strstr(r.numbers, "| omega | 1 | newton_converged cholmod: 10 |"), "%s", r.numbers);
-  cr_assert(strstr(r.numbers, "| zeta |") < strstr(r.numbers, "| omega |"), "scenes out of the CSV's order: %s", r.numbers);
+  cr_assert(strstr(r.numbers, "| zeta | 1 | newton_converged cholmod: 10 | 10.0 |") && strstr(r.numbers, "| omega | 1 "
+                                                                                                         "| "
+                                                                                                         "newton_"
+                                                                                                         "converged "
+                                                                                                         "cholmod: 10 "
+                                                                                                         "|"),
+            "%s", r.numbers);
+  cr_assert(strstr(r.numbers, "| zeta |") < strstr(r.numbers, "| omega |"), "scenes out of the CSV's order: %s",
+            r.numbers);
   cr_assert(strstr(r.reason, "on all 4 scenes"), "%s", r.reason);
 }

@@ -19,8 +19,8 @@ static void setup(void) {
 }
 
 static void teardown(void) {
-  const char *names[] = {"nonlinear.csv", "nonlinear_w1.csv", "nonlinear_p1.csv", "nonlinear_p1_error.csv", "linear_solvers.csv",
-                         "linear_solvers_scenes.csv"};
+  const char *names[] = {"nonlinear.csv",          "nonlinear_w1.csv",   "nonlinear_p1.csv",
+                         "nonlinear_p1_error.csv", "linear_solvers.csv", "linear_solvers_scenes.csv"};
   char path[256];
   for (int i = 0; i < 6; i++) {
     snprintf(path, sizeof path, "%s/%s", dir, names[i]);
@@ -35,7 +35,8 @@ static cb_verdict decide(const char *id, cb_claim_result *res) { return test_dec
 
 /* ---- J3 ---- */
 
-#define J3_HEAD "panel,rho_given,rho,frames,frames_run,diverged,diverge_frame,median_rel_grad,rho_lin_median,rho_lin_max\n"
+#define J3_HEAD \
+  "panel,rho_given,rho,frames,frames_run,diverged,diverge_frame,median_rel_grad,rho_lin_median,rho_lin_max\n"
 
 /* panel (b) as linear_solvers writes it: true rho 0.96 at alpha = 1 (eig(D^-1 A) in [0.04, 1.96]);
  * diverging overestimates when div is 1 */
@@ -44,8 +45,10 @@ static void linear_panel(int div) {
   snprintf(path, sizeof path, "%s/linear_solvers_scenes.csv", dir);
   FILE *f = fopen(path, "w");
   cr_assert(f);
-  fputs("# experiment: linear_solvers\nscene,grid_n,n_dofs,non_dd_rows,lmin_lanczos,lmax_lanczos,lmin_dense,lmax_dense,spectrum\n"
-        "lab,21,1323,21,0.04,1.96,0.04,1.96,dense\n", f);
+  fputs("# experiment: "
+        "linear_solvers\nscene,grid_n,n_dofs,non_dd_rows,lmin_lanczos,lmax_lanczos,lmin_dense,lmax_dense,spectrum\n"
+        "lab,21,1323,21,0.04,1.96,0.04,1.96,dense\n",
+        f);
   fclose(f);
   snprintf(path, sizeof path, "%s/linear_solvers.csv", dir);
   f = fopen(path, "w");
@@ -56,8 +59,8 @@ static void linear_panel(int div) {
     double rate = div ? rates[r] : 0.8;
     int n = rate > 1 ? 20 : 70;
     for (int k = 0; k <= n; k++)
-      fprintf(f, "lab,rho,chebyshev,1,%g,%d,%.17g,%d,%s,%.17g\n", rhos[r], k, pow(rate, k), k, rate > 1 ? "diverged" : "ok",
-              pow(rate, k));
+      fprintf(f, "lab,rho,chebyshev,1,%g,%d,%.17g,%d,%s,%.17g\n", rhos[r], k, pow(rate, k), k,
+              rate > 1 ? "diverged" : "ok", pow(rate, k));
   }
   fclose(f);
 }
@@ -69,8 +72,8 @@ static void lab_panel(int div995, int div_under) {
   const double vals[] = {0.9, 0.95, 0.99, 0.995, 0.9999};
   for (int r = 0; r < 5; r++) {
     int dv = vals[r] == 0.9999 || (vals[r] == 0.995 && div995) || (vals[r] == 0.9 && div_under);
-    sprintf(buf + strlen(buf), "lab_iteration,%s,%g,2000,%d,%d,%s,0.01,%s,0.975\n", rhos[r], vals[r], dv ? 40 : 2000, dv,
-            dv ? "41" : "", dv ? "0.99" : "0.97"); /* diverge_frame is empty when the run did not diverge */
+    sprintf(buf + strlen(buf), "lab_iteration,%s,%g,2000,%d,%d,%s,0.01,%s,0.975\n", rhos[r], vals[r], dv ? 40 : 2000,
+            dv, dv ? "41" : "", dv ? "0.99" : "0.97"); /* diverge_frame is empty when the run did not diverge */
   }
   put("nonlinear.csv", buf);
 }
@@ -82,7 +85,8 @@ Test(claims_nonlinear, j3_reproduced_when_both_panels_see_overestimates_diverge)
   linear_panel(1);
   cb_claim_result r;
   cr_expect_eq(decide("J3", &r), CB_REPRODUCED, "%s", r.reason);
-  cr_expect(strstr(r.reason, "Panel (a), the lab's iteration") && strstr(r.reason, "Panel (b), linear solves"), "%s", r.reason);
+  cr_expect(strstr(r.reason, "Panel (a), the lab's iteration") && strstr(r.reason, "Panel (b), linear solves"), "%s",
+            r.reason);
 }
 
 Test(claims_nonlinear, j3_partly_when_only_the_lab_iteration_diverges) {
@@ -101,18 +105,20 @@ Test(claims_nonlinear, j3_not_reproduced_when_an_underestimate_diverges_and_line
 
 /* ---- W1 ---- */
 
-#define W1_HEAD "scene,n,method,pair,rho,max_iters,tol,iters_to_tol,wall_to_tol_ms,setup_ms,alloc_ms,final_rel_grad,status\n"
+#define W1_HEAD \
+  "scene,n,method,pair,rho,max_iters,tol,iters_to_tol,wall_to_tol_ms,setup_ms,alloc_ms,final_rel_grad,status\n"
 
 /* pd_plain_iters < 0: plain pd was cut off at its largest cap (iters_to_tol and wall_to_tol_ms empty) */
 static void w1(int cheb_iters, int pd_plain_iters) {
   char buf[2048] = W1_HEAD, pd[64] = ",";
   if (pd_plain_iters >= 0) snprintf(pd, sizeof pd, "%d,300", pd_plain_iters);
-  sprintf(buf + strlen(buf),
-          "lab,21,jacobi-nl,jacobi,0,20000,0.0001,3000,30,0,0,1e-9,ok\n"
-          "lab,21,chebyshev-nl auto,jacobi,0.998,20000,0.0001,%d,3,1,0,1e-12,ok\n" /* plain's rate 1e-4^(1/3000) = 0.9969 */
-          "lab,21,pd,pd,0,1000,0.0001,%s,0,5,1e-5,ok\n"
-          "lab,21,pd-chebyshev auto,pd,0.95,1000,0.0001,50,50,8,5,1e-10,ok\n",
-          cheb_iters, pd);
+  sprintf(
+      buf + strlen(buf),
+      "lab,21,jacobi-nl,jacobi,0,20000,0.0001,3000,30,0,0,1e-9,ok\n"
+      "lab,21,chebyshev-nl auto,jacobi,0.998,20000,0.0001,%d,3,1,0,1e-12,ok\n" /* plain's rate 1e-4^(1/3000) = 0.9969 */
+      "lab,21,pd,pd,0,1000,0.0001,%s,0,5,1e-5,ok\n"
+      "lab,21,pd-chebyshev auto,pd,0.95,1000,0.0001,50,50,8,5,1e-10,ok\n",
+      cheb_iters, pd);
   put("nonlinear_w1.csv", buf);
   put("nonlinear.csv", J3_HEAD);
 }
@@ -139,8 +145,9 @@ Test(claims_nonlinear, w1_not_reproduced_below_ten) {
   cr_expect_eq(decide("W1", &r), CB_NOT_REPRODUCED, "%s", r.reason);
 }
 
-#define W1_HEAD_SPREAD "scene,n,method,pair,rho,max_iters,tol,iters_to_tol,wall_to_tol_ms,wall_to_tol_min_ms,wall_to_tol_max_ms," \
-                       "wall_to_tol_each_ms,wall_repeats,setup_ms,alloc_ms,final_rel_grad,status\n"
+#define W1_HEAD_SPREAD \
+  "scene,n,method,pair,rho,max_iters,tol,iters_to_tol,wall_to_tol_ms,wall_to_tol_min_ms,wall_to_tol_max_ms," \
+  "wall_to_tol_each_ms,wall_repeats,setup_ms,alloc_ms,final_rel_grad,status\n"
 
 /* Repeats: jacobi-nl 30, 33, 27 ms and chebyshev-nl 3, 3.3, 2.7 ms (interleaved): paired speed-ups 10, 10, 10
  * (bounds from the min and max would give 8.2-12.2); pd never reached the tolerance (nan, no repeats). */
@@ -190,13 +197,15 @@ static void p1(double pd_ms, double pd_err, double bw_err, double pd_to, double 
 }
 
 Test(claims_nonlinear, p1_reproduced_when_pd_is_fast_close_and_first_to_the_same_error) {
-  p1(20, 0.01, 0.05, 25, 400, "ok"); /* 50x per frame over newton_exact; at 1e-2 400/25 = 16x (BW's 5% does not get there) */
+  p1(20, 0.01, 0.05, 25, 400,
+     "ok"); /* 50x per frame over newton_exact; at 1e-2 400/25 = 16x (BW's 5% does not get there) */
   cb_claim_result r;
   cr_expect_eq(decide("P1", &r), CB_REPRODUCED, "%s", r.reason);
   cr_expect(strstr(r.reason, "50x") && strstr(r.reason, "over newton_exact"), "%s", r.reason);
   cr_expect(strstr(r.reason, "grid81 16.00x"), "%s", r.reason);
-  cr_expect(strstr(r.numbers, "| grid81 | 0.001 | not reached within the cap on 2 of 2 frames | 600 ms (newton_exact) | - |"), "%s",
-            r.numbers);
+  cr_expect(strstr(r.numbers, "| grid81 | 0.001 | not reached within the cap on 2 of 2 frames | 600 ms (newton_exact) "
+                              "| - |"),
+            "%s", r.numbers);
 }
 
 Test(claims_nonlinear, p1_partly_when_baraff_witkin_reaches_the_same_error_as_fast) {
@@ -220,8 +229,9 @@ Test(claims_nonlinear, p1_not_reproduced_when_pd_is_not_ten_times_faster) {
   cr_expect_eq(decide("P1", &r), CB_NOT_REPRODUCED, "%s", r.reason);
 }
 
-#define P1_HEAD_SPREAD "scene,n,k,method,frame,iters,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,alloc_ms,step_error," \
-                       "rel_grad,status\n"
+#define P1_HEAD_SPREAD \
+  "scene,n,k,method,frame,iters,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,alloc_ms,step_error," \
+  "rel_grad,status\n"
 
 /* Two frames, three interleaved repeats: pd10 20, 19, 21 ms and 20, 21, 19 ms (per repeat the median over the
  * frames: 20, 20, 20); Newton 1000, 1100, 900 ms at both: paired ratios 50, 55, 45 (bounds: 42.9-57.9). */

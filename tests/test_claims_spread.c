@@ -57,7 +57,8 @@ Test(claims_spread, ratio_paired_or_bounds) {
   A = timing(a, 3, 0); /* no list: conservative bounds min/max .. max/min */
   r = cb_claim_timing_ratio(&A, &B);
   cr_expect(r.bounds && !r.paired && fabs(r.min - 10 / 1.2) < 1e-12 && fabs(r.max - 12) < 1e-12);
-  cr_expect_str_eq(cb_claim_spread_long(s, sizeof s, "%.3g", &r, "x"), "10x (8.33-12x, bounds from the min and max of 3 repeats)");
+  cr_expect_str_eq(cb_claim_spread_long(s, sizeof s, "%.3g", &r, "x"), "10x (8.33-12x, bounds from the min and max of "
+                                                                       "3 repeats)");
   cb_claim_timing two = cb_claim_timing_value(2); /* a constant divides exactly */
   r = cb_claim_timing_ratio(&A, &two);
   cr_expect(!r.bounds && r.min == 5 && r.max == 6);

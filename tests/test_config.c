@@ -94,7 +94,8 @@ static void expect_scene_error(const char *const *sets, const char *what1, const
 static void expect_pins(const cb_scene *s, const int *want, int n) {
   cr_expect_eq(s->npinned, n, "%d pins, expected %d", s->npinned, n);
   if (s->npinned != n) return; /* (no assert: the caller still frees the scene) */
-  for (int k = 0; k < n; k++) cr_expect_eq(s->pinned[k], want[k], "pinned[%d] = %d, expected %d", k, s->pinned[k], want[k]);
+  for (int k = 0; k < n; k++)
+    cr_expect_eq(s->pinned[k], want[k], "pinned[%d] = %d, expected %d", k, s->pinned[k], want[k]);
   /* free_index / free_vertex agree with the pin list */
   int nfree = 0;
   for (int i = 0; i < s->mesh.nv; i++) {
@@ -190,43 +191,43 @@ Test(defaults, where_without_file) {
 /* ---- loading ---------------------------------------------------------------------- */
 
 Test(load, every_key) {
-  const char *text = "; every key, none at its default\n"      /* 1 */
-                     "[mesh]\n"                                /* 2 */
-                     "type = grid\n"                           /* 3 */
-                     "n = 7\n"                                 /* 4 */
-                     "m = 5\n"                                 /* 5 */
-                     "size = 4 2\n"                            /* 6 */
-                     "plane = yz\n"                            /* 7 */
-                     "diagonal = alternating\n"                /* 8 */
-                     "file = some/mesh.obj\n"                  /* 9 */
-                     "\n"                                      /* 10 */
-                     "[material]\n"                            /* 11 */
-                     "density = 0.25\n"                        /* 12 */
-                     "vertex_mass = 1.5\n"                     /* 13 */
-                     "stretch_k = 1e5\n"                       /* 14 */
-                     "bend = spring\n"                         /* 15 */
-                     "bend_k = 12.5\n"                         /* 16 */
-                     "[scene]\n"                               /* 17 */
-                     "gravity = 0.5, -3, 1\n"                  /* 18 */
-                     "pins = 1, 2 3\n"                         /* 19 */
-                     "initial_scale = 0.75\n"                  /* 20 */
-                     "[integrator]\n"                          /* 21 */
-                     "method = explicit\n"                     /* 22 */
-                     "dt = 1/240\n"                            /* 23 */
-                     "steps = 17\n"                            /* 24 */
-                     "max_iters = 3\n"                         /* 25 */
-                     "tol = 1e-6\n"                            /* 26 */
-                     "tol_dx = 2.5e-4\n"                       /* 27 */
-                     "definiteness = none\n"                   /* 28 */
-                     "init = x0\n"                             /* 29 */
-                     "line_search = 1\n"                       /* 30 */
-                     "diverge_ratio = 100\n"                   /* 31 */
-                     "[solver]\n"                              /* 32 */
-                     "method = cholmod\n"                      /* 33 */
-                     "tol = 1e-10\n"                           /* 34 */
-                     "max_iters = 77\n"                        /* 35 */
-                     "alpha = 0.5\n"                           /* 36 */
-                     "rho = 0.9\n";                            /* 37 */
+  const char *text = "; every key, none at its default\n" /* 1 */
+                     "[mesh]\n"                           /* 2 */
+                     "type = grid\n"                      /* 3 */
+                     "n = 7\n"                            /* 4 */
+                     "m = 5\n"                            /* 5 */
+                     "size = 4 2\n"                       /* 6 */
+                     "plane = yz\n"                       /* 7 */
+                     "diagonal = alternating\n"           /* 8 */
+                     "file = some/mesh.obj\n"             /* 9 */
+                     "\n"                                 /* 10 */
+                     "[material]\n"                       /* 11 */
+                     "density = 0.25\n"                   /* 12 */
+                     "vertex_mass = 1.5\n"                /* 13 */
+                     "stretch_k = 1e5\n"                  /* 14 */
+                     "bend = spring\n"                    /* 15 */
+                     "bend_k = 12.5\n"                    /* 16 */
+                     "[scene]\n"                          /* 17 */
+                     "gravity = 0.5, -3, 1\n"             /* 18 */
+                     "pins = 1, 2 3\n"                    /* 19 */
+                     "initial_scale = 0.75\n"             /* 20 */
+                     "[integrator]\n"                     /* 21 */
+                     "method = explicit\n"                /* 22 */
+                     "dt = 1/240\n"                       /* 23 */
+                     "steps = 17\n"                       /* 24 */
+                     "max_iters = 3\n"                    /* 25 */
+                     "tol = 1e-6\n"                       /* 26 */
+                     "tol_dx = 2.5e-4\n"                  /* 27 */
+                     "definiteness = none\n"              /* 28 */
+                     "init = x0\n"                        /* 29 */
+                     "line_search = 1\n"                  /* 30 */
+                     "diverge_ratio = 100\n"              /* 31 */
+                     "[solver]\n"                         /* 32 */
+                     "method = cholmod\n"                 /* 33 */
+                     "tol = 1e-10\n"                      /* 34 */
+                     "max_iters = 77\n"                   /* 35 */
+                     "alpha = 0.5\n"                      /* 36 */
+                     "rho = 0.9\n";                       /* 37 */
   cb_config c;
   load_ok(text, &c);
   cr_expect_str_eq(c.mesh_type, "grid");
@@ -267,8 +268,11 @@ Test(load, every_key) {
   cr_expect_str_eq(c.path, ini_path);
   /* where each key came from */
   char buf[600], want[600];
-  static const struct { const char *key; int line; } where[] = {
-      {"mesh.n", 4}, {"mesh.size", 6}, {"material.bend", 15}, {"scene.pins", 19}, {"integrator.dt", 23}, {"solver.rho", 37}};
+  static const struct {
+    const char *key;
+    int line;
+  } where[] = {{"mesh.n", 4},      {"mesh.size", 6},      {"material.bend", 15},
+               {"scene.pins", 19}, {"integrator.dt", 23}, {"solver.rho", 37}};
   for (size_t k = 0; k < sizeof where / sizeof where[0]; k++) {
     snprintf(want, sizeof want, "%s:%d", ini_path, where[k].line);
     cr_expect_str_eq(cb_config_where(&c, where[k].key, buf, sizeof buf), want, "where(%s)", where[k].key);
@@ -404,9 +408,7 @@ Test(load_error, unknown_section) {
   expect_load_error("[mesh]\nn = 5\n[foo]\n", 3, NULL, "unknown section [foo]");
 }
 
-Test(load_error, key_outside_section) {
-  expect_load_error("; top\nn = 4\n[mesh]\n", 2, "n", "outside");
-}
+Test(load_error, key_outside_section) { expect_load_error("; top\nn = 4\n[mesh]\n", 2, "n", "outside"); }
 
 Test(load_error, not_a_number) {
   expect_load_error("[material]\nstretch_k = abc\n", 2, "material.stretch_k", "abc");
@@ -572,8 +574,8 @@ Test(set, after_load_overrides_file) {
 }
 
 Test(set, errors) {
-  expect_set_error("mesh.n", "mesh.n", NULL);                  /* no '=' */
-  expect_set_error("material.nope=1", "material.nope", NULL);  /* unknown key */
+  expect_set_error("mesh.n", "mesh.n", NULL);                 /* no '=' */
+  expect_set_error("material.nope=1", "material.nope", NULL); /* unknown key */
   expect_set_error("nope=1", "nope", NULL);
   expect_set_error("=5", NULL, NULL);
   expect_set_error("mesh.n=1", "mesh.n", "out of range");
@@ -628,14 +630,40 @@ Test(set, reference_lists_every_key) {
   FILE *f = open_memstream(&t, &n);
   cb_config_write_reference(f);
   fclose(f);
-  static const char *const keys[] = {
-      "mesh.type", "mesh.n", "mesh.m", "mesh.size", "mesh.plane", "mesh.diagonal", "mesh.file",
-      "material.density", "material.vertex_mass", "material.stretch_k", "material.bend", "material.bend_k",
-      "scene.gravity", "scene.pins", "scene.initial_scale", "integrator.method", "integrator.dt",
-      "integrator.steps", "integrator.max_iters", "integrator.tol", "integrator.tol_dx", "integrator.definiteness",
-      "integrator.init", "integrator.line_search", "integrator.diverge_ratio", "solver.method", "solver.tol",
-      "solver.max_iters", "solver.alpha", "solver.rho", "solver.ordering", "solver.nrelax", "solver.storage",
-      "solver.denormals"};
+  static const char *const keys[] = {"mesh.type",
+                                     "mesh.n",
+                                     "mesh.m",
+                                     "mesh.size",
+                                     "mesh.plane",
+                                     "mesh.diagonal",
+                                     "mesh.file",
+                                     "material.density",
+                                     "material.vertex_mass",
+                                     "material.stretch_k",
+                                     "material.bend",
+                                     "material.bend_k",
+                                     "scene.gravity",
+                                     "scene.pins",
+                                     "scene.initial_scale",
+                                     "integrator.method",
+                                     "integrator.dt",
+                                     "integrator.steps",
+                                     "integrator.max_iters",
+                                     "integrator.tol",
+                                     "integrator.tol_dx",
+                                     "integrator.definiteness",
+                                     "integrator.init",
+                                     "integrator.line_search",
+                                     "integrator.diverge_ratio",
+                                     "solver.method",
+                                     "solver.tol",
+                                     "solver.max_iters",
+                                     "solver.alpha",
+                                     "solver.rho",
+                                     "solver.ordering",
+                                     "solver.nrelax",
+                                     "solver.storage",
+                                     "solver.denormals"};
   for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++) {
     char cell[64];
     snprintf(cell, sizeof cell, "| `%s` |", keys[k]);
@@ -701,7 +729,8 @@ Test(pins, top_is_the_top_in_every_plane) {
   /* the top edge has the largest second coordinate */
   const char *const sets_xy[] = {"mesh.n=3", "mesh.m=4", "mesh.plane=xy", "scene.pins=top-edge", NULL};
   cb_scene *s = scene_of(sets_xy);
-  for (int k = 0; k < s->npinned; k++) cr_expect(CLOSE(s->mesh.x[3 * s->pinned[k] + 1], 5.0), "y = %g", s->mesh.x[3 * s->pinned[k] + 1]);
+  for (int k = 0; k < s->npinned; k++)
+    cr_expect(CLOSE(s->mesh.x[3 * s->pinned[k] + 1], 5.0), "y = %g", s->mesh.x[3 * s->pinned[k] + 1]);
   cb_scene_free(s);
   const char *const sets_yz[] = {"mesh.n=3", "mesh.m=4", "mesh.plane=yz", "scene.pins=top-edge", NULL};
   s = scene_of(sets_yz);
@@ -780,8 +809,9 @@ Test(pins, halfspace) {
   cr_assert_eq(cb_pins_resolve("halfspace 1 0 0 -90", &g, &list, &n), CB_OK); /* nothing */
   cr_expect_eq(n, 0);
   free(list);
-  static const char *const bad[] = {"halfspace", "halfspace 1 0 0", "halfspace 1 0 0 0 5", "halfspace 0 0 0 1",
-                                    "halfspace 1 0 x 0", "halfspace 1 0 0 inf", "halfspace 1e300 1e300 0 0 x"};
+  static const char *const bad[] = {
+      "halfspace",         "halfspace 1 0 0",     "halfspace 1 0 0 0 5",        "halfspace 0 0 0 1",
+      "halfspace 1 0 x 0", "halfspace 1 0 0 inf", "halfspace 1e300 1e300 0 0 x"};
   for (int k = 0; k < 7; k++) {
     cr_expect_lt(cb_pins_resolve(bad[k], &g, &list, &n), 0, "'%s' was accepted", bad[k]);
     cr_expect(strstr(cb_error_message(), "halfspace a b c d") != NULL, "'%s': %s", bad[k], cb_error_message());
@@ -1005,15 +1035,15 @@ Test(mass, regular_grid_by_hand) {
   const char *const sets[] = {"mesh.n=5", "mesh.m=4", "mesh.size=4 3", "material.density=2", NULL};
   cb_scene *s = scene_of(sets);
   /* the corner and edge values, spelled out */
-  cr_expect(CLOSE(s->mass[0], 2.0 / 3), "corner (0,0): %g", s->mass[0]);        /* 2 triangles */
-  cr_expect(CLOSE(s->mass[4], 1.0 / 3), "corner (4,0): %g", s->mass[4]);        /* 1 triangle */
-  cr_expect(CLOSE(s->mass[15], 1.0 / 3), "corner (0,3): %g", s->mass[15]);      /* 1 triangle */
-  cr_expect(CLOSE(s->mass[19], 2.0 / 3), "corner (4,3): %g", s->mass[19]);      /* 2 triangles */
-  cr_expect(CLOSE(s->mass[2], 1.0), "bottom edge: %g", s->mass[2]);              /* 3 triangles */
+  cr_expect(CLOSE(s->mass[0], 2.0 / 3), "corner (0,0): %g", s->mass[0]);   /* 2 triangles */
+  cr_expect(CLOSE(s->mass[4], 1.0 / 3), "corner (4,0): %g", s->mass[4]);   /* 1 triangle */
+  cr_expect(CLOSE(s->mass[15], 1.0 / 3), "corner (0,3): %g", s->mass[15]); /* 1 triangle */
+  cr_expect(CLOSE(s->mass[19], 2.0 / 3), "corner (4,3): %g", s->mass[19]); /* 2 triangles */
+  cr_expect(CLOSE(s->mass[2], 1.0), "bottom edge: %g", s->mass[2]);        /* 3 triangles */
   cr_expect(CLOSE(s->mass[17], 1.0), "top edge: %g", s->mass[17]);
   cr_expect(CLOSE(s->mass[5], 1.0), "left edge: %g", s->mass[5]);
   cr_expect(CLOSE(s->mass[9], 1.0), "right edge: %g", s->mass[9]);
-  cr_expect(CLOSE(s->mass[6], 2.0), "interior: %g", s->mass[6]);                 /* 6 triangles */
+  cr_expect(CLOSE(s->mass[6], 2.0), "interior: %g", s->mass[6]); /* 6 triangles */
   double total = 0;
   for (int j = 0; j < 4; j++)
     for (int i = 0; i < 5; i++) {
@@ -1052,8 +1082,8 @@ Test(mass, total_is_density_times_area) {
   static const char *const planes[] = {"mesh.plane=xy", "mesh.plane=xz", "mesh.plane=yz"};
   for (int d = 0; d < 2; d++)
     for (int p = 0; p < 3; p++) {
-      const char *const sets[] = {"mesh.n=7", "mesh.m=4", "mesh.size=3 0.75", "material.density=0.3", diags[d], planes[p],
-                                  NULL};
+      const char *const sets[] = {"mesh.n=7", "mesh.m=4", "mesh.size=3 0.75", "material.density=0.3", diags[d],
+                                  planes[p],  NULL};
       cb_scene *s = scene_of(sets);
       double total = 0;
       for (int i = 0; i < s->mesh.nv; i++) {
@@ -1121,7 +1151,8 @@ Test(bind, every_types_keys_are_config_keys_and_their_defaults_are_the_types) {
     if (!t->params_size) continue;
     void *p = malloc(t->params_size);
     cr_assert_eq(cb_integrator_type_params_from_config(&c, t, p), CB_OK, "%s", cb_error_message());
-    cr_expect(memcmp(p, t->params_default, t->params_size) == 0, "%s: key defaults differ from params_default", t->name);
+    cr_expect(memcmp(p, t->params_default, t->params_size) == 0, "%s: key defaults differ from params_default",
+              t->name);
     free(p);
   }
   cr_expect_eq(nkeys, 39); /* newton 6, jacobi-nl 4, chebyshev-nl 6, pd 1, pd-chebyshev 3, pbd 3, xpbd 2, lbfgs 5,
@@ -1131,7 +1162,8 @@ Test(bind, every_types_keys_are_config_keys_and_their_defaults_are_the_types) {
 /* The binding reads a type's keys into its struct: Newton from a file. */
 Test(bind, newton_reads_its_own_keys) {
   cb_config c;
-  load_ok("[integrator]\nmax_iters = 7\ntol = 1e-5\ntol_dx = 1e-9\ndefiniteness = shift\ninit = x0\nline_search = on\n", &c);
+  load_ok("[integrator]\nmax_iters = 7\ntol = 1e-5\ntol_dx = 1e-9\ndefiniteness = shift\ninit = x0\nline_search = on\n",
+          &c);
   cb_newton_params p = newton_of(&c);
   cr_expect_eq(p.max_iters, 7);
   cr_expect_eq(p.tol, 1e-5);
@@ -1169,7 +1201,8 @@ Test(bind, core_errors_name_the_key_and_the_binding_its_location) {
   cb_config c;
   test_config(&c, (const char *const[]){"scene.pins=99", "mesh.n=4", NULL});
   cr_expect_eq(cb_scene_from_config(&c, &s), CB_EINVAL);
-  cr_expect(strncmp(cb_error_message(), "--set: scene.pins: vertex 99 out of range", 41) == 0, "%s", cb_error_message());
+  cr_expect(strncmp(cb_error_message(), "--set: scene.pins: vertex 99 out of range", 41) == 0, "%s",
+            cb_error_message());
 }
 
 /* ---- non-text and endless input (issue 14, item 2) --------------------------------- */
@@ -1279,12 +1312,14 @@ Test(scene_finite, huge_obj_mesh_is_refused_naming_the_quantity) {
   expect_file_scene_error("[mesh]\ntype = obj\nfile = mesh.obj\n[scene]\npins = 0\n",
                           "v 0 0 0\nv 1e200 0 0\nv 0 1e200 0\nf 1 2 3\n", "scene.ini:3: mesh.file", "area inf");
   /* finite coordinates and area, but density x area overflows */
-  expect_file_scene_error("[mesh]\ntype = obj\nfile = mesh.obj\n[material]\ndensity = 1e12\n[scene]\npins = 0\ngravity = 0 0 0\n",
+  expect_file_scene_error("[mesh]\ntype = obj\nfile = mesh.obj\n[material]\ndensity = 1e12\n[scene]\npins = 0\ngravity "
+                          "= 0 0 0\n",
                           "v 0 0 0\nv 1e150 0 0\nv 0 1e150 0\nf 1 2 3\n", "scene.ini:5: material.density", "mass");
   /* vertex masses given: the stretch energy at a scaled start overflows */
   expect_file_scene_error("[mesh]\ntype = obj\nfile = mesh.obj\n[material]\nvertex_mass = 1\n[scene]\npins = 0\n"
                           "gravity = 0 0 0\ninitial_scale = 1e6\n",
-                          "v 0 0 0\nv 1e150 0 0\nv 0 1e150 0\nf 1 2 3\n", "material.stretch_k: the stretch energy", NULL);
+                          "v 0 0 0\nv 1e150 0 0\nv 0 1e150 0\nf 1 2 3\n", "material.stretch_k: the stretch energy",
+                          NULL);
 }
 
 Test(scene_finite, isolated_vertex_names_its_obj_line) {
@@ -1320,12 +1355,15 @@ Test(validate, nrelax_needs_non_decreasing_whole_numbers) {
  * text, another default, or declared twice by one type), naming the key, the
  * types and what differs; the same definition in two types is one key. */
 #define SHARED_ITERS(doc_, def_) \
-  {.name = "iters", .kind = CB_PARAM_INT, .offset = 0, .def = def_, .unit = "iterations", .lo = 1, .hi = 100, .doc = doc_}
+  { \
+    .name = "iters", .kind = CB_PARAM_INT, .offset = 0, .def = def_, .unit = "iterations", .lo = 1, .hi = 100, \
+    .doc = doc_ \
+  }
 static const cb_param_key keys_a[] = {SHARED_ITERS("Iterations per step.", "32"), {.name = NULL}};
 static const cb_param_key keys_other_doc[] = {SHARED_ITERS("Sweeps per step.", "32"), {.name = NULL}};
 static const cb_param_key keys_other_def[] = {SHARED_ITERS("Iterations per step.", "16"), {.name = NULL}};
-static const cb_param_key keys_twice[] = {SHARED_ITERS("Iterations per step.", "32"),
-                                          SHARED_ITERS("Iterations per step.", "32"), {.name = NULL}};
+static const cb_param_key keys_twice[] = {
+    SHARED_ITERS("Iterations per step.", "32"), SHARED_ITERS("Iterations per step.", "32"), {.name = NULL}};
 
 Test(config, shared_key_has_one_definition) {
   const cb_integrator_type a = {.name = "type-a", .keys = keys_a}, a2 = {.name = "type-a2", .keys = keys_a},
@@ -1337,7 +1375,8 @@ Test(config, shared_key_has_one_definition) {
   const cb_integrator_type *by_doc[] = {&a, &doc, NULL};
   cr_assert_neq(cb_config_check_type_keys(by_doc), CB_OK, "a shared key with another help text");
   const char *msg = cb_error_message();
-  cr_expect(strstr(msg, "integrator.iters") && strstr(msg, "type-a") && strstr(msg, "type-doc") && strstr(msg, "help text"),
+  cr_expect(strstr(msg, "integrator.iters") && strstr(msg, "type-a") && strstr(msg, "type-doc") &&
+                strstr(msg, "help text"),
             "%s", msg);
   const cb_integrator_type *by_def[] = {&a, &def, NULL};
   cr_assert_neq(cb_config_check_type_keys(by_def), CB_OK, "a shared key with another default");

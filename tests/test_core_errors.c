@@ -8,13 +8,13 @@
 
 #include "support.h"
 
-#define assert_fails(call, status, needle)                                                                      \
-  do {                                                                                                          \
-    cb_error_clear();                                                                                           \
-    int st_ = (call);                                                                                           \
-    cr_assert_eq(st_, (status), "%s returned %s: %s", #call, cb_status_name(st_), cb_error_message());          \
-    cr_assert(strstr(cb_error_message(), (needle)), "%s: message '%s' lacks '%s'", #call, cb_error_message(),   \
-              (needle));                                                                                        \
+#define assert_fails(call, status, needle) \
+  do { \
+    cb_error_clear(); \
+    int st_ = (call); \
+    cr_assert_eq(st_, (status), "%s returned %s: %s", #call, cb_status_name(st_), cb_error_message()); \
+    cr_assert(strstr(cb_error_message(), (needle)), "%s: message '%s' lacks '%s'", #call, cb_error_message(), \
+              (needle)); \
   } while (0)
 
 static cb_scene_def small_def(void) {

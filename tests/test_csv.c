@@ -11,17 +11,17 @@
 #include "csv.h"
 
 /* cb_csv_printf into a string (the format checked by the compiler) */
-#define PRINT(buf, ...)                                                                       \
-  do {                                                                                        \
-    char *mem_ = NULL;                                                                        \
-    size_t len_ = 0;                                                                          \
-    FILE *f_ = open_memstream(&mem_, &len_);                                                  \
-    cr_assert_not_null(f_);                                                                   \
-    int n_ = cb_csv_printf(f_, __VA_ARGS__);                                                  \
-    cr_assert_eq(fclose(f_), 0);                                                              \
-    cr_assert_eq(n_, (int)len_, "returned %d, wrote %zu bytes", n_, len_);                    \
-    snprintf(buf, sizeof buf, "%s", mem_);                                                    \
-    free(mem_);                                                                               \
+#define PRINT(buf, ...) \
+  do { \
+    char *mem_ = NULL; \
+    size_t len_ = 0; \
+    FILE *f_ = open_memstream(&mem_, &len_); \
+    cr_assert_not_null(f_); \
+    int n_ = cb_csv_printf(f_, __VA_ARGS__); \
+    cr_assert_eq(fclose(f_), 0); \
+    cr_assert_eq(n_, (int)len_, "returned %d, wrote %zu bytes", n_, len_); \
+    snprintf(buf, sizeof buf, "%s", mem_); \
+    free(mem_); \
   } while (0)
 
 Test(csv, non_finite_values_have_one_spelling) {
@@ -59,10 +59,11 @@ Test(csv, finite_numbers_and_other_conversions_are_fprintfs) {
   size_t z = 42;
   PRINT(s, "%d,%ld,%zu,%s,%c,%.17g,%.6f,%.3f,%.6g,%g,%%,%5d|%-4s|%x,%lld,%u,%hd,%.*f,%*d", -7, l, z, "ok", 'q', 0.1,
         1.0 / 3, 2.5, 1e-300, 1e21, 12, "ab", 255U, -5LL, 3U, (short)-2, 2, 3.14159, 4, 9);
-  snprintf(want, sizeof want, "%d,%ld,%zu,%s,%c,%.17g,%.6f,%.3f,%.6g,%g,%%,%5d|%-4s|%x,%lld,%u,%hd,%.*f,%*d", -7, l, z, "ok",
-           'q', 0.1, 1.0 / 3, 2.5, 1e-300, 1e21, 12, "ab", 255U, -5LL, 3U, (short)-2, 2, 3.14159, 4, 9);
+  snprintf(want, sizeof want, "%d,%ld,%zu,%s,%c,%.17g,%.6f,%.3f,%.6g,%g,%%,%5d|%-4s|%x,%lld,%u,%hd,%.*f,%*d", -7, l, z,
+           "ok", 'q', 0.1, 1.0 / 3, 2.5, 1e-300, 1e21, 12, "ab", 255U, -5LL, 3U, (short)-2, 2, 3.14159, 4, 9);
   cr_assert_str_eq(s, want);
-  cr_assert_str_eq(s, "-7,-1234567890123,42,ok,q,0.10000000000000001,0.333333,2.500,1e-300,1e+21,%,   12|ab  |ff,-5,3,-2,3.14,   9");
+  cr_assert_str_eq(s, "-7,-1234567890123,42,ok,q,0.10000000000000001,0.333333,2.500,1e-300,1e+21,%,   12|ab  "
+                      "|ff,-5,3,-2,3.14,   9");
   PRINT(s, "%.17g,%.17g,%.17g", -0.0, 5e-324, 1.7976931348623157e308);
   cr_assert_str_eq(s, "-0,4.9406564584124654e-324,1.7976931348623157e+308");
   PRINT(s, "no conversions\n");

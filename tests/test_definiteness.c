@@ -26,15 +26,18 @@ static const double PI = 3.14159265358979323846;
 static cb_scene *one_spring(const char *policy) {
   char pol[64];
   snprintf(pol, sizeof pol, "integrator.definiteness=%s", policy);
-  const char *sets[] = {"mesh.type=chain", "mesh.n=2", "mesh.size=1", "material.vertex_mass=1", "scene.pins=none",
-                        "scene.gravity=0 0 0", pol, NULL};
+  const char *sets[] = {"mesh.type=chain",     "mesh.n=2", "mesh.size=1", "material.vertex_mass=1", "scene.pins=none",
+                        "scene.gravity=0 0 0", pol,        NULL};
   return test_scene(sets);
 }
 
 /* x: the spring from the origin to length l along a fixed oblique direction. */
 static void spring_at(double l, double x[6]) {
   double u[3] = {0.48, -0.6, 0.64}; /* unit: 0.2304 + 0.36 + 0.4096 = 1 */
-  for (int a = 0; a < 3; a++) { x[a] = 0.3; x[3 + a] = 0.3 + l * u[a]; }
+  for (int a = 0; a < 3; a++) {
+    x[a] = 0.3;
+    x[3 + a] = 0.3 + l * u[a];
+  }
 }
 
 static gsl_matrix *hessian(cb_scene *s, const double *x, cb_definiteness def) {
@@ -56,7 +59,10 @@ static gsl_matrix *spectral_map(const gsl_matrix *H, int mode) {
       for (size_t j = 0; j < n; j++)
         gsl_matrix_set(R, i, j, gsl_matrix_get(R, i, j) + f * gsl_matrix_get(V, i, k) * gsl_matrix_get(V, j, k));
   }
-  gsl_matrix_free(A); gsl_matrix_free(V); gsl_vector_free(ev); gsl_eigen_symmv_free(ws);
+  gsl_matrix_free(A);
+  gsl_matrix_free(V);
+  gsl_vector_free(ev);
+  gsl_eigen_symmv_free(ws);
   return R;
 }
 
@@ -92,8 +98,10 @@ Test(definiteness, exact_spring_eigenvalues_sign_follows_compression) {
     cr_assert_eq(cb_dense_eigenvalues(&s->sys.A, NULL, ev), CB_OK);
     double t = 2 * 8000 * (1 - 1 / ls[c]);
     double want[6] = {t < 0 ? t : 0, t < 0 ? t : 0, 0, t < 0 ? 0 : t, t < 0 ? 0 : t, 16000}; /* ascending */
-    for (int i = 0; i < 6; i++) cr_assert(fabs(ev[i] - want[i]) < 1e-8 * 16000, "l=%g ev[%d]=%g want %g", ls[c], i, ev[i], want[i]);
-    if (ls[c] != 1.0) cr_assert((ev[0] < -1e-8 * 16000) == (ls[c] < 1), "indefinite exactly when compressed (l = %g)", ls[c]);
+    for (int i = 0; i < 6; i++)
+      cr_assert(fabs(ev[i] - want[i]) < 1e-8 * 16000, "l=%g ev[%d]=%g want %g", ls[c], i, ev[i], want[i]);
+    if (ls[c] != 1.0)
+      cr_assert((ev[0] < -1e-8 * 16000) == (ls[c] < 1), "indefinite exactly when compressed (l = %g)", ls[c]);
   }
   cb_scene_free(s);
 }
@@ -107,7 +115,9 @@ Test(definiteness, drop_is_transverse_eigenvalue_clamped_at_zero) {
     gsl_matrix *H = hessian(s, x, CB_DEF_NONE), *D = hessian(s, x, CB_DEF_DROP), *C = spectral_map(H, 0);
     cr_assert(max_diff(D, C) < 1e-9 * 8000, "l = %g: drop differs from clamp by %g", ls[c], max_diff(D, C));
     if (ls[c] > 1) cr_assert(max_diff(D, H) == 0.0, "stretched: drop must not change H");
-    gsl_matrix_free(H); gsl_matrix_free(D); gsl_matrix_free(C);
+    gsl_matrix_free(H);
+    gsl_matrix_free(D);
+    gsl_matrix_free(C);
   }
   cb_scene_free(s);
 }
@@ -120,7 +130,9 @@ Test(definiteness, mirror_is_absolute_eigenvalue) {
     spring_at(ls[c], x);
     gsl_matrix *H = hessian(s, x, CB_DEF_NONE), *M = hessian(s, x, CB_DEF_MIRROR), *C = spectral_map(H, 1);
     cr_assert(max_diff(M, C) < 1e-9 * 8000, "l = %g: mirror differs from |Lambda| by %g", ls[c], max_diff(M, C));
-    gsl_matrix_free(H); gsl_matrix_free(M); gsl_matrix_free(C);
+    gsl_matrix_free(H);
+    gsl_matrix_free(M);
+    gsl_matrix_free(C);
   }
   cb_scene_free(s);
 }
@@ -130,8 +142,16 @@ static cb_scene *pair(const char *policy, const char *solver) {
   char pol[64], sol[64];
   snprintf(pol, sizeof pol, "integrator.definiteness=%s", policy);
   snprintf(sol, sizeof sol, "solver.method=%s", solver);
-  const char *sets[] = {"mesh.type=chain", "mesh.n=3", "mesh.size=2", "mesh.plane=xy", "material.vertex_mass=1",
-                        "scene.pins=0 2", "scene.gravity=0 0 0", pol, sol, NULL};
+  const char *sets[] = {"mesh.type=chain",
+                        "mesh.n=3",
+                        "mesh.size=2",
+                        "mesh.plane=xy",
+                        "material.vertex_mass=1",
+                        "scene.pins=0 2",
+                        "scene.gravity=0 0 0",
+                        pol,
+                        sol,
+                        NULL};
   return test_scene(sets);
 }
 
@@ -265,8 +285,14 @@ Test(choi_ko, regularised_response_is_continuous) {
 /* FD of the scene energy's gradient and of the Hessian on a crumpled cloth
  * where springs are stretched, slightly and strongly compressed. */
 Test(choi_ko, spring_term_gradient_and_hessian_match_finite_differences) {
-  const char *sets[] = {"mesh.n=4", "mesh.size=1.5", "material.vertex_mass=1", "scene.pins=none", "scene.gravity=0 0 0",
-                        "integrator.definiteness=choi-ko", "material.buckling_kb=0.002", NULL};
+  const char *sets[] = {"mesh.n=4",
+                        "mesh.size=1.5",
+                        "material.vertex_mass=1",
+                        "scene.pins=none",
+                        "scene.gravity=0 0 0",
+                        "integrator.definiteness=choi-ko",
+                        "material.buckling_kb=0.002",
+                        NULL};
   cb_scene *s = test_scene(sets);
   int n = 3 * s->mesh.nv;
   double x[48], g[48], gp[48], gm[48];
@@ -287,7 +313,8 @@ Test(choi_ko, spring_term_gradient_and_hessian_match_finite_differences) {
     x[i] = xi - h;
     double Em = cb_system_energy(&s->sys, x, gm, NULL);
     x[i] = xi;
-    cr_assert(fabs((Ep - Em) / (2 * h) - g[i]) < 1e-5 * (1 + fabs(g[i])), "grad[%d] %g vs FD %g", i, g[i], (Ep - Em) / (2 * h));
+    cr_assert(fabs((Ep - Em) / (2 * h) - g[i]) < 1e-5 * (1 + fabs(g[i])), "grad[%d] %g vs FD %g", i, g[i],
+              (Ep - Em) / (2 * h));
     for (int j = 0; j < n; j++) {
       double fd = (gp[j] - gm[j]) / (2 * h), hij = gsl_matrix_get(H, (size_t)j, (size_t)i);
       cr_assert(fabs(fd - hij) < 1e-6 * fabs(hij) + 1e-5, "H[%d][%d] %g vs FD %g", j, i, hij, fd);
@@ -308,8 +335,15 @@ Test(choi_ko, spring_term_gradient_and_hessian_match_finite_differences) {
  * Hessian has eigenvalues 2 E'' and 2 E'/l (twice), E' and E'' being the
  * (FD-checked) scalar derivatives of the arc energy. */
 Test(choi_ko, buckled_spring_hessian_eigenvalues) {
-  const char *sets[] = {"mesh.type=chain", "mesh.n=2", "mesh.size=1", "material.vertex_mass=1", "scene.pins=none",
-                        "scene.gravity=0 0 0", "integrator.definiteness=choi-ko", "material.buckling_kb=0.05", NULL};
+  const char *sets[] = {"mesh.type=chain",
+                        "mesh.n=2",
+                        "mesh.size=1",
+                        "material.vertex_mass=1",
+                        "scene.pins=none",
+                        "scene.gravity=0 0 0",
+                        "integrator.definiteness=choi-ko",
+                        "material.buckling_kb=0.05",
+                        NULL};
   cb_scene *s = test_scene(sets);
   double x[6], ev[6], E, dE, d2E;
   spring_at(0.6, x);
@@ -362,8 +396,14 @@ Test(pins, squeeze_moves_pins_at_constant_velocity_in_both_integrators) {
   for (int m = 0; m < 2; m++) {
     char meth[64];
     snprintf(meth, sizeof meth, "integrator.method=%s", methods[m]);
-    const char *sets[] = {"mesh.n=5", "mesh.size=2", "material.vertex_mass=1", "scene.pins=0 5 10 15 20 4 9 14 19 24",
-                          "scene.pin_squeeze=0.5 0 0", "integrator.dt=1/100", meth, NULL};
+    const char *sets[] = {"mesh.n=5",
+                          "mesh.size=2",
+                          "material.vertex_mass=1",
+                          "scene.pins=0 5 10 15 20 4 9 14 19 24",
+                          "scene.pin_squeeze=0.5 0 0",
+                          "integrator.dt=1/100",
+                          meth,
+                          NULL};
     cb_scene *s = test_scene(sets);
     for (int k = 0; k < s->npinned; k++) { /* columns i = 0 (x = -1) move +x, i = 4 (x = +1) move -x */
       int i = s->pinned[k];
@@ -425,10 +465,18 @@ static int textbook_cg(const cb_sparse *A, const double *b, double tol, int max_
     cb_sparse_matvec(A, p, q);
     double pq = 0;
     for (int i = 0; i < n; i++) pq += p[i] * q[i];
-    if (pq <= 0) { st = CB_INDEFINITE; *iters = k; break; }
+    if (pq <= 0) {
+      st = CB_INDEFINITE;
+      *iters = k;
+      break;
+    }
     double a = rr / pq, rr1 = 0;
     for (int i = 0; i < n; i++) x[i] += a * p[i], r[i] -= a * q[i], rr1 += r[i] * r[i];
-    if (sqrt(rr1 / bb) <= tol) { st = CB_OK; *iters = k + 1; break; }
+    if (sqrt(rr1 / bb) <= tol) {
+      st = CB_OK;
+      *iters = k + 1;
+      break;
+    }
     for (int i = 0; i < n; i++) p[i] = r[i] + rr1 / rr * p[i];
     rr = rr1;
   }
@@ -463,8 +511,10 @@ Test(probe, witnesses_agree_with_dense_eigenvalues) {
     /* the CG witness against an independent textbook CG on the same (A, b, tol, cap) */
     int it_ref, st_ref = textbook_cg(&s->sys.A, b, pp.cg.tol, pp.cg.max_iters, &it_ref);
     if (ev[0] > 0) cr_assert_eq(r.cg_status, CB_OK);
-    cr_assert_eq(r.cg_status, st_ref, "probe CG %s, textbook CG %s", cb_status_name(r.cg_status), cb_status_name(st_ref));
-    if (st_ref == CB_INDEFINITE) cr_assert_eq(r.cg_iters, it_ref, "breakdown at %d, textbook at %d", r.cg_iters, it_ref);
+    cr_assert_eq(r.cg_status, st_ref, "probe CG %s, textbook CG %s", cb_status_name(r.cg_status),
+                 cb_status_name(st_ref));
+    if (st_ref == CB_INDEFINITE)
+      cr_assert_eq(r.cg_iters, it_ref, "breakdown at %d, textbook at %d", r.cg_iters, it_ref);
     else cr_assert(abs(r.cg_iters - it_ref) <= 1, "CG iterations %d, textbook %d", r.cg_iters, it_ref);
     cr_assert_eq(c == 1, ev[0] < 0, "rest is SPD, 0.9x compressed is not");
     cb_spd_probe_free(pr);

@@ -23,11 +23,11 @@
 
 typedef struct {
   int n, m;
-  const char *diag;  /* regular | alternating */
-  const char *bend;  /* none | spring */
-  double scale;      /* scene.initial_scale */
-  const char *pins;  /* scene.pins */
-  int uniform_mass;  /* 1: vertex_mass = 0.25, 0: density-lumped */
+  const char *diag; /* regular | alternating */
+  const char *bend; /* none | spring */
+  double scale;     /* scene.initial_scale */
+  const char *pins; /* scene.pins */
+  int uniform_mass; /* 1: vertex_mass = 0.25, 0: density-lumped */
 } ecase;
 
 static cb_scene *case_scene(const ecase *c) {
@@ -39,8 +39,19 @@ static cb_scene *case_scene(const ecase *c) {
   snprintf(scale, sizeof scale, "scene.initial_scale=%.17g", c->scale);
   snprintf(pins, sizeof pins, "scene.pins=%s", c->pins);
   snprintf(mass, sizeof mass, "material.vertex_mass=%s", c->uniform_mass ? "0.25" : "0");
-  const char *sets[] = {n, m, diag, bend, scale, pins, mass, "mesh.size=1 0.8", "material.stretch_k=8000",
-                        "material.bend_k=37", "material.density=0.3", "scene.gravity=0.5 -9.8 1.25", NULL};
+  const char *sets[] = {n,
+                        m,
+                        diag,
+                        bend,
+                        scale,
+                        pins,
+                        mass,
+                        "mesh.size=1 0.8",
+                        "material.stretch_k=8000",
+                        "material.bend_k=37",
+                        "material.density=0.3",
+                        "scene.gravity=0.5 -9.8 1.25",
+                        NULL};
   return test_scene(sets);
 }
 
@@ -249,7 +260,10 @@ Test(energy, system_gradient_is_the_sum_of_term_gradients_and_energy_the_sum) {
     for (int k = 0; k < s->sys.nterms; k++)
       if (strcmp(s->sys.terms[k]->label, "gravity") != 0) Eel += per[k];
     cr_expect(fabs(cb_system_elastic_energy(&s->sys, x) - Eel) <= 1e-13 * fmax(1, Eel));
-    free(g); free(gs); free(gt); free(x);
+    free(g);
+    free(gs);
+    free(gt);
+    free(x);
     cb_scene_free(s);
   }
 }
@@ -342,8 +356,7 @@ Test(energy, assemble_adds_mass_scale_times_M_plus_shift_on_the_diagonal) {
     cr_assert(mass);
     if (cases[c].uniform_mass)
       for (int i = 0; i < s->mesh.nv; i++) mass[i] = 0.25;
-    else
-      test_lumped_masses(&s->mesh, 0.3, mass);
+    else test_lumped_masses(&s->mesh, 0.3, mass);
     /* the rest area of the 1 x 0.8 grid is 0.8 m^2, so the masses add to density * 0.8 */
     if (!cases[c].uniform_mass) {
       double msum = 0;
@@ -402,7 +415,9 @@ Test(energy, gravity_gradient_is_minus_mass_times_g) {
       E -= mass[i] * grav[a] * x[3 * i + a];
     }
   cr_expect(fabs(term_E(t, x) - E) <= 1e-14 * fmax(1, fabs(E)), "E_gravity %.17g vs %.17g", term_E(t, x), E);
-  free(x); free(mass); free(g);
+  free(x);
+  free(mass);
+  free(g);
   cb_scene_free(s);
 }
 
@@ -656,7 +671,10 @@ Test(energy, drop_removes_exactly_the_compressed_transverse_terms) {
       for (int e = 0; e < np; e++) {
         int i = pairs[2 * e], j = pairs[2 * e + 1];
         double L = dist(s->mesh.x, i, j), l = dist(x, i, j);
-        if (l >= L) { nstr++; continue; }
+        if (l >= L) {
+          nstr++;
+          continue;
+        }
         ncomp++;
         double u[3] = {(x[3 * i] - x[3 * j]) / l, (x[3 * i + 1] - x[3 * j + 1]) / l, (x[3 * i + 2] - x[3 * j + 2]) / l};
         double P[9];
@@ -673,7 +691,9 @@ Test(energy, drop_removes_exactly_the_compressed_transverse_terms) {
         err = fmax(err, fabs(gsl_matrix_get(Hn, i, j) - gsl_matrix_get(Hd, i, j) - gsl_matrix_get(D, i, j)));
     cr_expect(err <= 1e-11 * mat_maxabs(Hn), "%s: |H_none - H_drop - sum_compressed| = %.3g", name, err);
     free(pairs);
-    gsl_matrix_free(D); gsl_matrix_free(Hd); gsl_matrix_free(Hn);
+    gsl_matrix_free(D);
+    gsl_matrix_free(Hd);
+    gsl_matrix_free(Hn);
     free(x);
     cb_scene_free(s);
   }
@@ -720,7 +740,8 @@ Test(energy, all_springs_stretched_drop_equals_none) {
   cb_system_assemble(&s->sys, x, 0.0, CB_DEF_DROP, 0.0);
   gsl_matrix *Hd = test_dense(&s->sys.A);
   cr_expect(max_diff(Hn, Hd) == 0.0, "drop changed a fully stretched Hessian by %.3g", max_diff(Hn, Hd));
-  gsl_matrix_free(Hn); gsl_matrix_free(Hd);
+  gsl_matrix_free(Hn);
+  gsl_matrix_free(Hd);
   free(pairs);
   free(x);
   cb_scene_free(s);
@@ -763,8 +784,15 @@ Test(energy, spring_counts_match_the_mesh) {
 /* The same single-spring eigenvalues through a scene: a 2-vertex chain
  * (mesh.type = chain) pinned at one end. */
 Test(energy, chain_scene_single_spring_block) {
-  const char *sets[] = {"mesh.type=chain", "mesh.n=2", "mesh.size=0.5", "mesh.plane=xy", "material.vertex_mass=1",
-                        "material.stretch_k=300", "scene.pins=0", "scene.gravity=0 0 0", NULL};
+  const char *sets[] = {"mesh.type=chain",
+                        "mesh.n=2",
+                        "mesh.size=0.5",
+                        "mesh.plane=xy",
+                        "material.vertex_mass=1",
+                        "material.stretch_k=300",
+                        "scene.pins=0",
+                        "scene.gravity=0 0 0",
+                        NULL};
   cb_scene *s = test_scene(sets);
   cr_assert_eq(s->sys.A.n, 3);
   cr_assert_eq(s->sys.nterms, 1);

@@ -106,7 +106,8 @@ static void state(const tmodel *t, int kind, uint64_t seed0, double *x) {
   for (int i = 0; i < nv; i++)
     for (int a = 0; a < 3; a++) c[a] += t->mesh.x[3 * i + a] / nv;
   double s = kind == 0 ? 1.3 : kind == 1 ? 0.7 : 1.0, amp = kind == 2 ? 0.12 : 0.02;
-  for (int i = 0; i < 3 * nv; i++) x[i] = c[i % 3] + s * (t->mesh.x[i] - c[i % 3]) + amp * (2 * cb_rng_uniform(&seed) - 1);
+  for (int i = 0; i < 3 * nv; i++)
+    x[i] = c[i % 3] + s * (t->mesh.x[i] - c[i % 3]) + amp * (2 * cb_rng_uniform(&seed) - 1);
 }
 
 /* ---- the checks ------------------------------------------------------------------- */
@@ -259,7 +260,10 @@ static void check_elements(const cb_term *term, cb_system *sys, const tmodel *t,
     gm = fmax(gm, fabs(gt[i]));
   }
   cr_expect(gerr <= 1e-12 * fmax(gm, 1.0), "%s: element gradients - term gradient = %.3g", where, gerr);
-  free(g); free(gt); free(ge); free(He);
+  free(g);
+  free(gt);
+  free(ge);
+  free(He);
 }
 
 static int check_type(const cb_term_type *type) {
@@ -311,8 +315,8 @@ static int check_type(const cb_term_type *type) {
             if (d == CB_DEF_NONE && (type->flags & CB_TERM_CONSTANT_HESSIAN)) expect_constant_hessian(H, &H0, where);
           } else if (H->size1 > 0) {
             double emax, lmin = min_eigenvalue(H, &emax);
-            cr_expect(lmin >= -1e-12 * fmax(emax, 1.0), "%s, %s: projected Hessian has eigenvalue %.3g (max %.3g)", where,
-                      cb_definiteness_names[d], lmin, emax);
+            cr_expect(lmin >= -1e-12 * fmax(emax, 1.0), "%s, %s: projected Hessian has eigenvalue %.3g (max %.3g)",
+                      where, cb_definiteness_names[d], lmin, emax);
           }
           gsl_matrix_free(H);
         }
@@ -400,8 +404,8 @@ static void rigid_rest(const tmodel *t, double *x) {
   for (int i = 0; i < 3; i++) k[i] /= nk;
   for (int v = 0; v < t->mesh.nv; v++) {
     const double *p = t->mesh.x + 3 * v;
-    double kp = k[0] * p[0] + k[1] * p[1] + k[2] * p[2], kx[3] = {k[1] * p[2] - k[2] * p[1], k[2] * p[0] - k[0] * p[2],
-                                                                   k[0] * p[1] - k[1] * p[0]};
+    double kp = k[0] * p[0] + k[1] * p[1] + k[2] * p[2],
+           kx[3] = {k[1] * p[2] - k[2] * p[1], k[2] * p[0] - k[0] * p[2], k[0] * p[1] - k[1] * p[0]};
     static const double off[3] = {0.1, -0.2, 0.3};
     for (int i = 0; i < 3; i++) x[3 * v + i] = p[i] * c + kx[i] * sn + k[i] * kp * (1 - c) + off[i];
   }
@@ -433,7 +437,8 @@ Test(energy_conformance, dihedral_gauss_newton_hessian_is_the_exact_one_without_
     rigid_rest(&t, x);
     gsl_matrix *H = assembled(&sg, x), *Hfd = fd_hessian(&sg, &t, x);
     double err = mat_diffabs(H, Hfd), hmax = mat_maxabs(H);
-    cr_expect(hmax > 0 && err <= 1e-6 * hmax, "%s at rest (rigidly moved): |H_GN - FD| = %.3g of %.3g", t.name, err, hmax);
+    cr_expect(hmax > 0 && err <= 1e-6 * hmax, "%s at rest (rigidly moved): |H_GN - FD| = %.3g of %.3g", t.name, err,
+              hmax);
     gsl_matrix_free(H);
     gsl_matrix_free(Hfd);
     for (int sk = 0; sk < NSTATES; sk++) {
@@ -465,8 +470,10 @@ Test(energy_conformance, dihedral_gauss_newton_hessian_is_the_exact_one_without_
           g[i] = (Ep - Em) / (2 * FD_H);
         }
         for (int i = 0; i < n3; i++)
-          for (int j = 0; j < n3; j++) e2 = fmax(e2, fabs(gsl_matrix_get(H, (size_t)i, (size_t)j) - g[i] * g[j] / (2 * E)));
-        cr_expect(e2 <= 1e-6 * hmax, "%s, %s: |H_GN - grad E grad E^T / 2E| = %.3g of %.3g", t.name, state_names[sk], e2, hmax);
+          for (int j = 0; j < n3; j++)
+            e2 = fmax(e2, fabs(gsl_matrix_get(H, (size_t)i, (size_t)j) - g[i] * g[j] / (2 * E)));
+        cr_expect(e2 <= 1e-6 * hmax, "%s, %s: |H_GN - grad E grad E^T / 2E| = %.3g of %.3g", t.name, state_names[sk],
+                  e2, hmax);
       }
       gsl_matrix_free(H);
       gsl_matrix_free(He);
@@ -534,7 +541,9 @@ static double anchor_energy(const cb_term *t, const double *x, double *grad) {
   return E;
 }
 
-static int anchor_pattern(const cb_term *t, cb_pattern *p) { return cb_stencil_pattern(&((const anchor_term *)t)->st, p); }
+static int anchor_pattern(const cb_term *t, cb_pattern *p) {
+  return cb_stencil_pattern(&((const anchor_term *)t)->st, p);
+}
 static int anchor_bind(cb_term *t, const cb_sparse *A) { return cb_stencil_bind(&((anchor_term *)t)->st, A, "anchor"); }
 
 static void anchor_hessian(const cb_term *t, const double *x, cb_projection proj, double *val) {

@@ -126,8 +126,14 @@ Test(projection, eigenvalue_map_and_policy_mapping) {
  * its 6x6 element. drop and mirror in closed form must equal the generic
  * projection of the exact element, compressed or stretched. */
 Test(projection, spring_closed_form_equals_the_generic_projection) {
-  const char *sets[] = {"mesh.type=chain", "mesh.n=2", "mesh.size=1", "material.vertex_mass=1", "scene.pins=none",
-                        "scene.gravity=0 0 0", "integrator.definiteness=none", NULL};
+  const char *sets[] = {"mesh.type=chain",
+                        "mesh.n=2",
+                        "mesh.size=1",
+                        "material.vertex_mass=1",
+                        "scene.pins=none",
+                        "scene.gravity=0 0 0",
+                        "integrator.definiteness=none",
+                        NULL};
   cb_scene *s = test_scene(sets);
   cr_assert_eq(s->sys.A.n, 6);
   cb_projection_work *w;

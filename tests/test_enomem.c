@@ -44,8 +44,8 @@
 
 /* ---- CHOLMOD's allocations through the counter ---------------------------- */
 
-static long cholmod_ticks;  /* CHOLMOD's allocations counted, for the summary */
-static int cholmod_failed;  /* the injected failure was one of CHOLMOD's */
+static long cholmod_ticks; /* CHOLMOD's allocations counted, for the summary */
+static int cholmod_failed; /* the injected failure was one of CHOLMOD's */
 
 static int ss_tick(void) {
   int fail = cb_alloc_tick();
@@ -85,9 +85,16 @@ TestSuite(enomem, .init = setup);
 /* ---- one run ---------------------------------------------------------------- */
 
 /* The scene: a 4x4 cloth pinned at two corners, a little stretched. */
-static const char *const BASE[] = {"mesh.n=4", "material.stretch_k=100", "material.vertex_mass=0.1",
-                                   "scene.pins=top-corners", "scene.initial_scale=1.1", "integrator.dt=0.01",
-                                   "integrator.max_iters=4", "integrator.iters=4", "solver.max_iters=50", NULL};
+static const char *const BASE[] = {"mesh.n=4",
+                                   "material.stretch_k=100",
+                                   "material.vertex_mass=0.1",
+                                   "scene.pins=top-corners",
+                                   "scene.initial_scale=1.1",
+                                   "integrator.dt=0.01",
+                                   "integrator.max_iters=4",
+                                   "integrator.iters=4",
+                                   "solver.max_iters=50",
+                                   NULL};
 #define STEPS 2
 #define MAX_SETS 16
 
@@ -189,8 +196,7 @@ static long sweep(const run_case *rc) {
     else {
       cr_assert_eq(st, CB_ENOMEM, "%s: allocation %ld of %ld failed%s, and the run returned %s (%d): %s", rc->label, k,
                    n, cholmod_failed ? " (in CHOLMOD)" : "", cb_status_name(st), st, cb_error_message());
-      cr_assert_neq(cb_error_message()[0], '\0', "%s: allocation %ld of %ld failed without a message", rc->label, k,
-                    n);
+      cr_assert_neq(cb_error_message()[0], '\0', "%s: allocation %ld of %ld failed without a message", rc->label, k, n);
     }
     size_t heap1 = heap_in_use();
     cr_assert_eq(heap1, heap0, "%s: allocation %ld of %ld failed, and %zd bytes stayed allocated", rc->label, k, n,
@@ -201,8 +207,8 @@ static long sweep(const run_case *rc) {
   cr_assert_eq(__lsan_do_recoverable_leak_check(), 0, "%s: LeakSanitizer found a leak (above)", rc->label);
 #endif
   if (!getenv("CB_QUIET"))
-    printf("enomem: %4ld allocations (%3ld of them CHOLMOD's, %ld failures it worked around): %s\n", n, nss,
-           recovered, rc->label);
+    printf("enomem: %4ld allocations (%3ld of them CHOLMOD's, %ld failures it worked around): %s\n", n, nss, recovered,
+           rc->label);
   total_points += n;
   total_cases++;
   return n;

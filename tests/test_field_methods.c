@@ -34,7 +34,8 @@ static double compare_steps(const char *const *scene, int pre, const char *const
   cb_step_stats st;
   if (pre > 0) {
     cb_integrator *it = test_integrator(sets[0], s, NULL, NULL);
-    for (int k = 0; k < pre; k++) cr_assert_eq(cb_status_is_fatal(cb_integrator_step(it, x0, v0, &st)), 0, "pre-step %d", k);
+    for (int k = 0; k < pre; k++)
+      cr_assert_eq(cb_status_is_fatal(cb_integrator_step(it, x0, v0, &st)), 0, "pre-step %d", k);
     cb_integrator_free(it);
   }
   int status[2];
@@ -45,8 +46,8 @@ static double compare_steps(const char *const *scene, int pre, const char *const
     memcpy(x[q], x0, (size_t)n3 * sizeof(double));
     memcpy(v[q], v0, (size_t)n3 * sizeof(double));
     status[q] = cb_integrator_step(it, x[q], v[q], &st);
-    cr_log_info("%s: %s after %d iterations, rel_grad %.3g\n", it->type->name, cb_status_name(status[q]), st.newton_iters,
-                st.rel_grad);
+    cr_log_info("%s: %s after %d iterations, rel_grad %.3g\n", it->type->name, cb_status_name(status[q]),
+                st.newton_iters, st.rel_grad);
     cb_integrator_free(it);
   }
   double num = 0, den = 0;
@@ -56,14 +57,18 @@ static double compare_steps(const char *const *scene, int pre, const char *const
   }
   *sa = status[0];
   *sb = status[1];
-  for (int q = 0; q < 2; q++) { free(x[q]); free(v[q]); }
-  free(x0); free(v0);
+  for (int q = 0; q < 2; q++) {
+    free(x[q]);
+    free(v[q]);
+  }
+  free(x0);
+  free(v0);
   cb_scene_free(s);
   return num / den;
 }
 
 static const char *const NEWTON_CONVERGED[] = {"integrator.method=newton", "integrator.max_iters=200",
-                                               "integrator.tol=1e-13", "integrator.tol_dx=1e-14",
+                                               "integrator.tol=1e-13",     "integrator.tol_dx=1e-14",
                                                "integrator.line_search=1", NULL};
 
 /* L-BFGS run to convergence is a minimiser of F: its step equals Newton's
@@ -93,12 +98,25 @@ Test(field, lbfgs_converges_to_newtons_step_on_a_stiff_cloth) {
  * 1e-6 within 3000 iterations, not for the gradient tolerance. */
 Test(field, lbfgs_converges_to_newtons_step_on_the_drape) {
   const char *scene[] = {"mesh.n=10",
-                         "material.density=0.2", "material.stretch_k=200", "material.bend=dihedral", "material.bend_k=5e-4",
-                         "scene.pins=none", "collider.type=penalty", "collider.centre=0 -0.27 0", "collider.radius=0.25",
-                         "collider.thickness=0.005", "collider.stiffness=1000", "mesh.size=1", "mesh.plane=xz",
-                         "integrator.method=newton", "integrator.line_search=1", "integrator.tol=1e-6",
-                         "integrator.tol_dx=1e-6", NULL};
-  const char *lb[] = {"integrator.method=lbfgs", "integrator.iters=3000", "integrator.tol=1e-9", "integrator.tol_dx=0", NULL};
+                         "material.density=0.2",
+                         "material.stretch_k=200",
+                         "material.bend=dihedral",
+                         "material.bend_k=5e-4",
+                         "scene.pins=none",
+                         "collider.type=penalty",
+                         "collider.centre=0 -0.27 0",
+                         "collider.radius=0.25",
+                         "collider.thickness=0.005",
+                         "collider.stiffness=1000",
+                         "mesh.size=1",
+                         "mesh.plane=xz",
+                         "integrator.method=newton",
+                         "integrator.line_search=1",
+                         "integrator.tol=1e-6",
+                         "integrator.tol_dx=1e-6",
+                         NULL};
+  const char *lb[] = {"integrator.method=lbfgs", "integrator.iters=3000", "integrator.tol=1e-9", "integrator.tol_dx=0",
+                      NULL};
   int sa, sb;
   double d = compare_steps(scene, 10, lb, NEWTON_CONVERGED, &sa, &sb);
   cr_expect(sa == CB_OK || sa == CB_NOT_CONVERGED, "lbfgs: %s", cb_status_name(sa));
@@ -113,8 +131,16 @@ Test(field, lbfgs_converges_to_newtons_step_on_the_drape) {
  * implicit Euler's k h^2 C = -lambda (derived in integrator_xpbd.c): the
  * converged XPBD step equals Newton's. */
 Test(field, xpbd_fixed_point_is_implicit_euler_on_a_vertical_chain) {
-  const char *scene[] = {"mesh.type=chain", "mesh.n=11", "mesh.size=1", "mesh.plane=yz", "material.vertex_mass=0.01",
-                         "material.stretch_k=1000", "scene.pins=10", "scene.initial_scale=1.05", "integrator.dt=0.01", NULL};
+  const char *scene[] = {"mesh.type=chain",
+                         "mesh.n=11",
+                         "mesh.size=1",
+                         "mesh.plane=yz",
+                         "material.vertex_mass=0.01",
+                         "material.stretch_k=1000",
+                         "scene.pins=10",
+                         "scene.initial_scale=1.05",
+                         "integrator.dt=0.01",
+                         NULL};
   const char *xp[] = {"integrator.method=xpbd", "integrator.iters=20000", NULL};
   int sa, sb;
   double d = compare_steps(scene, 0, xp, NEWTON_CONVERGED, &sa, &sb);
@@ -128,10 +154,18 @@ Test(field, xpbd_fixed_point_is_implicit_euler_on_a_vertical_chain) {
  * must be a converged fixed point (doubling the iterations changes nothing)
  * whose |grad F| is far above Newton's tolerance. */
 Test(field, xpbd_gap_to_implicit_euler_on_a_swinging_cloth) {
-  const char *base[] = {"mesh.n=8", "material.vertex_mass=0.1", "material.stretch_k=1e4", "integrator.method=xpbd",
-                        "integrator.iters=4000", NULL};
-  const char *dbl[] = {"mesh.n=8", "material.vertex_mass=0.1", "material.stretch_k=1e4", "integrator.method=xpbd",
-                       "integrator.iters=8000", NULL};
+  const char *base[] = {"mesh.n=8",
+                        "material.vertex_mass=0.1",
+                        "material.stretch_k=1e4",
+                        "integrator.method=xpbd",
+                        "integrator.iters=4000",
+                        NULL};
+  const char *dbl[] = {"mesh.n=8",
+                       "material.vertex_mass=0.1",
+                       "material.stretch_k=1e4",
+                       "integrator.method=xpbd",
+                       "integrator.iters=8000",
+                       NULL};
   cb_scene *s = test_scene(base);
   int n3 = 3 * s->mesh.nv;
   double *x[2], *v[2], rel[2];
@@ -151,11 +185,15 @@ Test(field, xpbd_gap_to_implicit_euler_on_a_swinging_cloth) {
     diff = fmax(diff, fabs(x[0][i] - x[1][i]));
     size = fmax(size, fabs(x[1][i] - s->x0[i]));
   }
-  cr_log_info("xpbd fixed point after 5 steps: rel |grad F| %.3g (4000 iterations), %.3g (8000); iterates differ by %.3g\n",
+  cr_log_info("xpbd fixed point after 5 steps: rel |grad F| %.3g (4000 iterations), %.3g (8000); iterates differ by "
+              "%.3g\n",
               rel[0], rel[1], diff / size);
   cr_expect_lt(diff / size, 1e-9, "xpbd has not reached its fixed point: %.3g", diff / size);
   cr_expect_gt(rel[1], 1e-6, "xpbd's fixed point has rel |grad F| %.3g: not the gap the derivation predicts", rel[1]);
-  for (int q = 0; q < 2; q++) { free(x[q]); free(v[q]); }
+  for (int q = 0; q < 2; q++) {
+    free(x[q]);
+    free(v[q]);
+  }
   cb_scene_free(s);
 }
 
@@ -181,7 +219,8 @@ static void run_strain(const char *const *sets, int steps, double *worst, double
     *worst = fmax(*worst, fabs(sqrt(l) - sqrt(L)) / sqrt(L));
   }
   for (int i = 0; i < s->mesh.nv; i++) *drop = fmax(*drop, s->mesh.x[3 * i + 1] - x[3 * i + 1]);
-  free(x); free(v);
+  free(x);
+  free(v);
   cb_integrator_free(it);
   cb_scene_free(s);
 }
@@ -192,10 +231,20 @@ static void run_strain(const char *const *sets, int steps, double *worst, double
  * of a hanging sheet converges slowly, so the test asks for a tenfold fall
  * from 100 to 10000 sweeps and |C|/L below 1e-4), while the cloth falls. */
 Test(field, pbd_with_stiffness_one_projects_onto_the_constraints) {
-  const char *few[] = {"mesh.n=4", "material.vertex_mass=0.1", "material.stretch_k=10", "integrator.method=pbd",
-                       "integrator.iters=100", "integrator.pbd_stiffness=1", NULL};
-  const char *many[] = {"mesh.n=4", "material.vertex_mass=0.1", "material.stretch_k=10", "integrator.method=pbd",
-                        "integrator.iters=10000", "integrator.pbd_stiffness=1", NULL};
+  const char *few[] = {"mesh.n=4",
+                       "material.vertex_mass=0.1",
+                       "material.stretch_k=10",
+                       "integrator.method=pbd",
+                       "integrator.iters=100",
+                       "integrator.pbd_stiffness=1",
+                       NULL};
+  const char *many[] = {"mesh.n=4",
+                        "material.vertex_mass=0.1",
+                        "material.stretch_k=10",
+                        "integrator.method=pbd",
+                        "integrator.iters=10000",
+                        "integrator.pbd_stiffness=1",
+                        NULL};
   double w_few, w_many, d_few, d_many;
   run_strain(few, 10, &w_few, &d_few);
   run_strain(many, 10, &w_many, &d_many);
@@ -213,12 +262,13 @@ Test(field, xpbd_stiffness_follows_k_and_pbd_ignores_it) {
   const char *ks[] = {"material.stretch_k=100", "material.stretch_k=1e4"};
   for (int q = 0; q < 2; q++)
     for (int kq = 0; kq < 2; kq++) {
-      const char *sets[] = {"mesh.n=5", "material.vertex_mass=0.1", ks[kq], methods[q], "integrator.iters=50",
-                            "integrator.pbd_stiffness=0.5", NULL};
+      const char *sets[] = {"mesh.n=5", "material.vertex_mass=0.1", ks[kq],
+                            methods[q], "integrator.iters=50",      "integrator.pbd_stiffness=0.5",
+                            NULL};
       run_strain(sets, 20, &ext[q][kq], &drop);
     }
-  cr_log_info("largest strain: xpbd k=100 %.4g, k=1e4 %.4g; pbd k=100 %.4g, k=1e4 %.4g\n", ext[0][0], ext[0][1], ext[1][0],
-              ext[1][1]);
+  cr_log_info("largest strain: xpbd k=100 %.4g, k=1e4 %.4g; pbd k=100 %.4g, k=1e4 %.4g\n", ext[0][0], ext[0][1],
+              ext[1][0], ext[1][1]);
   cr_expect_gt(ext[0][0], 3 * ext[0][1], "xpbd: the softer cloth should stretch more");
   cr_expect_eq(ext[1][0], ext[1][1], "pbd does not read material.stretch_k");
 }
@@ -242,8 +292,10 @@ Test(field, refusals_name_the_term_they_cannot_handle) {
       cb_scene *s = NULL;
       cr_assert_eq(cb_scene_from_config(&c, &s), CB_OK, "%s", cb_error_message());
       cb_integrator *it = NULL;
-      cr_expect_neq(cb_integrator_from_config(&c, s, NULL, &it), CB_OK, "%s with %s was accepted", methods[m], bad[b][0]);
-      cr_expect(strstr(cb_error_message(), bad[b][2]) != NULL, "%s with %s: '%s'", methods[m], bad[b][0], cb_error_message());
+      cr_expect_neq(cb_integrator_from_config(&c, s, NULL, &it), CB_OK, "%s with %s was accepted", methods[m],
+                    bad[b][0]);
+      cr_expect(strstr(cb_error_message(), bad[b][2]) != NULL, "%s with %s: '%s'", methods[m], bad[b][0],
+                cb_error_message());
       cb_integrator_free(it);
       cb_scene_free(s);
     }
@@ -257,11 +309,24 @@ Test(field, refusals_name_the_term_they_cannot_handle) {
  * overshoots at the contacts). */
 Test(field, vbd_converges_to_newtons_step) {
   const char *stiff[] = {"mesh.n=6", "material.stretch_k=1e4", "material.vertex_mass=0.01", NULL};
-  const char *drape[] = {"mesh.n=8", "material.density=0.2", "material.stretch_k=200", "material.bend=dihedral",
-                         "material.bend_k=5e-4", "scene.pins=none", "collider.type=penalty", "collider.centre=0 -0.27 0",
-                         "collider.radius=0.25", "collider.thickness=0.005", "collider.stiffness=1000", "mesh.size=1",
-                         "mesh.plane=xz", "integrator.method=newton", "integrator.line_search=1", "integrator.tol=1e-6",
-                         "integrator.tol_dx=1e-6", NULL};
+  const char *drape[] = {"mesh.n=8",
+                         "material.density=0.2",
+                         "material.stretch_k=200",
+                         "material.bend=dihedral",
+                         "material.bend_k=5e-4",
+                         "scene.pins=none",
+                         "collider.type=penalty",
+                         "collider.centre=0 -0.27 0",
+                         "collider.radius=0.25",
+                         "collider.thickness=0.005",
+                         "collider.stiffness=1000",
+                         "mesh.size=1",
+                         "mesh.plane=xz",
+                         "integrator.method=newton",
+                         "integrator.line_search=1",
+                         "integrator.tol=1e-6",
+                         "integrator.tol_dx=1e-6",
+                         NULL};
   const char *vc[] = {"integrator.method=vbd-chebyshev", "integrator.rho=0.8", "integrator.iters=3000", NULL};
   const char *vb[] = {"integrator.method=vbd", "integrator.iters=2000", "integrator.vbd_line_search=1", NULL};
   int sa, sb;
@@ -289,8 +354,13 @@ static void count_rises(void *ctx, int event, const cb_newton_event *ev) {
   r->n++;
 }
 Test(field, vbd_line_search_never_raises_F) {
-  const char *sets[] = {"mesh.n=8", "material.vertex_mass=0.1", "material.stretch_k=1e4", "integrator.method=vbd",
-                        "integrator.iters=40", "integrator.vbd_line_search=1", NULL};
+  const char *sets[] = {"mesh.n=8",
+                        "material.vertex_mass=0.1",
+                        "material.stretch_k=1e4",
+                        "integrator.method=vbd",
+                        "integrator.iters=40",
+                        "integrator.vbd_line_search=1",
+                        NULL};
   cb_scene *s = test_scene(sets);
   rise_trace tr = {0, 0, 0};
   cb_integrator *it = test_integrator(sets, s, count_rises, &tr);
@@ -302,7 +372,8 @@ Test(field, vbd_line_search_never_raises_F) {
   for (int k = 0; k < 10; k++) cr_assert_eq(cb_integrator_step(it, x, v, &st), CB_OK);
   cr_expect_eq(tr.n, 10 * 41, "one F per iterate (%d)", tr.n);
   cr_expect_eq(tr.rises, 0, "F rose %d times in %d iterates", tr.rises, tr.n);
-  free(x); free(v);
+  free(x);
+  free(v);
   cb_integrator_free(it);
   cb_scene_free(s);
 }
@@ -335,16 +406,21 @@ Test(field, vbd_colouring_is_proper) {
     for (int c = 0;; c++) {
       int used = 0;
       for (int u = 0; u < v; u++) used |= adj[v * nv + u] && col[u] == c;
-      if (!used) { col[v] = c; break; }
+      if (!used) {
+        col[v] = c;
+        break;
+      }
     }
     if (col[v] + 1 > ncol) ncol = col[v] + 1;
   }
   cr_expect_eq(nc, ncol, "greedy colouring in vertex order: %d here, %d in vbd", ncol, nc);
   for (int v = 0; v < nv; v++)
     for (int u = 0; u < nv; u++)
-      if (adj[v * nv + u] && col[v] >= 0 && col[u] >= 0) cr_expect_neq(col[u], col[v], "%d and %d share a colour", u, v);
+      if (adj[v * nv + u] && col[v] >= 0 && col[u] >= 0)
+        cr_expect_neq(col[u], col[v], "%d and %d share a colour", u, v);
   cr_expect_eq(cb_vbd_colors(NULL), -1);
-  free(adj); free(col);
+  free(adj);
+  free(col);
   cb_integrator_free(it);
   cb_scene_free(s);
 }

@@ -21,9 +21,9 @@
 
 typedef struct {
   int n;
-  double F[512], g[512];   /* per CB_NEWTON_GRADIENT event */
+  double F[512], g[512]; /* per CB_NEWTON_GRADIENT event */
   int iter[512];
-  int systems, solves;     /* CB_NEWTON_SYSTEM / CB_NEWTON_SOLVED events */
+  int systems, solves; /* CB_NEWTON_SYSTEM / CB_NEWTON_SOLVED events */
   int solve_status[512];
 } trace;
 
@@ -92,9 +92,15 @@ static double max_abs_diff(const double *a, const double *b, int n) {
 Test(integrator, explicit_and_implicit_trajectories_converge_at_first_order) {
   /* 6x6 cloth, 10 m, 0.1 kg per vertex, k = 100 N/m, hanging from two corners,
    * released flat. Explicit is stable for dt < 2/omega_max ~ 0.02 s. */
-  const char *base[] = {"mesh.n=6", "material.stretch_k=100", "material.vertex_mass=0.1", "scene.pins=top-corners",
-                        "integrator.tol=1e-10", "integrator.tol_dx=1e-13", "integrator.max_iters=100",
-                        "integrator.definiteness=drop", NULL};
+  const char *base[] = {"mesh.n=6",
+                        "material.stretch_k=100",
+                        "material.vertex_mass=0.1",
+                        "scene.pins=top-corners",
+                        "integrator.tol=1e-10",
+                        "integrator.tol_dx=1e-13",
+                        "integrator.max_iters=100",
+                        "integrator.definiteness=drop",
+                        NULL};
   const double T = 0.5, dt0 = 1.0 / 100;
   const int levels = 5;
   double diff[8];
@@ -176,22 +182,36 @@ static void order_case(const char *const *sets, const char *label) {
 }
 
 Test(integrator, newton_converges_quadratically_on_a_stretched_cloth) {
-  const char *none[] = {"mesh.n=10", "material.vertex_mass=1", "scene.initial_scale=1.5", "scene.pins=top-corners",
-                        "integrator.definiteness=none", "integrator.tol=1e-12", "integrator.max_iters=100", NULL};
+  const char *none[] = {"mesh.n=10",
+                        "material.vertex_mass=1",
+                        "scene.initial_scale=1.5",
+                        "scene.pins=top-corners",
+                        "integrator.definiteness=none",
+                        "integrator.tol=1e-12",
+                        "integrator.max_iters=100",
+                        NULL};
   order_case(none, "stretched 1.5, none");
   /* exact Hessian: with drop, springs that end up compressed make the
    * Hessian inexact and the convergence linear */
-  const char *bend[] = {"mesh.n=8", "mesh.m=6", "material.bend=spring", "scene.initial_scale=1.4",
-                        "scene.pins=none", "integrator.definiteness=none", "integrator.tol=1e-12",
-                        "integrator.max_iters=100", "integrator.dt=0.1", NULL};
+  const char *bend[] = {"mesh.n=8",
+                        "mesh.m=6",
+                        "material.bend=spring",
+                        "scene.initial_scale=1.4",
+                        "scene.pins=none",
+                        "integrator.definiteness=none",
+                        "integrator.tol=1e-12",
+                        "integrator.max_iters=100",
+                        "integrator.dt=0.1",
+                        NULL};
   order_case(bend, "stretched 1.4, none, bending, no pins, dt 0.1");
 }
 
 /* ---- Baraff-Witkin ------------------------------------------------------------------ */
 
 Test(integrator, baraff_witkin_is_one_linear_solve_and_reports_max_iters) {
-  const char *sets[] = {"mesh.n=11", "material.vertex_mass=1", "scene.initial_scale=1.2", "integrator.max_iters=1",
-                        "integrator.tol=1e-8", NULL};
+  const char *sets[] = {
+      "mesh.n=11", "material.vertex_mass=1", "scene.initial_scale=1.2", "integrator.max_iters=1", "integrator.tol=1e-8",
+      NULL};
   cb_scene *s = test_scene(sets);
   trace t;
   memset(&t, 0, sizeof t);
@@ -213,7 +233,8 @@ Test(integrator, baraff_witkin_is_one_linear_solve_and_reports_max_iters) {
     cr_expect(st.rel_grad > 1e-8 && st.rel_grad < 1, "step %d: rel_grad %.3g", step, st.rel_grad);
     cr_expect(!cb_status_is_fatal(st.status), "max_iters must not end a trajectory");
   }
-  free(x); free(v);
+  free(x);
+  free(v);
   cb_integrator_free(it);
   cb_scene_free(s);
 }
@@ -275,25 +296,50 @@ static void implicit_equation_case(const char *const *sets, double density, cons
     free(v0);
   }
   cr_log_info("%s: worst |implicit Euler residual| / scale = %.3g\n", label, worst);
-  free(mass); free(g); free(x); free(v);
+  free(mass);
+  free(g);
+  free(x);
+  free(v);
   cb_integrator_free(it);
   cb_scene_free(s);
 }
 
 Test(integrator, converged_step_solves_the_implicit_euler_equation) {
-  const char *a[] = {"mesh.n=7", "mesh.m=5", "material.vertex_mass=0.3", "scene.pins=top-corners",
-                     "integrator.tol=1e-12", "integrator.tol_dx=1e-13", "integrator.max_iters=100", NULL};
+  const char *a[] = {"mesh.n=7",
+                     "mesh.m=5",
+                     "material.vertex_mass=0.3",
+                     "scene.pins=top-corners",
+                     "integrator.tol=1e-12",
+                     "integrator.tol_dx=1e-13",
+                     "integrator.max_iters=100",
+                     NULL};
   const int pa[] = {28, 34};
   implicit_equation_case(a, -0.3, pa, 2, "uniform mass, top corners");
-  const char *b[] = {"mesh.n=5", "mesh.m=6", "mesh.diagonal=alternating", "material.density=0.7",
-                     "material.bend=spring", "material.bend_k=20", "scene.pins=3 11 29", "scene.initial_scale=1.1",
-                     "integrator.tol=1e-12", "integrator.tol_dx=1e-13", "integrator.max_iters=100", "integrator.dt=0.05",
+  const char *b[] = {"mesh.n=5",
+                     "mesh.m=6",
+                     "mesh.diagonal=alternating",
+                     "material.density=0.7",
+                     "material.bend=spring",
+                     "material.bend_k=20",
+                     "scene.pins=3 11 29",
+                     "scene.initial_scale=1.1",
+                     "integrator.tol=1e-12",
+                     "integrator.tol_dx=1e-13",
+                     "integrator.max_iters=100",
+                     "integrator.dt=0.05",
                      NULL};
   const int pb[] = {3, 11, 29};
   implicit_equation_case(b, 0.7, pb, 3, "lumped mass, bending, index pins");
-  const char *c[] = {"mesh.n=6", "material.vertex_mass=0.5", "scene.pins=none", "scene.initial_scale=0.8",
-                     "integrator.tol=1e-12", "integrator.tol_dx=1e-13", "integrator.max_iters=100",
-                     "integrator.definiteness=drop", "integrator.init=x0", NULL};
+  const char *c[] = {"mesh.n=6",
+                     "material.vertex_mass=0.5",
+                     "scene.pins=none",
+                     "scene.initial_scale=0.8",
+                     "integrator.tol=1e-12",
+                     "integrator.tol_dx=1e-13",
+                     "integrator.max_iters=100",
+                     "integrator.definiteness=drop",
+                     "integrator.init=x0",
+                     NULL};
   implicit_equation_case(c, -0.5, NULL, 0, "compressed, no pins, init x0");
 }
 
@@ -355,8 +401,7 @@ Test(integrator, implicit_euler_does_not_gain_energy) {
   /* Implicit Euler is dissipative (run.h: "implicit Euler only loses energy"):
    * for convex E, K1 + E1 <= K0 + E0 - 1/2 |v1 - v0|_M^2. Springs under
    * compression are not convex, so allow a small tolerance. */
-  const char *sets[] = {"mesh.n=11", "material.vertex_mass=1", "integrator.tol=1e-10", "integrator.tol_dx=1e-12",
-                        NULL};
+  const char *sets[] = {"mesh.n=11", "material.vertex_mass=1", "integrator.tol=1e-10", "integrator.tol_dx=1e-12", NULL};
   cb_scene *s = test_scene(sets);
   cb_integrator *it = test_integrator(sets, s, NULL, NULL);
   cb_run r;
@@ -385,8 +430,13 @@ Test(integrator, pinned_vertices_never_move_and_newton_velocity_is_the_differenc
   for (int mth = 0; mth < 2; mth++) {
     char m[64];
     snprintf(m, sizeof m, "integrator.method=%s", methods[mth]);
-    const char *sets[] = {"mesh.n=9", "material.vertex_mass=1", "scene.pins=0 4 8 80", "material.bend=spring", m,
-                          mth ? "integrator.dt=1/1000" : "integrator.dt=1/30", NULL};
+    const char *sets[] = {"mesh.n=9",
+                          "material.vertex_mass=1",
+                          "scene.pins=0 4 8 80",
+                          "material.bend=spring",
+                          m,
+                          mth ? "integrator.dt=1/1000" : "integrator.dt=1/30",
+                          NULL};
     cb_scene *s = test_scene(sets);
     cr_assert_eq(s->npinned, 4);
     cb_integrator *it = test_integrator(sets, s, NULL, NULL);
@@ -413,7 +463,8 @@ Test(integrator, pinned_vertices_never_move_and_newton_velocity_is_the_differenc
       free(xp);
     }
     cr_expect(moved > (mth ? 0.005 : 0.5), "%s: the free vertices should move (max %.3g m)", methods[mth], moved);
-    free(x); free(v);
+    free(x);
+    free(v);
     cb_integrator_free(it);
     cb_scene_free(s);
   }
@@ -429,15 +480,24 @@ static int newton_step_trace(const char *scale, const char *dt, const char *tol,
   snprintf(b, sizeof b, "integrator.dt=%s", dt);
   snprintf(c, sizeof c, "integrator.tol=%s", tol);
   snprintf(d, sizeof d, "integrator.line_search=%d", line_search);
-  const char *sets[] = {"mesh.n=8", "material.vertex_mass=1", "scene.pins=top-corners", "integrator.definiteness=drop",
-                        "integrator.max_iters=300", a, b, c, d, NULL};
+  const char *sets[] = {"mesh.n=8",
+                        "material.vertex_mass=1",
+                        "scene.pins=top-corners",
+                        "integrator.definiteness=drop",
+                        "integrator.max_iters=300",
+                        a,
+                        b,
+                        c,
+                        d,
+                        NULL};
   cb_scene *s = test_scene(sets);
   memset(t, 0, sizeof *t);
   cb_integrator *it = test_integrator(sets, s, record, t);
   int n3 = 3 * s->mesh.nv;
   double *x = copy(s->x0, n3), *v = copy(s->v0, n3);
   int status = cb_integrator_step(it, x, v, st);
-  free(x); free(v);
+  free(x);
+  free(v);
   cb_integrator_free(it);
   cb_scene_free(s);
   return status;
@@ -536,13 +596,15 @@ Test(integrator, every_type_gets_what_its_flags_ask_for) {
     cb_integrator_free(it);
   }
   cr_expect_eq(n, 12);
-  cr_expect_eq(cb_integrator_type_find("shape_matching")->flags, (unsigned)CB_INTEGRATOR_OWN_ELASTICITY); /* no solver, no Hessian */
+  cr_expect_eq(cb_integrator_type_find("shape_matching")->flags,
+               (unsigned)CB_INTEGRATOR_OWN_ELASTICITY); /* no solver, no Hessian */
   /* what the built-in types declare */
   cr_expect_eq(cb_integrator_type_find("explicit")->flags, 0u);
   cr_expect_eq(cb_integrator_type_find("newton")->flags, CB_INTEGRATOR_LINEAR_SOLVER | CB_INTEGRATOR_HESSIAN);
-  cr_expect_eq(cb_integrator_type_find("jacobi-nl")->flags, CB_INTEGRATOR_HESSIAN);    /* the exact diagonal assembles H */
+  cr_expect_eq(cb_integrator_type_find("jacobi-nl")->flags, CB_INTEGRATOR_HESSIAN); /* the exact diagonal assembles H */
   cr_expect_eq(cb_integrator_type_find("chebyshev-nl")->flags, CB_INTEGRATOR_HESSIAN);
-  cr_expect_eq(cb_integrator_type_find("pd")->flags, CB_INTEGRATOR_LINEAR_SOLVER);     /* its constant matrix, factorised once */
+  cr_expect_eq(cb_integrator_type_find("pd")->flags,
+               CB_INTEGRATOR_LINEAR_SOLVER); /* its constant matrix, factorised once */
   cr_expect_eq(cb_integrator_type_find("pd-chebyshev")->flags, CB_INTEGRATOR_LINEAR_SOLVER);
   cb_scene_free(s);
 }
@@ -717,7 +779,8 @@ Test(objective, is_the_implicit_euler_objective) {
       double Fm = cb_objective_eval(&o, x, NULL, NULL);
       x[q] = keep;
       double fd = (Fp - Fm) / (2 * h);
-      cr_expect(fabs(gF[3 * k + a] - fd) <= 1e-5 * (1 + fabs(fd)), "dF/dx[%d] %.10g, differences %.10g", q, gF[3 * k + a], fd);
+      cr_expect(fabs(gF[3 * k + a] - fd) <= 1e-5 * (1 + fabs(fd)), "dF/dx[%d] %.10g, differences %.10g", q,
+                gF[3 * k + a], fd);
     }
   double g0[48], g1[48];
   cb_objective_guess(&o, g0, 0);
@@ -790,9 +853,17 @@ Test(run, driven_pins_work_is_counted_exactly) {
    * 0.5 m/s each: l(t) = L - t, so the pins' work is the spring energy
    * W(t) = k/2 t^2 (no free vertex, no kinetic change); its power k t is
    * linear in t, so the trapezoid rule is exact. */
-  const char *sets[] = {"mesh.type=chain", "mesh.n=2", "mesh.size=2", "mesh.plane=xy", "material.vertex_mass=1",
-                        "material.stretch_k=100", "scene.pins=0 1", "scene.gravity=0 0 0", "scene.pin_squeeze=0.5 0 0",
-                        "integrator.dt=0.1", NULL};
+  const char *sets[] = {"mesh.type=chain",
+                        "mesh.n=2",
+                        "mesh.size=2",
+                        "mesh.plane=xy",
+                        "material.vertex_mass=1",
+                        "material.stretch_k=100",
+                        "scene.pins=0 1",
+                        "scene.gravity=0 0 0",
+                        "scene.pin_squeeze=0.5 0 0",
+                        "integrator.dt=0.1",
+                        NULL};
   cb_scene *s = test_scene(sets);
   cb_integrator *it = test_integrator(sets, s, NULL, NULL);
   cb_run r;
@@ -837,7 +908,8 @@ Test(run, converged_newton_with_driven_pins_is_not_diverged) {
   cr_log_info("driven 20 m/s: %d steps, work %.6g J, total - total0 %.6g J, bound %.6g J\n", r.step, r.work,
               r.kinetic + r.potential - r.total0, r.bound);
   cr_expect(!cb_status_is_fatal(worst), "status %s at step %d: %s", cb_status_name(worst), r.step, cb_error_message());
-  cr_expect_gt(r.work, r.bound, "the pins' work %.6g J does not exceed the bound %.6g J: the test shows nothing", r.work, r.bound);
+  cr_expect_gt(r.work, r.bound, "the pins' work %.6g J does not exceed the bound %.6g J: the test shows nothing",
+               r.work, r.bound);
   cr_expect_gt(r.kinetic + r.potential - r.total0, r.bound,
                "the energy gain %.6g J is below the bound %.6g J: a bound blind to the pins' work passes too",
                r.kinetic + r.potential - r.total0, r.bound);
@@ -865,7 +937,8 @@ Test(run, failed_step_keeps_its_own_status) {
 }
 
 Test(run, energy_bound_message_says_which_and_where) {
-  const char *sets[] = {"mesh.n=11", "material.vertex_mass=1", "integrator.method=explicit", "integrator.dt=1/30", NULL};
+  const char *sets[] = {"mesh.n=11", "material.vertex_mass=1", "integrator.method=explicit", "integrator.dt=1/30",
+                        NULL};
   cb_scene *s = test_scene(sets);
   cb_integrator *it = test_integrator(sets, s, NULL, NULL);
   cb_run r;

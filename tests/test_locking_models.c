@@ -33,16 +33,22 @@ Test(polar, matches_gsl_svd_on_random_3x2_and_3x3) {
     for (int r = 0; r < 3; r++)
       for (int c = 0; c < 2; c++) {
         double want = 0;
-        for (int k = 0; k < 2; k++) want += gsl_matrix_get(U, (size_t)r, (size_t)k) * gsl_matrix_get(V, (size_t)c, (size_t)k);
-        cr_expect(fabs(R[2 * r + c] - want) < 1e-12, "3x2 trial %d: R(%d,%d) = %g, GSL %g", trial, r, c, R[2 * r + c], want);
+        for (int k = 0; k < 2; k++)
+          want += gsl_matrix_get(U, (size_t)r, (size_t)k) * gsl_matrix_get(V, (size_t)c, (size_t)k);
+        cr_expect(fabs(R[2 * r + c] - want) < 1e-12, "3x2 trial %d: R(%d,%d) = %g, GSL %g", trial, r, c, R[2 * r + c],
+                  want);
       }
     cr_expect(fabs(sg[0] - gsl_vector_get(S, 0)) < 1e-12 && fabs(sg[1] - gsl_vector_get(S, 1)) < 1e-12);
-    gsl_matrix_free(U); gsl_matrix_free(V); gsl_vector_free(S); gsl_vector_free(w);
+    gsl_matrix_free(U);
+    gsl_matrix_free(V);
+    gsl_vector_free(S);
+    gsl_vector_free(w);
     /* 3x3: R = U diag(1, 1, sign det) V^T */
     gsl_matrix *U3 = gsl_matrix_alloc(3, 3), *V3 = gsl_matrix_alloc(3, 3);
     gsl_vector *S3 = gsl_vector_alloc(3), *w3 = gsl_vector_alloc(3);
     for (int i = 0; i < 9; i++) gsl_matrix_set(U3, (size_t)(i / 3), (size_t)(i % 3), A[i]);
-    double det = A[0] * (A[4] * A[8] - A[5] * A[7]) - A[1] * (A[3] * A[8] - A[5] * A[6]) + A[2] * (A[3] * A[7] - A[4] * A[6]);
+    double det =
+        A[0] * (A[4] * A[8] - A[5] * A[7]) - A[1] * (A[3] * A[8] - A[5] * A[6]) + A[2] * (A[3] * A[7] - A[4] * A[6]);
     cr_assert_eq(gsl_linalg_SV_decomp(U3, V3, S3, w3), 0);
     unsigned fl = cb_polar33(A, R, sg);
     cr_expect_eq((fl & CB_POLAR_REFLECTED) != 0, det < 0, "trial %d: det %g, flags %u", trial, det, fl);
@@ -51,12 +57,18 @@ Test(polar, matches_gsl_svd_on_random_3x2_and_3x3) {
       for (int c = 0; c < 3; c++) {
         double want = 0;
         for (int k = 0; k < 3; k++)
-          want += (k == 2 ? d : 1) * gsl_matrix_get(U3, (size_t)r, (size_t)k) * gsl_matrix_get(V3, (size_t)c, (size_t)k);
-        cr_expect(fabs(R[3 * r + c] - want) < 1e-11, "3x3 trial %d: R(%d,%d) = %g, GSL %g", trial, r, c, R[3 * r + c], want);
+          want +=
+              (k == 2 ? d : 1) * gsl_matrix_get(U3, (size_t)r, (size_t)k) * gsl_matrix_get(V3, (size_t)c, (size_t)k);
+        cr_expect(fabs(R[3 * r + c] - want) < 1e-11, "3x3 trial %d: R(%d,%d) = %g, GSL %g", trial, r, c, R[3 * r + c],
+                  want);
       }
-    double dR = R[0] * (R[4] * R[8] - R[5] * R[7]) - R[1] * (R[3] * R[8] - R[5] * R[6]) + R[2] * (R[3] * R[7] - R[4] * R[6]);
+    double dR =
+        R[0] * (R[4] * R[8] - R[5] * R[7]) - R[1] * (R[3] * R[8] - R[5] * R[6]) + R[2] * (R[3] * R[7] - R[4] * R[6]);
     cr_expect(fabs(dR - 1) < 1e-12, "det R = %g", dR);
-    gsl_matrix_free(U3); gsl_matrix_free(V3); gsl_vector_free(S3); gsl_vector_free(w3);
+    gsl_matrix_free(U3);
+    gsl_matrix_free(V3);
+    gsl_vector_free(S3);
+    gsl_vector_free(w3);
   }
 }
 
@@ -68,7 +80,8 @@ Test(polar, degenerate_inputs_give_finite_orthonormal_rotations) {
   cr_expect_eq(cb_polar32(seg, R, sg), (unsigned)CB_POLAR_RANK_DEFICIENT);
   double c00 = R[0] * R[0] + R[2] * R[2] + R[4] * R[4], c11 = R[1] * R[1] + R[3] * R[3] + R[5] * R[5],
          c01 = R[0] * R[1] + R[2] * R[3] + R[4] * R[5];
-  cr_expect(fabs(c00 - 1) < 1e-12 && fabs(c11 - 1) < 1e-12 && fabs(c01) < 1e-12, "R^T R = [%g %g; . %g]", c00, c01, c11);
+  cr_expect(fabs(c00 - 1) < 1e-12 && fabs(c11 - 1) < 1e-12 && fabs(c01) < 1e-12, "R^T R = [%g %g; . %g]", c00, c01,
+            c11);
   double nanF[6] = {NAN, 0, 0, 1, 0, 0};
   cb_polar32(nanF, R, sg);
   for (int i = 0; i < 6; i++) cr_expect(isfinite(R[i]));
@@ -77,7 +90,8 @@ Test(polar, degenerate_inputs_give_finite_orthonormal_rotations) {
   const double *cases[3] = {zero33, rank1, rank2};
   for (int k = 0; k < 3; k++) {
     cr_expect(cb_polar33(cases[k], R, sg) & CB_POLAR_RANK_DEFICIENT, "case %d", k);
-    double dR = R[0] * (R[4] * R[8] - R[5] * R[7]) - R[1] * (R[3] * R[8] - R[5] * R[6]) + R[2] * (R[3] * R[7] - R[4] * R[6]);
+    double dR =
+        R[0] * (R[4] * R[8] - R[5] * R[7]) - R[1] * (R[3] * R[8] - R[5] * R[6]) + R[2] * (R[3] * R[7] - R[4] * R[6]);
     cr_expect(fabs(dR - 1) < 1e-12, "case %d: det R = %g", k, dR);
     for (int a = 0; a < 3; a++)
       for (int b = 0; b < 3; b++) {
@@ -87,8 +101,8 @@ Test(polar, degenerate_inputs_give_finite_orthonormal_rotations) {
   }
   /* rank 2: A e_x = e_x and A e_z = e_y, so R does the same (and e_y -> -e_z) */
   cb_polar33(rank2, R, sg);
-  cr_expect(fabs(R[0] - 1) < 1e-12 && fabs(R[5] - 1) < 1e-12 && fabs(R[7] + 1) < 1e-12, "R = [%g %g %g; %g %g %g; %g %g %g]", R[0], R[1], R[2], R[3],
-            R[4], R[5], R[6], R[7], R[8]);
+  cr_expect(fabs(R[0] - 1) < 1e-12 && fabs(R[5] - 1) < 1e-12 && fabs(R[7] + 1) < 1e-12,
+            "R = [%g %g %g; %g %g %g; %g %g %g]", R[0], R[1], R[2], R[3], R[4], R[5], R[6], R[7], R[8]);
 }
 
 /* ---- co-rotational FEM ------------------------------------------------------------ */
@@ -110,7 +124,10 @@ static void triangle(one_triangle *t, double h, int pin0) {
   t->mesh.tri = malloc(3 * sizeof(int));
   t->mesh.x[3] = h;
   t->mesh.x[7] = h;
-  for (int i = 0; i < 3; i++) { t->mesh.tri[i] = i; t->mass[i] = 1; }
+  for (int i = 0; i < 3; i++) {
+    t->mesh.tri[i] = i;
+    t->mass[i] = 1;
+  }
   cr_assert_eq(cb_topology_build(&t->mesh, &t->topo), CB_OK);
   int nf = 0;
   for (int i = 0; i < 3; i++) t->free_index[i] = (pin0 && i == 0) ? -1 : nf++;
@@ -129,7 +146,8 @@ Test(fem, energy_is_zero_under_rigid_motions_and_the_gradient_is_the_frozen_R_fo
   cb_rng seed = cb_rng_raw(5);
   for (int trial = 0; trial < 20; trial++) {
     /* a random rotation (GSL QR-free: Rodrigues about a random axis) and translation */
-    double ax[3] = {cb_rng_uniform(&seed) - 0.5, cb_rng_uniform(&seed) - 0.5, cb_rng_uniform(&seed) - 0.5}, n = 0, th = 6 * cb_rng_uniform(&seed);
+    double ax[3] = {cb_rng_uniform(&seed) - 0.5, cb_rng_uniform(&seed) - 0.5, cb_rng_uniform(&seed) - 0.5}, n = 0,
+           th = 6 * cb_rng_uniform(&seed);
     for (int a = 0; a < 3; a++) n += ax[a] * ax[a];
     n = sqrt(n);
     for (int a = 0; a < 3; a++) ax[a] /= n;
@@ -143,7 +161,8 @@ Test(fem, energy_is_zero_under_rigid_motions_and_the_gradient_is_the_frozen_R_fo
     double x[9], g[9] = {0}, tr[3] = {cb_rng_uniform(&seed), cb_rng_uniform(&seed), cb_rng_uniform(&seed)};
     for (int v = 0; v < 3; v++)
       for (int a = 0; a < 3; a++)
-        x[3 * v + a] = tr[a] + Q[3 * a] * t.mesh.x[3 * v] + Q[3 * a + 1] * t.mesh.x[3 * v + 1] + Q[3 * a + 2] * t.mesh.x[3 * v + 2];
+        x[3 * v + a] = tr[a] + Q[3 * a] * t.mesh.x[3 * v] + Q[3 * a + 1] * t.mesh.x[3 * v + 1] +
+                       Q[3 * a + 2] * t.mesh.x[3 * v + 2];
     double E = f->type->energy(f, x, g);
     cr_expect(fabs(E) < 1e-20, "trial %d: E = %g under a rigid motion", trial, E);
     for (int i = 0; i < 9; i++) cr_expect(fabs(g[i]) < 1e-9, "trial %d: grad %d = %g", trial, i, g[i]);
@@ -152,7 +171,10 @@ Test(fem, energy_is_zero_under_rigid_motions_and_the_gradient_is_the_frozen_R_fo
     memset(g, 0, sizeof g);
     f->type->energy(f, x, g);
     double h = 0.3, F[6], R[6];
-    for (int r = 0; r < 3; r++) { F[2 * r] = (x[3 + r] - x[r]) / h; F[2 * r + 1] = (x[6 + r] - x[r]) / h; }
+    for (int r = 0; r < 3; r++) {
+      F[2 * r] = (x[3 + r] - x[r]) / h;
+      F[2 * r + 1] = (x[6 + r] - x[r]) / h;
+    }
     cb_polar32(F, R, NULL);
     for (int r = 0; r < 3; r++) {
       double f1 = -700.0 * (x[3 + r] - x[r] - R[2 * r] * h), f2 = -700.0 * (x[6 + r] - x[r] - R[2 * r + 1] * h);
@@ -180,8 +202,10 @@ Test(fem, frozen_hessian_is_the_lectures_matrix) {
     for (int b = 0; b < 3; b++)
       for (int r = 0; r < 3; r++)
         for (int c = 0; c < 3; c++)
-          cr_expect(fabs(gsl_matrix_get(H, (size_t)(3 * a + r), (size_t)(3 * b + c)) - 300.0 * L[a][b] * (r == c)) < 1e-9,
-                    "block (%d,%d) entry (%d,%d) = %g", a, b, r, c, gsl_matrix_get(H, (size_t)(3 * a + r), (size_t)(3 * b + c)));
+          cr_expect(fabs(gsl_matrix_get(H, (size_t)(3 * a + r), (size_t)(3 * b + c)) - 300.0 * L[a][b] * (r == c)) <
+                        1e-9,
+                    "block (%d,%d) entry (%d,%d) = %g", a, b, r, c,
+                    gsl_matrix_get(H, (size_t)(3 * a + r), (size_t)(3 * b + c)));
   gsl_matrix_free(H);
   cb_system_free(&sys);
   triangle_free(&t);
@@ -250,8 +274,14 @@ static void momenta(const cb_scene *s, const double *x, const double *v, double 
 }
 
 Test(shape_matching, a_rigid_body_stays_rigid_without_external_force) {
-  const char *sets[] = {"mesh.n=6", "mesh.size=1", "scene.gravity=0 0 0", "scene.pins=none", "integrator.method=shape_matching",
-                        "integrator.shape_alpha=0.7", "integrator.dt=0.01", NULL};
+  const char *sets[] = {"mesh.n=6",
+                        "mesh.size=1",
+                        "scene.gravity=0 0 0",
+                        "scene.pins=none",
+                        "integrator.method=shape_matching",
+                        "integrator.shape_alpha=0.7",
+                        "integrator.dt=0.01",
+                        NULL};
   cb_scene *s = test_scene(sets);
   cb_integrator *it = test_integrator(sets, s, NULL, NULL);
   int n3 = 3 * s->mesh.nv;
@@ -262,7 +292,9 @@ Test(shape_matching, a_rigid_body_stays_rigid_without_external_force) {
     x[3 * i] = c * r[0] + sn * r[2] + 0.3;
     x[3 * i + 1] = r[1] - 0.2;
     x[3 * i + 2] = -sn * r[0] + c * r[2];
-    v[3 * i] = 0.5; v[3 * i + 1] = -0.25; v[3 * i + 2] = 0.1;
+    v[3 * i] = 0.5;
+    v[3 * i + 1] = -0.25;
+    v[3 * i + 2] = 0.1;
   }
   cb_step_stats st;
   for (int k = 0; k < 100; k++) cr_assert_eq(cb_integrator_step(it, x, v, &st), CB_OK);
@@ -276,14 +308,22 @@ Test(shape_matching, a_rigid_body_stays_rigid_without_external_force) {
     cr_expect(fabs(sqrt(l) - sqrt(L)) < 1e-12, "edge %d: %g vs %g", e, sqrt(l), sqrt(L));
   }
   for (int i = 0; i < s->mesh.nv; i++) cr_expect(fabs(v[3 * i] - 0.5) < 1e-12 && fabs(v[3 * i + 1] + 0.25) < 1e-12);
-  free(x); free(v);
+  free(x);
+  free(v);
   cb_integrator_free(it);
   cb_scene_free(s);
 }
 
 Test(shape_matching, conserves_linear_and_angular_momentum) {
-  const char *sets[] = {"mesh.n=7", "mesh.size=1", "scene.gravity=0 0 0", "scene.pins=none", "integrator.method=shape_matching",
-                        "integrator.shape_alpha=0.4", "integrator.dt=0.01", "material.density=0.3", NULL};
+  const char *sets[] = {"mesh.n=7",
+                        "mesh.size=1",
+                        "scene.gravity=0 0 0",
+                        "scene.pins=none",
+                        "integrator.method=shape_matching",
+                        "integrator.shape_alpha=0.4",
+                        "integrator.dt=0.01",
+                        "material.density=0.3",
+                        NULL};
   cb_scene *s = test_scene(sets);
   cb_integrator *it = test_integrator(sets, s, NULL, NULL);
   int n3 = 3 * s->mesh.nv;
@@ -302,7 +342,8 @@ Test(shape_matching, conserves_linear_and_angular_momentum) {
     cr_expect(fabs(P[a] - P0[a]) < 1e-12, "P[%d]: %.17g -> %.17g", a, P0[a], P[a]);
     cr_expect(fabs(L[a] - L0[a]) < 1e-12, "L[%d]: %.17g -> %.17g", a, L0[a], L[a]);
   }
-  free(x); free(v);
+  free(x);
+  free(v);
   cb_integrator_free(it);
   cb_scene_free(s);
 }
@@ -319,8 +360,14 @@ Test(shape_matching, alpha_out_of_range_is_a_config_error) {
  * gravity) is factorised once and reused over iterations and steps at the
  * same dt; a change of dt refactorises; springs factorise every iteration. */
 Test(fem, newton_factorises_a_constant_matrix_once) {
-  const char *sets[] = {"mesh.n=6", "mesh.size=1", "material.stretch=fem", "material.fem_hessian=frozen",
-                        "material.stretch_k=500", "integrator.max_iters=100", "integrator.tol=1e-10", NULL};
+  const char *sets[] = {"mesh.n=6",
+                        "mesh.size=1",
+                        "material.stretch=fem",
+                        "material.fem_hessian=frozen",
+                        "material.stretch_k=500",
+                        "integrator.max_iters=100",
+                        "integrator.tol=1e-10",
+                        NULL};
   cb_scene *s = test_scene(sets);
   cb_integrator *it = test_integrator(sets, s, NULL, NULL);
   int n3 = 3 * s->mesh.nv;
@@ -351,7 +398,8 @@ Test(fem, newton_factorises_a_constant_matrix_once) {
   memset(&st, 0, sizeof st);
   cb_integrator_step(it, x, v, &st);
   cr_expect_eq(st.factorizations, st.newton_iters, "springs: one factorisation per iteration");
-  free(x); free(v);
+  free(x);
+  free(v);
   cb_integrator_free(it);
   cb_scene_free(s);
 }
@@ -360,7 +408,8 @@ Test(fem, newton_factorises_a_constant_matrix_once) {
  * which shape matching does not use, stretch far past the divergence bound on
  * the lab scene, and that is not a divergence. */
 Test(shape_matching, a_run_bounds_its_own_energy_not_the_scenes_springs) {
-  const char *sets[] = {"mesh.n=11", "material.vertex_mass=1", "integrator.method=shape_matching", "integrator.shape_alpha=0.5", NULL};
+  const char *sets[] = {"mesh.n=11", "material.vertex_mass=1", "integrator.method=shape_matching",
+                        "integrator.shape_alpha=0.5", NULL};
   cb_scene *s = test_scene(sets);
   cb_integrator *it = test_integrator(sets, s, NULL, NULL);
   cb_run r;
@@ -381,8 +430,16 @@ Test(shape_matching, a_run_bounds_its_own_energy_not_the_scenes_springs) {
  * counted them. It is refused with the reason and the fix; the project
  * response (after the step) still runs, and keeps the cloth outside. */
 Test(shape_matching, refuses_the_penalty_collider_and_honours_project) {
-  const char *pen[] = {"mesh.n=6", "mesh.size=1", "mesh.plane=xz", "scene.pins=none", "integrator.method=shape_matching",
-                       "integrator.dt=0.01", "collider.type=penalty", "collider.centre=0 -0.6 0", "collider.radius=0.5", NULL};
+  const char *pen[] = {"mesh.n=6",
+                       "mesh.size=1",
+                       "mesh.plane=xz",
+                       "scene.pins=none",
+                       "integrator.method=shape_matching",
+                       "integrator.dt=0.01",
+                       "collider.type=penalty",
+                       "collider.centre=0 -0.6 0",
+                       "collider.radius=0.5",
+                       NULL};
   cb_config c;
   test_config(&c, pen);
   cb_scene *s = test_scene(pen);
@@ -390,25 +447,35 @@ Test(shape_matching, refuses_the_penalty_collider_and_honours_project) {
   cb_integrator_params_from_config(&c, &ip);
   cb_integrator *it = NULL;
   cr_assert_neq(cb_integrator_from_config(&c, s, &ip, &it), CB_OK);
-  cr_expect(strstr(cb_error_message(), "penalty collider") && strstr(cb_error_message(), "collider.type = project"), "%s",
-            cb_error_message());
+  cr_expect(strstr(cb_error_message(), "penalty collider") && strstr(cb_error_message(), "collider.type = project"),
+            "%s", cb_error_message());
   cb_scene_free(s);
-  const char *prj[] = {"mesh.n=6", "mesh.size=1", "mesh.plane=xz", "scene.pins=none", "integrator.method=shape_matching",
-                       "integrator.dt=0.01", "collider.type=project", "collider.centre=0 -0.6 0", "collider.radius=0.5", NULL};
+  const char *prj[] = {"mesh.n=6",
+                       "mesh.size=1",
+                       "mesh.plane=xz",
+                       "scene.pins=none",
+                       "integrator.method=shape_matching",
+                       "integrator.dt=0.01",
+                       "collider.type=project",
+                       "collider.centre=0 -0.6 0",
+                       "collider.radius=0.5",
+                       NULL};
   s = test_scene(prj);
   it = test_integrator(prj, s, NULL, NULL);
   int n3 = 3 * s->mesh.nv;
   double *x = malloc((size_t)n3 * sizeof(double)), *v = calloc((size_t)n3, sizeof(double));
   memcpy(x, s->x0, (size_t)n3 * sizeof(double));
   cb_step_stats st;
-  for (int k = 0; k < 200; k++) cr_assert_eq(cb_integrator_step(it, x, v, &st), CB_OK); /* 2 s: far through without it */
+  for (int k = 0; k < 200; k++)
+    cr_assert_eq(cb_integrator_step(it, x, v, &st), CB_OK); /* 2 s: far through without it */
   double dmin = INFINITY;
   for (int i = 0; i < s->mesh.nv; i++) {
     double d = sqrt(x[3 * i] * x[3 * i] + (x[3 * i + 1] + 0.6) * (x[3 * i + 1] + 0.6) + x[3 * i + 2] * x[3 * i + 2]);
     dmin = fmin(dmin, d);
   }
   cr_expect(dmin > 0.49 && dmin < 0.6, "closest vertex %g m from the centre (radius 0.5)", dmin);
-  free(x); free(v);
+  free(x);
+  free(v);
   cb_integrator_free(it);
   cb_scene_free(s);
 }

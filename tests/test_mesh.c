@@ -22,9 +22,21 @@
 /* Axis indices (a, b) of a plane and the index of the third (normal) axis. */
 static void plane_axes(cb_plane p, int *a, int *b, int *c) {
   switch (p) {
-  case CB_PLANE_XY: *a = 0; *b = 1; *c = 2; break;
-  case CB_PLANE_XZ: *a = 0; *b = 2; *c = 1; break;
-  default: *a = 1; *b = 2; *c = 0; break; /* yz */
+  case CB_PLANE_XY:
+    *a = 0;
+    *b = 1;
+    *c = 2;
+    break;
+  case CB_PLANE_XZ:
+    *a = 0;
+    *b = 2;
+    *c = 1;
+    break;
+  default:
+    *a = 1;
+    *b = 2;
+    *c = 0;
+    break; /* yz */
   }
 }
 
@@ -41,7 +53,11 @@ static void tri_normal(const cb_mesh *m, int t, double nrm[3]) {
 static void sort3(int v[3]) {
   for (int i = 0; i < 2; i++)
     for (int j = 0; j < 2 - i; j++)
-      if (v[j] > v[j + 1]) { int t = v[j]; v[j] = v[j + 1]; v[j + 1] = t; }
+      if (v[j] > v[j + 1]) {
+        int t = v[j];
+        v[j] = v[j + 1];
+        v[j + 1] = t;
+      }
 }
 
 /* Does the mesh hold a triangle with vertex set {a, b, c}? Returns how many. */
@@ -219,7 +235,8 @@ Test(grid, regular_diagonals_exact) {
 
   g = make_grid(6, 5, 1.0, 1.0, CB_PLANE_XZ, CB_DIAG_REGULAR);
   for (int j = 0; j < 4; j++)
-    for (int i = 0; i < 5; i++) cr_expect_eq(cell_split(&g, i, j), 0, "regular cell (%d,%d) not split along v00-v11", i, j);
+    for (int i = 0; i < 5; i++)
+      cr_expect_eq(cell_split(&g, i, j), 0, "regular cell (%d,%d) not split along v00-v11", i, j);
   cb_mesh_free(&g);
 }
 
@@ -281,8 +298,11 @@ Test(grid, orientation_yz_regular) { check_orientation(CB_PLANE_YZ, CB_DIAG_REGU
 Test(grid, orientation_yz_alternating) { check_orientation(CB_PLANE_YZ, CB_DIAG_ALTERNATING); }
 
 Test(grid, bad_params) {
-  struct { int n, m; double sx, sy; } bad[] = {
-      {1, 5, 1, 1}, {5, 1, 1, 1}, {0, 0, 1, 1}, {-3, 4, 1, 1}, {2, 2, 0, 1}, {2, 2, 1, 0},
+  struct {
+    int n, m;
+    double sx, sy;
+  } bad[] = {
+      {1, 5, 1, 1},  {5, 1, 1, 1},  {0, 0, 1, 1},   {-3, 4, 1, 1},  {2, 2, 0, 1},        {2, 2, 1, 0},
       {2, 2, -1, 1}, {2, 2, 1, -2}, {2, 2, NAN, 1}, {2, 2, 1, NAN}, {2, 2, INFINITY, 1}, {2, 2, 1, INFINITY},
   };
   for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
@@ -536,7 +556,7 @@ Test(obj_error, index_zero) { expect_obj_error(SQUARE_V "f 1 2 3\nf 0 1 2\n", 6,
 
 Test(obj_error, index_out_of_range) {
   expect_obj_error(SQUARE_V "f 1 2 3\n# gap\nf 1 3 5\n", 7, NULL);
-  expect_obj_error(SQUARE_V "f 1 2 3 9\n", 5, NULL); /* in the second fan triangle */
+  expect_obj_error(SQUARE_V "f 1 2 3 9\n", 5, NULL);                        /* in the second fan triangle */
   expect_obj_error(SQUARE_V "f 1/1 2/2 99999999999999999999/1\n", 5, NULL); /* overflows long */
 }
 
@@ -662,7 +682,7 @@ Test(obj_write, round_trip_bit_exact) {
   double pos[36];
   for (int i = 0; i < 36; i++) pos[i] = g.x[i] + (double)(i + 1) / 3.0 * (i % 2 ? -1e-7 : 1e5);
   pos[0] = -0.0;
-  pos[1] = 1e-310; /* subnormal */
+  pos[1] = 1e-310;                /* subnormal */
   pos[2] = 1.2345678901234567e15; /* at 1e150 its triangles are slivers (area / edge^2 ~ 1e-145), which the
                                      reader rejects as degenerate; the old reader passed them only because
                                      their area overflowed to Inf */
@@ -675,7 +695,8 @@ Test(obj_write, round_trip_bit_exact) {
   cr_assert_eq(r.nv, g.nv);
   cr_assert_eq(r.nt, g.nt);
   cr_expect(memcmp(r.x, pos, sizeof pos) == 0, "positions differ bit-for-bit");
-  for (int i = 0; i < 36; i++) cr_expect(memcmp(&r.x[i], &pos[i], sizeof(double)) == 0, "x[%d]: %a vs %a", i, r.x[i], pos[i]);
+  for (int i = 0; i < 36; i++)
+    cr_expect(memcmp(&r.x[i], &pos[i], sizeof(double)) == 0, "x[%d]: %a vs %a", i, r.x[i], pos[i]);
   cr_expect(signbit(r.x[0]), "-0 lost its sign");
   cr_expect(memcmp(r.tri, g.tri, (size_t)3 * g.nt * sizeof(int)) == 0, "triangles differ");
   cr_expect_eq(count_tmp_files(tmpdir), 0);
@@ -810,11 +831,15 @@ Test(obj_scale, area_of_1e150_triangle_is_finite) {
   cb_mesh m = {0};
   double x[9] = {0, 0, 0, 1e150, 0, 0, 0, 1e150, 0};
   int tri[3] = {0, 1, 2};
-  m.nv = 3; m.nt = 1; m.x = x; m.tri = tri;
+  m.nv = 3;
+  m.nt = 1;
+  m.x = x;
+  m.tri = tri;
   double a = cb_mesh_triangle_area(&m, x, 0);
   cr_expect(fabs(a - 0.5e300) <= 1e-15 * 0.5e300, "area %.17g, want 5e299", a);
   m.nv = 3;
-  cr_expect(fabs(cb_mesh_bbox_diagonal(&m) - sqrt(2.0) * 1e150) <= 1e-15 * 1.5e150, "diagonal %g", cb_mesh_bbox_diagonal(&m));
+  cr_expect(fabs(cb_mesh_bbox_diagonal(&m) - sqrt(2.0) * 1e150) <= 1e-15 * 1.5e150, "diagonal %g",
+            cb_mesh_bbox_diagonal(&m));
 }
 
 /* Writes n bytes of data to a fresh OBJ path (NULs and all). */
@@ -849,7 +874,8 @@ Test(obj_input, devices_and_directories_are_refused, .timeout = 10) {
     cb_error_clear();
     int st = cb_mesh_read_obj(paths[k], &m);
     cr_expect_eq(st, CB_EIO, "%s: status %d (%s)", paths[k], st, cb_error_message());
-    cr_expect(strstr(cb_error_message(), "not a regular file") != NULL, "%s: message '%s'", paths[k], cb_error_message());
+    cr_expect(strstr(cb_error_message(), "not a regular file") != NULL, "%s: message '%s'", paths[k],
+              cb_error_message());
   }
 }
 

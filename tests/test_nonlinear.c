@@ -26,7 +26,8 @@ static void run_steps(const char *const *sets, int n, double **xo, double **vo, 
   memcpy(x, s->x0, n3 * sizeof(double));
   memcpy(v, s->v0, n3 * sizeof(double));
   cb_step_stats st;
-  for (int k = 0; k < n; k++) cr_assert_eq(cb_integrator_step(it, x, v, &st), CB_OK, "step %d: %s", k, cb_status_name(st.status));
+  for (int k = 0; k < n; k++)
+    cr_assert_eq(cb_integrator_step(it, x, v, &st), CB_OK, "step %d: %s", k, cb_status_name(st.status));
   if (last) *last = st;
   *xo = x;
   *vo = v;
@@ -57,9 +58,11 @@ Test(nonlinear, jacobi_with_many_iterations_reaches_the_converged_newton_step) {
     cr_expect_lt(e, 1e-10, "%s: |x_jacobi - x_newton| = %g", diags[d], e);
     cr_expect_lt(st.rel_grad_hat, 1e-9, "%s: rel grad %g", diags[d], st.rel_grad_hat);
     cr_expect_eq(st.newton_iters, 20000);
-    free(xj); free(vj);
+    free(xj);
+    free(vj);
   }
-  free(xn); free(vn);
+  free(xn);
+  free(vn);
 }
 
 Test(nonlinear, chebyshev_with_rho_zero_is_jacobi) {
@@ -75,7 +78,12 @@ Test(nonlinear, chebyshev_with_rho_zero_is_jacobi) {
   double *xc, *vc;
   run_steps(che2, 4, &xc, &vc, NULL);
   cr_expect_gt(max_diff(xa, xc, 75), 1e-9);
-  free(xa); free(va); free(xb); free(vb); free(xc); free(vc);
+  free(xa);
+  free(va);
+  free(xb);
+  free(vb);
+  free(xc);
+  free(vc);
 }
 
 /* One spring, vertex 0 pinned, vertex 1 free, at rest velocity: xhat = x0.
@@ -83,9 +91,18 @@ Test(nonlinear, chebyshev_with_rho_zero_is_jacobi) {
  * Global: (m/dt^2 + k) y = m xhat/dt^2 + m g + k (p - d). */
 Test(nonlinear, pd_on_one_spring_is_the_closed_form_local_global_step) {
   const double m = 0.5, k = 200, dt = 0.05, g = -9.8;
-  const char *sets[] = {"mesh.type=chain", "mesh.n=2", "mesh.size=1", "mesh.plane=yz", "material.vertex_mass=0.5",
-                        "material.stretch_k=200", "scene.pins=0", "scene.initial_scale=1.7", "integrator.dt=0.05",
-                        "integrator.method=pd", "integrator.iters=1", NULL};
+  const char *sets[] = {"mesh.type=chain",
+                        "mesh.n=2",
+                        "mesh.size=1",
+                        "mesh.plane=yz",
+                        "material.vertex_mass=0.5",
+                        "material.stretch_k=200",
+                        "scene.pins=0",
+                        "scene.initial_scale=1.7",
+                        "integrator.dt=0.05",
+                        "integrator.method=pd",
+                        "integrator.iters=1",
+                        NULL};
   cb_scene *s = test_scene(sets);
   cb_integrator *it = test_integrator(sets, s, NULL, NULL);
   double x[6], v[6] = {0};
@@ -95,7 +112,10 @@ Test(nonlinear, pd_on_one_spring_is_the_closed_form_local_global_step) {
   for (int r = 0; r < 2; r++) { /* two one-iteration steps, the second from a moving state */
     double xhat[3], e[3], l = 0;
     for (int a = 0; a < 3; a++) { xhat[a] = x[3 + a] + dt * v[3 + a]; }
-    for (int a = 0; a < 3; a++) { e[a] = p[a] - xhat[a]; l += e[a] * e[a]; }
+    for (int a = 0; a < 3; a++) {
+      e[a] = p[a] - xhat[a];
+      l += e[a] * e[a];
+    }
     l = sqrt(l);
     for (int a = 0; a < 3; a++) {
       double d = L * e[a] / l, grav = a == 1 ? g : 0.0;
@@ -103,7 +123,8 @@ Test(nonlinear, pd_on_one_spring_is_the_closed_form_local_global_step) {
     }
     cb_step_stats st;
     cr_assert_eq(cb_integrator_step(it, x, v, &st), CB_OK);
-    for (int a = 0; a < 3; a++) cr_expect(fabs(x[3 + a] - y[a]) <= 1e-12, "step %d axis %d: %.17g vs %.17g", r, a, x[3 + a], y[a]);
+    for (int a = 0; a < 3; a++)
+      cr_expect(fabs(x[3 + a] - y[a]) <= 1e-12, "step %d axis %d: %.17g vs %.17g", r, a, x[3 + a], y[a]);
     cr_expect(memcmp(x, p, 3 * sizeof(double)) == 0, "the pin moved");
   }
   (void)x1;
@@ -111,15 +132,19 @@ Test(nonlinear, pd_on_one_spring_is_the_closed_form_local_global_step) {
   cb_scene_free(s);
 }
 
-typedef struct { int n; double F[4096]; } ftrace;
+typedef struct {
+  int n;
+  double F[4096];
+} ftrace;
 static void record_F(void *ctx, int event, const cb_newton_event *ev) {
   ftrace *t = ctx;
   if (event == CB_NEWTON_GRADIENT && t->n < 4096) t->F[t->n++] = ev->F;
 }
 
 Test(nonlinear, pd_never_raises_F_within_a_step) {
-  const char *sets[] = {"mesh.n=9", "material.vertex_mass=1", "scene.initial_scale=1.3", "integrator.method=pd",
-                        "integrator.iters=200", NULL};
+  const char *sets[] = {
+      "mesh.n=9", "material.vertex_mass=1", "scene.initial_scale=1.3", "integrator.method=pd", "integrator.iters=200",
+      NULL};
   cb_scene *s = test_scene(sets);
   ftrace tr = {0};
   cb_integrator *it = test_integrator(sets, s, record_F, &tr);
@@ -138,7 +163,8 @@ Test(nonlinear, pd_never_raises_F_within_a_step) {
     cr_expect_lt(tr.F[tr.n - 1], tr.F[0], "step %d: F did not decrease", step);
   }
   cr_expect_eq(rises, 0, "F rose %d times in %d iterates", rises, events);
-  free(x); free(v);
+  free(x);
+  free(v);
   cb_integrator_free(it);
   cb_scene_free(s);
 }
@@ -146,8 +172,13 @@ Test(nonlinear, pd_never_raises_F_within_a_step) {
 /* No forces (no gravity, no pins, a rigid translation keeps every spring at
  * rest): v_n = d^n v_0 for every registered integrator. */
 Test(nonlinear, damping_decays_velocity_as_d_to_the_n) {
-  const char *sets[] = {"mesh.n=4", "material.stretch_k=1", "scene.gravity=0 0 0", "scene.pins=none",
-                        "integrator.damping=0.9", "integrator.tol_dx=1e-12", NULL};
+  const char *sets[] = {"mesh.n=4",
+                        "material.stretch_k=1",
+                        "scene.gravity=0 0 0",
+                        "scene.pins=none",
+                        "integrator.damping=0.9",
+                        "integrator.tol_dx=1e-12",
+                        NULL};
   /* soft, so explicit is stable too; tol_dx: Newton's |grad F(xhat)| is round-off, so it stops by its step size */
   for (int t = 0; cb_integrator_types[t]; t++) {
     const char *name = cb_integrator_types[t]->name;
@@ -169,7 +200,8 @@ Test(nonlinear, damping_decays_velocity_as_d_to_the_n) {
       for (int i = 0; i < n3; i++) worst = fmax(worst, fabs(v[i] - dn * v0[i % 3]));
     }
     cr_expect_lt(worst, 1e-9, "%s: |v_n - 0.9^n v_0| = %g", name, worst);
-    free(x); free(v);
+    free(x);
+    free(v);
     cb_integrator_free(it);
     cb_scene_free(s);
   }
@@ -210,7 +242,10 @@ Test(nonlinear, lab_scene_is_deterministic_run_to_run) {
   }
   cr_expect(memcmp(x[0], x[1], 441 * 3 * sizeof(double)) == 0);
   cr_expect(memcmp(v[0], v[1], 441 * 3 * sizeof(double)) == 0);
-  for (int r = 0; r < 2; r++) { free(x[r]); free(v[r]); }
+  for (int r = 0; r < 2; r++) {
+    free(x[r]);
+    free(v[r]);
+  }
 }
 
 Test(nonlinear, chebyshev_weights_and_wang_rho_estimate) {
@@ -236,7 +271,8 @@ Test(nonlinear, auto_rho_is_estimated_and_reported_and_pd_refuses_bending) {
   cb_step_stats st;
   run_steps(sets, 2, &x, &v, &st);
   cr_expect(st.rho > 0 && st.rho < 1, "rho %g", st.rho);
-  free(x); free(v);
+  free(x);
+  free(v);
   const char *bend[] = {"mesh.n=4", "material.bend=spring", "integrator.method=pd", NULL};
   cb_scene *s = test_scene(bend);
   cb_config c;
@@ -247,7 +283,10 @@ Test(nonlinear, auto_rho_is_estimated_and_reported_and_pd_refuses_bending) {
   cb_scene_free(s);
 }
 
-typedef struct { int n; double g[1024]; } gtrace;
+typedef struct {
+  int n;
+  double g[1024];
+} gtrace;
 
 static void record_grad(void *ctx, int event, const cb_newton_event *ev) {
   gtrace *t = ctx;
@@ -259,8 +298,15 @@ static void record_grad(void *ctx, int event, const cb_newton_event *ev) {
  * with that rho needed 71 iterations to 1e-4 where 0.97-0.98 needs 48; the estimate that continues
  * while it still rises must not be that far below (1 - rho within 1.1 (1 - rate)), nor reach 1. */
 Test(nonlinear, pd_chebyshev_auto_rho_is_not_below_plain_pds_rate) {
-  const char *plain[] = {"mesh.n=21", "mesh.size=10 10", "material.vertex_mass=1", "material.stretch_k=8000", "scene.pins=0 20",
-                         "integrator.dt=0.0333", "integrator.method=pd", "integrator.iters=400", NULL};
+  const char *plain[] = {"mesh.n=21",
+                         "mesh.size=10 10",
+                         "material.vertex_mass=1",
+                         "material.stretch_k=8000",
+                         "scene.pins=0 20",
+                         "integrator.dt=0.0333",
+                         "integrator.method=pd",
+                         "integrator.iters=400",
+                         NULL};
   cb_scene *s = test_scene(plain);
   gtrace tr = {0};
   cb_integrator *it = test_integrator(plain, s, record_grad, &tr);
@@ -275,8 +321,16 @@ Test(nonlinear, pd_chebyshev_auto_rho_is_not_below_plain_pds_rate) {
   cr_assert_eq(tr.n, 401);
   cr_assert(tr.g[400] > 0 && tr.g[400] < tr.g[200], "plain pd did not converge: %g, %g", tr.g[200], tr.g[400]);
   double rate = pow(tr.g[400] / tr.g[200], 1.0 / 200);
-  const char *acc[] = {"mesh.n=21", "mesh.size=10 10", "material.vertex_mass=1", "material.stretch_k=8000", "scene.pins=0 20",
-                       "integrator.dt=0.0333", "integrator.method=pd-chebyshev", "integrator.rho=auto", "integrator.iters=1", NULL};
+  const char *acc[] = {"mesh.n=21",
+                       "mesh.size=10 10",
+                       "material.vertex_mass=1",
+                       "material.stretch_k=8000",
+                       "scene.pins=0 20",
+                       "integrator.dt=0.0333",
+                       "integrator.method=pd-chebyshev",
+                       "integrator.rho=auto",
+                       "integrator.iters=1",
+                       NULL};
   it = test_integrator(acc, s, NULL, NULL);
   memcpy(x, s->x0, n3 * sizeof(double));
   memcpy(v, s->v0, n3 * sizeof(double));
@@ -284,6 +338,7 @@ Test(nonlinear, pd_chebyshev_auto_rho_is_not_below_plain_pds_rate) {
   cr_expect(st.rho < 1 && 1 - st.rho <= 1.1 * (1 - rate), "auto rho %.5f against plain pd's rate %.5f", st.rho, rate);
   cr_log_info("auto rho %.5f, plain pd's rate %.5f", st.rho, rate);
   cb_integrator_free(it);
-  free(x); free(v);
+  free(x);
+  free(v);
   cb_scene_free(s);
 }

@@ -37,12 +37,12 @@
 
 typedef struct {
   int nv;
-  const double *X;  /* rest positions, 3*nv */
-  double *mass;     /* nv */
-  int ns;           /* springs (stretch and bending) */
-  int *ends;        /* 2*ns */
-  double *L, *k;    /* ns rest lengths and stiffnesses */
-  int *fidx;        /* nv: unknown block index, or -1 if pinned */
+  const double *X; /* rest positions, 3*nv */
+  double *mass;    /* nv */
+  int ns;          /* springs (stretch and bending) */
+  int *ends;       /* 2*ns */
+  double *L, *k;   /* ns rest lengths and stiffnesses */
+  int *fidx;       /* nv: unknown block index, or -1 if pinned */
   int nfree;
   double g[3];
   double dt;
@@ -149,7 +149,11 @@ static void ref_build(ref_model *r, int nv, const double *X, int nt, const int *
 }
 
 static void ref_free(ref_model *r) {
-  free(r->mass); free(r->ends); free(r->L); free(r->k); free(r->fidx);
+  free(r->mass);
+  free(r->ends);
+  free(r->L);
+  free(r->k);
+  free(r->fidx);
 }
 
 /* E(x) including gravity; if grad != NULL, grad = dE/dx (3*nv). */
@@ -182,7 +186,8 @@ static void ref_matrix(const ref_model *r, const double *x, int clamp, gsl_matri
   for (int i = 0; i < r->nv; i++) {
     int b = r->fidx[i];
     if (b < 0) continue;
-    for (int a = 0; a < 3; a++) *gsl_matrix_ptr(A, (size_t)(3 * b + a), (size_t)(3 * b + a)) += r->mass[i] / (r->dt * r->dt);
+    for (int a = 0; a < 3; a++)
+      *gsl_matrix_ptr(A, (size_t)(3 * b + a), (size_t)(3 * b + a)) += r->mass[i] / (r->dt * r->dt);
   }
   for (int s = 0; s < r->ns; s++) {
     int i = r->ends[2 * s], j = r->ends[2 * s + 1];
@@ -270,8 +275,13 @@ static int ref_implicit_step(const ref_model *r, double *x, double *v) {
   }
   cr_assert_lt(it, 200, "reference Newton did not converge");
   for (int q = 0; q < n3; q++) v[q] = (x[q] - x0[q]) / r->dt; /* v1 = (x1 - x0)/dt */
-  free(x0); free(xhat); free(xt); free(work);
-  gsl_vector_free(gF); gsl_vector_free(dx); gsl_matrix_free(A);
+  free(x0);
+  free(xhat);
+  free(xt);
+  free(work);
+  gsl_vector_free(gF);
+  gsl_vector_free(dx);
+  gsl_matrix_free(A);
   return it + 1;
 }
 
@@ -342,7 +352,20 @@ static const rcase cases[] = {
     {3, 3, "regular", "xz", {2, 2}, 800, -1, 1.5, 0, 1.0, "top-corners", {6, 8}, 2, 1.0 / 30, {0, -9.8, 0}},
     {3, 3, "alternating", "xz", {2, 1.5}, 500, 40, 1.0, 0.2, 1.2, "corners", {0, 2, 6, 8}, 4, 0.05, {0, -9.8, 0}},
     {4, 5, "regular", "xz", {1.5, 2}, 1200, 60, 2.0, 0, 1.0, "0 3", {0, 3}, 2, 1.0 / 30, {0, -9.8, 0}},
-    {4, 5, "alternating", "xz", {1.5, 2}, 1200, -1, 2.0, 0, 1.2, "top-edge", {16, 17, 18, 19}, 4, 0.02,
+    {4,
+     5,
+     "alternating",
+     "xz",
+     {1.5, 2},
+     1200,
+     -1,
+     2.0,
+     0,
+     1.2,
+     "top-edge",
+     {16, 17, 18, 19},
+     4,
+     0.02,
      {0.5, -9.8, 0.3}},
     {4, 5, "alternating", "xy", {2, 2}, 300, 25, 1.0, 0.15, 1.2, "17", {17}, 1, 0.04, {0, -9.8, 0}},
     {5, 4, "regular", "xz", {2, 1.5}, 2000, 100, 1.0, 0, 1.0, "none", {0}, 0, 1.0 / 60, {0, -9.8, 0}},
@@ -395,7 +418,8 @@ Test(reference, scene_matches_the_contract_masses_pins_and_initial_state, .init 
     for (int q = 0; q < n3; q++) x[q] += 0.05 * sin(1.7 * q + c);
     double E = cb_system_energy(&s->sys, x, NULL, NULL), Er = ref_energy(&r, x, NULL);
     cr_expect(fabs(E - Er) <= 1e-12 * fmax(1, fabs(Er)), "%s: E = %.17g, reference %.17g", name, E, Er);
-    free(x); free(v);
+    free(x);
+    free(v);
     ref_free(&r);
     cb_scene_free(s);
   }
@@ -484,7 +508,8 @@ Test(reference, implicit_euler_trajectories_agree, .init = setup) {
         worst_x = fmax(worst_x, ex);
         worst_v = fmax(worst_v, ev);
         worst_F = fmax(worst_F, eF);
-        cr_expect(ex <= 1e-8, "%s def=%d step %d: positions differ by %.3g (relative to %.3g m)", name, def, k, ex, size);
+        cr_expect(ex <= 1e-8, "%s def=%d step %d: positions differ by %.3g (relative to %.3g m)", name, def, k, ex,
+                  size);
         cr_expect(ev <= 1e-8, "%s def=%d step %d: velocities differ by %.3g (relative to %.3g m/s)", name, def, k, ev,
                   vscale);
         cr_expect(eF <= 1e-10, "%s def=%d step %d: F = %.17g, reference %.17g", name, def, k, st.F, Fr);
@@ -499,9 +524,13 @@ Test(reference, implicit_euler_trajectories_agree, .init = setup) {
         cr_expect(maxdiff(xr, xr0, n3) > 1e-3 * size, "%s def=%d: the reference moved only %.3g in %d steps", name, def,
                   maxdiff(xr, xr0, n3), done);
         cr_expect(maxdiff(x, s->x0, n3) > 1e-3 * size, "%s def=%d: nothing moved", name, def);
-      } else
-        cr_expect_eq(def, 0, "%s: the drop run compared no step", name);
-      free(x); free(v); free(xr); free(xr0); free(vr); free(work);
+      } else cr_expect_eq(def, 0, "%s: the drop run compared no step", name);
+      free(x);
+      free(v);
+      free(xr);
+      free(xr0);
+      free(vr);
+      free(work);
       ref_free(&r);
       cb_integrator_free(it);
       cb_scene_free(s);
@@ -542,7 +571,10 @@ Test(reference, explicit_steps_agree, .init = setup) {
       if (k == 0) /* one step from rest: v1 = dt f(x0)/m, a fresh independent check */
         cr_expect(maxabs(vr, n3) > 0, "%s: the explicit step did nothing", name);
     }
-    free(x); free(v); free(xr); free(vr);
+    free(x);
+    free(v);
+    free(xr);
+    free(vr);
     ref_free(&r);
     cb_integrator_free(it);
     cb_scene_free(s);
@@ -562,14 +594,22 @@ static void read_obj(const char *path, int *nv, double **x, int *nt, int **tri) 
   char line[512];
   while (fgets(line, sizeof line, f)) {
     if (line[0] == 'v' && line[1] == ' ') {
-      if (cv == capv) { capv *= 2; *x = realloc(*x, (size_t)3 * capv * sizeof(double)); }
+      if (cv == capv) {
+        capv *= 2;
+        *x = realloc(*x, (size_t)3 * capv * sizeof(double));
+      }
       cr_assert_eq(sscanf(line + 2, "%lf %lf %lf", *x + 3 * cv, *x + 3 * cv + 1, *x + 3 * cv + 2), 3);
       cv++;
     } else if (line[0] == 'f' && line[1] == ' ') {
-      if (ct == capt) { capt *= 2; *tri = realloc(*tri, (size_t)3 * capt * sizeof(int)); }
+      if (ct == capt) {
+        capt *= 2;
+        *tri = realloc(*tri, (size_t)3 * capt * sizeof(int));
+      }
       int a, b, c;
       cr_assert_eq(sscanf(line + 2, "%d %d %d", &a, &b, &c), 3);
-      (*tri)[3 * ct] = a - 1; (*tri)[3 * ct + 1] = b - 1; (*tri)[3 * ct + 2] = c - 1;
+      (*tri)[3 * ct] = a - 1;
+      (*tri)[3 * ct + 1] = b - 1;
+      (*tri)[3 * ct + 2] = c - 1;
       ct++;
     }
   }
@@ -580,12 +620,14 @@ static void read_obj(const char *path, int *nv, double **x, int *nt, int **tri) 
 
 Test(reference, simulate_cli_matches_the_reference, .init = setup) {
   const char *sim = getenv("CB_SIMULATE");
-  if (!sim || access(sim, X_OK) != 0) cr_skip_test("CB_SIMULATE is not set to the simulate binary (make check sets it)");
+  if (!sim || access(sim, X_OK) != 0)
+    cr_skip_test("CB_SIMULATE is not set to the simulate binary (make check sets it)");
   /* a user's config: a 5x4 cloth, lumped masses, bending springs, two pins */
   const char *ini = "[mesh]\ntype = grid\nn = 5\nm = 4\nsize = 2 1.5\nplane = xz\ndiagonal = alternating\n"
                     "[material]\ndensity = 0.3\nstretch_k = 600\nbend = spring\nbend_k = 30\n"
                     "[scene]\ngravity = 0 -9.8 0\npins = 15 19\n"
-                    "[integrator]\nmethod = newton\ndt = 1/50\nsteps = 6\ntol = 1e-12\ntol_dx = 1e-13\nmax_iters = 100\n"
+                    "[integrator]\nmethod = newton\ndt = 1/50\nsteps = 6\ntol = 1e-12\ntol_dx = 1e-13\nmax_iters = "
+                    "100\n"
                     "definiteness = drop\n[solver]\nmethod = cholmod\n";
   char dir[] = "/tmp/cbuserXXXXXX";
   cr_assert(mkdtemp(dir));
@@ -619,7 +661,12 @@ Test(reference, simulate_cli_matches_the_reference, .init = setup) {
   cr_log_info("simulate CLI vs reference after 6 steps: max |dx| = %.3g m\n", d);
   cr_expect(d <= 1e-9, "simulate's final mesh differs from the reference by %.3g m", d);
   cr_expect(maxdiff(x1, X, 3 * nv) > 1e-3, "nothing moved");
-  free(x); free(v); free(X); free(x1); free(tri); free(tri1);
+  free(x);
+  free(v);
+  free(X);
+  free(x1);
+  free(tri);
+  free(tri1);
   ref_free(&r);
   snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
   cr_expect_eq(system(cmd), 0);

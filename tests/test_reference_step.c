@@ -104,7 +104,9 @@ Test(reference, objective_gradient_matches_finite_differences) {
     cr_assert(fabs(fd - g[k]) <= 1e-5 * (1 + fabs(g[k])), "dof %d: fd %g, grad %g", k, fd, g[k]);
   }
   cb_reference_free(r);
-  free(v0); free(x); free(g);
+  free(v0);
+  free(x);
+  free(g);
   cb_scene_free(s);
 }
 
@@ -127,7 +129,8 @@ Test(reference, mnorm_error) {
   double msum = 0;
   for (int i = 0; i < s->mesh.nv; i++) msum += s->free_index[i] >= 0 ? s->mass[i] : 0;
   cr_assert_float_eq(cb_free_mass(s), msum, 1e-12);
-  free(a); free(b);
+  free(a);
+  free(b);
   cb_scene_free(s);
 }
 
@@ -135,8 +138,16 @@ Test(reference, mnorm_error) {
 static double glog[256];
 static int hlog[256], nlog;
 static void logger(void *ctx, int iter, double gn, double rel, double F, double alpha, int hessian) {
-  (void)ctx; (void)iter; (void)rel; (void)F; (void)alpha;
-  if (nlog < 256) { glog[nlog] = gn; hlog[nlog] = hessian == 1; nlog++; }
+  (void)ctx;
+  (void)iter;
+  (void)rel;
+  (void)F;
+  (void)alpha;
+  if (nlog < 256) {
+    glog[nlog] = gn;
+    hlog[nlog] = hessian == 1;
+    nlog++;
+  }
 }
 
 Test(reference, converges_quadratically_from_a_stretched_start) {
@@ -232,7 +243,9 @@ Test(method, chebyshev_alpha_bound) {
     cr_assert(ev[n - 1] < 6.0, "case %d: lambda_max(D^-1 A) = %g", c, ev[n - 1]);
     cr_assert(ev[0] > 0, "case %d: lambda_min = %g", c, ev[0]);
   }
-  free(x); free(d); free(ev);
+  free(x);
+  free(d);
+  free(ev);
   cb_scene_free(s);
 }
 
@@ -274,12 +287,17 @@ Test(reference_step, a_measured_step_does_not_depend_on_the_steps_before) {
   memcpy(first, w.x, (size_t)n3 * sizeof(double));
   for (int k = 0; k < 7; k++) cb_method_step(it, &w, r, x0, v0, xs, Fs, &b);
   cr_expect(memcmp(first, w.x, (size_t)n3 * sizeof(double)) == 0, "the step's positions differ after 7 more steps");
-  cr_expect(a.step_error == b.step_error, "step error %.17g first, %.17g after 7 more steps", a.step_error, b.step_error);
+  cr_expect(a.step_error == b.step_error, "step error %.17g first, %.17g after 7 more steps", a.step_error,
+            b.step_error);
   cr_expect(a.st.linear_iters == b.st.linear_iters);
-  cr_log_info("newton_k2/cheb32 on a stiff cloth: step error %.6g, %d Chebyshev iterations\n", a.step_error, a.st.linear_iters);
+  cr_log_info("newton_k2/cheb32 on a stiff cloth: step error %.6g, %d Chebyshev iterations\n", a.step_error,
+              a.st.linear_iters);
   cb_integrator_free(it);
   cb_method_work_free(&w);
   cb_reference_free(r);
-  free(x0); free(v0); free(xs); free(first);
+  free(x0);
+  free(v0);
+  free(xs);
+  free(first);
   cb_scene_free(s);
 }

@@ -18,7 +18,10 @@ static void teardown(void) { cb_capture_free(&cap); }
 
 static double rel_err(int n, const double *x, const double *y) {
   double e = 0, m = 0;
-  for (int i = 0; i < n; i++) { e += (x[i] - y[i]) * (x[i] - y[i]); m += y[i] * y[i]; }
+  for (int i = 0; i < n; i++) {
+    e += (x[i] - y[i]) * (x[i] - y[i]);
+    m += y[i] * y[i];
+  }
   return sqrt(e / m);
 }
 
@@ -29,12 +32,14 @@ Test(solve_trace, reference_is_cholmod_refined, .init = setup, .fini = teardown)
   double rn = cb_sparse_residual(&cap.A, cap.b, x, r), bn = 0;
   for (int i = 0; i < n; i++) bn += cap.b[i] * cap.b[i];
   cr_expect_lt(rn / sqrt(bn), 1e-14);
-  free(x); free(r);
+  free(x);
+  free(r);
 }
 
 Test(solve_trace, rows_of_an_iterative_solve, .init = setup, .fini = teardown) {
   int n = cap.A.n;
-  double *xref = malloc((size_t)n * sizeof(double)), *x = malloc((size_t)n * sizeof(double)), *d = malloc((size_t)n * sizeof(double));
+  double *xref = malloc((size_t)n * sizeof(double)), *x = malloc((size_t)n * sizeof(double)),
+         *d = malloc((size_t)n * sizeof(double));
   cr_assert_eq(cb_trace_reference(&cap.A, cap.b, xref), CB_OK);
   cb_spectrum sp;
   cb_jacobi_scaling(&cap.A, d);
@@ -75,7 +80,9 @@ Test(solve_trace, rows_of_an_iterative_solve, .init = setup, .fini = teardown) {
   cr_expect_leq(at->iter, 50);
   cr_expect(at == &t.rows[t.nrows - 1] || at[1].iter > 50);
   cb_trace_free(&t);
-  free(xref); free(x); free(d);
+  free(xref);
+  free(x);
+  free(d);
 }
 
 Test(solve_trace, direct_solve_is_one_row_and_failures_keep_a_row, .init = setup, .fini = teardown) {

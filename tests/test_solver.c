@@ -355,17 +355,20 @@ Test(solver, refactor_on_a_fixed_pattern, .init = setup) {
         dense_solve(S, b, ref, &cond);
         memset(sol, 0, (size_t)n * sizeof(double));
         int st = cb_solver_solve(s, &sc->sys.A, b, sol);
-        cr_assert_eq(st, CB_OK, "%s round %d rhs %d: %s (%s)", name, round, rhs, cb_status_name(st), cb_error_message());
+        cr_assert_eq(st, CB_OK, "%s round %d rhs %d: %s (%s)", name, round, rhs, cb_status_name(st),
+                     cb_error_message());
         double err = rel_err(sol, ref, n);
-        cr_expect(err <= cond * fmax(10 * p.tol, 1e-13), "%s round %d rhs %d: error %.3g (cond %.3g)", name, round,
-                  rhs, err, cond);
+        cr_expect(err <= cond * fmax(10 * p.tol, 1e-13), "%s round %d rhs %d: error %.3g (cond %.3g)", name, round, rhs,
+                  err, cond);
         free(b);
       }
       gsl_matrix_free(S);
     }
     cb_solver_free(s);
   }
-  free(x); free(sol); free(ref);
+  free(x);
+  free(sol);
+  free(ref);
   cb_scene_free(sc);
 }
 
@@ -373,8 +376,14 @@ Test(solver, refactor_on_a_fixed_pattern, .init = setup) {
 
 Test(solver, cholmod_residual_on_the_hanging_scene, .init = setup) {
   /* configs/hanging.ini: 21x21, 10 m, 1 kg per vertex, k = 8000, top corners, dt = 1/30 */
-  const char *sets[] = {"mesh.n=21", "mesh.size=10", "mesh.plane=xz", "material.vertex_mass=1",
-                        "material.stretch_k=8000", "scene.pins=top-corners", "integrator.dt=1/30", NULL};
+  const char *sets[] = {"mesh.n=21",
+                        "mesh.size=10",
+                        "mesh.plane=xz",
+                        "material.vertex_mass=1",
+                        "material.stretch_k=8000",
+                        "scene.pins=top-corners",
+                        "integrator.dt=1/30",
+                        NULL};
   cb_scene *sc = test_scene(sets);
   int n3 = 3 * sc->mesh.nv, n = sc->sys.A.n;
   cr_assert_eq(n, 3 * (21 * 21 - 2));
@@ -408,7 +417,8 @@ Test(solver, cholmod_residual_on_the_hanging_scene, .init = setup) {
   }
   cr_log_info("cholmod on the 21x21 hanging scene: worst relative residual %.3g\n", worst);
   cb_solver_free(s);
-  free(x); free(sol);
+  free(x);
+  free(sol);
   cb_scene_free(sc);
 }
 
@@ -427,8 +437,11 @@ Test(solver, cholmod_denormals_flush_or_keep, .init = setup) {
   cb_sparse A;
   pattern_matrix(1, NULL, 0, &A);
   gsl_matrix *S = gsl_matrix_calloc(3, 3);
-  gsl_matrix_set(S, 0, 0, 2); gsl_matrix_set(S, 1, 1, 2); gsl_matrix_set(S, 2, 2, 1);
-  gsl_matrix_set(S, 0, 1, t); gsl_matrix_set(S, 1, 0, t);
+  gsl_matrix_set(S, 0, 0, 2);
+  gsl_matrix_set(S, 1, 1, 2);
+  gsl_matrix_set(S, 2, 2, 1);
+  gsl_matrix_set(S, 0, 1, t);
+  gsl_matrix_set(S, 1, 0, t);
   fill_from_dense(&A, S);
   for (int flush = 0; flush <= 1; flush++) {
     cb_solver_params p = cb_solver_params_default();
@@ -445,8 +458,7 @@ Test(solver, cholmod_denormals_flush_or_keep, .init = setup) {
     cr_expect_eq(_mm_getcsr() & ~0x3fu, csr & ~0x3fu, "flush=%d: control word %#x after the calls, %#x before", flush,
                  _mm_getcsr(), csr);
     cr_expect(fabs(x[1] - 0.5) <= 1e-15 && x[2] == 0, "flush=%d: x = %g %g %g", flush, x[0], x[1], x[2]);
-    if (flush)
-      cr_expect(x[0] == 0, "flush: x0 = %g, expected exactly 0", x[0]);
+    if (flush) cr_expect(x[0] == 0, "flush: x0 = %g, expected exactly 0", x[0]);
     else
       cr_expect(fpclassify(x[0]) == FP_SUBNORMAL && fabs(x[0] + t / 4) <= 1e-3 * t / 4, "keep: x0 = %g, expected %g",
                 x[0], -t / 4);
@@ -491,8 +503,11 @@ Test(solver, cholmod_small_indefinite_matrix_is_not_spd, .init = setup) {
   cr_assert_eq(A.n, 3);
   /* [1 2 0; 2 1 0; 0 0 1]: eigenvalues -1, 1, 3 */
   gsl_matrix *S = gsl_matrix_calloc(3, 3);
-  gsl_matrix_set(S, 0, 0, 1); gsl_matrix_set(S, 1, 1, 1); gsl_matrix_set(S, 2, 2, 1);
-  gsl_matrix_set(S, 0, 1, 2); gsl_matrix_set(S, 1, 0, 2);
+  gsl_matrix_set(S, 0, 0, 1);
+  gsl_matrix_set(S, 1, 1, 1);
+  gsl_matrix_set(S, 2, 2, 1);
+  gsl_matrix_set(S, 0, 1, 2);
+  gsl_matrix_set(S, 1, 0, 2);
   fill_from_dense(&A, S);
   cr_assert(!cholmod_is_supernodal(&A), "a 3x3 matrix should be factorised simplicially");
   cb_solver *s = NULL;
@@ -503,11 +518,13 @@ Test(solver, cholmod_small_indefinite_matrix_is_not_spd, .init = setup) {
   double b[3] = {1, 2, 3}, x[3] = {0, 0, 0};
   cr_expect_eq(cb_solver_solve(s, &A, b, x), CB_NOT_SPD, "solve after a failed factorisation");
   /* semidefinite (a zero pivot) is not positive definite either: [1 1; 1 1] + e3 e3^T */
-  gsl_matrix_set(S, 0, 1, 1); gsl_matrix_set(S, 1, 0, 1);
+  gsl_matrix_set(S, 0, 1, 1);
+  gsl_matrix_set(S, 1, 0, 1);
   fill_from_dense(&A, S);
   cr_expect_eq(cb_solver_factor(s, &A), CB_NOT_SPD, "singular PSD matrix");
   /* the same solver recovers on SPD values */
-  gsl_matrix_set(S, 0, 1, 0.5); gsl_matrix_set(S, 1, 0, 0.5);
+  gsl_matrix_set(S, 0, 1, 0.5);
+  gsl_matrix_set(S, 1, 0, 0.5);
   fill_from_dense(&A, S);
   cr_expect_eq(cb_solver_factor(s, &A), CB_OK);
   cr_expect_eq(cb_solver_solve(s, &A, b, x), CB_OK);
@@ -548,7 +565,8 @@ Test(solver, cholmod_large_indefinite_newton_matrix_is_not_spd, .init = setup) {
     double res = residual(A, b, x);
     cr_expect(res <= 1e-10, "residual after recovery %.3g", res);
   }
-  free(b); free(x);
+  free(b);
+  free(x);
   cb_solver_free(s);
   cb_scene_free(sc);
 }
@@ -578,12 +596,15 @@ Test(solver, every_solver_survives_indefinite_matrices, .init = setup) {
       st = cb_solver_solve(s, A, b, x);
       cr_expect_geq(st, 0, "%s: solve returned an error %d", name, st);
     }
-    if (st == CB_OK) cr_expect(residual(A, b, x) <= 1e-8, "%s claims success with residual %.3g", name, residual(A, b, x));
-    else cr_expect(st == CB_NOT_SPD || st == CB_INDEFINITE || st == CB_DIVERGED || st == CB_NOT_CONVERGED,
-                   "%s: unexpected status %s", name, cb_status_name(st));
+    if (st == CB_OK)
+      cr_expect(residual(A, b, x) <= 1e-8, "%s claims success with residual %.3g", name, residual(A, b, x));
+    else
+      cr_expect(st == CB_NOT_SPD || st == CB_INDEFINITE || st == CB_DIVERGED || st == CB_NOT_CONVERGED,
+                "%s: unexpected status %s", name, cb_status_name(st));
     cb_solver_free(s);
   }
-  free(b); free(x);
+  free(b);
+  free(x);
   cb_scene_free(sc);
 }
 
@@ -594,10 +615,18 @@ Test(solver, symmetric_storage_product_matches_dense, .init = setup) {
   const int nblk = 30;
   int pairs[2 * 60], np = 0;
   cb_rng seed = cb_rng_raw(11);
-  for (int i = 0; i < nblk; i++) { pairs[2 * np] = i; pairs[2 * np + 1] = (i + 1) % nblk; np++; }
+  for (int i = 0; i < nblk; i++) {
+    pairs[2 * np] = i;
+    pairs[2 * np + 1] = (i + 1) % nblk;
+    np++;
+  }
   for (int k = 0; k < 25; k++) {
     int i = (int)(cb_rng_uniform(&seed) * nblk), j = (int)(cb_rng_uniform(&seed) * nblk);
-    if (i != j) { pairs[2 * np] = i; pairs[2 * np + 1] = j; np++; }
+    if (i != j) {
+      pairs[2 * np] = i;
+      pairs[2 * np + 1] = j;
+      np++;
+    }
   }
   cb_sparse A;
   pattern_matrix(nblk, pairs, np, &A);
@@ -622,7 +651,9 @@ Test(solver, symmetric_storage_product_matches_dense, .init = setup) {
   cr_expect(rn <= 1e-13 * scale * sqrt(A.n), "residual of b = A x is %.3g", rn);
   cr_expect_eq(cb_sparse_sym_matvec_bytes(&U), (size_t)U.nub * 76 + (size_t)(nblk + 1) * 4 + (size_t)A.n * 16);
   cb_sparse_sym_free(&U);
-  free(x); free(y); free(r);
+  free(x);
+  free(y);
+  free(r);
   gsl_matrix_free(S);
   cb_sparse_free(&A);
 }

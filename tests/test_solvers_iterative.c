@@ -75,7 +75,8 @@ static void dense_jacobi_spectrum(const cb_sparse *A, double *lmin, double *lmax
   double *d = malloc((size_t)n * sizeof(double));
   for (int i = 0; i < n; i++) d[i] = 1 / sqrt(gsl_matrix_get(D, (size_t)i, (size_t)i));
   for (int i = 0; i < n; i++)
-    for (int j = 0; j < n; j++) gsl_matrix_set(D, (size_t)i, (size_t)j, gsl_matrix_get(D, (size_t)i, (size_t)j) * d[i] * d[j]);
+    for (int j = 0; j < n; j++)
+      gsl_matrix_set(D, (size_t)i, (size_t)j, gsl_matrix_get(D, (size_t)i, (size_t)j) * d[i] * d[j]);
   gsl_vector *ev = gsl_vector_alloc((size_t)n);
   gsl_eigen_symm_workspace *w = gsl_eigen_symm_alloc((size_t)n);
   cr_assert_eq(gsl_eigen_symm(D, ev, w), 0);
@@ -97,8 +98,8 @@ static double rel_diff(int n, const double *x, const double *y) {
 }
 
 /* Runs a solver from x = 0; returns its status, fills x and the iteration count. */
-static int solve(const char *name, const cb_solver_params *p, const cb_sparse *A, const double *b, double *x, int *iters,
-                 double *rho) {
+static int solve(const char *name, const cb_solver_params *p, const cb_sparse *A, const double *b, double *x,
+                 int *iters, double *rho) {
   cb_solver *s = NULL;
   cr_assert_eq(cb_solver_alloc(name, p, A->n, &s), CB_OK, "%s: %s", name, cb_error_message());
   memset(x, 0, (size_t)A->n * sizeof(double));
@@ -134,13 +135,17 @@ Test(solvers_iterative, every_solver_matches_dense_gsl_on_dd_matrix) {
     p.max_iters = 5000;
     int st = solve(cb_solver_types[i]->name, &p, &A, b, x, NULL, NULL);
     cr_expect_eq(st, CB_OK, "%s: status %s", cb_solver_types[i]->name, cb_status_name(st));
-    cr_expect_lt(rel_diff(n, x, xg), 1e-10, "%s: |x - x_gsl|/|x_gsl| = %g", cb_solver_types[i]->name, rel_diff(n, x, xg));
+    cr_expect_lt(rel_diff(n, x, xg), 1e-10, "%s: |x - x_gsl|/|x_gsl| = %g", cb_solver_types[i]->name,
+                 rel_diff(n, x, xg));
   }
   cb_sparse_free(&A);
-  free(b); free(x); free(xg);
+  free(b);
+  free(x);
+  free(xg);
 }
 
-Test(solvers_iterative, every_solver_matches_dense_gsl_on_newton_matrix, .init = newton_setup, .fini = newton_teardown) {
+Test(solvers_iterative, every_solver_matches_dense_gsl_on_newton_matrix, .init = newton_setup,
+     .fini = newton_teardown) {
   const cb_sparse *A = &newton_case.A;
   int n = A->n, bad;
   double ratio, lmin, lmax;
@@ -157,12 +162,15 @@ Test(solvers_iterative, every_solver_matches_dense_gsl_on_newton_matrix, .init =
     p.alpha = 1 / lmax; /* rho(I - alpha D^-1 A) = 1 - lmin/lmax < 1: provably convergent */
     int st = solve(cb_solver_types[i]->name, &p, A, newton_case.b, x, NULL, NULL);
     cr_expect_eq(st, CB_OK, "%s: status %s", cb_solver_types[i]->name, cb_status_name(st));
-    cr_expect_lt(rel_diff(n, x, xg), 1e-8, "%s: |x - x_gsl|/|x_gsl| = %g", cb_solver_types[i]->name, rel_diff(n, x, xg));
+    cr_expect_lt(rel_diff(n, x, xg), 1e-8, "%s: |x - x_gsl|/|x_gsl| = %g", cb_solver_types[i]->name,
+                 rel_diff(n, x, xg));
   }
-  free(x); free(xg);
+  free(x);
+  free(xg);
 }
 
-Test(solvers_iterative, chebyshev_with_exact_rho_converges_faster_than_jacobi, .init = newton_setup, .fini = newton_teardown) {
+Test(solvers_iterative, chebyshev_with_exact_rho_converges_faster_than_jacobi, .init = newton_setup,
+     .fini = newton_teardown) {
   const cb_sparse *A = &newton_case.A;
   double lmin, lmax, *x = malloc((size_t)A->n * sizeof(double));
   dense_jacobi_spectrum(A, &lmin, &lmax);
@@ -234,7 +242,8 @@ Test(solvers_iterative, automatic_rho_with_unresolved_bottom_stays_below_one) {
   cr_expect_eq(st, CB_OK, "status %s: %s", cb_status_name(st), cb_error_message());
   cr_expect(rho > 0.999 && rho < 1, "rho %.8f (true %.8f)", rho, 1 - 0.9 * lmin);
   cb_sparse_free(&A);
-  free(b); free(x);
+  free(b);
+  free(x);
 }
 
 Test(solvers_iterative, jacobi_divergence_is_a_status, .init = newton_setup, .fini = newton_teardown) {
@@ -272,7 +281,8 @@ Test(solvers_iterative, nan_right_hand_side_is_diverged_not_a_crash) {
   }
   cr_expect_geq(nit, 4, "jacobi, chebyshev, cg and pcg at least");
   cb_sparse_free(&A);
-  free(b); free(x);
+  free(b);
+  free(x);
 }
 
 /* [[I, 2I], [2I, I]]: eigenvalues 3 and -1, diagonal blocks SPD. With
@@ -339,29 +349,34 @@ Test(solvers_iterative, sgs_iteration_is_a_forward_then_a_backward_block_sweep, 
   for (size_t i = 0; i < n; i++)
     for (size_t j = 0; j < n; j++) {
       double a = gsl_matrix_get(D, i, j);
-      if (j / 3 <= i / 3) gsl_matrix_set(F, i, j, a);  /* B + L */
-      if (j / 3 >= i / 3) gsl_matrix_set(G, i, j, a);  /* B + L^T */
-      if (j / 3 < i / 3) gsl_matrix_set(Lo, i, j, a);  /* L */
+      if (j / 3 <= i / 3) gsl_matrix_set(F, i, j, a); /* B + L */
+      if (j / 3 >= i / 3) gsl_matrix_set(G, i, j, a); /* B + L^T */
+      if (j / 3 < i / 3) gsl_matrix_set(Lo, i, j, a); /* L */
     }
   gsl_permutation *perm = gsl_permutation_alloc(n);
   gsl_vector *x1 = gsl_vector_alloc(n), *rhs2 = gsl_vector_alloc(n), *x2 = gsl_vector_alloc(n);
   gsl_vector_const_view bv = gsl_vector_const_view_array(newton_case.b, n);
   int sign;
   cr_assert_eq(gsl_linalg_LU_decomp(F, perm, &sign), 0);
-  cr_assert_eq(gsl_linalg_LU_solve(F, perm, &bv.vector, x1), 0);       /* (B + L) x' = b */
+  cr_assert_eq(gsl_linalg_LU_solve(F, perm, &bv.vector, x1), 0); /* (B + L) x' = b */
   gsl_vector_memcpy(rhs2, &bv.vector);
-  gsl_blas_dgemv(CblasNoTrans, -1.0, Lo, x1, 1.0, rhs2);                /* b - L x' */
+  gsl_blas_dgemv(CblasNoTrans, -1.0, Lo, x1, 1.0, rhs2); /* b - L x' */
   cr_assert_eq(gsl_linalg_LU_decomp(G, perm, &sign), 0);
-  cr_assert_eq(gsl_linalg_LU_solve(G, perm, rhs2, x2), 0);             /* (B + L^T) x'' = b - L x' */
+  cr_assert_eq(gsl_linalg_LU_solve(G, perm, rhs2, x2), 0); /* (B + L^T) x'' = b - L x' */
   cb_solver_params p = cb_solver_params_default();
   p.max_iters = 1;
   double *x = malloc(n * sizeof(double));
   int iters, st = solve("sgs", &p, A, newton_case.b, x, &iters, NULL);
   cr_expect(st == CB_NOT_CONVERGED && iters == 1, "status %s after %d iterations", cb_status_name(st), iters);
   cr_expect_lt(rel_diff((int)n, x, x2->data), 1e-12, "|x_sgs - x_gsl| / |x_gsl| = %g", rel_diff((int)n, x, x2->data));
-  gsl_matrix_free(D); gsl_matrix_free(F); gsl_matrix_free(G); gsl_matrix_free(Lo);
+  gsl_matrix_free(D);
+  gsl_matrix_free(F);
+  gsl_matrix_free(G);
+  gsl_matrix_free(Lo);
   gsl_permutation_free(perm);
-  gsl_vector_free(x1); gsl_vector_free(rhs2); gsl_vector_free(x2);
+  gsl_vector_free(x1);
+  gsl_vector_free(rhs2);
+  gsl_vector_free(x2);
   free(x);
 }
 
@@ -386,7 +401,8 @@ Test(solvers_iterative, nesterov_iterations_follow_the_square_root_of_the_condit
   cr_assert_eq(solve("jacobi", &p, A, newton_case.b, x, &ij, NULL), CB_OK);
   cr_assert_eq(solve("chebyshev", &p, A, newton_case.b, x, &ic, NULL), CB_OK);
   double pred = log(1 / tol) / -log(1 - 1 / sqrt(kappa)); /* (1 - 1/sqrt kappa)^k = tol */
-  cr_log_info("kappa %.4g: nesterov %d iterations (predicted %.0f), jacobi %d, chebyshev %d\n", kappa, in, pred, ij, ic);
+  cr_log_info("kappa %.4g: nesterov %d iterations (predicted %.0f), jacobi %d, chebyshev %d\n", kappa, in, pred, ij,
+              ic);
   cr_expect_lt(in, 1.5 * pred + 10, "nesterov %d iterations, predicted about %.0f", in, pred);
   cr_expect_lt(2 * in, ij, "nesterov %d iterations, jacobi %d", in, ij);
   cr_expect_geq(in, ic, "nesterov %d iterations, chebyshev %d", in, ic);
@@ -431,7 +447,8 @@ Test(iterative, amortised_rho_estimate_reuses_and_stays_safe) {
   cb_solver *s = NULL;
   cr_assert_eq(cb_solver_alloc("chebyshev", &p, n, &s), CB_OK);
   cr_assert_eq(cb_solver_analyze(s, A), CB_OK);
-  double *b = malloc((size_t)n * sizeof(double)), *x = calloc((size_t)n, sizeof(double)), *w = malloc((size_t)n * sizeof(double));
+  double *b = malloc((size_t)n * sizeof(double)), *x = calloc((size_t)n, sizeof(double)),
+         *w = malloc((size_t)n * sizeof(double));
   double *xs = malloc((size_t)nv3 * sizeof(double));
   cr_assert(b && x && w && xs);
   for (int i = 0; i < n; i++) b[i] = sin(0.37 * i) + 0.5;
@@ -450,7 +467,10 @@ Test(iterative, amortised_rho_estimate_reuses_and_stays_safe) {
     double res = cb_relative_residual(A, b, x, w);
     cr_expect(res <= 1.01e-10, "round %d: residual %.3g", round, res);
   }
-  free(b); free(x); free(w); free(xs);
+  free(b);
+  free(x);
+  free(w);
+  free(xs);
   cb_solver_free(s);
   cb_scene_free(sc);
 }

@@ -104,7 +104,8 @@ static cb_scene *spring_scene(double k, double m, const char *gravity) {
   snprintf(sk, sizeof sk, "material.stretch_k=%.17g", k);
   snprintf(sm, sizeof sm, "material.vertex_mass=%.17g", m);
   snprintf(sg, sizeof sg, "scene.gravity=%s", gravity);
-  const char *sets[] = {"mesh.type=chain", "mesh.n=2", "mesh.size=1", "mesh.plane=yz", "scene.pins=1", sk, sm, sg, NULL};
+  const char *sets[] = {
+      "mesh.type=chain", "mesh.n=2", "mesh.size=1", "mesh.plane=yz", "scene.pins=1", sk, sm, sg, NULL};
   return test_scene(sets);
 }
 
@@ -139,8 +140,14 @@ Test(stability_predict, one_mass_on_a_spring_is_two_sqrt_m_over_k) {
 Test(stability_predict, fixed_free_chain_matches_the_closed_form) {
   /* N free masses below a fixed point: the axial block of M^-1 K is (k/m) times the
    * Dirichlet-Neumann Laplacian, eigenvalues (4k/m) sin^2((2j-1) pi / (2(2N+1))). */
-  const char *sets[] = {"mesh.type=chain", "mesh.n=21", "mesh.size=1", "mesh.plane=yz", "scene.pins=20",
-                        "material.vertex_mass=0.01", "material.stretch_k=1000", NULL};
+  const char *sets[] = {"mesh.type=chain",
+                        "mesh.n=21",
+                        "mesh.size=1",
+                        "mesh.plane=yz",
+                        "scene.pins=20",
+                        "material.vertex_mass=0.01",
+                        "material.stretch_k=1000",
+                        NULL};
   cb_scene *s = test_scene(sets);
   int N = 20;
   const double pi = 3.14159265358979323846;
@@ -153,8 +160,8 @@ Test(stability_predict, fixed_free_chain_matches_the_closed_form) {
 }
 
 Test(stability_predict, lanczos_agrees_with_gsl_on_a_hanging_cloth) {
-  const char *sets[] = {"mesh.n=9", "mesh.size=2", "mesh.plane=xy", "material.vertex_mass=0.1",
-                        "material.stretch_k=5000", NULL};
+  const char *sets[] = {
+      "mesh.n=9", "mesh.size=2", "mesh.plane=xy", "material.vertex_mass=0.1", "material.stretch_k=5000", NULL};
   cb_scene *s = test_scene(sets);
   double *x = malloc(sizeof(double) * 3 * s->mesh.nv);
   memcpy(x, s->x0, sizeof(double) * 3 * s->mesh.nv);
@@ -203,8 +210,14 @@ Test(stability_start, energy_scale_perturbation_and_swing) {
 
 Test(stability_cell, bisection_finds_two_sqrt_m_over_k) {
   cb_config c;
-  const char *sets[] = {"mesh.type=chain", "mesh.n=2", "mesh.size=1", "mesh.plane=yz", "scene.pins=1",
-                        "material.vertex_mass=0.01", "material.stretch_k=10000", NULL};
+  const char *sets[] = {"mesh.type=chain",
+                        "mesh.n=2",
+                        "mesh.size=1",
+                        "mesh.plane=yz",
+                        "scene.pins=1",
+                        "material.vertex_mass=0.01",
+                        "material.stretch_k=10000",
+                        NULL};
   test_config(&c, sets);
   cb_stability_case cs;
   cr_assert_eq(cb_stability_case_init(&cs, &c, NULL), CB_OK, "%s", cb_error_message());
@@ -221,13 +234,15 @@ Test(stability_cell, bisection_finds_two_sqrt_m_over_k) {
   cr_assert_lt(r.steps, 200); /* stopped early */
   cb_bisect_result b;
   cr_assert_eq(cb_stability_bisect(cs.expl, cs.x_start, cs.v_start, cs.S, &p, &cs.work, 0.5 * exact, 2 * exact, 1.5, 14,
-                                   NULL, NULL, &b), CB_OK);
+                                   NULL, NULL, &b),
+               CB_OK);
   cr_assert_eq(b.status, CB_OK);
   cr_assert_eq(b.runs, 14);
   cr_assert(b.dt_stable < b.dt_unstable);
   cr_assert_lt(fabs(b.dt_stable / exact - 1), 2e-3, "measured %.9g, exact %.9g", b.dt_stable, exact);
-  cr_assert_eq(cb_stability_boundary_from_guess(cs.expl, cs.x_start, cs.v_start, cs.S, &p, &cs.work, 0.7 * exact, 1.2, 10,
-                                                NULL, NULL, &b), CB_OK); /* searches upward from a stable guess */
+  cr_assert_eq(cb_stability_boundary_from_guess(cs.expl, cs.x_start, cs.v_start, cs.S, &p, &cs.work, 0.7 * exact, 1.2,
+                                                10, NULL, NULL, &b),
+               CB_OK); /* searches upward from a stable guess */
   cr_assert_lt(fabs(b.dt_stable / exact - 1), 5e-3);
   /* Newton (implicit Euler) at 10x the explicit limit: stable, and it only loses energy */
   p.mark_time = 0.1;

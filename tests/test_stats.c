@@ -63,7 +63,8 @@ Test(stats, each_field_round_trips) {
 Test(stats, median_over_states_per_repeat) {
   cb_timing v[3] = {{3, {1, 2, 3}}, {3, {3, 2, 1}}, {3, {2, 9, 2}}}, out;
   cr_assert_eq(cb_timing_median_over(v, 3, &out), 0);
-  cr_expect(out.n == 3 && out.ms[0] == 2 && out.ms[1] == 2 && out.ms[2] == 2, "%g %g %g", out.ms[0], out.ms[1], out.ms[2]);
+  cr_expect(out.n == 3 && out.ms[0] == 2 && out.ms[1] == 2 && out.ms[2] == 2, "%g %g %g", out.ms[0], out.ms[1],
+            out.ms[2]);
   v[2].n = 2; /* the repeats every state has: the first two */
   cr_assert_eq(cb_timing_median_over(v, 3, &out), 0);
   cr_expect(out.n == 2 && out.ms[0] == 2 && out.ms[1] == 2, "%d: %g %g", out.n, out.ms[0], out.ms[1]);

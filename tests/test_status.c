@@ -9,10 +9,19 @@
 #include <clothbench/status.h>
 
 Test(status, every_status_has_its_own_name) {
-  static const struct { int status; const char *name; } known[] = {
-      {CB_OK, "ok"}, {CB_EINVAL, "bad_input"}, {CB_ENOMEM, "out_of_memory"}, {CB_EIO, "io_error"},
-      {CB_NOT_SPD, "not_spd"}, {CB_NOT_CONVERGED, "max_iters"}, {CB_DIVERGED, "diverged"},
-      {CB_INDEFINITE, "indefinite"}, {CB_LS_FAILED, "line_search_failed"}, {CB_LINEAR_FAILED, "linear_failed"}};
+  static const struct {
+    int status;
+    const char *name;
+  } known[] = {{CB_OK, "ok"},
+               {CB_EINVAL, "bad_input"},
+               {CB_ENOMEM, "out_of_memory"},
+               {CB_EIO, "io_error"},
+               {CB_NOT_SPD, "not_spd"},
+               {CB_NOT_CONVERGED, "max_iters"},
+               {CB_DIVERGED, "diverged"},
+               {CB_INDEFINITE, "indefinite"},
+               {CB_LS_FAILED, "line_search_failed"},
+               {CB_LINEAR_FAILED, "linear_failed"}};
   for (size_t i = 0; i < sizeof known / sizeof known[0]; i++)
     cr_assert_str_eq(cb_status_name(known[i].status), known[i].name);
   cr_assert_str_eq(cb_status_name(99), "unknown");

@@ -134,10 +134,13 @@ Test(sweep, rows_in_cell_order_and_a_shard_runs_every_nth_cell) {
     cr_assert_str_eq(data(slurp(out)), "1,0\n4,0\n4,1\n4,2\n4,3\n2,0\n2,1\n");
     cr_assert_str_eq(data(slurp(side)), "4\n2\n");
     /* per cell: index, rows per table, sweep group, sweep, index there, hint (then the seconds) */
-    cr_assert_str_eq(without_seconds(slurp(cells)),
-                     "shard 2 3 8 modulo\ntables - side\n1 1 0 0 first 1 1\n4 4 1 0 first 4 1\n7 2 1 0 second 2 1\n");
+    cr_assert_str_eq(without_seconds(slurp(cells)), "shard 2 3 8 modulo\ntables - side\n1 1 0 0 first 1 1\n4 4 1 0 "
+                                                    "first 4 1\n7 2 1 0 second 2 1\n");
   }
-  remove(out); remove(side); remove(cells); remove(dir);
+  remove(out);
+  remove(side);
+  remove(cells);
+  remove(dir);
 }
 
 static double hint(long i, void *ctx) {
@@ -160,7 +163,8 @@ Test(sweep, balanced_shards_follow_the_longest_processing_time_rule) {
   cr_assert_not_null(mkdtemp(dir));
   snprintf(out, sizeof out, "%s/b.csv", dir);
   snprintf(cells, sizeof cells, "%s.cells", out);
-  const char *want[] = {"0 1", "3 5", "2 4 6"}; /* shard I's cells; of the equal hints, cell 4 (the earlier) goes first */
+  const char *want[] = {"0 1", "3 5",
+                        "2 4 6"}; /* shard I's cells; of the equal hints, cell 4 (the earlier) goes first */
   long ran[3][7] = {{0}};
   for (int k = 0; k < 3; k++) {
     char shard[8];
@@ -176,8 +180,11 @@ Test(sweep, balanced_shards_follow_the_longest_processing_time_rule) {
     cr_assert_str_eq(got, want[k], "shard %d ran cells %s", k + 1, got);
     cr_assert(!strncmp(slurp(cells), "shard ", 6) && strstr(slurp(cells), " balanced\n"), "%s", slurp(cells));
   }
-  for (int i = 0; i < 7; i++) cr_assert_eq(ran[0][i] + ran[1][i] + ran[2][i], 1, "cell %d ran %ld times", i, ran[0][i] + ran[1][i] + ran[2][i]);
-  remove(out); remove(cells); remove(dir);
+  for (int i = 0; i < 7; i++)
+    cr_assert_eq(ran[0][i] + ran[1][i] + ran[2][i], 1, "cell %d ran %ld times", i, ran[0][i] + ran[1][i] + ran[2][i]);
+  remove(out);
+  remove(cells);
+  remove(dir);
 }
 
 Test(sweep, a_failing_cell_is_named_and_drops_the_tables) {

@@ -126,8 +126,13 @@ static int zip(int *tri, int ia, int a, int ib, int b) {
     int *t = tri + 3 * nt++;
     t[0] = ia + i % a;
     t[1] = ib + j % b;
-    if (inner) { t[2] = ia + (i + 1) % a; i++; }
-    else { t[2] = ib + (j + 1) % b; j++; }
+    if (inner) {
+      t[2] = ia + (i + 1) % a;
+      i++;
+    } else {
+      t[2] = ib + (j + 1) % b;
+      j++;
+    }
   }
   return nt;
 }
@@ -243,8 +248,8 @@ Test(euler, grid_boundary_is_the_perimeter) {
   for (int b = 0; b < t.nb; b++) {
     int e = t.boundary[b], u = t.edge[2 * e], v = t.edge[2 * e + 1];
     int ui = u % n, uj = u / n, vi = v % n, vj = v / n;
-    int on_perimeter = (uj == 0 && vj == 0) || (uj == mm - 1 && vj == mm - 1) || (ui == 0 && vi == 0) ||
-                       (ui == n - 1 && vi == n - 1);
+    int on_perimeter =
+        (uj == 0 && vj == 0) || (uj == mm - 1 && vj == mm - 1) || (ui == 0 && vi == 0) || (ui == n - 1 && vi == n - 1);
     cr_expect(on_perimeter && abs(ui - vi) + abs(uj - vj) == 1, "boundary edge %d-%d is not a perimeter edge", u, v);
   }
   cb_topology_free(&t);
@@ -345,8 +350,21 @@ Test(euler, jittered_random_diagonals) {
       for (int i = 0; i + 1 < N; i++) {
         int a = j * N + i, b = a + 1, c = a + N + 1, d = a + N;
         int *t = tri + 3 * nt;
-        if (cb_rng_next(&s) >> 63) { t[0] = a; t[1] = b; t[2] = c; t[3] = a; t[4] = c; t[5] = d; }
-        else { t[0] = a; t[1] = b; t[2] = d; t[3] = b; t[4] = c; t[5] = d; }
+        if (cb_rng_next(&s) >> 63) {
+          t[0] = a;
+          t[1] = b;
+          t[2] = c;
+          t[3] = a;
+          t[4] = c;
+          t[5] = d;
+        } else {
+          t[0] = a;
+          t[1] = b;
+          t[2] = d;
+          t[3] = b;
+          t[4] = c;
+          t[5] = d;
+        }
         nt += 2;
       }
     cb_mesh m = wrap(N * M, x, nt, tri);
@@ -423,7 +441,8 @@ Test(nonmanifold, three_pages_on_one_edge) {
   cr_expect_eq(t.ne, 7);
   cr_expect_eq(t.nb, 6);
   cr_expect_eq(t.np, 0);
-  for (int b = 0; b < t.nb; b++) cr_expect_neq(t.boundary[b], find_edge(&t, 0, 1), "the non-manifold edge is no boundary");
+  for (int b = 0; b < t.nb; b++)
+    cr_expect_neq(t.boundary[b], find_edge(&t, 0, 1), "the non-manifold edge is no boundary");
   check_invariants(&m, &t);
   cb_topology_free(&t);
 }

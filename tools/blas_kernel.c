@@ -49,8 +49,8 @@ static int self_test(void) {
     return 1;
   }
   int ok = e <= CB_BLAS_SELFTEST_TOL;
-  printf("%s: dgemm, dsyrk, dtrsm, dpotrf on %s: max rel. error %.2g (%s) %s %.0e\n", ok ? "passed" : "failed", got, e, msg,
-         ok ? "<=" : ">", CB_BLAS_SELFTEST_TOL);
+  printf("%s: dgemm, dsyrk, dtrsm, dpotrf on %s: max rel. error %.2g (%s) %s %.0e\n", ok ? "passed" : "failed", got, e,
+         msg, ok ? "<=" : ">", CB_BLAS_SELFTEST_TOL);
   return !ok;
 }
 
@@ -83,7 +83,8 @@ static int run_self_test(const char *core, char *out, size_t n, int *definite) {
   close(fd[1]);
   char buf[512];
   size_t len = 0;
-  for (ssize_t r; len + 1 < sizeof buf && ((r = read(fd[0], buf + len, sizeof buf - 1 - len)) > 0 || (r < 0 && errno == EINTR));)
+  for (ssize_t r;
+       len + 1 < sizeof buf && ((r = read(fd[0], buf + len, sizeof buf - 1 - len)) > 0 || (r < 0 && errno == EINTR));)
     if (r > 0) len += (size_t)r;
   buf[len] = '\0';
   buf[strcspn(buf, "\n")] = '\0';
@@ -127,7 +128,8 @@ static int cache_get(const char *path, const char *key, char *out, size_t n) {
   int found = 0;
   while (fgets(line, sizeof line, f)) {
     line[strcspn(line, "\n")] = '\0';
-    if (!strncmp(line, key, kl) && line[kl] == '\t' && (!strncmp(line + kl + 1, "passed", 6) || !strncmp(line + kl + 1, "failed", 6))) {
+    if (!strncmp(line, key, kl) && line[kl] == '\t' &&
+        (!strncmp(line + kl + 1, "passed", 6) || !strncmp(line + kl + 1, "failed", 6))) {
       snprintf(out, n, "%s", line + kl + 1);
       found = 1;
     }
@@ -169,16 +171,30 @@ int main(int argc, char **argv) {
   int show = 0, i = 1;
   for (; i < argc; i++) {
     if (!strcmp(argv[i], "--self-test")) return self_test();
-    if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) { usage(stdout); return 0; }
+    if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
+      usage(stdout);
+      return 0;
+    }
     if (!strcmp(argv[i], "--show")) show = 1;
     else if (!strcmp(argv[i], "--cache")) {
-      if (++i == argc) { fputs("blas-kernel: --cache needs a file\n", stderr); return 2; }
+      if (++i == argc) {
+        fputs("blas-kernel: --cache needs a file\n", stderr);
+        return 2;
+      }
       cache = argv[i];
-    } else if (!strcmp(argv[i], "--")) { i++; break; }
-    else if (argv[i][0] == '-') { fprintf(stderr, "blas-kernel: unknown option %s\n", argv[i]); usage(stderr); return 2; }
-    else break;
+    } else if (!strcmp(argv[i], "--")) {
+      i++;
+      break;
+    } else if (argv[i][0] == '-') {
+      fprintf(stderr, "blas-kernel: unknown option %s\n", argv[i]);
+      usage(stderr);
+      return 2;
+    } else break;
   }
-  if (!show && i == argc) { usage(stderr); return 2; }
+  if (!show && i == argc) {
+    usage(stderr);
+    return 2;
+  }
   const char *env = getenv("OPENBLAS_CORETYPE");
   char flags[256], choice[1024] = "";
   cb_blas_cpu_flags(flags, sizeof flags);
@@ -193,7 +209,8 @@ int main(int argc, char **argv) {
       failed = run_self_test(p.candidate, verdict, sizeof verdict, &definite);
       if (definite) cache_put(cache, key, verdict);
     }
-    snprintf(choice, sizeof choice, "%s %s; %s; self-test %s", failed ? "refused" : "chosen", p.candidate, p.why, verdict);
+    snprintf(choice, sizeof choice, "%s %s; %s; self-test %s", failed ? "refused" : "chosen", p.candidate, p.why,
+             verdict);
     if (!failed) setenv("OPENBLAS_CORETYPE", p.candidate, 1);
     setenv("CB_BLAS_CHOICE", choice, 1);
   } else unsetenv("CB_BLAS_CHOICE");

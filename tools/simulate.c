@@ -127,30 +127,48 @@ static void explicit_limit(cb_scene *scene, double dt, char *why, size_t n) {
   cb_prediction pred;
   size_t used = strlen(why);
   if (cb_stability_predict(scene, scene->x0, CB_EIG_AUTO, &pred) == CB_OK && isfinite(pred.dt_crit))
-    snprintf(why + used, n - used, "%sthe predicted explicit limit at the initial state is dt_crit = 2/omega_max = %.4g s "
-             "(omega_max = %.4g rad/s), integrator.dt = %.4g s is %.3g x that", used ? "; " : "", pred.dt_crit, pred.omega_max, dt, dt / pred.dt_crit);
-  else snprintf(why + used, n - used, "%s(no explicit-limit prediction%s%s)", used ? "; " : "", cb_error_message()[0] ? ": " : "",
-                cb_error_message());
+    snprintf(why + used, n - used,
+             "%sthe predicted explicit limit at the initial state is dt_crit = 2/omega_max = %.4g s "
+             "(omega_max = %.4g rad/s), integrator.dt = %.4g s is %.3g x that",
+             used ? "; " : "", pred.dt_crit, pred.omega_max, dt, dt / pred.dt_crit);
+  else
+    snprintf(why + used, n - used, "%s(no explicit-limit prediction%s%s)", used ? "; " : "",
+             cb_error_message()[0] ? ": " : "", cb_error_message());
 }
 
 int main(int argc, char **argv) {
-  if (cb_runtime_init()) { fprintf(stderr, "simulate: %s\n", cb_error_message()); return EXIT_USAGE; }
+  if (cb_runtime_init()) {
+    fprintf(stderr, "simulate: %s\n", cb_error_message());
+    return EXIT_USAGE;
+  }
   const char *config = NULL, *csv_path = NULL, *obj_path = NULL, *steps = NULL, *frames = NULL;
   long every = 1;
   int quiet = 0, every_given = 0;
   for (int i = 1; i < argc; i++) { /* first pass: help and the config path */
-    if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) { usage(stdout); return EXIT_OK; }
-    if (!strcmp(argv[i], "--help-config")) { cb_config_write_reference(stdout); return EXIT_OK; }
-    if (!strcmp(argv[i], "--version")) { printf("simulate (clothbench) %s (%s)\n", cb_build_git, cb_build_dirty); return EXIT_OK; }
+    if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
+      usage(stdout);
+      return EXIT_OK;
+    }
+    if (!strcmp(argv[i], "--help-config")) {
+      cb_config_write_reference(stdout);
+      return EXIT_OK;
+    }
+    if (!strcmp(argv[i], "--version")) {
+      printf("simulate (clothbench) %s (%s)\n", cb_build_git, cb_build_dirty);
+      return EXIT_OK;
+    }
   }
   cb_config cfg;
   cb_config_defaults(&cfg);
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
     int has_val = i + 1 < argc;
-    if (!strcmp(a, "--set") || !strcmp(a, "--steps") || !strcmp(a, "--csv") || !strcmp(a, "--obj") || !strcmp(a, "--frames") ||
-        !strcmp(a, "--every")) {
-      if (!has_val) { fprintf(stderr, "simulate: %s needs a value\n", a); return EXIT_USAGE; }
+    if (!strcmp(a, "--set") || !strcmp(a, "--steps") || !strcmp(a, "--csv") || !strcmp(a, "--obj") ||
+        !strcmp(a, "--frames") || !strcmp(a, "--every")) {
+      if (!has_val) {
+        fprintf(stderr, "simulate: %s needs a value\n", a);
+        return EXIT_USAGE;
+      }
       i++;
       if (!strcmp(a, "--steps")) steps = argv[i]; /* parsed as integrator.steps is, below */
       else if (!strcmp(a, "--csv")) csv_path = argv[i];
@@ -167,26 +185,44 @@ int main(int argc, char **argv) {
         }
       }
     } else if (!strcmp(a, "--quiet")) quiet = 1;
-    else if (a[0] == '-') { fprintf(stderr, "simulate: unknown option %s (see --help)\n", a); return EXIT_USAGE; }
-    else if (!config) config = a;
-    else { fprintf(stderr, "simulate: more than one config given ('%s', '%s')\n", config, a); return EXIT_USAGE; }
+    else if (a[0] == '-') {
+      fprintf(stderr, "simulate: unknown option %s (see --help)\n", a);
+      return EXIT_USAGE;
+    } else if (!config) config = a;
+    else {
+      fprintf(stderr, "simulate: more than one config given ('%s', '%s')\n", config, a);
+      return EXIT_USAGE;
+    }
   }
-  if (!config) { usage(stderr); return EXIT_USAGE; }
-  if (every_given && !frames) { fputs("simulate: --every sets the frame interval of --frames DIR; give --frames too\n", stderr); return EXIT_USAGE; }
+  if (!config) {
+    usage(stderr);
+    return EXIT_USAGE;
+  }
+  if (every_given && !frames) {
+    fputs("simulate: --every sets the frame interval of --frames DIR; give --frames too\n", stderr);
+    return EXIT_USAGE;
+  }
   if (frames) {
     struct stat st;
     if (!frames[0] || !strcmp(frames, "-")) {
-      fprintf(stderr, "simulate: --frames '%s': expected a folder name (frames are files, they cannot stream)\n", frames);
+      fprintf(stderr, "simulate: --frames '%s': expected a folder name (frames are files, they cannot stream)\n",
+              frames);
       return EXIT_USAGE;
     }
-    if (strlen(frames) > 4000) { fputs("simulate: --frames: folder name too long\n", stderr); return EXIT_USAGE; }
+    if (strlen(frames) > 4000) {
+      fputs("simulate: --frames: folder name too long\n", stderr);
+      return EXIT_USAGE;
+    }
     if (stat(frames, &st) == 0 && !S_ISDIR(st.st_mode)) {
       fprintf(stderr, "simulate: --frames %s: exists and is not a folder\n", frames);
       return EXIT_USAGE;
     }
   }
   cb_blas_kernel_warning(stderr, "simulate"); /* run directly on OpenBLAS's fallback kernels */
-  if (cb_config_load(config, &cfg)) { fprintf(stderr, "simulate: %s\n", cb_error_message()); return EXIT_USAGE; }
+  if (cb_config_load(config, &cfg)) {
+    fprintf(stderr, "simulate: %s\n", cb_error_message());
+    return EXIT_USAGE;
+  }
   for (int i = 1; i < argc; i++)
     if (!strcmp(argv[i], "--set") && i + 1 < argc && cb_config_set(&cfg, argv[++i])) {
       fprintf(stderr, "simulate: %s\n", cb_error_message());
@@ -238,7 +274,8 @@ int main(int argc, char **argv) {
   cb_run run = {0};
   cb_outfile csv = {0};
   int rc = EXIT_OK;
-  if (cb_scene_from_config(&cfg, &scene) || cb_integrator_from_config(&cfg, scene, NULL, &integ) || cb_run_init(&run, scene, integ)) {
+  if (cb_scene_from_config(&cfg, &scene) || cb_integrator_from_config(&cfg, scene, NULL, &integ) ||
+      cb_run_init(&run, scene, integ)) {
     fprintf(stderr, "simulate: %s\n", cb_error_message());
     rc = EXIT_USAGE;
     goto done;
@@ -261,8 +298,8 @@ int main(int argc, char **argv) {
   if (frames) { /* an earlier run's frames would be mistaken for this run's */
     int old = remove_frames(frames, first, last, sizeof first);
     if (old && !quiet)
-      fprintf(stderr, "simulate: --frames: removed %d frame%s of an earlier run from %s/ (%s%s%s)\n", old, old == 1 ? "" : "s",
-              frames, first, old > 1 ? " to " : "", old > 1 ? last : "");
+      fprintf(stderr, "simulate: --frames: removed %d frame%s of an earlier run from %s/ (%s%s%s)\n", old,
+              old == 1 ? "" : "s", frames, first, old > 1 ? " to " : "", old > 1 ? last : "");
     if (write_frame(frames, scene, run.x, 0)) {
       fprintf(stderr, "simulate: --frames: %s; NOTHING written\n", cb_error_message());
       rc = EXIT_IO;
@@ -292,28 +329,36 @@ int main(int argc, char **argv) {
   }
   cb_progress_end(&prog);
   if (frame_failed) { /* a cut sequence and a CSV that ends early, as if fine: neither is kept */
-    fprintf(stderr, "simulate: step %d of %d: --frames: %s; the run stopped: NOTHING written (the CSV and OBJ are not,", run.step,
-            cfg.steps, cb_error_message());
+    fprintf(stderr, "simulate: step %d of %d: --frames: %s; the run stopped: NOTHING written (the CSV and OBJ are not,",
+            run.step, cfg.steps, cb_error_message());
     int gone = remove_frames(frames, first, last, sizeof first);
     fprintf(stderr, " and this run's %d frame%s in %s/ are removed)\n", gone, gone == 1 ? "" : "s", frames);
     rc = EXIT_IO;
     goto done;
   }
   int csv_ok = cb_outfile_commit(&csv) == CB_OK;
-  if (!csv_ok) { fprintf(stderr, "simulate: %s\n", cb_error_message()); rc = EXIT_IO; }
+  if (!csv_ok) {
+    fprintf(stderr, "simulate: %s\n", cb_error_message());
+    rc = EXIT_IO;
+  }
   int obj_ok = cb_mesh_write_obj(&scene->mesh, run.x, obj_path) == CB_OK;
-  if (!obj_ok) { fprintf(stderr, "simulate: %s\n", cb_error_message()); rc = EXIT_IO; }
+  if (!obj_ok) {
+    fprintf(stderr, "simulate: %s\n", cb_error_message());
+    rc = EXIT_IO;
+  }
   if (frames) fprintf(stderr, "simulate: %d frames in %s/\n", nframes, frames);
   const char *csv_name = strcmp(csv_path, "-") ? csv_path : "standard output";
   const char *obj_name = strcmp(obj_path, "-") ? obj_path : "standard output";
   char wrote[3 * 2048 + 64];
   if (csv_ok && obj_ok) snprintf(wrote, sizeof wrote, "wrote %s and %s", csv_name, obj_name);
   else if (csv_ok || obj_ok)
-    snprintf(wrote, sizeof wrote, "wrote %s; %s was NOT written", csv_ok ? csv_name : obj_name, csv_ok ? obj_name : csv_name);
+    snprintf(wrote, sizeof wrote, "wrote %s; %s was NOT written", csv_ok ? csv_name : obj_name,
+             csv_ok ? obj_name : csv_name);
   else snprintf(wrote, sizeof wrote, "NOTHING written (%s, %s)", csv_name, obj_name);
   if (status == CB_DIVERGED && strcmp(cfg.method, "explicit") == 0) explicit_limit(scene, cfg.dt, why, sizeof why);
   if (cb_status_is_fatal(status)) {
-    fprintf(stderr, "simulate: step %d: %s%s%s; %s\n", run.step, cb_status_name(status), why[0] ? ": " : "", why, wrote);
+    fprintf(stderr, "simulate: step %d: %s%s%s; %s\n", run.step, cb_status_name(status), why[0] ? ": " : "", why,
+            wrote);
     if (rc == EXIT_OK) rc = status == CB_DIVERGED ? EXIT_DIVERGED : EXIT_SOLVER;
   } else if (!quiet || rc != EXIT_OK) {
     char work[64] = "";

@@ -12,12 +12,31 @@ extern void *__libc_calloc(size_t, size_t);
 extern void *__libc_realloc(void *, size_t);
 extern void *__libc_memalign(size_t, size_t);
 static long nalloc;
-void *malloc(size_t n) { nalloc++; return __libc_malloc(n); }
-void *calloc(size_t a, size_t b) { nalloc++; return __libc_calloc(a, b); }
-void *realloc(void *p, size_t n) { nalloc++; return __libc_realloc(p, n); }
-void *memalign(size_t a, size_t n) { nalloc++; return __libc_memalign(a, n); }
-int posix_memalign(void **p, size_t a, size_t n) { nalloc++; *p = __libc_memalign(a, n); return *p ? 0 : 12; }
-void *aligned_alloc(size_t a, size_t n) { nalloc++; return __libc_memalign(a, n); }
+void *malloc(size_t n) {
+  nalloc++;
+  return __libc_malloc(n);
+}
+void *calloc(size_t a, size_t b) {
+  nalloc++;
+  return __libc_calloc(a, b);
+}
+void *realloc(void *p, size_t n) {
+  nalloc++;
+  return __libc_realloc(p, n);
+}
+void *memalign(size_t a, size_t n) {
+  nalloc++;
+  return __libc_memalign(a, n);
+}
+int posix_memalign(void **p, size_t a, size_t n) {
+  nalloc++;
+  *p = __libc_memalign(a, n);
+  return *p ? 0 : 12;
+}
+void *aligned_alloc(size_t a, size_t n) {
+  nalloc++;
+  return __libc_memalign(a, n);
+}
 
 long cb_bench_allocations(void) { return nalloc; }
 
@@ -28,7 +47,11 @@ int cb_triad_alloc(cb_triad *t) {
   t->b = malloc(t->n * sizeof(double));
   t->c = malloc(t->n * sizeof(double));
   if (!t->a || !t->b || !t->c) return -1;
-  for (size_t i = 0; i < t->n; i++) { t->a[i] = 0; t->b[i] = 1.0; t->c[i] = 2.0; }
+  for (size_t i = 0; i < t->n; i++) {
+    t->a[i] = 0;
+    t->b[i] = 1.0;
+    t->c[i] = 2.0;
+  }
   return 0;
 }
 

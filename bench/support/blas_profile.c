@@ -38,12 +38,12 @@ static void leave(int routine, double t0, double flops) {
   prof.flops[routine][c] += flops;
 }
 
-typedef void gemm_fn(const char *, const char *, const int *, const int *, const int *, const double *,
-                     const double *, const int *, const double *, const int *, const double *, double *, const int *);
-typedef void syrk_fn(const char *, const char *, const int *, const int *, const double *, const double *,
-                     const int *, const double *, double *, const int *);
-typedef void trsm_fn(const char *, const char *, const char *, const char *, const int *, const int *,
-                     const double *, const double *, const int *, double *, const int *);
+typedef void gemm_fn(const char *, const char *, const int *, const int *, const int *, const double *, const double *,
+                     const int *, const double *, const int *, const double *, double *, const int *);
+typedef void syrk_fn(const char *, const char *, const int *, const int *, const double *, const double *, const int *,
+                     const double *, double *, const int *);
+typedef void trsm_fn(const char *, const char *, const char *, const char *, const int *, const int *, const double *,
+                     const double *, const int *, double *, const int *);
 typedef void potrf_fn(const char *, const int *, double *, const int *, int *);
 
 void dgemm_(const char *ta, const char *tb, const int *m, const int *n, const int *k, const double *alpha,

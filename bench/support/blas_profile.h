@@ -15,9 +15,9 @@ typedef struct {
   double flops[CB_BLAS_NROUTINES][CB_BLAS_NCLASSES]; /* 2 per multiply-add, as Common->fl counts */
 } cb_blas_profile;
 
-void cb_blas_profile_start(void);                  /* zero the counts and switch timing on */
-void cb_blas_profile_stop(cb_blas_profile *out);   /* switch off and copy the counts */
-const char *cb_blas_routine_name(int routine);     /* "dgemm", ... */
-const char *cb_blas_class_name(int cls);           /* "<1e4", ... */
+void cb_blas_profile_start(void);                /* zero the counts and switch timing on */
+void cb_blas_profile_stop(cb_blas_profile *out); /* switch off and copy the counts */
+const char *cb_blas_routine_name(int routine);   /* "dgemm", ... */
+const char *cb_blas_class_name(int cls);         /* "<1e4", ... */
 
 #endif

@@ -57,7 +57,8 @@ static double old_objective_eval(cb_old_lab *o, const double *x, double *gF) {
   memset(o->grad, 0, (size_t)3 * s->mesh.nv * sizeof(double)); /* cb_system_energy */
   double E = 0.0;
   for (int k = 0; k < s->sys.nterms; k++)
-    E += s->sys.terms[k]->type == cb_term_gravity ? old_gravity_energy(s, x, o->grad) : old_spring_energy(s->sys.terms[k], x, o->grad);
+    E += s->sys.terms[k]->type == cb_term_gravity ? old_gravity_energy(s, x, o->grad)
+                                                  : old_spring_energy(s->sys.terms[k], x, o->grad);
   double inertia = 0.0;
   for (int k = 0; k < s->model.nfree; k++) {
     int i = s->free_vertex[k];
@@ -77,7 +78,12 @@ int cb_old_lab_init(cb_old_lab *o, const cb_scene *s, double dt, double damping,
     if (term->type != cb_term_gravity && (term->type != cb_term_spring || cb_spring_term_is_choi_ko(term)))
       return cb_fail("old lab kernel: term '%s' is neither a linear spring term nor gravity", term->label);
   }
-  o->s = s; o->dt = dt; o->damping = damping; o->iters = iters; o->alpha = alpha; o->rho = rho;
+  o->s = s;
+  o->dt = dt;
+  o->damping = damping;
+  o->iters = iters;
+  o->alpha = alpha;
+  o->rho = rho;
   int nf = s->model.nfree, nv = s->mesh.nv;
   if (cb_objective_init(&o->obj, s)) return -1;
   o->grad = malloc((size_t)3 * nv * sizeof(double));
@@ -108,7 +114,10 @@ int cb_old_lab_step(cb_old_lab *o, double *x, double *v, double *Fout, double *r
     if (k == 0) g0 = gn;
     *Fout = F;
     *rel_grad = g0 > 0 ? gn / g0 : 0.0;
-    if (!isfinite(F) || !isfinite(gn)) { status = CB_DIVERGED; break; }
+    if (!isfinite(F) || !isfinite(gn)) {
+      status = CB_DIVERGED;
+      break;
+    }
     if (k == o->iters) break;
     omega = cb_chebyshev_omega(k, o->rho, omega);
     double dmax = 0.0, d2 = 0.0;
@@ -136,5 +145,8 @@ int cb_old_lab_step(cb_old_lab *o, double *x, double *v, double *Fout, double *r
 
 void cb_old_lab_free(cb_old_lab *o) {
   cb_objective_free(&o->obj);
-  free(o->grad); free(o->gF); free(o->xprev); free(o->dinv);
+  free(o->grad);
+  free(o->gF);
+  free(o->xprev);
+  free(o->dinv);
 }

@@ -114,7 +114,8 @@ static int part_hinge(FILE *f, int quick, int smoke) {
     for (int m = 0; m < 3; m++) {
       double E = energy_grad(t[m], x, g, 12), F = sqrt(g[9] * g[9] + g[10] * g[10] + g[11] * g[11]);
       double ph = deg * PI / 180, Ft = g[10] * sin(ph) + g[11] * cos(ph); /* -(-dE/dx3) . dx3/dphi: > 0 unfolds */
-      cb_csv_printf(f, "b1,%s,hinge,,%.17g,,,%.17g,%.17g,%.17g,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,ok\n", MODELS[m], deg, Ft, F, E);
+      cb_csv_printf(f, "b1,%s,hinge,,%.17g,,,%.17g,%.17g,%.17g,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,ok\n", MODELS[m], deg,
+                    Ft, F, E);
     }
   }
   for (int m = 0; m < 3; m++) cb_term_free(t[m]);
@@ -195,7 +196,9 @@ static int part_strip(FILE *f, int quick, int smoke) {
         x[3 * i + 2] = R * (1 - cos(u / R));
       }
       double Eq = tq->type->energy(tq, x, NULL), Ed = td->type->energy(td, x, NULL);
-      cb_csv_printf(f, "b3,quadratic,%s,%d,%.17g,%.17g,%.17g,,,%.17g,%.17g,%.17g,,,,,,,,,,,,,,,,,,,,,,,,,,%d,,,,%.17g,ok\n",
+      cb_csv_printf(f,
+                    "b3,quadratic,%s,%d,%.17g,%.17g,%.17g,,,%.17g,%.17g,%.17g,,,,,,,,,,,,,,,,,,,,,,,,,,%d,,,,%.17g,"
+                    "ok\n",
                     modes[mode], n, h / R * 180 / PI, s, R, Eq, Ed, Eq / Ed, np, wing);
     }
   cb_term_free(tq);
@@ -244,10 +247,13 @@ static int part_cylinder(FILE *f, int quick, int smoke) {
         cb_term *t;
         if (cb_bend_term_alloc(MODELS[m], &model, 1.0, &t)) return -1;
         double E = t->type->energy(t, x, NULL);
-        cb_csv_printf(f, "conv,%s,cylinder,%d,,,%.17g,,,%.17g,%.17g,%.17g,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,ok\n", MODELS[m], ns[k], R, E, cont, E / cont);
+        cb_csv_printf(f, "conv,%s,cylinder,%d,,,%.17g,,,%.17g,%.17g,%.17g,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,ok\n",
+                      MODELS[m], ns[k], R, E, cont, E / cont);
         cb_term_free(t);
       }
-      free(mass); free(x); free(fi);
+      free(mass);
+      free(x);
+      free(fi);
       cb_topology_free(&topo);
       cb_mesh_free(&mesh);
     }
@@ -271,7 +277,8 @@ typedef struct {
 } drape_model;
 
 /* One drape run; shapes: also write the final shape (results/bending_rest_<model>.dat); keep it in r->x. */
-static int drape(const cb_experiment *e, const char *ini, int n, const drape_model *dm, int steps, int shapes, drape_result *r) {
+static int drape(const cb_experiment *e, const char *ini, int n, const drape_model *dm, int steps, int shapes,
+                 drape_result *r) {
   char sn[64], sb[64], ss[64], sh[64];
   const char *model = dm->model;
   snprintf(sn, sizeof sn, "mesh.n=%d", n);
@@ -326,7 +333,8 @@ static int drape(const cb_experiment *e, const char *ini, int n, const drape_mod
   r->kinetic = run.kinetic;
   r->contacts = cb_scene_contacts(s, run.x);
   for (int k = 0; k < s->sys.nterms; k++)
-    if (cb_hinge_term_is(s->sys.terms[k])) r->indefinite = cb_hinge_term_count_indefinite(s->sys.terms[k], run.x, &r->nhinges);
+    if (cb_hinge_term_is(s->sys.terms[k]))
+      r->indefinite = cb_hinge_term_count_indefinite(s->sys.terms[k], run.x, &r->nhinges);
   r->nv = s->mesh.nv;
   r->x = malloc((size_t)3 * r->nv * sizeof *r->x); /* for the RMS distances */
   if (r->x) memcpy(r->x, run.x, (size_t)3 * r->nv * sizeof *r->x);
@@ -422,10 +430,12 @@ static int part_drape(cb_experiment *e, FILE *f) {
                     models[m].hessian, q->iters_max, q->unconverged, q->status);
     }
     /* the quadratic against the default (Gauss-Newton) dihedral shape; the two dihedral Hessians' shapes */
-    cb_csv_printf(f, "b2_rms,quadratic-dihedral,%s,%d,,,,,,,,,%d,,,,,,,,,,,,,,,,,,,,,,%.17g,,,,gauss-newton,,,,ok\n", mesh,
-                  size, r[0].steps, rms_distance(&r[0], &r[1]));
+    cb_csv_printf(f, "b2_rms,quadratic-dihedral,%s,%d,,,,,,,,,%d,,,,,,,,,,,,,,,,,,,,,,%.17g,,,,gauss-newton,,,,ok\n",
+                  mesh, size, r[0].steps, rms_distance(&r[0], &r[1]));
     if (nm > 2 && r[2].x)
-      cb_csv_printf(f, "b2_rms,dihedral-dihedral,%s,%d,,,,,,,,,%d,,,,,,,,,,,,,,,,,,,,,,%.17g,,,,gauss-newton-exact,,,,ok\n",
+      cb_csv_printf(f,
+                    "b2_rms,dihedral-dihedral,%s,%d,,,,,,,,,%d,,,,,,,,,,,,,,,,,,,,,,%.17g,,,,gauss-newton-exact,,,,"
+                    "ok\n",
                     mesh, size, r[1].steps, rms_distance(&r[1], &r[2]));
     for (int m = 0; m < nm; m++) free(r[m].x);
   }
@@ -438,32 +448,35 @@ int main(int argc, char **argv) {
   int r = cb_experiment_begin(&e, "bending",
                               "B1, B2, B3: the restoring force of the spring, dihedral and quadratic bending models "
                               "against the fold angle; the drape under Newton, quadratic against dihedral with its "
-                              "Gauss-Newton and exact Hessians (time split, Newton iterations, final-shape difference); "
+                              "Gauss-Newton and exact Hessians (time split, Newton iterations, final-shape "
+                              "difference); "
                               "the quadratic model on a curved strip under a non-uniform in-plane stretch; "
                               "the quadratic energy against 1/2 int |Delta x|^2 on refined cylinders.",
                               argc, argv);
   if (r) return r > 0 ? 0 : 1;
   cb_experiment_timed(&e); /* B2 is a wall-time ratio: run alone */
   cb_outfile o;
-  if (cb_experiment_csv(&e, &o, NULL,
-                        "# b1: force_n = restoring force at the wing tip, the component of -dE/dx3 along -dx3/dphi (> 0 unfolds) "
-                        "(the torque over the 0.8 m arm), force_total_n = |dE/dx3|, bend_k = 1 (N/m spring, N m hinges); b3: the "
-                        "jittered strip (n vertices along it, hinges, wing_ratio = the largest area ratio of a hinge's two "
-                        "triangles) on a cylinder of radius_m, mesh = the stretch field (arc or axis), stretch = its peak strain, "
-                        "angle_deg = a grid step's fold h/R, energy_j quadratic, energy_ref_j dihedral; conv: energy_ref_j = "
-                        "A/(2R^2), radius_m = R; b2: per-step median times (ms), each the median over the repeats of the run "
-                        "(wall_min_ms, wall_max_ms, wall_each_ms and assemble_/factor_/solve_ likewise: its spread and every repeat; "
-                        "step_min_ms, step_max_ms: the fastest and slowest single step), newton_iters total, newton_iters_max "
-                        "the most in one step, unconverged_steps those that hit integrator.max_iters, hessian = the "
-                        "model's Hessian (material.bend_hessian; constant for the quadratic model), indefinite = hinges "
-                        "whose exact Hessian the projection changes at the final state; b2_rms: rms_m between the final "
-                        "shapes of model (quadratic-dihedral: the Gauss-Newton dihedral; dihedral-dihedral: its two Hessians)\n",
-                        "part,model,mesh,n,angle_deg,stretch,radius_m,force_n,force_total_n,energy_j,energy_ref_j,ratio,steps,"
-                        "newton_iters,assemble_ms,factor_ms,solve_ms,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,step_min_ms,"
-                        "step_max_ms,assemble_min_ms,assemble_max_ms,assemble_each_ms,factor_min_ms,factor_max_ms,factor_each_ms,"
-                        "solve_min_ms,solve_max_ms,solve_each_ms,kinetic_j,rms_m,contacts,"
-                        "indefinite,"
-                        "hinges,hessian,newton_iters_max,unconverged_steps,wing_ratio,status")) {
+  if (cb_experiment_csv(
+          &e, &o, NULL,
+          "# b1: force_n = restoring force at the wing tip, the component of -dE/dx3 along -dx3/dphi (> 0 unfolds) "
+          "(the torque over the 0.8 m arm), force_total_n = |dE/dx3|, bend_k = 1 (N/m spring, N m hinges); b3: the "
+          "jittered strip (n vertices along it, hinges, wing_ratio = the largest area ratio of a hinge's two "
+          "triangles) on a cylinder of radius_m, mesh = the stretch field (arc or axis), stretch = its peak strain, "
+          "angle_deg = a grid step's fold h/R, energy_j quadratic, energy_ref_j dihedral; conv: energy_ref_j = "
+          "A/(2R^2), radius_m = R; b2: per-step median times (ms), each the median over the repeats of the run "
+          "(wall_min_ms, wall_max_ms, wall_each_ms and assemble_/factor_/solve_ likewise: its spread and every repeat; "
+          "step_min_ms, step_max_ms: the fastest and slowest single step), newton_iters total, newton_iters_max "
+          "the most in one step, unconverged_steps those that hit integrator.max_iters, hessian = the "
+          "model's Hessian (material.bend_hessian; constant for the quadratic model), indefinite = hinges "
+          "whose exact Hessian the projection changes at the final state; b2_rms: rms_m between the final "
+          "shapes of model (quadratic-dihedral: the Gauss-Newton dihedral; dihedral-dihedral: its two Hessians)\n",
+          "part,model,mesh,n,angle_deg,stretch,radius_m,force_n,force_total_n,energy_j,energy_ref_j,ratio,steps,"
+          "newton_iters,assemble_ms,factor_ms,solve_ms,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,step_"
+          "min_ms,"
+          "step_max_ms,assemble_min_ms,assemble_max_ms,assemble_each_ms,factor_min_ms,factor_max_ms,factor_each_ms,"
+          "solve_min_ms,solve_max_ms,solve_each_ms,kinetic_j,rms_m,contacts,"
+          "indefinite,"
+          "hinges,hessian,newton_iters_max,unconverged_steps,wing_ratio,status")) {
     fprintf(stderr, "bending: %s\n", cb_error_message());
     return 2;
   }

@@ -25,17 +25,25 @@ static const char *const policies[NPOL] = {"none", "drop", "mirror", "shift", "c
  * policy (tables main, steps, runs; one cell per scene); "static" = the
  * spring pair held still at a list of compressions (table pair; one cell per
  * policy variant of pair_variants). steps[0] full, steps[1] --quick. */
-typedef struct { cb_scene_decl scene; int steps[2]; } scene_plan;
+typedef struct {
+  cb_scene_decl scene;
+  int steps[2];
+} scene_plan;
 #define PAIR "mesh.type=chain", "mesh.n=3", "mesh.size=2", "mesh.plane=xy", "scene.pins=0 2"
 static const scene_plan scenes[] = {
-  {{"hanging", "hanging.ini", {NULL}, "trajectory"}, {20, 3}},  /* the lab cloth falling from two corners */
-  {{"scaled", "hanging.ini", {"scene.initial_scale=0.7", NULL}, "trajectory"}, {20, 3}}, /* starts at 0.7x its rest shape (pins too) */
-  {{"driven", "hanging.ini", /* left and right edges of the 21x21 grid (vertex (i, j) is j*21 + i) pushed together: buckling */
-    {"scene.pins=0 21 42 63 84 105 126 147 168 189 210 231 252 273 294 315 336 357 378 399 420 "
-     "20 41 62 83 104 125 146 167 188 209 230 251 272 293 314 335 356 377 398 419 440",
-     "scene.pin_squeeze=2 0 0", NULL}, "trajectory"}, {30, 3}},
-  {{"pair", "hanging.ini", {PAIR, "scene.initial_scale=0.7", NULL}, "trajectory"}, {30, 10}}, /* two springs compressed to 0.7 L between pins */
-  {{"pair_static", "hanging.ini", {PAIR, NULL}, "static"}, {0, 0}}, /* the same pair, positions set by hand */
+    {{"hanging", "hanging.ini", {NULL}, "trajectory"}, {20, 3}}, /* the lab cloth falling from two corners */
+    {{"scaled", "hanging.ini", {"scene.initial_scale=0.7", NULL}, "trajectory"},
+     {20, 3}}, /* starts at 0.7x its rest shape (pins too) */
+    {{"driven",
+      "hanging.ini", /* left and right edges of the 21x21 grid (vertex (i, j) is j*21 + i) pushed together: buckling */
+      {"scene.pins=0 21 42 63 84 105 126 147 168 189 210 231 252 273 294 315 336 357 378 399 420 "
+       "20 41 62 83 104 125 146 167 188 209 230 251 272 293 314 335 356 377 398 419 440",
+       "scene.pin_squeeze=2 0 0", NULL},
+      "trajectory"},
+     {30, 3}},
+    {{"pair", "hanging.ini", {PAIR, "scene.initial_scale=0.7", NULL}, "trajectory"},
+     {30, 10}},                                                       /* two springs compressed to 0.7 L between pins */
+    {{"pair_static", "hanging.ini", {PAIR, NULL}, "static"}, {0, 0}}, /* the same pair, positions set by hand */
 };
 enum { NSCENES = sizeof scenes / sizeof scenes[0] };
 /* the static pair's policy variants: policy and (choi-ko) buckling stiffness */
@@ -45,10 +53,14 @@ enum { NPAIR = sizeof pair_pols / sizeof pair_pols[0] };
 enum { T_IT, T_STEPS, T_RUNS, T_PAIR }; /* tables, in the order opened */
 
 /* eigenvalues of A = M/dt^2 + H and the shift mu (A + mu I) are in A's units, N/m; |grad F| in N */
-#define IT_HEAD "scene,policy,step,newton_iter,system,spd,min_eig_n_per_m,min_eig_res_n_per_m,mu_n_per_m,spd_exact," \
-  "min_eig_exact_n_per_m,compressed_frac,cg_breakdown,cg_status,cg_iters,rel_grad,grad_norm_n,f_j,energy_j,wall_ms,status"
-#define RUN_HEAD "scene,policy,steps,steps_done,steps_converged,newton_iters,systems,not_spd,indefinite_exact," \
-  "cg_breakdowns,mu_max_n_per_m,factorizations,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,probe_ms,final_f_j," \
+#define IT_HEAD \
+  "scene,policy,step,newton_iter,system,spd,min_eig_n_per_m,min_eig_res_n_per_m,mu_n_per_m,spd_exact," \
+  "min_eig_exact_n_per_m,compressed_frac,cg_breakdown,cg_status,cg_iters,rel_grad,grad_norm_n,f_j,energy_j,wall_ms," \
+  "status"
+#define RUN_HEAD \
+  "scene,policy,steps,steps_done,steps_converged,newton_iters,systems,not_spd,indefinite_exact," \
+  "cg_breakdowns,mu_max_n_per_m,factorizations,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,probe_ms," \
+  "final_f_j," \
   "final_energy_j,final_rel_grad," \
   "shape_diff_none_m,shape_diff_drop_m,status"
 
@@ -57,13 +69,15 @@ static void put_row(FILE *f, const char *sc, const char *pol, int step, const cb
   if (r->system) {
     const cb_spd_probe_result *u = &r->used, *x = exact_run ? &r->used : &r->exact;
     int spd_x = exact_run ? r->status != CB_NOT_SPD : x->cholmod_status == CB_OK;
-    cb_csv_printf(f, "%d,%.17g,%.17g,%.17g,%d,%.17g,", r->status != CB_NOT_SPD, u->min_eig, u->min_eig_res, r->mu, spd_x,
-                  x->min_eig);
+    cb_csv_printf(f, "%d,%.17g,%.17g,%.17g,%d,%.17g,", r->status != CB_NOT_SPD, u->min_eig, u->min_eig_res, r->mu,
+                  spd_x, x->min_eig);
   } else {
     fputs(",,,,,,", f);
   }
   cb_csv_printf(f, "%.17g,", r->compressed_frac);
-  if (r->system) cb_csv_printf(f, "%d,%s,%d,", r->used.cg_status == CB_INDEFINITE, cb_status_name(r->used.cg_status), r->used.cg_iters);
+  if (r->system)
+    cb_csv_printf(f, "%d,%s,%d,", r->used.cg_status == CB_INDEFINITE, cb_status_name(r->used.cg_status),
+                  r->used.cg_iters);
   else fputs(",,,", f);
   cb_csv_printf(f, "%.17g,%.17g,%.17g,%.17g,%.6f,%s\n", r->rel_grad, r->grad_norm, r->F, r->energy, r->wall_ms,
                 cb_status_name(r->status));
@@ -71,7 +85,10 @@ static void put_row(FILE *f, const char *sc, const char *pol, int step, const cb
 
 /* max_i |x_i - y_i| over vertices (Euclidean), or "" when y is missing */
 static void put_diff(FILE *f, const double *x, const double *y, int nv) {
-  if (!x || !y) { fputs(",", f); return; }
+  if (!x || !y) {
+    fputs(",", f);
+    return;
+  }
   double m = 0;
   for (int i = 0; i < nv; i++)
     m = fmax(m, hypot(hypot(x[3 * i] - y[3 * i], x[3 * i + 1] - y[3 * i + 1]), x[3 * i + 2] - y[3 * i + 2]));
@@ -87,7 +104,8 @@ static int run_policy(const cb_experiment *e, const scene_plan *sd, int p, FILE 
   char pol[64];
   snprintf(pol, sizeof pol, "integrator.definiteness=%s", policies[p]);
   /* |grad F(x0)| can be tiny at rest: stop at round-off */
-  const char *sets[] = {"integrator.tol_dx=1e-9", pol, NULL}, *refsets[] = {sets[0], "integrator.definiteness=none", NULL};
+  const char *sets[] = {"integrator.tol_dx=1e-9", pol, NULL},
+             *refsets[] = {sets[0], "integrator.definiteness=none", NULL};
   const char *label = sd->scene.label;
   int steps = sd->steps[e->quick];
   cb_scene *s = NULL, *ref = NULL; /* ref: linear springs, for the exact (none) matrix at our iterates */
@@ -101,8 +119,9 @@ static int run_policy(const cb_experiment *e, const scene_plan *sd, int p, FILE 
   if (st == CB_OK && p > 0) st = cb_scene_decl_build(e, &sd->scene, refsets, NULL, &ref);
   if (st == CB_OK) st = cb_integrator_params_from_config(&cfg, &ip);
   if (st == CB_OK) st = cb_newton_params_from_config(&cfg, &np);
-  if (st == CB_OK) st = cb_newton_trace_init(&tr, s, ref ? &ref->sys : NULL, ip.dt, np.max_iters + 1,
-                                      CB_PROBE_EIG | CB_PROBE_CG, CB_PROBE_CHOLMOD | CB_PROBE_EIG, NULL);
+  if (st == CB_OK)
+    st = cb_newton_trace_init(&tr, s, ref ? &ref->sys : NULL, ip.dt, np.max_iters + 1, CB_PROBE_EIG | CB_PROBE_CG,
+                              CB_PROBE_CHOLMOD | CB_PROBE_EIG, NULL);
   ip.hook = cb_newton_trace_hook;
   ip.hook_ctx = &tr;
   if (st == CB_OK) st = cb_integrator_from_config(&cfg, s, &ip, &integ);
@@ -126,8 +145,8 @@ static int run_policy(const cb_experiment *e, const scene_plan *sd, int p, FILE 
                                          : w->exact.cholmod_status == CB_NOT_SPD || w->exact.min_eig < 0);
       t->cg_bd += w->system && w->used.cg_status == CB_INDEFINITE;
     }
-    cb_csv_printf(stp, "%s,%s,%d,%.17g,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.6f,%s\n", label, policies[p], run.step,
-                  run.t, ss->newton_iters, ss->factorizations, ss->F, fin->energy, run.kinetic, ss->rel_grad,
+    cb_csv_printf(stp, "%s,%s,%d,%.17g,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.6f,%s\n", label, policies[p],
+                  run.step, run.t, ss->newton_iters, ss->factorizations, ss->F, fin->energy, run.kinetic, ss->rel_grad,
                   fin->compressed_frac, ss->shift_mu, wall, cb_status_name(t->status));
     t->steps_done++;
     t->converged += t->status == CB_OK;
@@ -135,7 +154,9 @@ static int run_policy(const cb_experiment *e, const scene_plan *sd, int p, FILE 
     t->fact += ss->factorizations;
     t->mu = fmax(t->mu, ss->shift_mu);
     t->probe += tr.probe_ms;
-    t->F = ss->F; t->energy = fin->energy; t->rel_grad = ss->rel_grad;
+    t->F = ss->F;
+    t->energy = fin->energy;
+    t->rel_grad = ss->rel_grad;
     if (cb_status_is_fatal(t->status)) break;
   }
   if (st == CB_OK) {
@@ -215,12 +236,12 @@ static int pair_cell(const cb_experiment *e, const cb_scene_decl *sd, int p, FIL
       if (st == CB_OK) st = cb_dense_restricted_spd(&s->sys.A, keep, &la, &ok_a);
       double pred = m * s2 + 2 * (dim == 1 ? along : fmin(along, tr));
       if (st == CB_OK)
-        cb_csv_printf(f, "%d,%s,%s,%.17g,%.17g,%.17g,%.17g,%d\n", dim, pols[p], def == CB_DEF_CHOI_KO ? kbs[p] : "", q, lh, la,
-                      pred, ok_a);
+        cb_csv_printf(f, "%d,%s,%s,%.17g,%.17g,%.17g,%.17g,%d\n", dim, pols[p], def == CB_DEF_CHOI_KO ? kbs[p] : "", q,
+                      lh, la, pred, ok_a);
     }
   }
   cb_scene_free(s);
-return st;
+  return st;
 }
 
 typedef struct {
@@ -299,10 +320,12 @@ int main(int argc, char **argv) {
   }
   const char *extra = "# one row per Newton iterate x^(k); system = 1 if A(x^(k)) was assembled and solved there\n";
   if (cb_experiment_table(&e, NULL, extra, IT_HEAD) != T_IT ||
-      cb_experiment_table(&e, "steps", NULL, "scene,policy,step,t_s,newton_iters,factorizations,"
+      cb_experiment_table(&e, "steps", NULL,
+                          "scene,policy,step,t_s,newton_iters,factorizations,"
                           "f_j,energy_j,kinetic_j,rel_grad,compressed_frac,mu_max_n_per_m,wall_ms,status") != T_STEPS ||
       cb_experiment_table(&e, "runs", NULL, RUN_HEAD) != T_RUNS ||
-      cb_experiment_table(&e, "pair", NULL, "dim,policy,buckling_kb_n_m2,ratio,min_eig_h_n_per_m,min_eig_a_n_per_m,"
+      cb_experiment_table(&e, "pair", NULL,
+                          "dim,policy,buckling_kb_n_m2,ratio,min_eig_h_n_per_m,min_eig_a_n_per_m,"
                           "predicted_min_eig_a_n_per_m,spd") != T_PAIR)
     return cb_experiment_end(&e, CB_EIO), 2;
   const cb_sweep sweeps[] = {{"trajectory", pl.ntraj, traj_cell, traj_cost, &pl},

@@ -35,26 +35,68 @@
  * 21^2 at 3 dt x 3 k (1 dt with --quick), 41^2 none. */
 typedef struct {
   cb_scene_decl scene;
-  const char *family;                   /* E2 family of its timing rows */
-  int k_stride[2];                      /* sweep every stride-th k */
-  int nt_dt_stride[2], nt_k_stride[2];  /* Newton cells: every stride-th dt and k ... */
-  double nt_dt_min[2];                  /* ... with dt >= this */
-  int e2_k_stride[2];                   /* E2 timings every stride-th k (0 = none) */
-  int nres[2];                          /* "resolution": timed at the first nres k_res */
+  const char *family;                  /* E2 family of its timing rows */
+  int k_stride[2];                     /* sweep every stride-th k */
+  int nt_dt_stride[2], nt_k_stride[2]; /* Newton cells: every stride-th dt and k ... */
+  double nt_dt_min[2];                 /* ... with dt >= this */
+  int e2_k_stride[2];                  /* E2 timings every stride-th k (0 = none) */
+  int nres[2];                         /* "resolution": timed at the first nres k_res */
 } scene_plan;
 
 #define CLOTH(n, m) "mesh.n=" #n, "material.vertex_mass=441/" #m, "mesh.plane=xy"
 #define BEND_K "1e4"
 #define BENT(n, m) CLOTH(n, m), "material.bend=quadratic", "material.bend_k=" BEND_K
 static const scene_plan scenes[] = {
-  {{"spring", "single_spring.ini", {NULL}, "map"}, "stretch", {1, 1}, {1, 1}, {1, 1}, {0, 0}, {0, 0}, {0, 0}},
-  {{"chain20", "chain20.ini", {NULL}, "map"}, "stretch", {1, 1}, {1, 1}, {1, 1}, {0, 0}, {0, 0}, {0, 0}},
-  {{"cloth21", "hanging.ini", {CLOTH(21, 441), NULL}, "map"}, "stretch", {1, 1}, {3, 1}, {6, 3}, {9e-3, 0.09}, {2, 3}, {0, 0}},
-  {{"cloth41", "hanging.ini", {CLOTH(41, 1681), NULL}, "map"}, "stretch", {1, 3}, {1, 1}, {0, 0}, {0.09, 1}, {4, 0}, {0, 0}},
-  {{"cloth81", "hanging.ini", {CLOTH(81, 6561), NULL}, "resolution"}, "stretch", {1, 1}, {1, 1}, {0, 0}, {0, 0}, {0, 0}, {2, 1}},
-  {{"bend11", "hanging.ini", {BENT(11, 121), NULL}, "resolution"}, "bending", {1, 1}, {1, 1}, {0, 0}, {0, 0}, {0, 0}, {1, 1}},
-  {{"bend21", "hanging.ini", {BENT(21, 441), NULL}, "resolution"}, "bending", {1, 1}, {1, 1}, {0, 0}, {0, 0}, {0, 0}, {1, 1}},
-  {{"bend41", "hanging.ini", {BENT(41, 1681), NULL}, "resolution"}, "bending", {1, 1}, {1, 1}, {0, 0}, {0, 0}, {0, 0}, {1, 1}},
+    {{"spring", "single_spring.ini", {NULL}, "map"}, "stretch", {1, 1}, {1, 1}, {1, 1}, {0, 0}, {0, 0}, {0, 0}},
+    {{"chain20", "chain20.ini", {NULL}, "map"}, "stretch", {1, 1}, {1, 1}, {1, 1}, {0, 0}, {0, 0}, {0, 0}},
+    {{"cloth21", "hanging.ini", {CLOTH(21, 441), NULL}, "map"},
+     "stretch",
+     {1, 1},
+     {3, 1},
+     {6, 3},
+     {9e-3, 0.09},
+     {2, 3},
+     {0, 0}},
+    {{"cloth41", "hanging.ini", {CLOTH(41, 1681), NULL}, "map"},
+     "stretch",
+     {1, 3},
+     {1, 1},
+     {0, 0},
+     {0.09, 1},
+     {4, 0},
+     {0, 0}},
+    {{"cloth81", "hanging.ini", {CLOTH(81, 6561), NULL}, "resolution"},
+     "stretch",
+     {1, 1},
+     {1, 1},
+     {0, 0},
+     {0, 0},
+     {0, 0},
+     {2, 1}},
+    {{"bend11", "hanging.ini", {BENT(11, 121), NULL}, "resolution"},
+     "bending",
+     {1, 1},
+     {1, 1},
+     {0, 0},
+     {0, 0},
+     {0, 0},
+     {1, 1}},
+    {{"bend21", "hanging.ini", {BENT(21, 441), NULL}, "resolution"},
+     "bending",
+     {1, 1},
+     {1, 1},
+     {0, 0},
+     {0, 0},
+     {0, 0},
+     {1, 1}},
+    {{"bend41", "hanging.ini", {BENT(41, 1681), NULL}, "resolution"},
+     "bending",
+     {1, 1},
+     {1, 1},
+     {0, 0},
+     {0, 0},
+     {0, 0},
+     {1, 1}},
 };
 enum { NSCENES = sizeof scenes / sizeof scenes[0], MAXG = 64 };
 enum { T_MAIN, T_BOUNDARY, T_TIMING }; /* tables, in the order opened */
@@ -89,11 +131,11 @@ static void make_plan(plan *p, int quick, int smoke, double sim_time) {
   p->bisect_iters = smoke ? 3 : quick ? 6 : 10;
   p->ex = cb_stability_params_default();
   p->ex.sim_time = sim_time > 0 ? sim_time : smoke ? 0.05 : quick ? 1.0 : 2.0;
-  p->ex.min_steps = smoke ? 5 : 200;   /* a large dt still gets 200 steps to show growth */
+  p->ex.min_steps = smoke ? 5 : 200;                   /* a large dt still gets 200 steps to show growth */
   p->ex.max_steps = smoke ? 100 : quick ? 1000 : 2000; /* a cell still below R_u after this many steps is stable */
   p->ex.energy_every = 4;
-  p->nt = p->ex;          /* Newton (I1): the explicit cells' steps, so the same simulated time ... */
-  p->nt.mark_time = 0.1;  /* ... and the energy lost over the first 0.1 s, common to every dt that reaches it */
+  p->nt = p->ex;         /* Newton (I1): the explicit cells' steps, so the same simulated time ... */
+  p->nt.mark_time = 0.1; /* ... and the energy lost over the first 0.1 s, common to every dt that reaches it */
   p->nt.energy_every = 1;
   p->k_res[0] = 1e4;
   p->k_res[1] = 1e6;
@@ -106,7 +148,8 @@ static int scene_config(const cb_experiment *e, const cb_scene_decl *d, double k
   snprintf(sk, sizeof sk, "material.stretch_k=%.17g", k);
   /* converged Newton (I1, E2): the exact Hessian with a shift where A is indefinite, and a line search, the
    * fastest converging variant (drop, the lecture's, converges linearly on these compressed equilibria) */
-  const char *more[] = {sk, "integrator.tol_dx=1e-10", "integrator.definiteness=shift", "integrator.line_search=1", NULL};
+  const char *more[] = {sk, "integrator.tol_dx=1e-10", "integrator.definiteness=shift", "integrator.line_search=1",
+                        NULL};
   return cb_scene_decl_config(e, d, more, c);
 }
 
@@ -118,15 +161,21 @@ static void cell_row(const char *kind, const char *cas, const char *method, cons
   double loss = r->t_mark > 0 ? (r->energy0 - r->energy_mark) / r->t_mark : cb_csv_na(); /* W: J per simulated s */
   int nt = !strcmp(method, "newton");
   double na = cb_csv_na();
-  cb_csv_printf(fmain, "%s,%s,%s,%d,%.17g,%.17g,%s,%s,%.17g,%.17g,%ld,%.17g,%.6f,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,"
-                "%.17g,%.17g,%.17g,%.17g,%s,%s\n", kind, cas, cur_scene, cur_nv, cur_k, r->dt, method, cb_cell_class_name(r->cls),
-                r->max_energy_ratio, r->final_energy_ratio, r->steps, r->t_end, r->wall_ms, pred, cb_csv_na_if_nan(meas), r->energy0,
+  cb_csv_printf(fmain,
+                "%s,%s,%s,%d,%.17g,%.17g,%s,%s,%.17g,%.17g,%ld,%.17g,%.6f,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%."
+                "17g,"
+                "%.17g,%.17g,%.17g,%.17g,%s,%s\n",
+                kind, cas, cur_scene, cur_nv, cur_k, r->dt, method, cb_cell_class_name(r->cls), r->max_energy_ratio,
+                r->final_energy_ratio, r->steps, r->t_end, r->wall_ms, pred, cb_csv_na_if_nan(meas), r->energy0,
                 r->energy_end, r->energy_scale, kinetic0, window > 0 ? window : na, r->t_mark, loss,
-                nt ? (double)r->newton_iters : na, nt ? r->max_newton_iters : na, nt ? (double)r->not_converged_steps : na,
-                cb_status_name(r->step_status), note);
+                nt ? (double)r->newton_iters : na, nt ? r->max_newton_iters : na,
+                nt ? (double)r->not_converged_steps : na, cb_status_name(r->step_status), note);
 }
 
-typedef struct { cb_cell_result r[MAXG * 2]; int n; } cell_list;
+typedef struct {
+  cb_cell_result r[MAXG * 2];
+  int n;
+} cell_list;
 static void keep(void *ctx, const cb_cell_result *r) {
   cell_list *l = ctx;
   if (l->n < MAXG * 2) l->r[l->n++] = *r;
@@ -161,8 +210,8 @@ static int minimiser(cb_integrator *ref_it, cb_reference *ref, const double *x, 
   return cb_integrator_step(ref_it, xs, vs, &ss);
 }
 
-static int step_error(cb_integrator *it, cb_integrator *ref_it, cb_reference *ref, const cb_stability_case *c, double dt,
-                      int steps, double *err, int *done) {
+static int step_error(cb_integrator *it, cb_integrator *ref_it, cb_reference *ref, const cb_stability_case *c,
+                      double dt, int steps, double *err, int *done) {
   const cb_scene *s = c->scene;
   size_t n3 = (size_t)3 * s->mesh.nv;
   double *x = malloc(n3 * sizeof *x), *v = malloc(n3 * sizeof *v), *x0 = malloc(n3 * sizeof *x0),
@@ -182,12 +231,20 @@ static int step_error(cb_integrator *it, cb_integrator *ref_it, cb_reference *re
     int r = minimiser(ref_it, ref, x, v, xs, vs, n3);
     if (r != CB_OK && r != CB_NOT_CONVERGED) break; /* no x*: the steps checked so far stand */
     r = cb_integrator_step(it, x, v, &ss);
-    if (r != CB_OK && r != CB_NOT_CONVERGED) { *err = INFINITY; ++*done; break; } /* a failed step is no accurate step */
+    if (r != CB_OK && r != CB_NOT_CONVERGED) {
+      *err = INFINITY;
+      ++*done;
+      break;
+    } /* a failed step is no accurate step */
     double e = cb_step_error(s, x, xs, x0);
     *err = isfinite(e) ? fmax(*err, e) : INFINITY;
     ++*done;
   }
-  free(x); free(v); free(x0); free(xs); free(vs);
+  free(x);
+  free(v);
+  free(x0);
+  free(xs);
+  free(vs);
   return st;
 }
 
@@ -212,7 +269,9 @@ static int timing(const cb_experiment *e, const plan *pl, const char *family, cb
                   int timed) {
   int methods = timed;
   cb_stability_params p = cb_stability_params_default();
-  p.min_steps = 1; p.max_steps = 0; p.energy_every = 0;
+  p.min_steps = 1;
+  p.max_steps = 0;
+  p.energy_every = 0;
   const cb_newton_params *cn = c->newton->type_params; /* the case's Newton, from its config */
   cb_newton_params np[E2_METHODS];
   for (int m = 0; m < E2_METHODS; m++) np[m] = *cn;
@@ -266,8 +325,8 @@ static int timing(const cb_experiment *e, const plan *pl, const char *family, cb
     if (!(timed & (1 << m))) continue;
     const cb_cell_result *b = &first[m];
     double dt = m == 0 ? meas : 1.0 / 30.0;
-    cb_csv_printf(ftime, "%s,%s,%d,%.17g,%s,%.17g,%ld,%.17g,%.6f,", cur_scene, family, cur_nv, cur_k, name[m], dt, b->steps,
-                  b->t_end, cb_timing_median(&wall[m]));
+    cb_csv_printf(ftime, "%s,%s,%d,%.17g,%s,%.17g,%ld,%.17g,%.6f,", cur_scene, family, cur_nv, cur_k, name[m], dt,
+                  b->steps, b->t_end, cb_timing_median(&wall[m]));
     cb_timing_csv(ftime, &wall[m], 1 / b->t_end); /* wall_ms_per_s, its min and max */
     fputc(',', ftime);
     cb_timing_csv_each(ftime, &wall[m], 1 / b->t_end);
@@ -306,7 +365,9 @@ static int run_case(const cb_experiment *e, const plan *p, const scene_plan *d, 
   int st = scene_config(e, &d->scene, k, &cfg);
   if (st == CB_OK) st = cb_stability_case_init(&c, &cfg, &cp);
   if (st) return st;
-  cur_scene = d->scene.label; cur_k = k; cur_nv = c.scene->mesh.nv;
+  cur_scene = d->scene.label;
+  cur_k = k;
+  cur_nv = c.scene->mesh.nv;
   sweep.n = bis.n = newton.n = 0;
   int cls[MAXG], mono = -1;
   double lo = NAN, hi = NAN;
@@ -327,25 +388,29 @@ static int run_case(const cb_experiment *e, const plan *p, const scene_plan *d, 
     if (newton_cell(p, d, ik, j))
       st = cb_stability_cell(c.newton, p->dt[j], c.x_start, c.v_start, c.S, &pn, &c.work, &newton.r[newton.n++]);
   double meas = st == CB_OK ? b.dt_stable : NAN;
-  for (int i = 0; st == CB_OK && i < sweep.n; i++) cell_row("sweep", "map", "explicit", &sweep.r[i], c.pred.dt_crit, meas, c.kinetic0, 0, "");
-  for (int i = 0; st == CB_OK && i < bis.n; i++) cell_row("bisect", "boundary", "explicit", &bis.r[i], c.pred.dt_crit, meas, c.kinetic0, 0, "");
-  for (int i = 0; st == CB_OK && i < newton.n; i++) cell_row("sweep", "map", "newton", &newton.r[i], c.pred.dt_crit, meas, c.kinetic0, pn.mark_time, "");
+  for (int i = 0; st == CB_OK && i < sweep.n; i++)
+    cell_row("sweep", "map", "explicit", &sweep.r[i], c.pred.dt_crit, meas, c.kinetic0, 0, "");
+  for (int i = 0; st == CB_OK && i < bis.n; i++)
+    cell_row("bisect", "boundary", "explicit", &bis.r[i], c.pred.dt_crit, meas, c.kinetic0, 0, "");
+  for (int i = 0; st == CB_OK && i < newton.n; i++)
+    cell_row("sweep", "map", "newton", &newton.r[i], c.pred.dt_crit, meas, c.kinetic0, pn.mark_time, "");
   /* not applicable, written empty: the eigensolver that did not run (its lambda is NaN), the rest-shape
    * prediction without a grid (NaN), the grid bracket without a grid (NaN) or without a stable / an unstable
    * grid dt (0), the grid's monotonicity without a grid (-1), a bisection bound not found (NaN) */
   const cb_prediction *pr = &c.pred;
   int lz = !isnan(pr->lambda_lanczos);
   if (st == CB_OK)
-    cb_csv_printf(fbound, "%s,%d,%d,%.17g,%.17g,%.17g,%d,%s,%.17g,%.17g,%.17g,%s,%.17g,%.17g,%.17g,%s,%.17g,%.17g,%.17g,%.17g,"
-                  "%.17g,%.17g,%.17g,%.17g,%d,%s,%.3f,%.3f\n", cur_scene, cur_nv, c.scene->model.nfree, k,
-                  c.scene->mass[c.scene->free_vertex[0]], c.eq.residual, c.eq.steps, cb_status_name(c.eq.status),
-                  c.eq.max_strain, c.eq.min_strain, pr->lambda_max, pr->method == CB_EIG_DENSE ? "gsl_dense" : "lanczos",
-                  cb_csv_na_if_nan(pr->lambda_dense), cb_csv_na_if_nan(pr->lambda_lanczos),
-                  lz ? pr->lanczos_steps : cb_csv_na(), lz ? cb_status_name(pr->lanczos_status) : "",
-                  cb_csv_na_if_nan(c.pred_rest.lambda_max), pr->dt_crit, cb_csv_na_if_nan(c.pred_rest.dt_crit),
-                  lo > 0 ? lo : cb_csv_na(), hi > 0 ? hi : cb_csv_na(), mono >= 0 ? mono : cb_csv_na(),
-                  cb_csv_na_if_nan(b.dt_stable), cb_csv_na_if_nan(b.dt_unstable), b.runs, cb_status_name(b.status), c.eq.ms,
-                  c.pred.ms + c.pred_rest.ms);
+    cb_csv_printf(fbound,
+                  "%s,%d,%d,%.17g,%.17g,%.17g,%d,%s,%.17g,%.17g,%.17g,%s,%.17g,%.17g,%.17g,%s,%.17g,%.17g,%.17g,%.17g,"
+                  "%.17g,%.17g,%.17g,%.17g,%d,%s,%.3f,%.3f\n",
+                  cur_scene, cur_nv, c.scene->model.nfree, k, c.scene->mass[c.scene->free_vertex[0]], c.eq.residual,
+                  c.eq.steps, cb_status_name(c.eq.status), c.eq.max_strain, c.eq.min_strain, pr->lambda_max,
+                  pr->method == CB_EIG_DENSE ? "gsl_dense" : "lanczos", cb_csv_na_if_nan(pr->lambda_dense),
+                  cb_csv_na_if_nan(pr->lambda_lanczos), lz ? pr->lanczos_steps : cb_csv_na(),
+                  lz ? cb_status_name(pr->lanczos_status) : "", cb_csv_na_if_nan(c.pred_rest.lambda_max), pr->dt_crit,
+                  cb_csv_na_if_nan(c.pred_rest.dt_crit), lo > 0 ? lo : cb_csv_na(), hi > 0 ? hi : cb_csv_na(),
+                  mono >= 0 ? mono : cb_csv_na(), cb_csv_na_if_nan(b.dt_stable), cb_csv_na_if_nan(b.dt_unstable),
+                  b.runs, cb_status_name(b.status), c.eq.ms, c.pred.ms + c.pred_rest.ms);
   /* E2: 1 explicit, 2 converged Newton, 4 and 8 Baraff-Witkin (drop, shift); converged Newton
    * above 41^2 (~3 s a step on 81^2) only at k_res[0] */
   int timed = p->smoke || !grid || (d->e2_k_stride[q] > 0 && ik % d->e2_k_stride[q] == 0) ||
@@ -367,24 +432,52 @@ typedef struct {
   const char *note;
 } extreme_case;
 static const extreme_case extreme_cases[] = {
-  {{"k_1e8", "hanging.ini", {CLOTH(21, 441), NULL}, "extreme"}, 1e8, 1, {0.9, 1.1},
-   "k = 1e8 N/m from the hanging equilibrium: explicit at 0.9 and 1.1 x dt_crit_pred; Newton at 1/30 s"},
-  {{"dt_0.1", "hanging.ini", {CLOTH(21, 441), NULL}, "extreme"}, 8000, 1, {0.1, 0},
-   "the lab stiffness 8000 N/m from the hanging equilibrium at dt = 0.1 s (12 x dt_crit_pred)"},
-  {{"stretched_2x", "hanging.ini", {CLOTH(21, 441), "scene.initial_scale=2", NULL}, "extreme"}, 8000, 0, {0.9, -0.9},
-   "starts at 2x the rest size (no equilibrium); explicit at 0.9 x dt_crit_pred at that start and at the rest shape"},
-  {{"compressed_0.5x", "hanging.ini", {CLOTH(21, 441), "scene.initial_scale=0.5", NULL}, "extreme"}, 8000, 0, {0.9, -0.9},
-   "starts at 0.5x the rest size (no equilibrium); explicit at 0.9 x dt_crit_pred at that start and at the rest shape"},
-  {{"zero_rest_length", "hanging.ini", {CLOTH(21, 441), "mesh.type=obj", "mesh.file=zero_rest_length.obj", "scene.pins=0", NULL},
-    "extreme"}, 8000, 1, {0.9, 0}, "configs/zero_rest_length.obj joins two coincident vertices by a line element"},
-  {{"zero_gravity_no_pins", "hanging.ini", {CLOTH(21, 441), "scene.gravity=0 0 0", "scene.pins=none", NULL}, "extreme"}, 8000,
-   1, {0.9, 1.1}, "no gravity and no pins: a free cloth with a random velocity (K has six rigid-body zero eigenvalues)"},
+    {{"k_1e8", "hanging.ini", {CLOTH(21, 441), NULL}, "extreme"},
+     1e8,
+     1,
+     {0.9, 1.1},
+     "k = 1e8 N/m from the hanging equilibrium: explicit at 0.9 and 1.1 x dt_crit_pred; Newton at 1/30 s"},
+    {{"dt_0.1", "hanging.ini", {CLOTH(21, 441), NULL}, "extreme"},
+     8000,
+     1,
+     {0.1, 0},
+     "the lab stiffness 8000 N/m from the hanging equilibrium at dt = 0.1 s (12 x dt_crit_pred)"},
+    {{"stretched_2x", "hanging.ini", {CLOTH(21, 441), "scene.initial_scale=2", NULL}, "extreme"},
+     8000,
+     0,
+     {0.9, -0.9},
+     "starts at 2x the rest size (no equilibrium); explicit at 0.9 x dt_crit_pred at that start and at the rest shape"},
+    {{"compressed_0.5x", "hanging.ini", {CLOTH(21, 441), "scene.initial_scale=0.5", NULL}, "extreme"},
+     8000,
+     0,
+     {0.9, -0.9},
+     "starts at 0.5x the rest size (no equilibrium); explicit at 0.9 x dt_crit_pred at that start and at the rest "
+     "shape"},
+    {{"zero_rest_length",
+      "hanging.ini",
+      {CLOTH(21, 441), "mesh.type=obj", "mesh.file=zero_rest_length.obj", "scene.pins=0", NULL},
+      "extreme"},
+     8000,
+     1,
+     {0.9, 0},
+     "configs/zero_rest_length.obj joins two coincident vertices by a line element"},
+    {{"zero_gravity_no_pins",
+      "hanging.ini",
+      {CLOTH(21, 441), "scene.gravity=0 0 0", "scene.pins=none", NULL},
+      "extreme"},
+     8000,
+     1,
+     {0.9, 1.1},
+     "no gravity and no pins: a free cloth with a random velocity (K has six rigid-body zero eigenvalues)"},
 };
 enum { NEXTREMES = sizeof extreme_cases / sizeof extreme_cases[0] };
 
 static int extreme(const cb_experiment *e, const plan *p, const extreme_case *x) {
   cb_stability_params pe = p->ex, pn = p->ex;
-  pn.sim_time = 1.0; pn.min_steps = 1; pn.max_steps = 0; pn.energy_every = 1;
+  pn.sim_time = 1.0;
+  pn.min_steps = 1;
+  pn.max_steps = 0;
+  pn.energy_every = 1;
   if (p->quick) pn.sim_time = p->smoke ? 2.0 / 30.0 : 1.0 / 3.0;
   cb_config cfg;
   cb_case_params cp = cb_case_params_default();
@@ -392,14 +485,18 @@ static int extreme(const cb_experiment *e, const plan *p, const extreme_case *x)
   cp.eig = CB_EIG_LANCZOS;
   cb_stability_case c;
   const char *cas = x->scene.label;
-  cur_scene = "cloth21"; cur_k = x->k; cur_nv = 441;
+  cur_scene = "cloth21";
+  cur_k = x->k;
+  cur_nv = 441;
   int st = scene_config(e, &x->scene, x->k, &cfg);
   if (st == CB_OK) st = cb_stability_case_init(&c, &cfg, &cp);
   if (st == CB_EINVAL) { /* bad input: a clear error, recorded in the row; what was never measured is empty */
     char msg[1024];
     snprintf(msg, sizeof msg, "%s: rejected when the scene is built: %s", x->note, cb_error_message());
-    for (char *s = msg; *s; s++) if (*s == ',' || *s == '\n') *s = ';';
-    cb_csv_printf(fmain, "extreme,%s,cloth21,,%.17g,,explicit,rejected,,,0,0,,,,,,,,,,,,,,invalid_input,%s\n", cas, x->k, msg);
+    for (char *s = msg; *s; s++)
+      if (*s == ',' || *s == '\n') *s = ';';
+    cb_csv_printf(fmain, "extreme,%s,cloth21,,%.17g,,explicit,rejected,,,0,0,,,,,,,,,,,,,,invalid_input,%s\n", cas,
+                  x->k, msg);
     return CB_OK;
   }
   if (st) return st;
@@ -410,7 +507,8 @@ static int extreme(const cb_experiment *e, const plan *p, const extreme_case *x)
     if (m == 2) dt = !strcmp(cas, "dt_0.1") ? 0.1 : 1.0 / 30.0;
     if (!(dt > 0)) continue;
     st = cb_stability_cell(m == 2 ? c.newton : c.expl, dt, c.x_start, c.v_start, c.S, m == 2 ? &pn : &pe, &c.work, &r);
-    if (st == CB_OK) cell_row("extreme", cas, m == 2 ? "newton" : "explicit", &r, c.pred.dt_crit, NAN, c.kinetic0, 0, x->note);
+    if (st == CB_OK)
+      cell_row("extreme", cas, m == 2 ? "newton" : "explicit", &r, c.pred.dt_crit, NAN, c.kinetic0, 0, x->note);
   }
   cb_stability_case_free(&c);
   return st;
@@ -418,7 +516,10 @@ static int extreme(const cb_experiment *e, const plan *p, const extreme_case *x)
 
 /* The cells: the swept k of every "map" scene, the k_res of every
  * "resolution" scene, then the extreme cases. */
-typedef struct { int scene, ik; double cost; } case_cell;
+typedef struct {
+  int scene, ik;
+  double cost;
+} case_cell;
 typedef struct {
   const cb_experiment *e;
   const plan *p;
@@ -427,7 +528,11 @@ typedef struct {
   int nmap, nres;
 } cells;
 
-static void use(FILE *const *out) { fmain = out[T_MAIN]; fbound = out[T_BOUNDARY]; ftime = out[T_TIMING]; }
+static void use(FILE *const *out) {
+  fmain = out[T_MAIN];
+  fbound = out[T_BOUNDARY];
+  ftime = out[T_TIMING];
+}
 
 static int map_cell(long i, void *ctx, FILE *const *out) {
   const cells *c = ctx;
@@ -453,18 +558,17 @@ static double map_cost(long i, void *ctx) { return ((const cells *)ctx)->map[i].
 static double res_cost(long i, void *ctx) { return ((const cells *)ctx)->res[i].cost; }
 static double extreme_cost(long i, void *ctx) { return ((const cells *)ctx)->ext_cost[i]; }
 
-static const char *about =
-  "Claims E1, E2, I1. Sweeps spring stiffness k (1e1..1e7 N/m) and time step dt\n"
-  "(1e-5..1e-1 s) on a single spring, a 20-spring chain and the hanging cloth at 21^2\n"
-  "and 41^2, each cell starting at the static (hanging) equilibrium plus a small random\n"
-  "velocity; classifies explicit and Newton cells (over the same steps) stable/unstable/\n"
-  "diverged; bisects the largest stable explicit dt against the prediction 2/omega_max;\n"
-  "times 1 s of simulation (explicit at its largest stable dt; converged Newton and\n"
-  "Baraff-Witkin at 1/30 s, with their step errors) against k and resolution, for a\n"
-  "stretch-dominated cloth (21^2, 41^2, 81^2) and a bending-dominated one (11^2, 21^2,\n"
-  "41^2); runs stiff and extreme cases. Writes <out>, <out>_boundary.csv and\n"
-  "<out>_timing.csv (stem of --out).\n"
-  "  --time SECONDS   simulated time per explicit cell (default 2; 1 with --quick)";
+static const char *about = "Claims E1, E2, I1. Sweeps spring stiffness k (1e1..1e7 N/m) and time step dt\n"
+                           "(1e-5..1e-1 s) on a single spring, a 20-spring chain and the hanging cloth at 21^2\n"
+                           "and 41^2, each cell starting at the static (hanging) equilibrium plus a small random\n"
+                           "velocity; classifies explicit and Newton cells (over the same steps) stable/unstable/\n"
+                           "diverged; bisects the largest stable explicit dt against the prediction 2/omega_max;\n"
+                           "times 1 s of simulation (explicit at its largest stable dt; converged Newton and\n"
+                           "Baraff-Witkin at 1/30 s, with their step errors) against k and resolution, for a\n"
+                           "stretch-dominated cloth (21^2, 41^2, 81^2) and a bending-dominated one (11^2, 21^2,\n"
+                           "41^2); runs stiff and extreme cases. Writes <out>, <out>_boundary.csv and\n"
+                           "<out>_timing.csv (stem of --out).\n"
+                           "  --time SECONDS   simulated time per explicit cell (default 2; 1 with --quick)";
 
 int main(int argc, char **argv) {
   double sim_time = 0;
@@ -483,22 +587,32 @@ int main(int argc, char **argv) {
   plan p;
   make_plan(&p, e.quick, e.smoke, sim_time);
   char info[1024];
-  snprintf(info, sizeof info, "# plan: %d k x %d dt; explicit cells %g s with %ld..%ld steps; bisection %d; Newton cells "
-           "%g s (energy mark); start: equilibrium + random velocity 1e-6 S0 + swing 1e-3 S0; R_u %g; R_d %g\n", p.nk, p.ndt, p.ex.sim_time, p.ex.min_steps,
-           p.ex.max_steps, p.bisect_iters, p.nt.sim_time, p.ex.unstable_ratio, p.ex.diverge_ratio);
+  snprintf(info, sizeof info,
+           "# plan: %d k x %d dt; explicit cells %g s with %ld..%ld steps; bisection %d; Newton cells "
+           "%g s (energy mark); start: equilibrium + random velocity 1e-6 S0 + swing 1e-3 S0; R_u %g; R_d %g\n",
+           p.nk, p.ndt, p.ex.sim_time, p.ex.min_steps, p.ex.max_steps, p.bisect_iters, p.nt.sim_time,
+           p.ex.unstable_ratio, p.ex.diverge_ratio);
   if (cb_experiment_table(&e, NULL, info,
-        "kind,case,scene,n_vertices,k_n_per_m,dt_s,method,status,max_energy_ratio,final_energy_ratio,steps,t_end_s,wall_ms,"
-        "dt_crit_pred_s,dt_crit_meas_s,energy0_j,energy_end_j,energy_scale_j,kinetic0_j,window_s,t_mark_s,energy_loss_w,newton_iters,"
-        "max_newton_iters,not_converged_steps,step_status,note") != T_MAIN ||
+                          "kind,case,scene,n_vertices,k_n_per_m,dt_s,method,status,max_energy_ratio,final_energy_ratio,"
+                          "steps,t_end_s,wall_ms,"
+                          "dt_crit_pred_s,dt_crit_meas_s,energy0_j,energy_end_j,energy_scale_j,kinetic0_j,window_s,t_"
+                          "mark_s,energy_loss_w,newton_iters,"
+                          "max_newton_iters,not_converged_steps,step_status,note") != T_MAIN ||
       cb_experiment_table(&e, "boundary", info,
-        "scene,n_vertices,n_free,k_n_per_m,vertex_mass_kg,equilibrium_residual,equilibrium_steps,equilibrium_status,max_strain,"
-        "min_strain,lambda_max_per_s2,eig_method,lambda_dense_per_s2,lambda_lanczos_per_s2,lanczos_steps,lanczos_status,"
-        "lambda_max_rest_per_s2,dt_crit_pred_s,dt_crit_pred_rest_s,dt_stable_grid_s,dt_unstable_grid_s,grid_monotone,"
-        "dt_crit_meas_s,dt_crit_meas_hi_s,bisect_runs,bisect_status,equilibrium_ms,predict_ms") != T_BOUNDARY ||
+                          "scene,n_vertices,n_free,k_n_per_m,vertex_mass_kg,equilibrium_residual,equilibrium_steps,"
+                          "equilibrium_status,max_strain,"
+                          "min_strain,lambda_max_per_s2,eig_method,lambda_dense_per_s2,lambda_lanczos_per_s2,lanczos_"
+                          "steps,lanczos_status,"
+                          "lambda_max_rest_per_s2,dt_crit_pred_s,dt_crit_pred_rest_s,dt_stable_grid_s,dt_unstable_grid_"
+                          "s,grid_monotone,"
+                          "dt_crit_meas_s,dt_crit_meas_hi_s,bisect_runs,bisect_status,equilibrium_ms,predict_ms") !=
+          T_BOUNDARY ||
       cb_experiment_table(&e, "timing", info,
-        "scene,family,n_vertices,k_n_per_m,method,dt_s,steps,sim_time_s,wall_ms,wall_ms_per_s,wall_min_ms_per_s,"
-        "wall_max_ms_per_s,wall_each_ms_per_s,wall_repeats,status,step_status,newton_iters,dt_crit_meas_s,dt_crit_pred_s,"
-        "not_converged_steps,step_error_max,step_error_steps") != T_TIMING)
+                          "scene,family,n_vertices,k_n_per_m,method,dt_s,steps,sim_time_s,wall_ms,wall_ms_per_s,wall_"
+                          "min_ms_per_s,"
+                          "wall_max_ms_per_s,wall_each_ms_per_s,wall_repeats,status,step_status,newton_iters,dt_crit_"
+                          "meas_s,dt_crit_pred_s,"
+                          "not_converged_steps,step_error_max,step_error_steps") != T_TIMING)
     return cb_experiment_end(&e, CB_EIO), 2;
   /* cost hints: vertices + 5 (a quick run takes 2.5-4 ms per unit for a map cell
    * or a resolution cell, 1.5 for an extreme case), plus ~1.5 x vertices per cloth
@@ -526,7 +640,8 @@ int main(int argc, char **argv) {
       }
     if (cb_scene_decl_is(&d->scene, "resolution"))
       for (int r = 0; r < d->nres[p.quick]; r++)
-        cl.res[cl.nres++] = (case_cell){s, r, w * (!strcmp(d->family, "bending") ? 0.5 + sqrt(nv) / 20 : 1 + sqrt(nv) / 50)};
+        cl.res[cl.nres++] =
+            (case_cell){s, r, w * (!strcmp(d->family, "bending") ? 0.5 + sqrt(nv) / 20 : 1 + sqrt(nv) / 50)};
   }
   /* an extreme case: 0.4 x (vertices + 5); an OBJ mesh (zero_rest_length: rejected when built) counts 0 */
   for (int i = 0; st == CB_OK && i < NEXTREMES; i++) {
@@ -542,4 +657,3 @@ int main(int argc, char **argv) {
   st = cb_experiment_end(&e, st);
   return st == CB_OK ? 0 : st == CB_EIO ? 2 : 1;
 }
-

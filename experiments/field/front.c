@@ -16,32 +16,66 @@
 typedef struct {
   const char *label, *family;
   const char *sets[8];
-  const char *key;   /* the key set to 1, 2, 4, ...; NULL: the sets fix the step */
-  int kmax, kmax_q;  /* the largest count, full run and --quick */
+  const char *key;         /* the key set to 1, 2, 4, ...; NULL: the sets fix the step */
+  int kmax, kmax_q;        /* the largest count, full run and --quick */
   const char *fallback[8]; /* rerun a non-SPD step with these (Newton's exact Hessian -> drop) */
 } fr_method;
-#define NEWTON_EXACT "integrator.method=newton", "integrator.definiteness=none", "integrator.line_search=1", "integrator.tol=1e-10"
-#define NEWTON_DROP "integrator.method=newton", "integrator.definiteness=drop", "integrator.line_search=1", "integrator.tol=1e-10"
+#define NEWTON_EXACT \
+  "integrator.method=newton", "integrator.definiteness=none", "integrator.line_search=1", "integrator.tol=1e-10"
+#define NEWTON_DROP \
+  "integrator.method=newton", "integrator.definiteness=drop", "integrator.line_search=1", "integrator.tol=1e-10"
 static const fr_method FM[] = {
     {"newton_exact", "newton", {NEWTON_EXACT, NULL}, "integrator.max_iters", 16, 8, {NEWTON_DROP, NULL}},
     {"newton_drop", "newton", {NEWTON_DROP, NULL}, "integrator.max_iters", 32, 16, {NULL}},
     {"baraff_witkin", "newton", {"integrator.method=newton", "integrator.max_iters=1", NULL}, NULL, 0, 0, {NULL}},
     {"jacobi-nl", "jacobi-nl", {"integrator.method=jacobi-nl", NULL}, "integrator.iters", 256, 32, {NULL}},
-    {"chebyshev-nl auto", "jacobi-nl", {"integrator.method=chebyshev-nl", "integrator.rho=auto", NULL}, "integrator.iters", 256, 32, {NULL}},
+    {"chebyshev-nl auto",
+     "jacobi-nl",
+     {"integrator.method=chebyshev-nl", "integrator.rho=auto", NULL},
+     "integrator.iters",
+     256,
+     32,
+     {NULL}},
     {"pd", "pd", {"integrator.method=pd", NULL}, "integrator.iters", 256, 32, {NULL}},
-    {"pd-chebyshev auto", "pd", {"integrator.method=pd-chebyshev", "integrator.rho=auto", NULL}, "integrator.iters", 256, 32, {NULL}},
+    {"pd-chebyshev auto",
+     "pd",
+     {"integrator.method=pd-chebyshev", "integrator.rho=auto", NULL},
+     "integrator.iters",
+     256,
+     32,
+     {NULL}},
     {"lbfgs", "lbfgs", {"integrator.method=lbfgs", "integrator.tol=1e-10", NULL}, "integrator.iters", 128, 32, {NULL}},
     {"vbd", "vbd", {"integrator.method=vbd", NULL}, "integrator.iters", 256, 32, {NULL}},
-    {"vbd line search", "vbd", {"integrator.method=vbd", "integrator.vbd_line_search=1", NULL}, "integrator.iters", 256, 32, {NULL}},
-    {"vbd-chebyshev auto", "vbd", {"integrator.method=vbd-chebyshev", "integrator.rho=auto", NULL}, "integrator.iters", 256, 32, {NULL}},
-    {"xpbd 1xn", "xpbd", {"integrator.method=xpbd", "integrator.substeps=1", NULL}, "integrator.iters", 512, 64, {NULL}},
+    {"vbd line search",
+     "vbd",
+     {"integrator.method=vbd", "integrator.vbd_line_search=1", NULL},
+     "integrator.iters",
+     256,
+     32,
+     {NULL}},
+    {"vbd-chebyshev auto",
+     "vbd",
+     {"integrator.method=vbd-chebyshev", "integrator.rho=auto", NULL},
+     "integrator.iters",
+     256,
+     32,
+     {NULL}},
+    {"xpbd 1xn",
+     "xpbd",
+     {"integrator.method=xpbd", "integrator.substeps=1", NULL},
+     "integrator.iters",
+     512,
+     64,
+     {NULL}},
     {"xpbd nx1", "xpbd", {"integrator.method=xpbd", "integrator.iters=1", NULL}, "integrator.substeps", 64, 16, {NULL}},
 };
 enum { NFM = sizeof FM / sizeof FM[0] };
 enum { MAXPTS = 512 };
 enum { M_NEWTON_EXACT = 0, M_NEWTON_DROP = 1, M_XPBD_1XN = 11 };
 
-static int kmax_of(const fd_plan *p, int m) { return p->smoke ? (FM[m].kmax ? 2 : 0) : p->quick ? FM[m].kmax_q : FM[m].kmax; }
+static int kmax_of(const fd_plan *p, int m) {
+  return p->smoke ? (FM[m].kmax ? 2 : 0) : p->quick ? FM[m].kmax_q : FM[m].kmax;
+}
 
 typedef struct {
   int m, K;
@@ -61,7 +95,10 @@ int fd_front_cell(long i, void *ctx, FILE *const *out) {
   for (int m = 0; st == CB_OK && m < NFM; m++) {
     char why[512] = "";
     int ok = fd_supported(&S, FM[m].sets, why, sizeof why);
-    if (ok < 0) { st = ok; break; }
+    if (ok < 0) {
+      st = ok;
+      break;
+    }
     int kmax = kmax_of(p, m);
     if (!ok) {
       pt[np++] = (point){m, 0, NAN, NAN, INFINITY, NAN, NAN, CB_EINVAL, 0};
@@ -91,8 +128,15 @@ int fd_front_cell(long i, void *ctx, FILE *const *out) {
       }
       if (st) break;
       int bad = cb_status_is_fatal(r.status) && r.status != CB_LS_FAILED;
-      pt[np++] = (point){m, FM[m].key ? K : 1, r.wall_ms, r.setup_ms + est_ms, bad || !isfinite(r.error) ? INFINITY : r.error,
-                         r.rel_grad, r.rho, r.status, 1};
+      pt[np++] = (point){m,
+                         FM[m].key ? K : 1,
+                         r.wall_ms,
+                         r.setup_ms + est_ms,
+                         bad || !isfinite(r.error) ? INFINITY : r.error,
+                         r.rel_grad,
+                         r.rho,
+                         r.status,
+                         1};
       if (!FM[m].key) break;
     }
   }
@@ -116,32 +160,37 @@ int fd_front_cell(long i, void *ctx, FILE *const *out) {
     const fr_method *f = &FM[pt[k].m];
     int sub = !strcmp(f->label, "xpbd nx1") ? pt[k].K : 1, it = !strcmp(f->label, "xpbd nx1") ? 1 : pt[k].K;
     if (!pt[k].supported) {
-      cb_csv_printf(out[T_FRONT], "%s,%ld,%s,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,0,unsupported\n", d->label, nv, f->label,
-                    f->family, na, na, na, na, na, na, na);
+      cb_csv_printf(out[T_FRONT], "%s,%ld,%s,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,0,0,unsupported\n", d->label,
+                    nv, f->label, f->family, na, na, na, na, na, na, na);
       continue;
     }
     double rho = strstr(f->label, "chebyshev") ? pt[k].rho : na; /* no rho without Chebyshev */
-    cb_csv_printf(out[T_FRONT], "%s,%ld,%s,%s,%d,%d,%.17g,%.6f,%.6f,%.17g,%.17g,%d,%d,%s\n", d->label, nv, f->label, f->family, it,
-                  sub, rho, pt[k].wall, pt[k].setup, pt[k].err, pt[k].rel, onm[k], ons[k],
+    cb_csv_printf(out[T_FRONT], "%s,%ld,%s,%s,%d,%d,%.17g,%.6f,%.6f,%.17g,%.17g,%d,%d,%s\n", d->label, nv, f->label,
+                  f->family, it, sub, rho, pt[k].wall, pt[k].setup, pt[k].err, pt[k].rel, onm[k], ons[k],
                   cb_status_name(pt[k].status));
   }
   /* XPBD's gap: its last two 1 x n points (n and n/2: a fixed point when they agree) against the
    * converged Newton step (the Newton variant with the smaller |grad F| at its largest count) */
   int x1 = -1, x0 = -1, nw = -1;
   for (int k = 0; k < np; k++) {
-    if (pt[k].m == M_XPBD_1XN && pt[k].supported) { x0 = x1; x1 = k; }
+    if (pt[k].m == M_XPBD_1XN && pt[k].supported) {
+      x0 = x1;
+      x1 = k;
+    }
     if ((pt[k].m == M_NEWTON_EXACT || pt[k].m == M_NEWTON_DROP) && pt[k].supported && isfinite(pt[k].err) &&
         (k + 1 == np || pt[k + 1].m != pt[k].m) && (nw < 0 || pt[k].rel < pt[nw].rel))
       nw = k;
   }
   if (st == CB_OK) {
     if (x1 < 0)
-      cb_csv_printf(out[T_GAP], "%s,%ld,xpbd 1xn,%.17g,%.17g,%.17g,%.17g,%.17g,%s,%.17g,%.17g,unsupported\n", d->label, nv, na, na,
-                    na, na, na, nw >= 0 ? FM[pt[nw].m].label : "", nw >= 0 ? pt[nw].rel : na, nw >= 0 ? pt[nw].err : na);
+      cb_csv_printf(out[T_GAP], "%s,%ld,xpbd 1xn,%.17g,%.17g,%.17g,%.17g,%.17g,%s,%.17g,%.17g,unsupported\n", d->label,
+                    nv, na, na, na, na, na, nw >= 0 ? FM[pt[nw].m].label : "", nw >= 0 ? pt[nw].rel : na,
+                    nw >= 0 ? pt[nw].err : na);
     else
-      cb_csv_printf(out[T_GAP], "%s,%ld,xpbd 1xn,%d,%.17g,%.17g,%.17g,%.17g,%s,%.17g,%.17g,%s\n", d->label, nv, pt[x1].K, pt[x1].rel,
-                    x0 >= 0 ? pt[x0].rel : na, pt[x1].err, x0 >= 0 ? pt[x0].err : na, nw >= 0 ? FM[pt[nw].m].label : "",
-                    nw >= 0 ? pt[nw].rel : na, nw >= 0 ? pt[nw].err : na, cb_status_name(pt[x1].status));
+      cb_csv_printf(out[T_GAP], "%s,%ld,xpbd 1xn,%d,%.17g,%.17g,%.17g,%.17g,%s,%.17g,%.17g,%s\n", d->label, nv,
+                    pt[x1].K, pt[x1].rel, x0 >= 0 ? pt[x0].rel : na, pt[x1].err, x0 >= 0 ? pt[x0].err : na,
+                    nw >= 0 ? FM[pt[nw].m].label : "", nw >= 0 ? pt[nw].rel : na, nw >= 0 ? pt[nw].err : na,
+                    cb_status_name(pt[x1].status));
   }
   cb_step_state_free(&S);
   return st;

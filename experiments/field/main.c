@@ -116,7 +116,8 @@ void fd_strain(const cb_scene *s, const double *x, double *max_strain, double *m
     const int *ends;
     const double *rest;
     double k;
-    if (strcmp(s->sys.terms[t]->label, "stretch") || cb_spring_term_springs(s->sys.terms[t], &ns, &ends, &rest, &k)) continue;
+    if (strcmp(s->sys.terms[t]->label, "stretch") || cb_spring_term_springs(s->sys.terms[t], &ns, &ends, &rest, &k))
+      continue;
     double mx = -INFINITY, sum = 0;
     for (int c = 0; c < ns; c++) {
       const double *a = x + 3 * ends[2 * c], *b = x + 3 * ends[2 * c + 1];
@@ -202,13 +203,16 @@ int main(int argc, char **argv) {
                           "scene,vertices,method,iters,rel_grad,rel_grad_half,step_error,step_error_half,newton_method,"
                           "newton_rel_grad,step_error_newton,status") != T_GAP ||
       cb_experiment_table(&e, "x1", "# x1: static stretch after settling from the converged static state (see x1.c)\n",
-                          "scene,method,dt_s,iters,k_n_per_m,settle_s,ref_strain,strain,k_eff_n_per_m,k_ratio,status") != T_X1 ||
+                          "scene,method,dt_s,iters,k_n_per_m,settle_s,ref_strain,strain,k_eff_n_per_m,k_ratio,"
+                          "status") != T_X1 ||
       cb_experiment_table(&e, "x2", state_extra,
-                          "scene,vertices,n,variant,substeps,iters,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,"
+                          "scene,vertices,n,variant,substeps,iters,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_"
+                          "repeats,"
                           "step_error,max_strain,ref_max_strain,rel_grad,status") != T_X2 ||
       cb_experiment_table(&e, "tol", state_extra,
                           "scene,vertices,method,family,tol,max_iters,iters_to_tol,wall_to_tol_ms,wall_to_tol_min_ms,"
-                          "wall_to_tol_max_ms,wall_to_tol_each_ms,wall_repeats,alloc_ms,final_rel_grad,fallback,status") != T_TOL ||
+                          "wall_to_tol_max_ms,wall_to_tol_each_ms,wall_repeats,alloc_ms,final_rel_grad,fallback,"
+                          "status") != T_TOL ||
       cb_experiment_table(&e, "tol_trace", NULL, "scene,method,iter,rel_grad,rel_f,wall_ms") != T_TOL_TRACE ||
       cb_experiment_table(&e, "rises", NULL,
                           "scene,method,start,frames,frames_run,iters,rises,steps_with_rise,rel_max_rise,diverged,"

@@ -19,25 +19,49 @@ typedef struct {
   const char *key;
   int newton;
 } tl_method;
-#define NEWTON_EXACT "integrator.method=newton", "integrator.definiteness=none", "integrator.line_search=1", "integrator.tol=1e-12"
-#define NEWTON_DROP "integrator.method=newton", "integrator.definiteness=drop", "integrator.line_search=1", "integrator.tol=1e-12"
+#define NEWTON_EXACT \
+  "integrator.method=newton", "integrator.definiteness=none", "integrator.line_search=1", "integrator.tol=1e-12"
+#define NEWTON_DROP \
+  "integrator.method=newton", "integrator.definiteness=drop", "integrator.line_search=1", "integrator.tol=1e-12"
 static const tl_method TM[] = {
     {"newton_exact", "newton", {NEWTON_EXACT, NULL}, {NEWTON_DROP, NULL}, "integrator.max_iters", 1},
     {"newton_drop", "newton", {NEWTON_DROP, NULL}, {NULL}, "integrator.max_iters", 1},
     {"lbfgs", "lbfgs", {"integrator.method=lbfgs", "integrator.tol=1e-12", NULL}, {NULL}, "integrator.iters", 0},
     {"pd", "pd", {"integrator.method=pd", NULL}, {NULL}, "integrator.iters", 0},
-    {"pd-chebyshev auto", "pd", {"integrator.method=pd-chebyshev", "integrator.rho=auto", NULL}, {NULL}, "integrator.iters", 0},
+    {"pd-chebyshev auto",
+     "pd",
+     {"integrator.method=pd-chebyshev", "integrator.rho=auto", NULL},
+     {NULL},
+     "integrator.iters",
+     0},
     {"vbd", "vbd", {"integrator.method=vbd", NULL}, {NULL}, "integrator.iters", 0},
-    {"vbd line search", "vbd", {"integrator.method=vbd", "integrator.vbd_line_search=1", NULL}, {NULL}, "integrator.iters", 0},
-    {"vbd-chebyshev auto", "vbd", {"integrator.method=vbd-chebyshev", "integrator.rho=auto", NULL}, {NULL}, "integrator.iters", 0},
+    {"vbd line search",
+     "vbd",
+     {"integrator.method=vbd", "integrator.vbd_line_search=1", NULL},
+     {NULL},
+     "integrator.iters",
+     0},
+    {"vbd-chebyshev auto",
+     "vbd",
+     {"integrator.method=vbd-chebyshev", "integrator.rho=auto", NULL},
+     {NULL},
+     "integrator.iters",
+     0},
     {"jacobi-nl", "jacobi-nl", {"integrator.method=jacobi-nl", NULL}, {NULL}, "integrator.iters", 0},
-    {"chebyshev-nl auto", "jacobi-nl", {"integrator.method=chebyshev-nl", "integrator.rho=auto", NULL}, {NULL}, "integrator.iters", 0},
+    {"chebyshev-nl auto",
+     "jacobi-nl",
+     {"integrator.method=chebyshev-nl", "integrator.rho=auto", NULL},
+     {NULL},
+     "integrator.iters",
+     0},
 };
 enum { NTM = sizeof TM / sizeof TM[0] };
 static const double TOLS[] = {1e-3, 1e-5};
 enum { NTOL = sizeof TOLS / sizeof TOLS[0] };
 
-static int cap_of(const fd_plan *p, int m) { return TM[m].newton ? (p->smoke ? 5 : 30) : p->smoke ? 10 : p->quick ? 100 : 1000; }
+static int cap_of(const fd_plan *p, int m) {
+  return TM[m].newton ? (p->smoke ? 5 : 30) : p->smoke ? 10 : p->quick ? 100 : 1000;
+}
 
 typedef struct {
   int n, cap;
@@ -81,17 +105,31 @@ int fd_tol_cell(long i, void *ctx, FILE *const *out) {
     final_rel[m] = alloc_ms[m] = cb_csv_na();
     cap[m] = cap_of(p, m);
     ok[m] = fd_supported(&S, TM[m].sets, why, sizeof why);
-    if (ok[m] < 0) { st = ok[m]; break; }
+    if (ok[m] < 0) {
+      st = ok[m];
+      break;
+    }
     if (!ok[m]) continue;
-    trace_t t = {0, cap[m] + 1, ghat, 0, calloc((size_t)cap[m] + 1, sizeof(double)), calloc((size_t)cap[m] + 1, sizeof(double)),
+    trace_t t = {0,
+                 cap[m] + 1,
+                 ghat,
+                 0,
+                 calloc((size_t)cap[m] + 1, sizeof(double)),
+                 calloc((size_t)cap[m] + 1, sizeof(double)),
                  calloc((size_t)cap[m] + 1, sizeof(double))};
     if (!t.rel || !t.F || !t.ms) st = cb_fail_status(CB_ENOMEM, "out of memory");
     const char *ts[16], *tf[16];
     char b1[64], b2[64];
     static cb_config c, cf;
     double est_ms;
-    if (st == CB_OK) st = fd_fix_rho(&S, TM[m].sets, msets[m], rbuf[m], sizeof rbuf[m], &est_ms); /* an auto rho: estimated once */
-    if (st) { free(t.rel); free(t.F); free(t.ms); break; }
+    if (st == CB_OK)
+      st = fd_fix_rho(&S, TM[m].sets, msets[m], rbuf[m], sizeof rbuf[m], &est_ms); /* an auto rho: estimated once */
+    if (st) {
+      free(t.rel);
+      free(t.F);
+      free(t.ms);
+      break;
+    }
     fd_with(msets[m], TM[m].key, cap[m], b1, sizeof b1, ts);
     if (TM[m].fallback[0]) fd_with(TM[m].fallback, TM[m].key, cap[m], b2, sizeof b2, tf);
     if (st == CB_OK) st = cb_step_config(&S, ts, &c);
@@ -99,7 +137,8 @@ int fd_tol_cell(long i, void *ctx, FILE *const *out) {
     cb_step_result r;
     double w;
     if (st == CB_OK) st = cb_step_fallback(&S, &c, TM[m].fallback[0] ? &cf : NULL, record, &t, &r, &w);
-    if (st == CB_OK && r.fallback && t.n > r.iters + 1) t.n = r.iters + 1; /* the fallback's trace replaced the first run's */
+    if (st == CB_OK && r.fallback && t.n > r.iters + 1)
+      t.n = r.iters + 1; /* the fallback's trace replaced the first run's */
     if (st == CB_OK) {
       alloc_ms[m] = r.alloc_ms;
       final_rel[m] = t.n ? t.rel[t.n - 1] : cb_csv_na();
@@ -112,7 +151,8 @@ int fd_tol_cell(long i, void *ctx, FILE *const *out) {
           if (t.rel[k] <= TOLS[q] && isfinite(t.rel[k])) hit[m][q] = k;
         if (hit[m][q] < 0) continue;
         fd_with(msets[m], TM[m].key, hit[m][q], buf[m][q][0], sizeof buf[m][q][0], js[m][q]);
-        if (TM[m].fallback[0]) fd_with(TM[m].fallback, TM[m].key, hit[m][q], buf[m][q][1], sizeof buf[m][q][1], jf[m][q]);
+        if (TM[m].fallback[0])
+          fd_with(TM[m].fallback, TM[m].key, hit[m][q], buf[m][q][1], sizeof buf[m][q][1], jf[m][q]);
       }
     }
     free(t.rel);
@@ -135,11 +175,14 @@ int fd_tol_cell(long i, void *ctx, FILE *const *out) {
     double na = cb_csv_na();
     for (int m = 0; st == CB_OK && m < NTM; m++) {
       int j = job[m];
-      cb_csv_printf(out[T_TOL], "%s,%ld,%s,%s,%g,%d,%.17g,", d->label, (long)S.s->mesh.nv, TM[m].label, TM[m].family, TOLS[q], cap[m],
-                    j >= 0 ? (double)hit[m][q] : na);
+      cb_csv_printf(out[T_TOL], "%s,%ld,%s,%s,%g,%d,%.17g,", d->label, (long)S.s->mesh.nv, TM[m].label, TM[m].family,
+                    TOLS[q], cap[m], j >= 0 ? (double)hit[m][q] : na);
       cb_timing_csv_repeats(out[T_TOL], j >= 0 ? &r[j].wall : NULL);
-      cb_csv_printf(out[T_TOL], ",%.6f,%.17g,%.17g,%s\n", alloc_ms[m], final_rel[m], j >= 0 ? (double)r[j].fallback : na,
-                    !ok[m] ? "unsupported" : j >= 0 ? cb_status_name(r[j].status) : "cut_off");
+      cb_csv_printf(out[T_TOL], ",%.6f,%.17g,%.17g,%s\n", alloc_ms[m], final_rel[m],
+                    j >= 0 ? (double)r[j].fallback : na,
+                    !ok[m]   ? "unsupported"
+                    : j >= 0 ? cb_status_name(r[j].status)
+                             : "cut_off");
     }
   }
   cb_step_state_free(&S);

@@ -57,8 +57,9 @@ static void on_iter(void *ctx, int event, const cb_newton_event *ev) {
 
 /* frames of the method `sets` (plus the scene's own keys) from (x, v), in place; *run the frames that
  * ran, *div the first diverged frame (0: none), rise counts into rt (may be NULL: no hook) */
-static int trajectory(const fd_plan *p, const cb_scene_decl *d, cb_scene *s, const char *const *sets, double *x, double *v,
-                      int frames, double L, rise_t *rt, int *run, int *div, int *iters, int *steps_rise, int *status) {
+static int trajectory(const fd_plan *p, const cb_scene_decl *d, cb_scene *s, const char *const *sets, double *x,
+                      double *v, int frames, double L, rise_t *rt, int *run, int *div, int *iters, int *steps_rise,
+                      int *status) {
   static cb_config c;
   int st = cb_scene_decl_config(p->e, d, sets, &c);
   cb_integrator_params ip;
@@ -114,7 +115,8 @@ int fd_v1_cell(long i, void *ctx, FILE *const *out) {
   if (st == CB_OK) memcpy(xi, run.x, (size_t)n3 * sizeof(double));
   for (int f = 0; st == CB_OK && f < frames; f++) {
     int sst = cb_run_step(&run);
-    if (cb_status_is_fatal(sst)) st = cb_fail_status(sst, "scene %s: own method, frame %d: %s", d->label, f + 1, cb_status_name(sst));
+    if (cb_status_is_fatal(sst))
+      st = cb_fail_status(sst, "scene %s: own method, frame %d: %s", d->label, f + 1, cb_status_name(sst));
   }
   if (st == CB_OK) fd_strain(s, run.x, &mx, &strain_normal);
   cb_run_free(&run);
@@ -124,7 +126,8 @@ int fd_v1_cell(long i, void *ctx, FILE *const *out) {
     cb_rng g = cb_rng_seed(20 + (uint64_t)i);
     memcpy(xr, xi, (size_t)n3 * sizeof(double));
     for (int b = 0; b < s->model.nfree; b++) {
-      double z = 2 * cb_rng_uniform(&g) - 1, phi = 2 * 3.14159265358979323846 * cb_rng_uniform(&g), r = L * cb_rng_uniform(&g), q = sqrt(1 - z * z);
+      double z = 2 * cb_rng_uniform(&g) - 1, phi = 2 * 3.14159265358979323846 * cb_rng_uniform(&g),
+             r = L * cb_rng_uniform(&g), q = sqrt(1 - z * z);
       double *xv = xr + 3 * s->free_vertex[b];
       xv[0] += r * q * cos(phi);
       xv[1] += r * q * sin(phi);
@@ -141,8 +144,9 @@ int fd_v1_cell(long i, void *ctx, FILE *const *out) {
       const char *sets[] = {RISE_M[m][1], RISE_M[m][2], NULL};
       st = trajectory(p, d, s, sets, x, v, frames, L, &rt, &nrun, &div, &iters, &srise, &status);
       if (st == CB_OK)
-        cb_csv_printf(out[T_RISES], "%s,%s,%s,%d,%d,%d,%d,%d,%.17g,%d,%.17g,%s\n", d->label, RISE_M[m][0], start ? "scrambled" : "initial",
-                      frames, nrun, iters, rt.rises, srise, rt.max_rel, div > 0, div > 0 ? (double)div : na, cb_status_name(status));
+        cb_csv_printf(out[T_RISES], "%s,%s,%s,%d,%d,%d,%d,%d,%.17g,%d,%.17g,%s\n", d->label, RISE_M[m][0],
+                      start ? "scrambled" : "initial", frames, nrun, iters, rt.rises, srise, rt.max_rel, div > 0,
+                      div > 0 ? (double)div : na, cb_status_name(status));
     }
   double smax0, s0;
   if (st == CB_OK) fd_strain(s, xr, &smax0, &s0);
@@ -155,18 +159,22 @@ int fd_v1_cell(long i, void *ctx, FILE *const *out) {
     if (st == CB_EINVAL) { /* the method refuses the scene (pd and the drape's dihedral bending): one row saying so */
       cb_error_clear();
       st = CB_OK;
-      cb_csv_printf(out[T_SCRAMBLE], "%s,%s,%d,0,%.17g,%.17g,%.17g,%.17g,%.17g,0,%.17g,0,unsupported\n", d->label, SCR_M[m][0], frames, L, s0,
-                    na, strain_normal, na, na);
+      cb_csv_printf(out[T_SCRAMBLE], "%s,%s,%d,0,%.17g,%.17g,%.17g,%.17g,%.17g,0,%.17g,0,unsupported\n", d->label,
+                    SCR_M[m][0], frames, L, s0, na, strain_normal, na, na);
       continue;
     }
     if (st) break;
     double smax = na, smean = na;
     if (!div) fd_strain(s, x, &smax, &smean);
     int rec = !div && smean <= 0.1 * s0;
-    cb_csv_printf(out[T_SCRAMBLE], "%s,%s,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%d,%s\n", d->label, SCR_M[m][0], frames, nrun, L,
-                  s0, smean, strain_normal, smax, div > 0, div > 0 ? (double)div : na, rec, cb_status_name(status));
+    cb_csv_printf(out[T_SCRAMBLE], "%s,%s,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%d,%s\n", d->label, SCR_M[m][0],
+                  frames, nrun, L, s0, smean, strain_normal, smax, div > 0, div > 0 ? (double)div : na, rec,
+                  cb_status_name(status));
   }
-  free(xi); free(xr); free(x); free(v);
+  free(xi);
+  free(xr);
+  free(x);
+  free(v);
   cb_scene_free(s);
   return st;
 }

@@ -32,9 +32,9 @@ static double settle_s(const fd_plan *p) { return p->smoke ? 0.2 : p->quick ? 1.
 
 /* the static state: Newton at dt = 1 s, v <- 0 every step, until it stops moving */
 static int static_state(const fd_plan *p, const cb_scene_decl *d, cb_scene *s, double *xs) {
-  static const char *const sets[] = {"integrator.method=newton", "integrator.dt=10", "integrator.damping=0",
-                                     "integrator.max_iters=50", "integrator.tol=1e-10", "integrator.line_search=1",
-                                     "integrator.definiteness=drop", NULL};
+  static const char *const sets[] = {
+      "integrator.method=newton", "integrator.dt=10",         "integrator.damping=0",         "integrator.max_iters=50",
+      "integrator.tol=1e-10",     "integrator.line_search=1", "integrator.definiteness=drop", NULL};
   static cb_config c;
   int st = cb_scene_decl_config(p->e, d, sets, &c);
   cb_integrator *it = NULL;
@@ -47,12 +47,14 @@ static int static_state(const fd_plan *p, const cb_scene_decl *d, cb_scene *s, d
   for (int f = 0; st == CB_OK && moved && f < 200; f++) {
     memcpy(xs, run.x, (size_t)n3 * sizeof(double));
     int sst = cb_run_step(&run);
-    if (cb_status_is_fatal(sst)) st = cb_fail_status(sst, "scene %s: static state, step %d: %s", d->label, f + 1, cb_status_name(sst));
+    if (cb_status_is_fatal(sst))
+      st = cb_fail_status(sst, "scene %s: static state, step %d: %s", d->label, f + 1, cb_status_name(sst));
     double dx = 0;
     for (int k = 0; k < n3; k++) dx = fmax(dx, fabs(run.x[k] - xs[k]));
     moved = dx > 1e-10 * size;
   }
-  if (st == CB_OK && moved) st = cb_fail_status(CB_NOT_CONVERGED, "scene %s: static state still moving after 200 steps", d->label);
+  if (st == CB_OK && moved)
+    st = cb_fail_status(CB_NOT_CONVERGED, "scene %s: static state still moving after 200 steps", d->label);
   if (st == CB_OK) memcpy(xs, run.x, (size_t)n3 * sizeof(double));
   cb_run_free(&run);
   cb_integrator_free(it);
@@ -109,8 +111,8 @@ int fd_x1_cell(long i, void *ctx, FILE *const *out) {
       cb_integrator_free(it);
       double strain = navg ? sum / navg : NAN, k = s->def.stretch_k, na = cb_csv_na();
       int ok = !cb_status_is_fatal(sst) && isfinite(strain) && strain > 0;
-      cb_csv_printf(out[T_X1], "%s,%s,%.17g,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%s\n", d->label, METHODS[m], c.dt, ks[kk], k,
-                    settle, ref, ok ? strain : na, ok ? k * ref / strain : na, ok ? ref / strain : na,
+      cb_csv_printf(out[T_X1], "%s,%s,%.17g,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%s\n", d->label, METHODS[m], c.dt,
+                    ks[kk], k, settle, ref, ok ? strain : na, ok ? k * ref / strain : na, ok ? ref / strain : na,
                     cb_status_name(cb_status_is_fatal(sst) ? sst : CB_OK));
     }
   free(xs);

@@ -40,9 +40,11 @@ int fd_x2_cell(long i, void *ctx, FILE *const *out) {
       if (st == CB_OK) st = cb_step_once(&S, &c, NULL, NULL, &x, &w);
       if (st) break;
       fd_strain(S.s, S.x, &mx, &mean);
-      cb_csv_printf(out[T_X2], "%s,%ld,%d,%s,%d,%d,", d->label, (long)S.s->mesh.nv, n, v ? "1xn" : "nx1", v ? 1 : n, v ? n : 1);
+      cb_csv_printf(out[T_X2], "%s,%ld,%d,%s,%d,%d,", d->label, (long)S.s->mesh.nv, n, v ? "1xn" : "nx1", v ? 1 : n,
+                    v ? n : 1);
       cb_timing_csv_repeats(out[T_X2], &r[v].wall);
-      cb_csv_printf(out[T_X2], ",%.17g,%.17g,%.17g,%.17g,%s\n", r[v].error, mx, ref_max, r[v].rel_grad, cb_status_name(r[v].status));
+      cb_csv_printf(out[T_X2], ",%.17g,%.17g,%.17g,%.17g,%s\n", r[v].error, mx, ref_max, r[v].rel_grad,
+                    cb_status_name(r[v].status));
     }
   }
   cb_step_state_free(&S);

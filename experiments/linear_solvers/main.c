@@ -39,17 +39,17 @@ typedef struct {
   double t_capture;
   int when;
 } scene_plan;
-#define LAB(n, m, k, dt) "mesh.n=" #n, "material.vertex_mass=441/" #m, "material.stretch_k=" #k, "integrator.dt=" dt, NULL
-static const scene_plan scenes[] = {
-    {{"small11", "hanging.ini", {LAB(11, 121, 8000, "1/30")}, "full"}, 0.5, BOTH},
-    {{"lab", "hanging.ini", {LAB(21, 441, 8000, "1/30")}, "j3"}, 0.5, BOTH},
-    {{"lab_rest", "hanging.ini", {LAB(21, 441, 8000, "1/30")}, "spectrum"}, 0.0, BOTH},
-    {{"k1e5", "hanging.ini", {LAB(21, 441, 1e5, "1/30")}, "full"}, 0.5, BOTH},
-    {{"k1e7", "hanging.ini", {LAB(21, 441, 1e7, "1/30")}, "edges"}, 0.5, BOTH},
-    {{"dt240", "hanging.ini", {LAB(21, 441, 8000, "1/240")}, "full"}, 0.5, BOTH},
-    {{"n32", "hanging.ini", {LAB(32, 1024, 8000, "1/30")}, "edges"}, 0.5, QUICK},
-    {{"n64", "hanging.ini", {LAB(64, 4096, 8000, "1/30")}, "edges"}, 0.5, FULL},
-    {{"n128", "hanging.ini", {LAB(128, 16384, 8000, "1/30")}, "edges"}, 0.5, FULL}};
+#define LAB(n, m, k, dt) \
+  "mesh.n=" #n, "material.vertex_mass=441/" #m, "material.stretch_k=" #k, "integrator.dt=" dt, NULL
+static const scene_plan scenes[] = {{{"small11", "hanging.ini", {LAB(11, 121, 8000, "1/30")}, "full"}, 0.5, BOTH},
+                                    {{"lab", "hanging.ini", {LAB(21, 441, 8000, "1/30")}, "j3"}, 0.5, BOTH},
+                                    {{"lab_rest", "hanging.ini", {LAB(21, 441, 8000, "1/30")}, "spectrum"}, 0.0, BOTH},
+                                    {{"k1e5", "hanging.ini", {LAB(21, 441, 1e5, "1/30")}, "full"}, 0.5, BOTH},
+                                    {{"k1e7", "hanging.ini", {LAB(21, 441, 1e7, "1/30")}, "edges"}, 0.5, BOTH},
+                                    {{"dt240", "hanging.ini", {LAB(21, 441, 8000, "1/240")}, "full"}, 0.5, BOTH},
+                                    {{"n32", "hanging.ini", {LAB(32, 1024, 8000, "1/30")}, "edges"}, 0.5, QUICK},
+                                    {{"n64", "hanging.ini", {LAB(64, 4096, 8000, "1/30")}, "edges"}, 0.5, FULL},
+                                    {{"n128", "hanging.ini", {LAB(128, 16384, 8000, "1/30")}, "edges"}, 0.5, FULL}};
 enum { NSCENES = sizeof scenes / sizeof scenes[0] };
 enum { T_MAIN, T_SCENES, T_RUNS, T_NEWTON, T_SCALING }; /* tables, in the order opened */
 
@@ -58,14 +58,17 @@ enum { T_MAIN, T_SCENES, T_RUNS, T_NEWTON, T_SCALING }; /* tables, in the order 
  * Quick runs stop at 32^2, smoke runs 8^2 alone. */
 static const int scale_n[] = {8, 16, 32, 64, 128, 256};
 #define SCALE_QUICK_MAX 32
-#define SCALE_STEP 1       /* captured step (0-based): the cloth has started to fall */
-#define SCALE_ERR 1e-6     /* the error |x - x*|/|x*| every solver is timed to */
-#define SCALE_BUDGET 2.0   /* an iterative solver gets SCALE_BUDGET x CHOLMOD's time + SCALE_FLOOR_MS to reach it: one that
-                              needs more is not the best unless all do, and then CHOLMOD is the cheaper either way */
+#define SCALE_STEP 1   /* captured step (0-based): the cloth has started to fall */
+#define SCALE_ERR 1e-6 /* the error |x - x*|/|x*| every solver is timed to */
+#define SCALE_BUDGET \
+  2.0 /* an iterative solver gets SCALE_BUDGET x CHOLMOD's time + SCALE_FLOOR_MS to reach it: one that \
+         needs more is not the best unless all do, and then CHOLMOD is the cheaper either way */
 #define SCALE_FLOOR_MS 50.0
-#define SCALE_FLOOR_QUICK_MS 1000.0 /* --quick (up to 32^2): every solver gets there, so the CSV is the same from run to run */
-#define SCALE_COLUMNS "scene,grid_n,n_dofs,nnz,solver,alpha,rho,iters_to_err,budget_ms,error,analyze_ms,factor_ms,solve_ms," \
-                      "wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,capped_wall_ms,nnz_factor,lmax_over_lmin,status"
+#define SCALE_FLOOR_QUICK_MS \
+  1000.0 /* --quick (up to 32^2): every solver gets there, so the CSV is the same from run to run */
+#define SCALE_COLUMNS \
+  "scene,grid_n,n_dofs,nnz,solver,alpha,rho,iters_to_err,budget_ms,error,analyze_ms,factor_ms,solve_ms," \
+  "wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,capped_wall_ms,nnz_factor,lmax_over_lmin,status"
 enum { SCALE_COLS = 22 };
 static const double alpha_fracs[] = {0.1, 0.25, 0.5, 0.75, 0.9, 0.98, 1.02, 1.1, 1.5}; /* x alpha_max (J1) */
 static const double rhos[] = {0.90, 0.92, 0.94, 0.95, 0.96, 0.97, 0.98, 0.99, 0.995, 0.999, 0.9999}; /* J3 */
@@ -75,7 +78,7 @@ static const int newton_k[] = {4, 8, 16, 32, 64};
 
 typedef struct {
   cb_experiment e;
-  FILE *const *out; /* the running cell's tables */
+  FILE *const *out;          /* the running cell's tables */
   int cell[NSCENES], ncells; /* scenes of this mode */
   int nscale;                /* sizes of the scaling sweep in this mode */
   const char *scene;
@@ -140,7 +143,8 @@ static void write_run(ctx *c, const run_spec *spec, const cb_trace *t, int nrep)
     const cb_trace_row *w = &t0->rows[i];
     cb_timing wr = {0};
     for (int k = 0; k < nrep; k++) cb_timing_add(&wr, t[k].rows[i].wall_ms);
-    cb_csv_printf(c->out[T_MAIN], "%s,%s,%s,%s,%s,%d,%.17g,", c->scene, spec->sweep, spec->solver, a, r, w->iter, w->rel_residual);
+    cb_csv_printf(c->out[T_MAIN], "%s,%s,%s,%s,%s,%d,%.17g,", c->scene, spec->sweep, spec->solver, a, r, w->iter,
+                  w->rel_residual);
     cb_timing_csv(c->out[T_MAIN], &wr, 1.0);
     fputc(',', c->out[T_MAIN]);
     if (nrep > 1) cb_timing_csv_each(c->out[T_MAIN], &wr, 1.0);
@@ -150,14 +154,15 @@ static void write_run(ctx *c, const run_spec *spec, const cb_trace *t, int nrep)
   fmt(an, sizeof an, alpha * c->lmax / 2);
   fmt(rt, sizeof rt, cb_trace_rate(t0->rows, t0->nrows, 0.25));
   fmt(rp, sizeof rp, cb_trace_rate_window(t0->rows, t0->nrows, 0.5, 0.75));
-  cb_csv_printf(c->out[T_RUNS], "%s,%s,%s,%s,%s,%s,%s,%d,%.17g,%s,%s,", c->scene, spec->sweep, spec->solver, a, an, r, pr, t0->iters,
-          last ? last->rel_residual : cb_csv_na(), rt, rp);
+  cb_csv_printf(c->out[T_RUNS], "%s,%s,%s,%s,%s,%s,%s,%d,%.17g,%s,%s,", c->scene, spec->sweep, spec->solver, a, an, r,
+                pr, t0->iters, last ? last->rel_residual : cb_csv_na(), rt, rp);
   if (hit) cb_csv_printf(c->out[T_RUNS], "%d,%.6f,", hit->iter, cb_timing_median(&w6));
   else fputs(",,", c->out[T_RUNS]);
   cb_csv_printf(c->out[T_RUNS], "%.6f,%.6f,", cb_timing_median(&setup), cb_timing_median(&rho_ms));
   cb_timing_csv(c->out[T_RUNS], &total, 1.0);
   cb_csv_printf(c->out[T_RUNS], ",%d,%s\n", nrep, status);
-  int lab995 = !strcmp(spec->sweep, "rho") && fabs(rho - 0.995) < 1e-12 && fabs(alpha - 2 / (c->lmin + c->lmax)) < 1e-12;
+  int lab995 =
+      !strcmp(spec->sweep, "rho") && fabs(rho - 0.995) < 1e-12 && fabs(alpha - 2 / (c->lmin + c->lmax)) < 1e-12;
   if ((!strcmp(spec->sweep, "main") && strcmp(spec->solver, "cholmod")) || lab995)
     for (size_t k = 0; k < sizeof newton_k / sizeof *newton_k; k++) {
       const cb_trace_row *w = cb_trace_at(t0, newton_k[k]);
@@ -166,8 +171,8 @@ static void write_run(ctx *c, const run_spec *spec, const cb_trace *t, int nrep)
       for (int q = 0; q < nrep; q++) cb_timing_add(&wk, t[q].rows[w - t0->rows].wall_ms);
       int cut = w->iter == newton_k[k] && w->iter < t0->iters; /* stopped by the cut, not by the run */
       const char *s = cut ? (w->rel_residual <= TOL ? "ok" : "max_iters") : status;
-      cb_csv_printf(c->out[T_NEWTON], "%s,%s,%s,%s,%d,%d,%.17g,%.17g,%.6f,%s\n", c->scene, spec->solver, a, r, newton_k[k], w->iter,
-              w->rel_residual, w->error, cb_timing_median(&wk), s);
+      cb_csv_printf(c->out[T_NEWTON], "%s,%s,%s,%s,%d,%d,%.17g,%.17g,%.6f,%s\n", c->scene, spec->solver, a, r,
+                    newton_k[k], w->iter, w->rel_residual, w->error, cb_timing_median(&wk), s);
     }
 }
 
@@ -236,7 +241,10 @@ static int scene(ctx *c, const scene_plan *d, FILE *sc) {
   for (int i = 0; st == CB_OK && i < n; i++) dh[i] = 1 / sqrt(clab);
   if (st == CB_OK) st = cb_spectrum_lanczos(&cap.A, dh, &lab);
   if (st == CB_OK) st = cb_trace_reference(&cap.A, cap.b, xref);
-  if (st > 0) { st = failed(sc, label, grid_n, st); goto done; }
+  if (st > 0) {
+    st = failed(sc, label, grid_n, st);
+    goto done;
+  }
   if (st) goto done;
   cb_diag_dominance(&cap.A, &bad, &ratio);
   int dense = !isnan(de.lmin);
@@ -247,8 +255,8 @@ static int scene(ctx *c, const scene_plan *d, FILE *sc) {
                 mass, cap.t_s, cap.step, cap.sim_ms, bad, ratio);
   /* the dense spectrum only on small systems: elsewhere its columns are empty */
   cb_csv_printf(sc, "%.17g,%.17g,%.17g,%.17g,%d,%d,%.17g,%.17g,%.17g,%.17g,%s,", lz.lmin, lz.lmax, lz.res_min,
-                lz.res_max, lz.steps_min, lz.steps_max, lz.ms, dense ? de.lmin : cb_csv_na(), dense ? de.lmax : cb_csv_na(),
-                dense ? de.ms : cb_csv_na(), dense ? "dense" : "lanczos");
+                lz.res_max, lz.steps_min, lz.steps_max, lz.ms, dense ? de.lmin : cb_csv_na(),
+                dense ? de.lmax : cb_csv_na(), dense ? de.ms : cb_csv_na(), dense ? "dense" : "lanczos");
   cb_csv_printf(sc, "%.17g,%.17g,%.17g,%.17g,%.17g,ok\n", amax, astar, cb_jacobi_rho(c->lmin, c->lmax, 1.0),
                 cb_jacobi_rho(c->lmin, c->lmax, astar), cb_jacobi_rho(lab.lmin, lab.lmax, 1.0));
   int j3 = cb_scene_decl_is(&d->scene, "j3") || c->e.smoke; /* smoke: its one scene runs every sweep */
@@ -304,9 +312,9 @@ static void manufactured(const cb_capture *cap, int grid_n, double *xs) {
 
 typedef struct {
   run_spec r;
-  int reached;     /* the untimed traced run reached SCALE_ERR at iteration iters */
-  int iters, cap;  /* iterations to SCALE_ERR (or run); the iteration cap of the traced run */
-  double trace_ms; /* the traced run's wall time (a lower bound when not reached) */
+  int reached;      /* the untimed traced run reached SCALE_ERR at iteration iters */
+  int iters, cap;   /* iterations to SCALE_ERR (or run); the iteration cap of the traced run */
+  double trace_ms;  /* the traced run's wall time (a lower bound when not reached) */
   double budget_ms; /* its time budget: SCALE_BUDGET x CHOLMOD's time + the floor */
   cb_timing total;
   double analyze[CB_TIMING_MAX], factor[CB_TIMING_MAX], solve[CB_TIMING_MAX], err, fnnz;
@@ -333,15 +341,16 @@ static int scale_failed(FILE *f, const char *label, int grid_n, int status) {
 }
 
 /* The scaling cell's solves on the captured system (b = A x*): budget, traced runs, timed rounds, rows. */
-static int scale_solvers(ctx *c, int grid_n, const char *label, const cb_capture *cap, const double *xs, const double *b,
-                         const cb_spectrum *lz, scale_run *runs, FILE *const *out) {
+static int scale_solvers(ctx *c, int grid_n, const char *label, const cb_capture *cap, const double *xs,
+                         const double *b, const cb_spectrum *lz, scale_run *runs, FILE *const *out) {
   int st = CB_OK, nrun = 0;
   double astar = 2 / (lz->lmin + lz->lmax);
   c->cap = cap;
   for (int s = 0; st == CB_OK && cb_solver_types[s] && nrun < 16; s++) {
     unsigned f = cb_solver_types[s]->flags;
     scale_run *u = &runs[nrun++];
-    u->r = (run_spec){"scaling", cb_solver_types[s]->name, f & CB_SOLVER_USES_ALPHA ? astar : NAN, f & CB_SOLVER_USES_RHO ? 0.0 : NAN, 1};
+    u->r = (run_spec){"scaling", cb_solver_types[s]->name, f & CB_SOLVER_USES_ALPHA ? astar : NAN,
+                      f & CB_SOLVER_USES_RHO ? 0.0 : NAN, 1};
     u->reached = (f & CB_SOLVER_DIRECT) != 0;
     u->iters = 1;
   }
@@ -421,19 +430,22 @@ static int scale_solvers(ctx *c, int grid_n, const char *label, const cb_capture
     /* not reached: the status of the capped traced run (max_iters, diverged, ...), its time a lower bound */
     /* reached: ok if the timed run's error is at the target (an iterative run stops at max_iters by design) */
     int direct = (cb_solver_types[i]->flags & CB_SOLVER_DIRECT) != 0;
-    int st_row = !u->reached ? (u->status == CB_OK ? CB_NOT_CONVERGED : u->status)
-                 : direct ? u->status : u->err <= SCALE_ERR ? CB_OK : CB_NOT_CONVERGED;
+    int st_row = !u->reached           ? (u->status == CB_OK ? CB_NOT_CONVERGED : u->status)
+                 : direct              ? u->status
+                 : u->err <= SCALE_ERR ? CB_OK
+                                       : CB_NOT_CONVERGED;
     const char *status = cb_status_name(st_row);
     char cap_s[32], err[32], lb[32];
     fmt(cap_s, sizeof cap_s, direct ? NAN : u->budget_ms);
     fmt(err, sizeof err, u->reached ? u->err : NAN);
     fmt(lb, sizeof lb, u->reached ? NAN : u->trace_ms);
-    cb_csv_printf(out[T_SCALING], "%s,%d,%d,%d,%s,%s,%s,%s,%s,%s,%s,%s,%s,", label, grid_n, cap->A.n, cap->A.nnz, u->r.solver, a, r, it,
-                  cap_s, err, ms[0], ms[1], ms[2]);
+    cb_csv_printf(out[T_SCALING], "%s,%d,%d,%d,%s,%s,%s,%s,%s,%s,%s,%s,%s,", label, grid_n, cap->A.n, cap->A.nnz,
+                  u->r.solver, a, r, it, cap_s, err, ms[0], ms[1], ms[2]);
     cb_timing_csv(out[T_SCALING], &u->total, 1.0);
     fputc(',', out[T_SCALING]);
     cb_timing_csv_each(out[T_SCALING], &u->total, 1.0);
-    cb_csv_printf(out[T_SCALING], ",%d,%s,%.17g,%.17g,%s\n", nrep, lb, direct ? u->fnnz : cb_csv_na(), lz->lmax / lz->lmin, status);
+    cb_csv_printf(out[T_SCALING], ",%d,%s,%.17g,%.17g,%s\n", nrep, lb, direct ? u->fnnz : cb_csv_na(),
+                  lz->lmax / lz->lmin, status);
   }
   return st;
 }
@@ -444,8 +456,10 @@ static int scale_cell(ctx *c, int grid_n, FILE *const *out) {
   snprintf(vm, sizeof vm, "material.vertex_mass=441/%d", grid_n * grid_n);
   char label[32];
   snprintf(label, sizeof label, "scale%d", grid_n);
-  cb_scene_decl decl = {label, "hanging.ini", {mn, vm, "material.stretch_k=8000", "integrator.dt=1/30", NULL}, "scaling"};
-  const char *const more[] = {"integrator.max_iters=1", NULL}; /* one factorisation per step on the way (256^2: ~1.5 s) */
+  cb_scene_decl decl = {
+      label, "hanging.ini", {mn, vm, "material.stretch_k=8000", "integrator.dt=1/30", NULL}, "scaling"};
+  const char *const more[] = {"integrator.max_iters=1",
+                              NULL}; /* one factorisation per step on the way (256^2: ~1.5 s) */
   cb_config cfg;
   int st = cb_scene_decl_config(&c->e, &decl, more, &cfg);
   if (st) return st;
@@ -496,7 +510,8 @@ static int scene_cell(long i, void *vc, FILE *const *out) {
 /* cost hint: the dofs, times the runs the role asks for (a quick run: 0.7-3 ms per unit) */
 static double scene_cost(long i, void *vc) {
   const scene_plan *d = &scenes[((const ctx *)vc)->cell[i]];
-  const char *mn = cb_scene_decl_override(&d->scene, "mesh.n"), *mk = cb_scene_decl_override(&d->scene, "material.stretch_k");
+  const char *mn = cb_scene_decl_override(&d->scene, "mesh.n"), *mk = cb_scene_decl_override(&d->scene, "material."
+                                                                                                        "stretch_k");
   double n = mn ? atof(mn) : 1, k = mk ? atof(mk) : 8000;
   /* the iterative solves' iterations grow with the stiffness (scripts/calibrate-hints on a quick run: ~k^(1/4)) */
   return n * n * pow(k / 8000, 0.25) * (cb_scene_decl_is(&d->scene, "spectrum") ? 0.2 : 3);
@@ -520,7 +535,8 @@ int main(int argc, char **argv) {
            "# solves: x0 = 0, tol = %g, max_iters = %d (sweeps %d); jacobi/chebyshev main runs at alpha* = "
            "2/(lmin+lmax) of D^-1 A\n# reference x*: CHOLMOD refined once; wall_ms includes set-up, not CHOLMOD's "
            "symbolic analysis; main and rho_auto solves are repeated (wall_ms: the median, wall_min_ms, wall_max_ms, "
-           "wall_each_ms: the spread and every repeat, per row), the main ones in interleaved rounds\n", PRE_NEWTON_ITERS, TOL, c.max_iters, c.sweep_iters);
+           "wall_each_ms: the spread and every repeat, per row), the main ones in interleaved rounds\n",
+           PRE_NEWTON_ITERS, TOL, c.max_iters, c.sweep_iters);
   char scale_extra[1024];
   snprintf(scale_extra, sizeof scale_extra,
            "# J4 scaling: the system of the first Newton iteration of step %d (0-based; one Newton iteration per step "
@@ -528,13 +544,15 @@ int main(int argc, char **argv) {
            "vertex mass 441/grid_n^2 kg, k = 8000 N/m, dt = 1/30 s; b = A x* for a manufactured x* "
            "(sin(pi u) sin(pi v) (1, 1.5, 2) per axis + 0.1 x a fixed random field in [-1, 1]); error = |x - x*|/|x*|\n"
            "# every solver from x = 0; an iterative solver's iters_to_err is its first iteration with error <= %g "
-           "(found by a traced run whose iteration cap is worth budget_ms, %g x CHOLMOD's time + %g ms; capped_wall_ms: "
+           "(found by a traced run whose iteration cap is worth budget_ms, %g x CHOLMOD's time + %g ms; "
+           "capped_wall_ms: "
            "the traced time of a run that did not get there), then timed untraced for exactly those iterations; "
            "wall_ms = analyze + factor + solve, a fresh solver each time, all solvers of a size in interleaved rounds "
            "(wall_each_ms); Jacobi-type solvers get alpha* = 2/(lmin+lmax) of D^-1 A from Lanczos for free, "
            "Chebyshev estimates rho (counted); lmax_over_lmin = lmax/lmin of D^-1 A\n",
            SCALE_STEP, SCALE_ERR, SCALE_BUDGET, c.e.quick ? SCALE_FLOOR_QUICK_MS : SCALE_FLOOR_MS);
-  rc = cb_experiment_table(&c.e, NULL, extra, "scene,sweep,solver,alpha,rho,iter,rel_residual,wall_ms,wall_min_ms,wall_max_ms,"
+  rc = cb_experiment_table(&c.e, NULL, extra,
+                           "scene,sweep,solver,alpha,rho,iter,rel_residual,wall_ms,wall_min_ms,wall_max_ms,"
                            "wall_each_ms,wall_repeats,status,error") != T_MAIN ||
        cb_experiment_table(&c.e, "scenes", extra,
                            "scene,grid_n,n_dofs,nnz,stretch_k_n_per_m,dt_s,vertex_mass_kg,capture_t_s,"
@@ -542,10 +560,13 @@ int main(int argc, char **argv) {
                            "lmin_bound,lmax_bound,lmin_steps,lmax_steps,lanczos_ms,lmin_dense,lmax_dense,"
                            "dense_ms,spectrum,alpha_max,alpha_star,rho_vanilla,rho_star,rho_lab,status") != T_SCENES ||
        cb_experiment_table(&c.e, "runs", extra,
-                           "scene,sweep,solver,alpha,alpha_over_max,rho,rho_predicted,iters,rel_residual,rate,rate_prev,"
-                           "iters_1e6,wall_to_1e6_ms,setup_ms,rho_ms,wall_ms,wall_min_ms,wall_max_ms,wall_repeats,status") != T_RUNS ||
+                           "scene,sweep,solver,alpha,alpha_over_max,rho,rho_predicted,iters,rel_residual,rate,rate_"
+                           "prev,"
+                           "iters_1e6,wall_to_1e6_ms,setup_ms,rho_ms,wall_ms,wall_min_ms,wall_max_ms,wall_repeats,"
+                           "status") != T_RUNS ||
        cb_experiment_table(&c.e, "newton", extra,
-                           "scene,solver,alpha,rho,max_iters,iters,rel_residual,step_error,wall_ms,status") != T_NEWTON ||
+                           "scene,solver,alpha,rho,max_iters,iters,rel_residual,step_error,wall_ms,status") !=
+           T_NEWTON ||
        cb_experiment_table(&c.e, "scaling", scale_extra, SCALE_COLUMNS) != T_SCALING;
   if (rc) return cb_experiment_end(&c.e, CB_EIO), 2;
   int mode = c.e.quick ? QUICK : FULL;
@@ -553,7 +574,8 @@ int main(int argc, char **argv) {
     if (c.e.smoke ? i == 0 : (scenes[i].when & mode) != 0) c.cell[c.ncells++] = i; /* smoke: small11 alone */
   for (size_t i = 0; i < sizeof scale_n / sizeof *scale_n; i++)
     if (c.e.smoke ? i == 0 : !c.e.quick || scale_n[i] <= SCALE_QUICK_MAX) c.nscale = (int)i + 1;
-  cb_sweep sw[] = {{"scenes", c.ncells, scene_cell, scene_cost, &c}, {"scaling", c.nscale, scale_cell_run, scale_cost, &c}};
+  cb_sweep sw[] = {{"scenes", c.ncells, scene_cell, scene_cost, &c},
+                   {"scaling", c.nscale, scale_cell_run, scale_cost, &c}};
   rc = cb_sweep_run(&c.e, sw, 2);
   rc = cb_experiment_end(&c.e, rc);
   return rc == CB_OK ? 0 : rc == CB_EIO ? 2 : 1;

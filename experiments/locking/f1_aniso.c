@@ -28,7 +28,12 @@ int lk_write_clipped_grid(mesh_kind mk, int n) {
   int *map = malloc((size_t)g.nv * sizeof(int));
   m.tri = malloc(3 * (size_t)g.nt * sizeof(int));
   m.x = malloc(3 * (size_t)g.nv * sizeof(double));
-  if (!map || !m.tri || !m.x) { free(map); cb_mesh_free(&m); cb_mesh_free(&g); return CB_ENOMEM; }
+  if (!map || !m.tri || !m.x) {
+    free(map);
+    cb_mesh_free(&m);
+    cb_mesh_free(&g);
+    return CB_ENOMEM;
+  }
   for (int i = 0; i < g.nv; i++) map[i] = -1;
   for (int t = 0; t < g.nt; t++) {
     int in = 1;
@@ -62,7 +67,8 @@ int lk_write_clipped_grid(mesh_kind mk, int n) {
  *   shear:   u = eps s^2 / (2R) t        (shear growing from -eps to eps across the disk: in-plane bending)
  * with eps = F1_EPS. */
 #define F1_EPS 0.05
-#define F1_NDIR 8 /* directions 0, 22.5, ..., 157.5 deg (dir + 180 is the same load for shear, its mirror for stretch) */
+#define F1_NDIR \
+  8 /* directions 0, 22.5, ..., 157.5 deg (dir + 180 is the same load for shear, its mirror for stretch) */
 static const char *const f1_families[2] = {"stretch", "shear"};
 
 static void f1_load(int fam, double deg, const double *X, double *x) {
@@ -88,11 +94,23 @@ int lk_f1_aniso_cell(long ci, void *ctx, FILE *const *out) {
     cb_mesh rest;
     if (cb_mesh_read_obj(aniso_obj[mk], &rest)) return CB_EIO;
     cb_topology tp;
-    if (cb_topology_build(&rest, &tp)) { cb_mesh_free(&rest); return CB_EINVAL; }
+    if (cb_topology_build(&rest, &tp)) {
+      cb_mesh_free(&rest);
+      return CB_EINVAL;
+    }
     char *pins = malloc(12 * (size_t)rest.nv + 16), *p = pins;
     int npin = 0, *isb = calloc((size_t)rest.nv, sizeof(int));
-    if (!pins || !isb) { free(pins); free(isb); cb_topology_free(&tp); cb_mesh_free(&rest); return CB_ENOMEM; }
-    for (int b = 0; b < tp.nb; b++) { isb[tp.edge[2 * tp.boundary[b]]] = 1; isb[tp.edge[2 * tp.boundary[b] + 1]] = 1; }
+    if (!pins || !isb) {
+      free(pins);
+      free(isb);
+      cb_topology_free(&tp);
+      cb_mesh_free(&rest);
+      return CB_ENOMEM;
+    }
+    for (int b = 0; b < tp.nb; b++) {
+      isb[tp.edge[2 * tp.boundary[b]]] = 1;
+      isb[tp.edge[2 * tp.boundary[b] + 1]] = 1;
+    }
     *p = 0;
     for (int i = 0; i < rest.nv; i++)
       if (isb[i]) p += sprintf(p, npin++ ? " %d" : "%d", i);
@@ -102,21 +120,31 @@ int lk_f1_aniso_cell(long ci, void *ctx, FILE *const *out) {
       const char *sets[] = {md ? "material.stretch=fem" : "material.stretch=spring", NULL};
       cb_scene *s = NULL;
       int bs = lk_build(lk_scene_of("aniso"), sets, (mesh_kind)mk, 3, aniso_obj[mk], pins, &s);
-      if (bs) { free(pins); free(isb); cb_topology_free(&tp); cb_mesh_free(&rest); return bs; }
+      if (bs) {
+        free(pins);
+        free(isb);
+        cb_topology_free(&tp);
+        cb_mesh_free(&rest);
+        return bs;
+      }
       size_t n3 = 3 * (size_t)s->mesh.nv;
       double *x = malloc(n3 * sizeof(double));
       for (int fam = 0; fam < 2; fam++)
         for (int di = 0; di < ndir; di++) {
           double deg = 180.0 * di / F1_NDIR;
-          for (int i = 0; i < s->mesh.nv; i++) f1_load(fam, deg, s->mesh.x + 3 * i, x + 3 * i); /* the start: x = X + u(X) */
+          for (int i = 0; i < s->mesh.nv; i++)
+            f1_load(fam, deg, s->mesh.x + 3 * i, x + 3 * i); /* the start: x = X + u(X) */
           cb_equilibrium_stats es;
           int rc = cb_stability_equilibrium(s, x, &ep, &es);
           double En = cb_system_elastic_energy(&s->sys, x);
           char test[32];
           snprintf(test, sizeof test, "%s_%g", f1_families[fam], deg);
-          cb_csv_printf(f, "%s,%s,%s,%s,%g,%d,%g,%.17g,%.17g,%.17g,%d,%.6g,%s\n", models[md], mesh_names[mk], f1_families[fam],
-                        test, deg, s->mesh.nv, F1_EPS, En, En / area, area, s->model.nfree, es.residual,
-                        cb_status_name(rc ? rc : es.status == CB_NOT_CONVERGED && es.residual < 1e-6 ? CB_OK : es.status));
+          cb_csv_printf(f, "%s,%s,%s,%s,%g,%d,%g,%.17g,%.17g,%.17g,%d,%.6g,%s\n", models[md], mesh_names[mk],
+                        f1_families[fam], test, deg, s->mesh.nv, F1_EPS, En, En / area, area, s->model.nfree,
+                        es.residual,
+                        cb_status_name(rc                                                    ? rc
+                                       : es.status == CB_NOT_CONVERGED && es.residual < 1e-6 ? CB_OK
+                                                                                             : es.status));
         }
       free(x);
       cb_scene_free(s);

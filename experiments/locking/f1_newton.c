@@ -12,12 +12,17 @@
 
 /* ---- F1: one implicit Euler step of the lab cloth, timed ------------------------------ */
 
-typedef struct { FILE *f; const char *model; int rep; double t0; } trace_ctx;
+typedef struct {
+  FILE *f;
+  const char *model;
+  int rep;
+  double t0;
+} trace_ctx;
 static void trace_hook(void *ctx, int event, const cb_newton_event *ev) {
   trace_ctx *c = ctx;
   if (event != CB_NEWTON_GRADIENT) return;
-  cb_csv_printf(c->f, "%s,%d,%d,%.17g,%.17g,%.17g,%.4f\n", c->model, c->rep, ev->iter, ev->F, ev->grad_norm, ev->rel_grad,
-                cb_now_ms() - c->t0);
+  cb_csv_printf(c->f, "%s,%d,%d,%.17g,%.17g,%.17g,%.4f\n", c->model, c->rep, ev->iter, ev->F, ev->grad_norm,
+                ev->rel_grad, cb_now_ms() - c->t0);
 }
 
 /* One model's timed step: its scene and integrator, and the state after the warm-up steps. */
@@ -29,7 +34,10 @@ typedef struct {
 } f1_model;
 
 static void f1_model_free(f1_model *m) {
-  free(m->x); free(m->v); free(m->xs); free(m->vs);
+  free(m->x);
+  free(m->v);
+  free(m->xs);
+  free(m->vs);
   cb_integrator_free(m->it);
   cb_scene_free(m->s);
   memset(m, 0, sizeof *m);
@@ -58,7 +66,10 @@ static int f1_model_init(const scene_plan *sm, int n, f1_model *m) {
   if (!m->x || !m->v || !m->xs || !m->vs) return cb_fail_status(CB_ENOMEM, "out of memory");
   memcpy(m->x, m->s->x0, m->n3 * sizeof(double));
   cb_step_stats st;
-  for (int k = 0; k < 5; k++) { memset(&st, 0, sizeof st); cb_integrator_step(m->it, m->x, m->v, &st); } /* swing down */
+  for (int k = 0; k < 5; k++) {
+    memset(&st, 0, sizeof st);
+    cb_integrator_step(m->it, m->x, m->v, &st);
+  } /* swing down */
   cb_newton_params *np = m->it->type_params;
   cb_config cd = c; /* the method's policy for the timed step (the warm-up used drop) */
   if ((bs = cb_config_set(&cd, sd)) || (bs = cb_newton_params_from_config(&cd, np))) return bs;
@@ -102,13 +113,19 @@ int lk_f1_newton_cell(long i, void *ctx, FILE *const *out) {
       char *buf = NULL;
       size_t len = 0;
       FILE *tf = open_memstream(&buf, &len); /* the trace, kept if this run is the repeat */
-      if (!tf) { st = cb_fail_status(CB_ENOMEM, "out of memory"); break; }
+      if (!tf) {
+        st = cb_fail_status(CB_ENOMEM, "out of memory");
+        break;
+      }
       int rc = f1_model_step(&M[k], tf, model, round, &ss, &ms);
       if (cb_timing_warm(ms)) { /* that was the warm-up: the repeat is the next run */
         fclose(tf);
         free(buf);
         buf = NULL;
-        if (!(tf = open_memstream(&buf, &len))) { st = cb_fail_status(CB_ENOMEM, "out of memory"); break; }
+        if (!(tf = open_memstream(&buf, &len))) {
+          st = cb_fail_status(CB_ENOMEM, "out of memory");
+          break;
+        }
         rc = f1_model_step(&M[k], tf, model, round, &ss, &ms);
       }
       fclose(tf);

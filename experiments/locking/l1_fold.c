@@ -18,7 +18,10 @@ static int degenerate(const cb_scene *s, const double *x) {
 
 /* ---- L1: fold angle at rest against in-plane stiffness ------------------------------ */
 
-typedef struct { const char *name; double deg; } fold_line;
+typedef struct {
+  const char *name;
+  double deg;
+} fold_line;
 static const fold_line folds[NFOLD] = {{"edges", 90}, {"diagonal", 45}, {"cross", 135}, {"angle30", 30}};
 
 /* Cell ci: mesh kind ci / NFOLD, fold line ci % NFOLD, both models, every k. */
@@ -56,7 +59,10 @@ int lk_l1_cell(long ci, void *ctx, FILE *const *out) {
       int on_edges = 1;
       for (int t = 0; t < rest.nt; t++) {
         int neg = 0, pos = 0;
-        for (int a = 0; a < 3; a++) { neg |= sd[rest.tri[3 * t + a]] < -tol; pos |= sd[rest.tri[3 * t + a]] > tol; }
+        for (int a = 0; a < 3; a++) {
+          neg |= sd[rest.tri[3 * t + a]] < -tol;
+          pos |= sd[rest.tri[3 * t + a]] > tol;
+        }
         if (neg && pos) on_edges = 0;
       }
       for (int md = 0; md < 2; md++)
@@ -66,7 +72,12 @@ int lk_l1_cell(long ci, void *ctx, FILE *const *out) {
           const char *sets[] = {md ? "material.stretch=fem" : "material.stretch=spring", sk, NULL};
           cb_scene *s = NULL;
           int bs = lk_build(lk_scene_of("fold"), sets, (mesh_kind)mk, n, mk == MESH_DISK ? disk_xz : NULL, pins, &s);
-          if (bs) { free(pins); free(sd); cb_mesh_free(&rest); return bs; }
+          if (bs) {
+            free(pins);
+            free(sd);
+            cb_mesh_free(&rest);
+            return bs;
+          }
           size_t n3 = 3 * (size_t)s->mesh.nv;
           double *x = malloc(n3 * sizeof(double));
           memcpy(x, s->x0, n3 * sizeof(double));
@@ -85,9 +96,10 @@ int lk_l1_cell(long ci, void *ctx, FILE *const *out) {
           double smax, srms;
           lk_edge_strain(s, x, &smax, &srms);
           int st = rc ? rc : es.status;
-          cb_csv_printf(f, "%s,%s,%s,%.0f,%d,%.17g,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%ld,%.6g,%d,%.3f,%s\n", models[md],
-                        mesh_names[mk], folds[fl].name, folds[fl].deg, on_edges, ks[ki], s->mesh.nv, npin, angle, offset, drop,
-                        smax, srms, es.steps, es.newton_iters, es.residual, degenerate(s, x), es.ms, cb_status_name(st));
+          cb_csv_printf(f, "%s,%s,%s,%.0f,%d,%.17g,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%ld,%.6g,%d,%.3f,%s\n",
+                        models[md], mesh_names[mk], folds[fl].name, folds[fl].deg, on_edges, ks[ki], s->mesh.nv, npin,
+                        angle, offset, drop, smax, srms, es.steps, es.newton_iters, es.residual, degenerate(s, x),
+                        es.ms, cb_status_name(st));
           free(x);
           cb_scene_free(s);
         }

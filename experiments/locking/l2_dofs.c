@@ -20,7 +20,10 @@ static void jitter(double *x, int n3, double h, unsigned seed) {
 
 static void l2_row(FILE *f, const char *name, cb_mesh *m, unsigned seed) {
   cb_topology tp;
-  if (cb_topology_build(m, &tp)) { cb_csv_printf(f, "%s,%d,%d,,,,,,,,,bad_input\n", name, m->nv, m->nt); return; }
+  if (cb_topology_build(m, &tp)) {
+    cb_csv_printf(f, "%s,%d,%d,,,,,,,,,bad_input\n", name, m->nv, m->nt);
+    return;
+  }
   double h = 0.3 * sqrt(cb_mesh_triangle_area(m, m->x, 0));
   double *x = malloc((size_t)3 * m->nv * sizeof(double)), *mid = malloc((size_t)3 * tp.ne * sizeof(double));
   memcpy(x, m->x, (size_t)3 * m->nv * sizeof(double));

@@ -46,9 +46,11 @@ cb_experiment E;
 int nsteps, step_idx[NSCENES], nshape, shape_idx[NSCENES];
 
 int main(int argc, char **argv) {
-  int r = cb_experiment_begin(&E, "locking", "L1, L2, F1 and S1: membrane locking of stiff in-plane edges, the DoF count "
-                                             "behind it (conforming against nonconforming elements), co-rotational FEM "
-                                             "against springs, and shape matching under explicit integration.", argc, argv);
+  int r = cb_experiment_begin(&E, "locking",
+                              "L1, L2, F1 and S1: membrane locking of stiff in-plane edges, the DoF count "
+                              "behind it (conforming against nonconforming elements), co-rotational FEM "
+                              "against springs, and shape matching under explicit integration.",
+                              argc, argv);
   if (r) return r > 0 ? 0 : 1;
   cb_experiment_timed(&E); /* F1 times a Newton step: run alone */
   int quick = E.quick, st = CB_OK;
@@ -57,35 +59,57 @@ int main(int argc, char **argv) {
     if (cb_scene_decl_is(&SCENES[i].scene, "shape")) shape_idx[nshape++] = i;
   }
   if (cb_experiment_table(&E, NULL,
-                          "# L1: static rest state by proximal Newton steps (cb_stability_equilibrium), tol max|dE/dx| <= 1e-5 max m g; "
-                          "fold_angle_deg = atan2(drop, offset) of the free part's centroid; on_edges = no triangle straddles the fold line\n",
-                          "model,mesh,fold,fold_dir_deg,on_edges,k_n_per_m,vertices,pinned,fold_angle_deg,offset_m,drop_m,"
-                          "max_strain,rms_strain,eq_steps,newton_iters,residual,degenerate,eq_wall_ms,status") != T_MAIN ||
-      cb_experiment_table(&E, "dofs", "# L2: DoFs = 3 #variables - rank(rigidity matrix) at jittered generic positions (GSL SVD, threshold 1e-9)\n",
+                          "# L1: static rest state by proximal Newton steps (cb_stability_equilibrium), tol max|dE/dx| "
+                          "<= 1e-5 max m g; "
+                          "fold_angle_deg = atan2(drop, offset) of the free part's centroid; on_edges = no triangle "
+                          "straddles the fold line\n",
+                          "model,mesh,fold,fold_dir_deg,on_edges,k_n_per_m,vertices,pinned,fold_angle_deg,offset_m,"
+                          "drop_m,"
+                          "max_strain,rms_strain,eq_steps,newton_iters,residual,degenerate,eq_wall_ms,status") !=
+          T_MAIN ||
+      cb_experiment_table(&E, "dofs",
+                          "# L2: DoFs = 3 #variables - rank(rigidity matrix) at jittered generic positions (GSL SVD, "
+                          "threshold 1e-9)\n",
                           "mesh,vertices,triangles,edges,boundary_edges,conforming_dofs,conforming_predicted,"
                           "conforming_per_vertex,nonconforming_variables,nonconforming_dofs,nonconforming_predicted,"
                           "nonconforming_per_vertex,status") != T_DOFS ||
-      cb_experiment_table(&E, "aniso", "# F1: disks of radius 0.5 m (grids clipped to it), boundary held at X + u(X) for a non-affine u along "
-                          "dir_deg (stretch: u = eps (s + R)^2/(4R) n; shear: u = eps s^2/(2R) t; s = n.X, eps = strain), "
+      cb_experiment_table(&E, "aniso",
+                          "# F1: disks of radius 0.5 m (grids clipped to it), boundary held at X + u(X) for a "
+                          "non-affine u along "
+                          "dir_deg (stretch: u = eps (s + R)^2/(4R) n; shear: u = eps s^2/(2R) t; s = n.X, eps = "
+                          "strain), "
                           "interior relaxed; k = mu = 1000 N/m\n",
-                          "model,mesh,family,test,dir_deg,vertices,strain,energy_j,energy_density_j_per_m2,area_m2,free_vertices,"
+                          "model,mesh,family,test,dir_deg,vertices,strain,energy_j,energy_density_j_per_m2,area_m2,"
+                          "free_vertices,"
                           "residual,status") != T_ANISO ||
-      cb_experiment_table(&E, "newton", "# F1: one implicit Euler step of the lab cloth, |grad F| per Newton iteration; wall_ms since the step began\n",
+      cb_experiment_table(&E, "newton",
+                          "# F1: one implicit Euler step of the lab cloth, |grad F| per Newton iteration; wall_ms "
+                          "since the step began\n",
                           "model,rep,iter,f_j,grad_norm_n,rel_grad,wall_ms") != T_NEWTON ||
       cb_experiment_table(&E, "newton_steps", NULL,
-                          "model,n,rep,newton_iters,factorizations,rel_grad,assemble_ms,factor_ms,solve_ms,step_wall_ms,status") != T_STEPS ||
-      cb_experiment_table(&E, "shape", "# S1: cells as explicit_stability (energy = kinetic + elastic + gravity; shape matching scenes have k = 0); "
-                          "shape error at the end: edge strain (l - L)/L against the rest shape, and the mass-weighted RMS distance "
-                          "to the best-fit rigid motion of the rest shape (rigid_dist_m; over the rest shape's RMS radius: "
+                          "model,n,rep,newton_iters,factorizations,rel_grad,assemble_ms,factor_ms,solve_ms,step_wall_"
+                          "ms,status") != T_STEPS ||
+      cb_experiment_table(&E, "shape",
+                          "# S1: cells as explicit_stability (energy = kinetic + elastic + gravity; shape matching "
+                          "scenes have k = 0); "
+                          "shape error at the end: edge strain (l - L)/L against the rest shape, and the mass-weighted "
+                          "RMS distance "
+                          "to the best-fit rigid motion of the rest shape (rigid_dist_m; over the rest shape's RMS "
+                          "radius: "
                           "rigid_dist_over_size)\n",
                           "scene,method,alpha,dt_s,class,max_energy_ratio,final_energy_ratio,steps,t_end_s,"
-                          "max_strain,rms_strain,rigid_dist_m,rigid_dist_over_size,cell_wall_ms,step_status") != T_SHAPE)
+                          "max_strain,rms_strain,rigid_dist_m,rigid_dist_over_size,cell_wall_ms,step_status") !=
+          T_SHAPE)
     return cb_experiment_end(&E, CB_EIO), 2;
   /* the disks of L1 (horizontal) and F1 (in plane xy): inputs of cells, written by every shard */
   /* and F1's clipped grids (the disk of F1 is disk_xy) */
   if ((st = lk_write_disk(quick ? 4 : 6, 0)) || (st = lk_write_disk(quick ? 5 : 7, 1)) ||
-      (st = lk_write_clipped_grid(MESH_REGULAR, E.smoke ? 7 : quick ? 11 : 15)) ||
-      (st = lk_write_clipped_grid(MESH_ALTERNATING, E.smoke ? 7 : quick ? 11 : 15)))
+      (st = lk_write_clipped_grid(MESH_REGULAR, E.smoke ? 7
+                                                : quick ? 11
+                                                        : 15)) ||
+      (st = lk_write_clipped_grid(MESH_ALTERNATING, E.smoke ? 7
+                                                    : quick ? 11
+                                                            : 15)))
     return cb_experiment_end(&E, st), 2;
   memcpy(aniso_obj[MESH_DISK], disk_xy, sizeof disk_xy);
   const cb_sweep sweeps[] = {

@@ -24,10 +24,19 @@ static double rigid_distance(const cb_scene *s, const double *x, double *size) {
   const double *X = s->mesh.x;
   for (int i = 0; i < s->mesh.nv; i++) {
     M += s->mass[i];
-    for (int a = 0; a < 3; a++) { c[a] += s->mass[i] * x[3 * i + a]; C[a] += s->mass[i] * X[3 * i + a]; }
+    for (int a = 0; a < 3; a++) {
+      c[a] += s->mass[i] * x[3 * i + a];
+      C[a] += s->mass[i] * X[3 * i + a];
+    }
   }
-  if (!(M > 0)) { *size = NAN; return NAN; }
-  for (int a = 0; a < 3; a++) { c[a] /= M; C[a] /= M; }
+  if (!(M > 0)) {
+    *size = NAN;
+    return NAN;
+  }
+  for (int a = 0; a < 3; a++) {
+    c[a] /= M;
+    C[a] /= M;
+  }
   double r2 = 0;
   for (int i = 0; i < s->mesh.nv; i++)
     for (int a = 0; a < 3; a++) {
@@ -53,7 +62,10 @@ int lk_s1_cell(long i, void *ctx, FILE *const *out) {
   FILE *f = out[T_SHAPE];
   double alphas[5] = {0.01, 0.03, 0.1, 0.3, 1};
   int na = quick ? 3 : 5, ndt = E.smoke ? 2 : quick ? 7 : 13;
-  if (quick) { alphas[1] = 0.1; alphas[2] = 1; }
+  if (quick) {
+    alphas[1] = 0.1;
+    alphas[2] = 1;
+  }
   cb_stability_params sp = cb_stability_params_default();
   sp.sim_time = quick ? 1.0 : 2.0;
   sp.min_steps = E.smoke ? 20 : 200;
@@ -76,7 +88,10 @@ int lk_s1_cell(long i, void *ctx, FILE *const *out) {
       if (bs) return bs;
       cb_integrator_params ip;
       cb_integrator_params_from_config(&c, &ip);
-      if ((bs = cb_integrator_from_config(&c, s, &ip, &it))) { cb_scene_free(s); return bs; }
+      if ((bs = cb_integrator_from_config(&c, s, &ip, &it))) {
+        cb_scene_free(s);
+        return bs;
+      }
       size_t n3 = 3 * (size_t)s->mesh.nv;
       double *x0 = malloc(n3 * sizeof(double)), *v0 = calloc(n3, sizeof(double));
       memcpy(x0, s->mesh.x, n3 * sizeof(double)); /* the rest shape */
@@ -95,14 +110,25 @@ int lk_s1_cell(long i, void *ctx, FILE *const *out) {
         /* springs have no alpha; a cell that failed to run (rc) measured nothing */
         cb_csv_printf(f, "%s,%s,%.6g,%.17g,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.3f,%s\n", sc->label,
                       m >= 0 ? "shape_matching" : "spring_explicit", m >= 0 ? alphas[m] : none, dt,
-                      rc ? "failed" : cb_cell_class_name(r.cls), rc ? none : r.max_energy_ratio, rc ? none : r.final_energy_ratio,
-                      rc ? none : (double)r.steps, rc ? none : r.t_end, rc ? none : isfinite(smax) ? smax : NAN,
-                      rc ? none : isfinite(srms) ? srms : NAN, rc ? none : isfinite(rd) ? rd : NAN,
-                      rc ? none : isfinite(rd) ? rd / size : NAN, rc ? none : r.wall_ms,
-                      rc ? cb_status_name(rc) : cb_status_name(r.step_status));
+                      rc ? "failed" : cb_cell_class_name(r.cls), rc ? none : r.max_energy_ratio,
+                      rc ? none : r.final_energy_ratio, rc ? none : (double)r.steps, rc ? none : r.t_end,
+                      rc               ? none
+                      : isfinite(smax) ? smax
+                                       : NAN,
+                      rc               ? none
+                      : isfinite(srms) ? srms
+                                       : NAN,
+                      rc             ? none
+                      : isfinite(rd) ? rd
+                                     : NAN,
+                      rc             ? none
+                      : isfinite(rd) ? rd / size
+                                     : NAN,
+                      rc ? none : r.wall_ms, rc ? cb_status_name(rc) : cb_status_name(r.step_status));
       }
       cb_cell_work_free(&w);
-      free(x0); free(v0);
+      free(x0);
+      free(v0);
       cb_integrator_free(it);
       cb_scene_free(s);
     }

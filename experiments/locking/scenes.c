@@ -14,10 +14,22 @@ const char *const mesh_names[NMESH] = {"regular", "alternating", "disk"};
 char disk_xz[2048], disk_xy[2048];
 
 const scene_plan SCENES[] = {
-    {{"fold", "hanging.ini", {"mesh.size=1", "mesh.plane=xz", "material.vertex_mass=0", "material.density=0.1", NULL}, "fold"}, NULL},
-    {{"aniso", "hanging.ini", {"mesh.size=1", "mesh.plane=xy", "material.vertex_mass=0", "material.density=1",
-                               "scene.gravity=0 0 0", "material.stretch_k=1000", NULL}, "aniso"}, NULL},
-#define STEP(s, h) {"material.stretch=" s, "material.fem_hessian=" h, "integrator.definiteness=drop", "integrator.tol=1e-8", "integrator.max_iters=300", NULL}
+    {{"fold",
+      "hanging.ini",
+      {"mesh.size=1", "mesh.plane=xz", "material.vertex_mass=0", "material.density=0.1", NULL},
+      "fold"},
+     NULL},
+    {{"aniso",
+      "hanging.ini",
+      {"mesh.size=1", "mesh.plane=xy", "material.vertex_mass=0", "material.density=1", "scene.gravity=0 0 0",
+       "material.stretch_k=1000", NULL},
+      "aniso"},
+     NULL},
+#define STEP(s, h) \
+  { \
+    "material.stretch=" s, "material.fem_hessian=" h, "integrator.definiteness=drop", "integrator.tol=1e-8", \
+        "integrator.max_iters=300", NULL \
+  }
     {{"spring_drop", "hanging.ini", STEP("spring", "exact"), "step"}, "drop"},
     {{"spring_none", "hanging.ini", STEP("spring", "exact"), "step"}, "none"},
     {{"fem_exact_drop", "hanging.ini", STEP("fem", "exact"), "step"}, "drop"},
@@ -25,7 +37,8 @@ const scene_plan SCENES[] = {
     {{"fem_frozen", "hanging.ini", STEP("fem", "frozen"), "step"}, "drop"},
 #undef STEP
     {{"chain20", "chain20.ini", {NULL}, "shape"}, NULL},
-    {{"cloth21", "hanging.ini", {"mesh.plane=xy", NULL}, "shape"}, NULL}, /* hanging vertically, as explicit_stability */
+    {{"cloth21", "hanging.ini", {"mesh.plane=xy", NULL}, "shape"},
+     NULL}, /* hanging vertically, as explicit_stability */
 };
 _Static_assert(sizeof SCENES / sizeof SCENES[0] == NSCENES, "NSCENES (locking.h) is the length of the scene table");
 

@@ -66,7 +66,8 @@ static const char *const NOCHEB[] = {"cholmod", "cg32", "cg_tol"}, *const CHEB[]
 /* the K = 1 regime map over dt x k x stretch */
 static const char *const DTS[] = {"1/240", "1/120", "1/60", "1/30", "1/20", "1/10"};
 static const char *const KV[] = {"1e2", "1e3", "1e4", "1e5", "1e6", "1e7"}, *const SV[] = {"1", "1.25", "1.5", "2"};
-static const int DI_Q[] = {0, 3, 5}, KI_Q[] = {0, 2, 5}, SI_Q[] = {0, 3}, DI[] = {0, 1, 2, 3, 4, 5}, SI[] = {0, 1, 2, 3};
+static const int DI_Q[] = {0, 3, 5}, KI_Q[] = {0, 2, 5}, SI_Q[] = {0, 3}, DI[] = {0, 1, 2, 3, 4, 5},
+                 SI[] = {0, 1, 2, 3};
 static const int DI_S[] = {3}, KI_S[] = {2}, SI_S[] = {3}; /* smoke: dt 1/30, k 1e4, stretch 2 */
 
 typedef struct {
@@ -82,8 +83,8 @@ typedef struct {
 
 /* the trajectories' methods */
 static int traj_methods(int q, int smoke, cb_method *M) {
-  if (smoke) return methods(KS, 1, ALL, 2, 0, M); /* K = 1 with CHOLMOD and cg32, line search off/on */
-  int nm = methods(KS, q ? 3 : 5, ALL, 1, 0, M); /* K = 1..10 (fixed), CHOLMOD, line search off/on */
+  if (smoke) return methods(KS, 1, ALL, 2, 0, M);      /* K = 1 with CHOLMOD and cg32, line search off/on */
+  int nm = methods(KS, q ? 3 : 5, ALL, 1, 0, M);       /* K = 1..10 (fixed), CHOLMOD, line search off/on */
   if (!q) nm += methods(KS + 5, 1, ALL, 1, 0, M + nm); /* converged, CHOLMOD (the reference is converged too) */
   nm += methods(KS, 1, ALL + 1, q ? 1 : 2, 0, M + nm); /* K = 1 with cg32 (and cheb32) */
   return nm;
@@ -98,7 +99,8 @@ static int step_plan(const plan *p, const char *label, cb_method *M, const int *
   if (p->smoke) { /* smoke: K = 1 and converged with every inner solve, one state */
     nm = methods(KS_SMOKE, 2, ALL, 5, 1, M);
     *states = ST_SMOKE, *ns = 1;
-  } else if (!strcmp(label, "grid64")) { /* 64^2: Chebyshev (a Lanczos rho estimate per factorisation) only at K = 1, 2 */
+  } else if (!strcmp(label,
+                     "grid64")) { /* 64^2: Chebyshev (a Lanczos rho estimate per factorisation) only at K = 1, 2 */
     nm = methods(q ? KS_SHORT : KS, q ? 3 : 6, NOCHEB, q ? 2 : 3, 0, M);
     if (!q) nm += methods(KS, 2, CHEB, 2, 0, M + nm);
     *states = q ? ST_64_Q : ST_64;
@@ -108,7 +110,8 @@ static int step_plan(const plan *p, const char *label, cb_method *M, const int *
     nm = methods(KS, 6, NOCHEB, 3, 0, M);
     nm += methods(KS, 2, CHEB, lab ? 2 : 1, lab, M + nm);
     *states = ST_LAB_Q, *ns = 1;
-  } else if (!strcmp(label, "stiff")) { /* stiff: Chebyshev up to K = 5 (inexact Newton with it needs ~100 Lanczos runs) */
+  } else if (!strcmp(label,
+                     "stiff")) { /* stiff: Chebyshev up to K = 5 (inexact Newton with it needs ~100 Lanczos runs) */
     nm = methods(KS, 6, NOCHEB, 3, 0, M);
     nm += methods(KS, 4, CHEB, 2, 0, M + nm);
   } else {
@@ -172,8 +175,8 @@ static int regime_cell(long i, void *ctx, FILE *const *out) {
   cb_config cfg;
   int st = cb_scene_decl_build(p->e, sd, sets, &cfg, &s);
   if (st == CB_OK)
-    st = cb_study_regime_cell(s, sd->label, cfg.dt, p->regime_s, p->regime_samples, 0.01, p->di[d], p->ki[c],
-                              p->si[a], out[T_REGIME]);
+    st = cb_study_regime_cell(s, sd->label, cfg.dt, p->regime_s, p->regime_samples, 0.01, p->di[d], p->ki[c], p->si[a],
+                              out[T_REGIME]);
   cb_scene_free(s);
   return st;
 }
@@ -198,7 +201,10 @@ static int i2_cell(long i, void *ctx, FILE *const *out) {
  * Newton runs logged to 1e-14). */
 static double steps_cost(long i, void *ctx) { return ((const plan *)ctx)->steps_cost[i]; }
 static double traj_cost(long i, void *ctx) { return ((const plan *)ctx)->traj_cost[i]; }
-static double i2_cost(long i, void *ctx) { (void)i; return ((const plan *)ctx)->i2_cost; }
+static double i2_cost(long i, void *ctx) {
+  (void)i;
+  return ((const plan *)ctx)->i2_cost;
+}
 static double regime_cost(long i, void *ctx) {
   const plan *p = ctx;
   double dt = 1;
@@ -240,17 +246,48 @@ int main(int argc, char **argv) {
   if (b) return b > 0 ? 0 : 1;
   cb_experiment_timed(&e); /* its numbers include wall times: run alone */
   int q = e.quick, sm = e.smoke;
-  plan p = {.e = &e, .q = q, .smoke = sm, .traj = -1, .regime = -1, .i2 = -1, .di = sm ? DI_S : q ? DI_Q : DI,
-            .ki = sm ? KI_S : q ? KI_Q : DI, .si = sm ? SI_S : q ? SI_Q : SI, .nd = sm ? 1 : q ? 3 : 6,
-            .nk = sm ? 1 : q ? 3 : 6, .nst = sm ? 1 : q ? 2 : 4, .traj_s = sm ? 0.2 : 2.0,
-            .dt_err_s = sm ? 0.1 : q ? 0.5 : 2.0, .regime_s = sm ? 0.2 : q ? 1.0 : 2.0,
-            .regime_samples = sm ? 1 : q ? 2 : 4, .i2_states = sm ? 1 : q ? 5 : 30};
+  plan p = {.e = &e,
+            .q = q,
+            .smoke = sm,
+            .traj = -1,
+            .regime = -1,
+            .i2 = -1,
+            .di = sm  ? DI_S
+                  : q ? DI_Q
+                      : DI,
+            .ki = sm  ? KI_S
+                  : q ? KI_Q
+                      : DI,
+            .si = sm  ? SI_S
+                  : q ? SI_Q
+                      : SI,
+            .nd = sm  ? 1
+                  : q ? 3
+                      : 6,
+            .nk = sm  ? 1
+                  : q ? 3
+                      : 6,
+            .nst = sm  ? 1
+                   : q ? 2
+                       : 4,
+            .traj_s = sm ? 0.2 : 2.0,
+            .dt_err_s = sm  ? 0.1
+                        : q ? 0.5
+                            : 2.0,
+            .regime_s = sm  ? 0.2
+                        : q ? 1.0
+                            : 2.0,
+            .regime_samples = sm  ? 1
+                              : q ? 2
+                                  : 4,
+            .i2_states = sm  ? 1
+                         : q ? 5
+                             : 30};
   for (int i = 0; i < NSCENES; i++) {
     const cb_scene_decl *d = &SCENES[i];
     if (cb_scene_decl_is(d, "steps")) {
       if (!sm || p.nsteps == 0) p.steps[p.nsteps++] = i; /* smoke: the first scene (lab) alone */
-    }
-    else if (cb_scene_decl_is(d, "trajectory")) p.traj = i;
+    } else if (cb_scene_decl_is(d, "trajectory")) p.traj = i;
     else if (cb_scene_decl_is(d, "regime")) p.regime = i;
     else if (cb_scene_decl_is(d, "i2")) p.i2 = i;
   }

@@ -11,10 +11,12 @@
 #include <clothbench/status.h>
 #include "stats.h"
 
-const char *const cb_study_steps_header =
-    "scene,n,dt_s,k_n_per_m,stretch,step,method,max_newton_iters,inner_solver,line_search,newton_iters,linear_iters,"
-    "ls_reduced,ls_backtracks,step_error,rel_grad,f_minus_fstar_j,assemble_ms,factor_ms,setup_ms,solve_ms,wall_ms,"
-    "wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,status,ref_iters,ref_rel_grad,ref_grad_norm_n,ref_last_dx_m,ref_status";
+const char *const cb_study_steps_header = "scene,n,dt_s,k_n_per_m,stretch,step,method,max_newton_iters,inner_solver,"
+                                          "line_search,newton_iters,linear_iters,"
+                                          "ls_reduced,ls_backtracks,step_error,rel_grad,f_minus_fstar_j,assemble_ms,"
+                                          "factor_ms,setup_ms,solve_ms,wall_ms,"
+                                          "wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,status,ref_iters,ref_rel_"
+                                          "grad,ref_grad_norm_n,ref_last_dx_m,ref_status";
 
 /* x, v, xstar: 3*nv each */
 typedef struct {
@@ -33,7 +35,9 @@ static int state_alloc(const cb_scene *s, state3 *w) {
 }
 
 static void state_free(state3 *w) {
-  free(w->x); free(w->v); free(w->xs);
+  free(w->x);
+  free(w->v);
+  free(w->xs);
 }
 
 static void scene_cols(FILE *f, const cb_scene *s, const char *label, double dt) {
@@ -92,14 +96,15 @@ int cb_study_steps(cb_scene *s, const char *label, double dt, const int *states,
         const cb_timing *T = &tm[5 * m];
         scene_cols(csv, s, label, dt);
         cb_csv_printf(csv, "%d,%s,%d,%s,%d,%d,%d,%d,%d,%.17g,%.17g,%.17g,%.6f,%.6f,%.6f,%.6f,", step, me->name,
-                me->K > 0 ? me->K : CB_METHOD_CONVERGED_ITERS, me->inner, me->line_search, r->st.newton_iters,
-                r->st.linear_iters, r->ls_reduced, r->st.ls_backtracks, r->step_error, r->st.rel_grad, r->f_minus_fstar,
-                cb_timing_median(&T[0]), cb_timing_median(&T[1]), cb_timing_median(&T[2]), cb_timing_median(&T[3]));
+                      me->K > 0 ? me->K : CB_METHOD_CONVERGED_ITERS, me->inner, me->line_search, r->st.newton_iters,
+                      r->st.linear_iters, r->ls_reduced, r->st.ls_backtracks, r->step_error, r->st.rel_grad,
+                      r->f_minus_fstar, cb_timing_median(&T[0]), cb_timing_median(&T[1]), cb_timing_median(&T[2]),
+                      cb_timing_median(&T[3]));
         cb_timing_csv(csv, &T[4], 1.0);
         fputc(',', csv);
         cb_timing_csv_each(csv, &T[4], 1.0);
-        cb_csv_printf(csv, ",%d,%s,%d,%.17g,%.17g,%.17g,%s\n", T[4].n, cb_status_name(r->st.status), rs.iters, rs.rel_grad,
-                rs.grad_norm, rs.last_dx, cb_status_name(rst));
+        cb_csv_printf(csv, ",%d,%s,%d,%.17g,%.17g,%.17g,%s\n", T[4].n, cb_status_name(r->st.status), rs.iters,
+                      rs.rel_grad, rs.grad_norm, rs.last_dx, cb_status_name(rst));
         if (pts) {
           cb_study_point *pt = &pts[(next - 1) * nmethods + m];
           pt->wall = T[4];
@@ -128,9 +133,9 @@ int cb_study_steps(cb_scene *s, const char *label, double dt, const int *states,
 
 /* ---- summary ---------------------------------------------------------------- */
 
-const char *const cb_study_pareto_header =
-    "scene,method,max_newton_iters,k_index,inner_solver,inner_index,line_search,states,wall_ms,wall_min_ms,wall_max_ms,wall_no_setup_ms,"
-    "step_error_max,failed,front_by_wall";
+const char *const cb_study_pareto_header = "scene,method,max_newton_iters,k_index,inner_solver,inner_index,line_search,"
+                                           "states,wall_ms,wall_min_ms,wall_max_ms,wall_no_setup_ms,"
+                                           "step_error_max,failed,front_by_wall";
 
 int cb_study_pareto(FILE *csv, const char *label, const cb_method *methods, int nmethods, const cb_study_point *pts,
                     int nstates) {
@@ -177,24 +182,32 @@ int cb_study_pareto(FILE *csv, const char *label, const cb_method *methods, int 
       while (ki < 5 && Ks[ki] != methods[m].K) ki++;
       while (ii < 5 && strcmp(inners[ii], methods[m].inner)) ii++;
       cb_csv_printf(csv, "%s,%s,%d,%d,%s,%d,%d,%d,%.6f,%.6f,%.6f,%.6f,%.17g,%d,%d\n", label, methods[m].name,
-              methods[m].K > 0 ? methods[m].K : CB_METHOD_CONVERGED_ITERS, ki, methods[m].inner, ii,
-              methods[m].line_search, nstates, cost[m], lo[m], hi[m], nos[m], err[m], failed[m], front[m]);
+                    methods[m].K > 0 ? methods[m].K : CB_METHOD_CONVERGED_ITERS, ki, methods[m].inner, ii,
+                    methods[m].line_search, nstates, cost[m], lo[m], hi[m], nos[m], err[m], failed[m], front[m]);
     }
   }
-  free(cost); free(nos); free(err); free(tmp); free(lo); free(hi); free(each); free(front); free(failed);
+  free(cost);
+  free(nos);
+  free(err);
+  free(tmp);
+  free(lo);
+  free(hi);
+  free(each);
+  free(front);
+  free(failed);
   return st;
 }
 
 /* ---- I2 -------------------------------------------------------------------- */
 
-const char *const cb_study_order_header =
-    "scene,n,dt_s,k_n_per_m,stretch,definiteness,line_search,step,iter,grad_norm_n,rel_grad,f_j,alpha,hessian,step_status,"
-    "step_iters";
+const char *const cb_study_order_header = "scene,n,dt_s,k_n_per_m,stretch,definiteness,line_search,step,iter,grad_norm_"
+                                          "n,rel_grad,f_j,alpha,hessian,step_status,"
+                                          "step_iters";
 
 enum { ORDER_MAX_ITERS = 60, ORDER_LOG = 256 };
 
 typedef struct {
-  int n, def;  /* def: the Hessian every update of this run uses (1 exact, 3 drop) */
+  int n, def; /* def: the Hessian every update of this run uses (1 exact, 3 drop) */
   double g[ORDER_LOG], rel[ORDER_LOG], F[ORDER_LOG], alpha[ORDER_LOG];
   int hessian[ORDER_LOG]; /* Hessian of the update that led to the iterate: 0 start, 1 exact, 2 shifted, 3 drop */
 } order_log;

@@ -30,7 +30,7 @@ extern const char *const cb_study_steps_header;
 typedef struct cb_study_point {
   cb_timing wall;                       /* the step's wall time, every repeat */
   double wall_ms, setup_ms, step_error; /* medians over the repeats */
-  int failed; /* a status other than ok / max_iters (fixed K ends at max_iters by design) */
+  int failed;                           /* a status other than ok / max_iters (fixed K ends at max_iters by design) */
 } cb_study_point;
 /* states: steps of the reference trajectory to start from (ascending). At
  * each state every method's step is timed in interleaved rounds (each method
@@ -58,8 +58,8 @@ extern const char *const cb_study_traj_header;
 /* nsteps steps at dt of every method and of the reference (method
  * "reference"); a method's trajectory stops at its first fatal status (its
  * row has that status: the first diverging step). */
-int cb_study_trajectories(cb_scene *s, const char *label, double dt, int nsteps, const cb_method *methods,
-                          int nmethods, FILE *csv);
+int cb_study_trajectories(cb_scene *s, const char *label, double dt, int nsteps, const cb_method *methods, int nmethods,
+                          FILE *csv);
 
 /* ---- time-discretisation error ------------------------------------------- */
 extern const char *const cb_study_dt_header;
@@ -74,8 +74,8 @@ extern const char *const cb_study_regime_header;
  * its own trajectory (steps 0, N/nsamples, ...). fail_level: the one-step
  * error above which the cell counts as failed (0.01). dt_index, k_index,
  * stretch_index place the cell in the map. One row. */
-int cb_study_regime_cell(cb_scene *s, const char *label, double dt, double duration_s, int nsamples, double fail_level, int dt_index,
-                         int k_index, int stretch_index, FILE *csv);
+int cb_study_regime_cell(cb_scene *s, const char *label, double dt, double duration_s, int nsamples, double fail_level,
+                         int dt_index, int k_index, int stretch_index, FILE *csv);
 
 /* ---- I2: Newton's |grad F| sequences ------------------------------------- */
 extern const char *const cb_study_order_header;

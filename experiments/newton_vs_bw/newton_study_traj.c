@@ -9,9 +9,9 @@
 #include <clothbench/run.h>
 #include <clothbench/status.h>
 
-const char *const cb_study_traj_header =
-    "scene,n,dt_s,k_n_per_m,stretch,method,max_newton_iters,inner_solver,line_search,step,t_s,pos_error_m,energy_j,"
-    "ref_energy_j,energy_drift_j,newton_iters,linear_iters,wall_ms,status";
+const char *const cb_study_traj_header = "scene,n,dt_s,k_n_per_m,stretch,method,max_newton_iters,inner_solver,line_"
+                                         "search,step,t_s,pos_error_m,energy_j,"
+                                         "ref_energy_j,energy_drift_j,newton_iters,linear_iters,wall_ms,status";
 
 /* ss NULL: the start state, where no step ran (its iterations and time are empty) */
 static void traj_row(FILE *f, const cb_scene *s, const char *label, double dt, const char *method, int K,
@@ -19,13 +19,13 @@ static void traj_row(FILE *f, const cb_scene *s, const char *label, double dt, c
                      const cb_step_stats *ss, int status) {
   double na = cb_csv_na();
   cb_csv_printf(f, "%s,%d,%.17g,%.17g,%.17g,%s,%d,%s,%d,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.6f,%s\n", label,
-                s->def.grid.n, dt, s->def.stretch_k, s->def.initial_scale, method, K, inner, ls, step, step * dt, err, E,
-                Eref, E - E0, ss ? ss->newton_iters : na, ss ? ss->linear_iters : na, ss ? ss->wall_ms : na,
+                s->def.grid.n, dt, s->def.stretch_k, s->def.initial_scale, method, K, inner, ls, step, step * dt, err,
+                E, Eref, E - E0, ss ? ss->newton_iters : na, ss ? ss->linear_iters : na, ss ? ss->wall_ms : na,
                 cb_status_name(status));
 }
 
-int cb_study_trajectories(cb_scene *s, const char *label, double dt, int nsteps, const cb_method *methods,
-                          int nmethods, FILE *csv) {
+int cb_study_trajectories(cb_scene *s, const char *label, double dt, int nsteps, const cb_method *methods, int nmethods,
+                          FILE *csv) {
   size_t n3 = (size_t)3 * s->mesh.nv;
   double rms = 1.0 / sqrt(cb_free_mass(s)); /* |.|_M / sqrt(M) is an RMS distance in m */
   cb_reference_params rp = cb_reference_params_default();
@@ -55,7 +55,10 @@ int cb_study_trajectories(cb_scene *s, const char *label, double dt, int nsteps,
     cb_run run;
     st = cb_method_integrator(me, s, dt, NULL, NULL, &it);
     if (st == CB_OK) st = cb_run_init(&run, s, it);
-    if (st) { cb_integrator_free(it); break; }
+    if (st) {
+      cb_integrator_free(it);
+      break;
+    }
     int K = me->K > 0 ? me->K : CB_METHOD_CONVERGED_ITERS;
     traj_row(csv, s, label, dt, me->name, K, me->inner, me->line_search, 0, 0.0, Er[0], Er[0], Er[0], NULL, CB_OK);
     for (int k = 1; k <= nsteps; k++) {
@@ -67,17 +70,19 @@ int cb_study_trajectories(cb_scene *s, const char *label, double dt, int nsteps,
     }
     cb_run_free(&run);
     cb_integrator_free(it);
-    }
+  }
 done:
   cb_reference_free(ref);
-  free(xr); free(Er); free(v);
+  free(xr);
+  free(Er);
+  free(v);
   return st;
 }
 
 /* ---- time-discretisation error -------------------------------------------- */
 
-const char *const cb_study_dt_header =
-    "scene,n,dt_s,k_n_per_m,stretch,fine_dt_s,step,t_s,pos_error_m,energy_j,fine_energy_j,ref_status,fine_status";
+const char *const cb_study_dt_header = "scene,n,dt_s,k_n_per_m,stretch,fine_dt_s,step,t_s,pos_error_m,energy_j,fine_"
+                                       "energy_j,ref_status,fine_status";
 
 int cb_study_dt_error(cb_scene *s, const char *label, double dt, int refine, int nsteps, FILE *csv) {
   size_t n3 = (size_t)3 * s->mesh.nv;
@@ -110,18 +115,22 @@ int cb_study_dt_error(cb_scene *s, const char *label, double dt, int refine, int
   }
   cb_reference_free(rc);
   cb_reference_free(rf);
-  free(xc); free(vc); free(xf); free(vf);
+  free(xc);
+  free(vc);
+  free(xf);
+  free(vf);
   return st;
 }
 
 /* ---- the K = 1 regime map -------------------------------------------------- */
 
-const char *const cb_study_regime_header =
-    "scene,n,dt_s,k_n_per_m,stretch,dt_index,k_index,stretch_index,steps,duration_s,first_diverged_step,traj_status,"
-    "step_error_0,step_error_max,worst_step,worst_f_minus_fstar_j,samples,ref_status,ref_iters_max,k1_fails,wall_ms";
+const char *const cb_study_regime_header = "scene,n,dt_s,k_n_per_m,stretch,dt_index,k_index,stretch_index,steps,"
+                                           "duration_s,first_diverged_step,traj_status,"
+                                           "step_error_0,step_error_max,worst_step,worst_f_minus_fstar_j,samples,ref_"
+                                           "status,ref_iters_max,k1_fails,wall_ms";
 
-int cb_study_regime_cell(cb_scene *s, const char *label, double dt, double duration_s, int nsamples, double fail_level, int dt_index,
-                         int k_index, int stretch_index, FILE *csv) {
+int cb_study_regime_cell(cb_scene *s, const char *label, double dt, double duration_s, int nsamples, double fail_level,
+                         int dt_index, int k_index, int stretch_index, FILE *csv) {
   size_t n3 = (size_t)3 * s->mesh.nv;
   int nsteps = (int)lround(duration_s / dt);
   if (nsteps < 1) nsteps = 1;
@@ -178,11 +187,11 @@ int cb_study_regime_cell(cb_scene *s, const char *label, double dt, double durat
      * the errors and worst step when no state was sampled */
     int fails = first_div >= 0 || !(errmax <= fail_level);
     double na = cb_csv_na();
-    cb_csv_printf(csv, "%s,%d,%.17g,%.17g,%.17g,%d,%d,%d,%d,%.17g,%.17g,%s,%.17g,%.17g,%.17g,%.17g,%d,%s,%d,%d,%.6f\n", label,
-                  s->def.grid.n, dt, s->def.stretch_k, s->def.initial_scale, dt_index, k_index, stretch_index, nsteps,
-                  nsteps * dt, first_div >= 0 ? first_div : na, cb_status_name(traj_status), samples ? err0 : na,
-                  samples ? errmax : na, samples ? worst : na, samples ? dfmax : na, samples, cb_status_name(ref_bad),
-                  ref_iters, fails, wall);
+    cb_csv_printf(csv, "%s,%d,%.17g,%.17g,%.17g,%d,%d,%d,%d,%.17g,%.17g,%s,%.17g,%.17g,%.17g,%.17g,%d,%s,%d,%d,%.6f\n",
+                  label, s->def.grid.n, dt, s->def.stretch_k, s->def.initial_scale, dt_index, k_index, stretch_index,
+                  nsteps, nsteps * dt, first_div >= 0 ? first_div : na, cb_status_name(traj_status),
+                  samples ? err0 : na, samples ? errmax : na, samples ? worst : na, samples ? dfmax : na, samples,
+                  cb_status_name(ref_bad), ref_iters, fails, wall);
   }
   if (have_run) cb_run_free(&run);
   cb_integrator_free(it);

@@ -19,7 +19,10 @@ static const et_method ETM[] = {
     {"newton K=1", "newton", {"integrator.method=newton", "integrator.max_iters=1", NULL}, 0},
     {"newton K=2", "newton", {"integrator.method=newton", "integrator.max_iters=2", NULL}, 0},
     {"newton K=3", "newton", {"integrator.method=newton", "integrator.max_iters=3", NULL}, 0},
-    {"newton converged", "newton", {"integrator.method=newton", "integrator.max_iters=50", "integrator.tol=1e-8", NULL}, 0},
+    {"newton converged",
+     "newton",
+     {"integrator.method=newton", "integrator.max_iters=50", "integrator.tol=1e-8", NULL},
+     0},
     {"jacobi-nl lab", "jacobi-nl", {"integrator.method=jacobi-nl", "integrator.diagonal=lab", NULL}, 4096},
     {"jacobi-nl exact", "jacobi-nl", {"integrator.method=jacobi-nl", "integrator.diagonal=exact", NULL}, 1024},
     {"chebyshev-nl 0.9", "chebyshev-nl", {"integrator.method=chebyshev-nl", "integrator.rho=0.9", NULL}, 4096},
@@ -57,8 +60,9 @@ int nl_et_cell(long i, void *ctx, FILE *const *out) {
       cb_step_result r;
       if ((st = cb_step_repeat(&S, sets, NULL, NULL, &r))) break;
       double rho = strstr(ETM[m].label, "chebyshev") ? r.rho : cb_csv_na(); /* no rho without Chebyshev */
-      cb_csv_printf(out[T_ERROR_TIME], "%s,%d,%s,%s,%d,%.17g,%.6f,%.6f,%.17g,%.17g,%s\n", d->label, S.s->mesh.grid_n, ETM[m].label,
-                    ETM[m].family, r.iters, rho, r.wall_ms, r.setup_ms, r.error, r.rel_grad, cb_status_name(r.status));
+      cb_csv_printf(out[T_ERROR_TIME], "%s,%d,%s,%s,%d,%.17g,%.6f,%.6f,%.17g,%.17g,%s\n", d->label, S.s->mesh.grid_n,
+                    ETM[m].label, ETM[m].family, r.iters, rho, r.wall_ms, r.setup_ms, r.error, r.rel_grad,
+                    cb_status_name(r.status));
       if (!kmax) break;
     }
   }

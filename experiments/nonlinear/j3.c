@@ -20,7 +20,11 @@ static int linear_rho(cb_scene *s, const double *x, double dt, double *lmin, dou
   cb_system_assemble(&s->sys, x, 1.0 / (dt * dt), CB_DEF_NONE, 0.0);
   int n = A->n;
   double *d = malloc((size_t)n * sizeof(double)), *work = malloc((size_t)n * sizeof(double));
-  if (!d || !work) { free(d); free(work); return CB_ENOMEM; }
+  if (!d || !work) {
+    free(d);
+    free(work);
+    return CB_ENOMEM;
+  }
   for (int b = 0; b < s->model.nfree; b++) {
     double dd = s->mass[s->free_vertex[b]] / (dt * dt) + 4 * s->def.stretch_k; /* lab: m/dt^2 + 4k */
     for (int a = 0; a < 3; a++) d[3 * b + a] = 1.0 / sqrt(dd);
@@ -95,7 +99,11 @@ int nl_j3_cell(long i, void *ctx, FILE *const *out) {
       else {
         memcpy(cp, rel, (size_t)n * sizeof(double));
         for (int a = 1; a < n; a++) /* insertion sort is fine for <= 2000 */
-          for (int b = a; b > 0 && cp[b] < cp[b - 1]; b--) { double t = cp[b]; cp[b] = cp[b - 1]; cp[b - 1] = t; }
+          for (int b = a; b > 0 && cp[b] < cp[b - 1]; b--) {
+            double t = cp[b];
+            cp[b] = cp[b - 1];
+            cp[b - 1] = t;
+          }
         p90 = cp[(int)floor(0.9 * (n - 1))];
         free(cp);
       }
@@ -107,7 +115,9 @@ int nl_j3_cell(long i, void *ctx, FILE *const *out) {
      * of the frames when none ran, those of the sampled spectra when none was sampled */
     double na = cb_csv_na();
     if (st == CB_OK)
-      cb_csv_printf(out[T_J3], "lab_iteration,%s,%s,%s,%.17g,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%.17g,%.17g,%.6f,%s\n",
+      cb_csv_printf(out[T_J3],
+                    "lab_iteration,%s,%s,%s,%.17g,%d,%d,%d,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%.17g,%.17g,%.6f,%"
+                    "s\n",
                     d->label, it->type->name, rho, rho_used, frames, n, div_frame > 0, div_frame > 0 ? div_frame : na,
                     n ? med : na, n ? p90 : na, n ? mx : na, up, ns ? rl_med : na, ns ? rl_max : na, ns ? lmin_min : na,
                     ns ? lmax_max : na, n ? cb_median(ms, n) : na, status);

@@ -101,10 +101,22 @@ int main(int argc, char **argv) {
   cb_experiment e;
   int b = cb_experiment_begin(&e, "nonlinear", ABOUT, argc, argv);
   if (b) return b > 0 ? 0 : 1;
-  cb_experiment_timed(&e); /* W1, P1 and the error-time figure are wall times: run alone */
+  cb_experiment_timed(&e);       /* W1, P1 and the error-time figure are wall times: run alone */
   int q = e.quick, sm = e.smoke; /* smoke: the lab scene only, one rho, a few frames, one P1 state */
-  plan p = {.e = &e, .quick = q, .smoke = sm, .rho0 = sm ? NL_NRHO - 1 : 0, .nrho = sm ? 1 : NL_NRHO,
-            .frames = sm ? 5 : q ? 300 : 2000, .state_frames = sm ? 2 : q ? 10 : 20, .p1_states = sm ? 1 : q ? 2 : 3};
+  plan p = {.e = &e,
+            .quick = q,
+            .smoke = sm,
+            .rho0 = sm ? NL_NRHO - 1 : 0,
+            .nrho = sm ? 1 : NL_NRHO,
+            .frames = sm  ? 5
+                      : q ? 300
+                          : 2000,
+            .state_frames = sm  ? 2
+                            : q ? 10
+                                : 20,
+            .p1_states = sm  ? 1
+                         : q ? 2
+                             : 3};
   for (int i = 0; i < NSCENES; i++) {
     const cb_scene_decl *d = nl_scene_of(i);
     int level = SCENES[i].quick;
@@ -117,28 +129,35 @@ int main(int argc, char **argv) {
   if ((b = scene_sizes(&p))) return cb_experiment_end(&e, b), 1;
   char j3_extra[256], p1_extra[256];
   snprintf(j3_extra, sizeof j3_extra,
-           "# frames: %d (configs/lab.ini: chebyshev-nl, 32 iterations, damping 0.99; integrator.rho swept)\n", p.frames);
+           "# frames: %d (configs/lab.ini: chebyshev-nl, 32 iterations, damping 0.99; integrator.rho swept)\n",
+           p.frames);
   snprintf(p1_extra, sizeof p1_extra,
-           "# frames: %d (start states: frames 5, 10, ... of the lab's method; the step without damping)\n", p.p1_states);
-  const char *state_extra = "# state: 20 frames of the lab's method (10 in --quick, 2 in --smoke); the step without damping\n";
+           "# frames: %d (start states: frames 5, 10, ... of the lab's method; the step without damping)\n",
+           p.p1_states);
+  const char *state_extra = "# state: 20 frames of the lab's method (10 in --quick, 2 in --smoke); the step without "
+                            "damping\n";
   if (cb_experiment_table(&e, NULL, j3_extra,
                           "panel,scene,method,rho_given,rho,frames,frames_run,diverged,diverge_frame,median_rel_grad,"
                           "p90_rel_grad,max_rel_grad,frames_grad_up,rho_lin_median,rho_lin_max,lmin_min,lmax_max,"
                           "median_frame_ms,status") != T_J3 ||
-      cb_experiment_table(&e, "spectrum", j3_extra, "scene,rho_given,frame,lmin,lmax,rho_lin,lanczos_steps") != T_SPECTRUM ||
+      cb_experiment_table(&e, "spectrum", j3_extra, "scene,rho_given,frame,lmin,lmax,rho_lin,lanczos_steps") !=
+          T_SPECTRUM ||
       cb_experiment_table(&e, "w1", state_extra,
                           "scene,n,method,pair,rho,max_iters,tol,iters_to_tol,wall_to_tol_ms,wall_to_tol_min_ms,"
                           "wall_to_tol_max_ms,wall_to_tol_each_ms,wall_repeats,setup_ms,alloc_ms,"
                           "final_rel_grad,status") != T_W1 ||
       cb_experiment_table(&e, "w1_trace", NULL, "scene,n,method,iter,rel_grad") != T_W1_TRACE ||
       cb_experiment_table(&e, "p1", p1_extra,
-                          "scene,n,k_n_per_m,method,frame,iters,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,"
+                          "scene,n,k_n_per_m,method,frame,iters,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_"
+                          "repeats,"
                           "alloc_ms,step_error,rel_grad,fallback,status") != T_P1 ||
       cb_experiment_table(&e, "p1_error", p1_extra,
                           "scene,n,k_n_per_m,method,frame,tol,max_iters,iters_to_tol,wall_to_tol_ms,wall_to_tol_min_ms,"
-                          "wall_to_tol_max_ms,wall_to_tol_each_ms,wall_repeats,step_error,fallback,status") != T_P1_ERROR ||
+                          "wall_to_tol_max_ms,wall_to_tol_each_ms,wall_repeats,step_error,fallback,status") !=
+          T_P1_ERROR ||
       cb_experiment_table(&e, "error_time", state_extra,
-                          "scene,n,method,family,iters,rho,wall_ms,setup_ms,step_error,rel_grad,status") != T_ERROR_TIME)
+                          "scene,n,method,family,iters,rho,wall_ms,setup_ms,step_error,rel_grad,status") !=
+          T_ERROR_TIME)
     return cb_experiment_end(&e, CB_EIO), 2;
   const cb_sweep sweeps[] = {
       {"J3", (long)p.nj3 * p.nrho, nl_j3_cell, nl_j3_cost, &p},

@@ -31,12 +31,13 @@ extern const char *const nl_rhos[NL_NRHO];
 typedef struct {
   const cb_experiment *e;
   int quick, smoke;
-  int rho0, nrho;    /* J3's rho values: nl_rhos[rho0 .. rho0 + nrho) */
-  int frames;        /* J3 frames per trajectory */
-  int state_frames;  /* frames of the lab's method before the W1 and error-time step */
-  int p1_states;     /* P1 start states per scene: frames 5, 10, ... */
-  int j3[NL_MAXSCENES], nj3, w1[NL_MAXSCENES], nw1, p1[NL_MAXSCENES], np1, et[NL_MAXSCENES], net; /* scene indices by role */
-  long nv[NL_MAXSCENES];  /* vertices of each scene (cost hints) */
+  int rho0, nrho;   /* J3's rho values: nl_rhos[rho0 .. rho0 + nrho) */
+  int frames;       /* J3 frames per trajectory */
+  int state_frames; /* frames of the lab's method before the W1 and error-time step */
+  int p1_states;    /* P1 start states per scene: frames 5, 10, ... */
+  int j3[NL_MAXSCENES], nj3, w1[NL_MAXSCENES], nw1, p1[NL_MAXSCENES], np1, et[NL_MAXSCENES],
+      net;               /* scene indices by role */
+  long nv[NL_MAXSCENES]; /* vertices of each scene (cost hints) */
   int mesh_n[NL_MAXSCENES];
 } plan;
 

@@ -23,7 +23,8 @@ typedef struct {
 #define NEWTON_DROP_LS "integrator.method=newton", "integrator.definiteness=drop", "integrator.line_search=1"
 static const p1_method P1M[] = {
     {"pd10", {"integrator.method=pd", "integrator.iters=10", NULL}, {NULL}},
-    {"newton_exact", {NEWTON_EXACT, "integrator.max_iters=50", "integrator.tol=1e-8", NULL},
+    {"newton_exact",
+     {NEWTON_EXACT, "integrator.max_iters=50", "integrator.tol=1e-8", NULL},
      {NEWTON_DROP_LS, "integrator.max_iters=50", "integrator.tol=1e-8", NULL}},
     {"newton_drop", {"integrator.method=newton", "integrator.max_iters=50", "integrator.tol=1e-8", NULL}, {NULL}},
     {"baraff_witkin", {"integrator.method=newton", "integrator.max_iters=1", NULL}, {NULL}},
@@ -39,8 +40,12 @@ typedef struct {
 } p1_family;
 static const p1_family P1F[] = {
     {"pd", "integrator.iters", {"integrator.method=pd", NULL}, {NULL}, 400, 200},
-    {"newton_exact", "integrator.max_iters", {NEWTON_EXACT, "integrator.tol=1e-8", NULL},
-     {NEWTON_DROP_LS, "integrator.tol=1e-8", NULL}, 50, 50},
+    {"newton_exact",
+     "integrator.max_iters",
+     {NEWTON_EXACT, "integrator.tol=1e-8", NULL},
+     {NEWTON_DROP_LS, "integrator.tol=1e-8", NULL},
+     50,
+     50},
 };
 enum { NP1F = sizeof P1F / sizeof P1F[0] };
 static const double P1_TOLS[] = {1e-2, 1e-3};
@@ -91,7 +96,10 @@ int nl_p1_cell(long i, void *ctx, FILE *const *out) {
   for (int f = 0; st == CB_OK && f < NP1F; f++) { /* trace each family's step error */
     cap[f] = p->smoke ? 20 : p->quick ? P1F[f].cap_q : P1F[f].cap;
     err_trace t = {&S, 0, cap[f] + 1, calloc((size_t)cap[f] + 1, sizeof(double))};
-    if (!t.err) { st = cb_fail_status(CB_ENOMEM, "out of memory"); break; }
+    if (!t.err) {
+      st = cb_fail_status(CB_ENOMEM, "out of memory");
+      break;
+    }
     const char *ts[8], *tf[8];
     char b1[64], b2[64];
     with_iters(P1F[f].sets, P1F[f].iters_key, cap[f], b1, sizeof b1, ts);
@@ -119,7 +127,8 @@ int nl_p1_cell(long i, void *ctx, FILE *const *out) {
     }
     free(t.err);
   }
-  if (st == CB_OK) st = cb_step_time_group(p->e->quick, &S, sets, fb, nj, r); /* interleaved: pd10, newton_exact, ..., pd10, ... */
+  if (st == CB_OK)
+    st = cb_step_time_group(p->e->quick, &S, sets, fb, nj, r); /* interleaved: pd10, newton_exact, ..., pd10, ... */
   double k = S.s->def.stretch_k, na = cb_csv_na();
   int n = S.s->mesh.grid_n;
   for (int m = 0; st == CB_OK && m < NP1M; m++) {
@@ -132,8 +141,8 @@ int nl_p1_cell(long i, void *ctx, FILE *const *out) {
     for (int q = 0; q < NP1T; q++) {
       int j = job[f][q];
       /* a tolerance not reached within the cap: no iteration count, time or error, status cut_off */
-      cb_csv_printf(out[T_P1_ERROR], "%s,%d,%.17g,%s,%d,%g,%d,%.17g,", d->label, n, k, P1F[f].label, frame, P1_TOLS[q], cap[f],
-                    j >= 0 ? (double)hit[f][q] : na);
+      cb_csv_printf(out[T_P1_ERROR], "%s,%d,%.17g,%s,%d,%g,%d,%.17g,", d->label, n, k, P1F[f].label, frame, P1_TOLS[q],
+                    cap[f], j >= 0 ? (double)hit[f][q] : na);
       cb_timing_csv_repeats(out[T_P1_ERROR], j >= 0 ? &r[j].wall : NULL);
       cb_csv_printf(out[T_P1_ERROR], ",%.17g,%.17g,%s\n", j >= 0 ? r[j].error : na, j >= 0 ? (double)r[j].fallback : na,
                     j >= 0 ? cb_status_name(r[j].status) : "cut_off");
@@ -145,5 +154,6 @@ int nl_p1_cell(long i, void *ctx, FILE *const *out) {
 /* cost hint: a P1 cell 1 ms per vertex (two converged Newtons and the step-error traces) */
 double nl_p1_cost(long i, void *ctx) {
   const plan *p = ctx;
-  return (0.75 + 0.5 * (double)(i % p->p1_states)) * p->nv[p->p1[i / p->p1_states]]; /* measured: later states cost more */
+  return (0.75 + 0.5 * (double)(i % p->p1_states)) *
+         p->nv[p->p1[i / p->p1_states]]; /* measured: later states cost more */
 }

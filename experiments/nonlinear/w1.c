@@ -44,7 +44,8 @@ enum { W1_CAP0 = 500 }; /* the first traced run's iterations */
  * (which leaves 64^2's pd pair undecided there: its plain run needs 3000-4000 iterations and was most of
  * the quick run's time); a pair cut off there is undecided (status cut_off), never a failure. */
 static int w1_capmax(int quick, int m, int n) {
-  if (W1M[m].pair[0] == 'p') return n >= 128 || quick ? 2000 : 10000; /* --quick: 64^2's plain pd (~3000-4000) cut off */
+  if (W1M[m].pair[0] == 'p')
+    return n >= 128 || quick ? 2000 : 10000; /* --quick: 64^2's plain pd (~3000-4000) cut off */
   return quick ? 20000 : 100000;
 }
 
@@ -64,7 +65,8 @@ static int w1_next_cap(const trace_t *t, int cap, int capmax, double tol) {
 /* W1M[m]'s sets with rho (if not NULL) for integrator.rho=auto and "integrator.iters=K" into out */
 static void w1_sets(int m, const char *rho, int K, char *buf, size_t nbuf, const char **out) {
   int n = 0;
-  for (int k = 0; W1M[m].sets[k]; k++) out[n++] = rho && !strcmp(W1M[m].sets[k], "integrator.rho=auto") ? rho : W1M[m].sets[k];
+  for (int k = 0; W1M[m].sets[k]; k++)
+    out[n++] = rho && !strcmp(W1M[m].sets[k], "integrator.rho=auto") ? rho : W1M[m].sets[k];
   snprintf(buf, nbuf, "integrator.iters=%d", K);
   out[n++] = buf;
   out[n] = NULL;
@@ -95,7 +97,10 @@ int nl_w1_cell(long i, void *ctx, FILE *const *out) {
     for (kmax[m] = W1_CAP0 < capmax ? W1_CAP0 : capmax;; kmax[m] = w1_next_cap(&t, kmax[m], capmax, TOLS[1])) {
       free(t.rel);
       t = (trace_t){0, kmax[m] + 1, calloc((size_t)kmax[m] + 1, sizeof(double))};
-      if (!t.rel) { st = cb_fail_status(CB_ENOMEM, "out of memory"); break; }
+      if (!t.rel) {
+        st = cb_fail_status(CB_ENOMEM, "out of memory");
+        break;
+      }
       w1_sets(m, rho, kmax[m], iters[m], sizeof iters[m], sets[m]);
       if ((st = cb_step_repeat(&S, sets[m], record, &t, &r[m]))) break;
       if (W1M[m].auto_rho && !rho) { /* the estimate, from now on a number */
@@ -147,6 +152,7 @@ int nl_w1_cell(long i, void *ctx, FILE *const *out) {
 double nl_w1_cost(long i, void *ctx) {
   const plan *p = ctx;
   double it = 0;
-  for (int m = 0; m < NW1M; m++) it += 2 * W1_CAP0 + (m == 0 || m == 3 ? w1_capmax(p->quick, m, p->mesh_n[p->w1[i]]) / 4 : 0);
+  for (int m = 0; m < NW1M; m++)
+    it += 2 * W1_CAP0 + (m == 0 || m == 3 ? w1_capmax(p->quick, m, p->mesh_n[p->w1[i]]) / 4 : 0);
   return 1e-4 * it * p->nv[p->w1[i]] * (p->nv[p->w1[i]] / 441.0); /* measured: a W1 cell grows like vertices^2 */
 }

@@ -25,16 +25,20 @@
 
 static void count_row(FILE *f, const char *name, cb_mesh *m, unsigned seed) {
   cb_topology tp;
-  if (cb_topology_build(m, &tp)) { fprintf(f, "count,%s,,,%d,%d,,,,,,,,%s\n", name, m->nv, m->nt, "bad_input"); return; }
+  if (cb_topology_build(m, &tp)) {
+    fprintf(f, "count,%s,,,%d,%d,,,,,,,,%s\n", name, m->nv, m->nt, "bad_input");
+    return;
+  }
   double *x = malloc((size_t)3 * m->nv * sizeof *x);
   cb_rng rng = cb_rng_seed(seed);
   double h = 0.3 * sqrt(cb_mesh_triangle_area(m, m->x, 0)); /* about a third of an edge */
-  for (int i = 0; i < 3 * m->nv; i++) { /* generic embedding: jitter every coordinate */
+  for (int i = 0; i < 3 * m->nv; i++) {                     /* generic embedding: jitter every coordinate */
     x[i] = m->x[i] + h * (cb_rng_uniform(&rng) - 0.5);
   }
   int dofs = cb_rigidity_dofs(m->nv, x, tp.ne, tp.edge); /* lib/instruments/rigidity.c */
-  cb_csv_printf(f, "count,%s,,,%d,%d,%d,%d,%d,%d,%d,%.17g,%d,%s\n", name, m->nv, m->nt, tp.ne, tp.nb, 3 * m->nv - 3 - tp.nb,
-                cb_topology_boundary_loops(m, &tp), cb_topology_components(m, &tp), dofs < 0 ? cb_csv_na() : dofs, 3 + tp.nb,
+  cb_csv_printf(f, "count,%s,,,%d,%d,%d,%d,%d,%d,%d,%.17g,%d,%s\n", name, m->nv, m->nt, tp.ne, tp.nb,
+                3 * m->nv - 3 - tp.nb, cb_topology_boundary_loops(m, &tp), cb_topology_components(m, &tp),
+                dofs < 0 ? cb_csv_na() : dofs, 3 + tp.nb,
                 dofs < 0 ? "svd_failed" : "ok"); /* free_dofs empty when the SVD failed */
   free(x);
   cb_topology_free(&tp);
@@ -42,7 +46,9 @@ static void count_row(FILE *f, const char *name, cb_mesh *m, unsigned seed) {
 
 /* Cells: 0 the lecture's example (T1 and its count), then the grids of both
  * diagonal patterns (T2), then the ring disks. */
-typedef struct { int quick, ngrids, nrings; } plan;
+typedef struct {
+  int quick, ngrids, nrings;
+} plan;
 static const int sizes[][2] = {{2, 2}, {3, 3}, {4, 3}, {5, 5}, {8, 6}, {10, 10}};
 
 static int cell(long i, void *ctx, FILE *const *out) {
@@ -56,7 +62,8 @@ static int cell(long i, void *ctx, FILE *const *out) {
     int st = cb_topology_build(&m5, &tp);
     if (st) return st;
     for (int k = 0; k < tp.ne; k++) fprintf(f, "edge,lecture,%d,%d,,,,,,,,,,ok\n", tp.edge[2 * k], tp.edge[2 * k + 1]);
-    for (int k = 0; k < tp.np; k++) fprintf(f, "pair,lecture,%d,%d,,,,,,,,,,ok\n", tp.pair_tri[2 * k], tp.pair_tri[2 * k + 1]);
+    for (int k = 0; k < tp.np; k++)
+      fprintf(f, "pair,lecture,%d,%d,,,,,,,,,,ok\n", tp.pair_tri[2 * k], tp.pair_tri[2 * k + 1]);
     count_row(f, "lecture", &m5, 1);
     cb_topology_free(&tp);
     return CB_OK;
@@ -66,7 +73,9 @@ static int cell(long i, void *ctx, FILE *const *out) {
   if (--i < 2L * p->ngrids) { /* T2: grids */
     int k = (int)i / 2, d = (int)i % 2;
     cb_grid_params g = cb_grid_params_default();
-    g.n = sizes[k][0]; g.m = sizes[k][1]; g.diagonal = d ? CB_DIAG_ALTERNATING : CB_DIAG_REGULAR;
+    g.n = sizes[k][0];
+    g.m = sizes[k][1];
+    g.diagonal = d ? CB_DIAG_ALTERNATING : CB_DIAG_REGULAR;
     snprintf(name, sizeof name, "grid_%dx%d_%s", g.n, g.m, d ? "alternating" : "regular");
     if (cb_mesh_grid(&g, &m) == CB_OK) count_row(f, name, &m, 7 + (unsigned)k);
   } else { /* irregular disks */
@@ -80,13 +89,18 @@ static int cell(long i, void *ctx, FILE *const *out) {
 
 int main(int argc, char **argv) {
   cb_experiment e;
-  int r = cb_experiment_begin(&e, "topology", "T1 and T2: edge lists by sorting triples, Euler's count and the DoFs "
-                                              "left when every edge is a hard constraint.", argc, argv);
+  int r = cb_experiment_begin(&e, "topology",
+                              "T1 and T2: edge lists by sorting triples, Euler's count and the DoFs "
+                              "left when every edge is a hard constraint.",
+                              argc, argv);
   if (r) return r > 0 ? 0 : 1;
   /* smoke: the lecture's example, the 2x2 grid of each diagonal pattern, one ring */
   plan p = {e.quick, e.smoke ? 1 : e.quick ? 4 : 6, e.smoke ? 1 : e.quick ? 3 : 5};
-  int st = cb_experiment_table(&e, NULL, "# free_dofs = 3 #vertices - rank(rigidity matrix) at a jittered non-planar embedding (GSL SVD, relative threshold 1e-9)\n",
-                               "kind,mesh,i,j,vertices,triangles,edges,boundary_edges,predicted_edges,boundary_loops,components,free_dofs,predicted_dofs,status");
+  int st = cb_experiment_table(&e, NULL,
+                               "# free_dofs = 3 #vertices - rank(rigidity matrix) at a jittered non-planar embedding "
+                               "(GSL SVD, relative threshold 1e-9)\n",
+                               "kind,mesh,i,j,vertices,triangles,edges,boundary_edges,predicted_edges,boundary_loops,"
+                               "components,free_dofs,predicted_dofs,status");
   if (st < 0) return cb_experiment_end(&e, st), 2;
   cb_sweep sw = {"meshes", 1 + 2L * p.ngrids + p.nrings, cell, NULL, &p};
   st = cb_sweep_run(&e, &sw, 1);

@@ -14,11 +14,11 @@ typedef void (*cb_linop)(void *ctx, const double *x, double *y);
 struct cb_eig_result;
 
 typedef struct cb_lanczos_params {
-  int max_steps;  /* Krylov dimension at most (capped at n). Default 300 */
-  double tol;     /* stop when both extreme Ritz residuals |beta_k s_k| <= tol |theta|. Default 1e-8 */
-  unsigned seed;  /* start vector seed; fixed for reproducibility. Default 1 */
-  int reorth;     /* 1: full reorthogonalisation (when the basis fits in 1 GiB); 0: none,
-                     which still converges to the extreme eigenvalues, at O(n) per step. Default 1 */
+  int max_steps; /* Krylov dimension at most (capped at n). Default 300 */
+  double tol;    /* stop when both extreme Ritz residuals |beta_k s_k| <= tol |theta|. Default 1e-8 */
+  unsigned seed; /* start vector seed; fixed for reproducibility. Default 1 */
+  int reorth;    /* 1: full reorthogonalisation (when the basis fits in 1 GiB); 0: none,
+                    which still converges to the extreme eigenvalues, at O(n) per step. Default 1 */
   /* Optional stopping test on the current extremes (instead of tol on both):
    * returns non-zero when the caller has what it needs. Default NULL */
   int (*done)(void *ctx, const struct cb_eig_result *r);
@@ -28,11 +28,11 @@ typedef struct cb_lanczos_params {
 cb_lanczos_params cb_lanczos_params_default(void);
 
 typedef struct cb_eig_result {
-  double lmin, lmax;  /* extreme Ritz values */
+  double lmin, lmax;       /* extreme Ritz values */
   double res_min, res_max; /* their residual bounds |beta_k s_k| */
-  int steps;          /* Lanczos steps taken */
-  int status;         /* CB_OK, or CB_NOT_CONVERGED if max_steps was reached */
-  double ms;          /* wall time */
+  int steps;               /* Lanczos steps taken */
+  int status;              /* CB_OK, or CB_NOT_CONVERGED if max_steps was reached */
+  double ms;               /* wall time */
 } cb_eig_result;
 
 /* Lanczos, with or without full reorthogonalisation (see params.reorth).
@@ -56,7 +56,7 @@ int cb_lanczos_ws(cb_linop op, void *ctx, const cb_lanczos_params *p, cb_lanczos
 typedef struct cb_scaled_op {
   const cb_sparse *A;
   const double *d;
-  double *work;   /* n doubles */
+  double *work; /* n doubles */
 } cb_scaled_op;
 void cb_scaled_op_apply(void *ctx, const double *x, double *y);
 

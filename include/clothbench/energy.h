@@ -40,10 +40,10 @@ void cb_choi_ko_eval(const cb_choi_ko *c, double l, double *E, double *dE, doubl
 /* What terms are built from. Pinned vertices have free_index -1: their rows
  * and columns are eliminated from the matrix (not penalised). */
 typedef struct cb_model {
-  const cb_mesh *mesh;     /* rest positions in mesh->x */
+  const cb_mesh *mesh; /* rest positions in mesh->x */
   const cb_topology *topo;
-  const double *mass;      /* nv, kg */
-  const int *free_index;   /* nv: block index in the matrix, or -1 if pinned */
+  const double *mass;    /* nv, kg */
+  const int *free_index; /* nv: block index in the matrix, or -1 if pinned */
   int nfree;
 } cb_model;
 
@@ -68,7 +68,7 @@ enum {
 
 typedef struct cb_term_type {
   const char *name;
-  unsigned flags;  /* CB_TERM_* */
+  unsigned flags; /* CB_TERM_* */
   /* Returns E(x) in J and, if grad != NULL, adds dE/dx (3*nv). */
   double (*energy)(const cb_term *t, const double *x, double *grad);
   /* Declares the blocks its Hessian writes; NULL if the Hessian is zero. */

@@ -31,21 +31,21 @@
 #include "solver.h"
 
 typedef struct cb_step_stats {
-  int status;           /* CB_OK, CB_NOT_CONVERGED (max_iters hit), CB_NOT_SPD, CB_DIVERGED, ... */
-  int newton_iters;     /* iterations of the step: Newton's linear solves, the nonlinear Jacobi/Chebyshev
-                           sweeps, the local/global rounds of projective dynamics (0 for explicit) */
-  int linear_iters;     /* sum of the inner solver's iterations */
-  int ls_backtracks;    /* halvings done by the line search */
-  double rel_grad;      /* |grad F(x1)| / |grad F(x(0))| at the end of the step */
-  double rel_grad_hat;  /* |grad F(x1)| / |grad F(xhat)|, xhat = x0 + dt v0: one yardstick for every method that
-                           minimises F (equal to rel_grad when the initial guess is xhat); 0 for explicit */
-  double grad_norm;     /* |grad F(x1)|, free DOFs */
-  double F;             /* F(x1), J */
+  int status;          /* CB_OK, CB_NOT_CONVERGED (max_iters hit), CB_NOT_SPD, CB_DIVERGED, ... */
+  int newton_iters;    /* iterations of the step: Newton's linear solves, the nonlinear Jacobi/Chebyshev
+                          sweeps, the local/global rounds of projective dynamics (0 for explicit) */
+  int linear_iters;    /* sum of the inner solver's iterations */
+  int ls_backtracks;   /* halvings done by the line search */
+  double rel_grad;     /* |grad F(x1)| / |grad F(x(0))| at the end of the step */
+  double rel_grad_hat; /* |grad F(x1)| / |grad F(xhat)|, xhat = x0 + dt v0: one yardstick for every method that
+                          minimises F (equal to rel_grad when the initial guess is xhat); 0 for explicit */
+  double grad_norm;    /* |grad F(x1)|, free DOFs */
+  double F;            /* F(x1), J */
   double assemble_ms, factor_ms, solve_ms, wall_ms;
-  int linear_status;    /* status of the last inner solve */
-  int factorizations;   /* factor calls (more than newton_iters when `shift` retried) */
-  double shift_mu;      /* largest shift mu added to A in this step (`shift` policy), N/m; 0 = none */
-  double rho;           /* Chebyshev spectral radius the step used (given or estimated); 0 = none */
+  int linear_status;  /* status of the last inner solve */
+  int factorizations; /* factor calls (more than newton_iters when `shift` retried) */
+  double shift_mu;    /* largest shift mu added to A in this step (`shift` policy), N/m; 0 = none */
+  double rho;         /* Chebyshev spectral radius the step used (given or estimated); 0 = none */
 } cb_step_stats;
 
 /* What a Newton hook sees. Events: CB_NEWTON_GRADIENT after each evaluation
@@ -56,25 +56,25 @@ enum { CB_NEWTON_GRADIENT = 1, CB_NEWTON_SYSTEM = 2, CB_NEWTON_SOLVED = 3 };
 typedef struct cb_newton_event {
   int iter;
   double F, grad_norm, rel_grad;
-  double step_max;        /* max |alpha dx| of the update that led here (iter > 0) */
-  double alpha;           /* line-search step length of that update */
-  const double *x;        /* current iterate, 3*nv */
-  const cb_sparse *A;     /* SYSTEM/SOLVED: the matrix */
-  const double *b;        /* SYSTEM/SOLVED: right-hand side (free DOFs) */
-  const double *dx;       /* SOLVED: solution (free DOFs) */
-  const cb_solver *solver;/* SOLVED: its stats */
-  int status;             /* SOLVED: factor/solve status */
-  double shift_mu;        /* SOLVED: mu in A + mu I (`shift` policy), N/m; 0 = none */
+  double step_max;         /* max |alpha dx| of the update that led here (iter > 0) */
+  double alpha;            /* line-search step length of that update */
+  const double *x;         /* current iterate, 3*nv */
+  const cb_sparse *A;      /* SYSTEM/SOLVED: the matrix */
+  const double *b;         /* SYSTEM/SOLVED: right-hand side (free DOFs) */
+  const double *dx;        /* SOLVED: solution (free DOFs) */
+  const cb_solver *solver; /* SOLVED: its stats */
+  int status;              /* SOLVED: factor/solve status */
+  double shift_mu;         /* SOLVED: mu in A + mu I (`shift` policy), N/m; 0 = none */
 } cb_newton_event;
 typedef void (*cb_newton_hook)(void *ctx, int event, const cb_newton_event *ev);
 
 /* Parameters every integrator reads. */
 typedef struct cb_integrator_params {
-  double dt;                   /* time step, s. Default 1/30 */
-  double damping;              /* velocity damping: v <- damping v on the free vertices at the start of
-                                  every step, before the predictor (the GAMES103 lab's 0.99), for every
-                                  type; in [0, 1], 1 = none. Default 1 */
-  cb_newton_hook hook;         /* optional observer of the step's iterations (events above); NULL = none */
+  double dt;           /* time step, s. Default 1/30 */
+  double damping;      /* velocity damping: v <- damping v on the free vertices at the start of
+                          every step, before the predictor (the GAMES103 lab's 0.99), for every
+                          type; in [0, 1], 1 = none. Default 1 */
+  cb_newton_hook hook; /* optional observer of the step's iterations (events above); NULL = none */
   void *hook_ctx;
 } cb_integrator_params;
 
@@ -82,13 +82,13 @@ cb_integrator_params cb_integrator_params_default(void);
 
 /* Newton's own parameters (the newton type's params_size). */
 typedef struct cb_newton_params {
-  int max_iters;               /* linear solves per step at most; 1 = Baraff-Witkin. Default 50 */
-  double tol;                  /* relative |grad F| to stop at. Default 1e-8 */
-  double tol_dx;               /* max |dx| to stop at, m; 0 = off. Default 0 */
-  int init_predict;            /* initial guess: 1 = x0 + dt v0, 0 = x0. Default 1 */
-  int line_search;             /* backtracking Armijo line search. Default 0 */
-  cb_definiteness definiteness;/* compressed-spring treatment; must match the scene's springs
-                                  (choi-ko is built into them). Default drop */
+  int max_iters;                /* linear solves per step at most; 1 = Baraff-Witkin. Default 50 */
+  double tol;                   /* relative |grad F| to stop at. Default 1e-8 */
+  double tol_dx;                /* max |dx| to stop at, m; 0 = off. Default 0 */
+  int init_predict;             /* initial guess: 1 = x0 + dt v0, 0 = x0. Default 1 */
+  int line_search;              /* backtracking Armijo line search. Default 0 */
+  cb_definiteness definiteness; /* compressed-spring treatment; must match the scene's springs
+                                   (choi-ko is built into them). Default drop */
 } cb_newton_params;
 
 cb_newton_params cb_newton_params_default(void);
@@ -96,59 +96,59 @@ cb_newton_params cb_newton_params_default(void);
 /* The nonlinear Jacobi iterations' parameters (jacobi-nl, chebyshev-nl;
  * integrator_nljacobi.c has the formulas). */
 typedef struct cb_nljacobi_params {
-  int iters;                   /* iterations per step (the lab: 32). Default 32 */
-  int diagonal;                /* D: 0 lab (m/dt^2 + 4k), 1 valence (m/dt^2 + k n_i), 2 exact (3x3 blocks of
-                                  M/dt^2 + H). Default 0 (lab) */
-  double alpha;                /* step weight x <- x - alpha D^-1 g (Wang's gamma). Default 1 */
-  double rho;                  /* Chebyshev rho in [0, 1), or CB_PARAM_AUTO. Default 0.995 (chebyshev-nl),
-                                  0 and not a key (jacobi-nl) */
-  int rho_iters;               /* plain iterations of the `auto` estimate, run once. Default 64 */
-  cb_definiteness definiteness;/* Hessian policy of the exact diagonal. Default drop */
+  int iters;                    /* iterations per step (the lab: 32). Default 32 */
+  int diagonal;                 /* D: 0 lab (m/dt^2 + 4k), 1 valence (m/dt^2 + k n_i), 2 exact (3x3 blocks of
+                                   M/dt^2 + H). Default 0 (lab) */
+  double alpha;                 /* step weight x <- x - alpha D^-1 g (Wang's gamma). Default 1 */
+  double rho;                   /* Chebyshev rho in [0, 1), or CB_PARAM_AUTO. Default 0.995 (chebyshev-nl),
+                                   0 and not a key (jacobi-nl) */
+  int rho_iters;                /* plain iterations of the `auto` estimate, run once. Default 64 */
+  cb_definiteness definiteness; /* Hessian policy of the exact diagonal. Default drop */
 } cb_nljacobi_params;
-cb_nljacobi_params cb_nljacobi_params_default(void); /* chebyshev-nl's */
+cb_nljacobi_params cb_nljacobi_params_default(void);   /* chebyshev-nl's */
 extern const char *const cb_nljacobi_diagonal_names[]; /* "lab", "valence", "exact", NULL */
 
 /* Projective dynamics' parameters (pd, pd-chebyshev; integrator_pd.c). */
 typedef struct cb_pd_params {
-  int iters;                   /* local/global iterations per step (Liu et al. 2013: 10). Default 32 */
-  double rho;                  /* pd-chebyshev's rho in [0, 1), or CB_PARAM_AUTO. Default 0.995 (0 for pd) */
-  int rho_iters;               /* plain iterations of the `auto` estimate, run once. Default 64 */
+  int iters;     /* local/global iterations per step (Liu et al. 2013: 10). Default 32 */
+  double rho;    /* pd-chebyshev's rho in [0, 1), or CB_PARAM_AUTO. Default 0.995 (0 for pd) */
+  int rho_iters; /* plain iterations of the `auto` estimate, run once. Default 64 */
 } cb_pd_params;
 cb_pd_params cb_pd_params_default(void); /* pd-chebyshev's */
 
 /* Position-based dynamics' parameters (pbd, xpbd; integrator_xpbd.c). */
 typedef struct cb_xpbd_params {
-  int iters;                   /* constraint sweeps per substep. Default 32 */
-  int substeps;                /* substeps per step (Macklin et al. 2019's small steps). Default 1 */
-  double stiffness;            /* pbd's stiffness factor s in (0, 1] (xpbd uses material k). Default 1 */
+  int iters;        /* constraint sweeps per substep. Default 32 */
+  int substeps;     /* substeps per step (Macklin et al. 2019's small steps). Default 1 */
+  double stiffness; /* pbd's stiffness factor s in (0, 1] (xpbd uses material k). Default 1 */
 } cb_xpbd_params;
 cb_xpbd_params cb_xpbd_params_default(void);
 
 /* L-BFGS's parameters (lbfgs; integrator_lbfgs.c). */
 typedef struct cb_lbfgs_params {
-  int iters;                   /* iterations per step at most. Default 32 */
-  double tol;                  /* relative |grad F| to stop at (Newton's tol). Default 1e-8 */
-  double tol_dx;               /* max |alpha d| to stop at, m (Newton's tol_dx); 0 = off. Default 0 */
-  int window;                  /* (s, y) pairs kept, m. Default 5 */
-  int line_search;             /* 0 armijo, 1 wolfe (cb_lbfgs_line_search_names). Default 0 */
+  int iters;       /* iterations per step at most. Default 32 */
+  double tol;      /* relative |grad F| to stop at (Newton's tol). Default 1e-8 */
+  double tol_dx;   /* max |alpha d| to stop at, m (Newton's tol_dx); 0 = off. Default 0 */
+  int window;      /* (s, y) pairs kept, m. Default 5 */
+  int line_search; /* 0 armijo, 1 wolfe (cb_lbfgs_line_search_names). Default 0 */
 } cb_lbfgs_params;
 cb_lbfgs_params cb_lbfgs_params_default(void);
 extern const char *const cb_lbfgs_line_search_names[]; /* "armijo", "wolfe", NULL */
 
 /* Vertex block descent's parameters (vbd, vbd-chebyshev; integrator_vbd.c). */
 typedef struct cb_vbd_params {
-  int iters;                   /* sweeps over every vertex colour per step. Default 32 */
-  int init;                    /* initial guess: 0 inertia, 1 previous, 2 adaptive (cb_vbd_init_names). Default 2 */
-  int line_search;             /* backtracking on each vertex's own objective. Default 0 (the paper's update) */
-  double rho;                  /* vbd-chebyshev's rho in [0, 1), or CB_PARAM_AUTO. Default 0.995 (0 for vbd) */
-  int rho_iters;               /* plain sweeps of the `auto` estimate, run once. Default 64 */
+  int iters;       /* sweeps over every vertex colour per step. Default 32 */
+  int init;        /* initial guess: 0 inertia, 1 previous, 2 adaptive (cb_vbd_init_names). Default 2 */
+  int line_search; /* backtracking on each vertex's own objective. Default 0 (the paper's update) */
+  double rho;      /* vbd-chebyshev's rho in [0, 1), or CB_PARAM_AUTO. Default 0.995 (0 for vbd) */
+  int rho_iters;   /* plain sweeps of the `auto` estimate, run once. Default 64 */
 } cb_vbd_params;
-cb_vbd_params cb_vbd_params_default(void); /* vbd-chebyshev's */
+cb_vbd_params cb_vbd_params_default(void);    /* vbd-chebyshev's */
 extern const char *const cb_vbd_init_names[]; /* "inertia", "previous", "adaptive", NULL */
 
 /* Shape matching's parameters (shape_matching, integrator_shape_matching.c). */
 typedef struct cb_shape_matching_params {
-  double alpha;                /* pull toward the goals, in (0, 1]. Default 1 */
+  double alpha; /* pull toward the goals, in (0, 1]. Default 1 */
 } cb_shape_matching_params;
 
 cb_shape_matching_params cb_shape_matching_params_default(void);
@@ -160,20 +160,25 @@ typedef struct cb_integrator cb_integrator;
  * documents (`simulate --help-config`) and binds it into the type's
  * parameter struct, so a type's keys live in the type's file. Two types may
  * share a key by declaring the same name with the same definition. */
-typedef enum { CB_PARAM_INT, CB_PARAM_DOUBLE, CB_PARAM_BOOL, CB_PARAM_CHOICE,
-               CB_PARAM_DOUBLE_AUTO /* a double, or `auto`, stored as CB_PARAM_AUTO */ } cb_param_kind;
+typedef enum {
+  CB_PARAM_INT,
+  CB_PARAM_DOUBLE,
+  CB_PARAM_BOOL,
+  CB_PARAM_CHOICE,
+  CB_PARAM_DOUBLE_AUTO /* a double, or `auto`, stored as CB_PARAM_AUTO */
+} cb_param_kind;
 #define CB_PARAM_AUTO (-1.0) /* the value of a CB_PARAM_DOUBLE_AUTO key set to `auto` (its range must exclude it) */
 typedef struct cb_param_key {
-  const char *name;            /* key in [integrator]; NULL ends a type's list */
+  const char *name; /* key in [integrator]; NULL ends a type's list */
   cb_param_kind kind;
-  size_t offset;               /* of the field in the params struct: int (INT, BOOL, CHOICE; an enum is
-                                  int-sized) or double (DOUBLE, DOUBLE_AUTO) */
-  const char *def;             /* default, as a config writes it; must give the type's params_default */
+  size_t offset;   /* of the field in the params struct: int (INT, BOOL, CHOICE; an enum is
+                      int-sized) or double (DOUBLE, DOUBLE_AUTO) */
+  const char *def; /* default, as a config writes it; must give the type's params_default */
   const char *unit;
-  double lo, hi;               /* accepted range of INT and DOUBLE values (inclusive) ... */
-  int lo_open;                 /* ... but lo excluded when 1 */
-  const char *const *choices;  /* CHOICE: the names, NULL-terminated */
-  const int *values;           /* CHOICE: the field's value for each name; NULL = the name's index */
+  double lo, hi;              /* accepted range of INT and DOUBLE values (inclusive) ... */
+  int lo_open;                /* ... but lo excluded when 1 */
+  const char *const *choices; /* CHOICE: the names, NULL-terminated */
+  const int *values;          /* CHOICE: the field's value for each name; NULL = the name's index */
   const char *doc;
 } cb_param_key;
 
@@ -192,11 +197,11 @@ enum {
  * never touches the wrapper. */
 typedef struct cb_integrator_type {
   const char *name;
-  unsigned flags;              /* CB_INTEGRATOR_* */
-  size_t size;                 /* bytes of it->state */
-  size_t params_size;          /* bytes of it->type_params; 0 = the type has none */
-  const void *params_default;  /* the type's defaults (params_size bytes), or NULL */
-  const cb_param_key *keys;    /* its config keys (ended by a NULL name), or NULL for none */
+  unsigned flags;             /* CB_INTEGRATOR_* */
+  size_t size;                /* bytes of it->state */
+  size_t params_size;         /* bytes of it->type_params; 0 = the type has none */
+  const void *params_default; /* the type's defaults (params_size bytes), or NULL */
+  const cb_param_key *keys;   /* its config keys (ended by a NULL name), or NULL for none */
   /* Sets up it->state (workspaces) and checks it->type_params against the
    * scene; on failure it leaves what free can release. */
   int (*init)(cb_integrator *it);
@@ -208,11 +213,11 @@ typedef struct cb_integrator_type {
 struct cb_integrator {
   const cb_integrator_type *type;
   const cb_scene *scene;
-  cb_system *sys;             /* the scene's system (matrix values are scratch) */
+  cb_system *sys; /* the scene's system (matrix values are scratch) */
   cb_integrator_params params;
-  void *type_params;          /* the type's parameters (e.g. cb_newton_params *); NULL if none */
-  cb_solver *solver;          /* owned; NULL unless the type's flags ask for one */
-  void *state;                /* the type's state */
+  void *type_params; /* the type's parameters (e.g. cb_newton_params *); NULL if none */
+  cb_solver *solver; /* owned; NULL unless the type's flags ask for one */
+  void *state;       /* the type's state */
 };
 
 /* The number of vertex colours of a vbd or vbd-chebyshev integrator (its

@@ -24,10 +24,10 @@ typedef struct cb_material_params {
 cb_material_params cb_material_params_default(void);
 
 typedef struct cb_material {
-  const char *name;      /* the value of material.stretch or material.bend */
+  const char *name; /* the value of material.stretch or material.bend */
   cb_material_role role;
-  const char *term;      /* name of the registered term type it builds (cb_term_type_find); NULL: none */
-  const char *term_alt;  /* the type it builds with its other Hessian (fem_frozen, dihedral_exact), or NULL */
+  const char *term;     /* name of the registered term type it builds (cb_term_type_find); NULL: none */
+  const char *term_alt; /* the type it builds with its other Hessian (fem_frozen, dihedral_exact), or NULL */
   /* Builds the term on m (label "stretch" or "bend"); NULL: builds nothing
    * (bend = none). On failure *out is NULL, and *key is set to the config
    * key the error is about when the model knows it (material.buckling_kb for

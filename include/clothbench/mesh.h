@@ -6,10 +6,10 @@
 #include <stdio.h>
 
 typedef struct cb_mesh {
-  int nv;      /* number of vertices */
-  int nt;      /* number of triangles */
-  double *x;   /* 3*nv positions, m, flat: x[3i+0..2] */
-  int *tri;    /* 3*nt vertex indices (0-based), counter-clockwise */
+  int nv;    /* number of vertices */
+  int nt;    /* number of triangles */
+  double *x; /* 3*nv positions, m, flat: x[3i+0..2] */
+  int *tri;  /* 3*nt vertex indices (0-based), counter-clockwise */
   /* Grid meshes only (grid_n > 0): vertex (i, j) has index j*grid_n + i.
    * A chain is a grid with grid_m = 1. */
   int grid_n, grid_m;

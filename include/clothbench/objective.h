@@ -18,10 +18,10 @@
 
 typedef struct cb_objective {
   const cb_scene *scene;
-  double dt;      /* s, of the current step */
-  double *x0;     /* 3*nv: the step's start */
-  double *xhat;   /* 3*nv: x0 + dt v0 */
-  double *g;      /* 3*nv: dE/dx scratch */
+  double dt;    /* s, of the current step */
+  double *x0;   /* 3*nv: the step's start */
+  double *xhat; /* 3*nv: x0 + dt v0 */
+  double *g;    /* 3*nv: dE/dx scratch */
 } cb_objective;
 
 int cb_objective_init(cb_objective *o, const cb_scene *s);

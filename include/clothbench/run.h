@@ -29,17 +29,17 @@
 typedef struct cb_run {
   cb_scene *scene;
   cb_integrator *integ;
-  double *x, *v;       /* current state, 3*nv */
+  double *x, *v; /* current state, 3*nv */
   int step;
-  double t;            /* s */
+  double t;                                    /* s */
   double kinetic, potential, elastic, gravity; /* J, at the current state; potential = elastic + gravity */
-  double total0;       /* initial total energy, J */
-  double bound;        /* divergence bound on total - total0 - work, J */
-  int driven;          /* some pinned vertex moves (scene.pin_squeeze) */
-  double work;         /* work the driven pins did on the cloth so far, J */
-  double power;        /* their power at the current state, W */
-  double *grad;        /* 3*nv scratch for dE/dx (driven scenes only) */
-  cb_step_stats last;  /* of the last step */
+  double total0;                               /* initial total energy, J */
+  double bound;                                /* divergence bound on total - total0 - work, J */
+  int driven;                                  /* some pinned vertex moves (scene.pin_squeeze) */
+  double work;                                 /* work the driven pins did on the cloth so far, J */
+  double power;                                /* their power at the current state, W */
+  double *grad;                                /* 3*nv scratch for dE/dx (driven scenes only) */
+  cb_step_stats last;                          /* of the last step */
 } cb_run;
 
 /* Starts from the scene's initial state. last.status is the status of

@@ -28,12 +28,12 @@ typedef struct cb_scene cb_scene;
 typedef struct cb_response cb_response;
 typedef struct cb_response_type {
   const char *name;
-  size_t size;                                            /* bytes of state, allocated by the scene */
+  size_t size;                                                        /* bytes of state, allocated by the scene */
   int (*init)(cb_response *r, const cb_scene *s, const void *params); /* may be NULL */
   /* Changes (x, v) (3*nv each) after a step of length dt; returns a status
    * (a positive one becomes the step's status if the step was ok). */
   int (*apply)(cb_response *r, const cb_scene *s, double *x, double *v, double dt);
-  void (*free)(cb_response *r);                           /* frees what init allocated; may be NULL */
+  void (*free)(cb_response *r); /* frees what init allocated; may be NULL */
 } cb_response_type;
 struct cb_response {
   const cb_response_type *type;
@@ -47,55 +47,56 @@ typedef enum { CB_MESH_GRID = 0, CB_MESH_CHAIN = 1, CB_MESH_OBJ = 2 } cb_mesh_ki
 /* Everything a scene is built from. Strings are read during cb_scene_build
  * only (the scene's copy, cb_scene.def, has them NULL). */
 typedef struct cb_scene_def {
-  cb_mesh_kind mesh;           /* Default grid */
-  cb_grid_params grid;         /* grid: all fields; chain: n, size[0] (its length, m), plane. Default cb_grid_params_default() */
-  const char *mesh_file;       /* OBJ path for CB_MESH_OBJ, as given to fopen. Default NULL */
-  double density;              /* kg/m^2, for area-lumped masses. Default 1 */
-  double vertex_mass;          /* kg per vertex; 0 = lumped from density. Default 0 */
-  const char *stretch;         /* in-plane model, a name of cb_stretch_names: "spring" (one on every
-                                  edge) or "fem" (co-rotational triangles). Default "spring" */
-  double stretch_k;            /* N/m: the spring stiffness k, or FEM's mu (energy per rest area). Default 8000 */
-  const char *fem_hessian;     /* FEM Hessian, a name of cb_fem_hessian_names ("exact", "frozen"). Default "exact" */
-  const char *bend;            /* bending model, a name of cb_bend_names. Default "none" */
-  double bend_k;               /* N/m for `spring`, N m for `dihedral` and `quadratic`. Default 100 */
-  const char *bend_hessian;    /* dihedral Hessian, a name of cb_bend_hessian_names ("gauss-newton", "exact"); NULL
-                                  = "gauss-newton". Default "gauss-newton" */
-  const char *definiteness;    /* compressed-spring response of the springs, a name of
-                                  cb_definiteness_names ("choi-ko" changes the energy). Default "drop" */
-  double buckling_kb;          /* N m^2, Choi-Ko bending stiffness. Default 0.01 */
-  double gravity[3];           /* m/s^2; 0 0 0 = no gravity term. Default 0 -9.8 0 */
-  const char *pins;            /* named set, halfspace or index list (cb_pins_resolve). Default "top-corners" */
-  double initial_scale;        /* x0 = rest positions scaled about their centroid. Default 1 */
-  double pin_squeeze[3];       /* m/s, pinned vertices driven toward each other. Default 0 0 0 */
-  double diverge_ratio;        /* energy-growth bound of a run (run.h). Default 10 */
-  const char *collider;        /* a name of cb_collider_names: "penalty" adds a term, "project" a
-                                  response (after the def's own responses). Default "none" */
-  cb_sphere sphere;            /* the collider's sphere. Default centre 0 0 0, radius 1, thickness 0,
-                                  stiffness 10000, velocity 0 0 0 */
-  int nresponses;              /* post-step responses, run in this order. Default 0 */
+  cb_mesh_kind mesh; /* Default grid */
+  cb_grid_params
+      grid; /* grid: all fields; chain: n, size[0] (its length, m), plane. Default cb_grid_params_default() */
+  const char *mesh_file;    /* OBJ path for CB_MESH_OBJ, as given to fopen. Default NULL */
+  double density;           /* kg/m^2, for area-lumped masses. Default 1 */
+  double vertex_mass;       /* kg per vertex; 0 = lumped from density. Default 0 */
+  const char *stretch;      /* in-plane model, a name of cb_stretch_names: "spring" (one on every
+                               edge) or "fem" (co-rotational triangles). Default "spring" */
+  double stretch_k;         /* N/m: the spring stiffness k, or FEM's mu (energy per rest area). Default 8000 */
+  const char *fem_hessian;  /* FEM Hessian, a name of cb_fem_hessian_names ("exact", "frozen"). Default "exact" */
+  const char *bend;         /* bending model, a name of cb_bend_names. Default "none" */
+  double bend_k;            /* N/m for `spring`, N m for `dihedral` and `quadratic`. Default 100 */
+  const char *bend_hessian; /* dihedral Hessian, a name of cb_bend_hessian_names ("gauss-newton", "exact"); NULL
+                               = "gauss-newton". Default "gauss-newton" */
+  const char *definiteness; /* compressed-spring response of the springs, a name of
+                               cb_definiteness_names ("choi-ko" changes the energy). Default "drop" */
+  double buckling_kb;       /* N m^2, Choi-Ko bending stiffness. Default 0.01 */
+  double gravity[3];        /* m/s^2; 0 0 0 = no gravity term. Default 0 -9.8 0 */
+  const char *pins;         /* named set, halfspace or index list (cb_pins_resolve). Default "top-corners" */
+  double initial_scale;     /* x0 = rest positions scaled about their centroid. Default 1 */
+  double pin_squeeze[3];    /* m/s, pinned vertices driven toward each other. Default 0 0 0 */
+  double diverge_ratio;     /* energy-growth bound of a run (run.h). Default 10 */
+  const char *collider;     /* a name of cb_collider_names: "penalty" adds a term, "project" a
+                               response (after the def's own responses). Default "none" */
+  cb_sphere sphere;         /* the collider's sphere. Default centre 0 0 0, radius 1, thickness 0,
+                               stiffness 10000, velocity 0 0 0 */
+  int nresponses;           /* post-step responses, run in this order. Default 0 */
   struct {
     const cb_response_type *type;
-    const void *params;        /* handed to type->init; read during the build only */
+    const void *params; /* handed to type->init; read during the build only */
   } responses[CB_MAX_RESPONSES];
 } cb_scene_def;
 
 cb_scene_def cb_scene_def_default(void);
 
 struct cb_scene {
-  cb_scene_def def;      /* the definition it was built from (strings NULL) */
-  cb_mesh mesh;          /* rest shape */
+  cb_scene_def def; /* the definition it was built from (strings NULL) */
+  cb_mesh mesh;     /* rest shape */
   cb_topology topo;
-  double *mass;          /* nv, kg */
+  double *mass; /* nv, kg */
   int npinned;
-  int *pinned;           /* npinned vertex indices, ascending */
-  int *free_index;       /* nv: free block index or -1 */
-  int *free_vertex;      /* nfree: vertex of each free block */
+  int *pinned;      /* npinned vertex indices, ascending */
+  int *free_index;  /* nv: free block index or -1 */
+  int *free_vertex; /* nfree: vertex of each free block */
   cb_model model;
   cb_system sys;
-  double *x0, *v0;       /* initial state, 3*nv each */
-  double gravity[3];     /* m/s^2 (also inside the gravity term, if any) */
-  double energy_scale;   /* divergence scale S of integrator.diverge_ratio, less the initial kinetic energy, J */
-  double diverge_ratio;  /* the run's energy-growth bound is diverge_ratio x S (run.h) */
+  double *x0, *v0;      /* initial state, 3*nv each */
+  double gravity[3];    /* m/s^2 (also inside the gravity term, if any) */
+  double energy_scale;  /* divergence scale S of integrator.diverge_ratio, less the initial kinetic energy, J */
+  double diverge_ratio; /* the run's energy-growth bound is diverge_ratio x S (run.h) */
   int nresponses;
   cb_response responses[CB_MAX_RESPONSES]; /* the post-step stage */
 };

@@ -19,18 +19,18 @@
 typedef void (*cb_solver_monitor)(void *ctx, int k, double rel_residual, const double *x);
 
 typedef struct cb_solver_params {
-  double tol;       /* relative residual |b - Ax| / |b| to stop at (iterative). Default 1e-8 */
-  int max_iters;    /* iterations at most (iterative). Default 1000 */
-  double alpha;     /* Jacobi weight; 0 = auto, 2/(lambda_min + lambda_max) of D^-1 A (Chebyshev only). Default 1 */
-  double rho;       /* Chebyshev spectral radius; 0 = estimate at run time. Default 0 */
-  int history_cap;  /* residuals kept per solve (0 = none). Default 0 */
-  int ordering;     /* CHOLMOD: CB_ORDER_*. Default CB_ORDER_NESDIS (bench_core_cholmod.csv) */
-  int nrelax[3];    /* CHOLMOD supernode relaxation (Common->nrelax). Default {16, 64, 128} (CHOLMOD's: 4, 16, 48) */
-  int upper;        /* CHOLMOD reads a copy of the upper triangle (1) or the full matrix (0). Default 1 */
+  double tol;          /* relative residual |b - Ax| / |b| to stop at (iterative). Default 1e-8 */
+  int max_iters;       /* iterations at most (iterative). Default 1000 */
+  double alpha;        /* Jacobi weight; 0 = auto, 2/(lambda_min + lambda_max) of D^-1 A (Chebyshev only). Default 1 */
+  double rho;          /* Chebyshev spectral radius; 0 = estimate at run time. Default 0 */
+  int history_cap;     /* residuals kept per solve (0 = none). Default 0 */
+  int ordering;        /* CHOLMOD: CB_ORDER_*. Default CB_ORDER_NESDIS (bench_core_cholmod.csv) */
+  int nrelax[3];       /* CHOLMOD supernode relaxation (Common->nrelax). Default {16, 64, 128} (CHOLMOD's: 4, 16, 48) */
+  int upper;           /* CHOLMOD reads a copy of the upper triangle (1) or the full matrix (0). Default 1 */
   int flush_denormals; /* CHOLMOD: subnormal numbers read and produced as zero (x86 FTZ/DAZ) on the calling
                           thread during factorize and solve (1), or kept (0). Default 1 (bench_core_cholmod.csv) */
-  int rho_reuse;    /* rho = auto / alpha = auto: reuse the last estimate while D stays put (1), or estimate at
-                       every factor (0, the behaviour before the estimate was amortised). Default 1 */
+  int rho_reuse;       /* rho = auto / alpha = auto: reuse the last estimate while D stays put (1), or estimate at
+                          every factor (0, the behaviour before the estimate was amortised). Default 1 */
   cb_solver_monitor monitor; /* per-iteration callback; NULL = none. Default NULL */
   void *monitor_ctx;
 } cb_solver_params;

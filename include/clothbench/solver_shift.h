@@ -20,17 +20,17 @@ cb_shift_params cb_shift_params_default(void);
 typedef struct cb_shift {
   cb_shift_params p;
   int n;
-  double *diag0;   /* n: A's diagonal before the shift */
-  double mu_last;  /* last nonzero shift that worked (warm start), N/m */
+  double *diag0;  /* n: A's diagonal before the shift */
+  double mu_last; /* last nonzero shift that worked (warm start), N/m */
 } cb_shift;
 
 int cb_shift_alloc(int n, const cb_shift_params *p, cb_shift **out);
 void cb_shift_free(cb_shift *s);
 
 typedef struct cb_shift_stats {
-  double mu;          /* shift in the matrix that was solved, units of A (N/m); 0 = none */
-  int factorizations; /* factor calls (1 unless shift retried) */
-  int linear_iters;   /* inner iterations of the solves, summed */
+  double mu;                  /* shift in the matrix that was solved, units of A (N/m); 0 = none */
+  int factorizations;         /* factor calls (1 unless shift retried) */
+  int linear_iters;           /* inner iterations of the solves, summed */
   double factor_ms, solve_ms; /* summed over attempts */
 } cb_shift_stats;
 

@@ -17,14 +17,14 @@
 #include <stddef.h>
 
 typedef struct cb_sparse {
-  int n;        /* rows = columns = 3 * nblk */
-  int nnz;      /* stored entries (both triangles) */
-  int *colp;    /* n+1 column pointers */
-  int *rowi;    /* nnz row indices, sorted within each column */
-  double *val;  /* nnz values */
-  int nblk;     /* block rows = block columns */
-  int *bcolp;   /* nblk+1: block column pointers into brow */
-  int *brow;    /* block row indices, sorted within each block column */
+  int n;       /* rows = columns = 3 * nblk */
+  int nnz;     /* stored entries (both triangles) */
+  int *colp;   /* n+1 column pointers */
+  int *rowi;   /* nnz row indices, sorted within each column */
+  double *val; /* nnz values */
+  int nblk;    /* block rows = block columns */
+  int *bcolp;  /* nblk+1: block column pointers into brow */
+  int *brow;   /* block row indices, sorted within each block column */
 } cb_sparse;
 
 /* Collects block pairs before the pattern is built. */

@@ -14,13 +14,13 @@ enum {
   CB_ENOMEM = -2, /* out of memory */
   CB_EIO = -3,    /* a file could not be read or written */
 
-  CB_NOT_SPD = 1,        /* Cholesky met a non-positive pivot */
-  CB_NOT_CONVERGED = 2,  /* an iteration stopped at max_iters above tolerance */
-  CB_DIVERGED = 3,       /* NaN/Inf, or growth past a documented bound */
-  CB_INDEFINITE = 4,     /* CG breakdown: p^T A p <= 0 */
-  CB_LS_FAILED = 5,      /* line search found no decrease (not a descent direction) */
-  CB_LINEAR_FAILED = 6   /* the inner linear solve failed (its own status is recorded); out of memory
-                            in it is CB_ENOMEM instead */
+  CB_NOT_SPD = 1,       /* Cholesky met a non-positive pivot */
+  CB_NOT_CONVERGED = 2, /* an iteration stopped at max_iters above tolerance */
+  CB_DIVERGED = 3,      /* NaN/Inf, or growth past a documented bound */
+  CB_INDEFINITE = 4,    /* CG breakdown: p^T A p <= 0 */
+  CB_LS_FAILED = 5,     /* line search found no decrease (not a descent direction) */
+  CB_LINEAR_FAILED = 6  /* the inner linear solve failed (its own status is recorded); out of memory
+                           in it is CB_ENOMEM instead */
 };
 
 /* Short snake_case name of a status, as written to CSV ("ok", "not_spd", ...). */

@@ -19,11 +19,11 @@
 #include "sparse.h"
 
 typedef struct cb_stencil {
-  int k;           /* vertices per element */
-  int ne;          /* elements */
-  const int *vert; /* k*ne vertex indices (not owned: the term keeps them) */
+  int k;                 /* vertices per element */
+  int ne;                /* elements */
+  const int *vert;       /* k*ne vertex indices (not owned: the term keeps them) */
   const int *free_index; /* nv: block index of each vertex, -1 if pinned (the model's) */
-  int *slot;       /* 2*k*k*ne: (slot, stride) of block (a, b) of element e at 2 ((e k + a) k + b) */
+  int *slot;             /* 2*k*k*ne: (slot, stride) of block (a, b) of element e at 2 ((e k + a) k + b) */
 } cb_stencil;
 
 /* Fails on k < 1 or ne < 0. */

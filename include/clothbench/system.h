@@ -18,9 +18,9 @@ typedef struct cb_system {
   const cb_model *model;
   int nterms;
   cb_term *terms[CB_MAX_TERMS];
-  cb_sparse A;        /* values are overwritten by cb_system_assemble */
-  int *diag;          /* 3*nfree: index in A.val of each diagonal entry */
-  double *hconst;     /* A.nnz: sum of the constant Hessians, or NULL if no term has one */
+  cb_sparse A;    /* values are overwritten by cb_system_assemble */
+  int *diag;      /* 3*nfree: index in A.val of each diagonal entry */
+  double *hconst; /* A.nnz: sum of the constant Hessians, or NULL if no term has one */
 } cb_system;
 
 /* Takes ownership of the terms (freed by cb_system_free, also on failure). */

@@ -18,7 +18,9 @@ static int located(int st, const cb_config *c, const char *key) {
 
 int cb_scene_def_from_config(const cb_config *c, cb_scene_def *d, char *path, size_t npath) {
   *d = cb_scene_def_default();
-  d->mesh = strcmp(c->mesh_type, "obj") == 0 ? CB_MESH_OBJ : strcmp(c->mesh_type, "chain") == 0 ? CB_MESH_CHAIN : CB_MESH_GRID;
+  d->mesh = strcmp(c->mesh_type, "obj") == 0     ? CB_MESH_OBJ
+            : strcmp(c->mesh_type, "chain") == 0 ? CB_MESH_CHAIN
+                                                 : CB_MESH_GRID;
   if (d->mesh == CB_MESH_OBJ) {
     cb_config_resolve_path(c, c->mesh_file, path, npath); /* relative to the config file's folder */
     d->mesh_file = path;
@@ -27,7 +29,9 @@ int cb_scene_def_from_config(const cb_config *c, cb_scene_def *d, char *path, si
   d->grid.m = c->mesh_m > 0 ? c->mesh_m : c->mesh_n; /* mesh.m = 0: square */
   d->grid.size[0] = c->mesh_size[0];
   d->grid.size[1] = c->mesh_size[1];
-  d->grid.plane = strcmp(c->mesh_plane, "xy") == 0 ? CB_PLANE_XY : strcmp(c->mesh_plane, "yz") == 0 ? CB_PLANE_YZ : CB_PLANE_XZ;
+  d->grid.plane = strcmp(c->mesh_plane, "xy") == 0   ? CB_PLANE_XY
+                  : strcmp(c->mesh_plane, "yz") == 0 ? CB_PLANE_YZ
+                                                     : CB_PLANE_XZ;
   d->grid.diagonal = strcmp(c->mesh_diagonal, "alternating") == 0 ? CB_DIAG_ALTERNATING : CB_DIAG_REGULAR;
   d->density = c->density;
   d->vertex_mass = c->vertex_mass;
@@ -87,7 +91,8 @@ int cb_integrator_type_params_from_config(const cb_config *c, const cb_integrato
     if (cb_config_type_value(c, key, &v)) return cb_fail("%s: not in the config's key table", key);
     char *field = (char *)params + k->offset;
     switch (k->kind) {
-    case CB_PARAM_DOUBLE: case CB_PARAM_DOUBLE_AUTO: memcpy(field, &v, sizeof v); break;
+    case CB_PARAM_DOUBLE:
+    case CB_PARAM_DOUBLE_AUTO: memcpy(field, &v, sizeof v); break;
     case CB_PARAM_CHOICE: {
       int i = (int)v, value = k->values ? k->values[i] : i;
       memcpy(field, &value, sizeof value);
@@ -137,8 +142,10 @@ int cb_integrator_from_config(const cb_config *c, cb_scene *s, const cb_integrat
   if (st && st != CB_ENOMEM && s->model.nfree == 0) { /* e.g. Chebyshev's rho estimate: "lanczos: empty operator" */
     char msg[1024];
     snprintf(msg, sizeof msg, "%s", cb_error_message());
-    st = cb_fail_status(st, "scene.pins: every vertex is pinned, so nothing moves and there is no system to solve; "
-                        "integrator.method = %s with solver.method = %s cannot be set up (%s)", c->method, c->solver, msg);
+    st = cb_fail_status(st,
+                        "scene.pins: every vertex is pinned, so nothing moves and there is no system to solve; "
+                        "integrator.method = %s with solver.method = %s cannot be set up (%s)",
+                        c->method, c->solver, msg);
     return located(st, c, "scene.pins");
   }
   return st;

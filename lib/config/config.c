@@ -16,8 +16,23 @@
 #include <clothbench/solver.h>
 #include <clothbench/status.h>
 
-typedef enum { T_INT, T_DOUBLE, T_SIZE, T_VEC3, T_ENUM, T_PATH, T_PINS, T_BOOL, T_RHO,
-               T_AUTO, T_PINT, T_PDOUBLE, T_PBOOL, T_PCHOICE, T_PAUTO /* an integrator type's keys, stored as doubles */ } ktype;
+typedef enum {
+  T_INT,
+  T_DOUBLE,
+  T_SIZE,
+  T_VEC3,
+  T_ENUM,
+  T_PATH,
+  T_PINS,
+  T_BOOL,
+  T_RHO,
+  T_AUTO,
+  T_PINT,
+  T_PDOUBLE,
+  T_PBOOL,
+  T_PCHOICE,
+  T_PAUTO /* an integrator type's keys, stored as doubles */
+} ktype;
 
 static const char *const mesh_types[] = {"grid", "chain", "obj", NULL};
 static const char *const planes[] = {"xy", "xz", "yz", NULL};
@@ -27,12 +42,12 @@ static const char *const storages[] = {"full", "upper", NULL};
 static const char *const denormal_modes[] = {"flush", "keep", NULL};
 
 typedef struct {
-  const char *key;     /* section.key */
+  const char *key; /* section.key */
   ktype type;
   size_t off;
-  const char *def;     /* default, as text */
+  const char *def; /* default, as text */
   const char *unit;
-  double lo, hi;       /* accepted range for numbers (inclusive), lo_open: lo excluded */
+  double lo, hi; /* accepted range for numbers (inclusive), lo_open: lo excluded */
   int lo_open;
   const char *const *choices;      /* fixed choices, or */
   const char *(*choice_fn)(int i); /* the i-th name of a plug-in registry (NULL at the end) */
@@ -41,94 +56,143 @@ typedef struct {
 
 #define O(f) offsetof(cb_config, f)
 static const keydef keys_head[] = {
-  {"mesh.type", T_ENUM, O(mesh_type), "grid", "-", 0, 0, 0, mesh_types, NULL,
-   "`grid` builds an n x m grid; `chain` a line of n vertices (n-1 springs, no triangles: set `material.vertex_mass`); `obj` reads `mesh.file`."},
-  {"mesh.n", T_INT, O(mesh_n), "21", "vertices", 2, 100000, 0, NULL, NULL,
-   "Grid (or chain) vertices along the first axis of the plane."},
-  {"mesh.m", T_INT, O(mesh_m), "0", "vertices", 0, 100000, 0, NULL, NULL,
-   "Grid vertices along the second axis; 0 means the same as `mesh.n`."},
-  {"mesh.size", T_SIZE, O(mesh_size), "10", "m", 0, 1e9, 1, NULL, NULL,
-   "Grid side length, or two lengths (first axis, second axis); a chain's length."},
-  {"mesh.plane", T_ENUM, O(mesh_plane), "xz", "-", 0, 0, 0, planes, NULL,
-   "Plane of the grid; `xz` is horizontal when gravity points along -y. Row j = m-1 (the largest second coordinate) is the top edge; a chain lies along the first axis (`yz`: vertical, vertex n-1 on top)."},
-  {"mesh.diagonal", T_ENUM, O(mesh_diagonal), "regular", "-", 0, 0, 0, diagonals, NULL,
-   "Quad split: `regular` (every quad along the same diagonal) or `alternating` (checkerboard)."},
-  {"mesh.file", T_PATH, O(mesh_file), "", "path", 0, 0, 0, NULL, NULL,
-   "OBJ file for `mesh.type = obj`; a relative path is taken from the config file's folder."},
-  {"material.density", T_DOUBLE, O(density), "1", "kg/m^2", 0, 1e12, 1, NULL, NULL,
-   "Areal density; vertex i gets density x (area of its triangles) / 3."},
-  {"material.vertex_mass", T_DOUBLE, O(vertex_mass), "0", "kg", 0, 1e12, 0, NULL, NULL,
-   "If > 0, every vertex gets this mass and `material.density` is ignored (the GAMES103 lab uses 1)."},
-  {"material.stretch", T_ENUM, O(stretch), "spring", "-", 0, 0, 0, cb_stretch_names, NULL,
-   "In-plane model: `spring` (a spring on every mesh edge) or `fem` (co-rotational linear triangles, E = mu A |F - R|^2 per triangle, R the polar rotation of the deformation gradient F, A the rest area)."},
-  {"material.stretch_k", T_DOUBLE, O(stretch_k), "8000", "N/m", 0, 1e15, 0, NULL, NULL,
-   "Stiffness k of the spring on every mesh edge, E = k/2 (|xi-xj| - L)^2; with `material.stretch = fem`, FEM's mu, an energy per unit rest area (J/m^2 = N/m), so a refined mesh is the same material."},
-  {"material.fem_hessian", T_ENUM, O(fem_hessian), "exact", "-", 0, 0, 0, cb_fem_hessian_names, NULL,
-   "FEM Hessian (`material.stretch = fem`): `exact` (with the derivative of R, projected to PSD by `integrator.definiteness` drop/mirror) or `frozen` (R held fixed: the lecture's constant matrix, assembled once; Newton becomes a quasi-Newton method)."},
-  {"material.bend", T_ENUM, O(bend), "none", "-", 0, 0, 0, cb_bend_names, NULL,
-   "Bending model: `none`; `spring` (a spring across each pair of neighbouring triangles, between the two opposite vertices); `dihedral` (the hinge energy of discrete shells, E = k 3|e|^2/(A_1+A_2) (theta - theta_rest)^2/2 per pair, its Hessian chosen by `material.bend_hessian`); `quadratic` (Bergou et al. 2006 as in the lecture, E = k/2 x^T Q x, Q = 3/(A_0+A_1) q q^T from the rest cotangents: constant Hessian, assembled once; a non-planar rest hinge is accepted with its rest curvature subtracted)."},
-  {"material.bend_hessian", T_ENUM, O(bend_hessian), "gauss-newton", "-", 0, 0, 0, cb_bend_hessian_names, NULL,
-   "Dihedral Hessian (`material.bend = dihedral`): `gauss-newton` (k 3|e|^2/(A_1+A_2) grad theta grad theta^T, the exact Hessian without its (theta - theta_rest) d2theta term: positive semidefinite by construction, no projection; Newton becomes a Gauss-Newton method) or `exact` (with that term, indefinite in general: every hinge's 12x12 matrix projected by `integrator.definiteness` drop/mirror through an eigen-decomposition at every assembly)."},
-  {"material.bend_k", T_DOUBLE, O(bend_k), "100", "N/m or N m", 0, 1e15, 0, NULL, NULL,
-   "Bending stiffness k; its unit depends on `material.bend`: N/m for `spring` (a spring stiffness), N m (J) for `dihedral` and `quadratic` (an energy per squared angle or curvature)."},
-  {"material.buckling_kb", T_DOUBLE, O(buckling_kb), "0.01", "N m^2", 0, 1e15, 1, NULL, NULL,
-   "Bending stiffness k_b of Choi & Ko's immediate-buckling response, used by every spring when `integrator.definiteness = choi-ko`: a compressed spring (|x| < L) bends into an arc of length L with energy k_b L kappa^2 / 2 instead of shortening, once its linear push k(L - |x|) reaches the arc's push f_b >= 12 k_b/L^2 (so the force stays continuous). Needs k > 12 pi^2 k_b / L^3."},
-  {"scene.gravity", T_VEC3, O(gravity), "0 -9.8 0", "m/s^2", -1e6, 1e6, 0, NULL, NULL,
-   "Gravitational acceleration (3 numbers); `0 0 0` leaves the gravity term out."},
-  {"scene.pins", T_PINS, O(pins), "top-corners", "-", 0, 0, 0, NULL, NULL,
-   "Pinned vertices: `none`, `corners`, `top-corners` (both ends of the top edge), `top-edge`, `halfspace a b c d` (every vertex whose rest position p has a p_x + b p_y + c p_z <= d, to 1e-9 of the mesh size, so vertices on the plane are pinned; the 4 numbers separated by spaces or commas; any mesh), or 0-based vertex indices separated by spaces or commas. Named sets other than `none` and `halfspace` need a grid or chain mesh."},
-  {"scene.initial_scale", T_DOUBLE, O(initial_scale), "1", "-", 0, 1e6, 1, NULL, NULL,
-   "Initial positions are the rest positions scaled by this factor about their centroid (2 = stretched to twice the rest size, 0.5 = compressed)."},
-  {"scene.pin_squeeze", T_VEC3, O(pin_squeeze), "0 0 0", "m/s", -1e6, 1e6, 0, NULL, NULL,
-   "Driven pins (3 numbers s): pinned vertex i moves at the constant velocity -sign((p_i - c).s) s, c being the centroid of the pins' initial positions p_i, so pins on the two sides of c close in on each other at 2|s| (pins with (p_i - c).s = 0 stay). Its prescribed position x0 + t v enters every step (implicit: through x0 + dt v0; explicit: x += dt v). `0 0 0`: pins are fixed."},
-  {"collider.type", T_ENUM, O(collider_type), "none", "-", 0, 0, 0, cb_collider_names, NULL,
-   "Sphere collider: `none`; `penalty` (an energy term E = k_c (r + thickness - |x - c|)^2/2 on every vertex inside the shell, exact gradient and Hessian; the sphere stays still); `project` (the GAMES103 lab: after every step a free vertex inside is moved to the sphere's surface and its velocity corrected by (x_new - x)/dt; explicit and implicit integrators). Contacts per step are the `contacts` column of simulate's CSV."},
-  {"collider.centre", T_VEC3, O(collider_centre), "0 0 0", "m", -1e9, 1e9, 0, NULL, NULL,
-   "Centre c of the sphere at t = 0."},
-  {"collider.radius", T_DOUBLE, O(collider_radius), "1", "m", 0, 1e9, 1, NULL, NULL,
-   "Radius r of the sphere."},
-  {"collider.thickness", T_DOUBLE, O(collider_thickness), "0", "m", 0, 1e9, 0, NULL, NULL,
-   "Contact shell added to the radius: vertices are kept at r + thickness from c."},
-  {"collider.stiffness", T_DOUBLE, O(collider_stiffness), "10000", "N/m", 0, 1e15, 0, NULL, NULL,
-   "Penalty stiffness k_c (`penalty` only)."},
-  {"collider.velocity", T_VEC3, O(collider_velocity), "0 0 0", "m/s", -1e6, 1e6, 0, NULL, NULL,
-   "Constant velocity v of the sphere, c(t) = c + t v (`project` only, as the lab drags its ball)."},
-  {"integrator.method", T_ENUM, O(method), "newton", "-", 0, 0, 0, NULL, cb_integrator_name,
-   "`explicit` (symplectic Euler), `newton` (implicit Euler by Newton's method), `jacobi-nl` and `chebyshev-nl` (the GAMES103 lab's Jacobi on F(x), plain or Chebyshev-accelerated), `pd` and `pd-chebyshev` (projective dynamics, Liu et al. 2013, plain or Chebyshev-accelerated), `pbd` and `xpbd` (position-based dynamics, Müller et al. 2007, and XPBD, Macklin et al. 2016: distance constraints per spring, with `integrator.substeps`), `lbfgs` (L-BFGS on F with projective dynamics' matrix as its initial Hessian, Liu et al. 2017), `vbd` and `vbd-chebyshev` (vertex block descent, Chen et al. 2024, plain or Chebyshev-accelerated), or `shape_matching` (Müller et al. 2005, explicit; see `integrator.shape_alpha`)."},
-  {"integrator.dt", T_DOUBLE, O(dt), "1/30", "s", 0, 1e6, 1, NULL, NULL,
-   "Time step; a fraction such as `1/30` is accepted."},
-  {"integrator.steps", T_INT, O(steps), "60", "steps", 0, 2000000000, 0, NULL, NULL,
-   "Number of time steps `simulate` runs (overridden by `--steps`)."},
-  {"integrator.damping", T_DOUBLE, O(damping), "1", "-", 0, 1, 0, NULL, NULL,
-   "Velocity damping for every integrator: v <- damping v on the free vertices at the start of every step, before the predictor x0 + dt v0 (where the GAMES103 lab applies its 0.99). 1 = no damping."},
+    {"mesh.type", T_ENUM, O(mesh_type), "grid", "-", 0, 0, 0, mesh_types, NULL,
+     "`grid` builds an n x m grid; `chain` a line of n vertices (n-1 springs, no triangles: set "
+     "`material.vertex_mass`); `obj` reads `mesh.file`."},
+    {"mesh.n", T_INT, O(mesh_n), "21", "vertices", 2, 100000, 0, NULL, NULL,
+     "Grid (or chain) vertices along the first axis of the plane."},
+    {"mesh.m", T_INT, O(mesh_m), "0", "vertices", 0, 100000, 0, NULL, NULL,
+     "Grid vertices along the second axis; 0 means the same as `mesh.n`."},
+    {"mesh.size", T_SIZE, O(mesh_size), "10", "m", 0, 1e9, 1, NULL, NULL,
+     "Grid side length, or two lengths (first axis, second axis); a chain's length."},
+    {"mesh.plane", T_ENUM, O(mesh_plane), "xz", "-", 0, 0, 0, planes, NULL,
+     "Plane of the grid; `xz` is horizontal when gravity points along -y. Row j = m-1 (the largest second coordinate) "
+     "is the top edge; a chain lies along the first axis (`yz`: vertical, vertex n-1 on top)."},
+    {"mesh.diagonal", T_ENUM, O(mesh_diagonal), "regular", "-", 0, 0, 0, diagonals, NULL,
+     "Quad split: `regular` (every quad along the same diagonal) or `alternating` (checkerboard)."},
+    {"mesh.file", T_PATH, O(mesh_file), "", "path", 0, 0, 0, NULL, NULL,
+     "OBJ file for `mesh.type = obj`; a relative path is taken from the config file's folder."},
+    {"material.density", T_DOUBLE, O(density), "1", "kg/m^2", 0, 1e12, 1, NULL, NULL,
+     "Areal density; vertex i gets density x (area of its triangles) / 3."},
+    {"material.vertex_mass", T_DOUBLE, O(vertex_mass), "0", "kg", 0, 1e12, 0, NULL, NULL,
+     "If > 0, every vertex gets this mass and `material.density` is ignored (the GAMES103 lab uses 1)."},
+    {"material.stretch", T_ENUM, O(stretch), "spring", "-", 0, 0, 0, cb_stretch_names, NULL,
+     "In-plane model: `spring` (a spring on every mesh edge) or `fem` (co-rotational linear triangles, E = mu A |F - "
+     "R|^2 per triangle, R the polar rotation of the deformation gradient F, A the rest area)."},
+    {"material.stretch_k", T_DOUBLE, O(stretch_k), "8000", "N/m", 0, 1e15, 0, NULL, NULL,
+     "Stiffness k of the spring on every mesh edge, E = k/2 (|xi-xj| - L)^2; with `material.stretch = fem`, FEM's mu, "
+     "an energy per unit rest area (J/m^2 = N/m), so a refined mesh is the same material."},
+    {"material.fem_hessian", T_ENUM, O(fem_hessian), "exact", "-", 0, 0, 0, cb_fem_hessian_names, NULL,
+     "FEM Hessian (`material.stretch = fem`): `exact` (with the derivative of R, projected to PSD by "
+     "`integrator.definiteness` drop/mirror) or `frozen` (R held fixed: the lecture's constant matrix, assembled once; "
+     "Newton becomes a quasi-Newton method)."},
+    {"material.bend", T_ENUM, O(bend), "none", "-", 0, 0, 0, cb_bend_names, NULL,
+     "Bending model: `none`; `spring` (a spring across each pair of neighbouring triangles, between the two opposite "
+     "vertices); `dihedral` (the hinge energy of discrete shells, E = k 3|e|^2/(A_1+A_2) (theta - theta_rest)^2/2 per "
+     "pair, its Hessian chosen by `material.bend_hessian`); `quadratic` (Bergou et al. 2006 as in the lecture, E = k/2 "
+     "x^T Q x, Q = 3/(A_0+A_1) q q^T from the rest cotangents: constant Hessian, assembled once; a non-planar rest "
+     "hinge is accepted with its rest curvature subtracted)."},
+    {"material.bend_hessian", T_ENUM, O(bend_hessian), "gauss-newton", "-", 0, 0, 0, cb_bend_hessian_names, NULL,
+     "Dihedral Hessian (`material.bend = dihedral`): `gauss-newton` (k 3|e|^2/(A_1+A_2) grad theta grad theta^T, the "
+     "exact Hessian without its (theta - theta_rest) d2theta term: positive semidefinite by construction, no "
+     "projection; Newton becomes a Gauss-Newton method) or `exact` (with that term, indefinite in general: every "
+     "hinge's 12x12 matrix projected by `integrator.definiteness` drop/mirror through an eigen-decomposition at every "
+     "assembly)."},
+    {"material.bend_k", T_DOUBLE, O(bend_k), "100", "N/m or N m", 0, 1e15, 0, NULL, NULL,
+     "Bending stiffness k; its unit depends on `material.bend`: N/m for `spring` (a spring stiffness), N m (J) for "
+     "`dihedral` and `quadratic` (an energy per squared angle or curvature)."},
+    {"material.buckling_kb", T_DOUBLE, O(buckling_kb), "0.01", "N m^2", 0, 1e15, 1, NULL, NULL,
+     "Bending stiffness k_b of Choi & Ko's immediate-buckling response, used by every spring when "
+     "`integrator.definiteness = choi-ko`: a compressed spring (|x| < L) bends into an arc of length L with energy k_b "
+     "L kappa^2 / 2 instead of shortening, once its linear push k(L - |x|) reaches the arc's push f_b >= 12 k_b/L^2 "
+     "(so the force stays continuous). Needs k > 12 pi^2 k_b / L^3."},
+    {"scene.gravity", T_VEC3, O(gravity), "0 -9.8 0", "m/s^2", -1e6, 1e6, 0, NULL, NULL,
+     "Gravitational acceleration (3 numbers); `0 0 0` leaves the gravity term out."},
+    {"scene.pins", T_PINS, O(pins), "top-corners", "-", 0, 0, 0, NULL, NULL,
+     "Pinned vertices: `none`, `corners`, `top-corners` (both ends of the top edge), `top-edge`, `halfspace a b c d` "
+     "(every vertex whose rest position p has a p_x + b p_y + c p_z <= d, to 1e-9 of the mesh size, so vertices on the "
+     "plane are pinned; the 4 numbers separated by spaces or commas; any mesh), or 0-based vertex indices separated by "
+     "spaces or commas. Named sets other than `none` and `halfspace` need a grid or chain mesh."},
+    {"scene.initial_scale", T_DOUBLE, O(initial_scale), "1", "-", 0, 1e6, 1, NULL, NULL,
+     "Initial positions are the rest positions scaled by this factor about their centroid (2 = stretched to twice the "
+     "rest size, 0.5 = compressed)."},
+    {"scene.pin_squeeze", T_VEC3, O(pin_squeeze), "0 0 0", "m/s", -1e6, 1e6, 0, NULL, NULL,
+     "Driven pins (3 numbers s): pinned vertex i moves at the constant velocity -sign((p_i - c).s) s, c being the "
+     "centroid of the pins' initial positions p_i, so pins on the two sides of c close in on each other at 2|s| (pins "
+     "with (p_i - c).s = 0 stay). Its prescribed position x0 + t v enters every step (implicit: through x0 + dt v0; "
+     "explicit: x += dt v). `0 0 0`: pins are fixed."},
+    {"collider.type", T_ENUM, O(collider_type), "none", "-", 0, 0, 0, cb_collider_names, NULL,
+     "Sphere collider: `none`; `penalty` (an energy term E = k_c (r + thickness - |x - c|)^2/2 on every vertex inside "
+     "the shell, exact gradient and Hessian; the sphere stays still); `project` (the GAMES103 lab: after every step a "
+     "free vertex inside is moved to the sphere's surface and its velocity corrected by (x_new - x)/dt; explicit and "
+     "implicit integrators). Contacts per step are the `contacts` column of simulate's CSV."},
+    {"collider.centre", T_VEC3, O(collider_centre), "0 0 0", "m", -1e9, 1e9, 0, NULL, NULL,
+     "Centre c of the sphere at t = 0."},
+    {"collider.radius", T_DOUBLE, O(collider_radius), "1", "m", 0, 1e9, 1, NULL, NULL, "Radius r of the sphere."},
+    {"collider.thickness", T_DOUBLE, O(collider_thickness), "0", "m", 0, 1e9, 0, NULL, NULL,
+     "Contact shell added to the radius: vertices are kept at r + thickness from c."},
+    {"collider.stiffness", T_DOUBLE, O(collider_stiffness), "10000", "N/m", 0, 1e15, 0, NULL, NULL,
+     "Penalty stiffness k_c (`penalty` only)."},
+    {"collider.velocity", T_VEC3, O(collider_velocity), "0 0 0", "m/s", -1e6, 1e6, 0, NULL, NULL,
+     "Constant velocity v of the sphere, c(t) = c + t v (`project` only, as the lab drags its ball)."},
+    {"integrator.method", T_ENUM, O(method), "newton", "-", 0, 0, 0, NULL, cb_integrator_name,
+     "`explicit` (symplectic Euler), `newton` (implicit Euler by Newton's method), `jacobi-nl` and `chebyshev-nl` (the "
+     "GAMES103 lab's Jacobi on F(x), plain or Chebyshev-accelerated), `pd` and `pd-chebyshev` (projective dynamics, "
+     "Liu et al. 2013, plain or Chebyshev-accelerated), `pbd` and `xpbd` (position-based dynamics, Müller et al. 2007, "
+     "and XPBD, Macklin et al. 2016: distance constraints per spring, with `integrator.substeps`), `lbfgs` (L-BFGS on "
+     "F with projective dynamics' matrix as its initial Hessian, Liu et al. 2017), `vbd` and `vbd-chebyshev` (vertex "
+     "block descent, Chen et al. 2024, plain or Chebyshev-accelerated), or `shape_matching` (Müller et al. 2005, "
+     "explicit; see `integrator.shape_alpha`)."},
+    {"integrator.dt", T_DOUBLE, O(dt), "1/30", "s", 0, 1e6, 1, NULL, NULL,
+     "Time step; a fraction such as `1/30` is accepted."},
+    {"integrator.steps", T_INT, O(steps), "60", "steps", 0, 2000000000, 0, NULL, NULL,
+     "Number of time steps `simulate` runs (overridden by `--steps`)."},
+    {"integrator.damping", T_DOUBLE, O(damping), "1", "-", 0, 1, 0, NULL, NULL,
+     "Velocity damping for every integrator: v <- damping v on the free vertices at the start of every step, before "
+     "the predictor x0 + dt v0 (where the GAMES103 lab applies its 0.99). 1 = no damping."},
 };
 
 /* Then every registered integrator type's own keys (cb_integrator_type.keys),
  * in registry order, and then these. */
 static const keydef keys_tail[] = {
-  {"integrator.diverge_ratio", T_DOUBLE, O(diverge_ratio), "10", "-", 0, 1e300, 1, NULL, NULL,
-   "After a step the integrator did not fail, a run is `diverged` when a position, velocity or energy is NaN/Inf, or when the total energy, less the work the driven pins (`scene.pin_squeeze`) did, rises above its initial value by more than diverge_ratio x S, S = initial kinetic + elastic energy + (sum m_i |g|) x (rest bounding-box diagonal) x max(1, initial_scale) + 1e-12 J. A failed step keeps the integrator's status."},
-  {"solver.method", T_ENUM, O(solver), "cholmod", "-", 0, 0, 0, NULL, cb_solver_name,
-   "Linear solver for Newton's system (`cholmod`: sparse Cholesky, exact)."},
-  {"solver.tol", T_DOUBLE, O(solver_tol), "1e-8", "-", 0, 1, 0, NULL, NULL,
-   "Iterative solvers stop at relative residual |b - Ax| / |b| <= tol."},
-  {"solver.max_iters", T_INT, O(solver_max_iters), "1000", "iterations", 1, 2000000000, 0, NULL, NULL,
-   "Iterative solvers stop after this many iterations."},
-  {"solver.alpha", T_AUTO, O(solver_alpha), "auto", "-", 0, 2, 1, NULL, NULL,
-   "Jacobi weight: dx += alpha D^-1 r (1 is vanilla Jacobi), or `auto`: alpha* = 2/(lambda_min + lambda_max) of D^-1 A, from the same Lanczos estimate as Chebyshev's rho (the weight that minimises rho(I - alpha D^-1 A), always < 1)."},
-  {"solver.rho", T_RHO, O(solver_rho), "auto", "-", 0, 1, 1, NULL, NULL,
-   "Chebyshev spectral-radius estimate rho in (0, 1), or `auto`: Lanczos bounds of eig(D^-1 A), reused across factorisations and moved with Gershgorin's bound, estimated afresh when they stop fitting (a slow or growing solve, which then restarts) or after 30 factorisations (lib/core/solver_jacobi.c)."},
-  {"solver.ordering", T_ENUM, O(solver_ordering), "nesdis", "-", 0, 0, 0, orderings, NULL,
-   "CHOLMOD's fill-reducing ordering: `default` (CHOLMOD's own choice: AMD, then METIS if AMD fills badly), `amd`, `metis`, or `nesdis` (CHOLMOD's nested dissection, the fastest factorisation from 64^2 to 256^2 in the Performance section's table; its slower analysis is well under 1% of a run's factorisations)."},
-  {"solver.nrelax", T_VEC3, O(solver_nrelax), "16 64 128", "columns", 0, 1e6, 0, NULL, NULL,
-   "CHOLMOD's supernode relaxation (Common->nrelax): supernodes of at most this many columns (3 numbers, for zrelax 0.8, 0.1, 0.05) are merged even if that adds zeros; CHOLMOD's own default is `4 16 48`."},
-  {"solver.storage", T_ENUM, O(solver_storage), "upper", "-", 0, 0, 0, storages, NULL,
-   "The matrix CHOLMOD reads: `full` (both triangles, CHOLMOD skips the lower one) or `upper` (a copy of the upper triangle, refreshed at each factorisation)."},
-  {"solver.denormals", T_ENUM, O(solver_denormals), "flush", "-", 0, 0, 0, denormal_modes, NULL,
-   "Subnormal numbers (|x| < 2.2e-308) during CHOLMOD's factorisation and solve: `flush` (read and produced as zero: x86 FTZ and DAZ, set on the calling thread for the call and restored after; the fill of a large factor decays into subnormals, and each costs the CPU a slow microcode assist; the Performance section's choice table measures both settings) or `keep` (IEEE gradual underflow). With THREADS > 1 CHOLMOD's and OpenBLAS's worker threads keep their own setting. No effect off x86."},
+    {"integrator.diverge_ratio", T_DOUBLE, O(diverge_ratio), "10", "-", 0, 1e300, 1, NULL, NULL,
+     "After a step the integrator did not fail, a run is `diverged` when a position, velocity or energy is NaN/Inf, or "
+     "when the total energy, less the work the driven pins (`scene.pin_squeeze`) did, rises above its initial value by "
+     "more than diverge_ratio x S, S = initial kinetic + elastic energy + (sum m_i |g|) x (rest bounding-box diagonal) "
+     "x max(1, initial_scale) + 1e-12 J. A failed step keeps the integrator's status."},
+    {"solver.method", T_ENUM, O(solver), "cholmod", "-", 0, 0, 0, NULL, cb_solver_name,
+     "Linear solver for Newton's system (`cholmod`: sparse Cholesky, exact)."},
+    {"solver.tol", T_DOUBLE, O(solver_tol), "1e-8", "-", 0, 1, 0, NULL, NULL,
+     "Iterative solvers stop at relative residual |b - Ax| / |b| <= tol."},
+    {"solver.max_iters", T_INT, O(solver_max_iters), "1000", "iterations", 1, 2000000000, 0, NULL, NULL,
+     "Iterative solvers stop after this many iterations."},
+    {"solver.alpha", T_AUTO, O(solver_alpha), "auto", "-", 0, 2, 1, NULL, NULL,
+     "Jacobi weight: dx += alpha D^-1 r (1 is vanilla Jacobi), or `auto`: alpha* = 2/(lambda_min + lambda_max) of D^-1 "
+     "A, from the same Lanczos estimate as Chebyshev's rho (the weight that minimises rho(I - alpha D^-1 A), always < "
+     "1)."},
+    {"solver.rho", T_RHO, O(solver_rho), "auto", "-", 0, 1, 1, NULL, NULL,
+     "Chebyshev spectral-radius estimate rho in (0, 1), or `auto`: Lanczos bounds of eig(D^-1 A), reused across "
+     "factorisations and moved with Gershgorin's bound, estimated afresh when they stop fitting (a slow or growing "
+     "solve, which then restarts) or after 30 factorisations (lib/core/solver_jacobi.c)."},
+    {"solver.ordering", T_ENUM, O(solver_ordering), "nesdis", "-", 0, 0, 0, orderings, NULL,
+     "CHOLMOD's fill-reducing ordering: `default` (CHOLMOD's own choice: AMD, then METIS if AMD fills badly), `amd`, "
+     "`metis`, or `nesdis` (CHOLMOD's nested dissection, the fastest factorisation from 64^2 to 256^2 in the "
+     "Performance section's table; its slower analysis is well under 1% of a run's factorisations)."},
+    {"solver.nrelax", T_VEC3, O(solver_nrelax), "16 64 128", "columns", 0, 1e6, 0, NULL, NULL,
+     "CHOLMOD's supernode relaxation (Common->nrelax): supernodes of at most this many columns (3 numbers, for zrelax "
+     "0.8, 0.1, 0.05) are merged even if that adds zeros; CHOLMOD's own default is `4 16 48`."},
+    {"solver.storage", T_ENUM, O(solver_storage), "upper", "-", 0, 0, 0, storages, NULL,
+     "The matrix CHOLMOD reads: `full` (both triangles, CHOLMOD skips the lower one) or `upper` (a copy of the upper "
+     "triangle, refreshed at each factorisation)."},
+    {"solver.denormals", T_ENUM, O(solver_denormals), "flush", "-", 0, 0, 0, denormal_modes, NULL,
+     "Subnormal numbers (|x| < 2.2e-308) during CHOLMOD's factorisation and solve: `flush` (read and produced as zero: "
+     "x86 FTZ and DAZ, set on the calling thread for the call and restored after; the fill of a large factor decays "
+     "into subnormals, and each costs the CPU a slow microcode assist; the Performance section's choice table measures "
+     "both settings) or `keep` (IEEE gradual underflow). With THREADS > 1 CHOLMOD's and OpenBLAS's worker threads keep "
+     "their own setting. No effect off x86."},
 };
 enum { NHEAD = (int)(sizeof keys_head / sizeof keys_head[0]), NTAIL = (int)(sizeof keys_tail / sizeof keys_tail[0]) };
-enum { MAX_KEYS = (int)(sizeof ((cb_config *)0)->where / sizeof ((cb_config *)0)->where[0]) };
+enum { MAX_KEYS = (int)(sizeof((cb_config *)0)->where / sizeof((cb_config *)0)->where[0]) };
 enum { SRC_DEFAULT = 0, SRC_FILE = 1, SRC_SET = 2 };
 
 /* The key table: keys_head, the types' keys, keys_tail; built on first use
@@ -164,10 +228,10 @@ static int type_keys_conflict(const cb_integrator_type *const *types, char *msg,
           if (strcmp(p->name, q->name) != 0) continue;
           const char *what = u == t ? "twice" : key_difference(q, p);
           if (!what) continue;
-          if (u == t)
-            snprintf(msg, n, "integrator.%s: declared twice by integrator type %s", p->name, types[t]->name);
+          if (u == t) snprintf(msg, n, "integrator.%s: declared twice by integrator type %s", p->name, types[t]->name);
           else
-            snprintf(msg, n, "integrator.%s: integrator types %s and %s declare it with two definitions (the %s "
+            snprintf(msg, n,
+                     "integrator.%s: integrator types %s and %s declare it with two definitions (the %s "
                      "differs); a key two types share is defined once (lib/core/integrator_keys.h)",
                      p->name, types[u]->name, types[t]->name, what);
           return 1;
@@ -187,8 +251,11 @@ static void build_table(void) {
   for (int i = 0; i < NHEAD; i++) keys[n++] = keys_head[i];
   for (int t = 0; cb_integrator_types[t]; t++)
     for (const cb_param_key *p = cb_integrator_types[t]->keys; p && p->name; p++) {
-      static const ktype kinds[] = {[CB_PARAM_INT] = T_PINT, [CB_PARAM_DOUBLE] = T_PDOUBLE, [CB_PARAM_BOOL] = T_PBOOL,
-                                    [CB_PARAM_CHOICE] = T_PCHOICE, [CB_PARAM_DOUBLE_AUTO] = T_PAUTO};
+      static const ktype kinds[] = {[CB_PARAM_INT] = T_PINT,
+                                    [CB_PARAM_DOUBLE] = T_PDOUBLE,
+                                    [CB_PARAM_BOOL] = T_PBOOL,
+                                    [CB_PARAM_CHOICE] = T_PCHOICE,
+                                    [CB_PARAM_DOUBLE_AUTO] = T_PAUTO};
       char name[sizeof type_key_names[0]];
       snprintf(name, sizeof name, "integrator.%s", p->name);
       int seen = 0;
@@ -200,8 +267,17 @@ static void build_table(void) {
         continue;
       }
       snprintf(type_key_names[slots], sizeof type_key_names[slots], "%s", name);
-      keys[n++] = (keydef){type_key_names[slots], kinds[p->kind], O(type_value) + (size_t)slots * sizeof(double), p->def,
-                           p->unit, p->lo, p->hi, p->lo_open, p->choices, NULL, p->doc};
+      keys[n++] = (keydef){type_key_names[slots],
+                           kinds[p->kind],
+                           O(type_value) + (size_t)slots * sizeof(double),
+                           p->def,
+                           p->unit,
+                           p->lo,
+                           p->hi,
+                           p->lo_open,
+                           p->choices,
+                           NULL,
+                           p->doc};
       slots++;
     }
   for (int i = 0; i < NTAIL; i++) keys[n++] = keys_tail[i];
@@ -209,9 +285,7 @@ static void build_table(void) {
 }
 #undef O
 
-static const char *choice_at(const keydef *k, int i) {
-  return k->choice_fn ? k->choice_fn(i) : k->choices[i];
-}
+static const char *choice_at(const keydef *k, int i) { return k->choice_fn ? k->choice_fn(i) : k->choices[i]; }
 
 static int find_key(const char *key) {
   build_table();
@@ -272,36 +346,58 @@ static int assign(cb_config *c, const keydef *k, const char *value, char *why, s
   char rng[96];
   range_text(k, rng, sizeof rng);
   switch (k->type) {
-  case T_INT: case T_PINT: {
+  case T_INT:
+  case T_PINT: {
     double v;
-    if (cb_parse_double(value, &v) || v != floor(v)) { snprintf(why, nwhy, "'%s' is not an integer", value); return -1; }
-    if (!in_range(k, v)) { snprintf(why, nwhy, "%s is out of range (must be %s)", value, rng); return -1; }
+    if (cb_parse_double(value, &v) || v != floor(v)) {
+      snprintf(why, nwhy, "'%s' is not an integer", value);
+      return -1;
+    }
+    if (!in_range(k, v)) {
+      snprintf(why, nwhy, "%s is out of range (must be %s)", value, rng);
+      return -1;
+    }
     if (k->type == T_PINT) *(double *)field = v;
     else *(int *)field = (int)v;
     return 0;
   }
-  case T_DOUBLE: case T_PDOUBLE: {
+  case T_DOUBLE:
+  case T_PDOUBLE: {
     double v;
-    if (cb_parse_double(value, &v)) { snprintf(why, nwhy, "'%s' is not a number", value); return -1; }
-    if (!in_range(k, v)) { snprintf(why, nwhy, "%s is out of range (must be %s)", value, rng); return -1; }
+    if (cb_parse_double(value, &v)) {
+      snprintf(why, nwhy, "'%s' is not a number", value);
+      return -1;
+    }
+    if (!in_range(k, v)) {
+      snprintf(why, nwhy, "%s is out of range (must be %s)", value, rng);
+      return -1;
+    }
     *(double *)field = v;
     return 0;
   }
-  case T_SIZE: case T_VEC3: {
+  case T_SIZE:
+  case T_VEC3: {
     double v[3];
     int want = k->type == T_VEC3 ? 3 : 2;
     int n = split_numbers(value, v, want);
-    if (k->type == T_SIZE && n == 1) { v[1] = v[0]; n = 2; }
+    if (k->type == T_SIZE && n == 1) {
+      v[1] = v[0];
+      n = 2;
+    }
     if (n != want) {
       snprintf(why, nwhy, "'%s' must be %s", value, k->type == T_VEC3 ? "3 numbers" : "1 or 2 numbers");
       return -1;
     }
     for (int i = 0; i < want; i++)
-      if (!in_range(k, v[i])) { snprintf(why, nwhy, "%g is out of range (each must be %s)", v[i], rng); return -1; }
+      if (!in_range(k, v[i])) {
+        snprintf(why, nwhy, "%g is out of range (each must be %s)", v[i], rng);
+        return -1;
+      }
     memcpy(field, v, (size_t)want * sizeof(double));
     return 0;
   }
-  case T_ENUM: case T_PCHOICE: {
+  case T_ENUM:
+  case T_PCHOICE: {
     for (int i = 0; choice_at(k, i); i++)
       if (strcmp(value, choice_at(k, i)) == 0) {
         if (k->type == T_ENUM) return copy_str(field, CB_NAME_LEN, value);
@@ -314,13 +410,20 @@ static int assign(cb_config *c, const keydef *k, const char *value, char *why, s
     return -1;
   }
   case T_PATH:
-    if (copy_str(field, CB_PATH_LEN, value)) { snprintf(why, nwhy, "path too long"); return -1; }
+    if (copy_str(field, CB_PATH_LEN, value)) {
+      snprintf(why, nwhy, "path too long");
+      return -1;
+    }
     return 0;
   case T_PINS: {
-    if (copy_str(field, CB_PINS_LEN, value)) { snprintf(why, nwhy, "pin list too long"); return -1; }
+    if (copy_str(field, CB_PINS_LEN, value)) {
+      snprintf(why, nwhy, "pin list too long");
+      return -1;
+    }
     return 0; /* checked against the mesh when the scene is built */
   }
-  case T_BOOL: case T_PBOOL: {
+  case T_BOOL:
+  case T_PBOOL: {
     static const char *const t[] = {"1", "true", "yes", "on"}, *const f[] = {"0", "false", "no", "off"};
     for (int i = 0; i < 4; i++) {
       int b = strcasecmp(value, t[i]) == 0 ? 1 : strcasecmp(value, f[i]) == 0 ? 0 : -1;
@@ -334,23 +437,44 @@ static int assign(cb_config *c, const keydef *k, const char *value, char *why, s
   }
   case T_PAUTO: {
     double v;
-    if (strcmp(value, "auto") == 0) { *(double *)field = CB_PARAM_AUTO; return 0; }
-    if (cb_parse_double(value, &v)) { snprintf(why, nwhy, "'%s' is neither `auto` nor a number", value); return -1; }
-    if (!in_range(k, v)) { snprintf(why, nwhy, "%s is out of range (must be `auto` or %s)", value, rng); return -1; }
+    if (strcmp(value, "auto") == 0) {
+      *(double *)field = CB_PARAM_AUTO;
+      return 0;
+    }
+    if (cb_parse_double(value, &v)) {
+      snprintf(why, nwhy, "'%s' is neither `auto` nor a number", value);
+      return -1;
+    }
+    if (!in_range(k, v)) {
+      snprintf(why, nwhy, "%s is out of range (must be `auto` or %s)", value, rng);
+      return -1;
+    }
     *(double *)field = v;
     return 0;
   }
   case T_AUTO: {
     double v;
-    if (strcmp(value, "auto") == 0) { *(double *)field = 0; return 0; }
-    if (cb_parse_double(value, &v)) { snprintf(why, nwhy, "'%s' must be `auto` or a number", value); return -1; }
-    if (!in_range(k, v)) { snprintf(why, nwhy, "%s is out of range (must be `auto` or %s)", value, rng); return -1; }
+    if (strcmp(value, "auto") == 0) {
+      *(double *)field = 0;
+      return 0;
+    }
+    if (cb_parse_double(value, &v)) {
+      snprintf(why, nwhy, "'%s' must be `auto` or a number", value);
+      return -1;
+    }
+    if (!in_range(k, v)) {
+      snprintf(why, nwhy, "%s is out of range (must be `auto` or %s)", value, rng);
+      return -1;
+    }
     *(double *)field = v;
     return 0;
   }
   case T_RHO: {
     double v;
-    if (strcmp(value, "auto") == 0) { *(double *)field = 0; return 0; }
+    if (strcmp(value, "auto") == 0) {
+      *(double *)field = 0;
+      return 0;
+    }
     if (cb_parse_double(value, &v) || !in_range(k, v) || v >= 1) {
       snprintf(why, nwhy, "'%s' must be `auto` or a number in (0, 1)", value);
       return -1;
@@ -410,7 +534,10 @@ static const char *nearest_key(const char *key) {
   int bd = 1000;
   for (int i = 0; i < nkeys; i++) {
     int d = edit_distance(key, keys[i].key);
-    if (d < bd) { bd = d; best = keys[i].key; }
+    if (d < bd) {
+      bd = d;
+      best = keys[i].key;
+    }
   }
   if (best && close_enough(bd, key)) return best;
   if (dot) { /* the (nearly) right name under another section: [mesh] stretch_k */
@@ -418,7 +545,10 @@ static const char *nearest_key(const char *key) {
     best = NULL;
     for (int i = 0; i < nkeys; i++) {
       int d = edit_distance(dot + 1, strchr(keys[i].key, '.') + 1);
-      if (d < bd) { bd = d; best = keys[i].key; }
+      if (d < bd) {
+        bd = d;
+        best = keys[i].key;
+      }
     }
     if (best && close_enough(bd, dot + 1)) return best;
   }
@@ -446,10 +576,10 @@ typedef struct {
   cb_config *c;
   const char *path;
   FILE *f;
-  int line;        /* lines handed to inih so far */
-  int failed;      /* first error recorded */
-  int failed_line; /* its line */
-  long bytes;      /* read so far */
+  int line;            /* lines handed to inih so far */
+  int failed;          /* first error recorded */
+  int failed_line;     /* its line */
+  long bytes;          /* read so far */
   char seen[MAX_KEYS]; /* keys set by this file */
 } parse_ctx;
 
@@ -544,14 +674,15 @@ static int handler(void *user, const char *section, const char *name, const char
       cb_fail("%s:%d: %s: key outside any section%s%s%s", ctx->path, ctx->line, name, best ? " (did you mean " : "",
               best ? best : "", best ? "?)" : "");
     } else if (!known_section(section, strlen(section)))
-      cb_fail("%s:%d: %s: unknown section [%s]%s", ctx->path, ctx->line, key, section, did_you_mean(key, hint, sizeof hint));
+      cb_fail("%s:%d: %s: unknown section [%s]%s", ctx->path, ctx->line, key, section,
+              did_you_mean(key, hint, sizeof hint));
     else cb_fail("%s:%d: %s: unknown key%s", ctx->path, ctx->line, key, did_you_mean(key, hint, sizeof hint));
     return 1;
   }
   if (ctx->seen[i]) {
     fail_at(ctx);
-    cb_fail("%s:%d: %s: set twice (first at line %d; an indented line continues the previous key)",
-            ctx->path, ctx->line, key, ctx->c->where[i].line);
+    cb_fail("%s:%d: %s: set twice (first at line %d; an indented line continues the previous key)", ctx->path,
+            ctx->line, key, ctx->c->where[i].line);
     return 1;
   }
   if (assign(ctx->c, &keys[i], value, why, sizeof why)) {
@@ -656,8 +787,10 @@ int cb_config_validate(const cb_config *c) {
 static void write_value(const cb_config *c, const keydef *k, FILE *f) {
   const char *field = (const char *)c + k->off;
   switch (k->type) {
-  case T_INT: case T_BOOL: fprintf(f, "%d", *(const int *)field); break;
-  case T_PINT: case T_PBOOL: fprintf(f, "%d", (int)*(const double *)field); break;
+  case T_INT:
+  case T_BOOL: fprintf(f, "%d", *(const int *)field); break;
+  case T_PINT:
+  case T_PBOOL: fprintf(f, "%d", (int)*(const double *)field); break;
   case T_PDOUBLE: fprintf(f, "%.17g", *(const double *)field); break;
   case T_PAUTO:
     if (*(const double *)field == CB_PARAM_AUTO) fputs("auto", f);
@@ -669,7 +802,8 @@ static void write_value(const cb_config *c, const keydef *k, FILE *f) {
   case T_VEC3:
     fprintf(f, "%.17g %.17g %.17g", ((const double *)field)[0], ((const double *)field)[1], ((const double *)field)[2]);
     break;
-  case T_RHO: case T_AUTO:
+  case T_RHO:
+  case T_AUTO:
     if (*(const double *)field == 0) fputs("auto", f);
     else fprintf(f, "%.17g", *(const double *)field);
     break;

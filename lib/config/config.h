@@ -33,20 +33,20 @@ typedef struct cb_config {
   char mesh_diagonal[CB_NAME_LEN]; /* regular | alternating */
   char mesh_file[CB_PATH_LEN];     /* OBJ path, resolved against the config's folder */
   /* [material] */
-  double density;                  /* kg/m^2, for area-lumped masses */
-  double vertex_mass;              /* kg per vertex; 0 = use density */
-  char stretch[CB_NAME_LEN];       /* spring | fem */
-  double stretch_k;                /* N/m: spring k or FEM mu */
-  char fem_hessian[CB_NAME_LEN];   /* exact | frozen */
-  char bend[CB_NAME_LEN];          /* none | spring | dihedral | quadratic */
-  char bend_hessian[CB_NAME_LEN];  /* gauss-newton | exact (dihedral) */
-  double bend_k;                   /* N/m (spring) or N m (dihedral, quadratic) */
-  double buckling_kb;              /* N m^2, Choi-Ko bending stiffness of a buckled spring */
+  double density;                 /* kg/m^2, for area-lumped masses */
+  double vertex_mass;             /* kg per vertex; 0 = use density */
+  char stretch[CB_NAME_LEN];      /* spring | fem */
+  double stretch_k;               /* N/m: spring k or FEM mu */
+  char fem_hessian[CB_NAME_LEN];  /* exact | frozen */
+  char bend[CB_NAME_LEN];         /* none | spring | dihedral | quadratic */
+  char bend_hessian[CB_NAME_LEN]; /* gauss-newton | exact (dihedral) */
+  double bend_k;                  /* N/m (spring) or N m (dihedral, quadratic) */
+  double buckling_kb;             /* N m^2, Choi-Ko bending stiffness of a buckled spring */
   /* [scene] */
-  double gravity[3];               /* m/s^2 */
-  char pins[CB_PINS_LEN];          /* named set or index list */
-  double initial_scale;            /* initial positions scaled about the centroid */
-  double pin_squeeze[3];           /* m/s, pinned vertices driven toward each other */
+  double gravity[3];      /* m/s^2 */
+  char pins[CB_PINS_LEN]; /* named set or index list */
+  double initial_scale;   /* initial positions scaled about the centroid */
+  double pin_squeeze[3];  /* m/s, pinned vertices driven toward each other */
   /* [collider] */
   char collider_type[CB_NAME_LEN]; /* none | penalty | project */
   double collider_centre[3];       /* m */
@@ -55,31 +55,34 @@ typedef struct cb_config {
   double collider_stiffness;       /* N/m */
   double collider_velocity[3];     /* m/s */
   /* [integrator] */
-  char method[CB_NAME_LEN];        /* explicit | newton */
-  double dt;                       /* s */
+  char method[CB_NAME_LEN]; /* explicit | newton */
+  double dt;                /* s */
   int steps;
-  double damping;                  /* v <- damping v at the start of every step; 1 = none */
+  double damping; /* v <- damping v at the start of every step; 1 = none */
   /* the integrator types' own keys (integrator.max_iters, tol, ... of
    * cb_integrator_type.keys), in key-table order: numbers as they are,
    * booleans 0/1, a choice as its index. Read them with
    * cb_config_type_value / cb_config_choice, or bind them (bind.h). */
   double type_value[CB_MAX_TYPE_KEYS];
-  double diverge_ratio;            /* energy-growth bound, see README */
+  double diverge_ratio; /* energy-growth bound, see README */
   /* [solver] */
-  char solver[CB_NAME_LEN];        /* cholmod | ... */
-  double solver_tol;               /* relative residual */
+  char solver[CB_NAME_LEN]; /* cholmod | ... */
+  double solver_tol;        /* relative residual */
   int solver_max_iters;
-  double solver_alpha;             /* Jacobi weight; 0 = auto */
-  double solver_rho;               /* Chebyshev spectral radius; 0 = auto */
-  char solver_ordering[CB_NAME_LEN]; /* CHOLMOD fill-reducing ordering: default | amd | metis | nesdis */
-  double solver_nrelax[3];         /* CHOLMOD supernode relaxation (Common->nrelax) */
-  char solver_storage[CB_NAME_LEN];  /* what CHOLMOD reads: full | upper */
+  double solver_alpha;                /* Jacobi weight; 0 = auto */
+  double solver_rho;                  /* Chebyshev spectral radius; 0 = auto */
+  char solver_ordering[CB_NAME_LEN];  /* CHOLMOD fill-reducing ordering: default | amd | metis | nesdis */
+  double solver_nrelax[3];            /* CHOLMOD supernode relaxation (Common->nrelax) */
+  char solver_storage[CB_NAME_LEN];   /* what CHOLMOD reads: full | upper */
   char solver_denormals[CB_NAME_LEN]; /* subnormals during CHOLMOD's factorize/solve: flush | keep */
 
   /* Where each key's value came from, for error messages (index = key). */
-  struct { int line; char source; } where[64];
-  char path[CB_PATH_LEN];          /* config file ("" if none) */
-  char overrides[CB_PINS_LEN];     /* the --set arguments, space separated */
+  struct {
+    int line;
+    char source;
+  } where[64];
+  char path[CB_PATH_LEN];      /* config file ("" if none) */
+  char overrides[CB_PINS_LEN]; /* the --set arguments, space separated */
 } cb_config;
 
 /* All defaults (no file). */

@@ -26,10 +26,10 @@
 
 /* The colliders: X(name, its term's alloc, its post-step response), one line
  * each, in the order of collider.type's choices. */
-#define CB_COLLIDERS(X)                                  \
-  X("none", NULL, NULL)                                  \
-  X("penalty", cb_sphere_term_alloc, NULL)               \
-  X("project", NULL, &cb_response_sphere_project)        \
+#define CB_COLLIDERS(X) \
+  X("none", NULL, NULL) \
+  X("penalty", cb_sphere_term_alloc, NULL) \
+  X("project", NULL, &cb_response_sphere_project) \
   /* one X(...) line per collider, above this line */
 #define CB_COLLIDER_ROW(name_, term_, response_) {.name = name_, .term_alloc = term_, .response = response_},
 #define CB_COLLIDER_NAME(name_, term_, response_) name_,
@@ -75,9 +75,13 @@ static double sphere_energy(const cb_term *t, const double *x, double *grad) {
   return E;
 }
 
-static int sphere_pattern(const cb_term *t, cb_pattern *p) { return cb_stencil_pattern(&((const sphere_term *)t)->st, p); }
+static int sphere_pattern(const cb_term *t, cb_pattern *p) {
+  return cb_stencil_pattern(&((const sphere_term *)t)->st, p);
+}
 
-static int sphere_bind(cb_term *t, const cb_sparse *A) { return cb_stencil_bind(&((sphere_term *)t)->st, A, "collider sphere"); }
+static int sphere_bind(cb_term *t, const cb_sparse *A) {
+  return cb_stencil_bind(&((sphere_term *)t)->st, A, "collider sphere");
+}
 
 static const cb_stencil *sphere_stencil(const cb_term *t) { return &((const sphere_term *)t)->st; }
 
@@ -175,7 +179,8 @@ static int sphere_indefinite(const cb_term *t, const double *x, int *nv) {
  * around the origin), so some vertices of every state are inside. */
 static int sphere_example(const cb_model *m, int i, cb_term **out) {
   (void)i;
-  cb_sphere sp = {.centre = {0.1, 0.05, 0.2}, .radius = 0.35, .thickness = 0.05, .stiffness = 5000, .velocity = {0, 0, 0}};
+  cb_sphere sp = {
+      .centre = {0.1, 0.05, 0.2}, .radius = 0.35, .thickness = 0.05, .stiffness = 5000, .velocity = {0, 0, 0}};
   return cb_sphere_term_alloc(m, &sp, out);
 }
 
@@ -234,13 +239,17 @@ static int project_apply(cb_response *r, const cb_scene *s, double *x, double *v
   return CB_OK;
 }
 
-const cb_response_type cb_response_sphere_project = {
-    .name = "sphere-project", .size = sizeof(project_state), .init = project_init, .apply = project_apply, .free = NULL};
+const cb_response_type cb_response_sphere_project = {.name = "sphere-project",
+                                                     .size = sizeof(project_state),
+                                                     .init = project_init,
+                                                     .apply = project_apply,
+                                                     .free = NULL};
 
 int cb_scene_contacts(const cb_scene *s, const double *x) {
   int n = 0;
   for (int k = 0; k < s->sys.nterms; k++) n += cb_sphere_term_count_contacts(s->sys.terms[k], x);
   for (int k = 0; k < s->nresponses; k++)
-    if (s->responses[k].type == &cb_response_sphere_project) n += ((const project_state *)s->responses[k].state)->contacts;
+    if (s->responses[k].type == &cb_response_sphere_project)
+      n += ((const project_state *)s->responses[k].state)->contacts;
   return n;
 }

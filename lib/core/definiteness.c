@@ -52,7 +52,7 @@ cb_projection cb_definiteness_projection(cb_definiteness d) {
   switch (d) {
   case CB_DEF_DROP: return CB_PROJ_CLAMP; /* t -> max(t, 0) */
   case CB_DEF_MIRROR: return CB_PROJ_ABS; /* t -> |t| */
-  default: return CB_PROJ_NONE; /* none, shift (A is shifted in the solve), choi-ko (exact for its model) */
+  default: return CB_PROJ_NONE;           /* none, shift (A is shifted in the solve), choi-ko (exact for its model) */
   }
 }
 

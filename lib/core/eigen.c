@@ -35,13 +35,14 @@ void cb_scaled_op_apply(void *ctx, const double *x, double *y) {
  * tridiagonal matrix by the MRRR algorithm. */
 extern void dstevr_(const char *jobz, const char *range, const int *n, double *d, double *e, const double *vl,
                     const double *vu, const int *il, const int *iu, const double *abstol, int *m, double *w, double *z,
-                    const int *ldz, int *isuppz, double *work, const int *lwork, int *iwork, const int *liwork, int *info,
-                    size_t jobz_len, size_t range_len);
+                    const int *ldz, int *isuppz, double *work, const int *lwork, int *iwork, const int *liwork,
+                    int *info, size_t jobz_len, size_t range_len);
 
 /* The extreme eigenpairs of the k x k Lanczos tridiagonal T (alpha, beta):
  * O(k) each with dstevr, where a dense eigendecomposition would be O(k^3).
  * work: 24k doubles, iwork: 10k ints (dstevr wants 20k and 10k). */
-static int ritz(int k, const double *alpha, const double *beta, double beta_k, double *work, int *iwork, cb_eig_result *r) {
+static int ritz(int k, const double *alpha, const double *beta, double beta_k, double *work, int *iwork,
+                cb_eig_result *r) {
   double *d = work, *e = work + k, *z = work + 2 * k, *wv = work + 3 * k, *lw = work + 4 * k;
   int lwork = 20 * k, liwork = 10 * k, m, info, isuppz[2];
   double zero = 0;
@@ -54,15 +55,25 @@ static int ritz(int k, const double *alpha, const double *beta, double beta_k, d
             1, 1); /* W (wv) has n entries: LAPACK may use all of them */
     if (info != 0 || m != 1) return cb_fail("lanczos: tridiagonal eigensolve failed (dstevr info %d)", info);
     /* the Ritz pair (theta, Q s) has residual |beta_k| |s_k| (last component of s) */
-    if (which) { r->lmax = wv[0]; r->res_max = fabs(beta_k * z[k - 1]); }
-    else { r->lmin = wv[0]; r->res_min = fabs(beta_k * z[k - 1]); }
+    if (which) {
+      r->lmax = wv[0];
+      r->res_max = fabs(beta_k * z[k - 1]);
+    } else {
+      r->lmin = wv[0];
+      r->res_min = fabs(beta_k * z[k - 1]);
+    }
   }
   return CB_OK;
 }
 
 void cb_lanczos_workspace_free(cb_lanczos_workspace *ws) {
   if (!ws) return;
-  free(ws->Q); free(ws->w); free(ws->alpha); free(ws->beta); free(ws->tw); free(ws->tiw);
+  free(ws->Q);
+  free(ws->w);
+  free(ws->alpha);
+  free(ws->beta);
+  free(ws->tw);
+  free(ws->tiw);
   memset(ws, 0, sizeof *ws);
 }
 
@@ -116,26 +127,30 @@ int cb_lanczos_ws(cb_linop op, void *ctx, const cb_lanczos_params *pp, cb_lanczo
   for (; st == CB_OK && k < m; k++) {
     double *q = reorth ? Q + (size_t)k * n : Q + (size_t)(k % 3) * n;
     double *qprev = k == 0 ? NULL : reorth ? Q + (size_t)(k - 1) * n : Q + (size_t)((k + 2) % 3) * n;
-    op(ctx, q, w);                                     /* w = Op q_k */
+    op(ctx, q, w);                                           /* w = Op q_k */
     if (qprev) cblas_daxpy(n, -beta[k - 1], qprev, 1, w, 1); /* w -= beta_{k-1} q_{k-1} */
-    alpha[k] = cblas_ddot(n, q, 1, w, 1);              /* alpha_k = q_k . w */
-    cblas_daxpy(n, -alpha[k], q, 1, w, 1);             /* w -= alpha_k q_k */
-    if (reorth)                                        /* full reorthogonalisation, twice is enough */
+    alpha[k] = cblas_ddot(n, q, 1, w, 1);                    /* alpha_k = q_k . w */
+    cblas_daxpy(n, -alpha[k], q, 1, w, 1);                   /* w -= alpha_k q_k */
+    if (reorth)                                              /* full reorthogonalisation, twice is enough */
       for (int pass = 0; pass < 2; pass++)
         for (int j = 0; j <= k; j++) {
           double c = cblas_ddot(n, Q + (size_t)j * n, 1, w, 1);
           cblas_daxpy(n, -c, Q + (size_t)j * n, 1, w, 1);
         }
     beta[k] = cblas_dnrm2(n, w, 1);
-    if (!isfinite(alpha[k]) || !isfinite(beta[k])) { st = cb_fail_status(CB_DIVERGED, "lanczos: NaN in operator"); break; }
+    if (!isfinite(alpha[k]) || !isfinite(beta[k])) {
+      st = cb_fail_status(CB_DIVERGED, "lanczos: NaN in operator");
+      break;
+    }
     int invariant = beta[k] <= 1e-14 * fabs(alpha[k]); /* Krylov space is invariant: Ritz values exact */
     int last = k + 1 == m || invariant;
     if (last || (k + 1) % 5 == 0) {
       st = ritz(k + 1, alpha, beta, beta[k], tw, tiw, out);
       if (st) break;
       double scale = fmax(fabs(out->lmin), fabs(out->lmax));
-      int converged = invariant || k + 1 == n ||
-                      (p.done ? p.done(p.done_ctx, out) : out->res_min <= p.tol * scale && out->res_max <= p.tol * scale);
+      int converged =
+          invariant || k + 1 == n ||
+          (p.done ? p.done(p.done_ctx, out) : out->res_min <= p.tol * scale && out->res_max <= p.tol * scale);
       if (converged || last) {
         out->status = converged ? CB_OK : CB_NOT_CONVERGED;
         k++;
@@ -176,7 +191,8 @@ int cb_dense_eigenvalues(const cb_sparse *A, const double *d, double *eval) {
   gsl_vector *ev = gsl_vector_alloc(n);
   gsl_eigen_symm_workspace *ws = gsl_eigen_symm_alloc(n);
   if (!D || !ev || !ws) {
-    gsl_matrix_free(D); gsl_vector_free(ev);
+    gsl_matrix_free(D);
+    gsl_vector_free(ev);
     if (ws) gsl_eigen_symm_free(ws);
     return cb_fail_status(CB_ENOMEM, "dense eigenvalues: out of memory for n = %zu", n);
   }
@@ -187,6 +203,8 @@ int cb_dense_eigenvalues(const cb_sparse *A, const double *d, double *eval) {
     gsl_sort_vector(ev);
     for (size_t i = 0; i < n; i++) eval[i] = scale * gsl_vector_get(ev, i);
   }
-  gsl_matrix_free(D); gsl_vector_free(ev); gsl_eigen_symm_free(ws);
+  gsl_matrix_free(D);
+  gsl_vector_free(ev);
+  gsl_eigen_symm_free(ws);
   return st;
 }

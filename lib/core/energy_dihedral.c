@@ -86,19 +86,25 @@ int cb_hinge_term_is(const cb_term *t) {
 typedef struct {
   cb_term base;
   int nh;
-  int *vert;          /* 4*nh: x0, x1 (edge), x2 (wing A), x3 (wing B) */
-  double *c;          /* nh: k_b 3 |e_bar|^2 / (A_bar_A + A_bar_B), J */
-  double *theta_bar;  /* nh: rest angle, rad */
-  double *e2_bar;     /* nh: rest |e|^2 */
+  int *vert;         /* 4*nh: x0, x1 (edge), x2 (wing A), x3 (wing B) */
+  double *c;         /* nh: k_b 3 |e_bar|^2 / (A_bar_A + A_bar_B), J */
+  double *theta_bar; /* nh: rest angle, rad */
+  double *e2_bar;    /* nh: rest |e|^2 */
   cb_stencil st;
   cb_projection_work *work; /* 12 x 12; used by one assembly at a time */
 } hinge_term;
 
 /* [v]x, row-major: [v]x u = v x u */
 static inline void skew(const double *v, double *S) {
-  S[0] = 0; S[1] = -v[2]; S[2] = v[1];
-  S[3] = v[2]; S[4] = 0; S[5] = -v[0];
-  S[6] = -v[1]; S[7] = v[0]; S[8] = 0;
+  S[0] = 0;
+  S[1] = -v[2];
+  S[2] = v[1];
+  S[3] = v[2];
+  S[4] = 0;
+  S[5] = -v[0];
+  S[6] = -v[1];
+  S[7] = v[0];
+  S[8] = 0;
 }
 
 /* Geometry of one hinge at positions p[4][3]. */
@@ -106,7 +112,7 @@ typedef struct {
   double e[3], a[3], b[3], NA[3], NB[3];
   double e2, le, nA2, nB2;
   double theta;
-  double G[2][3];  /* G_A, G_B */
+  double G[2][3]; /* G_A, G_B */
   double alpha[2];
   double grad[12]; /* dtheta/dx */
 } hinge_geo;
@@ -244,7 +250,9 @@ static double hinge_energy(const cb_term *t, const double *x, double *grad) {
   return E;
 }
 
-static int hinge_pattern(const cb_term *t, cb_pattern *p) { return cb_stencil_pattern(&((const hinge_term *)t)->st, p); }
+static int hinge_pattern(const cb_term *t, cb_pattern *p) {
+  return cb_stencil_pattern(&((const hinge_term *)t)->st, p);
+}
 
 static int hinge_bind(cb_term *t, const cb_sparse *A) {
   char what[64];
@@ -300,7 +308,8 @@ static void hinge_hessian_gn(const cb_term *t, const double *x, cb_projection pr
  * zeros for a hinge degenerate in this state. */
 static const cb_stencil *hinge_stencil(const cb_term *t) { return &((const hinge_term *)t)->st; }
 
-static double hinge_element(const cb_term *t, int e, const double *x, cb_projection proj, double *g, double *H, int exact) {
+static double hinge_element(const cb_term *t, int e, const double *x, cb_projection proj, double *g, double *H,
+                            int exact) {
   const hinge_term *h = (const hinge_term *)t;
   double p[12];
   hinge_geo geo;
@@ -392,7 +401,8 @@ int cb_hinge_term_alloc(const cb_model *m, const char *label, double k, cb_term 
 
 int cb_hinge_term_set_hessian(cb_term *t, cb_bend_hessian kind) {
   if (!cb_hinge_term_is(t)) return cb_fail("material.bend_hessian: %s is not a dihedral term", t ? t->label : "(null)");
-  if (kind != CB_BEND_GAUSS_NEWTON && kind != CB_BEND_EXACT) return cb_fail("material.bend_hessian: unknown Hessian %d", (int)kind);
+  if (kind != CB_BEND_GAUSS_NEWTON && kind != CB_BEND_EXACT)
+    return cb_fail("material.bend_hessian: unknown Hessian %d", (int)kind);
   t->type = kind == CB_BEND_EXACT ? &cb_term_dihedral_exact_type : &cb_term_dihedral_type;
   return CB_OK;
 }

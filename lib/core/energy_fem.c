@@ -89,7 +89,8 @@ static inline double fem_elem(const fem_term *f, int e, const double *x, double 
   if (g) {
     const double *b = f->b + 6 * e;
     for (int a = 0; a < 3; a++)
-      for (int r = 0; r < 3; r++) g[3 * a + r] = 2 * c * (D[2 * r] * b[2 * a] + D[2 * r + 1] * b[2 * a + 1]); /* P b_a */
+      for (int r = 0; r < 3; r++)
+        g[3 * a + r] = 2 * c * (D[2 * r] * b[2 * a] + D[2 * r + 1] * b[2 * a + 1]); /* P b_a */
   }
   return c * s; /* mu A |F - R|^2 */
 }
@@ -205,7 +206,8 @@ static void fem_hessian_exact(const cb_term *t, const double *x, cb_projection p
 }
 
 static void fem_hessian_frozen(const cb_term *t, const double *x, cb_projection proj, double *val) {
-  (void)x; (void)proj; /* constant and PSD */
+  (void)x;
+  (void)proj; /* constant and PSD */
   const fem_term *f = (const fem_term *)t;
   double H[81];
   for (int e = 0; e < f->nt; e++) {
@@ -291,7 +293,10 @@ int cb_fem_term_alloc(const cb_model *m, const char *label, double mu, cb_fem_he
     memcpy(f->tri + 3 * e, v, 3 * sizeof(int));
     const double *r0 = mesh->x + 3 * v[0], *r1 = mesh->x + 3 * v[1], *r2 = mesh->x + 3 * v[2];
     double d1[3], d2[3], n[3];
-    for (int a = 0; a < 3; a++) { d1[a] = r1[a] - r0[a]; d2[a] = r2[a] - r0[a]; }
+    for (int a = 0; a < 3; a++) {
+      d1[a] = r1[a] - r0[a];
+      d2[a] = r2[a] - r0[a];
+    }
     n[0] = d1[1] * d2[2] - d1[2] * d2[1];
     n[1] = d1[2] * d2[0] - d1[0] * d2[2];
     n[2] = d1[0] * d2[1] - d1[1] * d2[0];
@@ -305,12 +310,16 @@ int cb_fem_term_alloc(const cb_model *m, const char *label, double mu, cb_fem_he
     e2[0] = (n[1] * e1[2] - n[2] * e1[1]) / nn;
     e2[1] = (n[2] * e1[0] - n[0] * e1[2]) / nn;
     e2[2] = (n[0] * e1[1] - n[1] * e1[0]) / nn;
-    double D00 = l1, D01 = e1[0] * d2[0] + e1[1] * d2[1] + e1[2] * d2[2], D11 = e2[0] * d2[0] + e2[1] * d2[1] + e2[2] * d2[2];
+    double D00 = l1, D01 = e1[0] * d2[0] + e1[1] * d2[1] + e1[2] * d2[2],
+           D11 = e2[0] * d2[0] + e2[1] * d2[1] + e2[2] * d2[2];
     /* D_m = [[D00, D01], [0, D11]]; its inverse's rows are b_1, b_2 */
     double *b = f->b + 6 * e;
-    b[2] = 1 / D00; b[3] = -D01 / (D00 * D11);
-    b[4] = 0;       b[5] = 1 / D11;
-    b[0] = -b[2] - b[4]; b[1] = -b[3] - b[5];
+    b[2] = 1 / D00;
+    b[3] = -D01 / (D00 * D11);
+    b[4] = 0;
+    b[5] = 1 / D11;
+    b[0] = -b[2] - b[4];
+    b[1] = -b[3] - b[5];
     f->area[e] = 0.5 * nn;
   }
   *out = &f->base;

@@ -34,11 +34,8 @@ static int gravity_example(const cb_model *m, int i, cb_term **out) {
   return cb_gravity_term_alloc(m, (const double[3]){0.5, -9.8, 1.25}, out);
 }
 
-const cb_term_type cb_term_gravity_type = {.name = "gravity",
-                                           .energy = gravity_energy,
-                                           .free = gravity_free,
-                                           .nexamples = 1,
-                                           .example = gravity_example};
+const cb_term_type cb_term_gravity_type = {
+    .name = "gravity", .energy = gravity_energy, .free = gravity_free, .nexamples = 1, .example = gravity_example};
 const cb_term_type *const cb_term_gravity = &cb_term_gravity_type;
 
 int cb_gravity_term_alloc(const cb_model *m, const double g[3], cb_term **out) {
@@ -54,7 +51,8 @@ int cb_gravity_term_alloc(const cb_model *m, const double g[3], cb_term **out) {
 }
 
 int cb_gravity_term_vector(const cb_term *t, double g[3]) {
-  if (!t || t->type != &cb_term_gravity_type) return cb_fail("term '%s' is not a gravity term", t ? t->label : "(null)");
+  if (!t || t->type != &cb_term_gravity_type)
+    return cb_fail("term '%s' is not a gravity term", t ? t->label : "(null)");
   memcpy(g, ((const gravity_term *)t)->g, 3 * sizeof(double));
   return CB_OK;
 }

@@ -36,10 +36,10 @@ extern const cb_term_type cb_term_quadratic_type;
 typedef struct {
   cb_term base;
   int nh;
-  int *vert;    /* 4*nh: x0, x1 (edge), x2 (wing A), x3 (wing B) */
-  double *q;    /* 4*nh cotangent weights */
-  double *w;    /* nh: k_b 3 / (A_0 + A_1), J/m^2 */
-  double *qx0;  /* 3*nh: q^T x_bar (0 for a planar rest hinge) */
+  int *vert;   /* 4*nh: x0, x1 (edge), x2 (wing A), x3 (wing B) */
+  double *q;   /* 4*nh cotangent weights */
+  double *w;   /* nh: k_b 3 / (A_0 + A_1), J/m^2 */
+  double *qx0; /* 3*nh: q^T x_bar (0 for a planar rest hinge) */
   cb_stencil st;
 } quad_term;
 

@@ -40,17 +40,17 @@
 typedef struct {
   cb_term base;
   int ns;
-  int *ends;    /* 2*ns vertex indices (the pairs: the stencil's and cb_spring_term_springs') */
-  int *ei, *ej; /* ns each: the same ends as two arrays (structure of arrays, for the kernel) */
-  double *rest; /* ns rest lengths L, m */
-  double k;     /* N/m */
+  int *ends;      /* 2*ns vertex indices (the pairs: the stencil's and cb_spring_term_springs') */
+  int *ei, *ej;   /* ns each: the same ends as two arrays (structure of arrays, for the kernel) */
+  double *rest;   /* ns rest lengths L, m */
+  double k;       /* N/m */
   cb_choi_ko *ck; /* ns: Choi-Ko response of each spring, or NULL (linear springs) */
   cb_stencil st;  /* 2-vertex elements (i, j) = ends, bound to the pattern */
   int nv;         /* vertices of the mesh */
   int *mid;       /* nv: where each vertex's list turns from second ends to first ends (when split) */
   int split;      /* every vertex's list is second ends, then first ends */
-  int *off, *inc; /* nv + 1, 2*ns: each vertex's springs, inc[off[v]..off[v+1]) = 2e + side (0: v = ei[e], 1: v = ej[e]),
-                   * e increasing: the gather's order is the scatter's */
+  int *off, *inc; /* nv + 1, 2*ns: each vertex's springs, inc[off[v]..off[v+1]) = 2e + side (0: v = ei[e], 1: v =
+                   * ej[e]), e increasing: the gather's order is the scatter's */
   int sorted;     /* ei nondecreasing (the mesh's edges are): the gather sums E too */
   double *f;      /* 4*ns scratch of the kernel: dE/dx_i of each spring (x, y, z blocks of ns), then its energy */
 } spring_term;
@@ -93,13 +93,14 @@ static inline double spring_eval(const spring_term *s, int e, const double *x, d
 static void spring_forces(const spring_term *s, const double *restrict x) {
   const int ns = s->ns, *restrict ei = s->ei, *restrict ej = s->ej;
   const double *restrict rest = s->rest, k = s->k;
-  double *restrict fx = s->f, *restrict fy = s->f + ns, *restrict fz = s->f + 2 * (size_t)ns, *restrict en = s->f + 3 * (size_t)ns;
+  double *restrict fx = s->f, *restrict fy = s->f + ns, *restrict fz = s->f + 2 * (size_t)ns,
+                   *restrict en = s->f + 3 * (size_t)ns;
   for (int e = 0; e < ns; e++) {
     int i = ei[e], j = ej[e];
     double dx = x[3 * i] - x[3 * j], dy = x[3 * i + 1] - x[3 * j + 1], dz = x[3 * i + 2] - x[3 * j + 2];
     double l = sqrt(dx * dx + dy * dy + dz * dz);
     double stretch = l - rest[e];
-    double c = k * stretch / l;           /* dE/dx_i = k (l - L) x_ij / l */
+    double c = k * stretch / l; /* dE/dx_i = k (l - L) x_ij / l */
     fx[e] = c * dx;
     fy[e] = c * dy;
     fz[e] = c * dz;
@@ -124,7 +125,8 @@ static double spring_energy(const cb_term *t, const double *x, double *grad) {
     double E = cb_spring_gather_energy(&g);
     double none = 0.0;
     if (grad)
-      for (int v = 0; v < s->nv; v++) cb_spring_gather_add(&g, v, grad + 3 * v, grad + 3 * v + 1, grad + 3 * v + 2, &none);
+      for (int v = 0; v < s->nv; v++)
+        cb_spring_gather_add(&g, v, grad + 3 * v, grad + 3 * v + 1, grad + 3 * v + 2, &none);
     return E;
   }
   double E = 0.0; /* sorted springs: E summed in the gather, in spring order */
@@ -132,7 +134,9 @@ static double spring_energy(const cb_term *t, const double *x, double *grad) {
   return E;
 }
 
-static int spring_pattern(const cb_term *t, cb_pattern *p) { return cb_stencil_pattern(&((const spring_term *)t)->st, p); }
+static int spring_pattern(const cb_term *t, cb_pattern *p) {
+  return cb_stencil_pattern(&((const spring_term *)t)->st, p);
+}
 
 static int spring_bind(cb_term *t, const cb_sparse *A) {
   char what[64];
@@ -149,14 +153,14 @@ static inline void spring_block(const spring_term *s, int e, const double *x, cb
   if (s->ck && l < s->rest[e]) {
     double Eb, dEb, d2Eb;
     cb_choi_ko_eval(&s->ck[e], l, &Eb, &dEb, &d2Eb);
-    along = d2Eb;   /* E''(l) */
-    tr = dEb / l;   /* E'(l) / l */
+    along = d2Eb; /* E''(l) */
+    tr = dEb / l; /* E'(l) / l */
   }
   tr = cb_projection_eigenvalue(proj, tr); /* the element's only possibly negative eigenvalue (2 tr) */
   for (int a = 0; a < 3; a++)
     for (int b = 0; b < 3; b++) {
-      double uu = d[a] * d[b] / l2;                       /* (uu^T)_ab */
-      H[3 * a + b] = along * uu + tr * ((a == b) - uu);   /* H_e = k uu^T + tr (I - uu^T) */
+      double uu = d[a] * d[b] / l2;                     /* (uu^T)_ab */
+      H[3 * a + b] = along * uu + tr * ((a == b) - uu); /* H_e = k uu^T + tr (I - uu^T) */
     }
 }
 
@@ -286,7 +290,8 @@ int cb_spring_term_alloc(const cb_model *m, const char *label, int ns, const int
     s->rest[e] = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     if (!(s->rest[e] > 0)) {
       spring_free(&s->base);
-      return cb_fail("%s spring %d between vertices %d and %d has zero rest length (coincident vertices)", label, e, i, j);
+      return cb_fail("%s spring %d between vertices %d and %d has zero rest length (coincident vertices)", label, e, i,
+                     j);
     }
     s->ei[e] = i;
     s->ej[e] = j;

@@ -97,16 +97,20 @@ static void buckle_terms(double th, double *q, double *s, double *r) {
  * Newton on q(theta) - c, q' = s / theta^2, kept inside a bisection bracket. */
 static double buckle_theta(double c) {
   double lo = 0.0, hi = 3.14159265358979323846; /* pi: the arc closes into a circle at l = 0 */
-  double th = sqrt(6.0 * c); /* q ~ theta^2/6 */
+  double th = sqrt(6.0 * c);                    /* q ~ theta^2/6 */
   if (!(th < hi)) th = 0.5 * (lo + hi);
   for (int it = 0; it < 100; it++) {
     double q, s, r;
     buckle_terms(th, &q, &s, &r);
     double f = q - c;
-    if (f > 0) hi = th; else lo = th;
+    if (f > 0) hi = th;
+    else lo = th;
     double next = th - f * th * th / s; /* theta -= (q - c) / q' */
     if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-    if (fabs(next - th) <= 1e-15 * th || hi - lo <= 1e-16 * hi) { th = next; break; }
+    if (fabs(next - th) <= 1e-15 * th || hi - lo <= 1e-16 * hi) {
+      th = next;
+      break;
+    }
     th = next;
   }
   return th;
@@ -115,15 +119,17 @@ static double buckle_theta(double c) {
 double cb_choi_ko_response(double L, double l, double kb, double *E, double *dE, double *d2E) {
   double c = (L - l) / L; /* 1 - sinc(theta) */
   if (!(c > 0)) {         /* not compressed: no buckling energy */
-    *E = 0; *dE = 0; *d2E = 0;
+    *E = 0;
+    *dE = 0;
+    *d2E = 0;
     return 0.0;
   }
-  if (c > 1) c = 1;      /* l < 0 cannot occur; guard */
+  if (c > 1) c = 1; /* l < 0 cannot occur; guard */
   double th = buckle_theta(c), q, s, r;
   buckle_terms(th, &q, &s, &r);
   double th2 = th * th;
-  *E = 2.0 * kb * th2 / L;                               /* E_b = 2 k_b theta^2 / L */
-  *dE = -4.0 * kb * th2 * th / (L * L * s);              /* dE/dl = -4 k_b theta^3 / (L^2 s) */
+  *E = 2.0 * kb * th2 / L;                                   /* E_b = 2 k_b theta^2 / L */
+  *dE = -4.0 * kb * th2 * th / (L * L * s);                  /* dE/dl = -4 k_b theta^3 / (L^2 s) */
   *d2E = 4.0 * kb * th2 * th2 * r / (L * L * L * s * s * s); /* d2E/dl2 = 4 k_b theta^4 r / (L^3 s^3) */
   return th;
 }
@@ -132,9 +138,13 @@ double cb_choi_ko_response(double L, double l, double kb, double *E, double *dE,
  * c = (L - l)/L: G(c) = k L c - f_b(c), G(0+) = -12 k_b/L^2 < 0,
  * dG/dc = L (k - E_b''). Newton kept inside a bisection bracket. */
 int cb_choi_ko_init(cb_choi_ko *c, double k, double L, double kb) {
-  c->k = k; c->L = L; c->kb = kb;
-  c->lc = L; c->Ec = 0;
-  if (!(k > 0 && L > 0 && kb > 0)) return cb_fail("choi-ko: need k > 0, L > 0, k_b > 0 (k = %g, L = %g, k_b = %g)", k, L, kb);
+  c->k = k;
+  c->L = L;
+  c->kb = kb;
+  c->lc = L;
+  c->Ec = 0;
+  if (!(k > 0 && L > 0 && kb > 0))
+    return cb_fail("choi-ko: need k > 0, L > 0, k_b > 0 (k = %g, L = %g, k_b = %g)", k, L, kb);
   double emax = 12.0 * 3.14159265358979323846 * 3.14159265358979323846 * kb / (L * L * L); /* 12 pi^2 k_b / L^3 */
   if (!(k > emax))
     return cb_fail("choi-ko: k_b = %g N m^2 is too stiff for k = %g N/m and L = %g m (need k > 12 pi^2 k_b / L^3 = %g)",
@@ -146,10 +156,14 @@ int cb_choi_ko_init(cb_choi_ko *c, double k, double L, double kb) {
   for (int it = 0; it < 200; it++) {
     cb_choi_ko_response(L, L * (1 - cc), kb, &E, &dE, &d2E);
     double G = k * L * cc + dE; /* k L c - f_b */
-    if (G > 0) hi = cc; else lo = cc;
+    if (G > 0) hi = cc;
+    else lo = cc;
     double next = cc - G / (L * (k - d2E));
     if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-    if (fabs(next - cc) <= 1e-15 * cc || hi - lo <= 1e-16 * hi) { cc = next; break; }
+    if (fabs(next - cc) <= 1e-15 * cc || hi - lo <= 1e-16 * hi) {
+      cc = next;
+      break;
+    }
     cc = next;
   }
   c->lc = cc * L;
@@ -165,5 +179,5 @@ void cb_choi_ko_eval(const cb_choi_ko *c, double l, double *E, double *dE, doubl
     return;
   }
   cb_choi_ko_response(c->L, l, c->kb, E, dE, d2E); /* buckled: E_b(l) */
-  *E += 0.5 * c->k * c->lc * c->lc - c->Ec;         /* + 1/2 k (L - l*)^2 - E_b(l*) */
+  *E += 0.5 * c->k * c->lc * c->lc - c->Ec;        /* + 1/2 k (L - l*)^2 - E_b(l*) */
 }

@@ -21,18 +21,18 @@
  * below declares and lists it. The order is that of integrator.method's
  * choices, of the config keys (--help-config) and of the tests' loops. */
 #define CB_INTEGRATOR_REGISTRY(X) \
-  X(explicit)                     \
-  X(newton)                       \
-  X(jacobi_nl)                    \
-  X(chebyshev_nl)                 \
-  X(pd)                           \
-  X(pd_chebyshev)                 \
-  X(pbd)                          \
-  X(xpbd)                         \
-  X(lbfgs)                        \
-  X(vbd)                          \
-  X(vbd_chebyshev)                \
-  X(shape_matching)               \
+  X(explicit) \
+  X(newton) \
+  X(jacobi_nl) \
+  X(chebyshev_nl) \
+  X(pd) \
+  X(pd_chebyshev) \
+  X(pbd) \
+  X(xpbd) \
+  X(lbfgs) \
+  X(vbd) \
+  X(vbd_chebyshev) \
+  X(shape_matching) \
   /* one X(id) line per integrator, above this line */
 #define CB_INTEGRATOR_DECLARE(id) extern const cb_integrator_type cb_integrator_##id;
 #define CB_INTEGRATOR_ENTRY(id) &cb_integrator_##id,
@@ -66,9 +66,10 @@ int cb_integrator_alloc(const char *method, cb_scene *scene, const cb_integrator
   for (int i = 0; i < scene->mesh.nv; i++) mmax = fmax(mmax, scene->mass[i]);
   if (!isfinite(mmax / (p->dt * p->dt))) /* every implicit method's inertia term; 1/dt^2 alone may overflow */
     return cb_fail("integrator.dt = %g s is too small for double precision: the inertia term M/dt^2 of the heaviest "
-                   "vertex (%g kg) is not a finite double; dt must be at least %.3g s", p->dt, mmax,
-                   2 * sqrt(mmax) / sqrt(DBL_MAX));
-  if (!(p->damping >= 0 && p->damping <= 1)) return cb_fail("integrator: damping must be in [0, 1], got %g", p->damping);
+                   "vertex (%g kg) is not a finite double; dt must be at least %.3g s",
+                   p->dt, mmax, 2 * sqrt(mmax) / sqrt(DBL_MAX));
+  if (!(p->damping >= 0 && p->damping <= 1))
+    return cb_fail("integrator: damping must be in [0, 1], got %g", p->damping);
   if ((t->flags & CB_INTEGRATOR_LINEAR_SOLVER) && !solver) return cb_fail("%s: needs a linear solver", t->name);
   cb_integrator *it = cb_calloc(1, sizeof *it);
   if (!it) return CB_ENOMEM;
@@ -80,7 +81,8 @@ int cb_integrator_alloc(const char *method, cb_scene *scene, const cb_integrator
   if (t->params_size) { /* the type's parameters: the caller's, or the type's defaults */
     it->type_params = cb_malloc(1, t->params_size);
     if (!it->type_params) st = CB_ENOMEM;
-    else if (type_params || t->params_default) memcpy(it->type_params, type_params ? type_params : t->params_default, t->params_size);
+    else if (type_params || t->params_default)
+      memcpy(it->type_params, type_params ? type_params : t->params_default, t->params_size);
     else memset(it->type_params, 0, t->params_size);
   }
   if (st == CB_OK && t->size && !(it->state = cb_calloc(1, t->size))) st = CB_ENOMEM;
@@ -138,7 +140,11 @@ int cb_integrator_measure(const cb_integrator *it, cb_objective *o, const double
     cb_newton_event ev;
     memset(&ev, 0, sizeof ev);
     ev.alpha = 1.0;
-    ev.iter = iter; ev.F = F; ev.grad_norm = gn; ev.rel_grad = st->rel_grad; ev.x = x;
+    ev.iter = iter;
+    ev.F = F;
+    ev.grad_norm = gn;
+    ev.rel_grad = st->rel_grad;
+    ev.x = x;
     hook(it->params.hook_ctx, CB_NEWTON_GRADIENT, &ev);
   }
   return CB_OK;

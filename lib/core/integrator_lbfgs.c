@@ -60,7 +60,8 @@ enum { LS_MAX_TRIALS = 40 };
 #define C1 1e-4       /* Armijo's sufficient decrease */
 #define C2 0.9        /* Wolfe's curvature (Nocedal and Wright's value for quasi-Newton methods) */
 
-static const cb_lbfgs_params lbfgs_defaults = {.iters = 32, .tol = 1e-8, .tol_dx = 0, .window = 5, .line_search = LS_ARMIJO};
+static const cb_lbfgs_params lbfgs_defaults = {
+    .iters = 32, .tol = 1e-8, .tol_dx = 0, .window = 5, .line_search = LS_ARMIJO};
 
 cb_lbfgs_params cb_lbfgs_params_default(void) { return lbfgs_defaults; }
 
@@ -71,9 +72,20 @@ static const cb_param_key lbfgs_keys[] = {
     CB_KEY_ITERS(LP(iters)),
     CB_KEY_TOL(LP(tol)),
     CB_KEY_TOL_DX(LP(tol_dx)),
-    {.name = "lbfgs_window", .kind = CB_PARAM_INT, .offset = LP(window), .def = "5", .unit = "pairs", .lo = 1, .hi = 1000,
+    {.name = "lbfgs_window",
+     .kind = CB_PARAM_INT,
+     .offset = LP(window),
+     .def = "5",
+     .unit = "pairs",
+     .lo = 1,
+     .hi = 1000,
      .doc = "lbfgs: the number m of (s, y) pairs kept (Liu et al. 2017 use 5)."},
-    {.name = "lbfgs_line_search", .kind = CB_PARAM_CHOICE, .offset = LP(line_search), .def = "armijo", .unit = "-", .choices = cb_lbfgs_line_search_names,
+    {.name = "lbfgs_line_search",
+     .kind = CB_PARAM_CHOICE,
+     .offset = LP(line_search),
+     .def = "armijo",
+     .unit = "-",
+     .choices = cb_lbfgs_line_search_names,
      .doc = "lbfgs: `armijo` backtracking, or `wolfe` (the strong Wolfe conditions, c1 = 1e-4, c2 = 0.9)."},
     CB_KEY_END,
 };
@@ -82,21 +94,28 @@ static const cb_param_key lbfgs_keys[] = {
 typedef struct {
   cb_objective obj;
   cb_sparse H0;
-  int m;               /* window */
-  double *S, *Y;       /* m x 3 nfree, ring buffers */
-  double *rho, *a;     /* m */
-  int npairs, newest;  /* pairs stored, slot of the newest */
+  int m;                  /* window */
+  double *S, *Y;          /* m x 3 nfree, ring buffers */
+  double *rho, *a;        /* m */
+  int npairs, newest;     /* pairs stored, slot of the newest */
   double *g, *gt, *q, *d; /* 3 nfree: gradient, trial gradient, recursion, direction */
-  double *xt;          /* 3 nv: trial iterate */
-  double scale_t;      /* S (the size of F's summands) at the last trial */
+  double *xt;             /* 3 nv: trial iterate */
+  double scale_t;         /* S (the size of F's summands) at the last trial */
 } lbfgs_work;
 
 static void lb_free(cb_integrator *it) {
   lbfgs_work *w = it->state;
   cb_objective_free(&w->obj);
   cb_sparse_free(&w->H0);
-  free(w->S); free(w->Y); free(w->rho); free(w->a);
-  free(w->g); free(w->gt); free(w->q); free(w->d); free(w->xt);
+  free(w->S);
+  free(w->Y);
+  free(w->rho);
+  free(w->a);
+  free(w->g);
+  free(w->gt);
+  free(w->q);
+  free(w->d);
+  free(w->xt);
 }
 
 static int lb_init(cb_integrator *it) {
@@ -106,7 +125,8 @@ static int lb_init(cb_integrator *it) {
   if (p->iters < 1) return cb_fail("lbfgs: iters must be >= 1, got %d", p->iters);
   if (p->window < 1) return cb_fail("lbfgs: lbfgs_window must be >= 1, got %d", p->window);
   if (!(p->tol >= 0 && p->tol <= 1)) return cb_fail("lbfgs: tol must be in [0, 1], got %g", p->tol);
-  if (p->line_search != LS_ARMIJO && p->line_search != LS_WOLFE) return cb_fail("lbfgs: unknown line search %d", p->line_search);
+  if (p->line_search != LS_ARMIJO && p->line_search != LS_WOLFE)
+    return cb_fail("lbfgs: unknown line search %d", p->line_search);
   int nf3 = 3 * s->model.nfree, nv3 = 3 * s->mesh.nv;
   size_t mn = (size_t)p->window * (size_t)nf3 + 1;
   w->m = p->window;
@@ -125,7 +145,8 @@ static int lb_init(cb_integrator *it) {
   if (!w->S || !w->Y || !w->rho || !w->a || !w->g || !w->gt || !w->q || !w->d || !w->xt) return CB_ENOMEM;
   if (nf3 == 0) return CB_OK;
   st = cb_solver_factor(it->solver, &w->H0); /* once per integrator */
-  if (st) return cb_fail_status(st, "lbfgs: factorising its initial Hessian M/dt^2 + L failed (%s)", cb_status_name(st));
+  if (st)
+    return cb_fail_status(st, "lbfgs: factorising its initial Hessian M/dt^2 + L failed (%s)", cb_status_name(st));
   return CB_OK;
 }
 
@@ -186,9 +207,13 @@ static int line_search(lbfgs_work *w, const cb_scene *s, int kind, const double 
       hi = a;
     } else if (kind == LS_WOLFE) {
       double dslope = cblas_ddot(nf3, w->gt, 1, w->d, 1);
-      if (fabs(dslope) <= C2 * -slope) { *Fn = Ft; *alpha = a; return CB_OK; } /* strong Wolfe */
-      if (dslope < 0) lo = a;  /* still going down: longer */
-      else hi = a;             /* past the minimum along d: shorter */
+      if (fabs(dslope) <= C2 * -slope) {
+        *Fn = Ft;
+        *alpha = a;
+        return CB_OK;
+      }                       /* strong Wolfe */
+      if (dslope < 0) lo = a; /* still going down: longer */
+      else hi = a;            /* past the minimum along d: shorter */
     } else {
       *Fn = Ft;
       *alpha = a;
@@ -223,23 +248,42 @@ static int lb_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
     st->grad_norm = gn;
     st->rel_grad = st->rel_grad_hat = g0 > 0 ? gn / g0 : 0.0;
     st->newton_iters = k;
-    if (!isfinite(F) || !isfinite(gn)) { status = CB_DIVERGED; break; }
+    if (!isfinite(F) || !isfinite(gn)) {
+      status = CB_DIVERGED;
+      break;
+    }
     if (hook) {
-      ev.iter = k; ev.F = F; ev.grad_norm = gn; ev.rel_grad = st->rel_grad; ev.x = x;
+      ev.iter = k;
+      ev.F = F;
+      ev.grad_norm = gn;
+      ev.rel_grad = st->rel_grad;
+      ev.x = x;
       hook(it->params.hook_ctx, CB_NEWTON_GRADIENT, &ev);
     }
-    if (gn <= p->tol * g0 || nf3 == 0) { status = CB_OK; break; }
+    if (gn <= p->tol * g0 || nf3 == 0) {
+      status = CB_OK;
+      break;
+    }
     if (k == p->iters) break; /* max_iters */
     int ls = direction(it, w, nf3, st);
-    if (ls != CB_OK && ls != CB_NOT_CONVERGED) { status = ls == CB_ENOMEM ? CB_ENOMEM : CB_LINEAR_FAILED; break; }
+    if (ls != CB_OK && ls != CB_NOT_CONVERGED) {
+      status = ls == CB_ENOMEM ? CB_ENOMEM : CB_LINEAR_FAILED;
+      break;
+    }
     double slope = cblas_ddot(nf3, w->g, 1, w->d, 1);
     if (!(slope < 0) && w->npairs > 0) { /* not a descent direction: drop the history, -H0^-1 g */
       w->npairs = 0;
       ls = direction(it, w, nf3, st);
-      if (ls != CB_OK && ls != CB_NOT_CONVERGED) { status = ls == CB_ENOMEM ? CB_ENOMEM : CB_LINEAR_FAILED; break; }
+      if (ls != CB_OK && ls != CB_NOT_CONVERGED) {
+        status = ls == CB_ENOMEM ? CB_ENOMEM : CB_LINEAR_FAILED;
+        break;
+      }
       slope = cblas_ddot(nf3, w->g, 1, w->d, 1);
     }
-    if (!(slope < 0)) { status = CB_LS_FAILED; break; }
+    if (!(slope < 0)) {
+      status = CB_LS_FAILED;
+      break;
+    }
     double Fn, alpha;
     if (line_search(w, s, p->line_search, x, F, slope, scale, nf3, &Fn, &alpha, st) != CB_OK) {
       status = CB_LS_FAILED;

@@ -53,16 +53,16 @@ enum { LS_MAX_HALVINGS = 40 };
 #define LS_FLAT 1e-12 /* |grad F . dx| / S below which F cannot resolve the decrease */
 
 typedef struct {
-  cb_objective obj;               /* F, grad F, xhat, x0 */
-  double *xtrial;                 /* 3*nv */
-  double *gF, *b, *dx;            /* 3*nfree */
-  cb_shift *shift;                /* workspace of the shift policy */
-  int constant_A;                 /* every Hessian term is constant and the solver direct */
-  double factored_dt;             /* dt of the factorisation kept for a constant A; 0 = none */
+  cb_objective obj;    /* F, grad F, xhat, x0 */
+  double *xtrial;      /* 3*nv */
+  double *gF, *b, *dx; /* 3*nfree */
+  cb_shift *shift;     /* workspace of the shift policy */
+  int constant_A;      /* every Hessian term is constant and the solver direct */
+  double factored_dt;  /* dt of the factorisation kept for a constant A; 0 = none */
 } newton_work;
 
-static const cb_newton_params newton_defaults = {.max_iters = 50, .tol = 1e-8, .tol_dx = 0, .init_predict = 1,
-                                                 .line_search = 0, .definiteness = CB_DEF_DROP};
+static const cb_newton_params newton_defaults = {
+    .max_iters = 50, .tol = 1e-8, .tol_dx = 0, .init_predict = 1, .line_search = 0, .definiteness = CB_DEF_DROP};
 
 cb_newton_params cb_newton_params_default(void) { return newton_defaults; }
 
@@ -73,14 +73,30 @@ static const char *const init_names[] = {"predict", "x0", NULL};
 static const int init_values[] = {1, 0}; /* init_predict */
 #define NP(f) offsetof(cb_newton_params, f)
 static const cb_param_key newton_keys[] = {
-    {.name = "max_iters", .kind = CB_PARAM_INT, .offset = NP(max_iters), .def = "50", .unit = "iterations", .lo = 1, .hi = 1000000,
+    {.name = "max_iters",
+     .kind = CB_PARAM_INT,
+     .offset = NP(max_iters),
+     .def = "50",
+     .unit = "iterations",
+     .lo = 1,
+     .hi = 1000000,
      .doc = "Newton iterations per step at most; 1 is Baraff-Witkin's single linear solve."},
     CB_KEY_TOL(NP(tol)),
     CB_KEY_TOL_DX(NP(tol_dx)),
     CB_KEY_DEFINITENESS(NP(definiteness)),
-    {.name = "init", .kind = CB_PARAM_CHOICE, .offset = NP(init_predict), .def = "predict", .unit = "-", .choices = init_names, .values = init_values,
+    {.name = "init",
+     .kind = CB_PARAM_CHOICE,
+     .offset = NP(init_predict),
+     .def = "predict",
+     .unit = "-",
+     .choices = init_names,
+     .values = init_values,
      .doc = "Newton's initial guess: `predict` (x0 + dt v0) or `x0`."},
-    {.name = "line_search", .kind = CB_PARAM_BOOL, .offset = NP(line_search), .def = "0", .unit = "-",
+    {.name = "line_search",
+     .kind = CB_PARAM_BOOL,
+     .offset = NP(line_search),
+     .def = "0",
+     .unit = "-",
      .doc = "Backtracking (Armijo) line search on F in every Newton iteration (0 or 1)."},
     CB_KEY_END,
 };
@@ -90,7 +106,9 @@ static void nt_free(cb_integrator *it) {
   newton_work *w = it->state;
   cb_objective_free(&w->obj);
   free(w->xtrial);
-  free(w->gF); free(w->b); free(w->dx);
+  free(w->gF);
+  free(w->b);
+  free(w->dx);
   cb_shift_free(w->shift);
 }
 
@@ -174,18 +192,32 @@ static int nt_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
     st->rel_grad = g0 > 0 ? gn / g0 : 0.0;
     st->rel_grad_hat = ghat > 0 ? gn / ghat : 0.0;
     st->newton_iters = k;
-    if (!isfinite(F) || !isfinite(gn)) { status = CB_DIVERGED; break; }
-    ev.iter = k; ev.F = F; ev.grad_norm = gn; ev.rel_grad = st->rel_grad; ev.x = x;
-    ev.A = NULL; ev.b = NULL; ev.dx = NULL; ev.solver = NULL;
+    if (!isfinite(F) || !isfinite(gn)) {
+      status = CB_DIVERGED;
+      break;
+    }
+    ev.iter = k;
+    ev.F = F;
+    ev.grad_norm = gn;
+    ev.rel_grad = st->rel_grad;
+    ev.x = x;
+    ev.A = NULL;
+    ev.b = NULL;
+    ev.dx = NULL;
+    ev.solver = NULL;
     if (hook) hook(hook_ctx, CB_NEWTON_GRADIENT, &ev);
     if (st->rel_grad <= p->tol || gn == 0.0 || dx_converged) break;
-    if (k == p->max_iters) { status = CB_NOT_CONVERGED; break; }
+    if (k == p->max_iters) {
+      status = CB_NOT_CONVERGED;
+      break;
+    }
 
     t0 = cb_now_ms();
     cb_system_assemble(it->sys, x, 1.0 / (dt * dt), p->definiteness, 0.0); /* A = M/dt^2 + H(x) */
     for (int i = 0; i < nf; i++) w->b[i] = -w->gF[i];                      /* b = -grad F */
     st->assemble_ms += cb_now_ms() - t0;
-    ev.A = A; ev.b = w->b;
+    ev.A = A;
+    ev.b = w->b;
     if (hook) hook(hook_ctx, CB_NEWTON_SYSTEM, &ev);
 
     cb_shift_stats ds; /* factor + solve; `shift` retries with A + mu I */
@@ -206,26 +238,44 @@ static int nt_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
     st->factorizations += ds.factorizations;
     if (ds.mu > st->shift_mu) st->shift_mu = ds.mu;
     st->linear_status = ls;
-    ev.dx = w->dx; ev.solver = it->solver; ev.status = ls; ev.shift_mu = ds.mu;
+    ev.dx = w->dx;
+    ev.solver = it->solver;
+    ev.status = ls;
+    ev.shift_mu = ds.mu;
     if (hook) hook(hook_ctx, CB_NEWTON_SOLVED, &ev);
-    if (ls == CB_NOT_SPD) { status = CB_NOT_SPD; break; }
+    if (ls == CB_NOT_SPD) {
+      status = CB_NOT_SPD;
+      break;
+    }
     /* an iterative solve cut at its max_iters is inexact Newton, not a failure */
-    if (ls != CB_OK && ls != CB_NOT_CONVERGED) { status = ls == CB_ENOMEM ? CB_ENOMEM : CB_LINEAR_FAILED; break; }
+    if (ls != CB_OK && ls != CB_NOT_CONVERGED) {
+      status = ls == CB_ENOMEM ? CB_ENOMEM : CB_LINEAR_FAILED;
+      break;
+    }
 
     double alpha = 1.0;
     if (p->line_search) {
       double slope = cblas_ddot(nf, w->gF, 1, w->dx, 1); /* grad F . dx */
-      if (!(slope < 0)) { status = CB_LS_FAILED; break; }
+      if (!(slope < 0)) {
+        status = CB_LS_FAILED;
+        break;
+      }
       int ok = -slope <= LS_FLAT * Fscale; /* decrease below F's round-off: full step */
       memcpy(w->xtrial, x, (size_t)nv3 * sizeof(double));
       if (ok) move(s, w->xtrial, x, w->dx, 1.0);
       for (int h = 0; !ok && h <= LS_MAX_HALVINGS; h++, alpha *= 0.5) {
         move(s, w->xtrial, x, w->dx, alpha);
         double Ft = cb_objective_eval(&w->obj, w->xtrial, NULL, NULL);
-        if (Ft <= F + 1e-4 * alpha * slope) { ok = 1; break; } /* Armijo */
+        if (Ft <= F + 1e-4 * alpha * slope) {
+          ok = 1;
+          break;
+        } /* Armijo */
         st->ls_backtracks++;
       }
-      if (!ok) { status = CB_LS_FAILED; break; }
+      if (!ok) {
+        status = CB_LS_FAILED;
+        break;
+      }
       memcpy(x, w->xtrial, (size_t)nv3 * sizeof(double));
     } else {
       move(s, x, x, w->dx, 1.0);
@@ -233,7 +283,11 @@ static int nt_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
     double dmax = fabs(w->dx[cblas_idamax(nf, w->dx, 1)]) * alpha;
     ev.step_max = dmax;
     ev.alpha = alpha;
-    if (!isfinite(dmax)) { status = CB_DIVERGED; st->newton_iters = k + 1; break; }
+    if (!isfinite(dmax)) {
+      status = CB_DIVERGED;
+      st->newton_iters = k + 1;
+      break;
+    }
     if (p->tol_dx > 0 && dmax <= p->tol_dx) dx_converged = 1;
   }
   cb_objective_velocity(&w->obj, x, v); /* v1 = (x1 - x0)/dt; pinned vertices keep their v0 */

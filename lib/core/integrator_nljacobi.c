@@ -53,10 +53,10 @@
 
 enum { DIAG_LAB = 0, DIAG_VALENCE = 1, DIAG_EXACT = 2 };
 
-static const cb_nljacobi_params jacobi_defaults = {.iters = 32, .diagonal = DIAG_LAB, .alpha = 1.0, .rho = 0.0,
-                                                   .rho_iters = 64, .definiteness = CB_DEF_DROP};
-static const cb_nljacobi_params chebyshev_defaults = {.iters = 32, .diagonal = DIAG_LAB, .alpha = 1.0, .rho = 0.995,
-                                                      .rho_iters = 64, .definiteness = CB_DEF_DROP};
+static const cb_nljacobi_params jacobi_defaults = {
+    .iters = 32, .diagonal = DIAG_LAB, .alpha = 1.0, .rho = 0.0, .rho_iters = 64, .definiteness = CB_DEF_DROP};
+static const cb_nljacobi_params chebyshev_defaults = {
+    .iters = 32, .diagonal = DIAG_LAB, .alpha = 1.0, .rho = 0.995, .rho_iters = 64, .definiteness = CB_DEF_DROP};
 
 cb_nljacobi_params cb_nljacobi_params_default(void) { return chebyshev_defaults; }
 
@@ -65,32 +65,39 @@ const char *const cb_nljacobi_diagonal_names[] = {"lab", "valence", "exact", NUL
 /* The keys; iters, rho, rho_iters and definiteness are the shared ones of
  * integrator_keys.h (projective dynamics, vbd and Newton declare them too). */
 #define NJ(f) offsetof(cb_nljacobi_params, f)
-#define KEY_DIAG {.name = "diagonal", .kind = CB_PARAM_CHOICE, .offset = NJ(diagonal), .def = "lab", .unit = "-", .choices = cb_nljacobi_diagonal_names, \
-  .doc = "Diagonal D of the nonlinear Jacobi update x <- x - alpha D^-1 grad F(x): `lab` m_i/dt^2 + 4k (the lab's constant, k = material.stretch_k), `valence` m_i/dt^2 + k x (the vertex's spring count), `exact` the 3x3 diagonal blocks of M/dt^2 + H(x) with integrator.definiteness, recomputed every iteration."}
-#define KEY_ALPHA {.name = "alpha", .kind = CB_PARAM_DOUBLE, .offset = NJ(alpha), .def = "1", .unit = "-", .hi = 2, .lo_open = 1, \
-  .doc = "Step weight of the nonlinear Jacobi update (Wang's under-relaxation gamma); 1 is the lab's."}
+#define KEY_DIAG \
+  { \
+    .name = "diagonal", .kind = CB_PARAM_CHOICE, .offset = NJ(diagonal), .def = "lab", .unit = "-", \
+    .choices = cb_nljacobi_diagonal_names, \
+    .doc = "Diagonal D of the nonlinear Jacobi update x <- x - alpha D^-1 grad F(x): `lab` m_i/dt^2 + 4k (the lab's " \
+           "constant, k = material.stretch_k), `valence` m_i/dt^2 + k x (the vertex's spring count), `exact` the 3x3 " \
+           "diagonal blocks of M/dt^2 + H(x) with integrator.definiteness, recomputed every iteration." \
+  }
+#define KEY_ALPHA \
+  { \
+    .name = "alpha", .kind = CB_PARAM_DOUBLE, .offset = NJ(alpha), .def = "1", .unit = "-", .hi = 2, .lo_open = 1, \
+    .doc = "Step weight of the nonlinear Jacobi update (Wang's under-relaxation gamma); 1 is the lab's." \
+  }
 static const cb_param_key jacobi_keys[] = {
-    CB_KEY_ITERS(NJ(iters)), KEY_DIAG, KEY_ALPHA, CB_KEY_DEFINITENESS(NJ(definiteness)),
-    CB_KEY_END,
+    CB_KEY_ITERS(NJ(iters)), KEY_DIAG, KEY_ALPHA, CB_KEY_DEFINITENESS(NJ(definiteness)), CB_KEY_END,
 };
 static const cb_param_key chebyshev_keys[] = {
-    CB_KEY_ITERS(NJ(iters)), KEY_DIAG, KEY_ALPHA, CB_KEY_DEFINITENESS(NJ(definiteness)), CB_KEY_RHO(NJ(rho)),
-    CB_KEY_RHO_ITERS(NJ(rho_iters)),
-    CB_KEY_END,
+    CB_KEY_ITERS(NJ(iters)),         KEY_DIAG,   KEY_ALPHA, CB_KEY_DEFINITENESS(NJ(definiteness)), CB_KEY_RHO(NJ(rho)),
+    CB_KEY_RHO_ITERS(NJ(rho_iters)), CB_KEY_END,
 };
 #undef NJ
 
 typedef struct {
   cb_objective obj;
-  double *gF;        /* 3*nfree */
-  double *xprev;     /* 3*nv: x_{k-1} */
-  double *dinv;      /* nfree: 1/d_i (lab, valence) */
-  double *blk;       /* 6*nfree: Cholesky factors of the diagonal blocks (exact) */
-  int *slot, *stride;/* nfree: slot of block (i, i) in A (exact) */
-  double *dnorm;     /* rho_iters: update norms of the rho estimate */
-  double rho;        /* the rho in use (-1 until auto has been estimated) */
-  double rho_ms;     /* time of the estimate, ms */
-  int fast;          /* the fused kernel applies (fast_init) */
+  double *gF;         /* 3*nfree */
+  double *xprev;      /* 3*nv: x_{k-1} */
+  double *dinv;       /* nfree: 1/d_i (lab, valence) */
+  double *blk;        /* 6*nfree: Cholesky factors of the diagonal blocks (exact) */
+  int *slot, *stride; /* nfree: slot of block (i, i) in A (exact) */
+  double *dnorm;      /* rho_iters: update norms of the rho estimate */
+  double rho;         /* the rho in use (-1 until auto has been estimated) */
+  double rho_ms;      /* time of the estimate, ms */
+  int fast;           /* the fused kernel applies (fast_init) */
   int nterms;
   const cb_term *term[CB_MAX_TERMS]; /* the system's terms, in its order */
   int gravity[CB_MAX_TERMS];         /* term t is gravity (else springs) */
@@ -100,7 +107,13 @@ typedef struct {
 static void nlj_free(cb_integrator *it) {
   nlj_work *w = it->state;
   cb_objective_free(&w->obj);
-  free(w->gF); free(w->xprev); free(w->dinv); free(w->blk); free(w->slot); free(w->stride); free(w->dnorm);
+  free(w->gF);
+  free(w->xprev);
+  free(w->dinv);
+  free(w->blk);
+  free(w->slot);
+  free(w->stride);
+  free(w->dnorm);
 }
 
 /* The fused kernel applies to the lab and valence diagonals when every term
@@ -126,10 +139,12 @@ static int nlj_init(cb_integrator *it) {
   nlj_work *w = it->state;
   const cb_scene *s = it->scene;
   int nf = s->model.nfree;
-  if (p->diagonal < DIAG_LAB || p->diagonal > DIAG_EXACT) return cb_fail("%s: unknown diagonal %d", it->type->name, p->diagonal);
+  if (p->diagonal < DIAG_LAB || p->diagonal > DIAG_EXACT)
+    return cb_fail("%s: unknown diagonal %d", it->type->name, p->diagonal);
   if (p->diagonal == DIAG_EXACT && p->definiteness == CB_DEF_SHIFT)
     return cb_fail("%s: integrator.definiteness = shift is a linear-solve policy; the exact diagonal takes none, drop, "
-                   "mirror or choi-ko", it->type->name);
+                   "mirror or choi-ko",
+                   it->type->name);
   if (!(p->alpha > 0 && p->alpha <= 2)) return cb_fail("%s: alpha must be in (0, 2], got %g", it->type->name, p->alpha);
   if (p->iters < 1) return cb_fail("%s: iters must be >= 1, got %d", it->type->name, p->iters);
   if (!(p->rho == CB_PARAM_AUTO || (p->rho >= 0 && p->rho < 1)))
@@ -162,7 +177,7 @@ static int nlj_init(cb_integrator *it) {
     for (int b = 0; b < nf; b++) {
       int i = s->free_vertex[b];
       double springs = p->diagonal == DIAG_VALENCE ? deg[i] : 4.0; /* lab: 4k whatever the vertex */
-      double d = s->mass[i] / (dt * dt) + springs * k;            /* d_i = m_i/dt^2 + n_i k */
+      double d = s->mass[i] / (dt * dt) + springs * k;             /* d_i = m_i/dt^2 + n_i k */
       if (!(d > 0)) {
         free(deg);
         return cb_fail("%s: vertex %d has diagonal %g (no mass and no springs)", it->type->name, i, d);
@@ -187,7 +202,12 @@ static int chol3(const double *val, int slot, int stride, double *l) {
   double l11 = sqrt(s11), l21 = (a21 - l20 * l10) / l11;
   double s22 = a22 - l20 * l20 - l21 * l21;
   if (!(s22 > 0)) return 0;
-  l[0] = l00; l[1] = l10; l[2] = l20; l[3] = l11; l[4] = l21; l[5] = sqrt(s22);
+  l[0] = l00;
+  l[1] = l10;
+  l[2] = l20;
+  l[3] = l11;
+  l[4] = l21;
+  l[5] = sqrt(s22);
   return 1;
 }
 
@@ -207,15 +227,15 @@ static void chol3_solve(const double *l, const double *g, double *y) {
  * and x_{k+1} are bit for bit those of cb_objective_eval and the update loop. gF (if not NULL)
  * receives grad F; *gg gets sum (grad F)^2 and *d2 sum |x_{k+1} - x_k|^2. Returns F. */
 /* The objective and the update at free vertex v (block b) with gradient g of E: iterate's arithmetic. */
-static inline __attribute__((always_inline)) void fast_vertex(const double *xv, const double *xh, double mv, double dinv,
-                                                               double inv_dt2, const double g[3], double *gF, double *xn,
-                                                               double omega, double alpha, double *inertia, double *gg,
-                                                               double *d2) {
+static inline __attribute__((always_inline)) void fast_vertex(const double *xv, const double *xh, double mv,
+                                                              double dinv, double inv_dt2, const double g[3],
+                                                              double *gF, double *xn, double omega, double alpha,
+                                                              double *inertia, double *gg, double *d2) {
   double gf[3];
   for (int a = 0; a < 3; a++) {
     double d = xv[a] - xh[a];
-    *inertia += mv * d * d;            /* |x - xhat|_M^2 */
-    gf[a] = mv * d * inv_dt2 + g[a];   /* M(x - xhat)/dt^2 + dE/dx */
+    *inertia += mv * d * d;          /* |x - xhat|_M^2 */
+    gf[a] = mv * d * inv_dt2 + g[a]; /* M(x - xhat)/dt^2 + dE/dx */
     *gg += gf[a] * gf[a];
   }
   if (gF)
@@ -314,7 +334,9 @@ static int iterate_fast(cb_integrator *it, double *x, int K, double rho, double 
       omega = cb_chebyshev_omega(k, rho, omega);
       double F = fast_pass(w, s, cur, NULL, prev, omega, alpha, &gg, &d2k);
       if (isfinite(F) && gg <= DBL_MAX) {
-        double *tmp = cur; cur = prev; prev = tmp;
+        double *tmp = cur;
+        cur = prev;
+        prev = tmp;
         if (dnorm) dnorm[k] = sqrt(d2k);
         st->assemble_ms += cb_now_ms() - t0;
         continue;
@@ -330,10 +352,15 @@ static int iterate_fast(cb_integrator *it, double *x, int K, double rho, double 
       st->rel_grad = st->rel_grad_hat = g0 > 0 ? gn / g0 : 0.0;
       st->newton_iters = k;
     }
-    if (!isfinite(F) || !isfinite(gn)) { status = CB_DIVERGED; break; }
+    if (!isfinite(F) || !isfinite(gn)) {
+      status = CB_DIVERGED;
+      break;
+    }
     if (k == K) break;
     if (k > 0) { /* a pass measured again and found finite: its update stands */
-      double *tmp = cur; cur = prev; prev = tmp;
+      double *tmp = cur;
+      cur = prev;
+      prev = tmp;
       if (dnorm) dnorm[k] = sqrt(d2k);
       continue;
     }
@@ -388,7 +415,11 @@ static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnor
     }
     if (!isfinite(F) || !isfinite(gn)) return CB_DIVERGED;
     if (hook) {
-      ev.iter = k; ev.F = F; ev.grad_norm = gn; ev.rel_grad = g0 > 0 ? gn / g0 : 0.0; ev.x = x;
+      ev.iter = k;
+      ev.F = F;
+      ev.grad_norm = gn;
+      ev.rel_grad = g0 > 0 ? gn / g0 : 0.0;
+      ev.x = x;
       hook(it->params.hook_ctx, CB_NEWTON_GRADIENT, &ev);
     }
     if (k == K) break;
@@ -407,7 +438,8 @@ static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnor
       const double *g = w->gF + 3 * b;
       double step[3];
       if (p->diagonal == DIAG_EXACT) chol3_solve(w->blk + 6 * b, g, step);
-      else for (int a = 0; a < 3; a++) step[a] = w->dinv[b] * g[a];
+      else
+        for (int a = 0; a < 3; a++) step[a] = w->dinv[b] * g[a];
       for (int a = 0; a < 3; a++) {
         double xk = xi[a];
         double xn = omega * (xk - alpha * step[a]) + (1.0 - omega) * xp[a]; /* x_{k+1} = w y_k + (1-w) x_{k-1} */

@@ -55,7 +55,7 @@
 #include "pd_matrix.h"
 
 enum { RHO_DOUBLINGS = 5 }; /* the auto estimate runs at most rho_iters << RHO_DOUBLINGS plain iterations */
-#define RHO_ROUNDOFF 1e-12   /* updates below this fraction of the first are round-off */
+#define RHO_ROUNDOFF 1e-12  /* updates below this fraction of the first are round-off */
 
 static const cb_pd_params pd_defaults = {.iters = 32, .rho = 0.0, .rho_iters = 64};
 static const cb_pd_params pdc_defaults = {.iters = 32, .rho = 0.995, .rho_iters = 64};
@@ -98,7 +98,13 @@ static void pd_free(cb_integrator *it) {
   pd_work *w = it->state;
   cb_objective_free(&w->obj);
   cb_sparse_free(&w->P);
-  free(w->c); free(w->b); free(w->y); free(w->gF); free(w->xprev); free(w->dnorm); free(w->p);
+  free(w->c);
+  free(w->b);
+  free(w->y);
+  free(w->gF);
+  free(w->xprev);
+  free(w->dnorm);
+  free(w->p);
 }
 
 /* The local step, b = c + J d (+ pinned neighbours), in two loops with the
@@ -112,7 +118,8 @@ static void pd_local(pd_work *w, const cb_scene *s, const double *restrict x) {
   const int ns = L->ns, *restrict ei = L->ei, *restrict ej = L->ej, *restrict fi = s->free_index;
   const double *restrict rest = L->rest;
   double *restrict px = w->p, *restrict py = w->p + ns, *restrict pz = w->p + 2 * (size_t)ns;
-  double *restrict len2 = w->p + 3 * (size_t)ns; /* |x_ij|^2, for the check below (a reduction here would stop the vectoriser) */
+  double *restrict len2 =
+      w->p + 3 * (size_t)ns; /* |x_ij|^2, for the check below (a reduction here would stop the vectoriser) */
   for (int e = 0; e < ns; e++) {
     int i = ei[e], j = ej[e];
     double dx = x[3 * i] - x[3 * j], dy = x[3 * i + 1] - x[3 * j + 1], dz = x[3 * i + 2] - x[3 * j + 2];
@@ -154,7 +161,8 @@ static int pd_init(cb_integrator *it) {
   const cb_scene *s = it->scene;
   const char *name = it->type->name;
   if (p->iters < 1) return cb_fail("%s: iters must be >= 1, got %d", name, p->iters);
-  if (!(p->rho == CB_PARAM_AUTO || (p->rho >= 0 && p->rho < 1))) return cb_fail("%s: rho must be in [0, 1) or auto, got %g", name, p->rho);
+  if (!(p->rho == CB_PARAM_AUTO || (p->rho >= 0 && p->rho < 1)))
+    return cb_fail("%s: rho must be in [0, 1) or auto, got %g", name, p->rho);
   if (p->rho == CB_PARAM_AUTO && p->rho_iters < 4) return cb_fail("%s: rho_iters must be >= 4", name);
   for (int t = 0; t < s->sys.nterms; t++) {
     const cb_term *term = s->sys.terms[t];
@@ -169,11 +177,13 @@ static int pd_init(cb_integrator *it) {
     }
     /* the advice names the key that removes this term */
     const char *fix = cb_spring_term_is_choi_ko(term) ? "set integrator.definiteness to none, drop, mirror or shift"
-                      : strcmp(term->label, "stretch") == 0 ? "set material.stretch = spring"
-                      : strcmp(term->label, "collider") == 0 ? "set collider.type = project (a post-step projection) or none"
+                      : strcmp(term->label, "stretch") == 0  ? "set material.stretch = spring"
+                      : strcmp(term->label, "collider") == 0 ? "set collider.type = project (a post-step projection) "
+                                                               "or none"
                       : strncmp(term->label, "bend", 4) == 0 ? "set material.bend = none"
-                                                            : "remove that term from the scene";
-    return cb_fail("%s: projective dynamics here covers the stretch springs and gravity; the scene has the term '%s'%s (%s)",
+                                                             : "remove that term from the scene";
+    return cb_fail("%s: projective dynamics here covers the stretch springs and gravity; the scene has the term '%s'%s "
+                   "(%s)",
                    name, term->label, cb_spring_term_is_choi_ko(term) ? " with the Choi-Ko response" : "", fix);
   }
   int nf = s->model.nfree, nv = s->mesh.nv;
@@ -187,7 +197,8 @@ static int pd_init(cb_integrator *it) {
   w->xprev = cb_malloc((size_t)3 * nv, sizeof(double));
   w->p = cb_malloc((size_t)4 * w->ns + 1, sizeof(double));
   if (!w->c || !w->b || !w->y || !w->gF || !w->xprev || !w->p) return CB_ENOMEM;
-  if (p->rho == CB_PARAM_AUTO && !(w->dnorm = cb_malloc((size_t)p->rho_iters << RHO_DOUBLINGS, sizeof(double)))) return CB_ENOMEM;
+  if (p->rho == CB_PARAM_AUTO && !(w->dnorm = cb_malloc((size_t)p->rho_iters << RHO_DOUBLINGS, sizeof(double))))
+    return CB_ENOMEM;
   w->rho = p->rho;
   if (nf == 0) return CB_OK;
   st = cb_solver_factor(it->solver, &w->P); /* once per scene */
@@ -197,7 +208,8 @@ static int pd_init(cb_integrator *it) {
 
 /* K local/global iterations from xhat (restart) or, plain (rho = 0), on from x; dnorm (if not NULL) gets
  * |x_{k+1} - x_k|. */
-static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnorm, cb_step_stats *st, int report, int restart) {
+static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnorm, cb_step_stats *st, int report,
+                   int restart) {
   pd_work *w = it->state;
   const cb_scene *s = it->scene;
   cb_newton_hook hook = report ? it->params.hook : NULL;
@@ -214,7 +226,7 @@ static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnor
       return CB_DIVERGED;
     if (k == K || nf == 0) break;
     double t0 = cb_now_ms();
-    pd_local(w, s, x); /* local: d_e = L_e (x_i - x_j)/|x_i - x_j|; b = c + J d (+ pinned neighbours) */
+    pd_local(w, s, x);           /* local: d_e = L_e (x_i - x_j)/|x_i - x_j|; b = c + J d (+ pinned neighbours) */
     for (int b = 0; b < nf; b++) /* initial guess of an iterative solver: the current iterate */
       for (int a = 0; a < 3; a++) w->y[3 * b + a] = x[3 * s->free_vertex[b] + a];
     st->assemble_ms += cb_now_ms() - t0;
@@ -251,7 +263,10 @@ static int pd_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
     for (int n = p->rho_iters, done = 0, dbl = 0;; dbl++, n *= 2) {
       int es = iterate(it, x, n - done, 0.0, w->dnorm + done, &scratch, 0, done == 0);
       if (es < 0) return es; /* an error (out of memory in the solve), not an estimate of 0 */
-      if (es != CB_OK) { rho = 0.0; break; }
+      if (es != CB_OK) {
+        rho = 0.0;
+        break;
+      }
       done = n;
       int m = n; /* the updates above round-off */
       while (m > 4 && !(w->dnorm[m - 1] > RHO_ROUNDOFF * w->dnorm[0])) m--;

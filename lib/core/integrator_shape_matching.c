@@ -46,24 +46,36 @@ static const cb_shape_matching_params sm_defaults = {.alpha = 1.0};
 cb_shape_matching_params cb_shape_matching_params_default(void) { return sm_defaults; }
 
 static const cb_param_key sm_keys[] = {
-    {.name = "shape_alpha", .kind = CB_PARAM_DOUBLE, .offset = offsetof(cb_shape_matching_params, alpha), .def = "1", .unit = "-", .hi = 1, .lo_open = 1,
-     .doc = "Shape matching (`integrator.method = shape_matching`): stiffness alpha in (0, 1] of the pull toward the goal positions, v += alpha (g - x)/dt; 1 moves every vertex onto its goal in one step."},
+    {.name = "shape_alpha",
+     .kind = CB_PARAM_DOUBLE,
+     .offset = offsetof(cb_shape_matching_params, alpha),
+     .def = "1",
+     .unit = "-",
+     .hi = 1,
+     .lo_open = 1,
+     .doc = "Shape matching (`integrator.method = shape_matching`): stiffness alpha in (0, 1] of the pull toward the "
+            "goal positions, v += alpha (g - x)/dt; 1 moves every vertex onto its goal in one step."},
     {.name = NULL},
 };
 
 typedef struct {
-  int nc;          /* clusters (= vertices) */
-  int *start;      /* nc + 1: cluster c is member[start[c] .. start[c+1]) */
+  int nc;     /* clusters (= vertices) */
+  int *start; /* nc + 1: cluster c is member[start[c] .. start[c+1]) */
   int *member;
-  double *w;       /* per vertex: m_i / n_i */
-  double *q;       /* 3 per membership: x0_i - x0_cm */
-  double *goal;    /* 3*nv: sum of cluster goals */
-  int *count;      /* nv: n_i */
+  double *w;    /* per vertex: m_i / n_i */
+  double *q;    /* 3 per membership: x0_i - x0_cm */
+  double *goal; /* 3*nv: sum of cluster goals */
+  int *count;   /* nv: n_i */
 } sm_work;
 
 static void sm_free(cb_integrator *it) {
   sm_work *w = it->state;
-  free(w->start); free(w->member); free(w->w); free(w->q); free(w->goal); free(w->count);
+  free(w->start);
+  free(w->member);
+  free(w->w);
+  free(w->q);
+  free(w->goal);
+  free(w->count);
 }
 
 static int sm_init(cb_integrator *it) {
@@ -88,10 +100,16 @@ static int sm_init(cb_integrator *it) {
   if (!w->start || !w->count || !w->member || !w->q || !w->w || !w->goal) return CB_ENOMEM;
   /* one-ring sizes: 1 + degree */
   for (int i = 0; i < nv; i++) w->start[i + 1] = 1;
-  for (int e = 0; e < ne; e++) { w->start[s->topo.edge[2 * e] + 1]++; w->start[s->topo.edge[2 * e + 1] + 1]++; }
+  for (int e = 0; e < ne; e++) {
+    w->start[s->topo.edge[2 * e] + 1]++;
+    w->start[s->topo.edge[2 * e + 1] + 1]++;
+  }
   for (int i = 0; i < nv; i++) w->start[i + 1] += w->start[i];
   int *fill = w->count; /* reuse as a cursor, then as n_i */
-  for (int i = 0; i < nv; i++) { w->member[w->start[i]] = i; fill[i] = 1; }
+  for (int i = 0; i < nv; i++) {
+    w->member[w->start[i]] = i;
+    fill[i] = 1;
+  }
   for (int e = 0; e < ne; e++) {
     int a = s->topo.edge[2 * e], b = s->topo.edge[2 * e + 1];
     w->member[w->start[a] + fill[a]++] = b;
@@ -142,7 +160,8 @@ static int sm_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
     for (int k = w->start[c]; k < w->start[c + 1]; k++) {
       int i = w->member[k];
       const double *q = w->q + 3 * k;
-      for (int a = 0; a < 3; a++) w->goal[3 * i + a] += R[3 * a] * q[0] + R[3 * a + 1] * q[1] + R[3 * a + 2] * q[2] + cm[a];
+      for (int a = 0; a < 3; a++)
+        w->goal[3 * i + a] += R[3 * a] * q[0] + R[3 * a + 1] * q[1] + R[3 * a + 2] * q[2] + cm[a];
     }
   }
   int bad = 0;

@@ -71,27 +71,36 @@ enum { MAXK = 4 }; /* vertices per element at most (a hinge) */
 
 const char *const cb_vbd_init_names[] = {"inertia", "previous", "adaptive", NULL};
 
-static const cb_vbd_params vbd_defaults = {.iters = 32, .init = INIT_ADAPTIVE, .line_search = 0, .rho = 0.0, .rho_iters = 64};
-static const cb_vbd_params vbdc_defaults = {.iters = 32, .init = INIT_ADAPTIVE, .line_search = 0, .rho = 0.995,
-                                            .rho_iters = 64};
+static const cb_vbd_params vbd_defaults = {
+    .iters = 32, .init = INIT_ADAPTIVE, .line_search = 0, .rho = 0.0, .rho_iters = 64};
+static const cb_vbd_params vbdc_defaults = {
+    .iters = 32, .init = INIT_ADAPTIVE, .line_search = 0, .rho = 0.995, .rho_iters = 64};
 
 cb_vbd_params cb_vbd_params_default(void) { return vbdc_defaults; }
 
 /* iters, rho and rho_iters: the shared keys of integrator_keys.h */
 #define VP(f) offsetof(cb_vbd_params, f)
-#define KEY_INIT {.name = "vbd_init", .kind = CB_PARAM_CHOICE, .offset = VP(init), .def = "adaptive", .unit = "-", .choices = cb_vbd_init_names, \
-  .doc = "vbd, vbd-chebyshev: the initial guess (Chen et al. 2024): `inertia` x0 + dt v0, `previous` x0, `adaptive` x0 + dt v0 + dt^2 a~ with a~ the last step's acceleration along gravity, clamped to [0, |g|]."}
-#define KEY_LS {.name = "vbd_line_search", .kind = CB_PARAM_BOOL, .offset = VP(line_search), .def = "0", .unit = "-", \
-  .doc = "vbd, vbd-chebyshev: backtracking (Armijo) on each vertex's own objective, so that no sweep raises F (0 or 1; the paper's update is 0)."}
+#define KEY_INIT \
+  { \
+    .name = "vbd_init", .kind = CB_PARAM_CHOICE, .offset = VP(init), .def = "adaptive", .unit = "-", \
+    .choices = cb_vbd_init_names, \
+    .doc = "vbd, vbd-chebyshev: the initial guess (Chen et al. 2024): `inertia` x0 + dt v0, `previous` x0, " \
+           "`adaptive` x0 + dt v0 + dt^2 a~ with a~ the last step's acceleration along gravity, clamped to [0, |g|]." \
+  }
+#define KEY_LS \
+  { \
+    .name = "vbd_line_search", .kind = CB_PARAM_BOOL, .offset = VP(line_search), .def = "0", .unit = "-", \
+    .doc = "vbd, vbd-chebyshev: backtracking (Armijo) on each vertex's own objective, so that no sweep raises F (0 " \
+           "or 1; the paper's update is 0)." \
+  }
 static const cb_param_key vbd_keys[] = {
-    CB_KEY_ITERS(VP(iters)), KEY_INIT, KEY_LS,
+    CB_KEY_ITERS(VP(iters)),
+    KEY_INIT,
+    KEY_LS,
     CB_KEY_END,
 };
 static const cb_param_key vbdc_keys[] = {
-    CB_KEY_ITERS(VP(iters)), KEY_INIT, KEY_LS,
-    CB_KEY_RHO(VP(rho)),
-    CB_KEY_RHO_ITERS(VP(rho_iters)),
-    CB_KEY_END,
+    CB_KEY_ITERS(VP(iters)), KEY_INIT, KEY_LS, CB_KEY_RHO(VP(rho)), CB_KEY_RHO_ITERS(VP(rho_iters)), CB_KEY_END,
 };
 #undef VP
 
@@ -104,26 +113,32 @@ typedef struct {
   int nterms;
   const cb_term *terms[CB_MAX_TERMS]; /* the terms with elements */
   const cb_stencil *st[CB_MAX_TERMS];
-  int *inc_ptr;          /* nv + 1 */
-  incidence *inc;        /* the elements of every vertex */
+  int *inc_ptr;   /* nv + 1 */
+  incidence *inc; /* the elements of every vertex */
   int ncolors;
-  int *color_ptr;        /* ncolors + 1 */
-  int *order;            /* free vertices by colour, then index */
-  double *gF;            /* 3 nfree */
-  double *xprev;         /* 3 nv: x_{k-1} (Chebyshev) */
-  double *vprev;         /* 3 nv: the previous step's v0 (adaptive init) */
+  int *color_ptr; /* ncolors + 1 */
+  int *order;     /* free vertices by colour, then index */
+  double *gF;     /* 3 nfree */
+  double *xprev;  /* 3 nv: x_{k-1} (Chebyshev) */
+  double *vprev;  /* 3 nv: the previous step's v0 (adaptive init) */
   int have_vprev;
-  double *dnorm;         /* rho_iters */
-  double grav[3];        /* m/s^2, zero without a gravity term */
-  double rho;            /* in use; CB_PARAM_AUTO until estimated */
-  cb_projection_work *pw;/* 3x3 projection */
+  double *dnorm;          /* rho_iters */
+  double grav[3];         /* m/s^2, zero without a gravity term */
+  double rho;             /* in use; CB_PARAM_AUTO until estimated */
+  cb_projection_work *pw; /* 3x3 projection */
 } vbd_work;
 
 static void vbd_free(cb_integrator *it) {
   vbd_work *w = it->state;
   cb_objective_free(&w->obj);
-  free(w->inc_ptr); free(w->inc); free(w->color_ptr); free(w->order);
-  free(w->gF); free(w->xprev); free(w->vprev); free(w->dnorm);
+  free(w->inc_ptr);
+  free(w->inc);
+  free(w->color_ptr);
+  free(w->order);
+  free(w->gF);
+  free(w->xprev);
+  free(w->vprev);
+  free(w->dnorm);
   cb_projection_work_free(w->pw);
 }
 
@@ -161,8 +176,15 @@ static int build_colouring(vbd_work *w, const cb_scene *s) {
   int *color = cb_malloc((size_t)nv + 1, sizeof(int));
   int *mark = cb_malloc((size_t)nv + 1, sizeof(int)); /* mark[c] = v: colour c is taken by a neighbour of v */
   w->order = cb_malloc((size_t)nf + 1, sizeof(int));
-  if (!color || !mark || !w->order) { free(color); free(mark); return CB_ENOMEM; }
-  for (int v = 0; v < nv; v++) { color[v] = -1; mark[v] = -1; }
+  if (!color || !mark || !w->order) {
+    free(color);
+    free(mark);
+    return CB_ENOMEM;
+  }
+  for (int v = 0; v < nv; v++) {
+    color[v] = -1;
+    mark[v] = -1;
+  }
   w->ncolors = 0;
   for (int v = 0; v < nv; v++) {
     if (s->free_index[v] < 0) continue;
@@ -180,7 +202,11 @@ static int build_colouring(vbd_work *w, const cb_scene *s) {
     if (c + 1 > w->ncolors) w->ncolors = c + 1;
   }
   w->color_ptr = cb_calloc((size_t)w->ncolors + 2, sizeof(int));
-  if (!w->color_ptr) { free(color); free(mark); return CB_ENOMEM; }
+  if (!w->color_ptr) {
+    free(color);
+    free(mark);
+    return CB_ENOMEM;
+  }
   for (int v = 0; v < nv; v++)
     if (color[v] >= 0) w->color_ptr[color[v] + 1]++;
   for (int c = 0; c < w->ncolors; c++) w->color_ptr[c + 1] += w->color_ptr[c];
@@ -199,7 +225,8 @@ static int vbd_init(cb_integrator *it) {
   const char *name = it->type->name;
   if (p->iters < 1) return cb_fail("%s: iters must be >= 1, got %d", name, p->iters);
   if (p->init < INIT_INERTIA || p->init > INIT_ADAPTIVE) return cb_fail("%s: unknown vbd_init %d", name, p->init);
-  if (!(p->rho == CB_PARAM_AUTO || (p->rho >= 0 && p->rho < 1))) return cb_fail("%s: rho must be in [0, 1) or auto, got %g", name, p->rho);
+  if (!(p->rho == CB_PARAM_AUTO || (p->rho >= 0 && p->rho < 1)))
+    return cb_fail("%s: rho must be in [0, 1) or auto, got %g", name, p->rho);
   if (p->rho == CB_PARAM_AUTO && p->rho_iters < 4) return cb_fail("%s: rho_iters must be >= 4", name);
   for (int t = 0; t < s->sys.nterms; t++) {
     const cb_term *term = s->sys.terms[t];
@@ -212,7 +239,8 @@ static int vbd_init(cb_integrator *it) {
                      "which vertex block descent needs",
                      name, term->label, term->type->name);
     const cb_stencil *st = term->type->stencil(term);
-    if (st->k > MAXK) return cb_fail("%s: term '%s' has %d-vertex elements (at most %d)", name, term->label, st->k, MAXK);
+    if (st->k > MAXK)
+      return cb_fail("%s: term '%s' has %d-vertex elements (at most %d)", name, term->label, st->k, MAXK);
     w->terms[w->nterms] = term;
     w->st[w->nterms++] = st;
   }
@@ -251,7 +279,7 @@ static int chol3_solve(const double H[9], const double f[3], double dx[3]) {
   if (!(d2 > 0)) return -1;
   double l22 = sqrt(d2);
   double y0 = f[0] / l00, y1 = (f[1] - l10 * y0) / l11, y2 = (f[2] - l20 * y0 - l21 * y1) / l22; /* L y = f */
-  dx[2] = y2 / l22;                                                                               /* L^T dx = y */
+  dx[2] = y2 / l22;                                                                              /* L^T dx = y */
   dx[1] = (y1 - l21 * dx[2]) / l11;
   dx[0] = (y0 - l10 * dx[1] - l20 * dx[2]) / l00;
   return 0;
@@ -279,14 +307,15 @@ static double sweep(vbd_work *w, const cb_scene *s, double dt, int line_search, 
   for (int q = 0; q < s->model.nfree; q++) {
     int i = w->order[q];
     double mi = s->mass[i] / (dt * dt), f[3], H[9] = {mi, 0, 0, 0, mi, 0, 0, 0, mi};
-    for (int a = 0; a < 3; a++) f[a] = -mi * (x[3 * i + a] - y[3 * i + a]) + s->mass[i] * w->grav[a]; /* - M(x - y)/dt^2 + m g */
+    for (int a = 0; a < 3; a++)
+      f[a] = -mi * (x[3 * i + a] - y[3 * i + a]) + s->mass[i] * w->grav[a]; /* - M(x - y)/dt^2 + m g */
     for (int r = w->inc_ptr[i]; r < w->inc_ptr[i + 1]; r++) {
       const incidence *in = &w->inc[r];
       const cb_term *term = w->terms[in->term];
       int k3 = 3 * w->st[in->term]->k, a = in->local;
       term->type->element(term, in->elem, x, CB_PROJ_NONE, g_e, H_e);
       for (int c = 0; c < 3; c++) {
-        f[c] -= g_e[3 * a + c];                                                    /* f_i -= dE_e/dx_i */
+        f[c] -= g_e[3 * a + c];                                                        /* f_i -= dE_e/dx_i */
         for (int d = 0; d < 3; d++) H[3 * c + d] += H_e[(3 * a + c) * k3 + 3 * a + d]; /* H_i += (H_e)_ii */
       }
     }
@@ -364,7 +393,8 @@ static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnor
 }
 
 /* The initial guess (vbd_init) into x, from the step's (x0, v0). */
-static void initial_guess(vbd_work *w, const cb_scene *s, const cb_vbd_params *p, double dt, const double *v, double *x) {
+static void initial_guess(vbd_work *w, const cb_scene *s, const cb_vbd_params *p, double dt, const double *v,
+                          double *x) {
   cb_objective_guess(&w->obj, x, p->init != INIT_PREVIOUS); /* xhat, or x0 (pins at xhat either way) */
   double gl = sqrt(s->gravity[0] * s->gravity[0] + s->gravity[1] * s->gravity[1] + s->gravity[2] * s->gravity[2]);
   if (p->init != INIT_ADAPTIVE || !w->have_vprev || !(gl > 0)) return;

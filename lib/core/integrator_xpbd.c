@@ -64,8 +64,13 @@ static const cb_xpbd_params xpbd_defaults = {.iters = 32, .substeps = 1, .stiffn
 cb_xpbd_params cb_xpbd_params_default(void) { return xpbd_defaults; }
 
 #define XP(f) offsetof(cb_xpbd_params, f)
-#define KEY_SUBSTEPS {.name = "substeps", .kind = CB_PARAM_INT, .offset = XP(substeps), .def = "1", .unit = "substeps", .lo = 1, .hi = 1000000, \
-  .doc = "pbd, xpbd: substeps per step (Macklin et al. 2019's small steps): dt is split into this many substeps of dt/substeps, each with integrator.iters constraint sweeps."}
+#define KEY_SUBSTEPS \
+  { \
+    .name = "substeps", .kind = CB_PARAM_INT, .offset = XP(substeps), .def = "1", .unit = "substeps", .lo = 1, \
+    .hi = 1000000, \
+    .doc = "pbd, xpbd: substeps per step (Macklin et al. 2019's small steps): dt is split into this many substeps of " \
+           "dt/substeps, each with integrator.iters constraint sweeps." \
+  }
 static const cb_param_key xpbd_keys[] = {
     CB_KEY_ITERS(XP(iters)),
     KEY_SUBSTEPS,
@@ -74,30 +79,44 @@ static const cb_param_key xpbd_keys[] = {
 static const cb_param_key pbd_keys[] = {
     CB_KEY_ITERS(XP(iters)),
     KEY_SUBSTEPS,
-    {.name = "pbd_stiffness", .kind = CB_PARAM_DOUBLE, .offset = XP(stiffness), .def = "1", .unit = "-", .hi = 1, .lo_open = 1,
-     .doc = "pbd: the constraint stiffness factor s in (0, 1] of Müller et al. 2007; each projection moves by s' = 1 - (1 - s)^(1/iters) of the violation (their correction for the iteration count). It does not depend on material.stretch_k."},
+    {.name = "pbd_stiffness",
+     .kind = CB_PARAM_DOUBLE,
+     .offset = XP(stiffness),
+     .def = "1",
+     .unit = "-",
+     .hi = 1,
+     .lo_open = 1,
+     .doc = "pbd: the constraint stiffness factor s in (0, 1] of Müller et al. 2007; each projection moves by s' = 1 - "
+            "(1 - s)^(1/iters) of the violation (their correction for the iteration count). It does not depend on "
+            "material.stretch_k."},
     CB_KEY_END,
 };
 #undef XP
 
 typedef struct {
   cb_objective obj;
-  int nc;               /* constraints */
-  int *ends;            /* 2*nc */
-  double *rest;         /* nc: L_c, m */
-  double *kc;           /* nc: the spring's k, N/m */
-  double *lambda;       /* nc */
-  double *w;            /* nv: inverse masses, 0 when pinned */
-  double *xprev;        /* 3*nv */
-  double *gF;           /* 3*nfree */
-  double grav[3];       /* m/s^2, zero without a gravity term */
-  int pbd;              /* 1 = pbd, 0 = xpbd */
+  int nc;         /* constraints */
+  int *ends;      /* 2*nc */
+  double *rest;   /* nc: L_c, m */
+  double *kc;     /* nc: the spring's k, N/m */
+  double *lambda; /* nc */
+  double *w;      /* nv: inverse masses, 0 when pinned */
+  double *xprev;  /* 3*nv */
+  double *gF;     /* 3*nfree */
+  double grav[3]; /* m/s^2, zero without a gravity term */
+  int pbd;        /* 1 = pbd, 0 = xpbd */
 } xpbd_work;
 
 static void xp_free(cb_integrator *it) {
   xpbd_work *w = it->state;
   cb_objective_free(&w->obj);
-  free(w->ends); free(w->rest); free(w->kc); free(w->lambda); free(w->w); free(w->xprev); free(w->gF);
+  free(w->ends);
+  free(w->rest);
+  free(w->kc);
+  free(w->lambda);
+  free(w->w);
+  free(w->xprev);
+  free(w->gF);
 }
 
 static int xp_init(cb_integrator *it) {
@@ -108,7 +127,8 @@ static int xp_init(cb_integrator *it) {
   w->pbd = strcmp(name, "pbd") == 0;
   if (p->iters < 1) return cb_fail("%s: iters must be >= 1, got %d", name, p->iters);
   if (p->substeps < 1) return cb_fail("%s: substeps must be >= 1, got %d", name, p->substeps);
-  if (w->pbd && !(p->stiffness > 0 && p->stiffness <= 1)) return cb_fail("%s: pbd_stiffness must be in (0, 1], got %g", name, p->stiffness);
+  if (w->pbd && !(p->stiffness > 0 && p->stiffness <= 1))
+    return cb_fail("%s: pbd_stiffness must be in (0, 1], got %g", name, p->stiffness);
   /* the constraints: every spring of every spring term, in term order */
   int nc = 0;
   for (int t = 0; t < s->sys.nterms; t++) {
@@ -178,7 +198,7 @@ static void sweep(xpbd_work *w, double *x, double h, double sprime) {
     if (w->pbd) {
       dl = -sprime * C / (wi + wj); /* dlambda = -s' C/(w_i + w_j) */
     } else {
-      double at = 1.0 / (w->kc[c] * h * h);          /* alpha~ = alpha/h^2, alpha = 1/k */
+      double at = 1.0 / (w->kc[c] * h * h);           /* alpha~ = alpha/h^2, alpha = 1/k */
       dl = (-C - at * w->lambda[c]) / (wi + wj + at); /* dlambda = (-C - alpha~ lambda)/(w_i + w_j + alpha~) */
       w->lambda[c] += dl;
     }

@@ -14,8 +14,11 @@
 #include <clothbench/status.h>
 
 cb_material_params cb_material_params_default(void) {
-  cb_material_params p = {.k = 0, .fem_hessian = CB_FEM_EXACT, .bend_hessian = CB_BEND_GAUSS_NEWTON,
-                          .definiteness = CB_DEF_DROP, .buckling_kb = 0.01};
+  cb_material_params p = {.k = 0,
+                          .fem_hessian = CB_FEM_EXACT,
+                          .bend_hessian = CB_BEND_GAUSS_NEWTON,
+                          .definiteness = CB_DEF_DROP,
+                          .buckling_kb = 0.01};
   return p;
 }
 
@@ -46,7 +49,8 @@ static int stretch_spring(const cb_model *m, const cb_material_params *p, cb_ter
 static int stretch_fem(const cb_model *m, const cb_material_params *p, cb_term **out, const char **key) {
   *key = "material.stretch"; /* each of its errors */
   if (m->mesh->nt == 0)
-    return cb_fail("material.stretch: fem needs triangles; the mesh has none (use spring for chains and line elements)");
+    return cb_fail("material.stretch: fem needs triangles; the mesh has none (use spring for chains and line "
+                   "elements)");
   return cb_fem_term_alloc(m, "stretch", p->k, p->fem_hessian, out);
 }
 
@@ -76,13 +80,13 @@ static int bend_quadratic(const cb_model *m, const cb_material_params *p, cb_ter
 
 /* The models: X(role, name, term type, its other Hessian's type, alloc), one
  * line each; within a role, the order of its config choices. */
-#define CB_MATERIALS(X)                                                \
-  X(STRETCH, "spring", "spring", NULL, stretch_spring)                 \
-  X(STRETCH, "fem", "fem", "fem_frozen", stretch_fem)                  \
-  X(BEND, "none", NULL, NULL, NULL)                                    \
-  X(BEND, "spring", "spring", NULL, bend_spring)                       \
-  X(BEND, "dihedral", "dihedral", "dihedral_exact", bend_dihedral)     \
-  X(BEND, "quadratic", "quadratic", NULL, bend_quadratic)              \
+#define CB_MATERIALS(X) \
+  X(STRETCH, "spring", "spring", NULL, stretch_spring) \
+  X(STRETCH, "fem", "fem", "fem_frozen", stretch_fem) \
+  X(BEND, "none", NULL, NULL, NULL) \
+  X(BEND, "spring", "spring", NULL, bend_spring) \
+  X(BEND, "dihedral", "dihedral", "dihedral_exact", bend_dihedral) \
+  X(BEND, "quadratic", "quadratic", NULL, bend_quadratic) \
   /* one X(...) line per material model, above this line */
 
 #define CB_MATERIAL_ROW(role_, name_, term_, alt_, alloc_) \
@@ -120,7 +124,8 @@ int cb_material_term_alloc(const cb_material *mat, const cb_model *m, const cb_m
       !(strcmp(built, mat->term) == 0 || (mat->term_alt && strcmp(built, mat->term_alt) == 0))) {
     cb_term_free(*out);
     *out = NULL;
-    return cb_fail("material '%s' built a term of type '%s', not its registered type '%s'", mat->name, built, mat->term);
+    return cb_fail("material '%s' built a term of type '%s', not its registered type '%s'", mat->name, built,
+                   mat->term);
   }
   return CB_OK;
 }

@@ -10,8 +10,7 @@
 #include <clothbench/status.h>
 
 cb_grid_params cb_grid_params_default(void) {
-  cb_grid_params p = {.n = 21, .m = 21, .size = {10.0, 10.0}, .plane = CB_PLANE_XZ,
-                      .diagonal = CB_DIAG_REGULAR};
+  cb_grid_params p = {.n = 21, .m = 21, .size = {10.0, 10.0}, .plane = CB_PLANE_XZ, .diagonal = CB_DIAG_REGULAR};
   return p;
 }
 
@@ -37,7 +36,10 @@ static double scaled_triangle(const double *a, const double *b, const double *c,
     s = fmax(s, fmax(fabs(e1[k]), fabs(e2[k])));
   }
   if (s > 0 && isfinite(s))
-    for (int k = 0; k < 3; k++) { e1[k] /= s; e2[k] /= s; }
+    for (int k = 0; k < 3; k++) {
+      e1[k] /= s;
+      e2[k] /= s;
+    }
   n[0] = e1[1] * e2[2] - e1[2] * e2[1];
   n[1] = e1[2] * e2[0] - e1[0] * e2[2];
   n[2] = e1[0] * e2[1] - e1[1] * e2[0];
@@ -91,11 +93,19 @@ int cb_mesh_grid(const cb_grid_params *p, cb_mesh *out) {
       int v00 = j * n + i, v10 = v00 + 1, v01 = v00 + n, v11 = v01 + 1;
       int flip = p->diagonal == CB_DIAG_ALTERNATING && ((i + j) & 1);
       if (!flip) { /* diagonal v00-v11 */
-        t[0] = v00; t[1] = v10; t[2] = v11;
-        t[3] = v00; t[4] = v11; t[5] = v01;
+        t[0] = v00;
+        t[1] = v10;
+        t[2] = v11;
+        t[3] = v00;
+        t[4] = v11;
+        t[5] = v01;
       } else { /* diagonal v10-v01 */
-        t[0] = v00; t[1] = v10; t[2] = v01;
-        t[3] = v10; t[4] = v11; t[5] = v01;
+        t[0] = v00;
+        t[1] = v10;
+        t[2] = v01;
+        t[3] = v10;
+        t[4] = v11;
+        t[5] = v01;
       }
       t += 6;
     }
@@ -130,9 +140,13 @@ int cb_mesh_chain(int n, double length, cb_plane plane, cb_mesh *out) {
 /* ---- OBJ reader ---------------------------------------------------------- */
 
 typedef struct {
-  double *x; int *vline; int nv, capv; /* vertices and their source lines */
-  int *tri, *line; int nt, capt;
-  int *seg, *segline; int ns, caps; /* line segments and their source lines */
+  double *x;
+  int *vline;
+  int nv, capv; /* vertices and their source lines */
+  int *tri, *line;
+  int nt, capt;
+  int *seg, *segline;
+  int ns, caps; /* line segments and their source lines */
 } objbuf;
 
 static int push_vertex(objbuf *b, const double v[3], int line) {
@@ -143,7 +157,8 @@ static int push_vertex(objbuf *b, const double v[3], int line) {
     b->x = nx;
     int *nl = cb_realloc(b->vline, (size_t)cap, sizeof(int));
     if (!nl) return cb_fail_status(CB_ENOMEM, "out of memory reading OBJ");
-    b->vline = nl; b->capv = cap;
+    b->vline = nl;
+    b->capv = cap;
   }
   b->vline[b->nv] = line;
   memcpy(b->x + 3 * b->nv++, v, 3 * sizeof(double));
@@ -158,9 +173,12 @@ static int push_tri(objbuf *b, int i0, int i1, int i2, int line) {
     b->tri = nt;
     int *nl = cb_realloc(b->line, (size_t)cap, sizeof(int));
     if (!nl) return cb_fail_status(CB_ENOMEM, "out of memory reading OBJ");
-    b->line = nl; b->capt = cap;
+    b->line = nl;
+    b->capt = cap;
   }
-  b->tri[3 * b->nt] = i0; b->tri[3 * b->nt + 1] = i1; b->tri[3 * b->nt + 2] = i2;
+  b->tri[3 * b->nt] = i0;
+  b->tri[3 * b->nt + 1] = i1;
+  b->tri[3 * b->nt + 2] = i2;
   b->line[b->nt++] = line;
   return CB_OK;
 }
@@ -173,16 +191,21 @@ static int push_seg(objbuf *b, int i0, int i1, int line) {
     b->seg = ns;
     int *nl = cb_realloc(b->segline, (size_t)cap, sizeof(int));
     if (!nl) return cb_fail_status(CB_ENOMEM, "out of memory reading OBJ");
-    b->segline = nl; b->caps = cap;
+    b->segline = nl;
+    b->caps = cap;
   }
-  b->seg[2 * b->ns] = i0; b->seg[2 * b->ns + 1] = i1;
+  b->seg[2 * b->ns] = i0;
+  b->seg[2 * b->ns + 1] = i1;
   b->segline[b->ns++] = line;
   return CB_OK;
 }
 
 static int is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; }
 
-static char *skip_space(char *s) { while (*s && is_space(*s)) s++; return s; }
+static char *skip_space(char *s) {
+  while (*s && is_space(*s)) s++;
+  return s;
+}
 
 /* Parses one face corner "v", "v/vt", "v//vn" or "v/vt/vn" into a 0-based
  * vertex index; nv is the number of vertices read so far (for negative ones). */
@@ -210,7 +233,9 @@ static int parse_corner(char **s, int nv, long *out, const char *path, int line)
 
 /* A triangle's vertices in ascending order, and its index: sorting these puts
  * a triangle listed twice (either orientation) next to its copy. */
-typedef struct { int v[3], t; } tri_key;
+typedef struct {
+  int v[3], t;
+} tri_key;
 
 static int cmp_tri_key(const void *pa, const void *pb) {
   const tri_key *a = pa, *b = pb;
@@ -227,9 +252,21 @@ static int check_duplicate_faces(const int *tri, const int *line, int nt, const 
   if (!k) return CB_ENOMEM;
   for (int t = 0; t < nt; t++) {
     int a = tri[3 * t], b = tri[3 * t + 1], c = tri[3 * t + 2], s;
-    if (a > b) { s = a; a = b; b = s; }
-    if (b > c) { s = b; b = c; c = s; }
-    if (a > b) { s = a; a = b; b = s; }
+    if (a > b) {
+      s = a;
+      a = b;
+      b = s;
+    }
+    if (b > c) {
+      s = b;
+      b = c;
+      c = s;
+    }
+    if (a > b) {
+      s = a;
+      a = b;
+      b = s;
+    }
     k[t] = (tri_key){{a, b, c}, t};
   }
   qsort(k, (size_t)nt, sizeof *k, cmp_tri_key);
@@ -286,8 +323,7 @@ int cb_mesh_read_obj(const char *path, cb_mesh *out) {
         v[k] = strtod(s, &end);
         if (end == s || (*end && !is_space(*end)))
           st = cb_fail("%s:%d: vertex needs 3 numbers, bad coordinate %d near '%.20s'", path, line, k + 1, s);
-        else if (!isfinite(v[k]))
-          st = cb_fail("%s:%d: vertex coordinate %d is not finite", path, line, k + 1);
+        else if (!isfinite(v[k])) st = cb_fail("%s:%d: vertex coordinate %d is not finite", path, line, k + 1);
         s = end;
       }
       /* optional numbers after x y z (a weight w, or an r g b colour) are ignored; anything else is an error */
@@ -296,7 +332,8 @@ int cb_mesh_read_obj(const char *path, cb_mesh *out) {
         strtod(s, &end);
         if (end == s || (*end && !is_space(*end)) || k == 4)
           st = cb_fail("%s:%d: unexpected '%.*s' after the vertex's coordinates (a vertex is v x y z, optionally "
-                       "followed by w or r g b)", path, line, (int)fmin(20, (double)strcspn(s, " \t\r\n\v\f")), s);
+                       "followed by w or r g b)",
+                       path, line, (int)fmin(20, (double)strcspn(s, " \t\r\n\v\f")), s);
         s = end;
       }
       if (st == CB_OK) st = push_vertex(&b, v, line);
@@ -330,7 +367,8 @@ int cb_mesh_read_obj(const char *path, cb_mesh *out) {
         prev = c;
         count++;
       }
-      if (st == CB_OK && count < 2) st = cb_fail("%s:%d: line element has %d vertices, needs at least 2", path, line, count);
+      if (st == CB_OK && count < 2)
+        st = cb_fail("%s:%d: line element has %d vertices, needs at least 2", path, line, count);
     }
     /* everything else (vt, vn, o, g, s, usemtl, mtllib, l, p, ...) is ignored */
   }
@@ -345,8 +383,13 @@ int cb_mesh_read_obj(const char *path, cb_mesh *out) {
   if (st == CB_OK && b.nv == 0) st = cb_fail("%s: no vertices", path);
   if (st == CB_OK && b.nt == 0 && b.ns == 0) st = cb_fail("%s: no faces or line elements", path);
   if (!b.tri && !(b.tri = cb_malloc(1, sizeof(int))) && st == CB_OK) st = CB_ENOMEM;
-  out->nv = b.nv; out->nt = b.nt; out->x = b.x; out->tri = b.tri;
-  out->nl = b.ns; out->lines = b.seg; out->vline = b.vline;
+  out->nv = b.nv;
+  out->nt = b.nt;
+  out->x = b.x;
+  out->tri = b.tri;
+  out->nl = b.ns;
+  out->lines = b.seg;
+  out->vline = b.vline;
   for (int k = 0; st == CB_OK && k < b.ns; k++) {
     int p0 = b.seg[2 * k], p1 = b.seg[2 * k + 1];
     if (p0 < 0 || p0 >= b.nv || p1 < 0 || p1 >= b.nv)
@@ -382,8 +425,10 @@ int cb_mesh_read_obj(const char *path, cb_mesh *out) {
     double lmax = fmax(l1, fmax(l2, l3));
     /* the scale itself is left to the scene's checks (scene.c), which name the quantity and its key */
     if (sc > 0 && !isfinite(sc))
-      st = cb_fail("%s:%d: triangle's edges are longer than the largest double (the mesh's coordinates are too large)", path, b.line[t]);
-    else if (!(sc > 0) || !(area > 1e-12 * lmax)) st = cb_fail("%s:%d: degenerate triangle (zero area)", path, b.line[t]);
+      st = cb_fail("%s:%d: triangle's edges are longer than the largest double (the mesh's coordinates are too large)",
+                   path, b.line[t]);
+    else if (!(sc > 0) || !(area > 1e-12 * lmax))
+      st = cb_fail("%s:%d: degenerate triangle (zero area)", path, b.line[t]);
   }
   if (st == CB_OK) st = check_duplicate_faces(b.tri, b.line, b.nt, path);
   free(b.line);
@@ -401,7 +446,7 @@ double cb_mesh_bbox_diagonal(const cb_mesh *m) {
   }
   for (int a = 0; a < 3; a++) s = fmax(s, d[a] = hi[a] - lo[a]);
   if (!(s > 0) || !isfinite(s)) return s;
-  if (s > 1e-100 && s < 1e100) { /* no overflow or underflow in the squares */
+  if (s > 1e-100 && s < 1e100) {                   /* no overflow or underflow in the squares */
     for (int a = 0; a < 3; a++) d2 += d[a] * d[a]; /* D^2 = sum_a (hi_a - lo_a)^2 */
     return sqrt(d2);
   }
@@ -412,8 +457,7 @@ double cb_mesh_bbox_diagonal(const cb_mesh *m) {
 void cb_mesh_print_obj(const cb_mesh *m, const double *x, FILE *f) {
   if (!x) x = m->x;
   fprintf(f, "# clothbench mesh: %d vertices, %d triangles\n", m->nv, m->nt);
-  for (int i = 0; i < m->nv; i++)
-    fprintf(f, "v %.17g %.17g %.17g\n", x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+  for (int i = 0; i < m->nv; i++) fprintf(f, "v %.17g %.17g %.17g\n", x[3 * i], x[3 * i + 1], x[3 * i + 2]);
   for (int t = 0; t < m->nt; t++)
     fprintf(f, "f %d %d %d\n", m->tri[3 * t] + 1, m->tri[3 * t + 1] + 1, m->tri[3 * t + 2] + 1);
   for (int k = 0; k < m->nl; k++) fprintf(f, "l %d %d\n", m->lines[2 * k] + 1, m->lines[2 * k + 1] + 1);

@@ -39,7 +39,8 @@ void cb_spring_term_forces(const cb_term *t, const double *x, cb_spring_gather *
  * gets the energies of the springs whose first end is v (else it is unchanged): called for v = 0,
  * 1, ..., nv-1 from *E = 0 this sums E_e in spring order, bit for bit the
  * term's energy (its summation order). */
-static inline __attribute__((always_inline)) void cb_spring_gather_add(const cb_spring_gather *g, int v, double *gx, double *gy, double *gz, double *E) {
+static inline __attribute__((always_inline)) void cb_spring_gather_add(const cb_spring_gather *g, int v, double *gx,
+                                                                       double *gy, double *gz, double *E) {
   const double *fx = g->f, *fy = g->f + g->ns, *fz = g->f + 2 * (size_t)g->ns, *en = g->f + 3 * (size_t)g->ns;
   double ax = *gx, ay = *gy, az = *gz, ae = *E;
   if (g->split && g->sorted) { /* the common case (a mesh's edges): -f_e of the springs ending at v, then +f_e, E_e */

@@ -25,7 +25,9 @@ int cb_objective_init(cb_objective *o, const cb_scene *s) {
 
 void cb_objective_free(cb_objective *o) {
   if (!o) return;
-  free(o->x0); free(o->xhat); free(o->g);
+  free(o->x0);
+  free(o->xhat);
+  free(o->g);
   o->x0 = o->xhat = o->g = NULL;
 }
 
@@ -54,7 +56,7 @@ double cb_objective_eval(cb_objective *o, const double *x, double *gF, double *s
     int i = s->free_vertex[k];
     for (int a = 0; a < 3; a++) {
       double d = x[3 * i + a] - o->xhat[3 * i + a];
-      inertia += s->mass[i] * d * d;                                   /* |x - xhat|_M^2 */
+      inertia += s->mass[i] * d * d;                                      /* |x - xhat|_M^2 */
       if (gF) gF[3 * k + a] = s->mass[i] * d * inv_dt2 + o->g[3 * i + a]; /* M(x - xhat)/dt^2 + dE/dx */
     }
   }
@@ -75,8 +77,8 @@ void cb_objective_velocity(const cb_objective *o, const double *x, double *v) {
 
 double cb_chebyshev_omega(int k, double rho, double omega_prev) {
   if (k == 0) return 1.0;
-  if (k == 1) return 2.0 / (2.0 - rho * rho);      /* omega_1 = 2/(2 - rho^2) */
-  return 4.0 / (4.0 - rho * rho * omega_prev);     /* omega_k = 4/(4 - rho^2 omega_{k-1}) */
+  if (k == 1) return 2.0 / (2.0 - rho * rho);  /* omega_1 = 2/(2 - rho^2) */
+  return 4.0 / (4.0 - rho * rho * omega_prev); /* omega_k = 4/(4 - rho^2 omega_{k-1}) */
 }
 
 double cb_rho_from_updates(const double *d, int n) {

@@ -8,7 +8,9 @@
 
 static int copy_pattern(const cb_sparse *A, cb_sparse *P) {
   memset(P, 0, sizeof *P);
-  P->n = A->n; P->nnz = A->nnz; P->nblk = A->nblk;
+  P->n = A->n;
+  P->nnz = A->nnz;
+  P->nblk = A->nblk;
   P->colp = cb_malloc((size_t)A->n + 1, sizeof(int));
   P->rowi = cb_malloc((size_t)A->nnz + 1, sizeof(int));
   P->val = cb_calloc((size_t)A->nnz + 1, sizeof(double));

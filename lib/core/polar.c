@@ -61,7 +61,10 @@ unsigned cb_polar32(const double F[6], double R[6], double sigma[2]) {
   }
   for (int r = 0; r < 3; r++)
     for (int c = 0; c < 2; c++) R[2 * r + c] = u1[r] * v1[c] + u2[r] * v2[c];
-  if (sigma) { sigma[0] = s[0]; sigma[1] = s[1]; }
+  if (sigma) {
+    sigma[0] = s[0];
+    sigma[1] = s[1];
+  }
   return flags;
 }
 
@@ -76,7 +79,10 @@ unsigned cb_polar33(const double A[9], double R[9], double sigma[3]) {
   }
   double u[3][3], v[3][3]; /* columns */
   for (int c = 0; c < 3; c++)
-    for (int r = 0; r < 3; r++) { u[c][r] = U[3 * r + c]; v[c][r] = V[3 * r + c]; }
+    for (int r = 0; r < 3; r++) {
+      u[c][r] = U[3 * r + c];
+      v[c][r] = V[3 * r + c];
+    }
   double tol = CB_POLAR_RANK_TOL * s[0];
   if (s[1] <= tol) { /* rank 1: complete both bases */
     flags |= CB_POLAR_RANK_DEFICIENT;

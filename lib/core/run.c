@@ -59,7 +59,10 @@ int cb_run_init(cb_run *r, cb_scene *s, cb_integrator *it) {
   r->x = cb_malloc(n3, sizeof(double));
   r->v = cb_malloc(n3, sizeof(double));
   if (r->driven) r->grad = cb_malloc(n3, sizeof(double));
-  if (!r->x || !r->v || (r->driven && !r->grad)) { cb_run_free(r); return CB_ENOMEM; }
+  if (!r->x || !r->v || (r->driven && !r->grad)) {
+    cb_run_free(r);
+    return CB_ENOMEM;
+  }
   memcpy(r->x, s->x0, n3 * sizeof(double));
   memcpy(r->v, s->v0, n3 * sizeof(double));
   energies(r, &r->power);
@@ -90,17 +93,20 @@ int cb_run_step(cb_run *r) {
   if (st == CB_DIVERGED && !cb_error_message()[0]) { /* an integrator's NaN test: name what is not finite */
     int fs = finite_state(r);
     if (fs == CB_OK)
-      cb_fail_status(CB_DIVERGED, "%s: a value inside the step (objective, gradient or update) is not finite, "
-                     "although the state is", r->integ->type->name);
+      cb_fail_status(CB_DIVERGED,
+                     "%s: a value inside the step (objective, gradient or update) is not finite, "
+                     "although the state is",
+                     r->integ->type->name);
   }
   if (!cb_status_is_fatal(st)) {
     int fs = finite_state(r);
     double gain = tracked(r) - r->total0 - r->work;
     if (fs) st = fs;
     else if (gain > r->bound)
-      st = cb_fail_status(CB_DIVERGED, "energy bound: the total energy rose by %.6g J above its initial "
-                          "value%s, more than integrator.diverge_ratio x S = %g x %.6g J = %.6g J", gain,
-                          r->driven ? " less the driven pins' work" : "", r->scene->diverge_ratio,
+      st = cb_fail_status(CB_DIVERGED,
+                          "energy bound: the total energy rose by %.6g J above its initial "
+                          "value%s, more than integrator.diverge_ratio x S = %g x %.6g J = %.6g J",
+                          gain, r->driven ? " less the driven pins' work" : "", r->scene->diverge_ratio,
                           r->bound / r->scene->diverge_ratio, r->bound);
   }
   r->last.status = st;

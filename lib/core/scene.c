@@ -43,7 +43,8 @@ static int pins_halfspace(const char *spec, const cb_mesh *m, int *list, int *cn
     return cb_fail("scene.pins: '%s': the plane's offset d / |(a, b, c)| is not a finite double", spec);
   if (!(nn > 0) || !isfinite(nn) || !isfinite(h[3] / nn))
     return cb_fail("scene.pins: '%s' is not `halfspace a b c d` (4 finite numbers separated by spaces or commas, "
-                   "(a, b, c) not zero): the vertices whose rest position p has a p_x + b p_y + c p_z <= d", spec);
+                   "(a, b, c) not zero): the vertices whose rest position p has a p_x + b p_y + c p_z <= d",
+                   spec);
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, diag = 0;
   for (int i = 0; i < m->nv; i++)
     for (int a = 0; a < 3; a++) {
@@ -77,9 +78,13 @@ int cb_pins_resolve(const char *spec, const cb_mesh *m, int **out, int *n) {
     if (strcmp(spec, "corners") == 0) list[cnt++] = 0;
     if (strcmp(spec, "none") != 0) list[cnt++] = gn - 1;
   } else if (strcmp(spec, "corners") == 0) {
-    list[cnt++] = 0; list[cnt++] = gn - 1; list[cnt++] = (gm - 1) * gn; list[cnt++] = gm * gn - 1;
+    list[cnt++] = 0;
+    list[cnt++] = gn - 1;
+    list[cnt++] = (gm - 1) * gn;
+    list[cnt++] = gm * gn - 1;
   } else if (strcmp(spec, "top-corners") == 0) {
-    list[cnt++] = (gm - 1) * gn; list[cnt++] = gm * gn - 1;
+    list[cnt++] = (gm - 1) * gn;
+    list[cnt++] = gm * gn - 1;
   } else if (strcmp(spec, "top-edge") == 0) {
     for (int i = 0; i < gn; i++) list[cnt++] = (gm - 1) * gn + i;
   } else if (strncmp(spec, "halfspace", 9) == 0 && (!spec[9] || spec[9] == ' ' || spec[9] == '\t' || spec[9] == ',')) {
@@ -96,7 +101,8 @@ int cb_pins_resolve(const char *spec, const cb_mesh *m, int **out, int *n) {
       if (!isdigit((unsigned char)*p)) {
         free(list);
         return cb_fail("scene.pins: '%s' is not a named set (none, corners, top-corners, top-edge), "
-                       "`halfspace a b c d` or a list of 0-based vertex indices", spec);
+                       "`halfspace a b c d` or a list of 0-based vertex indices",
+                       spec);
       }
       char *end;
       errno = 0;
@@ -133,8 +139,12 @@ void cb_scene_free(cb_scene *s) {
   cb_system_free(&s->sys);
   cb_mesh_free(&s->mesh);
   cb_topology_free(&s->topo);
-  free(s->mass); free(s->pinned); free(s->free_index); free(s->free_vertex);
-  free(s->x0); free(s->v0);
+  free(s->mass);
+  free(s->pinned);
+  free(s->free_index);
+  free(s->free_vertex);
+  free(s->x0);
+  free(s->v0);
   free(s);
 }
 
@@ -145,12 +155,28 @@ double cb_scene_total_mass(const cb_scene *s) {
 }
 
 cb_scene_def cb_scene_def_default(void) {
-  cb_scene_def d = {.mesh = CB_MESH_GRID, .grid = cb_grid_params_default(), .mesh_file = NULL, .density = 1,
-                    .vertex_mass = 0, .stretch = "spring", .stretch_k = 8000, .fem_hessian = "exact", .bend = "none", .bend_k = 100, .bend_hessian = "gauss-newton", .definiteness = "drop",
-                    .buckling_kb = 0.01, .gravity = {0, -9.8, 0}, .pins = "top-corners", .initial_scale = 1,
-                    .pin_squeeze = {0, 0, 0}, .diverge_ratio = 10, .collider = "none",
-                    .sphere = {.centre = {0, 0, 0}, .radius = 1, .thickness = 0, .stiffness = 10000, .velocity = {0, 0, 0}},
-                    .nresponses = 0};
+  cb_scene_def d = {
+      .mesh = CB_MESH_GRID,
+      .grid = cb_grid_params_default(),
+      .mesh_file = NULL,
+      .density = 1,
+      .vertex_mass = 0,
+      .stretch = "spring",
+      .stretch_k = 8000,
+      .fem_hessian = "exact",
+      .bend = "none",
+      .bend_k = 100,
+      .bend_hessian = "gauss-newton",
+      .definiteness = "drop",
+      .buckling_kb = 0.01,
+      .gravity = {0, -9.8, 0},
+      .pins = "top-corners",
+      .initial_scale = 1,
+      .pin_squeeze = {0, 0, 0},
+      .diverge_ratio = 10,
+      .collider = "none",
+      .sphere = {.centre = {0, 0, 0}, .radius = 1, .thickness = 0, .stiffness = 10000, .velocity = {0, 0, 0}},
+      .nresponses = 0};
   return d;
 }
 
@@ -191,8 +217,8 @@ static const char *mesh_key(const cb_scene_def *d) { return d->mesh == CB_MESH_O
 /* An error about vertex i of the mesh, prefixed with where it came from:
  * "mesh.file: cloth.obj:12: ..." (the line of its `v` statement) for an OBJ,
  * "mesh: ..." for a generated mesh; i < 0: about no one vertex. */
-__attribute__((format(printf, 4, 5)))
-static int mesh_fail(const cb_scene_def *d, const cb_mesh *m, int i, const char *fmt, ...) {
+__attribute__((format(printf, 4, 5))) static int mesh_fail(const cb_scene_def *d, const cb_mesh *m, int i,
+                                                           const char *fmt, ...) {
   char msg[768];
   va_list ap;
   va_start(ap, fmt);
@@ -210,7 +236,10 @@ static double longest_edge(const cb_scene *s) {
   for (int e = 0; e < s->topo.ne; e++) {
     const double *a = s->mesh.x + 3 * s->topo.edge[2 * e], *b = s->mesh.x + 3 * s->topo.edge[2 * e + 1];
     double m = fmax(fabs(a[0] - b[0]), fmax(fabs(a[1] - b[1]), fabs(a[2] - b[2])));
-    if (!(m > 0) || !isfinite(m)) { lmax = fmax(lmax, m); continue; }
+    if (!(m > 0) || !isfinite(m)) {
+      lmax = fmax(lmax, m);
+      continue;
+    }
     double u = (a[0] - b[0]) / m, v = (a[1] - b[1]) / m, w = (a[2] - b[2]) / m;
     lmax = fmax(lmax, m * sqrt(u * u + v * v + w * w));
   }
@@ -226,25 +255,32 @@ static int check_finite(const cb_scene *s, const cb_scene_def *d, const char **k
   for (int i = 0; i < 3 * nv; i++)
     if (!isfinite(s->x0[i]))
       return at_key(cb_fail("scene.initial_scale: vertex %d's initial position, %g x its offset from the centroid, "
-                            "is not a finite double", i / 3, d->initial_scale), key, "scene.initial_scale");
+                            "is not a finite double",
+                            i / 3, d->initial_scale),
+                    key, "scene.initial_scale");
   for (int e = 0; e < s->topo.ne; e++) { /* each edge's direction at x0: a squared length that underflows has none */
     const double *a = s->x0 + 3 * s->topo.edge[2 * e], *b = s->x0 + 3 * s->topo.edge[2 * e + 1];
     double l2 = (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
     if (l2 >= DBL_MIN) continue;
     const char *what = l2 == 0 ? "zero length" : "a length too small to square";
     if (d->initial_scale == 1) /* the mesh as given */
-      return at_key(mesh_fail(d, &s->mesh, -1, "the edge between vertices %d and %d has %s (squared length %g m^2): "
-                              "the mesh's coordinates are too small (scale the mesh up)", s->topo.edge[2 * e],
-                              s->topo.edge[2 * e + 1], what, l2), key, mesh_key(d));
+      return at_key(mesh_fail(d, &s->mesh, -1,
+                              "the edge between vertices %d and %d has %s (squared length %g m^2): "
+                              "the mesh's coordinates are too small (scale the mesh up)",
+                              s->topo.edge[2 * e], s->topo.edge[2 * e + 1], what, l2),
+                    key, mesh_key(d));
     return at_key(cb_fail("scene.initial_scale = %g: the edge between vertices %d and %d has %s at the initial state "
                           "(squared length %g m^2): the scaled offsets are below double precision's reach at "
-                          "these coordinates", d->initial_scale, s->topo.edge[2 * e], s->topo.edge[2 * e + 1], what, l2),
+                          "these coordinates",
+                          d->initial_scale, s->topo.edge[2 * e], s->topo.edge[2 * e + 1], what, l2),
                   key, "scene.initial_scale");
   }
   double K = cb_scene_kinetic(s, s->v0);
   if (!isfinite(K))
     return at_key(cb_fail("scene.pin_squeeze: the initial kinetic energy of the driven pins is %g J, not a finite "
-                          "double (masses up to the mesh's)", K), key, "scene.pin_squeeze");
+                          "double (masses up to the mesh's)",
+                          K),
+                  key, "scene.pin_squeeze");
   double per[CB_MAX_TERMS];
   cb_system_energy(&s->sys, s->x0, NULL, per);
   for (int k = 0; k < s->sys.nterms; k++) {
@@ -261,13 +297,16 @@ static int check_finite(const cb_scene *s, const cb_scene_def *d, const char **k
     }
     return at_key(cb_fail("%s: the %s energy at the initial state is %g J, not a finite double (%s, total mass "
                           "%g kg, longest edge %g m, scene.initial_scale = %g): the scene is too large for double "
-                          "precision", tkey, label, per[k], what, cb_scene_total_mass(s), longest_edge(s),
-                          d->initial_scale), key, tkey);
+                          "precision",
+                          tkey, label, per[k], what, cb_scene_total_mass(s), longest_edge(s), d->initial_scale),
+                  key, tkey);
   }
   if (!isfinite(s->energy_scale))
     return at_key(labelled(cb_fail("the energy scale S (elastic energy + total mass %g kg x |g| x the bounding-box "
-                                   "diagonal %g m) is %g J, not a finite double", cb_scene_total_mass(s),
-                                   cb_mesh_bbox_diagonal(&s->mesh), s->energy_scale), mesh_key(d)), key, mesh_key(d));
+                                   "diagonal %g m) is %g J, not a finite double",
+                                   cb_scene_total_mass(s), cb_mesh_bbox_diagonal(&s->mesh), s->energy_scale),
+                           mesh_key(d)),
+                  key, mesh_key(d));
   return CB_OK;
 }
 
@@ -297,7 +336,8 @@ static int build_mesh(const cb_scene_def *d, cb_mesh *mesh, const char **key) {
 
 /* The definition's names and responses, before anything is allocated. */
 static int check_def(const cb_scene_def *d, const cb_collider **collider, const char **key) {
-  if (!d->bend || !d->definiteness || !d->pins || !d->collider) /* e.g. a copy of cb_scene.def, whose strings are NULL */
+  if (!d->bend || !d->definiteness || !d->pins ||
+      !d->collider) /* e.g. a copy of cb_scene.def, whose strings are NULL */
     return cb_fail("scene: bend, definiteness, pins and collider must be set (start from cb_scene_def_default())");
   *collider = cb_collider_find(d->collider);
   if (!*collider) return at_key(cb_fail("collider.type: unknown collider '%s'", d->collider), key, "collider.type");
@@ -318,7 +358,9 @@ static int build_geometry(const cb_scene_def *d, cb_scene *s, const char **key) 
   if (st == CB_OK) st = cb_topology_build(&s->mesh, &s->topo);
   if (st == CB_OK && s->topo.nonmanifold > 0 && strcmp(d->bend, "none") != 0)
     st = at_key(cb_fail("material.bend: the mesh has %d non-manifold edges (shared by more than two triangles); "
-                        "bending needs a manifold mesh", s->topo.nonmanifold), key, "material.bend");
+                        "bending needs a manifold mesh",
+                        s->topo.nonmanifold),
+                key, "material.bend");
   if (st) return st;
   int nv = s->mesh.nv;
   s->mass = cb_calloc((size_t)nv, sizeof(double));
@@ -339,17 +381,26 @@ static int build_masses(const cb_scene_def *d, cb_scene *s, const char **key) {
     for (int t = 0; t < s->mesh.nt; t++) {
       double a = cb_mesh_triangle_area(&s->mesh, s->mesh.x, t);
       if (!isfinite(a))
-        return at_key(mesh_fail(d, &s->mesh, -1, "triangle %d has area %g m^2, not a finite double: "
-                                "the mesh's coordinates are too large", t + 1, a), key, mesh_key(d));
+        return at_key(mesh_fail(d, &s->mesh, -1,
+                                "triangle %d has area %g m^2, not a finite double: "
+                                "the mesh's coordinates are too large",
+                                t + 1, a),
+                      key, mesh_key(d));
       if (!(a >= DBL_MIN)) /* its vertices' masses would underflow to nothing */
-        return at_key(mesh_fail(d, &s->mesh, -1, "triangle %d has area %g m^2, below the smallest normal double: "
-                                "the mesh's coordinates are too small (scale the mesh up)", t + 1, a), key, mesh_key(d));
+        return at_key(mesh_fail(d, &s->mesh, -1,
+                                "triangle %d has area %g m^2, below the smallest normal double: "
+                                "the mesh's coordinates are too small (scale the mesh up)",
+                                t + 1, a),
+                      key, mesh_key(d));
       for (int k = 0; k < 3; k++) s->mass[s->mesh.tri[3 * t + k]] += d->density * a / 3.0;
     }
   for (int i = 0; i < nv; i++)
     if (!isfinite(s->mass[i]))
-      return at_key(cb_fail("material.density: vertex %d's mass, density %g kg/m^2 x its triangles' area / 3, is %g kg, "
-                            "not a finite double", i, d->density, s->mass[i]), key, "material.density");
+      return at_key(cb_fail("material.density: vertex %d's mass, density %g kg/m^2 x its triangles' area / 3, is %g "
+                            "kg, "
+                            "not a finite double",
+                            i, d->density, s->mass[i]),
+                    key, "material.density");
   return CB_OK;
 }
 
@@ -367,10 +418,13 @@ static int build_free(const cb_scene_def *d, cb_scene *s, const char **key) {
     if (!(s->mass[i] > 0)) {
       if (s->mesh.nt == 0) /* a chain, or an OBJ of line elements only */
         return at_key(cb_fail("material.vertex_mass: the mesh has no triangles, so its vertices have no area and no "
-                              "mass: set material.vertex_mass > 0 (vertex %d is the first free one)", i),
+                              "mass: set material.vertex_mass > 0 (vertex %d is the first free one)",
+                              i),
                       key, "material.vertex_mass");
-      return at_key(mesh_fail(d, &s->mesh, i, "vertex %d (0-based; %d in the file's indices) belongs to no triangle "
-                              "and has no mass: remove it, pin it (scene.pins), or set material.vertex_mass", i, i + 1),
+      return at_key(mesh_fail(d, &s->mesh, i,
+                              "vertex %d (0-based; %d in the file's indices) belongs to no triangle "
+                              "and has no mass: remove it, pin it (scene.pins), or set material.vertex_mass",
+                              i, i + 1),
                     key, mesh_key(d));
     }
     s->free_vertex[nfree] = i;
@@ -408,7 +462,8 @@ static int build_terms(const cb_scene_def *d, cb_scene *s, const cb_collider *co
   int nterms = 0, kind = 0;
   const char *stretch = d->stretch ? d->stretch : "spring", *mkey = NULL;
   const cb_material *mat = cb_material_find(CB_MATERIAL_STRETCH, stretch);
-  if (!mat) return at_key(cb_fail("material.stretch: unknown model '%s' (spring or fem)", stretch), key, "material.stretch");
+  if (!mat)
+    return at_key(cb_fail("material.stretch: unknown model '%s' (spring or fem)", stretch), key, "material.stretch");
   st = hessian_choice(mat, d->fem_hessian, cb_fem_hessian_names, "material.fem_hessian", &kind, key);
   if (st) return st;
   mp.k = d->stretch_k;
@@ -417,10 +472,12 @@ static int build_terms(const cb_scene_def *d, cb_scene *s, const cb_collider *co
   if (st) return mkey ? at_key(st, key, mkey) : st;
   if (terms[nterms]) nterms++;
   mat = cb_material_find(CB_MATERIAL_BEND, d->bend);
-  if (!mat) st = at_key(labelled(cb_fail("unknown bending model '%s'", d->bend), "material.bend"), key, "material.bend");
+  if (!mat)
+    st = at_key(labelled(cb_fail("unknown bending model '%s'", d->bend), "material.bend"), key, "material.bend");
   mp.k = d->bend_k;
   kind = 0;
-  if (st == CB_OK && (st = hessian_choice(mat, d->bend_hessian, cb_bend_hessian_names, "material.bend_hessian", &kind, key)))
+  if (st == CB_OK &&
+      (st = hessian_choice(mat, d->bend_hessian, cb_bend_hessian_names, "material.bend_hessian", &kind, key)))
     mat = NULL; /* an error of its own key */
   mp.bend_hessian = (cb_bend_hessian)kind;
   if (st == CB_OK) st = cb_material_term_alloc(mat, &s->model, &mp, &terms[nterms], &mkey);
@@ -464,9 +521,10 @@ static int build_start(const cb_scene_def *d, cb_scene *s, const char **key) {
   /* the divergence scale, less the kinetic energy (cb_run adds it):
    * S = elastic(x0) + (sum m_i) |g| D max(1, initial_scale) + 1e-12 J, D the rest bounding-box diagonal.
    * lib/instruments/stability.c's energy scale is a different one, of a perturbed start state. */
-  s->energy_scale = cb_system_elastic_energy(&s->sys, s->x0) +
-                    cb_scene_total_mass(s) * cb_v3_norm(d->gravity) * cb_mesh_bbox_diagonal(&s->mesh) * fmax(1.0, d->initial_scale) +
-                    1e-12;
+  s->energy_scale =
+      cb_system_elastic_energy(&s->sys, s->x0) +
+      cb_scene_total_mass(s) * cb_v3_norm(d->gravity) * cb_mesh_bbox_diagonal(&s->mesh) * fmax(1.0, d->initial_scale) +
+      1e-12;
   return check_finite(s, d, key);
 }
 

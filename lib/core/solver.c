@@ -14,13 +14,13 @@
  * and lists it. The order is that of solver.method's choices, of the tests'
  * loops and of the experiments' rows. */
 #define CB_SOLVER_REGISTRY(X) \
-  X(cholmod)                  \
-  X(jacobi)                   \
-  X(chebyshev)                \
-  X(cg)                       \
-  X(pcg)                      \
-  X(sgs)                      \
-  X(nesterov)                 \
+  X(cholmod) \
+  X(jacobi) \
+  X(chebyshev) \
+  X(cg) \
+  X(pcg) \
+  X(sgs) \
+  X(nesterov) \
   /* one X(name) line per solver, above this line */
 #define CB_SOLVER_DECLARE(name) extern const cb_solver_type cb_solver_##name;
 #define CB_SOLVER_ENTRY(name) &cb_solver_##name,
@@ -39,9 +39,18 @@ const char *cb_order_name(int ordering) {
 }
 
 cb_solver_params cb_solver_params_default(void) {
-  cb_solver_params p = {.tol = 1e-8, .max_iters = 1000, .alpha = 1.0, .rho = 0.0, .history_cap = 0,
-                         .ordering = CB_ORDER_NESDIS, .nrelax = {16, 64, 128}, .upper = 1, .flush_denormals = 1, .rho_reuse = 1,
-                         .monitor = NULL, .monitor_ctx = NULL};
+  cb_solver_params p = {.tol = 1e-8,
+                        .max_iters = 1000,
+                        .alpha = 1.0,
+                        .rho = 0.0,
+                        .history_cap = 0,
+                        .ordering = CB_ORDER_NESDIS,
+                        .nrelax = {16, 64, 128},
+                        .upper = 1,
+                        .flush_denormals = 1,
+                        .rho_reuse = 1,
+                        .monitor = NULL,
+                        .monitor_ctx = NULL};
   return p;
 }
 
@@ -62,7 +71,10 @@ int cb_solver_alloc(const char *name, const cb_solver_params *p, int n, cb_solve
   s->n = n;
   if (s->params.history_cap > 0) {
     s->stats.history = cb_calloc((size_t)s->params.history_cap, sizeof(double));
-    if (!s->stats.history) { free(s); return CB_ENOMEM; }
+    if (!s->stats.history) {
+      free(s);
+      return CB_ENOMEM;
+    }
   }
   int st = t->alloc(s, n);
   if (st) {

@@ -17,15 +17,19 @@
 
 typedef struct {
   int precond;
-  double *binv;        /* 9 per block: inverse of the diagonal block (pcg) */
+  double *binv; /* 9 per block: inverse of the diagonal block (pcg) */
   double *r, *z, *p, *q;
-  cb_sparse_sym S;     /* upper blocks of A, refreshed by factor (the products read it) */
+  cb_sparse_sym S; /* upper blocks of A, refreshed by factor (the products read it) */
 } cg_work;
 
 static void cgw_free(cb_solver *s) {
   cg_work *w = s->work;
   if (!w) return;
-  free(w->binv); free(w->r); free(w->z); free(w->p); free(w->q);
+  free(w->binv);
+  free(w->r);
+  free(w->z);
+  free(w->p);
+  free(w->q);
   cb_sparse_sym_free(&w->S);
   free(w);
   s->work = NULL;
@@ -129,7 +133,8 @@ static int cg_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x
     if (!(pq > 0)) {
       s->stats.iters = k;
       if (!isfinite(pq)) return cb_fail_status(CB_DIVERGED, "%s: NaN at iteration %d", s->type->name, k + 1);
-      return cb_fail_status(CB_INDEFINITE, "%s: breakdown p^T A p = %g <= 0 at iteration %d (A is not positive definite)",
+      return cb_fail_status(CB_INDEFINITE,
+                            "%s: breakdown p^T A p = %g <= 0 at iteration %d (A is not positive definite)",
                             s->type->name, pq, k + 1);
     }
     double a = rz / pq, rr = 0;

@@ -92,7 +92,10 @@ static cholmod_sparse wrap_for(cholmod_work *w, const cb_sparse *A, int upper) {
 }
 
 static int build_upper(cholmod_work *w, const cb_sparse *A) {
-  free(w->up); free(w->ui); free(w->usrc); free(w->ux);
+  free(w->up);
+  free(w->ui);
+  free(w->usrc);
+  free(w->ux);
   int nz = 0;
   for (int j = 0; j < A->n; j++)
     for (int q = A->colp[j]; q < A->colp[j + 1]; q++) nz += A->rowi[q] <= j;
@@ -105,7 +108,10 @@ static int build_upper(cholmod_work *w, const cb_sparse *A) {
   for (int j = 0; j < A->n; j++) {
     w->up[j] = nz;
     for (int q = A->colp[j]; q < A->colp[j + 1]; q++)
-      if (A->rowi[q] <= j) { w->ui[nz] = A->rowi[q]; w->usrc[nz++] = q; }
+      if (A->rowi[q] <= j) {
+        w->ui[nz] = A->rowi[q];
+        w->usrc[nz++] = q;
+      }
   }
   w->up[A->n] = nz;
   return CB_OK;
@@ -116,7 +122,10 @@ static int ch_alloc(cb_solver *s, int n) {
   cholmod_work *w = cb_calloc(1, sizeof *w);
   if (!w) return CB_ENOMEM;
   w->work = cb_malloc((size_t)n, sizeof(double));
-  if (!w->work) { free(w); return CB_ENOMEM; }
+  if (!w->work) {
+    free(w);
+    return CB_ENOMEM;
+  }
   cholmod_start(&w->c);
   const cb_solver_params *p = &s->params;
   for (int k = 0; k < 3; k++)
@@ -134,9 +143,9 @@ static int ch_alloc(cb_solver *s, int n) {
     w->c.method[0].ordering = method[p->ordering];
     w->c.postorder = 1;
   }
-  w->c.print = 0;            /* statuses are ours to report */
+  w->c.print = 0; /* statuses are ours to report */
   w->c.error_handler = NULL;
-  w->c.final_ll = 1;         /* LL': a non-positive pivot is a failure */
+  w->c.final_ll = 1; /* LL': a non-positive pivot is a failure */
   s->work = w;
   return CB_OK;
 }
@@ -204,7 +213,10 @@ static void ch_free(cb_solver *s) {
   cholmod_free_dense(&w->E, &w->c);
   cholmod_finish(&w->c);
   free(w->work);
-  free(w->up); free(w->ui); free(w->usrc); free(w->ux);
+  free(w->up);
+  free(w->ui);
+  free(w->usrc);
+  free(w->ux);
   free(w);
 }
 

@@ -55,10 +55,10 @@
 #include "solver_iterative.h"
 #include <clothbench/timer.h>
 
-#define RHO_REUSE_MAX 30       /* factorisations on one estimate at most */
-#define RHO_REUSE_G 0.25       /* Lanczos again when Gershgorin's bound moved by more than 25% */
-#define RHO_CHECK_ITERS 8      /* iterations a solve needs before its rate is judged */
-#define RHO_REUSE_GROWTH 10.0  /* a solve on a reused estimate restarts when |r| > 10 |r0| */
+#define RHO_REUSE_MAX 30      /* factorisations on one estimate at most */
+#define RHO_REUSE_G 0.25      /* Lanczos again when Gershgorin's bound moved by more than 25% */
+#define RHO_CHECK_ITERS 8     /* iterations a solve needs before its rate is judged */
+#define RHO_REUSE_GROWTH 10.0 /* a solve on a reused estimate restarts when |r| > 10 |r0| */
 
 /* Lanczos settings of the rho estimate. */
 static cb_lanczos_params rho_lanczos_params(void) {
@@ -73,14 +73,14 @@ typedef struct {
   int estimate;         /* rho = auto (Chebyshev) or alpha = auto: Lanczos bounds needed */
   double *dinv, *dhalf; /* D^-1 and D^-1/2 */
   double *r, *last, *work, *x0;
-  double rho, alpha;    /* used by the solve */
-  cb_sparse_sym S;      /* upper blocks of A, refreshed by factor */
+  double rho, alpha;            /* used by the solve */
+  cb_sparse_sym S;              /* upper blocks of A, refreshed by factor */
   cb_lanczos_workspace lanczos; /* for the estimate, allocated once */
   /* the last estimate: widened bounds of eig(D^-1 A), factorisations on it, and whether a solve found it wrong */
   int have_bounds, reused, uses, stale;
-  double lo, hi;         /* bounds in use */
-  double lo0, hi0, g0;   /* Lanczos's bounds, and Gershgorin's bound when it ran */
-  double rel0; /* relative residual of the solve's initial guess */
+  double lo, hi;       /* bounds in use */
+  double lo0, hi0, g0; /* Lanczos's bounds, and Gershgorin's bound when it ran */
+  double rel0;         /* relative residual of the solve's initial guess */
 } jacobi_work;
 
 static int jw_alloc(cb_solver *s, int n, int accelerated) {
@@ -108,7 +108,12 @@ static int jw_alloc(cb_solver *s, int n, int accelerated) {
 static void jw_free(cb_solver *s) {
   jacobi_work *w = s->work;
   if (!w) return;
-  free(w->dinv); free(w->dhalf); free(w->r); free(w->last); free(w->work); free(w->x0);
+  free(w->dinv);
+  free(w->dhalf);
+  free(w->r);
+  free(w->last);
+  free(w->work);
+  free(w->x0);
   cb_sparse_sym_free(&w->S);
   cb_lanczos_workspace_free(&w->lanczos);
   free(w);
@@ -161,7 +166,9 @@ typedef struct {
   double alpha, rho_lo, rho_hi;
 } rho_estimate;
 
-static double rho_of(double alpha, double lo, double hi) { return fmax(fabs(1.0 - alpha * lo), fabs(1.0 - alpha * hi)); }
+static double rho_of(double alpha, double lo, double hi) {
+  return fmax(fabs(1.0 - alpha * lo), fabs(1.0 - alpha * hi));
+}
 
 /* Sets the bounds; clamp: keep the Ritz value where the bottom is unresolved. */
 static void rho_bounds(rho_estimate *e, const cb_eig_result *r, int clamp) {
@@ -286,8 +293,10 @@ static int use_bounds(cb_solver *s) {
   w->rho = s->params.rho > 0 ? s->params.rho : rho_of(w->alpha, w->lo, w->hi);
   s->stats.rho = w->rho;
   if (!(w->rho < 1))
-    return cb_fail_status(CB_DIVERGED, "chebyshev: estimated rho(I - alpha D^-1 A) = %g >= 1: Jacobi diverges; "
-                                       "lower solver.alpha below 2/lambda_max(D^-1 A) or set it to auto", w->rho);
+    return cb_fail_status(CB_DIVERGED,
+                          "chebyshev: estimated rho(I - alpha D^-1 A) = %g >= 1: Jacobi diverges; "
+                          "lower solver.alpha below 2/lambda_max(D^-1 A) or set it to auto",
+                          w->rho);
   return CB_OK;
 }
 
@@ -350,9 +359,9 @@ static int jw_iterate(cb_solver *s, const double *b, double bnorm, double *x, in
   for (int k = 0; k < s->params.max_iters; k++) {
     if (w->accelerated) omega = k == 0 ? 1.0 : k == 1 ? 2.0 / (2.0 - rho2) : 4.0 / (4.0 - rho2 * omega);
     for (int i = 0; i < n; i++) {
-      double xi = x[i] + alpha * w->dinv[i] * w->r[i];  /* dx + alpha D^-1 r */
+      double xi = x[i] + alpha * w->dinv[i] * w->r[i];     /* dx + alpha D^-1 r */
       double xn = omega * xi + (1.0 - omega) * w->last[i]; /* omega dx + (1 - omega) last */
-      w->last[i] = x[i];                                  /* last <- old */
+      w->last[i] = x[i];                                   /* last <- old */
       x[i] = xn;
     }
     double rn = cb_sparse_sym_residual(&w->S, b, x, w->r);

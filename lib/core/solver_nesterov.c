@@ -55,7 +55,12 @@ static cb_lanczos_params spectrum_params(void) {
 static void nw_free(cb_solver *s) {
   nesterov_work *w = s->work;
   if (!w) return;
-  free(w->dinv); free(w->dhalf); free(w->xprev); free(w->r); free(w->rprev); free(w->work);
+  free(w->dinv);
+  free(w->dhalf);
+  free(w->xprev);
+  free(w->r);
+  free(w->rprev);
+  free(w->work);
   cb_lanczos_workspace_free(&w->lanczos);
   free(w);
   s->work = NULL;
@@ -116,7 +121,8 @@ static int nw_factor(cb_solver *s, const cb_sparse *A) {
   s->stats.rho_steps = e.steps;
   if (st) return st;
   if (!(e.lmin > 0))
-    return cb_fail_status(CB_NOT_SPD, "nesterov: D^-1 A has the Ritz value %g <= 0: A is not positive definite", e.lmin);
+    return cb_fail_status(CB_NOT_SPD, "nesterov: D^-1 A has the Ritz value %g <= 0: A is not positive definite",
+                          e.lmin);
   double mu, L;
   bounds(&e, &mu, &L);
   w->alpha = 1.0 / L;                                    /* alpha = 1/L */
@@ -137,7 +143,7 @@ static int nw_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x
   memcpy(w->rprev, w->r, (size_t)n * sizeof(double));
   for (int k = 0; k < s->params.max_iters; k++) {
     for (int i = 0; i < n; i++) {
-      double y = x[i] + beta * (x[i] - w->xprev[i]);       /* y = x_k + beta (x_k - x_k-1) */
+      double y = x[i] + beta * (x[i] - w->xprev[i]);        /* y = x_k + beta (x_k - x_k-1) */
       double ry = w->r[i] + beta * (w->r[i] - w->rprev[i]); /* b - A y = r_k + beta (r_k - r_k-1) */
       w->xprev[i] = x[i];
       w->rprev[i] = w->r[i];

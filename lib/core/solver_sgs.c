@@ -58,17 +58,22 @@ static int sgs_alloc(cb_solver *s, int n) {
 static int cholesky3(const double a[9], double l[6]) {
   double d0 = a[0];
   if (!(d0 > 0)) return -1;
-  double l00 = sqrt(d0);                /* l00 = sqrt(a00) */
-  double l10 = a[3] / l00;              /* l10 = a10 / l00 */
-  double d1 = a[4] - l10 * l10;         /* a11 - l10^2 */
+  double l00 = sqrt(d0);        /* l00 = sqrt(a00) */
+  double l10 = a[3] / l00;      /* l10 = a10 / l00 */
+  double d1 = a[4] - l10 * l10; /* a11 - l10^2 */
   if (!(d1 > 0)) return -1;
   double l11 = sqrt(d1);
-  double l20 = a[6] / l00;              /* l20 = a20 / l00 */
+  double l20 = a[6] / l00;               /* l20 = a20 / l00 */
   double l21 = (a[7] - l20 * l10) / l11; /* l21 = (a21 - l20 l10) / l11 */
   double d2 = a[8] - l20 * l20 - l21 * l21;
   if (!(d2 > 0)) return -1;
   double l22 = sqrt(d2);
-  l[0] = 1 / l00; l[1] = l10; l[2] = 1 / l11; l[3] = l20; l[4] = l21; l[5] = 1 / l22;
+  l[0] = 1 / l00;
+  l[1] = l10;
+  l[2] = 1 / l11;
+  l[3] = l20;
+  l[4] = l21;
+  l[5] = 1 / l22;
   return 0;
 }
 
@@ -101,11 +106,11 @@ static inline void relax_block(const cb_sparse *A, const double *chol, int i, co
     s2 -= v[2 * stride] * xj[0] + v[2 * stride + 1] * xj[1] + v[2 * stride + 2] * xj[2];
   }
   const double *l = chol + 6 * i;
-  double y0 = s0 * l[0];                            /* L y = s (l[0], l[2], l[5]: 1 / diagonal) */
+  double y0 = s0 * l[0]; /* L y = s (l[0], l[2], l[5]: 1 / diagonal) */
   double y1 = (s1 - l[1] * y0) * l[2];
   double y2 = (s2 - l[3] * y0 - l[4] * y1) * l[5];
   double *xi = x + 3 * i;
-  double x2 = y2 * l[5];                            /* L^T x_i = y */
+  double x2 = y2 * l[5]; /* L^T x_i = y */
   double x1 = (y1 - l[4] * x2) * l[2];
   xi[0] = (y0 - l[1] * x1 - l[3] * x2) * l[0];
   xi[1] = x1;
@@ -124,7 +129,7 @@ static int sgs_solve(cb_solver *s, const cb_sparse *A, const double *b, double *
   for (int k = 0; k < s->params.max_iters; k++) {
     for (int i = 0; i < A->nblk; i++) relax_block(A, w->chol, i, b, x);      /* forward sweep */
     for (int i = A->nblk - 1; i >= 0; i--) relax_block(A, w->chol, i, b, x); /* backward sweep */
-    double rn = cb_sparse_residual(A, b, x, w->r); /* r = b - A x */
+    double rn = cb_sparse_residual(A, b, x, w->r);                           /* r = b - A x */
     if (cb_iter_stop(s, k + 1, rn, r0, bnorm, x, &status)) return status;
     status = CB_NOT_CONVERGED;
   }

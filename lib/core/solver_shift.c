@@ -32,7 +32,10 @@ int cb_shift_alloc(int n, const cb_shift_params *p, cb_shift **out) {
   }
   s->n = n;
   s->diag0 = cb_malloc((size_t)(n > 0 ? n : 1), sizeof(double));
-  if (!s->diag0) { free(s); return CB_ENOMEM; }
+  if (!s->diag0) {
+    free(s);
+    return CB_ENOMEM;
+  }
   *out = s;
   return CB_OK;
 }
@@ -67,9 +70,9 @@ int cb_shift_solve(cb_shift *sh, cb_solver *solver, cb_sparse *A, const int *dia
     mean += fabs(sh->diag0[i]) / A->n;
   }
   double beta = sh->p.beta_rel * (mean > 0 ? mean : 1.0);
-  double mu = fmax(beta, sh->mu_last / sh->p.grow); /* mu_1 = max(beta, mu_last / grow) */
+  double mu = fmax(beta, sh->mu_last / sh->p.grow);                         /* mu_1 = max(beta, mu_last / grow) */
   for (int tries = 1; tries < sh->p.max_tries; tries++, mu *= sh->p.grow) { /* mu_{j+1} = grow mu_j */
-    for (int i = 0; i < A->n; i++) A->val[diag[i]] = sh->diag0[i] + mu; /* A + mu I */
+    for (int i = 0; i < A->n; i++) A->val[diag[i]] = sh->diag0[i] + mu;     /* A + mu I */
     st->mu = mu;
     ls = factor_solve(solver, A, b, dx, st);
     if (ls != CB_NOT_SPD && ls != CB_INDEFINITE) {
@@ -77,6 +80,6 @@ int cb_shift_solve(cb_shift *sh, cb_solver *solver, cb_sparse *A, const int *dia
       return ls;
     }
   }
-  return cb_fail_status(ls, "shift: A + mu I still not positive definite at mu = %g after %d factorisations",
-                        st->mu, st->factorizations);
+  return cb_fail_status(ls, "shift: A + mu I still not positive definite at mu = %g after %d factorisations", st->mu,
+                        st->factorizations);
 }

@@ -47,7 +47,11 @@ static int cmp_pair_colmajor(const void *a, const void *b) {
 
 void cb_sparse_free(cb_sparse *A) {
   if (!A) return;
-  free(A->colp); free(A->rowi); free(A->val); free(A->bcolp); free(A->brow);
+  free(A->colp);
+  free(A->rowi);
+  free(A->val);
+  free(A->bcolp);
+  free(A->brow);
   memset(A, 0, sizeof *A);
 }
 
@@ -58,7 +62,10 @@ int cb_sparse_from_pattern(const cb_pattern *p, cb_sparse *A) {
   int *ij = cb_malloc((size_t)2 * total, sizeof(int));
   if (!ij) return CB_ENOMEM;
   memcpy(ij, p->ij, (size_t)2 * p->n * sizeof(int));
-  for (int bi = 0; bi < nb; bi++) { ij[2 * (p->n + bi)] = bi; ij[2 * (p->n + bi) + 1] = bi; }
+  for (int bi = 0; bi < nb; bi++) {
+    ij[2 * (p->n + bi)] = bi;
+    ij[2 * (p->n + bi) + 1] = bi;
+  }
   qsort(ij, (size_t)total, 2 * sizeof(int), cmp_pair_colmajor);
   int nuniq = 0;
   for (int k = 0; k < total; k++)
@@ -67,7 +74,10 @@ int cb_sparse_from_pattern(const cb_pattern *p, cb_sparse *A) {
       ij[2 * nuniq + 1] = ij[2 * k + 1];
       nuniq++;
     }
-  if ((long)nuniq * 9 > 2000000000L) { free(ij); return cb_fail("matrix too large for 32-bit indices"); }
+  if ((long)nuniq * 9 > 2000000000L) {
+    free(ij);
+    return cb_fail("matrix too large for 32-bit indices");
+  }
   A->nblk = nb;
   A->n = 3 * nb;
   A->nnz = 9 * nuniq;
@@ -186,7 +196,9 @@ size_t cb_sparse_matvec_bytes(const cb_sparse *A) {
 
 void cb_sparse_sym_free(cb_sparse_sym *S) {
   if (!S) return;
-  free(S->bcolp); free(S->brow); free(S->val);
+  free(S->bcolp);
+  free(S->brow);
+  free(S->val);
   memset(S, 0, sizeof *S);
 }
 
@@ -253,7 +265,8 @@ void cb_sparse_sym_matvec(const cb_sparse_sym *S, const double *restrict x, doub
   }
 }
 
-double cb_sparse_sym_residual(const cb_sparse_sym *S, const double *restrict b, const double *restrict x, double *restrict r) {
+double cb_sparse_sym_residual(const cb_sparse_sym *S, const double *restrict b, const double *restrict x,
+                              double *restrict r) {
   cb_sparse_sym_matvec(S, x, r);
   double rr = 0.0;
   for (int i = 0; i < S->n; i++) {

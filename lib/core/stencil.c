@@ -49,8 +49,8 @@ int cb_stencil_bind(cb_stencil *s, const cb_sparse *A, const char *label) {
         int ba = s->free_index[v[a]], bb = s->free_index[v[b]];
         cb_sparse_block_slot(A, ba, bb, q, q + 1);
         if (ba >= 0 && bb >= 0 && q[0] < 0)
-          return cb_fail("%s element %d: block (vertex %d, vertex %d) missing from the sparsity pattern", label, e, v[a],
-                         v[b]);
+          return cb_fail("%s element %d: block (vertex %d, vertex %d) missing from the sparsity pattern", label, e,
+                         v[a], v[b]);
       }
   }
   return CB_OK;

@@ -5,7 +5,9 @@
 
 #include <clothbench/status.h>
 
-typedef struct { int i, j, t; } triple;
+typedef struct {
+  int i, j, t;
+} triple;
 
 static int cmp_triple(const void *a, const void *b) {
   const triple *p = a, *q = b;
@@ -16,7 +18,11 @@ static int cmp_triple(const void *a, const void *b) {
 
 void cb_topology_free(cb_topology *t) {
   if (!t) return;
-  free(t->edge); free(t->boundary); free(t->pair_tri); free(t->pair_edge); free(t->pair_opp);
+  free(t->edge);
+  free(t->boundary);
+  free(t->pair_tri);
+  free(t->pair_edge);
+  free(t->pair_opp);
   memset(t, 0, sizeof *t);
 }
 
@@ -66,7 +72,10 @@ int cb_topology_build(const cb_mesh *m, cb_topology *out) {
     cb_topology_free(out);
     return CB_ENOMEM;
   }
-  out->ne = ne; out->nb = nb; out->np = np; out->nonmanifold = nonman;
+  out->ne = ne;
+  out->nb = nb;
+  out->np = np;
+  out->nonmanifold = nonman;
   int e_idx = 0, b_idx = 0, p_idx = 0;
   for (int s = 0; s < n3;) {
     int e = s + 1;
@@ -103,7 +112,10 @@ static int count_sets(int n, const int *pairs, int npairs, const int *use, int *
   for (int k = 0; k < npairs; k++) {
     int e = use ? use[k] : k;
     int a = find(parent, pairs[2 * e]), b = find(parent, pairs[2 * e + 1]);
-    if (a != b) { parent[a] = b; sets--; }
+    if (a != b) {
+      parent[a] = b;
+      sets--;
+    }
   }
   return sets;
 }
@@ -120,7 +132,11 @@ int cb_topology_boundary_loops(const cb_mesh *m, const cb_topology *t) {
   /* Components of the boundary-edge graph, counted over boundary vertices only. */
   int *parent = cb_malloc((size_t)m->nv, sizeof(int));
   char *onb = cb_calloc((size_t)m->nv, 1);
-  if (!parent || !onb) { free(parent); free(onb); return CB_ENOMEM; }
+  if (!parent || !onb) {
+    free(parent);
+    free(onb);
+    return CB_ENOMEM;
+  }
   int sets = count_sets(m->nv, t->edge, t->nb, t->boundary, parent);
   for (int k = 0; k < t->nb; k++) {
     onb[t->edge[2 * t->boundary[k]]] = 1;
@@ -128,6 +144,7 @@ int cb_topology_boundary_loops(const cb_mesh *m, const cb_topology *t) {
   }
   int off = 0;
   for (int i = 0; i < m->nv; i++) off += !onb[i];
-  free(parent); free(onb);
+  free(parent);
+  free(onb);
   return sets - off;
 }

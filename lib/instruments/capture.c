@@ -13,8 +13,8 @@
 
 typedef struct {
   cb_capture *c;
-  int cur_step;   /* the step being simulated */
-  int done;       /* 1 once the system has been copied */
+  int cur_step; /* the step being simulated */
+  int done;     /* 1 once the system has been copied */
 } capture_ctx;
 
 static void capture_hook(void *ctx, int event, const cb_newton_event *ev) {
@@ -47,12 +47,18 @@ int cb_capture_newton_system(const cb_config *cfg, int step, int iter, cb_captur
   capture_ctx k = {out, 0, 0};
   cb_integrator_params ip;
   st = cb_integrator_params_from_config(cfg, &ip);
-  if (st) { cb_capture_free(out); return st; }
+  if (st) {
+    cb_capture_free(out);
+    return st;
+  }
   ip.hook = capture_hook;
   ip.hook_ctx = &k;
   cb_integrator *it = NULL;
   st = cb_integrator_from_config(cfg, s, &ip, &it);
-  if (st) { cb_capture_free(out); return st; }
+  if (st) {
+    cb_capture_free(out);
+    return st;
+  }
   cb_run r;
   st = cb_run_init(&r, s, it);
   for (int n = 0; st == CB_OK && n <= step && !k.done; n++) {

@@ -30,17 +30,17 @@
 #include <clothbench/scene.h>
 #include <clothbench/solver.h>
 
-#define CB_METHOD_CONVERGED_TOL 1e-8   /* "converged": relative |grad F| (integrator.tol default) */
-#define CB_METHOD_CONVERGED_ITERS 100  /* and at most this many Newton iterations */
+#define CB_METHOD_CONVERGED_TOL 1e-8  /* "converged": relative |grad F| (integrator.tol default) */
+#define CB_METHOD_CONVERGED_ITERS 100 /* and at most this many Newton iterations */
 #define CB_METHOD_CHEB_ALPHA (1.0 / 3.0)
 
 typedef struct cb_method {
-  char name[32];      /* "newton_k1", ..., "newton_converged", "newton_converged_exact" */
-  int K;              /* Newton iterations; 0 = converged (tol above) */
-  int definiteness;   /* cb_definiteness of every Newton update: CB_DEF_DROP, or CB_DEF_SHIFT (exact) */
-  int line_search;    /* 0 or 1 */
-  char inner[24];     /* inner-solve label (see above) */
-  char solver[24];    /* registry name */
+  char name[32];    /* "newton_k1", ..., "newton_converged", "newton_converged_exact" */
+  int K;            /* Newton iterations; 0 = converged (tol above) */
+  int definiteness; /* cb_definiteness of every Newton update: CB_DEF_DROP, or CB_DEF_SHIFT (exact) */
+  int line_search;  /* 0 or 1 */
+  char inner[24];   /* inner-solve label (see above) */
+  char solver[24];  /* registry name */
   cb_solver_params sp;
 } cb_method;
 

@@ -17,8 +17,8 @@ double cb_compressed_fraction(const cb_system *sys, const double *x) {
   return n > 0 ? (double)c / n : 0.0;
 }
 
-int cb_newton_trace_init(cb_newton_trace *t, const cb_scene *scene, cb_system *ref, double dt, int cap, unsigned what_used,
-                  unsigned what_exact, const cb_spd_probe_params *params) {
+int cb_newton_trace_init(cb_newton_trace *t, const cb_scene *scene, cb_system *ref, double dt, int cap,
+                         unsigned what_used, unsigned what_exact, const cb_spd_probe_params *params) {
   memset(t, 0, sizeof *t);
   t->scene = scene;
   t->ref = ref;

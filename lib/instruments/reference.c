@@ -25,9 +25,9 @@ struct cb_reference {
   cb_scene *scene;
   cb_reference_params p;
   cb_solver *chol;
-  cb_objective obj;          /* F, grad F, xhat of the step */
-  double *x, *xt, *xs;       /* 3*nv */
-  double *gF, *dx;           /* 3*nfree */
+  cb_objective obj;    /* F, grad F, xhat of the step */
+  double *x, *xt, *xs; /* 3*nv */
+  double *gF, *dx;     /* 3*nfree */
 };
 
 cb_reference_params cb_reference_params_default(void) {
@@ -39,8 +39,11 @@ void cb_reference_free(cb_reference *r) {
   if (!r) return;
   cb_solver_free(r->chol);
   cb_objective_free(&r->obj);
-  free(r->x); free(r->xt); free(r->xs);
-  free(r->gF); free(r->dx);
+  free(r->x);
+  free(r->xt);
+  free(r->xs);
+  free(r->gF);
+  free(r->dx);
   free(r);
 }
 
@@ -96,8 +99,8 @@ int cb_reference_step(cb_reference *r, const double *x0, const double *v0, doubl
   cb_sparse *A = &s->sys.A;
   int n3 = 3 * s->mesh.nv, nf = A->n;
   double dt = r->p.dt;
-  cb_objective_begin(&r->obj, x0, v0, dt);  /* xhat = x0 + dt v0 */
-  cb_objective_guess(&r->obj, r->x, 1);      /* x(0) = xhat, as the integrator's "predict" */
+  cb_objective_begin(&r->obj, x0, v0, dt); /* xhat = x0 + dt v0 */
+  cb_objective_guess(&r->obj, r->x, 1);    /* x(0) = xhat, as the integrator's "predict" */
   double g0 = 0, alpha = 1.0, mu = 0;
   double mbar = cb_free_mass(s) / (s->model.nfree > 0 ? s->model.nfree : 1);
   double mu0 = 1e-3 * mbar / (dt * dt); /* first shift: 1e-3 of the mean mass term */
@@ -111,10 +114,23 @@ int cb_reference_step(cb_reference *r, const double *x0, const double *v0, doubl
     st->rel_grad = g0 > 0 ? gn / g0 : 0;
     st->iters = k;
     if (r->p.log) r->p.log(r->p.log_ctx, k, gn, st->rel_grad, F, alpha, hessian);
-    if (!isfinite(F) || !isfinite(gn)) { status = CB_DIVERGED; break; }
-    if (gn <= r->p.tol * g0 || gn == 0) { status = CB_OK; break; }
-    if (dx_small) { status = CB_OK; st->by_dx = 1; break; }
-    if (k == r->p.max_iters) { status = CB_NOT_CONVERGED; break; }
+    if (!isfinite(F) || !isfinite(gn)) {
+      status = CB_DIVERGED;
+      break;
+    }
+    if (gn <= r->p.tol * g0 || gn == 0) {
+      status = CB_OK;
+      break;
+    }
+    if (dx_small) {
+      status = CB_OK;
+      st->by_dx = 1;
+      break;
+    }
+    if (k == r->p.max_iters) {
+      status = CB_NOT_CONVERGED;
+      break;
+    }
 
     /* A = M/dt^2 + H(x): exact Hessian if SPD, else the drop fix */
     cb_system_assemble(&s->sys, r->x, 1.0 / (dt * dt), CB_DEF_NONE, 0.0);
@@ -140,10 +156,16 @@ int cb_reference_step(cb_reference *r, const double *x0, const double *v0, doubl
       fs = cb_solver_solve(r->chol, A, r->gF, r->dx);
       for (int i = 0; i < nf; i++) r->gF[i] = -r->gF[i];
     }
-    if (fs) { status = fs > 0 ? fs : CB_LINEAR_FAILED; break; }
+    if (fs) {
+      status = fs > 0 ? fs : CB_LINEAR_FAILED;
+      break;
+    }
 
     double slope = cb_vec_dot(nf, r->gF, r->dx); /* grad F . dx < 0 for SPD A */
-    if (!(slope < 0)) { status = CB_LS_FAILED; break; }
+    if (!(slope < 0)) {
+      status = CB_LS_FAILED;
+      break;
+    }
     alpha = 1.0;
     int ok = -slope <= REF_FLAT * S; /* decrease below F's round-off: full step */
     memcpy(r->xt, r->x, (size_t)n3 * sizeof(double));
@@ -155,7 +177,10 @@ int cb_reference_step(cb_reference *r, const double *x0, const double *v0, doubl
       else st->ls_backtracks++;
       if (ok) break;
     }
-    if (!ok) { status = CB_LS_FAILED; break; }
+    if (!ok) {
+      status = CB_LS_FAILED;
+      break;
+    }
     double dmax = 0;
     for (int i = 0; i < nf; i++) dmax = fmax(dmax, fabs(alpha * r->dx[i]));
     st->last_dx = dmax;

@@ -46,10 +46,11 @@
 #include <clothbench/solver.h>
 
 typedef struct cb_reference_params {
-  double dt;       /* time step, s. Default 1/30 */
-  double tol;      /* relative |grad F| (to |grad F(xhat)|) to stop at. Default 1e-12 */
-  double tol_dx;   /* m: stop when the last update had max|alpha dx| <= tol_dx; 0 = 1e-12 x rest bbox diagonal. Default 0 */
-  int max_iters;   /* Newton iterations at most. Default 500 */
+  double dt;  /* time step, s. Default 1/30 */
+  double tol; /* relative |grad F| (to |grad F(xhat)|) to stop at. Default 1e-12 */
+  double
+      tol_dx; /* m: stop when the last update had max|alpha dx| <= tol_dx; 0 = 1e-12 x rest bbox diagonal. Default 0 */
+  int max_iters; /* Newton iterations at most. Default 500 */
   /* Optional log of every iterate: iter (0 = xhat), |grad F|, relative
    * |grad F|, F, the line-search alpha of the update that led here (1 at
    * iter 0) and the Hessian of that update (0 none/start, 1 exact, 2 exact +

@@ -28,7 +28,10 @@ int cb_rigidity_dofs(int n, const double *x, int nbars, const int *bar) {
       for (size_t k = 0; k < cols; k++) rank += gsl_vector_get(S, k) > 1e-9 * gsl_vector_get(S, 0);
     }
   }
-  gsl_matrix_free(R); gsl_matrix_free(V); gsl_vector_free(S); gsl_vector_free(w);
+  gsl_matrix_free(R);
+  gsl_matrix_free(V);
+  gsl_vector_free(S);
+  gsl_vector_free(w);
   return rank < 0 ? -1 : 3 * n - rank;
 }
 
@@ -36,8 +39,14 @@ int cb_ring_disk(int rings, cb_mesh *m) {
   memset(m, 0, sizeof *m);
   if (rings < 1 || rings > 63) return cb_fail("ring disk: 1..63 rings, got %d", rings);
   int nv = 1, nt = 0, cnt[64], start[64];
-  cnt[0] = 1; start[0] = 0;
-  for (int r = 1; r <= rings; r++) { cnt[r] = (int)lround(6.5 * r); start[r] = nv; nv += cnt[r]; nt += cnt[r] + cnt[r - 1]; }
+  cnt[0] = 1;
+  start[0] = 0;
+  for (int r = 1; r <= rings; r++) {
+    cnt[r] = (int)lround(6.5 * r);
+    start[r] = nv;
+    nv += cnt[r];
+    nt += cnt[r] + cnt[r - 1];
+  }
   nt -= 1; /* the centre fan has cnt[1] triangles, not cnt[1] + 1 */
   m->nv = nv;
   m->x = calloc((size_t)3 * nv, sizeof(double));
@@ -57,9 +66,15 @@ int cb_ring_disk(int rings, cb_mesh *m) {
       int a0 = start[r - 1] + i % na, b0 = start[r] + j % nb;
       if (r == 1 || (j < nb && (i >= na || bj < ai))) {
         if (r == 1 && j >= nb) break;
-        m->tri[3 * t] = a0; m->tri[3 * t + 1] = b0; m->tri[3 * t + 2] = start[r] + (j + 1) % nb; j++;
+        m->tri[3 * t] = a0;
+        m->tri[3 * t + 1] = b0;
+        m->tri[3 * t + 2] = start[r] + (j + 1) % nb;
+        j++;
       } else {
-        m->tri[3 * t] = a0; m->tri[3 * t + 1] = b0; m->tri[3 * t + 2] = start[r - 1] + (i + 1) % na; i++;
+        m->tri[3 * t] = a0;
+        m->tri[3 * t + 1] = b0;
+        m->tri[3 * t + 2] = start[r - 1] + (i + 1) % na;
+        i++;
       }
       t++;
     }
@@ -69,7 +84,11 @@ int cb_ring_disk(int rings, cb_mesh *m) {
 }
 
 static int edge_index(int ne, const int *edge, int i, int j) {
-  if (i > j) { int s = i; i = j; j = s; }
+  if (i > j) {
+    int s = i;
+    i = j;
+    j = s;
+  }
   int lo = 0, hi = ne - 1; /* edges are sorted by (i, j) */
   while (lo <= hi) {
     int mid = (lo + hi) / 2, a = edge[2 * mid], b = edge[2 * mid + 1];
@@ -80,7 +99,8 @@ static int edge_index(int ne, const int *edge, int i, int j) {
   return -1;
 }
 
-int cb_nonconforming_bars(const cb_mesh *m, const double *x, int ne, const int *edge, double *mid, int **bar, int *nbars) {
+int cb_nonconforming_bars(const cb_mesh *m, const double *x, int ne, const int *edge, double *mid, int **bar,
+                          int *nbars) {
   *bar = NULL;
   *nbars = 0;
   for (int e = 0; e < ne; e++)
@@ -90,8 +110,14 @@ int cb_nonconforming_bars(const cb_mesh *m, const double *x, int ne, const int *
   for (int t = 0; t < m->nt; t++) {
     const int *v = m->tri + 3 * t;
     int e[3] = {edge_index(ne, edge, v[0], v[1]), edge_index(ne, edge, v[1], v[2]), edge_index(ne, edge, v[2], v[0])};
-    if (e[0] < 0 || e[1] < 0 || e[2] < 0) { free(b); return cb_fail("nonconforming: triangle %d has an edge not in the list", t); }
-    for (int k = 0; k < 3; k++) { b[6 * t + 2 * k] = e[k]; b[6 * t + 2 * k + 1] = e[(k + 1) % 3]; }
+    if (e[0] < 0 || e[1] < 0 || e[2] < 0) {
+      free(b);
+      return cb_fail("nonconforming: triangle %d has an edge not in the list", t);
+    }
+    for (int k = 0; k < 3; k++) {
+      b[6 * t + 2 * k] = e[k];
+      b[6 * t + 2 * k + 1] = e[(k + 1) % 3];
+    }
   }
   *bar = b;
   *nbars = 3 * m->nt;

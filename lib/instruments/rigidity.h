@@ -29,6 +29,7 @@ int cb_ring_disk(int rings, cb_mesh *m);
  * between the three midpoints of its edges (3 per triangle). Fills *nbars and
  * a malloc'd bar list over edge indices of topology edges edge[2 ne]; the
  * midpoints go to mid (3 ne, caller's). */
-int cb_nonconforming_bars(const cb_mesh *m, const double *x, int ne, const int *edge, double *mid, int **bar, int *nbars);
+int cb_nonconforming_bars(const cb_mesh *m, const double *x, int ne, const int *edge, double *mid, int **bar,
+                          int *nbars);
 
 #endif

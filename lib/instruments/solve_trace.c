@@ -21,7 +21,7 @@ typedef struct {
   double xref_norm, t_start, overhead;
   cb_trace_row pending; /* the latest iteration, kept or not */
   int pending_kept;
-  int called;           /* the monitor ran (iterative solver) */
+  int called; /* the monitor ran (iterative solver) */
 } tracer;
 
 static double rel_error(const tracer *tr, const double *x) {
@@ -73,7 +73,8 @@ int cb_trace_solve(const char *solver, const cb_solver_params *p, const cb_spars
   memset(&tr, 0, sizeof tr);
   tr.t = out;
   tr.p = tp ? *tp : cb_trace_params_default();
-  if (tr.p.keep_all < 0 || !(tr.p.growth > 1) || !(tr.p.mark_err >= 0)) return cb_fail("trace: keep_all must be >= 0, growth > 1 and mark_err >= 0");
+  if (tr.p.keep_all < 0 || !(tr.p.growth > 1) || !(tr.p.mark_err >= 0))
+    return cb_fail("trace: keep_all must be >= 0, growth > 1 and mark_err >= 0");
   tr.n = n;
   tr.xref = xref;
   tr.next_keep = (int)ceil(tr.p.keep_all * tr.p.growth);
@@ -88,7 +89,8 @@ int cb_trace_solve(const char *solver, const cb_solver_params *p, const cb_spars
   sp.monitor_ctx = &tr;
   /* rows: every one up to keep_all, then a geometric sequence, plus the mark and the last */
   int m = sp.max_iters > 0 ? sp.max_iters : 1;
-  tr.cap = tr.p.keep_all + 5 + (m > tr.p.keep_all ? (int)ceil(log((double)m / (tr.p.keep_all + 1)) / log(tr.p.growth)) + 1 : 0);
+  tr.cap = tr.p.keep_all + 5 +
+           (m > tr.p.keep_all ? (int)ceil(log((double)m / (tr.p.keep_all + 1)) / log(tr.p.growth)) + 1 : 0);
   out->rows = cb_malloc((size_t)tr.cap, sizeof *out->rows);
   double *x = cb_calloc((size_t)n, sizeof(double)); /* x = 0 */
   cb_solver *s = NULL;
@@ -191,10 +193,10 @@ int cb_trace_reference(const cb_sparse *A, const double *b, double *xref) {
   int st = (!r || !dx) ? CB_ENOMEM : cb_solver_alloc("cholmod", NULL, n, &s);
   if (st == CB_OK) st = cb_solver_analyze(s, A);
   if (st == CB_OK) st = cb_solver_factor(s, A);
-  if (st == CB_OK) st = cb_solver_solve(s, A, b, xref);   /* x = A^-1 b */
+  if (st == CB_OK) st = cb_solver_solve(s, A, b, xref); /* x = A^-1 b */
   if (st == CB_OK) {
-    cb_sparse_residual(A, b, xref, r);                     /* r = b - A x */
-    st = cb_solver_solve(s, A, r, dx);                     /* dx = A^-1 r */
+    cb_sparse_residual(A, b, xref, r);                           /* r = b - A x */
+    st = cb_solver_solve(s, A, r, dx);                           /* dx = A^-1 r */
     for (int i = 0; st == CB_OK && i < n; i++) xref[i] += dx[i]; /* x* = x + dx */
   }
   cb_solver_free(s);

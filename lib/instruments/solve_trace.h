@@ -25,11 +25,11 @@
 #include <clothbench/sparse.h>
 
 typedef struct cb_trace_params {
-  int keep_all;     /* keep every iteration up to this one. Default 100 */
-  double growth;    /* then keep k when k >= growth * (last kept). Default 1.05 */
-  double mark_tol;  /* also keep the first iteration with rel_residual <= mark_tol. Default 1e-6 */
-  double mark_err;  /* > 0: also keep the first iteration with error <= mark_err, which is then computed at
-                       every iteration until it is found (cb_trace.iter_err). Default 0 (off) */
+  int keep_all;    /* keep every iteration up to this one. Default 100 */
+  double growth;   /* then keep k when k >= growth * (last kept). Default 1.05 */
+  double mark_tol; /* also keep the first iteration with rel_residual <= mark_tol. Default 1e-6 */
+  double mark_err; /* > 0: also keep the first iteration with error <= mark_err, which is then computed at
+                      every iteration until it is found (cb_trace.iter_err). Default 0 (off) */
 } cb_trace_params;
 
 cb_trace_params cb_trace_params_default(void);
@@ -37,19 +37,19 @@ cb_trace_params cb_trace_params_default(void);
 typedef struct cb_trace_row {
   int iter;
   double rel_residual;
-  double wall_ms;   /* cumulative, including set-up */
-  double error;     /* |x_k - x*| / |x*| */
+  double wall_ms; /* cumulative, including set-up */
+  double error;   /* |x_k - x*| / |x*| */
 } cb_trace_row;
 
 typedef struct cb_trace {
-  int status;          /* status of the factor (if it failed) or of the solve */
-  int iters;           /* iterations done (1 for a direct solve) */
-  double analyze_ms;   /* symbolic analysis, not in wall_ms */
-  double setup_ms;     /* factor_ms: in every row's wall_ms */
-  double rho_ms;       /* part of setup_ms spent estimating Chebyshev's rho */
-  double rho;          /* Chebyshev: the rho used (estimated or given); else 0 */
-  double wall_ms;      /* total: setup + solve, tracer time subtracted */
-  int iter_err;        /* the first iteration with error <= mark_err, or -1 (also for a direct solve) */
+  int status;        /* status of the factor (if it failed) or of the solve */
+  int iters;         /* iterations done (1 for a direct solve) */
+  double analyze_ms; /* symbolic analysis, not in wall_ms */
+  double setup_ms;   /* factor_ms: in every row's wall_ms */
+  double rho_ms;     /* part of setup_ms spent estimating Chebyshev's rho */
+  double rho;        /* Chebyshev: the rho used (estimated or given); else 0 */
+  double wall_ms;    /* total: setup + solve, tracer time subtracted */
+  int iter_err;      /* the first iteration with error <= mark_err, or -1 (also for a direct solve) */
   int nrows;
   cb_trace_row *rows;
 } cb_trace;

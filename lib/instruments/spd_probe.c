@@ -34,7 +34,9 @@ void cb_spd_probe_free(cb_spd_probe *pr) {
   if (!pr) return;
   cb_solver_free(pr->chol);
   cb_solver_free(pr->cg);
-  free(pr->eval); free(pr->work); free(pr->dx);
+  free(pr->eval);
+  free(pr->work);
+  free(pr->dx);
   free(pr);
 }
 
@@ -131,7 +133,9 @@ int cb_dense_restricted_spd(const cb_sparse *A, const int *keep, double *min_eig
     if (st == CB_OK) *min_eig = scale * gsl_vector_min(ev);
   }
   free(map);
-  gsl_matrix_free(D); gsl_matrix_free(C); gsl_vector_free(ev);
+  gsl_matrix_free(D);
+  gsl_matrix_free(C);
+  gsl_vector_free(ev);
   if (ws) gsl_eigen_symm_free(ws);
   return st;
 }

@@ -19,9 +19,9 @@
 #include <clothbench/sparse.h>
 
 typedef struct cb_spd_probe_params {
-  int dense_max;              /* n <= dense_max: dense GSL eigenvalues; else Lanczos. Default 300 */
-  cb_lanczos_params lanczos;  /* Default max_steps 60, tol 1e-4, seed 1 */
-  cb_solver_params cg;        /* CG run on (A, b). Default tol 1e-8, max_iters 1000 */
+  int dense_max;             /* n <= dense_max: dense GSL eigenvalues; else Lanczos. Default 300 */
+  cb_lanczos_params lanczos; /* Default max_steps 60, tol 1e-4, seed 1 */
+  cb_solver_params cg;       /* CG run on (A, b). Default tol 1e-8, max_iters 1000 */
 } cb_spd_probe_params;
 
 cb_spd_probe_params cb_spd_probe_params_default(void);
@@ -29,15 +29,15 @@ cb_spd_probe_params cb_spd_probe_params_default(void);
 enum { CB_PROBE_CHOLMOD = 1, CB_PROBE_EIG = 2, CB_PROBE_CG = 4 };
 
 typedef struct cb_spd_probe_result {
-  int cholmod_status;     /* CB_OK or CB_NOT_SPD (CB_PROBE_CHOLMOD) */
-  double min_eig;         /* smallest eigenvalue, units of A (CB_PROBE_EIG) */
-  double min_eig_res;     /* its residual bound: 0 when dense, |beta_k s_k| for Lanczos */
-  int eig_dense;          /* 1 if min_eig came from the dense solver */
-  int eig_status;         /* CB_OK, or CB_NOT_CONVERGED if Lanczos ran out of steps */
-  int cg_status;          /* CB_OK, CB_NOT_CONVERGED, CB_INDEFINITE (breakdown), CB_DIVERGED (CB_PROBE_CG) */
+  int cholmod_status; /* CB_OK or CB_NOT_SPD (CB_PROBE_CHOLMOD) */
+  double min_eig;     /* smallest eigenvalue, units of A (CB_PROBE_EIG) */
+  double min_eig_res; /* its residual bound: 0 when dense, |beta_k s_k| for Lanczos */
+  int eig_dense;      /* 1 if min_eig came from the dense solver */
+  int eig_status;     /* CB_OK, or CB_NOT_CONVERGED if Lanczos ran out of steps */
+  int cg_status;      /* CB_OK, CB_NOT_CONVERGED, CB_INDEFINITE (breakdown), CB_DIVERGED (CB_PROBE_CG) */
   int cg_iters;
   double cg_rel_residual;
-  double ms;              /* wall time of the probe */
+  double ms; /* wall time of the probe */
 } cb_spd_probe_result;
 
 typedef struct cb_spd_probe cb_spd_probe;

@@ -23,10 +23,10 @@
 #include <clothbench/sparse.h>
 
 typedef struct cb_spectrum {
-  double lmin, lmax;       /* smallest and largest eigenvalue of diag(d) A diag(d) */
-  double res_min, res_max; /* error bounds: an eigenvalue lies within res of each (0 for dense) */
-  int steps_min, steps_max;/* Lanczos steps for each end (0 for dense) */
-  double ms;               /* wall time, ms */
+  double lmin, lmax;        /* smallest and largest eigenvalue of diag(d) A diag(d) */
+  double res_min, res_max;  /* error bounds: an eigenvalue lies within res of each (0 for dense) */
+  int steps_min, steps_max; /* Lanczos steps for each end (0 for dense) */
+  double ms;                /* wall time, ms */
 } cb_spectrum;
 
 /* d = D^-1/2 (n doubles): d_i = 1/sqrt(a_ii). CB_NOT_SPD if some a_ii <= 0. */

@@ -28,8 +28,13 @@ const char *cb_cell_class_name(int cls) {
 }
 
 cb_stability_params cb_stability_params_default(void) {
-  cb_stability_params p = {.sim_time = 2.0, .min_steps = 200, .max_steps = 0, .unstable_ratio = 1.0,
-                           .diverge_ratio = 10.0, .energy_every = 1, .mark_time = 0};
+  cb_stability_params p = {.sim_time = 2.0,
+                           .min_steps = 200,
+                           .max_steps = 0,
+                           .unstable_ratio = 1.0,
+                           .diverge_ratio = 10.0,
+                           .energy_every = 1,
+                           .mark_time = 0};
   return p;
 }
 
@@ -79,8 +84,8 @@ double cb_stability_energy_scale(const cb_scene *s, const double *x, const doubl
   double g = cb_v3_norm(s->gravity);
   if (!(g > 0)) g = STANDARD_GRAVITY;
   /* S = elastic(x) + kinetic(v) + (sum m_i) g D + 1e-12 J */
-  return cb_system_elastic_energy(&s->sys, x) + cb_scene_kinetic(s, v) + cb_scene_total_mass(s) * g * cb_mesh_bbox_diagonal(&s->mesh) +
-         1e-12;
+  return cb_system_elastic_energy(&s->sys, x) + cb_scene_kinetic(s, v) +
+         cb_scene_total_mass(s) * g * cb_mesh_bbox_diagonal(&s->mesh) + 1e-12;
 }
 
 void cb_stability_perturb(const cb_scene *s, double ke, unsigned seed, double *v) {
@@ -148,7 +153,11 @@ int cb_stability_equilibrium(cb_scene *s, double *x, const cb_equilibrium_params
   double t0 = cb_now_ms();
   int nv3 = 3 * s->mesh.nv;
   double *v = cb_calloc((size_t)nv3, sizeof(double)), *g = cb_malloc((size_t)nv3, sizeof(double));
-  if (!v || !g) { free(v); free(g); return CB_ENOMEM; }
+  if (!v || !g) {
+    free(v);
+    free(g);
+    return CB_ENOMEM;
+  }
   double gn = cb_v3_norm(s->gravity), fscale = 0;
   if (!(gn > 0)) gn = STANDARD_GRAVITY;
   for (int i = 0; i < s->mesh.nv; i++) fscale = fmax(fscale, s->mass[i] * gn); /* largest weight, N */
@@ -168,8 +177,14 @@ int cb_stability_equilibrium(cb_scene *s, double *x, const cb_equilibrium_params
   for (int k = 0;; k++) {
     cb_system_energy(&s->sys, x, g, NULL);
     st->residual = free_max_abs(s, g) / fscale;
-    if (!isfinite(st->residual)) { st->status = CB_DIVERGED; break; }
-    if (st->residual <= p.tol) { st->status = CB_OK; break; }
+    if (!isfinite(st->residual)) {
+      st->status = CB_DIVERGED;
+      break;
+    }
+    if (st->residual <= p.tol) {
+      st->status = CB_OK;
+      break;
+    }
     if (k == p.max_steps) break;
     if (!it && (rc = cb_integrator_alloc("newton", s, &ip, &np, "cholmod", &sp, &it))) break;
     it->params.dt = h;
@@ -180,7 +195,10 @@ int cb_stability_equilibrium(cb_scene *s, double *x, const cb_equilibrium_params
     st->newton_iters += ss.newton_iters;
     /* not converged / line search stalls near the minimum are tolerated: the
      * residual test above decides; a solver failure or NaN is not */
-    if (r == CB_DIVERGED || r == CB_NOT_SPD || r == CB_LINEAR_FAILED) { st->status = r; break; }
+    if (r == CB_DIVERGED || r == CB_NOT_SPD || r == CB_LINEAR_FAILED) {
+      st->status = r;
+      break;
+    }
     h = fmin(2.0 * h, p.dt_max);
   }
   strain_range(s, x, &st->min_strain, &st->max_strain);
@@ -257,7 +275,10 @@ int cb_stability_predict(cb_scene *s, const double *x, cb_eig_method method, cb_
 int cb_cell_work_alloc(const cb_scene *s, cb_cell_work *w) {
   w->x = cb_malloc((size_t)3 * s->mesh.nv, sizeof(double));
   w->v = cb_malloc((size_t)3 * s->mesh.nv, sizeof(double));
-  if (!w->x || !w->v) { cb_cell_work_free(w); return CB_ENOMEM; }
+  if (!w->x || !w->v) {
+    cb_cell_work_free(w);
+    return CB_ENOMEM;
+  }
   return CB_OK;
 }
 
@@ -338,7 +359,10 @@ int cb_stability_cell(cb_integrator *it, double dt, const double *x0, const doub
 int cb_stability_grid_bracket(const double *dt, const int *cls, int n, double *lo, double *hi, int *monotone) {
   int first = n;
   for (int i = 0; i < n; i++)
-    if (cls[i] != CB_CELL_STABLE) { first = i; break; }
+    if (cls[i] != CB_CELL_STABLE) {
+      first = i;
+      break;
+    }
   *monotone = 1;
   for (int i = first + 1; i < n; i++)
     if (cls[i] == CB_CELL_STABLE) *monotone = 0;
@@ -348,7 +372,8 @@ int cb_stability_grid_bracket(const double *dt, const int *cls, int n, double *l
 }
 
 static int run_cell(cb_integrator *it, double dt, const double *x0, const double *v0, double S,
-                    const cb_stability_params *p, cb_cell_work *w, cb_cell_hook hook, void *ctx, int *runs, int *stable) {
+                    const cb_stability_params *p, cb_cell_work *w, cb_cell_hook hook, void *ctx, int *runs,
+                    int *stable) {
   cb_cell_result r;
   int st = cb_stability_cell(it, dt, x0, v0, S, p, w, &r);
   if (st) return st;
@@ -370,14 +395,20 @@ int cb_stability_bisect(cb_integrator *it, const double *x0, const double *v0, d
     for (int i = 0; i < 40 && st == CB_OK; i++) {
       double d = lo * grow;
       st = run_cell(it, d, x0, v0, S, p, w, hook, ctx, &out->runs, &stable);
-      if (st == CB_OK && !stable) { hi = d; break; }
+      if (st == CB_OK && !stable) {
+        hi = d;
+        break;
+      }
       if (st == CB_OK) lo = d;
     }
   } else if (!(lo > 0)) { /* even hi's grid neighbour was unstable: search downward */
     for (int i = 0; i < 40 && st == CB_OK; i++) {
       double d = hi / grow;
       st = run_cell(it, d, x0, v0, S, p, w, hook, ctx, &out->runs, &stable);
-      if (st == CB_OK && stable) { lo = d; break; }
+      if (st == CB_OK && stable) {
+        lo = d;
+        break;
+      }
       if (st == CB_OK) hi = d;
     }
   }
@@ -402,13 +433,14 @@ int cb_stability_bisect(cb_integrator *it, const double *x0, const double *v0, d
 }
 
 int cb_stability_boundary_from_guess(cb_integrator *it, const double *x0, const double *v0, double S,
-                                     const cb_stability_params *p, cb_cell_work *w, double guess, double grow, int iters,
-                                     cb_cell_hook hook, void *ctx, cb_bisect_result *out) {
+                                     const cb_stability_params *p, cb_cell_work *w, double guess, double grow,
+                                     int iters, cb_cell_hook hook, void *ctx, cb_bisect_result *out) {
   memset(out, 0, sizeof *out);
   int runs = 0, stable = 0;
   int st = run_cell(it, guess, x0, v0, S, p, w, hook, ctx, &runs, &stable);
   if (st) return st;
-  st = cb_stability_bisect(it, x0, v0, S, p, w, stable ? guess : 0.0, stable ? 0.0 : guess, grow, iters, hook, ctx, out);
+  st =
+      cb_stability_bisect(it, x0, v0, S, p, w, stable ? guess : 0.0, stable ? 0.0 : guess, grow, iters, hook, ctx, out);
   out->runs += runs;
   return st;
 }
@@ -416,8 +448,14 @@ int cb_stability_boundary_from_guess(cb_integrator *it, const double *x0, const 
 /* ---- cases ----------------------------------------------------------------- */
 
 cb_case_params cb_case_params_default(void) {
-  cb_case_params p = {.equilibrium = 1, .perturb = 1e-6, .swing = 1e-3, .swing_dir = {0, 0, 1}, .seed = 1,
-                      .eig = CB_EIG_AUTO, .predict_rest = 1, .eq = cb_equilibrium_params_default()};
+  cb_case_params p = {.equilibrium = 1,
+                      .perturb = 1e-6,
+                      .swing = 1e-3,
+                      .swing_dir = {0, 0, 1},
+                      .seed = 1,
+                      .eig = CB_EIG_AUTO,
+                      .predict_rest = 1,
+                      .eq = cb_equilibrium_params_default()};
   return p;
 }
 
@@ -434,7 +472,8 @@ void cb_stability_case_free(cb_stability_case *c) {
 
 static void prediction_nan(cb_prediction *p) {
   memset(p, 0, sizeof *p);
-  p->lambda_max = p->omega_max = p->dt_crit = p->lambda_dense = p->lambda_min_dense = p->lambda_lanczos = p->lanczos_res = NAN;
+  p->lambda_max = p->omega_max = p->dt_crit = p->lambda_dense = p->lambda_min_dense = p->lambda_lanczos =
+      p->lanczos_res = NAN;
 }
 
 int cb_stability_case_init(cb_stability_case *c, const cb_config *cfg, const cb_case_params *pp) {
@@ -455,7 +494,8 @@ int cb_stability_case_init(cb_stability_case *c, const cb_config *cfg, const cb_
     if (p.equilibrium) {
       st = cb_stability_equilibrium(s, c->x_start, &p.eq, &c->eq);
       c->has_equilibrium = st == CB_OK && !cb_status_is_fatal(c->eq.status == CB_NOT_CONVERGED ? CB_OK : c->eq.status);
-      if (!c->has_equilibrium) memcpy(c->x_start, s->x0, n3 * sizeof(double)); /* fall back to x0 (eq.status says why) */
+      if (!c->has_equilibrium)
+        memcpy(c->x_start, s->x0, n3 * sizeof(double)); /* fall back to x0 (eq.status says why) */
     }
   }
   if (st == CB_OK) { /* v_start: a random part and a swing, as fractions of S0 = S(x_start, 0) */

@@ -100,18 +100,18 @@ void cb_stability_perturb(const cb_scene *s, double ke, unsigned seed, double *v
 void cb_stability_swing(const cb_scene *s, double ke, const double dir[3], double *v);
 
 typedef struct cb_equilibrium_params {
-  double dt0;      /* first proximal step, s. Default 0.05 */
-  double dt_max;   /* proximal step cap, s. Default 10 */
-  int max_steps;   /* proximal steps at most. Default 200 */
-  double tol;      /* stop at max_i |grad_i E| <= tol * max_i m_i g. Default 1e-4 */
+  double dt0;    /* first proximal step, s. Default 0.05 */
+  double dt_max; /* proximal step cap, s. Default 10 */
+  int max_steps; /* proximal steps at most. Default 200 */
+  double tol;    /* stop at max_i |grad_i E| <= tol * max_i m_i g. Default 1e-4 */
 } cb_equilibrium_params;
 
 typedef struct cb_equilibrium_stats {
-  int steps;        /* proximal steps taken */
+  int steps; /* proximal steps taken */
   long newton_iters;
-  double residual;  /* max_i |grad_i E| / (max_i m_i g) at the end */
-  int status;       /* CB_OK, or CB_NOT_CONVERGED (residual above tol), or a solver status */
-  double max_strain;/* max over springs of (l - L)/L at the end */
+  double residual;   /* max_i |grad_i E| / (max_i m_i g) at the end */
+  int status;        /* CB_OK, or CB_NOT_CONVERGED (residual above tol), or a solver status */
+  double max_strain; /* max over springs of (l - L)/L at the end */
   double min_strain;
   double ms;
 } cb_equilibrium_stats;
@@ -133,16 +133,16 @@ typedef enum { CB_EIG_AUTO = 0, CB_EIG_DENSE, CB_EIG_LANCZOS, CB_EIG_BOTH } cb_e
 #define CB_STABILITY_DENSE_MAX 1500
 
 typedef struct cb_prediction {
-  double lambda_max;     /* lambda_max(M^-1 K), 1/s^2 (the dense value when it ran) */
-  double omega_max;      /* sqrt(lambda_max), rad/s */
-  double dt_crit;        /* 2 / omega_max, s (Inf if lambda_max <= 0) */
-  int method;            /* CB_EIG_DENSE or CB_EIG_LANCZOS: which produced lambda_max */
-  double lambda_dense;   /* NaN if the dense solver did not run */
+  double lambda_max;   /* lambda_max(M^-1 K), 1/s^2 (the dense value when it ran) */
+  double omega_max;    /* sqrt(lambda_max), rad/s */
+  double dt_crit;      /* 2 / omega_max, s (Inf if lambda_max <= 0) */
+  int method;          /* CB_EIG_DENSE or CB_EIG_LANCZOS: which produced lambda_max */
+  double lambda_dense; /* NaN if the dense solver did not run */
   double lambda_min_dense;
   double lambda_lanczos; /* NaN if Lanczos did not run */
   double lanczos_res;    /* residual bound of its largest Ritz pair */
   int lanczos_steps, lanczos_status;
-  int ndof;              /* free DOFs */
+  int ndof; /* free DOFs */
   double ms;
 } cb_prediction;
 
@@ -153,19 +153,19 @@ int cb_stability_predict(cb_scene *s, const double *x, cb_eig_method method, cb_
 /* ---- cells ----------------------------------------------------------------- */
 
 typedef struct cb_cell_result {
-  int cls;                  /* cb_cell_class */
-  int step_status;          /* the last non-ok integrator status (CB_OK if none) */
+  int cls;         /* cb_cell_class */
+  int step_status; /* the last non-ok integrator status (CB_OK if none) */
   long steps, steps_planned;
-  double dt, t_end;         /* s */
-  double max_energy_ratio;  /* max(0, max_t (E - E0)/S) */
-  double final_energy_ratio;/* (E_end - E0)/S at the last sample */
+  double dt, t_end;                         /* s */
+  double max_energy_ratio;                  /* max(0, max_t (E - E0)/S) */
+  double final_energy_ratio;                /* (E_end - E0)/S at the last sample */
   double energy0, energy_end, energy_scale; /* E(0), E at the last sample, S; J */
-  double t_mark, energy_mark; /* first step time >= mark_time and E there (the end if no mark
-                                 or not reached: then t_mark = t_end < mark_time) */
-  double wall_ms;           /* stepping loop with its energy samples */
-  long newton_iters;        /* sum over steps */
-  int max_newton_iters;     /* per step */
-  long not_converged_steps; /* steps that stopped at max_iters */
+  double t_mark, energy_mark;               /* first step time >= mark_time and E there (the end if no mark
+                                               or not reached: then t_mark = t_end < mark_time) */
+  double wall_ms;                           /* stepping loop with its energy samples */
+  long newton_iters;                        /* sum over steps */
+  int max_newton_iters;                     /* per step */
+  long not_converged_steps;                 /* steps that stopped at max_iters */
 } cb_cell_result;
 
 /* State arrays for cells on one scene, allocated once. */
@@ -214,19 +214,19 @@ int cb_stability_bisect(cb_integrator *it, const double *x0, const double *v0, d
  * it was stable, downward otherwise) and bisects iters times: for scenes
  * without a sweep grid. */
 int cb_stability_boundary_from_guess(cb_integrator *it, const double *x0, const double *v0, double S,
-                                     const cb_stability_params *p, cb_cell_work *w, double guess, double grow, int iters,
-                                     cb_cell_hook hook, void *ctx, cb_bisect_result *out);
+                                     const cb_stability_params *p, cb_cell_work *w, double guess, double grow,
+                                     int iters, cb_cell_hook hook, void *ctx, cb_bisect_result *out);
 
 /* ---- a case: one scene with its start state, prediction and integrators ---- */
 
 typedef struct cb_case_params {
-  int equilibrium;        /* 1: start from the static equilibrium reached from the scene's x0. Default 1 */
-  double perturb;         /* random velocity: kinetic energy as a fraction of S0 = S(x_start, 0). Default 1e-6 */
-  double swing;           /* uniform velocity along swing_dir: kinetic energy as a fraction of S0. Default 1e-3 */
-  double swing_dir[3];    /* unit vector. Default (0, 0, 1): across a chain in plane yz or a cloth in plane xy */
-  unsigned seed;          /* perturbation seed. Default 1 */
-  cb_eig_method eig;      /* solver for the prediction at the start state. Default AUTO */
-  int predict_rest;       /* 1: also predict at the rest shape (mesh.x). Default 1 */
+  int equilibrium;     /* 1: start from the static equilibrium reached from the scene's x0. Default 1 */
+  double perturb;      /* random velocity: kinetic energy as a fraction of S0 = S(x_start, 0). Default 1e-6 */
+  double swing;        /* uniform velocity along swing_dir: kinetic energy as a fraction of S0. Default 1e-3 */
+  double swing_dir[3]; /* unit vector. Default (0, 0, 1): across a chain in plane yz or a cloth in plane xy */
+  unsigned seed;       /* perturbation seed. Default 1 */
+  cb_eig_method eig;   /* solver for the prediction at the start state. Default AUTO */
+  int predict_rest;    /* 1: also predict at the rest shape (mesh.x). Default 1 */
   cb_equilibrium_params eq;
 } cb_case_params;
 
@@ -238,12 +238,12 @@ typedef struct cb_stability_case {
   double S;                  /* energy scale of (x_start, v_start), J */
   double kinetic0;           /* kinetic energy of v_start, J */
   int has_equilibrium;
-  cb_equilibrium_stats eq;   /* valid if has_equilibrium */
-  cb_prediction pred;        /* at x_start */
-  cb_prediction pred_rest;   /* at the rest shape (NaN fields if not asked) */
+  cb_equilibrium_stats eq; /* valid if has_equilibrium */
+  cb_prediction pred;      /* at x_start */
+  cb_prediction pred_rest; /* at the rest shape (NaN fields if not asked) */
   cb_cell_work work;
-  cb_integrator *expl;       /* explicit symplectic Euler */
-  cb_integrator *newton;     /* Newton with the config's solver, tol and max_iters */
+  cb_integrator *expl;   /* explicit symplectic Euler */
+  cb_integrator *newton; /* Newton with the config's solver, tol and max_iters */
 } cb_stability_case;
 
 /* Builds the scene (a bad config or mesh returns its error with the

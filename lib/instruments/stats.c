@@ -61,7 +61,7 @@ int cb_timing_more(int quick, int done, double spent_ms) {
   if (done < 2) return 1;
   if (quick) return done < 3;
   if (done < 3) return spent_ms / done <= CB_TIMING_LONG_MS; /* 2 rounds when one takes > 5 s */
-  return done < 5 && spent_ms < CB_TIMING_BUDGET_MS;        /* 5 rounds while they are cheap */
+  return done < 5 && spent_ms < CB_TIMING_BUDGET_MS;         /* 5 rounds while they are cheap */
 }
 
 int cb_timing_warm(double ms) { return ms < CB_TIMING_WARM_MS; }
@@ -72,7 +72,10 @@ int cb_timing_parse(const char *s, cb_timing *t) {
   while (*s && t->n < CB_TIMING_MAX) {
     char *end;
     double v = strtod(s, &end);
-    if (end == s || (*end && *end != ';')) { t->n = 0; return 0; }
+    if (end == s || (*end && *end != ';')) {
+      t->n = 0;
+      return 0;
+    }
     t->ms[t->n++] = v;
     s = *end ? end + 1 : end;
   }

@@ -12,7 +12,11 @@
 
 void cb_step_state_free(cb_step_state *S) {
   cb_scene_free(S->s);
-  free(S->x0); free(S->v0); free(S->xstar); free(S->x); free(S->v);
+  free(S->x0);
+  free(S->v0);
+  free(S->xstar);
+  free(S->x);
+  free(S->v);
   memset(S, 0, sizeof *S);
 }
 
@@ -34,7 +38,11 @@ int cb_step_state_init(cb_step_state *S, const char *label, const cb_config *c, 
   if (st == CB_OK) {
     S->n3 = 3 * S->s->mesh.nv;
     size_t b = (size_t)S->n3 * sizeof(double);
-    S->x0 = malloc(b); S->v0 = malloc(b); S->xstar = malloc(b); S->x = malloc(b); S->v = malloc(b);
+    S->x0 = malloc(b);
+    S->v0 = malloc(b);
+    S->xstar = malloc(b);
+    S->x = malloc(b);
+    S->v = malloc(b);
     if (!S->x0 || !S->v0 || !S->xstar || !S->x || !S->v) st = cb_fail_status(CB_ENOMEM, "out of memory");
     else {
       memcpy(S->x0, run.x, b);
@@ -76,7 +84,8 @@ int cb_step_config(const cb_step_state *S, const char *const *sets, cb_config *o
   return CB_OK;
 }
 
-int cb_step_once(cb_step_state *S, const cb_config *c, cb_newton_hook hook, void *ctx, cb_step_result *r, double *wall) {
+int cb_step_once(cb_step_state *S, const cb_config *c, cb_newton_hook hook, void *ctx, cb_step_result *r,
+                 double *wall) {
   cb_integrator_params ip;
   cb_integrator_params_from_config(c, &ip);
   ip.hook = hook;
@@ -149,7 +158,8 @@ int cb_step_time_group(int quick, cb_step_state *S, const char *const *const *se
       double w;
       const cb_config *fb = fallback && fallback[i] ? &cf[i] : NULL;
       int st = cb_step_fallback(S, &c[i], fb, NULL, NULL, &x, &w);
-      if (st == CB_OK && cb_timing_warm(w)) st = cb_step_fallback(S, &c[i], fb, NULL, NULL, &x, &w); /* that was the warm-up */
+      if (st == CB_OK && cb_timing_warm(w))
+        st = cb_step_fallback(S, &c[i], fb, NULL, NULL, &x, &w); /* that was the warm-up */
       if (st) return st;
       if (round == 0) {
         cb_timing keep = r[i].wall;

@@ -93,9 +93,16 @@ static cholmod_sparse *laplacian(int m, cholmod_common *c) {
   double *Ax = A->x;
   for (int j = 0; j < n; j++) {
     Ap[j] = q;
-    if (j >= m) { Ai[q] = j - m; Ax[q++] = -1.0; }             /* (j - m, j) */
-    if (j % m) { Ai[q] = j - 1; Ax[q++] = -1.0; }              /* (j - 1, j) */
-    Ai[q] = j; Ax[q++] = 4.001;                                  /* diagonal */
+    if (j >= m) {
+      Ai[q] = j - m;
+      Ax[q++] = -1.0;
+    } /* (j - m, j) */
+    if (j % m) {
+      Ai[q] = j - 1;
+      Ax[q++] = -1.0;
+    } /* (j - 1, j) */
+    Ai[q] = j;
+    Ax[q++] = 4.001; /* diagonal */
   }
   Ap[n] = q;
   return A;
@@ -127,7 +134,8 @@ typedef struct {
 
 static void run_gemm(void *ctx) {
   gemm_probe *g = ctx;
-  cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, g->n, g->n, g->n, 1.0, g->a, g->n, g->b, g->n, 0.0, g->c, g->n);
+  cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, g->n, g->n, g->n, 1.0, g->a, g->n, g->b, g->n, 0.0, g->c,
+              g->n);
 }
 
 int cb_thread_probe_dgemm(void) {
@@ -138,10 +146,15 @@ int cb_thread_probe_dgemm(void) {
   g.c = malloc(nn * sizeof(double));
   int ran = -1;
   if (g.a && g.b && g.c) {
-    for (size_t i = 0; i < nn; i++) { g.a[i] = 1.0 / (double)(i % 97 + 1); g.b[i] = (double)(i % 13); }
+    for (size_t i = 0; i < nn; i++) {
+      g.a[i] = 1.0 / (double)(i % 97 + 1);
+      g.b[i] = (double)(i % 13);
+    }
     run_gemm(&g);
     ran = min_count(run_gemm, &g);
   }
-  free(g.a); free(g.b); free(g.c);
+  free(g.a);
+  free(g.b);
+  free(g.c);
   return ran;
 }

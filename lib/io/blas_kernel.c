@@ -16,12 +16,15 @@ extern void dpotrf_(const char *uplo, const int *n, double *a, const int *lda, i
 
 /* OpenBLAS's x86-64 DYNAMIC_ARCH core names (driver/others/dynamic.c) by the
  * instruction set their kernels use. */
-static const struct { const char *name; int level; } cores[] = {
-    {"Katmai", 0},     {"Coppermine", 0},   {"Northwood", 0}, {"Prescott", 0},     {"Banias", 0},
-    {"Atom", 0},       {"Core2", 0},        {"Penryn", 0},    {"Dunnington", 0},   {"Nehalem", 0},
-    {"Athlon", 0},     {"Opteron", 0},      {"Opteron_SSE3", 0}, {"Barcelona", 0}, {"Nano", 0},
-    {"Bobcat", 0},     {"Sandybridge", 1},  {"Bulldozer", 1}, {"Piledriver", 1},   {"Steamroller", 1},
-    {"Excavator", 1},  {"Haswell", 2},      {"Zen", 2},       {"SkylakeX", 3},     {"Cooperlake", 3},
+static const struct {
+  const char *name;
+  int level;
+} cores[] = {
+    {"Katmai", 0},         {"Coppermine", 0},  {"Northwood", 0},    {"Prescott", 0},   {"Banias", 0},
+    {"Atom", 0},           {"Core2", 0},       {"Penryn", 0},       {"Dunnington", 0}, {"Nehalem", 0},
+    {"Athlon", 0},         {"Opteron", 0},     {"Opteron_SSE3", 0}, {"Barcelona", 0},  {"Nano", 0},
+    {"Bobcat", 0},         {"Sandybridge", 1}, {"Bulldozer", 1},    {"Piledriver", 1}, {"Steamroller", 1},
+    {"Excavator", 1},      {"Haswell", 2},     {"Zen", 2},          {"SkylakeX", 3},   {"Cooperlake", 3},
     {"SapphireRapids", 3},
 };
 
@@ -45,7 +48,8 @@ static int has_flag(const char *flags, const char *want) {
 
 const char *cb_blas_best_core(const char *flags) {
   if (!flags) return NULL;
-  if (has_flag(flags, "avx512f") && has_flag(flags, "avx512bw") && has_flag(flags, "avx512vl") && has_flag(flags, "avx512dq"))
+  if (has_flag(flags, "avx512f") && has_flag(flags, "avx512bw") && has_flag(flags, "avx512vl") &&
+      has_flag(flags, "avx512dq"))
     return "SkylakeX";
   if (has_flag(flags, "avx2") && has_flag(flags, "fma")) return "Haswell";
   return NULL;
@@ -60,9 +64,11 @@ void cb_blas_cpu_flags(char *out, size_t n) {
   out[0] = '\0';
   __builtin_cpu_init();
   size_t used = 0;
-#define CB_FLAG(name)                                                                             \
-  if (__builtin_cpu_supports(name) && used < n) used += (size_t)snprintf(out + used, n - used, "%s%s", used ? " " : "", name);
-  CB_FLAG("avx") CB_FLAG("avx2") CB_FLAG("fma") CB_FLAG("avx512f") CB_FLAG("avx512bw") CB_FLAG("avx512vl") CB_FLAG("avx512dq")
+#define CB_FLAG(name) \
+  if (__builtin_cpu_supports(name) && used < n) \
+    used += (size_t)snprintf(out + used, n - used, "%s%s", used ? " " : "", name);
+  CB_FLAG("avx")
+  CB_FLAG("avx2") CB_FLAG("fma") CB_FLAG("avx512f") CB_FLAG("avx512bw") CB_FLAG("avx512vl") CB_FLAG("avx512dq")
 #undef CB_FLAG
 }
 
@@ -81,7 +87,8 @@ void cb_blas_plan_make(const char *env_coretype, const char *detected, const cha
   else if (!best)
     snprintf(p->why, sizeof p->why, "the CPU has neither AVX-512 F/BW/VL/DQ nor AVX2+FMA: no better kernel");
   else if (have < 0)
-    snprintf(p->why, sizeof p->why, "core '%s' is not one clothbench ranks: left as it is", detected ? detected : "(none)");
+    snprintf(p->why, sizeof p->why, "core '%s' is not one clothbench ranks: left as it is",
+             detected ? detected : "(none)");
   else if (have >= cb_blas_core_level(best))
     snprintf(p->why, sizeof p->why, "the detected %s is at least the CPU's best safe %s", detected, best);
   else {
@@ -136,10 +143,12 @@ static void test_gemm(tally *t, int ta, int tb, int m, int n, int k, double *buf
   for (int j = 0; j < n; j++)
     for (int i = 0; i < m; i++) {
       double s = 0;
-      for (int l = 0; l < k; l++) s += (ta ? AT(a, lda, l, i) : AT(a, lda, i, l)) * (tb ? AT(b, ldb, j, l) : AT(b, ldb, l, j));
+      for (int l = 0; l < k; l++)
+        s += (ta ? AT(a, lda, l, i) : AT(a, lda, i, l)) * (tb ? AT(b, ldb, j, l) : AT(b, ldb, l, j));
       AT(r, m, i, j) = al * s + be * AT(c, m, i, j);
     }
-  cblas_dgemm(CblasColMajor, ta ? CblasTrans : CblasNoTrans, tb ? CblasTrans : CblasNoTrans, m, n, k, al, a, lda, b, ldb, be, c, m);
+  cblas_dgemm(CblasColMajor, ta ? CblasTrans : CblasNoTrans, tb ? CblasTrans : CblasNoTrans, m, n, k, al, a, lda, b,
+              ldb, be, c, m);
   char what[32];
   snprintf(what, sizeof what, "dgemm %c%c", ta ? 'T' : 'N', tb ? 'T' : 'N');
   record(t, what, cb_blas_rel_error(c, r, (size_t)m * n));
@@ -277,8 +286,7 @@ static int describe(const char **core, char *how, size_t n, const char **best) {
   *best = NULL;
   if (env && *env) {
     *core = running;
-    if (kind == 'c' && !strcasecmp(ch, env) && !strcasecmp(ch, running))
-      snprintf(how, n, "%s", text);
+    if (kind == 'c' && !strcasecmp(ch, env) && !strcasecmp(ch, running)) snprintf(how, n, "%s", text);
     else snprintf(how, n, "set by the environment (OPENBLAS_CORETYPE=%s)", env);
     return 0;
   }
@@ -298,7 +306,8 @@ static int describe(const char **core, char *how, size_t n, const char **best) {
     return 0;
   }
   *best = p.candidate;
-  snprintf(how, n, "detected%s; %s (not started by make: OPENBLAS_CORETYPE=%s would select it)", inj, p.why, p.candidate);
+  snprintf(how, n, "detected%s; %s (not started by make: OPENBLAS_CORETYPE=%s would select it)", inj, p.why,
+           p.candidate);
   return 1;
 }
 
@@ -311,8 +320,9 @@ int cb_blas_kernel_warning(FILE *f, const char *program) {
   const char *core, *best;
   char how[1024];
   if (!describe(&core, how, sizeof how, &best)) return 0;
-  fprintf(f, "%s: warning: OpenBLAS runs its fallback %s kernels on this CPU, which supports %s: "
-             "set OPENBLAS_CORETYPE=%s (make's runs select it after a self-test: build/blas-kernel --show)\n",
+  fprintf(f,
+          "%s: warning: OpenBLAS runs its fallback %s kernels on this CPU, which supports %s: "
+          "set OPENBLAS_CORETYPE=%s (make's runs select it after a self-test: build/blas-kernel --show)\n",
           program, core, best, best);
   return 1;
 }

@@ -43,7 +43,8 @@ enum { LEN_NONE, LEN_HH, LEN_H, LEN_L, LEN_LL, LEN_J, LEN_Z, LEN_T, LEN_BIG_L };
 #pragma GCC diagnostic ignored "-Wformat-nonliteral"
 static int convert(FILE *f, const char *spec, int len, char conv, va_list *ap) {
   switch (conv) {
-  case 'd': case 'i':
+  case 'd':
+  case 'i':
     switch (len) {
     case LEN_L: return fprintf(f, spec, va_arg(*ap, long));
     case LEN_LL: return fprintf(f, spec, va_arg(*ap, long long));
@@ -52,7 +53,10 @@ static int convert(FILE *f, const char *spec, int len, char conv, va_list *ap) {
     case LEN_T: return fprintf(f, spec, va_arg(*ap, ptrdiff_t));
     default: return fprintf(f, spec, va_arg(*ap, int)); /* hh, h: promoted to int */
     }
-  case 'u': case 'o': case 'x': case 'X':
+  case 'u':
+  case 'o':
+  case 'x':
+  case 'X':
     switch (len) {
     case LEN_L: return fprintf(f, spec, va_arg(*ap, unsigned long));
     case LEN_LL: return fprintf(f, spec, va_arg(*ap, unsigned long long));
@@ -64,7 +68,14 @@ static int convert(FILE *f, const char *spec, int len, char conv, va_list *ap) {
   case 'c': return fprintf(f, spec, va_arg(*ap, int));
   case 's': return fprintf(f, spec, va_arg(*ap, const char *));
   case 'p': return fprintf(f, spec, va_arg(*ap, void *));
-  case 'f': case 'F': case 'e': case 'E': case 'g': case 'G': case 'a': case 'A': {
+  case 'f':
+  case 'F':
+  case 'e':
+  case 'E':
+  case 'g':
+  case 'G':
+  case 'a':
+  case 'A': {
     if (len == LEN_BIG_L) {
       long double v = va_arg(*ap, long double);
       const char *s = special(v);
@@ -118,15 +129,31 @@ int cb_csv_vprintf(FILE *f, const char *fmt, va_list ap) {
       if (prec >= 0) k += (size_t)snprintf(spec + k, sizeof spec - k, ".%d", prec); /* a negative one: as if omitted */
     }
     int len = LEN_NONE;
-    if (*p == 'h') { len = p[1] == 'h' ? LEN_HH : LEN_H; p += len == LEN_HH ? 2 : 1; }
-    else if (*p == 'l') { len = p[1] == 'l' ? LEN_LL : LEN_L; p += len == LEN_LL ? 2 : 1; }
-    else if (*p == 'j') { len = LEN_J; p++; }
-    else if (*p == 'z') { len = LEN_Z; p++; }
-    else if (*p == 't') { len = LEN_T; p++; }
-    else if (*p == 'L') { len = LEN_BIG_L; p++; }
+    if (*p == 'h') {
+      len = p[1] == 'h' ? LEN_HH : LEN_H;
+      p += len == LEN_HH ? 2 : 1;
+    } else if (*p == 'l') {
+      len = p[1] == 'l' ? LEN_LL : LEN_L;
+      p += len == LEN_LL ? 2 : 1;
+    } else if (*p == 'j') {
+      len = LEN_J;
+      p++;
+    } else if (*p == 'z') {
+      len = LEN_Z;
+      p++;
+    } else if (*p == 't') {
+      len = LEN_T;
+      p++;
+    } else if (*p == 'L') {
+      len = LEN_BIG_L;
+      p++;
+    }
     static const char *const mods[] = {"", "hh", "h", "l", "ll", "j", "z", "t", "L"};
     char conv = *p;
-    if (!conv || k + 4 >= sizeof spec) { st = -1; break; }
+    if (!conv || k + 4 >= sizeof spec) {
+      st = -1;
+      break;
+    }
     p++;
     k += (size_t)snprintf(spec + k, sizeof spec - k, "%s%c", mods[len], conv);
     int w = convert(f, spec, len, conv, &aq);
@@ -163,16 +190,18 @@ void cb_timing_csv_each(FILE *f, const cb_timing *t, double scale) {
 
 void cb_run_csv_header(FILE *f) {
   fputs("step,t_s,kinetic_j,elastic_j,gravity_j,total_j,pin_work_j,newton_iters,rel_grad,rel_grad_hat,linear_iters,"
-        "assemble_ms,factor_ms,solve_ms,wall_ms,status,contacts,rho\n", f);
+        "assemble_ms,factor_ms,solve_ms,wall_ms,status,contacts,rho\n",
+        f);
 }
 
 void cb_run_csv_row(FILE *f, const cb_run *r, int status) {
   const cb_step_stats *s = &r->last;
   /* the Chebyshev rho the step used, given or estimated (rho = auto): the integrator's, else its linear solver's */
   double rho = s->rho > 0 ? s->rho : r->integ->solver ? r->integ->solver->stats.rho : 0.0;
-  cb_csv_printf(f, "%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%d,%.6f,%.6f,%.6f,%.6f,%s,%d,%.17g\n", r->step, r->t, r->kinetic,
-                r->elastic, r->gravity, r->kinetic + r->potential, r->work, s->newton_iters, s->rel_grad, s->rel_grad_hat, s->linear_iters,
-                s->assemble_ms, s->factor_ms, s->solve_ms, s->wall_ms, cb_status_name(status), cb_scene_contacts(r->scene, r->x), rho);
+  cb_csv_printf(f, "%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%d,%.6f,%.6f,%.6f,%.6f,%s,%d,%.17g\n",
+                r->step, r->t, r->kinetic, r->elastic, r->gravity, r->kinetic + r->potential, r->work, s->newton_iters,
+                s->rel_grad, s->rel_grad_hat, s->linear_iters, s->assemble_ms, s->factor_ms, s->solve_ms, s->wall_ms,
+                cb_status_name(status), cb_scene_contacts(r->scene, r->x), rho);
 }
 
 void cb_timing_csv_repeats(FILE *f, const cb_timing *t) {

@@ -22,8 +22,7 @@ static void lock_waiting(const cb_experiment *e, int op, const char *why) {
   if (flock(e->lock_fd, op | LOCK_NB) == 0) return;
   if (errno == EWOULDBLOCK) {
     if (!getenv("CB_QUIET")) fprintf(stderr, "%s: waiting for %s (lock %s)\n", e->name, why, cpu_lock_path());
-    while (flock(e->lock_fd, op) != 0 && errno == EINTR) {
-    }
+    while (flock(e->lock_fd, op) != 0 && errno == EINTR) {}
   }
 }
 
@@ -50,7 +49,8 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
   int out_given = 0;
   for (int i = 1; i < argc; i++) {
     if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-      printf("usage: %s [--quick | --smoke] [--out PATH] [--configs DIR] [--shard I/N [--shard-mode M]] [--list-cells] [--version]\n\n%s\n\n"
+      printf("usage: %s [--quick | --smoke] [--out PATH] [--configs DIR] [--shard I/N [--shard-mode M]] [--list-cells] "
+             "[--version]\n\n%s\n\n"
              "  --quick        reduced sweep for CI (also QUICK=1 in the environment)\n"
              "  --smoke        the smallest run that writes every table and column (make test)\n"
              "  --out PATH     CSV output (default results/%s.csv); written atomically\n"
@@ -76,7 +76,8 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
     else if (!strcmp(argv[i], "--smoke")) e->quick = e->smoke = 1;
     else if (!strcmp(argv[i], "--out") && i + 1 < argc) {
       if (strlen(argv[++i]) >= sizeof e->out - 64) { /* room for the side tables' _<name>.csv and .cells */
-        fprintf(stderr, "%s: --out: a path of %zu bytes; at most %zu are allowed\n", name, strlen(argv[i]), sizeof e->out - 65);
+        fprintf(stderr, "%s: --out: a path of %zu bytes; at most %zu are allowed\n", name, strlen(argv[i]),
+                sizeof e->out - 65);
         return -1;
       }
       snprintf(e->out, sizeof e->out, "%s", argv[i]);
@@ -84,11 +85,11 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
     } else if (!strcmp(argv[i], "--configs") && i + 1 < argc) {
       e->configs = argv[++i];
       if (strlen(e->configs) >= CB_PATH_LEN - 256) { /* room for a config's name */
-        fprintf(stderr, "%s: --configs: a path of %zu bytes; at most %d are allowed\n", name, strlen(e->configs), CB_PATH_LEN - 257);
+        fprintf(stderr, "%s: --configs: a path of %zu bytes; at most %d are allowed\n", name, strlen(e->configs),
+                CB_PATH_LEN - 257);
         return -1;
       }
-    }
-    else if (!strcmp(argv[i], "--shard") && i + 1 < argc) {
+    } else if (!strcmp(argv[i], "--shard") && i + 1 < argc) {
       int a, b, used = 0;
       if (sscanf(argv[++i], "%d/%d%n", &a, &b, &used) != 2 || argv[i][used] || b < 1 || a < 1 || a > b) {
         fprintf(stderr, "%s: --shard '%s': expected I/N with 1 <= I <= N (e.g. --shard 2/3)\n", name, argv[i]);
@@ -111,7 +112,8 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
       return -1;
     }
   }
-  if (!out_given && e->shard) snprintf(e->out, sizeof e->out, "results/shard-%dof%d/%s.csv", e->shard, e->nshards, name);
+  if (!out_given && e->shard)
+    snprintf(e->out, sizeof e->out, "results/shard-%dof%d/%s.csv", e->shard, e->nshards, name);
   else if (!out_given) snprintf(e->out, sizeof e->out, "results/%s.csv", name);
   /* the CPU lock, shared: a timed experiment (cb_experiment_timed) waits for us;
    * --list-cells runs no cell, so it neither takes nor waits for the lock */
@@ -140,11 +142,17 @@ static void write_configs(const cb_experiment *e, FILE *f) {
     if (len <= 4 || strcmp(de->d_name + len - 4, ".ini") != 0) continue;
     if (n == cap) {
       char **nn = realloc(names, (size_t)(cap ? 2 * cap : 64) * sizeof *names);
-      if (!nn) { oom = 1; break; }
+      if (!nn) {
+        oom = 1;
+        break;
+      }
       names = nn;
       cap = cap ? 2 * cap : 64;
     }
-    if (!(names[n] = strdup(de->d_name))) { oom = 1; break; }
+    if (!(names[n] = strdup(de->d_name))) {
+      oom = 1;
+      break;
+    }
     n++;
   }
   closedir(d);
@@ -172,9 +180,10 @@ static int open_csv(cb_experiment *e, cb_outfile *o, const char *path, const cha
   write_configs(e, o->f);
   fprintf(o->f, "# experiment: %s\n# quick: %d\n", e->name, e->quick);
   if (e->smoke) fputs("# smoke: 1\n", o->f);
-  fprintf(o->f, "# cpu_lock: %s\n", e->lock_fd < 0 ? "none (the lock file could not be opened)"
-                                     : e->timed ? "exclusive (timed: no other clothbench experiment ran meanwhile)"
-                                                : "shared (untimed: other untimed experiments may have run meanwhile)");
+  fprintf(o->f, "# cpu_lock: %s\n",
+          e->lock_fd < 0 ? "none (the lock file could not be opened)"
+          : e->timed     ? "exclusive (timed: no other clothbench experiment ran meanwhile)"
+                         : "shared (untimed: other untimed experiments may have run meanwhile)");
   if (extra && *extra) fputs(extra, o->f);
   fprintf(o->f, "%s\n", header);
   return CB_OK;
@@ -183,15 +192,18 @@ static int open_csv(cb_experiment *e, cb_outfile *o, const char *path, const cha
 int cb_experiment_csv(cb_experiment *e, cb_outfile *o, const char *path, const char *extra, const char *header) {
   memset(o, 0, sizeof *o);
   if (e->shard) { /* a usage error, as a bad --shard value is: exit 1, nothing written */
-    fprintf(stderr, "%s: --shard %d/%d: this program writes its CSV outside the sweep runner and cannot be sharded; "
-            "run it without --shard\n", e->name, e->shard, e->nshards);
+    fprintf(stderr,
+            "%s: --shard %d/%d: this program writes its CSV outside the sweep runner and cannot be sharded; "
+            "run it without --shard\n",
+            e->name, e->shard, e->nshards);
     exit(1);
   }
   return open_csv(e, o, path, extra, header);
 }
 
 int cb_experiment_table(cb_experiment *e, const char *name, const char *extra, const char *header) {
-  if (e->ntables >= CB_EXPERIMENT_MAX_TABLES) return cb_fail("%s: more than %d tables", e->name, CB_EXPERIMENT_MAX_TABLES);
+  if (e->ntables >= CB_EXPERIMENT_MAX_TABLES)
+    return cb_fail("%s: more than %d tables", e->name, CB_EXPERIMENT_MAX_TABLES);
   if (name && (!*name || strlen(name) >= sizeof e->table_name[0] || strpbrk(name, " /\t\n")))
     return cb_fail("%s: bad table name '%s'", e->name, name);
   int t = e->ntables;

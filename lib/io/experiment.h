@@ -43,17 +43,17 @@ enum { CB_SHARD_BALANCED = 0, CB_SHARD_MODULO = 1 }; /* --shard-mode (sweep.h) *
 typedef struct cb_experiment {
   const char *name;
   int quick;
-  int smoke;                /* --smoke: one small cell per sweep (implies quick = 1) */
+  int smoke; /* --smoke: one small cell per sweep (implies quick = 1) */
   char out[2048];
   const char *configs;
   int argc;
   char **argv;
-  int shard, nshards;       /* --shard I/N: I in 1..N; 0 and 1 when not sharded */
-  int shard_mode;           /* --shard-mode: CB_SHARD_BALANCED (default) or CB_SHARD_MODULO */
-  int list_cells;           /* --list-cells: print the cells (hint, shard), run none, write nothing */
-  int timed;                /* 1 after cb_experiment_timed: it holds the CPU lock exclusively */
-  int lock_fd;              /* the CPU lock (cb_experiment_begin takes it shared), or -1 */
-  cb_outfile csv;           /* for programs that write one CSV themselves (bench) */
+  int shard, nshards; /* --shard I/N: I in 1..N; 0 and 1 when not sharded */
+  int shard_mode;     /* --shard-mode: CB_SHARD_BALANCED (default) or CB_SHARD_MODULO */
+  int list_cells;     /* --list-cells: print the cells (hint, shard), run none, write nothing */
+  int timed;          /* 1 after cb_experiment_timed: it holds the CPU lock exclusively */
+  int lock_fd;        /* the CPU lock (cb_experiment_begin takes it shared), or -1 */
+  cb_outfile csv;     /* for programs that write one CSV themselves (bench) */
   cb_progress progress;
   /* tables (cb_experiment_table), in the order opened */
   int ntables;
@@ -62,8 +62,8 @@ typedef struct cb_experiment {
   /* sweep bookkeeping (sweep.c): cells declared so far over all sweeps, and
    * the "<cell> <rows per table>" lines of the cells this shard ran */
   long ncells;
-  int nsweep_runs;          /* cb_sweep_run calls so far */
-  double *shard_load;       /* balanced mode: the hinted load of each shard so far */
+  int nsweep_runs;    /* cb_sweep_run calls so far */
+  double *shard_load; /* balanced mode: the hinted load of each shard so far */
   char *cells_log;
   size_t cells_len;
   FILE *cells;

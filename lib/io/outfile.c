@@ -77,7 +77,11 @@ static void untrack(cb_outfile *o) {
 }
 
 static const char *file_kind(mode_t m) {
-  return S_ISDIR(m) ? "a directory" : S_ISLNK(m) ? "a symbolic link" : S_ISSOCK(m) ? "a socket" : S_ISBLK(m) ? "a block device" : "not a regular file";
+  return S_ISDIR(m)    ? "a directory"
+         : S_ISLNK(m)  ? "a symbolic link"
+         : S_ISSOCK(m) ? "a socket"
+         : S_ISBLK(m)  ? "a block device"
+                       : "not a regular file";
 }
 
 /* The canonical form of path, which need not exist: realpath of its longest
@@ -91,7 +95,8 @@ static void canonical(const char *path, char *out, size_t n) {
   else if (strcmp(dir, path) != 0 && strlen(dir) < strlen(path)) canonical(dir, out, n); /* a folder still to be made */
   else snprintf(out, n, "%s", dir);
   size_t used = strlen(out);
-  if (*name && strcmp(name, ".") != 0 && used + 1 < n) snprintf(out + used, n - used, "%s%s", used && out[used - 1] == '/' ? "" : "/", name);
+  if (*name && strcmp(name, ".") != 0 && used + 1 < n)
+    snprintf(out + used, n - used, "%s%s", used && out[used - 1] == '/' ? "" : "/", name);
 }
 
 int cb_same_file(const char *a, const char *b) {
@@ -118,7 +123,8 @@ int cb_outfile_open(cb_outfile *o, const char *path) {
     struct stat ts;
     int target = stat(path, &ts) == 0;
     if (S_ISLNK(ls.st_mode) && target && S_ISREG(ts.st_mode))
-      return cb_fail_status(CB_EIO, "%s: is a symbolic link; give the file it points to (an atomic write would replace the link)", path);
+      return cb_fail_status(
+          CB_EIO, "%s: is a symbolic link; give the file it points to (an atomic write would replace the link)", path);
     mode_t m = target ? ts.st_mode : ls.st_mode;
     if (S_ISCHR(m) || S_ISFIFO(m)) { /* a device or pipe: stream into it, never replace it */
       o->f = fopen(path, "w");

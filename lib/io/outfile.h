@@ -22,7 +22,7 @@
 #include <clothbench/mesh.h>
 
 typedef struct cb_outfile {
-  FILE *f;        /* write here between open and commit */
+  FILE *f; /* write here between open and commit */
   char path[4096];
   char tmp[4160]; /* temporary file ("" when streaming, or after commit/abort) */
   int stream;     /* 1: written straight into path (stdout, a device or FIFO) */

@@ -90,8 +90,9 @@ void cb_provenance_write(FILE *f, const char *program, int argc, char **argv, co
   const cb_threads_info *th = cb_threads_info_get();
   fprintf(f, "# threads_requested: openblas %d, openmp %d (dynamic on: caps CHOLMOD's num_threads(4) regions)\n",
           th->blas_requested, th->omp_requested);
-  fprintf(f, "# threads_observed: cholmod_factorize %d, dgemm %d (threads whose CPU time grew during a probe: "
-             "supernodal factorisation of a 96^2-grid Laplacian, 384^3 dgemm)\n",
+  fprintf(f,
+          "# threads_observed: cholmod_factorize %d, dgemm %d (threads whose CPU time grew during a probe: "
+          "supernodal factorisation of a 96^2-grid Laplacian, 384^3 dgemm)\n",
           th->cholmod_observed, th->dgemm_observed);
   char cpu[256];
   cb_cpu_model(cpu, sizeof cpu);

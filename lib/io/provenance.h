@@ -9,8 +9,8 @@
 #include "config.h"
 
 /* Written by the build (build/version.c). */
-extern const char cb_build_git[];    /* "abc1234" or "unknown" */
-extern const char cb_build_dirty[];  /* "clean" or "dirty" */
+extern const char cb_build_git[];   /* "abc1234" or "unknown" */
+extern const char cb_build_dirty[]; /* "clean" or "dirty" */
 extern const char cb_build_cflags[];
 
 /* Turns GSL's abort-on-error handler off (we check return codes), and sets

@@ -22,10 +22,10 @@
 enum { CB_SCENE_DECL_MAX_SETS = 15 };
 
 typedef struct cb_scene_decl {
-  const char *label;  /* the scene's name in rows and errors */
-  const char *config; /* INI file in the --configs folder, e.g. "hanging.ini" */
+  const char *label;                                 /* the scene's name in rows and errors */
+  const char *config;                                /* INI file in the --configs folder, e.g. "hanging.ini" */
   const char *overrides[CB_SCENE_DECL_MAX_SETS + 1]; /* "section.key=value", applied in order; NULL-terminated */
-  const char *role;   /* what the scene is for in its experiment */
+  const char *role;                                  /* what the scene is for in its experiment */
 } cb_scene_decl;
 
 /* The scene's config: <configs>/<config>, then its overrides, then the

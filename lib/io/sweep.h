@@ -35,10 +35,10 @@
 #include "experiment.h"
 
 typedef struct cb_sweep {
-  const char *name;                               /* the phase, e.g. "regime" (progress and errors) */
+  const char *name; /* the phase, e.g. "regime" (progress and errors) */
   long ncells;
   int (*run_cell)(long i, void *ctx, FILE *const *out);
-  double (*cost)(long i, void *ctx);              /* relative cost hint of cell i; NULL = 1 for every cell */
+  double (*cost)(long i, void *ctx); /* relative cost hint of cell i; NULL = 1 for every cell */
   void *ctx;
 } cb_sweep;
 
