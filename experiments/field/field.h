@@ -32,11 +32,11 @@ typedef struct {
   int quick, smoke;
   int state_frames; /* frames of the scene's own method before the measured step */
   int front[FD_MAXSCENES], nfront, x1[FD_MAXSCENES], nx1, x2[FD_MAXSCENES], nx2, tol[FD_MAXSCENES], ntol,
-      v1[FD_MAXSCENES], nv1; /* scene indices by role */
-  long nv[FD_MAXSCENES];     /* vertices of each scene (cost hints) */
+      v1[FD_MAXSCENES], nv1;               /* scene indices by role */
+  long nv[FD_MAXSCENES];                   /* vertices of each scene (cost hints) */
+  const cb_scene_decl *decl[FD_MAXSCENES]; /* each scene's declaration (main.c's table) */
 } fd_plan;
 
-const cb_scene_decl *fd_scene_of(int i);
 /* scene d's start state after `frames` frames of its own method, and the reference step from it */
 int fd_state(const cb_experiment *e, const cb_scene_decl *d, int frames, cb_step_state *S);
 /* 1 if the method `sets` can step S's scene (its integrator's init accepts it), 0 if not (why gets the

@@ -85,7 +85,7 @@ typedef struct {
 
 int fd_front_cell(long i, void *ctx, FILE *const *out) {
   const fd_plan *p = ctx;
-  const cb_scene_decl *d = fd_scene_of(p->front[i]);
+  const cb_scene_decl *d = p->decl[p->front[i]];
   cb_step_state S;
   int st = fd_state(p->e, d, p->state_frames, &S);
   if (st) return st;

@@ -67,101 +67,7 @@ static const scene_plan SCENES[] = {
 enum { NSCENES = sizeof SCENES / sizeof SCENES[0] };
 _Static_assert((int)NSCENES <= (int)FD_MAXSCENES, "field.h: FD_MAXSCENES");
 
-const cb_scene_decl *fd_scene_of(int i) { return &SCENES[i].scene; }
-
-int fd_state(const cb_experiment *e, const cb_scene_decl *d, int frames, cb_step_state *S) {
-  static cb_config c; /* large: not on the stack */
-  cb_scene *s = NULL;
-  int st = cb_scene_decl_build(e, d, NULL, &c, &s);
-  return st ? st : cb_step_state_init(S, d->label, &c, s, frames);
-}
-
-int fd_supported(cb_step_state *S, const char *const *sets, char *why, size_t nwhy) {
-  static cb_config c;
-  int st = cb_step_config(S, sets, &c);
-  if (st) return st;
-  cb_integrator *it = NULL;
-  st = cb_integrator_from_config(&c, S->s, NULL, &it);
-  cb_integrator_free(it);
-  if (st == CB_EINVAL) { /* the method refuses the scene (e.g. xpbd and a penalty collider): say why */
-    snprintf(why, nwhy, "%s", cb_error_message());
-    cb_error_clear();
-    return 0;
-  }
-  return st ? st : 1;
-}
-
-double fd_grad_hat(const cb_step_state *S) {
-  cb_objective o;
-  if (cb_objective_init(&o, S->s)) return NAN;
-  int nf = 3 * S->s->model.nfree;
-  double *g = malloc((size_t)(nf > 0 ? nf : 1) * sizeof(double)), gn = NAN;
-  if (g) {
-    cb_objective_begin(&o, S->x0, S->v0, S->c.dt);
-    cb_objective_eval(&o, o.xhat, g, NULL);
-    gn = 0;
-    for (int k = 0; k < nf; k++) gn += g[k] * g[k];
-    gn = sqrt(gn);
-  }
-  free(g);
-  cb_objective_free(&o);
-  return gn;
-}
-
-void fd_strain(const cb_scene *s, const double *x, double *max_strain, double *mean_abs) {
-  *max_strain = NAN;
-  *mean_abs = NAN;
-  for (int t = 0; t < s->sys.nterms; t++) {
-    int ns;
-    const int *ends;
-    const double *rest;
-    double k;
-    if (strcmp(s->sys.terms[t]->label, "stretch") || cb_spring_term_springs(s->sys.terms[t], &ns, &ends, &rest, &k))
-      continue;
-    double mx = -INFINITY, sum = 0;
-    for (int c = 0; c < ns; c++) {
-      const double *a = x + 3 * ends[2 * c], *b = x + 3 * ends[2 * c + 1];
-      double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
-      double e = sqrt(dx * dx + dy * dy + dz * dz) / rest[c] - 1.0; /* strain = |x_i - x_j| / L - 1 */
-      mx = fmax(mx, e);
-      sum += fabs(e);
-    }
-    *max_strain = mx;
-    *mean_abs = ns ? sum / ns : NAN;
-  }
-}
-
-void fd_with(const char *const *sets, const char *key, int K, char *buf, size_t nbuf, const char **out) {
-  int k = 0;
-  for (; sets[k] && k < 12; k++) out[k] = sets[k];
-  snprintf(buf, nbuf, "%s=%d", key, K);
-  out[k++] = buf;
-  out[k] = NULL;
-}
-
-int fd_fix_rho(cb_step_state *S, const char *const *sets, const char **out, char *buf, size_t nbuf, double *est_ms) {
-  int n = 0, aut = -1;
-  for (; sets[n] && n < 12; n++) {
-    out[n] = sets[n];
-    if (!strcmp(sets[n], "integrator.rho=auto")) aut = n;
-  }
-  out[n] = NULL;
-  *est_ms = 0;
-  if (aut < 0) return CB_OK;
-  const char *one[16];
-  char b[64];
-  fd_with(sets, "integrator.iters", 1, b, sizeof b, one);
-  static cb_config c;
-  cb_step_result r;
-  double w;
-  int st = cb_step_config(S, one, &c);
-  if (st == CB_OK) st = cb_step_once(S, &c, NULL, NULL, &r, &w);
-  if (st) return st;
-  *est_ms = r.setup_ms;
-  snprintf(buf, nbuf, "integrator.rho=%.17g", r.rho);
-  out[aut] = buf;
-  return CB_OK;
-}
+static const cb_scene_decl *fd_scene_of(int i) { return &SCENES[i].scene; }
 
 /* the plan's vertex counts, from the scenes' configs (so a bad declaration fails here, naming the
  * scene, before any cell runs) */
@@ -184,7 +90,7 @@ int main(int argc, char **argv) {
   int q = e.quick, sm = e.smoke;
   fd_plan p = {.e = &e, .quick = q, .smoke = sm, .state_frames = sm ? 2 : 10};
   for (int i = 0; i < NSCENES; i++) {
-    const cb_scene_decl *d = fd_scene_of(i);
+    const cb_scene_decl *d = p.decl[i] = fd_scene_of(i);
     int need = sm ? 2 : q ? 1 : 0;
     if (SCENES[i].level < need) continue;
     if (cb_scene_decl_is(d, "front")) {

@@ -81,7 +81,7 @@ static void record(void *ctx, int event, const cb_newton_event *ev) {
 
 int fd_tol_cell(long i, void *ctx, FILE *const *out) {
   const fd_plan *p = ctx;
-  const cb_scene_decl *d = fd_scene_of(p->tol[i]);
+  const cb_scene_decl *d = p->decl[p->tol[i]];
   cb_step_state S;
   int st = fd_state(p->e, d, p->state_frames, &S);
   if (st) return st;

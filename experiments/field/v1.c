@@ -95,7 +95,7 @@ static int trajectory(const fd_plan *p, const cb_scene_decl *d, cb_scene *s, con
 
 int fd_v1_cell(long i, void *ctx, FILE *const *out) {
   const fd_plan *p = ctx;
-  const cb_scene_decl *d = fd_scene_of(p->v1[i]);
+  const cb_scene_decl *d = p->decl[p->v1[i]];
   static cb_config c;
   cb_scene *s = NULL;
   int st = cb_scene_decl_build(p->e, d, NULL, &c, &s);

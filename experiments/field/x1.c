@@ -64,7 +64,7 @@ static int static_state(const fd_plan *p, const cb_scene_decl *d, cb_scene *s, d
 /* Cell i: scene x1[i / ndt], dt DTS[i % ndt]: the static state, then both methods at every K. */
 int fd_x1_cell(long i, void *ctx, FILE *const *out) {
   const fd_plan *p = ctx;
-  const cb_scene_decl *d = fd_scene_of(p->x1[i / ndt(p)]);
+  const cb_scene_decl *d = p->decl[p->x1[i / ndt(p)]];
   const char *dt_s = DTS[i % ndt(p)];
   static cb_config c;
   cb_scene *s = NULL;

@@ -16,7 +16,7 @@ static int nmax(const fd_plan *p) { return p->smoke ? 2 : 64; }
 
 int fd_x2_cell(long i, void *ctx, FILE *const *out) {
   const fd_plan *p = ctx;
-  const cb_scene_decl *d = fd_scene_of(p->x2[i]);
+  const cb_scene_decl *d = p->decl[p->x2[i]];
   cb_step_state S;
   int st = fd_state(p->e, d, p->state_frames, &S);
   if (st) return st;
