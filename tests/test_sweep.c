@@ -167,7 +167,7 @@ Test(sweep, balanced_shards_follow_the_longest_processing_time_rule) {
                         "2 4 6"}; /* shard I's cells; of the equal hints, cell 4 (the earlier) goes first */
   long ran[3][7] = {{0}};
   for (int k = 0; k < 3; k++) {
-    char shard[8];
+    char shard[16];
     snprintf(shard, sizeof shard, "%d/3", k + 1);
     cb_experiment e = begin(out, shard);
     cr_assert_eq(cb_experiment_table(&e, NULL, NULL, "i"), 0);
