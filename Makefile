@@ -107,7 +107,8 @@ $(BUILD)/version.c: FORCE
 # may vectorise it; sqrtpd rounds as sqrt does) and the vectoriser's full cost
 # model; no FMA contraction (-std=c11), so results stay bit for bit.
 # VECINFO=1 prints what vectorised (-fopt-info-vec).
-KERNEL_CFLAGS := -fno-math-errno -fvect-cost-model=dynamic $(if $(filter 1,$(VECINFO)),-fopt-info-vec-optimized)
+# gcc-only flags stay out of clang builds (make fuzz compiles lib/ with clang)
+KERNEL_CFLAGS = -fno-math-errno $(if $(findstring clang,$(CC)),,-fvect-cost-model=dynamic $(if $(filter 1,$(VECINFO)),-fopt-info-vec-optimized))
 $(BUILD)/lib/core/energy_spring.o $(BUILD)/lib/core/integrator_nljacobi.o $(BUILD)/lib/core/integrator_pd.o: CFLAGS += $(KERNEL_CFLAGS)
 $(BUILD)/lib/core/%.o: lib/core/%.c
 	@mkdir -p $(dir $@)
