@@ -45,6 +45,7 @@ endif
 # enforced by the build: a core file that includes an instrument or I/O header
 # does not compile (tests/layers.sh checks that it does not).
 # Order: core <- config <- instruments <- io <- programs.
+#   base         lib/base/: header-only building blocks (vec.h, rng.h) every layer may use
 #   core         include/clothbench/ (public API) + lib/core/ (internal headers)
 #   config       lib/config/: the INI key table and its binding to core structs
 #   instruments  lib/instruments/: measurements on core objects (the thread probe too)
@@ -52,11 +53,11 @@ endif
 #                it writes the instruments' measurements (timings, observed threads)
 #   programs     tools/, experiments/<name>/, bench/, claims/, tests/: everything
 SYS_INC     := -I/usr/include/suitesparse $(if $(OPENBLAS_INC),-I$(OPENBLAS_INC))
-CORE_INC    := -Iinclude -Ilib/core
-CONFIG_INC  := -Iinclude -Ilib/config
-INSTR_INC   := -Iinclude -Ilib/config -Ilib/instruments
-IO_INC      := -Iinclude -Ilib/config -Ilib/instruments -Ilib/io
-PROGRAM_INC := -Iinclude -Ilib/config -Ilib/instruments -Ilib/io -Iclaims
+CORE_INC    := -Iinclude -Ilib/base -Ilib/core
+CONFIG_INC  := -Iinclude -Ilib/base -Ilib/config
+INSTR_INC   := -Iinclude -Ilib/base -Ilib/config -Ilib/instruments
+IO_INC      := -Iinclude -Ilib/base -Ilib/config -Ilib/instruments -Ilib/io
+PROGRAM_INC := -Iinclude -Ilib/base -Ilib/config -Ilib/instruments -Ilib/io -Iclaims
 CPPFLAGS := -D_POSIX_C_SOURCE=200809L $(SYS_INC)
 CFLAGS   := $(OPT) -g $(WARN) $(SAN)
 LDFLAGS  := $(SAN)
@@ -156,8 +157,12 @@ $(EXPS): $(BUILD)/%: $$(call exp_obj,%) $(LIB)
 
 # every bench program links bench/support/ (the allocation counter, the triad)
 BENCH_SUPPORT := $(patsubst %.c,$(BUILD)/%.o,$(wildcard bench/support/*.c))
+# the counter and the BLAS profile take libc's and the Fortran BLAS's names at
+# the link, so every call of the process (CHOLMOD's too) reaches them
+BENCH_INTERPOSE := $(foreach f,malloc calloc realloc memalign posix_memalign aligned_alloc,-Wl,--defsym=$(f)=cb_bench_$(f)) \
+                   $(foreach f,dgemm dsyrk dtrsm dpotrf,-Wl,--defsym=$(f)_=cb_bench_$(f))
 $(BUILD)/%: $(BUILD)/bench/%.o $(BENCH_SUPPORT) $(LIB)
-	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
+	$(CC) $(LDFLAGS) $^ $(LDLIBS) $(BENCH_INTERPOSE) -o $@
 # the peers bench_peers compares with (MUMPS, SuperLU): linked into it only, never the library
 $(BUILD)/bench/bench_peers.o: CPPFLAGS += -I/usr/include/superlu
 $(BUILD)/bench_peers: LDLIBS += -ldmumps_seq -lsuperlu

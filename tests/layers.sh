@@ -1,7 +1,7 @@
 #!/bin/sh
 # The layers' direction is enforced by the build: each layer compiles with only
 # its own include paths (Makefile: CORE_INC, CONFIG_INC, INSTR_INC, IO_INC),
-# in the order core <- config <- instruments <- io <- programs. This checks
+# in the order base <- core <- config <- instruments <- io <- programs. This checks
 # that it is so: a core file that includes a config, binding, instrument or
 # I/O header (the CSV writer among them), a config file that includes an
 # instrument or I/O header, an instrument that includes an I/O header, or the
@@ -46,5 +46,13 @@ done
 expect fail instruments "$INSTR_INC" '"solver_iterative.h"'
 expect ok core "$CORE_INC" '"solver_iterative.h"'
 expect ok core "$CORE_INC" '<clothbench/clothbench.h>'
-[ $fail = 0 ] && echo "layers: ok ($n include checks: core cannot reach config, instruments or I/O (CSV writing included); config cannot reach instruments or I/O; instruments cannot reach I/O; I/O reaches instruments)"
+# lib/base/ (header-only vec.h, rng.h) sits below the core: every layer reaches
+# it, and it reaches nothing of the project (it compiles on its own path alone)
+for h in '"vec.h"' '"rng.h"'; do
+  expect ok base "-Ilib/base" "$h"
+  expect ok core "$CORE_INC" "$h"
+done
+expect fail base "-Ilib/base" '<clothbench/mesh.h>'
+expect fail base "-Ilib/base" '"mesh.h"'
+[ $fail = 0 ] && echo "layers: ok ($n include checks: base reaches nothing of the project; core cannot reach config, instruments or I/O (CSV writing included); config cannot reach instruments or I/O; instruments cannot reach I/O; I/O reaches instruments)"
 exit $fail

@@ -9,36 +9,42 @@ trap 'rm -rf "$T"' EXIT INT TERM
 L=$T/cpu.lock
 fail=0 n=0
 ok() { n=$((n + 1)); if ! eval "$2"; then echo "lock: FAIL: $1"; fail=1; fi; }
-now() { date +%s.%N; }
+
+# hold MODE NAME: holds the lock (flock -x or -s) until $T/NAME.stop exists,
+# having written $T/NAME.held once it holds it; it writes $T/NAME.released
+# just before it lets go. The checks read these files, not the clock, so a
+# loaded machine cannot make them fail.
+hold() {
+  flock "$1" "$L" sh -c 'touch "$0.held"; while [ ! -e "$0.stop" ]; do sleep 0.05; done; touch "$0.released"' "$T/$2" &
+  holder=$!
+  while [ ! -e "$T/$2.held" ]; do sleep 0.05; done
+}
+# release NAME [SECONDS]: tells the holder to let go, after SECONDS, in the background
+release() { (sleep "${2:-0}"; touch "$T/$1.stop") & }
 
 # 1. an untimed experiment (topology) waits for an exclusive holder
-flock -x "$L" sleep 2 &
-holder=$!
-sleep 0.3
-t0=$(now)
+hold -x x
+release x 1
 CB_CPU_LOCK=$L OPENBLAS_NUM_THREADS=1 "$B/topology" --smoke --out "$T/t.csv" >/dev/null 2>"$T/t.err"
-t1=$(now)
+ok "untimed: waited for the exclusive holder" "test -e '$T/x.released'"
 wait $holder
-ok "untimed: waited for the exclusive holder" "awk -v a=$t0 -v b=$t1 'BEGIN { exit !(b - a >= 1.2) }'"
 ok "untimed: said it was waiting" "grep -q 'waiting for a timed experiment to finish' '$T/t.err'"
 ok "untimed: its CSV records the shared lock" "grep -q '^# cpu_lock: shared' '$T/t.csv'"
 
-# 2. untimed experiments share: no wait beside another shared holder
-flock -s "$L" sleep 2 &
-holder=$!
-sleep 0.3
-t0=$(now)
+# 2. untimed experiments share: no wait beside another shared holder (which
+#    lets go only once the experiment has finished)
+hold -s s
 CB_CPU_LOCK=$L OPENBLAS_NUM_THREADS=1 "$B/topology" --smoke --out "$T/t2.csv" >/dev/null 2>"$T/t2.err"
-t1=$(now)
-ok "untimed: no wait beside a shared holder" "awk -v a=$t0 -v b=$t1 'BEGIN { exit !(b - a < 1.2) }'"
+ok "untimed: no wait beside a shared holder" "test ! -e '$T/s.released'"
+release s
+wait $holder
 ok "untimed: no waiting message" "! grep -q waiting '$T/t2.err'"
 
-wait $holder
 # 3. a timed experiment (definiteness) waits for a shared holder, then records exclusive
-flock -s "$L" sleep 2 &
-holder=$!
-sleep 0.3
+hold -s d
+release d 1
 env -u CB_QUIET CB_CPU_LOCK=$L OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 "$B/definiteness" --smoke --out "$T/d.csv" >/dev/null 2>"$T/d.err"
+ok "timed: waited for the shared holder" "test -e '$T/d.released'"
 wait $holder
 ok "timed: said it was waiting for the others" "grep -q 'waiting for other experiments to finish' '$T/d.err'"
 ok "timed: its CSV records the exclusive lock" "grep -q '^# cpu_lock: exclusive' '$T/d.csv'"

@@ -20,8 +20,8 @@
 
 #include <clothbench/clothbench.h>
 #include <clothbench/collider.h>
-#include <clothbench/rng.h>
-#include <clothbench/vec.h>
+#include "rng.h"
+#include "vec.h"
 
 #include "support.h"
 

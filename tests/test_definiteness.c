@@ -18,7 +18,7 @@
 #include "newton_trace.h"
 #include "spd_probe.h"
 #include "support.h"
-#include <clothbench/rng.h>
+#include "rng.h"
 
 static const double PI = 3.14159265358979323846;
 

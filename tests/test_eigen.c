@@ -13,7 +13,7 @@
 #include <string.h>
 
 #include "support.h"
-#include <clothbench/rng.h>
+#include "rng.h"
 #include <clothbench/timer.h>
 
 static void setup(void) { gsl_set_error_handler_off(); }

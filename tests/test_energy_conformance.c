@@ -34,7 +34,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/rng.h>
+#include "rng.h"
 #include "support.h"
 
 /* ---- small models -------------------------------------------------------------- */

@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/rng.h>
+#include "rng.h"
 #include "support.h"
 
 /* Q = product of 3 Householder reflections I - 2 v v^T / (v^T v), row-major n x n. */

@@ -13,7 +13,7 @@
 #include <string.h>
 
 #include <clothbench/polar.h>
-#include <clothbench/rng.h>
+#include "rng.h"
 #include "support.h"
 
 /* ---- polar decomposition ------------------------------------------------------- */

@@ -12,7 +12,7 @@
 
 #include "capture.h"
 #include "support.h"
-#include <clothbench/rng.h>
+#include "rng.h"
 
 /* cb_sparse (3x3 block pattern) from a dense symmetric n x n matrix, n = 3 nblk. */
 static void from_dense(const double *M, int nblk, cb_sparse *A) {

@@ -12,7 +12,7 @@
 #include <string.h>
 
 #include "support.h"
-#include <clothbench/rng.h>
+#include "rng.h"
 
 /* ---- helpers ---------------------------------------------------------------- */
 

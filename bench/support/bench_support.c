@@ -6,34 +6,44 @@
 
 #include <clothbench/timer.h>
 
-/* ---- allocation counter: interposes malloc & co. for the whole process ---- */
+/* ---- allocation counter: interposes malloc & co. for the whole process ----
+ * The functions carry their own names; the link gives them libc's (Makefile:
+ * BENCH_INTERPOSE, ld --defsym malloc=cb_bench_malloc and so on), so every
+ * allocation of the process, CHOLMOD's and OpenBLAS's included, comes here,
+ * while the library's sources only ever call libc's malloc. */
 extern void *__libc_malloc(size_t);
 extern void *__libc_calloc(size_t, size_t);
 extern void *__libc_realloc(void *, size_t);
 extern void *__libc_memalign(size_t, size_t);
+void *cb_bench_malloc(size_t n);
+void *cb_bench_calloc(size_t a, size_t b);
+void *cb_bench_realloc(void *p, size_t n);
+void *cb_bench_memalign(size_t a, size_t n);
+int cb_bench_posix_memalign(void **p, size_t a, size_t n);
+void *cb_bench_aligned_alloc(size_t a, size_t n);
 static long nalloc;
-void *malloc(size_t n) {
+void *cb_bench_malloc(size_t n) {
   nalloc++;
   return __libc_malloc(n);
 }
-void *calloc(size_t a, size_t b) {
+void *cb_bench_calloc(size_t a, size_t b) {
   nalloc++;
   return __libc_calloc(a, b);
 }
-void *realloc(void *p, size_t n) {
+void *cb_bench_realloc(void *p, size_t n) {
   nalloc++;
   return __libc_realloc(p, n);
 }
-void *memalign(size_t a, size_t n) {
+void *cb_bench_memalign(size_t a, size_t n) {
   nalloc++;
   return __libc_memalign(a, n);
 }
-int posix_memalign(void **p, size_t a, size_t n) {
+int cb_bench_posix_memalign(void **p, size_t a, size_t n) {
   nalloc++;
   *p = __libc_memalign(a, n);
   return *p ? 0 : 12;
 }
-void *aligned_alloc(size_t a, size_t n) {
+void *cb_bench_aligned_alloc(size_t a, size_t n) {
   nalloc++;
   return __libc_memalign(a, n);
 }

@@ -1,4 +1,7 @@
-/* BLAS-call profile (blas_profile.h). The routines are resolved with
+/* BLAS-call profile (blas_profile.h). cb_bench_dgemm and the others are
+ * linked under the Fortran BLAS names (Makefile: BENCH_INTERPOSE, ld --defsym
+ * dgemm_=cb_bench_dgemm and so on), so CHOLMOD's calls into OpenBLAS come
+ * here first. The real routines are resolved with
  * dlsym(RTLD_NEXT) on first use, so a program that links this file but
  * never calls them needs no BLAS. Nested calls (a LAPACK routine calling
  * dgemm_ through the PLT) are timed once, as part of the outermost call. */
@@ -46,18 +49,18 @@ typedef void trsm_fn(const char *, const char *, const char *, const char *, con
                      const double *, const int *, double *, const int *);
 typedef void potrf_fn(const char *, const int *, double *, const int *, int *);
 
-void dgemm_(const char *ta, const char *tb, const int *m, const int *n, const int *k, const double *alpha,
-            const double *a, const int *lda, const double *b, const int *ldb, const double *beta, double *c,
-            const int *ldc);
-void dsyrk_(const char *uplo, const char *tr, const int *n, const int *k, const double *alpha, const double *a,
-            const int *lda, const double *beta, double *c, const int *ldc);
-void dtrsm_(const char *side, const char *uplo, const char *tr, const char *diag, const int *m, const int *n,
-            const double *alpha, const double *a, const int *lda, double *b, const int *ldb);
-void dpotrf_(const char *uplo, const int *n, double *a, const int *lda, int *info);
+void cb_bench_dgemm(const char *ta, const char *tb, const int *m, const int *n, const int *k, const double *alpha,
+                    const double *a, const int *lda, const double *b, const int *ldb, const double *beta, double *c,
+                    const int *ldc);
+void cb_bench_dsyrk(const char *uplo, const char *tr, const int *n, const int *k, const double *alpha, const double *a,
+                    const int *lda, const double *beta, double *c, const int *ldc);
+void cb_bench_dtrsm(const char *side, const char *uplo, const char *tr, const char *diag, const int *m, const int *n,
+                    const double *alpha, const double *a, const int *lda, double *b, const int *ldb);
+void cb_bench_dpotrf(const char *uplo, const int *n, double *a, const int *lda, int *info);
 
-void dgemm_(const char *ta, const char *tb, const int *m, const int *n, const int *k, const double *alpha,
-            const double *a, const int *lda, const double *b, const int *ldb, const double *beta, double *c,
-            const int *ldc) {
+void cb_bench_dgemm(const char *ta, const char *tb, const int *m, const int *n, const int *k, const double *alpha,
+                    const double *a, const int *lda, const double *b, const int *ldb, const double *beta, double *c,
+                    const int *ldc) {
   static gemm_fn *f;
   if (!f) resolve("dgemm_", &f);
   double t0 = enter();
@@ -65,8 +68,8 @@ void dgemm_(const char *ta, const char *tb, const int *m, const int *n, const in
   leave(CB_BLAS_GEMM, t0, 2.0 * *m * *n * *k);
 }
 
-void dsyrk_(const char *uplo, const char *tr, const int *n, const int *k, const double *alpha, const double *a,
-            const int *lda, const double *beta, double *c, const int *ldc) {
+void cb_bench_dsyrk(const char *uplo, const char *tr, const int *n, const int *k, const double *alpha, const double *a,
+                    const int *lda, const double *beta, double *c, const int *ldc) {
   static syrk_fn *f;
   if (!f) resolve("dsyrk_", &f);
   double t0 = enter();
@@ -74,8 +77,8 @@ void dsyrk_(const char *uplo, const char *tr, const int *n, const int *k, const 
   leave(CB_BLAS_SYRK, t0, (double)*n * (*n + 1) * *k);
 }
 
-void dtrsm_(const char *side, const char *uplo, const char *tr, const char *diag, const int *m, const int *n,
-            const double *alpha, const double *a, const int *lda, double *b, const int *ldb) {
+void cb_bench_dtrsm(const char *side, const char *uplo, const char *tr, const char *diag, const int *m, const int *n,
+                    const double *alpha, const double *a, const int *lda, double *b, const int *ldb) {
   static trsm_fn *f;
   if (!f) resolve("dtrsm_", &f);
   double t0 = enter();
@@ -84,7 +87,7 @@ void dtrsm_(const char *side, const char *uplo, const char *tr, const char *diag
   leave(CB_BLAS_TRSM, t0, tri * tri * other);
 }
 
-void dpotrf_(const char *uplo, const int *n, double *a, const int *lda, int *info) {
+void cb_bench_dpotrf(const char *uplo, const int *n, double *a, const int *lda, int *info) {
   static potrf_fn *f;
   if (!f) resolve("dpotrf_", &f);
   double t0 = enter();

@@ -42,7 +42,7 @@
 
 #include <clothbench/clothbench.h>
 #include <clothbench/collider.h>
-#include <clothbench/rng.h>
+#include "rng.h"
 #include "csv.h"
 #include "bind.h"
 #include "stats.h"

@@ -17,7 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/rng.h>
+#include "rng.h"
 
 #include "csv.h"
 #include "field.h"

@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include <clothbench/clothbench.h>
-#include <clothbench/rng.h>
+#include "rng.h"
 #include "csv.h"
 #include "rigidity.h"
 

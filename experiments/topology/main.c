@@ -20,7 +20,7 @@
 #include "experiment.h"
 #include "provenance.h"
 #include "rigidity.h"
-#include <clothbench/rng.h>
+#include "rng.h"
 #include "sweep.h"
 
 static void count_row(FILE *f, const char *name, cb_mesh *m, unsigned seed) {

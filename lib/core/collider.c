@@ -22,7 +22,7 @@
 #include <clothbench/scene.h>
 #include <clothbench/status.h>
 #include <clothbench/stencil.h>
-#include <clothbench/vec.h>
+#include "vec.h"
 
 /* The colliders: X(name, its term's alloc, its post-step response), one line
  * each, in the order of collider.type's choices. */

@@ -12,7 +12,7 @@
 
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
-#include <clothbench/rng.h>
+#include "rng.h"
 
 cb_lanczos_params cb_lanczos_params_default(void) {
   cb_lanczos_params p = {.max_steps = 300, .tol = 1e-8, .seed = 1, .reorth = 1, .done = NULL, .done_ctx = NULL};

@@ -72,7 +72,7 @@
 #include <clothbench/energy.h>
 #include <clothbench/status.h>
 #include <clothbench/stencil.h>
-#include <clothbench/vec.h>
+#include "vec.h"
 
 extern const cb_term_type cb_term_dihedral_type;       /* Gauss-Newton Hessian */
 extern const cb_term_type cb_term_dihedral_exact_type; /* exact Hessian, projected per element */

@@ -7,7 +7,7 @@
 #include <math.h>
 #include <string.h>
 
-#include <clothbench/vec.h>
+#include "vec.h"
 
 /* A unit vector normal to the unit vector u: the coordinate axis on which u
  * is smallest, made orthogonal to u. */

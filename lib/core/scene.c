@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include <clothbench/status.h>
-#include <clothbench/vec.h>
+#include "vec.h"
 
 static int cmp_int(const void *a, const void *b) {
   int p = *(const int *)a, q = *(const int *)b;

@@ -13,7 +13,7 @@
 #include <string.h>
 
 #include "solver_iterative.h"
-#include <clothbench/vec.h>
+#include "vec.h"
 
 typedef struct {
   int precond;

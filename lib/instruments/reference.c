@@ -14,7 +14,7 @@
 #include <clothbench/objective.h>
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
-#include <clothbench/vec.h>
+#include "vec.h"
 
 enum { REF_MAX_HALVINGS = 60 };
 #define REF_ARMIJO 1e-4 /* F(x + a dx) <= F(x) + 1e-4 a grad F . dx */

@@ -12,8 +12,8 @@
 #include <clothbench/solver.h>
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
-#include <clothbench/rng.h>
-#include <clothbench/vec.h>
+#include "rng.h"
+#include "vec.h"
 
 #define STANDARD_GRAVITY 9.8 /* m/s^2, used for the energy scale when gravity is off */
 

@@ -7,7 +7,7 @@
 #include <string.h>
 #include <strings.h>
 
-#include <clothbench/rng.h>
+#include "rng.h"
 
 /* LAPACK's Cholesky factorisation (OpenBLAS's own, libopenblas exports it). */
 extern void dpotrf_(const char *uplo, const int *n, double *a, const int *lda, int *info);
