@@ -33,11 +33,9 @@ python3-scipy (make bench installs it).
 """
 import ctypes
 import fcntl
-import glob
 import inspect
 import math
 import os
-import re
 import subprocess
 import sys
 import time
@@ -47,14 +45,12 @@ import scipy
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
 
+from cbmatrix import matrix_files, read_matrix, stats
+
 SIZES = (64, 128, 256)
 CG_ITERS = 100
 DIRECT_TOL = 1e-10
 CG_FACTOR = 10.0
-
-
-def stats(v):
-    return float(np.median(v)), float(np.min(v)), float(np.max(v))
 
 
 def rel_residual(A, b, x):
@@ -170,11 +166,7 @@ def main():
         sys.stderr.write(__doc__)
         return 1
     exe, mdir, out = args
-    files = {}
-    for f in glob.glob(os.path.join(mdir, "bench_matrix_*.bin")):
-        n = int(re.search(r"_(\d+)\.bin$", f).group(1))
-        if n in SIZES:
-            files[n] = f
+    files = {n: f for n, f in matrix_files(mdir).items() if n in SIZES}
     if not files:
         sys.stderr.write(f"peers_scipy: no bench_matrix_<n>.bin for n in {SIZES} in {mdir} "
                          "(run bench_core with CB_BENCH_MATRIX_DIR)\n")
@@ -198,14 +190,10 @@ def main():
     rows = []
     for n in sorted(files):
         path = files[n]
-        with open(path, "rb") as f:
-            dofs, nnz = np.fromfile(f, dtype=np.int32, count=2)
-            indptr = np.fromfile(f, dtype=np.int32, count=dofs + 1)
-            indices = np.fromfile(f, dtype=np.int32, count=nnz)
-            data = np.fromfile(f, dtype=np.float64, count=nnz)
-        if len(data) != nnz:
-            sys.stderr.write(f"peers_scipy: {path}: short file\n")
+        m = read_matrix(path, "peers_scipy")
+        if m is None:
             return 1
+        dofs, nnz, indptr, indices, data = m
         A = sp.csc_matrix((data, indices, indptr), shape=(dofs, dofs))
         b = np.ones(dofs)
         rounds = 3 if quick or n >= 256 else 5 if n >= 128 else 7

@@ -15,9 +15,7 @@ ratios are medians (min, max) of ratios within a round. speedup_vs_scipy
 compares clothbench's shipped (symmetric) kernel with the faster of the two
 SciPy ways. Debian's python3-scipy (make bench installs it).
 """
-import glob
 import os
-import re
 import subprocess
 import sys
 import time
@@ -27,11 +25,9 @@ import scipy
 import scipy.sparse as sp
 from scipy.sparse import _sparsetools
 
+from cbmatrix import matrix_files, read_matrix, stats
+
 ROUNDS = 7
-
-
-def stats(v):
-    return float(np.median(v)), float(np.min(v)), float(np.max(v))
 
 
 def main():
@@ -39,8 +35,7 @@ def main():
         sys.stderr.write(__doc__)
         return 1
     exe, mdir, out = sys.argv[1:]
-    files = sorted(glob.glob(os.path.join(mdir, "bench_matrix_*.bin")),
-                   key=lambda f: int(re.search(r"_(\d+)\.bin$", f).group(1)))
+    files = sorted(matrix_files(mdir).items())
     if not files:
         sys.stderr.write(f"spmv_scipy: no bench_matrix_*.bin in {mdir} (run bench_core with CB_BENCH_MATRIX_DIR)\n")
         return 1
@@ -49,16 +44,11 @@ def main():
         return f"{c},{c[:-3]}_min_ms,{c[:-3]}_max_ms" if c.endswith("_ms") else f"{c},{c}_min,{c}_max"
     hdr = "n,dofs,nnz,spmv_bytes," + ",".join(triple(c) for c in cols) + ",status"
     rows = []
-    for path in files:
-        n = int(re.search(r"_(\d+)\.bin$", path).group(1))
-        with open(path, "rb") as f:
-            dofs, nnz = np.fromfile(f, dtype=np.int32, count=2)
-            indptr = np.fromfile(f, dtype=np.int32, count=dofs + 1)
-            indices = np.fromfile(f, dtype=np.int32, count=nnz)
-            data = np.fromfile(f, dtype=np.float64, count=nnz)
-        if len(data) != nnz:
-            sys.stderr.write(f"spmv_scipy: {path}: short file\n")
+    for n, path in files:
+        m = read_matrix(path, "spmv_scipy")
+        if m is None:
             return 1
+        dofs, nnz, indptr, indices, data = m
         A = sp.csr_matrix((data, indices, indptr), shape=(dofs, dofs))
         x = np.ones(dofs)
         y = np.zeros(dofs)
