@@ -15,17 +15,15 @@ ratios are medians (min, max) of ratios within a round. speedup_vs_scipy
 compares clothbench's shipped (symmetric) kernel with the faster of the two
 SciPy ways. Debian's python3-scipy (make bench installs it).
 """
-import os
 import subprocess
 import sys
 import time
 
 import numpy as np
-import scipy
 import scipy.sparse as sp
 from scipy.sparse import _sparsetools
 
-from cbmatrix import matrix_files, read_matrix, stats
+from cbscipy import matrix_files, read_matrix, stats, write_csv
 
 ROUNDS = 7
 
@@ -84,18 +82,9 @@ def main():
         rows.append(f"{n},{dofs},{nnz},{nbytes}," + ",".join(f"{m:.6g},{lo:.6g},{hi:.6g}" for m, lo, hi in vals) + ",ok")
         print(f"spmv_scipy: {n}^2: clothbench {vals[2][0]:.3f} ms, SciPy {vals[0][0]:.3f} ms "
               f"(kernel {vals[1][0]:.3f} ms): {vals[4][0]:.2f}x ({vals[4][1]:.2f}-{vals[4][2]:.2f})", file=sys.stderr)
-    tmp = out + ".tmp." + str(os.getpid())
-    with open(tmp, "w") as f:
-        f.write("# program: bench/spmv_scipy.py\n")
-        f.write(f"# python: {sys.version.split()[0]}\n# scipy: {scipy.__version__}\n# numpy: {np.__version__}\n")
-        f.write(f"# command: {' '.join(sys.argv)}\n")
-        f.write(f"# date: {time.strftime('%Y-%m-%dT%H:%M:%SZ', time.gmtime())}\n")
-        f.write(f"# {ROUNDS} rounds, each: SciPy A @ x, SciPy csr_matvec into a zeroed y, clothbench (bench_spmv); "
-                "speedup_vs_scipy = min(SciPy ways) / clothbench's symmetric kernel, per round\n")
-        f.write(hdr + "\n")
-        f.write("\n".join(rows) + "\n")
-    os.replace(tmp, out)
-    print(f"spmv_scipy: wrote {out}", file=sys.stderr)
+    write_csv(out, "spmv_scipy", hdr, rows,
+              after=[f"# {ROUNDS} rounds, each: SciPy A @ x, SciPy csr_matvec into a zeroed y, clothbench (bench_spmv); "
+                     "speedup_vs_scipy = min(SciPy ways) / clothbench's symmetric kernel, per round"])
     return 0
 
 

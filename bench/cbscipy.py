@@ -1,11 +1,14 @@
 """What the SciPy sides of make bench share (bench/spmv_scipy.py, bench/peers_scipy.py): the Newton matrices
-bench_core exports (CB_BENCH_MATRIX_DIR; the format: bench/bench_core.c) and the median/min/max of samples."""
+bench_core exports (CB_BENCH_MATRIX_DIR; the format: bench/bench_core.c), the median/min/max of samples, and the
+output CSV with its provenance."""
 import glob
 import os
 import re
 import sys
+import time
 
 import numpy as np
+import scipy
 
 
 def matrix_files(mdir):
@@ -30,3 +33,18 @@ def read_matrix(path, prog):
 def stats(v):
     """(median, min, max) of the samples v."""
     return float(np.median(v)), float(np.min(v)), float(np.max(v))
+
+
+def write_csv(out, prog, hdr, rows, before=(), after=()):
+    """Writes out (atomically, through a temporary file): the provenance lines '# program: bench/PROG.py', python,
+    scipy and numpy, then the lines before, the command and the date, the lines after (each line without its
+    newline), then hdr and rows; and says so on stderr."""
+    head = [f"# program: bench/{prog}.py", f"# python: {sys.version.split()[0]}", f"# scipy: {scipy.__version__}",
+            f"# numpy: {np.__version__}", *before, f"# command: {' '.join(sys.argv)}",
+            f"# date: {time.strftime('%Y-%m-%dT%H:%M:%SZ', time.gmtime())}", *after, hdr]
+    tmp = out + ".tmp." + str(os.getpid())
+    with open(tmp, "w") as f:
+        f.write("\n".join(head) + "\n")
+        f.write("\n".join(rows) + "\n")
+    os.replace(tmp, out)
+    print(f"{prog}: wrote {out}", file=sys.stderr)
