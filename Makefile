@@ -215,7 +215,7 @@ check: $(TESTS) $(TOOLS) $(EXPS) $(BUILD)/report
 # (so CI's make test, then make check-all, runs it once); a check that fails
 # or is interrupted leaves no stamp
 $(BUILD)/check.passed: $(TESTS) $(TOOLS) $(EXPS) $(BUILD)/report Makefile README.md docs/csv_columns.txt \
-  $(wildcard tests/*.sh scripts/*.sh configs/*.ini plots/*.gp)
+  $(wildcard tests/*.sh scripts/*.sh scripts/lib/*.sh configs/*.ini plots/*.gp)
 	@$(MAKE) --no-print-directory check
 
 check-all: deps

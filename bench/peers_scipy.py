@@ -33,28 +33,23 @@ python3-scipy (make bench installs it).
 """
 import ctypes
 import fcntl
-import glob
 import inspect
 import math
 import os
-import re
 import subprocess
 import sys
 import time
 
 import numpy as np
-import scipy
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
+
+from cbscipy import matrix_files, read_matrix, stats, write_csv
 
 SIZES = (64, 128, 256)
 CG_ITERS = 100
 DIRECT_TOL = 1e-10
 CG_FACTOR = 10.0
-
-
-def stats(v):
-    return float(np.median(v)), float(np.min(v)), float(np.max(v))
 
 
 def rel_residual(A, b, x):
@@ -170,11 +165,7 @@ def main():
         sys.stderr.write(__doc__)
         return 1
     exe, mdir, out = args
-    files = {}
-    for f in glob.glob(os.path.join(mdir, "bench_matrix_*.bin")):
-        n = int(re.search(r"_(\d+)\.bin$", f).group(1))
-        if n in SIZES:
-            files[n] = f
+    files = {n: f for n, f in matrix_files(mdir).items() if n in SIZES}
     if not files:
         sys.stderr.write(f"peers_scipy: no bench_matrix_<n>.bin for n in {SIZES} in {mdir} "
                          "(run bench_core with CB_BENCH_MATRIX_DIR)\n")
@@ -198,14 +189,10 @@ def main():
     rows = []
     for n in sorted(files):
         path = files[n]
-        with open(path, "rb") as f:
-            dofs, nnz = np.fromfile(f, dtype=np.int32, count=2)
-            indptr = np.fromfile(f, dtype=np.int32, count=dofs + 1)
-            indices = np.fromfile(f, dtype=np.int32, count=nnz)
-            data = np.fromfile(f, dtype=np.float64, count=nnz)
-        if len(data) != nnz:
-            sys.stderr.write(f"peers_scipy: {path}: short file\n")
+        m = read_matrix(path, "peers_scipy")
+        if m is None:
             return 1
+        dofs, nnz, indptr, indices, data = m
         A = sp.csc_matrix((data, indices, indptr), shape=(dofs, dofs))
         b = np.ones(dofs)
         rounds = 3 if quick or n >= 256 else 5 if n >= 128 else 7
@@ -241,27 +228,17 @@ def main():
     hdr = ("n,dofs,nnz,peer,clothbench,phase,rounds,peer_ms,peer_min_ms,peer_max_ms,clothbench_ms,clothbench_min_ms,"
            "clothbench_max_ms,peer_over_clothbench,peer_over_clothbench_min,peer_over_clothbench_max,"
            "peer_rel_residual,clothbench_rel_residual,peer_detail,status")
-    tmp = out + ".tmp." + str(os.getpid())
-    with open(tmp, "w") as f:
-        f.write("# program: bench/peers_scipy.py\n")
-        f.write(f"# python: {sys.version.split()[0]}\n# scipy: {scipy.__version__}\n# numpy: {np.__version__}\n")
-        f.write(f"# scipy_blas_kernel: {py_core} (openblas_get_corename of the OpenBLAS SciPy loaded)\n")
-        f.write(f"# command: {' '.join(sys.argv)}\n")
-        f.write(f"# date: {time.strftime('%Y-%m-%dT%H:%M:%SZ', time.gmtime())}\n")
-        f.write(f"# cpu_lock: {lock_path} (exclusive while timing)\n")
-        f.write("# each round: clothbench's CHOLMOD solve, then splu (defaults); again, then splu (SPD setting); again, "
-                f"then spsolve; then {CG_ITERS} iterations of clothbench's CG, then SciPy's cg; b = (1, ..., 1)\n")
-        f.write("# peer_ms, clothbench_ms: median, _min, _max over the rounds; peer_over_clothbench: of the ratios within a round; "
-                f"*_rel_residual: the largest |b - Ax| / |b| over the rounds; inaccurate: a direct solve above {DIRECT_TOL:g}, "
-                f"or a CG residual more than {CG_FACTOR:g}x from clothbench's\n")
-        f.write("# the provenance of clothbench's side (bench_peers --serve) follows\n")
-        for line in prov.stdout.splitlines():
-            if line.startswith("# "):
-                f.write(line + "\n")
-        f.write(hdr + "\n")
-        f.write("\n".join(rows) + "\n")
-    os.replace(tmp, out)
-    print(f"peers_scipy: wrote {out}", file=sys.stderr)
+    write_csv(out, "peers_scipy", hdr, rows,
+              before=[f"# scipy_blas_kernel: {py_core} (openblas_get_corename of the OpenBLAS SciPy loaded)"],
+              after=[f"# cpu_lock: {lock_path} (exclusive while timing)",
+                     "# each round: clothbench's CHOLMOD solve, then splu (defaults); again, then splu (SPD setting); "
+                     f"again, then spsolve; then {CG_ITERS} iterations of clothbench's CG, then SciPy's cg; "
+                     "b = (1, ..., 1)",
+                     "# peer_ms, clothbench_ms: median, _min, _max over the rounds; peer_over_clothbench: of the ratios "
+                     "within a round; *_rel_residual: the largest |b - Ax| / |b| over the rounds; inaccurate: a direct "
+                     f"solve above {DIRECT_TOL:g}, or a CG residual more than {CG_FACTOR:g}x from clothbench's",
+                     "# the provenance of clothbench's side (bench_peers --serve) follows",
+                     *(line for line in prov.stdout.splitlines() if line.startswith("# "))])
     return 0
 
 

@@ -15,23 +15,17 @@ ratios are medians (min, max) of ratios within a round. speedup_vs_scipy
 compares clothbench's shipped (symmetric) kernel with the faster of the two
 SciPy ways. Debian's python3-scipy (make bench installs it).
 """
-import glob
-import os
-import re
 import subprocess
 import sys
 import time
 
 import numpy as np
-import scipy
 import scipy.sparse as sp
 from scipy.sparse import _sparsetools
 
+from cbscipy import matrix_files, read_matrix, stats, write_csv
+
 ROUNDS = 7
-
-
-def stats(v):
-    return float(np.median(v)), float(np.min(v)), float(np.max(v))
 
 
 def main():
@@ -39,8 +33,7 @@ def main():
         sys.stderr.write(__doc__)
         return 1
     exe, mdir, out = sys.argv[1:]
-    files = sorted(glob.glob(os.path.join(mdir, "bench_matrix_*.bin")),
-                   key=lambda f: int(re.search(r"_(\d+)\.bin$", f).group(1)))
+    files = sorted(matrix_files(mdir).items())
     if not files:
         sys.stderr.write(f"spmv_scipy: no bench_matrix_*.bin in {mdir} (run bench_core with CB_BENCH_MATRIX_DIR)\n")
         return 1
@@ -49,16 +42,11 @@ def main():
         return f"{c},{c[:-3]}_min_ms,{c[:-3]}_max_ms" if c.endswith("_ms") else f"{c},{c}_min,{c}_max"
     hdr = "n,dofs,nnz,spmv_bytes," + ",".join(triple(c) for c in cols) + ",status"
     rows = []
-    for path in files:
-        n = int(re.search(r"_(\d+)\.bin$", path).group(1))
-        with open(path, "rb") as f:
-            dofs, nnz = np.fromfile(f, dtype=np.int32, count=2)
-            indptr = np.fromfile(f, dtype=np.int32, count=dofs + 1)
-            indices = np.fromfile(f, dtype=np.int32, count=nnz)
-            data = np.fromfile(f, dtype=np.float64, count=nnz)
-        if len(data) != nnz:
-            sys.stderr.write(f"spmv_scipy: {path}: short file\n")
+    for n, path in files:
+        m = read_matrix(path, "spmv_scipy")
+        if m is None:
             return 1
+        dofs, nnz, indptr, indices, data = m
         A = sp.csr_matrix((data, indices, indptr), shape=(dofs, dofs))
         x = np.ones(dofs)
         y = np.zeros(dofs)
@@ -94,18 +82,9 @@ def main():
         rows.append(f"{n},{dofs},{nnz},{nbytes}," + ",".join(f"{m:.6g},{lo:.6g},{hi:.6g}" for m, lo, hi in vals) + ",ok")
         print(f"spmv_scipy: {n}^2: clothbench {vals[2][0]:.3f} ms, SciPy {vals[0][0]:.3f} ms "
               f"(kernel {vals[1][0]:.3f} ms): {vals[4][0]:.2f}x ({vals[4][1]:.2f}-{vals[4][2]:.2f})", file=sys.stderr)
-    tmp = out + ".tmp." + str(os.getpid())
-    with open(tmp, "w") as f:
-        f.write("# program: bench/spmv_scipy.py\n")
-        f.write(f"# python: {sys.version.split()[0]}\n# scipy: {scipy.__version__}\n# numpy: {np.__version__}\n")
-        f.write(f"# command: {' '.join(sys.argv)}\n")
-        f.write(f"# date: {time.strftime('%Y-%m-%dT%H:%M:%SZ', time.gmtime())}\n")
-        f.write(f"# {ROUNDS} rounds, each: SciPy A @ x, SciPy csr_matvec into a zeroed y, clothbench (bench_spmv); "
-                "speedup_vs_scipy = min(SciPy ways) / clothbench's symmetric kernel, per round\n")
-        f.write(hdr + "\n")
-        f.write("\n".join(rows) + "\n")
-    os.replace(tmp, out)
-    print(f"spmv_scipy: wrote {out}", file=sys.stderr)
+    write_csv(out, "spmv_scipy", hdr, rows,
+              after=[f"# {ROUNDS} rounds, each: SciPy A @ x, SciPy csr_matvec into a zeroed y, clothbench (bench_spmv); "
+                     "speedup_vs_scipy = min(SciPy ways) / clothbench's symmetric kernel, per round"])
     return 0
 
 

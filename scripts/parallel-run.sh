@@ -48,23 +48,14 @@ done
 [ $# -ge 2 ] || usage
 exp=$1 n=$2
 shift 2
-case $mode in balanced | modulo) ;; *) die "--shard-mode '$mode': expected balanced or modulo" ;; esac
-case $n in '' | *[!0-9]* | 0*) die "N '$n': expected a positive whole number" ;; esac
+# shellcheck source=scripts/lib/shards.sh
+. "$(dirname "$0")/lib/shards.sh"
+shards_check
 case $threads in '' | *[!0-9]* | 0*) die "--threads '$threads': expected a positive whole number" ;; esac
-case $exp in '' | */* | .*) die "EXPERIMENT '$exp': expected a program name such as topology" ;; esac
 command -v parallel >/dev/null 2>&1 || die "GNU parallel not found (Debian package parallel)"
-repo=$(cd "$(dirname "$0")/.." && pwd)
-cd "$repo"
-B=${BUILD:-build}
-case $B in /*) ;; *) B=$repo/$B ;; esac
-[ -x "$B/$exp" ] || die "$B/$exp: not built (run: make $B/$exp)"
-dir=${dir:-results/parallel/$exp-$n}
-case $dir in /*) ;; *) dir=$repo/$dir ;; esac
-out=${out:-$dir/$exp.csv}
-case $out in /*) ;; *) out=$repo/$out ;; esac
+shards_paths parallel
 # the experiment can be sharded (a program that cannot exits 1 here, with its reason)
-CB_QUIET=1 CB_CPU_LOCK="${TMPDIR:-/tmp}/cb-parallel-run.lock" "$B/$exp" $expopt --shard "1/$n" --shard-mode "$mode" --list-cells \
-  --out "${TMPDIR:-/tmp}/cb-parallel-run-$$.csv" >/dev/null || die "$exp cannot run as shards (above)"
+shards_cells parallel-run >/dev/null || die "$exp cannot run as shards (above)"
 settings="$B/$exp $expopt --shard ./$n --shard-mode $mode threads=$threads shared_lock=$shared"
 if [ $fresh = 0 ] && [ -f "$dir/settings" ] && [ "$(cat "$dir/settings")" != "$settings" ]; then
   echo "parallel-run: $dir held a run with other settings ($(cat "$dir/settings")): starting afresh" >&2
@@ -72,12 +63,10 @@ if [ $fresh = 0 ] && [ -f "$dir/settings" ] && [ "$(cat "$dir/settings")" != "$s
 fi
 if [ $fresh = 1 ]; then
   rm -f "$dir/joblog"
-  i=1
-  while [ "$i" -le "$n" ]; do rm -f "$dir/shard-$i/$exp"*; i=$((i + 1)); done
+  shards_clear
 fi
 mkdir -p "$dir/logs" "$dir/locks"
 printf '%s\n' "$settings" > "$dir/settings"
-q() { printf "'%s'" "$(printf %s "$1" | sed "s/'/'\\\\''/g")"; } # shell-quoted
 if [ $shared = 1 ]; then lock='${CB_CPU_LOCK:-/tmp/clothbench-cpu.lock}'; else lock="$(q "$dir/locks")/shard-{}.lock"; fi
 # one shard: the command parallel runs (through a shell) with {} = I
 job="cd $(q "$repo") && mkdir -p $(q "$dir")/shard-{} && OPENBLAS_NUM_THREADS=$threads OMP_NUM_THREADS=$threads OMP_PROC_BIND=close OMP_PLACES=threads CB_CPU_LOCK=$lock $(q "$B/$exp") $expopt --shard {}/$n --shard-mode $mode --out $(q "$dir")/shard-{}/$(q "$exp.csv") >$(q "$dir/logs")/$(q "$exp")-shard-{}.log 2>&1"
@@ -85,12 +74,7 @@ echo "parallel-run: $exp as $n shards (joblog $dir/joblog, logs $dir/logs/$exp-s
 rc=0
 seq 1 "$n" | parallel --joblog "$dir/joblog" --resume-failed "$@" "$job" || rc=$?
 failed=$(awk 'NR > 1 && $7 != 0 { f = f " " $NF } END { print f }' "$dir/joblog" 2>/dev/null || true)
-missing=""
-i=1
-while [ "$i" -le "$n" ]; do
-  [ -f "$dir/shard-$i/$exp.csv.cells" ] || missing="$missing $i"
-  i=$((i + 1))
-done
+missing=$(shards_missing)
 if [ $rc != 0 ] || [ -n "$missing" ]; then
   echo "parallel-run: shards without their output:${missing:- (none)} (parallel exit $rc; the joblog's failed jobs:${failed:- none})" >&2
   for i in $missing; do

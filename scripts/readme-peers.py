@@ -7,11 +7,11 @@ Both must come from one build on one OpenBLAS kernel (their provenance).
 
 usage: scripts/readme-peers.py [RESULTS_DIR] [README]
 """
-import csv
 import os
 import sys
 
-BEGIN, END = "<!-- peers:begin -->", "<!-- peers:end -->"
+from cbreadme import kernel, load, ms, rule, write_block
+
 PEERS = [  # (peer column value, label)
     ("mumps", "MUMPS (sequential, SPD mode)"),
     ("superlu", "SuperLU (SPD setting)"),
@@ -23,27 +23,9 @@ PEERS = [  # (peer column value, label)
 PHASES = ["analyse", "factorise", "analyse_factorise", "solve", "total", "iteration"]
 
 
-def load(path):
-    """(provenance dict, rows) of a CSV with '# key: value' lines."""
-    prov, lines = {}, []
-    with open(path) as f:
-        for line in f:
-            if line.startswith("#"):
-                k, _, v = line[1:].strip().partition(": ")
-                prov.setdefault(k, v)
-            elif line.strip():
-                lines.append(line)
-    return prov, list(csv.DictReader(lines))
-
-
 def fx(v):
     v = float(v)
     return f"{v:.2f}" if v < 10 else f"{v:.1f}"
-
-
-def ms(v):
-    v = float(v)
-    return f"{v:.0f}" if v >= 100 else f"{v:.1f}" if v >= 10 else f"{v:.2f}" if v >= 1 else f"{v:.3f}"
 
 
 def cell(r):
@@ -52,10 +34,6 @@ def cell(r):
     if r["status"] == "failed":
         return "failed"
     return f"{fx(r['peer_over_clothbench'])}× ({fx(r['peer_over_clothbench_min'])}–{fx(r['peer_over_clothbench_max'])})"
-
-
-def kernel(prov):
-    return f"{prov.get('blas_kernel', '?')} ({prov.get('blas_kernel_choice', 'not recorded')})"
 
 
 def main():
@@ -95,7 +73,7 @@ def main():
     hdr = ("| peer | grid | rounds | analyse | factorise | analyse + factorise | solve | whole solve | per CG iteration | "
            "peer residual | clothbench residual | status |")
     o.append(hdr)
-    o.append("|" + "---|" * (hdr.count("|") - 1))
+    o.append(rule(hdr))
     for peer, label in PEERS:
         for n in sizes:
             cells = [by.get((peer, n, ph)) for ph in PHASES]
@@ -117,19 +95,7 @@ def main():
         if r:
             details.append(f"{label}: {r['peer_detail']} (at {r['n']}²)")
     o.append("What each peer ran: " + "; ".join(details) + ".")
-    text = "\n".join(o) + "\n"
-    with open(readme) as f:
-        src = f.read()
-    if BEGIN not in src or END not in src:
-        sys.stderr.write(f"readme-peers: {readme} lacks the {BEGIN} / {END} markers\n")
-        return 1
-    head, rest = src.split(BEGIN, 1)
-    _, tail = rest.split(END, 1)
-    tmp = readme + ".tmp." + str(os.getpid())
-    with open(tmp, "w") as f:
-        f.write(head + BEGIN + "\n" + text + END + tail)
-    os.replace(tmp, readme)
-    return 0
+    return write_block(readme, "peers", "\n".join(o) + "\n", "readme-peers")
 
 
 if __name__ == "__main__":

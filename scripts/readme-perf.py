@@ -6,38 +6,14 @@ results/bench_core_step.csv and results/bench_scipy.csv. Every number in the sec
 
 usage: scripts/readme-perf.py [RESULTS_DIR] [README]
 """
-import csv
 import os
 import sys
 
-BEGIN, END = "<!-- performance:begin -->", "<!-- performance:end -->"
-
-
-def load(path):
-    """(provenance dict, rows) of a CSV with '# key: value' lines."""
-    prov, lines = {}, []
-    with open(path) as f:
-        for line in f:
-            if line.startswith("#"):
-                k, _, v = line[1:].strip().partition(": ")
-                prov.setdefault(k, v)
-            elif line.strip():
-                lines.append(line)
-    return prov, list(csv.DictReader(lines))
+from cbreadme import kernel, load, ms, rule, write_block
 
 
 def num(r, k):
     return float(r[k])
-
-
-def ms(v):
-    if v >= 100:
-        return f"{v:.0f}"
-    if v >= 10:
-        return f"{v:.1f}"
-    if v >= 1:
-        return f"{v:.2f}"
-    return f"{v:.3f}"
 
 
 def spread(k, which):
@@ -64,16 +40,6 @@ def ratio(v):
 
 def pct(v):
     return f"{100 * v:.0f}%"
-
-
-def rule(header):
-    """The |---|...| line under a table's header row, one cell per column."""
-    return "|" + "---|" * (header.count("|") - 1)
-
-
-def kernel(prov):
-    """The OpenBLAS kernel of a run and how it came to run (its provenance)."""
-    return f"{prov.get('blas_kernel', '?')} ({prov.get('blas_kernel_choice', 'not recorded')})"
 
 
 def grid(n):
@@ -256,19 +222,7 @@ def main():
         o.append(f"| {r['method']} | {a} | {rho} | {rng_ms(r, 'step_ms')} | {num(r, 'steps_per_s'):.0f} | "
                  f"{pct(num(r, 'rho_share'))} | {r['rho_estimates']} of {r['steps']} | "
                  f"{num(r, 'rel_residual_geomean'):.2g} |")
-    text = "\n".join(o) + "\n"
-    with open(readme) as f:
-        src = f.read()
-    if BEGIN not in src or END not in src:
-        sys.stderr.write(f"readme-perf: {readme} lacks the {BEGIN} / {END} markers\n")
-        return 1
-    head, rest = src.split(BEGIN, 1)
-    _, tail = rest.split(END, 1)
-    tmp = readme + ".tmp." + str(os.getpid())
-    with open(tmp, "w") as f:
-        f.write(head + BEGIN + "\n" + text + END + tail)
-    os.replace(tmp, readme)
-    return 0
+    return write_block(readme, "performance", "\n".join(o) + "\n", "readme-perf")
 
 
 if __name__ == "__main__":

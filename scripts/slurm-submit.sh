@@ -52,32 +52,17 @@ done
 exp=$1 n=$2
 shift 2
 if [ $# -gt 0 ]; then [ "$1" = -- ] || usage; shift; fi
-case $mode in balanced | modulo) ;; *) die "--shard-mode '$mode': expected balanced or modulo" ;; esac
-case $n in '' | *[!0-9]* | 0*) die "N '$n': expected a positive whole number" ;; esac
-case $exp in '' | */* | .*) die "EXPERIMENT '$exp': expected a program name such as topology" ;; esac
-repo=$(cd "$(dirname "$0")/.." && pwd)
-cd "$repo"
-B=${BUILD:-build}
-case $B in /*) ;; *) B=$repo/$B ;; esac
-[ -x "$B/$exp" ] || die "$B/$exp: not built (run: make $B/$exp)"
-dir=${dir:-results/slurm/$exp-$n}
-case $dir in /*) ;; *) dir=$repo/$dir ;; esac
-out=${out:-$dir/$exp.csv}
-case $out in /*) ;; *) out=$repo/$out ;; esac
+# shellcheck source=scripts/lib/shards.sh
+. "$(dirname "$0")/lib/shards.sh"
+shards_check
+shards_paths slurm
 # the experiment can be sharded and has cells (a program that cannot exits 1 here, with its reason)
-list=$(CB_QUIET=1 CB_CPU_LOCK="${TMPDIR:-/tmp}/cb-slurm-submit.lock" "$B/$exp" $expopt --shard "1/$n" --shard-mode "$mode" --list-cells --out "${TMPDIR:-/tmp}/cb-slurm-submit-$$.csv") ||
-  die "$exp cannot run as shards (above)"
+list=$(shards_cells slurm-submit) || die "$exp cannot run as shards (above)"
 ncells=$(printf '%s\n' "$list" | grep -c .) || ncells=0
 [ "$n" -le "$ncells" ] || echo "slurm-submit: warning: $n shards for $ncells cells: some shards have no cell" >&2
-q() { printf "'%s'" "$(printf %s "$1" | sed "s/'/'\\\\''/g")"; } # shell-quoted
 if [ -n "$rerun" ]; then
   if [ "$rerun" = failed ]; then
-    rerun=""
-    i=1
-    while [ "$i" -le "$n" ]; do
-      [ -f "$dir/shard-$i/$exp.csv.cells" ] || rerun="$rerun,$i"
-      i=$((i + 1))
-    done
+    rerun=$(shards_missing | tr ' ' ,)
     rerun=${rerun#,}
     [ -n "$rerun" ] || die "every shard of $dir has its output: nothing to rerun (the merge: scripts/merge-shards.sh)"
   fi
@@ -145,8 +130,7 @@ array_script > "$jobs/array.sh.tmp.$$" && mv "$jobs/array.sh.tmp.$$" "$jobs/arra
 merge_script > "$jobs/merge.sh.tmp.$$" && mv "$jobs/merge.sh.tmp.$$" "$jobs/merge.sh"
 chmod +x "$jobs/array.sh" "$jobs/merge.sh"
 if [ -z "$rerun" ]; then # a fresh run: no shard output of an earlier one may be merged into it
-  i=1
-  while [ "$i" -le "$n" ]; do rm -f "$dir/shard-$i/$exp"*; i=$((i + 1)); done
+  shards_clear
 elif [ -f "$jobs/merge.jobid" ]; then # the earlier merge waits for an array that failed: it would never run
   old=$(cat "$jobs/merge.jobid")
   if squeue -h -j "$old" -o %T 2>/dev/null | grep -q PENDING; then scancel "$old" && echo "slurm-submit: cancelled the earlier merge job $old"; fi

@@ -34,6 +34,15 @@ cb_integrator *test_integrator(const char *const *sets, cb_scene *s, cb_newton_h
   return it;
 }
 
+void test_count_rises(void *ctx, int event, const cb_newton_event *ev) {
+  test_rise_trace *r = ctx;
+  if (event != CB_NEWTON_GRADIENT) return;
+  if (ev->iter == 0) r->first = ev->F;
+  else if (ev->F > r->last + 1e-12 * fabs(r->last)) r->rises++;
+  r->last = ev->F;
+  r->n++;
+}
+
 const char *test_tmpfile(const char *suffix, const char *text) {
   static char path[256];
   snprintf(path, sizeof path, "/tmp/cbtest_XXXXXX%s", suffix);

@@ -19,6 +19,18 @@ cb_scene *test_scene(const char *const *sets);
  * with an optional Newton hook. Aborts the test on error. */
 cb_integrator *test_integrator(const char *const *sets, cb_scene *s, cb_newton_hook hook, void *ctx);
 
+/* A Newton hook (test_integrator's hook, ctx a test_rise_trace) that counts
+ * the objective's rises: at each CB_NEWTON_GRADIENT event n grows, and an
+ * iterate after a step's first (iter > 0) whose F exceeds the previous
+ * iterate's by more than 1e-12 relative counts one rise. first and last are
+ * the F of the step's first iterate and of the latest. Start from
+ * {0}; zero n between steps to count each step's iterates. */
+typedef struct {
+  int n, rises;
+  double first, last;
+} test_rise_trace;
+void test_count_rises(void *ctx, int event, const cb_newton_event *ev);
+
 /* Writes text to a fresh temporary file; returns its path (static buffer). */
 const char *test_tmpfile(const char *suffix, const char *text);
 

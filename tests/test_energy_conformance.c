@@ -260,6 +260,22 @@ static void check_elements(const cb_term *term, cb_system *sys, const tmodel *t,
     gm = fmax(gm, fabs(gt[i]));
   }
   cr_expect(gerr <= 1e-12 * fmax(gm, 1.0), "%s: element gradients - term gradient = %.3g", where, gerr);
+  /* element_vertex: each vertex's blocks of element's gradient and unprojected Hessian, and its energy, bit for
+   * bit; with g and H NULL the same energy */
+  int bad = 0;
+  for (int e = 0; type->element_vertex && e < st->ne; e++) {
+    double Ee = type->element(term, e, x, CB_PROJ_NONE, ge, He);
+    for (int a = 0; a < st->k; a++) {
+      double gv[3], Hv[9];
+      double Ev = type->element_vertex(term, e, a, x, gv, Hv), E0 = type->element_vertex(term, e, a, x, NULL, NULL);
+      int same = memcmp(&Ev, &Ee, sizeof Ee) == 0 && memcmp(&E0, &Ee, sizeof Ee) == 0 &&
+                 memcmp(gv, ge + 3 * a, sizeof gv) == 0;
+      for (int r = 0; r < 3; r++)
+        same = same && memcmp(Hv + 3 * r, He + (3 * a + r) * k3 + 3 * a, 3 * sizeof(double)) == 0;
+      bad += !same;
+    }
+  }
+  cr_expect_eq(bad, 0, "%s: %d (element, vertex) pairs whose element_vertex differs from element", where, bad);
   free(g);
   free(gt);
   free(ge);

@@ -67,6 +67,15 @@ static double compare_steps(const char *const *scene, int pre, const char *const
   return num / den;
 }
 
+/* The drape (configs/drape.ini's scene: dihedral bending, the penalty
+ * sphere, no pins) on a unit square of mesh.n^2 vertices (the tests give
+ * mesh.n), stepped by Newton with the line search to 1e-6. */
+#define DRAPE \
+  "material.density=0.2", "material.stretch_k=200", "material.bend=dihedral", "material.bend_k=5e-4", \
+      "scene.pins=none", "collider.type=penalty", "collider.centre=0 -0.27 0", "collider.radius=0.25", \
+      "collider.thickness=0.005", "collider.stiffness=1000", "mesh.size=1", "mesh.plane=xz", \
+      "integrator.method=newton", "integrator.line_search=1", "integrator.tol=1e-6", "integrator.tol_dx=1e-6"
+
 static const char *const NEWTON_CONVERGED[] = {"integrator.method=newton", "integrator.max_iters=200",
                                                "integrator.tol=1e-13",     "integrator.tol_dx=1e-14",
                                                "integrator.line_search=1", NULL};
@@ -97,24 +106,7 @@ Test(field, lbfgs_converges_to_newtons_step_on_a_stiff_cloth) {
  * iterations, most with backtracking), so the test asks for the positions to
  * 1e-6 within 3000 iterations, not for the gradient tolerance. */
 Test(field, lbfgs_converges_to_newtons_step_on_the_drape) {
-  const char *scene[] = {"mesh.n=10",
-                         "material.density=0.2",
-                         "material.stretch_k=200",
-                         "material.bend=dihedral",
-                         "material.bend_k=5e-4",
-                         "scene.pins=none",
-                         "collider.type=penalty",
-                         "collider.centre=0 -0.27 0",
-                         "collider.radius=0.25",
-                         "collider.thickness=0.005",
-                         "collider.stiffness=1000",
-                         "mesh.size=1",
-                         "mesh.plane=xz",
-                         "integrator.method=newton",
-                         "integrator.line_search=1",
-                         "integrator.tol=1e-6",
-                         "integrator.tol_dx=1e-6",
-                         NULL};
+  const char *scene[] = {"mesh.n=10", DRAPE, NULL};
   const char *lb[] = {"integrator.method=lbfgs", "integrator.iters=3000", "integrator.tol=1e-9", "integrator.tol_dx=0",
                       NULL};
   int sa, sb;
@@ -309,24 +301,7 @@ Test(field, refusals_name_the_term_they_cannot_handle) {
  * overshoots at the contacts). */
 Test(field, vbd_converges_to_newtons_step) {
   const char *stiff[] = {"mesh.n=6", "material.stretch_k=1e4", "material.vertex_mass=0.01", NULL};
-  const char *drape[] = {"mesh.n=8",
-                         "material.density=0.2",
-                         "material.stretch_k=200",
-                         "material.bend=dihedral",
-                         "material.bend_k=5e-4",
-                         "scene.pins=none",
-                         "collider.type=penalty",
-                         "collider.centre=0 -0.27 0",
-                         "collider.radius=0.25",
-                         "collider.thickness=0.005",
-                         "collider.stiffness=1000",
-                         "mesh.size=1",
-                         "mesh.plane=xz",
-                         "integrator.method=newton",
-                         "integrator.line_search=1",
-                         "integrator.tol=1e-6",
-                         "integrator.tol_dx=1e-6",
-                         NULL};
+  const char *drape[] = {"mesh.n=8", DRAPE, NULL};
   const char *vc[] = {"integrator.method=vbd-chebyshev", "integrator.rho=0.8", "integrator.iters=3000", NULL};
   const char *vb[] = {"integrator.method=vbd", "integrator.iters=2000", "integrator.vbd_line_search=1", NULL};
   int sa, sb;
@@ -342,17 +317,6 @@ Test(field, vbd_converges_to_newtons_step) {
 
 /* With the line search no sweep raises F (its derivation: F changes by the
  * vertex's own F_i); checked on every sweep of the swinging cloth. */
-typedef struct {
-  int n, rises;
-  double last;
-} rise_trace;
-static void count_rises(void *ctx, int event, const cb_newton_event *ev) {
-  rise_trace *r = ctx;
-  if (event != CB_NEWTON_GRADIENT) return;
-  if (ev->iter > 0 && ev->F > r->last + 1e-12 * fabs(r->last)) r->rises++;
-  r->last = ev->F;
-  r->n++;
-}
 Test(field, vbd_line_search_never_raises_F) {
   const char *sets[] = {"mesh.n=8",
                         "material.vertex_mass=0.1",
@@ -362,8 +326,8 @@ Test(field, vbd_line_search_never_raises_F) {
                         "integrator.vbd_line_search=1",
                         NULL};
   cb_scene *s = test_scene(sets);
-  rise_trace tr = {0, 0, 0};
-  cb_integrator *it = test_integrator(sets, s, count_rises, &tr);
+  test_rise_trace tr = {0};
+  cb_integrator *it = test_integrator(sets, s, test_count_rises, &tr);
   int n3 = 3 * s->mesh.nv;
   double *x = malloc((size_t)n3 * sizeof(double)), *v = malloc((size_t)n3 * sizeof(double));
   memcpy(x, s->x0, (size_t)n3 * sizeof(double));

@@ -89,6 +89,14 @@ typedef struct cb_term_type {
    * read from the scene). */
   const cb_stencil *(*stencil)(const cb_term *t);
   double (*element)(const cb_term *t, int e, const double *x, cb_projection proj, double *g, double *H);
+  /* Optional, beside element: element e's energy at x and, unless NULL,
+   * its vertex a's part (0 <= a < k) of what element gives with CB_PROJ_NONE:
+   * the gradient block g (3) and the diagonal Hessian block H (3x3,
+   * row-major), the same numbers bit for bit, without computing the rest of
+   * the element where the type can avoid it (vertex block descent needs no
+   * more; its line search only the energy). NULL: the methods read element
+   * (the conformance test checks that the two agree). */
+  double (*element_vertex)(const cb_term *t, int e, int a, const double *x, double *g, double *H);
   /* Conformance (tests/test_energy_conformance.c): builds example i,
    * 0 <= i < nexamples, of this term on any model (any mesh, any pins), with
    * the parameters a scene would give it. Registering a type is all it takes

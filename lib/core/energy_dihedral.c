@@ -328,6 +328,38 @@ static double hinge_element(const cb_term *t, int e, const double *x, cb_project
   }
   return 0.5 * h->c[e] * d * d;
 }
+/* Its vertex a's part (cb_term_type.element_vertex): Gauss-Newton's block
+ * c grad_a theta grad_a theta^T alone; the exact block from the exact
+ * Hessian (its second derivatives couple the vertices), only when asked. */
+static double hinge_element_vertex(const cb_term *t, int e, int a, const double *x, double *g, double *H, int exact) {
+  const hinge_term *h = (const hinge_term *)t;
+  double p[12];
+  hinge_geo geo;
+  if (g) memset(g, 0, 3 * sizeof(double));
+  if (H) memset(H, 0, 9 * sizeof(double));
+  load(h, e, x, p);
+  if (!hinge_eval(p, h->e2_bar[e], &geo)) return 0.0;
+  double d = wrap_angle(geo.theta - h->theta_bar[e]);
+  const double *ga = geo.grad + 3 * a;
+  if (g)
+    for (int k = 0; k < 3; k++) g[k] = h->c[e] * d * ga[k];
+  if (H && exact) {
+    double He[144] = {0};
+    hinge_exact_hessian(h, e, x, He);
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) H[3 * i + j] = He[12 * (3 * a + i) + 3 * a + j];
+  } else if (H) {
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) H[3 * i + j] = h->c[e] * ga[i] * ga[j];
+  }
+  return 0.5 * h->c[e] * d * d;
+}
+static double hinge_vertex_gn(const cb_term *t, int e, int a, const double *x, double *g, double *H) {
+  return hinge_element_vertex(t, e, a, x, g, H, 0);
+}
+static double hinge_vertex_exact(const cb_term *t, int e, int a, const double *x, double *g, double *H) {
+  return hinge_element_vertex(t, e, a, x, g, H, 1);
+}
 static double hinge_element_gn(const cb_term *t, int e, const double *x, cb_projection proj, double *g, double *H) {
   return hinge_element(t, e, x, proj, g, H, 0);
 }
@@ -441,6 +473,7 @@ const cb_term_type cb_term_dihedral_type = {.name = "dihedral",
                                             .free = hinge_free,
                                             .stencil = hinge_stencil,
                                             .element = hinge_element_gn,
+                                            .element_vertex = hinge_vertex_gn,
                                             .nexamples = 1,
                                             .example = hinge_example,
                                             .indefinite = cb_hinge_term_count_indefinite};
@@ -452,6 +485,7 @@ const cb_term_type cb_term_dihedral_exact_type = {.name = "dihedral_exact",
                                                   .free = hinge_free,
                                                   .stencil = hinge_stencil,
                                                   .element = hinge_element_exact,
+                                                  .element_vertex = hinge_vertex_exact,
                                                   .nexamples = 1,
                                                   .example = hinge_exact_example,
                                                   .indefinite = cb_hinge_term_count_indefinite};

@@ -232,6 +232,29 @@ static double fem_element_frozen(const cb_term *t, int e, const double *x, cb_pr
   return fem_elem(f, e, x, g);
 }
 
+/* Its vertex a's part (cb_term_type.element_vertex): the blocks of the
+ * element's gradient and Hessian (the Hessian only when asked: the line
+ * search of vertex block descent wants the energy alone). */
+static double fem_element_vertex(const cb_term *t, int e, int a, const double *x, double *g, double *H, int exact) {
+  const fem_term *f = (const fem_term *)t;
+  double ge[9], He[81];
+  if (H) {
+    if (exact) exact_element(f, e, x, He);
+    else frozen_element(f, e, He);
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) H[3 * i + j] = He[9 * (3 * a + i) + 3 * a + j];
+  }
+  double E = fem_elem(f, e, x, g ? ge : NULL);
+  if (g) memcpy(g, ge + 3 * a, 3 * sizeof(double));
+  return E;
+}
+static double fem_vertex_exact(const cb_term *t, int e, int a, const double *x, double *g, double *H) {
+  return fem_element_vertex(t, e, a, x, g, H, 1);
+}
+static double fem_vertex_frozen(const cb_term *t, int e, int a, const double *x, double *g, double *H) {
+  return fem_element_vertex(t, e, a, x, g, H, 0);
+}
+
 static void fem_free(cb_term *t) {
   fem_term *f = (fem_term *)t;
   free(f->tri);
@@ -253,6 +276,7 @@ const cb_term_type cb_term_fem_type = {.name = "fem",
                                        .free = fem_free,
                                        .stencil = fem_stencil,
                                        .element = fem_element_exact,
+                                       .element_vertex = fem_vertex_exact,
                                        .nexamples = 1,
                                        .example = fem_example};
 const cb_term_type cb_term_fem_frozen_type = {.name = "fem_frozen",
@@ -264,6 +288,7 @@ const cb_term_type cb_term_fem_frozen_type = {.name = "fem_frozen",
                                               .free = fem_free,
                                               .stencil = fem_stencil,
                                               .element = fem_element_frozen,
+                                              .element_vertex = fem_vertex_frozen,
                                               .nexamples = 1,
                                               .example = fem_frozen_example};
 

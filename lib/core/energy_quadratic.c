@@ -121,6 +121,20 @@ static double quad_element(const cb_term *t, int e, const double *x, cb_projecti
   return 0.5 * s->w[e] * (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
 }
 
+/* Its vertex a's part (cb_term_type.element_vertex): g = w q_a r, H = w q_a q_a I_3. */
+static double quad_element_vertex(const cb_term *t, int e, int a, const double *x, double *g, double *H) {
+  const quad_term *s = (const quad_term *)t;
+  const double *q = s->q + 4 * e;
+  double r[3];
+  qx(s, e, x, r);
+  if (H) memset(H, 0, 9 * sizeof(double));
+  for (int c = 0; c < 3; c++) {
+    if (g) g[c] = s->w[e] * q[a] * r[c];
+    if (H) H[4 * c] = s->w[e] * q[a] * q[a];
+  }
+  return 0.5 * s->w[e] * (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+}
+
 static void quad_free(cb_term *t) {
   quad_term *s = (quad_term *)t;
   free(s->vert);
@@ -187,5 +201,6 @@ const cb_term_type cb_term_quadratic_type = {.name = "quadratic",
                                              .free = quad_free,
                                              .stencil = quad_stencil,
                                              .element = quad_element,
+                                             .element_vertex = quad_element_vertex,
                                              .nexamples = 1,
                                              .example = quad_example};

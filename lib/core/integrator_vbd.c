@@ -11,7 +11,8 @@
  * where dE/dx_i and d2E/dx_i^2 sum, over every element of every energy term
  * that touches i, that element's gradient at i and the (i, i) block of its
  * Hessian, read through the term interface (cb_term_type.element; springs,
- * bending, FEM and the penalty collider all provide it). H_i is used as is
+ * bending, FEM and the penalty collider all provide it; where a type also has
+ * element_vertex, that: the vertex's blocks alone, the same numbers). H_i is used as is
  * when its Cholesky factor exists; otherwise it is projected to SPD
  * (eigenvalues clamped at 0) and, if it is then near singular (smallest
  * eigenvalue below 1e-12 of the largest), the vertex is skipped this sweep.
@@ -285,18 +286,42 @@ static int chol3_solve(const double H[9], const double f[3], double dx[3]) {
   return 0;
 }
 
-/* F_i at x (only x_i is read as a variable): inertia, gravity, and the
- * energies of the elements that touch i. */
-static double local_F(vbd_work *w, const cb_scene *s, double dt, const double *x, int i, double *g_e, double *H_e) {
+/* The element of an incidence at x: its energy and, unless NULL, the
+ * vertex's gradient block g (3) and Hessian block H (3x3): from the term's
+ * element_vertex where it has one (it computes no more than that), else from
+ * element's whole gradient and Hessian (g_e, H_e: scratch), the same numbers. */
+static double vertex_element(const vbd_work *w, const incidence *in, const double *x, double *g, double *H, double *g_e,
+                             double *H_e) {
+  const cb_term *term = w->terms[in->term];
+  if (term->type->element_vertex) return term->type->element_vertex(term, in->elem, in->local, x, g, H);
+  int k3 = 3 * w->st[in->term]->k, a = in->local;
+  double E = term->type->element(term, in->elem, x, CB_PROJ_NONE, g_e, H_e);
+  for (int c = 0; c < 3; c++) {
+    if (g) g[c] = g_e[3 * a + c];
+    if (H)
+      for (int d = 0; d < 3; d++) H[3 * c + d] = H_e[(3 * a + c) * k3 + 3 * a + d];
+  }
+  return E;
+}
+
+/* Vertex i's inertia and gravity at x: m_i/(2 dt^2)|x_i - y_i|^2 - m_i g.x_i. */
+static double inertia_F(const vbd_work *w, const cb_scene *s, double dt, const double *x, int i) {
   double mi = s->mass[i] / (dt * dt), F = 0.0;
   for (int a = 0; a < 3; a++) {
     double d = x[3 * i + a] - w->obj.xhat[3 * i + a];
     F += 0.5 * mi * d * d - s->mass[i] * w->grav[a] * x[3 * i + a];
   }
-  for (int r = w->inc_ptr[i]; r < w->inc_ptr[i + 1]; r++) {
-    const incidence *in = &w->inc[r];
-    F += w->terms[in->term]->type->element(w->terms[in->term], in->elem, x, CB_PROJ_NONE, g_e, H_e);
-  }
+  return F;
+}
+
+/* F_i at x (only x_i is read as a variable): inertia, gravity, and the
+ * energies of the elements that touch i, summed in the order the sweep sums
+ * them (so that F_i at the sweep's x is the sweep's F0, bit for bit); no
+ * gradient or Hessian where the term can leave them out (g_e, H_e:
+ * scratch for those that cannot). */
+static double local_F(vbd_work *w, const cb_scene *s, double dt, const double *x, int i, double *g_e, double *H_e) {
+  double F = inertia_F(w, s, dt, x, i);
+  for (int r = w->inc_ptr[i]; r < w->inc_ptr[i + 1]; r++) F += vertex_element(w, &w->inc[r], x, NULL, NULL, g_e, H_e);
   return F;
 }
 
@@ -309,14 +334,14 @@ static double sweep(vbd_work *w, const cb_scene *s, double dt, int line_search, 
     double mi = s->mass[i] / (dt * dt), f[3], H[9] = {mi, 0, 0, 0, mi, 0, 0, 0, mi};
     for (int a = 0; a < 3; a++)
       f[a] = -mi * (x[3 * i + a] - y[3 * i + a]) + s->mass[i] * w->grav[a]; /* - M(x - y)/dt^2 + m g */
+    /* F0 = F_i(x_i), for the line search: the energies come with the gradients and Hessians below (local_F's sum) */
+    double F0 = line_search ? inertia_F(w, s, dt, x, i) : 0.0;
     for (int r = w->inc_ptr[i]; r < w->inc_ptr[i + 1]; r++) {
-      const incidence *in = &w->inc[r];
-      const cb_term *term = w->terms[in->term];
-      int k3 = 3 * w->st[in->term]->k, a = in->local;
-      term->type->element(term, in->elem, x, CB_PROJ_NONE, g_e, H_e);
+      double g_i[3], H_ii[9];
+      F0 += vertex_element(w, &w->inc[r], x, g_i, H_ii, g_e, H_e);
       for (int c = 0; c < 3; c++) {
-        f[c] -= g_e[3 * a + c];                                                        /* f_i -= dE_e/dx_i */
-        for (int d = 0; d < 3; d++) H[3 * c + d] += H_e[(3 * a + c) * k3 + 3 * a + d]; /* H_i += (H_e)_ii */
+        f[c] -= g_i[c];                                              /* f_i -= dE_e/dx_i */
+        for (int d = 0; d < 3; d++) H[3 * c + d] += H_ii[3 * c + d]; /* H_i += (H_e)_ii */
       }
     }
     double dx[3];
@@ -331,7 +356,7 @@ static double sweep(vbd_work *w, const cb_scene *s, double dt, int line_search, 
     }
     double alpha = 1.0;
     if (line_search) { /* Armijo on F_i: F_i(x_i + a dx) <= F_i(x_i) - 1e-4 a f.dx */
-      double F0 = local_F(w, s, dt, x, i, g_e, H_e), slope = -(f[0] * dx[0] + f[1] * dx[1] + f[2] * dx[2]);
+      double slope = -(f[0] * dx[0] + f[1] * dx[1] + f[2] * dx[2]);
       double xi[3] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
       int ok = 0;
       for (int h = 0; h <= 30 && !ok; h++, alpha *= 0.5) {
