@@ -25,7 +25,8 @@
  * (springs and update), masses 8 nv, free_index 4 nv; xhat 24 nf, 1/d 8 nf,
  * x_{k-1} read 24 nf, x_{k+1} written 24 nf; the springs' ends and rest
  * lengths 16 ns. About 164 bytes per vertex on a grid (ns ~ 3 nv).
- * Output: results/bench_nonlinear.csv. */
+ * Output: results/bench_nonlinear.csv. CB_BENCH_NL_SIZES="129" (sizes n,
+ * blank-separated) runs those sizes only, for development. */
 #define _GNU_SOURCE
 #include <stdio.h>
 #include <stdlib.h>
@@ -118,8 +119,17 @@ int main(int argc, char **argv) {
     return 1;
   }
   cb_triad_once(&ta); /* first touch */
-  const int sizes[] = {21, 64, 129, 256};
+  int sizes[8] = {21, 64, 129, 256};
   int nsz = e.quick ? 2 : 4;
+  const char *only = getenv("CB_BENCH_NL_SIZES"); /* a developer's subset, e.g. "129" or "64 129" */
+  if (only && *only) {
+    nsz = 0;
+    for (char *end; nsz < 8; only = end) {
+      long n = strtol(only, &end, 10);
+      if (end == only) break;
+      if (n >= 2 && n <= 4096) sizes[nsz++] = (int)n;
+    }
+  }
   for (int si = 0; si < nsz; si++) {
     int n = sizes[si];
     cb_config c;

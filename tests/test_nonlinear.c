@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "support.h"
+#include "../lib/core/nl_kernel.h" /* the spring kernel's ring (streamed_spring_kernel_...) */
 
 /* Steps (x, v) = the scene's initial state by n steps of the integrator the sets name. */
 static void run_steps(const char *const *sets, int n, double **xo, double **vo, cb_step_stats *last) {
@@ -330,5 +331,58 @@ Test(nonlinear, pd_chebyshev_auto_rho_is_not_below_plain_pds_rate) {
   cb_integrator_free(it);
   free(x);
   free(v);
+  cb_scene_free(s);
+}
+
+/* The spring kernel streams its forces through a ring shorter than the springs (nl_kernel.h) on a mesh
+ * this size: energy and gradient must still be bit for bit those of one spring at a time, scattered
+ * (the old kernel's arithmetic, written out here), with and without the gradient, for the stretch
+ * springs (sorted: streamed) and the bending springs (not sorted: computed at once). */
+Test(nonlinear, streamed_spring_kernel_is_the_scatter_bit_for_bit) {
+  const char *sets[] = {"mesh.n=60", "material.bend=spring", "material.vertex_mass=1", NULL};
+  cb_scene *s = test_scene(sets);
+  int nv = s->mesh.nv, checked = 0;
+  double *x = malloc((size_t)3 * nv * sizeof(double)), *g = malloc((size_t)3 * nv * sizeof(double)),
+         *h = malloc((size_t)3 * nv * sizeof(double));
+  cr_assert(x && g && h);
+  unsigned r = 12345u;
+  for (int i = 0; i < 3 * nv; i++) { /* a perturbed, stretched and compressed state */
+    r = r * 1103515245u + 12345u;
+    x[i] = s->x0[i] * 1.05 + 0.01 * ((double)(r >> 8) / (double)(1u << 24) - 0.5);
+  }
+  for (int t = 0; t < s->sys.nterms; t++) {
+    const cb_term *term = s->sys.terms[t];
+    int ns;
+    const int *ends;
+    const double *rest;
+    double k;
+    if (term->type != cb_term_spring || cb_spring_term_springs(term, &ns, &ends, &rest, &k)) continue;
+    cb_spring_gather G;
+    cb_spring_term_forces(term, x, &G);
+    if (strcmp(term->label, "stretch") == 0)
+      cr_expect(G.R < G.ns && G.done == 0, "stretch springs streamed (ring %d of %d springs)", G.R, G.ns);
+    double E = 0.0;
+    for (int i = 0; i < 3 * nv; i++) h[i] = g[i] = 1e-3 * (i % 7); /* the gradient adds to what is there */
+    for (int e = 0; e < ns; e++) {
+      int i = ends[2 * e], j = ends[2 * e + 1];
+      double d[3] = {x[3 * i] - x[3 * j], x[3 * i + 1] - x[3 * j + 1], x[3 * i + 2] - x[3 * j + 2]};
+      double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]), stretch = l - rest[e], c = k * stretch / l;
+      E += 0.5 * k * stretch * stretch;
+      for (int a = 0; a < 3; a++) {
+        h[3 * i + a] += c * d[a];
+        h[3 * j + a] += -(c * d[a]);
+      }
+    }
+    double Eg = term->type->energy(term, x, g), E0 = term->type->energy(term, x, NULL);
+    cr_expect(memcmp(&Eg, &E, sizeof E) == 0, "%s: energy %.17g, scatter %.17g", term->label, Eg, E);
+    cr_expect(memcmp(&E0, &E, sizeof E) == 0, "%s: energy alone %.17g, scatter %.17g", term->label, E0, E);
+    cr_expect(memcmp(g, h, (size_t)3 * nv * sizeof(double)) == 0, "%s: gradient differs from the scatter (max %g)",
+              term->label, max_diff(g, h, 3 * nv));
+    checked++;
+  }
+  cr_expect_eq(checked, 2, "stretch and bending springs");
+  free(x);
+  free(g);
+  free(h);
   cb_scene_free(s);
 }

@@ -52,7 +52,10 @@ typedef struct {
   int *off, *inc; /* nv + 1, 2*ns: each vertex's springs, inc[off[v]..off[v+1]) = 2e + side (0: v = ei[e], 1: v =
                    * ej[e]), e increasing: the gather's order is the scatter's */
   int sorted;     /* ei nondecreasing (the mesh's edges are): the gather sums E too */
-  double *f;      /* 4*ns scratch of the kernel: dE/dx_i of each spring (x, y, z blocks of ns), then its energy */
+  double *f;      /* 4*ns scratch of the kernel: dE/dx_i of each spring (x, y, z blocks of R), then its energy */
+  int ring;       /* the streamed ring's length R (a power of two, from the schedule), or 0: not streamed */
+  int *need;      /* nv: the springs < need[v] must be ready before vertex v's gather (nondecreasing) */
+  int *rinc;      /* 2*ns: inc with each spring's place in the ring, 2 (e mod R) + side (streamed) */
 } spring_term;
 
 /* Energy of spring e at x and its gradient coefficient c: dE/dx_i = c x_ij,
@@ -85,28 +88,44 @@ static inline double spring_eval(const spring_term *s, int e, const double *x, d
  *   2. E = sum of E_e, in spring order;
  *   3. gradient: each vertex, in mesh order, gathers its springs' +-f_e in
  *      spring order (off/inc), starting from grad's value.
+ * For sorted linear springs (a mesh's edges) loops 1 and 3 interleave: loop
+ * 1 runs a chunk of vertices ahead of loop 3 into a ring of R springs
+ * (nl_kernel.h, spring_schedule), and loop 2 is folded into loop 3, so the
+ * scratch stays in L1/L2 (measured at 129^2 on a Xeon with 2 MB of L2: the
+ * frame 7-10% faster, bench_nonlinear's ratio 1.41x -> 1.51x in CPU time;
+ * compiling loop 1 for AVX2 or AVX-512 did not change the time, so it is
+ * not arithmetic-bound). The order of every sum is unchanged.
  * Loop 3 adds to each grad entry the same numbers in the same order as the
  * scatter grad_i += f_e, grad_j += -f_e over e did, and loops 1-2 evaluate
  * the same expressions, so energy and gradient are bit for bit those of the
  * one-spring-at-a-time kernel (spring_eval). The scratch makes a term
  * non-reentrant: one thread evaluates a term at a time (as everywhere here). */
-static void spring_forces(const spring_term *s, const double *restrict x) {
-  const int ns = s->ns, *restrict ei = s->ei, *restrict ej = s->ej;
+/* Loop 1 for the springs [e0, e1), into the scratch at e - base (the caller keeps it inside the blocks). */
+static void spring_forces_range(const spring_term *s, const double *restrict x, int e0, int e1, int base, int R) {
+  const int *restrict ei = s->ei, *restrict ej = s->ej;
   const double *restrict rest = s->rest, k = s->k;
-  double *restrict fx = s->f, *restrict fy = s->f + ns, *restrict fz = s->f + 2 * (size_t)ns,
-                   *restrict en = s->f + 3 * (size_t)ns;
-  for (int e = 0; e < ns; e++) {
+  double *restrict fx = s->f, *restrict fy = s->f + R, *restrict fz = s->f + 2 * (size_t)R,
+                   *restrict en = s->f + 3 * (size_t)R;
+  for (int e = e0; e < e1; e++) {
     int i = ei[e], j = ej[e];
     double dx = x[3 * i] - x[3 * j], dy = x[3 * i + 1] - x[3 * j + 1], dz = x[3 * i + 2] - x[3 * j + 2];
     double l = sqrt(dx * dx + dy * dy + dz * dz);
     double stretch = l - rest[e];
     double c = k * stretch / l; /* dE/dx_i = k (l - L) x_ij / l */
-    fx[e] = c * dx;
-    fy[e] = c * dy;
-    fz[e] = c * dz;
-    en[e] = 0.5 * k * stretch * stretch; /* E = k/2 (l - L)^2 */
+    fx[e - base] = c * dx;
+    fy[e - base] = c * dy;
+    fz[e - base] = c * dz;
+    en[e - base] = 0.5 * k * stretch * stretch; /* E = k/2 (l - L)^2 */
   }
+}
+
+/* Every spring's forces at once (not streamed). */
+static void spring_forces(const spring_term *s, const double *restrict x) {
+  const int ns = s->ns;
+  spring_forces_range(s, x, 0, ns, 0, ns);
   if (!s->ck) return;
+  double *restrict fx = s->f, *restrict fy = s->f + ns, *restrict fz = s->f + 2 * (size_t)ns,
+                   *restrict en = s->f + 3 * (size_t)ns;
   for (int e = 0; e < ns; e++) { /* compressed Choi-Ko springs: spring_eval's other branch */
     double d[3], c;
     double E = spring_eval(s, e, x, d, &c);
@@ -117,10 +136,40 @@ static void spring_forces(const spring_term *s, const double *restrict x) {
   }
 }
 
+/* Streamed: the springs [done, need) into the ring, at e mod R. */
+void cb_spring_gather_compute(cb_spring_gather *g, int need) {
+  const spring_term *s = (const spring_term *)g->t;
+  const int R = g->R;
+  for (int e0 = g->done; e0 < need;) {
+    int base = e0 & ~(R - 1), e1 = base + R < need ? base + R : need; /* up to the ring's end */
+    spring_forces_range(s, g->x, e0, e1, base, R);
+    e0 = e1;
+  }
+  g->done = need;
+}
+
 static double spring_energy(const cb_term *t, const double *x, double *grad) {
   const spring_term *s = (const spring_term *)t;
   cb_spring_gather g;
   cb_spring_term_forces(t, x, &g);
+  if (s->ring) { /* streamed (sorted): the gradient's chunks, or the energies alone ring by ring */
+    double E = 0.0;
+    if (!grad) {
+      const double *en = s->f + 3 * (size_t)s->ring;
+      for (int e0 = 0; e0 < s->ns; e0 += s->ring) {
+        int e1 = e0 + s->ring < s->ns ? e0 + s->ring : s->ns;
+        cb_spring_gather_compute(&g, e1);
+        for (int e = 0; e < e1 - e0; e++) E += en[e];
+      }
+      return E;
+    }
+    for (int v0 = 0; v0 < s->nv; v0 += CB_SPRING_CHUNK) {
+      int v1 = v0 + CB_SPRING_CHUNK < s->nv ? v0 + CB_SPRING_CHUNK : s->nv;
+      cb_spring_gather_upto(&g, v1);
+      for (int v = v0; v < v1; v++) cb_spring_gather_add(&g, v, grad + 3 * v, grad + 3 * v + 1, grad + 3 * v + 2, &E);
+    }
+    return E;
+  }
   if (!grad || !g.sorted) {
     double E = cb_spring_gather_energy(&g);
     double none = 0.0;
@@ -205,6 +254,8 @@ static void spring_free(cb_term *t) {
   free(s->inc);
   free(s->mid);
   free(s->f);
+  free(s->need);
+  free(s->rinc);
   free(s->rest);
   cb_stencil_free(&s->st);
   free(s->ck);
@@ -229,14 +280,25 @@ const cb_term_type *const cb_term_spring = &cb_term_spring_type;
 
 void cb_spring_term_forces(const cb_term *t, const double *x, cb_spring_gather *g) {
   const spring_term *s = (const spring_term *)t;
-  spring_forces(s, x);
   g->ns = s->ns;
   g->sorted = s->sorted;
   g->split = s->split;
   g->mid = s->mid;
   g->off = s->off;
-  g->inc = s->inc;
   g->f = s->f;
+  g->need = s->need;
+  g->t = t;
+  g->x = x;
+  if (s->ring) { /* streamed: nothing computed yet */
+    g->R = s->ring;
+    g->inc = s->rinc;
+    g->done = 0;
+  } else {
+    g->R = s->ns;
+    g->inc = s->inc;
+    spring_forces(s, x);
+    g->done = s->ns;
+  }
 }
 
 int cb_spring_term_layout(const cb_term *t, cb_spring_layout *out) {
@@ -251,6 +313,30 @@ int cb_spring_term_layout(const cb_term *t, cb_spring_layout *out) {
   out->off = s->off;
   out->inc = s->inc;
   return CB_OK;
+}
+
+/* The streamed schedule (nl_kernel.h), played once: need[v] (the last spring of vertices <= v, + 1), and the
+ * ring: before chunk [v0, v1) gathers, the springs < need[v1 - 1] are computed, and it must still hold the
+ * first spring (lo) of each vertex of the chunk. Streamed when sorted and linear and the ring is shorter
+ * than ns. */
+static void spring_schedule(spring_term *s) {
+  int ns = s->ns, nv = s->nv, hi = 0, window = 1;
+  for (int v = 0; v < nv; v++) {
+    int q0 = s->off[v], q1 = s->off[v + 1];
+    if (q1 > q0 && (s->inc[q1 - 1] >> 1) + 1 > hi) hi = (s->inc[q1 - 1] >> 1) + 1; /* inc is in increasing e */
+    s->need[v] = hi;
+  }
+  for (int v0 = 0; v0 < nv; v0 += CB_SPRING_CHUNK) {
+    int v1 = v0 + CB_SPRING_CHUNK < nv ? v0 + CB_SPRING_CHUNK : nv, done = s->need[v1 - 1];
+    for (int v = v0; v < v1; v++)
+      if (s->off[v + 1] > s->off[v] && done - (s->inc[s->off[v]] >> 1) > window)
+        window = done - (s->inc[s->off[v]] >> 1);
+  }
+  int R = 1;
+  while (R < window && R < ns) R *= 2;
+  s->ring = s->sorted && !s->ck && R < ns ? R : 0;
+  for (int q = 0; q < 2 * ns; q++)
+    s->rinc[q] = s->ring ? (((s->inc[q] >> 1) & (R - 1)) << 1) | (s->inc[q] & 1) : s->inc[q];
 }
 
 int cb_spring_term_alloc(const cb_model *m, const char *label, int ns, const int *ends, double k, cb_term **out) {
@@ -272,7 +358,9 @@ int cb_spring_term_alloc(const cb_model *m, const char *label, int ns, const int
   s->mid = cb_malloc((size_t)s->nv + 1, sizeof(int));
   s->f = cb_malloc((size_t)4 * ns + 1, sizeof(double));
   s->rest = cb_malloc((size_t)ns + 1, sizeof(double));
-  if (!s->ends || !s->ei || !s->ej || !s->inc || !s->off || !s->mid || !s->f || !s->rest ||
+  s->need = cb_malloc((size_t)s->nv + 1, sizeof(int));
+  s->rinc = cb_malloc((size_t)2 * ns + 1, sizeof(int));
+  if (!s->ends || !s->ei || !s->ej || !s->inc || !s->off || !s->mid || !s->f || !s->rest || !s->need || !s->rinc ||
       cb_stencil_init(&s->st, 2, ns, s->ends, m->free_index)) {
     spring_free(&s->base);
     return CB_ENOMEM;
@@ -322,6 +410,7 @@ int cb_spring_term_alloc(const cb_model *m, const char *label, int ns, const int
     s->mid[v] = q;
     for (; q < s->off[v + 1]; q++) s->split &= !(s->inc[q] & 1);
   }
+  spring_schedule(s);
   *out = &s->base;
   return CB_OK;
 }
@@ -333,6 +422,7 @@ int cb_spring_term_set_response(cb_term *t, cb_definiteness def, double kb) {
   spring_term *s = (spring_term *)t;
   free(s->ck);
   s->ck = NULL;
+  spring_schedule(s); /* linear springs: streamed if sorted */
   if (def != CB_DEF_CHOI_KO) return CB_OK;
   s->ck = cb_malloc((size_t)(s->ns > 0 ? s->ns : 1), sizeof *s->ck);
   if (!s->ck) return CB_ENOMEM;
@@ -346,6 +436,7 @@ int cb_spring_term_set_response(cb_term *t, cb_definiteness def, double kb) {
       return cb_fail("%s spring %d: %s", t->label, e, msg);
     }
   }
+  s->ring = 0; /* Choi-Ko springs are all computed at once */
   return CB_OK;
 }
 

@@ -263,41 +263,50 @@ static double fast_pass(nlj_work *w, const cb_scene *s, const double *x, double 
   const int *fi = s->free_index;
   double inv_dt2 = 1.0 / (w->obj.dt * w->obj.dt), inertia = 0.0, sgg = 0.0, sd2 = 0.0;
   if (nt == 2 && !w->gravity[0] && w->gravity[1]) { /* springs, then gravity: the common scene, in registers */
-    const cb_spring_gather *G0 = &G[0];
+    cb_spring_gather *G0 = &G[0];
     const double g0 = w->grav[1][0], g1 = w->grav[1][1], g2 = w->grav[1][2];
     double Es = 0.0, Eg = 0.0;
-    for (int v = 0; v < nv; v++) {
-      const double *xv = x + 3 * v;
-      double g[3] = {0.0, 0.0, 0.0};
-      cb_spring_gather_add(G0, v, &g[0], &g[1], &g[2], &Es);
-      Eg -= m[v] * (g0 * xv[0] + g1 * xv[1] + g2 * xv[2]); /* gravity_energy */
-      g[0] -= m[v] * g0;
-      g[1] -= m[v] * g1;
-      g[2] -= m[v] * g2;
-      int b = fi[v];
-      if (b >= 0)
-        fast_vertex(xv, xhat + 3 * v, ms[v], dinv[b], inv_dt2, g, gF ? gF + 3 * b : NULL, xn ? xn + 3 * v : NULL, omega,
-                    alpha, &inertia, &sgg, &sd2);
+    for (int v0 = 0; v0 < nv; v0 += CB_SPRING_CHUNK) { /* chunks: the streamed forces stay in cache */
+      int v1 = v0 + CB_SPRING_CHUNK < nv ? v0 + CB_SPRING_CHUNK : nv;
+      cb_spring_gather_upto(G0, v1);
+      for (int v = v0; v < v1; v++) {
+        const double *xv = x + 3 * v;
+        double g[3] = {0.0, 0.0, 0.0};
+        cb_spring_gather_add(G0, v, &g[0], &g[1], &g[2], &Es);
+        Eg -= m[v] * (g0 * xv[0] + g1 * xv[1] + g2 * xv[2]); /* gravity_energy */
+        g[0] -= m[v] * g0;
+        g[1] -= m[v] * g1;
+        g[2] -= m[v] * g2;
+        int b = fi[v];
+        if (b >= 0)
+          fast_vertex(xv, xhat + 3 * v, ms[v], dinv[b], inv_dt2, g, gF ? gF + 3 * b : NULL, xn ? xn + 3 * v : NULL,
+                      omega, alpha, &inertia, &sgg, &sd2);
+      }
     }
     Et[0] = Es;
     Et[1] = Eg;
   } else {
-    for (int v = 0; v < nv; v++) {
-      const double *xv = x + 3 * v;
-      double g[3] = {0.0, 0.0, 0.0};
-      for (int t = 0; t < nt; t++) {
-        if (w->gravity[t]) { /* gravity_energy */
-          const double *gr = w->grav[t];
-          Et[t] -= m[v] * (gr[0] * xv[0] + gr[1] * xv[1] + gr[2] * xv[2]);
-          for (int a = 0; a < 3; a++) g[a] -= m[v] * gr[a];
-        } else {
-          cb_spring_gather_add(&G[t], v, &g[0], &g[1], &g[2], &Et[t]);
+    for (int v0 = 0; v0 < nv; v0 += CB_SPRING_CHUNK) {
+      int v1 = v0 + CB_SPRING_CHUNK < nv ? v0 + CB_SPRING_CHUNK : nv;
+      for (int t = 0; t < nt; t++)
+        if (!w->gravity[t]) cb_spring_gather_upto(&G[t], v1);
+      for (int v = v0; v < v1; v++) {
+        const double *xv = x + 3 * v;
+        double g[3] = {0.0, 0.0, 0.0};
+        for (int t = 0; t < nt; t++) {
+          if (w->gravity[t]) { /* gravity_energy */
+            const double *gr = w->grav[t];
+            Et[t] -= m[v] * (gr[0] * xv[0] + gr[1] * xv[1] + gr[2] * xv[2]);
+            for (int a = 0; a < 3; a++) g[a] -= m[v] * gr[a];
+          } else {
+            cb_spring_gather_add(&G[t], v, &g[0], &g[1], &g[2], &Et[t]);
+          }
         }
+        int b = fi[v];
+        if (b >= 0)
+          fast_vertex(xv, xhat + 3 * v, ms[v], dinv[b], inv_dt2, g, gF ? gF + 3 * b : NULL, xn ? xn + 3 * v : NULL,
+                      omega, alpha, &inertia, &sgg, &sd2);
       }
-      int b = fi[v];
-      if (b >= 0)
-        fast_vertex(xv, xhat + 3 * v, ms[v], dinv[b], inv_dt2, g, gF ? gF + 3 * b : NULL, xn ? xn + 3 * v : NULL, omega,
-                    alpha, &inertia, &sgg, &sd2);
     }
   }
   double E = 0.0;

@@ -21,27 +21,51 @@ typedef struct {
 int cb_spring_term_layout(const cb_term *t, cb_spring_layout *out);
 
 /* The per-spring results of one kernel pass (cb_spring_term_forces): f =
- * dE/dx_i of each spring and its energy, four blocks of ns (x, y, z, E). */
+ * dE/dx_i of each spring and its energy, four blocks of R (x, y, z, E).
+ *
+ * Streamed (sorted linear springs, the common case): the blocks are a ring
+ * of R springs (a power of two) and inc holds each spring's place in it
+ * (e mod R); the forces are computed a chunk of vertices ahead of the
+ * gather (cb_spring_gather_upto before the gather of each chunk of
+ * CB_SPRING_CHUNK vertices, in order), so the scratch stays in L1/L2
+ * instead of going through L3 (32 bytes a spring written and read again:
+ * 1.6 MB at 129^2, more than the rest of the iteration's arrays together).
+ * cb_spring_term_alloc sizes R from that schedule so that no spring a
+ * gather reads has been overwritten. Otherwise (unsorted springs, Choi-Ko)
+ * R = ns and every spring's forces are computed at once. */
+enum { CB_SPRING_CHUNK = 64 };
 typedef struct {
-  int ns;
+  int ns, R;
   int sorted; /* springs sorted by their first end (ei nondecreasing): the gather can sum E in spring order */
   int split;  /* every vertex lists its springs as second end before those as first end: mid splits them */
   const int *off, *mid, *inc;
   const double *f;
+  int done;         /* forces computed for the springs < done */
+  const int *need;  /* nv: forces needed for the springs < need[v] before vertex v's gather (nondecreasing) */
+  const cb_term *t; /* the term and the x of the pass */
+  const double *x;
 } cb_spring_gather;
 
-/* One pass over the springs at x (no gradient yet): the forces and energies
- * into the term's scratch. */
+/* One pass over the springs at x (no gradient yet): sets up g; the forces
+ * and energies go into the term's scratch, all of them now, or (streamed)
+ * chunk by chunk through cb_spring_gather_upto. */
 void cb_spring_term_forces(const cb_term *t, const double *x, cb_spring_gather *g);
+
+/* Before the gathers of the vertices [v0, v1) (v0 = 0, CB_SPRING_CHUNK, ...; v1 = min(v0 + CB_SPRING_CHUNK, nv)). */
+void cb_spring_gather_compute(cb_spring_gather *g, int need);
+static inline void cb_spring_gather_upto(cb_spring_gather *g, int v1) {
+  if (g->need[v1 - 1] > g->done) cb_spring_gather_compute(g, g->need[v1 - 1]);
+}
 
 /* g += vertex v's share of the spring term's gradient, in spring order:
  * exactly what the term's energy() adds to grad + 3v. If g->sorted, *E also
  * gets the energies of the springs whose first end is v (else it is unchanged): called for v = 0,
  * 1, ..., nv-1 from *E = 0 this sums E_e in spring order, bit for bit the
- * term's energy (its summation order). */
+ * term's energy (its summation order). Each chunk's gathers come after its
+ * cb_spring_gather_upto. */
 static inline __attribute__((always_inline)) void cb_spring_gather_add(const cb_spring_gather *g, int v, double *gx,
                                                                        double *gy, double *gz, double *E) {
-  const double *fx = g->f, *fy = g->f + g->ns, *fz = g->f + 2 * (size_t)g->ns, *en = g->f + 3 * (size_t)g->ns;
+  const double *fx = g->f, *fy = g->f + g->R, *fz = g->f + 2 * (size_t)g->R, *en = g->f + 3 * (size_t)g->R;
   double ax = *gx, ay = *gy, az = *gz, ae = *E;
   if (g->split && g->sorted) { /* the common case (a mesh's edges): -f_e of the springs ending at v, then +f_e, E_e */
     int q = g->off[v], qm = g->mid[v], q1 = g->off[v + 1];
@@ -74,9 +98,10 @@ static inline __attribute__((always_inline)) void cb_spring_gather_add(const cb_
   *E = ae;
 }
 
-/* The energy sum of the last cb_spring_term_forces, in spring order (when not g->sorted). */
+/* The energy sum of the last cb_spring_term_forces, in spring order (when
+ * not g->sorted: then never streamed, R = ns). */
 static inline double cb_spring_gather_energy(const cb_spring_gather *g) {
-  const double *en = g->f + 3 * (size_t)g->ns;
+  const double *en = g->f + 3 * (size_t)g->R;
   double E = 0.0;
   for (int e = 0; e < g->ns; e++) E += en[e];
   return E;
