@@ -11,6 +11,8 @@ is(col, v) = strcol(col) eq v
 # the i-th distinct value of column c (1-based field number) of a CSV, in file order
 nth(file, c, i) = system(sprintf("awk -F, '!/^#/ && !h++ {next} !/^#/ && !s[$%d]++ {print $%d}' %s | sed -n '%dp'", c, c, file, i))
 count(file, c) = int(system(sprintf("awk -F, '!/^#/ && !h++ {next} !/^#/ && !s[$%d]++ {n++} END {print n+0}' %s", c, file)))
+# A 'using' expression is evaluated at every row, so the names it compares with
+# are read into an array first (nth() there would run awk once a row).
 
 # ---- J3 (a): the lab's iteration, per rho ------------------------------------------
 set output out.'/nonlinear_j3_rho.'.ext
@@ -34,8 +36,10 @@ set ylabel 'rho(I - D^{-1} A)'
 set logscale x
 set key outside right
 nr = count(spec, 2)
-plot for [i = 1:nr] spec using (is('rho_given', nth(spec, 2, i)) ? column('frame') : NaN):'rho_lin' with linespoints pt 7 ps 0.6 \
-       title 'rho = '.nth(spec, 2, i), \
+array rhos[nr]
+do for [i = 1:nr] { rhos[i] = nth(spec, 2, i) }
+plot for [i = 1:nr] spec using (is('rho_given', rhos[i]) ? column('frame') : NaN):'rho_lin' with linespoints pt 7 ps 0.6 \
+       title 'rho = '.rhos[i], \
      1 with lines dt 2 lc 'black' title 'rho = 1'
 unset logscale x
 unset multiplot
@@ -48,6 +52,8 @@ if (ext eq 'svg') { set terminal svg size 1400,500 dynamic enhanced font 'sans,1
 else { set terminal pngcairo size 1400,500 enhanced font 'sans,10' }
 nsc = count(trace, 1)
 nme = count(trace, 3)
+array mw[nme]
+do for [m = 1:nme] { mw[m] = nth(trace, 3, m) }
 set multiplot layout 1, nsc title "W1: relative |grad F| per iteration of one step, plain against Chebyshev-accelerated (dashed: 1e-2, 1e-4)"
 set logscale xy
 set format y '10^{%T}'
@@ -57,8 +63,8 @@ set key bottom left
 do for [s = 1:nsc] {
   sc = nth(trace, 1, s)
   set title sc noenhanced
-  plot for [m = 1:nme] trace using (is('scene', sc) && is('method', nth(trace, 3, m)) && column('iter') > 0 ? column('iter') : NaN):'rel_grad' \
-         with lines lw 2 title nth(trace, 3, m) noenhanced, \
+  plot for [m = 1:nme] trace using (is('scene', sc) && is('method', mw[m]) && column('iter') > 0 ? column('iter') : NaN):'rel_grad' \
+         with lines lw 2 title mw[m] noenhanced, \
        1e-2 with lines dt 2 lc 'gray' notitle, 1e-4 with lines dt 2 lc 'gray' notitle
 }
 unset multiplot
@@ -72,6 +78,8 @@ if (ext eq 'svg') { set terminal svg size 1400,650 dynamic enhanced font 'sans,1
 else { set terminal pngcairo size 1400,650 enhanced font 'sans,10' }
 nsc = count(et, 1)
 nme = count(et, 3)
+array me[nme]
+do for [m = 1:nme] { me[m] = nth(et, 3, m) }
 set multiplot layout 1, nsc title "Error against run time: one implicit step, every method at 1, 2, 4, ... iterations"
 set logscale xy
 set format xy '10^{%T}'
@@ -81,8 +89,8 @@ set key outside right
 do for [s = 1:nsc] {
   sc = nth(et, 1, s)
   set title sc noenhanced
-  plot for [m = 1:nme] et using (is('scene', sc) && is('method', nth(et, 3, m)) && column('step_error') > 0 ? column('wall_ms') : NaN):'step_error' \
-         with linespoints pt (m % 7 + 1) ps 0.8 lw 1.5 title nth(et, 3, m) noenhanced
+  plot for [m = 1:nme] et using (is('scene', sc) && is('method', me[m]) && column('step_error') > 0 ? column('wall_ms') : NaN):'step_error' \
+         with linespoints pt (m % 7 + 1) ps 0.8 lw 1.5 title me[m] noenhanced
 }
 unset multiplot
 set terminal pop
@@ -94,6 +102,8 @@ if (ext eq 'svg') { set terminal svg size 1200,500 dynamic enhanced font 'sans,1
 else { set terminal pngcairo size 1200,500 enhanced font 'sans,10' }
 nsc = count(p1, 1)
 nme = count(p1, 4)
+array mp[nme]
+do for [m = 1:nme] { mp[m] = nth(p1, 4, m) }
 set multiplot layout 1, nsc title "P1: projective dynamics (10 iterations) against converged Newton and Baraff-Witkin, 81^2 cloth, per frame"
 set logscale xy
 set format xy '10^{%T}'
@@ -103,8 +113,8 @@ set key top right
 do for [s = 1:nsc] {
   sc = nth(p1, 1, s)
   set title sc noenhanced
-  plot for [m = 1:nme] p1 using (is('scene', sc) && is('method', nth(p1, 4, m)) ? column('wall_ms') : NaN):'step_error' \
-         with points pt 7 ps 1.4 title nth(p1, 4, m) noenhanced
+  plot for [m = 1:nme] p1 using (is('scene', sc) && is('method', mp[m]) ? column('wall_ms') : NaN):'step_error' \
+         with points pt 7 ps 1.4 title mp[m] noenhanced
 }
 unset multiplot
 set terminal pop
