@@ -6,7 +6,8 @@
  *   x1.c     X1: effective stiffness of PBD and XPBD over iterations and dt
  *   x2.c     X2: XPBD n substeps x 1 iteration against 1 x n iterations
  *   tol.c    Q1 and V1's speed: iterations and wall time to relative |grad F|
- *            1e-3 and 1e-5, and the |grad F| traces
+ *            1e-3 and 1e-5, and the |grad F| traces (run by the front cell of
+ *            its scene, on the same state and with the same rho estimates)
  *   v1.c     V1: objective rises over trajectories, and the scrambled start
  * The steps from a start state are lib/instruments/step_bench.h (shared with
  * the nonlinear experiment). */
@@ -49,10 +50,22 @@ void fd_strain(const cb_scene *s, const double *x, double *max_strain, double *m
 /* sets + "key=K" into out (NULL-terminated; at most 12 sets); buf holds the "key=K" */
 void fd_with(const char *const *sets, const char *key, int K, char *buf, size_t nbuf, const char **out);
 
+/* The auto rho estimates made on one start state (a cell's S), so that the main figure and the
+ * tolerance runs of a scene estimate each method's rho once: cleared when the state changes. */
+enum { FD_RHO_CACHE = 16 };
+typedef struct {
+  int n;
+  char key[FD_RHO_CACHE][512], rho[FD_RHO_CACHE][64];
+  double ms[FD_RHO_CACHE];
+} fd_rho_cache;
+void fd_rho_cache_clear(fd_rho_cache *rc);
 /* sets with integrator.rho=auto replaced by the estimate of one run of it (the estimate is the same in
  * every run of the method on S's step; W1 in nonlinear does the same): out gets the sets (at most 12),
- * buf the "integrator.rho=<estimate>", *est_ms the estimate's time. Sets without auto are copied. */
-int fd_fix_rho(cb_step_state *S, const char *const *sets, const char **out, char *buf, size_t nbuf, double *est_ms);
+ * buf the "integrator.rho=<estimate>", *est_ms the estimate's time. Sets without auto are copied. With
+ * rc (may be NULL), an estimate of the same sets on the same state is taken from the cache (its time
+ * the one measured when it was made), and a new one is added to it. */
+int fd_fix_rho(cb_step_state *S, fd_rho_cache *rc, const char *const *sets, const char **out, char *buf, size_t nbuf,
+               double *est_ms);
 
 int fd_front_cell(long i, void *ctx, FILE *const *out);
 double fd_front_cost(long i, void *ctx);
@@ -61,8 +74,9 @@ int fd_x1_cell(long i, void *ctx, FILE *const *out);
 double fd_x1_cost(long i, void *ctx);
 int fd_x2_cell(long i, void *ctx, FILE *const *out);
 double fd_x2_cost(long i, void *ctx);
-int fd_tol_cell(long i, void *ctx, FILE *const *out);
-double fd_tol_cost(long i, void *ctx);
+/* Q1 and V1's speed on scene d from the front cell's state S (and its rho estimates, rc) */
+int fd_tol_scene(const fd_plan *p, const cb_scene_decl *d, cb_step_state *S, fd_rho_cache *rc, FILE *const *out);
+double fd_tol_cost(const fd_plan *p, int scene);
 long fd_v1_cells(const fd_plan *p);
 int fd_v1_cell(long i, void *ctx, FILE *const *out);
 double fd_v1_cost(long i, void *ctx);

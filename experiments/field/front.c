@@ -72,6 +72,8 @@ static const fr_method FM[] = {
 enum { NFM = sizeof FM / sizeof FM[0] };
 enum { MAXPTS = 512 };
 enum { M_NEWTON_EXACT = 0, M_NEWTON_DROP = 1, M_XPBD_1XN = 11 };
+#define ERR_FLOOR 1e-10 /* step error at the reference's own accuracy (its tolerance): the ladder stops */
+#define ERR_BLOWN 10.0  /* step error of a blown-up step (10 |x* - x0|_M away): the ladder stops */
 
 static int kmax_of(const fd_plan *p, int m) {
   return p->smoke ? (FM[m].kmax ? 2 : 0) : p->quick ? FM[m].kmax_q : FM[m].kmax;
@@ -89,6 +91,8 @@ int fd_front_cell(long i, void *ctx, FILE *const *out) {
   cb_step_state S;
   int st = fd_state(p->e, d, p->state_frames, &S);
   if (st) return st;
+  static fd_rho_cache rc; /* the auto rho estimates on this state, shared with the tolerance runs */
+  fd_rho_cache_clear(&rc);
   static point pt[MAXPTS];
   static cb_config fbc;
   int np = 0;
@@ -107,7 +111,7 @@ int fd_front_cell(long i, void *ctx, FILE *const *out) {
     const char *ms[16];
     char rb[64];
     double est_ms;
-    if ((st = fd_fix_rho(&S, FM[m].sets, ms, rb, sizeof rb, &est_ms))) break;
+    if ((st = fd_fix_rho(&S, &rc, FM[m].sets, ms, rb, sizeof rb, &est_ms))) break;
     for (int K = FM[m].key ? 1 : 0; st == CB_OK && K <= kmax && np < MAXPTS; K = K ? 2 * K : 1) {
       const char *sets[16], *fb[16];
       char b1[64], b2[64];
@@ -138,6 +142,11 @@ int fd_front_cell(long i, void *ctx, FILE *const *out) {
                          r.status,
                          1};
       if (!FM[m].key) break;
+      /* the ladder ends where more iterations cannot move the point: Newton converged (a larger
+       * max_iters repeats the same iterations), or the step at the reference's floor (ERR_FLOOR), or
+       * blown up (error above ERR_BLOWN: ten times as far from x* as the start state) */
+      const point *q = &pt[np - 1];
+      if ((FM[m].family[0] == 'n' && q->status == CB_OK) || q->err <= ERR_FLOOR || !(q->err <= ERR_BLOWN)) break;
     }
   }
   /* the fronts: per method over its points, and over the scene's points */
@@ -192,6 +201,10 @@ int fd_front_cell(long i, void *ctx, FILE *const *out) {
                     nw >= 0 ? FM[pt[nw].m].label : "", nw >= 0 ? pt[nw].rel : na, nw >= 0 ? pt[nw].err : na,
                     cb_status_name(pt[x1].status));
   }
+  /* Q1 and V1's speed on the same state, with the same rho estimates (tol.c) */
+  int tol = 0;
+  for (int k = 0; k < p->ntol; k++) tol |= p->tol[k] == p->front[i];
+  if (st == CB_OK && tol) st = fd_tol_scene(p, d, &S, &rc, out);
   cb_step_state_free(&S);
   return st;
 }
@@ -200,7 +213,9 @@ int fd_front_cell(long i, void *ctx, FILE *const *out) {
  * to 30 ms, plus a second of Newton */
 double fd_front_cost(long i, void *ctx) {
   const fd_plan *p = ctx;
-  double it = 0;
+  double it = 0, tol = 0;
   for (int m = 0; m < NFM; m++) it += 2.0 * kmax_of(p, m);
-  return 1000.0 + 3e-4 * it * p->nv[p->front[i]];
+  for (int k = 0; k < p->ntol; k++)
+    if (p->tol[k] == p->front[i]) tol = fd_tol_cost(p, p->front[i]);
+  return 1000.0 + 3e-4 * it * p->nv[p->front[i]] + tol;
 }

@@ -21,8 +21,9 @@
  *   field_rises.csv      V1: objective rises between VBD iterations over trajectories (v1.c)
  *   field_scramble.csv   V1: a scrambled start (vertices displaced at random by up to the cloth's
  *                        size): diverged or recovered, per method
- * The scenes are the table SCENES below, the work five sweeps of cells run by
- * the shared sweep runner; --shard I/N splits them. --smoke runs one small
+ * The scenes are the table SCENES below, the work four sweeps of cells run by
+ * the shared sweep runner (a front scene's cell also runs its tolerance part, tol.c, on the same
+ * state and rho estimates); --shard I/N splits them. --smoke runs one small
  * cell per sweep, on the lab scene (and the strip). */
 #include <math.h>
 #include <stdio.h>
@@ -42,12 +43,11 @@ static const char *const ABOUT =
     "Jacobi-type iterations).";
 
 /* Scenes. Roles: "front" = the main figure's step (one cell per scene: every method shares its start
- * state and reference step), also the scene of tol (Q1, V1's speed) and v1 (rises, scrambled start);
- * "x2" = the X2 comparison; "x1" = X1's static stretch. The lab cloth (configs/lab.ini, 21^2), Liu's
- * 81^2 cloth (the same 441 kg, k and 10 m, pinned at two corners) and its stiff variant (nonlinear's P1
- * scenes), the 32^2 drape over the sphere (configs/drape.ini), the hanging strip (configs/chain20.ini).
- * level: 1 in --quick too, 2 in --smoke too (--quick leaves out the 81^2 scenes, and runs the drape
- * in the main figure only). */
+ * state and reference step), also the scene of tol (Q1, V1's speed; run in the same cell) and v1 (rises, scrambled
+ * start); "x2" = the X2 comparison; "x1" = X1's static stretch. The lab cloth (configs/lab.ini, 21^2), Liu's 81^2 cloth
+ * (the same 441 kg, k and 10 m, pinned at two corners) and its stiff variant (nonlinear's P1 scenes), the 32^2 drape
+ * over the sphere (configs/drape.ini), the hanging strip (configs/chain20.ini). level: 1 in --quick too, 2 in --smoke
+ * too (--quick leaves out the 81^2 scenes, and runs the drape in the main figure only). */
 typedef struct {
   cb_scene_decl scene;
   int level;
@@ -131,10 +131,9 @@ int main(int argc, char **argv) {
       {"front", p.nfront, fd_front_cell, fd_front_cost, &p},
       {"X1", fd_x1_cells(&p), fd_x1_cell, fd_x1_cost, &p},
       {"X2", p.nx2, fd_x2_cell, fd_x2_cost, &p},
-      {"tol", p.ntol, fd_tol_cell, fd_tol_cost, &p},
       {"V1", fd_v1_cells(&p), fd_v1_cell, fd_v1_cost, &p},
   };
-  int st = cb_sweep_run(&e, sweeps, 5);
+  int st = cb_sweep_run(&e, sweeps, 4);
   st = cb_experiment_end(&e, st);
   return st == CB_OK ? 0 : st == CB_EIO ? 2 : 1;
 }

@@ -78,7 +78,24 @@ void fd_with(const char *const *sets, const char *key, int K, char *buf, size_t 
   out[k] = NULL;
 }
 
-int fd_fix_rho(cb_step_state *S, const char *const *sets, const char **out, char *buf, size_t nbuf, double *est_ms) {
+void fd_rho_cache_clear(fd_rho_cache *rc) { rc->n = 0; }
+
+/* the cache's key of a method: its sets joined by newlines ("" when they do not fit) */
+static void rho_key(const char *const *sets, char *key, size_t nkey) {
+  size_t k = 0;
+  key[0] = 0;
+  for (int n = 0; sets[n] && n < 12; n++) {
+    int w = snprintf(key + k, nkey - k, "%s\n", sets[n]);
+    if (w < 0 || (size_t)w >= nkey - k) {
+      key[0] = 0;
+      return;
+    }
+    k += (size_t)w;
+  }
+}
+
+int fd_fix_rho(cb_step_state *S, fd_rho_cache *rc, const char *const *sets, const char **out, char *buf, size_t nbuf,
+               double *est_ms) {
   int n = 0, aut = -1;
   for (; sets[n] && n < 12; n++) {
     out[n] = sets[n];
@@ -87,6 +104,15 @@ int fd_fix_rho(cb_step_state *S, const char *const *sets, const char **out, char
   out[n] = NULL;
   *est_ms = 0;
   if (aut < 0) return CB_OK;
+  char key[sizeof rc->key[0]];
+  rho_key(sets, key, sizeof key);
+  for (int k = 0; rc && key[0] && k < rc->n; k++)
+    if (!strcmp(rc->key[k], key)) { /* estimated before on this state: the same run would give the same rho */
+      snprintf(buf, nbuf, "%s", rc->rho[k]);
+      out[aut] = buf;
+      *est_ms = rc->ms[k];
+      return CB_OK;
+    }
   const char *one[16];
   char b[64];
   fd_with(sets, "integrator.iters", 1, b, sizeof b, one);
@@ -99,5 +125,10 @@ int fd_fix_rho(cb_step_state *S, const char *const *sets, const char **out, char
   *est_ms = r.setup_ms;
   snprintf(buf, nbuf, "integrator.rho=%.17g", r.rho);
   out[aut] = buf;
+  if (rc && key[0] && rc->n < FD_RHO_CACHE) {
+    snprintf(rc->key[rc->n], sizeof rc->key[rc->n], "%s", key);
+    snprintf(rc->rho[rc->n], sizeof rc->rho[rc->n], "%s", buf);
+    rc->ms[rc->n++] = r.setup_ms;
+  }
   return CB_OK;
 }

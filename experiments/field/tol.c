@@ -18,46 +18,66 @@ typedef struct {
   const char *sets[8], *fallback[8];
   const char *key;
   int newton;
+  int stops; /* the method has integrator.tol: its traced run stops at TRACE_TOL (relative |grad F| from xhat) */
 } tl_method;
+/* The traced run of a method with its own stopping test (Newton, L-BFGS: |grad F| <= tol |grad F(xhat)|,
+ * both start at xhat) stops at 1e-7, 100x below the last tolerance: what follows only repeats
+ * iterations below every tolerance (Newton ran 30 iterations at 81^2, L-BFGS 1000, to 1e-12). */
+#define TRACE_TOL_S "1e-7"
 #define NEWTON_EXACT \
   "integrator.method=newton", "integrator.definiteness=none", "integrator.line_search=1", "integrator.tol=1e-12"
 #define NEWTON_DROP \
   "integrator.method=newton", "integrator.definiteness=drop", "integrator.line_search=1", "integrator.tol=1e-12"
 static const tl_method TM[] = {
-    {"newton_exact", "newton", {NEWTON_EXACT, NULL}, {NEWTON_DROP, NULL}, "integrator.max_iters", 1},
-    {"newton_drop", "newton", {NEWTON_DROP, NULL}, {NULL}, "integrator.max_iters", 1},
-    {"lbfgs", "lbfgs", {"integrator.method=lbfgs", "integrator.tol=1e-12", NULL}, {NULL}, "integrator.iters", 0},
-    {"pd", "pd", {"integrator.method=pd", NULL}, {NULL}, "integrator.iters", 0},
+    {"newton_exact", "newton", {NEWTON_EXACT, NULL}, {NEWTON_DROP, NULL}, "integrator.max_iters", 1, 1},
+    {"newton_drop", "newton", {NEWTON_DROP, NULL}, {NULL}, "integrator.max_iters", 1, 1},
+    {"lbfgs", "lbfgs", {"integrator.method=lbfgs", "integrator.tol=1e-12", NULL}, {NULL}, "integrator.iters", 0, 1},
+    {"pd", "pd", {"integrator.method=pd", NULL}, {NULL}, "integrator.iters", 0, 0},
     {"pd-chebyshev auto",
      "pd",
      {"integrator.method=pd-chebyshev", "integrator.rho=auto", NULL},
      {NULL},
      "integrator.iters",
+     0,
      0},
-    {"vbd", "vbd", {"integrator.method=vbd", NULL}, {NULL}, "integrator.iters", 0},
+    {"vbd", "vbd", {"integrator.method=vbd", NULL}, {NULL}, "integrator.iters", 0, 0},
     {"vbd line search",
      "vbd",
      {"integrator.method=vbd", "integrator.vbd_line_search=1", NULL},
      {NULL},
      "integrator.iters",
+     0,
      0},
     {"vbd-chebyshev auto",
      "vbd",
      {"integrator.method=vbd-chebyshev", "integrator.rho=auto", NULL},
      {NULL},
      "integrator.iters",
+     0,
      0},
-    {"jacobi-nl", "jacobi-nl", {"integrator.method=jacobi-nl", NULL}, {NULL}, "integrator.iters", 0},
+    {"jacobi-nl", "jacobi-nl", {"integrator.method=jacobi-nl", NULL}, {NULL}, "integrator.iters", 0, 0},
     {"chebyshev-nl auto",
      "jacobi-nl",
      {"integrator.method=chebyshev-nl", "integrator.rho=auto", NULL},
      {NULL},
      "integrator.iters",
+     0,
      0},
 };
 enum { NTM = sizeof TM / sizeof TM[0] };
 static const double TOLS[] = {1e-3, 1e-5};
+/* a step to a tolerance that takes a second or more is timed once (in the first interleaved round):
+ * repeats of it add nothing a median needs at that length, and they were half of the cell's time */
+#define ONCE_MS 1000.0
 enum { NTOL = sizeof TOLS / sizeof TOLS[0] };
+
+/* appends one set to a NULL-terminated list (room for it: the lists hold 16) */
+static void add_set(const char **sets, const char *set) {
+  int n = 0;
+  while (sets[n]) n++;
+  sets[n] = set;
+  sets[n + 1] = NULL;
+}
 
 static int cap_of(const fd_plan *p, int m) {
   return TM[m].newton ? (p->smoke ? 5 : 30) : p->smoke ? 10 : p->quick ? 100 : 1000;
@@ -79,18 +99,14 @@ static void record(void *ctx, int event, const cb_newton_event *ev) {
   if (ev->iter + 1 > t->n) t->n = ev->iter + 1;
 }
 
-int fd_tol_cell(long i, void *ctx, FILE *const *out) {
-  const fd_plan *p = ctx;
-  const cb_scene_decl *d = p->decl[p->tol[i]];
-  cb_step_state S;
-  int st = fd_state(p->e, d, p->state_frames, &S);
-  if (st) return st;
-  double ghat = fd_grad_hat(&S), Fstar = NAN;
+int fd_tol_scene(const fd_plan *p, const cb_scene_decl *d, cb_step_state *S, fd_rho_cache *rc, FILE *const *out) {
+  int st = CB_OK;
+  double ghat = fd_grad_hat(S), Fstar = NAN;
   { /* F(x*) */
     cb_objective o;
-    if ((st = cb_objective_init(&o, S.s)) == CB_OK) {
-      cb_objective_begin(&o, S.x0, S.v0, S.c.dt);
-      Fstar = cb_objective_eval(&o, S.xstar, NULL, NULL);
+    if ((st = cb_objective_init(&o, S->s)) == CB_OK) {
+      cb_objective_begin(&o, S->x0, S->v0, S->c.dt);
+      Fstar = cb_objective_eval(&o, S->xstar, NULL, NULL);
       cb_objective_free(&o);
     }
   }
@@ -104,7 +120,7 @@ int fd_tol_cell(long i, void *ctx, FILE *const *out) {
     for (int q = 0; q < NTOL; q++) hit[m][q] = -1;
     final_rel[m] = alloc_ms[m] = cb_csv_na();
     cap[m] = cap_of(p, m);
-    ok[m] = fd_supported(&S, TM[m].sets, why, sizeof why);
+    ok[m] = fd_supported(S, TM[m].sets, why, sizeof why);
     if (ok[m] < 0) {
       st = ok[m];
       break;
@@ -123,7 +139,7 @@ int fd_tol_cell(long i, void *ctx, FILE *const *out) {
     static cb_config c, cf;
     double est_ms;
     if (st == CB_OK)
-      st = fd_fix_rho(&S, TM[m].sets, msets[m], rbuf[m], sizeof rbuf[m], &est_ms); /* an auto rho: estimated once */
+      st = fd_fix_rho(S, rc, TM[m].sets, msets[m], rbuf[m], sizeof rbuf[m], &est_ms); /* an auto rho: estimated once */
     if (st) {
       free(t.rel);
       free(t.F);
@@ -132,11 +148,15 @@ int fd_tol_cell(long i, void *ctx, FILE *const *out) {
     }
     fd_with(msets[m], TM[m].key, cap[m], b1, sizeof b1, ts);
     if (TM[m].fallback[0]) fd_with(TM[m].fallback, TM[m].key, cap[m], b2, sizeof b2, tf);
-    if (st == CB_OK) st = cb_step_config(&S, ts, &c);
-    if (st == CB_OK && TM[m].fallback[0]) st = cb_step_config(&S, tf, &cf);
+    if (TM[m].stops) { /* the traced run stops past the last tolerance (the timed steps keep the method's tol) */
+      add_set(ts, "integrator.tol=" TRACE_TOL_S);
+      if (TM[m].fallback[0]) add_set(tf, "integrator.tol=" TRACE_TOL_S);
+    }
+    if (st == CB_OK) st = cb_step_config(S, ts, &c);
+    if (st == CB_OK && TM[m].fallback[0]) st = cb_step_config(S, tf, &cf);
     cb_step_result r;
     double w;
-    if (st == CB_OK) st = cb_step_fallback(&S, &c, TM[m].fallback[0] ? &cf : NULL, record, &t, &r, &w);
+    if (st == CB_OK) st = cb_step_fallback(S, &c, TM[m].fallback[0] ? &cf : NULL, record, &t, &r, &w);
     if (st == CB_OK && r.fallback && t.n > r.iters + 1)
       t.n = r.iters + 1; /* the fallback's trace replaced the first run's */
     if (st == CB_OK) {
@@ -171,11 +191,11 @@ int fd_tol_cell(long i, void *ctx, FILE *const *out) {
       job[m] = nj++;
     }
     cb_step_result r[NTM];
-    if (nj) st = cb_step_time_group(p->quick, &S, sets, fb, nj, r);
+    if (nj) st = cb_step_time_group_ex(p->quick, ONCE_MS, S, sets, fb, nj, r, NULL);
     double na = cb_csv_na();
     for (int m = 0; st == CB_OK && m < NTM; m++) {
       int j = job[m];
-      cb_csv_printf(out[T_TOL], "%s,%ld,%s,%s,%g,%d,%.17g,", d->label, (long)S.s->mesh.nv, TM[m].label, TM[m].family,
+      cb_csv_printf(out[T_TOL], "%s,%ld,%s,%s,%g,%d,%.17g,", d->label, (long)S->s->mesh.nv, TM[m].label, TM[m].family,
                     TOLS[q], cap[m], j >= 0 ? (double)hit[m][q] : na);
       cb_timing_csv_repeats(out[T_TOL], j >= 0 ? &r[j].wall : NULL);
       cb_csv_printf(out[T_TOL], ",%.6f,%.17g,%.17g,%s\n", alloc_ms[m], final_rel[m],
@@ -185,15 +205,13 @@ int fd_tol_cell(long i, void *ctx, FILE *const *out) {
                              : "cut_off");
     }
   }
-  cb_step_state_free(&S);
   return st;
 }
 
 /* cost hint: every method's traced cap (a gradient per iteration) and the timed steps, ~5e-4 ms per
  * vertex an iteration */
-double fd_tol_cost(long i, void *ctx) {
-  const fd_plan *p = ctx;
+double fd_tol_cost(const fd_plan *p, int scene) {
   double it = 0;
   for (int m = 0; m < NTM; m++) it += 2.0 * cap_of(p, m);
-  return 500.0 + 5e-4 * it * p->nv[p->tol[i]];
+  return 500.0 + 5e-4 * it * p->nv[scene];
 }

@@ -26,7 +26,7 @@ static const int KS_Q[] = {1, 10, 100};
 static const char *const METHODS[] = {"pbd", "xpbd"};
 
 static int ndt(const fd_plan *p) { return p->smoke ? 1 : NDT; }
-long fd_x1_cells(const fd_plan *p) { return (long)p->nx1 * ndt(p); }
+long fd_x1_cells(const fd_plan *p) { return (long)p->nx1; }
 
 static double settle_s(const fd_plan *p) { return p->smoke ? 0.2 : p->quick ? 1.0 : 2.0; }
 
@@ -61,11 +61,11 @@ static int static_state(const fd_plan *p, const cb_scene_decl *d, cb_scene *s, d
   return st;
 }
 
-/* Cell i: scene x1[i / ndt], dt DTS[i % ndt]: the static state, then both methods at every K. */
+/* Cell i: scene x1[i]: its static state (the same for every dt: found once), then per dt both methods
+ * at every K. */
 int fd_x1_cell(long i, void *ctx, FILE *const *out) {
   const fd_plan *p = ctx;
-  const cb_scene_decl *d = p->decl[p->x1[i / ndt(p)]];
-  const char *dt_s = DTS[i % ndt(p)];
+  const cb_scene_decl *d = p->decl[p->x1[i]];
   static cb_config c;
   cb_scene *s = NULL;
   int st = cb_scene_decl_build(p->e, d, NULL, &c, &s);
@@ -79,42 +79,44 @@ int fd_x1_cell(long i, void *ctx, FILE *const *out) {
   if (st == CB_OK) fd_strain(s, xs, &ref_max, &ref);
   const int *ks = p->quick ? KS_Q : KS;
   int nk = p->smoke ? 2 : p->quick ? 3 : NK;
-  for (int m = 0; st == CB_OK && m < 2; m++)
-    for (int kk = 0; st == CB_OK && kk < nk; kk++) {
-      double dt;
-      cb_parse_double(dt_s, &dt);
-      char s1[64], s2[64], s3[64], s4[64];
-      snprintf(s1, sizeof s1, "integrator.method=%s", METHODS[m]);
-      snprintf(s2, sizeof s2, "integrator.iters=%d", ks[kk]);
-      snprintf(s3, sizeof s3, "integrator.dt=%s", dt_s);
-      snprintf(s4, sizeof s4, "integrator.damping=%.17g", exp(-4.0 * dt));
-      const char *sets[] = {s1, s2, s3, s4, "integrator.substeps=1", NULL};
-      cb_integrator *it = NULL;
-      st = cb_scene_decl_config(p->e, d, sets, &c);
-      if (st == CB_OK) st = cb_integrator_from_config(&c, s, NULL, &it);
-      if (st) break;
-      memcpy(x, xs, (size_t)n3 * sizeof(double));
-      memset(v, 0, (size_t)n3 * sizeof(double));
-      int frames = (int)lround(settle / c.dt), from = frames - frames / 4, navg = 0, sst = CB_OK;
-      double sum = 0;
-      for (int f = 0; f < frames; f++) {
-        cb_step_stats ss;
-        sst = cb_integrator_step(it, x, v, &ss);
-        if (cb_status_is_fatal(sst)) break;
-        if (f >= from) {
-          double mx, mean;
-          fd_strain(s, x, &mx, &mean);
-          sum += mean;
-          navg++;
+  for (int di = 0; st == CB_OK && di < ndt(p); di++)
+    for (int m = 0; st == CB_OK && m < 2; m++)
+      for (int kk = 0; st == CB_OK && kk < nk; kk++) {
+        const char *dt_s = DTS[di];
+        double dt;
+        cb_parse_double(dt_s, &dt);
+        char s1[64], s2[64], s3[64], s4[64];
+        snprintf(s1, sizeof s1, "integrator.method=%s", METHODS[m]);
+        snprintf(s2, sizeof s2, "integrator.iters=%d", ks[kk]);
+        snprintf(s3, sizeof s3, "integrator.dt=%s", dt_s);
+        snprintf(s4, sizeof s4, "integrator.damping=%.17g", exp(-4.0 * dt));
+        const char *sets[] = {s1, s2, s3, s4, "integrator.substeps=1", NULL};
+        cb_integrator *it = NULL;
+        st = cb_scene_decl_config(p->e, d, sets, &c);
+        if (st == CB_OK) st = cb_integrator_from_config(&c, s, NULL, &it);
+        if (st) break;
+        memcpy(x, xs, (size_t)n3 * sizeof(double));
+        memset(v, 0, (size_t)n3 * sizeof(double));
+        int frames = (int)lround(settle / c.dt), from = frames - frames / 4, navg = 0, sst = CB_OK;
+        double sum = 0;
+        for (int f = 0; f < frames; f++) {
+          cb_step_stats ss;
+          sst = cb_integrator_step(it, x, v, &ss);
+          if (cb_status_is_fatal(sst)) break;
+          if (f >= from) {
+            double mx, mean;
+            fd_strain(s, x, &mx, &mean);
+            sum += mean;
+            navg++;
+          }
         }
+        cb_integrator_free(it);
+        double strain = navg ? sum / navg : NAN, k = s->def.stretch_k, na = cb_csv_na();
+        int ok = !cb_status_is_fatal(sst) && isfinite(strain) && strain > 0;
+        cb_csv_printf(out[T_X1], "%s,%s,%.17g,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%s\n", d->label, METHODS[m], c.dt,
+                      ks[kk], k, settle, ref, ok ? strain : na, ok ? k * ref / strain : na, ok ? ref / strain : na,
+                      cb_status_name(cb_status_is_fatal(sst) ? sst : CB_OK));
       }
-      cb_integrator_free(it);
-      double strain = navg ? sum / navg : NAN, k = s->def.stretch_k, na = cb_csv_na();
-      int ok = !cb_status_is_fatal(sst) && isfinite(strain) && strain > 0;
-      cb_csv_printf(out[T_X1], "%s,%s,%.17g,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%s\n", d->label, METHODS[m], c.dt,
-                    ks[kk], k, settle, ref, ok ? strain : na, ok ? k * ref / strain : na, ok ? ref / strain : na,
-                    cb_status_name(cb_status_is_fatal(sst) ? sst : CB_OK));
-    }
   free(xs);
   free(x);
   free(v);
@@ -122,9 +124,12 @@ int fd_x1_cell(long i, void *ctx, FILE *const *out) {
   return st;
 }
 
-/* cost hint: settle_s / dt frames x the iterations of every K x the springs (~3 per vertex) at 5e-6 ms */
+/* cost hint: per dt, settle_s / dt frames x the iterations of every K x the springs (~3 per vertex) at
+ * 5e-6 ms */
 double fd_x1_cost(long i, void *ctx) {
   const fd_plan *p = ctx;
-  double dt = (i % ndt(p)) == 0 ? 1 / 30.0 : (i % ndt(p)) == 1 ? 1 / 60.0 : 1 / 120.0;
-  return 50.0 + 2 * settle_s(p) / dt * (p->quick ? 111 : 188) * 3 * p->nv[p->x1[i / ndt(p)]] * 5e-6;
+  double c = 50.0;
+  for (int di = 0; di < ndt(p); di++)
+    c += 2 * settle_s(p) * 30.0 * (1 << di) * (p->quick ? 111 : 188) * 3 * p->nv[p->x1[i]] * 5e-6;
+  return c;
 }

@@ -1,6 +1,7 @@
 /* One step of a method from a fixed start state against the converged step: step_bench.h. */
 #include "step_bench.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -143,6 +144,11 @@ int cb_step_repeat(cb_step_state *S, const char *const *sets, cb_newton_hook hoo
 
 int cb_step_time_group(int quick, cb_step_state *S, const char *const *const *sets, const char *const *const *fallback,
                        int n, cb_step_result *r) {
+  return cb_step_time_group_ex(quick, INFINITY, S, sets, fallback, n, r, NULL);
+}
+
+int cb_step_time_group_ex(int quick, double once_ms, cb_step_state *S, const char *const *const *sets,
+                          const char *const *const *fallback, int n, cb_step_result *r, double *const *xend) {
   static cb_config c[CB_STEP_GROUP_MAX], cf[CB_STEP_GROUP_MAX];
   if (n > CB_STEP_GROUP_MAX) return cb_fail("step group: more than %d steps in one group", CB_STEP_GROUP_MAX);
   for (int i = 0; i < n; i++) {
@@ -154,6 +160,8 @@ int cb_step_time_group(int quick, cb_step_state *S, const char *const *const *se
   double spent = 0;
   for (int round = 0; cb_timing_more(quick, round, spent); round++)
     for (int i = 0; i < n; i++) {
+      if (round > 0 && isfinite(once_ms) && !(r[i].wall.ms[0] < once_ms))
+        continue; /* a long step: its one time is its median */
       cb_step_result x;
       double w;
       const cb_config *fb = fallback && fallback[i] ? &cf[i] : NULL;
@@ -165,6 +173,7 @@ int cb_step_time_group(int quick, cb_step_state *S, const char *const *const *se
         cb_timing keep = r[i].wall;
         r[i] = x;
         r[i].wall = keep;
+        if (xend && xend[i]) memcpy(xend[i], S->x, (size_t)S->n3 * sizeof(double));
       }
       cb_timing_add(&r[i].wall, w);
       spent += w;

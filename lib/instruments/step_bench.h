@@ -75,6 +75,11 @@ enum { CB_STEP_GROUP_MAX = 16 };
  * limit timed right after an untimed one of its own). r[i] gets method i's results and its repeats. */
 int cb_step_time_group(int quick, cb_step_state *S, const char *const *const *sets, const char *const *const *fallback,
                        int n, cb_step_result *r);
+/* cb_step_time_group, and: a step whose first timed run takes once_ms or more is timed in the first
+ * round only (its one time is its median; INFINITY: every step every round, cb_step_time_group);
+ * xend (may be NULL, as may xend[i]) gets method i's end state x of its first timed run (3 nv). */
+int cb_step_time_group_ex(int quick, double once_ms, cb_step_state *S, const char *const *const *sets,
+                          const char *const *const *fallback, int n, cb_step_result *r, double *const *xend);
 
 
 #endif
