@@ -382,8 +382,19 @@ static int scale_solvers(ctx *c, int grid_n, const char *label, const cb_capture
     tp.keep_all = 0;
     tp.growth = 2;
     tp.mark_err = SCALE_ERR;
+    /* The traced run goes on to its cap after it has found the iteration (the solvers run max_iters
+     * iterations unless they converge to tol), which made each iterative solver cost its whole budget.
+     * So caps of 64, 128, ... iterations are tried first, up to u->cap: the iterations of a solver do not
+     * depend on its cap, so the first with error <= SCALE_ERR is the same, and a run that does not get there
+     * is the one at u->cap, as before (its status and time are the row's). */
     cb_trace t;
-    if (st == CB_OK) st = cb_trace_solve(u->r.solver, &p, &cap->A, b, xs, &tp, NULL, &t);
+    memset(&t, 0, sizeof t);
+    for (int tcap = u->cap < 64 ? u->cap : 64; st == CB_OK; tcap = tcap > u->cap / 2 ? u->cap : 2 * tcap) {
+      p.max_iters = tcap;
+      st = cb_trace_solve(u->r.solver, &p, &cap->A, b, xs, &tp, NULL, &t);
+      if (st || t.iter_err >= 0 || tcap == u->cap) break;
+      cb_trace_free(&t);
+    }
     if (st == CB_OK) {
       u->reached = t.iter_err >= 0;
       u->iters = u->reached ? t.iter_err : t.iters;
