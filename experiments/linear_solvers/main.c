@@ -505,10 +505,10 @@ static int scale_cell_run(long i, void *vc, FILE *const *out) { return scale_cel
 static double scale_cost(long i, void *vc) {
   (void)vc;
   double g = scale_n[i];
-  /* CHOLMOD and CG both grow about as N^1.5 = g^3; plus a fixed part (the capture, the Lanczos
-   * estimate, the timing repeats of small solves) that scripts/calibrate-hints measured at ~6500 units
-   * on a quick run, where it dominates */
-  return 6500 + 2e-4 * g * g * g;
+  /* CHOLMOD and the iterative solves (to 1e-6, timed in rounds) all grow about as N^1.5 = g^3; a quick
+   * run measured ~0.055 g^3 units (0.06, 0.4 and 2.5 s at 8^2, 16^2, 32^2 on a busy machine; the full run's
+   * 64^2 .. 256^2 are this extrapolated) */
+  return 15 + 0.055 * g * g * g;
 }
 
 /* Cell i: the i-th scene of the mode. */
@@ -525,7 +525,7 @@ static double scene_cost(long i, void *vc) {
                                                                                                         "stretch_k");
   double n = mn ? atof(mn) : 1, k = mk ? atof(mk) : 8000;
   /* the iterative solves' iterations grow with the stiffness (scripts/calibrate-hints on a quick run: ~k^(1/4)) */
-  return n * n * pow(k / 8000, 0.25) * (cb_scene_decl_is(&d->scene, "spectrum") ? 0.2 : 3);
+  return n * n * pow(k / 8000, 0.25) * (cb_scene_decl_is(&d->scene, "spectrum") ? 0.5 : 3);
 }
 
 int main(int argc, char **argv) {

@@ -33,6 +33,7 @@ static const et_method ETM[] = {
     {"pd-chebyshev auto", "pd", {"integrator.method=pd-chebyshev", "integrator.rho=auto", NULL}, 512},
 };
 enum { NETM = sizeof ETM / sizeof ETM[0] };
+_Static_assert((int)NETM == (int)NL_ET_METHODS, "nonlinear.h: NL_ET_METHODS");
 
 /* the largest iteration count of error-time method m (0: fixed by its sets) */
 static int et_kmax(const plan *p, int m) {
@@ -40,31 +41,30 @@ static int et_kmax(const plan *p, int m) {
   return ETM[m].kmax > cap ? cap : ETM[m].kmax;
 }
 
-/* Cell i: scene et[i]: its start state, then every method at every iteration count from it. */
+/* Cell i: scene et[i / NETM], method i % NETM: the scene's start state, then the method at every iteration
+ * count from it (the cells of one scene compute the same start state and reference step). */
 int nl_et_cell(long i, void *ctx, FILE *const *out) {
   const plan *p = ctx;
-  const cb_scene_decl *d = nl_scene_of(p->et[i]);
+  const cb_scene_decl *d = nl_scene_of(p->et[i / NETM]);
   cb_step_state S;
   int st = nl_state(p->e, d, p->state_frames, &S);
   if (st) return st;
-  for (int m = 0; st == CB_OK && m < NETM; m++) {
-    int kmax = et_kmax(p, m);
-    for (int K = kmax ? 1 : 0; st == CB_OK && K <= kmax; K = K ? 2 * K : 1) {
-      char iters[64];
-      snprintf(iters, sizeof iters, "integrator.iters=%d", K);
-      const char *sets[6];
-      int ns = 0;
-      for (int k = 0; ETM[m].sets[k]; k++) sets[ns++] = ETM[m].sets[k];
-      if (kmax) sets[ns++] = iters;
-      sets[ns] = NULL;
-      cb_step_result r;
-      if ((st = cb_step_repeat(&S, sets, NULL, NULL, &r))) break;
-      double rho = strstr(ETM[m].label, "chebyshev") ? r.rho : cb_csv_na(); /* no rho without Chebyshev */
-      cb_csv_printf(out[T_ERROR_TIME], "%s,%d,%s,%s,%d,%.17g,%.6f,%.6f,%.17g,%.17g,%s\n", d->label, S.s->mesh.grid_n,
-                    ETM[m].label, ETM[m].family, r.iters, rho, r.wall_ms, r.setup_ms, r.error, r.rel_grad,
-                    cb_status_name(r.status));
-      if (!kmax) break;
-    }
+  const int m = (int)(i % NETM), kmax = et_kmax(p, m);
+  for (int K = kmax ? 1 : 0; st == CB_OK && K <= kmax; K = K ? 2 * K : 1) {
+    char iters[64];
+    snprintf(iters, sizeof iters, "integrator.iters=%d", K);
+    const char *sets[6];
+    int ns = 0;
+    for (int k = 0; ETM[m].sets[k]; k++) sets[ns++] = ETM[m].sets[k];
+    if (kmax) sets[ns++] = iters;
+    sets[ns] = NULL;
+    cb_step_result r;
+    if ((st = cb_step_repeat(&S, sets, NULL, NULL, &r))) break;
+    double rho = strstr(ETM[m].label, "chebyshev") ? r.rho : cb_csv_na(); /* no rho without Chebyshev */
+    cb_csv_printf(out[T_ERROR_TIME], "%s,%d,%s,%s,%d,%.17g,%.6f,%.6f,%.17g,%.17g,%s\n", d->label, S.s->mesh.grid_n,
+                  ETM[m].label, ETM[m].family, r.iters, rho, r.wall_ms, r.setup_ms, r.error, r.rel_grad,
+                  cb_status_name(r.status));
+    if (!kmax) break;
   }
   cb_step_state_free(&S);
   return st;
@@ -73,7 +73,6 @@ int nl_et_cell(long i, void *ctx, FILE *const *out) {
 /* cost hint: 1 + 2 + ... + kmax ~ 2 kmax iterations at 1e-4 ms per vertex, plus ~1 s of Newton and repeats */
 double nl_et_cost(long i, void *ctx) {
   const plan *p = ctx;
-  double it = 0;
-  for (int m = 0; m < NETM; m++) it += 2.0 * et_kmax(p, m);
-  return 4.0 * (1000.0 + 1e-4 * it * p->nv[p->et[i]]); /* measured: ~4x the estimate */
+  double it = 2.0 * et_kmax(p, (int)(i % NETM));
+  return 4.0 * (1000.0 / NETM + 1e-4 * it * p->nv[p->et[i / NETM]]); /* measured: ~4x the estimate */
 }
