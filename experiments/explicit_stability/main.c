@@ -528,18 +528,22 @@ static int extreme(const cb_experiment *e, const plan *p, const extreme_case *x)
   return st;
 }
 
-/* Cost hints (estimated ms, from a --quick run): a case with its explicit sweep and bisection ~1 ms per
- * vertex on a cloth, ~16 on a chain or spring (their dense eigensolve and the sweep's many cheap steps),
- * plus ~3.5 s where the 21^2 cloth checks Lanczos against GSL's dense eigensolver; a Newton map cell
- * NEWTON_CELL_MS per vertex at k = 1e4 (200 converged steps; the iterations grow with k, ~k^(1/4)); the E2
- * timed rounds and step errors E2_MS per vertex. */
-#define NEWTON_CELL_MS 2.0
-#define E2_MS 4.0
+/* Cost hints (estimated ms; scripts/calibrate-hints on a --quick run's cell times): a case with its
+ * explicit sweep and bisection ~0.5 ms per vertex on the 21^2 cloth, growing like vertices^1.5 (41^2: the
+ * equilibrium and the sweep's steps), twice that at k = 10 (a long equilibrium), ~1 + 0.2 ms per vertex on a
+ * chain or spring (a few ms, noisy), plus ~3.5 s where the 21^2
+ * cloth checks Lanczos against GSL's dense eigensolver; a Newton map cell (200 steps) ~4.8 ms per vertex
+ * on a cloth at k = 1e4, its iterations growing like k^(1/4), ~1 + 0.7 ms per vertex on a chain (a few
+ * iterations at any k); E2's timed rounds and step errors ~4 ms per vertex on 21^2 and 41^2. */
 static double case_ms(const plan *p, const scene_plan *d, int ik, double nv) {
   int n = grid_n(&d->scene);
   int dense = n == 21 && !p->smoke && ik % ((p->nk - 1) / 2) == 0;
-  return (n ? 1.0 : 16.0) * nv + (dense ? 3500 : 0);
+  return (n ? 0.5 * nv * sqrt(nv / 441) * (1 + 10 / p->k[ik]) : 1 + 0.2 * nv) + (dense ? 3500 : 0);
 }
+static double newton_ms(const plan *p, const scene_plan *d, int ik, double nv, int ncells) {
+  return ncells * (grid_n(&d->scene) ? 4.8 * nv * pow(p->k[ik] / 1e4, 0.25) : 1 + 0.7 * nv);
+}
+#define E2_MS 4.0
 
 /* The cells: the parts (PART_MAP, PART_NEWTON, PART_E2) of the swept k of
  * every "map" scene, the k_res of every "resolution" scene (one cell: its
@@ -659,9 +663,9 @@ int main(int argc, char **argv) {
       for (int i = 0; i < p.nk; i += d->k_stride[p.quick]) {
         int nn = 0;
         for (int j = 0; j < p.ndt; j++) nn += newton_cell(&p, d, i, j);
-        double kr = p.k[i] / 1e4, ms = case_ms(&p, d, i, nv);
+        double ms = case_ms(&p, d, i, nv);
         cl.map[cl.nmap++] = (case_cell){s, i, PART_MAP, ms};
-        if (nn) cl.map[cl.nmap++] = (case_cell){s, i, PART_NEWTON, ms + NEWTON_CELL_MS * nv * nn * pow(kr, 0.25)};
+        if (nn) cl.map[cl.nmap++] = (case_cell){s, i, PART_NEWTON, ms + newton_ms(&p, d, i, nv, nn)};
         if (e2_timed(&p, d, i)) cl.map[cl.nmap++] = (case_cell){s, i, PART_E2, ms + E2_MS * nv};
       }
     if (cb_scene_decl_is(&d->scene, "resolution"))
@@ -669,12 +673,11 @@ int main(int argc, char **argv) {
         cl.res[cl.nres++] = (case_cell){
             s, r, PART_ALL, nv * (!strcmp(d->family, "bending") ? 2 + sqrt(nv) / 10 : 4.4 * (1 + sqrt(nv) / 50))};
   }
-  /* an extreme case: ~1 ms per vertex; an OBJ mesh (zero_rest_length: rejected when the scene is built) almost
-   * nothing */
+  /* an extreme case: ~1 ms per vertex; an OBJ mesh (zero_rest_length: rejected when the scene is built) ~5 ms */
   for (int i = 0; st == CB_OK && i < NEXTREMES; i++) {
     cb_scene_size z;
     if ((st = cb_sweep_scene_size(&e, &extreme_cases[i].scene, &z))) break;
-    cl.ext_cost[i] = z.nv ? (double)z.nv : 0.2;
+    cl.ext_cost[i] = z.nv ? (double)z.nv : 5;
   }
   if (st) return cb_experiment_end(&e, st), 1;
   const cb_sweep sweeps[] = {{"map", cl.nmap, map_cell, map_cost, &cl},

@@ -13,24 +13,57 @@
 typedef struct {
   const char *label, *family;
   const char *sets[4];
-  int kmax; /* iteration counts 1, 2, 4, ..., kmax; 0: the sets fix it */
+  int kmax;    /* iteration counts 1, 2, 4, ..., kmax; 0: the sets fix it */
+  double a, b; /* cost hint, ms per vertex: a once (Newton's steps, an auto rho's estimates), b per iteration */
 } et_method;
 static const et_method ETM[] = {
-    {"newton K=1", "newton", {"integrator.method=newton", "integrator.max_iters=1", NULL}, 0},
-    {"newton K=2", "newton", {"integrator.method=newton", "integrator.max_iters=2", NULL}, 0},
-    {"newton K=3", "newton", {"integrator.method=newton", "integrator.max_iters=3", NULL}, 0},
+    {"newton K=1", "newton", {"integrator.method=newton", "integrator.max_iters=1", NULL}, 0, 0.1, 0},
+    {"newton K=2", "newton", {"integrator.method=newton", "integrator.max_iters=2", NULL}, 0, 0.1, 0},
+    {"newton K=3", "newton", {"integrator.method=newton", "integrator.max_iters=3", NULL}, 0, 0.1, 0},
     {"newton converged",
      "newton",
      {"integrator.method=newton", "integrator.max_iters=50", "integrator.tol=1e-8", NULL},
+     0,
+     0.1,
      0},
-    {"jacobi-nl lab", "jacobi-nl", {"integrator.method=jacobi-nl", "integrator.diagonal=lab", NULL}, 4096},
-    {"jacobi-nl exact", "jacobi-nl", {"integrator.method=jacobi-nl", "integrator.diagonal=exact", NULL}, 1024},
-    {"chebyshev-nl 0.9", "chebyshev-nl", {"integrator.method=chebyshev-nl", "integrator.rho=0.9", NULL}, 4096},
-    {"chebyshev-nl 0.99", "chebyshev-nl", {"integrator.method=chebyshev-nl", "integrator.rho=0.99", NULL}, 4096},
-    {"chebyshev-nl 0.995", "chebyshev-nl", {"integrator.method=chebyshev-nl", "integrator.rho=0.995", NULL}, 4096},
-    {"chebyshev-nl auto", "chebyshev-nl", {"integrator.method=chebyshev-nl", "integrator.rho=auto", NULL}, 4096},
-    {"pd", "pd", {"integrator.method=pd", NULL}, 512},
-    {"pd-chebyshev auto", "pd", {"integrator.method=pd-chebyshev", "integrator.rho=auto", NULL}, 512},
+    {"jacobi-nl lab",
+     "jacobi-nl",
+     {"integrator.method=jacobi-nl", "integrator.diagonal=lab", NULL},
+     4096,
+     0.05,
+     0.00019},
+    {"jacobi-nl exact",
+     "jacobi-nl",
+     {"integrator.method=jacobi-nl", "integrator.diagonal=exact", NULL},
+     1024,
+     0.05,
+     0.00062},
+    {"chebyshev-nl 0.9",
+     "chebyshev-nl",
+     {"integrator.method=chebyshev-nl", "integrator.rho=0.9", NULL},
+     4096,
+     0.05,
+     6e-05},
+    {"chebyshev-nl 0.99",
+     "chebyshev-nl",
+     {"integrator.method=chebyshev-nl", "integrator.rho=0.99", NULL},
+     4096,
+     0.05,
+     6e-05},
+    {"chebyshev-nl 0.995",
+     "chebyshev-nl",
+     {"integrator.method=chebyshev-nl", "integrator.rho=0.995", NULL},
+     4096,
+     0.05,
+     6e-05},
+    {"chebyshev-nl auto",
+     "chebyshev-nl",
+     {"integrator.method=chebyshev-nl", "integrator.rho=auto", NULL},
+     4096,
+     0.2,
+     6e-05},
+    {"pd", "pd", {"integrator.method=pd", NULL}, 512, 0.05, 0.0013},
+    {"pd-chebyshev auto", "pd", {"integrator.method=pd-chebyshev", "integrator.rho=auto", NULL}, 512, 14.5, 0.0013},
 };
 enum { NETM = sizeof ETM / sizeof ETM[0] };
 _Static_assert((int)NETM == (int)NL_ET_METHODS, "nonlinear.h: NL_ET_METHODS");
@@ -70,9 +103,11 @@ int nl_et_cell(long i, void *ctx, FILE *const *out) {
   return st;
 }
 
-/* cost hint: 1 + 2 + ... + kmax ~ 2 kmax iterations at 1e-4 ms per vertex, plus ~1 s of Newton and repeats */
+/* cost hint: 1 + 2 + ... + kmax ~ 2 kmax iterations at the method's ms per vertex and iteration, plus its
+ * fixed part (from a --quick run's cell times: Newton ~0.1 ms per vertex, pd ~20x a Jacobi iteration, an
+ * auto rho for pd-chebyshev estimated at every step) */
 double nl_et_cost(long i, void *ctx) {
   const plan *p = ctx;
-  double it = 2.0 * et_kmax(p, (int)(i % NETM));
-  return 4.0 * (1000.0 / NETM + 1e-4 * it * p->nv[p->et[i / NETM]]); /* measured: ~4x the estimate */
+  const et_method *m = &ETM[i % NETM];
+  return (m->a + m->b * 2.0 * et_kmax(p, (int)(i % NETM))) * p->nv[p->et[i / NETM]];
 }

@@ -151,12 +151,14 @@ int nl_w1_cell(long i, void *ctx, FILE *const *out) {
   return st;
 }
 
-/* cost hint: a W1 iteration 1e-4 ms per vertex (see nonlinear.h), the pair's methods */
+/* cost hint: the pair's traced iterations (two first runs of W1_CAP0, the plain method's ~1/4 of its cap),
+ * ms per iteration and vertex 4.5e-5 for the Jacobi pair and 1e-3 for pd (a back-solve each), growing like
+ * vertices^1.45 (measured on a --quick run: 0.19 and 1.3 s at 21^2, 4.7 and 32 s at 64^2) */
 double nl_w1_cost(long i, void *ctx) {
   const plan *p = ctx;
-  int sc = p->w1[i / NL_W1_PAIRS];
+  int sc = p->w1[i / NL_W1_PAIRS], q = (int)(i % NL_W1_PAIRS);
   double it = 0;
-  for (int m = PAIR0[i % NL_W1_PAIRS]; m < PAIR0[i % NL_W1_PAIRS + 1]; m++)
+  for (int m = PAIR0[q]; m < PAIR0[q + 1]; m++)
     it += 2 * W1_CAP0 + (m == 0 || m == 3 ? w1_capmax(p->quick, m, p->mesh_n[sc]) / 4 : 0);
-  return 1e-4 * it * p->nv[sc] * (p->nv[sc] / 441.0); /* measured: a W1 cell grows like vertices^2 */
+  return (q ? 1e-3 : 4.5e-5) * it * p->nv[sc] * pow(p->nv[sc] / 441.0, 0.45);
 }
