@@ -528,22 +528,28 @@ static int extreme(const cb_experiment *e, const plan *p, const extreme_case *x)
   return st;
 }
 
-/* Cost hints (estimated ms; scripts/calibrate-hints on a --quick run's cell times): a case with its
- * explicit sweep and bisection ~0.5 ms per vertex on the 21^2 cloth, growing like vertices^1.5 (41^2: the
- * equilibrium and the sweep's steps), twice that at k = 10 (a long equilibrium), ~1 + 0.2 ms per vertex on a
- * chain or spring (a few ms, noisy), plus ~3.5 s where the 21^2
- * cloth checks Lanczos against GSL's dense eigensolver; a Newton map cell (200 steps) ~4.8 ms per vertex
- * on a cloth at k = 1e4, its iterations growing like k^(1/4), ~1 + 0.7 ms per vertex on a chain (a few
- * iterations at any k); E2's timed rounds and step errors ~4 ms per vertex on 21^2 and 41^2. */
+/* Cost hints (estimated ms; scripts/calibrate-hints on a --quick and a full run's cell times): a case with
+ * its explicit sweep and bisection ~0.5 ms per vertex on the 21^2 cloth, growing like vertices^1.5 (41^2:
+ * the equilibrium and the sweep's steps), twice that at k = 10 (a long equilibrium), ~1 + 0.2 ms per vertex
+ * on a chain or spring (a few ms, noisy), 3.5x that in a full run (25 dt of up to 2000 steps, 10
+ * bisections; a chain 10 + 1 ms per vertex), plus ~3.5 s where the 21^2 cloth checks Lanczos against GSL's
+ * dense eigensolver; a Newton map cell (200 steps) ~4.8 ms per vertex on a cloth at k = 1e4, its iterations
+ * growing like k^0.3, ~1 + 0.7 ms per vertex on a chain (a few iterations at any k; twice the steps in a
+ * full run); E2's timed rounds and step errors ~4 ms per vertex on 21^2 and 41^2, in a full run twice that
+ * and growing like k^0.15 (more rounds, stiffer Newton steps). */
 static double case_ms(const plan *p, const scene_plan *d, int ik, double nv) {
-  int n = grid_n(&d->scene);
+  int n = grid_n(&d->scene), full = !p->quick && !p->smoke;
   int dense = n == 21 && !p->smoke && ik % ((p->nk - 1) / 2) == 0;
-  return (n ? 0.5 * nv * sqrt(nv / 441) * (1 + 10 / p->k[ik]) : 1 + 0.2 * nv) + (dense ? 3500 : 0);
+  double sweep = n ? 0.5 * nv * sqrt(nv / 441) * (1 + 10 / p->k[ik]) * (full ? 3.5 : 1) : full ? 10 + nv : 1 + 0.2 * nv;
+  return sweep + (dense ? 3500 : 0);
 }
 static double newton_ms(const plan *p, const scene_plan *d, int ik, double nv, int ncells) {
-  return ncells * (grid_n(&d->scene) ? 4.8 * nv * pow(p->k[ik] / 1e4, 0.25) : 1 + 0.7 * nv);
+  double steps = p->ex.max_steps / 1000.0;
+  return ncells * (grid_n(&d->scene) ? 4.8 * nv * pow(p->k[ik] / 1e4, 0.3) : (1 + 0.7 * nv) * steps);
 }
-#define E2_MS 4.0
+static double e2_ms(const plan *p, int ik, double nv) {
+  return 4.0 * nv * (!p->quick && !p->smoke ? 2 * pow(p->k[ik] / 1e4, 0.15) : 1);
+}
 
 /* The cells: the parts (PART_MAP, PART_NEWTON, PART_E2) of the swept k of
  * every "map" scene, the k_res of every "resolution" scene (one cell: its
@@ -666,7 +672,7 @@ int main(int argc, char **argv) {
         double ms = case_ms(&p, d, i, nv);
         cl.map[cl.nmap++] = (case_cell){s, i, PART_MAP, ms};
         if (nn) cl.map[cl.nmap++] = (case_cell){s, i, PART_NEWTON, ms + newton_ms(&p, d, i, nv, nn)};
-        if (e2_timed(&p, d, i)) cl.map[cl.nmap++] = (case_cell){s, i, PART_E2, ms + E2_MS * nv};
+        if (e2_timed(&p, d, i)) cl.map[cl.nmap++] = (case_cell){s, i, PART_E2, ms + e2_ms(&p, i, nv)};
       }
     if (cb_scene_decl_is(&d->scene, "resolution"))
       for (int r = 0; r < d->nres[p.quick]; r++)
