@@ -376,6 +376,13 @@ static int run_case(const cb_experiment *e, const plan *p, const scene_plan *d, 
   /* dense GSL on the chains, and on cloth21 at three k to check Lanczos; Lanczos otherwise */
   cp.eig = n == 0 || (n == 21 && grid && !p->smoke && ik % ((p->nk - 1) / 2) == 0) ? CB_EIG_BOTH : CB_EIG_LANCZOS;
   cp.predict_rest = grid;
+  /* the Newton and E2 rows use only the prediction's dt_crit, which comes from the dense eigensolver where
+   * there is one: the Lanczos check (~10 s on 21^2 at k = 1e7) and the rest shape's prediction are for the
+   * boundary row, the map part's */
+  if (!(parts & PART_MAP)) {
+    cp.predict_rest = 0;
+    if (cp.eig == CB_EIG_BOTH) cp.eig = CB_EIG_DENSE;
+  }
   cb_stability_case c;
   int st = scene_config(e, &d->scene, k, &cfg);
   if (st == CB_OK) st = cb_stability_case_init(&c, &cfg, &cp);
@@ -533,15 +540,15 @@ static int extreme(const cb_experiment *e, const plan *p, const extreme_case *x)
  * the equilibrium and the sweep's steps), twice that at k = 10 (a long equilibrium), ~1 + 0.2 ms per vertex
  * on a chain or spring (a few ms, noisy), 3.5x that in a full run (25 dt of up to 2000 steps, 10
  * bisections; a chain 10 + 1 ms per vertex), plus ~3.5 s where the 21^2 cloth checks Lanczos against GSL's
- * dense eigensolver; a Newton map cell (200 steps) ~4.8 ms per vertex on a cloth at k = 1e4, its iterations
- * growing like k^0.3, ~1 + 0.7 ms per vertex on a chain (a few iterations at any k; twice the steps in a
- * full run); E2's timed rounds and step errors ~4 ms per vertex on 21^2 and 41^2, in a full run twice that
- * and growing like k^0.15 (more rounds, stiffer Newton steps). */
-static double case_ms(const plan *p, const scene_plan *d, int ik, double nv) {
+ * dense eigensolver (~1.2 s for the dense alone, in the Newton and E2 parts); a Newton map cell (200 steps) ~4.8 ms per
+ * vertex on a cloth at k = 1e4, its iterations growing like k^0.3, ~1 + 0.7 ms per vertex on a chain (a few iterations
+ * at any k; twice the steps in a full run); E2's timed rounds and step errors ~4 ms per vertex on 21^2 and 41^2, in a
+ * full run twice that and growing like k^0.15 (more rounds, stiffer Newton steps). */
+static double case_ms(const plan *p, const scene_plan *d, int ik, double nv, int parts) {
   int n = grid_n(&d->scene), full = !p->quick && !p->smoke;
   int dense = n == 21 && !p->smoke && ik % ((p->nk - 1) / 2) == 0;
   double sweep = n ? 0.5 * nv * sqrt(nv / 441) * (1 + 10 / p->k[ik]) * (full ? 3.5 : 1) : full ? 10 + nv : 1 + 0.2 * nv;
-  return sweep + (dense ? 3500 : 0);
+  return sweep + (dense ? (parts & PART_MAP ? 3500 : 1200) : 0); /* without the Lanczos check: the dense alone */
 }
 static double newton_ms(const plan *p, const scene_plan *d, int ik, double nv, int ncells) {
   double steps = p->ex.max_steps / 1000.0;
@@ -669,8 +676,8 @@ int main(int argc, char **argv) {
       for (int i = 0; i < p.nk; i += d->k_stride[p.quick]) {
         int nn = 0;
         for (int j = 0; j < p.ndt; j++) nn += newton_cell(&p, d, i, j);
-        double ms = case_ms(&p, d, i, nv);
-        cl.map[cl.nmap++] = (case_cell){s, i, PART_MAP, ms};
+        double ms = case_ms(&p, d, i, nv, PART_NEWTON); /* the case of a Newton or E2 part */
+        cl.map[cl.nmap++] = (case_cell){s, i, PART_MAP, case_ms(&p, d, i, nv, PART_MAP)};
         if (nn) cl.map[cl.nmap++] = (case_cell){s, i, PART_NEWTON, ms + newton_ms(&p, d, i, nv, nn)};
         if (e2_timed(&p, d, i)) cl.map[cl.nmap++] = (case_cell){s, i, PART_E2, ms + e2_ms(&p, i, nv)};
       }
