@@ -60,6 +60,21 @@ Test(scene_decl, errors_name_the_scene_and_the_key) {
 }
 
 /* cell i writes i rows "i,r" to the main table and, if i is even, one row to the side table */
+Test(sweep, scene_size_reads_the_declared_config) {
+  cb_experiment e = begin("/tmp/unused.csv", NULL);
+  cb_scene_decl d = {"big", "hanging.ini", {"mesh.n=42", "integrator.dt=1/60", NULL}, "w1"};
+  cb_scene_size z;
+  cr_assert_eq(cb_sweep_scene_size(&e, &d, &z), CB_OK, "%s", cb_error_message());
+  cr_assert_eq(z.nv, 42 * 42);
+  cr_assert_eq(z.mesh_n, 42);
+  cr_assert_float_eq(z.rel, 4.0, 1e-12); /* 42^2 = 4 x 21^2 */
+  cr_assert_eq(z.dt, 1.0 / 60);
+  cb_scene_decl bad = {"wobbly", "hanging.ini", {"mesh.n=lots", NULL}, "w1"};
+  cr_assert_lt(cb_sweep_scene_size(&e, &bad, &z), 0);
+  cr_assert(strstr(cb_error_message(), "scene wobbly (hanging.ini)"), "%s", cb_error_message());
+  cr_assert_eq(z.nv, 0);
+}
+
 static int cell(long i, void *ctx, FILE *const *out) {
   long *ran = ctx;
   ran[i]++;

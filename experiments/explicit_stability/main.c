@@ -351,16 +351,38 @@ static int newton_cell(const plan *p, const scene_plan *d, int ik, int j) {
   return j % sd == (p->ndt - 1) % sd && ik % sk == (p->nk - 1) % sk && p->dt[j] >= d->nt_dt_min[q] * 0.999;
 }
 
-/* One (scene, k): explicit sweep, bisection, Newton cells, boundary row, E2. */
-static int run_case(const cb_experiment *e, const plan *p, const scene_plan *d, int ik) {
+/* Whether a (scene, k) times E2 (when its bisection found the boundary): --smoke, every "resolution"
+ * scene, a "map" scene at every e2_k_stride-th k and at the resolution study's k_res. */
+static int e2_timed(const plan *p, const scene_plan *d, int ik) {
+  int q = p->quick, n = grid_n(&d->scene), grid = cb_scene_decl_is(&d->scene, "map");
+  double k = p->k[ik];
+  return p->smoke || !grid || (d->e2_k_stride[q] > 0 && ik % d->e2_k_stride[q] == 0) ||
+         (n > 0 && (k == p->k_res[0] || (!q && k == p->k_res[1])));
+}
+
+/* The parts of a (scene, k), each its own cell, in this order: the explicit sweep and bisection rows and the
+ * boundary row (PART_MAP), the Newton cells' rows (PART_NEWTON), E2's timing rows (PART_E2). A part needs
+ * the case (equilibrium, prediction) and the measured boundary, so each cell computes those (the same
+ * numbers); the parts' rows, in this order, are the rows one cell for the whole (scene, k) wrote. */
+enum { PART_MAP = 1, PART_NEWTON = 2, PART_E2 = 4, PART_ALL = 7 };
+
+/* One (scene, k): explicit sweep, bisection, Newton cells, boundary row, E2; the rows of `parts` only. */
+static int run_case(const cb_experiment *e, const plan *p, const scene_plan *d, int ik, int parts) {
   static cell_list sweep, bis, newton;
-  int q = p->quick, n = grid_n(&d->scene), grid = cb_scene_decl_is(&d->scene, "map"); /* no grid: E2 only */
+  int n = grid_n(&d->scene), grid = cb_scene_decl_is(&d->scene, "map"); /* no grid: E2 only */
   double k = p->k[ik];
   cb_config cfg;
   cb_case_params cp = cb_case_params_default();
   /* dense GSL on the chains, and on cloth21 at three k to check Lanczos; Lanczos otherwise */
   cp.eig = n == 0 || (n == 21 && grid && !p->smoke && ik % ((p->nk - 1) / 2) == 0) ? CB_EIG_BOTH : CB_EIG_LANCZOS;
   cp.predict_rest = grid;
+  /* the Newton and E2 rows use only the prediction's dt_crit, which comes from the dense eigensolver where
+   * there is one: the Lanczos check (~10 s on 21^2 at k = 1e7) and the rest shape's prediction are for the
+   * boundary row, the map part's */
+  if (!(parts & PART_MAP)) {
+    cp.predict_rest = 0;
+    if (cp.eig == CB_EIG_BOTH) cp.eig = CB_EIG_DENSE;
+  }
   cb_stability_case c;
   int st = scene_config(e, &d->scene, k, &cfg);
   if (st == CB_OK) st = cb_stability_case_init(&c, &cfg, &cp);
@@ -384,13 +406,13 @@ static int run_case(const cb_experiment *e, const plan *p, const scene_plan *d, 
     st = cb_stability_boundary_from_guess(c.expl, c.x_start, c.v_start, c.S, &p->ex, &c.work, c.pred.dt_crit, 1.05,
                                           p->bisect_iters - 2, keep, &bis, &b);
   const cb_stability_params pn = p->nt;
-  for (int j = 0; grid && st == CB_OK && j < p->ndt; j++)
+  for (int j = 0; grid && (parts & PART_NEWTON) && st == CB_OK && j < p->ndt; j++)
     if (newton_cell(p, d, ik, j))
       st = cb_stability_cell(c.newton, p->dt[j], c.x_start, c.v_start, c.S, &pn, &c.work, &newton.r[newton.n++]);
   double meas = st == CB_OK ? b.dt_stable : NAN;
-  for (int i = 0; st == CB_OK && i < sweep.n; i++)
+  for (int i = 0; (parts & PART_MAP) && st == CB_OK && i < sweep.n; i++)
     cell_row("sweep", "map", "explicit", &sweep.r[i], c.pred.dt_crit, meas, c.kinetic0, 0, "");
-  for (int i = 0; st == CB_OK && i < bis.n; i++)
+  for (int i = 0; (parts & PART_MAP) && st == CB_OK && i < bis.n; i++)
     cell_row("bisect", "boundary", "explicit", &bis.r[i], c.pred.dt_crit, meas, c.kinetic0, 0, "");
   for (int i = 0; st == CB_OK && i < newton.n; i++)
     cell_row("sweep", "map", "newton", &newton.r[i], c.pred.dt_crit, meas, c.kinetic0, pn.mark_time, "");
@@ -399,7 +421,7 @@ static int run_case(const cb_experiment *e, const plan *p, const scene_plan *d, 
    * grid dt (0), the grid's monotonicity without a grid (-1), a bisection bound not found (NaN) */
   const cb_prediction *pr = &c.pred;
   int lz = !isnan(pr->lambda_lanczos);
-  if (st == CB_OK)
+  if (st == CB_OK && (parts & PART_MAP))
     cb_csv_printf(fbound,
                   "%s,%d,%d,%.17g,%.17g,%.17g,%d,%s,%.17g,%.17g,%.17g,%s,%.17g,%.17g,%.17g,%s,%.17g,%.17g,%.17g,%.17g,"
                   "%.17g,%.17g,%.17g,%.17g,%d,%s,%.3f,%.3f\n",
@@ -413,8 +435,7 @@ static int run_case(const cb_experiment *e, const plan *p, const scene_plan *d, 
                   b.runs, cb_status_name(b.status), c.eq.ms, c.pred.ms + c.pred_rest.ms);
   /* E2: 1 explicit, 2 converged Newton, 4 and 8 Baraff-Witkin (drop, shift); converged Newton
    * above 41^2 (~3 s a step on 81^2) only at k_res[0] */
-  int timed = p->smoke || !grid || (d->e2_k_stride[q] > 0 && ik % d->e2_k_stride[q] == 0) ||
-              (n > 0 && (k == p->k_res[0] || (!q && k == p->k_res[1])));
+  int timed = (parts & PART_E2) && e2_timed(p, d, ik);
   int methods = c.scene->mesh.nv > 1681 && k != p->k_res[0] ? 13 : 15;
   if (st == CB_OK && timed && b.status == CB_OK) st = timing(e, p, d->family, &c, meas, methods);
   cb_stability_case_free(&c);
@@ -514,16 +535,40 @@ static int extreme(const cb_experiment *e, const plan *p, const extreme_case *x)
   return st;
 }
 
-/* The cells: the swept k of every "map" scene, the k_res of every
- * "resolution" scene, then the extreme cases. */
+/* Cost hints (estimated ms; scripts/calibrate-hints on a --quick and a full run's cell times): a case with
+ * its explicit sweep and bisection ~0.5 ms per vertex on the 21^2 cloth, growing like vertices^1.5 (41^2:
+ * the equilibrium and the sweep's steps), twice that at k = 10 (a long equilibrium), ~1 + 0.2 ms per vertex
+ * on a chain or spring (a few ms, noisy), 3.5x that in a full run (25 dt of up to 2000 steps, 10
+ * bisections; a chain 10 + 1 ms per vertex), plus ~3.5 s where the 21^2 cloth checks Lanczos against GSL's
+ * dense eigensolver (~1.2 s for the dense alone, in the Newton and E2 parts); a Newton map cell (200 steps) ~4.8 ms per
+ * vertex on a cloth at k = 1e4, its iterations growing like k^0.3, ~1 + 0.7 ms per vertex on a chain (a few iterations
+ * at any k; twice the steps in a full run); E2's timed rounds and step errors ~4 ms per vertex on 21^2 and 41^2, in a
+ * full run twice that and growing like k^0.15 (more rounds, stiffer Newton steps). */
+static double case_ms(const plan *p, const scene_plan *d, int ik, double nv, int parts) {
+  int n = grid_n(&d->scene), full = !p->quick && !p->smoke;
+  int dense = n == 21 && !p->smoke && ik % ((p->nk - 1) / 2) == 0;
+  double sweep = n ? 0.5 * nv * sqrt(nv / 441) * (1 + 10 / p->k[ik]) * (full ? 3.5 : 1) : full ? 10 + nv : 1 + 0.2 * nv;
+  return sweep + (dense ? (parts & PART_MAP ? 3500 : 1200) : 0); /* without the Lanczos check: the dense alone */
+}
+static double newton_ms(const plan *p, const scene_plan *d, int ik, double nv, int ncells) {
+  double steps = p->ex.max_steps / 1000.0;
+  return ncells * (grid_n(&d->scene) ? 4.8 * nv * pow(p->k[ik] / 1e4, 0.3) : (1 + 0.7 * nv) * steps);
+}
+static double e2_ms(const plan *p, int ik, double nv) {
+  return 4.0 * nv * (!p->quick && !p->smoke ? 2 * pow(p->k[ik] / 1e4, 0.15) : 1);
+}
+
+/* The cells: the parts (PART_MAP, PART_NEWTON, PART_E2) of the swept k of
+ * every "map" scene, the k_res of every "resolution" scene (one cell: its
+ * boundary row and E2), then the extreme cases. */
 typedef struct {
-  int scene, ik;
+  int scene, ik, parts;
   double cost;
 } case_cell;
 typedef struct {
   const cb_experiment *e;
   const plan *p;
-  case_cell map[NSCENES * MAXG], res[NSCENES * 2];
+  case_cell map[NSCENES * MAXG * 3], res[NSCENES * 2];
   double ext_cost[NEXTREMES];
   int nmap, nres;
 } cells;
@@ -537,7 +582,7 @@ static void use(FILE *const *out) {
 static int map_cell(long i, void *ctx, FILE *const *out) {
   const cells *c = ctx;
   use(out);
-  return run_case(c->e, c->p, &scenes[c->map[i].scene], c->map[i].ik);
+  return run_case(c->e, c->p, &scenes[c->map[i].scene], c->map[i].ik, c->map[i].parts);
 }
 
 static int res_cell(long i, void *ctx, FILE *const *out) {
@@ -545,7 +590,7 @@ static int res_cell(long i, void *ctx, FILE *const *out) {
   plan q = *c->p; /* no sweep: k[0] is the resolution study's k */
   q.k[0] = c->p->k_res[c->res[i].ik];
   use(out);
-  return run_case(c->e, &q, &scenes[c->res[i].scene], 0);
+  return run_case(c->e, &q, &scenes[c->res[i].scene], 0, PART_ALL);
 }
 
 static int extreme_cell(long i, void *ctx, FILE *const *out) {
@@ -614,40 +659,38 @@ int main(int argc, char **argv) {
                           "meas_s,dt_crit_pred_s,"
                           "not_converged_steps,step_error_max,step_error_steps") != T_TIMING)
     return cb_experiment_end(&e, CB_EIO), 2;
-  /* cost hints: vertices + 5 (a quick run takes 2.5-4 ms per unit for a map cell
-   * or a resolution cell, 1.5 for an extreme case), plus ~1.5 x vertices per cloth
-   * Newton cell (200 converged steps); a resolution cell's explicit steps at its
-   * stable dt grow like the grid's side sqrt(n): a factor 1 + sqrt(n)/50, and
-   * 0.5 + sqrt(n)/20 for the bending family (scripts/calibrate-hints on a quick
-   * run's measured cell times) */
+  /* cost hints, estimated ms (scripts/calibrate-hints on a --quick run's measured cell times): every part
+   * of a (scene, k) builds the case and runs the explicit sweep and bisection (case_ms); the Newton part adds
+   * its 200-step Newton cells, the E2 part the timed rounds and step errors; a resolution cell is its E2 */
   static cells cl;
   cl.e = &e;
   cl.p = &p;
   for (int s = 0; st == CB_OK && s < NSCENES; s++) {
     const scene_plan *d = &scenes[s];
-    cb_config cfg;
-    if ((st = cb_scene_decl_config(&e, &d->scene, NULL, &cfg))) break;
-    double w = (double)cb_scene_decl_vertices(&cfg) + 5;
-    /* --smoke: one cell per sweep: cloth21 at k = 1e4 (every table of a map cell), the smallest
-     * bending cloth, and the first extreme case */
+    cb_scene_size z;
+    if ((st = cb_sweep_scene_size(&e, &d->scene, &z))) break;
+    /* --smoke: cloth21 at k = 1e4 (every part of a map cell) and the smallest bending cloth */
     if (p.smoke && strcmp(d->scene.label, "cloth21") && strcmp(d->scene.label, "bend11")) continue;
-    double nv = w - 5;
+    double nv = (double)z.nv;
     if (cb_scene_decl_is(&d->scene, "map"))
       for (int i = 0; i < p.nk; i += d->k_stride[p.quick]) {
         int nn = 0;
         for (int j = 0; j < p.ndt; j++) nn += newton_cell(&p, d, i, j);
-        cl.map[cl.nmap++] = (case_cell){s, i, w + (nv > 100 ? 1.5 * nv * nn : 0)};
+        double ms = case_ms(&p, d, i, nv, PART_NEWTON); /* the case of a Newton or E2 part */
+        cl.map[cl.nmap++] = (case_cell){s, i, PART_MAP, case_ms(&p, d, i, nv, PART_MAP)};
+        if (nn) cl.map[cl.nmap++] = (case_cell){s, i, PART_NEWTON, ms + newton_ms(&p, d, i, nv, nn)};
+        if (e2_timed(&p, d, i)) cl.map[cl.nmap++] = (case_cell){s, i, PART_E2, ms + e2_ms(&p, i, nv)};
       }
     if (cb_scene_decl_is(&d->scene, "resolution"))
       for (int r = 0; r < d->nres[p.quick]; r++)
-        cl.res[cl.nres++] =
-            (case_cell){s, r, w * (!strcmp(d->family, "bending") ? 0.5 + sqrt(nv) / 20 : 1 + sqrt(nv) / 50)};
+        cl.res[cl.nres++] = (case_cell){
+            s, r, PART_ALL, nv * (!strcmp(d->family, "bending") ? 2 + sqrt(nv) / 10 : 4.4 * (1 + sqrt(nv) / 50))};
   }
-  /* an extreme case: 0.4 x (vertices + 5); an OBJ mesh (zero_rest_length: rejected when built) counts 0 */
+  /* an extreme case: ~1 ms per vertex; an OBJ mesh (zero_rest_length: rejected when the scene is built) ~5 ms */
   for (int i = 0; st == CB_OK && i < NEXTREMES; i++) {
-    cb_config cfg;
-    if ((st = cb_scene_decl_config(&e, &extreme_cases[i].scene, NULL, &cfg))) break;
-    cl.ext_cost[i] = 0.4 * ((double)cb_scene_decl_vertices(&cfg) + 5);
+    cb_scene_size z;
+    if ((st = cb_sweep_scene_size(&e, &extreme_cases[i].scene, &z))) break;
+    cl.ext_cost[i] = z.nv ? (double)z.nv : 5;
   }
   if (st) return cb_experiment_end(&e, st), 1;
   const cb_sweep sweeps[] = {{"map", cl.nmap, map_cell, map_cost, &cl},

@@ -382,8 +382,19 @@ static int scale_solvers(ctx *c, int grid_n, const char *label, const cb_capture
     tp.keep_all = 0;
     tp.growth = 2;
     tp.mark_err = SCALE_ERR;
+    /* The traced run goes on to its cap after it has found the iteration (the solvers run max_iters
+     * iterations unless they converge to tol), which made each iterative solver cost its whole budget.
+     * So caps of 64, 128, ... iterations are tried first, up to u->cap: the iterations of a solver do not
+     * depend on its cap, so the first with error <= SCALE_ERR is the same, and a run that does not get there
+     * is the one at u->cap, as before (its status and time are the row's). */
     cb_trace t;
-    if (st == CB_OK) st = cb_trace_solve(u->r.solver, &p, &cap->A, b, xs, &tp, NULL, &t);
+    memset(&t, 0, sizeof t);
+    for (int tcap = u->cap < 64 ? u->cap : 64; st == CB_OK; tcap = tcap > u->cap / 2 ? u->cap : 2 * tcap) {
+      p.max_iters = tcap;
+      st = cb_trace_solve(u->r.solver, &p, &cap->A, b, xs, &tp, NULL, &t);
+      if (st || t.iter_err >= 0 || tcap == u->cap) break;
+      cb_trace_free(&t);
+    }
     if (st == CB_OK) {
       u->reached = t.iter_err >= 0;
       u->iters = u->reached ? t.iter_err : t.iters;
@@ -494,10 +505,10 @@ static int scale_cell_run(long i, void *vc, FILE *const *out) { return scale_cel
 static double scale_cost(long i, void *vc) {
   (void)vc;
   double g = scale_n[i];
-  /* CHOLMOD and CG both grow about as N^1.5 = g^3; plus a fixed part (the capture, the Lanczos
-   * estimate, the timing repeats of small solves) that scripts/calibrate-hints measured at ~6500 units
-   * on a quick run, where it dominates */
-  return 6500 + 2e-4 * g * g * g;
+  /* CHOLMOD and the iterative solves (to 1e-6, timed in rounds) all grow about as N^1.5 = g^3; a quick
+   * run measured ~0.055 g^3 units (0.06, 0.4 and 2.5 s at 8^2, 16^2, 32^2 on a busy machine; the full run's
+   * 64^2 .. 256^2 are this extrapolated) */
+  return 15 + 0.055 * g * g * g;
 }
 
 /* Cell i: the i-th scene of the mode. */
@@ -514,7 +525,7 @@ static double scene_cost(long i, void *vc) {
                                                                                                         "stretch_k");
   double n = mn ? atof(mn) : 1, k = mk ? atof(mk) : 8000;
   /* the iterative solves' iterations grow with the stiffness (scripts/calibrate-hints on a quick run: ~k^(1/4)) */
-  return n * n * pow(k / 8000, 0.25) * (cb_scene_decl_is(&d->scene, "spectrum") ? 0.2 : 3);
+  return n * n * pow(k / 8000, 0.25) * (cb_scene_decl_is(&d->scene, "spectrum") ? 0.5 : 3);
 }
 
 int main(int argc, char **argv) {

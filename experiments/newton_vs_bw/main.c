@@ -212,31 +212,22 @@ static double regime_cost(long i, void *ctx) {
   return 2.0 * lround(p->regime_s / dt);
 }
 
-/* vertices / 441 and dt of a scene's config */
-static int scene_size(const cb_experiment *e, const cb_scene_decl *d, double *rel, double *dt) {
-  cb_config c;
-  int st = cb_scene_decl_config(e, d, NULL, &c);
-  *rel = st ? 1 : (double)cb_scene_decl_vertices(&c) / 441;
-  *dt = st ? 1.0 / 30 : c.dt;
-  return st;
-}
-
 static int cost_hints(plan *p) {
   static cb_method M[200];
   const int *states;
-  double rel, dt;
+  cb_scene_size z;
   int ns, st = CB_OK;
   for (int i = 0; st == CB_OK && i < p->nsteps; i++) {
     const cb_scene_decl *d = &SCENES[p->steps[i]];
-    st = scene_size(p->e, d, &rel, &dt);
-    p->steps_cost[i] = 40.0 * step_plan(p, d->label, M, &states, &ns) * ns * rel;
+    st = cb_sweep_scene_size(p->e, d, &z);
+    p->steps_cost[i] = 40.0 * step_plan(p, d->label, M, &states, &ns) * ns * z.rel;
   }
-  if (st == CB_OK && p->traj >= 0 && (st = scene_size(p->e, &SCENES[p->traj], &rel, &dt)) == CB_OK) {
-    p->traj_cost[0] = 5.0 * (traj_methods(p->q, p->smoke, M) + 1) * lround(p->traj_s / dt) * rel;
-    p->traj_cost[1] = 10.0 * 17 * lround(p->dt_err_s / dt) * rel;
+  if (st == CB_OK && p->traj >= 0 && (st = cb_sweep_scene_size(p->e, &SCENES[p->traj], &z)) == CB_OK) {
+    p->traj_cost[0] = 5.0 * (traj_methods(p->q, p->smoke, M) + 1) * lround(p->traj_s / z.dt) * z.rel;
+    p->traj_cost[1] = 10.0 * 17 * lround(p->dt_err_s / z.dt) * z.rel;
   }
-  if (st == CB_OK && p->i2 >= 0 && (st = scene_size(p->e, &SCENES[p->i2], &rel, &dt)) == CB_OK)
-    p->i2_cost = 300.0 * p->i2_states * rel;
+  if (st == CB_OK && p->i2 >= 0 && (st = cb_sweep_scene_size(p->e, &SCENES[p->i2], &z)) == CB_OK)
+    p->i2_cost = 300.0 * p->i2_states * z.rel;
   return st;
 }
 

@@ -23,7 +23,7 @@
  *                             step error and relative |grad F| against wall time
  * The scenes are the table SCENES below, the work four sweeps of cells (one
  * per phase), run by the shared sweep runner; --shard I/N splits them.
- * --smoke runs one small cell per sweep, on the lab scene. Each cell kind is
+ * --smoke runs the lab scene's cells alone, short. Each cell kind is
  * its own file (nonlinear.h); one step from a start state against the
  * converged step is lib/instruments/step_bench.h, shared with field. */
 #include <math.h>
@@ -47,9 +47,11 @@ static const char *const ABOUT =
  * state (tables w1 and w1_trace); "p1" = one step of the P1 methods from
  * each of P1's start states (table p1; one cell per (scene, start state));
  * "error_time" = one step of every implicit method at 1, 2, 4, ... iterations
- * (table error_time). A "w1" or "error_time" scene is one cell: its methods
- * share the start state and the reference step computed from it. quick: the
- * scene runs in --quick too.
+ * (table error_time). A "w1" scene is one cell per pair of methods (the
+ * plain and the accelerated iteration, timed together), an "error_time"
+ * scene one cell per method: the cells of a scene each compute the same start
+ * state and reference step, so that no cell is most of the run and the
+ * shards finish together. quick: the scene runs in --quick too.
  *
  * The lab cloth at 21^2, and the same cloth (441 kg, k, 10 m) at 64^2, 128^2
  * quads (129^2 = 16 641 vertices, Wang's dress size) and 81^2 (6561 vertices,
@@ -88,11 +90,11 @@ int nl_state(const cb_experiment *e, const cb_scene_decl *d, int frames, cb_step
  * declaration fails here, naming the scene, before any cell runs) */
 static int scene_sizes(plan *p) {
   for (int i = 0; i < NSCENES; i++) {
-    cb_config c;
-    int st = cb_scene_decl_config(p->e, nl_scene_of(i), NULL, &c);
+    cb_scene_size z;
+    int st = cb_sweep_scene_size(p->e, nl_scene_of(i), &z);
     if (st) return st;
-    p->nv[i] = cb_scene_decl_vertices(&c);
-    p->mesh_n[i] = c.mesh_n;
+    p->nv[i] = z.nv;
+    p->mesh_n[i] = z.mesh_n;
   }
   return CB_OK;
 }
@@ -161,9 +163,9 @@ int main(int argc, char **argv) {
     return cb_experiment_end(&e, CB_EIO), 2;
   const cb_sweep sweeps[] = {
       {"J3", (long)p.nj3 * p.nrho, nl_j3_cell, nl_j3_cost, &p},
-      {"W1", p.nw1, nl_w1_cell, nl_w1_cost, &p},
+      {"W1", (long)p.nw1 * NL_W1_PAIRS, nl_w1_cell, nl_w1_cost, &p},
       {"P1", (long)p.np1 * p.p1_states, nl_p1_cell, nl_p1_cost, &p},
-      {"error-time", p.net, nl_et_cell, nl_et_cost, &p},
+      {"error-time", (long)p.net * NL_ET_METHODS, nl_et_cell, nl_et_cost, &p},
   };
   int st = cb_sweep_run(&e, sweeps, 4);
   st = cb_experiment_end(&e, st);

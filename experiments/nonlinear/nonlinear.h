@@ -22,6 +22,9 @@
 
 enum { T_J3, T_SPECTRUM, T_W1, T_W1_TRACE, T_P1, T_P1_ERROR, T_ERROR_TIME }; /* tables, in the order opened */
 enum { NL_MAXSCENES = 16 };
+/* cells per scene: W1 one per pair of methods (plain and accelerated, timed together), error-time one per
+ * method */
+enum { NL_W1_PAIRS = 2, NL_ET_METHODS = 12 };
 
 /* J3's rho values */
 enum { NL_NRHO = 10 };

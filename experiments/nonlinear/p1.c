@@ -151,9 +151,9 @@ int nl_p1_cell(long i, void *ctx, FILE *const *out) {
   return st;
 }
 
-/* cost hint: a P1 cell 1 ms per vertex (two converged Newtons and the step-error traces) */
+/* cost hint: a P1 cell ~1.6 ms per vertex (two converged Newtons and the step-error traces); the later start
+ * state a little more (two --quick runs: 9-21 s a cell on 81^2, varying by 2x from run to run) */
 double nl_p1_cost(long i, void *ctx) {
   const plan *p = ctx;
-  return (0.75 + 0.5 * (double)(i % p->p1_states)) *
-         p->nv[p->p1[i / p->p1_states]]; /* measured: later states cost more */
+  return 1.6 * (1.0 + 0.15 * (double)(i % p->p1_states)) * p->nv[p->p1[i / p->p1_states]];
 }

@@ -36,6 +36,8 @@ static const w1_method W1M[] = {
     {"pd-chebyshev auto", "pd", {"integrator.method=pd-chebyshev", "integrator.rho=auto", NULL}, 1},
 };
 enum { NW1M = sizeof W1M / sizeof W1M[0] };
+/* the pairs: W1M[PAIR0[q] .. PAIR0[q + 1]) share a pair label; a cell is one (scene, pair) */
+static const int PAIR0[NL_W1_PAIRS + 1] = {0, 3, NW1M};
 enum { W1_CAP0 = 500 }; /* the first traced run's iterations */
 
 /* The largest iteration cap of W1 method m on an n^2 grid: a traced run that ends above the tolerance is
@@ -72,14 +74,15 @@ static void w1_sets(int m, const char *rho, int K, char *buf, size_t nbuf, const
   out[n] = NULL;
 }
 
-/* Cell i: scene w1[i]: its start state, then every W1 method from it (a traced run for the iterations to
- * each tolerance, rerun with a larger cap until the tighter one is reached or the cap is w1_capmax), then
- * the steps of exactly that many iterations of every method, timed together (interleaved: the plain and the
- * accelerated iteration of a pair are compared). An auto rho is estimated in the first traced run (its time
- * is setup_ms); every later run of the method is given that estimate as a number, the same iteration. */
+/* Cell i: scene w1[i / NL_W1_PAIRS], pair i % NL_W1_PAIRS: its start state, then every W1 method of the pair from it (a
+ * traced run for the iterations to each tolerance, rerun with a larger cap until the tighter one is reached or the cap
+ * is w1_capmax), then the steps of exactly that many iterations of every method, timed together (interleaved: the plain
+ * and the accelerated iteration of a pair are compared). An auto rho is estimated in the first traced run (its time is
+ * setup_ms); every later run of the method is given that estimate as a number, the same iteration. */
 int nl_w1_cell(long i, void *ctx, FILE *const *out) {
   const plan *p = ctx;
-  const cb_scene_decl *d = nl_scene_of(p->w1[i]);
+  const cb_scene_decl *d = nl_scene_of(p->w1[i / NL_W1_PAIRS]);
+  const int m0 = PAIR0[i % NL_W1_PAIRS], m1 = PAIR0[i % NL_W1_PAIRS + 1];
   static const double TOLS[] = {1e-2, 1e-4};
   cb_step_state S;
   int st = nl_state(p->e, d, p->state_frames, &S);
@@ -89,7 +92,7 @@ int nl_w1_cell(long i, void *ctx, FILE *const *out) {
   cb_step_result r[NW1M], rt[2 * NW1M];
   static char iters[2 * NW1M + NW1M][64], rhos[NW1M][64];
   static const char *sets[2 * NW1M + NW1M][6], *const *jobs[2 * NW1M];
-  for (int m = 0; st == CB_OK && m < NW1M; m++) {
+  for (int m = m0; st == CB_OK && m < m1; m++) {
     int capmax = w1_capmax(p->quick, m, n);
     trace_t t = {0, 0, NULL};
     const char *rho = NULL;
@@ -131,7 +134,7 @@ int nl_w1_cell(long i, void *ctx, FILE *const *out) {
     free(t.rel);
   }
   if (st == CB_OK) st = cb_step_time_group(p->e->quick, &S, jobs, NULL, njobs, rt);
-  for (int m = 0; st == CB_OK && m < NW1M; m++)
+  for (int m = m0; st == CB_OK && m < m1; m++)
     for (int q = 0; q < 2; q++) {
       int j = job[m][q];
       /* a tolerance never reached (hit < 0, status cut_off: not reached at the largest cap; hit = 0: reached
@@ -148,11 +151,14 @@ int nl_w1_cell(long i, void *ctx, FILE *const *out) {
   return st;
 }
 
-/* cost hint: a W1 iteration 1e-4 ms per vertex (see nonlinear.h) */
+/* cost hint: the pair's traced iterations (two first runs of W1_CAP0, the plain method's ~1/4 of its cap),
+ * ms per iteration and vertex 4.5e-5 for the Jacobi pair and 1e-3 for pd (a back-solve each), growing like
+ * vertices^1.45 (measured on a --quick run: 0.19 and 1.3 s at 21^2, 4.7 and 32 s at 64^2) */
 double nl_w1_cost(long i, void *ctx) {
   const plan *p = ctx;
+  int sc = p->w1[i / NL_W1_PAIRS], q = (int)(i % NL_W1_PAIRS);
   double it = 0;
-  for (int m = 0; m < NW1M; m++)
-    it += 2 * W1_CAP0 + (m == 0 || m == 3 ? w1_capmax(p->quick, m, p->mesh_n[p->w1[i]]) / 4 : 0);
-  return 1e-4 * it * p->nv[p->w1[i]] * (p->nv[p->w1[i]] / 441.0); /* measured: a W1 cell grows like vertices^2 */
+  for (int m = PAIR0[q]; m < PAIR0[q + 1]; m++)
+    it += 2 * W1_CAP0 + (m == 0 || m == 3 ? w1_capmax(p->quick, m, p->mesh_n[sc]) / 4 : 0);
+  return (q ? 1e-3 : 4.5e-5) * it * p->nv[sc] * pow(p->nv[sc] / 441.0, 0.45);
 }

@@ -155,3 +155,11 @@ int cb_sweep_run(cb_experiment *e, const cb_sweep *sweeps, int nsweeps) {
   free(owner);
   return st;
 }
+
+int cb_sweep_scene_size(const cb_experiment *e, const cb_scene_decl *d, cb_scene_size *out) {
+  static cb_config c; /* large: not on the stack */
+  int st = cb_scene_decl_config(e, d, NULL, &c);
+  *out = st ? (cb_scene_size){0, 0, 0, 0} : (cb_scene_size){cb_scene_decl_vertices(&c), c.mesh_n, 0, c.dt};
+  out->rel = (double)out->nv / 441;
+  return st;
+}

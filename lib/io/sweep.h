@@ -33,6 +33,7 @@
 #include <stdio.h>
 
 #include "experiment.h"
+#include "scene_decl.h"
 
 typedef struct cb_sweep {
   const char *name; /* the phase, e.g. "regime" (progress and errors) */
@@ -46,5 +47,17 @@ typedef struct cb_sweep {
  * over all of them, whose estimate is weighted by the cost hints. Every
  * table must be open before. Returns 0 or the first failing cell's status. */
 int cb_sweep_run(cb_experiment *e, const cb_sweep *sweeps, int nsweeps);
+
+/* The size of a declared scene, for cost hints: its config's vertices
+ * (cb_scene_decl_vertices), grid side (mesh.n), vertices / 441 (the lab
+ * cloth's 21^2, the unit the hints of newton_vs_bw and nonlinear are
+ * measured in) and dt. Computed before any cell runs, so a bad declaration
+ * fails there, naming the scene. Returns 0 or the config's error status. */
+typedef struct cb_scene_size {
+  long nv;
+  int mesh_n;
+  double rel, dt;
+} cb_scene_size;
+int cb_sweep_scene_size(const cb_experiment *e, const cb_scene_decl *d, cb_scene_size *out);
 
 #endif
