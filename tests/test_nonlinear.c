@@ -386,3 +386,56 @@ Test(nonlinear, streamed_spring_kernel_is_the_scatter_bit_for_bit) {
   free(h);
   cb_scene_free(s);
 }
+
+static void count_events(void *ctx, int event, const cb_newton_event *ev) {
+  (void)ev;
+  if (event == CB_NEWTON_GRADIENT) ++*(int *)ctx;
+}
+
+/* jacobi-nl and chebyshev-nl's fused pass pushes each spring's -f_e into a ring of vertices ahead (nl_kernel.h,
+ * cb_spring_push) on a mesh's edges: the ring (256 vertices here) is much shorter than the mesh, so it wraps.
+ * Steps with it must be bit for bit the steps of the generic iteration (a hook turns the fused pass off:
+ * cb_objective_eval, the terms' own energy() and a separate update), with and without Chebyshev. */
+Test(nonlinear, pushed_spring_kernel_is_the_generic_iteration_bit_for_bit) {
+  const char *cheb[] = {"mesh.n=40", "material.vertex_mass=1", "scene.pins=0 39", "integrator.method=chebyshev-nl",
+                        NULL};
+  const char *jac[] = {"mesh.n=40",
+                       "material.vertex_mass=1",
+                       "scene.pins=0 39",
+                       "integrator.method=jacobi-nl",
+                       "integrator.diagonal=valence",
+                       NULL};
+  const char *const *cases[] = {cheb, jac};
+  for (int c = 0; c < 2; c++) {
+    cb_scene *s = test_scene(cases[c]);
+    cb_spring_push P;
+    cr_assert(s->sys.terms[0]->type == cb_term_spring && cb_spring_term_push(s->sys.terms[0], &P), "the stretch "
+                                                                                                   "springs are "
+                                                                                                   "pushed");
+    cr_expect(P.M < s->mesh.nv, "the ring (%d vertices) wraps on %d vertices", P.M, s->mesh.nv);
+    size_t n3 = (size_t)3 * s->mesh.nv;
+    double *x[2], *v[2];
+    int events = 0;
+    for (int r = 0; r < 2; r++) { /* r = 0: fused, 1: generic (hook) */
+      cb_integrator *it = test_integrator(cases[c], s, r ? count_events : NULL, &events);
+      x[r] = malloc(n3 * sizeof(double));
+      v[r] = malloc(n3 * sizeof(double));
+      cr_assert(x[r] && v[r]);
+      memcpy(x[r], s->x0, n3 * sizeof(double));
+      memcpy(v[r], s->v0, n3 * sizeof(double));
+      cb_step_stats st;
+      for (int k = 0; k < 5; k++) cr_assert_eq(cb_integrator_step(it, x[r], v[r], &st), CB_OK);
+      cb_integrator_free(it);
+    }
+    cr_expect(events == 5 * 33, "the generic path ran (%d gradient events)", events);
+    cr_expect(memcmp(x[0], x[1], n3 * sizeof(double)) == 0, "case %d: x differs (max %g)", c,
+              max_diff(x[0], x[1], (int)n3));
+    cr_expect(memcmp(v[0], v[1], n3 * sizeof(double)) == 0, "case %d: v differs (max %g)", c,
+              max_diff(v[0], v[1], (int)n3));
+    for (int r = 0; r < 2; r++) {
+      free(x[r]);
+      free(v[r]);
+    }
+    cb_scene_free(s);
+  }
+}

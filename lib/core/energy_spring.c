@@ -56,6 +56,11 @@ typedef struct {
   int ring;       /* the streamed ring's length R (a power of two, from the schedule), or 0: not streamed */
   int *need;      /* nv: the springs < need[v] must be ready before vertex v's gather (nondecreasing) */
   int *rinc;      /* 2*ns: inc with each spring's place in the ring, 2 (e mod R) + side (streamed) */
+  int push;       /* sorted and ei < ej everywhere: the push kernel applies (to linear springs; nl_kernel.h) */
+  int *first;     /* nv + 1: vertex v's springs as first end are [first[v], first[v+1]) (sorted) */
+  int pushM;      /* the push accumulator's ring of vertices (a power of two > max ej - ei) */
+  int pushcap;    /* the most springs in a chunk of CB_SPRING_CHUNK vertices */
+  double *acc;    /* 3 pushM, zero between passes */
 } spring_term;
 
 /* Energy of spring e at x and its gradient coefficient c: dE/dx_i = c x_ij,
@@ -256,6 +261,8 @@ static void spring_free(cb_term *t) {
   free(s->f);
   free(s->need);
   free(s->rinc);
+  free(s->first);
+  free(s->acc);
   free(s->rest);
   cb_stencil_free(&s->st);
   free(s->ck);
@@ -339,6 +346,54 @@ static void spring_schedule(spring_term *s) {
     s->rinc[q] = s->ring ? (((s->inc[q] >> 1) & (R - 1)) << 1) | (s->inc[q] & 1) : s->inc[q];
 }
 
+/* The push kernel's layout (nl_kernel.h): first, the accumulator's ring and the chunks' largest spring count. */
+static int spring_push_setup(spring_term *s) {
+  s->push = s->sorted;
+  int maxd = 0;
+  for (int e = 0; e < s->ns && s->push; e++) {
+    s->push &= s->ei[e] < s->ej[e];
+    if (s->ej[e] - s->ei[e] > maxd) maxd = s->ej[e] - s->ei[e];
+  }
+  if (!s->push) return CB_OK;
+  s->first = cb_malloc((size_t)s->nv + 1, sizeof(int));
+  if (!s->first) return CB_ENOMEM;
+  for (int v = 0, e = 0; v <= s->nv; v++) { /* the first spring whose first end is >= v */
+    while (e < s->ns && s->ei[e] < v) e++;
+    s->first[v] = e;
+  }
+  int M = 1;
+  while (M <= maxd) M *= 2;
+  s->pushM = M;
+  s->acc = cb_calloc((size_t)3 * M, sizeof(double));
+  if (!s->acc) return CB_ENOMEM;
+  s->pushcap = 0;
+  for (int v0 = 0; v0 < s->nv; v0 += CB_SPRING_CHUNK) {
+    int v1 = v0 + CB_SPRING_CHUNK < s->nv ? v0 + CB_SPRING_CHUNK : s->nv;
+    if (s->first[v1] - s->first[v0] > s->pushcap) s->pushcap = s->first[v1] - s->first[v0];
+  }
+  return CB_OK;
+}
+
+int cb_spring_term_push(const cb_term *t, cb_spring_push *p) {
+  if (!t || t->type != &cb_term_spring_type) return 0;
+  const spring_term *s = (const spring_term *)t;
+  if (!s->push || s->ck || s->ns == 0) return 0;
+  p->nv = s->nv;
+  p->ns = s->ns;
+  p->M = s->pushM;
+  p->cap = s->pushcap;
+  p->first = s->first;
+  p->ej = s->ej;
+  p->f = s->f; /* the term's scratch (4 ns >= 4 cap) */
+  p->acc = s->acc;
+  p->t = t;
+  return 1;
+}
+
+void cb_spring_push_forces(const cb_spring_push *p, const double *x, int e0, int e1) {
+  spring_forces_range((const spring_term *)p->t, x, e0, e1, e0, p->cap);
+}
+
 int cb_spring_term_alloc(const cb_model *m, const char *label, int ns, const int *ends, double k, cb_term **out) {
   *out = NULL;
   if (!(k >= 0) || !isfinite(k)) return cb_fail("%s springs: stiffness must be >= 0, got %g", label, k);
@@ -411,6 +466,10 @@ int cb_spring_term_alloc(const cb_model *m, const char *label, int ns, const int
     for (; q < s->off[v + 1]; q++) s->split &= !(s->inc[q] & 1);
   }
   spring_schedule(s);
+  if (spring_push_setup(s)) {
+    spring_free(&s->base);
+    return CB_ENOMEM;
+  }
   *out = &s->base;
   return CB_OK;
 }

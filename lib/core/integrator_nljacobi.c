@@ -250,19 +250,79 @@ static inline __attribute__((always_inline)) void fast_vertex(const double *xv, 
     }
 }
 
+/* fast_pass for springs pushed (cb_spring_push), then gravity gr: the same sums in the same order. */
+static inline __attribute__((always_inline)) void
+push_pass(const cb_spring_push *Pp, const cb_scene *s, const double *restrict x, const double *gr,
+          const double *restrict xhat, const double *restrict dinv, double inv_dt2, double *gF, double *xn,
+          double omega, double alpha, double *inertia, double *sgg, double *sd2, double *Et) {
+  const cb_spring_push P = *Pp;
+  const double *restrict m = s->model.mass, *restrict ms = s->mass;
+  const int *restrict fi = s->free_index;
+  const int nv = s->mesh.nv;
+  const double g0 = gr[0], g1 = gr[1], g2 = gr[2];
+  double in = 0.0, gg = 0.0, d2 = 0.0;
+  const int *restrict first = P.first, *restrict ej = P.ej;
+  const int mask = P.M - 1;
+  double *restrict acc = P.acc;
+  double Es = 0.0, Eg = 0.0;
+  memset(acc, 0, (size_t)3 * P.M * sizeof *acc);
+  const int cap = P.cap;
+  const double *restrict fx = P.f, *restrict fy = P.f + cap, *restrict fz = P.f + 2 * (size_t)cap,
+                         *restrict en = P.f + 3 * (size_t)cap;
+  for (int v0 = 0; v0 < nv; v0 += CB_SPRING_CHUNK) {
+    int v1 = v0 + CB_SPRING_CHUNK < nv ? v0 + CB_SPRING_CHUNK : nv, e0 = first[v0];
+    cb_spring_push_forces(&P, x, e0, first[v1]); /* the chunk's springs at once (vectorised) */
+    for (int v = v0; v < v1; v++) {
+      const double *xv = x + 3 * v;
+      double *av = acc + 3 * (v & mask);
+      double g[3] = {av[0], av[1], av[2]}; /* 0 - f_e of the springs ending at v, in spring order */
+      av[0] = av[1] = av[2] = 0.0;
+      for (int e = first[v]; e < first[v + 1]; e++) { /* then + f_e of those starting at v, and E_e */
+        int q = e - e0;
+        double *aj = acc + 3 * (ej[e] & mask);
+        g[0] += fx[q];
+        g[1] += fy[q];
+        g[2] += fz[q];
+        aj[0] -= fx[q];
+        aj[1] -= fy[q];
+        aj[2] -= fz[q];
+        Es += en[q];
+      }
+      Eg -= m[v] * (g0 * xv[0] + g1 * xv[1] + g2 * xv[2]); /* gravity_energy */
+      g[0] -= m[v] * g0;
+      g[1] -= m[v] * g1;
+      g[2] -= m[v] * g2;
+      int b = fi[v];
+      if (b >= 0)
+        fast_vertex(xv, xhat + 3 * v, ms[v], dinv[b], inv_dt2, g, gF ? gF + 3 * b : NULL, xn ? xn + 3 * v : NULL, omega,
+                    alpha, &in, &gg, &d2);
+    }
+  }
+  Et[0] = Es;
+  Et[1] = Eg;
+  *inertia = in;
+  *sgg = gg;
+  *sd2 = d2;
+}
+
 static double fast_pass(nlj_work *w, const cb_scene *s, const double *x, double *gF, double *xn, double omega,
                         double alpha, double *gg, double *d2) {
   cb_spring_gather G[CB_MAX_TERMS];
   double Et[CB_MAX_TERMS];
   int nt = w->nterms, nv = s->mesh.nv;
+  cb_spring_push P;
+  int push = nt == 2 && !w->gravity[0] && w->gravity[1] && cb_spring_term_push(w->term[0], &P);
   for (int t = 0; t < nt; t++) {
     Et[t] = 0.0;
-    if (!w->gravity[t]) cb_spring_term_forces(w->term[t], x, &G[t]);
+    if (!w->gravity[t] && !push) cb_spring_term_forces(w->term[t], x, &G[t]);
   }
   const double *m = s->model.mass, *ms = s->mass, *xhat = w->obj.xhat, *dinv = w->dinv;
   const int *fi = s->free_index;
   double inv_dt2 = 1.0 / (w->obj.dt * w->obj.dt), inertia = 0.0, sgg = 0.0, sd2 = 0.0;
-  if (nt == 2 && !w->gravity[0] && w->gravity[1]) { /* springs, then gravity: the common scene, in registers */
+  if (push) { /* springs (a mesh's edges), then gravity: the push kernel (nl_kernel.h), one copy per use */
+    if (xn) push_pass(&P, s, x, w->grav[1], xhat, dinv, inv_dt2, NULL, xn, omega, alpha, &inertia, &sgg, &sd2, Et);
+    else push_pass(&P, s, x, w->grav[1], xhat, dinv, inv_dt2, gF, NULL, omega, alpha, &inertia, &sgg, &sd2, Et);
+  } else if (nt == 2 && !w->gravity[0] && w->gravity[1]) { /* springs, then gravity: the common scene, in registers */
     cb_spring_gather *G0 = &G[0];
     const double g0 = w->grav[1][0], g1 = w->grav[1][1], g2 = w->grav[1][2];
     double Es = 0.0, Eg = 0.0;
@@ -311,7 +371,7 @@ static double fast_pass(nlj_work *w, const cb_scene *s, const double *x, double 
   }
   double E = 0.0;
   for (int t = 0; t < nt; t++) {
-    if (!w->gravity[t] && !G[t].sorted) Et[t] = cb_spring_gather_energy(&G[t]);
+    if (!push && !w->gravity[t] && !G[t].sorted) Et[t] = cb_spring_gather_energy(&G[t]);
     E += Et[t]; /* cb_system_energy's order */
   }
   *gg = sgg;

@@ -107,6 +107,28 @@ static inline double cb_spring_gather_energy(const cb_spring_gather *g) {
   return E;
 }
 
+/* The push kernel (jacobi-nl and chebyshev-nl's fused pass): for linear springs sorted by their first end
+ * with ei[e] < ej[e] (a mesh's edges), vertex v's springs as first end are the contiguous e in
+ * [first[v], first[v+1]), and every spring that ends at v comes before them. So, with the vertices in
+ * order, each vertex can take its -f_e from an accumulator that the earlier vertices' springs pushed
+ * them into (acc[ej] -= f_e, in spring order, from 0) and then add its own +f_e: the same numbers added
+ * in the same order as the gather (cb_spring_gather_add), without its incidence lists. The accumulator
+ * is a ring of M vertices (a power of two above the largest ej - ei): 24 M bytes, in L1 on a grid.
+ * The forces of a chunk of CB_SPRING_CHUNK vertices' springs are computed at once (vectorised) into
+ * f (four blocks of cap: x, y, z, E) by cb_spring_push_forces. */
+typedef struct {
+  int nv, ns, M, cap;
+  const int *first, *ej;
+  double *f;   /* 4 cap */
+  double *acc; /* 3 M, zero between passes */
+  const cb_term *t;
+} cb_spring_push;
+
+/* 1 and p filled if the term's springs allow the push kernel, else 0. */
+int cb_spring_term_push(const cb_term *t, cb_spring_push *p);
+/* The forces and energies of the springs [e0, e1) at x into p->f at e - e0 (e1 - e0 <= p->cap). */
+void cb_spring_push_forces(const cb_spring_push *p, const double *x, int e0, int e1);
+
 /* The gravity term's acceleration g (E = -sum_i m_i g . x_i). */
 int cb_gravity_term_vector(const cb_term *t, double g[3]);
 
