@@ -14,6 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "rng.h"
 #include "support.h"
 #include "../lib/core/nl_kernel.h" /* the spring kernel's ring (streamed_spring_kernel_...) */
 
@@ -345,11 +346,9 @@ Test(nonlinear, streamed_spring_kernel_is_the_scatter_bit_for_bit) {
   double *x = malloc((size_t)3 * nv * sizeof(double)), *g = malloc((size_t)3 * nv * sizeof(double)),
          *h = malloc((size_t)3 * nv * sizeof(double));
   cr_assert(x && g && h);
-  unsigned r = 12345u;
-  for (int i = 0; i < 3 * nv; i++) { /* a perturbed, stretched and compressed state */
-    r = r * 1103515245u + 12345u;
-    x[i] = s->x0[i] * 1.05 + 0.01 * ((double)(r >> 8) / (double)(1u << 24) - 0.5);
-  }
+  cb_rng r = cb_rng_seed(1);
+  for (int i = 0; i < 3 * nv; i++) /* a perturbed, stretched and compressed state */
+    x[i] = s->x0[i] * 1.05 + 0.01 * (cb_rng_uniform(&r) - 0.5);
   for (int t = 0; t < s->sys.nterms; t++) {
     const cb_term *term = s->sys.terms[t];
     int ns;
