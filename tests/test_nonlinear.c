@@ -438,3 +438,52 @@ Test(nonlinear, pushed_spring_kernel_is_the_generic_iteration_bit_for_bit) {
     cb_scene_free(s);
   }
 }
+
+/* A diverging step ends where it ends on both paths: the fused kernel's update passes compute no
+ * objective and check x_{k+1} instead (integrator_nljacobi.c, diverged()), so the fused and the generic
+ * iteration must still give the same status, the same iteration count and the same x at every step of a
+ * run that blows up (the lab's constant 4k diagonal on k far above m/dt^2: Jacobi's radius above 1). */
+Test(nonlinear, a_diverging_step_ends_at_the_same_iterate_on_both_paths) {
+  const char *sets[] = {"mesh.n=12",
+                        "material.vertex_mass=0.01",
+                        "material.stretch_k=1e6",
+                        "scene.pins=0 11",
+                        "integrator.method=jacobi-nl",
+                        "integrator.alpha=2",
+                        "integrator.iters=2000",
+                        "scene.initial_scale=1.2",
+                        NULL};
+  cb_scene *s = test_scene(sets);
+  size_t n3 = (size_t)3 * s->mesh.nv;
+  double *x[2], *v[2];
+  int events = 0, status[2][8], iters[2][8];
+  for (int r = 0; r < 2; r++) { /* r = 0: fused, 1: generic (hook) */
+    cb_integrator *it = test_integrator(sets, s, r ? count_events : NULL, &events);
+    x[r] = malloc(n3 * sizeof(double));
+    v[r] = malloc(n3 * sizeof(double));
+    cr_assert(x[r] && v[r]);
+    memcpy(x[r], s->x0, n3 * sizeof(double));
+    memcpy(v[r], s->v0, n3 * sizeof(double));
+    for (int k = 0; k < 8; k++) {
+      cb_step_stats st;
+      status[r][k] = cb_integrator_step(it, x[r], v[r], &st);
+      iters[r][k] = st.newton_iters;
+    }
+    cb_integrator_free(it);
+  }
+  cr_expect_eq(status[0][0], CB_DIVERGED, "the run diverges in its first step (status %s)",
+               cb_status_name(status[0][0]));
+  cr_expect(iters[0][0] > 0 && iters[0][0] < 2000, "inside the step's iterations (%d)", iters[0][0]);
+  for (int k = 0; k < 8; k++) {
+    cr_expect_eq(status[0][k], status[1][k], "step %d: status %s fused, %s generic", k, cb_status_name(status[0][k]),
+                 cb_status_name(status[1][k]));
+    cr_expect_eq(iters[0][k], iters[1][k], "step %d: diverged at iterate %d fused, %d generic", k, iters[0][k],
+                 iters[1][k]);
+  }
+  cr_expect(memcmp(x[0], x[1], n3 * sizeof(double)) == 0, "x differs");
+  for (int r = 0; r < 2; r++) {
+    free(x[r]);
+    free(v[r]);
+  }
+  cb_scene_free(s);
+}

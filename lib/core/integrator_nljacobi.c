@@ -34,12 +34,15 @@
  * Step stats: newton_iters = K; rel_grad = rel_grad_hat = |grad F(x_K)| /
  * |grad F(xhat)| (one extra gradient evaluation at the end); assemble_ms the
  * gradient (and, for exact, Hessian) evaluations, solve_ms the updates.
- * A non-finite gradient ends the step with `diverged`. The hook sees
+ * A non-finite gradient ends the step with `diverged`, and so does a
+ * non-finite F at x_0 or x_K (the iterates between need only the gradient,
+ * so F is not evaluated there: diverged()). The hook sees
  * CB_NEWTON_GRADIENT at every iterate (iter 0 = xhat, ..., K). */
 #include <cblas.h>
 #include <float.h>
 #include <math.h>
 #include <stddef.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -234,9 +237,9 @@ static inline __attribute__((always_inline)) void fast_vertex(const double *xv, 
   double gf[3];
   for (int a = 0; a < 3; a++) {
     double d = xv[a] - xh[a];
-    *inertia += mv * d * d;          /* |x - xhat|_M^2 */
-    gf[a] = mv * d * inv_dt2 + g[a]; /* M(x - xhat)/dt^2 + dE/dx */
-    *gg += gf[a] * gf[a];
+    if (inertia) *inertia += mv * d * d; /* |x - xhat|_M^2 */
+    gf[a] = mv * d * inv_dt2 + g[a];     /* M(x - xhat)/dt^2 + dE/dx */
+    if (gg) *gg += gf[a] * gf[a];
   }
   if (gF)
     for (int a = 0; a < 3; a++) gF[a] = gf[a];
@@ -245,22 +248,24 @@ static inline __attribute__((always_inline)) void fast_vertex(const double *xv, 
       double xk = xv[a];
       double xnew = omega * (xk - alpha * (dinv * gf[a])) + (1.0 - omega) * xn[a]; /* iterate's update */
       double dx = xnew - xk;
-      *d2 += dx * dx;
+      if (d2) *d2 += dx * dx;
       xn[a] = xnew;
     }
 }
 
-/* fast_pass for springs pushed (cb_spring_push), then gravity gr: the same sums in the same order. */
+/* fast_pass for springs pushed (cb_spring_push), then gravity gr: the same sums in the same order. An
+ * update pass (xn not NULL) computes no objective: no energies, no inertia, no sum (grad F)^2 (iterate_fast
+ * checks the update instead), and sum |x_{k+1} - x_k|^2 only if d2 (the rho estimate's). */
 static inline __attribute__((always_inline)) void
 push_pass(const cb_spring_push *Pp, const cb_scene *s, const double *restrict x, const double *gr,
           const double *restrict xhat, const double *restrict dinv, double inv_dt2, double *gF, double *xn,
-          double omega, double alpha, double *inertia, double *sgg, double *sd2, double *Et) {
+          double omega, double alpha, int d2, double *inertia, double *sgg, double *sd2, double *Et) {
   const cb_spring_push P = *Pp;
-  const double *restrict m = s->model.mass, *restrict ms = s->mass;
+  const double *restrict m = s->mass; /* s->model.mass is the same array */
   const int *restrict fi = s->free_index;
-  const int nv = s->mesh.nv;
+  const int nv = s->mesh.nv, objective = !xn;
   const double g0 = gr[0], g1 = gr[1], g2 = gr[2];
-  double in = 0.0, gg = 0.0, d2 = 0.0;
+  double in = 0.0, gg = 0.0, dd = 0.0;
   const int *restrict first = P.first, *restrict ej = P.ej;
   const int mask = P.M - 1;
   double *restrict acc = P.acc;
@@ -271,7 +276,7 @@ push_pass(const cb_spring_push *Pp, const cb_scene *s, const double *restrict x,
                          *restrict en = P.f + 3 * (size_t)cap;
   for (int v0 = 0; v0 < nv; v0 += CB_SPRING_CHUNK) {
     int v1 = v0 + CB_SPRING_CHUNK < nv ? v0 + CB_SPRING_CHUNK : nv, e0 = first[v0];
-    cb_spring_push_forces(&P, x, e0, first[v1]); /* the chunk's springs at once (vectorised) */
+    cb_spring_push_forces(&P, x, e0, first[v1], objective); /* the chunk's springs at once (vectorised) */
     for (int v = v0; v < v1; v++) {
       const double *xv = x + 3 * v;
       double *av = acc + 3 * (v & mask);
@@ -286,23 +291,23 @@ push_pass(const cb_spring_push *Pp, const cb_scene *s, const double *restrict x,
         aj[0] -= fx[q];
         aj[1] -= fy[q];
         aj[2] -= fz[q];
-        Es += en[q];
+        if (objective) Es += en[q];
       }
-      Eg -= m[v] * (g0 * xv[0] + g1 * xv[1] + g2 * xv[2]); /* gravity_energy */
+      if (objective) Eg -= m[v] * (g0 * xv[0] + g1 * xv[1] + g2 * xv[2]); /* gravity_energy */
       g[0] -= m[v] * g0;
       g[1] -= m[v] * g1;
       g[2] -= m[v] * g2;
       int b = fi[v];
       if (b >= 0)
-        fast_vertex(xv, xhat + 3 * v, ms[v], dinv[b], inv_dt2, g, gF ? gF + 3 * b : NULL, xn ? xn + 3 * v : NULL, omega,
-                    alpha, &in, &gg, &d2);
+        fast_vertex(xv, xhat + 3 * v, m[v], dinv[b], inv_dt2, g, gF ? gF + 3 * b : NULL, xn ? xn + 3 * v : NULL, omega,
+                    alpha, objective ? &in : NULL, objective ? &gg : NULL, d2 ? &dd : NULL);
     }
   }
   Et[0] = Es;
   Et[1] = Eg;
   *inertia = in;
   *sgg = gg;
-  *sd2 = d2;
+  *sd2 = dd;
 }
 
 static double fast_pass(nlj_work *w, const cb_scene *s, const double *x, double *gF, double *xn, double omega,
@@ -320,8 +325,13 @@ static double fast_pass(nlj_work *w, const cb_scene *s, const double *x, double 
   const int *fi = s->free_index;
   double inv_dt2 = 1.0 / (w->obj.dt * w->obj.dt), inertia = 0.0, sgg = 0.0, sd2 = 0.0;
   if (push) { /* springs (a mesh's edges), then gravity: the push kernel (nl_kernel.h), one copy per use */
-    if (xn) push_pass(&P, s, x, w->grav[1], xhat, dinv, inv_dt2, NULL, xn, omega, alpha, &inertia, &sgg, &sd2, Et);
-    else push_pass(&P, s, x, w->grav[1], xhat, dinv, inv_dt2, gF, NULL, omega, alpha, &inertia, &sgg, &sd2, Et);
+#define PUSH(GF, XN, ALPHA, D2) \
+  push_pass(&P, s, x, w->grav[1], xhat, dinv, inv_dt2, GF, XN, omega, ALPHA, D2, &inertia, &sgg, &sd2, Et)
+    if (!xn) PUSH(gF, NULL, alpha, 0);
+    else if (alpha == 1.0 && !d2) PUSH(NULL, xn, 1.0, 0); /* the lab's: alpha * y = y exactly, folded */
+    else if (alpha == 1.0) PUSH(NULL, xn, 1.0, 1);
+    else PUSH(NULL, xn, alpha, d2 != NULL);
+#undef PUSH
   } else if (nt == 2 && !w->gravity[0] && w->gravity[1]) { /* springs, then gravity: the common scene, in registers */
     cb_spring_gather *G0 = &G[0];
     const double g0 = w->grav[1][0], g1 = w->grav[1][1], g2 = w->grav[1][2];
@@ -375,17 +385,34 @@ static double fast_pass(nlj_work *w, const cb_scene *s, const double *x, double 
     E += Et[t]; /* cb_system_energy's order */
   }
   *gg = sgg;
-  *d2 = sd2;
+  if (d2) *d2 = sd2;
   return 0.5 * inv_dt2 * inertia + E;
 }
 
+/* The step diverges at iterate k when grad F(x_k) is not finite, or, at x_0 and x_K (the iterates whose
+ * F is reported), when F is not: the iterates between need only the gradient, so the fused kernel's
+ * update passes compute no objective (iterate and iterate_fast share this rule). */
+static int diverged(double F, double gn, int k, int K) { return !isfinite(gn) || ((k == 0 || k == K) && !isfinite(F)); }
+
+/* Every entry of x finite (the update pass's check: x_{k+1} = omega (x_k - alpha D^-1 g) + (1 - omega)
+ * x_{k-1}, with alpha, D^-1 and omega > 0, is not finite where g is not; the pins' entries are their
+ * positions). Integer bits, so that the loop vectorises: a double is finite iff its exponent bits are
+ * not all ones. */
+static int all_finite(const double *x, size_t n) {
+  const uint64_t *u = (const uint64_t *)(const void *)x;
+  const uint64_t ex = 0x7ff0000000000000ull, one = 0x0010000000000000ull; /* the exponent bits, their lowest */
+  uint64_t bad = 0;
+  for (size_t i = 0; i < n; i++) bad |= (u[i] & ex) + one; /* bit 63 set iff all 11 are ones */
+  return !(bad >> 63);
+}
+
 /* iterate with the fused kernel (no hook, lab or valence diagonal): the
- * first and last iterates are measured as iterate measures them (grad F
- * stored, cblas_dnrm2); the ones between evaluate and update in one pass,
- * writing x_{k+1} over x_{k-1} and swapping the two arrays. A pass whose F
- * is not finite or whose sum (grad F)^2 overflows is measured again the
- * old way at x_k, which is intact, so the step diverges exactly where
- * iterate's does, with the same stats and x. */
+ * first and last iterates are measured as iterate measures them (F, grad F
+ * stored, cblas_dnrm2); the ones between evaluate the gradient and update in
+ * one pass that computes no objective (push_pass), writing x_{k+1} over
+ * x_{k-1} and swapping the two arrays. A pass whose x_{k+1} is not finite
+ * (all_finite) is measured again the old way at x_k, which is intact, so the
+ * step diverges exactly where iterate's does, with the same stats and x. */
 static int iterate_fast(cb_integrator *it, double *x, int K, double rho, double *dnorm, cb_step_stats *st, int report) {
   nlj_work *w = it->state;
   const cb_scene *s = it->scene;
@@ -401,8 +428,8 @@ static int iterate_fast(cb_integrator *it, double *x, int K, double rho, double 
     double t0 = cb_now_ms();
     if (k > 0 && k < K) { /* evaluate and update in one pass */
       omega = cb_chebyshev_omega(k, rho, omega);
-      double F = fast_pass(w, s, cur, NULL, prev, omega, alpha, &gg, &d2k);
-      if (isfinite(F) && gg <= DBL_MAX) {
+      fast_pass(w, s, cur, NULL, prev, omega, alpha, &gg, dnorm ? &d2k : NULL);
+      if (all_finite(prev, nv3)) { /* every grad F entry was finite (an infinite or NaN one makes x_{k+1}'s) */
         double *tmp = cur;
         cur = prev;
         prev = tmp;
@@ -421,7 +448,7 @@ static int iterate_fast(cb_integrator *it, double *x, int K, double rho, double 
       st->rel_grad = st->rel_grad_hat = g0 > 0 ? gn / g0 : 0.0;
       st->newton_iters = k;
     }
-    if (!isfinite(F) || !isfinite(gn)) {
+    if (diverged(F, gn, k, K)) {
       status = CB_DIVERGED;
       break;
     }
@@ -482,7 +509,7 @@ static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnor
       st->rel_grad = st->rel_grad_hat = g0 > 0 ? gn / g0 : 0.0;
       st->newton_iters = k;
     }
-    if (!isfinite(F) || !isfinite(gn)) return CB_DIVERGED;
+    if (diverged(F, gn, k, K)) return CB_DIVERGED;
     if (hook) {
       ev.iter = k;
       ev.F = F;

@@ -126,8 +126,9 @@ typedef struct {
 
 /* 1 and p filled if the term's springs allow the push kernel, else 0. */
 int cb_spring_term_push(const cb_term *t, cb_spring_push *p);
-/* The forces and energies of the springs [e0, e1) at x into p->f at e - e0 (e1 - e0 <= p->cap). */
-void cb_spring_push_forces(const cb_spring_push *p, const double *x, int e0, int e1);
+/* The forces of the springs [e0, e1) at x into p->f at e - e0 (e1 - e0 <= p->cap), and their energies
+ * unless energy is 0 (then the energies' block is left as it was). */
+void cb_spring_push_forces(const cb_spring_push *p, const double *x, int e0, int e1, int energy);
 
 /* The gravity term's acceleration g (E = -sum_i m_i g . x_i). */
 int cb_gravity_term_vector(const cb_term *t, double g[3]);
