@@ -399,10 +399,13 @@ static int diverged(double F, double gn, int k, int K) { return !isfinite(gn) ||
  * positions). Integer bits, so that the loop vectorises: a double is finite iff its exponent bits are
  * not all ones. */
 static int all_finite(const double *x, size_t n) {
-  const uint64_t *u = (const uint64_t *)(const void *)x;
   const uint64_t ex = 0x7ff0000000000000ull, one = 0x0010000000000000ull; /* the exponent bits, their lowest */
   uint64_t bad = 0;
-  for (size_t i = 0; i < n; i++) bad |= (u[i] & ex) + one; /* bit 63 set iff all 11 are ones */
+  for (size_t i = 0; i < n; i++) {
+    uint64_t u;
+    memcpy(&u, x + i, sizeof u); /* the bits (no aliasing through a cast) */
+    bad |= (u & ex) + one;       /* bit 63 set iff all 11 are ones */
+  }
   return !(bad >> 63);
 }
 
