@@ -9,6 +9,8 @@
 #define CB_VEC_H
 
 #include <math.h>
+#include <stdint.h>
+#include <string.h>
 
 /* a . b */
 static inline double cb_v3_dot(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
@@ -40,6 +42,20 @@ static inline double cb_vec_dot(int n, const double *a, const double *b) {
   double s = 0;
   for (int i = 0; i < n; i++) s += a[i] * b[i];
   return s;
+}
+
+/* whether every x_i, i = 0..n-1, is finite (no inf, no NaN). On the bits, so that the loop vectorises: a
+ * double is not finite iff its 11 exponent bits are all ones, and then adding their lowest bit carries
+ * into bit 63. */
+static inline int cb_vec_all_finite(int n, const double *x) {
+  const uint64_t ex = 0x7ff0000000000000ull, one = 0x0010000000000000ull;
+  uint64_t bad = 0;
+  for (int i = 0; i < n; i++) {
+    uint64_t u;
+    memcpy(&u, x + i, sizeof u); /* the bits (no aliasing through a cast) */
+    bad |= (u & ex) + one;
+  }
+  return !(bad >> 63);
 }
 
 #endif

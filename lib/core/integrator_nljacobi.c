@@ -42,7 +42,6 @@
 #include <float.h>
 #include <math.h>
 #include <stddef.h>
-#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -51,6 +50,7 @@
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
 #include "integrator_keys.h"
+#include "vec.h"
 
 #include "nl_kernel.h"
 
@@ -394,27 +394,12 @@ static double fast_pass(nlj_work *w, const cb_scene *s, const double *x, double 
  * update passes compute no objective (iterate and iterate_fast share this rule). */
 static int diverged(double F, double gn, int k, int K) { return !isfinite(gn) || ((k == 0 || k == K) && !isfinite(F)); }
 
-/* Every entry of x finite (the update pass's check: x_{k+1} = omega (x_k - alpha D^-1 g) + (1 - omega)
- * x_{k-1}, with alpha, D^-1 and omega > 0, is not finite where g is not; the pins' entries are their
- * positions). Integer bits, so that the loop vectorises: a double is finite iff its exponent bits are
- * not all ones. */
-static int all_finite(const double *x, size_t n) {
-  const uint64_t ex = 0x7ff0000000000000ull, one = 0x0010000000000000ull; /* the exponent bits, their lowest */
-  uint64_t bad = 0;
-  for (size_t i = 0; i < n; i++) {
-    uint64_t u;
-    memcpy(&u, x + i, sizeof u); /* the bits (no aliasing through a cast) */
-    bad |= (u & ex) + one;       /* bit 63 set iff all 11 are ones */
-  }
-  return !(bad >> 63);
-}
-
 /* iterate with the fused kernel (no hook, lab or valence diagonal): the
  * first and last iterates are measured as iterate measures them (F, grad F
  * stored, cblas_dnrm2); the ones between evaluate the gradient and update in
  * one pass that computes no objective (push_pass), writing x_{k+1} over
  * x_{k-1} and swapping the two arrays. A pass whose x_{k+1} is not finite
- * (all_finite) is measured again the old way at x_k, which is intact, so the
+ * (cb_vec_all_finite) is measured again the old way at x_k, which is intact, so the
  * step diverges exactly where iterate's does, with the same stats and x. */
 static int iterate_fast(cb_integrator *it, double *x, int K, double rho, double *dnorm, cb_step_stats *st, int report) {
   nlj_work *w = it->state;
@@ -432,7 +417,9 @@ static int iterate_fast(cb_integrator *it, double *x, int K, double rho, double 
     if (k > 0 && k < K) { /* evaluate and update in one pass */
       omega = cb_chebyshev_omega(k, rho, omega);
       fast_pass(w, s, cur, NULL, prev, omega, alpha, &gg, dnorm ? &d2k : NULL);
-      if (all_finite(prev, nv3)) { /* every grad F entry was finite (an infinite or NaN one makes x_{k+1}'s) */
+      /* every grad F entry was finite: x_{k+1} = omega (x_k - alpha D^-1 g) + (1 - omega) x_{k-1}, with alpha,
+       * D^-1 and omega > 0, is not finite where g is not (the pins' entries are their positions) */
+      if (cb_vec_all_finite((int)nv3, prev)) {
         double *tmp = cur;
         cur = prev;
         prev = tmp;

@@ -58,6 +58,7 @@
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
 #include "integrator_keys.h"
+#include "vec.h"
 
 static const cb_xpbd_params xpbd_defaults = {.iters = 32, .substeps = 1, .stiffness = 1.0};
 
@@ -248,8 +249,7 @@ static int xp_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
   if (status == CB_OK && !hook) /* the end of the step */
     status = cb_integrator_measure(it, &w->obj, x, w->gF, p->iters * p->substeps, &g0, -1.0, NULL, st);
   st->newton_iters = p->iters * p->substeps;
-  for (int i = 0; status == CB_OK && i < 3 * nv; i++)
-    if (!isfinite(x[i]) || !isfinite(v[i])) status = CB_DIVERGED;
+  if (status == CB_OK && !(cb_vec_all_finite(3 * nv, x) && cb_vec_all_finite(3 * nv, v))) status = CB_DIVERGED;
   return status;
 }
 

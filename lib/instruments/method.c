@@ -1,5 +1,6 @@
 /* Newton step methods and their one-step measurement (see method.h). */
 #include "method.h"
+#include "vec.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -86,12 +87,6 @@ void cb_method_hook(void *work, int event, const cb_newton_event *ev) {
   if (event == CB_NEWTON_GRADIENT && ev->iter > 0 && ev->alpha < 1.0) w->ls_reduced++;
 }
 
-static int all_finite(int n, const double *x) {
-  for (int i = 0; i < n; i++)
-    if (!isfinite(x[i])) return 0;
-  return 1;
-}
-
 int cb_method_step(cb_integrator *it, cb_method_work *w, cb_reference *ref, const double *x0, const double *v0,
                    const double *xstar, double Fstar, cb_step_result *out) {
   const cb_scene *s = it->scene;
@@ -108,7 +103,7 @@ int cb_method_step(cb_integrator *it, cb_method_work *w, cb_reference *ref, cons
   int st = cb_integrator_step(it, w->x, w->v, &out->st);
   out->setup_ms = w->setup_ms;
   out->ls_reduced = w->ls_reduced;
-  if (all_finite(n3, w->x)) {
+  if (cb_vec_all_finite(n3, w->x)) {
     out->step_error = cb_step_error(s, w->x, xstar, x0);
     out->f_minus_fstar = cb_reference_objective(ref, x0, v0, w->x, NULL) - Fstar;
   } else {
