@@ -391,6 +391,29 @@ static void count_events(void *ctx, int event, const cb_newton_event *ev) {
   if (event == CB_NEWTON_GRADIENT) ++*(int *)ctx;
 }
 
+enum { PATH_STEPS = 8 };
+/* `steps` (<= PATH_STEPS) steps of the integrator the sets name from s's initial state, on the fused path
+ * (r = 0: no hook) and the generic one (r = 1: the counting hook, *events); x[r], v[r] (allocated here) get
+ * the final states, status[r][k] and iters[r][k] each step's status and newton_iters. */
+static void run_both_paths(const char *const *sets, cb_scene *s, int steps, double *x[2], double *v[2],
+                           int status[2][PATH_STEPS], int iters[2][PATH_STEPS], int *events) {
+  size_t n3 = (size_t)3 * s->mesh.nv;
+  for (int r = 0; r < 2; r++) {
+    cb_integrator *it = test_integrator(sets, s, r ? count_events : NULL, events);
+    x[r] = malloc(n3 * sizeof(double));
+    v[r] = malloc(n3 * sizeof(double));
+    cr_assert(x[r] && v[r]);
+    memcpy(x[r], s->x0, n3 * sizeof(double));
+    memcpy(v[r], s->v0, n3 * sizeof(double));
+    for (int k = 0; k < steps; k++) {
+      cb_step_stats st;
+      status[r][k] = cb_integrator_step(it, x[r], v[r], &st);
+      iters[r][k] = st.newton_iters;
+    }
+    cb_integrator_free(it);
+  }
+}
+
 /* jacobi-nl and chebyshev-nl's fused pass pushes each spring's -f_e into a ring of vertices ahead (nl_kernel.h,
  * cb_spring_push) on a mesh's edges: the ring (256 vertices here) is much shorter than the mesh, so it wraps.
  * Steps with it must be bit for bit the steps of the generic iteration (a hook turns the fused pass off:
@@ -414,18 +437,10 @@ Test(nonlinear, pushed_spring_kernel_is_the_generic_iteration_bit_for_bit) {
     cr_expect(P.M < s->mesh.nv, "the ring (%d vertices) wraps on %d vertices", P.M, s->mesh.nv);
     size_t n3 = (size_t)3 * s->mesh.nv;
     double *x[2], *v[2];
-    int events = 0;
-    for (int r = 0; r < 2; r++) { /* r = 0: fused, 1: generic (hook) */
-      cb_integrator *it = test_integrator(cases[c], s, r ? count_events : NULL, &events);
-      x[r] = malloc(n3 * sizeof(double));
-      v[r] = malloc(n3 * sizeof(double));
-      cr_assert(x[r] && v[r]);
-      memcpy(x[r], s->x0, n3 * sizeof(double));
-      memcpy(v[r], s->v0, n3 * sizeof(double));
-      cb_step_stats st;
-      for (int k = 0; k < 5; k++) cr_assert_eq(cb_integrator_step(it, x[r], v[r], &st), CB_OK);
-      cb_integrator_free(it);
-    }
+    int events = 0, status[2][PATH_STEPS], iters[2][PATH_STEPS];
+    run_both_paths(cases[c], s, 5, x, v, status, iters, &events); /* fused, then generic (hook) */
+    for (int r = 0; r < 2; r++)
+      for (int k = 0; k < 5; k++) cr_assert_eq(status[r][k], CB_OK, "path %d step %d", r, k);
     cr_expect(events == 5 * 33, "the generic path ran (%d gradient events)", events);
     cr_expect(memcmp(x[0], x[1], n3 * sizeof(double)) == 0, "case %d: x differs (max %g)", c,
               max_diff(x[0], x[1], (int)n3));
@@ -442,7 +457,8 @@ Test(nonlinear, pushed_spring_kernel_is_the_generic_iteration_bit_for_bit) {
 /* A diverging step ends where it ends on both paths: the fused kernel's update passes compute no
  * objective and check x_{k+1} instead (integrator_nljacobi.c, diverged()), so the fused and the generic
  * iteration must still give the same status, the same iteration count and the same x at every step of a
- * run that blows up (the lab's constant 4k diagonal on k far above m/dt^2: Jacobi's radius above 1). */
+ * run that blows up (the lab's constant 4k diagonal with k far above m/dt^2, a stretched start and the
+ * largest step weight, alpha = 2: Jacobi's radius above 1). */
 Test(nonlinear, a_diverging_step_ends_at_the_same_iterate_on_both_paths) {
   const char *sets[] = {"mesh.n=12",
                         "material.vertex_mass=0.01",
@@ -456,25 +472,12 @@ Test(nonlinear, a_diverging_step_ends_at_the_same_iterate_on_both_paths) {
   cb_scene *s = test_scene(sets);
   size_t n3 = (size_t)3 * s->mesh.nv;
   double *x[2], *v[2];
-  int events = 0, status[2][8], iters[2][8];
-  for (int r = 0; r < 2; r++) { /* r = 0: fused, 1: generic (hook) */
-    cb_integrator *it = test_integrator(sets, s, r ? count_events : NULL, &events);
-    x[r] = malloc(n3 * sizeof(double));
-    v[r] = malloc(n3 * sizeof(double));
-    cr_assert(x[r] && v[r]);
-    memcpy(x[r], s->x0, n3 * sizeof(double));
-    memcpy(v[r], s->v0, n3 * sizeof(double));
-    for (int k = 0; k < 8; k++) {
-      cb_step_stats st;
-      status[r][k] = cb_integrator_step(it, x[r], v[r], &st);
-      iters[r][k] = st.newton_iters;
-    }
-    cb_integrator_free(it);
-  }
+  int events = 0, status[2][PATH_STEPS], iters[2][PATH_STEPS];
+  run_both_paths(sets, s, PATH_STEPS, x, v, status, iters, &events); /* fused, then generic (hook) */
   cr_expect_eq(status[0][0], CB_DIVERGED, "the run diverges in its first step (status %s)",
                cb_status_name(status[0][0]));
   cr_expect(iters[0][0] > 0 && iters[0][0] < 2000, "inside the step's iterations (%d)", iters[0][0]);
-  for (int k = 0; k < 8; k++) {
+  for (int k = 0; k < PATH_STEPS; k++) {
     cr_expect_eq(status[0][k], status[1][k], "step %d: status %s fused, %s generic", k, cb_status_name(status[0][k]),
                  cb_status_name(status[1][k]));
     cr_expect_eq(iters[0][k], iters[1][k], "step %d: diverged at iterate %d fused, %d generic", k, iters[0][k],

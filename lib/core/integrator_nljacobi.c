@@ -39,7 +39,6 @@
  * so F is not evaluated there: diverged()). The hook sees
  * CB_NEWTON_GRADIENT at every iterate (iter 0 = xhat, ..., K). */
 #include <cblas.h>
-#include <float.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
@@ -329,8 +328,7 @@ static double fast_pass(nlj_work *w, const cb_scene *s, const double *x, double 
   push_pass(&P, s, x, w->grav[1], xhat, dinv, inv_dt2, GF, XN, omega, ALPHA, D2, &inertia, &sgg, &sd2, Et)
     if (!xn) PUSH(gF, NULL, alpha, 0);
     else if (alpha == 1.0 && !d2) PUSH(NULL, xn, 1.0, 0); /* the lab's: alpha * y = y exactly, folded */
-    else if (alpha == 1.0) PUSH(NULL, xn, 1.0, 1);
-    else PUSH(NULL, xn, alpha, d2 != NULL);
+    else PUSH(NULL, xn, alpha, d2 != NULL);               /* any alpha, and the rho estimate's passes */
 #undef PUSH
   } else if (nt == 2 && !w->gravity[0] && w->gravity[1]) { /* springs, then gravity: the common scene, in registers */
     cb_spring_gather *G0 = &G[0];
