@@ -34,7 +34,15 @@ has "a provenance section" "## What produced this report" "$R"
 has "the run kind" "| definiteness | smoke (\`--smoke\`, make test) | $rev |" "$R"
 has "the machine" "| $cpu | $(getconf _NPROCESSORS_ONLN) |" "$R"
 kernel=$(sed -n 's/^# blas_kernel: //p' "$T/res/definiteness.csv" | head -n 1)
-has "the OpenBLAS kernel and how it came to run" "| $kernel (detected" "$R"
+choice=$(sed -n 's/^# blas_kernel_choice: //p' "$T/res/definiteness.csv" | head -n 1)
+case $choice in # how the report words it (claims/origin.c), from the CSV: any of them, whatever this machine did
+chosen*) how=chosen ;;
+"set by the environment"*) how=environment ;;
+*"; refused "*) how="detected; better one refused" ;;
+detected*) how=detected ;;
+*) how="?" ;;
+esac
+has "the OpenBLAS kernel and how it came to run" "| $kernel ($how" "$R"
 has "the summary line" "This is a **smoke** run of 1 experiment (the others were not run)" "$R"
 has "a smoke run's verdicts decide nothing" "its verdicts decide nothing about the claims" "$R"
 # the same CSV without its smoke line is a quick run's
