@@ -44,6 +44,10 @@ int cb_status_is_fatal(int status);
 void *cb_calloc(size_t n, size_t size);
 void *cb_malloc(size_t n, size_t size);
 void *cb_realloc(void *p, size_t n, size_t size);
+/* cb_calloc at a cache line's boundary (CB_CACHE_LINE bytes: no 32-byte entry of the array straddles two
+ * lines), for the kernels' vector arrays; freed with free(). */
+enum { CB_CACHE_LINE = 64 };
+void *cb_calloc_aligned(size_t n, size_t size);
 
 /* Allocation-failure injection, a test mode (tests/test_enomem.c, CHOLMOD's
  * Tcov habit). cb_alloc_fail_at(k), k >= 1, makes the k-th allocation that

@@ -44,18 +44,21 @@ static inline double cb_vec_dot(int n, const double *a, const double *b) {
   return s;
 }
 
-/* whether every x_i, i = 0..n-1, is finite (no inf, no NaN). On the bits, so that the loop vectorises: a
- * double is not finite iff its 11 exponent bits are all ones, and then adding their lowest bit carries
- * into bit 63. */
+/* Finiteness on the bits, so that loops vectorise: a double is not finite iff its 11 exponent bits are all
+ * ones, and then adding their lowest bit carries into bit 63. cb_nonfinite_bits(v) has bit 63 set iff v is
+ * not finite; OR them together and test the result with cb_bits_finite. */
+static inline uint64_t cb_nonfinite_bits(double v) {
+  uint64_t u;
+  memcpy(&u, &v, sizeof u); /* the bits (no aliasing through a cast) */
+  return (u & 0x7ff0000000000000ull) + 0x0010000000000000ull;
+}
+static inline int cb_bits_finite(uint64_t bad) { return !(bad >> 63); }
+
+/* whether every x_i, i = 0..n-1, is finite (no inf, no NaN) */
 static inline int cb_vec_all_finite(int n, const double *x) {
-  const uint64_t ex = 0x7ff0000000000000ull, one = 0x0010000000000000ull;
   uint64_t bad = 0;
-  for (int i = 0; i < n; i++) {
-    uint64_t u;
-    memcpy(&u, x + i, sizeof u); /* the bits (no aliasing through a cast) */
-    bad |= (u & ex) + one;
-  }
-  return !(bad >> 63);
+  for (int i = 0; i < n; i++) bad |= cb_nonfinite_bits(x[i]);
+  return cb_bits_finite(bad);
 }
 
 #endif

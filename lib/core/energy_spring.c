@@ -26,7 +26,9 @@
  * immediate-buckling arc), and then
  *   dE/dx_i = E'(l) u,   H_e = E''(l) uu^T + (E'(l)/l)(bi - uu^T),
  * the same form as above with k -> E'' and k(1 - L/l) -> E'/l. */
+#include <limits.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -60,7 +62,10 @@ typedef struct {
   int *first;     /* nv + 1: vertex v's springs as first end are [first[v], first[v+1]) (sorted) */
   int pushM;      /* the push accumulator's ring of vertices (a power of two > max ej - ei) */
   int pushcap;    /* the most springs in a chunk of CB_SPRING_CHUNK vertices */
-  double *acc;    /* 3 pushM, zero between passes */
+  double *acc;    /* 4 pushM (x, y, z and a lane the push kernel ignores), zero between passes */
+  double *x4;     /* 4 nv: the positions of a push pass, padded to four doubles (x, y, z, 0) */
+  int *i4, *j4;   /* ns each: 4 ei, 4 ej (where the ends start in x4) */
+  int *slot;      /* ns: 4 (ej mod pushM), where spring e's -f_e goes in acc */
 } spring_term;
 
 /* Energy of spring e at x and its gradient coefficient c: dE/dx_i = c x_ij,
@@ -102,46 +107,96 @@ static inline double spring_eval(const spring_term *s, int e, const double *x, d
  * AMD EPYC (Zen 3) the AVX2 copy below runs 23% fewer instructions in loop 1
  * and the frame about 3% faster). The update passes of jacobi-nl and
  * chebyshev-nl need no F, so their loop 1 skips the energies (energy = 0).
+ * The push kernel (nl_kernel.h) has its own loop 1, spring_push_body: four
+ * springs at a time as 4-vectors, from positions padded to four doubles
+ * (x4, 64-byte aligned like f and acc, so that no 4-vector straddles two
+ * cache lines), into four doubles a spring; measured at 129^2 on an AMD EPYC
+ * (Zen 5) against the compiler's vectorisation of spring_forces_body, whose
+ * twelve scalar loads and inserts a spring dominated: the frame about 1.6x
+ * faster with the 4-vector vertex loop of integrator_nljacobi.c.
  * The order of every sum is unchanged.
  * Loop 3 adds to each grad entry the same numbers in the same order as the
  * scatter grad_i += f_e, grad_j += -f_e over e did, and loops 1-2 evaluate
  * the same expressions, so energy and gradient are bit for bit those of the
  * one-spring-at-a-time kernel (spring_eval). The scratch makes a term
  * non-reentrant: one thread evaluates a term at a time (as everywhere here). */
-/* Loop 1 is compiled twice on x86-64 with GCC, for AVX2 (without FMA, so every product and sum rounds as
- * in the SSE2 copy: the same bits) and the default, and the loader picks the one the CPU runs. */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define CB_KERNEL_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define CB_KERNEL_CLONES
-#endif
-/* Loop 1 for the springs [e0, e1), into the scratch at e - base (the caller keeps it inside the blocks);
- * energy 0 leaves the energies' block alone (an update pass of the push kernel, which needs no F). */
+/* Loop 1 is compiled twice on x86-64 with GCC (CB_KERNEL_CLONES, nl_kernel.h). */
+/* Loop 1 for the springs [e0, e1), spring e's results at q = e - base (the caller keeps q inside the
+ * scratch): lane a (x, y, z, E) at out[q * qs + a * ls]. The gather's layout is blocks of R (qs = 1, ls = R);
+ * the push kernel's is four doubles a spring (qs = 4, ls = 1), where it does the springs that
+ * spring_push_body leaves over, and energy 0 writes 0 as E. */
 static inline __attribute__((always_inline)) void spring_forces_body(const spring_term *s, const double *restrict x,
-                                                                     int e0, int e1, int base, int R, int energy) {
+                                                                     int e0, int e1, int base, double *restrict out,
+                                                                     size_t qs, size_t ls, int energy) {
   const int *restrict ei = s->ei, *restrict ej = s->ej;
   const double *restrict rest = s->rest, k = s->k;
-  double *restrict fx = s->f, *restrict fy = s->f + R, *restrict fz = s->f + 2 * (size_t)R,
-                   *restrict en = s->f + 3 * (size_t)R;
   for (int e = e0; e < e1; e++) {
     int i = ei[e], j = ej[e];
     double dx = x[3 * i] - x[3 * j], dy = x[3 * i + 1] - x[3 * j + 1], dz = x[3 * i + 2] - x[3 * j + 2];
     double l = sqrt(dx * dx + dy * dy + dz * dz);
     double stretch = l - rest[e];
     double c = k * stretch / l; /* dE/dx_i = k (l - L) x_ij / l */
-    fx[e - base] = c * dx;
-    fy[e - base] = c * dy;
-    fz[e - base] = c * dz;
-    if (energy) en[e - base] = 0.5 * k * stretch * stretch; /* E = k/2 (l - L)^2 */
+    double *o = out + (size_t)(e - base) * qs;
+    o[0] = c * dx;
+    o[ls] = c * dy;
+    o[2 * ls] = c * dz;
+    o[3 * ls] = energy ? 0.5 * k * stretch * stretch : 0.0; /* E = k/2 (l - L)^2 */
   }
 }
 CB_KERNEL_CLONES static void spring_forces_range(const spring_term *s, const double *restrict x, int e0, int e1,
                                                  int base, int R) {
-  spring_forces_body(s, x, e0, e1, base, R, 1);
+  spring_forces_body(s, x, e0, e1, base, s->f, 1, (size_t)R, 1);
 }
-CB_KERNEL_CLONES static void spring_forces_range_noenergy(const spring_term *s, const double *restrict x, int e0,
-                                                          int e1, int base, int R) {
-  spring_forces_body(s, x, e0, e1, base, R, 0);
+/* The push kernel's loop 1: four springs at a time as 4-vectors. Each end's position is one vector (x, y, z,
+ * 0), their differences are transposed into dx, dy, dz of the four springs, and l, c and E are computed
+ * lane by lane with the expressions of spring_forces_body; then spring s's force is c_s (dx, dy, dz, 0) of
+ * its own difference, one vector store. The lane by lane operations round as the scalar ones: the same bits
+ * (bench_nonlinear checks them against the old kernel). The springs left over go through spring_forces_body. */
+static inline __attribute__((always_inline)) void spring_push_body(const spring_term *s, const double *restrict x,
+                                                                   int e0, int e1, int energy) {
+  const double *restrict x4 = s->x4;
+  const int *restrict i4 = s->i4, *restrict j4 = s->j4;
+  const double *restrict rest = s->rest, k = s->k;
+  double *restrict out = s->f;
+  int e = e0;
+  for (; e + 4 <= e1; e += 4) {
+    cb_v4d d[4], L, l, c;
+#pragma GCC unroll 4
+    for (int a = 0; a < 4; a++) {
+      cb_v4d pi, pj;
+      cb_v4d_get(&pi, x4 + i4[e + a]);
+      cb_v4d_get(&pj, x4 + j4[e + a]);
+      d[a] = pi - pj; /* x_ij of spring e + a */
+    }
+    cb_v4d t0 = __builtin_shufflevector(d[0], d[1], 0, 4, 2, 6), t1 = __builtin_shufflevector(d[0], d[1], 1, 5, 3, 7);
+    cb_v4d t2 = __builtin_shufflevector(d[2], d[3], 0, 4, 2, 6), t3 = __builtin_shufflevector(d[2], d[3], 1, 5, 3, 7);
+    cb_v4d dx = __builtin_shufflevector(t0, t2, 0, 1, 4, 5), dy = __builtin_shufflevector(t1, t3, 0, 1, 4, 5),
+           dz = __builtin_shufflevector(t0, t2, 2, 3, 6, 7);
+    cb_v4d l2 = dx * dx + dy * dy + dz * dz;
+#pragma GCC unroll 4
+    for (int a = 0; a < 4; a++) l[a] = sqrt(l2[a]);
+    memcpy(&L, rest + e, sizeof L);
+    cb_v4d stretch = l - L;
+    c = k * stretch / l; /* dE/dx_i = k (l - L) x_ij / l */
+#pragma GCC unroll 4
+    for (int a = 0; a < 4; a++) {
+      cb_v4d f = c[a] * d[a];
+      cb_v4d_put(out + 4 * (size_t)(e + a - e0), &f);
+    }
+    if (energy) {
+      cb_v4d E = 0.5 * k * stretch * stretch; /* E = k/2 (l - L)^2 */
+#pragma GCC unroll 4
+      for (int a = 0; a < 4; a++) out[4 * (size_t)(e + a - e0) + 3] = E[a];
+    }
+  }
+  spring_forces_body(s, x, e, e1, e0, out, 4, 1, energy);
+}
+CB_KERNEL_CLONES static void spring_push_range(const spring_term *s, const double *restrict x, int e0, int e1) {
+  spring_push_body(s, x, e0, e1, 1);
+}
+CB_KERNEL_CLONES static void spring_push_range_noenergy(const spring_term *s, const double *restrict x, int e0,
+                                                        int e1) {
+  spring_push_body(s, x, e0, e1, 0);
 }
 
 /* Every spring's forces at once (not streamed). */
@@ -283,6 +338,10 @@ static void spring_free(cb_term *t) {
   free(s->rinc);
   free(s->first);
   free(s->acc);
+  free(s->x4);
+  free(s->i4);
+  free(s->j4);
+  free(s->slot);
   free(s->rest);
   cb_stencil_free(&s->st);
   free(s->ck);
@@ -374,6 +433,7 @@ static int spring_push_setup(spring_term *s) {
     s->push &= s->ei[e] < s->ej[e];
     if (s->ej[e] - s->ei[e] > maxd) maxd = s->ej[e] - s->ei[e];
   }
+  s->push &= s->nv <= INT_MAX / 4; /* its offsets 4 v in int */
   if (!s->push) return CB_OK;
   s->first = cb_malloc((size_t)s->nv + 1, sizeof(int));
   if (!s->first) return CB_ENOMEM;
@@ -384,8 +444,17 @@ static int spring_push_setup(spring_term *s) {
   int M = 1;
   while (M <= maxd) M *= 2;
   s->pushM = M;
-  s->acc = cb_calloc((size_t)3 * M, sizeof(double));
-  if (!s->acc) return CB_ENOMEM;
+  s->acc = cb_calloc_aligned((size_t)4 * M, sizeof(double));
+  s->x4 = cb_calloc_aligned((size_t)4 * s->nv, sizeof(double));
+  s->i4 = cb_malloc((size_t)s->ns, sizeof(int));
+  s->j4 = cb_malloc((size_t)s->ns, sizeof(int));
+  s->slot = cb_malloc((size_t)s->ns, sizeof(int));
+  if (!s->acc || !s->x4 || !s->i4 || !s->j4 || !s->slot) return CB_ENOMEM;
+  for (int e = 0; e < s->ns; e++) {
+    s->i4[e] = 4 * s->ei[e];
+    s->j4[e] = 4 * s->ej[e];
+    s->slot[e] = 4 * (s->ej[e] & (M - 1));
+  }
   s->pushcap = 0;
   for (int v0 = 0; v0 < s->nv; v0 += CB_SPRING_CHUNK) {
     int v1 = v0 + CB_SPRING_CHUNK < s->nv ? v0 + CB_SPRING_CHUNK : s->nv;
@@ -403,16 +472,33 @@ int cb_spring_term_push(const cb_term *t, cb_spring_push *p) {
   p->M = s->pushM;
   p->cap = s->pushcap;
   p->first = s->first;
-  p->ej = s->ej;
+  p->slot = s->slot;
   p->f = s->f; /* the term's scratch (4 ns >= 4 cap) */
   p->acc = s->acc;
+  p->x4 = s->x4;
   p->t = t;
   return 1;
 }
 
+CB_KERNEL_CLONES void cb_spring_push_positions(const cb_spring_push *p, const double *restrict x, int v0, int v1) {
+  double *restrict x4 = p->x4;
+  int vl = v1 < p->nv ? v1 : p->nv - 1; /* four doubles from x + 3v stay inside x below the last vertex */
+  for (int v = v0; v < vl; v++) {       /* (x, y, z, the next vertex's x) with its fourth lane made 0 */
+    cb_v4d t;
+    cb_v4d_get(&t, x + 3 * (size_t)v);
+    t[3] = 0.0;
+    cb_v4d_put(x4 + 4 * (size_t)v, &t);
+  }
+  for (int v = vl > v0 ? vl : v0; v < v1; v++) {
+    x4[4 * (size_t)v] = x[3 * (size_t)v];
+    x4[4 * (size_t)v + 1] = x[3 * (size_t)v + 1];
+    x4[4 * (size_t)v + 2] = x[3 * (size_t)v + 2];
+  }
+}
+
 void cb_spring_push_forces(const cb_spring_push *p, const double *x, int e0, int e1, int energy) {
-  if (energy) spring_forces_range((const spring_term *)p->t, x, e0, e1, e0, p->cap);
-  else spring_forces_range_noenergy((const spring_term *)p->t, x, e0, e1, e0, p->cap);
+  if (energy) spring_push_range((const spring_term *)p->t, x, e0, e1);
+  else spring_push_range_noenergy((const spring_term *)p->t, x, e0, e1);
 }
 
 int cb_spring_term_alloc(const cb_model *m, const char *label, int ns, const int *ends, double k, cb_term **out) {
@@ -432,7 +518,7 @@ int cb_spring_term_alloc(const cb_model *m, const char *label, int ns, const int
   s->inc = cb_malloc((size_t)2 * ns + 1, sizeof(int));
   s->off = cb_calloc((size_t)s->nv + 1, sizeof(int));
   s->mid = cb_malloc((size_t)s->nv + 1, sizeof(int));
-  s->f = cb_malloc((size_t)4 * ns + 1, sizeof(double));
+  s->f = cb_calloc_aligned((size_t)4 * ns + 1, sizeof(double)); /* aligned: the push kernel's 4-vectors */
   s->rest = cb_malloc((size_t)ns + 1, sizeof(double));
   s->need = cb_malloc((size_t)s->nv + 1, sizeof(int));
   s->rinc = cb_malloc((size_t)2 * ns + 1, sizeof(int));

@@ -41,6 +41,7 @@
 #include <cblas.h>
 #include <math.h>
 #include <stddef.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -232,7 +233,7 @@ static void chol3_solve(const double *l, const double *g, double *y) {
 static inline __attribute__((always_inline)) void fast_vertex(const double *xv, const double *xh, double mv,
                                                               double dinv, double inv_dt2, const double g[3],
                                                               double *gF, double *xn, double omega, double alpha,
-                                                              double *inertia, double *gg, double *d2) {
+                                                              double *inertia, double *gg, double *d2, uint64_t *bad) {
   double gf[3];
   for (int a = 0; a < 3; a++) {
     double d = xv[a] - xh[a];
@@ -248,58 +249,91 @@ static inline __attribute__((always_inline)) void fast_vertex(const double *xv, 
       double xnew = omega * (xk - alpha * (dinv * gf[a])) + (1.0 - omega) * xn[a]; /* iterate's update */
       double dx = xnew - xk;
       if (d2) *d2 += dx * dx;
+      *bad |= cb_nonfinite_bits(xnew); /* x_{k+1} finite? (cb_bits_finite) */
       xn[a] = xnew;
     }
 }
 
 /* fast_pass for springs pushed (cb_spring_push), then gravity gr: the same sums in the same order. An
  * update pass (xn not NULL) computes no objective: no energies, no inertia, no sum (grad F)^2 (iterate_fast
- * checks the update instead), and sum |x_{k+1} - x_k|^2 only if d2 (the rho estimate's). */
+ * checks the update instead: *sbad, cb_bits_finite), and sum |x_{k+1} - x_k|^2 only if d2 (the rho
+ * estimate's). Its vertex update is fast_vertex's on 4-vectors (x_k from the padded P.x4): lane by lane the
+ * same operations, so the same bits. */
 static inline __attribute__((always_inline)) void
 push_pass(const cb_spring_push *Pp, const cb_scene *s, const double *restrict x, const double *gr,
           const double *restrict xhat, const double *restrict dinv, double inv_dt2, double *gF, double *xn,
-          double omega, double alpha, int d2, double *inertia, double *sgg, double *sd2, double *Et) {
+          double omega, double alpha, int d2, double *inertia, double *sgg, double *sd2, double *Et, uint64_t *sbad) {
   const cb_spring_push P = *Pp;
   const double *restrict m = s->mass; /* s->model.mass is the same array */
   const int *restrict fi = s->free_index;
   const int nv = s->mesh.nv, objective = !xn;
   const double g0 = gr[0], g1 = gr[1], g2 = gr[2];
+  const cb_v4d gv = {g0, g1, g2, 0.0};
+  const cb_v4u exp3 = {0x7ff0000000000000ull, 0x7ff0000000000000ull, 0x7ff0000000000000ull, 0},
+               one = {0x0010000000000000ull, 0x0010000000000000ull, 0x0010000000000000ull, 0x0010000000000000ull};
+  cb_v4u bad4 = {0, 0, 0, 0};
   double in = 0.0, gg = 0.0, dd = 0.0;
-  const int *restrict first = P.first, *restrict ej = P.ej;
+  uint64_t bad = 0;
+  const int *restrict first = P.first, *restrict slot = P.slot;
   const int mask = P.M - 1;
   double *restrict acc = P.acc;
   double Es = 0.0, Eg = 0.0;
-  memset(acc, 0, (size_t)3 * P.M * sizeof *acc);
-  const int cap = P.cap;
-  const double *restrict fx = P.f, *restrict fy = P.f + cap, *restrict fz = P.f + 2 * (size_t)cap,
-                         *restrict en = P.f + 3 * (size_t)cap;
-  for (int v0 = 0; v0 < nv; v0 += CB_SPRING_CHUNK) {
+  memset(acc, 0, (size_t)4 * P.M * sizeof *acc);
+  const double *restrict f = P.f;
+  const cb_v4d zero = {0.0, 0.0, 0.0, 0.0};
+  for (int v0 = 0, filled = 0; v0 < nv; v0 += CB_SPRING_CHUNK) {
     int v1 = v0 + CB_SPRING_CHUNK < nv ? v0 + CB_SPRING_CHUNK : nv, e0 = first[v0];
+    int reach = v1 + P.M < nv ? v1 + P.M : nv; /* the chunk's springs end below v1 - 1 + M */
+    cb_spring_push_positions(&P, x, filled, reach);
+    filled = reach;
     cb_spring_push_forces(&P, x, e0, first[v1], objective); /* the chunk's springs at once (vectorised) */
+    const double *fe = f;                                   /* spring e's force, e from e0 on */
+    const int *restrict sl = slot + e0;                     /* and its slot */
     for (int v = v0; v < v1; v++) {
       const double *xv = x + 3 * v;
-      double *av = acc + 3 * (v & mask);
-      double g[3] = {av[0], av[1], av[2]}; /* 0 - f_e of the springs ending at v, in spring order */
-      av[0] = av[1] = av[2] = 0.0;
-      for (int e = first[v]; e < first[v + 1]; e++) { /* then + f_e of those starting at v, and E_e */
-        int q = e - e0;
-        double *aj = acc + 3 * (ej[e] & mask);
-        g[0] += fx[q];
-        g[1] += fy[q];
-        g[2] += fz[q];
-        aj[0] -= fx[q];
-        aj[1] -= fy[q];
-        aj[2] -= fz[q];
-        if (objective) Es += en[q];
+      double *av = acc + 4 * (v & mask);
+      cb_v4d g4, f4, a4;
+      cb_v4d_get(&g4, av); /* 0 - f_e of the springs ending at v, in spring order */
+      cb_v4d_put(av, &zero);
+      for (int n = first[v + 1] - first[v]; n > 0; n--, fe += 4, sl++) { /* + f_e of those starting at v, E_e */
+        double *aj = acc + *sl;
+        cb_v4d_get(&f4, fe);
+        cb_v4d_get(&a4, aj);
+        g4 += f4;
+        a4 -= f4;
+        cb_v4d_put(aj, &a4);
+        if (objective) Es += fe[3];
       }
+      int b = fi[v];
+      if (!objective) { /* an update pass: fast_vertex's arithmetic on 4-vectors (lane 3 is not used) */
+        if (b < 0) continue;
+        const double *xh = xhat + 3 * v;
+        double *xp = xn + 3 * v;
+        cb_v4d xk, xh4 = {xh[0], xh[1], xh[2], 0.0}, xp4 = {xp[0], xp[1], xp[2], 0.0};
+        cb_v4d_get(&xk, P.x4 + 4 * (size_t)v);        /* x_k at v (cb_spring_push_positions) */
+        g4 -= m[v] * gv;                              /* gravity: g -= m_v g */
+        cb_v4d gf = m[v] * (xk - xh4) * inv_dt2 + g4; /* M(x - xhat)/dt^2 + dE/dx */
+        cb_v4d x1 = omega * (xk - alpha * (dinv[b] * gf)) + (1.0 - omega) * xp4; /* iterate's update */
+        cb_v4u u;
+        memcpy(&u, &x1, sizeof u);
+        bad4 |= (u & exp3) + one; /* x_{k+1} finite? cb_nonfinite_bits on lanes 0-2 (lane 3 gives 0 + one) */
+        for (int a = 0; a < 3; a++) {
+          if (d2) {
+            double dx = x1[a] - xk[a];
+            dd += dx * dx;
+          }
+          xp[a] = x1[a];
+        }
+        continue;
+      }
+      double g[3] = {g4[0], g4[1], g4[2]};
       if (objective) Eg -= m[v] * (g0 * xv[0] + g1 * xv[1] + g2 * xv[2]); /* gravity_energy */
       g[0] -= m[v] * g0;
       g[1] -= m[v] * g1;
       g[2] -= m[v] * g2;
-      int b = fi[v];
       if (b >= 0)
-        fast_vertex(xv, xhat + 3 * v, m[v], dinv[b], inv_dt2, g, gF ? gF + 3 * b : NULL, xn ? xn + 3 * v : NULL, omega,
-                    alpha, objective ? &in : NULL, objective ? &gg : NULL, d2 ? &dd : NULL);
+        fast_vertex(xv, xhat + 3 * v, m[v], dinv[b], inv_dt2, g, gF ? gF + 3 * b : NULL, NULL, omega, alpha, &in, &gg,
+                    NULL, &bad);
     }
   }
   Et[0] = Es;
@@ -307,10 +341,11 @@ push_pass(const cb_spring_push *Pp, const cb_scene *s, const double *restrict x,
   *inertia = in;
   *sgg = gg;
   *sd2 = dd;
+  *sbad = bad | bad4[0] | bad4[1] | bad4[2];
 }
 
-static double fast_pass(nlj_work *w, const cb_scene *s, const double *x, double *gF, double *xn, double omega,
-                        double alpha, double *gg, double *d2) {
+CB_KERNEL_CLONES static double fast_pass(nlj_work *w, const cb_scene *s, const double *x, double *gF, double *xn,
+                                         double omega, double alpha, double *gg, double *d2, uint64_t *bad) {
   cb_spring_gather G[CB_MAX_TERMS];
   double Et[CB_MAX_TERMS];
   int nt = w->nterms, nv = s->mesh.nv;
@@ -325,7 +360,7 @@ static double fast_pass(nlj_work *w, const cb_scene *s, const double *x, double 
   double inv_dt2 = 1.0 / (w->obj.dt * w->obj.dt), inertia = 0.0, sgg = 0.0, sd2 = 0.0;
   if (push) { /* springs (a mesh's edges), then gravity: the push kernel (nl_kernel.h), one copy per use */
 #define PUSH(GF, XN, ALPHA, D2) \
-  push_pass(&P, s, x, w->grav[1], xhat, dinv, inv_dt2, GF, XN, omega, ALPHA, D2, &inertia, &sgg, &sd2, Et)
+  push_pass(&P, s, x, w->grav[1], xhat, dinv, inv_dt2, GF, XN, omega, ALPHA, D2, &inertia, &sgg, &sd2, Et, bad)
     if (!xn) PUSH(gF, NULL, alpha, 0);
     else if (alpha == 1.0 && !d2) PUSH(NULL, xn, 1.0, 0); /* the lab's: alpha * y = y exactly, folded */
     else PUSH(NULL, xn, alpha, d2 != NULL);               /* any alpha, and the rho estimate's passes */
@@ -348,7 +383,7 @@ static double fast_pass(nlj_work *w, const cb_scene *s, const double *x, double 
         int b = fi[v];
         if (b >= 0)
           fast_vertex(xv, xhat + 3 * v, ms[v], dinv[b], inv_dt2, g, gF ? gF + 3 * b : NULL, xn ? xn + 3 * v : NULL,
-                      omega, alpha, &inertia, &sgg, &sd2);
+                      omega, alpha, &inertia, &sgg, &sd2, bad);
       }
     }
     Et[0] = Es;
@@ -373,7 +408,7 @@ static double fast_pass(nlj_work *w, const cb_scene *s, const double *x, double 
         int b = fi[v];
         if (b >= 0)
           fast_vertex(xv, xhat + 3 * v, ms[v], dinv[b], inv_dt2, g, gF ? gF + 3 * b : NULL, xn ? xn + 3 * v : NULL,
-                      omega, alpha, &inertia, &sgg, &sd2);
+                      omega, alpha, &inertia, &sgg, &sd2, bad);
       }
     }
   }
@@ -396,8 +431,9 @@ static int diverged(double F, double gn, int k, int K) { return !isfinite(gn) ||
  * first and last iterates are measured as iterate measures them (F, grad F
  * stored, cblas_dnrm2); the ones between evaluate the gradient and update in
  * one pass that computes no objective (push_pass), writing x_{k+1} over
- * x_{k-1} and swapping the two arrays. A pass whose x_{k+1} is not finite
- * (cb_vec_all_finite) is measured again the old way at x_k, which is intact, so the
+ * x_{k-1} and swapping the two arrays. A pass whose x_{k+1} is not finite (at a
+ * free vertex: the pass ORs cb_nonfinite_bits of what it writes) is measured again the old way at x_k,
+ * which is intact, so the
  * step diverges exactly where iterate's does, with the same stats and x. */
 static int iterate_fast(cb_integrator *it, double *x, int K, double rho, double *dnorm, cb_step_stats *st, int report) {
   nlj_work *w = it->state;
@@ -414,10 +450,11 @@ static int iterate_fast(cb_integrator *it, double *x, int K, double rho, double 
     double t0 = cb_now_ms();
     if (k > 0 && k < K) { /* evaluate and update in one pass */
       omega = cb_chebyshev_omega(k, rho, omega);
-      fast_pass(w, s, cur, NULL, prev, omega, alpha, &gg, dnorm ? &d2k : NULL);
+      uint64_t bad = 0;
+      fast_pass(w, s, cur, NULL, prev, omega, alpha, &gg, dnorm ? &d2k : NULL, &bad);
       /* every grad F entry was finite: x_{k+1} = omega (x_k - alpha D^-1 g) + (1 - omega) x_{k-1}, with alpha,
        * D^-1 and omega > 0, is not finite where g is not (the pins' entries are their positions) */
-      if (cb_vec_all_finite((int)nv3, prev)) {
+      if (cb_bits_finite(bad)) {
         double *tmp = cur;
         cur = prev;
         prev = tmp;
@@ -426,7 +463,8 @@ static int iterate_fast(cb_integrator *it, double *x, int K, double rho, double 
         continue;
       }
     }
-    double F = fast_pass(w, s, cur, w->gF, NULL, 1.0, alpha, &gg, &d2); /* measured: F, grad F, |grad F| */
+    uint64_t none = 0;
+    double F = fast_pass(w, s, cur, w->gF, NULL, 1.0, alpha, &gg, &d2, &none); /* measured: F, grad F, |grad F| */
     double gn = cblas_dnrm2(nf3, w->gF, 1);
     st->assemble_ms += cb_now_ms() - t0;
     if (k == 0) g0 = gn;

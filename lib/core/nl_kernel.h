@@ -6,6 +6,9 @@
 #ifndef CB_NL_KERNEL_H
 #define CB_NL_KERNEL_H
 
+#include <stdint.h>
+#include <string.h>
+
 #include <clothbench/energy.h>
 
 /* A spring term's springs as structure of arrays, and each vertex's springs:
@@ -113,21 +116,45 @@ static inline double cb_spring_gather_energy(const cb_spring_gather *g) {
  * order, each vertex can take its -f_e from an accumulator that the earlier vertices' springs pushed
  * them into (acc[ej] -= f_e, in spring order, from 0) and then add its own +f_e: the same numbers added
  * in the same order as the gather (cb_spring_gather_add), without its incidence lists. The accumulator
- * is a ring of M vertices (a power of two above the largest ej - ei): 24 M bytes, in L1 on a grid.
- * The forces of a chunk of CB_SPRING_CHUNK vertices' springs are computed at once (vectorised) into
- * f (four blocks of cap: x, y, z, E) by cb_spring_push_forces. */
+ * is a ring of M vertices (a power of two above the largest ej - ei): 32 M bytes, in L1 on a grid.
+ * The forces of a chunk of CB_SPRING_CHUNK vertices' springs are computed at once (vectorised, from x4:
+ * cb_spring_push_positions, a chunk ahead) into f by cb_spring_push_forces, four doubles a spring
+ * (x, y, z, E), so that the vertex loop moves a spring's force, an accumulator's entry (x, y, z and a
+ * lane it ignores) and a vertex's update as 4-vectors (cb_v4d): lane by lane, the same operations as
+ * three scalar ones. f, acc and x4 start at a cache line (cb_calloc_aligned). */
 typedef struct {
   int nv, ns, M, cap;
-  const int *first, *ej;
-  double *f;   /* 4 cap */
-  double *acc; /* 3 M, zero between passes */
+  const int *first, *slot; /* slot[e]: where spring e's -f_e goes in acc, 4 (ej[e] mod M) */
+  double *f;               /* 4 cap: spring first[v0] + q at 4q */
+  double *acc;             /* 4 M, zero between passes */
+  double *x4;              /* 4 nv: x padded to four doubles (x, y, z, 0), filled by cb_spring_push_positions */
   const cb_term *t;
 } cb_spring_push;
 
+/* The kernel's loops are compiled twice on x86-64 with GCC, for AVX2 (without FMA, so every product and
+ * sum rounds as in the SSE2 copy: the same bits) and the default, and the loader picks the one the CPU
+ * runs. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define CB_KERNEL_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define CB_KERNEL_CLONES
+#endif
+
+/* Four doubles as one value (GCC's and clang's vector extension): +, - and * act lane by lane with IEEE
+ * rounding, as on four doubles; compiled to AVX where the function is built for it, else to SSE2 pairs.
+ * Loaded and stored through memcpy (any alignment, no aliasing through a cast). */
+typedef double cb_v4d __attribute__((vector_size(4 * sizeof(double))));
+typedef uint64_t cb_v4u __attribute__((vector_size(4 * sizeof(uint64_t)))); /* their bits */
+static inline __attribute__((always_inline)) void cb_v4d_get(cb_v4d *v, const double *p) { memcpy(v, p, sizeof *v); }
+static inline __attribute__((always_inline)) void cb_v4d_put(double *p, const cb_v4d *v) { memcpy(p, v, sizeof *v); }
+
 /* 1 and p filled if the term's springs allow the push kernel, else 0. */
 int cb_spring_term_push(const cb_term *t, cb_spring_push *p);
-/* The forces of the springs [e0, e1) at x into p->f at e - e0 (e1 - e0 <= p->cap), and their energies
- * unless energy is 0 (then the energies' block is left as it was). */
+/* p->x4 = x (padded) at the vertices [v0, v1): before the forces of springs that reach them. */
+void cb_spring_push_positions(const cb_spring_push *p, const double *x, int v0, int v1);
+/* The forces of the springs [e0, e1) at x (from p->x4, which must hold their ends) into p->f at 4 (e - e0)
+ * (e1 - e0 <= p->cap), and their energies unless energy is 0 (then lane 3 holds no energy: the springs
+ * done four at a time leave c_e * 0 there). */
 void cb_spring_push_forces(const cb_spring_push *p, const double *x, int e0, int e1, int energy);
 
 /* The gravity term's acceleration g (E = -sum_i m_i g . x_i). */

@@ -5,6 +5,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 static _Thread_local char message[1024];
 
@@ -87,6 +88,17 @@ void *cb_calloc(size_t n, size_t size) {
   if (!bytes) return NULL;
   void *p = cb_alloc_tick() ? NULL : calloc(n, size);
   return p ? p : out_of_memory(bytes);
+}
+
+void *cb_calloc_aligned(size_t n, size_t size) {
+  if (n == 0 || size == 0) n = size = 1;
+  size_t bytes = checked_bytes(n, size);
+  if (!bytes) return NULL;
+  void *p = NULL;
+  if (!cb_alloc_tick() && posix_memalign(&p, CB_CACHE_LINE, bytes) != 0) p = NULL;
+  if (!p) return out_of_memory(bytes);
+  memset(p, 0, bytes);
+  return p;
 }
 
 void *cb_malloc(size_t n, size_t size) {
