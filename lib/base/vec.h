@@ -47,10 +47,12 @@ static inline double cb_vec_dot(int n, const double *a, const double *b) {
 /* Finiteness on the bits, so that loops vectorise: a double is not finite iff its 11 exponent bits are all
  * ones, and then adding their lowest bit carries into bit 63. cb_nonfinite_bits(v) has bit 63 set iff v is
  * not finite; OR them together and test the result with cb_bits_finite. */
+#define CB_DOUBLE_EXP_BITS 0x7ff0000000000000ull /* a double's exponent bits */
+#define CB_DOUBLE_EXP_ONE 0x0010000000000000ull  /* their lowest */
 static inline uint64_t cb_nonfinite_bits(double v) {
   uint64_t u;
   memcpy(&u, &v, sizeof u); /* the bits (no aliasing through a cast) */
-  return (u & 0x7ff0000000000000ull) + 0x0010000000000000ull;
+  return (u & CB_DOUBLE_EXP_BITS) + CB_DOUBLE_EXP_ONE;
 }
 static inline int cb_bits_finite(uint64_t bad) { return !(bad >> 63); }
 

@@ -228,7 +228,8 @@ static void chol3_solve(const double *l, const double *g, double *y) {
  * (cb_objective_eval's), and, when xn is not NULL, the update of x_{k+1} into xn (xn holds x_{k-1}
  * of the free vertices on entry; iterate's update). Every sum runs in its old order, so F, grad F
  * and x_{k+1} are bit for bit those of cb_objective_eval and the update loop. gF (if not NULL)
- * receives grad F; *gg gets sum (grad F)^2 and *d2 sum |x_{k+1} - x_k|^2. Returns F. */
+ * receives grad F; *gg gets sum (grad F)^2 and *d2 sum |x_{k+1} - x_k|^2; *bad (NULL when xn is) is ORed
+ * with cb_nonfinite_bits of every x_{k+1} written. Returns F. */
 /* The objective and the update at free vertex v (block b) with gradient g of E: iterate's arithmetic. */
 static inline __attribute__((always_inline)) void fast_vertex(const double *xv, const double *xh, double mv,
                                                               double dinv, double inv_dt2, const double g[3],
@@ -269,11 +270,9 @@ push_pass(const cb_spring_push *Pp, const cb_scene *s, const double *restrict x,
   const int nv = s->mesh.nv, objective = !xn;
   const double g0 = gr[0], g1 = gr[1], g2 = gr[2];
   const cb_v4d gv = {g0, g1, g2, 0.0};
-  const cb_v4u exp3 = {0x7ff0000000000000ull, 0x7ff0000000000000ull, 0x7ff0000000000000ull, 0},
-               one = {0x0010000000000000ull, 0x0010000000000000ull, 0x0010000000000000ull, 0x0010000000000000ull};
+  const cb_v4u exp3 = {CB_DOUBLE_EXP_BITS, CB_DOUBLE_EXP_BITS, CB_DOUBLE_EXP_BITS, 0}; /* lanes 0-2 */
   cb_v4u bad4 = {0, 0, 0, 0};
   double in = 0.0, gg = 0.0, dd = 0.0;
-  uint64_t bad = 0;
   const int *restrict first = P.first, *restrict slot = P.slot;
   const int mask = P.M - 1;
   double *restrict acc = P.acc;
@@ -316,7 +315,7 @@ push_pass(const cb_spring_push *Pp, const cb_scene *s, const double *restrict x,
         cb_v4d x1 = omega * (xk - alpha * (dinv[b] * gf)) + (1.0 - omega) * xp4; /* iterate's update */
         cb_v4u u;
         memcpy(&u, &x1, sizeof u);
-        bad4 |= (u & exp3) + one; /* x_{k+1} finite? cb_nonfinite_bits on lanes 0-2 (lane 3 gives 0 + one) */
+        bad4 |= (u & exp3) + CB_DOUBLE_EXP_ONE; /* x_{k+1} finite? cb_nonfinite_bits on lanes 0-2 (3: 0 + one) */
         for (int a = 0; a < 3; a++) {
           if (d2) {
             double dx = x1[a] - xk[a];
@@ -326,14 +325,14 @@ push_pass(const cb_spring_push *Pp, const cb_scene *s, const double *restrict x,
         }
         continue;
       }
-      double g[3] = {g4[0], g4[1], g4[2]};
-      if (objective) Eg -= m[v] * (g0 * xv[0] + g1 * xv[1] + g2 * xv[2]); /* gravity_energy */
+      double g[3] = {g4[0], g4[1], g4[2]};                 /* an objective pass */
+      Eg -= m[v] * (g0 * xv[0] + g1 * xv[1] + g2 * xv[2]); /* gravity_energy */
       g[0] -= m[v] * g0;
       g[1] -= m[v] * g1;
       g[2] -= m[v] * g2;
       if (b >= 0)
         fast_vertex(xv, xhat + 3 * v, m[v], dinv[b], inv_dt2, g, gF ? gF + 3 * b : NULL, NULL, omega, alpha, &in, &gg,
-                    NULL, &bad);
+                    NULL, NULL);
     }
   }
   Et[0] = Es;
@@ -341,7 +340,7 @@ push_pass(const cb_spring_push *Pp, const cb_scene *s, const double *restrict x,
   *inertia = in;
   *sgg = gg;
   *sd2 = dd;
-  *sbad = bad | bad4[0] | bad4[1] | bad4[2];
+  if (sbad) *sbad = bad4[0] | bad4[1] | bad4[2];
 }
 
 CB_KERNEL_CLONES static double fast_pass(nlj_work *w, const cb_scene *s, const double *x, double *gF, double *xn,
@@ -463,8 +462,7 @@ static int iterate_fast(cb_integrator *it, double *x, int K, double rho, double 
         continue;
       }
     }
-    uint64_t none = 0;
-    double F = fast_pass(w, s, cur, w->gF, NULL, 1.0, alpha, &gg, &d2, &none); /* measured: F, grad F, |grad F| */
+    double F = fast_pass(w, s, cur, w->gF, NULL, 1.0, alpha, &gg, &d2, NULL); /* measured: F, grad F, |grad F| */
     double gn = cblas_dnrm2(nf3, w->gF, 1);
     st->assemble_ms += cb_now_ms() - t0;
     if (k == 0) g0 = gn;
