@@ -46,14 +46,18 @@ endif
 # does not compile (tests/layers.sh checks that it does not).
 # Order: core <- config <- instruments <- io <- programs.
 #   base         lib/base/: header-only building blocks (vec.h, rng.h) every layer may use
-#   core         include/clothbench/ (public API) + lib/core/ (internal headers)
+#   core         include/clothbench/ (public API) + lib/core/<room>/ (internal headers);
+#                the rooms: model, energy, geometry, integrator, solver, util
 #   config       lib/config/: the INI key table and its binding to core structs
 #   instruments  lib/instruments/: measurements on core objects (the thread probe too)
 #   io           lib/io/: what every program shares (CSV writing, provenance, progress);
 #                it writes the instruments' measurements (timings, observed threads)
 #   programs     tools/, experiments/<name>/, bench/, claims/, tests/: everything
 SYS_INC     := -I/usr/include/suitesparse $(if $(OPENBLAS_INC),-I$(OPENBLAS_INC))
-CORE_INC    := -Iinclude -Ilib/base -Ilib/core
+# lib/core in rooms by kind (README "Layout"): each room's internal headers are
+# visible to the whole core and to nothing above it
+CORE_ROOMS  := $(patsubst %/,%,$(sort $(dir $(wildcard lib/core/*/*.[ch]))))
+CORE_INC    := -Iinclude -Ilib/base $(addprefix -I,$(CORE_ROOMS))
 CONFIG_INC  := -Iinclude -Ilib/base -Ilib/config
 INSTR_INC   := -Iinclude -Ilib/base -Ilib/config -Ilib/instruments
 IO_INC      := -Iinclude -Ilib/base -Ilib/config -Ilib/instruments -Ilib/io
@@ -65,7 +69,7 @@ LDFLAGS  := $(SAN)
 # link exactly one CBLAS, OpenBLAS (scripts/check-blas.sh verifies it).
 LDLIBS   := -lcholmod -Wl,-Bstatic -lgsl -Wl,-Bdynamic -lopenblas -linih -lgomp -lm
 
-CORE_SRC  := $(sort $(wildcard lib/core/*.c))
+CORE_SRC  := $(sort $(wildcard lib/core/*/*.c))
 CONFIG_SRC:= $(sort $(wildcard lib/config/*.c))
 INSTR_SRC := $(sort $(wildcard lib/instruments/*.c))
 IO_SRC    := $(sort $(wildcard lib/io/*.c))
@@ -110,7 +114,7 @@ $(BUILD)/version.c: FORCE
 # VECINFO=1 prints what vectorised (-fopt-info-vec).
 # gcc-only flags stay out of clang builds (make fuzz compiles lib/ with clang)
 KERNEL_CFLAGS = -fno-math-errno $(if $(findstring clang,$(CC)),,-fvect-cost-model=dynamic $(if $(filter 1,$(VECINFO)),-fopt-info-vec-optimized))
-$(BUILD)/lib/core/energy_spring.o $(BUILD)/lib/core/integrator_nljacobi.o $(BUILD)/lib/core/integrator_pd.o: CFLAGS += $(KERNEL_CFLAGS)
+$(BUILD)/lib/core/energy/energy_spring.o $(BUILD)/lib/core/integrator/integrator_nljacobi.o $(BUILD)/lib/core/integrator/integrator_pd.o: CFLAGS += $(KERNEL_CFLAGS)
 $(BUILD)/lib/core/%.o: lib/core/%.c
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(CORE_INC) $(CFLAGS) -MMD -MP -c $< -o $@
@@ -364,7 +368,7 @@ endif
 
 # ---- source format: .clang-format, by Debian 12's clang-format 14 ------------------
 CLANG_FORMAT ?= clang-format-14
-FORMAT_SRC := $(sort $(wildcard include/clothbench/*.h lib/*/*.[ch] tools/*.c experiments/*/*.[ch] claims/*.[ch] \
+FORMAT_SRC := $(sort $(wildcard include/clothbench/*.h lib/*/*.[ch] lib/core/*/*.[ch] tools/*.c experiments/*/*.[ch] claims/*.[ch] \
   tests/*.[ch] bench/*.c bench/support/*.[ch] fuzz/*.[ch]))
 
 format-check:

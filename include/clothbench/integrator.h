@@ -224,7 +224,7 @@ struct cb_integrator {
  * Gauss-Seidel order, computed once per scene), or -1 for another type. */
 int cb_vbd_colors(const cb_integrator *it);
 
-/* The registry (lib/core/integrator.c, one X(id) line per type), NULL-terminated;
+/* The registry (lib/core/integrator/integrator.c, one X(id) line per type), NULL-terminated;
  * a type is reached by its name (cb_integrator_type_find), never by a symbol. */
 extern const cb_integrator_type *const cb_integrator_types[];
 const char *cb_integrator_name(int i);

@@ -1,5 +1,5 @@
 /* Material models: what material.stretch and material.bend name. One table
- * (lib/core/material.c), a row per model: its name, its role (the in-plane
+ * (lib/core/model/material.c), a row per model: its name, its role (the in-plane
  * stretch term or the bending term of a scene), the registered term type it
  * builds (energy.h) and its alloc. The scene builds the row a definition
  * names; the config offers the names of each role as that key's choices. */

@@ -90,7 +90,7 @@ struct cb_solver {
   void *work;
 };
 
-/* The registry (lib/core/solver.c): one entry per plug-in file
+/* The registry (lib/core/solver/solver.c): one entry per plug-in file
  * (solver_<name>.c), NULL-terminated. solver.method in a config names one of
  * them; tests and experiments loop over all. */
 extern const cb_solver_type *const cb_solver_types[];

@@ -173,7 +173,7 @@ static const keydef keys_tail[] = {
     {"solver.rho", T_RHO, O(solver_rho), "auto", "-", 0, 1, 1, NULL, NULL,
      "Chebyshev spectral-radius estimate rho in (0, 1), or `auto`: Lanczos bounds of eig(D^-1 A), reused across "
      "factorisations and moved with Gershgorin's bound, estimated afresh when they stop fitting (a slow or growing "
-     "solve, which then restarts) or after 30 factorisations (lib/core/solver_jacobi.c)."},
+     "solve, which then restarts) or after 30 factorisations (lib/core/solver/solver_jacobi.c)."},
     {"solver.ordering", T_ENUM, O(solver_ordering), "nesdis", "-", 0, 0, 0, orderings, NULL,
      "CHOLMOD's fill-reducing ordering: `default` (CHOLMOD's own choice: AMD, then METIS if AMD fills badly), `amd`, "
      "`metis`, or `nesdis` (CHOLMOD's nested dissection, the fastest factorisation from 64^2 to 256^2 in the "
@@ -232,7 +232,7 @@ static int type_keys_conflict(const cb_integrator_type *const *types, char *msg,
           else
             snprintf(msg, n,
                      "integrator.%s: integrator types %s and %s declare it with two definitions (the %s "
-                     "differs); a key two types share is defined once (lib/core/integrator_keys.h)",
+                     "differs); a key two types share is defined once (lib/core/integrator/integrator_keys.h)",
                      p->name, types[u]->name, types[t]->name, what);
           return 1;
         }

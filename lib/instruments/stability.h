@@ -13,7 +13,7 @@
  *    K is the exact Hessian (definiteness `none`): the explicit step uses the
  *    exact force. Gravity is linear in x, so it adds nothing to K; it only sets
  *    the configuration x* (the hanging state) at which K is evaluated. Dense
- *    GSL on small scenes, Lanczos (lib/core/eigen.c) on large ones.
+ *    GSL on small scenes, Lanczos (lib/core/util/eigen.c) on large ones.
  *
  * 2. The cell classifier. A cell is one run of a fixed simulated time from a
  *    given start state (x0, v0). With E = kinetic + elastic + gravity

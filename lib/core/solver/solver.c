@@ -9,7 +9,7 @@
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
 
-/* The registry. Each plug-in file lib/core/solver_<name>.c defines
+/* The registry. Each plug-in file lib/core/solver/solver_<name>.c defines
  * `const cb_solver_type cb_solver_<name>`; its one X(name) line below declares
  * and lists it. The order is that of solver.method's choices, of the tests'
  * loops and of the experiments' rows. */

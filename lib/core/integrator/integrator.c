@@ -15,7 +15,7 @@
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
 
-/* The registry. Each plug-in file lib/core/integrator_<file>.c defines
+/* The registry. Each plug-in file lib/core/integrator/integrator_<file>.c defines
  * `const cb_integrator_type cb_integrator_<id>` (one file may define
  * several, as integrator_pd.c does pd and pd-chebyshev); its one X(id) line
  * below declares and lists it. The order is that of integrator.method's

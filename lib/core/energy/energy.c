@@ -1,6 +1,6 @@
 /* The term registry: every energy term type, one X(id) line each.
  *
- * A new term is one file, lib/core/energy_<name>.c, ending with its table
+ * A new term is one file, lib/core/energy/energy_<name>.c, ending with its table
  *   const cb_term_type cb_term_<id>_type = {.name = "<name>", ...};
  * plus its one X(id) line in CB_TERM_REGISTRY below. Registration is what
  * gets it checked: tests/test_energy_conformance.c runs the
