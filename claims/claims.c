@@ -33,6 +33,7 @@ const char *cb_verdict_name(cb_verdict v) {
   case CB_REPRODUCED: return "reproduced";
   case CB_PARTLY: return "partly reproduced";
   case CB_NOT_REPRODUCED: return "not reproduced";
+  case CB_UNDECIDED: return "undecided (within the spread)";
   default: return "not run";
   }
 }

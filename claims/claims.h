@@ -13,7 +13,9 @@
 #include "stats.h"
 #include "table.h"
 
-typedef enum { CB_NOT_RUN = 0, CB_REPRODUCED, CB_PARTLY, CB_NOT_REPRODUCED } cb_verdict;
+/* CB_UNDECIDED: a timing verdict whose paired spread straddles its threshold
+ * (CLAIMS.md, "Verdicts that hold"): the median alone never decides it. */
+typedef enum { CB_NOT_RUN = 0, CB_REPRODUCED, CB_PARTLY, CB_NOT_REPRODUCED, CB_UNDECIDED } cb_verdict;
 
 typedef struct cb_claim_result {
   cb_verdict verdict;
@@ -110,6 +112,12 @@ cb_claim_timing cb_claim_timing_scale(const cb_claim_timing *a, double s);
 cb_claim_timing cb_claim_timing_median(const cb_claim_timing *v, int n);
 /* 1 if t has a spread to show. */
 int cb_claim_timing_has_spread(const cb_claim_timing *t);
+/* Where t stands against a threshold thr, over its whole spread: +1 when the
+ * spread lies above thr (min > thr), -1 when below (max < thr), 0 when it
+ * straddles thr (undecided within the spread). A number without a spread is
+ * placed by its median (and is never 0 unless med == thr). The one rule every
+ * timing verdict uses, so that no verdict flips with the machine's load. */
+int cb_claim_timing_side(const cb_claim_timing *t, double thr);
 
 /* "<med><unit> (<min>-<max><unit>)" with printf format fmt for each number
  * (e.g. "%.3g"), or "<med><unit>" when t has no spread. Returns buf. */

@@ -147,6 +147,17 @@ cb_claim_timing cb_claim_timing_median(const cb_claim_timing *v, int n) {
 
 int cb_claim_timing_has_spread(const cb_claim_timing *t) { return has(t) && varies(t); }
 
+int cb_claim_timing_side(const cb_claim_timing *t, double thr) {
+  double lo = t->med, hi = t->med;
+  if (cb_claim_timing_has_spread(t)) {
+    lo = fmin(t->min, t->med); /* the median lies inside its spread; guard bounds that do not hold it */
+    hi = fmax(t->max, t->med);
+  }
+  if (lo > thr) return 1;
+  if (hi < thr) return -1;
+  return 0;
+}
+
 static size_t put_spread(char *buf, size_t n, const char *fmt, const cb_claim_timing *t, const char *unit) {
   size_t u = 0;
   u += (size_t)snprintf(buf, n, fmt, t->med);
