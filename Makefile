@@ -54,7 +54,7 @@ endif
 #                it writes the instruments' measurements (timings, observed threads)
 #   programs     tools/, experiments/<name>/, bench/, claims/, tests/: everything
 SYS_INC     := -I/usr/include/suitesparse $(if $(OPENBLAS_INC),-I$(OPENBLAS_INC))
-# lib/core in rooms by kind (README "Layout"): each room's internal headers are
+# lib/core in rooms by kind (CONTRIBUTING.md, "Layout"): each room's internal headers are
 # visible to the whole core and to nothing above it
 CORE_ROOMS  := $(patsubst %/,%,$(sort $(dir $(wildcard lib/core/*/*.[ch]))))
 CORE_INC    := -Iinclude -Ilib/base $(addprefix -I,$(CORE_ROOMS))
@@ -178,7 +178,7 @@ $(BUILD)/tests/test_enomem: LDLIBS += -lsuitesparseconfig
 
 # ---- tests -------------------------------------------------------------------
 
-# Three tiers (README "Tests"):
+# Three tiers (docs/testing.md):
 #   make test       deps, then check: the unit tests, the CLI, report, lock and
 #                   layer checks, and a --smoke run of every experiment (one
 #                   small cell of each sweep) that the CSV-convention test, the
@@ -218,7 +218,7 @@ check: $(TESTS) $(TOOLS) $(EXPS) $(BUILD)/report
 # make check-all skips check if it passed since anything it tests changed
 # (so CI's make test, then make check-all, runs it once); a check that fails
 # or is interrupted leaves no stamp
-$(BUILD)/check.passed: $(TESTS) $(TOOLS) $(EXPS) $(BUILD)/report Makefile README.md docs/csv_columns.txt \
+$(BUILD)/check.passed: $(TESTS) $(TOOLS) $(EXPS) $(BUILD)/report Makefile README.md docs/config.md docs/csv_columns.txt \
   $(wildcard tests/*.sh scripts/*.sh scripts/lib/*.sh configs/*.ini plots/*.gp)
 	@$(MAKE) --no-print-directory check
 
@@ -244,7 +244,7 @@ check-quick: $(EXPS) $(TOOLS)
 	@BUILD=$(BUILD) tests/csv_convention.sh --runs $(QUICK_DIR)
 	@BUILD=$(BUILD) tests/rerun.sh -j $(CHECK_JOBS) --quick $(QUICK_DIR) "$(SHARDS)" $(QUICK_ORDER)
 
-# the cluster runners (README "Running on a cluster"): scripts/parallel-run.sh
+# the cluster runners (docs/running.md, "Running on a cluster"): scripts/parallel-run.sh
 # under GNU parallel, with an interrupted run that resumes, and
 # scripts/slurm-submit.sh against a real Slurm started on this machine
 # (munged, slurmctld, slurmd; needs root), each merged run compared with the
@@ -268,7 +268,7 @@ san: deps
 # lib/, the tests and the programs compiled with --coverage at -O0 in
 # build/cov/; scripts/coverage.sh runs the unit tests, the CLI tests and the
 # --smoke runs there, reports lib/ and lib/core/ (gcovr) and rewrites the
-# README's coverage block; it fails when lib/core/ is under COVERAGE_MIN %.
+# coverage block of docs/testing.md; it fails when lib/core/ is under COVERAGE_MIN %.
 COVERAGE_MIN ?= 85
 
 coverage:
@@ -309,9 +309,9 @@ BLAS_KERNEL := $(BUILD)/blas-kernel
 EXP_ENV := OPENBLAS_NUM_THREADS=$(THREADS) OMP_NUM_THREADS=$(THREADS) $(BLAS_KERNEL) --cache $(BUILD)/blas-kernel.cache
 EXP_CSV := $(EXP_NAMES:%=results/%.csv)
 
-# After a full run (not QUICK=1), the numbers in README.md and docs/experiments/
+# After a full run (not QUICK=1), the numbers in README.md and docs/ (docs/experiments/ too)
 # are regenerated from the new results (build/report --fill): they are never typed.
-DOC_FILL := README.md $(wildcard docs/experiments/*.md)
+DOC_FILL := README.md $(wildcard docs/*.md docs/experiments/*.md)
 
 experiments: deps
 	@$(MAKE) --no-print-directory run-experiments
@@ -357,13 +357,13 @@ bench: deps
 	$(EXP_ENV) $(PYTHON) bench/spmv_scipy.py $(BUILD)/bench_spmv $(BUILD) results/bench_scipy.csv
 	CB_BENCH_MATRIX_DIR=$(BUILD) $(EXP_ENV) $(BUILD)/bench_peers $(if $(filter 1,$(QUICK)),--quick) --out results/bench_peers.csv
 	$(EXP_ENV) $(PYTHON) bench/peers_scipy.py $(if $(filter 1,$(QUICK)),--quick) $(BUILD)/bench_peers $(BUILD) results/bench_peers_scipy.csv
-	$(PYTHON) scripts/readme-peers.py results README.md
-	$(PYTHON) scripts/readme-perf.py results README.md
+	$(PYTHON) scripts/readme-peers.py results docs/performance.md
+	$(PYTHON) scripts/readme-perf.py results docs/performance.md
 	$(EXP_ENV) $(BUILD)/bench_nonlinear --out results/bench_nonlinear.csv
-	$(PYTHON) scripts/readme-bench-nonlinear.py results README.md
+	$(PYTHON) scripts/readme-bench-nonlinear.py results docs/performance.md
 ifeq ($(SCALE),1)
 	$(EXP_ENV) $(BUILD)/bench_scale --out results/bench_scale.csv
-	$(PYTHON) scripts/readme-bench-scale.py results README.md
+	$(PYTHON) scripts/readme-bench-scale.py results docs/performance.md
 endif
 
 # ---- source format: .clang-format, by Debian 12's clang-format 14 ------------------

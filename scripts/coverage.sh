@@ -4,7 +4,7 @@
 # and one --smoke run of each experiment named (every experiment when none
 # is), then gcovr sums the lines of lib/ and of each layer, writes the report
 # to BUILD/coverage.txt (every file, its missed lines) and BUILD/coverage.json,
-# and rewrites the README's block between the coverage markers, so the
+# and rewrites the block of docs/testing.md between the coverage markers, so the
 # figures there come from this run and are never typed. Fails when lib/core/
 # covers less than COVERAGE_MIN % (default 85) of its lines.
 #   BUILD=build/cov scripts/coverage.sh [EXPERIMENT...]   (README: README=...)
@@ -12,7 +12,7 @@ set -eu
 cd "$(dirname "$0")/.."
 B=${BUILD:-build/cov}
 min=${COVERAGE_MIN:-85}
-readme=${README:-README.md}
+readme=${README:-docs/testing.md}
 [ $# -gt 0 ] || for m in experiments/*/main.c; do set -- "$@" "$(basename "$(dirname "$m")")"; done
 command -v gcovr >/dev/null || { echo "coverage: gcovr is missing (apt-get install gcovr)" >&2; exit 1; }
 ls "$B"/lib/core/*.gcno >/dev/null 2>&1 || { echo "coverage: no $B/lib/core/*.gcno: build with --coverage first (make coverage)" >&2; exit 1; }

@@ -38,7 +38,7 @@ def cell(r):
 
 def main():
     res = sys.argv[1] if len(sys.argv) > 1 else "results"
-    readme = sys.argv[2] if len(sys.argv) > 2 else "README.md"
+    readme = sys.argv[2] if len(sys.argv) > 2 else "docs/performance.md"
     path = os.path.join(res, "bench_peers.csv")
     if not os.path.exists(path):
         sys.stderr.write(f"readme-peers: no {path} (make bench writes it)\n")

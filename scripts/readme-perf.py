@@ -52,7 +52,7 @@ def ints(v):
 
 def main():
     res = sys.argv[1] if len(sys.argv) > 1 else "results"
-    readme = sys.argv[2] if len(sys.argv) > 2 else "README.md"
+    readme = sys.argv[2] if len(sys.argv) > 2 else "docs/performance.md"
     prov, core = load(os.path.join(res, "bench_core.csv"))
     cprov, chol = load(os.path.join(res, "bench_core_cholmod.csv"))
     stprov, steps = load(os.path.join(res, "bench_core_step.csv"))

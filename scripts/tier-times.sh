@@ -1,6 +1,6 @@
 #!/bin/sh
-# Measures the test tiers and writes their times into README.md between the
-# tier-times markers (so the README's times are measured, never typed):
+# Measures the test tiers and writes their times into docs/testing.md between the
+# tier-times markers (so the documented times are measured, never typed):
 #   make clean, then make test     (a fresh build: compile and tests)
 #   make test again                (once built)
 #   and with --all: make check-all, make experiments QUICK=1, and their sum
@@ -13,7 +13,7 @@ set -eu
 cd "$(dirname "$0")/.."
 all=0
 [ "${1:-}" = --all ] && { all=1; shift; }
-readme=${1:-README.md}
+readme=${1:-docs/testing.md}
 args=${TIER_MAKE_ARGS:-}
 T=$(mktemp -d "${TMPDIR:-/tmp}/cbtiers.XXXXXX")
 load=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo unknown)

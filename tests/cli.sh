@@ -298,13 +298,13 @@ for key in mesh.type mesh.n mesh.m mesh.size mesh.plane mesh.diagonal mesh.file 
   check "--help-config lacks $key" grep -Fq -- "| \`$key\` |" "$T/helpcfg.out"
 done
 
-if [ -f "$ROOT/README.md" ]; then
+if [ -f "$ROOT/docs/config.md" ]; then
   missing=0
   while IFS= read -r line; do
     case $line in
       '| `'*)
-        if ! grep -Fxq -- "$line" "$ROOT/README.md"; then
-          fail "README.md lacks the --help-config row: $line"
+        if ! grep -Fxq -- "$line" "$ROOT/docs/config.md"; then
+          fail "docs/config.md lacks the --help-config row: $line"
           missing=$((missing + 1))
         fi
         ;;
@@ -312,7 +312,7 @@ if [ -f "$ROOT/README.md" ]; then
   done <"$T/helpcfg.out"
   checks=$((checks + 1))
 else
-  echo "cli: notice: README.md does not exist yet; skipping the config-reference check"
+  echo "cli: notice: docs/config.md does not exist yet; skipping the config-reference check"
 fi
 
 # ---- provenance cannot be forged: newlines in a --set value or a config filename ----

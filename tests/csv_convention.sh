@@ -1,5 +1,5 @@
 #!/bin/sh
-# The CSV convention (README.md, section "CSV convention") on every CSV the
+# The CSV convention (docs/csv.md) on every CSV the
 # experiments write. Every file: its '#' provenance lines first, then one
 # header row, then rows with as many fields as the header. Every column name
 # is snake_case and textual, or ends in a unit suffix, or is a listed

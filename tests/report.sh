@@ -101,7 +101,7 @@ n=$((n + 1)); [ $rc -eq 1 ] || { echo "report: FAIL: a NUL byte gave exit $rc, n
 has "fill: the NUL byte's line" "nul.md:4: NUL byte" "$T/nul.err"
 n=$((n + 1)); cmp -s "$T/nul.md" "$T/nul.keep" || { echo "report: FAIL: a fill of a file with a NUL byte changed it"; fail=1; }
 # every marker in README.md and docs/ is one the report knows
-for doc in README.md docs/experiments/*.md; do
+for doc in README.md docs/*.md docs/experiments/*.md; do
   cp "$doc" "$T/copy.md"
   n=$((n + 1))
   "$B/report" --results "$T/empty" --fill-only --fill "$T/copy.md" 2>"$T/copy.err" || { echo "report: FAIL: $doc:"; cat "$T/copy.err"; fail=1; }
