@@ -10,6 +10,10 @@
 ## make plots         draw plots/out/*.png and .svg from results/*.csv (gnuplot)
 ## make movies        animated GIFs of paired runs (explicit blow-up, Baraff-Witkin vs Newton, drape, locking fold)
 ## make report        decide every claim from results/*.csv into results/REPORT.md
+## make compare       results/ against the committed reference run of the nearest CPU (results/reference/<cpu>/):
+##                     claim by claim, both verdicts and the deciding timings with their spreads; fails when a
+##                     verdict differs outside the spreads
+## make reference     keep the last full run as this CPU's reference (results/reference/<cpu>/, committed)
 ## make bench         the benchmarks (results/bench_core.csv, results/bench_nonlinear.csv);
 ##                     SCALE=1 adds the scaling run to 1024^2 (results/bench_scale.csv, ~15 min)
 ## make check         make test without the package step;  make check-quick  check-all's --quick part
@@ -95,7 +99,7 @@ TEST_OBJ := $(BUILD)/tests/support.o
 help:
 	@sed -n 's/^##  \{0,1\}//p' $(firstword $(MAKEFILE_LIST))
 
-.PHONY: help determinism all test check check-all check-quick check-cluster experiments run-experiments plots movies report bench san fuzz fuzz-build coverage coverage-build deps format format-check clean distclean FORCE
+.PHONY: help determinism all test check check-all check-quick check-cluster experiments run-experiments plots movies report compare reference bench san fuzz fuzz-build coverage coverage-build deps format format-check clean distclean FORCE
 .DEFAULT_GOAL := all
 
 all: $(LIB) $(TOOLS) $(EXPS) $(ALL_BENCHES) $(BUILD)/report
@@ -211,6 +215,7 @@ check: $(TESTS) $(TOOLS) $(EXPS) $(BUILD)/report
 	@BUILD=$(BUILD) tests/experiments.sh --smoke $(SMOKE_DIR) $(EXP_NAMES)
 	@BUILD=$(BUILD) tests/csv_convention.sh --runs $(SMOKE_DIR)
 	@BUILD=$(BUILD) SMOKE_DIR=$(SMOKE_DIR) tests/report.sh
+	@BUILD=$(BUILD) SMOKE_DIR=$(SMOKE_DIR) tests/compare.sh
 	$(call shard_tests,--smoke,$(SMOKE_DIR))
 	@touch $(BUILD)/check.passed
 	@echo "all tests passed"
@@ -344,6 +349,13 @@ movies: deps $(TOOLS)
 # scripts/report.sh does not call make itself
 report: $(BUILD)/report $(BLAS_KERNEL)
 	@BUILD=$(BUILD) $(EXP_ENV) scripts/report.sh
+
+compare: $(BUILD)/report
+	@BUILD=$(BUILD) scripts/compare.sh results
+
+# the last full run becomes this CPU's reference (results/reference/<cpu>/, committed)
+reference:
+	@scripts/store-reference.sh results
 
 # Debian's python3 (its python3-scipy), whatever python3 the PATH finds first
 PYTHON ?= /usr/bin/python3

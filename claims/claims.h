@@ -17,8 +17,21 @@
  * (CLAIMS.md, "Verdicts that hold"): the median alone never decides it. */
 typedef enum { CB_NOT_RUN = 0, CB_REPRODUCED, CB_PARTLY, CB_NOT_REPRODUCED, CB_UNDECIDED } cb_verdict;
 
+/* A timing number a verdict was decided on, recorded by cb_claim_timing_side
+ * (the one rule every timing verdict uses) while its claim is decided: make
+ * compare pairs them between two runs and asks whether the runs differ
+ * within their spreads. */
+typedef struct cb_claim_deciding {
+  double med, min, max; /* min, max: NaN without a spread */
+  double thr;           /* the threshold it was held against */
+  int side;             /* cb_claim_timing_side's answer: +1 above, -1 below, 0 straddles */
+} cb_claim_deciding;
+#define CB_CLAIM_DECIDING_MAX 64
+
 typedef struct cb_claim_result {
   cb_verdict verdict;
+  int ndeciding; /* the first CB_CLAIM_DECIDING_MAX are kept, in the order they were decided */
+  cb_claim_deciding deciding[CB_CLAIM_DECIDING_MAX];
   char reason[4096];   /* one or two sentences: why this verdict */
   char numbers[32768]; /* Markdown: the deciding numbers (a table or a list) */
 } cb_claim_result;
@@ -118,6 +131,9 @@ int cb_claim_timing_has_spread(const cb_claim_timing *t);
  * placed by its median (and is never 0 unless med == thr). The one rule every
  * timing verdict uses, so that no verdict flips with the machine's load. */
 int cb_claim_timing_side(const cb_claim_timing *t, double thr);
+/* Records t against thr as a deciding number of the claim being decided
+ * (cb_claim_decide); cb_claim_timing_side calls it. */
+void cb_claim_record_deciding(const cb_claim_timing *t, double thr, int side);
 
 /* "<med><unit> (<min>-<max><unit>)" with printf format fmt for each number
  * (e.g. "%.3g"), or "<med><unit>" when t has no spread. Returns buf. */

@@ -115,7 +115,7 @@ static int write_report(const char *outpath, const cb_claim_result *res, const c
 }
 
 int main(int argc, char **argv) {
-  const char *results = "results", *out = NULL, *plots = "plots/out";
+  const char *results = "results", *out = NULL, *plots = "plots/out", *compare = NULL;
   const char *fill[64];
   int nfill = 0, fill_only = 0;
   for (int i = 1; i < argc; i++) {
@@ -125,13 +125,18 @@ int main(int argc, char **argv) {
     }
     if (!strcmp(argv[i], "--help")) {
       puts("usage: report [--results DIR] [--plots DIR] [--out PATH] [--fill FILE]... [--version]\n"
+           "       report --compare REFDIR [--results DIR]\n"
            "Decides every claim of CLAIMS.md from DIR/<experiment>.csv (default results/)\n"
            "and writes DIR/REPORT.md (or PATH). A claim whose CSV is missing is `not run`.\n"
            "--fill FILE rewrites, in FILE, every block between a marker line\n"
            "  <!-- report:verdicts -->, <!-- report:origin -->, <!-- report:runtimes --> or\n"
            "  <!-- report:claim ID -->  and the next  <!-- /report -->  line with the same\n"
            "  numbers (make experiments does this for README.md and docs/ after a full run);\n"
-           "--fill-only does only that, without writing REPORT.md.");
+           "--fill-only does only that, without writing REPORT.md.\n"
+           "--compare REFDIR decides every claim in DIR and in REFDIR (a reference run,\n"
+           "  results/reference/<cpu>/) and prints, claim by claim, both verdicts, whether\n"
+           "  they agree, and the timings they were decided on with their spreads; it\n"
+           "  exits 1 when a verdict differs outside the spreads (make compare).");
       return 0;
     }
     if (!strcmp(argv[i], "--results") && i + 1 < argc) results = argv[++i];
@@ -139,11 +144,13 @@ int main(int argc, char **argv) {
     else if (!strcmp(argv[i], "--out") && i + 1 < argc) out = argv[++i];
     else if (!strcmp(argv[i], "--fill") && i + 1 < argc && nfill < 64) fill[nfill++] = argv[++i];
     else if (!strcmp(argv[i], "--fill-only")) fill_only = 1;
+    else if (!strcmp(argv[i], "--compare") && i + 1 < argc) compare = argv[++i];
     else {
       fprintf(stderr, "report: unknown option %s\n", argv[i]);
       return 1;
     }
   }
+  if (compare) return cb_report_compare(stdout, results, compare);
   char outpath[4096];
   if (out) snprintf(outpath, sizeof outpath, "%s", out);
   else snprintf(outpath, sizeof outpath, "%s/REPORT.md", results);

@@ -20,4 +20,18 @@ void cb_report_verdicts(FILE *f, const cb_claim_result *res);
  * a marker without its end). */
 int cb_report_fill(const char *path, const cb_claim_result *res, const char *results);
 
+/* make compare (claims/compare.c): how a claim's verdict in this run stands
+ * against the reference run's. */
+typedef enum {
+  CB_COMPARE_SAME = 0,     /* the same verdict */
+  CB_COMPARE_WITHIN,       /* another verdict, explained by overlapping spreads of a deciding timing */
+  CB_COMPARE_DIFFERS,      /* another verdict that no deciding timing's spread explains */
+  CB_COMPARE_NOT_COMPARED, /* either run lacks the claim, or either verdict is undecided */
+} cb_compare_kind;
+cb_compare_kind cb_report_compare_claim(const cb_claim_result *ours, const cb_claim_result *ref);
+/* Decides every claim in both directories and writes the comparison table to
+ * f. Returns 1 when some verdict differs outside the spreads, 0 otherwise, 2
+ * on an error. */
+int cb_report_compare(FILE *f, const char *ours_dir, const char *ref_dir);
+
 #endif

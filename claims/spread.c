@@ -153,9 +153,9 @@ int cb_claim_timing_side(const cb_claim_timing *t, double thr) {
     lo = fmin(t->min, t->med); /* the median lies inside its spread; guard bounds that do not hold it */
     hi = fmax(t->max, t->med);
   }
-  if (lo > thr) return 1;
-  if (hi < thr) return -1;
-  return 0;
+  int side = lo > thr ? 1 : hi < thr ? -1 : 0;
+  cb_claim_record_deciding(t, thr, side);
+  return side;
 }
 
 static size_t put_spread(char *buf, size_t n, const char *fmt, const cb_claim_timing *t, const char *unit) {
