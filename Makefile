@@ -26,7 +26,7 @@
 ## make format        the same, rewriting the files in place
 ## make clean         remove build/;  make distclean  also results/ and plots/out/
 ##
-## knobs: WERROR=1 (warnings are errors), QUICK=1 (reduced sweeps),
+## knobs: WERROR=1 (warnings are errors), QUICK=1 (reduced sweeps), JOBS=n (experiments at a time; default the cores),
 ##        THREADS=n (threads of OpenBLAS and of CHOLMOD's OpenMP regions, for
 ##        experiments and bench; default 1)
 
@@ -326,8 +326,13 @@ ifneq ($(QUICK),1)
 	@$(EXP_ENV) $(BUILD)/report --results results --fill-only $(addprefix --fill ,$(DOC_FILL))
 endif
 
+# JOBS experiments at a time (default: the cores), longest first: the CPU lock
+# keeps every timed experiment, and every timed cell of the experiments that
+# lock per cell (cb_experiment_timed_cells), alone on the machine, while
+# untimed work fills the other cores (docs/running.md, "Every core")
+JOBS ?= $(CHECK_JOBS)
 run-experiments: $(EXPS) $(BLAS_KERNEL)
-	@$(MAKE) --no-print-directory $(EXP_CSV:%=%.run)
+	@$(MAKE) --no-print-directory -j$(JOBS) $(QUICK_ORDER:%=results/%.csv.run)
 
 # each run records its wall time in results/<name>.runtime (for the report's run-time table)
 results/%.csv.run: $(BUILD)/% $(BLAS_KERNEL)
@@ -336,7 +341,8 @@ results/%.csv.run: $(BUILD)/% $(BLAS_KERNEL)
 	echo "$(EXP_ENV) $(BUILD)/$* $(if $(filter 1,$(QUICK)),--quick) --out results/$*.csv"; \
 	$(EXP_ENV) $(BUILD)/$* $(if $(filter 1,$(QUICK)),--quick) --out results/$*.csv || exit $$?; \
 	t1=$$(date +%s.%N); \
-	awk -v a=$$t0 -v b=$$t1 -v q=$(QUICK) 'BEGIN { printf "wall_s: %.1f\nquick: %d\n", b - a, q == 1 }' > results/$*.runtime
+	{ awk -v a=$$t0 -v b=$$t1 -v q=$(QUICK) 'BEGIN { printf "wall_s: %.1f\nquick: %d\n", b - a, q == 1 }'; \
+	  cat results/$*.csv.split 2>/dev/null; } > results/$*.runtime; rm -f results/$*.csv.split
 
 plots:
 	@scripts/plots.sh

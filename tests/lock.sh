@@ -1,7 +1,8 @@
 #!/bin/sh
 # The CPU lock (lib/io/experiment.c): an untimed experiment waits while a
-# timed one runs, a timed one waits while any other runs, and each CSV says
-# which lock it held. The lock file is a temporary one (CB_CPU_LOCK).
+# timed one runs, a timed one waits while any other runs, an experiment that
+# locks per cell takes the lock exclusively for its timed cells only, a waiting
+# timed cell is not passed by newcomers, and each CSV says which lock it held. The lock file is a temporary one (CB_CPU_LOCK).
 set -u
 B=${BUILD:-build}
 T=$(mktemp -d "${TMPDIR:-/tmp}/cblock.XXXXXX") || exit 1
@@ -40,13 +41,38 @@ release s
 wait $holder
 ok "untimed: no waiting message" "! grep -q waiting '$T/t2.err'"
 
-# 3. a timed experiment (definiteness) waits for a shared holder, then records exclusive
+# 3. a timed experiment (explicit_stability) waits for a shared holder, then records exclusive
 hold -s d
 release d 1
-env -u CB_QUIET CB_CPU_LOCK=$L OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 "$B/definiteness" --smoke --out "$T/d.csv" >/dev/null 2>"$T/d.err"
+env -u CB_QUIET CB_CPU_LOCK=$L OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 "$B/explicit_stability" --smoke --out "$T/d.csv" >/dev/null 2>"$T/d.err"
 ok "timed: waited for the shared holder" "test -e '$T/d.released'"
 wait $holder
 ok "timed: said it was waiting for the others" "grep -q 'waiting for other experiments to finish' '$T/d.err'"
 ok "timed: its CSV records the exclusive lock" "grep -q '^# cpu_lock: exclusive' '$T/d.csv'"
+
+# 4. an experiment that locks per cell (definiteness: its trajectory cells are timed) waits for a
+#    shared holder before its timed cells, says so, and records the per-cell lock
+hold -s c
+release c 1
+env -u CB_QUIET CB_CPU_LOCK=$L OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 "$B/definiteness" --smoke --out "$T/c.csv" >/dev/null 2>"$T/c.err"
+ok "per cell: a timed cell waited for the shared holder" "test -e '$T/c.released'"
+wait $holder
+ok "per cell: said a timed cell was waiting" "grep -q 'waiting for other cells and experiments to finish: a timed cell runs alone' '$T/c.err'"
+ok "per cell: its CSV records the per-cell lock" "grep -q '^# cpu_lock: per cell' '$T/c.csv'"
+ok "per cell: the split of its cell seconds" "grep -q '^timed_cells_s: ' '$T/c.csv.split' && grep -q '^cell_locks: 1' '$T/c.csv.split'"
+
+# 5. the turnstile: while a timed cell waits (for a shared holder), a newcomer asking for the shared
+#    lock waits behind it, rather than passing it (flock alone would let it through)
+hold -s w
+CB_CPU_LOCK=$L OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 "$B/definiteness" --smoke --out "$T/w.csv" >/dev/null 2>&1 &
+dpid=$!
+sleep 1 # definiteness is now waiting for its first timed cell, holding the turnstile
+CB_CPU_LOCK=$L OPENBLAS_NUM_THREADS=1 "$B/topology" --smoke --out "$T/w2.csv" >/dev/null 2>&1 &
+tpid=$!
+sleep 1
+ok "turnstile: a shared newcomer passed a waiting timed cell" "test ! -e '$T/w2.csv'"
+release w
+wait $holder $dpid $tpid
+ok "turnstile: both ran once the holder let go" "test -s '$T/w.csv' -a -s '$T/w2.csv'"
 [ $fail = 0 ] && echo "lock: ok ($n checks)"
 exit $fail

@@ -17,23 +17,90 @@ static const char *cpu_lock_path(void) {
   return p && *p ? p : "/tmp/clothbench-cpu.lock";
 }
 
-/* flock(fd, op), and if it would block, a message and then a blocking wait. */
-static void lock_waiting(const cb_experiment *e, int op, const char *why) {
-  if (flock(e->lock_fd, op | LOCK_NB) == 0) return;
-  if (errno == EWOULDBLOCK) {
-    if (!getenv("CB_QUIET")) fprintf(stderr, "%s: waiting for %s (lock %s)\n", e->name, why, cpu_lock_path());
-    while (flock(e->lock_fd, op) != 0 && errno == EINTR) {}
-  }
+/* flock(fd, op), and if it would block, a message (when say) and then a
+ * blocking wait. Returns 1 if it had to wait. */
+static int flock_waiting(const cb_experiment *e, int fd, int op, const char *why, int say) {
+  if (flock(fd, op | LOCK_NB) == 0) return 0;
+  if (errno != EWOULDBLOCK) return 0; /* a lock that cannot be taken is not waited for */
+  if (say && !getenv("CB_QUIET")) fprintf(stderr, "%s: waiting for %s (lock %s)\n", e->name, why, cpu_lock_path());
+  while (flock(fd, op) != 0 && errno == EINTR) {}
+  return 1;
 }
+
+/* The CPU lock in mode op (LOCK_SH or LOCK_EX), through the turnstile: held
+ * while waiting, it keeps later arrivals out, so an exclusive waiter is next
+ * once the present holders let go (flock alone may let shared holders pass
+ * it for ever). Converting a held lock releases it first, through the same
+ * turnstile. Returns 1 if it had to wait. */
+static int lock_waiting_say(cb_experiment *e, int op, const char *why, int say) {
+  if (e->lock_fd < 0 || e->lock_held == op) return 0;
+  int waited = 0;
+  if (e->turn_fd >= 0) waited = flock_waiting(e, e->turn_fd, LOCK_EX, why, say);
+  if (e->lock_held) flock(e->lock_fd, LOCK_UN);
+  waited |= flock_waiting(e, e->lock_fd, op, why, say && !waited);
+  e->lock_held = op;
+  if (e->turn_fd >= 0) flock(e->turn_fd, LOCK_UN);
+  return waited;
+}
+
+static void lock_waiting(cb_experiment *e, int op, const char *why) { lock_waiting_say(e, op, why, 1); }
 
 void cb_experiment_timed(cb_experiment *e) {
   e->timed = 1;
-  if (e->lock_fd >= 0) lock_waiting(e, LOCK_EX, "other experiments to finish: a timed experiment runs alone");
+  lock_waiting(e, LOCK_EX, "other experiments to finish: a timed experiment runs alone");
+}
+
+void cb_experiment_timed_cells(cb_experiment *e, const char *const *untimed) {
+  e->cell_locks = 1;
+  e->untimed = untimed;
+}
+
+int cb_experiment_sweep_untimed(cb_experiment *e, const char *sweep) {
+  for (int k = 0; e->untimed && e->untimed[k] && k < 32; k++)
+    if (!strcmp(e->untimed[k], sweep)) {
+      e->untimed_seen |= 1u << k;
+      return 1;
+    }
+  return 0;
+}
+
+/* Every untimed sweep name matched a sweep that ran (a smoke or sharded run
+ * may run no cell of a sweep: its cells were still declared, and the name is
+ * checked against the declared sweeps by cb_sweep_run). */
+static int check_untimed(const cb_experiment *e) {
+  for (int k = 0; e->untimed && e->untimed[k]; k++)
+    if (k >= 32 || !(e->untimed_seen & (1u << k)))
+      return cb_fail_status(CB_EINVAL, "untimed sweep '%s' (cb_experiment_timed_cells) names no sweep of %s",
+                            k < 32 ? e->untimed[k] : "(more than 32)", e->name);
+  return CB_OK;
+}
+
+void cb_experiment_cells_start(cb_experiment *e) {
+  if (!e->cell_locks || e->lock_fd < 0 || !e->lock_held) return;
+  flock(e->lock_fd, LOCK_UN);
+  e->lock_held = 0;
+}
+
+void cb_experiment_cell_lock(cb_experiment *e, int timed) {
+  if (!e->cell_locks || e->lock_fd < 0) return;
+  /* one message per run: the first cell that waits says so */
+  if (lock_waiting_say(e, timed ? LOCK_EX : LOCK_SH,
+                       timed ? "other cells and experiments to finish: a timed cell runs alone"
+                             : "a timed cell or experiment to finish",
+                       !e->waited_msg))
+    e->waited_msg = 1;
+}
+
+void cb_experiment_cell_unlock(cb_experiment *e) {
+  if (!e->cell_locks || e->lock_fd < 0 || !e->lock_held) return;
+  flock(e->lock_fd, LOCK_UN);
+  e->lock_held = 0;
 }
 
 int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, int argc, char **argv) {
   memset(e, 0, sizeof *e);
   e->lock_fd = -1;
+  e->turn_fd = -1;
   if (cb_runtime_init()) {
     fprintf(stderr, "%s: %s\n", name, cb_error_message());
     return -1;
@@ -118,7 +185,12 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
   /* the CPU lock, shared: a timed experiment (cb_experiment_timed) waits for us;
    * --list-cells runs no cell, so it neither takes nor waits for the lock */
   if (!e->list_cells) e->lock_fd = open(cpu_lock_path(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
-  if (e->lock_fd >= 0) lock_waiting(e, LOCK_SH, "a timed experiment to finish");
+  if (e->lock_fd >= 0) {
+    char turn[4096];
+    snprintf(turn, sizeof turn, "%s.turn", cpu_lock_path());
+    e->turn_fd = open(turn, O_RDWR | O_CREAT | O_CLOEXEC, 0666); /* without it: flock's own order */
+  }
+  lock_waiting(e, LOCK_SH, "a timed experiment to finish");
   return 0;
 }
 
@@ -181,9 +253,10 @@ static int open_csv(cb_experiment *e, cb_outfile *o, const char *path, const cha
   fprintf(o->f, "# experiment: %s\n# quick: %d\n", e->name, e->quick);
   if (e->smoke) fputs("# smoke: 1\n", o->f);
   fprintf(o->f, "# cpu_lock: %s\n",
-          e->lock_fd < 0 ? "none (the lock file could not be opened)"
-          : e->timed     ? "exclusive (timed: no other clothbench experiment ran meanwhile)"
-                         : "shared (untimed: other untimed experiments may have run meanwhile)");
+          e->lock_fd < 0  ? "none (the lock file could not be opened)"
+          : e->timed      ? "exclusive (timed: no other clothbench experiment ran meanwhile)"
+          : e->cell_locks ? "per cell (timed cells exclusive: nothing else ran beside them; untimed cells shared)"
+                          : "shared (untimed: other untimed experiments may have run meanwhile)");
   if (extra && *extra) fputs(extra, o->f);
   fprintf(o->f, "%s\n", header);
   return CB_OK;
@@ -248,6 +321,23 @@ static void drop_cells(cb_experiment *e) {
   e->cells_len = 0;
 }
 
+/* <out>.split: the wall seconds this process spent in timed and in untimed
+ * cells (make experiments adds them to results/<name>.runtime, and the
+ * report's run-time table shows what a run on every core could save). */
+static int write_split(const cb_experiment *e) {
+  char path[sizeof e->out + 8];
+  snprintf(path, sizeof path, "%s.split", e->out);
+  cb_outfile o;
+  if (cb_outfile_open(&o, path)) return CB_EIO;
+  double timed = e->cell_s[1], untimed = e->cell_s[0];
+  if (!e->cell_locks) { /* the process held one lock throughout: all its cells are of its kind */
+    timed = e->timed ? e->cell_s[0] + e->cell_s[1] : 0;
+    untimed = e->timed ? 0 : e->cell_s[0] + e->cell_s[1];
+  }
+  fprintf(o.f, "timed_cells_s: %.3f\nuntimed_cells_s: %.3f\ncell_locks: %d\n", timed, untimed, e->cell_locks);
+  return cb_outfile_commit(&o) ? CB_EIO : CB_OK;
+}
+
 int cb_experiment_end(cb_experiment *e, int st) {
   if (e->list_cells) { /* the cells were listed; nothing is written */
     for (int t = 0; t < e->ntables; t++) cb_outfile_abort(&e->table[t]);
@@ -255,6 +345,8 @@ int cb_experiment_end(cb_experiment *e, int st) {
     if (st) fprintf(stderr, "%s: %s\n", e->name, cb_error_message());
     return st;
   }
+  if (st == CB_OK) st = check_untimed(e);
+  if (st == CB_OK && write_split(e)) st = CB_EIO;
   for (int t = 0; t < e->ntables; t++) {
     if (st == CB_OK && cb_outfile_commit(&e->table[t])) st = CB_EIO;
     else if (st != CB_OK) cb_outfile_abort(&e->table[t]);

@@ -52,7 +52,14 @@ typedef struct cb_experiment {
   int shard_mode;     /* --shard-mode: CB_SHARD_BALANCED (default) or CB_SHARD_MODULO */
   int list_cells;     /* --list-cells: print the cells (hint, shard), run none, write nothing */
   int timed;          /* 1 after cb_experiment_timed: it holds the CPU lock exclusively */
+  int cell_locks;     /* 1 after cb_experiment_timed_cells: each cell takes the lock for itself */
   int lock_fd;        /* the CPU lock (cb_experiment_begin takes it shared), or -1 */
+  int turn_fd;        /* the turnstile beside it (CB_CPU_LOCK.turn), or -1: see cb_experiment_timed_cells */
+  int lock_held;      /* the lock this process holds now: 0 none, LOCK_SH or LOCK_EX */
+  int waited_msg;     /* the "waiting for" message was printed once for cells */
+  double cell_s[2];   /* wall seconds in this process's cells: [0] untimed, [1] timed */
+  const char *const *untimed; /* cb_experiment_timed_cells: the sweeps whose cells time nothing */
+  unsigned untimed_seen;      /* bit k: untimed[k] named a sweep that ran */
   cb_outfile csv;     /* for programs that write one CSV themselves (bench) */
   cb_progress progress;
   /* tables (cb_experiment_table), in the order opened */
@@ -83,6 +90,32 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
  * /tmp/clothbench-cpu.lock); its use is recorded as "# cpu_lock:" in
  * every CSV. Call it right after cb_experiment_begin. */
 void cb_experiment_timed(cb_experiment *e);
+
+/* The finer alternative to cb_experiment_timed, for an experiment whose every
+ * wall time is measured inside sweep cells: the lock is taken per cell, not
+ * for the whole process. untimed names the sweeps whose cells measure no
+ * wall time (NULL-terminated; at most 32; a name that matches no sweep of
+ * the run is an error at cb_experiment_end, so a typo cannot pass). A cell
+ * of any other sweep (the safe default) holds the lock exclusively while it
+ * runs; a cell of an untimed sweep holds it shared, beside other untimed
+ * cells and experiments. So under
+ * `make experiments JOBS=2` the untimed cells fill the other core and never
+ * run beside a timed cell. Every acquisition passes a turnstile (the file
+ * CB_CPU_LOCK.turn) that an exclusive waiter holds while it waits, so a
+ * stream of shared cells cannot starve a timed one. Call it right after
+ * cb_experiment_begin; the process's shared lock from cb_experiment_begin is
+ * let go when the first sweep starts. */
+void cb_experiment_timed_cells(cb_experiment *e, const char *const *untimed);
+/* 1 if sweep is one of the untimed sweeps (cb_experiment_timed_cells). */
+int cb_experiment_sweep_untimed(cb_experiment *e, const char *sweep);
+
+/* For the sweep runner: the lock around one cell (exclusive when timed) and
+ * its release; no-ops unless cb_experiment_timed_cells was called. */
+void cb_experiment_cell_lock(cb_experiment *e, int timed);
+void cb_experiment_cell_unlock(cb_experiment *e);
+/* For the sweep runner: lets go of cb_experiment_begin's process-wide shared
+ * lock once cells take their own (cb_experiment_timed_cells). */
+void cb_experiment_cells_start(cb_experiment *e);
 
 /* Opens a CSV at path (NULL = the main --out path): provenance lines,
  * "# experiment:", "# quick:", the caller's extra "# ..." lines (may be

@@ -30,9 +30,13 @@ static int run_one(cb_experiment *e, const cb_sweep *s, long i, long global, dou
   for (int t = 0; st == CB_OK && t < e->ntables; t++)
     if (!(out[t] = open_memstream(&buf[t], &len[t]))) st = cb_fail_status(CB_ENOMEM, "out of memory for cell rows");
   if (st == CB_OK) {
+    int timed = !cb_experiment_sweep_untimed(e, s->name);
+    cb_experiment_cell_lock(e, timed);
     double t0 = now_s();
     st = s->run_cell(i, s->ctx, out);
     secs = now_s() - t0;
+    cb_experiment_cell_unlock(e);
+    e->cell_s[timed] += secs;
     if (st) {
       char msg[1024];
       snprintf(msg, sizeof msg, "%s", cb_error_message());
@@ -105,7 +109,10 @@ int cb_sweep_run(cb_experiment *e, const cb_sweep *sweeps, int nsweeps) {
   if (e->shard && !e->cells && !(e->cells = open_memstream(&e->cells_log, &e->cells_len)))
     return cb_fail_status(CB_ENOMEM, "out of memory for the shard's cell list");
   long total = 0;
-  for (int k = 0; k < nsweeps; k++) total += sweeps[k].ncells;
+  for (int k = 0; k < nsweeps; k++) {
+    total += sweeps[k].ncells;
+    (void)cb_experiment_sweep_untimed(e, sweeps[k].name); /* a declared sweep: its untimed name is a real one */
+  }
   int *owner = NULL;
   if (e->shard) {
     if (!(owner = malloc((size_t)(total ? total : 1) * sizeof *owner)))
@@ -140,6 +147,7 @@ int cb_sweep_run(cb_experiment *e, const cb_sweep *sweeps, int nsweeps) {
   char label[64];
   if (e->shard) snprintf(label, sizeof label, "%s (shard %d/%d)", e->name, e->shard, e->nshards);
   else snprintf(label, sizeof label, "%s", e->name);
+  cb_experiment_cells_start(e);
   cb_progress_start_cost(&e->progress, label, n, cost);
   int st = CB_OK;
   g = 0;
