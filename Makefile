@@ -207,6 +207,7 @@ check: $(TESTS) $(TOOLS) $(EXPS) $(BUILD)/report
 	@BUILD=$(BUILD) tests/cli.sh
 	@BUILD=$(BUILD) tests/lock.sh
 	@BUILD=$(BUILD) tests/scripts.sh
+	@BUILD=$(BUILD) tests/hardening.sh
 	@CC="$(CC)" CPPFLAGS="$(CPPFLAGS)" CORE_INC="$(CORE_INC)" CONFIG_INC="$(CONFIG_INC)" INSTR_INC="$(INSTR_INC)" IO_INC="$(IO_INC)" tests/layers.sh
 	@BUILD=$(BUILD) tests/experiments.sh --smoke $(SMOKE_DIR) $(EXP_NAMES)
 	@BUILD=$(BUILD) tests/csv_convention.sh --runs $(SMOKE_DIR)

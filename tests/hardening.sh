@@ -1,0 +1,50 @@
+#!/bin/sh
+# Issue 35 (hardening, round 3): the scripts and programs as a hostile user
+# drives them. Each check names its item; each failed before its fix.
+# Run from the repository root (make check does: BUILD=<dir> tests/hardening.sh).
+set -u
+B=${BUILD:-build}
+T=$(mktemp -d "${TMPDIR:-/tmp}/cbharden.XXXXXX") || exit 1
+trap 'rm -rf "$T"' EXIT INT TERM
+fail=0 n=0
+ok() { desc=$1; shift; n=$((n + 1)); "$@" || { echo "hardening: FAIL: $desc"; fail=1; }; }
+export CB_QUIET=1 OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 CB_CPU_LOCK="$T/cpu.lock" # untimed: no wait for the others
+
+# ---- item 1: the Slurm merge job runs nothing from --out; item 16: nor re-splits --dir ----
+D="$T/slurm  two" # two spaces
+O="$T/out\$(touch $T/PWNED1)\`touch $T/PWNED2\`.csv"
+scripts/slurm-submit.sh --dry-run --smoke --dir "$D" --out "$O" definiteness 2 >"$T/dry.out" 2>"$T/dry.err"
+ok "slurm-submit --dry-run failed: $(cat "$T/dry.err")" test $? -eq 0
+sed -n '/^# ---- .*merge.sh$/,/^# ---- would run/p' "$T/dry.out" | grep '^echo "clothbench: merged' >"$T/echo.sh"
+ok "item 1: no merge echo line in the merge job" test -s "$T/echo.sh"
+sh "$T/echo.sh" >"$T/echo.out" 2>&1
+ok "item 1: \$(...) in --out ran in the merge job's echo" test ! -e "$T/PWNED1"
+ok "item 1: a backquote in --out ran in the merge job's echo" test ! -e "$T/PWNED2"
+ok "item 1: the echo does not print --out as given: $(cat "$T/echo.out")" grep -qF "into $O" "$T/echo.out"
+sed -n '/^# ---- .*merge.sh$/,/^# ---- would run/p' "$T/dry.out" | grep '^scripts/calibrate-hints' |
+  sed "s|^scripts/calibrate-hints|printf '%s\\\\n'|" >"$T/cal.sh"
+sh "$T/cal.sh" >"$T/cal.out" 2>&1
+printf '%s\n' "$D/shard-1/definiteness.csv.cells" "$D/shard-2/definiteness.csv.cells" >"$T/cal.want"
+ok "item 16: the merge job's calibrate-hints paths are not --dir's: $(cat "$T/cal.out")" cmp -s "$T/cal.out" "$T/cal.want"
+
+# ---- items 4 and 16: merge-shards.sh refuses an output that is an input; paths with spaces merge ----
+S="$T/sh  a'b"
+for i in 1 2; do
+  "$B/definiteness" --smoke --shard $i/2 --out "$S/s$i/d.csv" >/dev/null 2>"$T/err" || { echo "hardening: FAIL: definiteness --shard $i/2:"; cat "$T/err"; exit 1; }
+done
+scripts/merge-shards.sh "$S/m/d.csv" "$S/s1/d.csv" "$S/s2/d.csv" >/dev/null 2>"$T/merge.err"
+ok "item 16: shards under a folder with two spaces and a quote do not merge: $(cat "$T/merge.err")" test -s "$S/m/d.csv"
+ok "item 16: no merged cell list" test -s "$S/m/d.csv.cells"
+cp -r "$S/s1" "$S/keep1"
+scripts/merge-shards.sh "$S/s1/d.csv" "$S/s1/d.csv" "$S/s2/d.csv" >/dev/null 2>"$T/merge.err"
+ok "item 4: a merge into shard 1's own path exited 0" test $? -ne 0
+ok "item 4: the refusal does not say the output is an input: $(cat "$T/merge.err")" grep -q 'is the input' "$T/merge.err"
+ok "item 4: shard 1's files changed" diff -r "$S/s1" "$S/keep1"
+side=$(cd "$S/s2" && ls d_*.csv | head -n 1)
+scripts/merge-shards.sh "$S/s2/$side" "$S/s1/d.csv" "$S/s2/d.csv" >/dev/null 2>"$T/merge.err"
+ok "item 4: a merge into shard 2's side table exited 0" test $? -ne 0
+scripts/merge-shards.sh "$S/m/d.csv" "$S/s1/d.csv" "$S/s2/d.csv" >/dev/null 2>"$T/merge.err"
+ok "item 4: the merge again, after the refusals, failed: $(cat "$T/merge.err")" test $? -eq 0
+
+[ $fail = 0 ] && echo "hardening: ok ($n checks)"
+exit $fail
