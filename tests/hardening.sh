@@ -46,5 +46,17 @@ ok "item 4: a merge into shard 2's side table exited 0" test $? -ne 0
 scripts/merge-shards.sh "$S/m/d.csv" "$S/s1/d.csv" "$S/s2/d.csv" >/dev/null 2>"$T/merge.err"
 ok "item 4: the merge again, after the refusals, failed: $(cat "$T/merge.err")" test $? -eq 0
 
+# ---- item 3: an experiment's --out may not replace a config, a mesh or another input ----
+C="$T/configs"
+cp -r configs "$C"
+cp -r configs "$T/configs.orig"
+for o in "$C/hanging.ini" "$C/x.ini" "$C/new.csv" "$C/drape_irregular.obj" "$T/elsewhere.ini"; do
+  "$B/topology" --smoke --configs "$C" --out "$o" >/dev/null 2>"$T/err"
+  ok "item 3: topology --configs DIR --out $o exited 0" test $? -ne 0
+  ok "item 3: topology --out $o: no refusal message: $(cat "$T/err")" grep -q 'refusing' "$T/err"
+done
+ok "item 3: the configs folder changed" diff -r "$C" "$T/configs.orig"
+ok "item 3: --out elsewhere.ini was written" test ! -e "$T/elsewhere.ini"
+
 [ $fail = 0 ] && echo "hardening: ok ($n checks)"
 exit $fail
