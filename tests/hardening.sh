@@ -58,5 +58,27 @@ done
 ok "item 3: the configs folder changed" diff -r "$C" "$T/configs.orig"
 ok "item 3: --out elsewhere.ini was written" test ! -e "$T/elsewhere.ini"
 
+# ---- item 5: tier-times.sh --all keeps the last full run's results (a fake make records what ran where) ----
+F="$T/fake"
+mkdir -p "$F/scripts" "$F/results" "$F/plots/out" "$F/bin"
+cp scripts/tier-times.sh "$F/scripts/"
+echo "full run" >"$F/results/topology.csv"
+echo "full plot" >"$F/plots/out/a.png"
+printf 'x\n<!-- tier-times:begin -->\n<!-- tier-times:end -->\n' >"$F/README.md"
+cat >"$F/bin/make" <<'MAKE'
+#!/bin/sh
+if [ "$1" = -C ]; then cd "$2" || exit 1; shift 2; fi
+case " $* " in
+  *" experiments "*) mkdir -p results plots/out && echo quick >results/topology.csv && echo quick >plots/out/a.png ;;
+  *" test "*) echo "experiments: topology --smoke 1.0 s" ;;
+esac
+exit 0
+MAKE
+chmod +x "$F/bin/make"
+(cd "$F" && git init -q . && git -c user.name=t -c user.email=t@t commit -q --allow-empty -m t && PATH="$F/bin:$PATH" scripts/tier-times.sh --all README.md) >"$T/tier.out" 2>&1
+ok "item 5: tier-times.sh --all with a fake make failed: $(tail -n 5 "$T/tier.out")" test $? -eq 0
+ok "item 5: tier-times.sh --all replaced results/ with its quick run" grep -qx "full run" "$F/results/topology.csv"
+ok "item 5: tier-times.sh --all replaced plots/out with its quick run" grep -qx "full plot" "$F/plots/out/a.png"
+
 [ $fail = 0 ] && echo "hardening: ok ($n checks)"
 exit $fail
