@@ -80,5 +80,29 @@ ok "item 5: tier-times.sh --all with a fake make failed: $(tail -n 5 "$T/tier.ou
 ok "item 5: tier-times.sh --all replaced results/ with its quick run" grep -qx "full run" "$F/results/topology.csv"
 ok "item 5: tier-times.sh --all replaced plots/out with its quick run" grep -qx "full plot" "$F/plots/out/a.png"
 
+# ---- item 6: an interrupted simulate --frames leaves the earlier run's frames, CSV and OBJ, which agree ----
+FR="$T/frames"
+"$B/simulate" configs/hanging.ini --steps 3 --quiet --frames "$FR" --csv "$T/fr.csv" --obj "$T/fr.obj" 2>"$T/err"
+ok "item 6: the first run failed: $(cat "$T/err")" test $? -eq 0
+cp -r "$FR" "$T/frames.first"
+cp "$T/fr.csv" "$T/fr.csv.first"
+"$B/simulate" configs/hanging.ini --steps 1000000 --quiet --frames "$FR" --csv "$T/fr.csv" --obj "$T/fr.obj" 2>"$T/err" &
+pid=$!
+k=0
+until ls "$FR"/.incomplete-frames.*/frame_000005.obj >/dev/null 2>&1 || [ $k -ge 300 ]; do sleep 0.1; k=$((k + 1)); done
+ok "item 6: no frame staged after 30 s (or frames not staged in DIR/.incomplete-frames.<pid>)" test $k -lt 300
+kill -TERM $pid
+wait $pid
+same_frames() { diff -r -x '.incomplete-frames.*' "$FR" "$T/frames.first" >/dev/null 2>&1; }
+ok "item 6: the earlier frames were removed or mixed with the interrupted run's: $(ls "$FR" | head -n 8 | tr '\n' ' ')" same_frames
+ok "item 6: the CSV is not the earlier run's" cmp -s "$T/fr.csv" "$T/fr.csv.first"
+"$B/simulate" configs/hanging.ini --steps 2 --frames "$FR" --csv "$T/fr.csv" --obj "$T/fr.obj" 2>"$T/err"
+ok "item 6: the run after the interrupted one failed: $(cat "$T/err")" test $? -eq 0
+ok "item 6: the run after: not frames 0-2 alone: $(ls -A "$FR" | head -n 8 | tr '\n' ' ')" test "$(ls -A "$FR" | tr '\n' ' ')" = "frame_000000.obj frame_000001.obj frame_000002.obj "
+ok "item 6: the earlier run's frames removed without a word" grep -q 'removed 4 frames of an earlier run' "$T/err"
+# Also: --quiet prints nothing of the frames
+"$B/simulate" configs/hanging.ini --steps 1 --quiet --frames "$FR" --csv "$T/fr.csv" --obj "$T/fr.obj" 2>"$T/err"
+ok "also: simulate --quiet --frames printed: $(cat "$T/err")" test ! -s "$T/err"
+
 [ $fail = 0 ] && echo "hardening: ok ($n checks)"
 exit $fail
