@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <clothbench/readfile.h>
 #include <clothbench/status.h>
 
 #include "outfile.h"
@@ -54,7 +55,7 @@ static int generate(FILE *f, const char *m, size_t len, const cb_claim_result *r
 }
 
 static char *slurp(const char *path, size_t *n) {
-  FILE *f = fopen(path, "rb");
+  FILE *f = cb_fopen_regular(path, NULL); /* a FIFO is refused, not waited on */
   if (!f) return NULL;
   size_t cap = 1 << 16, len = 0;
   char *buf = malloc(cap + 1);

@@ -11,9 +11,12 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include "report.h"
 #include "support.h"
+#include "table.h"
 
 static char dir[64];
 
@@ -103,4 +106,97 @@ Test(hardening, item2_tables_all_or_none, .fini = cleanup) {
   cr_expect_str_eq(slurp("r.csv"), "old main\n", "the main table was replaced though the run failed");
   cr_expect_str_eq(slurp("r_big.csv"), "old big\n");
   cr_expect_str_eq(slurp("r_small.csv"), "old small\n");
+}
+
+/* the report's text of fn on the results folder dir (static buffer) */
+static const char *report_of(void (*fn)(FILE *, const char *)) {
+  static char buf[1 << 16];
+  FILE *f = fmemopen(buf, sizeof buf, "w");
+  cr_assert(f);
+  fn(f, dir);
+  fclose(f);
+  return buf;
+}
+
+/* item 7: the "# smoke:" line after a config line longer than any buffer */
+Test(hardening, item7_smoke_after_a_long_config_line, .fini = cleanup) {
+  make_dir();
+  const char *e = cb_claims[0].experiment;
+  cr_assert(e);
+  static char text[70000];
+  size_t n = (size_t)snprintf(text, sizeof text, "# program: %s\n# config configs/long.ini: ", e);
+  for (int i = 0; i < 6000; i++) n += (size_t)snprintf(text + n, sizeof text - n, "k%d = 1, ", i);
+  snprintf(text + n, sizeof text - n, "\n# experiment: %s\n# quick: 1\n# smoke: 1\na,b\n1,2\n", e);
+  cr_assert_gt(strlen(text), 3 * 8192, "the config line is not longer than the buffers");
+  char name[128];
+  snprintf(name, sizeof name, "%s.csv", e);
+  put(name, text);
+  const char *r = report_of(cb_report_origin);
+  cr_expect(strstr(r, "This is a **smoke** run") != NULL, "a smoke run not reported as one:\n%s", r);
+  cr_expect(strstr(r, "**full**") == NULL, "a smoke run reported as full:\n%s", r);
+}
+
+/* item 10: a run time of nan, 1e20, 3e9 s or -5 s is not converted to minutes */
+Test(hardening, item10_runtime_not_finite_or_out_of_range, .fini = cleanup) {
+  make_dir();
+  const char *e = cb_claims[0].experiment;
+  char name[128];
+  snprintf(name, sizeof name, "%s.csv", e);
+  put(name, "# program: x\n# quick: 0\na,b\n1,2\n");
+  snprintf(name, sizeof name, "%s.runtime", e);
+  const char *bad[] = {"wall_s: nan\n", "wall_s: 1e20\n", "wall_s: 3e9\n", "wall_s: -inf\n", "wall_s: -5\n"};
+  for (int i = 0; i < 5; i++) {
+    put(name, bad[i]);
+    const char *r = report_of(cb_report_runtimes);
+    cr_expect(strstr(r, "-2147483648") == NULL && strstr(r, "nan") == NULL && strstr(r, "inf") == NULL,
+              "'%s' printed as a time:\n%s", bad[i], r);
+    cr_expect(strstr(r, "not a run time") != NULL, "'%s' not refused:\n%s", bad[i], r);
+  }
+  put(name, "wall_s: 125\n"); /* 2 min 05 s, and the total the same */
+  const char *r = report_of(cb_report_runtimes);
+  cr_expect(strstr(r, "| 2 min 05 s |") != NULL, "125 s not 2 min 05 s:\n%s", r);
+}
+
+/* item 10: a count read from a CSV becomes an int only when finite and in range */
+Test(hardening, item10_table_int_refuses_nan_and_huge) {
+  cr_expect_eq(cb_table_int_of(NAN), -1);
+  cr_expect_eq(cb_table_int_of(1e20), -1);
+  cr_expect_eq(cb_table_int_of(3e9), -1);
+  cr_expect_eq(cb_table_int_of(-INFINITY), -1);
+  cr_expect_eq(cb_table_int_of(42.0), 42);
+  cr_expect_eq(cb_table_int_of(-7.0), -7);
+}
+
+/* item 9: a CSV cut in its last row is refused, not read as a short row */
+Test(hardening, item9_csv_without_final_newline, .fini = cleanup) {
+  make_dir();
+  put("cut.csv", "# program: x\na,b\n1,2\n3,4");
+  char p[256];
+  snprintf(p, sizeof p, "%s/cut.csv", dir);
+  cb_table t;
+  cr_expect_neq(cb_table_read(p, &t), CB_OK, "a CSV cut in its last row was read");
+  cr_expect(strstr(cb_error_message(), "does not end with a newline") != NULL, "%s", cb_error_message());
+  put("whole.csv", "# program: x\na,b\n1,2\n3,4\n");
+  snprintf(p, sizeof p, "%s/whole.csv", dir);
+  cr_assert_eq(cb_table_read(p, &t), CB_OK, "%s", cb_error_message());
+  cr_expect_eq(t.nrows, 2);
+  cb_table_free(&t);
+}
+
+/* item 14: a FIFO as a config, a mesh or a CSV is refused at once (the
+ * timeout turns the old wait for a writer into a failure) */
+Test(hardening, item14_fifo_inputs_refused, .fini = cleanup, .timeout = 20) {
+  make_dir();
+  char p[256];
+  snprintf(p, sizeof p, "%s/fifo", dir);
+  cr_assert_eq(mkfifo(p, 0600), 0, "mkfifo: %s", strerror(errno));
+  cb_config c;
+  cr_expect_eq(cb_config_load(p, &c), CB_EIO);
+  cr_expect(strstr(cb_error_message(), "not a regular file") != NULL, "%s", cb_error_message());
+  cb_mesh m;
+  cr_expect_eq(cb_mesh_read_obj(p, &m), CB_EIO);
+  cr_expect(strstr(cb_error_message(), "not a regular file") != NULL, "%s", cb_error_message());
+  cb_table t;
+  cr_expect_eq(cb_table_read(p, &t), CB_EIO);
+  cr_expect(strstr(cb_error_message(), "not a regular file") != NULL, "%s", cb_error_message());
 }
