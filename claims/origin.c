@@ -21,6 +21,7 @@ typedef struct {
  * sweep, so its verdicts mean nothing), --quick (QUICK=1) or full. A smoke
  * CSV says "# smoke: 1" beside "# quick: 1". */
 enum run_kind { RUN_FULL, RUN_QUICK, RUN_SMOKE, RUN_KINDS };
+static const char *first_claim_of_experiment(int i);
 static const char *const run_kind_name[RUN_KINDS] = {[RUN_FULL] = "full", [RUN_QUICK] = "quick", [RUN_SMOKE] = "smoke"};
 static const char *const run_kind_long[RUN_KINDS] = {
     [RUN_FULL] = "full", [RUN_QUICK] = "quick (`QUICK=1`)", [RUN_SMOKE] = "smoke (`--smoke`, make test)"};
@@ -72,6 +73,22 @@ static csv_origin read_origin(const char *results, const char *experiment) {
   free(line);
   fclose(f);
   return o;
+}
+
+const char *cb_report_run_kind(const char *results, const char *experiment) {
+  csv_origin o = read_origin(results, experiment);
+  return o.found ? run_kind_long[run_kind_of(&o)] : NULL;
+}
+
+const char *cb_report_run_kind_all(const char *results) {
+  const char *kind = NULL;
+  for (int i = 0; i < cb_nclaims; i++) {
+    const char *e = first_claim_of_experiment(i), *k = e ? cb_report_run_kind(results, e) : NULL;
+    if (!k) continue;
+    if (kind && strcmp(kind, k) != 0) return "mixed";
+    kind = k;
+  }
+  return kind;
 }
 
 /* "SkylakeX (chosen)", "Cooperlake (detected)", "Prescott (environment)",

@@ -200,3 +200,32 @@ Test(hardening, item14_fifo_inputs_refused, .fini = cleanup, .timeout = 20) {
   cr_expect_eq(cb_table_read(p, &t), CB_EIO);
   cr_expect(strstr(cb_error_message(), "not a regular file") != NULL, "%s", cb_error_message());
 }
+
+/* item 8: report --fill marks the blocks it fills from a smoke or quick run */
+Test(hardening, item8_fill_marks_smoke_verdicts, .fini = cleanup) {
+  make_dir();
+  const char *e = cb_claims[0].experiment, *id = cb_claims[0].id;
+  char name[128], page[512], path[256];
+  snprintf(name, sizeof name, "%s.csv", e);
+  put(name, "# program: x\n# quick: 1\n# smoke: 1\na,b\n1,2\n");
+  snprintf(page, sizeof page,
+           "From the last full run:\n<!-- report:claim %s -->\n<!-- /report -->\n<!-- report:verdicts -->\n<!-- /report "
+           "-->\n",
+           id);
+  put("page.md", page);
+  cb_claim_result *res = calloc((size_t)cb_nclaims, sizeof *res);
+  cr_assert(res);
+  snprintf(path, sizeof path, "%s/page.md", dir);
+  cr_assert_eq(cb_report_fill(path, res, dir), CB_OK, "%s", cb_error_message());
+  const char *r = slurp("page.md");
+  const char *claim = strstr(r, "<!-- report:claim"), *verdicts = strstr(r, "<!-- report:verdicts");
+  cr_assert(claim && verdicts);
+  const char *mark = strstr(claim, "Not a full run");
+  cr_expect(mark && mark < verdicts, "the claim block filled from a smoke run is not marked:\n%s", r);
+  cr_expect(strstr(verdicts, "Not a full run") != NULL, "the verdicts block is not marked:\n%s", r);
+  cr_expect(strstr(r, "smoke") != NULL, "the kind of run is not named:\n%s", r);
+  put(name, "# program: x\n# quick: 0\na,b\n1,2\n"); /* a full run: no mark */
+  cr_assert_eq(cb_report_fill(path, res, dir), CB_OK, "%s", cb_error_message());
+  cr_expect(strstr(slurp("page.md"), "Not a full run") == NULL, "a full run marked:\n%s", slurp("page.md"));
+  free(res);
+}
