@@ -229,3 +229,91 @@ Test(hardening, item8_fill_marks_smoke_verdicts, .fini = cleanup) {
   cr_expect(strstr(slurp("page.md"), "Not a full run") == NULL, "a full run marked:\n%s", slurp("page.md"));
   free(res);
 }
+
+/* item 11: xpbd with stretch_k = bend_k = 0: infinite compliance, no
+ * constraint; the cloth falls freely: x1 = x0 + dt^2 g for the free vertices
+ * (v0 = 0, one substep), not NaN */
+Test(hardening, item11_xpbd_zero_stiffness_falls) {
+  const char *sets[] = {"integrator.method=xpbd", "material.stretch_k=0", "material.bend_k=0", "integrator.dt=0.01",
+                        "scene.gravity=0 -9.8 0", NULL};
+  cb_scene *s = test_scene(sets);
+  cb_integrator *it = test_integrator(sets, s, NULL, NULL);
+  int n3 = 3 * s->mesh.nv;
+  double *x = malloc((size_t)n3 * sizeof *x), *v = calloc((size_t)n3, sizeof *v);
+  cr_assert(x && v);
+  memcpy(x, s->x0, (size_t)n3 * sizeof *x);
+  cb_step_stats st;
+  int r = cb_integrator_step(it, x, v, &st);
+  cr_expect_eq(r, CB_OK, "step 1: %s (%s)", cb_status_name(r), cb_error_message());
+  double worst = 0;
+  for (int i = 0; i < s->mesh.nv; i++) {
+    double want_dy = s->free_index[i] >= 0 ? -9.8 * 0.01 * 0.01 : 0.0;
+    double e = fabs(x[3 * i] - s->x0[3 * i]) + fabs(x[3 * i + 1] - s->x0[3 * i + 1] - want_dy) +
+               fabs(x[3 * i + 2] - s->x0[3 * i + 2]);
+    if (!(e <= worst)) worst = e; /* NaN makes worst NaN */
+  }
+  cr_expect(worst <= 1e-12, "the cloth does not fall freely: worst deviation from x0 + dt^2 g is %g", worst);
+  free(x);
+  free(v);
+  cb_integrator_free(it);
+  cb_scene_free(s);
+}
+
+/* item 12: a subnormal vertex_mass is refused with the key's name */
+Test(hardening, item12_subnormal_vertex_mass_refused) {
+  cb_config c;
+  const char *sets[] = {"material.vertex_mass=5e-324", NULL};
+  test_config(&c, sets);
+  cb_scene *s = NULL;
+  cr_expect_neq(cb_scene_from_config(&c, &s), CB_OK, "a vertex mass of 5e-324 kg was accepted");
+  cr_expect(strstr(cb_error_message(), "material.vertex_mass") != NULL, "%s", cb_error_message());
+  cb_scene_free(s);
+}
+
+/* item 13: pcg and cg with solver.tol = 0 on the hanging cloth reach
+ * round-off and stop as not converged, never as "A is not positive definite" */
+Test(hardening, item13_cg_tol_zero_stops_at_roundoff) {
+  const char *solvers[] = {"pcg", "cg"};
+  for (int k = 0; k < 2; k++) {
+    cb_config c;
+    cr_assert_eq(cb_config_load("configs/hanging.ini", &c), CB_OK, "%s", cb_error_message());
+    char m[64];
+    snprintf(m, sizeof m, "solver.method=%s", solvers[k]);
+    cr_assert_eq(cb_config_set(&c, m), CB_OK);
+    cr_assert_eq(cb_config_set(&c, "solver.tol=0"), CB_OK);
+    cb_scene *s = NULL;
+    cb_integrator *it = NULL;
+    cr_assert_eq(cb_scene_from_config(&c, &s), CB_OK, "%s", cb_error_message());
+    cr_assert_eq(cb_integrator_from_config(&c, s, NULL, &it), CB_OK, "%s", cb_error_message());
+    int n3 = 3 * s->mesh.nv;
+    double *x = malloc((size_t)n3 * sizeof *x), *v = calloc((size_t)n3, sizeof *v);
+    memcpy(x, s->x0, (size_t)n3 * sizeof *x);
+    cb_step_stats st;
+    int r = cb_integrator_step(it, x, v, &st);
+    cr_expect(r == CB_OK || r == CB_NOT_CONVERGED, "%s, tol 0, step 1: %s: %s", solvers[k], cb_status_name(r),
+              cb_error_message());
+    cr_expect(strstr(cb_error_message(), "not positive definite") == NULL, "%s", cb_error_message());
+    free(x);
+    free(v);
+    cb_integrator_free(it);
+    cb_scene_free(s);
+  }
+}
+
+/* Also: pbd/xpbd's sweeps per step, iters x substeps, must fit an int */
+Test(hardening, also_pbd_iters_times_substeps_fits_an_int) {
+  const char *methods[] = {"pbd", "xpbd"};
+  for (int k = 0; k < 2; k++) {
+    char m[64];
+    snprintf(m, sizeof m, "integrator.method=%s", methods[k]);
+    const char *sets[] = {m, "integrator.iters=100000000", "integrator.substeps=1000000", NULL};
+    cb_config c;
+    test_config(&c, sets);
+    cb_scene *s = test_scene(sets);
+    cb_integrator *it = NULL;
+    cr_expect_neq(cb_integrator_from_config(&c, s, NULL, &it), CB_OK, "%s: 1e14 sweeps per step accepted", m);
+    cr_expect(strstr(cb_error_message(), "iters x substeps") != NULL, "%s", cb_error_message());
+    cb_integrator_free(it);
+    cb_scene_free(s);
+  }
+}
