@@ -104,5 +104,14 @@ ok "item 6: the earlier run's frames removed without a word" grep -q 'removed 4 
 "$B/simulate" configs/hanging.ini --steps 1 --quiet --frames "$FR" --csv "$T/fr.csv" --obj "$T/fr.obj" 2>"$T/err"
 ok "also: simulate --quiet --frames printed: $(cat "$T/err")" test ! -s "$T/err"
 
+# ---- item 15: --shard I/N is parsed with range checks (the low 32 bits of 4294967299 are 3) ----
+for bad in 2/4294967299 4294967298/4294967299 2/3x +2/3 " 2/3" 2/-3 0/3 4/3 2/1000001; do
+  "$B/topology" --smoke --list-cells --shard "$bad" --out "$T/shard.csv" >/dev/null 2>"$T/err"
+  ok "item 15: --shard '$bad' accepted" test $? -ne 0
+  ok "item 15: --shard '$bad': no message: $(cat "$T/err")" grep -q "expected I/N" "$T/err"
+done
+"$B/topology" --smoke --list-cells --shard 2/3 --out "$T/shard.csv" >/dev/null 2>"$T/err"
+ok "item 15: --shard 2/3 refused: $(cat "$T/err")" test $? -eq 0
+
 [ $fail = 0 ] && echo "hardening: ok ($n checks)"
 exit $fail

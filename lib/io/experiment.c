@@ -62,6 +62,25 @@ static const char *input_clash(const cb_experiment *e, char *what, size_t n) {
   return NULL;
 }
 
+/* "I/N" with 1 <= I <= N <= 1e6, digits only (sscanf's %d kept the low 32 bits
+ * of 4294967299 and accepted "+2" and " 2"): 0, or -1 */
+static int parse_shard(const char *s, int *i, int *n) {
+  long v[2];
+  for (int k = 0; k < 2; k++) {
+    if (*s < '0' || *s > '9') return -1;
+    char *end;
+    errno = 0;
+    v[k] = strtol(s, &end, 10);
+    if (errno == ERANGE || v[k] < 1 || v[k] > 1000000) return -1;
+    s = end;
+    if (k == 0 && *s++ != '/') return -1;
+  }
+  if (*s || v[0] > v[1]) return -1;
+  *i = (int)v[0];
+  *n = (int)v[1];
+  return 0;
+}
+
 int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, int argc, char **argv) {
   memset(e, 0, sizeof *e);
   e->lock_fd = -1;
@@ -121,9 +140,9 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
         return -1;
       }
     } else if (!strcmp(argv[i], "--shard") && i + 1 < argc) {
-      int a, b, used = 0;
-      if (sscanf(argv[++i], "%d/%d%n", &a, &b, &used) != 2 || argv[i][used] || b < 1 || a < 1 || a > b) {
-        fprintf(stderr, "%s: --shard '%s': expected I/N with 1 <= I <= N (e.g. --shard 2/3)\n", name, argv[i]);
+      int a = 0, b = 0;
+      if (parse_shard(argv[++i], &a, &b) != 0) {
+        fprintf(stderr, "%s: --shard '%s': expected I/N with 1 <= I <= N <= 1000000 (e.g. --shard 2/3)\n", name, argv[i]);
         return -1;
       }
       e->shard = a;
