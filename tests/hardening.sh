@@ -91,8 +91,8 @@ pid=$!
 k=0
 until ls "$FR"/.incomplete-frames.*/frame_000005.obj >/dev/null 2>&1 || [ $k -ge 300 ]; do sleep 0.1; k=$((k + 1)); done
 ok "item 6: no frame staged after 30 s (or frames not staged in DIR/.incomplete-frames.<pid>)" test $k -lt 300
-kill -TERM $pid
-wait $pid
+kill -TERM $pid 2>/dev/null
+wait $pid 2>/dev/null
 same_frames() { diff -r -x '.incomplete-frames.*' "$FR" "$T/frames.first" >/dev/null 2>&1; }
 ok "item 6: the earlier frames were removed or mixed with the interrupted run's: $(ls "$FR" | head -n 8 | tr '\n' ' ')" same_frames
 ok "item 6: the CSV is not the earlier run's" cmp -s "$T/fr.csv" "$T/fr.csv.first"
@@ -112,6 +112,31 @@ for bad in 2/4294967299 4294967298/4294967299 2/3x +2/3 " 2/3" 2/-3 0/3 4/3 2/10
 done
 "$B/topology" --smoke --list-cells --shard 2/3 --out "$T/shard.csv" >/dev/null 2>"$T/err"
 ok "item 15: --shard 2/3 refused: $(cat "$T/err")" test $? -eq 0
+
+# ---- item 17: readme-config.sh never empties the config reference ----
+cp README.md "$T/R.md"
+scripts/readme-config.sh "$T/no-such-simulate" "$T/R.md" >/dev/null 2>"$T/err"
+ok "item 17: readme-config.sh with a missing simulate exited 0" test $? -ne 0
+ok "item 17: readme-config.sh with a missing simulate changed the README" cmp -s README.md "$T/R.md"
+printf '#!/bin/sh\nexit 3\n' >"$T/bad-simulate" && chmod +x "$T/bad-simulate"
+scripts/readme-config.sh "$T/bad-simulate" "$T/R.md" >/dev/null 2>"$T/err"
+ok "item 17: readme-config.sh with a failing simulate exited 0" test $? -ne 0
+ok "item 17: readme-config.sh with a failing simulate changed the README" cmp -s README.md "$T/R.md"
+scripts/readme-config.sh "$B/simulate" "$T/R.md" 2>"$T/err"
+ok "item 17: readme-config.sh with simulate failed: $(cat "$T/err")" test $? -eq 0
+ok "item 17: the regenerated reference has no key table" grep -q '^| `mesh.type`' "$T/R.md"
+
+# ---- item 18: calibrate-hints on a bad first line: its own message, no traceback ----
+for first in "shard" "shard x y z balanced" "" "shard 1 1 ten balanced"; do
+  { echo "$first"; echo "tables -"; echo "0 1 0 fix 0 2 0.5"; } >"$T/bad.cells"
+  scripts/calibrate-hints "$T/bad.cells" >"$T/cal.out" 2>&1
+  ok "item 18: calibrate-hints on first line '$first' exited 0 or 1" test $? -eq 2
+  ok "item 18: calibrate-hints on first line '$first': a traceback" sh -c "! grep -q Traceback '$T/cal.out'"
+  ok "item 18: calibrate-hints on first line '$first': no message of its own" grep -q '^calibrate-hints: ' "$T/cal.out"
+done
+{ echo "shard 1 1 1 balanced"; echo "tables -"; echo "0 1 0 fix zero 2 0.5"; } >"$T/bad.cells"
+scripts/calibrate-hints "$T/bad.cells" >"$T/cal.out" 2>&1
+ok "item 18: calibrate-hints on a non-numeric cell line: a traceback" sh -c "! grep -q Traceback '$T/cal.out'"
 
 [ $fail = 0 ] && echo "hardening: ok ($n checks)"
 exit $fail
