@@ -138,5 +138,19 @@ done
 scripts/calibrate-hints "$T/bad.cells" >"$T/cal.out" 2>&1
 ok "item 18: calibrate-hints on a non-numeric cell line: a traceback" sh -c "! grep -q Traceback '$T/cal.out'"
 
+# ---- Also: jacobi-nl's not_spd says why; movies.sh's messages name MOVIES_WORK, not its link folder ----
+"$B/simulate" configs/hanging.ini --quiet --steps 2 --set integrator.method=jacobi-nl --set integrator.diagonal=exact \
+  --set integrator.definiteness=none --set scene.initial_scale=0.5 --csv "$T/j.csv" --obj "$T/j.obj" 2>"$T/err"
+ok "also: jacobi-nl exact/none on a compressed cloth did not stop not_spd: $(cat "$T/err")" grep -q 'step 1: not_spd' "$T/err"
+ok "also: jacobi-nl's not_spd says nothing of why: $(cat "$T/err")" grep -q 'not positive definite.*integrator.definiteness = none' "$T/err"
+if command -v gnuplot >/dev/null 2>&1; then
+  W="$T/movies work"
+  BUILD=$B MOVIES_ONLY=explicit_blowup MOVIES_STEPS=25 MOVIES_WORK="$W" PLOTS_OUT="$T/movies out" scripts/movies.sh >"$T/movies.out" 2>&1
+  ok "also: movies.sh failed: $(tail -n 3 "$T/movies.out")" test $? -eq 0
+  ok "also: movies.sh reports no divergence of explicit_blowup (a) in 25 steps" grep -q 'explicit_blowup (a): simulate: step' "$T/movies.out"
+  ok "also: movies.sh names its link folder: $(grep cbmovies "$T/movies.out" | head -c 300)" sh -c "! grep -q cbmovies '$T/movies.out'"
+  ok "also: movies.sh does not name MOVIES_WORK" grep -qF "$W/explicit_blowup/a.csv" "$T/movies.out"
+fi
+
 [ $fail = 0 ] && echo "hardening: ok ($n checks)"
 exit $fail

@@ -317,3 +317,29 @@ Test(hardening, also_pbd_iters_times_substeps_fits_an_int) {
     cb_scene_free(s);
   }
 }
+
+/* Also: lbfgs with a vertex exactly on the penalty sphere's centre takes its
+ * step (the energy counted 0 there, a false minimum the line search could
+ * not leave) */
+Test(hardening, also_lbfgs_vertex_on_penalty_centre) {
+  const char *base[] = {"integrator.method=lbfgs", NULL};
+  cb_scene *s0 = test_scene(base);
+  int i = s0->free_vertex[s0->model.nfree / 2];
+  char c[256];
+  snprintf(c, sizeof c, "collider.centre=%.17g %.17g %.17g", s0->x0[3 * i], s0->x0[3 * i + 1], s0->x0[3 * i + 2]);
+  cb_scene_free(s0);
+  const char *sets[] = {"integrator.method=lbfgs", "collider.type=penalty", "collider.radius=0.05", c, NULL};
+  cb_scene *s = test_scene(sets);
+  cb_integrator *it = test_integrator(sets, s, NULL, NULL);
+  int n3 = 3 * s->mesh.nv;
+  double *x = malloc((size_t)n3 * sizeof *x), *v = calloc((size_t)n3, sizeof *v);
+  memcpy(x, s->x0, (size_t)n3 * sizeof *x);
+  cb_step_stats st;
+  int r = cb_integrator_step(it, x, v, &st);
+  cr_expect(r == CB_OK || r == CB_NOT_CONVERGED, "step 1 with vertex %d on the centre: %s: %s", i, cb_status_name(r),
+            cb_error_message());
+  free(x);
+  free(v);
+  cb_integrator_free(it);
+  cb_scene_free(s);
+}
