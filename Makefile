@@ -279,7 +279,7 @@ coverage:
 
 coverage-build: $(TESTS) $(TOOLS) $(EXPS)
 
-# ---- fuzzing: clang's libFuzzer on the config parser, the OBJ reader and scene building
+# ---- fuzzing: clang's libFuzzer on the config parser, the OBJ reader, scene building and the report (fuzz_report: the checkers on crafted CSVs)
 # The library is compiled with coverage (fuzzer-no-link) and ASan + UBSan in
 # build/fuzz/; each harness fuzz/fuzz_<name>.c runs FUZZ_SECONDS (default 60).
 
@@ -295,6 +295,9 @@ fuzz:
 
 fuzz-build: $(FUZZ_SRC:fuzz/%.c=$(BUILD)/%)
 
+# the report's harness links the checkers (claims/) too
+$(BUILD)/fuzz_report: $(BUILD)/fuzz/fuzz_report.o $(REPORT_LIB) $(LIB)
+	$(CC) $(LDFLAGS) -fsanitize=fuzzer $^ $(LDLIBS) -o $@
 $(BUILD)/fuzz_%: $(BUILD)/fuzz/fuzz_%.o $(LIB)
 	$(CC) $(LDFLAGS) -fsanitize=fuzzer $^ $(LDLIBS) -o $@
 

@@ -585,9 +585,9 @@ void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out) {
                      cb_claim_spread(b1, sizeof b1, "%.3g", &tc, ""), ce,
                      z->chol >= 0 ? j4_num(&t, z->chol, "factor_ms") + j4_num(&t, z->chol, "solve_ms") : NAN);
     if (z->best >= 0)
-      cb_claim_numbers(out, "%s, %d, %s | %s |", cb_table_str(&t, z->best, cs),
-                       cb_table_int_of(j4_num(&t, z->best, "iters_to_err")), cb_claim_spread(b2, sizeof b2, "%.3g", &tb, ""),
-                       cb_claim_spread(b3, sizeof b3, "%.3g", &ratio, "x"));
+      cb_claim_numbers(
+          out, "%s, %d, %s | %s |", cb_table_str(&t, z->best, cs), cb_table_int_of(j4_num(&t, z->best, "iters_to_err")),
+          cb_claim_spread(b2, sizeof b2, "%.3g", &tb, ""), cb_claim_spread(b3, sizeof b3, "%.3g", &ratio, "x"));
     else cb_claim_numbers(out, "none reached 1e-6 | - |");
     for (int q = 0; q < nsolv; q++) {
       int r = -1;

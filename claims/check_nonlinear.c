@@ -113,8 +113,8 @@ static cb_verdict j3_lab(const cb_table *t, cb_claim_result *out) {
     if (strcmp(cb_table_str(t, r, cg), "auto")) snprintf(given, sizeof given, "%s", cb_table_str(t, r, cg));
     else snprintf(given, sizeof given, "auto (estimated %.4f)", rho);
     cb_claim_numbers(out, "| %s | %s | %s | %d of %d | %.3g | %.4f, %.4f |\n", given, dv ? "yes" : "no", at,
-                     cb_table_int(t, r, cu), cb_table_int(t, r, cn), cb_table_num(t, r, cm),
-                     cb_table_num(t, r, cl), cb_table_num(t, r, cx));
+                     cb_table_int(t, r, cu), cb_table_int(t, r, cn), cb_table_num(t, r, cm), cb_table_num(t, r, cl),
+                     cb_table_num(t, r, cx));
   }
   cb_verdict v;
   if (dover > 0 && dunder == 0 && d995 == 1) v = CB_REPRODUCED;

@@ -49,8 +49,9 @@ static int generate(FILE *f, const char *m, size_t len, const cb_claim_result *r
     if (i >= 0 && cb_claims[i].experiment) kind = cb_report_run_kind(results, what = cb_claims[i].experiment);
   }
   if (kind && strcmp(kind, "full") != 0)
-    fprintf(f, "> **Not a full run:** these verdicts come from a %s run of %s%s%s; they are not the results of a full "
-               "run.\n\n",
+    fprintf(f,
+            "> **Not a full run:** these verdicts come from a %s run of %s%s%s; they are not the results of a full "
+            "run.\n\n",
             kind, strcmp(what, "the experiments") ? "`" : "", what, strcmp(what, "the experiments") ? "`" : "");
   if (!strcmp(name, "verdicts")) cb_report_verdicts(f, res);
   else if (!strcmp(name, "origin")) cb_report_origin(f, results);

@@ -132,9 +132,7 @@ double cb_table_num(const cb_table *t, int row, int col) {
   return *end ? NAN : v;
 }
 
-int cb_table_int_of(double v) {
-  return isfinite(v) && fabs(v) <= CB_TABLE_INT_MAX ? (int)v : -1;
-}
+int cb_table_int_of(double v) { return isfinite(v) && fabs(v) <= CB_TABLE_INT_MAX ? (int)v : -1; }
 
 int cb_table_int(const cb_table *t, int row, int col) { return cb_table_int_of(cb_table_num(t, row, col)); }
 

@@ -73,7 +73,7 @@ Test(hardening, item19_write_error_keeps_its_cause, .fini = cleanup) {
   static char row[8192];
   memset(row, 'x', sizeof row - 1);
   for (int i = 0; i < 20; i++) fputs(row, o.f); /* the failing write happens here, in the run */
-  errno = 0; /* ... which goes on: other calls set errno before the commit */
+  errno = 0;                                    /* ... which goes on: other calls set errno before the commit */
   cr_assert_neq(cb_outfile_commit(&o), CB_OK, "160 kB committed under a 4 kB file-size limit");
   const char *m = cb_error_message();
   cr_expect(strstr(m, strerror(EFBIG)) != NULL, "the message does not name EFBIG: %s", m);
@@ -209,7 +209,8 @@ Test(hardening, item8_fill_marks_smoke_verdicts, .fini = cleanup) {
   snprintf(name, sizeof name, "%s.csv", e);
   put(name, "# program: x\n# quick: 1\n# smoke: 1\na,b\n1,2\n");
   snprintf(page, sizeof page,
-           "From the last full run:\n<!-- report:claim %s -->\n<!-- /report -->\n<!-- report:verdicts -->\n<!-- /report "
+           "From the last full run:\n<!-- report:claim %s -->\n<!-- /report -->\n<!-- report:verdicts -->\n<!-- "
+           "/report "
            "-->\n",
            id);
   put("page.md", page);
@@ -234,8 +235,8 @@ Test(hardening, item8_fill_marks_smoke_verdicts, .fini = cleanup) {
  * constraint; the cloth falls freely: x1 = x0 + dt^2 g for the free vertices
  * (v0 = 0, one substep), not NaN */
 Test(hardening, item11_xpbd_zero_stiffness_falls) {
-  const char *sets[] = {"integrator.method=xpbd", "material.stretch_k=0", "material.bend_k=0", "integrator.dt=0.01",
-                        "scene.gravity=0 -9.8 0", NULL};
+  const char *sets[] = {"integrator.method=xpbd", "material.stretch_k=0",   "material.bend_k=0",
+                        "integrator.dt=0.01",     "scene.gravity=0 -9.8 0", NULL};
   cb_scene *s = test_scene(sets);
   cb_integrator *it = test_integrator(sets, s, NULL, NULL);
   int n3 = 3 * s->mesh.nv;

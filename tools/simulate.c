@@ -435,7 +435,8 @@ int main(int argc, char **argv) {
   } else if (frames) { /* no CSV: the frames of this run are not published either */
     remove_frames(stage, first, last, sizeof first);
     rmdir(stage);
-    fprintf(stderr, "simulate: --frames: not written, as the CSV was not; %s/ keeps the earlier run's frames\n", frames);
+    fprintf(stderr, "simulate: --frames: not written, as the CSV was not; %s/ keeps the earlier run's frames\n",
+            frames);
   }
   sigprocmask(SIG_SETMASK, &saved, NULL);
   const char *csv_name = strcmp(csv_path, "-") ? csv_path : "standard output";

@@ -142,7 +142,8 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
     } else if (!strcmp(argv[i], "--shard") && i + 1 < argc) {
       int a = 0, b = 0;
       if (parse_shard(argv[++i], &a, &b) != 0) {
-        fprintf(stderr, "%s: --shard '%s': expected I/N with 1 <= I <= N <= 1000000 (e.g. --shard 2/3)\n", name, argv[i]);
+        fprintf(stderr, "%s: --shard '%s': expected I/N with 1 <= I <= N <= 1000000 (e.g. --shard 2/3)\n", name,
+                argv[i]);
         return -1;
       }
       e->shard = a;

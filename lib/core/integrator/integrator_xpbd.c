@@ -203,8 +203,8 @@ static void sweep(xpbd_work *w, double *x, double h, double sprime) {
     if (w->pbd) {
       dl = -sprime * C / (wi + wj); /* dlambda = -s' C/(w_i + w_j) */
     } else {
-      double at = 1.0 / (w->kc[c] * h * h);           /* alpha~ = alpha/h^2, alpha = 1/k */
-      if (!isfinite(at)) continue; /* infinite compliance (k = 0, or k h^2 below 1/DBL_MAX): no constraint */
+      double at = 1.0 / (w->kc[c] * h * h); /* alpha~ = alpha/h^2, alpha = 1/k */
+      if (!isfinite(at)) continue;          /* infinite compliance (k = 0, or k h^2 below 1/DBL_MAX): no constraint */
       dl = (-C - at * w->lambda[c]) / (wi + wj + at); /* dlambda = (-C - alpha~ lambda)/(w_i + w_j + alpha~) */
       w->lambda[c] += dl;
     }
