@@ -211,6 +211,7 @@ check: $(TESTS) $(TOOLS) $(EXPS) $(BUILD)/report
 	@BUILD=$(BUILD) tests/cli.sh
 	@BUILD=$(BUILD) tests/lock.sh
 	@BUILD=$(BUILD) tests/scripts.sh
+	@BUILD=$(BUILD) tests/hardening.sh
 	@CC="$(CC)" CPPFLAGS="$(CPPFLAGS)" CORE_INC="$(CORE_INC)" CONFIG_INC="$(CONFIG_INC)" INSTR_INC="$(INSTR_INC)" IO_INC="$(IO_INC)" tests/layers.sh
 	@BUILD=$(BUILD) tests/experiments.sh --smoke $(SMOKE_DIR) $(EXP_NAMES)
 	@BUILD=$(BUILD) tests/csv_convention.sh --runs $(SMOKE_DIR)
@@ -283,7 +284,7 @@ coverage:
 
 coverage-build: $(TESTS) $(TOOLS) $(EXPS)
 
-# ---- fuzzing: clang's libFuzzer on the config parser, the OBJ reader and scene building
+# ---- fuzzing: clang's libFuzzer on the config parser, the OBJ reader, scene building and the report (fuzz_report: the checkers on crafted CSVs)
 # The library is compiled with coverage (fuzzer-no-link) and ASan + UBSan in
 # build/fuzz/; each harness fuzz/fuzz_<name>.c runs FUZZ_SECONDS (default 60).
 
@@ -299,6 +300,9 @@ fuzz:
 
 fuzz-build: $(FUZZ_SRC:fuzz/%.c=$(BUILD)/%)
 
+# the report's harness links the checkers (claims/) too
+$(BUILD)/fuzz_report: $(BUILD)/fuzz/fuzz_report.o $(REPORT_LIB) $(LIB)
+	$(CC) $(LDFLAGS) -fsanitize=fuzzer $^ $(LDLIBS) -o $@
 $(BUILD)/fuzz_%: $(BUILD)/fuzz/fuzz_%.o $(LIB)
 	$(CC) $(LDFLAGS) -fsanitize=fuzzer $^ $(LDLIBS) -o $@
 

@@ -121,16 +121,16 @@ static b2row b2_get(const cb_table *t, const char *model, const char *hessian, c
   int cs = cb_table_col(t, "step_min_ms"), repeated = cs >= 0;
   int cim = cb_table_col(t, "newton_iters_max"), cun = cb_table_col(t, "unconverged_steps"); /* optional */
   for (int r = 0; r < t->nrows; r++) {
-    if (!is(t, r, cp, "b2") || !is(t, r, cm, model) || !is(t, r, ce, mesh) || (int)cb_table_num(t, r, cn) != n ||
+    if (!is(t, r, cp, "b2") || !is(t, r, cm, model) || !is(t, r, ce, mesh) || cb_table_int(t, r, cn) != n ||
         strcmp(b2_hessian(t, r), hessian) != 0)
       continue;
     b.found = 1;
     b.n = n;
     snprintf(b.hessian, sizeof b.hessian, "%s", hessian);
-    b.steps = (int)cb_table_num(t, r, cb_table_col(t, "steps"));
-    b.iters = (int)cb_table_num(t, r, cb_table_col(t, "newton_iters"));
-    b.iters_max = cim >= 0 ? (int)cb_table_num(t, r, cim) : -1;
-    b.unconverged = cun >= 0 ? (int)cb_table_num(t, r, cun) : -1;
+    b.steps = cb_table_int(t, r, cb_table_col(t, "steps"));
+    b.iters = cb_table_int(t, r, cb_table_col(t, "newton_iters"));
+    b.iters_max = cim >= 0 ? cb_table_int(t, r, cim) : -1;
+    b.unconverged = cun >= 0 ? cb_table_int(t, r, cun) : -1;
     static const char *const part[4] = {"assemble_ms", "factor_ms", "solve_ms", "wall_ms"};
     for (int q = 0; q < 4; q++)
       b.t[q] = repeated ? cb_claim_timing_at(t, r, part[q])
@@ -146,9 +146,9 @@ static b2row b2_get(const cb_table *t, const char *model, const char *hessian, c
     b.wall_min = cl >= 0 ? cb_table_num(t, r, cl) : NAN;
     b.wall_max = ch >= 0 ? cb_table_num(t, r, ch) : NAN;
     b.kinetic = cb_table_num(t, r, cb_table_col(t, "kinetic_j"));
-    b.contacts = (int)cb_table_num(t, r, cb_table_col(t, "contacts"));
-    b.indefinite = (int)cb_table_num(t, r, cb_table_col(t, "indefinite"));
-    b.hinges = (int)cb_table_num(t, r, cb_table_col(t, "hinges"));
+    b.contacts = cb_table_int(t, r, cb_table_col(t, "contacts"));
+    b.indefinite = cb_table_int(t, r, cb_table_col(t, "indefinite"));
+    b.hinges = cb_table_int(t, r, cb_table_col(t, "hinges"));
     snprintf(b.status, sizeof b.status, "%s", cb_table_str(t, r, cb_table_col(t, "status")));
   }
   return b;
@@ -159,7 +159,7 @@ static double b2_rms(const cb_table *t, const char *pair, const char *mesh, int 
   int cp = cb_table_col(t, "part"), cm = cb_table_col(t, "model"), ce = cb_table_col(t, "mesh"),
       cn = cb_table_col(t, "n"), cr = cb_table_col(t, "rms_m");
   for (int r = 0; r < t->nrows; r++)
-    if (is(t, r, cp, "b2_rms") && is(t, r, cm, pair) && is(t, r, ce, mesh) && (int)cb_table_num(t, r, cn) == n)
+    if (is(t, r, cp, "b2_rms") && is(t, r, cm, pair) && is(t, r, ce, mesh) && cb_table_int(t, r, cn) == n)
       return cb_table_num(t, r, cr);
   return NAN;
 }
@@ -193,7 +193,7 @@ void cb_check_B2(const cb_table *t, const char *results_dir, cb_claim_result *ou
   int ns[MAXM], np = 0, nh = 0, nmax = -1;
   for (int r = 0; r < t->nrows; r++) {
     if (!is(t, r, cp, "b2")) continue;
-    int n = (int)cb_table_num(t, r, cn), seen = 0;
+    int n = cb_table_int(t, r, cn), seen = 0;
     for (int k = 0; k < np; k++) seen |= ns[k] == n && strcmp(mesh[k], cb_table_str(t, r, ce)) == 0;
     if (!seen && np < MAXM) {
       mesh[np] = cb_table_str(t, r, ce);

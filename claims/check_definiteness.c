@@ -91,7 +91,7 @@ static int load(const cb_table *csv, data_t *d, cb_claim_result *out) {
       s->none_sys++;
       s->none_indef += !spd || me < 0;
       s->none_comp_max = fmax(s->none_comp_max, comp);
-      if (!spd && s->none_fail_step < 0) s->none_fail_step = (int)cb_table_num(csv, r, c[C_STEP]);
+      if (!spd && s->none_fail_step < 0) s->none_fail_step = cb_table_int(csv, r, c[C_STEP]);
     }
     int indef = !spdx || mex < 0;
     s->ex_sys++;
@@ -164,7 +164,7 @@ void cb_check_h1(const cb_table *csv, const char *dir, cb_claim_result *out) {
   double worst = 0, thr = NAN;
   for (int r = 0; cd >= 0 && cp >= 0 && cr >= 0 && ca >= 0 && cq >= 0 && cs >= 0 && r < pair.nrows; r++) {
     if (strcmp(cb_table_str(&pair, r, cp), POLICY_EXACT) || !(cb_table_num(&pair, r, cr) < 1)) continue;
-    int dim = (int)cb_table_num(&pair, r, cd), spd = cb_table_num(&pair, r, cs) == 1;
+    int dim = cb_table_int(&pair, r, cd), spd = cb_table_num(&pair, r, cs) == 1;
     double a = cb_table_num(&pair, r, ca), q = cb_table_num(&pair, r, cq);
     worst = fmax(worst, fabs(a - q) / fmax(1.0, fabs(q)));
     if (dim == 1) {

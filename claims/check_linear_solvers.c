@@ -77,7 +77,7 @@ static int load(const cb_table *csv, const char *dir, data_t *d, cb_claim_result
     u->status = cb_table_str(csv, r, c[C_STATUS]);
     u->alpha = cb_table_num(csv, r, c[C_ALPHA]);
     u->rho = cb_table_num(csv, r, c[C_RHO]);
-    u->last_iter = (int)cb_table_num(csv, e - 1, c[C_ITER]);
+    u->last_iter = cb_table_int(csv, e - 1, c[C_ITER]);
     u->last_rel = cb_table_num(csv, e - 1, c[C_REL]);
     u->last_wall = cb_table_num(csv, e - 1, c[C_WALL]);
     u->last_err = cb_table_num(csv, e - 1, c[C_ERR]);
@@ -87,7 +87,7 @@ static int load(const cb_table *csv, const char *dir, data_t *d, cb_claim_result
     u->it6 = -1;
     u->wall6 = NAN;
     for (int k = r; k < e; k++) {
-      rows[k - r] = (cb_trace_row){(int)cb_table_num(csv, k, c[C_ITER]), cb_table_num(csv, k, c[C_REL]),
+      rows[k - r] = (cb_trace_row){cb_table_int(csv, k, c[C_ITER]), cb_table_num(csv, k, c[C_REL]),
                                    cb_table_num(csv, k, c[C_WALL]), cb_table_num(csv, k, c[C_ERR])};
       if (u->it6 < 0 && rows[k - r].rel_residual <= 1e-6) {
         u->it6 = rows[k - r].iter;
@@ -184,7 +184,7 @@ void cb_check_j1(const cb_table *csv, const char *dir, cb_claim_result *out) {
     nsc += has_runs;
     double lmin, lmax, ld = sc_num(&d, s, "lmin_dense"), hd = sc_num(&d, s, "lmax_dense");
     double ll = sc_num(&d, s, "lmin_lanczos"), hl = sc_num(&d, s, "lmax_lanczos");
-    int dense, nondd = (int)sc_num(&d, s, "non_dd_rows");
+    int dense, nondd = cb_table_int_of(sc_num(&d, s, "non_dd_rows"));
     spectrum(&d, s, &lmin, &lmax, &dense);
     if (dense) spec_diff = fmax(spec_diff, fmax(fabs(ld - ll) / ld, fabs(hd - hl) / hd));
     const run_t *v = NULL;
@@ -198,7 +198,7 @@ void cb_check_j1(const cb_table *csv, const char *dir, cb_claim_result *out) {
     char van[64] = "spectrum only (no runs)";
     if (v) snprintf(van, sizeof van, "%s (rate %.4f)", v->status, v->rate);
     cb_claim_numbers(out, "| %s | %d / %d | %s | [%.6g, %.6g] | %.4g | %.4f | %s |\n", s, nondd,
-                     (int)sc_num(&d, s, "n_dofs"), dz, ll, hl, 2 / lmax, rho1, van);
+                     cb_table_int_of(sc_num(&d, s, "n_dofs")), dz, ll, hl, 2 / lmax, rho1, van);
   }
   cb_claim_numbers(out, "\n| scene | alpha / (2/lambda_max) | predicted rho | measured rate, last quarter (exponent "
                         "deviation) | previous quarter | iterations | status | agrees "
@@ -506,7 +506,7 @@ static int j4_fit(const cb_table *t, const char *solver, double *p, double *logc
         j4_num(t, r, "wall_ms") > 0) {
       x[m] = log(j4_num(t, r, "n_dofs"));
       y[m] = log(j4_num(t, r, "wall_ms"));
-      gs[m++] = (int)j4_num(t, r, "grid_n");
+      gs[m++] = cb_table_int_of(j4_num(t, r, "grid_n"));
     }
   int k = m > 3 ? m - 3 : 0;
   if (m - k < 2) return 0;
@@ -534,12 +534,12 @@ void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out) {
   for (int r = 0; r < t.nrows; r++) {
     const char *so = cb_table_str(&t, r, cs);
     const cb_solver_type *ty = cb_solver_type_find(so);
-    int direct = ty && (ty->flags & CB_SOLVER_DIRECT), g = (int)cb_table_num(&t, r, cg), k = 0;
+    int direct = ty && (ty->flags & CB_SOLVER_DIRECT), g = cb_table_int(&t, r, cg), k = 0;
     if (!so[0]) continue; /* a scene whose capture failed */
     while (k < ns && sz[k].grid != g) k++;
     if (k == ns) {
       if (ns == J4_MAXS) continue;
-      sz[ns++] = (j4_size){g, (int)j4_num(&t, r, "n_dofs"), -1, -1, j4_num(&t, r, "lmax_over_lmin")};
+      sz[ns++] = (j4_size){g, cb_table_int_of(j4_num(&t, r, "n_dofs")), -1, -1, j4_num(&t, r, "lmax_over_lmin")};
     }
     if (direct) {
       if (!strcmp(so, "cholmod") || sz[k].chol < 0) sz[k].chol = r;
@@ -585,14 +585,14 @@ void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out) {
                      cb_claim_spread(b1, sizeof b1, "%.3g", &tc, ""), ce,
                      z->chol >= 0 ? j4_num(&t, z->chol, "factor_ms") + j4_num(&t, z->chol, "solve_ms") : NAN);
     if (z->best >= 0)
-      cb_claim_numbers(out, "%s, %d, %s | %s |", cb_table_str(&t, z->best, cs),
-                       (int)j4_num(&t, z->best, "iters_to_err"), cb_claim_spread(b2, sizeof b2, "%.3g", &tb, ""),
-                       cb_claim_spread(b3, sizeof b3, "%.3g", &ratio, "x"));
+      cb_claim_numbers(
+          out, "%s, %d, %s | %s |", cb_table_str(&t, z->best, cs), cb_table_int_of(j4_num(&t, z->best, "iters_to_err")),
+          cb_claim_spread(b2, sizeof b2, "%.3g", &tb, ""), cb_claim_spread(b3, sizeof b3, "%.3g", &ratio, "x"));
     else cb_claim_numbers(out, "none reached 1e-6 | - |");
     for (int q = 0; q < nsolv; q++) {
       int r = -1;
       for (int i = 0; i < t.nrows && r < 0; i++)
-        if ((int)cb_table_num(&t, i, cg) == z->grid && !strcmp(cb_table_str(&t, i, cs), solv[q])) r = i;
+        if (cb_table_int(&t, i, cg) == z->grid && !strcmp(cb_table_str(&t, i, cs), solv[q])) r = i;
       if (r < 0) cb_claim_numbers(out, " - |");
       else if (j4_reached(&t, r)) cb_claim_numbers(out, " %.3g |", j4_num(&t, r, "wall_ms"));
       else

@@ -40,7 +40,7 @@ void cb_check_L1(const cb_table *t, const char *results_dir, cb_claim_result *ou
                         "deciding number | verdict |\n|---|---|---|---|---|---|---|---|\n");
   for (int r = 0; r < t->nrows; r++) {
     if (done[r]) continue;
-    int on = (int)cb_table_num(t, r, c[3]), n = 0;
+    int on = cb_table_int(t, r, c[3]), n = 0;
     for (int q = r; q < t->nrows; q++) { /* the case: same model, mesh, fold; its converged (k, angle), sorted by k */
       if (!same(t, q, c[0], cb_table_str(t, r, c[0])) || !same(t, q, c[1], cb_table_str(t, r, c[1])) ||
           !same(t, q, c[2], cb_table_str(t, r, c[2])))

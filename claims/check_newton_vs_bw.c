@@ -70,7 +70,7 @@ static int i2_variants(const cb_table *t, int cd, int cl, char def[][32], int *l
     for (int l = 1; l >= 0; l--) {
       int found = 0;
       for (int r = 0; r < t->nrows && !found; r++)
-        found = !strcmp(cb_table_str(t, r, cd), names[k]) && (int)cb_table_num(t, r, cl) == l;
+        found = !strcmp(cb_table_str(t, r, cd), names[k]) && cb_table_int(t, r, cl) == l;
       if ((found || (k == 0 && l == 1)) && nv < I2_VARIANTS) { /* the subject's row even if it was not run */
         snprintf(def[nv], 32, "%s", names[k]);
         ls[nv++] = l;
@@ -110,7 +110,7 @@ void cb_check_newton_vs_bw_i2(const cb_table *main_csv, const char *dir, cb_clai
     while (end < t.nrows && cb_table_num(&t, end, ci) > 0) end++;
     int v = -1;
     for (int k = 0; k < nvar; k++)
-      if (!strcmp(cb_table_str(&t, r, cd), var_def[k]) && (int)cb_table_num(&t, r, cl) == var_ls[k]) v = k;
+      if (!strcmp(cb_table_str(&t, r, cd), var_def[k]) && cb_table_int(&t, r, cl) == var_ls[k]) v = k;
     if (v >= 0) {
       i2_stat *s = &S[v];
       int n = end - r < I2_MAXIT ? end - r : I2_MAXIT, reduced = 0, r8 = 0, own = 1;
@@ -230,7 +230,7 @@ static int i3_points(const cb_table *t, const char *scene, i3_point *P) {
       snprintf(P[np].key, sizeof P[np].key, "%s", key);
       snprintf(P[np].method, sizeof P[np].method, "%s", cb_table_str(t, r, cm));
       snprintf(P[np].inner, sizeof P[np].inner, "%s", cb_table_str(t, r, cin));
-      P[np].ls = (int)cb_table_num(t, r, cl);
+      P[np].ls = cb_table_int(t, r, cl);
       np++;
     }
     double e = cb_table_num(t, r, ce);
@@ -391,7 +391,7 @@ void cb_check_newton_vs_bw_i3(const cb_table *t, const char *dir, cb_claim_resul
                         "|\n|---|---|---|\n");
   for (int r = 0; r < rg.nrows; r++) {
     cells++;
-    int f = (int)cb_table_num(&rg, r, cf), d = cb_table_num(&rg, r, cdv) >= 0;
+    int f = cb_table_int(&rg, r, cf), d = cb_table_num(&rg, r, cdv) >= 0;
     fails += f;
     diverged += d;
     ref_bad += strcmp(cb_table_str(&rg, r, crs), "ok") != 0;

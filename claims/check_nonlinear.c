@@ -108,13 +108,13 @@ static cb_verdict j3_lab(const cb_table *t, cb_claim_result *out) {
     if (dv && rho < lowest_div) lowest_div = rho;
     if (!dv && rho > highest_ok) highest_ok = rho;
     char at[32] = "-";
-    if (dv) snprintf(at, sizeof at, "%d", (int)cb_table_num(t, r, cf));
+    if (dv) snprintf(at, sizeof at, "%d", cb_table_int(t, r, cf));
     char given[64];
     if (strcmp(cb_table_str(t, r, cg), "auto")) snprintf(given, sizeof given, "%s", cb_table_str(t, r, cg));
     else snprintf(given, sizeof given, "auto (estimated %.4f)", rho);
     cb_claim_numbers(out, "| %s | %s | %s | %d of %d | %.3g | %.4f, %.4f |\n", given, dv ? "yes" : "no", at,
-                     (int)cb_table_num(t, r, cu), (int)cb_table_num(t, r, cn), cb_table_num(t, r, cm),
-                     cb_table_num(t, r, cl), cb_table_num(t, r, cx));
+                     cb_table_int(t, r, cu), cb_table_int(t, r, cn), cb_table_num(t, r, cm), cb_table_num(t, r, cl),
+                     cb_table_num(t, r, cx));
   }
   cb_verdict v;
   if (dover > 0 && dunder == 0 && d995 == 1) v = CB_REPRODUCED;
@@ -382,14 +382,14 @@ void cb_check_p1(const cb_table *csv, const char *dir, cb_claim_result *out) {
       for (int r = 0; r < t.nrows; r++)
         if (!strcmp(cb_table_str(&t, r, cs), scenes[k]) && !strcmp(cb_table_str(&t, r, cm), M[m])) {
           tw[n++] = cb_claim_timing_at(&t, r, "wall_ms");
-          nv = (int)cb_table_num(&t, r, cn);
+          nv = cb_table_int(&t, r, cn);
         }
       wt[m] = cb_claim_timing_median(tw, n); /* the median over frames of the frames' medians over repeats */
       wall[m] = n ? wt[m].med : NAN;
       if (n) cb_claim_repeats_add(&reps, &wt[m]);
       err[m] = p1_median(&t, cs, cm, scenes[k], M[m], ce, cst, &nfr[m], &bad[m], cf, &fb[m], buf);
       if (n)
-        cb_claim_numbers(out, "| %s | %d | %s | %d | %s | %.3g | %s | %s |\n", scenes[k], nv * nv, M[m], n,
+        cb_claim_numbers(out, "| %s | %lld | %s | %d | %s | %.3g | %s | %s |\n", scenes[k], (long long)nv * nv, M[m], n,
                          cb_claim_spread(b1, sizeof b1, "%.4g", &wt[m], ""), err[m],
                          m == 0 || m == BW ? "-" : (snprintf(b2, sizeof b2, "%d of %d", nfr[m] - bad[m], nfr[m]), b2),
                          cf >= 0 && m == NEWTON0 ? (snprintf(b2 + 64, 64, "%.0f", fb[m]), b2 + 64) : "-");

@@ -15,7 +15,7 @@ static int match(const cb_table *t, const char *kind, const int (*want)[2], int 
   cb_claim_numbers(out, "- %s list:", kind);
   for (int r = 0; r < t->nrows; r++) {
     if (strcmp(cb_table_str(t, r, ck), kind) || strcmp(cb_table_str(t, r, cm), "lecture")) continue;
-    int i = (int)cb_table_num(t, r, ci), j = (int)cb_table_num(t, r, cj);
+    int i = cb_table_int(t, r, ci), j = cb_table_int(t, r, cj);
     cb_claim_numbers(out, " {%d,%d}", i, j);
     if (k >= n || want[k][0] != i || want[k][1] != j) ok = 0;
     k++;

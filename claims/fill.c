@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <clothbench/readfile.h>
 #include <clothbench/status.h>
 
 #include "outfile.h"
@@ -39,6 +40,19 @@ static int generate(FILE *f, const char *m, size_t len, const cb_claim_result *r
   if (len >= sizeof name) return cb_fail("unknown report marker '%.*s'", (int)len, m);
   memcpy(name, m, len);
   name[len] = '\0';
+  /* a page's block may say "the last full run": verdicts of any other kind of
+   * run are marked as such, in the block itself */
+  const char *kind = NULL, *what = NULL;
+  if (!strcmp(name, "verdicts")) kind = cb_report_run_kind_all(results), what = "the experiments";
+  else if (!strncmp(name, "claim ", 6) || !strncmp(name, "claim-short ", 12)) {
+    int i = claim_index(name + (name[5] == '-' ? 12 : 6));
+    if (i >= 0 && cb_claims[i].experiment) kind = cb_report_run_kind(results, what = cb_claims[i].experiment);
+  }
+  if (kind && strcmp(kind, "full") != 0)
+    fprintf(f,
+            "> **Not a full run:** these verdicts come from a %s run of %s%s%s; they are not the results of a full "
+            "run.\n\n",
+            kind, strcmp(what, "the experiments") ? "`" : "", what, strcmp(what, "the experiments") ? "`" : "");
   if (!strcmp(name, "verdicts")) cb_report_verdicts(f, res);
   else if (!strcmp(name, "origin")) cb_report_origin(f, results);
   else if (!strcmp(name, "runtimes")) cb_report_runtimes(f, results);
@@ -54,7 +68,7 @@ static int generate(FILE *f, const char *m, size_t len, const cb_claim_result *r
 }
 
 static char *slurp(const char *path, size_t *n) {
-  FILE *f = fopen(path, "rb");
+  FILE *f = cb_fopen_regular(path, NULL); /* a FIFO is refused, not waited on */
   if (!f) return NULL;
   size_t cap = 1 << 16, len = 0;
   char *buf = malloc(cap + 1);

@@ -1,7 +1,11 @@
 /* What produced a report: the provenance of each experiment's CSV, and the
  * run times `make experiments` records. */
+#include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+
+#include <clothbench/readfile.h>
 
 #include "claims.h"
 #include "report.h"
@@ -17,6 +21,7 @@ typedef struct {
  * sweep, so its verdicts mean nothing), --quick (QUICK=1) or full. A smoke
  * CSV says "# smoke: 1" beside "# quick: 1". */
 enum run_kind { RUN_FULL, RUN_QUICK, RUN_SMOKE, RUN_KINDS };
+static const char *first_claim_of_experiment(int i);
 static const char *const run_kind_name[RUN_KINDS] = {[RUN_FULL] = "full", [RUN_QUICK] = "quick", [RUN_SMOKE] = "smoke"};
 static const char *const run_kind_long[RUN_KINDS] = {
     [RUN_FULL] = "full", [RUN_QUICK] = "quick (`QUICK=1`)", [RUN_SMOKE] = "smoke (`--smoke`, make test)"};
@@ -43,12 +48,17 @@ static csv_origin read_origin(const char *results, const char *experiment) {
                   .cores = "?",
                   .kernel = "?",
                   .choice = ""};
-  char path[4096], line[8192];
+  char path[4096];
   snprintf(path, sizeof path, "%s/%s.csv", results, experiment);
-  FILE *f = fopen(path, "r");
+  FILE *f = cb_fopen_regular(path, NULL);
   if (!f) return o;
   o.found = 1;
-  while (fgets(line, sizeof line, f) && line[0] == '#') {
+  /* whole lines, however long: the "# config" lines before "# quick:" and
+   * "# smoke:" hold every key of a scene (a fixed buffer cut them into
+   * chunks, and a chunk not starting with '#' ended the header early) */
+  char *line = NULL;
+  size_t cap = 0;
+  while (getline(&line, &cap, f) >= 0 && line[0] == '#') {
     meta_value(line, "git_revision", o.revision, sizeof o.revision);
     meta_value(line, "quick", o.quick, sizeof o.quick);
     meta_value(line, "smoke", o.smoke, sizeof o.smoke);
@@ -60,8 +70,25 @@ static csv_origin read_origin(const char *results, const char *experiment) {
     meta_value(line, "blas_kernel", o.kernel, sizeof o.kernel);
     meta_value(line, "blas_kernel_choice", o.choice, sizeof o.choice);
   }
+  free(line);
   fclose(f);
   return o;
+}
+
+const char *cb_report_run_kind(const char *results, const char *experiment) {
+  csv_origin o = read_origin(results, experiment);
+  return o.found ? run_kind_long[run_kind_of(&o)] : NULL;
+}
+
+const char *cb_report_run_kind_all(const char *results) {
+  const char *kind = NULL;
+  for (int i = 0; i < cb_nclaims; i++) {
+    const char *e = first_claim_of_experiment(i), *k = e ? cb_report_run_kind(results, e) : NULL;
+    if (!k) continue;
+    if (kind && strcmp(kind, k) != 0) return "mixed";
+    kind = k;
+  }
+  return kind;
 }
 
 /* "SkylakeX (chosen)", "Cooperlake (detected)", "Prescott (environment)",
@@ -148,15 +175,21 @@ void cb_report_origin(FILE *f, const char *results) {
 }
 
 
-/* results/<experiment>.runtime, written by make experiments: "wall_s: S". */
+enum { RUNTIME_MAX_S = 366 * 24 * 3600 };
+
+/* results/<experiment>.runtime, written by make experiments: "wall_s: S";
+ * -1 when missing, -2 when not a run time (non-finite, negative, > a year). */
 static double read_runtime(const char *results, const char *experiment) {
   char path[4096];
   snprintf(path, sizeof path, "%s/%s.runtime", results, experiment);
-  FILE *f = fopen(path, "r");
+  FILE *f = cb_fopen_regular(path, NULL);
   if (!f) return -1;
   double s = -1;
   if (fscanf(f, "wall_s: %lf", &s) != 1) s = -1;
   fclose(f);
+  /* nan, inf, negative or past a year is not a run time (and past INT_MAX
+   * minutes the conversion to int below would be undefined) */
+  if (!isfinite(s) || s < 0 || s > RUNTIME_MAX_S) return -2;
   return s;
 }
 
@@ -171,7 +204,8 @@ void cb_report_runtimes(FILE *f, const char *results) {
     double s = read_runtime(results, e);
     if (!o.found) continue;
     char t[64];
-    if (s < 0) snprintf(t, sizeof t, "not recorded");
+    if (s == -2) snprintf(t, sizeof t, "not a run time (%s.runtime)", e);
+    else if (s < 0) snprintf(t, sizeof t, "not recorded");
     else if (s < 60) snprintf(t, sizeof t, "%.0f s", s);
     else snprintf(t, sizeof t, "%d min %02.0f s", (int)(s / 60), s - 60 * (int)(s / 60));
     if (s >= 0) {

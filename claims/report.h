@@ -11,6 +11,11 @@
 /* "What produced this report": run kind, revision, date, threads, machine of
  * every experiment CSV in results/, and a summary line. */
 void cb_report_origin(FILE *f, const char *results);
+/* The kind of run of results/<experiment>.csv: "full", "quick (`QUICK=1`)" or
+ * "smoke (`--smoke`, make test)"; NULL when there is no CSV. _all: the kind
+ * of every experiment CSV there, "mixed" when they differ, NULL when none. */
+const char *cb_report_run_kind(const char *results, const char *experiment);
+const char *cb_report_run_kind_all(const char *results);
 /* A table of each experiment's wall time (results/<experiment>.runtime). */
 void cb_report_runtimes(FILE *f, const char *results);
 /* The verdict table: claim, verdict, why (the checker's reason), figure. */

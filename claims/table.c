@@ -1,10 +1,12 @@
 #include "table.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include <clothbench/readfile.h>
 #include <clothbench/status.h>
 
 void cb_table_free(cb_table *t) {
@@ -48,14 +50,19 @@ static int split(char *line, char ***out, int *n) {
 
 int cb_table_read(const char *path, cb_table *t) {
   memset(t, 0, sizeof *t);
-  FILE *f = fopen(path, "r");
-  if (!f) return cb_fail_status(CB_EIO, "%s: not found", path);
+  FILE *f = cb_fopen_regular(path, NULL); /* a FIFO is refused, not waited on */
+  if (!f && errno) return cb_fail_status(CB_EIO, "%s: not found", path);
+  if (!f) return cb_fail_status(CB_EIO, "%s: not a regular file (a directory, device or pipe)", path);
   char *line = NULL;
   size_t cap = 0, mlen = 0, mcap = 0;
   long rcap = 0;
   int lineno = 0, st = CB_OK;
-  while (st == CB_OK && getline(&line, &cap, f) >= 0) {
+  for (ssize_t got; st == CB_OK && (got = getline(&line, &cap, f)) >= 0;) {
     lineno++;
+    if (got == 0 || line[got - 1] != '\n') { /* the last line, cut: a row may have lost its tail */
+      st = cb_fail("%s:%d: does not end with a newline (cut mid-row?); refusing it", path, lineno);
+      break;
+    }
     if (line[0] == '#') {
       size_t n = strlen(line);
       if (mlen + n + 1 > mcap) {
@@ -124,6 +131,10 @@ double cb_table_num(const cb_table *t, int row, int col) {
   double v = strtod(s, &end);
   return *end ? NAN : v;
 }
+
+int cb_table_int_of(double v) { return isfinite(v) && fabs(v) <= CB_TABLE_INT_MAX ? (int)v : -1; }
+
+int cb_table_int(const cb_table *t, int row, int col) { return cb_table_int_of(cb_table_num(t, row, col)); }
 
 const char *cb_table_meta(const cb_table *t, const char *key) {
   static char buf[4096];

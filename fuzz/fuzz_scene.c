@@ -13,6 +13,16 @@
  *   8 integrator.dt          (DTS below)
  *   9 scene.initial_scale    (SCALES below)
  *  10 number of steps, 1 + byte % 3
+ *  11 integrator.iters and integrator.substeps, a pair (SWEEPS below: small
+ *     ones, and ones the range or the iters x substeps limit refuses; the
+ *     latter, 1e8 iterations, only for pbd and xpbd)
+ *  12 integrator.rho        (RHOS below; the Chebyshev variants' rho)
+ *  13 integrator.pbd_stiffness (STIFF below)
+ *  14 integrator.lbfgs_window (WINDOWS below)
+ *  15 integrator.lbfgs_line_search (armijo wolfe)
+ *  16 integrator.vbd_init   (inertia previous adaptive)
+ *  17 integrator.vbd_line_search (0 1)
+ * (issue 35: the newer integrators' keys: pbd, xpbd, vbd, lbfgs)
  * so the fuzzer reaches tiny and huge stiffnesses, steps and scales (issue
  * 21: k = 1e-300 hung the eigensolver, which a harness with the default keys
  * could not find). The OBJ reader ignores the comment line. Without it: bend
@@ -45,6 +55,13 @@ static const char *const PINS[] = {"0",
 static const char *const EXTREME[] = {"0", "1e-300", "1e-200", "1e-12", "1", "100", "8000", "1e6", "1e12", "1e15"};
 static const char *const DTS[] = {"1/30", "1e-300", "1e-160", "1e-154", "1e-6", "0.001", "0.1", "1", "1e6"};
 static const char *const SCALES[] = {"1", "1e-300", "1e-200", "1e-100", "0.5", "2", "1e6"};
+static const char *const SWEEPS[][2] = {{"1", "1"}, {"2", "3"},       {"32", "1"}, {"7", "4"}, {"100000000", "1000000"},
+                                        {"0", "1"}, {"3", "1000001"}, {"1", "64"}};
+static const char *const RHOS[] = {"0", "0.5", "0.995", "1", "-1", "nan", "1e-300"};
+static const char *const STIFF[] = {"1", "0.5", "1e-300", "0", "2"};
+static const char *const WINDOWS[] = {"0", "1", "2", "5", "64", "-3"};
+static const char *const LBFGS_LS[] = {"armijo", "wolfe"};
+static const char *const VBD_INIT[] = {"inertia", "previous", "adaptive"};
 
 #define COUNT(a) (sizeof(a) / sizeof(a)[0])
 
@@ -129,6 +146,19 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   if (nsel > 7) set_key(&c, "material.bend_k", EXTREME[sel[7] % COUNT(EXTREME)]);
   if (nsel > 8) set_key(&c, "integrator.dt", DTS[sel[8] % COUNT(DTS)]);
   if (nsel > 9) set_key(&c, "scene.initial_scale", SCALES[sel[9] % COUNT(SCALES)]);
+  /* the pair past INT_MAX sweeps is for pbd and xpbd, which refuse it; other
+   * methods would run its 1e8 iterations (legal, and no harness input) */
+  int big = nsel > 11 && !strcmp(SWEEPS[sel[11] % COUNT(SWEEPS)][0], "100000000");
+  if (nsel > 11 && (!big || !strcmp(c.method, "pbd") || !strcmp(c.method, "xpbd"))) {
+    set_key(&c, "integrator.iters", SWEEPS[sel[11] % COUNT(SWEEPS)][0]);
+    set_key(&c, "integrator.substeps", SWEEPS[sel[11] % COUNT(SWEEPS)][1]);
+  }
+  if (nsel > 12) set_key(&c, "integrator.rho", RHOS[sel[12] % COUNT(RHOS)]);
+  if (nsel > 13) set_key(&c, "integrator.pbd_stiffness", STIFF[sel[13] % COUNT(STIFF)]);
+  if (nsel > 14) set_key(&c, "integrator.lbfgs_window", WINDOWS[sel[14] % COUNT(WINDOWS)]);
+  if (nsel > 15) set_key(&c, "integrator.lbfgs_line_search", LBFGS_LS[sel[15] % COUNT(LBFGS_LS)]);
+  if (nsel > 16) set_key(&c, "integrator.vbd_init", VBD_INIT[sel[16] % COUNT(VBD_INIT)]);
+  if (nsel > 17) set_key(&c, "integrator.vbd_line_search", sel[17] % 2 ? "1" : "0");
   run_once(&c, nsel > 10 ? 1 + sel[10] % 3 : 1);
   return 0;
 }

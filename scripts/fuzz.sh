@@ -19,7 +19,7 @@ total=0 fail=0
 for h in "$B"/fuzz_*; do
   [ -x "$h" ] || continue
   name=$(basename "$h")
-  case $name in fuzz_config) kind=config ;; *) kind=obj ;; esac
+  case $name in fuzz_config) kind=config ;; fuzz_report) kind=csv ;; *) kind=obj ;; esac
   work=$B/corpus/$name
   mkdir -p "$work"
   cp fuzz/corpus/$kind/* "$work/" 2>/dev/null

@@ -24,12 +24,18 @@
 # header row's number of fields and the file must end with a newline (a shard
 # cut mid-row is refused). Nothing is written unless every table merges: the
 # tables go to temporary files that are renamed only at the end. Shards may be
-# given in any order.
+# given in any order. Paths may hold spaces and quotes (not newlines); the
+# output may not be one of the inputs (a shard's CSV, side table or cell list).
 set -eu
 [ $# -ge 2 ] || { echo "usage: $0 OUT.csv SHARD1.csv ... SHARDN.csv" >&2; exit 1; }
 out=$1; shift
 n=$#
 die() { echo "merge-shards: $*" >&2; exit 1; }
+# lists of paths are newline-separated and split on newlines only, never globbed
+nl='
+'
+set -f
+for s in "$out" "$@"; do case $s in *"$nl"*) die "a path holds a newline: not supported" ;; esac; done
 # order the shards by the I in their .cells files
 ordered=""
 tables=""
@@ -53,14 +59,19 @@ while [ "$i" -le "$n" ]; do
     if [ "$si" = "$i" ]; then [ -z "$found" ] || die "two files are shard $i"; found=$s; fi
   done
   [ -n "$found" ] || die "no file is shard $i of $n"
-  ordered="$ordered $found"
+  ordered="$ordered$nl$found"
   i=$((i + 1))
 done
-set -- $ordered
+IFS=$nl
+# shellcheck disable=SC2086 # newline-separated
+set -- ${ordered#"$nl"}
+IFS=' 	'
+lists=""
+for s in "$@"; do lists="$lists$s$nl"; done
 ostem=${out%.*}
 # every output is written to a temporary file first; none is renamed unless all merged
 pending=""
-trap 'for p in $pending; do rm -f "$p"; done' EXIT
+trap 'IFS=$nl; for p in $pending; do rm -f "$p"; done' EXIT
 trap 'exit 1' INT TERM HUP
 j=0
 for t in ${tables#tables }; do
@@ -71,21 +82,21 @@ for t in ${tables#tables }; do
     if [ "$t" = - ]; then f=$s; else f=${s%.*}_$t.csv; fi
     [ -f "$f" ] || die "$f: missing"
     [ -z "$(tail -c 1 "$f")" ] || die "$f: does not end with a newline (cut mid-row?)"
-    files="$files $f"
+    files="$files$f$nl"
   done
   mkdir -p "$(dirname "$dst")"
   tmp=$dst.merge.$$
-  pending="$pending $tmp"
+  pending="$pending$nl$tmp"
   ctmp=$out.cells.merge.$$
-  [ "$j" != 1 ] || pending="$pending $ctmp"
-  # shellcheck disable=SC2086
-  awk -v n="$n" -v cells="$cells" -v col="$j" -v files="$files" -v lists="$*" -v cellsout="$ctmp" '
+  [ "$j" != 1 ] || pending="$pending$nl$ctmp"
+  # the paths go through the environment: awk -v would read backslashes in them as escapes
+  FILES=$files LISTS=$lists CELLSOUT=$ctmp awk -v n="$n" -v cells="$cells" -v col="$j" '
     function fail(msg) { print "merge-shards: " msg > "/dev/stderr"; bad = 1; exit 1 }
     function env(line) { return line ~ /^# (date|command|threads_observed|cpu_lock|cpu|cores):/ }
     function key(line) { sub(/:.*/, "", line); return line }
     function nfields(line,   t) { t = line; gsub(/"[^"]*"/, "", t); return gsub(/,/, ",", t) + 1 }
     BEGIN {
-      split(files, F, " "); split(lists, L, " ")
+      split(ENVIRON["FILES"], F, "\n"); split(ENVIRON["LISTS"], L, "\n"); cellsout = ENVIRON["CELLSOUT"]
       for (s = 1; s <= n; s++) {
         L[s] = L[s] ".cells"; getline x < L[s]; getline x < L[s]   # "shard ..." and "tables ..."
         h = ""
@@ -134,9 +145,10 @@ for t in ${tables#tables }; do
       for (s = 1; s <= n; s++)
         if ((getline line < F[s]) > 0) fail(F[s] ": more rows than " L[s] " lists")
     }' > "$tmp" || exit 1
-  done_list="${done_list:-} $dst"
+  done_list="${done_list:-}$nl$dst"
 done
 # other side files (one cell's each, so the shards' names do not collide), also via temporary copies
+set +f
 for s in "$@"; do
   stem=${s%.*}
   for f in "${stem}"_*; do
@@ -144,15 +156,28 @@ for s in "$@"; do
     case $f in *.csv|*.cells|*.tmp.*) continue ;; esac
     dst=${ostem}${f#"$stem"}
     tmp=$dst.merge.$$
-    pending="$pending $tmp"
+    pending="$pending$nl$tmp"
     cp "$f" "$tmp" || die "$f: cannot copy to $tmp"
-    done_list="$done_list $dst"
+    done_list="$done_list$nl$dst"
   done
 done
+set -f
 { printf 'shard 1 1 %s %s\n' "$cells" "$mode"; sed -n 2p "$1.cells"; cat "$out.cells.merge.$$"; } > "$out.cells.merge.$$.all" ||
   die "$out.cells: cannot write"
-pending="$pending $out.cells.merge.$$.all"
+pending="$pending$nl$out.cells.merge.$$.all"
 mv "$out.cells.merge.$$.all" "$out.cells.merge.$$"
-done_list="$done_list $out.cells"
+done_list="$done_list$nl$out.cells"
+IFS=$nl
+# an output that is one of the inputs would be replaced by the merge, which could then never run again
+for dst in $done_list; do
+  for s in "$@"; do
+    stem=${s%.*}
+    set +f
+    for f in "$s" "$s.cells" "${stem}"_*; do
+      [ ! -e "$f" ] || [ ! "$dst" -ef "$f" ] || die "the output $dst is the input $f; merge into another path (nothing written)"
+    done
+    set -f
+  done
+done
 for dst in $done_list; do mv "$dst.merge.$$" "$dst"; done
 pending=""

@@ -47,6 +47,17 @@ trap 'exit 1' INT TERM HUP
 ln -s "$REAL_OUT" "$safe/out" && ln -s "$(abs "$WORK")" "$safe/work" || exit 1
 OUT=$safe/out
 WORK=$safe/work
+REAL_WORK=$(abs "${MOVIES_WORK:-results/movies}")
+# a message of simulate or gnuplot names the link folder: say the user's paths instead
+shown() {
+  L=$safe RW=$REAL_WORK RO=$REAL_OUT awk '
+    function sub_all(s, from, to,   i, r) {
+      r = ""
+      while ((i = index(s, from)) > 0) { r = r substr(s, 1, i - 1) to; s = substr(s, i + length(from)) }
+      return r s
+    }
+    { print sub_all(sub_all($0, ENVIRON["L"] "/work", ENVIRON["RW"]), ENVIRON["L"] "/out", ENVIRON["RO"]) }'
+}
 
 # E1, I3: the lab cloth (hanging.ini). B2: the sphere drape (drape.ini) at 16^2,
 # one of bending's two B2 resolutions (32^2 takes a minute for the dihedral
@@ -165,8 +176,8 @@ echo "$MOVIES" | { while IFS='|' read -r name claim steps every config ta sa tb 
     CB_QUIET=1 OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 "$SIM" "$config" $args --steps "$steps" --every "$every" --quiet \
       --frames "$d/$side" --csv "$d/$side.csv" --obj "$d/$side.obj" 2>"$d/$side.err"
     rc=$?
-    [ $rc -le 4 ] || { echo "movies: $name ($side): simulate failed:" >&2; cat "$d/$side.err" >&2; status=1; failed=1; continue; }
-    [ $rc -eq 0 ] || echo "movies: $name ($side): $(tail -n 1 "$d/$side.err")"
+    [ $rc -le 4 ] || { echo "movies: $name ($side): simulate failed:" >&2; shown <"$d/$side.err" >&2; status=1; failed=1; continue; }
+    [ $rc -eq 0 ] || echo "movies: $name ($side): $(tail -n 1 "$d/$side.err" | shown)"
     awk -f "$STEPS" "$d/$side.csv" > "$d/$side.steps"
     awk -f "$COLLIDER" "$d/$side.csv" > "$d/$side.collider"
   done
@@ -241,7 +252,7 @@ echo "$MOVIES" | { while IFS='|' read -r name claim steps every config ta sa tb 
     mv "$OUT/movie_${claim}_${name}.gif.tmp" "$OUT/movie_${claim}_${name}.gif"
     echo "movies: $REAL_OUT/movie_${claim}_${name}.gif ($n frames)"
   else
-    echo "movies: $name: gnuplot failed:" >&2; cat "$d/gnuplot.log" >&2; rm -f "$OUT/movie_${claim}_${name}.gif.tmp"; status=1
+    echo "movies: $name: gnuplot failed:" >&2; shown <"$d/gnuplot.log" >&2; rm -f "$OUT/movie_${claim}_${name}.gif.tmp"; status=1
   fi
 done
 exit $status; }

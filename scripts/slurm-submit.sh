@@ -76,9 +76,13 @@ else
 fi
 jobs=$dir/jobs
 logs=$dir/logs
-shards=""
+shards="" cellfiles=""
 i=1
-while [ "$i" -le "$n" ]; do shards="$shards $(q "$dir/shard-$i/$exp.csv")"; i=$((i + 1)); done
+while [ "$i" -le "$n" ]; do
+  shards="$shards $(q "$dir/shard-$i/$exp.csv")"
+  cellfiles="$cellfiles $(q "$dir/shard-$i/$exp.csv.cells")"
+  i=$((i + 1))
+done
 array_script() {
   cat <<EOF
 #!/bin/sh
@@ -110,8 +114,8 @@ merge_script() {
 set -eu
 cd $(q "$repo")
 scripts/merge-shards.sh $(q "$out")$shards
-echo "clothbench: merged $n shards of $exp into $out"
-scripts/calibrate-hints$(for s in $shards; do printf ' %s' "$s"; done | sed "s/\.csv'/.csv.cells'/g")
+echo "clothbench: merged $n shards of $exp into "$(q "$out")
+scripts/calibrate-hints$cellfiles
 EOF
 }
 if [ $dry = 1 ]; then # nothing is written

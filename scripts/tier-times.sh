@@ -4,7 +4,10 @@
 #   make clean, then make test     (a fresh build: compile and tests)
 #   make test again                (once built)
 #   and with --all: make check-all, make experiments QUICK=1, and their sum
-#   with make test (what .ci/run runs)
+#   with make test (what .ci/run runs). The quick experiments run in a
+#   scratch copy of the repository (its build included, results/ and
+#   plots/out/ left out): the last full run's results/, plots and REPORT.md
+#   stay as they are.
 # The per-experiment times of the built make test's --smoke runs
 # (tests/experiments.sh prints them) go in a second table.
 #   scripts/tier-times.sh [--all] [README]
@@ -37,7 +40,12 @@ fmt() { awk -v s="$1" 'BEGIN { if (s < 60) printf "%.0f s", s; else printf "%d m
   timed built make test $args
   if [ $all = 1 ]; then
     timed checkall make check-all $args
-    timed quick make experiments QUICK=1 $args
+    # a copy with the build (times kept, so nothing recompiles) but without the results
+    mkdir "$T/repo"
+    tar -cf - --exclude=./results --exclude=./plots/out --exclude=./build/san --exclude=./build/fuzz \
+      --exclude=./build/coverage . | tar -C "$T/repo" -xf - || { echo "tier-times: cannot copy the repository to $T/repo" >&2; exit 1; }
+    echo "tier-times: the quick experiments run in a scratch copy ($T/repo); results/ and plots/out/ are not touched" >&2
+    timed quick make -C "$T/repo" experiments QUICK=1 $args
   fi
 }
 

@@ -1,9 +1,11 @@
 /* simulate: runs one scene from an INI config and writes a per-step CSV and
  * the final mesh as OBJ. See `simulate --help`. */
+#define _XOPEN_SOURCE 700 /* kill, sigprocmask */
 #include <ctype.h>
 #include <dirent.h>
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -48,8 +50,11 @@ static void usage(FILE *f) {
         "  --obj PATH               final mesh output\n"
         "  --frames DIR             also write the mesh every N steps as DIR/frame_000000.obj, ...\n"
         "                           (step 0 first; an OBJ sequence for Blender, MeshLab, make movies);\n"
-        "                           DIR is a folder name (not '' or -); the frames of an earlier run\n"
-        "                           in DIR (its frame_<digits>.obj files) are removed first, and said so\n"
+        "                           DIR is a folder name (not '' or -). The frames go to\n"
+        "                           DIR/.incomplete-frames.<pid>/ while the run lasts and replace an\n"
+        "                           earlier run's (its frame_<digits>.obj files, said so) only when the\n"
+        "                           CSV is committed: an interrupted or failed run leaves the earlier\n"
+        "                           frames, CSV and OBJ as they were\n"
         "  --every N                frame interval in steps (default 1; needs --frames)\n"
         "  --quiet                  no progress or summary on stderr\n"
         "  --help-config            print every config key with its unit and default (Markdown)\n"
@@ -63,7 +68,7 @@ static void usage(FILE *f) {
         "  4 the linear solve failed (matrix not positive definite, solver breakdown, line search).\n"
         "The CSV and OBJ are written in every case where the scene could be built;\n"
         "the CSV's last row carries the failing status. If a frame cannot be written, the\n"
-        "  run stops and nothing is: no CSV, no OBJ, and this run's frames are removed (exit 2).\n",
+        "  run stops and nothing is: no CSV, no OBJ, no frames (the earlier run's stay; exit 2).\n",
         f);
 }
 
@@ -111,6 +116,58 @@ static int remove_frames(const char *dir, char *first, char *last, size_t n) {
   }
   closedir(d);
   return count;
+}
+
+/* The folder frames are written to while the run lasts:
+ * DIR/.incomplete-frames.<pid> (the name says what its content is). */
+static void stage_name(const char *dir, long pid, char *out, size_t n) {
+  snprintf(out, n, "%s/.incomplete-frames.%ld", dir, pid);
+}
+
+/* Removes the staging folders that runs no longer alive left in dir
+ * (interrupted: their frames were never published). */
+static void remove_stale_stages(const char *dir) {
+  DIR *d = opendir(dir);
+  if (!d) return;
+  for (struct dirent *de; (de = readdir(d));) {
+    char *end;
+    if (strncmp(de->d_name, ".incomplete-frames.", 19) != 0) continue;
+    long pid = strtol(de->d_name + 19, &end, 10);
+    if (*end || pid <= 0 || kill((pid_t)pid, 0) == 0 || errno != ESRCH) continue; /* alive, or not ours */
+    char stage[4096], a[256], b[256];
+    stage_name(dir, pid, stage, sizeof stage);
+    remove_frames(stage, a, b, sizeof a);
+    rmdir(stage);
+  }
+  closedir(d);
+}
+
+/* Publishes the staged frames: the earlier run's frames in dir are removed
+ * (said so unless quiet), the staged ones renamed into dir, the stage
+ * removed. Returns how many were published, or -1 (message set). */
+static int publish_frames(const char *dir, const char *stage, int quiet) {
+  char first[256], last[256];
+  int old = remove_frames(dir, first, last, sizeof first);
+  if (old && !quiet)
+    fprintf(stderr, "simulate: --frames: removed %d frame%s of an earlier run from %s/ (%s%s%s)\n", old,
+            old == 1 ? "" : "s", dir, first, old > 1 ? " to " : "", old > 1 ? last : "");
+  DIR *d = opendir(stage);
+  if (!d) return cb_fail("%s: cannot open: %s", stage, strerror(errno));
+  int count = 0, st = 0;
+  for (struct dirent *de; (de = readdir(d));) {
+    if (!is_frame_name(de->d_name)) continue;
+    char from[4096], to[4096];
+    snprintf(from, sizeof from, "%s/%s", stage, de->d_name);
+    snprintf(to, sizeof to, "%s/%s", dir, de->d_name);
+    if (rename(from, to) != 0) {
+      st = cb_fail("%s: cannot rename to %s: %s", from, to, strerror(errno));
+      break;
+    }
+    count++;
+  }
+  closedir(d);
+  if (st == 0) rmdir(stage);
+  return st ? -1 : count;
 }
 
 static void default_out(const char *config, const char *ext, char *out, size_t n) {
@@ -218,6 +275,21 @@ int main(int argc, char **argv) {
       return EXIT_USAGE;
     }
   }
+  if (frames) { /* a folder (or other non-file) named as a frame could never be replaced by one */
+    DIR *d = opendir(frames);
+    for (struct dirent *de; d && (de = readdir(d));) {
+      char path[4096];
+      struct stat st;
+      snprintf(path, sizeof path, "%s/%s", frames, de->d_name);
+      if (is_frame_name(de->d_name) && lstat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+        fprintf(stderr, "simulate: --frames: %s is not a regular file, and a frame would replace it; NOTHING written\n",
+                path);
+        closedir(d);
+        return EXIT_IO;
+      }
+    }
+    if (d) closedir(d);
+  }
   cb_blas_kernel_warning(stderr, "simulate"); /* run directly on OpenBLAS's fallback kernels */
   if (cb_config_load(config, &cfg)) {
     fprintf(stderr, "simulate: %s\n", cb_error_message());
@@ -293,19 +365,19 @@ int main(int argc, char **argv) {
   char why[1024] = "";
   if (status) snprintf(why, sizeof why, "%s", cb_error_message());
   cb_run_csv_row(csv.f, &run, status);
-  int nframes = 0, frame_failed = 0;
-  char first[256], last[256];
-  if (frames) { /* an earlier run's frames would be mistaken for this run's */
-    int old = remove_frames(frames, first, last, sizeof first);
-    if (old && !quiet)
-      fprintf(stderr, "simulate: --frames: removed %d frame%s of an earlier run from %s/ (%s%s%s)\n", old,
-              old == 1 ? "" : "s", frames, first, old > 1 ? " to " : "", old > 1 ? last : "");
-    if (write_frame(frames, scene, run.x, 0)) {
+  int frame_failed = 0;
+  char first[256], last[256], stage[4096] = "";
+  if (frames) { /* this run's frames are staged; they replace the earlier run's when the CSV is committed */
+    remove_stale_stages(frames);
+    stage_name(frames, (long)getpid(), stage, sizeof stage);
+    remove_frames(stage, first, last, sizeof first); /* a stage of a dead run that had our pid */
+    if (write_frame(stage, scene, run.x, 0)) {
+      remove_frames(stage, first, last, sizeof first);
+      rmdir(stage);
       fprintf(stderr, "simulate: --frames: %s; NOTHING written\n", cb_error_message());
       rc = EXIT_IO;
       goto done;
     }
-    nframes = 1;
   }
   cb_progress prog;
   cb_progress_start(&prog, "simulate", cfg.steps);
@@ -314,11 +386,10 @@ int main(int argc, char **argv) {
     status = cb_run_step(&run);
     cb_run_csv_row(csv.f, &run, status);
     if (frames && ((k + 1) % every == 0 || cb_status_is_fatal(status))) { /* the failing state too */
-      if (write_frame(frames, scene, run.x, k + 1)) {
+      if (write_frame(stage, scene, run.x, k + 1)) {
         frame_failed = 1;
         break;
       }
-      nframes++;
     }
     if (status == CB_NOT_CONVERGED) worst = status;
     cb_progress_update(&prog, k + 1);
@@ -331,11 +402,20 @@ int main(int argc, char **argv) {
   if (frame_failed) { /* a cut sequence and a CSV that ends early, as if fine: neither is kept */
     fprintf(stderr, "simulate: step %d of %d: --frames: %s; the run stopped: NOTHING written (the CSV and OBJ are not,",
             run.step, cfg.steps, cb_error_message());
-    int gone = remove_frames(frames, first, last, sizeof first);
-    fprintf(stderr, " and this run's %d frame%s in %s/ are removed)\n", gone, gone == 1 ? "" : "s", frames);
+    remove_frames(stage, first, last, sizeof first);
+    rmdir(stage);
+    fprintf(stderr, " nor this run's frames; %s/ keeps the earlier run's)\n", frames);
     rc = EXIT_IO;
     goto done;
   }
+  /* the CSV, the OBJ and the frames are committed together: a SIGINT, SIGTERM
+   * or SIGHUP arriving meanwhile waits until the three agree */
+  sigset_t block, saved;
+  sigemptyset(&block);
+  sigaddset(&block, SIGINT);
+  sigaddset(&block, SIGTERM);
+  sigaddset(&block, SIGHUP);
+  sigprocmask(SIG_BLOCK, &block, &saved);
   int csv_ok = cb_outfile_commit(&csv) == CB_OK;
   if (!csv_ok) {
     fprintf(stderr, "simulate: %s\n", cb_error_message());
@@ -346,7 +426,19 @@ int main(int argc, char **argv) {
     fprintf(stderr, "simulate: %s\n", cb_error_message());
     rc = EXIT_IO;
   }
-  if (frames) fprintf(stderr, "simulate: %d frames in %s/\n", nframes, frames);
+  if (frames && csv_ok) {
+    int published = publish_frames(frames, stage, quiet);
+    if (published < 0) {
+      fprintf(stderr, "simulate: --frames: %s; the frames of this run are in %s/\n", cb_error_message(), stage);
+      rc = EXIT_IO;
+    } else if (!quiet) fprintf(stderr, "simulate: %d frames in %s/\n", published, frames);
+  } else if (frames) { /* no CSV: the frames of this run are not published either */
+    remove_frames(stage, first, last, sizeof first);
+    rmdir(stage);
+    fprintf(stderr, "simulate: --frames: not written, as the CSV was not; %s/ keeps the earlier run's frames\n",
+            frames);
+  }
+  sigprocmask(SIG_SETMASK, &saved, NULL);
   const char *csv_name = strcmp(csv_path, "-") ? csv_path : "standard output";
   const char *obj_name = strcmp(obj_path, "-") ? obj_path : "standard output";
   char wrote[3 * 2048 + 64];

@@ -14,6 +14,7 @@
 #include <clothbench/energy.h>
 #include <clothbench/integrator.h>
 #include <clothbench/solver.h>
+#include <clothbench/readfile.h>
 #include <clothbench/status.h>
 
 typedef enum {
@@ -706,16 +707,15 @@ int cb_config_load(const char *path, cb_config *c) {
   cb_config_defaults(c);
   if (copy_str(c->path, sizeof c->path, path)) return cb_fail("%s: path too long", path);
   parse_ctx ctx = {.c = c, .path = path};
-  ctx.f = fopen(path, "r");
-  if (!ctx.f) return cb_fail_status(CB_EIO, "%s: cannot open config file: %s", path, strerror(errno));
   struct stat sb;
+  ctx.f = cb_fopen_regular(path, &sb); /* checked before it is read: a FIFO would block fopen */
+  if (!ctx.f && errno) return cb_fail_status(CB_EIO, "%s: cannot open config file: %s", path, strerror(errno));
   const char *bad = NULL;
-  if (fstat(fileno(ctx.f), &sb) != 0) bad = "cannot stat it";
-  else if (S_ISDIR(sb.st_mode)) bad = "a directory, not a config file";
-  else if (!S_ISREG(sb.st_mode)) bad = "not a regular file (a device or pipe); a config must be a file";
+  if (!ctx.f && S_ISDIR(sb.st_mode)) bad = "a directory, not a config file";
+  else if (!ctx.f) bad = "not a regular file (a device or pipe); a config must be a file";
   else if (sb.st_size > CB_CONFIG_MAX_BYTES) bad = "larger than the 1 MiB a config may have";
   if (bad) {
-    fclose(ctx.f);
+    if (ctx.f) fclose(ctx.f);
     return cb_fail_status(CB_EIO, "%s: %s", path, bad);
   }
   /* Debian's inih reads lines of up to ini_max_line - 3 characters into a

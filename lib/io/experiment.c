@@ -97,6 +97,56 @@ void cb_experiment_cell_unlock(cb_experiment *e) {
   e->lock_held = 0;
 }
 
+/* Why --out may not be written: it (or its side tables and cell list, which
+ * sit beside it) would land in the configs folder, or it is a mesh one of the
+ * configs reads; NULL if it may. The configs and meshes are the inputs. */
+static const char *input_clash(const cb_experiment *e, char *what, size_t n) {
+  char folder[sizeof e->out];
+  const char *slash = strrchr(e->out, '/');
+  snprintf(folder, sizeof folder, "%.*s", slash ? (int)(slash - e->out) + (slash == e->out) : 1, slash ? e->out : ".");
+  if (cb_same_file(folder, e->configs)) {
+    snprintf(what, n, "in the configs folder %s (the experiment's inputs)", e->configs);
+    return what;
+  }
+  DIR *d = opendir(e->configs);
+  if (!d) return NULL;
+  for (struct dirent *de; (de = readdir(d));) {
+    size_t len = strlen(de->d_name);
+    if (len <= 4 || strcmp(de->d_name + len - 4, ".ini") != 0) continue;
+    char path[CB_PATH_LEN], mesh[2 * CB_PATH_LEN];
+    cb_config c;
+    snprintf(path, sizeof path, "%s/%s", e->configs, de->d_name);
+    if (cb_config_load(path, &c) != CB_OK || strcmp(c.mesh_type, "obj") != 0) continue;
+    cb_config_resolve_path(&c, c.mesh_file, mesh, sizeof mesh);
+    if (cb_same_file(e->out, mesh)) {
+      snprintf(what, n, "the mesh %s that %s reads", mesh, path);
+      closedir(d);
+      return what;
+    }
+  }
+  closedir(d);
+  return NULL;
+}
+
+/* "I/N" with 1 <= I <= N <= 1e6, digits only (sscanf's %d kept the low 32 bits
+ * of 4294967299 and accepted "+2" and " 2"): 0, or -1 */
+static int parse_shard(const char *s, int *i, int *n) {
+  long v[2];
+  for (int k = 0; k < 2; k++) {
+    if (*s < '0' || *s > '9') return -1;
+    char *end;
+    errno = 0;
+    v[k] = strtol(s, &end, 10);
+    if (errno == ERANGE || v[k] < 1 || v[k] > 1000000) return -1;
+    s = end;
+    if (k == 0 && *s++ != '/') return -1;
+  }
+  if (*s || v[0] > v[1]) return -1;
+  *i = (int)v[0];
+  *n = (int)v[1];
+  return 0;
+}
+
 int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, int argc, char **argv) {
   memset(e, 0, sizeof *e);
   e->lock_fd = -1;
@@ -157,9 +207,10 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
         return -1;
       }
     } else if (!strcmp(argv[i], "--shard") && i + 1 < argc) {
-      int a, b, used = 0;
-      if (sscanf(argv[++i], "%d/%d%n", &a, &b, &used) != 2 || argv[i][used] || b < 1 || a < 1 || a > b) {
-        fprintf(stderr, "%s: --shard '%s': expected I/N with 1 <= I <= N (e.g. --shard 2/3)\n", name, argv[i]);
+      int a = 0, b = 0;
+      if (parse_shard(argv[++i], &a, &b) != 0) {
+        fprintf(stderr, "%s: --shard '%s': expected I/N with 1 <= I <= N <= 1000000 (e.g. --shard 2/3)\n", name,
+                argv[i]);
         return -1;
       }
       e->shard = a;
@@ -182,6 +233,16 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
   if (!out_given && e->shard)
     snprintf(e->out, sizeof e->out, "results/shard-%dof%d/%s.csv", e->shard, e->nshards, name);
   else if (!out_given) snprintf(e->out, sizeof e->out, "results/%s.csv", name);
+  char what[CB_PATH_LEN * 4];
+  const char *ext = strrchr(e->out, '.');
+  if (ext && (!strcmp(ext, ".ini") || !strcmp(ext, ".obj"))) {
+    fprintf(stderr, "%s: --out %s: a config or mesh name; the output is a CSV (refusing to write it)\n", name, e->out);
+    return -1;
+  }
+  if (input_clash(e, what, sizeof what)) {
+    fprintf(stderr, "%s: --out %s is %s; refusing to overwrite an input\n", name, e->out, what);
+    return -1;
+  }
   /* the CPU lock, shared: a timed experiment (cb_experiment_timed) waits for us;
    * --list-cells runs no cell, so it neither takes nor waits for the lock */
   if (!e->list_cells) e->lock_fd = open(cpu_lock_path(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
@@ -296,19 +357,18 @@ int cb_experiment_table(cb_experiment *e, const char *name, const char *extra, c
 /* <out>.cells: "shard I N C MODE", "tables - side1 side2 ...", then one line
  * per cell this shard ran (sweep.c): its index, the rows it wrote to each
  * table, its sweep group, sweep name and index there, cost hint and seconds. */
-static int write_cells(cb_experiment *e) {
+static int write_cells(cb_experiment *e, cb_outfile *o) {
   char path[sizeof e->out + 8];
   snprintf(path, sizeof path, "%s.cells", e->out);
-  cb_outfile o;
-  int st = cb_outfile_open(&o, path);
+  int st = cb_outfile_open(o, path);
   if (st) return st;
-  fprintf(o.f, "shard %d %d %ld %s\ntables", e->shard, e->nshards, e->ncells,
+  fprintf(o->f, "shard %d %d %ld %s\ntables", e->shard, e->nshards, e->ncells,
           e->shard_mode == CB_SHARD_MODULO ? "modulo" : "balanced");
-  for (int t = 0; t < e->ntables; t++) fprintf(o.f, " %s", e->table_name[t][0] ? e->table_name[t] : "-");
-  fputc('\n', o.f);
+  for (int t = 0; t < e->ntables; t++) fprintf(o->f, " %s", e->table_name[t][0] ? e->table_name[t] : "-");
+  fputc('\n', o->f);
   if (e->cells) fflush(e->cells);
-  if (e->cells_len) fwrite(e->cells_log, 1, e->cells_len, o.f);
-  return cb_outfile_commit(&o);
+  if (e->cells_len) fwrite(e->cells_log, 1, e->cells_len, o->f);
+  return cb_outfile_finish(o);
 }
 
 static void drop_cells(cb_experiment *e) {
@@ -345,13 +405,22 @@ int cb_experiment_end(cb_experiment *e, int st) {
     if (st) fprintf(stderr, "%s: %s\n", e->name, cb_error_message());
     return st;
   }
+  /* all of the run's tables (and its cell list) or none: each is finished
+   * (flushed, checked, synced) before any replaces the previous run's, so a
+   * full disk or a quota on one table leaves the previous run whole */
+  cb_outfile cells = {0};
   if (st == CB_OK) st = check_untimed(e);
-  if (st == CB_OK && write_split(e)) st = CB_EIO;
-  for (int t = 0; t < e->ntables; t++) {
-    if (st == CB_OK && cb_outfile_commit(&e->table[t])) st = CB_EIO;
-    else if (st != CB_OK) cb_outfile_abort(&e->table[t]);
+  for (int t = 0; t < e->ntables; t++)
+    if (st == CB_OK && cb_outfile_finish(&e->table[t])) st = CB_EIO;
+  if (st == CB_OK && e->shard && write_cells(e, &cells)) st = CB_EIO;
+  if (st == CB_OK) {
+    for (int t = 0; t < e->ntables; t++)
+      if (st == CB_OK && cb_outfile_publish(&e->table[t])) st = CB_EIO;
+    if (st == CB_OK && e->shard && cb_outfile_publish(&cells)) st = CB_EIO;
+    if (st == CB_OK && write_split(e)) st = CB_EIO; /* the cells' seconds, beside the published run */
   }
-  if (st == CB_OK && e->shard && write_cells(e)) st = CB_EIO;
+  for (int t = 0; t < e->ntables; t++) cb_outfile_abort(&e->table[t]);
+  cb_outfile_abort(&cells);
   drop_cells(e);
   if (st) fprintf(stderr, "%s: %s\n", e->name, cb_error_message());
   return st;

@@ -155,28 +155,54 @@ int cb_outfile_open(cb_outfile *o, const char *path) {
   return CB_OK;
 }
 
-int cb_outfile_commit(cb_outfile *o) {
-  if (!o->f) return cb_fail_status(CB_EIO, "%s: file not open", o->path);
-  if (o->stream) {
-    int bad = fflush(o->f) != 0 || ferror(o->f);
-    int err = errno;
-    if (o->f != stdout && fclose(o->f) != 0) bad = 1;
-    o->f = NULL;
-    return bad ? cb_fail_status(CB_EIO, "%s: write failed: %s", o->path, strerror(err)) : CB_OK;
+/* The cause of a write error that stdio reported without keeping errno (a
+ * buffer whose write failed earlier, then a fflush with nothing left to
+ * write): one byte written past the data at fd's end (and truncated away)
+ * meets the same full disk, quota or file-size limit. 0 if it does not. */
+static int write_error_cause(int fd) {
+  struct stat st;
+  if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) return 0;
+  if (pwrite(fd, "\n", 1, st.st_size) == 1) {
+    if (ftruncate(fd, st.st_size) != 0) return errno;
+    return 0;
   }
-  int bad = fflush(o->f) != 0 || ferror(o->f);
-  if (!bad) bad = fsync(fileno(o->f)) != 0 && errno != EINVAL;
-  int err = errno;
-  if (fclose(o->f) != 0) bad = 1;
+  return errno;
+}
+
+/* Flushes and closes o->f; returns 0, or the errno of the first failure
+ * (-1 when stdio reported an error whose cause is lost). */
+static int flush_close(cb_outfile *o, int sync) {
+  int err = 0;
+  errno = 0;
+  if (fflush(o->f) != 0) err = errno ? errno : EIO;
+  if (!err && ferror(o->f) && !(err = write_error_cause(fileno(o->f)))) err = -1; /* the cause is lost */
+  if (!err && sync && fsync(fileno(o->f)) != 0 && errno != EINVAL) err = errno;
+  if (o->f != stdout) {
+    errno = 0;
+    if (fclose(o->f) != 0 && !err) err = errno ? errno : EIO;
+  }
   o->f = NULL;
-  if (bad) {
-    unlink(o->tmp);
+  return err;
+}
+
+int cb_outfile_finish(cb_outfile *o) {
+  if (!o->f) return o->tmp[0] ? CB_OK : cb_fail_status(CB_EIO, "%s: file not open", o->path);
+  int err = flush_close(o, !o->stream);
+  if (err) {
+    if (o->tmp[0]) unlink(o->tmp);
     o->tmp[0] = '\0';
     untrack(o);
-    return cb_fail_status(CB_EIO, "%s: write failed: %s", o->path, strerror(err));
+    return cb_fail_status(CB_EIO, "%s: write failed: %s", o->path,
+                          err > 0 ? strerror(err) : "an earlier write failed (the C library did not keep its cause)");
   }
+  return CB_OK;
+}
+
+int cb_outfile_publish(cb_outfile *o) {
+  if (o->stream) return CB_OK;
+  if (!o->tmp[0] || o->f) return cb_fail_status(CB_EIO, "%s: nothing finished to publish", o->path);
   if (rename(o->tmp, o->path) != 0) {
-    err = errno;
+    int err = errno;
     unlink(o->tmp);
     o->tmp[0] = '\0';
     untrack(o);
@@ -185,6 +211,12 @@ int cb_outfile_commit(cb_outfile *o) {
   o->tmp[0] = '\0';
   untrack(o);
   return CB_OK;
+}
+
+int cb_outfile_commit(cb_outfile *o) {
+  if (!o->f) return cb_fail_status(CB_EIO, "%s: file not open", o->path);
+  int st = cb_outfile_finish(o);
+  return st ? st : cb_outfile_publish(o);
 }
 
 void cb_outfile_abort(cb_outfile *o) {

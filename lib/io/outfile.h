@@ -32,8 +32,17 @@ typedef struct cb_outfile {
 /* Creates missing parent directories, then a temporary file beside path. */
 int cb_outfile_open(cb_outfile *o, const char *path);
 /* Flushes, checks for write errors, fsyncs and renames. On failure the
- * temporary file is removed and CB_EIO returned. */
+ * temporary file is removed and CB_EIO returned; the message names the first
+ * error's cause (a full disk is "No space left on device", never "Success").
+ * cb_outfile_finish then cb_outfile_publish. */
 int cb_outfile_commit(cb_outfile *o);
+/* The two halves of commit, for a set of files committed together (all or
+ * none: finish each, and publish them only if every one finished):
+ * finish flushes, checks, fsyncs and closes, keeping the temporary file (on
+ * failure it is removed: CB_EIO); publish renames it over the path. A
+ * finished file not published is dropped by cb_outfile_abort. */
+int cb_outfile_finish(cb_outfile *o);
+int cb_outfile_publish(cb_outfile *o);
 /* Drops the temporary file; safe to call on a committed or unopened file. */
 void cb_outfile_abort(cb_outfile *o);
 

@@ -547,7 +547,13 @@ static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnor
       t0 = cb_now_ms();
       cb_system_assemble(it->sys, x, 1.0 / (dt * dt), p->definiteness, 0.0); /* A = M/dt^2 + H(x) */
       for (int b = 0; b < nf; b++)
-        if (!chol3(it->sys->A.val, w->slot[b], w->stride[b], w->blk + 6 * b)) return CB_NOT_SPD;
+        if (!chol3(it->sys->A.val, w->slot[b], w->stride[b], w->blk + 6 * b))
+          return cb_fail_status(CB_NOT_SPD,
+                                "%s: iteration %d: the diagonal block of free vertex %d (vertex %d) of A = M/dt^2 + "
+                                "H(x) is not positive definite, so integrator.diagonal = exact cannot invert it "
+                                "(integrator.definiteness = %s keeps the compressed springs' negative curvature; "
+                                "drop or mirror makes every block positive definite)",
+                                it->type->name, k + 1, b, s->free_vertex[b], cb_definiteness_names[p->definiteness]);
       st->assemble_ms += cb_now_ms() - t0;
     }
     t0 = cb_now_ms();

@@ -48,6 +48,7 @@
  * = |grad F(x1)| / |grad F(xhat)|, assemble_ms the two gradient evaluations,
  * solve_ms the sweeps. With a hook and S = 1, CB_NEWTON_GRADIENT is sent at
  * every iterate (iter 0 = xhat, ..., K), which costs a gradient each. */
+#include <limits.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
@@ -128,6 +129,9 @@ static int xp_init(cb_integrator *it) {
   w->pbd = strcmp(name, "pbd") == 0;
   if (p->iters < 1) return cb_fail("%s: iters must be >= 1, got %d", name, p->iters);
   if (p->substeps < 1) return cb_fail("%s: substeps must be >= 1, got %d", name, p->substeps);
+  if ((long long)p->iters * p->substeps > INT_MAX) /* the step's sweep count is an int */
+    return cb_fail("%s: iters x substeps = %d x %d = %lld sweeps per step, more than %d", name, p->iters, p->substeps,
+                   (long long)p->iters * p->substeps, INT_MAX);
   if (w->pbd && !(p->stiffness > 0 && p->stiffness <= 1))
     return cb_fail("%s: pbd_stiffness must be in (0, 1], got %g", name, p->stiffness);
   /* the constraints: every spring of every spring term, in term order */
@@ -199,7 +203,8 @@ static void sweep(xpbd_work *w, double *x, double h, double sprime) {
     if (w->pbd) {
       dl = -sprime * C / (wi + wj); /* dlambda = -s' C/(w_i + w_j) */
     } else {
-      double at = 1.0 / (w->kc[c] * h * h);           /* alpha~ = alpha/h^2, alpha = 1/k */
+      double at = 1.0 / (w->kc[c] * h * h); /* alpha~ = alpha/h^2, alpha = 1/k */
+      if (!isfinite(at)) continue;          /* infinite compliance (k = 0, or k h^2 below 1/DBL_MAX): no constraint */
       dl = (-C - at * w->lambda[c]) / (wi + wj + at); /* dlambda = (-C - alpha~ lambda)/(w_i + w_j + alpha~) */
       w->lambda[c] += dl;
     }

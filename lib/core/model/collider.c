@@ -67,9 +67,9 @@ static double sphere_energy(const cb_term *t, const double *x, double *grad) {
   for (int i = 0; i < s->nv; i++) {
     double d[3] = {x[3 * i] - s->sp.centre[0], x[3 * i + 1] - s->sp.centre[1], x[3 * i + 2] - s->sp.centre[2]};
     double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]), phi = R - l;
-    if (!(phi > 0) || !(l > 0)) continue;
-    E += 0.5 * s->sp.stiffness * phi * phi;
-    if (grad)
+    if (!(phi > 0)) continue;
+    E += 0.5 * s->sp.stiffness * phi * phi; /* at the centre too: E is continuous there (its maximum, k R^2/2) */
+    if (grad && l > 0)
       for (int a = 0; a < 3; a++) grad[3 * i + a] += -s->sp.stiffness * phi * d[a] / l;
   }
   return E;
@@ -94,7 +94,8 @@ static double sphere_element(const cb_term *t, int i, const double *x, cb_projec
   double l2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], l = sqrt(l2), phi = R - l;
   memset(g, 0, 3 * sizeof(double));
   memset(H, 0, 9 * sizeof(double));
-  if (!(phi > 0) || !(l > 0)) return 0.0;
+  if (!(phi > 0)) return 0.0;
+  if (!(l > 0)) return 0.5 * k * phi * phi; /* the centre: E's maximum; no direction, g = 0 (a subgradient), H = 0 */
   double tr = cb_projection_eigenvalue(proj, -k * phi / l);
   for (int a = 0; a < 3; a++) {
     g[a] = -k * phi * d[a] / l;

@@ -7,6 +7,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include <clothbench/readfile.h>
 #include <clothbench/status.h>
 
 cb_grid_params cb_grid_params_default(void) {
@@ -281,11 +282,10 @@ static int check_duplicate_faces(const int *tri, const int *line, int nt, const 
 
 int cb_mesh_read_obj(const char *path, cb_mesh *out) {
   memset(out, 0, sizeof *out);
-  FILE *f = fopen(path, "r");
-  if (!f) return cb_fail_status(CB_EIO, "%s: cannot open: %s", path, strerror(errno));
   struct stat sb;
-  if (fstat(fileno(f), &sb) != 0 || !S_ISREG(sb.st_mode)) {
-    fclose(f);
+  FILE *f = cb_fopen_regular(path, &sb); /* checked before it is read: a FIFO would block fopen */
+  if (!f && errno) return cb_fail_status(CB_EIO, "%s: cannot open: %s", path, strerror(errno));
+  if (!f) {
     return cb_fail_status(CB_EIO, "%s: not a regular file (a directory, device or pipe); an OBJ mesh must be a file",
                           path);
   }

@@ -375,6 +375,11 @@ static int build_geometry(const cb_scene_def *d, cb_scene *s, const char **key) 
 /* Masses: uniform, or lumped m_i = density * (sum of adjacent rest areas) / 3. */
 static int build_masses(const cb_scene_def *d, cb_scene *s, const char **key) {
   int nv = s->mesh.nv;
+  if (d->vertex_mass > 0 && !isfinite(1.0 / d->vertex_mass)) /* the methods that divide by m would write NaN */
+    return at_key(cb_fail("material.vertex_mass = %g kg: its inverse 1/m is not a finite double (a subnormal mass); "
+                          "a mass must be at least %g kg",
+                          d->vertex_mass, 1.0 / DBL_MAX),
+                  key, "material.vertex_mass");
   if (d->vertex_mass > 0)
     for (int i = 0; i < nv; i++) s->mass[i] = d->vertex_mass;
   else
@@ -395,10 +400,10 @@ static int build_masses(const cb_scene_def *d, cb_scene *s, const char **key) {
       for (int k = 0; k < 3; k++) s->mass[s->mesh.tri[3 * t + k]] += d->density * a / 3.0;
     }
   for (int i = 0; i < nv; i++)
-    if (!isfinite(s->mass[i]))
+    if (!isfinite(s->mass[i]) || (s->mass[i] > 0 && !isfinite(1.0 / s->mass[i])))
       return at_key(cb_fail("material.density: vertex %d's mass, density %g kg/m^2 x its triangles' area / 3, is %g "
                             "kg, "
-                            "not a finite double",
+                            "not a finite double, or one whose inverse is not",
                             i, d->density, s->mass[i]),
                     key, "material.density");
   return CB_OK;

@@ -7,7 +7,11 @@
  *            stop if |r|/|b| <= tol
  *            z = P^-1 r;  beta = (r.z)_new/(r.z)_old;  p = z + beta p
  *
- * A breakdown p^T A p <= 0 is reported as CB_INDEFINITE. */
+ * A breakdown p^T A p <= 0 is reported as CB_INDEFINITE, except p^T A p = 0
+ * once |r| <= eps |b|: the recursion went below round-off (solver.tol below
+ * what double precision reaches) and p underflowed, which says nothing of A;
+ * that stops as CB_NOT_CONVERGED, with the reason. */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -126,13 +130,19 @@ static int cg_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x
   double *z = w->precond ? w->z : w->r;
   if (w->precond) apply_precond(w, A->nblk, w->r, z);
   memcpy(w->p, z, (size_t)n * sizeof(double));
-  double rz = cb_vec_dot(n, w->r, z);
+  double rz = cb_vec_dot(n, w->r, z), rnorm = r0;
   for (int k = 0; k < s->params.max_iters; k++) {
     cb_sparse_sym_matvec(&w->S, w->p, w->q); /* q = A p */
     double pq = cb_vec_dot(n, w->p, w->q);
     if (!(pq > 0)) {
       s->stats.iters = k;
       if (!isfinite(pq)) return cb_fail_status(CB_DIVERGED, "%s: NaN at iteration %d", s->type->name, k + 1);
+      if (pq == 0 && rnorm <= DBL_EPSILON * (bnorm > 0 ? bnorm : 1)) /* p underflowed with r: round-off, not A */
+        return cb_fail_status(CB_NOT_CONVERGED,
+                              "%s: not converged: stopped at round-off at iteration %d, |r|/|b| = %.3g (the recursive "
+                              "residual fell below double precision, p^T A p underflowed to 0); solver.tol = %g is "
+                              "below what double precision reaches",
+                              s->type->name, k + 1, bnorm > 0 ? rnorm / bnorm : rnorm, s->params.tol);
       return cb_fail_status(CB_INDEFINITE,
                             "%s: breakdown p^T A p = %g <= 0 at iteration %d (A is not positive definite)",
                             s->type->name, pq, k + 1);
@@ -143,7 +153,8 @@ static int cg_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x
       w->r[i] -= a * w->q[i]; /* r -= a A p */
       rr += w->r[i] * w->r[i];
     }
-    if (cb_iter_stop(s, k + 1, sqrt(rr), r0, bnorm, x, &status)) return status;
+    rnorm = sqrt(rr);
+    if (cb_iter_stop(s, k + 1, rnorm, r0, bnorm, x, &status)) return status;
     status = CB_NOT_CONVERGED;
     if (w->precond) apply_precond(w, A->nblk, w->r, z);
     double rz_new = w->precond ? cb_vec_dot(n, w->r, z) : rr;
