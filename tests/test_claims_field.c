@@ -52,37 +52,58 @@ TestSuite(claims_field, .init = setup, .fini = teardown);
 
 /* ---- X1 ---- */
 
-/* k_ratio of pbd and xpbd at (iters, dt): pbd = p0 * iters, xpbd = x0 + xs * iters */
-static void x1(double p0, double x0, double xs) {
-  char buf[4096] = "scene,method,dt_s,iters,k_n_per_m,settle_s,ref_strain,strain,k_eff_n_per_m,k_ratio,status\n";
-  const int ks[] = {1, 10, 100};
-  const double dts[] = {1 / 30.0, 1 / 120.0};
+#define X1_HEAD "scene,method,kind,dt_s,iters,k_n_per_m,settle_s,ref_strain,strain,k_eff_n_per_m,k_ratio,residual,status\n"
+
+/* k_ratio of pbd and xpbd: over 1-100 iterations (kind sweep) xpbd approaches its converged value 1 as
+ * 1 - 0.5/iters (not converged there) and pbd grows with the iterations; at convergence (kind converged, at
+ * 1000 iterations) pbd = p0 (d + 1)^2 for the d-th dt (its stiffness grows as dt^-2) and xpbd =
+ * xc (1 + xs d); xstatus the xpbd converged rows' status ("ok" or "not_converged") */
+static void x1(double p0, double xc, double xs, const char *xstatus) {
+  char buf[8192] = X1_HEAD;
+  const int ks[] = {1, 10, 100, 1000};
+  const double dts[] = {1 / 30.0, 1 / 60.0, 1 / 120.0};
   for (int m = 0; m < 2; m++)
-    for (int d = 0; d < 2; d++)
-      for (int k = 0; k < 3; k++) {
-        double r = m ? x0 + xs * ks[k] : p0 * ks[k] * (d + 1);
-        sprintf(buf + strlen(buf), "strip,%s,%.17g,%d,1000,2,0.02,%.17g,%.17g,%.17g,ok\n", m ? "xpbd" : "pbd", dts[d],
-                ks[k], 0.02 / r, 1000 * r, r);
+    for (int d = 0; d < 3; d++)
+      for (int k = 0; k < 4; k++) {
+        int conv = k == 3;
+        double r = m ? (conv ? xc * (1 + xs * d) : 1 - 0.5 / ks[k]) : conv ? p0 * (d + 1) * (d + 1) : 0.01 * ks[k];
+        const char *st = conv && xstatus && strcmp(xstatus, "ok") ? xstatus : "ok";
+        sprintf(buf + strlen(buf), "strip,%s,%s,%.17g,%d,1000,2,0.02,%.17g,%.17g,%.17g,%g,%s\n", m ? "xpbd" : "pbd",
+                conv ? "converged" : "sweep", dts[d], ks[k], 0.02 / r, 1000 * r, r, conv && !strcmp(st, "ok") ? 1e-8 : 1e-3,
+                st);
       }
   put("field_x1.csv", buf);
 }
 
-Test(claims_field, x1_reproduced_when_xpbd_is_flat_and_pbd_is_not) {
-  x1(0.1, 1.0, 0.0);
+Test(claims_field, x1_reproduced_when_converged_xpbd_is_flat_and_pbd_is_not) {
+  /* xpbd's 1-100 rows spread 2x (not converged), which no longer decides against it */
+  x1(700, 1.0, 0.0, "ok");
   cb_claim_result r;
   cr_expect_eq(decide("X1", &r), CB_REPRODUCED, "%s", r.reason);
 }
 
-Test(claims_field, x1_not_reproduced_when_xpbd_varies_more_than_pbd) {
-  /* pbd flat, xpbd ten times softer at one iteration */
-  char buf[4096] = "scene,method,dt_s,iters,k_n_per_m,settle_s,ref_strain,strain,k_eff_n_per_m,k_ratio,status\n"
-                   "strip,pbd,0.03,1,1000,2,0.02,0.02,1000,1,ok\n"
-                   "strip,pbd,0.03,100,1000,2,0.02,0.02,1000,1.01,ok\n"
-                   "strip,xpbd,0.03,1,1000,2,0.02,0.2,100,0.1,ok\n"
-                   "strip,xpbd,0.03,100,1000,2,0.02,0.02,1000,1,ok\n";
+Test(claims_field, x1_not_reproduced_when_converged_xpbd_varies_more_than_pbd) {
+  /* pbd flat over dt at convergence, xpbd ten times softer at one dt */
+  char buf[4096] = X1_HEAD;
+  strcat(buf, "strip,pbd,converged,0.03,1000,1000,2,0.02,0.02,1000,1,1e-6,ok\n"
+              "strip,pbd,converged,0.01,1000,1000,2,0.02,0.02,1000,1.01,1e-6,ok\n"
+              "strip,xpbd,converged,0.03,1000,1000,2,0.02,0.2,100,0.1,1e-9,ok\n"
+              "strip,xpbd,converged,0.01,1000,1000,2,0.02,0.02,1000,1,1e-9,ok\n");
   put("field_x1.csv", buf);
   cb_claim_result r;
   cr_expect_eq(decide("X1", &r), CB_NOT_REPRODUCED, "%s", r.reason);
+}
+
+Test(claims_field, x1_partly_when_converged_xpbd_is_off_by_more_than_ten_percent) {
+  x1(700, 0.5, 0.0, "ok"); /* flat over dt, but half the springs' stiffness */
+  cb_claim_result r;
+  cr_expect_eq(decide("X1", &r), CB_PARTLY, "%s", r.reason);
+}
+
+Test(claims_field, x1_undecided_when_xpbd_did_not_converge) {
+  x1(700, 1.0, 0.0, "not_converged");
+  cb_claim_result r;
+  cr_expect_eq(decide("X1", &r), CB_UNDECIDED, "%s", r.reason);
 }
 
 /* ---- X2 ---- */

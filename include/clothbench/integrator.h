@@ -46,6 +46,9 @@ typedef struct cb_step_stats {
   int factorizations; /* factor calls (more than newton_iters when `shift` retried) */
   double shift_mu;    /* largest shift mu added to A in this step (`shift` policy), N/m; 0 = none */
   double rho;         /* Chebyshev spectral radius the step used (given or estimated); 0 = none */
+  double constraint_residual; /* pbd, xpbd: the last sweep's largest constraint residual over the rest length,
+                                 max_c |C_c + alpha~ lambda_c| / L_c (xpbd; pbd: |C_c| / L_c) at the iterate
+                                 before that sweep, in the step's last substep; 0 for the other types */
 } cb_step_stats;
 
 /* What a Newton hook sees. Events: CB_NEWTON_GRADIENT after each evaluation
