@@ -9,10 +9,15 @@
  *   (status not_converged) decides nothing: undecided if no decided scene goes against the claim. The
  *   1-100 iteration rows (kind "sweep") are shown beside it, not part of the verdict.
  * X2 (field_x2.csv): per scene and n >= 2, XPBD n x 1 against 1 x n (equal work: n sweeps). nx1 "beats"
- *   1xn at a pair when its largest edge stretch is lower and its wall time at most 1.5x 1xn's.
- *   Reproduced when it beats at every pair; partly when at half of them or more; not reproduced
- *   otherwise. The step errors against the converged implicit step (which n substeps do not approach:
- *   they are a different time discretisation) are reported, not part of the verdict.
+ *   1xn at a pair when it did not blow up, its largest edge stretch is the closer to the converged
+ *   step's (|stretch - ref_max_strain|: being stiffer than the physics is no win) or 1xn blew up, and its
+ *   wall time is at most 1.5x 1xn's over the paired spread (cb_claim_timing_side; a spread straddling
+ *   1.5x leaves the pair undecided). A blow-up is a row whose status is not ok, or that says ok with a
+ *   relative |grad F| past the step bench's bound (cb_step_classify, CB_STEP_GROWTH_BOUND). Reproduced
+ *   when it beats at every pair; partly when at half of them or more; not reproduced otherwise; undecided
+ *   when counting the undecided pairs as beats or as losses gives two verdicts. The step errors against
+ *   the converged implicit step (which n substeps do not approach: they are a different time
+ *   discretisation) are reported, not part of the verdict.
  * Q1 (field_tol.csv): per scene and tolerance (relative |grad F| 1e-3, 1e-5), L-BFGS's wall time to
  *   the tolerance against each of pd, pd-chebyshev and the fastest Newton variant that reached it
  *   (newton_exact: exact Hessian with line search, a non-SPD step redone with drop; or newton_drop),
@@ -36,6 +41,7 @@
 
 #include "claims.h"
 #include "pareto.h"
+#include "step_bench.h"
 
 
 enum { MAXS = 16 };
@@ -159,21 +165,33 @@ void cb_check_X1(const cb_table *csv, const char *dir, cb_claim_result *out) {
 
 /* ---- X2 ---- */
 
+/* the verdict of `beats` wins in `pairs` (reproduced: all; partly: half or more) */
+static cb_verdict x2_verdict(int beats, int pairs) {
+  return beats == pairs ? CB_REPRODUCED : 2 * beats >= pairs ? CB_PARTLY : CB_NOT_REPRODUCED;
+}
+
+/* an x2 row is a blow-up when its status is not ok, or when it says ok with a relative |grad F| past the
+ * step bench's bound (a CSV written before the bench's own check: caught here too) */
+static int x2_ok(const cb_table *t, int r, int cstatus, int crel) {
+  return !strcmp(cb_table_str(t, r, cstatus), "ok") &&
+         cb_step_classify(CB_OK, cb_table_num(t, r, crel)) == CB_OK;
+}
+
 void cb_check_X2(const cb_table *csv, const char *dir, cb_claim_result *out) {
   (void)csv;
   cb_table t;
   if (cb_claim_side_table(dir, "field", "x2", &t, out)) return;
-  static const char *const names[] = {"scene",      "n",          "variant",        "wall_ms",
-                                      "step_error", "max_strain", "ref_max_strain", "status"};
-  int c[8];
-  if (cb_claim_columns(&t, names, c, 8, "field_x2.csv", out)) {
+  static const char *const names[] = {"scene",      "n",          "variant",        "wall_ms", "step_error",
+                                      "max_strain", "ref_max_strain", "status",     "rel_grad"};
+  int c[9];
+  if (cb_claim_columns(&t, names, c, 9, "field_x2.csv", out)) {
     cb_table_free(&t);
     return;
   }
-  int pairs = 0, beats = 0, err_lower = 0;
-  cb_claim_numbers(out, "| scene | n | largest stretch nx1, 1xn (converged step's) | step error nx1, 1xn | wall ms "
-                        "nx1, 1xn | nx1 beats |\n"
-                        "|---|---|---|---|---|---|\n");
+  int pairs = 0, beats = 0, undecided = 0, err_lower = 0, blowups = 0;
+  cb_claim_numbers(out, "| scene | n | largest stretch nx1, 1xn (converged step's) | distance to it nx1, 1xn | step error "
+                        "nx1, 1xn | wall ms nx1, 1xn | wall ratio nx1/1xn | status nx1, 1xn | nx1 beats |\n"
+                        "|---|---|---|---|---|---|---|---|---|\n");
   for (int r = 0; r < t.nrows; r++) {
     if (strcmp(cb_table_str(&t, r, c[2]), "nx1") || cb_table_num(&t, r, c[1]) < 2) continue;
     int o = -1;
@@ -182,29 +200,51 @@ void cb_check_X2(const cb_table *csv, const char *dir, cb_claim_result *out) {
           cb_table_num(&t, q, c[1]) == cb_table_num(&t, r, c[1]))
         o = q;
     if (o < 0) continue;
-    double sa = cb_table_num(&t, r, c[5]), sb = cb_table_num(&t, o, c[5]), wa = cb_table_num(&t, r, c[3]),
-           wb = cb_table_num(&t, o, c[3]);
+    double sa = cb_table_num(&t, r, c[5]), sb = cb_table_num(&t, o, c[5]), ref = cb_table_num(&t, r, c[6]);
+    double da = fabs(sa - ref), db = fabs(sb - ref); /* |stretch - reference stretch| */
     double ea = cb_table_num(&t, r, c[4]), eb = cb_table_num(&t, o, c[4]);
-    int ok = !strcmp(cb_table_str(&t, r, c[7]), "ok"), b = ok && sa < sb && wa <= 1.5 * wb;
+    cb_claim_timing wa = cb_claim_timing_at(&t, r, "wall_ms"), wb = cb_claim_timing_at(&t, o, "wall_ms");
+    cb_claim_timing ratio = cb_claim_timing_ratio(&wa, &wb);
+    int oka = x2_ok(&t, r, c[7], c[8]), okb = x2_ok(&t, o, c[7], c[8]);
+    blowups += !oka + !okb;
+    /* nx1 beats 1xn: it ran without a blow-up, and is closer to the reference stretch (or 1xn blew up),
+       at a wall time at most 1.5x 1xn's (over the paired spread; straddling 1.5: undecided) */
+    const char *verdict;
+    int side = cb_claim_timing_side(&ratio, 1.5);
+    if (!oka || (okb && !(da < db)) || side > 0) verdict = "no";
+    else if (side == 0) {
+      verdict = "undecided (time within the spread of 1.5x)";
+      undecided++;
+    } else {
+      verdict = "yes";
+      beats++;
+    }
     pairs++;
-    beats += b;
     err_lower += ea < eb;
-    cb_claim_numbers(out, "| %s | %g | %.4g, %.4g (%.4g) | %.3g, %.3g | %.3g, %.3g | %s |\n", cb_table_str(&t, r, c[0]),
-                     cb_table_num(&t, r, c[1]), sa, sb, cb_table_num(&t, r, c[6]), ea, eb, wa, wb, b ? "yes" : "no");
+    char rs[96];
+    cb_claim_numbers(out, "| %s | %g | %.4g, %.4g (%.4g) | %.3g, %.3g | %.3g, %.3g | %.3g, %.3g | %s | %s%s, %s%s | %s |\n",
+                     cb_table_str(&t, r, c[0]), cb_table_num(&t, r, c[1]), sa, sb, ref, da, db, ea, eb, wa.med, wb.med,
+                     cb_claim_spread(rs, sizeof rs, "%.3g", &ratio, "x"), cb_table_str(&t, r, c[7]),
+                     oka || strcmp(cb_table_str(&t, r, c[7]), "ok") ? "" : " (relative grad F past the bound)",
+                     cb_table_str(&t, o, c[7]),
+                     okb || strcmp(cb_table_str(&t, o, c[7]), "ok") ? "" : " (relative grad F past the bound)", verdict);
   }
   if (!pairs) {
     cb_claim_reason(out, "field_x2.csv has no pair of nx1 and 1xn rows with n >= 2.");
     cb_table_free(&t);
     return;
   }
-  out->verdict = beats == pairs ? CB_REPRODUCED : 2 * beats >= pairs ? CB_PARTLY : CB_NOT_REPRODUCED;
+  cb_verdict best = x2_verdict(beats + undecided, pairs), worst = x2_verdict(beats, pairs);
+  out->verdict = best == worst ? best : CB_UNDECIDED;
   cb_claim_reason(out,
-                  "XPBD n substeps x 1 iteration has the lower largest edge stretch at no more than 1.5x the wall time "
-                  "of 1 step x n "
-                  "iterations in %d of %d (scene, n >= 2) pairs; its step error against the converged implicit step is "
-                  "the lower in "
-                  "%d of them (substeps approach a finer time discretisation, not that step). ",
-                  beats, pairs, err_lower);
+                  "XPBD n substeps x 1 iteration ends closer to the converged step's largest edge stretch (|stretch - "
+                  "reference stretch|) than 1 step x n iterations, without a blow-up and at no more than 1.5x its "
+                  "wall time, in %d of %d (scene, n >= 2) pairs, %d more undecided on the time (paired spread "
+                  "straddling 1.5x)%s; %d row(s) blew up (status not ok, or relative |grad F| past %g); its step "
+                  "error against the converged implicit step is the lower in %d of them (substeps approach a finer "
+                  "time discretisation, not that step). ",
+                  beats, pairs, undecided, best == worst ? "" : ", which decide between two verdicts", blowups,
+                  CB_STEP_GROWTH_BOUND, err_lower);
   cb_table g;
   if (cb_claim_side_table(dir, "field", "gap", &g, out) == 0) {
     int gs = cb_table_col(&g, "scene"), gi = cb_table_col(&g, "iters"), gr = cb_table_col(&g, "rel_grad"),

@@ -132,6 +132,56 @@ Test(claims_field, x2_not_reproduced_when_iterations_stretch_less) {
   cr_expect_eq(decide("X2", &r), CB_NOT_REPRODUCED, "%s", r.reason);
 }
 
+#define X2_HEAD \
+  "scene,vertices,n,variant,substeps,iters,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,step_error," \
+  "max_strain,ref_max_strain,rel_grad,status\n"
+
+Test(claims_field, x2_not_reproduced_when_substeps_are_stiffer_than_the_physics) {
+  /* nx1 stretches less than the converged step (0.003) by more than 1xn stretches more: no win */
+  char buf[4096] = X2_HEAD;
+  for (int n = 2; n <= 8; n *= 2) {
+    sprintf(buf + strlen(buf), "lab,441,%d,nx1,%d,1,%d,,,,3,0.1,0.0005,0.003,0.1,ok\n", n, n, n);
+    sprintf(buf + strlen(buf), "lab,441,%d,1xn,1,%d,%d,,,,3,0.01,0.0031,0.003,0.01,ok\n", n, n, n);
+  }
+  put("field_x2.csv", buf);
+  cb_claim_result r;
+  cr_expect_eq(decide("X2", &r), CB_NOT_REPRODUCED, "%s", r.reason);
+}
+
+/* substeps win every pair on the stretch, but the n = 8 nx1 row blew up: written `ok` with a relative
+ * |grad F| of 1695 (bad = 0) or with status diverged (bad = 1); either way it is no win */
+static void x2_blowup(int bad) {
+  char buf[4096] = X2_HEAD;
+  for (int n = 2; n <= 8; n *= 2) {
+    int blow = n == 8;
+    sprintf(buf + strlen(buf), "stiff,6561,%d,nx1,%d,1,%d,,,,3,0.4,%g,0.0003,%g,%s\n", n, n, n, blow ? 0.0192 : 0.0003,
+            blow ? 1695.0 : 3.0, blow && bad ? "diverged" : "ok");
+    sprintf(buf + strlen(buf), "stiff,6561,%d,1xn,1,%d,%d,,,,3,0.02,0.003,0.0003,5,ok\n", n, n, n);
+  }
+  put("field_x2.csv", buf);
+}
+
+Test(claims_field, x2_a_blow_up_written_ok_is_no_win) {
+  x2_blowup(0);
+  cb_claim_result r;
+  cr_expect_eq(decide("X2", &r), CB_PARTLY, "%s", r.reason);
+  cr_expect(strstr(r.numbers, "past the bound"), "the silent blow-up is named: %s", r.numbers);
+  x2_blowup(1);
+  cr_expect_eq(decide("X2", &r), CB_PARTLY, "%s", r.reason);
+}
+
+Test(claims_field, x2_undecided_when_the_time_ratio_straddles_one_and_a_half) {
+  /* nx1 closer to the reference everywhere; its paired time ratio is 1.2-1.8x at every n */
+  char buf[4096] = X2_HEAD;
+  for (int n = 2; n <= 8; n *= 2) {
+    sprintf(buf + strlen(buf), "lab,441,%d,nx1,%d,1,1.5,1.2,1.8,1.2 1.5 1.8,3,0.1,0.0031,0.003,0.1,ok\n", n, n);
+    sprintf(buf + strlen(buf), "lab,441,%d,1xn,1,%d,1,1,1,1 1 1,3,0.01,0.004,0.003,0.01,ok\n", n, n);
+  }
+  put("field_x2.csv", buf);
+  cb_claim_result r;
+  cr_expect_eq(decide("X2", &r), CB_UNDECIDED, "%s", r.reason);
+}
+
 /* ---- Q1 and V1's speed: field_tol.csv ---- */
 
 #define TOL_HEAD \

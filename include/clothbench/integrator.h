@@ -190,8 +190,11 @@ enum {
   CB_INTEGRATOR_LINEAR_SOLVER = 1u, /* solves with the linear solver named at alloc (analysed there, once) */
   CB_INTEGRATOR_HESSIAN = 2u,       /* assembles the system's matrix M/dt^2 + H into scene->sys.A, so a
                                        caller sharing that matrix knows a step overwrites it */
-  CB_INTEGRATOR_OWN_ELASTICITY = 4u /* ignores the scene's elastic terms (shape matching's goals replace
+  CB_INTEGRATOR_OWN_ELASTICITY = 4u, /* ignores the scene's elastic terms (shape matching's goals replace
                                        them): a run's energy bound counts kinetic + gravity only */
+  CB_INTEGRATOR_HISTORY = 8u /* a step reads what earlier steps left (VBD's adaptive initial guess uses the
+                                last step's velocity): a fresh integrator's first step is not a typical one,
+                                so a benchmark of one step warms it with an untimed step first */
 };
 
 /* A plug-in (gsl_multiroot_fsolver_type style). The wrapper allocates the

@@ -465,7 +465,7 @@ static int vbd_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) 
 
 const cb_integrator_type cb_integrator_vbd = {
     .name = "vbd",
-    .flags = 0,
+    .flags = CB_INTEGRATOR_HISTORY, /* the adaptive initial guess */
     .size = sizeof(vbd_work),
     .params_size = sizeof(cb_vbd_params),
     .params_default = &vbd_defaults,
@@ -477,7 +477,7 @@ const cb_integrator_type cb_integrator_vbd = {
 
 const cb_integrator_type cb_integrator_vbd_chebyshev = {
     .name = "vbd-chebyshev",
-    .flags = 0,
+    .flags = CB_INTEGRATOR_HISTORY,
     .size = sizeof(vbd_work),
     .params_size = sizeof(cb_vbd_params),
     .params_default = &vbdc_defaults,
