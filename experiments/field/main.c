@@ -21,7 +21,8 @@
  *   field_tol_trace.csv  the relative |grad F| per iteration of those steps, with the time
  *   field_rises.csv      V1: objective rises between VBD iterations over trajectories (v1.c)
  *   field_scramble.csv   V1: a scrambled start (vertices displaced at random by up to the cloth's
- *                        size): diverged or recovered, per method
+ *                        size): diverged, and the mean strain at the start, halfway and at the end of
+ *                        the window, per method (recovery is decided in claims/check_field.c)
  * The scenes are the table SCENES below, the work four sweeps of cells run by
  * the shared sweep runner (a front scene's cell also runs its tolerance part, tol.c, on the same
  * state and rho estimates); --shard I/N splits them. --smoke runs one small
@@ -125,8 +126,8 @@ int main(int argc, char **argv) {
                           "scene,method,start,frames,frames_run,iters,rises,steps_with_rise,rel_max_rise,diverged,"
                           "diverge_frame,status") != T_RISES ||
       cb_experiment_table(&e, "scramble", NULL,
-                          "scene,method,frames,frames_run,displacement_m,start_strain,end_strain,normal_strain,"
-                          "end_max_strain,diverged,diverge_frame,recovered,status") != T_SCRAMBLE)
+                          "scene,method,frames,frames_run,dt_s,displacement_m,start_strain,mid_strain,end_strain,"
+                          "normal_strain,end_max_strain,diverged,diverge_frame,status") != T_SCRAMBLE)
     return cb_experiment_end(&e, CB_EIO), 2;
   const cb_sweep sweeps[] = {
       {"front", p.nfront, fd_front_cell, fd_front_cost, &p},
