@@ -6,7 +6,7 @@
  *   every scene XPBD's k_ratio is within 10% of 1 at every dt with a spread <= 1.1, and PBD's spread is
  *   above 1.1 and above XPBD's; partly when XPBD's spread is below PBD's on every scene but the first
  *   fails somewhere; not reproduced otherwise. A scene whose XPBD did not converge within the cap
- *   (status not_converged) decides nothing: undecided if no decided scene goes against the claim. The
+ *   (status max_iters, CB_NOT_CONVERGED) decides nothing: undecided if no decided scene goes against the claim. The
  *   1-100 iteration rows (kind "sweep") are shown beside it, not part of the verdict.
  * X2 (field_x2.csv): per scene and n >= 2, XPBD n x 1 against 1 x n (equal work: n sweeps). nx1 "beats"
  *   1xn at a pair when it did not blow up, its largest edge stretch is the closer to the converged
@@ -82,7 +82,7 @@ static int k_range(const cb_table *t, const int *c, const char *sc, const char *
     const char *status = cb_table_str(t, r, c[5]);
     if (strcmp(status, "ok") || !(k > 0)) {
       (*bad)++;
-      *nc += !strcmp(status, "not_converged");
+      *nc += !strcmp(status, cb_status_name(CB_NOT_CONVERGED)); /* "max_iters" */
       continue;
     }
     *lo = fmin(*lo, k);

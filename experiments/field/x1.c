@@ -18,7 +18,7 @@
  * x_s's mean |strain| (so a residual moves the measured strain by about 0.1% of itself; XPBD resets
  * lambda every step, so every step needs as many sweeps as this one). Both methods then settle at K*
  * as above; the row keeps the largest residual over the settled frames (residual), and a scene whose
- * XPBD did not reach RES_TOL within KMAX gets status not_converged on its converged rows. The 1-100
+ * XPBD did not reach RES_TOL within KMAX gets status max_iters (CB_NOT_CONVERGED) on its converged rows. The 1-100
  * rows (kind "sweep") stay as the second figure: how fast each method approaches its K* value. */
 #include <math.h>
 #include <stdio.h>
