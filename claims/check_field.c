@@ -134,7 +134,7 @@ void cb_check_X1(const cb_table *csv, const char *dir, cb_claim_result *out) {
                        kmin, kmax, res, slo, shi);
     }
     if (isnan(spread[0]) || isnan(spread[1])) continue; /* a method without converged rows on this scene */
-    if (nc_scene) { /* not converged: this scene cannot decide either way */
+    if (nc_scene) {                                     /* not converged: this scene cannot decide either way */
       unconv++;
       continue;
     }
@@ -178,23 +178,23 @@ static cb_verdict x2_verdict(int beats, int pairs) {
 /* an x2 row is a blow-up when its status is not ok, or when it says ok with a relative |grad F| past the
  * step bench's bound (a CSV written before the bench's own check: caught here too) */
 static int x2_ok(const cb_table *t, int r, int cstatus, int crel) {
-  return !strcmp(cb_table_str(t, r, cstatus), "ok") &&
-         cb_step_classify(CB_OK, cb_table_num(t, r, crel)) == CB_OK;
+  return !strcmp(cb_table_str(t, r, cstatus), "ok") && cb_step_classify(CB_OK, cb_table_num(t, r, crel)) == CB_OK;
 }
 
 void cb_check_X2(const cb_table *csv, const char *dir, cb_claim_result *out) {
   (void)csv;
   cb_table t;
   if (cb_claim_side_table(dir, "field", "x2", &t, out)) return;
-  static const char *const names[] = {"scene",      "n",          "variant",        "wall_ms", "step_error",
-                                      "max_strain", "ref_max_strain", "status",     "rel_grad"};
+  static const char *const names[] = {"scene",          "n",      "variant", "wall_ms", "step_error", "max_strain",
+                                      "ref_max_strain", "status", "rel_grad"};
   int c[9];
   if (cb_claim_columns(&t, names, c, 9, "field_x2.csv", out)) {
     cb_table_free(&t);
     return;
   }
   int pairs = 0, beats = 0, undecided = 0, err_lower = 0, blowups = 0;
-  cb_claim_numbers(out, "| scene | n | largest stretch nx1, 1xn (converged step's) | distance to it nx1, 1xn | step error "
+  cb_claim_numbers(out, "| scene | n | largest stretch nx1, 1xn (converged step's) | distance to it nx1, 1xn | step "
+                        "error "
                         "nx1, 1xn | wall ms nx1, 1xn | wall ratio nx1/1xn | status nx1, 1xn | nx1 beats |\n"
                         "|---|---|---|---|---|---|---|---|---|\n");
   for (int r = 0; r < t.nrows; r++) {
@@ -227,12 +227,13 @@ void cb_check_X2(const cb_table *csv, const char *dir, cb_claim_result *out) {
     pairs++;
     err_lower += ea < eb;
     char rs[96];
-    cb_claim_numbers(out, "| %s | %g | %.4g, %.4g (%.4g) | %.3g, %.3g | %.3g, %.3g | %.3g, %.3g | %s | %s%s, %s%s | %s |\n",
-                     cb_table_str(&t, r, c[0]), cb_table_num(&t, r, c[1]), sa, sb, ref, da, db, ea, eb, wa.med, wb.med,
-                     cb_claim_spread(rs, sizeof rs, "%.3g", &ratio, "x"), cb_table_str(&t, r, c[7]),
-                     oka || strcmp(cb_table_str(&t, r, c[7]), "ok") ? "" : " (relative grad F past the bound)",
-                     cb_table_str(&t, o, c[7]),
-                     okb || strcmp(cb_table_str(&t, o, c[7]), "ok") ? "" : " (relative grad F past the bound)", verdict);
+    cb_claim_numbers(
+        out, "| %s | %g | %.4g, %.4g (%.4g) | %.3g, %.3g | %.3g, %.3g | %.3g, %.3g | %s | %s%s, %s%s | %s |\n",
+        cb_table_str(&t, r, c[0]), cb_table_num(&t, r, c[1]), sa, sb, ref, da, db, ea, eb, wa.med, wb.med,
+        cb_claim_spread(rs, sizeof rs, "%.3g", &ratio, "x"), cb_table_str(&t, r, c[7]),
+        oka || strcmp(cb_table_str(&t, r, c[7]), "ok") ? "" : " (relative grad F past the bound)",
+        cb_table_str(&t, o, c[7]),
+        okb || strcmp(cb_table_str(&t, o, c[7]), "ok") ? "" : " (relative grad F past the bound)", verdict);
   }
   if (!pairs) {
     cb_claim_reason(out, "field_x2.csv has no pair of nx1 and 1xn rows with n >= 2.");
@@ -479,8 +480,8 @@ void cb_check_V1(const cb_table *csv, const char *dir, cb_claim_result *out) {
   }
   static const char *const rn[] = {"scene", "method", "start",           "frames_run",
                                    "iters", "rises",  "steps_with_rise", "diverged"};
-  static const char *const sn[] = {"scene",      "method",     "start_strain",  "end_strain", "diverged",
-                                   "mid_strain", "normal_strain", "frames",     "dt_s",       "status"};
+  static const char *const sn[] = {"scene",      "method",        "start_strain", "end_strain", "diverged",
+                                   "mid_strain", "normal_strain", "frames",       "dt_s",       "status"};
   int rc[8], cc[10];
   if (cb_claim_columns(&ri, rn, rc, 8, "field_rises.csv", out) ||
       cb_claim_columns(&sc, sn, cc, 10, "field_scramble.csv", out)) {
@@ -507,12 +508,13 @@ void cb_check_V1(const cb_table *csv, const char *dir, cb_claim_result *out) {
                      cb_table_num(&ri, r, rc[4]), rises, cb_table_num(&ri, r, rc[6]),
                      cb_table_num(&ri, r, rc[7]) != 0 ? "yes" : "no");
   }
-  cb_claim_numbers(out, "\n**Scrambled start** (free vertices displaced by up to the cloth's size; recovered: no "
-                        "divergence, and the strain's excess over the normal strain down to a tenth or decaying at "
-                        "%.3g/s or faster over the window's second half):\n\n"
-                        "| scene | method | mean strain start, halfway, end (normal) | decay rate of the excess, 1/s "
-                        "| diverged | recovered |\n|---|---|---|---|---|---|\n",
-                  V1_DECAY_MIN);
+  cb_claim_numbers(out,
+                   "\n**Scrambled start** (free vertices displaced by up to the cloth's size; recovered: no "
+                   "divergence, and the strain's excess over the normal strain down to a tenth or decaying at "
+                   "%.3g/s or faster over the window's second half):\n\n"
+                   "| scene | method | mean strain start, halfway, end (normal) | decay rate of the excess, 1/s "
+                   "| diverged | recovered |\n|---|---|---|---|---|---|\n",
+                   V1_DECAY_MIN);
   for (int r = 0; r < sc.nrows; r++) {
     const char *m = cb_table_str(&sc, r, cc[1]);
     if (!strcmp(cb_table_str(&sc, r, cc[9]), "unsupported")) {
@@ -522,8 +524,9 @@ void cb_check_V1(const cb_table *csv, const char *dir, cb_claim_result *out) {
     int ls = !strcmp(m, "vbd line search") ? 1 : !strcmp(m, "vbd") ? 0 : -1;
     int dv = cb_table_num(&sc, r, cc[4]) != 0;
     double rate;
-    int rec = v1_recovered(dv, cb_table_num(&sc, r, cc[7]), cb_table_num(&sc, r, cc[8]), cb_table_num(&sc, r, cc[2]),
-                           cb_table_num(&sc, r, cc[5]), cb_table_num(&sc, r, cc[3]), cb_table_num(&sc, r, cc[6]), &rate);
+    int rec =
+        v1_recovered(dv, cb_table_num(&sc, r, cc[7]), cb_table_num(&sc, r, cc[8]), cb_table_num(&sc, r, cc[2]),
+                     cb_table_num(&sc, r, cc[5]), cb_table_num(&sc, r, cc[3]), cb_table_num(&sc, r, cc[6]), &rate);
     if (ls >= 0) {
       seen[ls][1] = 1;
       if (!rec) part[ls][1] = -1;
@@ -582,10 +585,10 @@ void cb_check_V1(const cb_table *csv, const char *dir, cb_claim_result *out) {
       hold[ls] += part[ls][k] > 0;
       fail[ls] += part[ls][k] < 0;
     }
-  out->verdict = hold[0] == 3                   ? CB_REPRODUCED
-                 : fail[0] == 0                 ? CB_UNDECIDED
-                 : hold[0] > 0 || hold[1] == 3  ? CB_PARTLY
-                                                : CB_NOT_REPRODUCED;
+  out->verdict = hold[0] == 3                  ? CB_REPRODUCED
+                 : fail[0] == 0                ? CB_UNDECIDED
+                 : hold[0] > 0 || hold[1] == 3 ? CB_PARTLY
+                                               : CB_NOT_REPRODUCED;
   static const char *const yes[] = {"fails", "undecided", "holds"};
   cb_claim_reason(out,
                   "vbd (the paper's method, no line search): (a) no objective rise on every step from every scene's "

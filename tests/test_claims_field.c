@@ -52,7 +52,8 @@ TestSuite(claims_field, .init = setup, .fini = teardown);
 
 /* ---- X1 ---- */
 
-#define X1_HEAD "scene,method,kind,dt_s,iters,k_n_per_m,settle_s,ref_strain,strain,k_eff_n_per_m,k_ratio,residual,status\n"
+#define X1_HEAD \
+  "scene,method,kind,dt_s,iters,k_n_per_m,settle_s,ref_strain,strain,k_eff_n_per_m,k_ratio,residual,status\n"
 
 /* k_ratio of pbd and xpbd: over 1-100 iterations (kind sweep) xpbd approaches its converged value 1 as
  * 1 - 0.5/iters (not converged there) and pbd grows with the iterations; at convergence (kind converged, at
@@ -69,8 +70,8 @@ static void x1(double p0, double xc, double xs, const char *xstatus) {
         double r = m ? (conv ? xc * (1 + xs * d) : 1 - 0.5 / ks[k]) : conv ? p0 * (d + 1) * (d + 1) : 0.01 * ks[k];
         const char *st = conv && xstatus && strcmp(xstatus, "ok") ? xstatus : "ok";
         sprintf(buf + strlen(buf), "strip,%s,%s,%.17g,%d,1000,2,0.02,%.17g,%.17g,%.17g,%g,%s\n", m ? "xpbd" : "pbd",
-                conv ? "converged" : "sweep", dts[d], ks[k], 0.02 / r, 1000 * r, r, conv && !strcmp(st, "ok") ? 1e-8 : 1e-3,
-                st);
+                conv ? "converged" : "sweep", dts[d], ks[k], 0.02 / r, 1000 * r, r,
+                conv && !strcmp(st, "ok") ? 1e-8 : 1e-3, st);
       }
   put("field_x1.csv", buf);
 }
@@ -239,8 +240,8 @@ static void v1_tol(const double *ms, double spread) {
   for (int k = 0; k < 6; k++) {
     if (ms[k] >= 0)
       sprintf(buf + strlen(buf), "grid81,6561,%s,x,0.001,100,10,%.17g,%.17g,%.17g,%.17g;%.17g;%.17g,3,1,1e-9,0,ok\n",
-              m[k], ms[k], ms[k] * (1 - spread), ms[k] * (1 + spread), ms[k] * (k < 3 ? 1 - spread : 1 + spread),
-              ms[k], ms[k] * (k < 3 ? 1 + spread : 1 - spread));
+              m[k], ms[k], ms[k] * (1 - spread), ms[k] * (1 + spread), ms[k] * (k < 3 ? 1 - spread : 1 + spread), ms[k],
+              ms[k] * (k < 3 ? 1 + spread : 1 - spread));
     else sprintf(buf + strlen(buf), "grid81,6561,%s,x,0.001,100,,,,,,,1,1e-2,,cut_off\n", m[k]);
   }
   put("field_tol.csv", buf);
@@ -262,8 +263,9 @@ static void v1_runs(int rises, int diverged, double mid, double end) {
            rises, rises ? 1 : 0);
   put("field_rises.csv", buf);
   if (diverged)
-    snprintf(buf, sizeof buf, SCR_HEAD "lab,vbd,40,4,0.025,10,12,,,0.01,,1,5,diverged\n"
-                                       "lab,jacobi-nl,40,40,0.025,10,12,5,0.5,0.01,1,0,,ok\n");
+    snprintf(buf, sizeof buf,
+             SCR_HEAD "lab,vbd,40,4,0.025,10,12,,,0.01,,1,5,diverged\n"
+                      "lab,jacobi-nl,40,40,0.025,10,12,5,0.5,0.01,1,0,,ok\n");
   else
     snprintf(buf, sizeof buf,
              SCR_HEAD "lab,vbd,40,40,0.025,10,12,%.17g,%.17g,0.01,0.1,0,,ok\n"

@@ -187,8 +187,7 @@ int fd_v1_cell(long i, void *ctx, FILE *const *out) {
       status = s_status[m];
       mid = s_mid[m];
       mdt = dt;
-    } else
-      st = trajectory(p, d, s, sets, x, v, frames, L, NULL, &nrun, &div, &iters, &srise, &status, &mid, &mdt);
+    } else st = trajectory(p, d, s, sets, x, v, frames, L, NULL, &nrun, &div, &iters, &srise, &status, &mid, &mdt);
     if (st == CB_EINVAL) { /* the method refuses the scene (pd and the drape's dihedral bending): one row saying so */
       cb_error_clear();
       st = CB_OK;

@@ -78,8 +78,8 @@ static int static_state(const fd_plan *p, const cb_scene_decl *d, cb_scene *s, d
  * the mean |strain| of the stretch springs; with secs <= 0, one step. *res the largest constraint
  * residual over the frames averaged (the one step's), *sst the first fatal step status (or CB_OK). */
 static int settle_run(const fd_plan *p, const cb_scene_decl *d, cb_scene *s, const double *xs, double *x, double *v,
-                  const char *method, int K, const char *dt_s, double secs, cb_config *c, double *strain, double *res,
-                  int *sst) {
+                      const char *method, int K, const char *dt_s, double secs, cb_config *c, double *strain,
+                      double *res, int *sst) {
   double dt;
   cb_parse_double(dt_s, &dt);
   char s1[64], s2[64], s3[64], s4[64];

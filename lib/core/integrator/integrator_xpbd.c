@@ -206,9 +206,9 @@ static void sweep(xpbd_work *w, double *x, double h, double sprime, double *res)
       dl = -sprime * C / (wi + wj); /* dlambda = -s' C/(w_i + w_j) */
       if (res) rmax = fmax(rmax, fabs(C) / w->rest[c]);
     } else {
-      double at = 1.0 / (w->kc[c] * h * h);           /* alpha~ = alpha/h^2, alpha = 1/k */
-      double r = -C - at * w->lambda[c];              /* the constraint's residual -(C + alpha~ lambda) */
-      dl = r / (wi + wj + at);                        /* dlambda = (-C - alpha~ lambda)/(w_i + w_j + alpha~) */
+      double at = 1.0 / (w->kc[c] * h * h); /* alpha~ = alpha/h^2, alpha = 1/k */
+      double r = -C - at * w->lambda[c];    /* the constraint's residual -(C + alpha~ lambda) */
+      dl = r / (wi + wj + at);              /* dlambda = (-C - alpha~ lambda)/(w_i + w_j + alpha~) */
       w->lambda[c] += dl;
       if (res) rmax = fmax(rmax, fabs(r) / w->rest[c]);
     }
