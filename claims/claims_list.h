@@ -156,13 +156,15 @@
     "XPBD (Macklin et al. 2016) makes the converged stiffness independent of the iteration count and dt; PBD's " \
     "depends on both.", \
     "Effective stiffness (static stretch of a hanging strip and of the lab cloth under gravity, against the spring's " \
-    "k) for 1-100 iterations and 3 values of dt, PBD against XPBD: its spread over iterations and dt.", \
+    "k) at the iteration count where XPBD's constraint residual has converged, for 3 values of dt, PBD against XPBD: " \
+    "its spread over dt (and its approach over 1-100 iterations, shown).", \
     "field_x1.png") \
   X(cb_check_X2, "X2", "field", \
     "Small steps (Macklin et al. 2019): at equal work, n substeps of one iteration beat one step of n iterations, " \
     "with far less stretching.", \
-    "For n = 1-64: largest edge stretch and error against the converged implicit reference at the frame ends, and " \
-    "wall time per frame, XPBD n x 1 against 1 x n, on the lab cloth and a stiff cloth.", \
+    "For n = 1-64: distance of the largest edge stretch from the converged implicit step's, blow-ups, error against " \
+    "that step at the frame ends, and wall time per frame, XPBD n x 1 against 1 x n, on the lab cloth and a stiff " \
+    "cloth.", \
     "field_x2.png") \
   X(cb_check_Q1, "Q1", "field", \
     "Quasi-Newton (Liu et al. 2017): L-BFGS with PD's constant matrix as its initial Hessian and a line search " \
@@ -174,8 +176,8 @@
     "Vertex block descent (Chen et al. 2024) lowers the implicit-Euler objective at every iteration, stays stable " \
     "from any initial state, and converges faster than Jacobi-type iterations.", \
     "Over every step of every scene: objective rises counted; a scrambled start (vertices displaced at random by up " \
-    "to the cloth's size) recovers without divergence; |grad F| against iterations and wall time, VBD against " \
-    "jacobi-nl, chebyshev-nl and pd-chebyshev.", \
+    "to the cloth's size) recovers without divergence (its excess strain decays); |grad F| against iterations and " \
+    "wall time, VBD and vbd-chebyshev against jacobi-nl, chebyshev-nl and pd-chebyshev.", \
     "field_v1.png field.png") \
   /* one X(...) entry per claim, above this line */
 

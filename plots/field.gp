@@ -44,27 +44,42 @@ unset multiplot
 set terminal pop
 unset logscale xy
 
-# ---- X1: effective stiffness against iterations, per dt, PBD and XPBD ---------------------------------
+# ---- X1: effective stiffness at convergence (top: X1's verdict) and its approach over 1-100 iterations (bottom)
+# field_x1.csv: kind 'converged' rows are at the iteration count where XPBD's constraint residual converged
+# (x1.c), kind 'sweep' rows at 1-100 iterations; dt_s is column 4
 set output out.'/field_x1.'.ext
 set terminal push
-if (ext eq 'svg') { set terminal svg size 1400,550 dynamic enhanced font 'sans,11' background rgb 'white' } \
-else { set terminal pngcairo size 1400,550 enhanced font 'sans,10' }
+if (ext eq 'svg') { set terminal svg size 1400,1000 dynamic enhanced font 'sans,11' background rgb 'white' } \
+else { set terminal pngcairo size 1400,1000 enhanced font 'sans,10' }
 nx = count(x1, 1)
-set multiplot layout 1, nx title 'X1: effective stiffness k_{eff}/k (static stretch against the converged static state) against iterations'
+set multiplot layout 2, nx title 'X1: effective stiffness k_{eff}/k (static stretch against the converged static state): at convergence against dt (top), approaching it over iterations (bottom)'
 set logscale xy
 set format x '%g'
 set format y '10^{%T}'
-set xlabel 'iterations per step'
-set ylabel 'k_{eff} / k'
 set key bottom right
 do for [s = 1:nx] {
   sc = nth(x1, 1, s)
-  nd = countw(x1, 3, 1, sc)
-  set title sc
-  plot for [d = 1:nd] x1 using (is('scene', sc) && is('method', 'xpbd') && strcol('dt_s') eq nthw(x1, 3, d, 1, sc) ? column('iters') : NaN):'k_ratio' \
-         with linespoints pt 7 lw 2 lc d title sprintf('xpbd dt = %.4g', real(nthw(x1, 3, d, 1, sc))), \
-       for [d = 1:nd] x1 using (is('scene', sc) && is('method', 'pbd') && strcol('dt_s') eq nthw(x1, 3, d, 1, sc) ? column('iters') : NaN):'k_ratio' \
-         with linespoints pt 4 dt 2 lw 2 lc d title sprintf('pbd dt = %.4g', real(nthw(x1, 3, d, 1, sc))), \
+  set title sc.': at the iteration count where XPBD'."'".'s constraint residual converged'
+  set xlabel 'dt (s)'
+  set ylabel 'k_{eff} / k'
+  plot x1 using (is('scene', sc) && is('method', 'xpbd') && is('kind', 'converged') ? column('dt_s') : NaN):'k_ratio' \
+         with linespoints pt 7 ps 1.5 lw 2 title 'xpbd', \
+       x1 using (is('scene', sc) && is('method', 'pbd') && is('kind', 'converged') ? column('dt_s') : NaN):'k_ratio' \
+         with linespoints pt 4 ps 1.5 dt 2 lw 2 title 'pbd', \
+       1 with lines lc 'black' dt 3 title 'k'
+}
+do for [s = 1:nx] {
+  sc = nth(x1, 1, s)
+  nd = countw(x1, 4, 1, sc)
+  set title sc.': over 1-100 iterations (circles: at the converged count)'
+  set xlabel 'iterations per step'
+  set ylabel 'k_{eff} / k'
+  plot for [d = 1:nd] x1 using (is('scene', sc) && is('method', 'xpbd') && is('kind', 'sweep') && strcol('dt_s') eq nthw(x1, 4, d, 1, sc) ? column('iters') : NaN):'k_ratio' \
+         with linespoints pt 7 lw 2 lc d title sprintf('xpbd dt = %.4g', real(nthw(x1, 4, d, 1, sc))), \
+       for [d = 1:nd] x1 using (is('scene', sc) && is('method', 'pbd') && is('kind', 'sweep') && strcol('dt_s') eq nthw(x1, 4, d, 1, sc) ? column('iters') : NaN):'k_ratio' \
+         with linespoints pt 4 dt 2 lw 2 lc d title sprintf('pbd dt = %.4g', real(nthw(x1, 4, d, 1, sc))), \
+       for [d = 1:nd] x1 using (is('scene', sc) && is('kind', 'converged') && strcol('dt_s') eq nthw(x1, 4, d, 1, sc) ? column('iters') : NaN):'k_ratio' \
+         with points pt 6 ps 1.8 lc d notitle, \
        1 with lines lc 'black' dt 3 title 'k'
 }
 unset multiplot

@@ -11,8 +11,9 @@
  *   field_gap.csv        XPBD's gap: relative |grad F| and step error at XPBD's fixed point (1 x n,
  *                        n large) against converged Newton's, per scene
  *   field_x1.csv         X1: effective stiffness of PBD and XPBD (static stretch of a hanging strip
- *                        and of the lab cloth against the converged static state) for 1-100
- *                        iterations and three dt (x1.c)
+ *                        and of the lab cloth against the converged static state) at the iteration
+ *                        count where XPBD's constraint residual has converged (kind converged: X1's
+ *                        verdict) and for 1-100 iterations (kind sweep), three dt (x1.c)
  *   field_x2.csv         X2: XPBD n x 1 against 1 x n, n = 1..64: largest edge stretch, step error
  *                        and wall time (x2.c)
  *   field_tol.csv        Q1 and V1: iterations and wall time to relative |grad F| 1e-3 and 1e-5 of
@@ -20,7 +21,8 @@
  *   field_tol_trace.csv  the relative |grad F| per iteration of those steps, with the time
  *   field_rises.csv      V1: objective rises between VBD iterations over trajectories (v1.c)
  *   field_scramble.csv   V1: a scrambled start (vertices displaced at random by up to the cloth's
- *                        size): diverged or recovered, per method
+ *                        size): diverged, and the mean strain at the start, halfway and at the end of
+ *                        the window, per method (recovery is decided in claims/check_field.c)
  * The scenes are the table SCENES below, the work four sweeps of cells run by
  * the shared sweep runner (a front scene's cell also runs its tolerance part, tol.c, on the same
  * state and rho estimates); --shard I/N splits them. --smoke runs one small
@@ -109,8 +111,8 @@ int main(int argc, char **argv) {
                           "scene,vertices,method,iters,rel_grad,rel_grad_half,step_error,step_error_half,newton_method,"
                           "newton_rel_grad,step_error_newton,status") != T_GAP ||
       cb_experiment_table(&e, "x1", "# x1: static stretch after settling from the converged static state (see x1.c)\n",
-                          "scene,method,dt_s,iters,k_n_per_m,settle_s,ref_strain,strain,k_eff_n_per_m,k_ratio,"
-                          "status") != T_X1 ||
+                          "scene,method,kind,dt_s,iters,k_n_per_m,settle_s,ref_strain,strain,k_eff_n_per_m,"
+                          "k_ratio,residual,status") != T_X1 ||
       cb_experiment_table(&e, "x2", state_extra,
                           "scene,vertices,n,variant,substeps,iters,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_"
                           "repeats,"
@@ -124,8 +126,8 @@ int main(int argc, char **argv) {
                           "scene,method,start,frames,frames_run,iters,rises,steps_with_rise,rel_max_rise,diverged,"
                           "diverge_frame,status") != T_RISES ||
       cb_experiment_table(&e, "scramble", NULL,
-                          "scene,method,frames,frames_run,displacement_m,start_strain,end_strain,normal_strain,"
-                          "end_max_strain,diverged,diverge_frame,recovered,status") != T_SCRAMBLE)
+                          "scene,method,frames,frames_run,dt_s,displacement_m,start_strain,mid_strain,end_strain,"
+                          "normal_strain,end_max_strain,diverged,diverge_frame,status") != T_SCRAMBLE)
     return cb_experiment_end(&e, CB_EIO), 2;
   const cb_sweep sweeps[] = {
       {"front", p.nfront, fd_front_cell, fd_front_cost, &p},

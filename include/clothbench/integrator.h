@@ -42,10 +42,13 @@ typedef struct cb_step_stats {
   double grad_norm;    /* |grad F(x1)|, free DOFs */
   double F;            /* F(x1), J */
   double assemble_ms, factor_ms, solve_ms, wall_ms;
-  int linear_status;  /* status of the last inner solve */
-  int factorizations; /* factor calls (more than newton_iters when `shift` retried) */
-  double shift_mu;    /* largest shift mu added to A in this step (`shift` policy), N/m; 0 = none */
-  double rho;         /* Chebyshev spectral radius the step used (given or estimated); 0 = none */
+  int linear_status;          /* status of the last inner solve */
+  int factorizations;         /* factor calls (more than newton_iters when `shift` retried) */
+  double shift_mu;            /* largest shift mu added to A in this step (`shift` policy), N/m; 0 = none */
+  double rho;                 /* Chebyshev spectral radius the step used (given or estimated); 0 = none */
+  double constraint_residual; /* pbd, xpbd: the last sweep's largest constraint residual over the rest length,
+                                 max_c |C_c + alpha~ lambda_c| / L_c (xpbd; pbd: |C_c| / L_c) at the iterate
+                                 before that sweep, in the step's last substep; 0 for the other types */
 } cb_step_stats;
 
 /* What a Newton hook sees. Events: CB_NEWTON_GRADIENT after each evaluation
@@ -184,11 +187,14 @@ typedef struct cb_param_key {
 
 /* What a type needs from the wrapper. */
 enum {
-  CB_INTEGRATOR_LINEAR_SOLVER = 1u, /* solves with the linear solver named at alloc (analysed there, once) */
-  CB_INTEGRATOR_HESSIAN = 2u,       /* assembles the system's matrix M/dt^2 + H into scene->sys.A, so a
-                                       caller sharing that matrix knows a step overwrites it */
-  CB_INTEGRATOR_OWN_ELASTICITY = 4u /* ignores the scene's elastic terms (shape matching's goals replace
+  CB_INTEGRATOR_LINEAR_SOLVER = 1u,  /* solves with the linear solver named at alloc (analysed there, once) */
+  CB_INTEGRATOR_HESSIAN = 2u,        /* assembles the system's matrix M/dt^2 + H into scene->sys.A, so a
+                                        caller sharing that matrix knows a step overwrites it */
+  CB_INTEGRATOR_OWN_ELASTICITY = 4u, /* ignores the scene's elastic terms (shape matching's goals replace
                                        them): a run's energy bound counts kinetic + gravity only */
+  CB_INTEGRATOR_HISTORY = 8u         /* a step reads what earlier steps left (VBD's adaptive initial guess uses the
+                                        last step's velocity): a fresh integrator's first step is not a typical one,
+                                        so a benchmark of one step warms it with an untimed step first */
 };
 
 /* A plug-in (gsl_multiroot_fsolver_type style). The wrapper allocates the

@@ -8,7 +8,16 @@
  *   cb_step_config  a method's config: the scene's config, the method's
  *                   "section.key=value" sets, then integrator.damping=1
  *                   (single steps compare methods on one F: no damping)
- *   cb_step_once    a fresh integrator, one step from (x0, v0)
+ *   cb_step_once    a fresh integrator, one step from (x0, v0); an integrator whose
+ *                   step reads the earlier steps (CB_INTEGRATOR_HISTORY: VBD's
+ *                   adaptive initial guess) first takes one untimed, unobserved
+ *                   step from the state a frame before (xm, vm), so that the timed
+ *                   step is a typical one (its guess fires), not a first one
+ *   blow-up check   every step's status goes through cb_step_classify: a step
+ *                   that ends with a non-finite relative |grad F| or one above
+ *                   CB_STEP_GROWTH_BOUND (its end is far worse than doing nothing,
+ *                   xhat) is recorded CB_DIVERGED, whatever its method said, so no
+ *                   method writes a blow-up as an `ok` row
  *   cb_step_repeat  the step repeated while the repeats add up to < 30 ms
  *                   (at most 5; once with a hook), the median time kept
  *   cb_step_time_group  several methods' steps timed in interleaved rounds
@@ -34,6 +43,7 @@ typedef struct cb_step_state {
   cb_scene *s;       /* owned */
   cb_config c;       /* the scene's config (no method sets) */
   double *x0, *v0;   /* the start state */
+  double *xm, *vm;   /* the state one frame before it (the warm-up step's start); NULL when frames = 0 */
   double *xstar;     /* the converged step from it (reference) */
   double *x, *v;     /* scratch: the last step's end state */
   int n3;
@@ -51,6 +61,15 @@ typedef struct cb_step_result {
   int fallback;   /* the step hit a non-SPD factorisation and was rerun with the method's fallback */
   cb_timing wall; /* the step's time at every timed repeat (wall_ms: their median) */
 } cb_step_result;
+
+/* A step's end may not be worse than its start guess xhat by more than this: relative |grad F| =
+ * |grad F(x1)| / |grad F(xhat)| above it (or not finite) is a blow-up, CB_DIVERGED. 100: two decades
+ * above doing nothing. The rows that gave it (issue 31 §6): XPBD 64 substeps x 1 iteration on the stiff
+ * 81^2 cloth, relative |grad F| 1695 and 23x the largest strain of 32 substeps, recorded `ok`. */
+#define CB_STEP_GROWTH_BOUND 100.0
+/* the status a step is recorded with: a fatal status as it is; otherwise CB_DIVERGED when rel_grad_hat is
+ * not finite or above CB_STEP_GROWTH_BOUND, else the step's own status */
+int cb_step_classify(int status, double rel_grad_hat);
 
 /* S's config with sets (NULL-terminated, at most 16) and integrator.damping=1, validated. */
 int cb_step_config(const cb_step_state *S, const char *const *sets, cb_config *out);

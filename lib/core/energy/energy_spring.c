@@ -325,6 +325,20 @@ static double spring_element(const cb_term *t, int e, const double *x, cb_projec
   return E;
 }
 
+/* Its vertex a's part (cb_term_type.element_vertex, for VBD): the energy, the gradient block
+ * dE/dx_i = c x_ij (a = 0) or dE/dx_j = -c x_ij (a = 1), and the diagonal block of the element matrix
+ * [H_e -H_e; -H_e H_e], which is +H_e for either end: one 3x3 block, not the 6x6 (g, H may be NULL:
+ * then they are not computed). The same numbers as spring_element with CB_PROJ_NONE. */
+static double spring_element_vertex(const cb_term *t, int e, int a, const double *x, double *g, double *H) {
+  const spring_term *s = (const spring_term *)t;
+  double d[3], c;
+  double E = spring_eval(s, e, x, d, &c);
+  if (g)
+    for (int q = 0; q < 3; q++) g[q] = a ? -(c * d[q]) : c * d[q];
+  if (H) spring_block(s, e, x, CB_PROJ_NONE, H);
+  return E;
+}
+
 static void spring_free(cb_term *t) {
   spring_term *s = (spring_term *)t;
   free(s->ends);
@@ -359,6 +373,7 @@ const cb_term_type cb_term_spring_type = {.name = "spring",
                                           .free = spring_free,
                                           .stencil = spring_stencil,
                                           .element = spring_element,
+                                          .element_vertex = spring_element_vertex,
                                           .nexamples = 3,
                                           .example = spring_example,
                                           .indefinite = spring_indefinite};

@@ -46,7 +46,13 @@
  * plain sweep's result from x_k, omega as in cb_chebyshev_omega; rho
  * (integrator.rho) a number in [0, 1) or `auto`: Wang's estimate from
  * integrator.rho_iters plain sweeps of the first step, once
- * (cb_rho_from_updates). The paper starts the acceleration at iteration 2.
+ * (cb_rho_from_updates), then made safe for Gauss-Seidel sweeps: a trial of
+ * 2 rho_iters accelerated sweeps must end with an update below the plain
+ * sweeps' last and below its own at halfway, else 1 - rho is doubled and the
+ * trial repeated (at most 8 times, then rho = 0). A Gauss-Seidel sweep's
+ * iteration matrix is not symmetric, so its eigenvalues need not be real and
+ * Chebyshev's blend at the plain rate can diverge (Wang 2015 tunes rho down
+ * for Gauss-Seidel by hand). The paper starts the acceleration at iteration 2.
  *
  * Pinned vertices keep their prescribed positions. Step stats: newton_iters
  * = sweeps, rel_grad = |grad F(x_K)|/|grad F(x_init)|, rel_grad_hat =
@@ -255,7 +261,7 @@ static int vbd_init(cb_integrator *it) {
   w->vprev = cb_malloc(3 * (size_t)nv + 1, sizeof(double));
   if (!w->gF || !w->xprev || !w->vprev) return CB_ENOMEM;
   if ((st = cb_projection_work_alloc(3, &w->pw))) return st;
-  if (p->rho == CB_PARAM_AUTO && !(w->dnorm = cb_malloc((size_t)p->rho_iters, sizeof(double)))) return CB_ENOMEM;
+  if (p->rho == CB_PARAM_AUTO && !(w->dnorm = cb_malloc(2 * (size_t)p->rho_iters, sizeof(double)))) return CB_ENOMEM;
   w->rho = p->rho;
   return CB_OK;
 }
@@ -445,13 +451,29 @@ static int vbd_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) 
   cb_objective_eval(&w->obj, w->xprev, w->gF, NULL);
   double g_hat = cblas_dnrm2(nf3, w->gF, 1);
   st->assemble_ms += cb_now_ms() - t0;
-  if (w->rho == CB_PARAM_AUTO) { /* Wang's estimate, once, from the first step's plain sweeps */
+  if (w->rho == CB_PARAM_AUTO) { /* Wang's estimate, once, from the first step's sweeps, made safe */
     t0 = cb_now_ms();
     cb_step_stats scratch;
     memset(&scratch, 0, sizeof scratch);
     initial_guess(w, s, p, dt, v, x);
-    int r = iterate(it, x, p->rho_iters, 0.0, w->dnorm, &scratch, 0, g_hat);
-    w->rho = r == CB_OK ? cb_rho_from_updates(w->dnorm, p->rho_iters) : 0.0;
+    int n = p->rho_iters, r = iterate(it, x, n, 0.0, w->dnorm, &scratch, 0, g_hat);
+    double rho = r == CB_OK ? cb_rho_from_updates(w->dnorm, n) : 0.0, d_plain = w->dnorm[n - 1];
+    /* Safe for Gauss-Seidel: the estimate is the plain sweeps' decay rate, but a Gauss-Seidel sweep's
+       iteration matrix is not symmetric (its eigenvalues may be complex), so Chebyshev's blend with that
+       rate can grow instead of converge (81^2: rho 0.990 diverged, 0.95 converged; issue 31). A trial of
+       2 rho_iters accelerated sweeps from the same guess must end with an update below the plain sweeps'
+       last one and below its own halfway (still decaying); else 1 - rho doubles, at most 8 times, then
+       rho = 0 (plain sweeps). */
+    for (int trial = 0; rho > 0; trial++) {
+      initial_guess(w, s, p, dt, v, x);
+      memset(&scratch, 0, sizeof scratch);
+      r = iterate(it, x, 2 * n, rho, w->dnorm, &scratch, 0, g_hat);
+      double d_end = w->dnorm[2 * n - 1], d_half = w->dnorm[n - 1];
+      if (r == CB_OK && isfinite(d_end) && d_end <= d_plain && d_end < d_half) break;
+      rho = trial < 8 ? 1.0 - 2.0 * (1.0 - rho) : 0.0; /* 1 - rho doubled */
+      if (rho < 0) rho = 0.0;
+    }
+    w->rho = rho;
     st->factor_ms += cb_now_ms() - t0;
   }
   st->rho = w->rho;
@@ -465,7 +487,7 @@ static int vbd_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) 
 
 const cb_integrator_type cb_integrator_vbd = {
     .name = "vbd",
-    .flags = 0,
+    .flags = CB_INTEGRATOR_HISTORY, /* the adaptive initial guess */
     .size = sizeof(vbd_work),
     .params_size = sizeof(cb_vbd_params),
     .params_default = &vbd_defaults,
@@ -477,7 +499,7 @@ const cb_integrator_type cb_integrator_vbd = {
 
 const cb_integrator_type cb_integrator_vbd_chebyshev = {
     .name = "vbd-chebyshev",
-    .flags = 0,
+    .flags = CB_INTEGRATOR_HISTORY,
     .size = sizeof(vbd_work),
     .params_size = sizeof(cb_vbd_params),
     .params_default = &vbdc_defaults,

@@ -46,7 +46,9 @@
  * the whole step, not after each substep). No allocation in a step.
  * Step stats: newton_iters = K S (constraint sweeps), rel_grad = rel_grad_hat
  * = |grad F(x1)| / |grad F(xhat)|, assemble_ms the two gradient evaluations,
- * solve_ms the sweeps. With a hook and S = 1, CB_NEWTON_GRADIENT is sent at
+ * solve_ms the sweeps, constraint_residual the last sweep's largest
+ * |C_c + alpha~ lambda_c| / L_c (pbd: |C_c| / L_c), how far the step is from
+ * its fixed point (claim X1 chooses its iteration count by it). With a hook and S = 1, CB_NEWTON_GRADIENT is sent at
  * every iterate (iter 0 = xhat, ..., K), which costs a gradient each. */
 #include <limits.h>
 #include <math.h>
@@ -189,8 +191,12 @@ static int xp_init(cb_integrator *it) {
 }
 
 /* One Gauss-Seidel sweep over the constraints for a substep of length h;
- * sprime is pbd's per-projection factor s' (unused by xpbd, which updates lambda). */
-static void sweep(xpbd_work *w, double *x, double h, double sprime) {
+ * sprime is pbd's per-projection factor s' (unused by xpbd, which updates lambda). With res (may be
+ * NULL), *res gets the sweep's largest residual over the rest length, max_c |C_c + alpha~ lambda_c| / L_c
+ * (pbd: |C_c| / L_c), each taken just before constraint c's update (the Gauss-Seidel residual: the
+ * fixed point has it 0; it costs a compare per constraint). */
+static void sweep(xpbd_work *w, double *x, double h, double sprime, double *res) {
+  double rmax = 0.0;
   for (int c = 0; c < w->nc; c++) {
     int i = w->ends[2 * c], j = w->ends[2 * c + 1];
     double wi = w->w[i], wj = w->w[j];
@@ -202,11 +208,14 @@ static void sweep(xpbd_work *w, double *x, double h, double sprime) {
     double C = l - w->rest[c], dl;
     if (w->pbd) {
       dl = -sprime * C / (wi + wj); /* dlambda = -s' C/(w_i + w_j) */
+      if (res) rmax = fmax(rmax, fabs(C) / w->rest[c]);
     } else {
       double at = 1.0 / (w->kc[c] * h * h); /* alpha~ = alpha/h^2, alpha = 1/k */
       if (!isfinite(at)) continue;          /* infinite compliance (k = 0, or k h^2 below 1/DBL_MAX): no constraint */
-      dl = (-C - at * w->lambda[c]) / (wi + wj + at); /* dlambda = (-C - alpha~ lambda)/(w_i + w_j + alpha~) */
+      double r = -C - at * w->lambda[c];    /* the constraint's residual -(C + alpha~ lambda) */
+      dl = r / (wi + wj + at);              /* dlambda = (-C - alpha~ lambda)/(w_i + w_j + alpha~) */
       w->lambda[c] += dl;
+      if (res) rmax = fmax(rmax, fabs(r) / w->rest[c]);
     }
     double inv = dl / l; /* n dlambda = d dlambda / l */
     for (int a = 0; a < 3; a++) {
@@ -214,6 +223,7 @@ static void sweep(xpbd_work *w, double *x, double h, double sprime) {
       xj[a] -= wj * inv * d[a]; /* x_j -= w_j n dlambda */
     }
   }
+  if (res) *res = rmax;
 }
 
 static int xp_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
@@ -238,7 +248,7 @@ static int xp_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
     }
     for (int c = 0; c < w->nc; c++) w->lambda[c] = 0.0;
     for (int k = 1; k <= p->iters && status == CB_OK; k++) {
-      sweep(w, x, h, sprime);
+      sweep(w, x, h, sprime, sub == p->substeps - 1 && k == p->iters ? &st->constraint_residual : NULL);
       if (!hook) continue;
       st->solve_ms += cb_now_ms() - t0; /* S = 1 with a hook: F after every sweep */
       status = cb_integrator_measure(it, &w->obj, x, w->gF, k, &g0, -1.0, hook, st);
