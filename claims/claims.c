@@ -66,10 +66,10 @@ void cb_claim_record_deciding(const cb_claim_timing *t, double thr, int side) {
   cb_claim_result *r = deciding_now;
   if (!r || r->ndeciding >= CB_CLAIM_DECIDING_MAX) return;
   r->deciding[r->ndeciding++] = (cb_claim_deciding){.med = t->med,
-                                                     .min = cb_claim_timing_has_spread(t) ? t->min : NAN,
-                                                     .max = cb_claim_timing_has_spread(t) ? t->max : NAN,
-                                                     .thr = thr,
-                                                     .side = side};
+                                                    .min = cb_claim_timing_has_spread(t) ? t->min : NAN,
+                                                    .max = cb_claim_timing_has_spread(t) ? t->max : NAN,
+                                                    .thr = thr,
+                                                    .side = side};
 }
 
 void cb_claim_decide(const cb_claim *c, const char *results_dir, cb_claim_result *out) {

@@ -89,8 +89,7 @@ int cb_report_compare(FILE *f, const char *ours_dir, const char *ref_dir) {
     fputs(" |\n", f);
   }
   fprintf(f, "\n%d same, %d differ within the spreads, %d differ outside them, %d not compared.\n",
-          count[CB_COMPARE_SAME], count[CB_COMPARE_WITHIN], count[CB_COMPARE_DIFFERS],
-          count[CB_COMPARE_NOT_COMPARED]);
+          count[CB_COMPARE_SAME], count[CB_COMPARE_WITHIN], count[CB_COMPARE_DIFFERS], count[CB_COMPARE_NOT_COMPARED]);
   free(ours);
   free(ref);
   return count[CB_COMPARE_DIFFERS] ? 1 : 0;

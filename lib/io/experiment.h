@@ -48,19 +48,19 @@ typedef struct cb_experiment {
   const char *configs;
   int argc;
   char **argv;
-  int shard, nshards; /* --shard I/N: I in 1..N; 0 and 1 when not sharded */
-  int shard_mode;     /* --shard-mode: CB_SHARD_BALANCED (default) or CB_SHARD_MODULO */
-  int list_cells;     /* --list-cells: print the cells (hint, shard), run none, write nothing */
-  int timed;          /* 1 after cb_experiment_timed: it holds the CPU lock exclusively */
-  int cell_locks;     /* 1 after cb_experiment_timed_cells: each cell takes the lock for itself */
-  int lock_fd;        /* the CPU lock (cb_experiment_begin takes it shared), or -1 */
-  int turn_fd;        /* the turnstile beside it (CB_CPU_LOCK.turn), or -1: see cb_experiment_timed_cells */
-  int lock_held;      /* the lock this process holds now: 0 none, LOCK_SH or LOCK_EX */
-  int waited_msg;     /* the "waiting for" message was printed once for cells */
-  double cell_s[2];   /* wall seconds in this process's cells: [0] untimed, [1] timed */
+  int shard, nshards;         /* --shard I/N: I in 1..N; 0 and 1 when not sharded */
+  int shard_mode;             /* --shard-mode: CB_SHARD_BALANCED (default) or CB_SHARD_MODULO */
+  int list_cells;             /* --list-cells: print the cells (hint, shard), run none, write nothing */
+  int timed;                  /* 1 after cb_experiment_timed: it holds the CPU lock exclusively */
+  int cell_locks;             /* 1 after cb_experiment_timed_cells: each cell takes the lock for itself */
+  int lock_fd;                /* the CPU lock (cb_experiment_begin takes it shared), or -1 */
+  int turn_fd;                /* the turnstile beside it (CB_CPU_LOCK.turn), or -1: see cb_experiment_timed_cells */
+  int lock_held;              /* the lock this process holds now: 0 none, LOCK_SH or LOCK_EX */
+  int waited_msg;             /* the "waiting for" message was printed once for cells */
+  double cell_s[2];           /* wall seconds in this process's cells: [0] untimed, [1] timed */
   const char *const *untimed; /* cb_experiment_timed_cells: the sweeps whose cells time nothing */
   unsigned untimed_seen;      /* bit k: untimed[k] named a sweep that ran */
-  cb_outfile csv;     /* for programs that write one CSV themselves (bench) */
+  cb_outfile csv;             /* for programs that write one CSV themselves (bench) */
   cb_progress progress;
   /* tables (cb_experiment_table), in the order opened */
   int ntables;
