@@ -114,14 +114,14 @@ done
 ok "item 15: --shard 2/3 refused: $(cat "$T/err")" test $? -eq 0
 
 # ---- item 17: readme-config.sh never empties the config reference ----
-cp README.md "$T/R.md"
+cp docs/config.md "$T/R.md"
 scripts/readme-config.sh "$T/no-such-simulate" "$T/R.md" >/dev/null 2>"$T/err"
 ok "item 17: readme-config.sh with a missing simulate exited 0" test $? -ne 0
-ok "item 17: readme-config.sh with a missing simulate changed the README" cmp -s README.md "$T/R.md"
+ok "item 17: readme-config.sh with a missing simulate changed the README" cmp -s docs/config.md "$T/R.md"
 printf '#!/bin/sh\nexit 3\n' >"$T/bad-simulate" && chmod +x "$T/bad-simulate"
 scripts/readme-config.sh "$T/bad-simulate" "$T/R.md" >/dev/null 2>"$T/err"
 ok "item 17: readme-config.sh with a failing simulate exited 0" test $? -ne 0
-ok "item 17: readme-config.sh with a failing simulate changed the README" cmp -s README.md "$T/R.md"
+ok "item 17: readme-config.sh with a failing simulate changed the README" cmp -s docs/config.md "$T/R.md"
 scripts/readme-config.sh "$B/simulate" "$T/R.md" 2>"$T/err"
 ok "item 17: readme-config.sh with simulate failed: $(cat "$T/err")" test $? -eq 0
 ok "item 17: the regenerated reference has no key table" grep -q '^| `mesh.type`' "$T/R.md"
