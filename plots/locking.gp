@@ -88,18 +88,20 @@ set output out.'/locking_s1.'.ext
 sscenes = distinct(fs, 'scene', '1')
 series = distinct_n(fs, 'v("method") == "shape_matching" ? "alpha=" v("alpha") : v("method")', '1', 1)
 skey(mt, a) = mt eq 'shape_matching' ? 'alpha='.a : mt
-set multiplot layout 1, words(sscenes) title "S1: final shape error (max edge strain) per cell; crosses: cells that are not stable\n(energy unstable or diverged, or shape error unbounded: max edge strain > 1 or rigid-fit distance > 0.5 of the size)"
-set logscale xy
+set multiplot layout 1, words(sscenes) title "S1: growth exponent of the shape error over the second half of each cell (every cell the same simulated time)\n2: a fall under gravity (t^2); above 4 (dashed): exponential growth, unstable; crosses: unstable or diverged; squares: falling (energy bounded, shape beyond its bounds)"
+set logscale x
 set format x '10^{%L}'
-set format y '10^{%L}'
 set xlabel 'dt (s)'
-set ylabel 'max |l - L| / L at the end'
+set ylabel 'log_2 (envelope over (T/2, T] / over (T/4, T/2])'
 set key top left font ',8'
 do for [sc in sscenes] {
   set title sc
-  plot for [s in series] fs using (strcol('scene') eq sc && skey(strcol('method'), strcol('alpha')) eq s ? column('dt_s') : NaN):(column('max_strain') > 0 ? column('max_strain') : 1e-17) \
+  plot for [s in series] fs using (strcol('scene') eq sc && skey(strcol('method'), strcol('alpha')) eq s ? column('dt_s') : NaN):'shape_growth_exponent' \
        with linespoints lw 2 pt 7 ps 0.7 lc rgb pcolor(series, s) title s, \
-       fs using (strcol('scene') eq sc && (strcol('class') ne 'stable' || !(column('max_strain') <= 1 && column('rigid_dist_over_size') <= 0.5)) ? column('dt_s') : NaN):(column('max_strain') > 0 ? column('max_strain') : 1e-17) \
-       with points pt 2 ps 2.5 lw 2 lc rgb '#d62728' title 'not stable'
+       fs using (strcol('scene') eq sc && strcol('class') ne 'stable' && strcol('class') ne 'falling' ? column('dt_s') : NaN):(column('shape_growth_exponent') == column('shape_growth_exponent') ? column('shape_growth_exponent') : 4) \
+       with points pt 2 ps 2.5 lw 2 lc rgb '#d62728' title 'unstable or diverged', \
+       fs using (strcol('scene') eq sc && strcol('class') eq 'falling' ? column('dt_s') : NaN):'shape_growth_exponent' \
+       with points pt 4 ps 2 lw 2 lc rgb '#333333' title 'falling', \
+       4 with lines lc rgb '#7f7f7f' dt 2 notitle
 }
 unset multiplot
