@@ -495,7 +495,8 @@ void cb_check_S1(const cb_table *t, const char *results_dir, cb_claim_result *ou
     Thi = fmax(Thi, T);
     if (isnan(T0)) T0 = T;
     /* a cell that stopped early must have diverged or failed */
-    if (cb_table_num(&s, r, c[8]) < T * (1 - 1e-9) && s1_ok(cb_table_str(&s, r, c[4]))) short_runs++;
+    if (cb_table_num(&s, r, c[8]) + cb_table_num(&s, r, c[3]) / 2 < T && s1_ok(cb_table_str(&s, r, c[4])))
+      short_runs++; /* (t_end is a whole number of steps: within half a step of T is the whole run) */
   }
   for (int r = 0; r < s.nrows; r++) {
     if (done[r]) continue;
