@@ -57,7 +57,7 @@ amodels = distinct(fa, 'model', '1')
 ameshes = distinct(fa, 'mesh', '1')
 stats fa using 'n' nooutput
 nfine = STATS_max
-set multiplot layout 1, words(afams) title sprintf("F1: elastic energy per area against the load's direction, non-affine loads on disks at the finest level n = %.0f (springs: solid, FEM: dashed)\nk = mu = 1000 N/m; a direction-independent curve is isotropic; unconverged solves left out; the report has every level of the ladder", nfine)
+set multiplot layout 1, words(afams) title sprintf("F1: energy per area against the load's direction, disks at the finest level n = %.0f\n(springs solid, FEM dashed; k = mu = 1000 N/m; flat = isotropic; every level is in the report)", nfine)
 set xlabel 'load direction (deg)'
 set ylabel 'energy density (J/m^2)'
 set xrange [-5:185]
