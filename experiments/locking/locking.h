@@ -30,8 +30,9 @@ extern const char *const mesh_names[NMESH];
  * lab cloth (one cell each; plan: the definiteness of the timed step, mesh.n
  * and the lab's 441 kg are added per run mode); "shape" = S1's scenes (one
  * cell per method: springs under symplectic Euler, shape matching per alpha).
- * The disks of L1 and F1 are ring disks generated in code and written as OBJs
- * beside the CSV before the sweeps (every shard writes them), and L2's meshes
+ * The disk of L1 and F1's meshes (clipped grids and ring disks, per level) are
+ * generated in code and written as OBJs beside the CSV before the sweeps (every
+ * shard writes them), and L2's meshes
  * (grids and ring disks, no scene) stay in code, as in topology. */
 typedef struct {
   cb_scene_decl scene;
@@ -47,7 +48,7 @@ extern int nsteps, step_idx[NSCENES], nshape, shape_idx[NSCENES];
 const cb_scene_decl *lk_scene_of(const char *role);
 
 /* ---- meshes written before the sweeps (every shard writes them) ---- */
-extern char disk_xz[2048], disk_xy[2048]; /* the ring disks of L1 (horizontal) and F1 (plane xy) */
+extern char disk_xz[2048], disk_xy[2048]; /* the ring disks of L1 (horizontal) and in plane xy (lk_write_disk) */
 enum { F1_MAXLEV = 3 };                              /* F1's refinement ladder: n = 15, 31, 63 */
 extern char aniso_obj[F1_MAXLEV][NMESH][2048];       /* F1's patches per level: the clipped grids, the ring disk */
 extern int f1_levels[F1_MAXLEV], f1_nlev;            /* grid vertices per side of each level, and how many */

@@ -20,8 +20,9 @@
  *     at the vertices) and with every triangle rigid on edge-midpoint
  *     variables (nonconforming, English & Bridson 2008), at jittered generic
  *     positions, per vertex against mesh size.
- * F1  results/locking_aniso.csv: disks of radius 0.5 m in the plane (the grids clipped
- *     to it, and the ring disk), boundary held at X + u(X) for a non-affine u (a
+ * F1  results/locking_aniso.csv: disks of radius 0.5 m in the plane (the n^2 grids clipped
+ *     to it, and the ring disk of (n - 1)/2 rings) on a refinement ladder n = 15, 31, 63
+ *     (15, 31 with --quick), boundary held at X + u(X) for a non-affine u (a
  *     non-uniform stretch, an in-plane-bending shear) in 8 directions, interior
  *     relaxed by the same static solve, elastic energy per area (an affine load is
  *     FEM's patch test and would decide nothing); results/locking_newton.csv: one
@@ -29,11 +30,13 @@
  *     exact and FEM frozen, |grad F| and wall time per Newton iteration.
  * S1  results/locking_shape.csv: shape matching (integrator.shape_alpha swept) on
  *     explicit_stability's chain and 21^2 cloth, hanging vertically from the
- *     rest shape with a small random velocity, over explicit_stability's dt
- *     range; cells classified as there (energy = kinetic + gravity, the only
- *     energy shape matching has), and the shape error at the end (max edge
- *     strain, distance to the best-fit rigid motion of the rest shape), against
- *     springs (the scene's k) under symplectic Euler from the same start.
+ *     rest shape with a small random velocity, over the upper three decades of
+ *     explicit_stability's dt range, every cell the same simulated time (2 s);
+ *     cells classified by the growth rate of their energy and shape error
+ *     (s1_shape.c: stable, falling, unstable, diverged), with the shape error at
+ *     the end (max edge strain, distance to the best-fit rigid motion of the rest
+ *     shape), against springs (the scene's k) under symplectic Euler from the
+ *     same start.
  * --smoke: one small cell per sweep (docs/experiments/locking.md says which). */
 #include <string.h>
 
