@@ -181,21 +181,31 @@ static const char *exp_text(char *buf, size_t n, double a, double lo, double hi)
 enum { E2_NM = 10, E2_NEWTON_K = 4, E2_CHEB = 8, E2_PD = 9 };
 static const char *const e2_method[E2_NM] = {"explicit", "newton",   "newton_bw", "newton_bw_shift", "newton_2",
                                              "newton_3", "newton_4", "newton_5",  "chebyshev_nl",    "pd"};
-static const char *const e2_variant[E2_NM] = {
-    "explicit (symplectic Euler)",
-    "converged Newton (exact Hessian, shift where indefinite, line search, CHOLMOD)",
-    "Baraff-Witkin (one Newton iteration, the lecture's drop fix, CHOLMOD)",
-    "Baraff-Witkin on the exact Hessian (one Newton iteration, shift, CHOLMOD)",
-    "Newton stopped after 2, 3, 4 or 5 iterations a step (converged Newton's variant)",
-    NULL,
-    NULL,
-    NULL,
-    "the lab's nonlinear Chebyshev-Jacobi (rho 0.995) at the smallest of 32, 128, 512 iterations a step whose step "
-    "error is within the tolerance",
-    "projective dynamics (CHOLMOD) at the smallest of 10, 32, 128 iterations a step within the tolerance"};
-static const char *const e2_short[E2_NM] = {"explicit",           "converged Newton",   "Baraff-Witkin (drop)",
-                                            "Baraff-Witkin (shift)", "Newton, 2 iterations", "Newton, 3 iterations",
-                                            "Newton, 4 iterations",  "Newton, 5 iterations", "chebyshev-nl",
+static const char *const e2_variant[E2_NM] = {"explicit (symplectic Euler)",
+                                              "converged Newton (exact Hessian, shift where indefinite, line search, "
+                                              "CHOLMOD)",
+                                              "Baraff-Witkin (one Newton iteration, the lecture's drop fix, CHOLMOD)",
+                                              "Baraff-Witkin on the exact Hessian (one Newton iteration, shift, "
+                                              "CHOLMOD)",
+                                              "Newton stopped after 2, 3, 4 or 5 iterations a step (converged Newton's "
+                                              "variant)",
+                                              NULL,
+                                              NULL,
+                                              NULL,
+                                              "the lab's nonlinear Chebyshev-Jacobi (rho 0.995) at the smallest of 32, "
+                                              "128, 512 iterations a step whose step "
+                                              "error is within the tolerance",
+                                              "projective dynamics (CHOLMOD) at the smallest of 10, 32, 128 iterations "
+                                              "a step within the tolerance"};
+static const char *const e2_short[E2_NM] = {"explicit",
+                                            "converged Newton",
+                                            "Baraff-Witkin (drop)",
+                                            "Baraff-Witkin (shift)",
+                                            "Newton, 2 iterations",
+                                            "Newton, 3 iterations",
+                                            "Newton, 4 iterations",
+                                            "Newton, 5 iterations",
+                                            "chebyshev-nl",
                                             "pd"};
 
 /* The fastest implicit row of (scene, k) that stayed stable with a measured step error within E2_ERR_TOL. */
@@ -497,16 +507,17 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
                     : stiff_side == 0 ? "undecided"
                                       : "but not",
                     stiff_k, stiff_ex->scene,
-                    stiff_side >= -1 ? (s3[0] = ':', s3[1] = ' ', cb_claim_spread_long(s3 + 2, sizeof s3 - 2, "%.3g", &sr, "x"), s3)
-                                     : "");
+                    stiff_side >= -1
+                        ? (s3[0] = ':', s3[1] = ' ', cb_claim_spread_long(s3 + 2, sizeof s3 - 2, "%.3g", &sr, "x"), s3)
+                        : "");
   cb_claim_reason(out,
                   "; at the finest mesh it is slower in %d of %d stretch-family and %d of %d bending-family "
-                  "stiffnesses (undecided in %d). Explicit cost against resolution follows b_pred = 1 + d log omega_max / d log n "
+                  "stiffnesses (undecided in %d). Explicit cost against resolution follows b_pred = 1 + d log "
+                  "omega_max / d log n "
                   "within %.2f in %d of %d (family, k) fits (worst: %s); omega_max ~ n^%.3f (stretch) and n^%.3f "
                   "(bending).",
                   fam_slow[0], fam_fine[0], fam_slow[1], fam_fine[1], fam_undec[0] + fam_undec[1], E2_N_EXP_TOL,
-                  nfits_ok, nfits,
-                  worst_txt[0] ? worst_txt : "none", fam_c[0], fam_c[1]);
+                  nfits_ok, nfits, worst_txt[0] ? worst_txt : "none", fam_c[0], fam_c[1]);
   if (!both) cb_claim_reason(out, " Only one family was measured.");
   else if (!distinct)
     cb_claim_reason(out, " The bending family's omega_max does not grow faster than the stretch family's.");

@@ -422,9 +422,9 @@ void cb_check_F1(const cb_table *t, const char *results_dir, cb_claim_result *ou
   if (nlev >= 2) {
     /* the ladder: FEM tends to 1 on every mesh and is isotropic and mesh-independent at the finest level,
      * springs do not on some mesh */
-    out->verdict = !fem_better || fem_to1 == 0                                      ? CB_NOT_REPRODUCED
+    out->verdict = !fem_better || fem_to1 == 0                                ? CB_NOT_REPRODUCED
                    : fem_to1 == fem_meshes && fem_fine_ok && spring_stays > 0 ? CB_REPRODUCED
-                                                                                  : CB_PARTLY;
+                                                                              : CB_PARTLY;
     cb_claim_reason(out,
                     "On the refinement ladder n = %s (mesh spacing halved at each step), FEM's anisotropy tends to 1 "
                     "(its excess falls at every step, at least like h^%.1f) on %d of %d meshes, and at n = %.0f it is "
@@ -443,8 +443,8 @@ void cb_check_F1(const cb_table *t, const char *results_dir, cb_claim_result *ou
                     "meshes, FEM's largest anisotropy over the directions is %.4f (isotropic if <= %.2f) and its "
                     "largest spread across the meshes %.4f (mesh-independent if <= %.2f); springs' are %.4f "
                     "(direction-dependent if >= %.1f) and %.4f.%s",
-                    meshes_seen[1], fine_dir[1], F1_FEM_MAX, fine_mesh[1], F1_FEM_MESH_MAX, fine_dir[0],
-                    F1_SPRING_MIN, fine_mesh[0], fem_better ? "" : " FEM is not less anisotropic than springs.");
+                    meshes_seen[1], fine_dir[1], F1_FEM_MAX, fine_mesh[1], F1_FEM_MESH_MAX, fine_dir[0], F1_SPRING_MIN,
+                    fine_mesh[0], fem_better ? "" : " FEM is not less anisotropic than springs.");
   }
   if (bad) cb_claim_reason(out, " %d static solves did not converge and are left out.", bad);
   if (summary[0])
@@ -468,8 +468,9 @@ void cb_check_S1(const cb_table *t, const char *results_dir, cb_claim_result *ou
   (void)t;
   cb_table s;
   if (cb_claim_side_table(results_dir, "locking", "shape", &s, out)) return;
-  static const char *const names[] = {"scene", "method", "alpha", "dt_s", "class", "final_energy_ratio",
-                                      "shape_growth_exponent", "sim_time_s", "t_end_s"};
+  static const char *const names[] = {
+      "scene",      "method", "alpha", "dt_s", "class", "final_energy_ratio", "shape_growth_exponent",
+      "sim_time_s", "t_end_s"};
   int c[9];
   if (cb_claim_columns(&s, names, c, 9, "locking_shape.csv", out)) {
     cb_table_free(&s);
@@ -479,16 +480,19 @@ void cb_check_S1(const cb_table *t, const char *results_dir, cb_claim_result *ou
   int both = 0, sm_only = 0, sp_only = 0, neither = 0, unpaired = 0, short_runs = 0;
   double worst_exp = -INFINITY, T0 = NAN, Tlo = INFINITY, Thi = -INFINITY;
   int *done = calloc((size_t)s.nrows + 1, sizeof(int));
-  cb_claim_numbers(out,
-                   "Every cell runs the same simulated time and is classified by how it grows: unstable if its "
-                   "energy rose by more than the scale S or its energy or shape error grew faster than any power "
-                   "t^4 over the second half of the run (exponential growth); falling if its energy stayed bounded "
-                   "and its shape error grew like a power of t but ended beyond its bounds (the cloth falls or sags "
-                   "from its pin: not an instability); diverged as in explicit_stability. Each shape-matching cell "
-                   "is compared with springs under symplectic Euler at the same (scene, dt).\n\n"
-                   "| scene | method | alpha | cells | stable | falling | unstable | diverged | stable where springs "
-                   "are not | not stable where springs are | largest shape-growth exponent |\n"
-                   "|---|---|---|---|---|---|---|---|---|---|---|\n");
+  cb_claim_numbers(out, "Every cell runs the same simulated time and is classified by how it grows: unstable if its "
+                        "energy rose by more than the scale S or its energy or shape error grew faster than any power "
+                        "t^4 over the second half of the run (exponential growth); falling if its energy stayed "
+                        "bounded "
+                        "and its shape error grew like a power of t but ended beyond its bounds (the cloth falls or "
+                        "sags "
+                        "from its pin: not an instability); diverged as in explicit_stability. Each shape-matching "
+                        "cell "
+                        "is compared with springs under symplectic Euler at the same (scene, dt).\n\n"
+                        "| scene | method | alpha | cells | stable | falling | unstable | diverged | stable where "
+                        "springs "
+                        "are not | not stable where springs are | largest shape-growth exponent |\n"
+                        "|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (int r = 0; r < s.nrows; r++) {
     double T = cb_table_num(&s, r, c[7]);
     Tlo = fmin(Tlo, T);

@@ -161,7 +161,8 @@ Test(claims_explicit_stability, E2_reproduced_when_explicit_is_slow_and_follows_
   cr_assert_eq(decide(cb_check_E2), CB_REPRODUCED, "%s", last.reason);
   /* the baseline is named, with its step error */
   cr_expect(strstr(last.numbers, "| cloth21 | stretch | 1e+07 | 441 | 1581 (1423-1739) | 1581 | 100 (100-120); 1e-08 | "
-                                 "10 (9-11); 0.001 | 25 (22.5-27.5); 0.0001" NT " | Baraff-Witkin (drop) | 158 (158-158 "
+                                 "10 (9-11); 0.001 | 25 (22.5-27.5); 0.0001" NT " | Baraff-Witkin (drop) | 158 "
+                                                                                "(158-158 "
                                  "over 3 paired repeats) |"),
             "%s", last.numbers);
   cr_expect(strstr(last.numbers, "Baraff-Witkin (one Newton iteration, the lecture's drop fix, CHOLMOD)"), "%s",
@@ -277,8 +278,8 @@ Test(claims_explicit_stability, E1_says_at_which_state_it_is_judged) {
  * explicit turns "never slower" into reproduced; an inaccurate chebyshev-nl, however fast, does not count. */
 Test(claims_explicit_stability, E2_new_implicit_methods_count_only_when_accurate) {
   timing(0.5, 1.5, 2.0, 1e7, 1e-3); /* Newton and Baraff-Witkin at 1e6 ms and more: explicit faster everywhere */
-  const char *sc[] = {"cloth21", "cloth21", "cloth21", "cloth21", "cloth21", "cloth41", "cloth81", "bend11",
-                      "bend21",  "bend41"};
+  const char *sc[] = {"cloth21", "cloth21", "cloth21", "cloth21", "cloth21",
+                      "cloth41", "cloth81", "bend11",  "bend21",  "bend41"};
   const char *fam[] = {"stretch", "stretch", "stretch", "stretch", "stretch",
                        "stretch", "stretch", "bending", "bending", "bending"};
   const int nv[] = {441, 441, 441, 441, 441, 1681, 6561, 121, 441, 1681};

@@ -385,7 +385,9 @@ static int timing(const cb_experiment *e, const plan *pl, const char *family, cb
       /* converged Newton: 3 steps above 21^2, 1 above 41^2 (~30 iterations a step on 81^2); Newton with 2-5
        * iterations: 3 steps above 41^2 */
       int nw = e2_methods[m].newton_iters;
-      p.sim_time = m == 1 ? (cur_nv <= 441 ? pl->e2_time : cur_nv <= 1681 ? pl->e2_time / 10 : pl->e2_time / 30)
+      p.sim_time = m == 1                     ? (cur_nv <= 441    ? pl->e2_time
+                                                 : cur_nv <= 1681 ? pl->e2_time / 10
+                                                                  : pl->e2_time / 30)
                    : nw >= 2 && cur_nv > 1681 ? pl->e2_time / 10
                                               : pl->e2_time;
       cb_cell_result r;
@@ -417,11 +419,10 @@ static int timing(const cb_experiment *e, const plan *pl, const char *family, cb
      * Newton 2-5, the ladder methods) is never "not converged": stopping there is the method */
     double na = cb_csv_na();
     int cap = e2_methods[m].newton_iters > 0 && m != 1 ? e2_methods[m].newton_iters : iters[m];
-    cb_csv_printf(ftime, ",%d,%s,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", wall[m].n,
-                  cb_cell_class_name(b->cls), cb_status_name(b->step_status), m == 0 ? na : (double)b->newton_iters,
-                  meas, c->pred.dt_crit, m == 1 ? (double)b->not_converged_steps : na,
-                  m == 0 ? na : cb_csv_na_if_nan(err[m]), m == 0 ? na : (double)err_steps[m],
-                  cap > 0 ? (double)cap : na);
+    cb_csv_printf(ftime, ",%d,%s,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", wall[m].n, cb_cell_class_name(b->cls),
+                  cb_status_name(b->step_status), m == 0 ? na : (double)b->newton_iters, meas, c->pred.dt_crit,
+                  m == 1 ? (double)b->not_converged_steps : na, m == 0 ? na : cb_csv_na_if_nan(err[m]),
+                  m == 0 ? na : (double)err_steps[m], cap > 0 ? (double)cap : na);
   }
   cb_reference_free(ref);
   for (int m = 1; m < E2_METHODS; m++) cb_integrator_free(it[m]);

@@ -176,8 +176,7 @@ int lk_f1_aniso_cell(long ci, void *ctx, FILE *const *out) {
           snprintf(test, sizeof test, "%s_%g", f1_families[fam], deg);
           cb_csv_printf(f, "%s,%s,%d,%.17g,%s,%s,%g,%d,%g,%.17g,%.17g,%.17g,%d,%.6g,%s\n", models[md], mesh_names[mk],
                         nl, 1.0 / (nl - 1), f1_families[fam], test, deg, s->mesh.nv, F1_EPS, En, En / area, area,
-                        s->model.nfree,
-                        es.residual,
+                        s->model.nfree, es.residual,
                         cb_status_name(rc                                                    ? rc
                                        : es.status == CB_NOT_CONVERGED && es.residual < 1e-6 ? CB_OK
                                                                                              : es.status));

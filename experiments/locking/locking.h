@@ -48,10 +48,10 @@ extern int nsteps, step_idx[NSCENES], nshape, shape_idx[NSCENES];
 const cb_scene_decl *lk_scene_of(const char *role);
 
 /* ---- meshes written before the sweeps (every shard writes them) ---- */
-extern char disk_xz[2048], disk_xy[2048]; /* the ring disks of L1 (horizontal) and in plane xy (lk_write_disk) */
-enum { F1_MAXLEV = 3 };                              /* F1's refinement ladder: n = 15, 31, 63 */
-extern char aniso_obj[F1_MAXLEV][NMESH][2048];       /* F1's patches per level: the clipped grids, the ring disk */
-extern int f1_levels[F1_MAXLEV], f1_nlev;            /* grid vertices per side of each level, and how many */
+extern char disk_xz[2048], disk_xy[2048];      /* the ring disks of L1 (horizontal) and in plane xy (lk_write_disk) */
+enum { F1_MAXLEV = 3 };                        /* F1's refinement ladder: n = 15, 31, 63 */
+extern char aniso_obj[F1_MAXLEV][NMESH][2048]; /* F1's patches per level: the clipped grids, the ring disk */
+extern int f1_levels[F1_MAXLEV], f1_nlev;      /* grid vertices per side of each level, and how many */
 /* The ring disk scaled to radius 0.5 m in plane xz (horizontal) or xy, as an OBJ beside the CSV. */
 int lk_write_disk(int rings, int plane_xy);
 /* The n^2 grid of kind mk on [-0.5, 0.5]^2 (plane xy), clipped to the disk of radius F1_R, as an OBJ

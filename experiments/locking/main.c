@@ -83,7 +83,8 @@ int main(int argc, char **argv) {
                           "dir_deg (stretch: u = eps (s + R)^2/(4R) n; shear: u = eps s^2/(2R) t; s = n.X, eps = "
                           "strain), "
                           "interior relaxed; k = mu = 1000 N/m\n",
-                          "model,mesh,n,h_m,family,test,dir_deg,vertices,strain,energy_j,energy_density_j_per_m2,area_m2,"
+                          "model,mesh,n,h_m,family,test,dir_deg,vertices,strain,energy_j,energy_density_j_per_m2,area_"
+                          "m2,"
                           "free_vertices,"
                           "residual,status") != T_ANISO ||
       cb_experiment_table(&E, "newton",
@@ -103,16 +104,15 @@ int main(int argc, char **argv) {
                           "rigid_dist_over_size)\n",
                           "scene,method,alpha,dt_s,class,max_energy_ratio,final_energy_ratio,steps,t_end_s,sim_time_s,"
                           "max_strain,rms_strain,rigid_dist_m,rigid_dist_over_size,energy_growth_exponent,"
-                          "shape_growth_exponent,shape_growth_per_s,cell_wall_ms,step_status") !=
-          T_SHAPE)
+                          "shape_growth_exponent,shape_growth_per_s,cell_wall_ms,step_status") != T_SHAPE)
     return cb_experiment_end(&E, CB_EIO), 2;
   /* the disk of L1 (horizontal) and F1's meshes at every level of its ladder (clipped grids, ring disks):
    * inputs of cells, written by every shard. The ladder: n = 15, 31, 63 (15, 31 with --quick; 7 with --smoke) */
   static const int ladder[F1_MAXLEV] = {15, 31, 63}, smoke_ladder[1] = {7};
   if ((st = lk_write_disk(quick ? 4 : 6, 0)) ||
       (st = lk_write_f1_meshes(E.smoke ? smoke_ladder : ladder, E.smoke ? 1
-                                                                 : quick ? 2
-                                                                         : F1_MAXLEV)))
+                                                                : quick ? 2
+                                                                        : F1_MAXLEV)))
     return cb_experiment_end(&E, st), 2;
   const cb_sweep sweeps[] = {
       /* --smoke: one small cell per sweep (the cells say which) */

@@ -224,8 +224,9 @@ int lk_s1_cell(long i, void *ctx, FILE *const *out) {
         double rd = rigid_distance(s, w.x, &size);
         /* springs have no alpha; a cell that failed to run (rc) measured nothing */
 #define FIN(v) (rc ? none : isfinite(v) ? (v) : NAN)
-        cb_csv_printf(f, "%s,%s,%.6g,%.17g,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,"
-                         "%.3f,%s\n",
+        cb_csv_printf(f,
+                      "%s,%s,%.6g,%.17g,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,"
+                      "%.3f,%s\n",
                       sc->label, m >= 0 ? "shape_matching" : "spring_explicit", m >= 0 ? alphas[m] : none, dt,
                       rc ? "failed" : r.cls, rc ? none : r.max_ratio, rc ? none : r.final_ratio,
                       rc ? none : (double)r.steps, rc ? none : r.t_end, T, FIN(smax), FIN(srms), FIN(rd),
