@@ -355,6 +355,8 @@ static int timing(const cb_experiment *e, const plan *pl, const char *family, cb
   for (int m = 1; m < E2_METHODS; m++) {
     err_want[m] = m == 1 ? E2_ERR_STEPS_CONVERGED : E2_ERR_STEPS_BW;
     if (cur_nv > 441) err_want[m] = m == 1 || cur_nv > 1681 ? 1 : 3;
+    int run = (int)lround(pl->e2_time * 30); /* no more than a timed run's steps (--smoke: 2) */
+    if (err_want[m] > run) err_want[m] = run;
   }
   double err[E2_METHODS];
   int err_steps[E2_METHODS] = {0};
@@ -523,6 +525,7 @@ static int run_case(const cb_experiment *e, const plan *p, const scene_plan *d, 
    * above 41^2 (~3 s a step on 81^2) only at k_res[0] */
   int timed = (parts & PART_E2) && e2_timed(p, d, ik);
   int methods = c.scene->mesh.nv > 1681 && k != p->k_res[0] ? E2_ALL & ~2 : E2_ALL;
+  if (p->smoke) methods &= ~((1 << 5) | (1 << 6) | (1 << 7)); /* --smoke: of Newton with 2-5 iterations, 2 only */
   if (st == CB_OK && timed && b.status == CB_OK) st = timing(e, p, d->family, &c, meas, methods);
   cb_stability_case_free(&c);
   return st;
