@@ -162,7 +162,7 @@ Test(claims_explicit_stability, E2_reproduced_when_explicit_is_slow_and_follows_
   /* the baseline is named, with its step error */
   cr_expect(strstr(last.numbers, "| cloth21 | stretch | 1e+07 | 441 | 1581 (1423-1739) | 1581 | 100 (100-120); 1e-08 | "
                                  "10 (9-11); 0.001 | 25 (22.5-27.5); 0.0001" NT " | Baraff-Witkin (drop) | 158 "
-                                                                                "(158-158 "
+                                 "(158-158 "
                                  "over 3 paired repeats) |"),
             "%s", last.numbers);
   cr_expect(strstr(last.numbers, "Baraff-Witkin (one Newton iteration, the lecture's drop fix, CHOLMOD)"), "%s",
