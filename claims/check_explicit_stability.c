@@ -161,7 +161,7 @@ void cb_check_E1(const cb_table *t, const char *results_dir, cb_claim_result *ou
 typedef struct {
   char scene[32], family[16];
   double n, k, wall, steps, not_conv, err, dtp;
-  int method, stable;
+  int method, stable, iters; /* iters: a fixed-iteration method's count a step (0: none recorded) */
   cb_claim_timing w;
 } trow;
 
@@ -176,16 +176,37 @@ static const char *exp_text(char *buf, size_t n, double a, double lo, double hi)
   return buf;
 }
 
-enum { E2_NM = 4 }; /* methods: explicit, newton, newton_bw, newton_bw_shift */
-static const char *const e2_method[E2_NM] = {"explicit", "newton", "newton_bw", "newton_bw_shift"};
+/* methods: explicit, converged Newton, Baraff-Witkin (drop, shift), Newton stopped after 2-5 iterations,
+ * the lab's chebyshev-nl and projective dynamics (each at the smallest count of its ladder within 1%) */
+enum { E2_NM = 10, E2_NEWTON_K = 4, E2_CHEB = 8, E2_PD = 9 };
+static const char *const e2_method[E2_NM] = {"explicit", "newton",   "newton_bw", "newton_bw_shift", "newton_2",
+                                             "newton_3", "newton_4", "newton_5",  "chebyshev_nl",    "pd"};
 static const char *const e2_variant[E2_NM] = {"explicit (symplectic Euler)",
                                               "converged Newton (exact Hessian, shift where indefinite, line search, "
                                               "CHOLMOD)",
                                               "Baraff-Witkin (one Newton iteration, the lecture's drop fix, CHOLMOD)",
                                               "Baraff-Witkin on the exact Hessian (one Newton iteration, shift, "
-                                              "CHOLMOD)"};
-static const char *const e2_short[E2_NM] = {"explicit", "converged Newton", "Baraff-Witkin (drop)",
-                                            "Baraff-Witkin (shift)"};
+                                              "CHOLMOD)",
+                                              "Newton stopped after 2, 3, 4 or 5 iterations a step (converged Newton's "
+                                              "variant)",
+                                              NULL,
+                                              NULL,
+                                              NULL,
+                                              "the lab's nonlinear Chebyshev-Jacobi (rho 0.995) at the smallest of 32, "
+                                              "128, 512 iterations a step whose step "
+                                              "error is within the tolerance",
+                                              "projective dynamics (CHOLMOD) at the smallest of 10, 32, 128 iterations "
+                                              "a step within the tolerance"};
+static const char *const e2_short[E2_NM] = {"explicit",
+                                            "converged Newton",
+                                            "Baraff-Witkin (drop)",
+                                            "Baraff-Witkin (shift)",
+                                            "Newton, 2 iterations",
+                                            "Newton, 3 iterations",
+                                            "Newton, 4 iterations",
+                                            "Newton, 5 iterations",
+                                            "chebyshev-nl",
+                                            "pd"};
 
 /* The fastest implicit row of (scene, k) that stayed stable with a measured step error within E2_ERR_TOL. */
 static const trow *e2_best(const trow *rows, int n, const trow *ex) {
@@ -205,6 +226,27 @@ static const trow *e2_row(const trow *rows, int n, const trow *ex, int method) {
   return NULL;
 }
 
+/* Where explicit stands against its baseline, over the paired spread of their ratio (cb_claim_timing_side
+ * against 1): +1 slower, -1 faster, 0 undecided within the spread; -2 when there is nothing to compare (no
+ * accurate implicit method, or explicit not stable). */
+static int e2_side(const trow *ex, const trow *best, cb_claim_timing *ratio) {
+  if (!best || !ex->stable) return -2;
+  *ratio = cb_claim_timing_ratio(&ex->w, &best->w);
+  return cb_claim_timing_side(ratio, 1.0);
+}
+
+/* "ms; step error" of an implicit row, with its flags */
+static const char *e2_cell(char *buf, size_t n, const trow *y, int with_iters) {
+  char s1[128], es[32], it[32] = "";
+  cb_claim_spread(s1, sizeof s1, "%.4g", &y->w, "");
+  if (isfinite(y->err) || isinf(y->err)) snprintf(es, sizeof es, "%.2g", y->err);
+  else snprintf(es, sizeof es, "not measured");
+  if (with_iters && y->iters > 0) snprintf(it, sizeof it, "%d it.: ", y->iters);
+  snprintf(buf, n, "%s%s; %s%s%s", it, s1, es, y->stable ? "" : ", **not stable**",
+           y->method == 1 && y->not_conv > 0 ? ", **not converged**" : "");
+  return buf;
+}
+
 void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *out) {
   (void)t;
   cb_table b;
@@ -218,7 +260,7 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
     return;
   }
   static trow rows[MAXPTS];
-  int n = 0, unstable = 0;
+  int n = 0, unstable = 0, ci = cb_table_col(&b, "iters_per_step"); /* optional (older CSVs lack it) */
   cb_claim_repeats reps = {0};
   for (int r = 0; r < b.nrows && n < MAXPTS; r++) {
     const char *m = cb_table_str(&b, r, c[4]);
@@ -237,18 +279,21 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
     x->dtp = cb_table_num(&b, r, c[8]);
     x->err = cb_table_num(&b, r, c[9]);
     x->not_conv = cb_table_num(&b, r, c[10]);
+    x->iters = ci >= 0 && cb_table_num(&b, r, ci) > 0 ? (int)cb_table_num(&b, r, ci) : 0;
     unstable += !x->stable;
     cb_claim_repeats_add(&reps, &x->w);
   }
   cb_table_free(&b);
-  char rtxt[64], s1[128], s3[96];
+  char rtxt[64], s1[128], s3[160];
   cb_claim_repeats_text(rtxt, sizeof rtxt, &reps);
   cb_claim_numbers(out,
                    "Wall time to simulate 1 s: explicit (symplectic Euler) at its measured largest stable dt, against "
                    "the fastest implicit method at dt = 1/30 s whose step error (|x - x*|_M / |x* - x0|_M against the "
                    "converged minimiser of each step, largest over the steps checked) is within %.0f%%. Implicit "
-                   "variants: %s; %s; %s.",
-                   100 * E2_ERR_TOL, e2_variant[1], e2_variant[2], e2_variant[3]);
+                   "variants: %s; %s; %s; %s; %s; %s. Explicit counts as slower (or faster) only when the paired "
+                   "spread of the ratio lies above (below) 1; a spread that straddles 1 is undecided.",
+                   100 * E2_ERR_TOL, e2_variant[1], e2_variant[2], e2_variant[3], e2_variant[4], e2_variant[E2_CHEB],
+                   e2_variant[E2_PD]);
   if (rtxt[0])
     cb_claim_numbers(out,
                      " Each time is the median of %s (in brackets the fastest and slowest); the methods of a row "
@@ -257,36 +302,42 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
   cb_claim_numbers(out,
                    "\n\n| scene | family | k (N/m) | n | explicit (ms) | explicit steps | converged Newton (ms; step "
                    "error) "
-                   "| Baraff-Witkin, drop (ms; step error) | Baraff-Witkin, shift (ms; step error) | fastest implicit "
-                   "within %.0f%% | explicit / it |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
+                   "| Baraff-Witkin, drop (ms; step error) | Baraff-Witkin, shift (ms; step error) | Newton, 2 / 3 / "
+                   "4 / 5 iterations (ms; step error) | chebyshev-nl (iterations: ms; step error) | pd (iterations: "
+                   "ms; step error) | fastest implicit within %.0f%% | explicit / it "
+                   "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
                    100 * E2_ERR_TOL);
-  int compared = 0, slower = 0, newton_unconverged = 0, no_best = 0;
+  int compared = 0, slower = 0, faster = 0, undecided = 0, newton_unconverged = 0, no_best = 0;
   for (int i = 0; i < n; i++) {
     const trow *ex = &rows[i];
     if (ex->method != 0) continue;
     const trow *best = e2_best(rows, n, ex);
-    char itxt[E2_NM][320], rat[128] = "-", es[32];
+    char itxt[E2_NM][320], rat[160] = "-", nk[4 * 200] = "";
     for (int q = 1; q < E2_NM; q++) {
       const trow *y = e2_row(rows, n, ex, q);
       snprintf(itxt[q], sizeof itxt[q], "not timed");
       if (!y) continue;
-      cb_claim_spread(s1, sizeof s1, "%.4g", &y->w, "");
-      if (isfinite(y->err)) snprintf(es, sizeof es, "%.2g", y->err);
-      else snprintf(es, sizeof es, "not measured");
-      snprintf(itxt[q], sizeof itxt[q], "%s; %s%s%s", s1, es, y->stable ? "" : ", **not stable**",
-               q == 1 && y->not_conv > 0 ? ", **not converged**" : "");
+      e2_cell(itxt[q], sizeof itxt[q], y, q >= E2_CHEB);
       if (q == 1 && y->not_conv > 0) newton_unconverged++;
     }
-    if (best && ex->stable) {
-      cb_claim_timing ratio = cb_claim_timing_ratio(&ex->w, &best->w);
-      cb_claim_spread_long(rat, sizeof rat, "%.3g", &ratio, "");
+    for (int q = E2_NEWTON_K; q < E2_CHEB; q++) {
+      size_t u = strlen(nk);
+      snprintf(nk + u, sizeof nk - u, "%s%s", q > E2_NEWTON_K ? " / " : "", itxt[q]);
+    }
+    cb_claim_timing ratio;
+    int side = e2_side(ex, best, &ratio);
+    if (side != -2) {
+      cb_claim_spread_long(rat, sizeof rat - 16, "%.3g", &ratio, "");
+      if (side == 0) strcat(rat, ", undecided");
       compared++;
-      slower += ex->wall > best->wall;
+      slower += side > 0;
+      faster += side < 0;
+      undecided += side == 0;
     } else no_best++;
-    cb_claim_numbers(out, "| %s | %s | %.3g | %.0f | %s%s | %.0f | %s | %s | %s | %s | %s |\n", ex->scene, ex->family,
-                     ex->k, ex->n, cb_claim_spread(s1, sizeof s1, "%.4g", &ex->w, ""),
-                     ex->stable ? "" : " (**not stable**)", ex->steps, itxt[1], itxt[2], itxt[3],
-                     best ? e2_short[best->method] : "none", rat);
+    cb_claim_numbers(out, "| %s | %s | %.3g | %.0f | %s%s | %.0f | %s | %s | %s | %s | %s | %s | %s | %s |\n",
+                     ex->scene, ex->family, ex->k, ex->n, cb_claim_spread(s1, sizeof s1, "%.4g", &ex->w, ""),
+                     ex->stable ? "" : " (**not stable**)", ex->steps, itxt[1], itxt[2], itxt[3], nk, itxt[E2_CHEB],
+                     itxt[E2_PD], best ? e2_short[best->method] : "none", rat);
   }
   if (newton_unconverged)
     cb_claim_numbers(out,
@@ -315,8 +366,8 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
       for (int w = 0; w < 3; w++) ly[w][m] = log10(pick(&ex->w, w));
       spread &= cb_claim_timing_has_spread(&ex->w);
       m++;
-      const trow *best = e2_best(rows, n, ex);
-      int slow = best && ex->stable && ex->wall > best->wall;
+      cb_claim_timing rr;
+      int slow = e2_side(ex, e2_best(rows, n, ex), &rr) > 0;
       if (slow && isnan(from)) from = ex->k;
       if (!slow) from = NAN; /* rows are in increasing k per scene */
       if (!last || ex->k > last->k) last = ex;
@@ -342,7 +393,7 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
                    "c, c = d log omega_max / d log n (steps ~ omega_max, work ~ n per step; target |b - b_pred| <= "
                    "%.2f); and the exponents of steps, of time per step and of the fastest accurate implicit time:\n\n",
                    E2_N_EXP_TOL);
-  int nfits = 0, nfits_ok = 0, fam_fit[2] = {0, 0}, fam_slow[2] = {0, 0}, fam_fine[2] = {0, 0};
+  int nfits = 0, nfits_ok = 0, fam_fit[2] = {0, 0}, fam_slow[2] = {0, 0}, fam_fine[2] = {0, 0}, fam_undec[2] = {0, 0};
   double fam_c[2] = {NAN, NAN}, worst_dev = 0;
   char worst_txt[160] = "";
   for (int i = 0; i < n; i++) {
@@ -389,7 +440,10 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
     fam_c[f] = ac;
     const trow *best = e2_best(rows, n, fine);
     fam_fine[f]++;
-    fam_slow[f] += best && fine->stable && fine->wall > best->wall;
+    cb_claim_timing fr;
+    int fside = e2_side(fine, best, &fr);
+    fam_slow[f] += fside > 0;
+    fam_undec[f] += fside == 0;
     if (fabs(dev) >= fabs(worst_dev)) {
       worst_dev = dev;
       snprintf(worst_txt, sizeof worst_txt, "%s family at k = %.3g: b = %.3f against b_pred = %.3f", r0->family, r0->k,
@@ -421,37 +475,49 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
                    "within "
                    "%.2f of 1 + its omega_max exponent, with both families measured and the bending one's omega_max "
                    "growing faster; refuted (not reproduced) when explicit is faster than every accurate implicit "
-                   "method in every timed row; otherwise partly.\n",
+                   "method in every timed row; undecided when a row that decides lies within the spread (the paired "
+                   "spread of explicit / fastest accurate implicit straddles 1) and the others would reproduce it, or "
+                   "when no row is slower outside the spread but some straddle 1; otherwise partly.\n",
                    E2_N_EXP_TOL);
   /* the verdict: "slow" at the stiffest k of the k-sweep and at the finest mesh of each family;
    * "as the physics predicts": every resolution exponent within tolerance of its omega_max prediction,
    * with both families measured and the bending family's omega_max growing faster */
-  int stiff_slow = 0;
-  if (stiff_ex) {
-    const trow *best = e2_best(rows, n, stiff_ex);
-    stiff_slow = best && stiff_ex->stable && stiff_ex->wall > best->wall;
-  }
+  int stiff_side = -2;
+  cb_claim_timing sr;
+  if (stiff_ex) stiff_side = e2_side(stiff_ex, e2_best(rows, n, stiff_ex), &sr);
+  int stiff_slow = stiff_side > 0;
   int both = fam_fit[0] > 0 && fam_fit[1] > 0, distinct = both && fam_c[1] > fam_c[0] + E2_N_EXP_TOL;
   int exps_ok = both && distinct && nfits_ok == nfits;
   int slow_all = stiff_ex && stiff_slow && both && fam_slow[0] == fam_fine[0] && fam_slow[1] == fam_fine[1];
-  if (slower == 0) out->verdict = CB_NOT_REPRODUCED;
+  /* slow or within the spread at every deciding row, and within it at one at least */
+  int slow_or_undec = stiff_ex && stiff_side >= 0 && both && fam_slow[0] + fam_undec[0] == fam_fine[0] &&
+                      fam_slow[1] + fam_undec[1] == fam_fine[1];
+  if (slower == 0) out->verdict = undecided ? CB_UNDECIDED : CB_NOT_REPRODUCED;
   else if (exps_ok && slow_all) out->verdict = CB_REPRODUCED;
+  else if (exps_ok && slow_or_undec) out->verdict = CB_UNDECIDED;
   else out->verdict = CB_PARTLY;
   cb_claim_reason(out,
                   "Explicit at its largest stable dt is slower than the fastest implicit method at 1/30 s within "
                   "%.0f%% "
-                  "step error in %d of %d timed rows",
-                  100 * E2_ERR_TOL, slower, compared);
+                  "step error in %d of %d timed rows, faster in %d, undecided within the spread in %d",
+                  100 * E2_ERR_TOL, slower, compared, faster, undecided);
   if (stiff_ex)
-    cb_claim_reason(out, ", %s at the stiffest k (%.3g N/m, %s)", stiff_slow ? "including" : "but not", stiff_k,
-                    stiff_ex->scene);
+    cb_claim_reason(out, ", %s at the stiffest k (%.3g N/m, %s%s)",
+                    stiff_slow        ? "including"
+                    : stiff_side == 0 ? "undecided"
+                                      : "but not",
+                    stiff_k, stiff_ex->scene,
+                    stiff_side >= -1
+                        ? (s3[0] = ':', s3[1] = ' ', cb_claim_spread_long(s3 + 2, sizeof s3 - 2, "%.3g", &sr, "x"), s3)
+                        : "");
   cb_claim_reason(out,
                   "; at the finest mesh it is slower in %d of %d stretch-family and %d of %d bending-family "
-                  "stiffnesses. Explicit cost against resolution follows b_pred = 1 + d log omega_max / d log n "
+                  "stiffnesses (undecided in %d). Explicit cost against resolution follows b_pred = 1 + d log "
+                  "omega_max / d log n "
                   "within %.2f in %d of %d (family, k) fits (worst: %s); omega_max ~ n^%.3f (stretch) and n^%.3f "
                   "(bending).",
-                  fam_slow[0], fam_fine[0], fam_slow[1], fam_fine[1], E2_N_EXP_TOL, nfits_ok, nfits,
-                  worst_txt[0] ? worst_txt : "none", fam_c[0], fam_c[1]);
+                  fam_slow[0], fam_fine[0], fam_slow[1], fam_fine[1], fam_undec[0] + fam_undec[1], E2_N_EXP_TOL,
+                  nfits_ok, nfits, worst_txt[0] ? worst_txt : "none", fam_c[0], fam_c[1]);
   if (!both) cb_claim_reason(out, " Only one family was measured.");
   else if (!distinct)
     cb_claim_reason(out, " The bending family's omega_max does not grow faster than the stretch family's.");

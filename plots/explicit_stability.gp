@@ -22,9 +22,12 @@ rest_scenes = distinct(bound, 'scene', 'v("dt_crit_pred_rest_s") != "" && v("dt_
                        '(v("dt_crit_pred_rest_s") / v("dt_crit_pred_s") - 1)^2 > 1e-12')
 methods = distinct(tim, 'method', '1')
 mlabel(m) = m eq 'explicit' ? 'explicit' : m eq 'newton' ? 'Newton (converged, shift)' : \
-            m eq 'newton_bw' ? 'Baraff-Witkin (drop)' : m eq 'newton_bw_shift' ? 'Baraff-Witkin (shift)' : m
+            m eq 'newton_bw' ? 'Baraff-Witkin (drop)' : m eq 'newton_bw_shift' ? 'Baraff-Witkin (shift)' : \
+            m[1:7] eq 'newton_' ? 'Newton, '.m[8:].' iterations' : m eq 'chebyshev_nl' ? 'chebyshev-nl' : \
+            m eq 'pd' ? 'projective dynamics' : m
 mshort(m) = m eq 'explicit' ? 'explicit' : m eq 'newton' ? 'Newton' : m eq 'newton_bw' ? 'BW drop' : \
-            m eq 'newton_bw_shift' ? 'BW shift' : m
+            m eq 'newton_bw_shift' ? 'BW shift' : m[1:7] eq 'newton_' ? 'Newton '.m[8:].' it.' : \
+            m eq 'chebyshev_nl' ? 'chebyshev-nl' : m eq 'pd' ? 'PD' : m
 families = distinct(tim, 'family', '1')
 # timed against k: the timed scenes of the sweep; against resolution: the k
 # values at which scenes outside the sweep (larger grids) were timed

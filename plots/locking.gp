@@ -55,7 +55,9 @@ set output out.'/locking_f1_aniso.'.ext
 afams = distinct(fa, 'family', '1')
 amodels = distinct(fa, 'model', '1')
 ameshes = distinct(fa, 'mesh', '1')
-set multiplot layout 1, words(afams) title "F1: elastic energy per area against the load's direction, non-affine loads on disks (springs: solid, FEM: dashed)\nk = mu = 1000 N/m; a direction-independent curve is isotropic; unconverged solves left out"
+stats fa using 'n' nooutput
+nfine = STATS_max
+set multiplot layout 1, words(afams) title sprintf("F1: energy per area against the load's direction, disks at the finest level n = %.0f\n(springs solid, FEM dashed; k = mu = 1000 N/m; flat = isotropic; every level is in the report)", nfine)
 set xlabel 'load direction (deg)'
 set ylabel 'energy density (J/m^2)'
 set xrange [-5:185]
@@ -63,7 +65,7 @@ set key top right font ',8'
 do for [fm in afams] {
   set title fm
   plot for [md = 1:words(amodels)] for [m in ameshes] fa using \
-       (strcol('model') eq word(amodels, md) && strcol('mesh') eq m && strcol('family') eq fm && strcol('status') eq 'ok' ? column('dir_deg') : NaN):'energy_density_j_per_m2' \
+       (strcol('model') eq word(amodels, md) && strcol('mesh') eq m && strcol('family') eq fm && strcol('status') eq 'ok' && column('n') == nfine ? column('dir_deg') : NaN):'energy_density_j_per_m2' \
        with linespoints dt md lw 2 pt 7 lc rgb pcolor(ameshes, m) title word(amodels, md).', '.m
 }
 unset multiplot
@@ -88,18 +90,22 @@ set output out.'/locking_s1.'.ext
 sscenes = distinct(fs, 'scene', '1')
 series = distinct_n(fs, 'v("method") == "shape_matching" ? "alpha=" v("alpha") : v("method")', '1', 1)
 skey(mt, a) = mt eq 'shape_matching' ? 'alpha='.a : mt
-set multiplot layout 1, words(sscenes) title "S1: final shape error (max edge strain) per cell; crosses: cells that are not stable\n(energy unstable or diverged, or shape error unbounded: max edge strain > 1 or rigid-fit distance > 0.5 of the size)"
-set logscale xy
+set multiplot layout 1, words(sscenes) title "S1: growth exponent of the shape error over each cell's second half (every cell the same simulated time)\n~2: falling (squares); above 4 (dashed): exponential; crosses (at 4.5 if not finite): unstable or diverged"
+set yrange [-0.5:5]
+set logscale x
 set format x '10^{%L}'
-set format y '10^{%L}'
 set xlabel 'dt (s)'
-set ylabel 'max |l - L| / L at the end'
+set ylabel 'log_2 (envelope over (T/2, T] / over (T/4, T/2])'
 set key top left font ',8'
 do for [sc in sscenes] {
   set title sc
-  plot for [s in series] fs using (strcol('scene') eq sc && skey(strcol('method'), strcol('alpha')) eq s ? column('dt_s') : NaN):(column('max_strain') > 0 ? column('max_strain') : 1e-17) \
+  plot for [s in series] fs using (strcol('scene') eq sc && skey(strcol('method'), strcol('alpha')) eq s ? column('dt_s') : NaN):'shape_growth_exponent' \
        with linespoints lw 2 pt 7 ps 0.7 lc rgb pcolor(series, s) title s, \
-       fs using (strcol('scene') eq sc && (strcol('class') ne 'stable' || !(column('max_strain') <= 1 && column('rigid_dist_over_size') <= 0.5)) ? column('dt_s') : NaN):(column('max_strain') > 0 ? column('max_strain') : 1e-17) \
-       with points pt 2 ps 2.5 lw 2 lc rgb '#d62728' title 'not stable'
+       fs using (strcol('scene') eq sc && strcol('class') ne 'stable' && strcol('class') ne 'falling' ? column('dt_s') : NaN):(strcol('shape_growth_exponent') eq 'nan' || strcol('shape_growth_exponent') eq '' ? 4.5 : column('shape_growth_exponent')) \
+       with points pt 2 ps 2.5 lw 2 lc rgb '#d62728' title 'unstable or diverged', \
+       fs using (strcol('scene') eq sc && strcol('class') eq 'falling' ? column('dt_s') : NaN):'shape_growth_exponent' \
+       with points pt 4 ps 2 lw 2 lc rgb '#333333' title 'falling', \
+       4 with lines lc rgb '#7f7f7f' dt 2 notitle
 }
 unset multiplot
+set yrange [*:*]

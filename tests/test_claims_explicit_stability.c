@@ -22,7 +22,7 @@ static const char *bound_hdr = "# "
 static const char *time_hdr = "# test\nscene,family,n_vertices,k_n_per_m,method,wall_ms_per_s,wall_min_ms_per_s,"
                               "wall_max_ms_per_s,wall_each_ms_per_s,wall_repeats,steps,status,dt_crit_pred_s,step_"
                               "error_max,"
-                              "not_converged_steps\n";
+                              "not_converged_steps,iters_per_step\n";
 
 static char dir[64];
 static char main_rows[65536], bound_rows[8192], time_rows[16384];
@@ -112,9 +112,9 @@ static void trow3(const char *scene, const char *family, int nv, double k, doubl
   reps(w2, sizeof w2, nt / 4, 0);
   size_t n = strlen(time_rows);
   snprintf(time_rows + n, sizeof time_rows - n,
-           "%s,%s,%d,%.17g,explicit,%s,%.0f,stable,%.17g,,\n%s,%s,%d,%.17g,newton,%s,30,stable,%.17g,1e-8,0\n"
-           "%s,%s,%d,%.17g,newton_bw,%s,30,stable,%.17g,%.17g,\n%s,%s,%d,%.17g,newton_bw_shift,%s,30,stable,%.17g,%."
-           "17g,\n",
+           "%s,%s,%d,%.17g,explicit,%s,%.0f,stable,%.17g,,,\n%s,%s,%d,%.17g,newton,%s,30,stable,%.17g,1e-8,0,\n"
+           "%s,%s,%d,%.17g,newton_bw,%s,30,stable,%.17g,%.17g,,1\n%s,%s,%d,%.17g,newton_bw_shift,%s,30,stable,%.17g,%."
+           "17g,,1\n",
            scene, family, nv, k, e, omega * 0.5, 2 / omega, scene, family, nv, k, t, 2 / omega, scene, family, nv, k, w,
            2 / omega, bw_err, scene, family, nv, k, w2, 2 / omega, bw_err / 10);
 }
@@ -143,13 +143,27 @@ static void timing(double kexp, double sexp, double bexp, double nt, double bw_e
   }
 }
 
+/* the columns of the methods a row did not time: Newton with 2-5 iterations, chebyshev-nl, pd */
+#define NT " | not timed / not timed / not timed / not timed | not timed | not timed"
+
+/* One more implicit row for (scene, k): method at median v ms, its three paired repeats a v, v, c v (in the
+ * rounds' order), step error err, iters a step. */
+static void extra(const char *scene, const char *family, int nv, double k, const char *method, double v, double a,
+                  double c, double err, int iters) {
+  size_t n = strlen(time_rows);
+  snprintf(time_rows + n, sizeof time_rows - n,
+           "%s,%s,%d,%.17g,%s,%.17g,%.17g,%.17g,%.17g;%.17g;%.17g,3,30,stable,1,%.17g,,%d\n", scene, family, nv, k,
+           method, v, fmin(a, c) * v, fmax(a, c) * v, a * v, v, c * v, err, iters);
+}
+
 Test(claims_explicit_stability, E2_reproduced_when_explicit_is_slow_and_follows_omega_max) {
   timing(0.5, 1.5, 2.0, 100, 1e-3); /* explicit 1.6 ms .. 1.6 s against k; Baraff-Witkin 10 ms */
   cr_assert_eq(decide(cb_check_E2), CB_REPRODUCED, "%s", last.reason);
   /* the baseline is named, with its step error */
   cr_expect(strstr(last.numbers, "| cloth21 | stretch | 1e+07 | 441 | 1581 (1423-1739) | 1581 | 100 (100-120); 1e-08 | "
-                                 "10 (9-11); 0.001 | 25 (22.5-27.5); 0.0001 | Baraff-Witkin (drop) | 158 (158-158 over "
-                                 "3 paired repeats) |"),
+                                 "10 (9-11); 0.001 | 25 (22.5-27.5); 0.0001" NT " | Baraff-Witkin (drop) | 158 "
+                                 "(158-158 "
+                                 "over 3 paired repeats) |"),
             "%s", last.numbers);
   cr_expect(strstr(last.numbers, "Baraff-Witkin (one Newton iteration, the lecture's drop fix, CHOLMOD)"), "%s",
             last.numbers);
@@ -182,13 +196,12 @@ Test(claims_explicit_stability, E2_not_reproduced_when_explicit_is_never_slower)
 Test(claims_explicit_stability, E2_an_inaccurate_baraff_witkin_does_not_count) {
   timing(0.5, 1.5, 2.0, 100, 0.05); /* Baraff-Witkin (drop) 5% off: the shift variant (25 ms, 0.5%) is the baseline */
   decide(cb_check_E2);
-  cr_expect(strstr(last.numbers, "| 10 (9-11); 0.05 | 25 (22.5-27.5); 0.005 | Baraff-Witkin (shift) | 63.2 (63.2-63.2 "
-                                 "over 3 "
-                                 "paired repeats) |"),
+  cr_expect(strstr(last.numbers, "| 10 (9-11); 0.05 | 25 (22.5-27.5); 0.005" NT " | Baraff-Witkin (shift) | 63.2 "
+                                 "(63.2-63.2 over 3 paired repeats) |"),
             "%s", last.numbers);
   timing(0.5, 1.5, 2.0, 100, 0.5); /* both 5% and more off: converged Newton (100 ms) */
   decide(cb_check_E2);
-  cr_expect(strstr(last.numbers, "; 0.05 | converged Newton | 15.8 (14.2-15.8 over 3 paired repeats) |"), "%s",
+  cr_expect(strstr(last.numbers, "; 0.05" NT " | converged Newton | 15.8 (14.2-15.8 over 3 paired repeats) |"), "%s",
             last.numbers);
   timing(0.0, 1.5, 2.0, 1e3, 0.05); /* explicit at 0.5 ms on the whole k sweep beats the 250 ms baseline */
   decide(cb_check_E2);
@@ -201,8 +214,8 @@ Test(claims_explicit_stability, E2_labels_newton_rows_that_did_not_converge_and_
   char *p = strstr(time_rows, "cloth21,stretch,441,10000,newton,");
   cr_assert(p);
   p = strchr(p, '\n');
-  cr_assert(p && p[-1] == '0');
-  p[-1] = '5'; /* 5 steps at max_iters */
+  cr_assert(p && p[-2] == '0'); /* not_converged_steps, before the empty iters_per_step */
+  p[-2] = '5';                  /* 5 steps at max_iters */
   p = strstr(time_rows, "bend41,bending,1681,10000,explicit,");
   cr_assert(p);
   memcpy(strstr(p, "stable"), "diverg", 6); /* explicit not stable at the finest bending mesh */
@@ -259,4 +272,48 @@ Test(claims_explicit_stability, E1_says_at_which_state_it_is_judged) {
   build(0.99, -0.5, 0); /* no equilibrium recorded: it says so */
   decide(cb_check_E1);
   cr_expect(strstr(last.reason, "the static hanging equilibrium in 0 of 8 rows"), "%s", last.reason);
+}
+
+/* The new implicit methods (issue 31 §6) enter the baseline by the same rule: an accurate pd faster than
+ * explicit turns "never slower" into reproduced; an inaccurate chebyshev-nl, however fast, does not count. */
+Test(claims_explicit_stability, E2_new_implicit_methods_count_only_when_accurate) {
+  timing(0.5, 1.5, 2.0, 1e7, 1e-3); /* Newton and Baraff-Witkin at 1e6 ms and more: explicit faster everywhere */
+  const char *sc[] = {"cloth21", "cloth21", "cloth21", "cloth21", "cloth21",
+                      "cloth41", "cloth81", "bend11",  "bend21",  "bend41"};
+  const char *fam[] = {"stretch", "stretch", "stretch", "stretch", "stretch",
+                       "stretch", "stretch", "bending", "bending", "bending"};
+  const int nv[] = {441, 441, 441, 441, 441, 1681, 6561, 121, 441, 1681};
+  const double ks[] = {10, 1e3, 1e4, 1e5, 1e7, 1e4, 1e4, 1e4, 1e4, 1e4};
+  for (int i = 0; i < 10; i++) extra(sc[i], fam[i], nv[i], ks[i], "chebyshev_nl", 0.01, 0.9, 1.1, 0.05, 512);
+  cr_assert_eq(decide(cb_check_E2), CB_NOT_REPRODUCED, "%s", last.reason); /* 5% off: out of the baseline */
+  cr_expect(strstr(last.numbers, "| 512 it.: 0.01 (0.009-0.011); 0.05 |"), "%s", last.numbers);
+  for (int i = 0; i < 10; i++) extra(sc[i], fam[i], nv[i], ks[i], "pd", 0.01, 0.9, 1.1, 1e-3, 32);
+  cr_assert_eq(decide(cb_check_E2), CB_REPRODUCED, "%s", last.reason);
+  cr_expect(strstr(last.numbers, "| 32 it.: 0.01 (0.009-0.011); 0.001 | pd |"), "%s", last.numbers);
+  /* Newton with 2 iterations, accurate and the fastest: it is the baseline */
+  timing(0.5, 1.5, 2.0, 1e7, 1e-3);
+  for (int i = 0; i < 10; i++) extra(sc[i], fam[i], nv[i], ks[i], "newton_2", 0.02, 0.9, 1.1, 2e-3, 2);
+  cr_assert_eq(decide(cb_check_E2), CB_REPRODUCED, "%s", last.reason);
+  cr_expect(strstr(last.numbers, "| 0.02 (0.018-0.022); 0.002 / not timed / not timed / not timed | not timed | not "
+                                 "timed | Newton, 2 iterations |"),
+            "%s", last.numbers);
+}
+
+/* A timing verdict whose paired spread straddles 1 is undecided (issue 31 §7's rule, cb_claim_timing_side):
+ * explicit faster everywhere except one row where an accurate pd ties it, repeat by repeat 0.75x to 1.38x. */
+Test(claims_explicit_stability, E2_undecided_when_the_deciding_ratio_straddles_one) {
+  timing(0.5, 1.5, 2.0, 1e7, 1e-3);
+  double ex = 0.5 * pow(1e7, 0.5); /* explicit's median at k = 1e7; its repeats 0.9, 1, 1.1 x */
+  extra("cloth21", "stretch", 441, 1e7, "pd", ex, 1.2, 0.8, 1e-3, 10);
+  cr_assert_eq(decide(cb_check_E2), CB_UNDECIDED, "%s", last.reason);
+  cr_expect(strstr(last.reason, "in 0 of 10 timed rows, faster in 9, undecided within the spread in 1"), "%s",
+            last.reason);
+  cr_expect(strstr(last.numbers, "over 3 paired repeats), undecided |"), "%s", last.numbers);
+  /* the same tie outside the spread (explicit's repeats slower in every round): reproduced is not claimed, the
+   * row counts as slower */
+  timing(0.5, 1.5, 2.0, 1e7, 1e-3);
+  extra("cloth21", "stretch", 441, 1e7, "pd", ex / 2, 1, 1, 1e-3, 10);
+  cr_assert_neq(decide(cb_check_E2), CB_UNDECIDED, "%s", last.reason);
+  cr_expect(strstr(last.reason, "in 1 of 10 timed rows, faster in 9, undecided within the spread in 0"), "%s",
+            last.reason);
 }

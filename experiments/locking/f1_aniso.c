@@ -7,6 +7,7 @@
 
 #include <clothbench/clothbench.h>
 #include "csv.h"
+#include "rigidity.h"
 #include "stability.h"
 
 #include "locking.h"
@@ -18,9 +19,41 @@
  * before the sweeps, like the ring disk, so that every mesh has the same round domain and every
  * load direction meets the same boundary. */
 #define F1_R 0.5
-char aniso_obj[NMESH][2048];
+char aniso_obj[F1_MAXLEV][NMESH][2048];
+int f1_levels[F1_MAXLEV], f1_nlev;
 
-int lk_write_clipped_grid(mesh_kind mk, int n) {
+/* The ring disk of F1 at level n: (n - 1)/2 rings of radius F1_R, the grid's spacing 1/(n - 1), plane xy. */
+static int f1_write_disk(int lev, int n) {
+  cb_mesh m;
+  int rings = (n - 1) / 2, st = cb_ring_disk(rings, &m);
+  if (st) return st;
+  double sc = F1_R / rings;
+  for (int i = 0; i < m.nv; i++) {
+    m.x[3 * i] *= sc;
+    m.x[3 * i + 1] *= sc;
+    m.x[3 * i + 2] = 0;
+  }
+  char name[64];
+  snprintf(name, sizeof name, "aniso_disk_n%d.obj", n);
+  cb_experiment_side_path(&E, name, aniso_obj[lev][MESH_DISK], sizeof aniso_obj[lev][MESH_DISK]);
+  st = cb_mesh_write_obj(&m, NULL, aniso_obj[lev][MESH_DISK]);
+  cb_mesh_free(&m);
+  return st;
+}
+
+int lk_write_f1_meshes(const int *levels, int nlev) {
+  f1_nlev = nlev;
+  for (int l = 0; l < nlev; l++) {
+    f1_levels[l] = levels[l];
+    int st = lk_write_clipped_grid(l, MESH_REGULAR, levels[l]);
+    if (!st) st = lk_write_clipped_grid(l, MESH_ALTERNATING, levels[l]);
+    if (!st) st = f1_write_disk(l, levels[l]);
+    if (st) return st;
+  }
+  return CB_OK;
+}
+
+int lk_write_clipped_grid(int lev, mesh_kind mk, int n) {
   cb_mesh g, m;
   int st = lk_rest_mesh(mk, n, 1, &g);
   if (st) return st;
@@ -52,9 +85,10 @@ int lk_write_clipped_grid(mesh_kind mk, int n) {
     }
     m.nt++;
   }
-  cb_experiment_side_path(&E, mk == MESH_REGULAR ? "grid_regular_xy.obj" : "grid_alternating_xy.obj", aniso_obj[mk],
-                          sizeof aniso_obj[mk]);
-  st = cb_mesh_write_obj(&m, NULL, aniso_obj[mk]);
+  char name[64];
+  snprintf(name, sizeof name, "aniso_%s_n%d.obj", mk == MESH_REGULAR ? "regular" : "alternating", n);
+  cb_experiment_side_path(&E, name, aniso_obj[lev][mk], sizeof aniso_obj[lev][mk]);
+  st = cb_mesh_write_obj(&m, NULL, aniso_obj[lev][mk]);
   free(map);
   cb_mesh_free(&m);
   cb_mesh_free(&g);
@@ -81,7 +115,7 @@ static void f1_load(int fam, double deg, const double *X, double *x) {
   x[2] = X[2];
 }
 
-/* Cell ci: mesh kind ci, both models, both loads in every direction. */
+/* Cell ci: mesh kind ci % NMESH at level ci / NMESH, both models, both loads in every direction. */
 int lk_f1_aniso_cell(long ci, void *ctx, FILE *const *out) {
   static const char *const models[2] = {"spring", "fem"};
   (void)ctx;
@@ -89,10 +123,11 @@ int lk_f1_aniso_cell(long ci, void *ctx, FILE *const *out) {
   cb_equilibrium_params ep = cb_equilibrium_params_default();
   ep.tol = 1e-8;
   ep.max_steps = 200;
-  int mk = (int)ci, ndir = E.smoke ? 2 : F1_NDIR;
+  int mk = (int)(ci % NMESH), lev = (int)(ci / NMESH), ndir = E.smoke ? 2 : F1_NDIR, nl = f1_levels[lev];
+  const char *obj = aniso_obj[lev][mk];
   {
     cb_mesh rest;
-    if (cb_mesh_read_obj(aniso_obj[mk], &rest)) return CB_EIO;
+    if (cb_mesh_read_obj(obj, &rest)) return CB_EIO;
     cb_topology tp;
     if (cb_topology_build(&rest, &tp)) {
       cb_mesh_free(&rest);
@@ -119,7 +154,7 @@ int lk_f1_aniso_cell(long ci, void *ctx, FILE *const *out) {
     for (int md = 0; md < 2; md++) {
       const char *sets[] = {md ? "material.stretch=fem" : "material.stretch=spring", NULL};
       cb_scene *s = NULL;
-      int bs = lk_build(lk_scene_of("aniso"), sets, (mesh_kind)mk, 3, aniso_obj[mk], pins, &s);
+      int bs = lk_build(lk_scene_of("aniso"), sets, (mesh_kind)mk, 3, obj, pins, &s);
       if (bs) {
         free(pins);
         free(isb);
@@ -139,9 +174,9 @@ int lk_f1_aniso_cell(long ci, void *ctx, FILE *const *out) {
           double En = cb_system_elastic_energy(&s->sys, x);
           char test[32];
           snprintf(test, sizeof test, "%s_%g", f1_families[fam], deg);
-          cb_csv_printf(f, "%s,%s,%s,%s,%g,%d,%g,%.17g,%.17g,%.17g,%d,%.6g,%s\n", models[md], mesh_names[mk],
-                        f1_families[fam], test, deg, s->mesh.nv, F1_EPS, En, En / area, area, s->model.nfree,
-                        es.residual,
+          cb_csv_printf(f, "%s,%s,%d,%.17g,%s,%s,%g,%d,%g,%.17g,%.17g,%.17g,%d,%.6g,%s\n", models[md], mesh_names[mk],
+                        nl, 1.0 / (nl - 1), f1_families[fam], test, deg, s->mesh.nv, F1_EPS, En, En / area, area,
+                        s->model.nfree, es.residual,
                         cb_status_name(rc                                                    ? rc
                                        : es.status == CB_NOT_CONVERGED && es.residual < 1e-6 ? CB_OK
                                                                                              : es.status));

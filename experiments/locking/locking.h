@@ -30,8 +30,9 @@ extern const char *const mesh_names[NMESH];
  * lab cloth (one cell each; plan: the definiteness of the timed step, mesh.n
  * and the lab's 441 kg are added per run mode); "shape" = S1's scenes (one
  * cell per method: springs under symplectic Euler, shape matching per alpha).
- * The disks of L1 and F1 are ring disks generated in code and written as OBJs
- * beside the CSV before the sweeps (every shard writes them), and L2's meshes
+ * The disk of L1 and F1's meshes (clipped grids and ring disks, per level) are
+ * generated in code and written as OBJs beside the CSV before the sweeps (every
+ * shard writes them), and L2's meshes
  * (grids and ring disks, no scene) stay in code, as in topology. */
 typedef struct {
   cb_scene_decl scene;
@@ -47,12 +48,18 @@ extern int nsteps, step_idx[NSCENES], nshape, shape_idx[NSCENES];
 const cb_scene_decl *lk_scene_of(const char *role);
 
 /* ---- meshes written before the sweeps (every shard writes them) ---- */
-extern char disk_xz[2048], disk_xy[2048]; /* the ring disks of L1 (horizontal) and F1 (plane xy) */
-extern char aniso_obj[NMESH][2048];       /* F1's patches: the clipped grids, and disk_xy */
+extern char disk_xz[2048], disk_xy[2048];      /* the ring disks of L1 (horizontal) and in plane xy (lk_write_disk) */
+enum { F1_MAXLEV = 3 };                        /* F1's refinement ladder: n = 15, 31, 63 */
+extern char aniso_obj[F1_MAXLEV][NMESH][2048]; /* F1's patches per level: the clipped grids, the ring disk */
+extern int f1_levels[F1_MAXLEV], f1_nlev;      /* grid vertices per side of each level, and how many */
 /* The ring disk scaled to radius 0.5 m in plane xz (horizontal) or xy, as an OBJ beside the CSV. */
 int lk_write_disk(int rings, int plane_xy);
-/* The n^2 grid of kind mk on [-0.5, 0.5]^2 (plane xy), clipped to the disk of radius F1_R, as an OBJ. */
-int lk_write_clipped_grid(mesh_kind mk, int n);
+/* The n^2 grid of kind mk on [-0.5, 0.5]^2 (plane xy), clipped to the disk of radius F1_R, as an OBJ
+ * (aniso_obj[lev][mk]). */
+int lk_write_clipped_grid(int lev, mesh_kind mk, int n);
+/* F1's meshes at every level: the clipped grids and the ring disk of (n - 1)/2 rings (the same spacing
+ * 1/(n - 1) m), written beside the CSV. */
+int lk_write_f1_meshes(const int *levels, int nlev);
 
 /* ---- shared by the cells ---- */
 /* The scene d with the cell's sets on grid n of kind mk, or on the OBJ obj when it is not NULL

@@ -20,8 +20,9 @@
  *     at the vertices) and with every triangle rigid on edge-midpoint
  *     variables (nonconforming, English & Bridson 2008), at jittered generic
  *     positions, per vertex against mesh size.
- * F1  results/locking_aniso.csv: disks of radius 0.5 m in the plane (the grids clipped
- *     to it, and the ring disk), boundary held at X + u(X) for a non-affine u (a
+ * F1  results/locking_aniso.csv: disks of radius 0.5 m in the plane (the n^2 grids clipped
+ *     to it, and the ring disk of (n - 1)/2 rings) on a refinement ladder n = 15, 31, 63
+ *     (15, 31 with --quick), boundary held at X + u(X) for a non-affine u (a
  *     non-uniform stretch, an in-plane-bending shear) in 8 directions, interior
  *     relaxed by the same static solve, elastic energy per area (an affine load is
  *     FEM's patch test and would decide nothing); results/locking_newton.csv: one
@@ -29,11 +30,13 @@
  *     exact and FEM frozen, |grad F| and wall time per Newton iteration.
  * S1  results/locking_shape.csv: shape matching (integrator.shape_alpha swept) on
  *     explicit_stability's chain and 21^2 cloth, hanging vertically from the
- *     rest shape with a small random velocity, over explicit_stability's dt
- *     range; cells classified as there (energy = kinetic + gravity, the only
- *     energy shape matching has), and the shape error at the end (max edge
- *     strain, distance to the best-fit rigid motion of the rest shape), against
- *     springs (the scene's k) under symplectic Euler from the same start.
+ *     rest shape with a small random velocity, over the upper three decades of
+ *     explicit_stability's dt range, every cell the same simulated time (2 s);
+ *     cells classified by the growth rate of their energy and shape error
+ *     (s1_shape.c: stable, falling, unstable, diverged), with the shape error at
+ *     the end (max edge strain, distance to the best-fit rigid motion of the rest
+ *     shape), against springs (the scene's k) under symplectic Euler from the
+ *     same start.
  * --smoke: one small cell per sweep (docs/experiments/locking.md says which). */
 #include <string.h>
 
@@ -74,12 +77,14 @@ int main(int argc, char **argv) {
                           "conforming_per_vertex,nonconforming_variables,nonconforming_dofs,nonconforming_predicted,"
                           "nonconforming_per_vertex,status") != T_DOFS ||
       cb_experiment_table(&E, "aniso",
-                          "# F1: disks of radius 0.5 m (grids clipped to it), boundary held at X + u(X) for a "
+                          "# F1: disks of radius 0.5 m (n^2 grids clipped to it, ring disks of (n - 1)/2 rings; mesh "
+                          "spacing h = 1/(n - 1) m, n = 15, 31, 63), boundary held at X + u(X) for a "
                           "non-affine u along "
                           "dir_deg (stretch: u = eps (s + R)^2/(4R) n; shear: u = eps s^2/(2R) t; s = n.X, eps = "
                           "strain), "
                           "interior relaxed; k = mu = 1000 N/m\n",
-                          "model,mesh,family,test,dir_deg,vertices,strain,energy_j,energy_density_j_per_m2,area_m2,"
+                          "model,mesh,n,h_m,family,test,dir_deg,vertices,strain,energy_j,energy_density_j_per_m2,area_"
+                          "m2,"
                           "free_vertices,"
                           "residual,status") != T_ANISO ||
       cb_experiment_table(&E, "newton",
@@ -97,25 +102,22 @@ int main(int argc, char **argv) {
                           "to the best-fit rigid motion of the rest shape (rigid_dist_m; over the rest shape's RMS "
                           "radius: "
                           "rigid_dist_over_size)\n",
-                          "scene,method,alpha,dt_s,class,max_energy_ratio,final_energy_ratio,steps,t_end_s,"
-                          "max_strain,rms_strain,rigid_dist_m,rigid_dist_over_size,cell_wall_ms,step_status") !=
-          T_SHAPE)
+                          "scene,method,alpha,dt_s,class,max_energy_ratio,final_energy_ratio,steps,t_end_s,sim_time_s,"
+                          "max_strain,rms_strain,rigid_dist_m,rigid_dist_over_size,energy_growth_exponent,"
+                          "shape_growth_exponent,shape_growth_per_s,cell_wall_ms,step_status") != T_SHAPE)
     return cb_experiment_end(&E, CB_EIO), 2;
-  /* the disks of L1 (horizontal) and F1 (in plane xy): inputs of cells, written by every shard */
-  /* and F1's clipped grids (the disk of F1 is disk_xy) */
-  if ((st = lk_write_disk(quick ? 4 : 6, 0)) || (st = lk_write_disk(quick ? 5 : 7, 1)) ||
-      (st = lk_write_clipped_grid(MESH_REGULAR, E.smoke ? 7
-                                                : quick ? 11
-                                                        : 15)) ||
-      (st = lk_write_clipped_grid(MESH_ALTERNATING, E.smoke ? 7
-                                                    : quick ? 11
-                                                            : 15)))
+  /* the disk of L1 (horizontal) and F1's meshes at every level of its ladder (clipped grids, ring disks):
+   * inputs of cells, written by every shard. The ladder: n = 15, 31, 63 (15, 31 with --quick; 7 with --smoke) */
+  static const int ladder[F1_MAXLEV] = {15, 31, 63}, smoke_ladder[1] = {7};
+  if ((st = lk_write_disk(quick ? 4 : 6, 0)) ||
+      (st = lk_write_f1_meshes(E.smoke ? smoke_ladder : ladder, E.smoke ? 1
+                                                                : quick ? 2
+                                                                        : F1_MAXLEV)))
     return cb_experiment_end(&E, st), 2;
-  memcpy(aniso_obj[MESH_DISK], disk_xy, sizeof disk_xy);
   const cb_sweep sweeps[] = {
       /* --smoke: one small cell per sweep (the cells say which) */
       {"L2 meshes", E.smoke ? 1 : 2L * (quick ? 4 : 5) + (quick ? 3 : 5), lk_l2_cell, NULL, &quick},
-      {"F1 anisotropy", E.smoke ? 1 : NMESH, lk_f1_aniso_cell, NULL, &quick},
+      {"F1 anisotropy", E.smoke ? 1 : (long)NMESH * f1_nlev, lk_f1_aniso_cell, NULL, &quick},
       {"F1 Newton step", nsteps > 0, lk_f1_newton_cell, NULL, &quick},
       {"S1 shape matching", E.smoke ? 1 : nshape * ((quick ? 3L : 5L) + 1), lk_s1_cell, NULL, &quick},
       {"L1 fold", E.smoke ? 1 : (long)NMESH * NFOLD, lk_l1_cell, NULL, &quick},
