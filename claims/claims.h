@@ -97,6 +97,10 @@ typedef struct cb_claim_timing {
  * wall_ms_per_s gives wall_min_ms_per_s ...) and the count wall_repeats if
  * present. A CSV without them gives min = max = NaN, n = 0. */
 cb_claim_timing cb_claim_timing_at(const cb_table *t, int r, const char *col);
+/* The name of col's spread column: what ("min", "max", "each") inserted before its "_ms" (the first
+ * "_ms" that ends the name or is followed by '_'): wall_ms_per_s gives wall_min_ms_per_s; "" if col has
+ * no "_ms". */
+void cb_claim_spread_column(const char *col, const char *what, char *buf, size_t n);
 /* A number without repeats (no spread). */
 cb_claim_timing cb_claim_timing_value(double v);
 /* a / b and a - b, with the spread described above. */

@@ -7,7 +7,7 @@
 
 /* col with "_min", "_max" or "_each" inserted before its "_ms" (the first
  * "_ms" that ends the name or is followed by '_'); "" if col has none. */
-static void spread_col(const char *col, const char *what, char *buf, size_t n) {
+void cb_claim_spread_column(const char *col, const char *what, char *buf, size_t n) {
   buf[0] = 0;
   for (const char *p = strstr(col, "_ms"); p; p = strstr(p + 1, "_ms"))
     if (p[3] == 0 || p[3] == '_') {
@@ -38,11 +38,11 @@ cb_claim_timing cb_claim_timing_at(const cb_table *t, int r, const char *col) {
   x.med = cb_table_num(t, r, cb_table_col(t, col));
   x.min = x.max = NAN;
   char name[128];
-  spread_col(col, "min", name, sizeof name);
+  cb_claim_spread_column(col, "min", name, sizeof name);
   int cmin = name[0] ? cb_table_col(t, name) : -1;
-  spread_col(col, "max", name, sizeof name);
+  cb_claim_spread_column(col, "max", name, sizeof name);
   int cmax = name[0] ? cb_table_col(t, name) : -1;
-  spread_col(col, "each", name, sizeof name);
+  cb_claim_spread_column(col, "each", name, sizeof name);
   int ceach = name[0] ? cb_table_col(t, name) : -1, crep = cb_table_col(t, "wall_repeats");
   if (ceach >= 0 && cb_timing_parse(cb_table_str(t, r, ceach), &x.each) > 0) from_each(&x);
   if (cmin >= 0 && cmax >= 0) {
