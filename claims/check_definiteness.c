@@ -226,9 +226,9 @@ void cb_check_h1(const cb_table *csv, const char *dir, cb_claim_result *out) {
 #define H2_BAND 1.05 /* a cost within 5% of drop's (wall time, Newton iterations) is the same cost */
 typedef struct {
   int fix, nsc, differs; /* differs: 1 yes, 0 no, -1 undecided within the spread */
-  double iters, facts;  /* medians over the scenes of the ratios to drop */
-  double shape;         /* median over the scenes of the final shape's distance to drop's, m */
-  cb_claim_timing wall; /* median over the scenes of the paired wall ratios */
+  double iters, facts;   /* medians over the scenes of the ratios to drop */
+  double shape;          /* median over the scenes of the final shape's distance to drop's, m */
+  cb_claim_timing wall;  /* median over the scenes of the paired wall ratios */
 } h2_rank;
 
 static double h2_median(double *v, int n) { /* sorts v */
@@ -297,10 +297,10 @@ static int h2_costs(const cb_table *runs, const int *rc, const data_t *d, int ro
     char b[128];
     cb_claim_numbers(out, "| %d | %s | %d | %.2f | %.2f | %s | %s | %.3g |\n", i + 1, fixes[rank[i].fix], rank[i].nsc,
                      rank[i].iters, rank[i].facts, cb_claim_spread_long(b, sizeof b, "%.2f", &rank[i].wall, "x"),
-                     rank[i].fix == lec      ? "(baseline)"
-                     : rank[i].differs > 0   ? "yes"
-                     : rank[i].differs == 0  ? "no"
-                                             : "undecided",
+                     rank[i].fix == lec     ? "(baseline)"
+                     : rank[i].differs > 0  ? "yes"
+                     : rank[i].differs == 0 ? "no"
+                                            : "undecided",
                      rank[i].shape);
   }
   return nrank;

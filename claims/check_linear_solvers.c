@@ -381,7 +381,8 @@ void cb_check_j2(const cb_table *csv, const char *dir, cb_claim_result *out) {
     return;
   }
   /* the verdict with the undecided scenes' wall-time speed-ups all below 10x and all at or above it */
-  cb_verdict vlo = j2_verdict(n, it10, wall10, faster_it), vhi = j2_verdict(n, it10, wall10 + wall10_undecided, faster_it);
+  cb_verdict vlo = j2_verdict(n, it10, wall10, faster_it),
+             vhi = j2_verdict(n, it10, wall10 + wall10_undecided, faster_it);
   out->verdict = cb_claim_verdict_either(vlo, vhi);
   cb_claim_reason(out,
                   "Chebyshev needs fewer iterations than Jacobi on %d of %d scenes, at least 10x fewer on %d; "
@@ -634,7 +635,8 @@ void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out) {
     cb_claim_numbers(out, "\n");
   }
   /* crossover: the smallest size from which every larger size has CHOLMOD costlier too */
-  int cross = -1, cross_fs = -1, cross_opt = -1; /* cross: undecided sizes counted as not costlier; cross_opt: as costlier */
+  int cross = -1, cross_fs = -1,
+      cross_opt = -1; /* cross: undecided sizes counted as not costlier; cross_opt: as costlier */
   for (int k = ns - 1; k >= 0 && costly[k] > 0; k--) cross = k;
   for (int k = ns - 1; k >= 0 && costly[k] >= 0; k--) cross_opt = k;
   for (int k = ns - 1; k >= 0 && costly_fs[k]; k--) cross_fs = k; /* the same with CHOLMOD's analysis reused */
@@ -715,7 +717,8 @@ void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out) {
                   "CHOLMOD solve on %d. ",
                   ns, sz[0].grid, sz[ns - 1].grid, J4_EXACT, exact, control, cheap);
   if (cheap_undecided)
-    cb_claim_reason(out, "On %d more sizes an iteration's cost against a CHOLMOD solve is undecided within the spread. ",
+    cb_claim_reason(out,
+                    "On %d more sizes an iteration's cost against a CHOLMOD solve is undecided within the spread. ",
                     cheap_undecided);
   if (cross < 0 && cross_opt >= 0) {
     cb_claim_reason(out,

@@ -69,7 +69,8 @@ static int generate(FILE *f, const char *m, size_t len, const cb_claim_result *r
     if (i < 0) return cb_fail("report marker '%s': no claim %s", name, id);
     fprintf(f, "**%s: %s.** %s\n", cb_claims[i].id, cb_verdict_name(res[i].verdict), res[i].reason);
     if (!shrt && res[i].numbers[0]) fprintf(f, "\n%s\n", res[i].numbers);
-  } else return cb_fail("unknown report marker '%s' (verdicts, counts, origin, runtimes, claim ID, claim-short ID)", name);
+  } else
+    return cb_fail("unknown report marker '%s' (verdicts, counts, origin, runtimes, claim ID, claim-short ID)", name);
   return CB_OK;
 }
 

@@ -264,8 +264,10 @@ const char *cb_claim_margin_text(char *buf, size_t n, const char *fmt, const cb_
   snprintf(b, sizeof b, fmt, fabs(near - thr));
   snprintf(c, sizeof c, fmt, near);
   size_t u = (size_t)snprintf(buf, n, "margin %s%s%s: the %s %s%s lies %s %s%s", side > 0 ? "+" : "-", b, unit,
-                              lo == hi ? "value" : side > 0 ? "spread's low end" : "spread's high end", c, unit,
-                              side > 0 ? "above" : "below", a, unit);
+                              lo == hi   ? "value"
+                              : side > 0 ? "spread's low end"
+                                         : "spread's high end",
+                              c, unit, side > 0 ? "above" : "below", a, unit);
   if (u < n && thr != 0) snprintf(buf + u, n - u, " (by %.0f%%)", 100 * fabs(near / thr - 1));
   return buf;
 }

@@ -241,8 +241,9 @@ static cb_verdict b2_spread(const double *d, double dm) {
 Test(claims_bending, B2_ratio_straddling_a_band_edge_is_undecided) {
   const double d[3] = {14, 16, 17.6};
   cr_expect_eq(b2_spread(d, 16), CB_UNDECIDED, "%s", res.reason);
-  cr_expect(strstr(res.reason, "Undecided (within the spread)") &&
-                strstr(res.reason, "partly reproduced at the spread's low end and reproduced at its high end"),
+  cr_expect(strstr(res.reason, "Undecided (within the spread)") && strstr(res.reason, "partly reproduced at the "
+                                                                                      "spread's low end and reproduced "
+                                                                                      "at its high end"),
             "%s", res.reason);
   cr_expect(strstr(res.reason, "straddles 1.50x: margin +0.10x (median above by 7%)"), "%s", res.reason);
   cr_expect(strstr(res.reason, "about 13 repeats would decide it"), "%s", res.reason);

@@ -247,9 +247,8 @@ static cb_verdict h2_spread(const double *mw, cb_claim_result *r) {
     double lo = e[0] < e[1] ? (e[0] < e[2] ? e[0] : e[2]) : (e[1] < e[2] ? e[1] : e[2]);
     double hi = e[0] > e[1] ? (e[0] > e[2] ? e[0] : e[2]) : (e[1] > e[2] ? e[1] : e[2]);
     char row_[512];
-    snprintf(row_, sizeof row_, "s1,%s,5,%d,%d,10,10,0,0,0,0,10,%g,%g,%g,%g;%g;%g,3,1,0,0,0,,,%s\n", pols[p],
-             p ? 5 : 1, p ? 5 : 1, e[0] + e[1] + e[2] - lo - hi, lo, hi, e[0], e[1], e[2],
-             p == 0 ? "not_spd" : "ok");
+    snprintf(row_, sizeof row_, "s1,%s,5,%d,%d,10,10,0,0,0,0,10,%g,%g,%g,%g;%g;%g,3,1,0,0,0,,,%s\n", pols[p], p ? 5 : 1,
+             p ? 5 : 1, e[0] + e[1] + e[2] - lo - hi, lo, hi, e[0], e[1], e[2], p == 0 ? "not_spd" : "ok");
     strcat(runs, row_);
   }
   put(dir, "definiteness_runs.csv", runs);

@@ -320,8 +320,7 @@ Test(claims_linear_solvers, j2_wall_speedup_straddling_10x_is_undecided) {
   rep[2] = 1.1;
   run("s", "main", "chebyshev", 0.77, 0.92, pow(10, -6.1 / 50), 50, 48, 1, "ok");
   cr_expect_eq(decide(cb_check_j2, &r), CB_UNDECIDED, "%s", r.reason);
-  cr_expect(strstr(r.reason, "partly reproduced if those 1 scene(s) are below 10x, reproduced if not"), "%s",
-            r.reason);
+  cr_expect(strstr(r.reason, "partly reproduced if those 1 scene(s) are below 10x, reproduced if not"), "%s", r.reason);
   cr_expect(strstr(r.reason, "on s the wall-time speed-up 10.04x (9.13-11.16x over 3 paired repeats) straddles "
                              "10.00x: margin +0.04x"),
             "%s", r.reason);
