@@ -191,7 +191,8 @@ $(BUILD)/tests/test_enomem: LDLIBS += -lsuitesparseconfig
 #                   check-cluster,
 #                   san and fuzz: what CI runs before the quick experiments
 #   check-quick     every experiment's --quick run once, the CSV convention on
-#                   it, a second run compared with it (determinism), the shards
+#                   it, a second run compared with it (determinism), the shards,
+#                   the verdicts over the recorded spread (tests/spread.sh)
 #   check-cluster   GNU parallel and a real local Slurm running shards (check-all)
 # `make test` = deps, then the build and the checks in a second make, so that
 # nothing compiles before the packages are there.
@@ -217,6 +218,7 @@ check: $(TESTS) $(TOOLS) $(EXPS) $(BUILD)/report
 	@BUILD=$(BUILD) tests/csv_convention.sh --runs $(SMOKE_DIR)
 	@BUILD=$(BUILD) SMOKE_DIR=$(SMOKE_DIR) tests/report.sh
 	@BUILD=$(BUILD) SMOKE_DIR=$(SMOKE_DIR) tests/compare.sh
+	@BUILD=$(BUILD) tests/spread.sh
 	$(call shard_tests,--smoke,$(SMOKE_DIR))
 	@touch $(BUILD)/check.passed
 	@echo "all tests passed"
@@ -245,10 +247,11 @@ check-all: deps
 CHECK_JOBS ?= $(shell getconf _NPROCESSORS_ONLN 2>/dev/null || echo 1)
 QUICK_FIRST := nonlinear explicit_stability locking linear_solvers newton_vs_bw field
 QUICK_ORDER = $(filter $(EXP_NAMES),$(QUICK_FIRST)) $(filter-out $(QUICK_FIRST),$(EXP_NAMES))
-check-quick: $(EXPS) $(TOOLS)
+check-quick: $(EXPS) $(TOOLS) $(BUILD)/report
 	@BUILD=$(BUILD) tests/experiments.sh -j $(CHECK_JOBS) --quick $(QUICK_DIR) $(QUICK_ORDER)
 	@BUILD=$(BUILD) tests/csv_convention.sh --runs $(QUICK_DIR)
 	@BUILD=$(BUILD) tests/rerun.sh -j $(CHECK_JOBS) --quick $(QUICK_DIR) "$(SHARDS)" $(QUICK_ORDER)
+	@BUILD=$(BUILD) tests/spread.sh $(QUICK_DIR)
 
 # the cluster runners (docs/running.md, "Running on a cluster"): scripts/parallel-run.sh
 # under GNU parallel, with an interrupted run that resumes, and

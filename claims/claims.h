@@ -110,6 +110,10 @@ typedef struct cb_claim_timing {
  * wall_ms_per_s gives wall_min_ms_per_s ...) and the count wall_repeats if
  * present. A CSV without them gives min = max = NaN, n = 0. */
 cb_claim_timing cb_claim_timing_at(const cb_table *t, int r, const char *col);
+/* The name of col's spread column: what ("min", "max", "each") inserted before its "_ms" (the first
+ * "_ms" that ends the name or is followed by '_'): wall_ms_per_s gives wall_min_ms_per_s; "" if col has
+ * no "_ms". */
+void cb_claim_spread_column(const char *col, const char *what, char *buf, size_t n);
 /* A number without repeats (no spread). */
 cb_claim_timing cb_claim_timing_value(double v);
 /* a / b and a - b, with the spread described above. */
@@ -134,6 +138,33 @@ int cb_claim_timing_side(const cb_claim_timing *t, double thr);
 /* Records t against thr as a deciding number of the claim being decided
  * (cb_claim_decide); cb_claim_timing_side calls it. */
 void cb_claim_record_deciding(const cb_claim_timing *t, double thr, int side);
+
+/* The ends over which a timing verdict must hold: [min(min, med), max(max, med)], or [med, med] for a
+ * number without a spread (or under cb_claim_verdict_median_only). */
+void cb_claim_timing_range(const cb_claim_timing *t, double *lo, double *hi);
+/* cb_claim_timing_side for a claim that reads "value >= thr" (ge = 1) or "value > thr" (ge = 0): the
+ * same, except that a number without a spread is placed by that comparison (never 0). */
+int cb_claim_timing_side_ge(const cb_claim_timing *t, double thr, int ge);
+/* How many repeats would decide t against thr, estimated from the observed spread: the spread's
+ * half-width on the threshold's side, h, is taken to shrink as 1/sqrt(repeats), so N repeats decide it
+ * once h sqrt(n/N) < |med - thr| (n: t's repeats, at least 1). 0 when t is decided already, -1 when
+ * no number would (the median on the threshold). An estimate, not a promise. */
+int cb_claim_timing_repeats_to_decide(const cb_claim_timing *t, double thr);
+/* The sentence for a straddled threshold: "<what> 1.3x (1.0-1.7x over 2 paired repeats) straddles 2x:
+ * margin -0.7x (median below by 35%), while the spread reaches 1.7x on the other side; about 12 repeats
+ * would decide it (...)". Returns buf. */
+const char *cb_claim_undecided_text(char *buf, size_t n, const char *what, const char *fmt, const cb_claim_timing *t,
+                                    const char *unit, double thr);
+/* The margin of a decided t to thr: "margin +0.3x: the spread's low end 2.3x lies above 2x (by 15%)"
+ * (the undecided sentence when t straddles thr). Returns buf. */
+const char *cb_claim_margin_text(char *buf, size_t n, const char *fmt, const cb_claim_timing *t, const char *unit,
+                                 double thr);
+/* a when a == b, else CB_UNDECIDED: the verdict of a claim whose timing part is undecided, from the
+ * verdicts it would have on either side of the threshold. */
+cb_verdict cb_claim_verdict_either(cb_verdict a, cb_verdict b);
+/* 1: every timing verdict is taken by the median alone (the spread ignored), the rule before issue 31;
+ * only for the verdict-stability test's own fixture (report --median-verdicts), never for a report. */
+extern int cb_claim_verdict_median_only;
 
 /* "<med><unit> (<min>-<max><unit>)" with printf format fmt for each number
  * (e.g. "%.3g"), or "<med><unit>" when t has no spread. Returns buf. */

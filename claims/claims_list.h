@@ -54,7 +54,8 @@
     "factorisations and " \
     "wall time per step against drop's on the same scene (paired repeats), ranked; refuted by a fix that is not SPD " \
     "on some " \
-    "iteration, and 'different costs' by no difference beyond the spread.", \
+    "iteration, and 'different costs' by every fix within 5% of drop's over the whole spread (a spread across the 5% " \
+    "edge: undecided).", \
     "definiteness_residual.png definiteness_shapes.png") \
   X(cb_check_j1, "J1", "linear_solvers", \
     "Vanilla Jacobi needs A diagonally dominant; alpha < 2/lambda_max(D^-1 A) makes it converge for any SPD A.", \

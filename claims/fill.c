@@ -25,6 +25,25 @@ void cb_report_verdicts(FILE *f, const cb_claim_result *res) {
     cb_claim_figures(f, c, NULL, " ");
     fputs(" |\n", f);
   }
+  fputs("\n", f);
+  cb_report_counts(f, res);
+}
+
+void cb_report_counts(FILE *f, const cb_claim_result *res) {
+  int n[CB_UNDECIDED + 1] = {0};
+  for (int i = 0; i < cb_nclaims; i++)
+    if (res[i].verdict >= 0 && res[i].verdict <= CB_UNDECIDED) n[res[i].verdict]++;
+  fprintf(f, "%d claims: %d reproduced, %d partly reproduced, %d not reproduced, **%d undecided (within the spread)**",
+          cb_nclaims, n[CB_REPRODUCED], n[CB_PARTLY], n[CB_NOT_REPRODUCED], n[CB_UNDECIDED]);
+  if (n[CB_UNDECIDED]) {
+    fputs(" (", f);
+    for (int i = 0, k = 0; i < cb_nclaims; i++)
+      if (res[i].verdict == CB_UNDECIDED) fprintf(f, "%s%s", k++ ? ", " : "", cb_claims[i].id);
+    fputs(": a timing whose paired spread straddles its threshold; each says its margin and how many repeats "
+          "would decide it)",
+          f);
+  }
+  fprintf(f, ", %d not run.\n", n[CB_NOT_RUN]);
 }
 
 static int claim_index(const char *id) {
@@ -54,6 +73,7 @@ static int generate(FILE *f, const char *m, size_t len, const cb_claim_result *r
             "run.\n\n",
             kind, strcmp(what, "the experiments") ? "`" : "", what, strcmp(what, "the experiments") ? "`" : "");
   if (!strcmp(name, "verdicts")) cb_report_verdicts(f, res);
+  else if (!strcmp(name, "counts")) cb_report_counts(f, res);
   else if (!strcmp(name, "origin")) cb_report_origin(f, results);
   else if (!strcmp(name, "runtimes")) cb_report_runtimes(f, results);
   else if (!strncmp(name, "claim ", 6) || !strncmp(name, "claim-short ", 12)) {
@@ -63,7 +83,8 @@ static int generate(FILE *f, const char *m, size_t len, const cb_claim_result *r
     if (i < 0) return cb_fail("report marker '%s': no claim %s", name, id);
     fprintf(f, "**%s: %s.** %s\n", cb_claims[i].id, cb_verdict_name(res[i].verdict), res[i].reason);
     if (!shrt && res[i].numbers[0]) fprintf(f, "\n%s\n", res[i].numbers);
-  } else return cb_fail("unknown report marker '%s' (verdicts, origin, runtimes, claim ID, claim-short ID)", name);
+  } else
+    return cb_fail("unknown report marker '%s' (verdicts, counts, origin, runtimes, claim ID, claim-short ID)", name);
   return CB_OK;
 }
 

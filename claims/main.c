@@ -92,6 +92,25 @@ static int write_report(const char *outpath, const cb_claim_result *res, const c
     cb_claim_figures(f, c, NULL, " ");
     fputs(" |\n", f);
   }
+  fputs("\n", f);
+  cb_report_counts(f, res);
+  int nund = 0;
+  for (int i = 0; i < cb_nclaims; i++) nund += res[i].verdict == CB_UNDECIDED;
+  if (nund) {
+    fputs("\n### Undecided within the spread\n\nA timing verdict whose paired spread straddles its threshold is not "
+          "decided by its median (docs/verdicts.md):\n\n| claim | why |\n|---|---|\n",
+          f);
+    for (int i = 0; i < cb_nclaims; i++) {
+      if (res[i].verdict != CB_UNDECIDED) continue;
+      fprintf(f, "| [%s](#%s) | ", cb_claims[i].id, cb_claims[i].id);
+      for (const char *p = res[i].reason; *p; p++) {
+        if (*p == '\n') fputc(' ', f);
+        else if (*p == '|') fputs("\\|", f);
+        else fputc(*p, f);
+      }
+      fputs(" |\n", f);
+    }
+  }
   for (int i = 0; i < cb_nclaims; i++) {
     const cb_claim *c = &cb_claims[i];
     fprintf(f, "\n<a id=\"%s\"></a>\n## %s: %s\n\n", c->id, c->id, cb_verdict_name(res[i].verdict));
@@ -117,7 +136,7 @@ static int write_report(const char *outpath, const cb_claim_result *res, const c
 int main(int argc, char **argv) {
   const char *results = "results", *out = NULL, *plots = "plots/out", *compare = NULL;
   const char *fill[64];
-  int nfill = 0, fill_only = 0;
+  int nfill = 0, fill_only = 0, stability = 0;
   for (int i = 1; i < argc; i++) {
     if (!strcmp(argv[i], "--version")) {
       printf("report (clothbench) %s (%s)\n", cb_build_git, cb_build_dirty);
@@ -129,14 +148,19 @@ int main(int argc, char **argv) {
            "Decides every claim of CLAIMS.md from DIR/<experiment>.csv (default results/)\n"
            "and writes DIR/REPORT.md (or PATH). A claim whose CSV is missing is `not run`.\n"
            "--fill FILE rewrites, in FILE, every block between a marker line\n"
-           "  <!-- report:verdicts -->, <!-- report:origin -->, <!-- report:runtimes --> or\n"
+           "  <!-- report:verdicts -->, <!-- report:counts -->, <!-- report:origin -->, <!-- report:runtimes --> or\n"
            "  <!-- report:claim ID -->  and the next  <!-- /report -->  line with the same\n"
            "  numbers (make experiments does this for README.md and docs/ after a full run);\n"
            "--fill-only does only that, without writing REPORT.md.\n"
            "--compare REFDIR decides every claim in DIR and in REFDIR (a reference run,\n"
            "  results/reference/<cpu>/) and prints, claim by claim, both verdicts, whether\n"
            "  they agree, and the timings they were decided on with their spreads; it\n"
-           "  exits 1 when a verdict differs outside the spreads (make compare).");
+           "  exits 1 when a verdict differs outside the spreads (make compare).\n"
+           "--stability decides every claim again with every timing median moved to an end of its\n"
+           "  recorded spread (low, high, alternating by row), prints the verdicts, and exits 3 if one\n"
+           "  changed between two decided verdicts (only changes to or from undecided are allowed);\n"
+           "  it writes no REPORT.md. --median-verdicts decides timing verdicts by the median alone,\n"
+           "  the rule before issue 31: only for the stability test's own fixture (docs/verdicts.md).");
       return 0;
     }
     if (!strcmp(argv[i], "--results") && i + 1 < argc) results = argv[++i];
@@ -145,6 +169,8 @@ int main(int argc, char **argv) {
     else if (!strcmp(argv[i], "--fill") && i + 1 < argc && nfill < 64) fill[nfill++] = argv[++i];
     else if (!strcmp(argv[i], "--fill-only")) fill_only = 1;
     else if (!strcmp(argv[i], "--compare") && i + 1 < argc) compare = argv[++i];
+    else if (!strcmp(argv[i], "--stability")) stability = 1;
+    else if (!strcmp(argv[i], "--median-verdicts")) cb_claim_verdict_median_only = 1;
     else {
       fprintf(stderr, "report: unknown option %s\n", argv[i]);
       return 1;
@@ -157,6 +183,11 @@ int main(int argc, char **argv) {
   cb_claim_result *res = calloc((size_t)cb_nclaims, sizeof *res);
   if (!res) return 1;
   for (int i = 0; i < cb_nclaims; i++) cb_claim_decide(&cb_claims[i], results, &res[i]);
+  if (stability) {
+    int st = cb_report_stability(stdout, results, res);
+    free(res);
+    return st;
+  }
   if (!fill_only && write_report(outpath, res, results, plots)) {
     free(res);
     return 2;

@@ -38,5 +38,12 @@ cb_compare_kind cb_report_compare_claim(const cb_claim_result *ours, const cb_cl
  * f. Returns 1 when some verdict differs outside the spreads, 0 otherwise, 2
  * on an error. */
 int cb_report_compare(FILE *f, const char *ours_dir, const char *ref_dir);
+/* One line counting the claims by verdict, the undecided ones apart and named. */
+void cb_report_counts(FILE *f, const cb_claim_result *res);
+/* report --stability (claims/stability.c): decides every claim again on copies of the results CSV files whose
+ * timing medians sit at one end of their recorded spread (low, high, and alternating row by row), and
+ * writes a table of the verdicts to f. 0 when every verdict held or changed only to or from undecided,
+ * 3 when one changed between two decided verdicts, 2 on an I/O error. */
+int cb_report_stability(FILE *f, const char *results, const cb_claim_result *base);
 
 #endif

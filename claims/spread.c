@@ -7,7 +7,7 @@
 
 /* col with "_min", "_max" or "_each" inserted before its "_ms" (the first
  * "_ms" that ends the name or is followed by '_'); "" if col has none. */
-static void spread_col(const char *col, const char *what, char *buf, size_t n) {
+void cb_claim_spread_column(const char *col, const char *what, char *buf, size_t n) {
   buf[0] = 0;
   for (const char *p = strstr(col, "_ms"); p; p = strstr(p + 1, "_ms"))
     if (p[3] == 0 || p[3] == '_') {
@@ -38,11 +38,11 @@ cb_claim_timing cb_claim_timing_at(const cb_table *t, int r, const char *col) {
   x.med = cb_table_num(t, r, cb_table_col(t, col));
   x.min = x.max = NAN;
   char name[128];
-  spread_col(col, "min", name, sizeof name);
+  cb_claim_spread_column(col, "min", name, sizeof name);
   int cmin = name[0] ? cb_table_col(t, name) : -1;
-  spread_col(col, "max", name, sizeof name);
+  cb_claim_spread_column(col, "max", name, sizeof name);
   int cmax = name[0] ? cb_table_col(t, name) : -1;
-  spread_col(col, "each", name, sizeof name);
+  cb_claim_spread_column(col, "each", name, sizeof name);
   int ceach = name[0] ? cb_table_col(t, name) : -1, crep = cb_table_col(t, "wall_repeats");
   if (ceach >= 0 && cb_timing_parse(cb_table_str(t, r, ceach), &x.each) > 0) from_each(&x);
   if (cmin >= 0 && cmax >= 0) {
@@ -145,11 +145,13 @@ cb_claim_timing cb_claim_timing_median(const cb_claim_timing *v, int n) {
   return r;
 }
 
+int cb_claim_verdict_median_only = 0;
+
 int cb_claim_timing_has_spread(const cb_claim_timing *t) { return has(t) && varies(t); }
 
 int cb_claim_timing_side(const cb_claim_timing *t, double thr) {
   double lo = t->med, hi = t->med;
-  if (cb_claim_timing_has_spread(t)) {
+  if (!cb_claim_verdict_median_only && cb_claim_timing_has_spread(t)) {
     lo = fmin(t->min, t->med); /* the median lies inside its spread; guard bounds that do not hold it */
     hi = fmax(t->max, t->med);
   }
@@ -197,3 +199,77 @@ const char *cb_claim_repeats_text(char *buf, size_t n, const cb_claim_repeats *r
   else snprintf(buf, n, "%d-%d repeats", r->lo, r->hi);
   return buf;
 }
+
+/* ---- undecided verdicts: range, repeats to decide, margin (claims.h) ---------------------------- */
+
+
+void cb_claim_timing_range(const cb_claim_timing *t, double *lo, double *hi) {
+  *lo = *hi = t->med;
+  if (cb_claim_verdict_median_only || !cb_claim_timing_has_spread(t)) return;
+  *lo = fmin(t->min, t->med); /* the median lies inside its spread; guard bounds that do not hold it */
+  *hi = fmax(t->max, t->med);
+}
+
+int cb_claim_timing_side_ge(const cb_claim_timing *t, double thr, int ge) {
+  double lo, hi;
+  cb_claim_timing_range(t, &lo, &hi);
+  if (lo == hi) return (ge ? t->med >= thr : t->med > thr) ? 1 : -1; /* no spread: the claim's own comparison */
+  return cb_claim_timing_side(t, thr);
+}
+
+int cb_claim_timing_repeats_to_decide(const cb_claim_timing *t, double thr) {
+  double lo, hi;
+  cb_claim_timing_range(t, &lo, &hi);
+  if (lo > thr || hi < thr) return 0;
+  double d = fabs(t->med - thr), h = t->med >= thr ? t->med - lo : hi - t->med;
+  if (!(d > 0) || !isfinite(h)) return -1; /* the median on the threshold: no number of repeats moves it off */
+  int n = t->n > 0 ? t->n : 1;
+  double need = n * (h / d) * (h / d); /* half-width h sqrt(n / N) < d */
+  return need > 1e6 ? 1000000 : (int)floor(need) + 1;
+}
+
+const char *cb_claim_undecided_text(char *buf, size_t n, const char *what, const char *fmt, const cb_claim_timing *t,
+                                    const char *unit, double thr) {
+  char sp[160], a[48], b[48], c[48];
+  double lo, hi;
+  cb_claim_timing_range(t, &lo, &hi);
+  int above = t->med >= thr, reps = cb_claim_timing_repeats_to_decide(t, thr);
+  snprintf(a, sizeof a, fmt, thr);
+  snprintf(b, sizeof b, fmt, fabs(t->med - thr));
+  snprintf(c, sizeof c, fmt, above ? lo : hi);
+  size_t u = (size_t)snprintf(buf, n, "%s %s straddles %s%s: margin %s%s%s (median %s", what,
+                              cb_claim_spread_long(sp, sizeof sp, fmt, t, unit), a, unit, above ? "+" : "-", b, unit,
+                              above ? "above" : "below");
+  if (u < n && thr != 0) u += (size_t)snprintf(buf + u, n - u, " by %.0f%%", 100 * fabs(t->med / thr - 1));
+  if (u < n) u += (size_t)snprintf(buf + u, n - u, "), while the spread reaches %s%s on the other side; ", c, unit);
+  if (u >= n) return buf;
+  if (reps < 0) snprintf(buf + u, n - u, "no number of repeats decides it (the median is on the threshold)");
+  else
+    snprintf(buf + u, n - u,
+             "about %d repeats would decide it (the spread's half-width on the threshold's side taken to shrink as "
+             "1/sqrt(repeats))",
+             reps);
+  return buf;
+}
+
+const char *cb_claim_margin_text(char *buf, size_t n, const char *fmt, const cb_claim_timing *t, const char *unit,
+                                 double thr) {
+  double lo, hi;
+  cb_claim_timing_range(t, &lo, &hi);
+  char a[48], b[48], c[48];
+  int side = lo > thr ? 1 : hi < thr ? -1 : 0;
+  if (side == 0) return cb_claim_undecided_text(buf, n, "the ratio", fmt, t, unit, thr);
+  double near = side > 0 ? lo : hi;
+  snprintf(a, sizeof a, fmt, thr);
+  snprintf(b, sizeof b, fmt, fabs(near - thr));
+  snprintf(c, sizeof c, fmt, near);
+  size_t u = (size_t)snprintf(buf, n, "margin %s%s%s: the %s %s%s lies %s %s%s", side > 0 ? "+" : "-", b, unit,
+                              lo == hi   ? "value"
+                              : side > 0 ? "spread's low end"
+                                         : "spread's high end",
+                              c, unit, side > 0 ? "above" : "below", a, unit);
+  if (u < n && thr != 0) snprintf(buf + u, n - u, " (by %.0f%%)", 100 * fabs(near / thr - 1));
+  return buf;
+}
+
+cb_verdict cb_claim_verdict_either(cb_verdict a, cb_verdict b) { return a == b ? a : CB_UNDECIDED; }

@@ -73,6 +73,8 @@ hasnot "fill: the old table is gone" "old table" "$T/doc.md"
 has "fill: an inline mention is not a marker" 'middle `<!-- report:not-a-marker -->` inline' "$T/doc.md"
 has "fill: the text around the blocks is kept" "intro" "$T/doc.md"
 has "fill: the full claim block has the numbers" "**H2: " "$T/doc.md"
+has "fill: the verdict block ends with the count line" "undecided (within the spread)**" "$T/doc.md"
+has "the report counts the verdicts" "claims: " "$R"
 has "fill: the run-time table" "| definiteness | full | 1 min 06 s |" "$T/doc.md"
 cp "$T/doc.md" "$T/doc1.md"
 "$B/report" --results "$T/res" --fill-only --fill "$T/doc.md" 2>/dev/null

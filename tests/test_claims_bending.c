@@ -216,3 +216,39 @@ Test(claims_bending, B3_not_reproduced_when_never_parting_or_already_apart) {
   cr_expect_eq(decide_b3(1.5, 1.0, 1.0), CB_NOT_REPRODUCED, "%s", res.reason); /* apart from the start */
   cr_expect(strstr(res.reason, "already unstretched"), "%s", res.reason);
 }
+
+/* The quadratic model's steps at 10, 9, 11 ms over three interleaved repeats, the dihedral one's at d[0..3)
+ * ms (median dm): the ratio's spread is of the paired ratios d[i] / q[i]. */
+static cb_verdict b2_spread(const double *d, double dm) {
+  char rows[4096];
+  double lo = fmin(d[0], fmin(d[1], d[2])), hi = fmax(d[0], fmax(d[1], d[2]));
+  snprintf(rows, sizeof rows,
+           "b2,quadratic,grid,16,,,,,,,,,30,300,1,8,0.5,10,9,11,10;9;11,3,0.9,23,1,1,1;1;1,8,8,8;8;8,0.5,0.5,0.5;0.5;0."
+           "5,0.001,,10,0,0,ok\n"
+           "b2,dihedral,grid,16,,,,,,,,,30,330,%g,4,0.5,%g,%g,%g,%g;%g;%g,3,2.5,60,1,1,1;1;1,4,4,4;4;4,0.5,0.5,0.5;0.5;"
+           "0.5,0.001,,10,100,150,ok\n",
+           dm - 4.5, dm, lo, hi, d[0], d[1], d[2]);
+  header = header_spread;
+  cb_verdict v = decide(rows, cb_check_B2);
+  header = NULL;
+  return v;
+}
+
+/* Paired ratios 1.4, 1.78, 1.6 (median 16/10 = 1.6x) straddle the 1.5x edge between partly and
+ * reproduced: undecided, with the margin and the repeats that would decide it (half-width 0.2 on the
+ * threshold's side, margin 0.1: 3 (0.2/0.1)^2 = 12, so 13 repeats). Ratios 0.85-1.06 lie below 1.1x: not
+ * reproduced over the whole spread. */
+Test(claims_bending, B2_ratio_straddling_a_band_edge_is_undecided) {
+  const double d[3] = {14, 16, 17.6};
+  cr_expect_eq(b2_spread(d, 16), CB_UNDECIDED, "%s", res.reason);
+  cr_expect(strstr(res.reason, "Undecided (within the spread)") && strstr(res.reason, "partly reproduced at the "
+                                                                                      "spread's low end and reproduced "
+                                                                                      "at its high end"),
+            "%s", res.reason);
+  cr_expect(strstr(res.reason, "straddles 1.50x: margin +0.10x (median above by 7%)"), "%s", res.reason);
+  cr_expect(strstr(res.reason, "about 13 repeats would decide it"), "%s", res.reason);
+  const double below[3] = {8.5, 9.5, 10.5};
+  cr_expect_eq(b2_spread(below, 9.5), CB_NOT_REPRODUCED, "%s", res.reason);
+  const double inside[3] = {16, 20, 22}; /* 1.6-2.0x: reproduced over the whole spread */
+  cr_expect_eq(b2_spread(inside, 20), CB_REPRODUCED, "%s", res.reason);
+}

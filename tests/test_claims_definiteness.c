@@ -227,3 +227,48 @@ Test(claims_definiteness, missing_side_csv_is_not_run) {
   cr_assert_eq(decide("H1", dir), CB_NOT_RUN);
   cr_assert_eq(decide("H2", dir), CB_NOT_RUN);
 }
+
+/* Every fix at drop's Newton iterations; drop's wall times 10, 10, 10 ms over three interleaved repeats,
+ * mirror's mw[0..3), the others' drop's. Mirror at 9.8, 10.6, 10.2 ms: paired ratios 0.98-1.06 straddle the
+ * 5% band's edge (1.05): undecided whether "at different costs" holds (reproduced if mirror differs,
+ * partly if not); at 11, 11.5, 12 ms it lies beyond the band: reproduced; at 9.9, 10, 10.1 inside: partly. */
+static cb_verdict h2_spread(const double *mw, cb_claim_result *r) {
+  char *dir = tmpdir(), buf[8192] = MAIN_HEAD;
+  fixes_rows(buf, NULL, 0, 0);
+  put(dir, "definiteness.csv", buf);
+  char runs[4096] = "scene,policy,steps,steps_done,steps_converged,newton_iters,systems,not_spd,indefinite_exact,cg_"
+                    "breakdowns,mu_max_n_per_m,factorizations,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_"
+                    "repeats,probe_ms,final_f_j,final_energy_j,final_rel_grad,shape_diff_none_m,shape_diff_drop_m,"
+                    "status\n";
+  const char *pols[] = {"none", "drop", "mirror", "shift", "choi-ko"};
+  for (int p = 0; p < 5; p++) {
+    double e[3] = {10, 10, 10};
+    if (p == 2) e[0] = mw[0], e[1] = mw[1], e[2] = mw[2];
+    double lo = e[0] < e[1] ? (e[0] < e[2] ? e[0] : e[2]) : (e[1] < e[2] ? e[1] : e[2]);
+    double hi = e[0] > e[1] ? (e[0] > e[2] ? e[0] : e[2]) : (e[1] > e[2] ? e[1] : e[2]);
+    char row_[512];
+    snprintf(row_, sizeof row_, "s1,%s,5,%d,%d,10,10,0,0,0,0,10,%g,%g,%g,%g;%g;%g,3,1,0,0,0,,,%s\n", pols[p], p ? 5 : 1,
+             p ? 5 : 1, e[0] + e[1] + e[2] - lo - hi, lo, hi, e[0], e[1], e[2], p == 0 ? "not_spd" : "ok");
+    strcat(runs, row_);
+  }
+  put(dir, "definiteness_runs.csv", runs);
+  for (int i = 0; i < cb_nclaims; i++)
+    if (!strcmp(cb_claims[i].id, "H2")) cb_claim_decide(&cb_claims[i], dir, r);
+  return r->verdict;
+}
+
+Test(claims_definiteness, h2_a_cost_ratio_across_the_5_percent_edge_is_undecided) {
+  cb_claim_result *r = calloc(1, sizeof *r);
+  cr_assert_not_null(r);
+  const double straddle[3] = {9.8, 10.6, 10.2}, beyond[3] = {11, 11.5, 12}, inside[3] = {9.9, 10, 10.1};
+  cr_expect_eq(h2_spread(straddle, r), CB_UNDECIDED, "%s", r->reason);
+  cr_expect(strstr(r->reason, "mirror 1.02x (0.98-1.06x), 1.00x the Newton iterations (undecided within the spread)"),
+            "%s", r->reason);
+  cr_expect(strstr(r->reason, "mirror's wall time / drop's 1.020x (0.980-1.060x over 3 paired repeats) straddles "
+                              "1.050x"),
+            "%s", r->reason);
+  cr_expect(strstr(r->numbers, "| undecided |"), "%s", r->numbers);
+  cr_expect_eq(h2_spread(beyond, r), CB_REPRODUCED, "%s", r->reason);
+  cr_expect_eq(h2_spread(inside, r), CB_PARTLY, "%s", r->reason);
+  free(r);
+}

@@ -240,3 +240,57 @@ Test(claims_newton_vs_bw, i3_takes_scene_names_from_the_csv, .init = setup, .fin
             r.numbers);
   cr_assert(strstr(r.reason, "on all 4 scenes"), "%s", r.reason);
 }
+
+/* One scene, K = 1 at 1 ms in every repeat and converged Newton at conv[0..3) ms (paired repeats): the
+ * speed-up's spread is conv itself. */
+static void i3_spread(const double *conv, int regime_fail) {
+  static char buf[4096];
+  const double one[3] = {1, 1, 1};
+  char w[128];
+  strcpy(buf, MAIN_HEAD_SPREAD);
+  double s[3] = {conv[0], conv[1], conv[2]};
+  for (int i = 1; i < 3; i++) /* the median of the three */
+    for (int j = i; j > 0 && s[j] < s[j - 1]; j--) {
+      double t = s[j];
+      s[j] = s[j - 1];
+      s[j - 1] = t;
+    }
+  for (int st = 0; st < 2; st++) {
+    sprintf(buf + strlen(buf), "lab,%d,newton_k1,cholmod,0,1e-3,%s,max_iters\n", st, wall(w, 1, 1.0, one));
+    sprintf(buf + strlen(buf), "lab,%d,newton_converged,cholmod,0,1e-10,%s,ok\n", st, wall(w, 1, s[1], conv));
+  }
+  put("newton_vs_bw.csv", buf);
+  char reg[1024];
+  snprintf(reg, sizeof reg, REG_HEAD "0.1,1e7,2,%s,%g,ok,%d\n", regime_fail ? "2" : "", regime_fail ? 0.2 : 1e-3,
+           regime_fail);
+  put("newton_vs_bw_regime.csv", reg);
+}
+
+/* Speed-ups 1.5, 2.25, 2.5 over three paired repeats straddle 2x: undecided, whether K = 1 fails somewhere
+ * (reproduced or partly) or not (partly or not reproduced). Margin +0.25x; half-width 0.75 on the
+ * threshold's side: 3 (0.75/0.25)^2 = 27, so 28 repeats. */
+Test(claims_newton_vs_bw, i3_speedup_straddling_2x_is_undecided, .init = setup, .fini = teardown) {
+  const double conv[3] = {1.5, 2.25, 2.5};
+  i3_spread(conv, 1);
+  cb_claim_result r;
+  cr_assert_eq(decide("I3", &r), CB_UNDECIDED, "%s", r.reason);
+  cr_expect(strstr(r.reason, "reproduced with every speed-up at least 2x, partly reproduced without"), "%s", r.reason);
+  cr_expect(strstr(r.reason, "on lab the speed-up 2.25x (1.50-2.50x over 3 paired repeats) straddles 2.00x: margin "
+                             "+0.25x (median above by 12%)"),
+            "%s", r.reason);
+  cr_expect(strstr(r.reason, "about 28 repeats would decide it"), "%s", r.reason);
+  i3_spread(conv, 0);
+  cr_expect_eq(decide("I3", &r), CB_UNDECIDED, "%s", r.reason);
+  /* the same median, 2.25x, with a spread that clears 2x is decided */
+  const double tight[3] = {2.1, 2.25, 2.5};
+  i3_spread(tight, 1);
+  cr_expect_eq(decide("I3", &r), CB_REPRODUCED, "%s", r.reason);
+}
+
+/* A spread wholly below 2x, and no failing cell: not reproduced (the spread decides it, below). */
+Test(claims_newton_vs_bw, i3_speedup_below_2x_over_its_spread_is_not_reproduced, .init = setup, .fini = teardown) {
+  const double conv[3] = {1.2, 1.5, 1.9};
+  i3_spread(conv, 0);
+  cb_claim_result r;
+  cr_assert_eq(decide("I3", &r), CB_NOT_REPRODUCED, "%s", r.reason);
+}

@@ -81,3 +81,38 @@ Test(claims_spread, median_over_rows) {
   char b[64];
   cr_expect_str_eq(cb_claim_repeats_text(b, sizeof b, &r), "3-5 repeats");
 }
+
+/* Where a timing stands against a threshold, and how many repeats would decide it: a spread 1.5-2.5 with
+ * median 2.25 over 3 repeats straddles 2 (margin 0.25, half-width 0.75 below): 3 (0.75/0.25)^2 = 27, so 28. */
+Test(claims_spread, side_range_and_repeats_to_decide) {
+  const double e[] = {1.5, 2.25, 2.5};
+  cb_claim_timing t = timing(e, 3, 1);
+  cr_expect_eq(cb_claim_timing_side(&t, 2), 0);
+  cr_expect_eq(cb_claim_timing_side(&t, 1.4), 1);
+  cr_expect_eq(cb_claim_timing_side(&t, 3), -1);
+  cr_expect_eq(cb_claim_timing_repeats_to_decide(&t, 2), 28);
+  cr_expect_eq(cb_claim_timing_repeats_to_decide(&t, 1.4), 0, "decided already");
+  cb_claim_timing on = timing((const double[]){1, 2, 3}, 3, 1);
+  cr_expect_eq(cb_claim_timing_repeats_to_decide(&on, 2), -1, "the median on the threshold");
+  cb_claim_timing v = cb_claim_timing_value(2); /* no spread: the claim's own comparison decides */
+  cr_expect_eq(cb_claim_timing_side_ge(&v, 2, 1), 1);
+  cr_expect_eq(cb_claim_timing_side_ge(&v, 2, 0), -1);
+  cr_expect_eq(cb_claim_timing_side_ge(&t, 2, 1), 0);
+  char b[1024];
+  cb_claim_undecided_text(b, sizeof b, "the ratio", "%.2f", &t, "x", 2);
+  cr_expect(strstr(b, "the ratio 2.25x (1.50-2.50x over 3 repeats) straddles 2.00x: margin +0.25x (median above by "
+                      "12%), while the spread reaches 1.50x on the other side; about 28 repeats would decide it"),
+            "%s", b);
+  cb_claim_margin_text(b, sizeof b, "%.2f", &t, "x", 1.25);
+  cr_expect_str_eq(b, "margin +0.25x: the spread's low end 1.50x lies above 1.25x (by 20%)");
+  cr_expect_eq(cb_claim_verdict_either(CB_PARTLY, CB_PARTLY), CB_PARTLY);
+  cr_expect_eq(cb_claim_verdict_either(CB_PARTLY, CB_REPRODUCED), CB_UNDECIDED);
+  cb_claim_verdict_median_only = 1; /* the rule before issue 31: the median alone */
+  cr_expect_eq(cb_claim_timing_side(&t, 2), 1);
+  cb_claim_verdict_median_only = 0;
+  char name[64];
+  cb_claim_spread_column("wall_ms_per_s", "min", name, sizeof name);
+  cr_expect_str_eq(name, "wall_min_ms_per_s");
+  cb_claim_spread_column("rms_m", "min", name, sizeof name);
+  cr_expect_str_eq(name, "");
+}
