@@ -49,6 +49,7 @@ typedef struct cb_step_stats {
   int global_path;    /* pd, pd-chebyshev, lbfgs: the constant matrix P they solve with, CB_GLOBAL_SCALAR (n x n,
                          x, y and z as one 3-column right-hand side) or CB_GLOBAL_BLOCK (3n x 3n P (x) I_3);
                          CB_GLOBAL_NONE for the other methods */
+  double global_factor_nnz; /* nonzeros of that matrix's factor (CHOLMOD), 0 = none */
 } cb_step_stats;
 
 enum { CB_GLOBAL_NONE = 0, CB_GLOBAL_SCALAR = 1, CB_GLOBAL_BLOCK = 2 };

@@ -232,6 +232,7 @@ int cb_pd_global_solve(cb_pd_global *g, cb_integrator *it, const double *b, doub
   st->linear_iters += sv->stats.iters;
   st->linear_status = ls;
   st->global_path = g->path;
+  st->global_factor_nnz = sv->stats.factor_nnz;
   return ls;
 }
 
