@@ -15,9 +15,10 @@
  *                        iterations and three dt (x1.c)
  *   field_x2.csv         X2: XPBD n x 1 against 1 x n, n = 1..64: largest edge stretch, step error
  *                        and wall time (x2.c)
- *   field_tol.csv        Q1 and V1: iterations and wall time to relative |grad F| 1e-3 and 1e-5 of
- *                        every minimiser (tol.c)
- *   field_tol_trace.csv  the relative |grad F| per iteration of those steps, with the time
+ *   field_tol.csv        Q1 and V1: iterations and wall time of every minimiser to relative |grad F|
+ *                        1e-3 and 1e-5, relative objective error and step error 1e-2 and 1e-3
+ *                        (column measure), and the matrix pd and lbfgs solved with (tol.c)
+ *   field_tol_trace.csv  the three measures per iteration of those steps, with the time
  *   field_rises.csv      V1: objective rises between VBD iterations over trajectories (v1.c)
  *   field_scramble.csv   V1: a scrambled start (vertices displaced at random by up to the cloth's
  *                        size): diverged or recovered, per method
@@ -116,10 +117,11 @@ int main(int argc, char **argv) {
                           "repeats,"
                           "step_error,max_strain,ref_max_strain,rel_grad,status") != T_X2 ||
       cb_experiment_table(&e, "tol", state_extra,
-                          "scene,vertices,method,family,tol,max_iters,iters_to_tol,wall_to_tol_ms,wall_to_tol_min_ms,"
-                          "wall_to_tol_max_ms,wall_to_tol_each_ms,wall_repeats,alloc_ms,final_rel_grad,fallback,"
-                          "status") != T_TOL ||
-      cb_experiment_table(&e, "tol_trace", NULL, "scene,method,iter,rel_grad,rel_f,wall_ms") != T_TOL_TRACE ||
+                          "scene,vertices,method,family,measure,tol,max_iters,iters_to_tol,wall_to_tol_ms,wall_to_tol_"
+                          "min_ms,wall_to_tol_max_ms,wall_to_tol_each_ms,wall_repeats,alloc_ms,final_rel_grad,fallback,"
+                          "global_matrix,status") != T_TOL ||
+      cb_experiment_table(&e, "tol_trace", NULL,
+                          "scene,method,iter,rel_grad,rel_f,wall_ms,obj_error,step_error") != T_TOL_TRACE ||
       cb_experiment_table(&e, "rises", NULL,
                           "scene,method,start,frames,frames_run,iters,rises,steps_with_rise,rel_max_rise,diverged,"
                           "diverge_frame,status") != T_RISES ||
