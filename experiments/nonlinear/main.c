@@ -152,10 +152,11 @@ int main(int argc, char **argv) {
       cb_experiment_table(&e, "p1", p1_extra,
                           "scene,n,k_n_per_m,method,frame,iters,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_"
                           "repeats,"
-                          "alloc_ms,step_error,rel_grad,fallback,status") != T_P1 ||
+                          "alloc_ms,step_error,obj_error,rel_grad,fallback,global_matrix,status") != T_P1 ||
       cb_experiment_table(&e, "p1_error", p1_extra,
-                          "scene,n,k_n_per_m,method,frame,tol,max_iters,iters_to_tol,wall_to_tol_ms,wall_to_tol_min_ms,"
-                          "wall_to_tol_max_ms,wall_to_tol_each_ms,wall_repeats,step_error,fallback,status") !=
+                          "scene,n,k_n_per_m,method,frame,measure,tol,max_iters,iters_to_tol,wall_to_tol_ms,wall_to_tol_"
+                          "min_ms,wall_to_tol_max_ms,wall_to_tol_each_ms,wall_repeats,step_error,obj_error,rel_grad,"
+                          "fallback,global_matrix,status") !=
           T_P1_ERROR ||
       cb_experiment_table(&e, "error_time", state_extra,
                           "scene,n,method,family,iters,rho,wall_ms,setup_ms,step_error,rel_grad,status") !=
