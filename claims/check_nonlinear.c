@@ -483,8 +483,11 @@ void cb_check_p1(const cb_table *csv, const char *dir, cb_claim_result *out) {
         eq_side = isfinite(rq.med) ? cb_claim_timing_side(&rq, 10.0) : -1;
       }
       used = strlen(toerr);
-      snprintf(toerr + used, sizeof toerr - used, "| %s | %s %g | %s | %s | %s |\n", scenes[k], MEAS[me], tol, pt, nt,
-               isfinite(rq.med) && rq.med > 0 ? cb_claim_spread(b1, sizeof b1, "%.2f", &rq, "x") : "-");
+      snprintf(toerr + used, sizeof toerr - used, "| %s | %s %g | %s | %s | %s | %s |\n", scenes[k], MEAS[me], tol, pt,
+               nt, isfinite(rq.med) && rq.med > 0 ? cb_claim_spread(b1, sizeof b1, "%.2f", &rq, "x") : "-",
+               isfinite(rq.med) ? (rq.med > 1 ? "pd" : rq.med > 0 ? "Newton" : "Newton (pd never)")
+               : isfinite(tp.med) ? "pd (Newton never)"
+                                  : "neither");
     }
     equal += eq_side > 0;
     open_equal += eq_side == 0;
@@ -510,7 +513,7 @@ void cb_check_p1(const cb_table *csv, const char *dir, cb_claim_result *out) {
                      "reach it; Newton's is newton_exact's, or Baraff-Witkin's one iteration when that is enough on "
                      "every frame), by the three measures of issue 31: the step error |x - x*|_M/|x* - x0|_M (the "
                      "verdict's, at 1e-2), the objective error (F - F*)/(F(xhat) - F*) and relative |grad F|:\n\n"
-                     "| scene | measure | pd | fastest Newton | Newton over pd |\n|---|---|---|---|---|\n%s",
+                     "| scene | measure | pd | fastest Newton | Newton over pd | faster |\n|---|---|---|---|---|---|\n%s",
                      toerr);
   if (papers[0])
     cb_claim_numbers(out,

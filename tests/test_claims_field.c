@@ -156,6 +156,7 @@ Test(claims_field, q1_reproduced_when_lbfgs_beats_every_rival) {
   cr_expect(strstr(r.numbers, "newton_exact"), "the fastest Newton is named: %s", r.numbers);
   cr_expect(strstr(r.numbers, "objective error") && strstr(r.numbers, "step error") && strstr(r.numbers, "grad F"),
             "the three measures are reported: %s", r.numbers);
+  cr_expect(strstr(r.numbers, "| 3 of 3 | lbfgs |"), "the fastest per size and measure: %s", r.numbers);
 }
 
 Test(claims_field, q1_not_reproduced_when_newton_and_pd_chebyshev_are_faster) {
@@ -163,6 +164,7 @@ Test(claims_field, q1_not_reproduced_when_newton_and_pd_chebyshev_are_faster) {
   tol(ms);
   cb_claim_result r;
   cr_expect_eq(decide("Q1", &r), CB_NOT_REPRODUCED, "%s", r.reason);
+  cr_expect(strstr(r.numbers, "| 0 of 3 | pd-chebyshev |"), "the fastest per size and measure: %s", r.numbers);
 }
 
 Test(claims_field, q1_counts_a_cut_off_lbfgs_as_a_loss) {

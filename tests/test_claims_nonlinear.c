@@ -204,7 +204,7 @@ Test(claims_nonlinear, p1_reproduced_when_pd_is_fast_close_and_first_to_the_same
   cr_expect(strstr(r.reason, "50x") && strstr(r.reason, "over newton_exact"), "%s", r.reason);
   cr_expect(strstr(r.reason, "grid81 16.00x"), "%s", r.reason);
   cr_expect(strstr(r.numbers, "| grid81 | step_error 0.001 | not reached within the cap on 2 of 2 frames | 600 ms "
-                              "(newton_exact) | - |"),
+                              "(newton_exact) | - | Newton (pd never) |"),
             "%s", r.numbers);
 }
 
@@ -212,7 +212,7 @@ Test(claims_nonlinear, p1_partly_when_baraff_witkin_reaches_the_same_error_as_fa
   p1(20, 0.01, 0.001, 25, 400, "ok"); /* BW's one iteration reaches 1e-2 in 40 ms: 40/25 = 1.6x */
   cb_claim_result r;
   cr_expect_eq(decide("P1", &r), CB_PARTLY, "%s", r.reason);
-  cr_expect(strstr(r.numbers, "| grid81 | step_error 0.01 | 25 ms | 40 ms (baraff_witkin) | 1.60x |"), "%s", r.numbers);
+  cr_expect(strstr(r.numbers, "| grid81 | step_error 0.01 | 25 ms | 40 ms (baraff_witkin) | 1.60x | pd |"), "%s", r.numbers);
 }
 
 Test(claims_nonlinear, p1_baseline_is_the_fastest_newton_that_converged) {

@@ -46,7 +46,8 @@ static const char *const ABOUT =
 /* Scenes. Roles: "front" = the main figure's step (one cell per scene: every method shares its start
  * state and reference step), also the scene of tol (Q1, V1's speed; run in the same cell) and v1 (rises, scrambled
  * start); "x2" = the X2 comparison; "x1" = X1's static stretch. The lab cloth (configs/lab.ini, 21^2), Liu's 81^2 cloth
- * (the same 441 kg, k and 10 m, pinned at two corners) and its stiff variant (nonlinear's P1 scenes), the 32^2 drape
+ * (the same 441 kg, k and 10 m, pinned at two corners) and its stiff variant (nonlinear's P1 scenes), Q1's size sweep
+ * ("tolsize": 41^2 and 161^2, full run only), the 32^2 drape
  * over the sphere (configs/drape.ini), the hanging strip (configs/chain20.ini). level: 1 in --quick too, 2 in --smoke
  * too (--quick leaves out the 81^2 scenes, and runs the drape in the main figure only). */
 typedef struct {
@@ -55,6 +56,10 @@ typedef struct {
   int tol, v1; /* levels of the front scene in the tol and v1 sweeps (as level; -1: not in them) */
 } scene_plan;
 #define G81 "mesh.n=81", "material.vertex_mass=441/6561", "scene.pins=0 80"
+/* Q1's size sweep (issue 31 §3): Liu's cloth at 41^2 and 161^2 with its 441 kg (k dt^2/m grows as n^2), and with
+ * 81^2's mass per vertex (_vm81: the same k dt^2/m as grid81) */
+#define G41 "mesh.n=41", "scene.pins=0 40"
+#define G161 "mesh.n=161", "scene.pins=0 160"
 static const scene_plan SCENES[] = {
     {{"lab", "lab.ini", {NULL}, "front"}, 2, 2, 2},
     {{"grid81", "lab.ini", {G81, NULL}, "front"}, 0, 0, 0},
@@ -63,6 +68,10 @@ static const scene_plan SCENES[] = {
     {{"lab", "lab.ini", {NULL}, "x2"}, 2, -1, -1},
     {{"grid81_stiff", "lab.ini", {G81, "material.stretch_k=1e6", NULL}, "x2"}, 0, -1, -1},
     {{"strip", "chain20.ini", {NULL}, "x1"}, 2, -1, -1},
+    {{"grid41", "lab.ini", {G41, "material.vertex_mass=441/1681", NULL}, "tolsize"}, 0, -1, -1},
+    {{"grid41_vm81", "lab.ini", {G41, "material.vertex_mass=441/6561", NULL}, "tolsize"}, 0, -1, -1},
+    {{"grid161", "lab.ini", {G161, "material.vertex_mass=441/25921", NULL}, "tolsize"}, 0, -1, -1},
+    {{"grid161_vm81", "lab.ini", {G161, "material.vertex_mass=441/6561", NULL}, "tolsize"}, 0, -1, -1},
     {{"lab", "lab.ini", {NULL}, "x1"}, 1, -1, -1},
 };
 enum { NSCENES = sizeof SCENES / sizeof SCENES[0] };
@@ -100,6 +109,7 @@ int main(int argc, char **argv) {
       if (SCENES[i].v1 >= need) p.v1[p.nv1++] = i;
     } else if (cb_scene_decl_is(d, "x1")) p.x1[p.nx1++] = i;
     else if (cb_scene_decl_is(d, "x2")) p.x2[p.nx2++] = i;
+    else if (cb_scene_decl_is(d, "tolsize")) p.tolsz[p.ntolsz++] = i;
   }
   if ((b = scene_sizes(&p))) return cb_experiment_end(&e, b), 1;
   const char *state_extra = "# state: 10 frames of the scene's own method (2 in --smoke); the step without damping\n";
@@ -134,8 +144,9 @@ int main(int argc, char **argv) {
       {"X1", fd_x1_cells(&p), fd_x1_cell, fd_x1_cost, &p},
       {"X2", p.nx2, fd_x2_cell, fd_x2_cost, &p},
       {"V1", fd_v1_cells(&p), fd_v1_cell, fd_v1_cost, &p},
+      {"Q1 sizes", p.ntolsz, fd_tolsize_cell, fd_tolsize_cost, &p},
   };
-  int st = cb_sweep_run(&e, sweeps, 4);
+  int st = cb_sweep_run(&e, sweeps, 5);
   st = cb_experiment_end(&e, st);
   return st == CB_OK ? 0 : st == CB_EIO ? 2 : 1;
 }

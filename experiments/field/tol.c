@@ -118,7 +118,13 @@ static void trace_free(trace_t *t) {
   free(t->serr);
 }
 
-int fd_tol_scene(const fd_plan *p, const cb_scene_decl *d, cb_step_state *S, fd_rho_cache *rc, FILE *const *out) {
+/* Q1's methods (the size sweep runs these only) */
+static int q1_method(int m) {
+  return !strcmp(TM[m].family, "newton") || !strcmp(TM[m].family, "lbfgs") || !strcmp(TM[m].family, "pd");
+}
+
+static int tol_scene(const fd_plan *p, const cb_scene_decl *d, cb_step_state *S, fd_rho_cache *rc, FILE *const *out,
+                     int q1only) {
   int st = CB_OK;
   double ghat = fd_grad_hat(S), Fstar = NAN;
   { /* F(x*) */
@@ -140,6 +146,10 @@ int fd_tol_scene(const fd_plan *p, const cb_scene_decl *d, cb_step_state *S, fd_
       for (int q = 0; q < NTOL; q++) hit[m][me][q] = -1;
     final_rel[m] = alloc_ms[m] = cb_csv_na();
     cap[m] = cap_of(p, m);
+    if (q1only && !q1_method(m)) {
+      ok[m] = 0;
+      continue;
+    }
     ok[m] = fd_supported(S, TM[m].sets, why, sizeof why);
     if (ok[m] < 0) {
       st = ok[m];
@@ -221,6 +231,7 @@ int fd_tol_scene(const fd_plan *p, const cb_scene_decl *d, cb_step_state *S, fd_
     double na = cb_csv_na();
     for (int m = 0; st == CB_OK && m < NTM; m++) {
       int j = job[m];
+      if (q1only && !q1_method(m)) continue; /* not run: no row */
       cb_csv_printf(out[T_TOL], "%s,%ld,%s,%s,%s,%g,%d,%.17g,", d->label, (long)S->s->mesh.nv, TM[m].label,
                     TM[m].family, MEASURE[me], TOLS[me][q], cap[m], j >= 0 ? (double)hit[m][me][q] : na);
       cb_timing_csv_repeats(out[T_TOL], j >= 0 ? &r[j].wall : NULL);
@@ -232,6 +243,29 @@ int fd_tol_scene(const fd_plan *p, const cb_scene_decl *d, cb_step_state *S, fd_
     }
   }
   return st;
+}
+
+int fd_tol_scene(const fd_plan *p, const cb_scene_decl *d, cb_step_state *S, fd_rho_cache *rc, FILE *const *out) {
+  return tol_scene(p, d, S, rc, out, 0);
+}
+
+/* Q1's size sweep (issue 31 §3): cell i is scene p->tolsz[i], Q1's methods only, from its own start state. */
+int fd_tolsize_cell(long i, void *ctx, FILE *const *out) {
+  const fd_plan *p = ctx;
+  const cb_scene_decl *d = p->decl[p->tolsz[i]];
+  cb_step_state S;
+  int st = fd_state(p->e, d, p->state_frames, &S);
+  if (st) return st;
+  static fd_rho_cache rc;
+  fd_rho_cache_clear(&rc);
+  st = tol_scene(p, d, &S, &rc, out, 1);
+  cb_step_state_free(&S);
+  return st;
+}
+
+double fd_tolsize_cost(long i, void *ctx) {
+  const fd_plan *p = ctx;
+  return 2000.0 + fd_tol_cost(p, p->tolsz[i]);
 }
 
 /* cost hint: every method's traced cap (a gradient per iteration) and the timed steps, ~5e-4 ms per

@@ -71,6 +71,12 @@ static const scene_plan SCENES[] = {
     {{"grid81", "lab.ini", {G81, NULL}, "p1"}, 1},
     {{"grid81_stiff", "lab.ini", {G81, "material.stretch_k=1e6", NULL}, "p1"}, 1},
     {{"lab", "lab.ini", {NULL}, "p1"}, 3},
+    /* P1's size sweep (issue 31 §3): 441 kg in total (k dt^2/m grows as n^2), and 81^2's mass per vertex (_vm81) */
+    {{"grid41", "lab.ini", {"mesh.n=41", "material.vertex_mass=441/1681", "scene.pins=0 40", NULL}, "p1"}, 1},
+    {{"grid41_vm81", "lab.ini", {"mesh.n=41", "material.vertex_mass=441/6561", "scene.pins=0 40", NULL}, "p1"}, 1},
+    {{"grid161", "lab.ini", {"mesh.n=161", "material.vertex_mass=441/25921", "scene.pins=0 160", NULL}, "p1"}, 0},
+    {{"grid161_vm81", "lab.ini", {"mesh.n=161", "material.vertex_mass=441/6561", "scene.pins=0 160", NULL}, "p1"},
+     0},
     {{"lab", "lab.ini", {NULL}, "error_time"}, 2},
     {{"grid64", "lab.ini", {G64, NULL}, "error_time"}, 0},
 };
