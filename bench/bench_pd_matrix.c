@@ -69,24 +69,27 @@ static cb_integrator *make(const cb_config *base, cb_scene *s, const char *metho
 
 int main(int argc, char **argv) {
   cb_experiment e;
-  int r = cb_experiment_begin(&e, "bench_pd_matrix",
-                              "pd, pd-chebyshev and lbfgs with the 3n x 3n block P or the n x n P (issue 31).", argc,
-                              argv);
+  int r =
+      cb_experiment_begin(&e, "bench_pd_matrix",
+                          "pd, pd-chebyshev and lbfgs with the 3n x 3n block P or the n x n P (issue 31).", argc, argv);
   if (r) return r > 0 ? 0 : 1;
   cb_experiment_timed(&e); /* timings: run alone */
   cb_runtime_init();
   cb_outfile csv;
-  if (cb_experiment_csv(
-          &e, &csv, NULL,
-          "# scene: configs/lab.ini at n^2 with 441 kg in total, pinned at two corners, from 5 frames of "
-          "pd-chebyshev; one step of 10 iterations (lbfgs: tol 0) per variant in interleaved rounds\n"
-          "# variants: old = block matrix with the per-solve residual product (before issue 31), block = block "
-          "matrix without it, scalar = n x n P with 3 right-hand sides (default)\n"
-          "# iter_ms = step_ms / 10 (local steps and objective evaluations included), solve_iter_ms = back-solve "
-          "time / 10; old_over = the old variant's median step / this variant's; max_dx_vs_old_m the largest "
-          "position difference of the step against the old variant\n",
-          "n,vertices,method,variant,global_matrix,rounds,step_ms,step_min_ms,step_max_ms,iter_ms,solve_iter_ms,"
-          "factor_nnz,old_over,max_dx_vs_old_m,status")) {
+  if (cb_experiment_csv(&e, &csv, NULL,
+                        "# scene: configs/lab.ini at n^2 with 441 kg in total, pinned at two corners, from 5 frames of "
+                        "pd-chebyshev; one step of 10 iterations (lbfgs: tol 0) per variant in interleaved rounds\n"
+                        "# variants: old = block matrix with the per-solve residual product (before issue 31), block = "
+                        "block "
+                        "matrix without it, scalar = n x n P with 3 right-hand sides (default)\n"
+                        "# iter_ms = step_ms / 10 (local steps and objective evaluations included), solve_iter_ms = "
+                        "back-solve "
+                        "time / 10; old_over = the old variant's median step / this variant's; max_dx_vs_old_m the "
+                        "largest "
+                        "position difference of the step against the old variant\n",
+                        "n,vertices,method,variant,global_matrix,rounds,step_ms,step_min_ms,step_max_ms,iter_ms,solve_"
+                        "iter_ms,"
+                        "factor_nnz,old_over,max_dx_vs_old_m,status")) {
     fprintf(stderr, "bench_pd_matrix: %s\n", cb_error_message());
     return 2;
   }
@@ -142,8 +145,8 @@ int main(int argc, char **argv) {
                       smed / ITERS, nnz[k], med0 / med, dx[k], cb_status_name(stat[k]));
         printf("bench_pd_matrix: %d^2 %-12s %-6s (%s) step %8.3f ms [%8.3f, %8.3f], iteration %7.3f ms, back-solve "
                "%7.3f ms, factor nnz %.3g, old/this %.2fx, max |dx| vs old %.2g m\n",
-               n, METHOD[mi], VARIANT[k], cb_global_path_name(path[k]), med, lo, hi, med / ITERS, smed / ITERS,
-               nnz[k], med0 / med, dx[k]);
+               n, METHOD[mi], VARIANT[k], cb_global_path_name(path[k]), med, lo, hi, med / ITERS, smed / ITERS, nnz[k],
+               med0 / med, dx[k]);
         if (stat[k]) status = 1;
         cb_integrator_free(it[k]);
       }

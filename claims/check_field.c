@@ -255,9 +255,7 @@ static int compare_timing(const cb_claim_timing *l, const cb_claim_timing *b, cb
 }
 
 /* The verdict of w wins out of d decided comparisons (the one rule of Q1, before and after issue 31). */
-static cb_verdict q1_rule(int w, int d) {
-  return w == d ? CB_REPRODUCED : 2 * w >= d ? CB_PARTLY : CB_NOT_REPRODUCED;
-}
+static cb_verdict q1_rule(int w, int d) { return w == d ? CB_REPRODUCED : 2 * w >= d ? CB_PARTLY : CB_NOT_REPRODUCED; }
 
 /* a against b (V1): 1 a wins, -1 b wins, 0 undecided (neither reached); a row missing: 0 */
 static int compare(double a, double b) {
@@ -320,9 +318,8 @@ static const struct {
   const char *measure, *label;
   double tol;
 } Q1_ROWS[] = {
-    {"obj_error", "objective error", 1e-2}, {"obj_error", "objective error", 1e-3},
-    {"step_error", "step error", 1e-2},     {"step_error", "step error", 1e-3},
-    {"rel_grad", "rel. grad F", 1e-3},      {"rel_grad", "rel. grad F", 1e-5},
+    {"obj_error", "objective error", 1e-2}, {"obj_error", "objective error", 1e-3}, {"step_error", "step error", 1e-2},
+    {"step_error", "step error", 1e-3},     {"rel_grad", "rel. grad F", 1e-3},      {"rel_grad", "rel. grad F", 1e-5},
 };
 enum { Q1_NROWS = sizeof Q1_ROWS / sizeof Q1_ROWS[0], Q1_DECIDING = 4 };
 
@@ -337,11 +334,11 @@ void cb_check_Q1(const cb_table *csv, const char *dir, cb_claim_result *out) {
   char margin[512] = "";
   size_t ml = 0;
   for (int part = 0; part < 2; part++) {
-    cb_claim_numbers(out,
-                     part == 0 ? "**Decided on** the objective error (F - F*)/(F(xhat) - F*) and the step error "
-                                 "|x - x*|_M/|x* - x0|_M (Liu et al. 2013, 2017):\n\n"
-                               : "\n**Beside it** (not deciding), relative |grad F|:\n\n");
-    cb_claim_numbers(out, "| scene | measure | tol | lbfgs ms | pd ms | pd-chebyshev ms | fastest Newton ms (variant) | "
+    cb_claim_numbers(out, part == 0 ? "**Decided on** the objective error (F - F*)/(F(xhat) - F*) and the step error "
+                                      "|x - x*|_M/|x* - x0|_M (Liu et al. 2013, 2017):\n\n"
+                                    : "\n**Beside it** (not deciding), relative |grad F|:\n\n");
+    cb_claim_numbers(out, "| scene | measure | tol | lbfgs ms | pd ms | pd-chebyshev ms | fastest Newton ms (variant) "
+                          "| "
                           "Newton / lbfgs | lbfgs wins | fastest |\n|---|---|---|---|---|---|---|---|---|---|\n");
     for (int s = 0; s < ns; s++)
       for (int q = part ? Q1_DECIDING : 0; q < (part ? Q1_NROWS : Q1_DECIDING); q++) {
@@ -414,8 +411,7 @@ void cb_check_Q1(const cb_table *csv, const char *dir, cb_claim_result *out) {
   char sp[2][128];
   for (int part = 0; part < 2; part++) {
     snprintf(sp[part], sizeof sp[part], "not measured (no tolerance both reached)");
-    if (isfinite(ratio_min[part]))
-      snprintf(sp[part], sizeof sp[part], "%.3g-%.3gx", ratio_min[part], ratio_max[part]);
+    if (isfinite(ratio_min[part])) snprintf(sp[part], sizeof sp[part], "%.3g-%.3gx", ratio_min[part], ratio_max[part]);
   }
   cb_claim_reason(out,
                   "L-BFGS (window 5, PD's matrix as H0, factored n x n, Armijo) reaches relative objective error "
@@ -425,8 +421,9 @@ void cb_check_Q1(const cb_table *csv, const char *dir, cb_claim_result *out) {
                   "2017: 15x, 308 against 20.1 ms). Beside it, at relative |grad F| 1e-3 and 1e-5 (which favours "
                   "Newton's quadratic convergence), L-BFGS wins %d of %d (Newton / L-BFGS %s). ",
                   W, D, U ? "; undecided within the spread: " : "", U ? margin : "",
-                  U ? (lo == hi ? " (the verdict is the same either way)" : " (the verdict depends on them: more "
-                                                                            "paired repeats decide it)")
+                  U ? (lo == hi ? " (the verdict is the same either way)"
+                                : " (the verdict depends on them: more "
+                                  "paired repeats decide it)")
                     : "",
                   sp[0], wins[1], decided[1], sp[1]);
   front_leaders(csv, out);

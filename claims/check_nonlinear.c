@@ -414,11 +414,11 @@ void cb_check_p1(const cb_table *csv, const char *dir, cb_claim_result *out) {
       double eo = co >= 0 ? p1_median(&t, cs, cm, scenes[k], M[m], co, -1, NULL, NULL, -1, NULL, buf) : NAN,
              eg = cg >= 0 ? p1_median(&t, cs, cm, scenes[k], M[m], cg, -1, NULL, NULL, -1, NULL, buf) : NAN;
       if (n)
-        cb_claim_numbers(out, "| %s | %d | %s | %d | %s | %.3g | %s | %s | %s | %s |\n", scenes[k], nv * nv, M[m], n,
-                         cb_claim_spread(b1, sizeof b1, "%.4g", &wt[m], ""), err[m], num_or_dash(eo, b3[0]),
-                         num_or_dash(eg, b3[1]),
-                         m == 0 || m == BW || m == LB10 ? "-" : (snprintf(b2, sizeof b2, "%d of %d", nfr[m] - bad[m], nfr[m]), b2),
-                         cf >= 0 && m == NEWTON0 ? (snprintf(b2 + 64, 64, "%.0f", fb[m]), b2 + 64) : "-");
+        cb_claim_numbers(
+            out, "| %s | %d | %s | %d | %s | %.3g | %s | %s | %s | %s |\n", scenes[k], nv * nv, M[m], n,
+            cb_claim_spread(b1, sizeof b1, "%.4g", &wt[m], ""), err[m], num_or_dash(eo, b3[0]), num_or_dash(eg, b3[1]),
+            m == 0 || m == BW || m == LB10 ? "-" : (snprintf(b2, sizeof b2, "%d of %d", nfr[m] - bad[m], nfr[m]), b2),
+            cf >= 0 && m == NEWTON0 ? (snprintf(b2 + 64, 64, "%.0f", fb[m]), b2 + 64) : "-");
     }
     int best = -1; /* the fastest Newton variant that converged on every frame */
     for (int m = NEWTON0; m <= NEWTON1; m++)
@@ -473,7 +473,8 @@ void cb_check_p1(const cb_table *csv, const char *dir, cb_claim_result *out) {
       char pt[96], nt[96];
       if (isfinite(tp.med)) cb_claim_spread(pt, sizeof pt, "%.3g", &tp, " ms");
       else snprintf(pt, sizeof pt, "not reached within the cap on %d of %d frames", cut_p, nf_p);
-      if (isfinite(tn.med)) snprintf(nt, sizeof nt, "%s (%s)", cb_claim_spread(b2, sizeof b2, "%.3g", &tn, " ms"), nwho);
+      if (isfinite(tn.med))
+        snprintf(nt, sizeof nt, "%s (%s)", cb_claim_spread(b2, sizeof b2, "%.3g", &tn, " ms"), nwho);
       else snprintf(nt, sizeof nt, "not reached on %d of %d frames", cut_n, nf_n);
       cb_claim_timing rq = isfinite(tp.med) && isfinite(tn.med) ? cb_claim_timing_ratio(&tn, &tp)
                            : isfinite(tn.med)                   ? cb_claim_timing_value(0.0) /* pd never there */
@@ -485,7 +486,9 @@ void cb_check_p1(const cb_table *csv, const char *dir, cb_claim_result *out) {
       used = strlen(toerr);
       snprintf(toerr + used, sizeof toerr - used, "| %s | %s %g | %s | %s | %s | %s |\n", scenes[k], MEAS[me], tol, pt,
                nt, isfinite(rq.med) && rq.med > 0 ? cb_claim_spread(b1, sizeof b1, "%.2f", &rq, "x") : "-",
-               isfinite(rq.med) ? (rq.med > 1 ? "pd" : rq.med > 0 ? "Newton" : "Newton (pd never)")
+               isfinite(rq.med)   ? (rq.med > 1   ? "pd"
+                                     : rq.med > 0 ? "Newton"
+                                                  : "Newton (pd never)")
                : isfinite(tp.med) ? "pd (Newton never)"
                                   : "neither");
     }
@@ -513,7 +516,8 @@ void cb_check_p1(const cb_table *csv, const char *dir, cb_claim_result *out) {
                      "reach it; Newton's is newton_exact's, or Baraff-Witkin's one iteration when that is enough on "
                      "every frame), by the three measures of issue 31: the step error |x - x*|_M/|x* - x0|_M (the "
                      "verdict's, at 1e-2), the objective error (F - F*)/(F(xhat) - F*) and relative |grad F|:\n\n"
-                     "| scene | measure | pd | fastest Newton | Newton over pd | faster |\n|---|---|---|---|---|---|\n%s",
+                     "| scene | measure | pd | fastest Newton | Newton over pd | faster "
+                     "|\n|---|---|---|---|---|---|\n%s",
                      toerr);
   if (papers[0])
     cb_claim_numbers(out,

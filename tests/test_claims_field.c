@@ -135,7 +135,8 @@ static void tol2(const double *grad, const double *obj, int wide) {
       for (int k = 0; k < 9; k++) {
         double ms = me ? obj[k] : grad[k], t = ms * (q + 1), lo = k == wide ? 0.5 : 0.95, hi = k == wide ? 2 : 1.05;
         if (ms >= 0)
-          sprintf(buf + strlen(buf), "grid81,6561,%s,x,%s,%g,100,10,%.17g,%.17g,%.17g,%.17g;%.17g;%.17g,3,1,1e-9,0,"
+          sprintf(buf + strlen(buf),
+                  "grid81,6561,%s,x,%s,%g,100,10,%.17g,%.17g,%.17g,%.17g;%.17g;%.17g,3,1,1e-9,0,"
                   "scalar,ok\n",
                   TOL_M[k], meas[me], tols[me][q], t, t * lo, t * hi, t * lo, t, t * hi);
         else

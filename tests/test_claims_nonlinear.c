@@ -212,7 +212,8 @@ Test(claims_nonlinear, p1_partly_when_baraff_witkin_reaches_the_same_error_as_fa
   p1(20, 0.01, 0.001, 25, 400, "ok"); /* BW's one iteration reaches 1e-2 in 40 ms: 40/25 = 1.6x */
   cb_claim_result r;
   cr_expect_eq(decide("P1", &r), CB_PARTLY, "%s", r.reason);
-  cr_expect(strstr(r.numbers, "| grid81 | step_error 0.01 | 25 ms | 40 ms (baraff_witkin) | 1.60x | pd |"), "%s", r.numbers);
+  cr_expect(strstr(r.numbers, "| grid81 | step_error 0.01 | 25 ms | 40 ms (baraff_witkin) | 1.60x | pd |"), "%s",
+            r.numbers);
 }
 
 Test(claims_nonlinear, p1_baseline_is_the_fastest_newton_that_converged) {
@@ -220,7 +221,8 @@ Test(claims_nonlinear, p1_baseline_is_the_fastest_newton_that_converged) {
   cb_claim_result r;
   decide("P1", &r);
   cr_expect(strstr(r.reason, "100x") && strstr(r.reason, "over newton_drop"), "%s", r.reason);
-  cr_expect(strstr(r.numbers, "| grid81 | 6561 | newton_exact | 2 | 1000 | 1e-09 | - | 1e-09 | 1 of 2 |"), "%s", r.numbers);
+  cr_expect(strstr(r.numbers, "| grid81 | 6561 | newton_exact | 2 | 1000 | 1e-09 | - | 1e-09 | 1 of 2 |"), "%s",
+            r.numbers);
 }
 
 Test(claims_nonlinear, p1_not_reproduced_when_pd_is_not_ten_times_faster) {
@@ -296,7 +298,8 @@ Test(claims_nonlinear, p1_undecided_when_the_per_frame_speed_up_straddles_ten) {
   cr_expect_eq(decide("P1", &r), CB_REPRODUCED, "%s", r.reason);
   cr_expect(strstr(r.numbers, "Liu 2017: lbfgs 10 iterations vs Baraff-Witkin"), "the papers' set-ups: %s", r.numbers);
   cr_expect(strstr(r.numbers, "Liu 2013: pd 10 iterations vs newton_exact converged"), "%s", r.numbers);
-  cr_expect(strstr(r.numbers, "| grid81 | obj_error 0.01 | 25 ms (25-25 ms) | 400 ms (400-400 ms) (newton_exact) | 16.00x"),
+  cr_expect(strstr(r.numbers, "| grid81 | obj_error 0.01 | 25 ms (25-25 ms) | 400 ms (400-400 ms) (newton_exact) | "
+                              "16.00x"),
             "%s", r.numbers);
   cr_expect(strstr(r.numbers, "| grid81 | rel_grad 1e-05 | not reached within the cap on 1 of 1 frames |"), "%s",
             r.numbers);

@@ -211,10 +211,26 @@ static double *run(const char *const *sets, int n, cb_step_stats *last) {
 static double path_difference(const char *method, const char *extra, const char *extra2, int steps) {
   char m[64];
   snprintf(m, sizeof m, "integrator.method=%s", method);
-  const char *scal[] = {"mesh.n=15", "mesh.size=1", "material.vertex_mass=0.01", "material.stretch_k=1000",
-                        "integrator.dt=0.02", "integrator.iters=10", m, extra, extra2, NULL};
-  const char *blk[] = {"mesh.n=15", "mesh.size=1", "material.vertex_mass=0.01", "material.stretch_k=1000",
-                       "integrator.dt=0.02", "integrator.iters=10", m, "integrator.pd_matrix=block", extra, extra2,
+  const char *scal[] = {"mesh.n=15",
+                        "mesh.size=1",
+                        "material.vertex_mass=0.01",
+                        "material.stretch_k=1000",
+                        "integrator.dt=0.02",
+                        "integrator.iters=10",
+                        m,
+                        extra,
+                        extra2,
+                        NULL};
+  const char *blk[] = {"mesh.n=15",
+                       "mesh.size=1",
+                       "material.vertex_mass=0.01",
+                       "material.stretch_k=1000",
+                       "integrator.dt=0.02",
+                       "integrator.iters=10",
+                       m,
+                       "integrator.pd_matrix=block",
+                       extra,
+                       extra2,
                        NULL};
   cb_step_stats a, b;
   double *xa = run(scal, steps, &a), *xb = run(blk, steps, &b);

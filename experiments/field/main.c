@@ -130,8 +130,8 @@ int main(int argc, char **argv) {
                           "scene,vertices,method,family,measure,tol,max_iters,iters_to_tol,wall_to_tol_ms,wall_to_tol_"
                           "min_ms,wall_to_tol_max_ms,wall_to_tol_each_ms,wall_repeats,alloc_ms,final_rel_grad,fallback,"
                           "global_matrix,status") != T_TOL ||
-      cb_experiment_table(&e, "tol_trace", NULL,
-                          "scene,method,iter,rel_grad,rel_f,wall_ms,obj_error,step_error") != T_TOL_TRACE ||
+      cb_experiment_table(&e, "tol_trace", NULL, "scene,method,iter,rel_grad,rel_f,wall_ms,obj_error,step_error") !=
+          T_TOL_TRACE ||
       cb_experiment_table(&e, "rises", NULL,
                           "scene,method,start,frames,frames_run,iters,rises,steps_with_rise,rel_max_rise,diverged,"
                           "diverge_frame,status") != T_RISES ||

@@ -196,8 +196,8 @@ static int tol_scene(const fd_plan *p, const cb_scene_decl *d, cb_step_state *S,
       final_rel[m] = t.n ? t.rel[t.n - 1] : cb_csv_na();
       for (int k = 0; k < t.n; k++) /* every iteration up to 100, then ~50 per decade, and the last */
         if (k <= 100 || floor(50 * log10(k)) != floor(50 * log10(k - 1)) || k == t.n - 1)
-          cb_csv_printf(out[T_TOL_TRACE], "%s,%s,%d,%.17g,%.17g,%.6f,%.17g,%.17g\n", d->label, TM[m].label, k,
-                        t.rel[k], (t.F[k] - Fstar) / fabs(Fstar), t.ms[k], t.obj[k], t.serr[k]);
+          cb_csv_printf(out[T_TOL_TRACE], "%s,%s,%d,%.17g,%.17g,%.6f,%.17g,%.17g\n", d->label, TM[m].label, k, t.rel[k],
+                        (t.F[k] - Fstar) / fabs(Fstar), t.ms[k], t.obj[k], t.serr[k]);
       const double *meas[NMEAS] = {t.rel, t.obj, t.serr};
       for (int me = 0; me < NMEAS; me++)
         for (int q = 0; q < NTOL; q++) {

@@ -75,8 +75,7 @@ static const scene_plan SCENES[] = {
     {{"grid41", "lab.ini", {"mesh.n=41", "material.vertex_mass=441/1681", "scene.pins=0 40", NULL}, "p1"}, 1},
     {{"grid41_vm81", "lab.ini", {"mesh.n=41", "material.vertex_mass=441/6561", "scene.pins=0 40", NULL}, "p1"}, 1},
     {{"grid161", "lab.ini", {"mesh.n=161", "material.vertex_mass=441/25921", "scene.pins=0 160", NULL}, "p1"}, 0},
-    {{"grid161_vm81", "lab.ini", {"mesh.n=161", "material.vertex_mass=441/6561", "scene.pins=0 160", NULL}, "p1"},
-     0},
+    {{"grid161_vm81", "lab.ini", {"mesh.n=161", "material.vertex_mass=441/6561", "scene.pins=0 160", NULL}, "p1"}, 0},
     {{"lab", "lab.ini", {NULL}, "error_time"}, 2},
     {{"grid64", "lab.ini", {G64, NULL}, "error_time"}, 0},
 };
@@ -160,10 +159,10 @@ int main(int argc, char **argv) {
                           "repeats,"
                           "alloc_ms,step_error,obj_error,rel_grad,fallback,global_matrix,status") != T_P1 ||
       cb_experiment_table(&e, "p1_error", p1_extra,
-                          "scene,n,k_n_per_m,method,frame,measure,tol,max_iters,iters_to_tol,wall_to_tol_ms,wall_to_tol_"
+                          "scene,n,k_n_per_m,method,frame,measure,tol,max_iters,iters_to_tol,wall_to_tol_ms,wall_to_"
+                          "tol_"
                           "min_ms,wall_to_tol_max_ms,wall_to_tol_each_ms,wall_repeats,step_error,obj_error,rel_grad,"
-                          "fallback,global_matrix,status") !=
-          T_P1_ERROR ||
+                          "fallback,global_matrix,status") != T_P1_ERROR ||
       cb_experiment_table(&e, "error_time", state_extra,
                           "scene,n,method,family,iters,rho,wall_ms,setup_ms,step_error,rel_grad,status") !=
           T_ERROR_TIME)

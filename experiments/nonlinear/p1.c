@@ -70,8 +70,7 @@ static void record_error(void *ctx, int event, const cb_newton_event *ev) {
   err_trace *t = ctx;
   if (event == CB_NEWTON_GRADIENT && ev->iter < t->cap) {
     t->err[PM_STEP][ev->iter] = cb_step_error(t->S->s, ev->x, t->S->xstar, t->S->x0);
-    t->err[PM_OBJ][ev->iter] =
-        t->S->Fhat != t->S->Fstar ? (ev->F - t->S->Fstar) / (t->S->Fhat - t->S->Fstar) : NAN;
+    t->err[PM_OBJ][ev->iter] = t->S->Fhat != t->S->Fstar ? (ev->F - t->S->Fstar) / (t->S->Fhat - t->S->Fstar) : NAN;
     t->err[PM_GRAD][ev->iter] = ev->rel_grad; /* both families start at xhat: |grad F|/|grad F(xhat)| */
     if (ev->iter + 1 > t->n) t->n = ev->iter + 1;
   }

@@ -42,13 +42,13 @@ typedef struct cb_step_stats {
   double grad_norm;    /* |grad F(x1)|, free DOFs */
   double F;            /* F(x1), J */
   double assemble_ms, factor_ms, solve_ms, wall_ms;
-  int linear_status;  /* status of the last inner solve */
-  int factorizations; /* factor calls (more than newton_iters when `shift` retried) */
-  double shift_mu;    /* largest shift mu added to A in this step (`shift` policy), N/m; 0 = none */
-  double rho;         /* Chebyshev spectral radius the step used (given or estimated); 0 = none */
-  int global_path;    /* pd, pd-chebyshev, lbfgs: the constant matrix P they solve with, CB_GLOBAL_SCALAR (n x n,
-                         x, y and z as one 3-column right-hand side) or CB_GLOBAL_BLOCK (3n x 3n P (x) I_3);
-                         CB_GLOBAL_NONE for the other methods */
+  int linear_status;        /* status of the last inner solve */
+  int factorizations;       /* factor calls (more than newton_iters when `shift` retried) */
+  double shift_mu;          /* largest shift mu added to A in this step (`shift` policy), N/m; 0 = none */
+  double rho;               /* Chebyshev spectral radius the step used (given or estimated); 0 = none */
+  int global_path;          /* pd, pd-chebyshev, lbfgs: the constant matrix P they solve with, CB_GLOBAL_SCALAR (n x n,
+                               x, y and z as one 3-column right-hand side) or CB_GLOBAL_BLOCK (3n x 3n P (x) I_3);
+                               CB_GLOBAL_NONE for the other methods */
   double global_factor_nnz; /* nonzeros of that matrix's factor (CHOLMOD), 0 = none */
 } cb_step_stats;
 
@@ -128,7 +128,7 @@ typedef struct cb_pd_params {
  * block matrix; `block` always the block matrix (the harness before issue 31, kept to compare against). */
 enum { CB_PD_MATRIX_AUTO = 0, CB_PD_MATRIX_BLOCK = 1 };
 extern const char *const cb_pd_matrix_names[]; /* "auto", "block", NULL */
-cb_pd_params cb_pd_params_default(void); /* pd-chebyshev's */
+cb_pd_params cb_pd_params_default(void);       /* pd-chebyshev's */
 
 /* Position-based dynamics' parameters (pbd, xpbd; integrator_xpbd.c). */
 typedef struct cb_xpbd_params {

@@ -38,8 +38,8 @@ typedef struct cb_step_state {
   double *xstar;     /* the converged step from it (reference) */
   double *x, *v;     /* scratch: the last step's end state */
   int n3;
-  cb_objective obj;    /* F of the step from (x0, v0) */
-  double Fhat, Fstar;  /* F(xhat), F(x*): the objective error's yardsticks (cb_step_obj_error) */
+  cb_objective obj;   /* F of the step from (x0, v0) */
+  double Fhat, Fstar; /* F(xhat), F(x*): the objective error's yardsticks (cb_step_obj_error) */
 } cb_step_state;
 
 /* The relative objective error (F(x) - F(x*)) / (F(xhat) - F(x*)) of S's step at x (Liu et al. 2017's
@@ -57,9 +57,9 @@ typedef struct cb_step_result {
   double wall_ms, setup_ms, alloc_ms, error, rel_grad, rho;
   double obj_error; /* cb_step_obj_error at the end state */
   int iters, status;
-  int global_path;  /* pd, pd-chebyshev, lbfgs: CB_GLOBAL_SCALAR or CB_GLOBAL_BLOCK (integrator.h); 0 others */
-  int fallback;   /* the step hit a non-SPD factorisation and was rerun with the method's fallback */
-  cb_timing wall; /* the step's time at every timed repeat (wall_ms: their median) */
+  int global_path; /* pd, pd-chebyshev, lbfgs: CB_GLOBAL_SCALAR or CB_GLOBAL_BLOCK (integrator.h); 0 others */
+  int fallback;    /* the step hit a non-SPD factorisation and was rerun with the method's fallback */
+  cb_timing wall;  /* the step's time at every timed repeat (wall_ms: their median) */
 } cb_step_result;
 
 /* S's config with sets (NULL-terminated, at most 16) and integrator.damping=1, validated. */

@@ -96,7 +96,7 @@ static const cb_param_key lbfgs_keys[] = {
 
 typedef struct {
   cb_objective obj;
-  cb_pd_global H0; /* H0 = P, factorised (n x n, or 3n x 3n blocks; pd_matrix.h) */
+  cb_pd_global H0;        /* H0 = P, factorised (n x n, or 3n x 3n blocks; pd_matrix.h) */
   int m;                  /* window */
   double *S, *Y;          /* m x 3 nfree, ring buffers */
   double *rho, *a;        /* m */
@@ -169,7 +169,7 @@ static int direction(cb_integrator *it, lbfgs_work *w, int nf3, cb_step_stats *s
   }
   memset(w->d, 0, (size_t)nf3 * sizeof(double));
   int ls = cb_pd_global_solve(&w->H0, it, w->q, w->d, st); /* r = H0^-1 q */
-  for (int c = w->npairs - 1; c >= 0; c--) { /* oldest first */
+  for (int c = w->npairs - 1; c >= 0; c--) {               /* oldest first */
     int i = (w->newest - c + w->m) % w->m;
     const double *si = w->S + (size_t)i * nf3, *yi = w->Y + (size_t)i * nf3;
     double b = w->rho[i] * cblas_ddot(nf3, yi, 1, w->d, 1); /* b = rho_i y_i.r */

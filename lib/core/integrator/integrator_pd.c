@@ -73,11 +73,8 @@ static const cb_param_key pd_keys[] = {
     CB_KEY_END,
 };
 static const cb_param_key pdc_keys[] = {
-    CB_KEY_ITERS(PP(iters)),
-    CB_KEY_RHO(PP(rho)),
-    CB_KEY_RHO_ITERS(PP(rho_iters)),
-    CB_KEY_PD_MATRIX(PP(matrix)),
-    CB_KEY_END,
+    CB_KEY_ITERS(PP(iters)),      CB_KEY_RHO(PP(rho)), CB_KEY_RHO_ITERS(PP(rho_iters)),
+    CB_KEY_PD_MATRIX(PP(matrix)), CB_KEY_END,
 };
 #undef PP
 

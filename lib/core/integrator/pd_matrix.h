@@ -54,10 +54,10 @@ int cb_pd_matrix_build_scalar(const cb_scene *s, double dt, int with_constant, c
 
 /* The global solve of pd, pd-chebyshev and lbfgs with their constant P. */
 typedef struct cb_pd_global {
-  int path;     /* CB_GLOBAL_SCALAR or CB_GLOBAL_BLOCK (integrator.h) */
-  int nf;       /* free vertices */
-  cb_sparse P;  /* n x n (scalar) or 3n x 3n (block) */
-  cb_solver *s; /* the scalar path's own n x n solver; NULL on the block path (it uses the integrator's) */
+  int path;      /* CB_GLOBAL_SCALAR or CB_GLOBAL_BLOCK (integrator.h) */
+  int nf;        /* free vertices */
+  cb_sparse P;   /* n x n (scalar) or 3n x 3n (block) */
+  cb_solver *s;  /* the scalar path's own n x n solver; NULL on the block path (it uses the integrator's) */
   double *B, *X; /* scalar: 3 nf each, the right-hand sides and the solutions as 3 columns (x, y, z) */
 } cb_pd_global;
 

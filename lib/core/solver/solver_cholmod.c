@@ -202,7 +202,7 @@ static int solve_cols(cb_solver *s, const cb_sparse *A, int nrhs, const double *
   memcpy(x, w->X->x, (size_t)A->n * (size_t)nrhs * sizeof(double));
   s->stats.iters = 1;
   s->stats.rel_residual = NAN; /* solver.residual = 0: not computed */
-  if (s->params.residual) { /* the largest column's |b - A x|/|b| (a product with A per column) */
+  if (s->params.residual) {    /* the largest column's |b - A x|/|b| (a product with A per column) */
     double r = 0.0;
     for (int c = 0; c < nrhs; c++) {
       double rc = cb_relative_residual(A, b + (size_t)c * A->n, x + (size_t)c * A->n, w->work);
