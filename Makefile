@@ -386,6 +386,7 @@ bench: deps
 	$(PYTHON) scripts/readme-perf.py results docs/performance.md
 	$(EXP_ENV) $(BUILD)/bench_nonlinear --out results/bench_nonlinear.csv
 	$(PYTHON) scripts/readme-bench-nonlinear.py results docs/performance.md
+	$(EXP_ENV) $(BUILD)/bench_pd_matrix $(if $(filter 1,$(QUICK)),--quick) --out results/bench_pd_matrix.csv
 ifeq ($(SCALE),1)
 	$(EXP_ENV) $(BUILD)/bench_scale --out results/bench_scale.csv
 	$(PYTHON) scripts/readme-bench-scale.py results docs/performance.md

@@ -186,25 +186,40 @@ Test(claims_field, x2_undecided_when_the_time_ratio_straddles_one_and_a_half) {
 /* ---- Q1 and V1's speed: field_tol.csv ---- */
 
 #define TOL_HEAD \
-  "scene,vertices,method,family,tol,max_iters,iters_to_tol,wall_to_tol_ms,wall_to_tol_min_ms,wall_to_tol_max_ms," \
-  "wall_to_tol_each_ms,wall_repeats,alloc_ms,final_rel_grad,fallback,status\n"
+  "scene,vertices,method,family,measure,tol,max_iters,iters_to_tol,wall_to_tol_ms,wall_to_tol_min_ms," \
+  "wall_to_tol_max_ms,wall_to_tol_each_ms,wall_repeats,alloc_ms,final_rel_grad,fallback,global_matrix,status\n"
+
+static const char *const TOL_M[] = {"lbfgs",           "pd",          "pd-chebyshev auto",
+                                    "newton_exact",    "newton_drop", "vbd",
+                                    "vbd line search", "jacobi-nl",   "chebyshev-nl auto"};
 
 /* ms of lbfgs, pd, pd-chebyshev, newton_exact, newton_drop, vbd, vbd line search, jacobi-nl, chebyshev-nl
- * (negative: cut off) at both tolerances */
-static void tol(const double *ms) {
-  static const char *const m[] = {"lbfgs",           "pd",          "pd-chebyshev auto",
-                                  "newton_exact",    "newton_drop", "vbd",
-                                  "vbd line search", "jacobi-nl",   "chebyshev-nl auto"};
-  char buf[8192] = TOL_HEAD;
-  for (int q = 0; q < 2; q++)
-    for (int k = 0; k < 9; k++) {
-      if (ms[k] >= 0)
-        sprintf(buf + strlen(buf), "grid81,6561,%s,x,%g,100,10,%.17g,,,,3,1,1e-9,0,ok\n", m[k], q ? 1e-5 : 1e-3,
-                ms[k] * (q + 1));
-      else sprintf(buf + strlen(buf), "grid81,6561,%s,x,%g,100,,,,,,,1,1e-2,,cut_off\n", m[k], q ? 1e-5 : 1e-3);
-    }
+ * (negative: cut off): grad at relative |grad F| 1e-3 and 1e-5 (x2), obj at objective and step error 1e-2 and
+ * 1e-3 (x2); each time with three paired repeats at 0.95, 1 and 1.05 of it, or, for the method `wide`, 0.5, 1
+ * and 2 */
+static void tol2(const double *grad, const double *obj, int wide) {
+  static char buf[16384];
+  snprintf(buf, sizeof buf, TOL_HEAD);
+  static const char *const meas[3] = {"rel_grad", "obj_error", "step_error"};
+  static const double tols[3][2] = {{1e-3, 1e-5}, {1e-2, 1e-3}, {1e-2, 1e-3}};
+  for (int me = 0; me < 3; me++)
+    for (int q = 0; q < 2; q++)
+      for (int k = 0; k < 9; k++) {
+        double ms = me ? obj[k] : grad[k], t = ms * (q + 1), lo = k == wide ? 0.5 : 0.95, hi = k == wide ? 2 : 1.05;
+        if (ms >= 0)
+          sprintf(buf + strlen(buf),
+                  "grid81,6561,%s,x,%s,%g,100,10,%.17g,%.17g,%.17g,%.17g;%.17g;%.17g,3,1,1e-9,0,"
+                  "scalar,ok\n",
+                  TOL_M[k], meas[me], tols[me][q], t, t * lo, t * hi, t * lo, t, t * hi);
+        else
+          sprintf(buf + strlen(buf), "grid81,6561,%s,x,%s,%g,100,,,,,,,1,1e-2,,none,cut_off\n", TOL_M[k], meas[me],
+                  tols[me][q]);
+      }
   put("field_tol.csv", buf);
 }
+
+/* the same times for every measure */
+static void tol(const double *ms) { tol2(ms, ms, -1); }
 
 Test(claims_field, q1_reproduced_when_lbfgs_beats_every_rival) {
   const double ms[] = {10, 100, 50, 150, 300, 20, 25, 900, 400};
@@ -212,6 +227,9 @@ Test(claims_field, q1_reproduced_when_lbfgs_beats_every_rival) {
   cb_claim_result r;
   cr_expect_eq(decide("Q1", &r), CB_REPRODUCED, "%s", r.reason);
   cr_expect(strstr(r.numbers, "newton_exact"), "the fastest Newton is named: %s", r.numbers);
+  cr_expect(strstr(r.numbers, "objective error") && strstr(r.numbers, "step error") && strstr(r.numbers, "grad F"),
+            "the three measures are reported: %s", r.numbers);
+  cr_expect(strstr(r.numbers, "| 3 of 3 | lbfgs |"), "the fastest per size and measure: %s", r.numbers);
 }
 
 Test(claims_field, q1_not_reproduced_when_newton_and_pd_chebyshev_are_faster) {
@@ -219,6 +237,7 @@ Test(claims_field, q1_not_reproduced_when_newton_and_pd_chebyshev_are_faster) {
   tol(ms);
   cb_claim_result r;
   cr_expect_eq(decide("Q1", &r), CB_NOT_REPRODUCED, "%s", r.reason);
+  cr_expect(strstr(r.numbers, "| 0 of 3 | pd-chebyshev |"), "the fastest per size and measure: %s", r.numbers);
 }
 
 Test(claims_field, q1_counts_a_cut_off_lbfgs_as_a_loss) {
@@ -226,6 +245,33 @@ Test(claims_field, q1_counts_a_cut_off_lbfgs_as_a_loss) {
   tol(ms);
   cb_claim_result r;
   cr_expect_eq(decide("Q1", &r), CB_NOT_REPRODUCED, "%s", r.reason);
+}
+
+Test(claims_field, q1_is_decided_on_the_objective_and_step_error_not_on_grad_f) {
+  /* Newton wins at |grad F| (quadratic convergence), L-BFGS at the papers' measures: reproduced */
+  const double grad[] = {100, 50, 20, 30, 60, 20, 25, 900, 400}, obj[] = {10, 100, 50, 150, 300, 20, 25, 900, 400};
+  tol2(grad, obj, -1);
+  cb_claim_result r;
+  cr_expect_eq(decide("Q1", &r), CB_REPRODUCED, "%s", r.reason);
+  cr_expect(strstr(r.reason, "wins 0 of"), "the |grad F| comparison is reported beside: %s", r.reason);
+  /* and the other way round: not reproduced */
+  tol2(obj, grad, -1);
+  cr_expect_eq(decide("Q1", &r), CB_NOT_REPRODUCED, "%s", r.reason);
+}
+
+Test(claims_field, q1_undecided_when_a_deciding_ratio_straddles_one) {
+  /* lbfgs beats pd and pd-chebyshev; Newton takes 1.1x its time with a wide spread (0.5-2x): the ratio
+     straddles 1 at all four deciding rows, and counting those as wins (reproduced) or losses (partly: 8 of 12)
+     gives two verdicts */
+  const double ms[] = {10, 100, 50, 11, 300, 20, 25, 900, 400};
+  tol2(ms, ms, 3);
+  cb_claim_result r;
+  cr_expect_eq(decide("Q1", &r), CB_UNDECIDED, "%s", r.reason);
+  cr_expect(strstr(r.reason, "within the spread"), "the margin is given: %s", r.reason);
+  /* the same with a narrow spread (paired repeats at 0.95, 1, 1.05 of each time: Newton / lbfgs 1.1x in every
+     pair) is decided: a win */
+  tol2(ms, ms, -1);
+  cr_expect_eq(decide("Q1", &r), CB_REPRODUCED, "%s", r.reason);
 }
 
 /* ---- V1 ---- */
@@ -239,10 +285,10 @@ static void v1_tol(const double *ms, double spread) {
   char buf[8192] = TOL_HEAD;
   for (int k = 0; k < 6; k++) {
     if (ms[k] >= 0)
-      sprintf(buf + strlen(buf), "grid81,6561,%s,x,0.001,100,10,%.17g,%.17g,%.17g,%.17g;%.17g;%.17g,3,1,1e-9,0,ok\n",
+      sprintf(buf + strlen(buf), "grid81,6561,%s,x,rel_grad,0.001,100,10,%.17g,%.17g,%.17g,%.17g;%.17g;%.17g,3,1,1e-9,0,none,ok\n",
               m[k], ms[k], ms[k] * (1 - spread), ms[k] * (1 + spread), ms[k] * (k < 3 ? 1 - spread : 1 + spread), ms[k],
               ms[k] * (k < 3 ? 1 + spread : 1 - spread));
-    else sprintf(buf + strlen(buf), "grid81,6561,%s,x,0.001,100,,,,,,,1,1e-2,,cut_off\n", m[k]);
+    else sprintf(buf + strlen(buf), "grid81,6561,%s,x,rel_grad,0.001,100,,,,,,,1,1e-2,,none,cut_off\n", m[k]);
   }
   put("field_tol.csv", buf);
 }

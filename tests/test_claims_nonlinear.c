@@ -203,8 +203,8 @@ Test(claims_nonlinear, p1_reproduced_when_pd_is_fast_close_and_first_to_the_same
   cr_expect_eq(decide("P1", &r), CB_REPRODUCED, "%s", r.reason);
   cr_expect(strstr(r.reason, "50x") && strstr(r.reason, "over newton_exact"), "%s", r.reason);
   cr_expect(strstr(r.reason, "grid81 16.00x"), "%s", r.reason);
-  cr_expect(strstr(r.numbers, "| grid81 | 0.001 | not reached within the cap on 2 of 2 frames | 600 ms (newton_exact) "
-                              "| - |"),
+  cr_expect(strstr(r.numbers, "| grid81 | step_error 0.001 | not reached within the cap on 2 of 2 frames | 600 ms "
+                              "(newton_exact) | - | Newton (pd never) |"),
             "%s", r.numbers);
 }
 
@@ -212,7 +212,8 @@ Test(claims_nonlinear, p1_partly_when_baraff_witkin_reaches_the_same_error_as_fa
   p1(20, 0.01, 0.001, 25, 400, "ok"); /* BW's one iteration reaches 1e-2 in 40 ms: 40/25 = 1.6x */
   cb_claim_result r;
   cr_expect_eq(decide("P1", &r), CB_PARTLY, "%s", r.reason);
-  cr_expect(strstr(r.numbers, "| grid81 | 0.01 | 25 ms | 40 ms (baraff_witkin) | 1.60x |"), "%s", r.numbers);
+  cr_expect(strstr(r.numbers, "| grid81 | step_error 0.01 | 25 ms | 40 ms (baraff_witkin) | 1.60x | pd |"), "%s",
+            r.numbers);
 }
 
 Test(claims_nonlinear, p1_baseline_is_the_fastest_newton_that_converged) {
@@ -220,7 +221,8 @@ Test(claims_nonlinear, p1_baseline_is_the_fastest_newton_that_converged) {
   cb_claim_result r;
   decide("P1", &r);
   cr_expect(strstr(r.reason, "100x") && strstr(r.reason, "over newton_drop"), "%s", r.reason);
-  cr_expect(strstr(r.numbers, "| grid81 | 6561 | newton_exact | 2 | 1000 | 1e-09 | 1 of 2 |"), "%s", r.numbers);
+  cr_expect(strstr(r.numbers, "| grid81 | 6561 | newton_exact | 2 | 1000 | 1e-09 | - | 1e-09 | 1 of 2 |"), "%s",
+            r.numbers);
 }
 
 Test(claims_nonlinear, p1_not_reproduced_when_pd_is_not_ten_times_faster) {
@@ -251,4 +253,56 @@ Test(claims_nonlinear, p1_quotes_times_and_the_ratio_with_their_spread) {
   cr_expect(strstr(r.numbers, "| grid81 | 6561 | newton_exact | 2 | 1000 (900-1100) |"), "%s", r.numbers);
   cr_expect(strstr(r.reason, "grid81: 50x (45-55x over 3 paired repeats) over newton_exact"), "%s", r.reason);
   cr_expect(strstr(r.reason, "Baraff-Witkin 0.001 in 40 (40-40) ms"), "%s", r.reason);
+}
+
+/* Issue 31's CSVs (measure, obj_error, global_matrix, lbfgs10): pd10's per-frame speed-up over newton_exact
+ * has paired repeats 10.5x, 20x and 5x (it straddles 10x), the rest passes (error 1%, 16x at step error 1e-2):
+ * counted as fast it is reproduced, as slow not: undecided. With repeats 20x, 25x, 16.7x it is reproduced. The
+ * papers' set-ups are labelled rows, and the objective error and |grad F| rows are reported. */
+static void p1_spread(const char *pd_each, double pd_med) {
+  char buf[4096] = "scene,n,k_n_per_m,method,frame,iters,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,"
+                   "alloc_ms,step_error,obj_error,rel_grad,fallback,global_matrix,status\n";
+  char eb[4096] = "scene,n,k_n_per_m,method,frame,measure,tol,max_iters,iters_to_tol,wall_to_tol_ms,wall_to_tol_min_ms,"
+                  "wall_to_tol_max_ms,wall_to_tol_each_ms,wall_repeats,step_error,obj_error,rel_grad,fallback,"
+                  "global_matrix,status\n";
+  sprintf(buf + strlen(buf),
+          "grid81,81,8000,pd10,5,10,%g,,,%s,3,40,0.01,0.002,0.05,0,scalar,ok\n"
+          "grid81,81,8000,lbfgs10,5,10,30,,,30;30;30,3,40,0.004,0.0005,0.02,0,scalar,max_iters\n"
+          "grid81,81,8000,newton_exact,5,5,1000,,,1050;1000;1000,3,6,1e-9,1e-12,1e-9,0,none,ok\n"
+          "grid81,81,8000,newton_drop,5,20,2000,,,2000;2000;2000,3,6,1e-9,1e-12,1e-9,0,none,ok\n"
+          "grid81,81,8000,baraff_witkin,5,1,40,,,40;40;40,3,6,0.05,0.02,0.1,0,none,max_iters\n",
+          pd_med, pd_each);
+  static const char *const meas[3] = {"step_error", "obj_error", "rel_grad"};
+  static const double tols[3][2] = {{1e-2, 1e-3}, {1e-2, 1e-3}, {1e-3, 1e-5}};
+  for (int me = 0; me < 3; me++)
+    for (int q = 0; q < 2; q++) {
+      if (q == 0)
+        sprintf(eb + strlen(eb), "grid81,81,8000,pd,5,%s,%g,400,12,25,,,25;25;25,3,0.009,0.001,0.04,0,scalar,ok\n",
+                meas[me], tols[me][q]);
+      else sprintf(eb + strlen(eb), "grid81,81,8000,pd,5,%s,%g,400,,,,,,,,,,,none,cut_off\n", meas[me], tols[me][q]);
+      sprintf(eb + strlen(eb),
+              "grid81,81,8000,newton_exact,5,%s,%g,50,2,400,,,400;400;400,3,0.004,1e-5,1e-4,0,none,max_iters\n",
+              meas[me], tols[me][q]);
+    }
+  put("nonlinear_p1.csv", buf);
+  put("nonlinear_p1_error.csv", eb);
+  put("nonlinear.csv", J3_HEAD);
+}
+
+Test(claims_nonlinear, p1_undecided_when_the_per_frame_speed_up_straddles_ten) {
+  p1_spread("100;50;200", 100); /* Newton / pd per repeat: 10.5, 20, 5 */
+  cb_claim_result r;
+  cr_expect_eq(decide("P1", &r), CB_UNDECIDED, "%s", r.reason);
+  cr_expect(strstr(r.reason, "Undecided within the spread"), "%s", r.reason);
+  p1_spread("50;40;60", 50); /* 21, 25, 16.7: above 10 in every pair */
+  cr_expect_eq(decide("P1", &r), CB_REPRODUCED, "%s", r.reason);
+  cr_expect(strstr(r.numbers, "Liu 2017: lbfgs 10 iterations vs Baraff-Witkin"), "the papers' set-ups: %s", r.numbers);
+  cr_expect(strstr(r.numbers, "Liu 2013: pd 10 iterations vs newton_exact converged"), "%s", r.numbers);
+  cr_expect(strstr(r.numbers, "| grid81 | obj_error 0.01 | 25 ms (25-25 ms) | 400 ms (400-400 ms) (newton_exact) | "
+                              "16.00x"),
+            "%s", r.numbers);
+  cr_expect(strstr(r.numbers, "| grid81 | rel_grad 1e-05 | not reached within the cap on 1 of 1 frames |"), "%s",
+            r.numbers);
+  cr_expect(strstr(r.numbers, "| grid81 | 6561 | lbfgs10 | 1 | 30 (30-30) | 0.004 | 0.0005 | 0.02 | - |"), "%s",
+            r.numbers);
 }

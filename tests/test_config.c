@@ -1155,7 +1155,7 @@ Test(bind, every_types_keys_are_config_keys_and_their_defaults_are_the_types) {
               t->name);
     free(p);
   }
-  cr_expect_eq(nkeys, 39); /* newton 6, jacobi-nl 4, chebyshev-nl 6, pd 1, pd-chebyshev 3, pbd 3, xpbd 2, lbfgs 5,
+  cr_expect_eq(nkeys, 42); /* newton 6, jacobi-nl 4, chebyshev-nl 6, pd 2, pd-chebyshev 4, pbd 3, xpbd 2, lbfgs 6,
                               vbd 3, vbd-chebyshev 5, shape_matching 1 */
 }
 

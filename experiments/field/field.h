@@ -33,7 +33,8 @@ typedef struct {
   int quick, smoke;
   int state_frames; /* frames of the scene's own method before the measured step */
   int front[FD_MAXSCENES], nfront, x1[FD_MAXSCENES], nx1, x2[FD_MAXSCENES], nx2, tol[FD_MAXSCENES], ntol,
-      v1[FD_MAXSCENES], nv1;               /* scene indices by role */
+      v1[FD_MAXSCENES], nv1,               /* scene indices by role */
+      tolsz[FD_MAXSCENES], ntolsz;         /* role "tolsize": Q1's size sweep (tol.c) */
   long nv[FD_MAXSCENES];                   /* vertices of each scene (cost hints) */
   const cb_scene_decl *decl[FD_MAXSCENES]; /* each scene's declaration (main.c's table) */
 } fd_plan;
@@ -77,6 +78,9 @@ double fd_x2_cost(long i, void *ctx);
 /* Q1 and V1's speed on scene d from the front cell's state S (and its rho estimates, rc) */
 int fd_tol_scene(const fd_plan *p, const cb_scene_decl *d, cb_step_state *S, fd_rho_cache *rc, FILE *const *out);
 double fd_tol_cost(const fd_plan *p, int scene);
+/* Q1's size sweep: Q1's methods to every tolerance on the "tolsize" scenes (41^2, 161^2; issue 31 §3) */
+int fd_tolsize_cell(long i, void *ctx, FILE *const *out);
+double fd_tolsize_cost(long i, void *ctx);
 long fd_v1_cells(const fd_plan *p);
 int fd_v1_cell(long i, void *ctx, FILE *const *out);
 double fd_v1_cost(long i, void *ctx);

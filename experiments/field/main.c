@@ -16,9 +16,10 @@
  *                        verdict) and for 1-100 iterations (kind sweep), three dt (x1.c)
  *   field_x2.csv         X2: XPBD n x 1 against 1 x n, n = 1..64: largest edge stretch, step error
  *                        and wall time (x2.c)
- *   field_tol.csv        Q1 and V1: iterations and wall time to relative |grad F| 1e-3 and 1e-5 of
- *                        every minimiser (tol.c)
- *   field_tol_trace.csv  the relative |grad F| per iteration of those steps, with the time
+ *   field_tol.csv        Q1 and V1: iterations and wall time of every minimiser to relative |grad F|
+ *                        1e-3 and 1e-5, relative objective error and step error 1e-2 and 1e-3
+ *                        (column measure), and the matrix pd and lbfgs solved with (tol.c)
+ *   field_tol_trace.csv  the three measures per iteration of those steps, with the time
  *   field_rises.csv      V1: objective rises between VBD iterations over trajectories (v1.c)
  *   field_scramble.csv   V1: a scrambled start (vertices displaced at random by up to the cloth's
  *                        size): diverged, and the mean strain at the start, halfway and at the end of
@@ -47,7 +48,8 @@ static const char *const ABOUT =
 /* Scenes. Roles: "front" = the main figure's step (one cell per scene: every method shares its start
  * state and reference step), also the scene of tol (Q1, V1's speed; run in the same cell) and v1 (rises, scrambled
  * start); "x2" = the X2 comparison; "x1" = X1's static stretch. The lab cloth (configs/lab.ini, 21^2), Liu's 81^2 cloth
- * (the same 441 kg, k and 10 m, pinned at two corners) and its stiff variant (nonlinear's P1 scenes), the 32^2 drape
+ * (the same 441 kg, k and 10 m, pinned at two corners) and its stiff variant (nonlinear's P1 scenes), Q1's size sweep
+ * ("tolsize": 41^2 and 161^2, full run only), the 32^2 drape
  * over the sphere (configs/drape.ini), the hanging strip (configs/chain20.ini). level: 1 in --quick too, 2 in --smoke
  * too (--quick leaves out the 81^2 scenes, and runs the drape in the main figure only). */
 typedef struct {
@@ -56,6 +58,10 @@ typedef struct {
   int tol, v1; /* levels of the front scene in the tol and v1 sweeps (as level; -1: not in them) */
 } scene_plan;
 #define G81 "mesh.n=81", "material.vertex_mass=441/6561", "scene.pins=0 80"
+/* Q1's size sweep (issue 31 §3): Liu's cloth at 41^2 and 161^2 with its 441 kg (k dt^2/m grows as n^2), and with
+ * 81^2's mass per vertex (_vm81: the same k dt^2/m as grid81) */
+#define G41 "mesh.n=41", "scene.pins=0 40"
+#define G161 "mesh.n=161", "scene.pins=0 160"
 static const scene_plan SCENES[] = {
     {{"lab", "lab.ini", {NULL}, "front"}, 2, 2, 2},
     {{"grid81", "lab.ini", {G81, NULL}, "front"}, 0, 0, 0},
@@ -64,6 +70,10 @@ static const scene_plan SCENES[] = {
     {{"lab", "lab.ini", {NULL}, "x2"}, 2, -1, -1},
     {{"grid81_stiff", "lab.ini", {G81, "material.stretch_k=1e6", NULL}, "x2"}, 0, -1, -1},
     {{"strip", "chain20.ini", {NULL}, "x1"}, 2, -1, -1},
+    {{"grid41", "lab.ini", {G41, "material.vertex_mass=441/1681", NULL}, "tolsize"}, 0, -1, -1},
+    {{"grid41_vm81", "lab.ini", {G41, "material.vertex_mass=441/6561", NULL}, "tolsize"}, 0, -1, -1},
+    {{"grid161", "lab.ini", {G161, "material.vertex_mass=441/25921", NULL}, "tolsize"}, 0, -1, -1},
+    {{"grid161_vm81", "lab.ini", {G161, "material.vertex_mass=441/6561", NULL}, "tolsize"}, 0, -1, -1},
     {{"lab", "lab.ini", {NULL}, "x1"}, 1, -1, -1},
 };
 enum { NSCENES = sizeof SCENES / sizeof SCENES[0] };
@@ -101,6 +111,7 @@ int main(int argc, char **argv) {
       if (SCENES[i].v1 >= need) p.v1[p.nv1++] = i;
     } else if (cb_scene_decl_is(d, "x1")) p.x1[p.nx1++] = i;
     else if (cb_scene_decl_is(d, "x2")) p.x2[p.nx2++] = i;
+    else if (cb_scene_decl_is(d, "tolsize")) p.tolsz[p.ntolsz++] = i;
   }
   if ((b = scene_sizes(&p))) return cb_experiment_end(&e, b), 1;
   const char *state_extra = "# state: 10 frames of the scene's own method (2 in --smoke); the step without damping\n";
@@ -118,10 +129,11 @@ int main(int argc, char **argv) {
                           "repeats,"
                           "step_error,max_strain,ref_max_strain,rel_grad,status") != T_X2 ||
       cb_experiment_table(&e, "tol", state_extra,
-                          "scene,vertices,method,family,tol,max_iters,iters_to_tol,wall_to_tol_ms,wall_to_tol_min_ms,"
-                          "wall_to_tol_max_ms,wall_to_tol_each_ms,wall_repeats,alloc_ms,final_rel_grad,fallback,"
-                          "status") != T_TOL ||
-      cb_experiment_table(&e, "tol_trace", NULL, "scene,method,iter,rel_grad,rel_f,wall_ms") != T_TOL_TRACE ||
+                          "scene,vertices,method,family,measure,tol,max_iters,iters_to_tol,wall_to_tol_ms,wall_to_tol_"
+                          "min_ms,wall_to_tol_max_ms,wall_to_tol_each_ms,wall_repeats,alloc_ms,final_rel_grad,fallback,"
+                          "global_matrix,status") != T_TOL ||
+      cb_experiment_table(&e, "tol_trace", NULL, "scene,method,iter,rel_grad,rel_f,wall_ms,obj_error,step_error") !=
+          T_TOL_TRACE ||
       cb_experiment_table(&e, "rises", NULL,
                           "scene,method,start,frames,frames_run,iters,rises,steps_with_rise,rel_max_rise,diverged,"
                           "diverge_frame,status") != T_RISES ||
@@ -134,8 +146,9 @@ int main(int argc, char **argv) {
       {"X1", fd_x1_cells(&p), fd_x1_cell, fd_x1_cost, &p},
       {"X2", p.nx2, fd_x2_cell, fd_x2_cost, &p},
       {"V1", fd_v1_cells(&p), fd_v1_cell, fd_v1_cost, &p},
+      {"Q1 sizes", p.ntolsz, fd_tolsize_cell, fd_tolsize_cost, &p},
   };
-  int st = cb_sweep_run(&e, sweeps, 4);
+  int st = cb_sweep_run(&e, sweeps, 5);
   st = cb_experiment_end(&e, st);
   return st == CB_OK ? 0 : st == CB_EIO ? 2 : 1;
 }

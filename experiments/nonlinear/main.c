@@ -71,6 +71,11 @@ static const scene_plan SCENES[] = {
     {{"grid81", "lab.ini", {G81, NULL}, "p1"}, 1},
     {{"grid81_stiff", "lab.ini", {G81, "material.stretch_k=1e6", NULL}, "p1"}, 1},
     {{"lab", "lab.ini", {NULL}, "p1"}, 3},
+    /* P1's size sweep (issue 31 §3): 441 kg in total (k dt^2/m grows as n^2), and 81^2's mass per vertex (_vm81) */
+    {{"grid41", "lab.ini", {"mesh.n=41", "material.vertex_mass=441/1681", "scene.pins=0 40", NULL}, "p1"}, 1},
+    {{"grid41_vm81", "lab.ini", {"mesh.n=41", "material.vertex_mass=441/6561", "scene.pins=0 40", NULL}, "p1"}, 1},
+    {{"grid161", "lab.ini", {"mesh.n=161", "material.vertex_mass=441/25921", "scene.pins=0 160", NULL}, "p1"}, 0},
+    {{"grid161_vm81", "lab.ini", {"mesh.n=161", "material.vertex_mass=441/6561", "scene.pins=0 160", NULL}, "p1"}, 0},
     {{"lab", "lab.ini", {NULL}, "error_time"}, 2},
     {{"grid64", "lab.ini", {G64, NULL}, "error_time"}, 0},
 };
@@ -152,11 +157,12 @@ int main(int argc, char **argv) {
       cb_experiment_table(&e, "p1", p1_extra,
                           "scene,n,k_n_per_m,method,frame,iters,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_"
                           "repeats,"
-                          "alloc_ms,step_error,rel_grad,fallback,status") != T_P1 ||
+                          "alloc_ms,step_error,obj_error,rel_grad,fallback,global_matrix,status") != T_P1 ||
       cb_experiment_table(&e, "p1_error", p1_extra,
-                          "scene,n,k_n_per_m,method,frame,tol,max_iters,iters_to_tol,wall_to_tol_ms,wall_to_tol_min_ms,"
-                          "wall_to_tol_max_ms,wall_to_tol_each_ms,wall_repeats,step_error,fallback,status") !=
-          T_P1_ERROR ||
+                          "scene,n,k_n_per_m,method,frame,measure,tol,max_iters,iters_to_tol,wall_to_tol_ms,wall_to_"
+                          "tol_"
+                          "min_ms,wall_to_tol_max_ms,wall_to_tol_each_ms,wall_repeats,step_error,obj_error,rel_grad,"
+                          "fallback,global_matrix,status") != T_P1_ERROR ||
       cb_experiment_table(&e, "error_time", state_extra,
                           "scene,n,method,family,iters,rho,wall_ms,setup_ms,step_error,rel_grad,status") !=
           T_ERROR_TIME)

@@ -1,5 +1,7 @@
 /* nonlinear, P1: pd (10 iterations) against the fastest converging Newton and Baraff-Witkin on
- * 81^2 and its stiff variant, and the time each needs to reach step error 1e-2 and 1e-3. */
+ * 81^2 and its stiff variant (and, as Liu 2017's set-up, L-BFGS's 10 iterations), and the time pd and
+ * Newton need to reach step error and relative objective error 1e-2 and 1e-3 and relative |grad F| 1e-3
+ * and 1e-5 (issue 31 §2). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -23,6 +25,9 @@ typedef struct {
 #define NEWTON_DROP_LS "integrator.method=newton", "integrator.definiteness=drop", "integrator.line_search=1"
 static const p1_method P1M[] = {
     {"pd10", {"integrator.method=pd", "integrator.iters=10", NULL}, {NULL}},
+    /* Liu, Bouaziz and Kavan 2017's set-up: 10 L-BFGS iterations a frame (against Baraff-Witkin's one Newton
+       iteration a frame); a labelled row of the report, not part of P1's verdict */
+    {"lbfgs10", {"integrator.method=lbfgs", "integrator.iters=10", "integrator.tol=0", NULL}, {NULL}},
     {"newton_exact",
      {NEWTON_EXACT, "integrator.max_iters=50", "integrator.tol=1e-8", NULL},
      {NEWTON_DROP_LS, "integrator.max_iters=50", "integrator.tol=1e-8", NULL}},
@@ -48,19 +53,25 @@ static const p1_family P1F[] = {
      50},
 };
 enum { NP1F = sizeof P1F / sizeof P1F[0] };
-static const double P1_TOLS[] = {1e-2, 1e-3};
-enum { NP1T = sizeof P1_TOLS / sizeof P1_TOLS[0] };
+/* The measures (issue 31 §2): the step error |x - x*|_M/|x* - x0|_M (P1's own), the relative objective error
+ * (F - F*)/(F(xhat) - F*), each at 1e-2 and 1e-3, and relative |grad F| at 1e-3 and 1e-5; rows per measure. */
+enum { PM_STEP, PM_OBJ, PM_GRAD, NPM };
+static const char *const P1_MEASURE[NPM] = {"step_error", "obj_error", "rel_grad"};
+static const double P1_TOLS[NPM][2] = {{1e-2, 1e-3}, {1e-2, 1e-3}, {1e-3, 1e-5}};
+enum { NP1T = 2 };
 
 typedef struct {
-  const cb_step_state *S;
+  cb_step_state *S;
   int n, cap;
-  double *err;
+  double *err[NPM]; /* per iteration, per measure */
 } err_trace;
 
 static void record_error(void *ctx, int event, const cb_newton_event *ev) {
   err_trace *t = ctx;
   if (event == CB_NEWTON_GRADIENT && ev->iter < t->cap) {
-    t->err[ev->iter] = cb_step_error(t->S->s, ev->x, t->S->xstar, t->S->x0);
+    t->err[PM_STEP][ev->iter] = cb_step_error(t->S->s, ev->x, t->S->xstar, t->S->x0);
+    t->err[PM_OBJ][ev->iter] = t->S->Fhat != t->S->Fstar ? (ev->F - t->S->Fstar) / (t->S->Fhat - t->S->Fstar) : NAN;
+    t->err[PM_GRAD][ev->iter] = ev->rel_grad; /* both families start at xhat: |grad F|/|grad F(xhat)| */
     if (ev->iter + 1 > t->n) t->n = ev->iter + 1;
   }
 }
@@ -83,20 +94,23 @@ int nl_p1_cell(long i, void *ctx, FILE *const *out) {
   cb_step_state S;
   int st = nl_state(p->e, d, frame, &S);
   if (st) return st;
-  enum { NJ = NP1M + NP1F * NP1T };
+  enum { NJ = NP1M + NP1F * NPM * NP1T };
   cb_step_result r[NJ];
   const char *const *sets[NJ], *const *fb[NJ];
   static const char *fsets[NJ][8], *ffb[NJ][8];
   static char fbuf[NJ][2][64];
-  int nj = 0, hit[NP1F][NP1T], job[NP1F][NP1T], cap[NP1F];
+  int nj = 0, hit[NP1F][NPM][NP1T], job[NP1F][NPM][NP1T], cap[NP1F];
   for (int m = 0; m < NP1M; m++, nj++) {
     sets[nj] = P1M[m].sets;
     fb[nj] = P1M[m].fallback[0] ? P1M[m].fallback : NULL;
   }
   for (int f = 0; st == CB_OK && f < NP1F; f++) { /* trace each family's step error */
     cap[f] = p->smoke ? 20 : p->quick ? P1F[f].cap_q : P1F[f].cap;
-    err_trace t = {&S, 0, cap[f] + 1, calloc((size_t)cap[f] + 1, sizeof(double))};
-    if (!t.err) {
+    err_trace t = {&S, 0, cap[f] + 1, {NULL}};
+    int oom = 0;
+    for (int me = 0; me < NPM; me++) oom |= !(t.err[me] = calloc((size_t)cap[f] + 1, sizeof(double)));
+    if (oom) {
+      for (int me = 0; me < NPM; me++) free(t.err[me]);
       st = cb_fail_status(CB_ENOMEM, "out of memory");
       break;
     }
@@ -111,21 +125,22 @@ int nl_p1_cell(long i, void *ctx, FILE *const *out) {
     double w;
     if (st == CB_OK) st = cb_step_fallback(&S, &c, P1F[f].fallback[0] ? &cf : NULL, record_error, &t, &tr, &w);
     if (st == CB_OK && t.n > tr.iters + 1) t.n = tr.iters + 1; /* a fallback's trace replaced the first run's */
-    for (int q = 0; st == CB_OK && q < NP1T; q++) {
-      hit[f][q] = job[f][q] = -1;
-      for (int k = 1; k < t.n && hit[f][q] < 0; k++)
-        if (t.err[k] <= P1_TOLS[q]) hit[f][q] = k;
-      if (hit[f][q] < 0) continue;
-      with_iters(P1F[f].sets, P1F[f].iters_key, hit[f][q], fbuf[nj][0], sizeof fbuf[nj][0], fsets[nj]);
+    for (int mq = 0; mq < NPM * NP1T; mq++) hit[f][mq / NP1T][mq % NP1T] = job[f][mq / NP1T][mq % NP1T] = -1;
+    for (int mq = 0; st == CB_OK && mq < NPM * NP1T; mq++) {
+      int me = mq / NP1T, q = mq % NP1T, *h = &hit[f][me][q];
+      for (int k = 1; k < t.n && *h < 0; k++) /* |obj|: it can dip a round-off below 0 (x* is converged to a tol) */
+        if (fabs(t.err[me][k]) <= P1_TOLS[me][q]) *h = k;
+      if (*h < 0) continue;
+      with_iters(P1F[f].sets, P1F[f].iters_key, *h, fbuf[nj][0], sizeof fbuf[nj][0], fsets[nj]);
       sets[nj] = fsets[nj];
       fb[nj] = NULL;
       if (P1F[f].fallback[0]) {
-        with_iters(P1F[f].fallback, P1F[f].iters_key, hit[f][q], fbuf[nj][1], sizeof fbuf[nj][1], ffb[nj]);
+        with_iters(P1F[f].fallback, P1F[f].iters_key, *h, fbuf[nj][1], sizeof fbuf[nj][1], ffb[nj]);
         fb[nj] = ffb[nj];
       }
-      job[f][q] = nj++;
+      job[f][me][q] = nj++;
     }
-    free(t.err);
+    for (int me = 0; me < NPM; me++) free(t.err[me]);
   }
   if (st == CB_OK)
     st = cb_step_time_group(p->e->quick, &S, sets, fb, nj, r); /* interleaved: pd10, newton_exact, ..., pd10, ... */
@@ -134,17 +149,19 @@ int nl_p1_cell(long i, void *ctx, FILE *const *out) {
   for (int m = 0; st == CB_OK && m < NP1M; m++) {
     cb_csv_printf(out[T_P1], "%s,%d,%.17g,%s,%d,%d,", d->label, n, k, P1M[m].label, frame, r[m].iters);
     cb_timing_csv_repeats(out[T_P1], &r[m].wall);
-    cb_csv_printf(out[T_P1], ",%.6f,%.17g,%.17g,%d,%s\n", r[m].alloc_ms, r[m].error, r[m].rel_grad, r[m].fallback,
-                  cb_status_name(r[m].status));
+    cb_csv_printf(out[T_P1], ",%.6f,%.17g,%.17g,%.17g,%d,%s,%s\n", r[m].alloc_ms, r[m].error, r[m].obj_error,
+                  r[m].rel_grad, r[m].fallback, cb_global_path_name(r[m].global_path), cb_status_name(r[m].status));
   }
   for (int f = 0; st == CB_OK && f < NP1F; f++)
-    for (int q = 0; q < NP1T; q++) {
-      int j = job[f][q];
+    for (int mq = 0; mq < NPM * NP1T; mq++) {
+      int me = mq / NP1T, q = mq % NP1T, j = job[f][me][q];
       /* a tolerance not reached within the cap: no iteration count, time or error, status cut_off */
-      cb_csv_printf(out[T_P1_ERROR], "%s,%d,%.17g,%s,%d,%g,%d,%.17g,", d->label, n, k, P1F[f].label, frame, P1_TOLS[q],
-                    cap[f], j >= 0 ? (double)hit[f][q] : na);
+      cb_csv_printf(out[T_P1_ERROR], "%s,%d,%.17g,%s,%d,%s,%g,%d,%.17g,", d->label, n, k, P1F[f].label, frame,
+                    P1_MEASURE[me], P1_TOLS[me][q], cap[f], j >= 0 ? (double)hit[f][me][q] : na);
       cb_timing_csv_repeats(out[T_P1_ERROR], j >= 0 ? &r[j].wall : NULL);
-      cb_csv_printf(out[T_P1_ERROR], ",%.17g,%.17g,%s\n", j >= 0 ? r[j].error : na, j >= 0 ? (double)r[j].fallback : na,
+      cb_csv_printf(out[T_P1_ERROR], ",%.17g,%.17g,%.17g,%.17g,%s,%s\n", j >= 0 ? r[j].error : na,
+                    j >= 0 ? r[j].obj_error : na, j >= 0 ? r[j].rel_grad : na, j >= 0 ? (double)r[j].fallback : na,
+                    j >= 0 ? cb_global_path_name(r[j].global_path) : "none",
                     j >= 0 ? cb_status_name(r[j].status) : "cut_off");
     }
   cb_step_state_free(&S);

@@ -49,7 +49,15 @@ typedef struct cb_step_stats {
   double constraint_residual; /* pbd, xpbd: the last sweep's largest constraint residual over the rest length,
                                  max_c |C_c + alpha~ lambda_c| / L_c (xpbd; pbd: |C_c| / L_c) at the iterate
                                  before that sweep, in the step's last substep; 0 for the other types */
+  int global_path;            /* pd, pd-chebyshev, lbfgs: the constant matrix P they solve with, CB_GLOBAL_SCALAR (n x n,
+                                 x, y and z as one 3-column right-hand side) or CB_GLOBAL_BLOCK (3n x 3n P (x) I_3);
+                                 CB_GLOBAL_NONE for the other methods */
+  double global_factor_nnz;   /* nonzeros of that matrix's factor (CHOLMOD), 0 = none */
 } cb_step_stats;
+
+enum { CB_GLOBAL_NONE = 0, CB_GLOBAL_SCALAR = 1, CB_GLOBAL_BLOCK = 2 };
+/* "none", "scalar", "block" (the CSV's global_matrix column), NULL past them. */
+const char *cb_global_path_name(int path);
 
 /* What a Newton hook sees. Events: CB_NEWTON_GRADIENT after each evaluation
  * of grad F (iter = solves done so far, 0 at the initial guess), and
@@ -116,8 +124,14 @@ typedef struct cb_pd_params {
   int iters;     /* local/global iterations per step (Liu et al. 2013: 10). Default 32 */
   double rho;    /* pd-chebyshev's rho in [0, 1), or CB_PARAM_AUTO. Default 0.995 (0 for pd) */
   int rho_iters; /* plain iterations of the `auto` estimate, run once. Default 64 */
+  int matrix;    /* CB_PD_MATRIX_AUTO (the n x n P where it can) or CB_PD_MATRIX_BLOCK. Default auto */
 } cb_pd_params;
-cb_pd_params cb_pd_params_default(void); /* pd-chebyshev's */
+/* integrator.pd_matrix (pd, pd-chebyshev, lbfgs): `auto` factors the n x n P and solves x, y, z as 3 right-hand
+ * sides when the solver is direct (CHOLMOD) and every term's part of P is of the form P (x) I_3, else the 3n x 3n
+ * block matrix; `block` always the block matrix (the harness before issue 31, kept to compare against). */
+enum { CB_PD_MATRIX_AUTO = 0, CB_PD_MATRIX_BLOCK = 1 };
+extern const char *const cb_pd_matrix_names[]; /* "auto", "block", NULL */
+cb_pd_params cb_pd_params_default(void);       /* pd-chebyshev's */
 
 /* Position-based dynamics' parameters (pbd, xpbd; integrator_xpbd.c). */
 typedef struct cb_xpbd_params {
@@ -134,6 +148,7 @@ typedef struct cb_lbfgs_params {
   double tol_dx;   /* max |alpha d| to stop at, m (Newton's tol_dx); 0 = off. Default 0 */
   int window;      /* (s, y) pairs kept, m. Default 5 */
   int line_search; /* 0 armijo, 1 wolfe (cb_lbfgs_line_search_names). Default 0 */
+  int matrix;      /* H0's storage, as cb_pd_params.matrix. Default auto */
 } cb_lbfgs_params;
 cb_lbfgs_params cb_lbfgs_params_default(void);
 extern const char *const cb_lbfgs_line_search_names[]; /* "armijo", "wolfe", NULL */

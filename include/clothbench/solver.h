@@ -31,6 +31,9 @@ typedef struct cb_solver_params {
                           thread during factorize and solve (1), or kept (0). Default 1 (bench_core_cholmod.csv) */
   int rho_reuse;       /* rho = auto / alpha = auto: reuse the last estimate while D stays put (1), or estimate at
                           every factor (0, the behaviour before the estimate was amortised). Default 1 */
+  int residual;        /* direct solvers: compute stats.rel_residual = |b - Ax|/|b| after each solve (1, one more
+                          product with A inside the solve), or leave it NaN (0: a caller that solves with one
+                          constant factor many times a step, pd and lbfgs, and does not read it). Default 1 */
   cb_solver_monitor monitor; /* per-iteration callback; NULL = none. Default NULL */
   void *monitor_ctx;
 } cb_solver_params;
@@ -80,6 +83,11 @@ typedef struct cb_solver_type {
    * next factor() works as the first one after analyze() did. NULL: the
    * solver carries nothing. */
   void (*forget)(cb_solver *s);
+  /* Solves A X = B for nrhs right-hand sides at once: B and X column-major,
+   * n x nrhs (column c at b + c n). A direct solver does it with one pass
+   * over its factor (CHOLMOD's dense multi-column solve). NULL: the wrapper
+   * cb_solver_solve_n calls solve once per column. */
+  int (*solve_n)(cb_solver *s, const cb_sparse *A, int nrhs, const double *b, double *x);
 } cb_solver_type;
 
 struct cb_solver {
@@ -104,6 +112,9 @@ int cb_solver_factor(cb_solver *s, const cb_sparse *A);
 /* x holds the initial guess on entry for iterative solvers (set it to 0 for
  * the lecture's choice) and the solution on return. */
 int cb_solver_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x);
+/* A X = B with nrhs columns (column-major, column c at b + c n, x likewise; x holds the initial guesses of an
+ * iterative solver). stats.iters sums the columns' iterations, stats.solve_ms is the whole call's time. */
+int cb_solver_solve_n(cb_solver *s, const cb_sparse *A, int nrhs, const double *b, double *x);
 void cb_solver_free(cb_solver *s);
 /* The type's forget (above), if it has one: a computation that must not
  * depend on what the solver did before (one measured step, repeated a number

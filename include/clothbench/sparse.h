@@ -10,14 +10,19 @@
  * entry (r, c) of block (bi, bj) lives at val[slot + c*stride + r], because the
  * three columns of block column bj share one pattern. Assembly writes numbers
  * into those slots and never allocates (CHOLMOD's analyse/factorise split
- * applied to our own matrix). */
+ * applied to our own matrix).
+ *
+ * A scalar matrix (no block structure: nblk = 0, bcolp = brow = NULL, n any)
+ * is the same CSC with one entry per (i, j); CHOLMOD, cb_sparse_matvec and
+ * cb_relative_residual read it, the block functions and the iterative solvers
+ * do not. Projective dynamics' n x n matrix P is one (pd_matrix.h). */
 #ifndef CB_SPARSE_H
 #define CB_SPARSE_H
 
 #include <stddef.h>
 
 typedef struct cb_sparse {
-  int n;       /* rows = columns = 3 * nblk */
+  int n;       /* rows = columns = 3 * nblk (any n for a scalar matrix, nblk = 0) */
   int nnz;     /* stored entries (both triangles) */
   int *colp;   /* n+1 column pointers */
   int *rowi;   /* nnz row indices, sorted within each column */

@@ -12,6 +12,7 @@
 #include <clothbench/timer.h>
 
 void cb_step_state_free(cb_step_state *S) {
+  cb_objective_free(&S->obj);
   cb_scene_free(S->s);
   free(S->x0);
   free(S->v0);
@@ -79,6 +80,12 @@ int cb_step_state_init(cb_step_state *S, const char *label, const cb_config *c, 
     }
     cb_reference_free(ref);
   }
+  if (st == CB_OK) st = cb_objective_init(&S->obj, S->s);
+  if (st == CB_OK) {
+    cb_objective_begin(&S->obj, S->x0, S->v0, S->c.dt);
+    S->Fhat = cb_objective_eval(&S->obj, S->obj.xhat, NULL, NULL);
+    S->Fstar = cb_objective_eval(&S->obj, S->xstar, NULL, NULL);
+  }
   if (st) cb_step_state_free(S);
   return st;
 }
@@ -87,6 +94,11 @@ int cb_step_classify(int status, double rel_grad_hat) {
   if (cb_status_is_fatal(status)) return status;
   if (!(rel_grad_hat <= CB_STEP_GROWTH_BOUND)) return CB_DIVERGED; /* NaN fails the test too */
   return status;
+}
+
+double cb_step_obj_error(cb_step_state *S, const double *x) {
+  double den = S->Fhat - S->Fstar;
+  return den != 0 ? (cb_objective_eval(&S->obj, x, NULL, NULL) - S->Fstar) / den : NAN;
 }
 
 int cb_step_config(const cb_step_state *S, const char *const *sets, cb_config *out) {
@@ -140,6 +152,8 @@ int cb_step_once(cb_step_state *S, const cb_config *c, cb_newton_hook hook, void
   r->iters = ss.newton_iters;
   r->rho = ss.rho;
   r->error = cb_step_error(S->s, S->x, S->xstar, S->x0);
+  r->obj_error = cb_step_obj_error(S, S->x);
+  r->global_path = ss.global_path;
   cb_integrator_free(it);
   return CB_OK;
 }

@@ -36,6 +36,7 @@
 #include "config.h"
 #include "stats.h"
 #include <clothbench/integrator.h>
+#include <clothbench/objective.h>
 #include <clothbench/scene.h>
 
 typedef struct cb_step_state {
@@ -47,7 +48,14 @@ typedef struct cb_step_state {
   double *xstar;     /* the converged step from it (reference) */
   double *x, *v;     /* scratch: the last step's end state */
   int n3;
+  cb_objective obj;   /* F of the step from (x0, v0) */
+  double Fhat, Fstar; /* F(xhat), F(x*): the objective error's yardsticks (cb_step_obj_error) */
 } cb_step_state;
+
+/* The relative objective error (F(x) - F(x*)) / (F(xhat) - F(x*)) of S's step at x (Liu et al. 2017's
+ * measure; 1 at xhat, 0 at the converged step; it may be slightly negative where x* is converged only to its
+ * tolerance). NaN when F(xhat) = F(x*). */
+double cb_step_obj_error(cb_step_state *S, const double *x);
 
 /* Takes s (built from c; freed on error too): `frames` frames of c's method
  * (with its damping) from the scene's initial state, then the reference step
@@ -57,9 +65,11 @@ void cb_step_state_free(cb_step_state *S);
 
 typedef struct cb_step_result {
   double wall_ms, setup_ms, alloc_ms, error, rel_grad, rho;
+  double obj_error; /* cb_step_obj_error at the end state */
   int iters, status;
-  int fallback;   /* the step hit a non-SPD factorisation and was rerun with the method's fallback */
-  cb_timing wall; /* the step's time at every timed repeat (wall_ms: their median) */
+  int global_path; /* pd, pd-chebyshev, lbfgs: CB_GLOBAL_SCALAR or CB_GLOBAL_BLOCK (integrator.h); 0 others */
+  int fallback;    /* the step hit a non-SPD factorisation and was rerun with the method's fallback */
+  cb_timing wall;  /* the step's time at every timed repeat (wall_ms: their median) */
 } cb_step_result;
 
 /* A step's end may not be worse than its start guess xhat by more than this: relative |grad F| =

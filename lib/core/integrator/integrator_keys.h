@@ -53,6 +53,15 @@
            "Cholesky (or CG) succeeds; `choi-ko` replaces the compressed spring by Choi & Ko's (2002) " \
            "immediate-buckling response (see `material.buckling_kb`), a different energy, with its exact Hessian." \
   }
+#define CB_KEY_PD_MATRIX(off) \
+  { \
+    .name = "pd_matrix", .kind = CB_PARAM_CHOICE, .offset = (off), .def = "auto", .unit = "-", \
+    .choices = cb_pd_matrix_names, \
+    .doc = "The constant matrix of pd, pd-chebyshev and lbfgs: `auto` factors the n x n P once and solves x, y and z " \
+           "as one 3-column right-hand side (Liu et al. 2013, 2017) when the solver is cholmod and every term's part " \
+           "is of the form P (x) I_3, else the 3n x 3n block matrix P (x) I_3; `block` always the block matrix. The " \
+           "CSV's global_matrix column names the one used." \
+  }
 #define CB_KEY_END \
   { .name = NULL } /* ends a type's list */
 

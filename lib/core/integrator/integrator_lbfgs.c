@@ -6,7 +6,9 @@
  *
  *   F(x) = 1/(2 dt^2)|x - xhat|_M^2 + E(x)      (objective.h; every energy term counts)
  *   H0   = M/dt^2 + sum_springs k A A^T (x) I_3 + H_const    (pd_matrix.h), factorised once
- *          per integrator (init) with the linear solver (solver.method, CHOLMOD by default)
+ *          per integrator (init) with the linear solver (solver.method, CHOLMOD by default):
+ *          with CHOLMOD the n x n P and one 3-column back-solve (Liu et al. 2017, sec. 3), else,
+ *          or with integrator.pd_matrix = block, the 3n x 3n P (x) I_3
  *   x_0 = xhat;  g_k = grad F(x_k);  the last m pairs s_i = x_{i+1} - x_i, y_i = g_{i+1} - g_i
  *   two-loop recursion, newest pair first:
  *     q = g_k;  a_i = rho_i s_i.q,  q -= a_i y_i           (rho_i = 1/(y_i.s_i))
@@ -61,7 +63,7 @@ enum { LS_MAX_TRIALS = 40 };
 #define C2 0.9        /* Wolfe's curvature (Nocedal and Wright's value for quasi-Newton methods) */
 
 static const cb_lbfgs_params lbfgs_defaults = {
-    .iters = 32, .tol = 1e-8, .tol_dx = 0, .window = 5, .line_search = LS_ARMIJO};
+    .iters = 32, .tol = 1e-8, .tol_dx = 0, .window = 5, .line_search = LS_ARMIJO, .matrix = CB_PD_MATRIX_AUTO};
 
 cb_lbfgs_params cb_lbfgs_params_default(void) { return lbfgs_defaults; }
 
@@ -87,13 +89,14 @@ static const cb_param_key lbfgs_keys[] = {
      .unit = "-",
      .choices = cb_lbfgs_line_search_names,
      .doc = "lbfgs: `armijo` backtracking, or `wolfe` (the strong Wolfe conditions, c1 = 1e-4, c2 = 0.9)."},
+    CB_KEY_PD_MATRIX(LP(matrix)),
     CB_KEY_END,
 };
 #undef LP
 
 typedef struct {
   cb_objective obj;
-  cb_sparse H0;
+  cb_pd_global H0;        /* H0 = P, factorised (n x n, or 3n x 3n blocks; pd_matrix.h) */
   int m;                  /* window */
   double *S, *Y;          /* m x 3 nfree, ring buffers */
   double *rho, *a;        /* m */
@@ -106,7 +109,7 @@ typedef struct {
 static void lb_free(cb_integrator *it) {
   lbfgs_work *w = it->state;
   cb_objective_free(&w->obj);
-  cb_sparse_free(&w->H0);
+  cb_pd_global_free(&w->H0);
   free(w->S);
   free(w->Y);
   free(w->rho);
@@ -131,7 +134,6 @@ static int lb_init(cb_integrator *it) {
   size_t mn = (size_t)p->window * (size_t)nf3 + 1;
   w->m = p->window;
   int st = cb_objective_init(&w->obj, s);
-  if (st == CB_OK) st = cb_pd_matrix_build(s, it->params.dt, 1, &w->H0);
   if (st) return st;
   w->S = cb_malloc(mn, sizeof(double));
   w->Y = cb_malloc(mn, sizeof(double));
@@ -143,8 +145,7 @@ static int lb_init(cb_integrator *it) {
   w->d = cb_malloc((size_t)nf3 + 1, sizeof(double));
   w->xt = cb_malloc((size_t)nv3 + 1, sizeof(double));
   if (!w->S || !w->Y || !w->rho || !w->a || !w->g || !w->gt || !w->q || !w->d || !w->xt) return CB_ENOMEM;
-  if (nf3 == 0) return CB_OK;
-  st = cb_solver_factor(it->solver, &w->H0); /* once per integrator */
+  st = cb_pd_global_init(&w->H0, it, 1, p->matrix); /* once per integrator */
   if (st)
     return cb_fail_status(st, "lbfgs: factorising its initial Hessian M/dt^2 + L failed (%s)", cb_status_name(st));
   return CB_OK;
@@ -167,11 +168,8 @@ static int direction(cb_integrator *it, lbfgs_work *w, int nf3, cb_step_stats *s
     cblas_daxpy(nf3, -w->a[i], yi, 1, w->q, 1);            /* q -= a_i y_i */
   }
   memset(w->d, 0, (size_t)nf3 * sizeof(double));
-  int ls = cb_solver_solve(it->solver, &w->H0, w->q, w->d); /* r = H0^-1 q */
-  st->solve_ms += it->solver->stats.solve_ms;
-  st->linear_iters += it->solver->stats.iters;
-  st->linear_status = ls;
-  for (int c = w->npairs - 1; c >= 0; c--) { /* oldest first */
+  int ls = cb_pd_global_solve(&w->H0, it, w->q, w->d, st); /* r = H0^-1 q */
+  for (int c = w->npairs - 1; c >= 0; c--) {               /* oldest first */
     int i = (w->newest - c + w->m) % w->m;
     const double *si = w->S + (size_t)i * nf3, *yi = w->Y + (size_t)i * nf3;
     double b = w->rho[i] * cblas_ddot(nf3, yi, 1, w->d, 1); /* b = rho_i y_i.r */

@@ -11,10 +11,12 @@
  * with L = sum_e k A_e A_e^T (x) I_3 the spring Laplacian, (J d)_i =
  * sum_{e = (i, j)} k d_e - sum_{e = (j, i)} k d_e, f_ext = m g, and a pinned
  * neighbour p of a free i moving k x_p to the right-hand side. The matrix is
- * constant: it is assembled on the system's 3x3-block pattern (a copy, so
- * Newton's matrix is untouched), factorised once when the integrator is built
- * (init) with the linear solver named by solver.method (CHOLMOD by
- * default), and each iteration is one local step and one back-solve; no
+ * constant and of the form P (x) I_3: with CHOLMOD (the default solver) the
+ * n x n P is factorised once when the integrator is built (init) and each
+ * global step solves x, y and z as one 3-column right-hand side (Liu et al.
+ * 2013, sec. 4); with an iterative solver, or integrator.pd_matrix = block,
+ * the 3n x 3n P (x) I_3 on a copy of the system's 3x3-block pattern
+ * (pd_matrix.h). Each iteration is one local step and one back-solve; no
  * factorisation happens inside a step.
  *
  *   pd            x_{k+1} = y_k                                   (K = integrator.iters)
@@ -38,7 +40,8 @@
  * keeps its rest direction. Step stats as for jacobi-nl: newton_iters = K,
  * rel_grad = rel_grad_hat = |grad F(x_K)|/|grad F(xhat)| (two gradient
  * evaluations per step: at xhat and at x_K; one per iteration more when a
- * hook observes the iterates), linear_iters the solver's iterations. */
+ * hook observes the iterates), linear_iters the solver's iterations,
+ * global_path the matrix used. */
 #include <cblas.h>
 #include <math.h>
 #include <stddef.h>
@@ -57,8 +60,8 @@
 enum { RHO_DOUBLINGS = 5 }; /* the auto estimate runs at most rho_iters << RHO_DOUBLINGS plain iterations */
 #define RHO_ROUNDOFF 1e-12  /* updates below this fraction of the first are round-off */
 
-static const cb_pd_params pd_defaults = {.iters = 32, .rho = 0.0, .rho_iters = 64};
-static const cb_pd_params pdc_defaults = {.iters = 32, .rho = 0.995, .rho_iters = 64};
+static const cb_pd_params pd_defaults = {.iters = 32, .rho = 0.0, .rho_iters = 64, .matrix = CB_PD_MATRIX_AUTO};
+static const cb_pd_params pdc_defaults = {.iters = 32, .rho = 0.995, .rho_iters = 64, .matrix = CB_PD_MATRIX_AUTO};
 
 cb_pd_params cb_pd_params_default(void) { return pdc_defaults; }
 
@@ -66,19 +69,18 @@ cb_pd_params cb_pd_params_default(void) { return pdc_defaults; }
 #define PP(f) offsetof(cb_pd_params, f)
 static const cb_param_key pd_keys[] = {
     CB_KEY_ITERS(PP(iters)),
+    CB_KEY_PD_MATRIX(PP(matrix)),
     CB_KEY_END,
 };
 static const cb_param_key pdc_keys[] = {
-    CB_KEY_ITERS(PP(iters)),
-    CB_KEY_RHO(PP(rho)),
-    CB_KEY_RHO_ITERS(PP(rho_iters)),
-    CB_KEY_END,
+    CB_KEY_ITERS(PP(iters)),      CB_KEY_RHO(PP(rho)), CB_KEY_RHO_ITERS(PP(rho_iters)),
+    CB_KEY_PD_MATRIX(PP(matrix)), CB_KEY_END,
 };
 #undef PP
 
 typedef struct {
   cb_objective obj;
-  cb_sparse P;          /* M/dt^2 + L on the system's pattern (free DOFs) */
+  cb_pd_global g;       /* P = M/dt^2 + L over the free DOFs, factorised (n x n, or 3n x 3n blocks) */
   int ns;               /* springs */
   const int *ends;      /* 2*ns: the stretch springs, the mesh's edges (the spring term's arrays) */
   const double *rest;   /* ns: rest lengths L_e, m */
@@ -97,7 +99,7 @@ typedef struct {
 static void pd_free(cb_integrator *it) {
   pd_work *w = it->state;
   cb_objective_free(&w->obj);
-  cb_sparse_free(&w->P);
+  cb_pd_global_free(&w->g);
   free(w->c);
   free(w->b);
   free(w->y);
@@ -188,7 +190,6 @@ static int pd_init(cb_integrator *it) {
   }
   int nf = s->model.nfree, nv = s->mesh.nv;
   int st = cb_objective_init(&w->obj, s);
-  if (st == CB_OK) st = cb_pd_matrix_build(s, it->params.dt, 0, &w->P); /* P = M/dt^2 + sum_e k A_e A_e^T (x) I_3 */
   if (st) return st;
   w->c = cb_malloc((size_t)3 * nf + 1, sizeof(double));
   w->b = cb_malloc((size_t)3 * nf + 1, sizeof(double));
@@ -200,8 +201,7 @@ static int pd_init(cb_integrator *it) {
   if (p->rho == CB_PARAM_AUTO && !(w->dnorm = cb_malloc((size_t)p->rho_iters << RHO_DOUBLINGS, sizeof(double))))
     return CB_ENOMEM;
   w->rho = p->rho;
-  if (nf == 0) return CB_OK;
-  st = cb_solver_factor(it->solver, &w->P); /* once per scene */
+  st = cb_pd_global_init(&w->g, it, 0, p->matrix); /* P = M/dt^2 + sum_e k A_e A_e^T, factorised once per scene */
   if (st) return cb_fail_status(st, "%s: factorising M/dt^2 + L failed (%s)", name, cb_status_name(st));
   return CB_OK;
 }
@@ -230,10 +230,7 @@ static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnor
     for (int b = 0; b < nf; b++) /* initial guess of an iterative solver: the current iterate */
       for (int a = 0; a < 3; a++) w->y[3 * b + a] = x[3 * s->free_vertex[b] + a];
     st->assemble_ms += cb_now_ms() - t0;
-    int ls = cb_solver_solve(it->solver, &w->P, w->b, w->y); /* global: (M/dt^2 + L) y = b */
-    st->solve_ms += it->solver->stats.solve_ms;
-    st->linear_iters += it->solver->stats.iters;
-    st->linear_status = ls;
+    int ls = cb_pd_global_solve(&w->g, it, w->b, w->y, st); /* global: (M/dt^2 + L) y = b */
     if (ls != CB_OK && ls != CB_NOT_CONVERGED) return ls == CB_ENOMEM ? CB_ENOMEM : CB_LINEAR_FAILED;
     omega = cb_chebyshev_omega(k, rho, omega);
     double d2 = 0.0;

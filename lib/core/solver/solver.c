@@ -49,6 +49,7 @@ cb_solver_params cb_solver_params_default(void) {
                         .upper = 1,
                         .flush_denormals = 1,
                         .rho_reuse = 1,
+                        .residual = 1,
                         .monitor = NULL,
                         .monitor_ctx = NULL};
   return p;
@@ -107,6 +108,26 @@ int cb_solver_solve(cb_solver *s, const cb_sparse *A, const double *b, double *x
   s->stats.iters = 0;
   double t0 = cb_now_ms();
   int st = s->type->solve(s, A, b, x);
+  s->stats.solve_ms = cb_now_ms() - t0;
+  s->stats.status = st;
+  return st;
+}
+
+int cb_solver_solve_n(cb_solver *s, const cb_sparse *A, int nrhs, const double *b, double *x) {
+  s->stats.history_len = 0;
+  s->stats.iters = 0;
+  double t0 = cb_now_ms();
+  int st = CB_OK;
+  if (s->type->solve_n) st = s->type->solve_n(s, A, nrhs, b, x);
+  else {
+    int iters = 0;
+    for (int c = 0; c < nrhs && (st == CB_OK || st == CB_NOT_CONVERGED); c++) {
+      int sc = s->type->solve(s, A, b + (size_t)c * A->n, x + (size_t)c * A->n);
+      iters += s->stats.iters;
+      if (sc != CB_OK) st = sc; /* the worst column's status: an error stops, not converged carries on */
+    }
+    s->stats.iters = iters;
+  }
   s->stats.solve_ms = cb_now_ms() - t0;
   s->stats.status = st;
   return st;

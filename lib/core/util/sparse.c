@@ -184,6 +184,14 @@ double cb_sparse_residual(const cb_sparse *A, const double *restrict b, const do
 }
 
 void cb_sparse_matvec(const cb_sparse *A, const double *restrict x, double *restrict y) {
+  if (!A->bcolp) { /* a scalar matrix: column j read as row j (symmetric) */
+    for (int j = 0; j < A->n; j++) {
+      double s = 0.0;
+      for (int q = A->colp[j]; q < A->colp[j + 1]; q++) s += A->val[q] * x[A->rowi[q]]; /* y_j = sum_i A_ij x_i */
+      y[j] = s;
+    }
+    return;
+  }
   for (int bj = 0; bj < A->nblk; bj++) block_column(A, bj, x, y + 3 * bj); /* y = A x */
 }
 
