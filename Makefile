@@ -67,7 +67,7 @@ CFLAGS   := $(OPT) -g $(WARN) $(SAN)
 LDFLAGS  := $(SAN)
 # GSL is linked statically: Debian's libgsl.so pulls in libgslcblas, and we
 # link exactly one CBLAS, OpenBLAS (scripts/check-blas.sh verifies it).
-LDLIBS   := -lcholmod -Wl,-Bstatic -lgsl -Wl,-Bdynamic -lopenblas -linih -lgomp -lm
+LDLIBS   := -lcholmod -Wl,-Bstatic -lgsl -Wl,-Bdynamic -lopenblas -linih -lgmp -lgomp -lm
 
 CORE_SRC  := $(sort $(wildcard lib/core/*/*.c))
 CONFIG_SRC:= $(sort $(wildcard lib/config/*.c))
@@ -75,7 +75,7 @@ INSTR_SRC := $(sort $(wildcard lib/instruments/*.c))
 IO_SRC    := $(sort $(wildcard lib/io/*.c))
 LIB_OBJ  := $(CORE_SRC:%.c=$(BUILD)/%.o) $(CONFIG_SRC:%.c=$(BUILD)/%.o) $(INSTR_SRC:%.c=$(BUILD)/%.o) $(IO_SRC:%.c=$(BUILD)/%.o) $(BUILD)/version.o
 LIB      := $(BUILD)/libclothbench.a
-TOOLS    := $(BUILD)/simulate $(BUILD)/blas-kernel
+TOOLS    := $(BUILD)/simulate $(BUILD)/blas-kernel $(BUILD)/ccd-query
 # one program per folder experiments/<name>/ (main.c plus what serves only it)
 EXP_NAMES:= $(sort $(notdir $(patsubst %/,%,$(dir $(wildcard experiments/*/main.c)))))
 EXPS     := $(EXP_NAMES:%=$(BUILD)/%)
@@ -153,6 +153,9 @@ $(BUILD)/simulate: $(BUILD)/tools/simulate.o $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
 $(BUILD)/blas-kernel: $(BUILD)/tools/blas_kernel.o $(LIB)
+	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
+
+$(BUILD)/ccd-query: $(BUILD)/tools/ccd_query.o $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
 .SECONDEXPANSION:
