@@ -66,11 +66,11 @@ enum { CB_CCD_VF = 0, CB_CCD_EE = 1 };
  * NaN, tol <= 0, max_boxes < 1: never a silent "no hit"), then runs the method. r is always written: on an
  * error r->hit = 1, r->toi = 0 (a caller that ignores the status still stops). type NULL: the default. */
 int cb_ccd_run(const cb_ccd_type *type, int kind, const cb_ccd_query *q, const cb_ccd_params *p, cb_ccd_result *r);
-/* Plain-double queries: x0[k] the point k at t = 0, x1[k] at t = 1 (vf: vertex then triangle; ee: edge then
- * edge). */
-int cb_ccd_vf(const cb_ccd_type *type, const double x0[4][3], const double x1[4][3], const cb_ccd_params *p,
+/* Plain-double queries, flat as positions are: x0[3k..3k+2] the point k at t = 0, x1[3k..3k+2] at t = 1
+ * (vf: vertex then triangle; ee: edge then edge). */
+int cb_ccd_vf(const cb_ccd_type *type, const double x0[12], const double x1[12], const cb_ccd_params *p,
               cb_ccd_result *r);
-int cb_ccd_ee(const cb_ccd_type *type, const double x0[4][3], const double x1[4][3], const cb_ccd_params *p,
+int cb_ccd_ee(const cb_ccd_type *type, const double x0[12], const double x1[12], const cb_ccd_params *p,
               cb_ccd_result *r);
 
 #endif

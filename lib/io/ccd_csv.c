@@ -96,7 +96,7 @@ int cb_ccd_file_read(FILE *f, const char *name, cb_ccd_file *out) {
     for (size_t i = 0; i <= n; i++)
       if (i == n || buf[i] == ',') {
         if (nf == 7) {
-          rc = cb_fail("%s:%ld:%zu: more than 7 fields", name, line, i + 1);
+          rc = cb_fail("%s:%ld:%zu: more than 7 fields", name, line, s + 1);
           goto done;
         }
         start[nf] = s;

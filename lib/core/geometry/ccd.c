@@ -60,23 +60,23 @@ int cb_ccd_run(const cb_ccd_type *type, int kind, const cb_ccd_query *q, const c
   return s;
 }
 
-static int plain(const cb_ccd_type *type, int kind, const double x0[4][3], const double x1[4][3],
+static int plain(const cb_ccd_type *type, int kind, const double x0[12], const double x1[12],
                  const cb_ccd_params *p, cb_ccd_result *r) {
   cb_ccd_query q;
   for (int k = 0; k < 4; k++)
     for (int j = 0; j < 3; j++) {
-      q.lo[k][j] = q.hi[k][j] = x0[k][j];
-      q.lo[k + 4][j] = q.hi[k + 4][j] = x1[k][j];
+      q.lo[k][j] = q.hi[k][j] = x0[3 * k + j];
+      q.lo[k + 4][j] = q.hi[k + 4][j] = x1[3 * k + j];
     }
   return cb_ccd_run(type, kind, &q, p, r);
 }
 
-int cb_ccd_vf(const cb_ccd_type *type, const double x0[4][3], const double x1[4][3], const cb_ccd_params *p,
+int cb_ccd_vf(const cb_ccd_type *type, const double x0[12], const double x1[12], const cb_ccd_params *p,
               cb_ccd_result *r) {
   return plain(type, CB_CCD_VF, x0, x1, p, r);
 }
 
-int cb_ccd_ee(const cb_ccd_type *type, const double x0[4][3], const double x1[4][3], const cb_ccd_params *p,
+int cb_ccd_ee(const cb_ccd_type *type, const double x0[12], const double x1[12], const cb_ccd_params *p,
               cb_ccd_result *r) {
   return plain(type, CB_CCD_EE, x0, x1, p, r);
 }

@@ -69,13 +69,32 @@ typedef struct {
 static inline double down(double r) { return nextafter(r, -INFINITY); }
 static inline double up(double r) { return nextafter(r, INFINITY); }
 
-static inline ival iv_sub(ival a, ival b) { return (ival){down(a.lo - b.hi), up(a.hi - b.lo)}; }
-static inline ival iv_add(ival a, ival b) { return (ival){down(a.lo + b.lo), up(a.hi + b.hi)}; }
+/* r = fl(exact) and err = exact - r, known exactly (below): the interval [r, r] when the operation was exact,
+ * else the side of r the exact value lies on, widened by one ulp */
+static inline ival around(double r, double err) {
+  if (err == 0.0) return (ival){r, r};
+  return err > 0.0 ? (ival){r, up(r)} : (ival){down(r), r};
+}
+/* Knuth's TwoSum: s + e = a + b exactly (round to nearest, no overflow: |x| <= 2^503 here) */
+static inline ival sum_lo(double a, double b) {
+  double s = a + b, bb = s - a, e = (a - (s - bb)) + (b - bb);
+  return around(s, e);
+}
+/* the product's error by fma (exact unless the product is near underflow: then widen both ways) */
+static inline ival prod(double a, double b) {
+  if (a == 0.0 || b == 0.0) return (ival){0.0, 0.0}; /* exact */
+  double r = a * b;
+  if (fabs(r) < 0x1p-900) return (ival){down(r), up(r)};
+  return around(r, fma(a, b, -r));
+}
+
+static inline ival iv_sub(ival a, ival b) { return (ival){sum_lo(a.lo, -b.hi).lo, sum_lo(a.hi, -b.lo).hi}; }
+static inline ival iv_add(ival a, ival b) { return (ival){sum_lo(a.lo, b.lo).lo, sum_lo(a.hi, b.hi).hi}; }
 /* s a in [0, 1], s >= 0 exact: the product keeps the order of the ends */
 static inline ival iv_scale(double s, ival a) {
   if (s == 0.0) return (ival){0.0, 0.0};
   if (s == 1.0) return a;
-  return (ival){down(s * a.lo), up(s * a.hi)};
+  return (ival){prod(s, a.lo).lo, prod(s, a.hi).hi};
 }
 
 typedef struct {
@@ -118,18 +137,24 @@ static inline ival corner(ival D, ival E1, ival E2, double u, double v) {
 
 enum { EXCLUDED = 0, ACCEPTED = 1, SPLIT = 2 };
 
-/* Whether the box certainly holds a contact at its latest time t1: |F_j(t1, uc, vc)| <= eta for every j at
- * the centre (uc, vc) of its parameter box (inside the simplex for vf), in outward-rounded arithmetic. */
+/* Whether the box certainly holds a contact at its latest time t1: |F_j(t1, u, v)| <= eta for every j at
+ * the centre or a corner (u, v) of its parameter box (inside the simplex for vf), in outward-rounded
+ * arithmetic. The corners catch contacts that touch the eta-cube exactly at a box's side. */
 static int witness(const cb_ccd_query *q, int kind, const box *b, double eta) {
-  double uc = 0.5 * (b->u0 + b->u1), vc = 0.5 * (b->v0 + b->v1);
-  if (kind == CB_CCD_VF && uc + vc > 1.0) return 0;
   ival D[3], E1[3], E2[3];
   terms(q, kind, b->t1, D, E1, E2);
-  for (int j = 0; j < 3; j++) {
-    ival f = corner(D[j], E1[j], E2[j], uc, vc);
-    if (f.lo < -eta || f.hi > eta) return 0;
+  const double us[5] = {0.5 * (b->u0 + b->u1), b->u0, b->u0, b->u1, b->u1};
+  const double vs[5] = {0.5 * (b->v0 + b->v1), b->v0, b->v1, b->v0, b->v1};
+  for (int k = 0; k < 5; k++) {
+    if (kind == CB_CCD_VF && us[k] + vs[k] > 1.0) continue;
+    int in = 1;
+    for (int j = 0; j < 3 && in; j++) {
+      ival f = corner(D[j], E1[j], E2[j], us[k], vs[k]);
+      in = f.lo >= -eta && f.hi <= eta;
+    }
+    if (in) return 1;
   }
-  return 1;
+  return 0;
 }
 
 /* Examines box b: EXCLUDED, ACCEPTED, or SPLIT with *dim the variable to halve (0 t, 1 u, 2 v). */
