@@ -179,7 +179,7 @@ static int examine(const cb_ccd_query *q, int kind, const box *b, double eta, do
   }
   for (int j = 0; j < 3; j++)
     if (lo[j] > eta || hi[j] < -eta) return EXCLUDED; /* |F| >= |F_j| > eta on the whole box */
-  if (eta > 0.0 && witness(q, kind, b, eta)) {
+  if (witness(q, kind, b, eta)) {
     /* a contact (within eta in every component) at t1: localise it in time, the earlier half first */
     if (b->t1 - b->t0 <= tol_t || b->dt >= MAX_DEPTH) return ACCEPTED;
     *dim = 0;
