@@ -198,8 +198,8 @@ Test(ccd, reader_reports_line_and_column) {
   cb_ccd_file_free(&in);
   static const struct {
     const char *row, *where;
-  } bad[] = {{"nan,1,1,4,1,1,0", "x.csv:1:1:"},  {"1,4,inf,1,1,1,0", "x.csv:1:5:"}, {"1,0,1,4,1,1,0", "x.csv:1:1: zero"},
-             {"1,4,1,4,1,1", "x.csv:1:"},      {"1,4,1,4,1,1,2", "x.csv:1:13:"}, {"1,4,1,4,1,1,0,0", "x.csv:1:15:"},
+  } bad[] = {{"nan,1,1,4,1,1,0", "x.csv:1:1:"}, {"1,4,inf,1,1,1,0", "x.csv:1:5:"}, {"1,0,1,4,1,1,0", "x.csv:1:1: zero"},
+             {"1,4,1,4,1,1", "x.csv:1:"},       {"1,4,1,4,1,1,2", "x.csv:1:13:"},  {"1,4,1,4,1,1,0,0", "x.csv:1:15:"},
              {"1.5,4,1,4,1,1,0", "x.csv:1:1:"}, {"1,4,1,4,1,1,1", "x.csv:2:"}};
   for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
     int rc = read_text(query8(bad[i].row), &in);

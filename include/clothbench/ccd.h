@@ -27,10 +27,10 @@
 #define CB_CCD_H
 
 typedef struct cb_ccd_params {
-  double eta;    /* minimum separation, length units, >= 0; default 0 */
-  double tol;    /* relative tolerance (> 0) of the distance function: a box of (t, u, v) whose values of the
-                    separation vector vary by at most tol * (the query's extent) is accepted as a hit;
-                    default 1e-6 */
+  double eta;     /* minimum separation, length units, >= 0; default 0 */
+  double tol;     /* relative tolerance (> 0) of the distance function: a box of (t, u, v) whose values of the
+                     separation vector vary by at most tol * (the query's extent) is accepted as a hit;
+                     default 1e-6 */
   long max_boxes; /* budget of boxes a query may examine (>= 1); past it the query stops with a conservative
                      hit at the earliest time it could not exclude and status CB_NOT_CONVERGED; default 1e6 */
 } cb_ccd_params;
@@ -38,9 +38,9 @@ typedef struct cb_ccd_params {
 cb_ccd_params cb_ccd_params_default(void);
 
 typedef struct cb_ccd_result {
-  int hit;     /* 1: contact possible in [0, 1]; 0: certainly none */
-  double toi;  /* when hit: a time in [0, 1] no later than the first contact; 1 when no hit */
-  long boxes;  /* boxes examined (the cost) */
+  int hit;    /* 1: contact possible in [0, 1]; 0: certainly none */
+  double toi; /* when hit: a time in [0, 1] no later than the first contact; 1 when no hit */
+  long boxes; /* boxes examined (the cost) */
 } cb_ccd_result;
 
 /* One query's coordinates as intervals: lo[k][j] <= x_k[j] <= hi[k][j], k = 0..7 (0-3 at t = 0, 4-7 at t = 1). */

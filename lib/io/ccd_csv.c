@@ -11,8 +11,7 @@
 #include <clothbench/status.h>
 
 /* rational num/den as the interval [lo, hi] of doubles around it; 0 ok, else a message in msg */
-static int to_interval(const mpz_t num, const mpz_t den, double *lo, double *hi, int *exact, char *msg,
-                       size_t len) {
+static int to_interval(const mpz_t num, const mpz_t den, double *lo, double *hi, int *exact, char *msg, size_t len) {
   if (mpz_sgn(den) == 0) {
     snprintf(msg, len, "zero denominator");
     return -1;
@@ -114,8 +113,8 @@ int cb_ccd_file_read(FILE *f, const char *name, cb_ccd_file *out) {
       while (len[k] > 0 && (buf[start[k]] == ' ' || buf[start[k]] == '\t')) start[k]++, len[k]--;
       while (len[k] > 0 && (buf[start[k] + len[k] - 1] == ' ' || buf[start[k] + len[k] - 1] == '\t')) len[k]--;
       if (!is_integer(buf + start[k], len[k])) {
-        rc = cb_fail("%s:%ld:%zu: '%.*s' is not an integer%s", name, line, start[k] + 1, (int)(len[k] > 40 ? 40 : len[k]),
-                     buf + start[k], k == 6 ? " (truth: 0 or 1)" : "");
+        rc = cb_fail("%s:%ld:%zu: '%.*s' is not an integer%s", name, line, start[k] + 1,
+                     (int)(len[k] > 40 ? 40 : len[k]), buf + start[k], k == 6 ? " (truth: 0 or 1)" : "");
         goto done;
       }
       if (len[k] + 1 > fieldcap) {

@@ -14,10 +14,10 @@
 #include <clothbench/ccd.h>
 
 typedef struct cb_ccd_file {
-  int n;            /* queries */
-  cb_ccd_query *q;  /* n queries */
-  int *truth;       /* n truths (0/1) */
-  long inexact;     /* coordinates that are no double (given as an interval of two neighbours) */
+  int n;           /* queries */
+  cb_ccd_query *q; /* n queries */
+  int *truth;      /* n truths (0/1) */
+  long inexact;    /* coordinates that are no double (given as an interval of two neighbours) */
 } cb_ccd_file;
 
 /* Reads a file (name is used in messages). CB_EINVAL with "name:line:column: what" in cb_error_message() on

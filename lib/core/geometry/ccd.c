@@ -60,8 +60,8 @@ int cb_ccd_run(const cb_ccd_type *type, int kind, const cb_ccd_query *q, const c
   return s;
 }
 
-static int plain(const cb_ccd_type *type, int kind, const double x0[12], const double x1[12],
-                 const cb_ccd_params *p, cb_ccd_result *r) {
+static int plain(const cb_ccd_type *type, int kind, const double x0[12], const double x1[12], const cb_ccd_params *p,
+                 cb_ccd_result *r) {
   cb_ccd_query q;
   for (int k = 0; k < 4; k++)
     for (int j = 0; j < 3; j++) {

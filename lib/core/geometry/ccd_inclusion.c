@@ -32,9 +32,13 @@
  * simplex only widen the range: still conservative).
  *
  * Search order and the time of impact. Depth first, the earlier half in t
- * first; a box whose variation of F (from the enclosures' midpoints) is at
- * most tol_abs in every component is accepted as a hit, and best = min(best,
- * its t0). Boxes with t0 >= best are pruned. At the end every (t, u, v) with
+ * first. A box is accepted as a hit, and best = min(best, its t0), when
+ *  - a witness shows a contact at its latest time t1 (|F_j(t1, u, v)| <= eta
+ *    for all j, in outward-rounded arithmetic, at the centre or a corner of
+ *    its (u, v) box) and its t-width is at most tol (else t is halved, to
+ *    localise the contact in time), or
+ *  - the variation of F over it (from the enclosures' midpoints) is at most
+ *    tol_abs in every component. Boxes with t0 >= best are pruned. At the end every (t, u, v) with
  * t < best lies in an excluded box, so the first contact t* >= best = toi.
  * Whatever the acceptance rule, only exclusion decides what is missed: the
  * acceptance rule only sets how many false positives there are. When the
@@ -42,9 +46,10 @@
  * the stack (every unexcluded box is there), still <= t*.
  *
  * What a hit means. An accepted box holds (t, u, v) with |F_j| <= eta + its
- * width in every j, so the primitives came within eta + sqrt(3) tol_abs (plus
- * rounding) at some time in [toi, toi + box width]: the false positives are
- * near misses by at most that much, or the early toi of a slow approach.
+ * variation in every j, so the primitives came within eta + tol_abs in the
+ * infinity norm (sqrt(3) (eta + tol_abs) in the 2-norm, plus rounding) at
+ * some time in [toi, toi + box width]: the false positives are near misses
+ * by at most that much, or the early toi of a slow approach.
  *
  * tol_abs = max(tol * extent, maxabs * 2^-50): extent is the largest side of
  * the box around the 8 points, maxabs their largest |coordinate| (below
@@ -158,10 +163,9 @@ static int witness(const cb_ccd_query *q, int kind, const box *b, double eta) {
 }
 
 /* Examines box b: EXCLUDED, ACCEPTED, or SPLIT with *dim the variable to halve (0 t, 1 u, 2 v). */
-static int examine(const cb_ccd_query *q, int kind, const box *b, double eta, double tol_abs, double tol_t,
-                   int *dim) {
+static int examine(const cb_ccd_query *q, int kind, const box *b, double eta, double tol_abs, double tol_t, int *dim) {
   if (kind == CB_CCD_VF && b->u0 + b->v0 > 1.0) return EXCLUDED; /* outside the simplex */
-  double mid[8][3]; /* corner c = 4 it + 2 iu + iv */
+  double mid[8][3];                                              /* corner c = 4 it + 2 iu + iv */
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   for (int it = 0; it < 2; it++) {
     ival D[3], E1[3], E2[3];
