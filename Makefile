@@ -71,7 +71,7 @@ CFLAGS   := $(OPT) -g $(WARN) $(SAN)
 LDFLAGS  := $(SAN)
 # GSL is linked statically: Debian's libgsl.so pulls in libgslcblas, and we
 # link exactly one CBLAS, OpenBLAS (scripts/check-blas.sh verifies it).
-LDLIBS   := -lcholmod -Wl,-Bstatic -lgsl -Wl,-Bdynamic -lopenblas -linih -lgomp -lm
+LDLIBS   := -lcholmod -Wl,-Bstatic -lgsl -Wl,-Bdynamic -lopenblas -linih -lgmp -lgomp -lm
 
 CORE_SRC  := $(sort $(wildcard lib/core/*/*.c))
 CONFIG_SRC:= $(sort $(wildcard lib/config/*.c))
@@ -79,7 +79,8 @@ INSTR_SRC := $(sort $(wildcard lib/instruments/*.c))
 IO_SRC    := $(sort $(wildcard lib/io/*.c))
 LIB_OBJ  := $(CORE_SRC:%.c=$(BUILD)/%.o) $(CONFIG_SRC:%.c=$(BUILD)/%.o) $(INSTR_SRC:%.c=$(BUILD)/%.o) $(IO_SRC:%.c=$(BUILD)/%.o) $(BUILD)/version.o
 LIB      := $(BUILD)/libclothbench.a
-TOOLS    := $(BUILD)/simulate $(BUILD)/blas-kernel
+TOOLS    := $(BUILD)/simulate $(BUILD)/blas-kernel $(BUILD)/ccd-query
+CCD_GEN  := $(BUILD)/ccd-gen
 # one program per folder experiments/<name>/ (main.c plus what serves only it)
 EXP_NAMES:= $(sort $(notdir $(patsubst %/,%,$(dir $(wildcard experiments/*/main.c)))))
 EXPS     := $(EXP_NAMES:%=$(BUILD)/%)
@@ -99,10 +100,10 @@ TEST_OBJ := $(BUILD)/tests/support.o
 help:
 	@sed -n 's/^##  \{0,1\}//p' $(firstword $(MAKEFILE_LIST))
 
-.PHONY: help determinism all test check check-all check-quick check-cluster experiments run-experiments plots movies report compare reference bench san fuzz fuzz-build coverage coverage-build deps format format-check clean distclean FORCE
+.PHONY: help determinism all ccd-set test check check-all check-quick check-cluster experiments run-experiments plots movies report compare reference bench san fuzz fuzz-build coverage coverage-build deps format format-check clean distclean FORCE
 .DEFAULT_GOAL := all
 
-all: $(LIB) $(TOOLS) $(EXPS) $(ALL_BENCHES) $(BUILD)/report
+all: $(LIB) $(TOOLS) $(CCD_GEN) $(EXPS) $(ALL_BENCHES) $(BUILD)/report
 
 deps:
 	@scripts/deps.sh
@@ -158,6 +159,16 @@ $(BUILD)/simulate: $(BUILD)/tools/simulate.o $(LIB)
 
 $(BUILD)/blas-kernel: $(BUILD)/tools/blas_kernel.o $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
+
+$(BUILD)/ccd-query: $(BUILD)/tools/ccd_query.o $(LIB)
+	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
+
+# the generator of the exact CCD query set tests/ccd/ (docs/geometry-ccd.md): GMP only, no library;
+# `make ccd-set` rewrites the committed files
+$(CCD_GEN): $(BUILD)/tests/ccd/gen.o
+	$(CC) $(LDFLAGS) $^ -lgmp -lm -o $@
+ccd-set: $(CCD_GEN)
+	$(CCD_GEN) tests/ccd
 
 .SECONDEXPANSION:
 $(EXPS): $(BUILD)/%: $$(call exp_obj,%) $(LIB)
