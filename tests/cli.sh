@@ -481,6 +481,20 @@ expect_rc frames 0
 check "frames: steps 0, 3 and 6 written" test "$(ls "$T/frames" | tr '\n' ' ')" = "frame_000000.obj frame_000003.obj frame_000006.obj "
 check "frames: the last frame is the state of step 6, not the final one" test -n "$(cmp "$T/frames/frame_000006.obj" "$T/frames.obj" 2>&1)"
 check "frames: a frame is a whole mesh" test "$(grep -c '^v ' "$T/frames/frame_000003.obj")" -eq 441
+# an obstacle mesh (collider.type = mesh) is written beside the cloth: per frame and beside --obj
+sim obst "$ROOT/configs/cylinder_turning.ini" --steps 3 --every 3 --frames "$T/obst" --csv "$T/obst.csv" --obj "$T/obst.obj"
+expect_rc obst 0
+check "obstacle: frames and obstacle frames of steps 0 and 3" test "$(ls "$T/obst" | tr '\n' ' ')" = "frame_000000.obj frame_000003.obj obstacle_000000.obj obstacle_000003.obj "
+check "obstacle: the final obstacle beside --obj" test "$(grep -c '^f ' "$T/obst.obstacle.obj")" -eq 96
+check "obstacle: it turned between steps 0 and 3" test -n "$(cmp "$T/obst/obstacle_000000.obj" "$T/obst/obstacle_000003.obj" 2>&1)"
+check "obstacle: the last obstacle frame is the final obstacle" cmp -s "$T/obst/obstacle_000003.obj" "$T/obst.obstacle.obj"
+mkdir -p "$T/oc" && cp "$ROOT/configs/cylinder_turning.ini" "$ROOT/configs/cylinder.obj" "$T/oc/"
+sim obst_over "$T/oc/cylinder_turning.ini" --steps 1 --csv "$T/obst2.csv" --obj "$T/oc/cylinder.obj"
+expect_rc obst_over 1
+expect_err obst_over "is the obstacle's file (collider.file)"
+sim obst_missing "$CONFIG" --steps 1 --set collider.type=mesh --set collider.file=nowhere.obj --csv "$T/om.csv" --obj "$T/om.obj"
+expect_rc obst_missing 1
+expect_err obst_missing "collider.file: "
 for bad in 0 -2 x ""; do
   sim frames_bad "$CONFIG" --steps 2 --every "$bad" --frames "$T/frames_bad"
   expect_rc frames_bad 1

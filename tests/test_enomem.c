@@ -290,12 +290,20 @@ Test(enomem, every_material_collider_policy) {
     case_add(&rc, "material.bend_k", "0.01");
     sweep(&rc);
   }
+  char obstacle[256]; /* the `mesh` collider's obstacle: a tetrahedron, turning */
+  snprintf(obstacle, sizeof obstacle, "%s",
+           test_tmpfile(".obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"));
   for (int i = 0; i < count(cb_collider_names); i++) {
     run_case rc = {0};
     case_add(&rc, "collider.type", cb_collider_names[i]);
     case_add(&rc, "collider.centre", "0.5 -0.2 0.5");
+    if (!strcmp(cb_collider_names[i], "mesh")) {
+      case_add(&rc, "collider.file", obstacle);
+      case_add(&rc, "collider.angular_speed", "1");
+    }
     sweep(&rc);
   }
+  remove(obstacle);
   for (int i = 0; i < count(cb_definiteness_names); i++) {
     run_case rc = {0};
     case_add(&rc, "integrator.definiteness", cb_definiteness_names[i]);

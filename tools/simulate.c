@@ -40,8 +40,11 @@ static void usage(FILE *f) {
         "    the initial mesh.\n"
         "Both files are written atomically (temporary file, then rename); PATH - streams to\n"
         "  standard output, and an existing device or FIFO (/dev/null) is written into, never\n"
-        "  replaced. An output may not be the config, the mesh file or another output,\n"
-        "  frames included (DIR/frame_*.obj).\n"
+        "  replaced. An output may not be the config, the mesh file, the obstacle's file or\n"
+        "  another output, frames included (DIR/frame_*.obj, DIR/obstacle_*.obj).\n"
+        "A scene with an obstacle mesh (collider.type = mesh) also writes the obstacle where\n"
+        "  it is at the end beside --obj PATH, as PATH less its .obj, then .obstacle.obj\n"
+        "  (not with --obj -), and with every frame as DIR/obstacle_<step>.obj.\n"
         "\n"
         "options:\n"
         "  --set section.key=value  override a config key (repeatable), e.g. --set material.stretch_k=1e5\n"
@@ -52,7 +55,7 @@ static void usage(FILE *f) {
         "                           (step 0 first; an OBJ sequence for Blender, MeshLab, make movies);\n"
         "                           DIR is a folder name (not '' or -). The frames go to\n"
         "                           DIR/.incomplete-frames.<pid>/ while the run lasts and replace an\n"
-        "                           earlier run's (its frame_<digits>.obj files, said so) only when the\n"
+        "                           earlier run's (its frame_ and obstacle_<digits>.obj files, said so) only when the\n"
         "                           CSV is committed: an interrupted or failed run leaves the earlier\n"
         "                           frames, CSV and OBJ as they were\n"
         "  --every N                frame interval in steps (default 1; needs --frames)\n"
@@ -72,19 +75,34 @@ static void usage(FILE *f) {
         f);
 }
 
-/* DIR/frame_<step>.obj, atomically; returns 0 on success. */
+/* DIR/frame_<step>.obj, and DIR/obstacle_<step>.obj for a scene with an
+ * obstacle mesh (where its response moved it: the time of the step),
+ * atomically; returns 0 on success. */
 static int write_frame(const char *dir, const cb_scene *scene, const double *x, int step) {
   char path[4096];
   snprintf(path, sizeof path, "%s/frame_%06d.obj", dir, step);
-  return cb_mesh_write_obj(&scene->mesh, x, path);
+  int st = cb_mesh_write_obj(&scene->mesh, x, path);
+  const cb_obstacle *ob = cb_scene_obstacle(scene);
+  if (st || !ob) return st;
+  snprintf(path, sizeof path, "%s/obstacle_%06d.obj", dir, step);
+  return cb_mesh_write_obj(&ob->mesh, ob->x, path);
 }
 
-/* 1 if name is a frame's file name: frame_<6 or more digits>.obj */
+/* 1 if name is a frame's file name: frame_<6 or more digits>.obj, or an
+ * obstacle's frame, obstacle_<6 or more digits>.obj */
 static int is_frame_name(const char *name) {
-  if (strncmp(name, "frame_", 6) != 0) return 0;
-  const char *p = name + 6;
+  size_t n = strncmp(name, "frame_", 6) == 0 ? 6 : strncmp(name, "obstacle_", 9) == 0 ? 9 : 0;
+  if (!n) return 0;
+  const char *p = name + n;
   while (isdigit((unsigned char)*p)) p++;
-  return p - (name + 6) >= 6 && strcmp(p, ".obj") == 0;
+  return p - (name + n) >= 6 && strcmp(p, ".obj") == 0;
+}
+
+/* The obstacle's final OBJ beside the cloth's: PATH less a final .obj, then .obstacle.obj. */
+static void obstacle_out(const char *obj_path, char *out, size_t n) {
+  size_t len = strlen(obj_path);
+  if (len >= 4 && strcmp(obj_path + len - 4, ".obj") == 0) len -= 4;
+  snprintf(out, n, "%.*s.obstacle.obj", (int)len, obj_path);
 }
 
 /* 1 if path is (or would be) one of the frames --frames dir writes */
@@ -97,8 +115,9 @@ static int is_frame_path(const char *dir, const char *path) {
   return cb_same_file(f, path);
 }
 
-/* Removes the frames (regular files named frame_<digits>.obj) in dir, nothing
- * else; returns how many, and the first and last name removed. */
+/* Removes the frames (regular files named frame_<digits>.obj or
+ * obstacle_<digits>.obj) in dir, nothing else; returns how many, and the
+ * first and last name removed. */
 static int remove_frames(const char *dir, char *first, char *last, size_t n) {
   DIR *d = opendir(dir);
   int count = 0;
@@ -314,26 +333,40 @@ int main(int argc, char **argv) {
   if (!csv_path) csv_path = csv_def;
   if (!obj_path) obj_path = obj_def;
   /* an output must not overwrite an input or another output (the frames too) */
-  char mesh_path[2 * CB_PATH_LEN];
+  char mesh_path[2 * CB_PATH_LEN], obstacle_path[2 * CB_PATH_LEN], obstacle_obj[2100];
   cb_config_resolve_path(&cfg, cfg.mesh_file, mesh_path, sizeof mesh_path);
+  cb_config_resolve_path(&cfg, cfg.collider_file, obstacle_path, sizeof obstacle_path);
   int mesh_is_file = !strcmp(cfg.mesh_type, "obj");
-  const char *outs[2][2] = {{"--csv", csv_path}, {"--obj", obj_path}};
-  for (int k = 0; k < 2; k++) {
+  int has_obstacle = !strcmp(cfg.collider_type, "mesh") && cfg.collider_file[0];
+  int obstacle_out_too = has_obstacle && strcmp(obj_path, "-") != 0;
+  obstacle_out(obj_path, obstacle_obj, sizeof obstacle_obj);
+  const char *outs[3][2] = {{"--csv", csv_path}, {"--obj", obj_path}, {"the obstacle's OBJ", obstacle_obj}};
+  for (int k = 0; k < (obstacle_out_too ? 3 : 2); k++) {
     const char *what = NULL;
     if (strcmp(outs[k][1], "-") == 0) continue;
     if (cb_same_file(outs[k][1], config)) what = "the config file";
     else if (mesh_is_file && cb_same_file(outs[k][1], mesh_path)) what = "the mesh file (mesh.file)";
+    else if (has_obstacle && cb_same_file(outs[k][1], obstacle_path)) what = "the obstacle's file (collider.file)";
     else if (k == 0 && strcmp(obj_path, "-") != 0 && cb_same_file(csv_path, obj_path)) what = "the OBJ output (--obj)";
+    else if (k == 0 && obstacle_out_too && cb_same_file(csv_path, obstacle_obj)) what = "the obstacle's OBJ output";
     else if (frames && is_frame_path(frames, outs[k][1])) what = "a frame of --frames";
     if (what) {
       fprintf(stderr, "simulate: %s %s is %s; refusing to overwrite it\n", outs[k][0], outs[k][1], what);
       return EXIT_USAGE;
     }
   }
-  if (frames && (is_frame_path(frames, config) || (mesh_is_file && is_frame_path(frames, mesh_path)))) {
-    fprintf(stderr, "simulate: --frames %s would overwrite %s %s (frames are %s/frame_<step>.obj); refusing\n", frames,
-            is_frame_path(frames, config) ? "the config file" : "the mesh file (mesh.file)",
-            is_frame_path(frames, config) ? config : mesh_path, frames);
+  if (frames && (is_frame_path(frames, config) || (mesh_is_file && is_frame_path(frames, mesh_path)) ||
+                 (has_obstacle && is_frame_path(frames, obstacle_path)))) {
+    const char *what = is_frame_path(frames, config)                      ? "the config file"
+                       : mesh_is_file && is_frame_path(frames, mesh_path) ? "the mesh file (mesh.file)"
+                                                                          : "the obstacle's file (collider.file)";
+    const char *which = is_frame_path(frames, config)                      ? config
+                        : mesh_is_file && is_frame_path(frames, mesh_path) ? mesh_path
+                                                                           : obstacle_path;
+    fprintf(stderr,
+            "simulate: --frames %s would overwrite %s %s (frames are %s/frame_<step>.obj and "
+            "%s/obstacle_<step>.obj); refusing\n",
+            frames, what, which, frames, frames);
     return EXIT_USAGE;
   }
   if (!strcmp(csv_path, "-") && !strcmp(obj_path, "-")) {
@@ -422,6 +455,9 @@ int main(int argc, char **argv) {
     rc = EXIT_IO;
   }
   int obj_ok = cb_mesh_write_obj(&scene->mesh, run.x, obj_path) == CB_OK;
+  const cb_obstacle *ob = cb_scene_obstacle(scene);
+  if (obj_ok && ob && strcmp(obj_path, "-") != 0) /* the obstacle where its response moved it last */
+    obj_ok = cb_mesh_write_obj(&ob->mesh, ob->x, obstacle_obj) == CB_OK;
   if (!obj_ok) {
     fprintf(stderr, "simulate: %s\n", cb_error_message());
     rc = EXIT_IO;
@@ -442,7 +478,9 @@ int main(int argc, char **argv) {
   const char *csv_name = strcmp(csv_path, "-") ? csv_path : "standard output";
   const char *obj_name = strcmp(obj_path, "-") ? obj_path : "standard output";
   char wrote[3 * 2048 + 64];
-  if (csv_ok && obj_ok) snprintf(wrote, sizeof wrote, "wrote %s and %s", csv_name, obj_name);
+  if (csv_ok && obj_ok && ob && strcmp(obj_path, "-") != 0)
+    snprintf(wrote, sizeof wrote, "wrote %s, %s and %s", csv_name, obj_name, obstacle_obj);
+  else if (csv_ok && obj_ok) snprintf(wrote, sizeof wrote, "wrote %s and %s", csv_name, obj_name);
   else if (csv_ok || obj_ok)
     snprintf(wrote, sizeof wrote, "wrote %s; %s was NOT written", csv_ok ? csv_name : obj_name,
              csv_ok ? obj_name : csv_name);

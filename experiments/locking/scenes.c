@@ -84,7 +84,7 @@ int lk_build(const cb_scene_decl *dl, const char *const *sets, mesh_kind mk, int
   int st = cb_scene_decl_config(&E, dl, all, &c);
   if (st) return st;
   cb_scene_def d;
-  char path[2 * CB_PATH_LEN];
+  char path[4 * CB_PATH_LEN];
   if ((st = cb_scene_def_from_config(&c, &d, path, sizeof path))) return st;
   if (obj) {
     d.mesh = CB_MESH_OBJ;

@@ -1,6 +1,7 @@
 /* A sphere collider (the GAMES103 lab's ball), as an energy term (`penalty`)
- * or as a post-step response (`project`), collider.c. A scene has one only if
- * its definition names one (cb_scene_def.collider).
+ * or as a post-step response (`project`), collider.c; or a kinematic obstacle
+ * mesh (`mesh`, obstacle.h: moved every step, no contact response yet). A
+ * scene has one only if its definition names one (cb_scene_def.collider).
  *
  * penalty: E = 1/2 k_c (r + thickness - |x_i - c|)^2 summed over the vertices
  *          inside the shell |x_i - c| < r + thickness; stackable with every
@@ -27,13 +28,17 @@ typedef struct cb_sphere {
  * each adds to a scene, an energy term or a post-step response (or
  * nothing); a scene builds what its definition's row gives. */
 struct cb_response_type;
+struct cb_scene_def;
 typedef struct cb_collider {
   const char *name;
   int (*term_alloc)(const cb_model *m, const cb_sphere *sp, cb_term **out); /* its term, or NULL */
-  const struct cb_response_type *response; /* its post-step response (params: the cb_sphere), or NULL */
+  const struct cb_response_type *response;                                  /* its post-step response, or NULL */
+  /* The parameters its response's init gets, from the scene's definition
+   * (the cb_sphere, or the cb_obstacle_params); NULL if no response. */
+  const void *(*params)(const struct cb_scene_def *d);
 } cb_collider;
 extern const cb_collider cb_colliders[];      /* ended by a NULL name */
-extern const char *const cb_collider_names[]; /* "none", "penalty", "project"; NULL-terminated */
+extern const char *const cb_collider_names[]; /* "none", "penalty", "project", "mesh"; NULL-terminated */
 /* The collider called name, or NULL. */
 const cb_collider *cb_collider_find(const char *name);
 

@@ -14,6 +14,7 @@
 #include "energy.h"
 #include "material.h"
 #include "mesh.h"
+#include "obstacle.h"
 #include "system.h"
 #include "topology.h"
 
@@ -50,30 +51,32 @@ typedef struct cb_scene_def {
   cb_mesh_kind mesh; /* Default grid */
   cb_grid_params
       grid; /* grid: all fields; chain: n, size[0] (its length, m), plane. Default cb_grid_params_default() */
-  const char *mesh_file;    /* OBJ path for CB_MESH_OBJ, as given to fopen. Default NULL */
-  double density;           /* kg/m^2, for area-lumped masses. Default 1 */
-  double vertex_mass;       /* kg per vertex; 0 = lumped from density. Default 0 */
-  const char *stretch;      /* in-plane model, a name of cb_stretch_names: "spring" (one on every
-                               edge) or "fem" (co-rotational triangles). Default "spring" */
-  double stretch_k;         /* N/m: the spring stiffness k, or FEM's mu (energy per rest area). Default 8000 */
-  const char *fem_hessian;  /* FEM Hessian, a name of cb_fem_hessian_names ("exact", "frozen"). Default "exact" */
-  const char *bend;         /* bending model, a name of cb_bend_names. Default "none" */
-  double bend_k;            /* N/m for `spring`, N m for `dihedral` and `quadratic`. Default 100 */
-  const char *bend_hessian; /* dihedral Hessian, a name of cb_bend_hessian_names ("gauss-newton", "exact"); NULL
-                               = "gauss-newton". Default "gauss-newton" */
-  const char *definiteness; /* compressed-spring response of the springs, a name of
-                               cb_definiteness_names ("choi-ko" changes the energy). Default "drop" */
-  double buckling_kb;       /* N m^2, Choi-Ko bending stiffness. Default 0.01 */
-  double gravity[3];        /* m/s^2; 0 0 0 = no gravity term. Default 0 -9.8 0 */
-  const char *pins;         /* named set, halfspace or index list (cb_pins_resolve). Default "top-corners" */
-  double initial_scale;     /* x0 = rest positions scaled about their centroid. Default 1 */
-  double pin_squeeze[3];    /* m/s, pinned vertices driven toward each other. Default 0 0 0 */
-  double diverge_ratio;     /* energy-growth bound of a run (run.h). Default 10 */
-  const char *collider;     /* a name of cb_collider_names: "penalty" adds a term, "project" a
-                               response (after the def's own responses). Default "none" */
-  cb_sphere sphere;         /* the collider's sphere. Default centre 0 0 0, radius 1, thickness 0,
-                               stiffness 10000, velocity 0 0 0 */
-  int nresponses;           /* post-step responses, run in this order. Default 0 */
+  const char *mesh_file;       /* OBJ path for CB_MESH_OBJ, as given to fopen. Default NULL */
+  double density;              /* kg/m^2, for area-lumped masses. Default 1 */
+  double vertex_mass;          /* kg per vertex; 0 = lumped from density. Default 0 */
+  const char *stretch;         /* in-plane model, a name of cb_stretch_names: "spring" (one on every
+                                  edge) or "fem" (co-rotational triangles). Default "spring" */
+  double stretch_k;            /* N/m: the spring stiffness k, or FEM's mu (energy per rest area). Default 8000 */
+  const char *fem_hessian;     /* FEM Hessian, a name of cb_fem_hessian_names ("exact", "frozen"). Default "exact" */
+  const char *bend;            /* bending model, a name of cb_bend_names. Default "none" */
+  double bend_k;               /* N/m for `spring`, N m for `dihedral` and `quadratic`. Default 100 */
+  const char *bend_hessian;    /* dihedral Hessian, a name of cb_bend_hessian_names ("gauss-newton", "exact"); NULL
+                                  = "gauss-newton". Default "gauss-newton" */
+  const char *definiteness;    /* compressed-spring response of the springs, a name of
+                                  cb_definiteness_names ("choi-ko" changes the energy). Default "drop" */
+  double buckling_kb;          /* N m^2, Choi-Ko bending stiffness. Default 0.01 */
+  double gravity[3];           /* m/s^2; 0 0 0 = no gravity term. Default 0 -9.8 0 */
+  const char *pins;            /* named set, halfspace or index list (cb_pins_resolve). Default "top-corners" */
+  double initial_scale;        /* x0 = rest positions scaled about their centroid. Default 1 */
+  double pin_squeeze[3];       /* m/s, pinned vertices driven toward each other. Default 0 0 0 */
+  double diverge_ratio;        /* energy-growth bound of a run (run.h). Default 10 */
+  const char *collider;        /* a name of cb_collider_names: "penalty" adds a term, "project" and
+                                  "mesh" a response (after the def's own responses). Default "none" */
+  cb_sphere sphere;            /* the collider's sphere. Default centre 0 0 0, radius 1, thickness 0,
+                                  stiffness 10000, velocity 0 0 0 */
+  cb_obstacle_params obstacle; /* the `mesh` collider's obstacle (its file read during the build
+                                  only). Default cb_obstacle_params_default() */
+  int nresponses;              /* post-step responses, run in this order. Default 0 */
   struct {
     const cb_response_type *type;
     const void *params; /* handed to type->init; read during the build only */
@@ -115,8 +118,16 @@ double cb_scene_total_mass(const cb_scene *s);
 /* Runs the post-step responses on (x, v); returns the first nonzero status. */
 int cb_scene_post_step(const cb_scene *s, double *x, double *v, double dt);
 
-/* The collider's post-step response (collider.c; its params a cb_sphere). */
+/* The collider's post-step responses: the sphere's projection (collider.c;
+ * its params a cb_sphere) and the obstacle mesh's motion (obstacle.c; its
+ * params a cb_obstacle_params: it owns the obstacle and moves it to the run's
+ * time after every step). */
 extern const cb_response_type cb_response_sphere_project;
+extern const cb_response_type cb_response_obstacle_move;
+/* The scene's obstacle mesh (collider.type = mesh) at the time of the last
+ * step, or NULL without one. Contact code reads its positions at any time
+ * with cb_obstacle_positions. */
+const cb_obstacle *cb_scene_obstacle(const cb_scene *s);
 /* Collider contacts: vertices inside a penalty sphere at x, plus the vertices
  * a project response moved in the last step (0 without a collider). */
 int cb_scene_contacts(const cb_scene *s, const double *x);

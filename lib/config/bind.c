@@ -18,6 +18,9 @@ static int located(int st, const cb_config *c, const char *key) {
 
 int cb_scene_def_from_config(const cb_config *c, cb_scene_def *d, char *path, size_t npath) {
   *d = cb_scene_def_default();
+  char *obstacle_path = path + npath / 2; /* the second half: collider.file */
+  size_t nobstacle = npath - npath / 2;
+  npath /= 2;
   d->mesh = strcmp(c->mesh_type, "obj") == 0     ? CB_MESH_OBJ
             : strcmp(c->mesh_type, "chain") == 0 ? CB_MESH_CHAIN
                                                  : CB_MESH_GRID;
@@ -55,6 +58,14 @@ int cb_scene_def_from_config(const cb_config *c, cb_scene_def *d, char *path, si
   d->sphere.thickness = c->collider_thickness;
   d->sphere.stiffness = c->collider_stiffness;
   memcpy(d->sphere.velocity, c->collider_velocity, sizeof d->sphere.velocity);
+  if (!strcmp(d->collider, "mesh")) {
+    cb_config_resolve_path(c, c->collider_file, obstacle_path, nobstacle); /* relative to the config's folder */
+    d->obstacle.file = c->collider_file[0] ? obstacle_path : NULL;
+  }
+  memcpy(d->obstacle.centre, c->collider_centre, sizeof d->obstacle.centre);
+  memcpy(d->obstacle.axis, c->collider_axis, sizeof d->obstacle.axis);
+  d->obstacle.omega = c->collider_angular_speed;
+  memcpy(d->obstacle.velocity, c->collider_velocity, sizeof d->obstacle.velocity);
   d->nresponses = 0; /* the collider's `project` response is added by the scene */
   return CB_OK;
 }
@@ -64,7 +75,7 @@ int cb_scene_from_config(const cb_config *c, cb_scene **out) {
   int st = cb_config_validate(c);
   if (st) return st;
   cb_scene_def d;
-  char path[2 * CB_PATH_LEN];
+  char path[4 * CB_PATH_LEN];
   st = cb_scene_def_from_config(c, &d, path, sizeof path);
   if (st) return st;
   const char *key = NULL;

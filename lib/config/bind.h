@@ -23,9 +23,10 @@
  * Errors: "file:line: key: reason" as for the parser. */
 int cb_scene_from_config(const cb_config *c, cb_scene **out);
 
-/* Fills def from c. Its strings point into c (and into path, which receives
- * the OBJ path resolved against the config file's folder), so def is valid
- * while c and path are. */
+/* Fills def from c. Its strings point into c (and into path, whose first
+ * half receives mesh.file and whose second half collider.file, each resolved
+ * against the config file's folder; 4 CB_PATH_LEN is room for both), so def
+ * is valid while c and path are. */
 int cb_scene_def_from_config(const cb_config *c, cb_scene_def *def, char *path, size_t npath);
 
 /* The generic integrator parameters (integrator.dt; no hook). */

@@ -123,19 +123,31 @@ static const keydef keys_head[] = {
      "with (p_i - c).s = 0 stay). Its prescribed position x0 + t v enters every step (implicit: through x0 + dt v0; "
      "explicit: x += dt v). `0 0 0`: pins are fixed."},
     {"collider.type", T_ENUM, O(collider_type), "none", "-", 0, 0, 0, cb_collider_names, NULL,
-     "Sphere collider: `none`; `penalty` (an energy term E = k_c (r + thickness - |x - c|)^2/2 on every vertex inside "
-     "the shell, exact gradient and Hessian; the sphere stays still); `project` (the GAMES103 lab: after every step a "
-     "free vertex inside is moved to the sphere's surface and its velocity corrected by (x_new - x)/dt; explicit and "
-     "implicit integrators). Contacts per step are the `contacts` column of simulate's CSV."},
+     "Collider: `none`; a sphere, `penalty` (an energy term E = k_c (r + thickness - |x - c|)^2/2 on every vertex "
+     "inside the shell, exact gradient and Hessian; the sphere stays still) or `project` (the GAMES103 lab: after "
+     "every step a free vertex inside is moved to the sphere's surface and its velocity corrected by (x_new - x)/dt; "
+     "explicit and implicit integrators); or `mesh`, a kinematic obstacle mesh read from `collider.file`, turning at "
+     "`collider.angular_speed` about `collider.axis` through `collider.centre` and moving at `collider.velocity` "
+     "(docs/geometry-distance.md); it has no contact response yet: it is moved every step and written beside the "
+     "cloth (simulate's --obj and --frames). Contacts per step are the `contacts` column of simulate's CSV."},
     {"collider.centre", T_VEC3, O(collider_centre), "0 0 0", "m", -1e9, 1e9, 0, NULL, NULL,
-     "Centre c of the sphere at t = 0."},
+     "Centre c of the sphere at t = 0; for `mesh`, where the OBJ's origin is placed at t = 0: the obstacle turns "
+     "about the axis through it, and it moves with `collider.velocity`."},
     {"collider.radius", T_DOUBLE, O(collider_radius), "1", "m", 0, 1e9, 1, NULL, NULL, "Radius r of the sphere."},
     {"collider.thickness", T_DOUBLE, O(collider_thickness), "0", "m", 0, 1e9, 0, NULL, NULL,
      "Contact shell added to the radius: vertices are kept at r + thickness from c."},
     {"collider.stiffness", T_DOUBLE, O(collider_stiffness), "10000", "N/m", 0, 1e15, 0, NULL, NULL,
      "Penalty stiffness k_c (`penalty` only)."},
     {"collider.velocity", T_VEC3, O(collider_velocity), "0 0 0", "m/s", -1e6, 1e6, 0, NULL, NULL,
-     "Constant velocity v of the sphere, c(t) = c + t v (`project` only, as the lab drags its ball)."},
+     "Constant velocity v of the sphere, c(t) = c + t v (`project` only, as the lab drags its ball), or of a `mesh` "
+     "obstacle: x_i(t) = c + t v + R(axis, angular_speed t) X_i, X_i the file's coordinates."},
+    {"collider.file", T_PATH, O(collider_file), "", "path", 0, 0, 0, NULL, NULL,
+     "OBJ file of a `mesh` obstacle (triangles only, its positions those at t = 0); a relative path is taken from the "
+     "config file's folder."},
+    {"collider.axis", T_VEC3, O(collider_axis), "0 1 0", "-", -1e9, 1e9, 0, NULL, NULL,
+     "Rotation axis of a `mesh` obstacle through its origin (`collider.centre`; any length, normalised)."},
+    {"collider.angular_speed", T_DOUBLE, O(collider_angular_speed), "0", "rad/s", -1e6, 1e6, 0, NULL, NULL,
+     "Angular speed of a `mesh` obstacle about `collider.axis`, right-handed; 0 = no rotation."},
     {"integrator.method", T_ENUM, O(method), "newton", "-", 0, 0, 0, NULL, cb_integrator_name,
      "`explicit` (symplectic Euler), `newton` (implicit Euler by Newton's method), `jacobi-nl` and `chebyshev-nl` (the "
      "GAMES103 lab's Jacobi on F(x), plain or Chebyshev-accelerated), `pd` and `pd-chebyshev` (projective dynamics, "

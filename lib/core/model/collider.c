@@ -24,15 +24,22 @@
 #include <clothbench/stencil.h>
 #include "vec.h"
 
-/* The colliders: X(name, its term's alloc, its post-step response), one line
- * each, in the order of collider.type's choices. */
+/* The parameters of each collider's response, from the definition. */
+static const void *sphere_params(const cb_scene_def *d) { return &d->sphere; }
+static const void *obstacle_params(const cb_scene_def *d) { return &d->obstacle; }
+
+/* The colliders: X(name, its term's alloc, its post-step response, the
+ * response's parameters), one line each, in the order of collider.type's
+ * choices. */
 #define CB_COLLIDERS(X) \
-  X("none", NULL, NULL) \
-  X("penalty", cb_sphere_term_alloc, NULL) \
-  X("project", NULL, &cb_response_sphere_project) \
+  X("none", NULL, NULL, NULL) \
+  X("penalty", cb_sphere_term_alloc, NULL, NULL) \
+  X("project", NULL, &cb_response_sphere_project, sphere_params) \
+  X("mesh", NULL, &cb_response_obstacle_move, obstacle_params) \
   /* one X(...) line per collider, above this line */
-#define CB_COLLIDER_ROW(name_, term_, response_) {.name = name_, .term_alloc = term_, .response = response_},
-#define CB_COLLIDER_NAME(name_, term_, response_) name_,
+#define CB_COLLIDER_ROW(name_, term_, response_, params_) \
+  {.name = name_, .term_alloc = term_, .response = response_, .params = params_},
+#define CB_COLLIDER_NAME(name_, term_, response_, params_) name_,
 const cb_collider cb_colliders[] = {CB_COLLIDERS(CB_COLLIDER_ROW){.name = NULL}};
 const char *const cb_collider_names[] = {CB_COLLIDERS(CB_COLLIDER_NAME) NULL};
 

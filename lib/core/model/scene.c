@@ -176,6 +176,7 @@ cb_scene_def cb_scene_def_default(void) {
       .diverge_ratio = 10,
       .collider = "none",
       .sphere = {.centre = {0, 0, 0}, .radius = 1, .thickness = 0, .stiffness = 10000, .velocity = {0, 0, 0}},
+      .obstacle = cb_obstacle_params_default(),
       .nresponses = 0};
   return d;
 }
@@ -312,8 +313,9 @@ static int check_finite(const cb_scene *s, const cb_scene_def *d, const char **k
 
 /* A collider error names its key first ("collider.radius: ..."): that key. */
 static int collider_error(int st, const char **key) {
-  static const char *const keys[] = {"collider.radius", "collider.thickness", "collider.stiffness", "collider.velocity",
-                                     "collider.centre"};
+  static const char *const keys[] = {"collider.radius",   "collider.thickness",    "collider.stiffness",
+                                     "collider.velocity", "collider.centre",       "collider.file",
+                                     "collider.axis",     "collider.angular_speed"};
   if (st == CB_OK || !key) return st;
   *key = "collider.type";
   for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++)
@@ -553,7 +555,7 @@ static int build_responses(const cb_scene_def *d, cb_scene *s, const cb_collider
   r->state = r->type->size ? cb_calloc(1, r->type->size) : NULL;
   if (r->type->size && !r->state) return CB_ENOMEM;
   s->nresponses++;
-  return r->type->init ? collider_error(r->type->init(r, s, &d->sphere), key) : CB_OK;
+  return r->type->init ? collider_error(r->type->init(r, s, collider->params(d)), key) : CB_OK;
 }
 
 int cb_scene_build(const cb_scene_def *d, cb_scene **out, const char **key) {
@@ -566,6 +568,7 @@ int cb_scene_build(const cb_scene_def *d, cb_scene **out, const char **key) {
   if (!s) return CB_ENOMEM;
   s->def = *d;
   s->def.mesh_file = s->def.bend = s->def.bend_hessian = s->def.definiteness = s->def.pins = s->def.collider = NULL;
+  s->def.obstacle.file = NULL;
   for (int k = 0; k < d->nresponses; k++) s->def.responses[k].params = NULL;
   s->diverge_ratio = d->diverge_ratio;
   st = build_geometry(d, s, key);
