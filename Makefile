@@ -67,7 +67,7 @@ CFLAGS   := $(OPT) -g $(WARN) $(SAN)
 LDFLAGS  := $(SAN)
 # GSL is linked statically: Debian's libgsl.so pulls in libgslcblas, and we
 # link exactly one CBLAS, OpenBLAS (scripts/check-blas.sh verifies it).
-LDLIBS   := -lcholmod -Wl,-Bstatic -lgsl -Wl,-Bdynamic -lopenblas -linih -lgomp -lm
+LDLIBS   := -lcholmod -Wl,-Bstatic -lgsl -Wl,-Bdynamic -lopenblas -linih -lgmp -lgomp -lm
 
 CORE_SRC  := $(sort $(wildcard lib/core/*/*.c))
 CONFIG_SRC:= $(sort $(wildcard lib/config/*.c))
