@@ -170,6 +170,8 @@ $(BUILD)/%: $(BUILD)/bench/%.o $(BENCH_SUPPORT) $(LIB)
 # the peers bench_peers compares with (MUMPS, SuperLU): linked into it only, never the library
 $(BUILD)/bench/bench_peers.o: CPPFLAGS += -I/usr/include/superlu
 $(BUILD)/bench_peers: LDLIBS += -ldmumps_seq -lsuperlu
+# Embree (rtcCollide), the broad phase's comparison: linked into bench_broadphase only
+$(BUILD)/bench_broadphase: LDLIBS += -lembree3
 
 $(BUILD)/tests/%: $(BUILD)/tests/%.o $(TEST_OBJ) $(REPORT_LIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -lcriterion -o $@

@@ -99,6 +99,13 @@ void cb_candidates_free(cb_candidates *c);
 /* VF and EE self-contact candidates of the last update's boxes; x0 and x1 as
  * given to it (the primitive boxes are computed from them). */
 int cb_broadphase_self_candidates(const cb_broadphase *b, const double *x0, const double *x1, cb_candidates *c);
+/* The candidates of one triangle pair (i, j), i != j, of b's mesh, added to c
+ * (its counts are not reset; the caller checks them against the capacity):
+ * for a traversal other than this tree's (bench/bench_broadphase.c runs
+ * Embree's). Needs no update: only the mesh's ownership bits. */
+void cb_broadphase_pair_candidates(const cb_broadphase *b, const double *x0, const double *x1, int i, int j,
+                                   cb_candidates *c);
+
 /* Candidates between mesh a (positions xa0 -> xa1) and mesh b (xb0 -> xb1),
  * e.g. cloth and an obstacle, both trees updated; the pairs within
  * (d_a + d_b) / 2 (the two trees' thicknesses: give both the same d). */

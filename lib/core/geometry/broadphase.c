@@ -553,6 +553,12 @@ static int finish(const cb_candidates *c, int rc) {
   return CB_OK;
 }
 
+void cb_broadphase_pair_candidates(const cb_broadphase *b, const double *x0, const double *x1, int i, int j,
+                                   cb_candidates *c) {
+  cand_ctx x = {b, b, x0, x1, x0, x1, c};
+  cand_visit(&x, i, j);
+}
+
 int cb_broadphase_self_candidates(const cb_broadphase *b, const double *x0, const double *x1, cb_candidates *c) {
   c->nvf = c->nfv = c->nee = 0;
   cand_ctx x = {b, b, x0, x1, x0, x1, c};
