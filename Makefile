@@ -10,7 +10,7 @@
 ## make plots         draw plots/out/*.png and .svg from results/*.csv (gnuplot)
 ## make movies        animated GIFs of paired runs (explicit blow-up, Baraff-Witkin vs Newton, drape, locking fold)
 ## make report        decide every claim from results/*.csv into results/REPORT.md
-## make bench         the benchmarks (results/bench_core.csv, results/bench_nonlinear.csv);
+## make bench         the benchmarks (results/bench_core.csv, results/bench_nonlinear.csv, results/bench_broadphase.csv);
 ##                     SCALE=1 adds the scaling run to 1024^2 (results/bench_scale.csv, ~15 min)
 ## make check         make test without the package step;  make check-quick  check-all's --quick part
 ## make determinism   every experiment's --quick run twice, compared (timing columns aside)
@@ -362,6 +362,7 @@ bench: deps
 	$(PYTHON) scripts/readme-peers.py results README.md
 	$(PYTHON) scripts/readme-perf.py results README.md
 	$(EXP_ENV) $(BUILD)/bench_nonlinear --out results/bench_nonlinear.csv
+	$(EXP_ENV) $(BUILD)/bench_broadphase $(if $(filter 1,$(QUICK)),--quick) --out results/bench_broadphase.csv
 	$(PYTHON) scripts/readme-bench-nonlinear.py results README.md
 ifeq ($(SCALE),1)
 	$(EXP_ENV) $(BUILD)/bench_scale --out results/bench_scale.csv

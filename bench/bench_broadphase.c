@@ -213,7 +213,7 @@ static void emb_collide(void *user, struct RTCCollision *col, unsigned int n) {
       continue;
     }
     e->pairs++;
-    cb_broadphase_pair_candidates(e->bp, e->x0, e->x1, i, j, e->c);
+    cb_broadphase_pair_candidates(e->bp, i, j, e->c);
   }
 }
 
@@ -271,11 +271,12 @@ static int run_variant(int method, int round, const cb_mesh *m, const double *x0
   if (method == BVH_REFIT || method == BVH_BUILD) {
     if (method == BVH_BUILD) cb_broadphase_invalidate(bp);
     rc = cb_broadphase_update(bp, x0, x1);
-    if (!rc) rc = cb_broadphase_self_candidates(bp, x0, x1, c);
+    if (!rc) rc = cb_broadphase_self_candidates(bp, c);
     r->rebuilds = cb_broadphase_stats_get(bp)->rebuilds;
   } else {
     e->x0 = x0, e->x1 = x1, e->c = c, e->pairs = 0;
-    rc = emb_commit(e, method == EMB_REFIT && round > 0);
+    rc = cb_broadphase_boxes(bp, x0, x1); /* the primitives' boxes the candidates are filtered with */
+    if (!rc) rc = emb_commit(e, method == EMB_REFIT && round > 0);
     if (!rc) rtcCollide(e->scene, e->scene, emb_collide, e);
     if (!rc && (c->nvf > c->cap_vf || c->nee > c->cap_ee)) rc = CB_ENOMEM;
     pairs = e->pairs;

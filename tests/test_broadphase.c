@@ -146,7 +146,7 @@ static void check_self(const cb_mesh *m, cb_broadphase *bp, const double *x0, co
   brute_self(m, E, ne, x0, x1, d, &vf, &nvf, &ee, &nee);
   cb_candidates c;
   cr_assert_eq(cb_candidates_alloc(nvf + 10, 0, nee + 10, &c), 0);
-  cr_assert_eq(cb_broadphase_self_candidates(bp, x0, x1, &c), 0, "%s", cb_error_message());
+  cr_assert_eq(cb_broadphase_self_candidates(bp, &c), 0, "%s", cb_error_message());
   same_sets("self vf", c.vf, c.nvf, vf, nvf);
   int *e2 = both_orders(c.ee, c.nee);
   same_sets("self ee (both orders)", e2, 2 * c.nee, ee, nee);
@@ -266,11 +266,11 @@ Test(broadphase, cloth_against_an_obstacle_matches_brute_force) {
   cr_assert_gt(nvf + nfv + nee, 100, "the meshes should be close (%ld)", nvf + nfv + nee);
   cb_candidates c;
   cr_assert_eq(cb_candidates_alloc(cap, cap, cap, &c), 0);
-  cr_assert_eq(cb_broadphase_cross_candidates(A, a0, a1, B, b0, b1, &c), 0, "%s", cb_error_message());
+  cr_assert_eq(cb_broadphase_cross_candidates(A, B, &c), 0, "%s", cb_error_message());
   same_sets("cloth vertex - obstacle face", c.vf, c.nvf, vf, nvf);
   same_sets("obstacle vertex - cloth face", c.fv, c.nfv, fv, nfv);
   same_sets("edge - edge", c.ee, c.nee, ee, nee);
-  cr_assert_neq(cb_broadphase_cross_candidates(A, a0, a1, A, a0, a1, &c), 0, "a cross query of one tree");
+  cr_assert_neq(cb_broadphase_cross_candidates(A, A, &c), 0, "a cross query of one tree");
   cb_candidates_free(&c);
   free(vf);
   free(fv);
@@ -330,7 +330,7 @@ Test(broadphase, update_and_query_do_not_allocate) {
   cb_alloc_fail_at(LONG_MAX); /* count every cb_malloc/cb_calloc from here, fail none */
   cr_assert_eq(cb_broadphase_update(bp, m.x, NULL), 0);
   cr_assert_eq(cb_broadphase_update(bp, m.x, m.x), 0);
-  cr_assert_eq(cb_broadphase_self_candidates(bp, m.x, m.x, &c), 0);
+  cr_assert_eq(cb_broadphase_self_candidates(bp, &c), 0);
   long n = cb_alloc_count();
   cb_alloc_fail_at(0);
   cr_assert_eq(n, 0, "%ld allocations in update/query", n);
@@ -349,8 +349,8 @@ Test(broadphase, capacity_overflow_counts_on_and_says_so) {
   cb_candidates big, small;
   cr_assert_eq(cb_candidates_alloc(1000000, 0, 1000000, &big), 0);
   cr_assert_eq(cb_candidates_alloc(10, 0, 10, &small), 0);
-  cr_assert_eq(cb_broadphase_self_candidates(bp, m.x, NULL, &big), 0);
-  cr_assert_eq(cb_broadphase_self_candidates(bp, m.x, NULL, &small), CB_ENOMEM);
+  cr_assert_eq(cb_broadphase_self_candidates(bp, &big), 0);
+  cr_assert_eq(cb_broadphase_self_candidates(bp, &small), CB_ENOMEM);
   cr_assert(strstr(cb_error_message(), "capacity"), "%s", cb_error_message());
   cr_assert_eq(small.nvf, big.nvf, "the count goes on past the capacity");
   cr_assert_eq(small.nee, big.nee);

@@ -68,6 +68,10 @@ const int *cb_broadphase_edges(const cb_broadphase *b, int *ne);
  * past rebuild_ratio). -> CB_EINVAL (and nothing changed) if a coordinate is
  * NaN or infinite. */
 int cb_broadphase_update(cb_broadphase *b, const double *x0, const double *x1);
+/* Only the boxes of x0 -> x1 (triangles, vertices, edges), no tree work: for
+ * cb_broadphase_pair_candidates under another traversal. -> CB_EINVAL on a
+ * coordinate that is not finite. */
+int cb_broadphase_boxes(cb_broadphase *b, const double *x0, const double *x1);
 /* Forces a rebuild at the next update. */
 void cb_broadphase_invalidate(cb_broadphase *b);
 const cb_broadphase_stats *cb_broadphase_stats_get(const cb_broadphase *b);
@@ -96,20 +100,18 @@ typedef struct cb_candidates {
 int cb_candidates_alloc(long cap_vf, long cap_fv, long cap_ee, cb_candidates *c);
 void cb_candidates_free(cb_candidates *c);
 
-/* VF and EE self-contact candidates of the last update's boxes; x0 and x1 as
- * given to it (the primitive boxes are computed from them). */
-int cb_broadphase_self_candidates(const cb_broadphase *b, const double *x0, const double *x1, cb_candidates *c);
+/* VF and EE self-contact candidates of the last update's boxes (the update
+ * also keeps every vertex's and edge's box). */
+int cb_broadphase_self_candidates(const cb_broadphase *b, cb_candidates *c);
 /* The candidates of one triangle pair (i, j), i != j, of b's mesh, added to c
  * (its counts are not reset; the caller checks them against the capacity):
  * for a traversal other than this tree's (bench/bench_broadphase.c runs
- * Embree's). Needs no update: only the mesh's ownership bits. */
-void cb_broadphase_pair_candidates(const cb_broadphase *b, const double *x0, const double *x1, int i, int j,
-                                   cb_candidates *c);
+ * Embree's). Needs the boxes (cb_broadphase_boxes or an update). */
+void cb_broadphase_pair_candidates(const cb_broadphase *b, int i, int j, cb_candidates *c);
 
-/* Candidates between mesh a (positions xa0 -> xa1) and mesh b (xb0 -> xb1),
- * e.g. cloth and an obstacle, both trees updated; the pairs within
+/* Candidates between mesh a and mesh b (each updated with its own x0 -> x1),
+ * e.g. cloth and an obstacle; the pairs within
  * (d_a + d_b) / 2 (the two trees' thicknesses: give both the same d). */
-int cb_broadphase_cross_candidates(const cb_broadphase *a, const double *xa0, const double *xa1,
-                                   const cb_broadphase *b, const double *xb0, const double *xb1, cb_candidates *c);
+int cb_broadphase_cross_candidates(const cb_broadphase *a, const cb_broadphase *b, cb_candidates *c);
 
 #endif

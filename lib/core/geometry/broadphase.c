@@ -32,6 +32,9 @@ struct cb_broadphase {
   int *tri_edge; /* 3*nt: edge k of triangle t joins tri[3t+k] and tri[3t+(k+1)%3] */
   unsigned char *own; /* per triangle: bits 0-2 the vertices it owns, bits 3-5 the edges */
   double *box;   /* 6*nt: lo[3], hi[3] of each triangle */
+  double *vbox;  /* 6*nv: each vertex's swept box, grown by d/2 */
+  double *ebox;  /* 6*ne: each edge's */
+  int boxed;     /* the boxes are set (cb_broadphase_boxes) */
   double *cen;   /* nt: centroid along the split axis during a build */
   int *idx;      /* nt: triangle of each leaf slot */
   node *nodes;   /* 2*nt */
@@ -102,6 +105,12 @@ static int build_topology(cb_broadphase *b) {
     b->tri_edge[q[2]] = e;
   }
   b->ne = ne;
+  b->ebox = cb_malloc(ne > 0 ? (size_t)ne : 1, 6 * sizeof(double));
+  if (!b->ebox) {
+    free(trip);
+    free(vowner);
+    return CB_ENOMEM;
+  }
   for (int v = 0; v < b->nv; v++) vowner[v] = -1;
   for (int t = 0; t < nt; t++)
     for (int k = 0; k < 3; k++) {
@@ -143,11 +152,12 @@ int cb_broadphase_alloc(int nv, int nt, const int *tri, const cb_broadphase_para
   b->tri_edge = cb_malloc((size_t)nt, 3 * sizeof(int));
   b->own = cb_calloc((size_t)nt, 1);
   b->box = cb_malloc((size_t)nt, 6 * sizeof(double));
+  b->vbox = cb_malloc(nv > 0 ? (size_t)nv : 1, 6 * sizeof(double));
   b->cen = cb_malloc((size_t)nt, sizeof(double));
   b->idx = cb_malloc((size_t)nt, sizeof(int));
   b->nodes = cb_malloc((size_t)2 * nt, sizeof(node));
   b->stack = cb_malloc((size_t)b->stack_cap, sizeof(pair));
-  if (!b->tri || !b->tri_edge || !b->own || !b->box || !b->cen || !b->idx || !b->nodes || !b->stack) {
+  if (!b->tri || !b->tri_edge || !b->own || !b->box || !b->vbox || !b->cen || !b->idx || !b->nodes || !b->stack) {
     cb_broadphase_free(b);
     return CB_ENOMEM;
   }
@@ -168,6 +178,8 @@ void cb_broadphase_free(cb_broadphase *b) {
   free(b->tri_edge);
   free(b->own);
   free(b->box);
+  free(b->vbox);
+  free(b->ebox);
   free(b->cen);
   free(b->idx);
   free(b->nodes);
@@ -322,31 +334,41 @@ static void refit(cb_broadphase *b) {
   b->stats.sah_cost = sah_cost(b);
 }
 
-int cb_broadphase_update(cb_broadphase *b, const double *x0, const double *x1) {
+static void union_box(const double *a, const double *b, double *out) {
+  for (int k = 0; k < 3; k++) {
+    out[k] = a[k] < b[k] ? a[k] : b[k];
+    out[3 + k] = a[3 + k] > b[3 + k] ? a[3 + k] : b[3 + k];
+  }
+}
+
+int cb_broadphase_boxes(cb_broadphase *b, const double *x0, const double *x1) {
   for (int i = 0; i < 3 * b->nv; i++)
     if (!isfinite(x0[i]) || (x1 && !isfinite(x1[i])))
       return cb_fail("broadphase: vertex %d: coordinate %d is not finite (%g%s%g)", i / 3, i % 3, x0[i],
                      x1 ? " -> " : "", x1 ? x1[i] : 0.0);
   double d = 0.5 * b->p.thickness; /* half on each box: boxes of pairs within d overlap */
-  for (int t = 0; t < b->nt; t++) {
-    double *bx = b->box + 6 * t;
+  for (int v = 0; v < b->nv; v++) {
+    double *bx = b->vbox + 6 * v;
     for (int k = 0; k < 3; k++) {
-      double lo = INFINITY, hi = -INFINITY;
-      for (int c = 0; c < 3; c++) {
-        int v = b->tri[3 * t + c];
-        double a = x0[3 * v + k];
-        if (a < lo) lo = a;
-        if (a > hi) hi = a;
-        if (x1) {
-          a = x1[3 * v + k];
-          if (a < lo) lo = a;
-          if (a > hi) hi = a;
-        }
-      }
-      bx[k] = lo - d;
-      bx[3 + k] = hi + d;
+      double a = x0[3 * v + k], c = x1 ? x1[3 * v + k] : a;
+      bx[k] = (a < c ? a : c) - d;
+      bx[3 + k] = (a > c ? a : c) + d;
     }
   }
+  for (int e = 0; e < b->ne; e++) union_box(b->vbox + 6 * b->edge[2 * e], b->vbox + 6 * b->edge[2 * e + 1], b->ebox + 6 * e);
+  for (int t = 0; t < b->nt; t++) {
+    const int *v = b->tri + 3 * t;
+    double *bx = b->box + 6 * t;
+    union_box(b->vbox + 6 * v[0], b->vbox + 6 * v[1], bx);
+    union_box(bx, b->vbox + 6 * v[2], bx);
+  }
+  b->boxed = 1;
+  return CB_OK;
+}
+
+int cb_broadphase_update(cb_broadphase *b, const double *x0, const double *x1) {
+  int rc = cb_broadphase_boxes(b, x0, x1);
+  if (rc) return rc;
   if (!b->built || b->force_rebuild) return build(b);
   refit(b);
   if (b->stats.sah_cost > b->p.rebuild_ratio * b->stats.sah_built) return build(b);
@@ -465,28 +487,8 @@ void cb_candidates_free(cb_candidates *c) {
   memset(c, 0, sizeof *c);
 }
 
-/* Box of points pts[0..n) at x0 and x1 (x1 may be NULL), grown by d. */
-static void prim_box(const double *x0, const double *x1, const int *pts, int n, double d, double *bx) {
-  for (int k = 0; k < 3; k++) {
-    double lo = INFINITY, hi = -INFINITY;
-    for (int c = 0; c < n; c++) {
-      double a = x0[3 * pts[c] + k];
-      if (a < lo) lo = a;
-      if (a > hi) hi = a;
-      if (x1) {
-        a = x1[3 * pts[c] + k];
-        if (a < lo) lo = a;
-        if (a > hi) hi = a;
-      }
-    }
-    bx[k] = lo - d;
-    bx[3 + k] = hi + d;
-  }
-}
-
 typedef struct cand_ctx {
   const cb_broadphase *a, *b;
-  const double *xa0, *xa1, *xb0, *xb1;
   cb_candidates *c;
 } cand_ctx;
 
@@ -499,20 +501,17 @@ static inline void push(int *arr, long *n, long cap, int u, int v) {
 }
 
 /* VF pairs (vertices owned by triangle i of mesh P, face j of mesh Q). */
-static void vf_pairs(const cb_broadphase *P, const double *xp0, const double *xp1, int i, const cb_broadphase *Q,
-                     const double *xq0, const double *xq1, int j, int same_mesh, int *arr, long *n, long cap) {
+static void vf_pairs(const cb_broadphase *P, int i, const cb_broadphase *Q, int j, int same_mesh, int *arr, long *n,
+                     long cap) {
   unsigned own = P->own[i] & 7u;
   if (!own) return;
   const int *f = Q->tri + 3 * j;
-  double fb[6];
-  prim_box(xq0, xq1, f, 3, 0.5 * Q->p.thickness, fb);
+  const double *fb = Q->box + 6 * j;
   for (int k = 0; k < 3; k++) {
     if (!(own & (1u << k))) continue;
     int v = P->tri[3 * i + k];
     if (same_mesh && (v == f[0] || v == f[1] || v == f[2])) continue;
-    double vb[6];
-    prim_box(xp0, xp1, &v, 1, 0.5 * P->p.thickness, vb);
-    if (box_overlap(vb, fb)) push(arr, n, cap, v, j);
+    if (box_overlap(P->vbox + 6 * v, fb)) push(arr, n, cap, v, j);
   }
 }
 
@@ -521,25 +520,22 @@ static int cand_visit(void *vctx, int i, int j) {
   const cb_broadphase *A = x->a, *B = x->b;
   int self = A == B;
   cb_candidates *c = x->c;
-  vf_pairs(A, x->xa0, x->xa1, i, B, x->xb0, x->xb1, j, self, c->vf, &c->nvf, c->cap_vf);
-  if (self) vf_pairs(A, x->xa0, x->xa1, j, A, x->xa0, x->xa1, i, 1, c->vf, &c->nvf, c->cap_vf);
-  else vf_pairs(B, x->xb0, x->xb1, j, A, x->xa0, x->xa1, i, 0, c->fv, &c->nfv, c->cap_fv);
+  vf_pairs(A, i, B, j, self, c->vf, &c->nvf, c->cap_vf);
+  if (self) vf_pairs(A, j, A, i, 1, c->vf, &c->nvf, c->cap_vf);
+  else vf_pairs(B, j, A, i, 0, c->fv, &c->nfv, c->cap_fv);
   unsigned oa = A->own[i] >> 3, ob = B->own[j] >> 3;
   if (!oa || !ob) return 0;
   for (int k = 0; k < 3; k++) {
     if (!(oa & (1u << k))) continue;
     int ea = A->tri_edge[3 * i + k];
     const int *va = A->edge + 2 * ea;
-    double ba[6];
-    prim_box(x->xa0, x->xa1, va, 2, 0.5 * A->p.thickness, ba);
+    const double *ba = A->ebox + 6 * ea;
     for (int l = 0; l < 3; l++) {
       if (!(ob & (1u << l))) continue;
       int eb = B->tri_edge[3 * j + l];
       const int *vb = B->edge + 2 * eb;
       if (self && (va[0] == vb[0] || va[0] == vb[1] || va[1] == vb[0] || va[1] == vb[1])) continue;
-      double bb[6];
-      prim_box(x->xb0, x->xb1, vb, 2, 0.5 * B->p.thickness, bb);
-      if (box_overlap(ba, bb)) push(c->ee, &c->nee, c->cap_ee, ea, eb);
+      if (box_overlap(ba, B->ebox + 6 * eb)) push(c->ee, &c->nee, c->cap_ee, ea, eb);
     }
   }
   return 0;
@@ -553,23 +549,21 @@ static int finish(const cb_candidates *c, int rc) {
   return CB_OK;
 }
 
-void cb_broadphase_pair_candidates(const cb_broadphase *b, const double *x0, const double *x1, int i, int j,
-                                   cb_candidates *c) {
-  cand_ctx x = {b, b, x0, x1, x0, x1, c};
+void cb_broadphase_pair_candidates(const cb_broadphase *b, int i, int j, cb_candidates *c) {
+  cand_ctx x = {b, b, c};
   cand_visit(&x, i, j);
 }
 
-int cb_broadphase_self_candidates(const cb_broadphase *b, const double *x0, const double *x1, cb_candidates *c) {
+int cb_broadphase_self_candidates(const cb_broadphase *b, cb_candidates *c) {
   c->nvf = c->nfv = c->nee = 0;
-  cand_ctx x = {b, b, x0, x1, x0, x1, c};
+  cand_ctx x = {b, b, c};
   /* adjacent triangle pairs are visited: their primitives need not be adjacent */
   return finish(c, traverse(b, b, 0, cand_visit, &x));
 }
 
-int cb_broadphase_cross_candidates(const cb_broadphase *a, const double *xa0, const double *xa1,
-                                   const cb_broadphase *b, const double *xb0, const double *xb1, cb_candidates *c) {
+int cb_broadphase_cross_candidates(const cb_broadphase *a, const cb_broadphase *b, cb_candidates *c) {
   c->nvf = c->nfv = c->nee = 0;
   if (a == b) return cb_fail("broadphase: a cross query needs two trees (use cb_broadphase_self_candidates)");
-  cand_ctx x = {a, b, xa0, xa1, xb0, xb1, c};
+  cand_ctx x = {a, b, c};
   return finish(c, traverse(a, b, 0, cand_visit, &x));
 }
