@@ -317,18 +317,23 @@ int main(int argc, char **argv) {
   cb_experiment_timed(&ex);
   cb_runtime_init();
   cb_outfile csv;
-  if (cb_experiment_csv(
-          &ex, &csv, NULL,
-          "# scene: n x n sheet of unit side folded onto itself (gap h/2 pressed to 0.05 h by a bump), the top half "
-          "moving down 0.02 h in the step; d = 0.2 h; one core (Embree: threads=1)\n"
-          "# broad_ms: swept boxes, tree update or Embree commit, traversal, VF/EE candidates; narrow_ms: their "
-          "distances at x1; medians (and min, max) of interleaved rounds\n"
-          "# n_contacts_*: candidates closer than d at x1; candidates_per_contact = (n_vf + n_ee) / n_contacts\n"
-          "# intersect rows: cb_intersections_count (static boxes, exact triangle-triangle test); the crossing mesh "
-          "has its top half pressed through the bottom (bump 0.7 h)\n",
-          "mesh,n,n_triangles,method,n_rounds,broad_ms,broad_min_ms,broad_max_ms,narrow_ms,total_ms,total_ns_per_tri,"
-          "n_tri_pairs,n_vf,n_ee,n_contacts_vf,n_contacts_ee,candidates_per_contact,n_rebuilds,intersecting_pairs,"
-          "intersect_tested_pairs,n_exact_calls,status"))
+  if (cb_experiment_csv(&ex, &csv, NULL,
+                        "# scene: n x n sheet of unit side folded onto itself (gap h/2 pressed to 0.05 h by a bump), "
+                        "the top half "
+                        "moving down 0.02 h in the step; d = 0.2 h; one core (Embree: threads=1)\n"
+                        "# broad_ms: swept boxes, tree update or Embree commit, traversal, VF/EE candidates; "
+                        "narrow_ms: their "
+                        "distances at x1; medians (and min, max) of interleaved rounds\n"
+                        "# n_contacts_*: candidates closer than d at x1; candidates_per_contact = (n_vf + n_ee) / "
+                        "n_contacts\n"
+                        "# intersect rows: cb_intersections_count (static boxes, exact triangle-triangle test); the "
+                        "crossing mesh "
+                        "has its top half pressed through the bottom (bump 0.7 h)\n",
+                        "mesh,n,n_triangles,method,n_rounds,broad_ms,broad_min_ms,broad_max_ms,narrow_ms,total_ms,"
+                        "total_ns_per_tri,"
+                        "n_tri_pairs,n_vf,n_ee,n_contacts_vf,n_contacts_ee,candidates_per_contact,n_rebuilds,"
+                        "intersecting_pairs,"
+                        "intersect_tested_pairs,n_exact_calls,status"))
     return 1;
   int sizes_full[] = {64, 128, 256}, sizes_quick[] = {32, 64};
   int *sizes = ex.quick ? sizes_quick : sizes_full, nsizes = ex.quick ? 2 : 3;
@@ -370,16 +375,15 @@ int main(int argc, char **argv) {
       spread(R->broad, rounds, &bm, &blo, &bhi);
       spread(R->narrow, rounds, &nm, &nlo, &nhi);
       long contacts = R->cvf + R->cee;
-      cb_csv_printf(csv.f,
-                    "folded,%d,%d,%s,%d,%.6f,%.6f,%.6f,%.6f,%.6f,%.17g,%ld,%ld,%ld,%ld,%ld,%.17g,%.17g,,,,%s\n", n,
-                    m.nt, method_name[k], rounds, bm, blo, bhi, nm, bm + nm, (bm + nm) * 1e6 / m.nt, R->tri_pairs,
+      cb_csv_printf(csv.f, "folded,%d,%d,%s,%d,%.6f,%.6f,%.6f,%.6f,%.6f,%.17g,%ld,%ld,%ld,%ld,%ld,%.17g,%.17g,,,,%s\n",
+                    n, m.nt, method_name[k], rounds, bm, blo, bhi, nm, bm + nm, (bm + nm) * 1e6 / m.nt, R->tri_pairs,
                     R->vf, R->ee, R->cvf, R->cee, contacts ? (double)(R->vf + R->ee) / contacts : cb_csv_na(),
                     k <= BVH_BUILD ? (double)R->rebuilds : cb_csv_na(), cb_status_name(R->status));
       fprintf(stderr,
-                "bench_broadphase: n = %d (%d triangles) %-12s broad %8.2f ms  narrow %7.2f ms  total %8.2f ms "
-                "(%.0f ns/tri)  pairs %ld  vf %ld ee %ld  contacts %ld%s\n",
-                n, m.nt, method_name[k], bm, nm, bm + nm, (bm + nm) * 1e6 / m.nt, R->tri_pairs, R->vf, R->ee,
-                contacts, R->status ? " FAILED" : "");
+              "bench_broadphase: n = %d (%d triangles) %-12s broad %8.2f ms  narrow %7.2f ms  total %8.2f ms "
+              "(%.0f ns/tri)  pairs %ld  vf %ld ee %ld  contacts %ld%s\n",
+              n, m.nt, method_name[k], bm, nm, bm + nm, (bm + nm) * 1e6 / m.nt, R->tri_pairs, R->vf, R->ee, contacts,
+              R->status ? " FAILED" : "");
       if (R->status) rc_all = 1;
     }
     if (res[EMB_BUILD].vf != res[BVH_REFIT].vf || res[EMB_BUILD].ee != res[BVH_REFIT].ee)
@@ -418,7 +422,7 @@ int main(int argc, char **argv) {
                     (double)cb_broadphase_stats_get(ix.bp)->rebuilds, count, ix.pairs, ix.exact_calls,
                     cb_status_name(st));
       fprintf(stderr, "bench_broadphase: intersection check, %s n = %d (%d triangles): %ld pairs of %ld, %.2f ms\n",
-                crossing ? "crossing" : "folded", n, m.nt, count, ix.pairs, tm);
+              crossing ? "crossing" : "folded", n, m.nt, count, ix.pairs, tm);
       cb_intersections_free(&ix);
       free(x1);
       cb_mesh_free(&m);

@@ -91,7 +91,8 @@ int main(int argc, char **argv) {
   if (cb_experiment_csv(&e, &csv, NULL,
                         "# frame: the lab's step (chebyshev-nl, 32 iterations, d = m/dt^2 + 4k, rho = 0.995) from a "
                         "state 5 frames in, one core; "
-                        "new kernel (lib/core/integrator/nl_kernel.h) and old kernel (bench/support/nl_old.c), medians of "
+                        "new kernel (lib/core/integrator/nl_kernel.h) and old kernel (bench/support/nl_old.c), medians "
+                        "of "
                         "interleaved rounds (new, old, one triad pass)\n"
                         "# iteration: frame / 32 (an upper bound: the frame also evaluates the final gradient); "
                         "ns_per_spring_iter = iteration / springs\n"

@@ -83,8 +83,8 @@ static int collect_visit(void *ctx, int i, int j) {
 }
 
 /* Brute force self candidates of mesh m with edges E (ne), thickness d */
-static void brute_self(const cb_mesh *m, const int *E, int ne, const double *x0, const double *x1, double d,
-                       int **vf, long *nvf, int **ee, long *nee) {
+static void brute_self(const cb_mesh *m, const int *E, int ne, const double *x0, const double *x1, double d, int **vf,
+                       long *nvf, int **ee, long *nee) {
   double h = 0.5 * d;
   *vf = malloc(sizeof(int) * 2 * (size_t)m->nv * (size_t)m->nt);
   *ee = malloc(sizeof(int) * 2 * (size_t)ne * (size_t)ne);

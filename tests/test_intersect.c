@@ -106,8 +106,8 @@ Test(intersect, orient2d_exact_where_doubles_fail) {
   for (int i = 0; i < 64; i++)
     for (int j = 0; j < 64; j++) {
       double p[2] = {0.5 + i * 0x1p-53, 0.5 + j * 0x1p-53}, q[2] = {12, 12}, r[2] = {24, 24};
-      i128 px = (i128)(p[0] * s), py = (i128)(p[1] * s), qx = (i128)(q[0] * s),
-               qy = (i128)(q[1] * s), rx = (i128)(r[0] * s), ry = (i128)(r[1] * s);
+      i128 px = (i128)(p[0] * s), py = (i128)(p[1] * s), qx = (i128)(q[0] * s), qy = (i128)(q[1] * s),
+           rx = (i128)(r[0] * s), ry = (i128)(r[1] * s);
       i128 det = (px - rx) * (qy - ry) - (py - ry) * (qx - rx); /* det[p - r; q - r] */
       int want = sign128(det);
       cr_assert_eq(cb_orient2d(p, q, r), want, "orient2d at (%d, %d)", i, j);
@@ -125,7 +125,8 @@ Test(intersect, orient3d_against_int128) {
     long long P[4][3];
     for (int k = 0; k < 3; k++)
       for (int i = 0; i < 3; i++) P[i][k] = (long long)(cb_rng_next(&g) >> 34) - (1LL << 29);
-    for (int k = 0; k < 3; k++) P[3][k] = P[0][k] + P[1][k] - P[2][k] + (it % 3 == 0 && k == 1 ? (long long)(it % 5) - 2 : 0);
+    for (int k = 0; k < 3; k++)
+      P[3][k] = P[0][k] + P[1][k] - P[2][k] + (it % 3 == 0 && k == 1 ? (long long)(it % 5) - 2 : 0);
     double scale = ldexp(1.0, (int)(it % 41) - 20), D[4][3];
     for (int i = 0; i < 4; i++)
       for (int k = 0; k < 3; k++) D[i][k] = (double)P[i][k] * scale;
@@ -133,7 +134,7 @@ Test(intersect, orient3d_against_int128) {
     for (int i = 0; i < 3; i++)
       for (int k = 0; k < 3; k++) m[i][k] = (i128)(P[i][k] - P[3][k]);
     i128 det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
-                   m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+               m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
     cr_assert_eq(cb_orient3d(D[0], D[1], D[2], D[3]), sign128(det), "case %d", it);
   }
   cr_assert_gt(cb_orient_exact_calls(), 0, "the coplanar cases should reach the exact path");

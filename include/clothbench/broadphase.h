@@ -33,8 +33,9 @@
 #define CB_BROADPHASE_H
 
 typedef struct cb_broadphase_params {
-  double thickness;     /* d: pairs closer than d are candidates; boxes grow by d/2 a side, m. Default 0 (touching counts) */
-  int leaf_size;        /* triangles a leaf holds at most, 1..16. Default 4 */
+  double
+      thickness; /* d: pairs closer than d are candidates; boxes grow by d/2 a side, m. Default 0 (touching counts) */
+  int leaf_size; /* triangles a leaf holds at most, 1..16. Default 4 */
   double rebuild_ratio; /* rebuild when SAH cost / SAH cost at the last build exceeds it, > 1. Default 1.5 */
   int cookie;           /* set by cb_broadphase_params_default; checked by cb_broadphase_alloc */
 } cb_broadphase_params;
@@ -45,12 +46,12 @@ typedef struct cb_broadphase cb_broadphase;
 
 /* What one update did. */
 typedef struct cb_broadphase_stats {
-  int rebuilt;       /* 1 if this update rebuilt the tree, 0 if it refitted */
-  long rebuilds;     /* rebuilds since alloc (the first build counts) */
-  double sah_cost;   /* SAH cost of the tree now (see above), dimensionless */
-  double sah_built;  /* SAH cost right after the last build */
-  int depth;         /* tree depth (root = 1) */
-  int nodes;         /* nodes in use */
+  int rebuilt;      /* 1 if this update rebuilt the tree, 0 if it refitted */
+  long rebuilds;    /* rebuilds since alloc (the first build counts) */
+  double sah_cost;  /* SAH cost of the tree now (see above), dimensionless */
+  double sah_built; /* SAH cost right after the last build */
+  int depth;        /* tree depth (root = 1) */
+  int nodes;        /* nodes in use */
 } cb_broadphase_stats;
 
 /* A tree over the nt triangles tri (3*nt indices into nv vertices). tri is
@@ -90,11 +91,11 @@ int cb_broadphase_cross_pairs(const cb_broadphase *a, const cb_broadphase *b, cb
  * overflows returns CB_ENOMEM with a message, and the caller grows the arrays
  * outside the step. */
 typedef struct cb_candidates {
-  long nvf, nfv, nee;         /* pairs found (may exceed the capacity) */
+  long nvf, nfv, nee;          /* pairs found (may exceed the capacity) */
   long cap_vf, cap_fv, cap_ee; /* capacities, pairs */
-  int *vf; /* 2*cap_vf: (vertex of a, face of a) for self; (vertex of a, face of b) for cross */
-  int *fv; /* 2*cap_fv: (vertex of b, face of a); cross queries only */
-  int *ee; /* 2*cap_ee: (edge of a, edge of a) for self; (edge of a, edge of b) for cross */
+  int *vf;                     /* 2*cap_vf: (vertex of a, face of a) for self; (vertex of a, face of b) for cross */
+  int *fv;                     /* 2*cap_fv: (vertex of b, face of a); cross queries only */
+  int *ee;                     /* 2*cap_ee: (edge of a, edge of a) for self; (edge of a, edge of b) for cross */
 } cb_candidates;
 
 int cb_candidates_alloc(long cap_vf, long cap_fv, long cap_ee, cb_candidates *c);

@@ -204,8 +204,8 @@ void cb_run_csv_row_extra(FILE *f, const cb_run *r, int status, const char *extr
   const cb_step_stats *s = &r->last;
   /* the Chebyshev rho the step used, given or estimated (rho = auto): the integrator's, else its linear solver's */
   double rho = s->rho > 0 ? s->rho : r->integ->solver ? r->integ->solver->stats.rho : 0.0;
-  cb_csv_printf(f, "%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%d,%.6f,%.6f,%.6f,%.6f,%s,%d,%.17g",
-                r->step, r->t, r->kinetic, r->elastic, r->gravity, r->kinetic + r->potential, r->work, s->newton_iters,
+  cb_csv_printf(f, "%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%d,%.6f,%.6f,%.6f,%.6f,%s,%d,%.17g", r->step,
+                r->t, r->kinetic, r->elastic, r->gravity, r->kinetic + r->potential, r->work, s->newton_iters,
                 s->rel_grad, s->rel_grad_hat, s->linear_iters, s->assemble_ms, s->factor_ms, s->solve_ms, s->wall_ms,
                 cb_status_name(status), cb_scene_contacts(r->scene, r->x), rho);
   if (extra) fprintf(f, ",%s", extra);

@@ -27,19 +27,19 @@ typedef struct pair {
 struct cb_broadphase {
   cb_broadphase_params p;
   int nv, nt, ne;
-  int *tri;      /* 3*nt */
-  int *edge;     /* 2*ne, i < j */
-  int *tri_edge; /* 3*nt: edge k of triangle t joins tri[3t+k] and tri[3t+(k+1)%3] */
+  int *tri;           /* 3*nt */
+  int *edge;          /* 2*ne, i < j */
+  int *tri_edge;      /* 3*nt: edge k of triangle t joins tri[3t+k] and tri[3t+(k+1)%3] */
   unsigned char *own; /* per triangle: bits 0-2 the vertices it owns, bits 3-5 the edges */
-  double *box;   /* 6*nt: lo[3], hi[3] of each triangle */
-  double *vbox;  /* 6*nv: each vertex's swept box, grown by d/2 */
-  double *ebox;  /* 6*ne: each edge's */
-  int boxed;     /* the boxes are set (cb_broadphase_boxes) */
-  double *cen;   /* nt: centroid along the split axis during a build */
-  int *idx;      /* nt: triangle of each leaf slot */
-  node *nodes;   /* 2*nt */
+  double *box;        /* 6*nt: lo[3], hi[3] of each triangle */
+  double *vbox;       /* 6*nv: each vertex's swept box, grown by d/2 */
+  double *ebox;       /* 6*ne: each edge's */
+  int boxed;          /* the boxes are set (cb_broadphase_boxes) */
+  double *cen;        /* nt: centroid along the split axis during a build */
+  int *idx;           /* nt: triangle of each leaf slot */
+  node *nodes;        /* 2*nt */
   int nnodes;
-  pair *stack;   /* traversal and build stack */
+  pair *stack; /* traversal and build stack */
   int stack_cap;
   int built, force_rebuild;
   cb_broadphase_stats stats;
@@ -355,7 +355,8 @@ int cb_broadphase_boxes(cb_broadphase *b, const double *x0, const double *x1) {
       bx[3 + k] = (a > c ? a : c) + d;
     }
   }
-  for (int e = 0; e < b->ne; e++) union_box(b->vbox + 6 * b->edge[2 * e], b->vbox + 6 * b->edge[2 * e + 1], b->ebox + 6 * e);
+  for (int e = 0; e < b->ne; e++)
+    union_box(b->vbox + 6 * b->edge[2 * e], b->vbox + 6 * b->edge[2 * e + 1], b->ebox + 6 * e);
   for (int t = 0; t < b->nt; t++) {
     const int *v = b->tri + 3 * t;
     double *bx = b->box + 6 * t;
