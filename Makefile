@@ -14,7 +14,7 @@
 ##                     claim by claim, both verdicts and the deciding timings with their spreads; fails when a
 ##                     verdict differs outside the spreads
 ## make reference     keep the last full run as this CPU's reference (results/reference/<cpu>/, committed)
-## make bench         the benchmarks (results/bench_core.csv, results/bench_nonlinear.csv);
+## make bench         the benchmarks (results/bench_core.csv, results/bench_nonlinear.csv, results/bench_broadphase.csv);
 ##                     SCALE=1 adds the scaling run to 1024^2 (results/bench_scale.csv, ~15 min)
 ## make check         make test without the package step;  make check-quick  check-all's --quick part
 ## make determinism   every experiment's --quick run twice, compared (timing columns aside)
@@ -185,6 +185,8 @@ $(BUILD)/%: $(BUILD)/bench/%.o $(BENCH_SUPPORT) $(LIB)
 # the peers bench_peers compares with (MUMPS, SuperLU): linked into it only, never the library
 $(BUILD)/bench/bench_peers.o: CPPFLAGS += -I/usr/include/superlu
 $(BUILD)/bench_peers: LDLIBS += -ldmumps_seq -lsuperlu
+# Embree (rtcCollide), the broad phase's comparison: linked into bench_broadphase only
+$(BUILD)/bench_broadphase: LDLIBS += -lembree3
 
 $(BUILD)/tests/%: $(BUILD)/tests/%.o $(TEST_OBJ) $(REPORT_LIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -lcriterion -o $@
@@ -398,6 +400,7 @@ bench: deps
 	$(EXP_ENV) $(BUILD)/bench_nonlinear --out results/bench_nonlinear.csv
 	$(PYTHON) scripts/readme-bench-nonlinear.py results docs/performance.md
 	$(EXP_ENV) $(BUILD)/bench_pd_matrix $(if $(filter 1,$(QUICK)),--quick) --out results/bench_pd_matrix.csv
+	$(EXP_ENV) $(BUILD)/bench_broadphase $(if $(filter 1,$(QUICK)),--quick) --out results/bench_broadphase.csv
 ifeq ($(SCALE),1)
 	$(EXP_ENV) $(BUILD)/bench_scale --out results/bench_scale.csv
 	$(PYTHON) scripts/readme-bench-scale.py results docs/performance.md

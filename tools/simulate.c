@@ -17,6 +17,7 @@
 #include "bind.h"
 #include "blas_kernel.h"
 #include "experiment.h"
+#include "intersections.h"
 #include "outfile.h"
 #include "provenance.h"
 #include "stability.h"
@@ -25,7 +26,7 @@ enum { EXIT_OK = 0, EXIT_USAGE = 1, EXIT_IO = 2, EXIT_DIVERGED = 3, EXIT_SOLVER 
 
 static void usage(FILE *f) {
   fputs("usage: simulate CONFIG [--set section.key=value]... [--steps N] [--obj PATH] [--csv PATH]\n"
-        "                [--frames DIR [--every N]] [--quiet]\n"
+        "                [--frames DIR [--every N]] [--check-intersections] [--quiet]\n"
         "       simulate --help | --help-config | --version\n"
         "\n"
         "Runs the scene described by CONFIG (an INI file; see --help-config) and writes\n"
@@ -59,6 +60,10 @@ static void usage(FILE *f) {
         "                           CSV is committed: an interrupted or failed run leaves the earlier\n"
         "                           frames, CSV and OBJ as they were\n"
         "  --every N                frame interval in steps (default 1; needs --frames)\n"
+        "  --check-intersections    count, at every step, the pairs of non-adjacent triangles that\n"
+        "                           intersect (exact test, touching counts) into the CSV columns\n"
+        "                           intersecting_pairs, intersect_tested_pairs and intersect_ms\n"
+        "                           (empty cells where a position is NaN or infinite)\n"
         "  --quiet                  no progress or summary on stderr\n"
         "  --help-config            print every config key with its unit and default (Markdown)\n"
         "\n"
@@ -212,6 +217,15 @@ static void explicit_limit(cb_scene *scene, double dt, char *why, size_t n) {
              cb_error_message()[0] ? ": " : "", cb_error_message());
 }
 
+/* The --check-intersections cells of a row: the count, the pairs tested and
+ * the time, or three empty cells when the state is not finite. */
+static const char *intersection_cells(cb_intersections *ix, const double *x, char *buf, size_t n) {
+  long count;
+  if (cb_intersections_count(ix, x, &count)) snprintf(buf, n, ",,");
+  else snprintf(buf, n, "%ld,%ld,%.6f", count, ix->pairs, ix->wall_ms);
+  return buf;
+}
+
 int main(int argc, char **argv) {
   if (cb_runtime_init()) {
     fprintf(stderr, "simulate: %s\n", cb_error_message());
@@ -219,7 +233,7 @@ int main(int argc, char **argv) {
   }
   const char *config = NULL, *csv_path = NULL, *obj_path = NULL, *steps = NULL, *frames = NULL;
   long every = 1;
-  int quiet = 0, every_given = 0;
+  int quiet = 0, every_given = 0, check_ix = 0;
   for (int i = 1; i < argc; i++) { /* first pass: help and the config path */
     if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
       usage(stdout);
@@ -261,6 +275,7 @@ int main(int argc, char **argv) {
         }
       }
     } else if (!strcmp(a, "--quiet")) quiet = 1;
+    else if (!strcmp(a, "--check-intersections")) check_ix = 1;
     else if (a[0] == '-') {
       fprintf(stderr, "simulate: unknown option %s (see --help)\n", a);
       return EXIT_USAGE;
@@ -378,10 +393,17 @@ int main(int argc, char **argv) {
   cb_integrator *integ = NULL;
   cb_run run = {0};
   cb_outfile csv = {0};
+  cb_intersections ix = {0};
+  char ixcells[128];
   int rc = EXIT_OK;
   if (cb_scene_from_config(&cfg, &scene) || cb_integrator_from_config(&cfg, scene, NULL, &integ) ||
       cb_run_init(&run, scene, integ)) {
     fprintf(stderr, "simulate: %s\n", cb_error_message());
+    rc = EXIT_USAGE;
+    goto done;
+  }
+  if (check_ix && cb_intersections_init(&ix, &scene->mesh)) {
+    fprintf(stderr, "simulate: --check-intersections: %s\n", cb_error_message());
     rc = EXIT_USAGE;
     goto done;
   }
@@ -393,11 +415,11 @@ int main(int argc, char **argv) {
   cb_provenance_write(csv.f, "simulate", argc, argv, &cfg);
   fprintf(csv.f, "# scene: %d vertices, %d triangles, %d edges, %d pinned, %d dofs, %d nonzeros\n", scene->mesh.nv,
           scene->mesh.nt, scene->topo.ne, scene->npinned, scene->sys.A.n, scene->sys.A.nnz);
-  cb_run_csv_header(csv.f);
+  cb_run_csv_header_extra(csv.f, check_ix ? "intersecting_pairs,intersect_tested_pairs,intersect_ms" : NULL);
   int status = run.last.status, worst = CB_OK; /* row 0: the initial state's own status */
   char why[1024] = "";
   if (status) snprintf(why, sizeof why, "%s", cb_error_message());
-  cb_run_csv_row(csv.f, &run, status);
+  cb_run_csv_row_extra(csv.f, &run, status, check_ix ? intersection_cells(&ix, run.x, ixcells, sizeof ixcells) : NULL);
   int frame_failed = 0;
   char first[256], last[256], stage[4096] = "";
   if (frames) { /* this run's frames are staged; they replace the earlier run's when the CSV is committed */
@@ -417,7 +439,8 @@ int main(int argc, char **argv) {
   if (quiet) prog.quiet = 1;
   for (int k = 0; !cb_status_is_fatal(status) && k < cfg.steps; k++) {
     status = cb_run_step(&run);
-    cb_run_csv_row(csv.f, &run, status);
+    cb_run_csv_row_extra(csv.f, &run, status,
+                         check_ix ? intersection_cells(&ix, run.x, ixcells, sizeof ixcells) : NULL);
     if (frames && ((k + 1) % every == 0 || cb_status_is_fatal(status))) { /* the failing state too */
       if (write_frame(stage, scene, run.x, k + 1)) {
         frame_failed = 1;
@@ -498,6 +521,7 @@ int main(int argc, char **argv) {
             worst == CB_NOT_CONVERGED ? ", some steps stopped at max_iters" : "", wrote);
   }
 done:
+  cb_intersections_free(&ix);
   cb_outfile_abort(&csv);
   cb_run_free(&run);
   cb_integrator_free(integ);

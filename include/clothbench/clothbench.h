@@ -9,10 +9,12 @@
 #ifndef CLOTHBENCH_H
 #define CLOTHBENCH_H
 
+#include "broadphase.h"
 #include "definiteness.h"
 #include "eigen.h"
 #include "energy.h"
 #include "integrator.h"
+#include "intersect.h"
 #include "material.h"
 #include "mesh.h"
 #include "objective.h"

@@ -188,20 +188,28 @@ void cb_timing_csv_each(FILE *f, const cb_timing *t, double scale) {
   for (int i = 0; i < t->n; i++) cb_csv_printf(f, "%s%.6f", i ? ";" : "", t->ms[i] * scale);
 }
 
-void cb_run_csv_header(FILE *f) {
+void cb_run_csv_header(FILE *f) { cb_run_csv_header_extra(f, NULL); }
+
+void cb_run_csv_header_extra(FILE *f, const char *extra) {
   fputs("step,t_s,kinetic_j,elastic_j,gravity_j,total_j,pin_work_j,newton_iters,rel_grad,rel_grad_hat,linear_iters,"
-        "assemble_ms,factor_ms,solve_ms,wall_ms,status,contacts,rho\n",
+        "assemble_ms,factor_ms,solve_ms,wall_ms,status,contacts,rho",
         f);
+  if (extra) fprintf(f, ",%s", extra);
+  fputc('\n', f);
 }
 
-void cb_run_csv_row(FILE *f, const cb_run *r, int status) {
+void cb_run_csv_row(FILE *f, const cb_run *r, int status) { cb_run_csv_row_extra(f, r, status, NULL); }
+
+void cb_run_csv_row_extra(FILE *f, const cb_run *r, int status, const char *extra) {
   const cb_step_stats *s = &r->last;
   /* the Chebyshev rho the step used, given or estimated (rho = auto): the integrator's, else its linear solver's */
   double rho = s->rho > 0 ? s->rho : r->integ->solver ? r->integ->solver->stats.rho : 0.0;
-  cb_csv_printf(f, "%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%d,%.6f,%.6f,%.6f,%.6f,%s,%d,%.17g\n",
-                r->step, r->t, r->kinetic, r->elastic, r->gravity, r->kinetic + r->potential, r->work, s->newton_iters,
+  cb_csv_printf(f, "%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d,%.17g,%.17g,%d,%.6f,%.6f,%.6f,%.6f,%s,%d,%.17g", r->step,
+                r->t, r->kinetic, r->elastic, r->gravity, r->kinetic + r->potential, r->work, s->newton_iters,
                 s->rel_grad, s->rel_grad_hat, s->linear_iters, s->assemble_ms, s->factor_ms, s->solve_ms, s->wall_ms,
                 cb_status_name(status), cb_scene_contacts(r->scene, r->x), rho);
+  if (extra) fprintf(f, ",%s", extra);
+  fputc('\n', f);
 }
 
 void cb_timing_csv_repeats(FILE *f, const cb_timing *t) {

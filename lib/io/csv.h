@@ -63,5 +63,9 @@ void cb_timing_csv_repeats(FILE *f, const cb_timing *t);
  * pin_work_j (the driven pins' work so far; 0 without them). */
 void cb_run_csv_header(FILE *f);
 void cb_run_csv_row(FILE *f, const cb_run *r, int status);
+/* The same with more columns at the end of each line: extra (NULL: none) is
+ * the header's further names or the row's further cells, without a leading comma. */
+void cb_run_csv_header_extra(FILE *f, const char *extra);
+void cb_run_csv_row_extra(FILE *f, const cb_run *r, int status, const char *extra);
 
 #endif
