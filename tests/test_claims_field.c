@@ -285,8 +285,9 @@ static void v1_tol(const double *ms, double spread) {
   char buf[8192] = TOL_HEAD;
   for (int k = 0; k < 6; k++) {
     if (ms[k] >= 0)
-      sprintf(buf + strlen(buf), "grid81,6561,%s,x,rel_grad,0.001,100,10,%.17g,%.17g,%.17g,%.17g;%.17g;%.17g,3,1,1e-9,0,none,ok\n",
-              m[k], ms[k], ms[k] * (1 - spread), ms[k] * (1 + spread), ms[k] * (k < 3 ? 1 - spread : 1 + spread), ms[k],
+      sprintf(buf + strlen(buf),
+              "grid81,6561,%s,x,rel_grad,0.001,100,10,%.17g,%.17g,%.17g,%.17g;%.17g;%.17g,3,1,1e-9,0,none,ok\n", m[k],
+              ms[k], ms[k] * (1 - spread), ms[k] * (1 + spread), ms[k] * (k < 3 ? 1 - spread : 1 + spread), ms[k],
               ms[k] * (k < 3 ? 1 + spread : 1 - spread));
     else sprintf(buf + strlen(buf), "grid81,6561,%s,x,rel_grad,0.001,100,,,,,,,1,1e-2,,none,cut_off\n", m[k]);
   }

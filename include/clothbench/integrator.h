@@ -49,10 +49,10 @@ typedef struct cb_step_stats {
   double constraint_residual; /* pbd, xpbd: the last sweep's largest constraint residual over the rest length,
                                  max_c |C_c + alpha~ lambda_c| / L_c (xpbd; pbd: |C_c| / L_c) at the iterate
                                  before that sweep, in the step's last substep; 0 for the other types */
-  int global_path;            /* pd, pd-chebyshev, lbfgs: the constant matrix P they solve with, CB_GLOBAL_SCALAR (n x n,
-                                 x, y and z as one 3-column right-hand side) or CB_GLOBAL_BLOCK (3n x 3n P (x) I_3);
-                                 CB_GLOBAL_NONE for the other methods */
-  double global_factor_nnz;   /* nonzeros of that matrix's factor (CHOLMOD), 0 = none */
+  int global_path;          /* pd, pd-chebyshev, lbfgs: the constant matrix P they solve with, CB_GLOBAL_SCALAR (n x n,
+                               x, y and z as one 3-column right-hand side) or CB_GLOBAL_BLOCK (3n x 3n P (x) I_3);
+                               CB_GLOBAL_NONE for the other methods */
+  double global_factor_nnz; /* nonzeros of that matrix's factor (CHOLMOD), 0 = none */
 } cb_step_stats;
 
 enum { CB_GLOBAL_NONE = 0, CB_GLOBAL_SCALAR = 1, CB_GLOBAL_BLOCK = 2 };
