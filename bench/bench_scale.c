@@ -543,10 +543,12 @@ int main(int argc, char **argv) {
       /* the method failed at a smaller size: skipped, with why */
       int prev = si - 1;
       if (prev >= 0 && !res[q][prev].ok) {
+        char why[sizeof rr->status];
+        snprintf(why, sizeof why, "%s", res[q][prev].status);
         memset(rr, 0, sizeof *rr);
         snprintf(rr->status, sizeof rr->status, "skipped");
         snprintf(rr->note, sizeof rr->note, "not run: %s at n = %d (%s)",
-                 !strcmp(res[q][prev].status, "skipped") ? "skipped" : "failed", sizes[prev], res[q][prev].status);
+                 !strcmp(why, "skipped") ? "skipped" : "failed", sizes[prev], why);
       } else {
         if (m->matched) { /* newton_cholmod's accuracy at this size, measured just before */
           int qc = -1;

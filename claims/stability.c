@@ -63,7 +63,13 @@ static int perturb(const char *in, const char *out, int mode) {
       continue;
     }
     if (nh == 0) { /* the header: each timing column's spread columns */
-      snprintf(head, sizeof head, "%s", line);
+      if (len >= sizeof head) {
+        fprintf(stderr, "report --stability: %s: header longer than %zu bytes\n", in, sizeof head - 1);
+        fclose(fi);
+        fclose(fo);
+        return -1;
+      }
+      memcpy(head, line, len + 1);
       nh = split(head, h, MAXC);
       for (int c = 0; c < nh; c++) {
         char name[256];

@@ -181,8 +181,11 @@ static int publish_frames(const char *dir, const char *stage, int quiet) {
   for (struct dirent *de; (de = readdir(d));) {
     if (!is_frame_name(de->d_name)) continue;
     char from[4096], to[4096];
-    snprintf(from, sizeof from, "%s/%s", stage, de->d_name);
-    snprintf(to, sizeof to, "%s/%s", dir, de->d_name);
+    if (snprintf(from, sizeof from, "%s/%s", stage, de->d_name) >= (int)sizeof from ||
+        snprintf(to, sizeof to, "%s/%s", dir, de->d_name) >= (int)sizeof to) {
+      st = cb_fail("%s: path too long for a frame", dir);
+      break;
+    }
     if (rename(from, to) != 0) {
       st = cb_fail("%s: cannot rename to %s: %s", from, to, strerror(errno));
       break;
