@@ -20,13 +20,22 @@ hold() {
   holder=$!
   while [ ! -e "$T/$2.held" ]; do sleep 0.05; done
 }
-# release NAME [SECONDS]: tells the holder to let go, after SECONDS, in the background
-release() { (sleep "${2:-0}"; touch "$T/$1.stop") & }
+# release NAME: tells the holder to let go
+release() { touch "$T/$1.stop"; }
+# release_when NAME FILE TEXT: in the background, tells the holder to let go once FILE (a waiting
+# program's stderr) says TEXT, or after 300 s (then the check on TEXT fails). Not a timer: a slow
+# start (a loaded machine, the sanitizers) must not release the holder before the program waits.
+release_when() {
+  (i=0; while ! grep -q "$3" "$2" 2>/dev/null && [ $i -lt 6000 ]; do sleep 0.05; i=$((i + 1)); done
+   touch "$T/$1.stop") &
+}
+# wait_for FILE TEXT: until FILE says TEXT (at most 300 s)
+wait_for() { i=0; while ! grep -q "$2" "$1" 2>/dev/null && [ $i -lt 6000 ]; do sleep 0.05; i=$((i + 1)); done; }
 
 # 1. an untimed experiment (topology) waits for an exclusive holder
 hold -x x
-release x 1
-CB_CPU_LOCK=$L OPENBLAS_NUM_THREADS=1 "$B/topology" --smoke --out "$T/t.csv" >/dev/null 2>"$T/t.err"
+release_when x "$T/t.err" 'waiting for a timed experiment to finish'
+env -u CB_QUIET CB_CPU_LOCK=$L OPENBLAS_NUM_THREADS=1 "$B/topology" --smoke --out "$T/t.csv" >/dev/null 2>"$T/t.err"
 ok "untimed: waited for the exclusive holder" "test -e '$T/x.released'"
 wait $holder
 ok "untimed: said it was waiting" "grep -q 'waiting for a timed experiment to finish' '$T/t.err'"
@@ -43,7 +52,7 @@ ok "untimed: no waiting message" "! grep -q waiting '$T/t2.err'"
 
 # 3. a timed experiment (explicit_stability) waits for a shared holder, then records exclusive
 hold -s d
-release d 1
+release_when d "$T/d.err" 'waiting for other experiments to finish'
 env -u CB_QUIET CB_CPU_LOCK=$L OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 "$B/explicit_stability" --smoke --out "$T/d.csv" >/dev/null 2>"$T/d.err"
 ok "timed: waited for the shared holder" "test -e '$T/d.released'"
 wait $holder
@@ -53,7 +62,7 @@ ok "timed: its CSV records the exclusive lock" "grep -q '^# cpu_lock: exclusive'
 # 4. an experiment that locks per cell (definiteness: its trajectory cells are timed) waits for a
 #    shared holder before its timed cells, says so, and records the per-cell lock
 hold -s c
-release c 1
+release_when c "$T/c.err" 'waiting for other cells and experiments to finish: a timed cell runs alone'
 env -u CB_QUIET CB_CPU_LOCK=$L OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 "$B/definiteness" --smoke --out "$T/c.csv" >/dev/null 2>"$T/c.err"
 ok "per cell: a timed cell waited for the shared holder" "test -e '$T/c.released'"
 wait $holder
@@ -64,12 +73,12 @@ ok "per cell: the split of its cell seconds" "grep -q '^timed_cells_s: ' '$T/c.c
 # 5. the turnstile: while a timed cell waits (for a shared holder), a newcomer asking for the shared
 #    lock waits behind it, rather than passing it (flock alone would let it through)
 hold -s w
-CB_CPU_LOCK=$L OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 "$B/definiteness" --smoke --out "$T/w.csv" >/dev/null 2>&1 &
+env -u CB_QUIET CB_CPU_LOCK=$L OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 "$B/definiteness" --smoke --out "$T/w.csv" >/dev/null 2>"$T/w.err" &
 dpid=$!
-sleep 1 # definiteness is now waiting for its first timed cell, holding the turnstile
+wait_for "$T/w.err" 'a timed cell runs alone' # definiteness now waits for its first timed cell, holding the turnstile
 CB_CPU_LOCK=$L OPENBLAS_NUM_THREADS=1 "$B/topology" --smoke --out "$T/w2.csv" >/dev/null 2>&1 &
 tpid=$!
-sleep 1
+sleep 2
 ok "turnstile: a shared newcomer passed a waiting timed cell" "test ! -e '$T/w2.csv'"
 release w
 wait $holder $dpid $tpid
