@@ -49,6 +49,7 @@ typedef struct cb_config {
   double pin_squeeze[3];  /* m/s, pinned vertices driven toward each other */
   /* [collider] */
   char collider_type[CB_NAME_LEN]; /* none | penalty | project | mesh */
+  char contact_method[CB_NAME_LEN]; /* contact.method: none | penalty | ipc (its keys are type values) */
   double collider_centre[3];       /* m: the sphere's centre, or a point on the mesh's rotation axis */
   double collider_radius;          /* m */
   double collider_thickness;       /* m */

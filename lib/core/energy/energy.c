@@ -19,6 +19,8 @@
   X(dihedral_exact) /* energy_dihedral.c: exact Hessian, projected */ \
   X(quadratic)      /* energy_quadratic.c */ \
   X(sphere)         /* collider.c: the penalty collider */ \
+  X(contact_penalty) /* contact/contact_penalty.c: contact.method = penalty */ \
+  X(contact_ipc)     /* contact/contact_ipc.c: contact.method = ipc */ \
   /* one X(id) line per term type, above this line */
 #define CB_TERM_DECLARE(id) extern const cb_term_type cb_term_##id##_type;
 #define CB_TERM_ENTRY(id) &cb_term_##id##_type,
