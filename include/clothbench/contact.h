@@ -15,8 +15,9 @@
  * obstacles) and of the cloth with the scene's obstacle mesh (collider.type =
  * mesh). The pairs are found by the broad phase (broadphase.h) at every
  * evaluation of the energy, so E is a function of x alone. `ipc` also gives
- * the minimisers a step bound: the largest fraction of a step that CCD
- * (ccd.h) certifies free of contact (cb_system_max_step, system.h). */
+ * the minimisers a step bound: the largest fraction of a step that additive
+ * CCD (Li, Kaufman & Jiang 2021) certifies free of contact
+ * (cb_system_max_step, system.h). */
 #ifndef CB_CONTACT_H
 #define CB_CONTACT_H
 
@@ -75,7 +76,8 @@ typedef struct cb_contact_stats {
   long decoupled;    /* active pairs of the last Hessian whose cross blocks the matrix pattern lacked (block-
                         diagonal model, docs/contact.md) */
   double min_dist;   /* smallest distance of a candidate pair, m (inf without one) */
-  long ccd_queries;  /* of the last step bound */
+  long ccd_queries;  /* pairs the last step bound ran CCD on */
+  long ccd_iters;    /* additive-CCD advances those queries took */
   double max_step;   /* the last step bound, in (0, 1] */
   long grows;        /* candidate arrays grown past their set-up capacity (allocations outside set-up) */
 } cb_contact_stats;
