@@ -73,6 +73,7 @@ int cb_contact_term_is(const cb_term *t);
 typedef struct cb_contact_stats {
   long candidates;   /* primitive pairs the broad phase gave */
   long active;       /* pairs within reach (nonzero energy) */
+  long mollified;    /* active edge-edge pairs inside the mollifier's range (c < eps_x; ipc only) */
   long decoupled;    /* active pairs of the last Hessian whose cross blocks the matrix pattern lacked (block-
                         diagonal model, docs/contact.md) */
   double min_dist;   /* smallest distance of a candidate pair, m (inf without one) */

@@ -220,7 +220,7 @@ double cb_contact_energy(const cb_term *t, const double *x, double *grad) {
   if (find(s, x, NULL)) return NAN;
   double E = 0, g[12], q[12], eps, d2;
   int vid[4];
-  s->stats.candidates = s->stats.active = 0;
+  s->stats.candidates = s->stats.active = s->stats.mollified = 0;
   s->stats.min_dist = INFINITY;
   for (int kind = 0; kind < K_COUNT; kind++)
     for (long i = 0; i < count(s, kind); i++) {
@@ -230,6 +230,7 @@ double cb_contact_energy(const cb_term *t, const double *x, double *grad) {
       if (d2 < s->stats.min_dist * s->stats.min_dist) s->stats.min_dist = sqrt(d2);
       if (Ep == 0 && d2 >= s->reach * s->reach) continue;
       s->stats.active++;
+      if (ee && s->mollify && cb_edge_edge_cross_squared(q, NULL, NULL) < eps) s->stats.mollified++;
       E += Ep;
       if (grad)
         for (int a = 0; a < 4; a++)
