@@ -228,6 +228,27 @@ Test(contact, conformance_examples_have_active_contacts) {
   cb_scene_free(s);
 }
 
+/* ipc needs the line-search filter: the types that do not call it refuse its scene, naming the key. */
+Test(contact, ipc_needs_a_filtering_minimiser) {
+  const char *const sets[] = {"mesh.n=3", "contact.method=ipc", NULL};
+  cb_scene *s = test_scene(sets);
+  cb_integrator_params p = cb_integrator_params_default();
+  for (int i = 0; cb_integrator_types[i]; i++) {
+    const cb_integrator_type *t = cb_integrator_types[i];
+    cb_integrator *it = NULL;
+    int st = cb_integrator_alloc(t->name, s, &p, NULL, "cholmod", NULL, &it);
+    if (t->flags & CB_INTEGRATOR_STEP_FILTER) {
+      cr_expect_eq(st, CB_OK, "%s: %s", t->name, cb_error_message());
+    } else {
+      cr_expect_neq(st, CB_OK, "%s accepted an ipc scene", t->name);
+      cr_expect(strstr(cb_error_message(), "integrator.method") || strstr(cb_error_message(), "contact"),
+                "%s: %s", t->name, cb_error_message());
+    }
+    cb_integrator_free(it);
+  }
+  cb_scene_free(s);
+}
+
 /* ---- the drop ------------------------------------------------------------------------ */
 
 /* Intersecting (cloth triangle, table triangle) pairs, all pairs, exactly. */

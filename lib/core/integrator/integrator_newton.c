@@ -323,7 +323,7 @@ static int nt_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
 
 const cb_integrator_type cb_integrator_newton = {
     .name = "newton",
-    .flags = CB_INTEGRATOR_LINEAR_SOLVER | CB_INTEGRATOR_HESSIAN,
+    .flags = CB_INTEGRATOR_LINEAR_SOLVER | CB_INTEGRATOR_HESSIAN | CB_INTEGRATOR_STEP_FILTER,
     .size = sizeof(newton_work),
     .params_size = sizeof(cb_newton_params),
     .params_default = &newton_defaults,
