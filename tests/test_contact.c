@@ -272,14 +272,15 @@ typedef struct {
 
 /* A 10x10 sheet 0.8 m wide falls 0.5 m onto the table's top (y = -0.5, 0.04 m thick) at dt = 1/30 s (about
  * 0.1 m a step at impact: more than the top's thickness). */
-static drop_result drop(const char *method, int steps) {
+static drop_result drop(const char *method, const char *integrator, int steps) {
   const char *const sets[] = {"mesh.n=10",
                               "mesh.size=0.8",
                               "mesh.plane=xz",
                               "material.density=0.2",
                               "material.stretch_k=500",
                               "scene.pins=none",
-                              "integrator.method=newton",
+                              integrator,
+                              "integrator.iters=100",
                               "integrator.dt=1/30",
                               "integrator.line_search=1",
                               "integrator.tol_dx=1e-7",
@@ -327,18 +328,23 @@ static drop_result drop(const char *method, int steps) {
 }
 
 Test(contact, ipc_never_intersects_where_penalty_tunnels, .timeout = 600) {
-  drop_result ipc = drop("contact.method=ipc", 24);
+  drop_result ipc = drop("contact.method=ipc", "integrator.method=newton", 24);
   cr_expect_eq(ipc.failed_steps, 0, "ipc: %d failed steps", ipc.failed_steps);
   cr_expect_eq(ipc.frames_hit, 0, "ipc: %ld frames intersect (worst: %ld with the table, %ld self)", ipc.frames_hit,
                ipc.worst_cross, ipc.worst_self);
   cr_expect(ipc.ymin_end > -0.5 && ipc.ymax_end < -0.5 + 5e-3, "ipc: the sheet ends at y in [%g, %g], not resting on "
             "the table (y = -0.5, within dhat)", ipc.ymin_end, ipc.ymax_end);
-  drop_result pen = drop("contact.method=penalty", 24);
+  drop_result pen = drop("contact.method=penalty", "integrator.method=newton", 24);
   /* tunnelled: a frame intersects the table, or the whole sheet ends below the table's top */
   cr_expect(pen.frames_hit > 0 || pen.ymax_end < -0.54, "penalty did not tunnel: ends at y in [%g, %g]", pen.ymin_end,
             pen.ymax_end);
+  /* L-BFGS calls the same filter (its iterations may stop at integrator.iters: not converged, still apart) */
+  drop_result lb = drop("contact.method=ipc", "integrator.method=lbfgs", 24);
+  cr_expect_eq(lb.failed_steps, 0, "lbfgs: %d failed steps", lb.failed_steps);
+  cr_expect_eq(lb.frames_hit, 0, "lbfgs: %ld frames intersect", lb.frames_hit);
+  cr_expect(lb.ymin_end > -0.5, "lbfgs: the sheet ends at y = %g, below the table's top", lb.ymin_end);
   if (!getenv("CB_QUIET"))
-    printf("drop: ipc ends at y in [%.5f, %.5f], 0 intersecting frames; penalty ends at y in [%.4f, %.4f], %ld "
+    printf("drop: ipc (newton) ends at y in [%.5f, %.5f], 0 intersecting frames (lbfgs: [%.5f, %.5f], 0); penalty ends at y in [%.4f, %.4f], %ld "
            "intersecting frames (worst %ld table pairs)\n",
-           ipc.ymin_end, ipc.ymax_end, pen.ymin_end, pen.ymax_end, pen.frames_hit, pen.worst_cross);
+           ipc.ymin_end, ipc.ymax_end, lb.ymin_end, lb.ymax_end, pen.ymin_end, pen.ymax_end, pen.frames_hit, pen.worst_cross);
 }
