@@ -77,8 +77,7 @@ Test(contact, registry_and_keys) {
   cb_config_defaults(&c);
   cb_contact_params p, d = cb_contact_params_default();
   cr_assert_eq(cb_contact_params_from_config(&c, &p), CB_OK, "%s", cb_error_message());
-  cr_expect(p.thickness == d.thickness && p.friction == d.friction && p.stiffness == d.stiffness &&
-            p.kappa == d.kappa);
+  cr_expect(p.thickness == d.thickness && p.friction == d.friction && p.stiffness == d.stiffness && p.kappa == d.kappa);
   cr_assert_eq(cb_config_set(&c, "contact.thickness=2e-3"), CB_OK);
   cr_assert_eq(cb_contact_params_from_config(&c, &p), CB_OK);
   cr_expect_eq(p.thickness, 2e-3);
@@ -241,11 +240,18 @@ Test(contact, ipc_needs_a_filtering_minimiser) {
       cr_expect_eq(st, CB_OK, "%s: %s", t->name, cb_error_message());
     } else {
       cr_expect_neq(st, CB_OK, "%s accepted an ipc scene", t->name);
-      cr_expect(strstr(cb_error_message(), "integrator.method") || strstr(cb_error_message(), "contact"),
-                "%s: %s", t->name, cb_error_message());
+      cr_expect(strstr(cb_error_message(), "integrator.method") || strstr(cb_error_message(), "contact"), "%s: %s",
+                t->name, cb_error_message());
     }
     cb_integrator_free(it);
   }
+  cb_scene_free(s);
+  /* the penalty has no bound, but shape matching would ignore its energy: refused */
+  s = test_scene((const char *const[]){"mesh.n=3", "contact.method=penalty", NULL});
+  cb_integrator *it = NULL;
+  cr_expect_neq(cb_integrator_alloc("shape_matching", s, &p, NULL, NULL, NULL, &it), CB_OK);
+  cr_expect(strstr(cb_error_message(), "contact"), "%s", cb_error_message());
+  cb_integrator_free(it);
   cb_scene_free(s);
 }
 
@@ -332,8 +338,10 @@ Test(contact, ipc_never_intersects_where_penalty_tunnels, .timeout = 600) {
   cr_expect_eq(ipc.failed_steps, 0, "ipc: %d failed steps", ipc.failed_steps);
   cr_expect_eq(ipc.frames_hit, 0, "ipc: %ld frames intersect (worst: %ld with the table, %ld self)", ipc.frames_hit,
                ipc.worst_cross, ipc.worst_self);
-  cr_expect(ipc.ymin_end > -0.5 && ipc.ymax_end < -0.5 + 5e-3, "ipc: the sheet ends at y in [%g, %g], not resting on "
-            "the table (y = -0.5, within dhat)", ipc.ymin_end, ipc.ymax_end);
+  cr_expect(ipc.ymin_end > -0.5 && ipc.ymax_end < -0.5 + 5e-3,
+            "ipc: the sheet ends at y in [%g, %g], not resting on "
+            "the table (y = -0.5, within dhat)",
+            ipc.ymin_end, ipc.ymax_end);
   drop_result pen = drop("contact.method=penalty", "integrator.method=newton", 24);
   /* tunnelled: a frame intersects the table, or the whole sheet ends below the table's top */
   cr_expect(pen.frames_hit > 0 || pen.ymax_end < -0.54, "penalty did not tunnel: ends at y in [%g, %g]", pen.ymin_end,
@@ -344,7 +352,9 @@ Test(contact, ipc_never_intersects_where_penalty_tunnels, .timeout = 600) {
   cr_expect_eq(lb.frames_hit, 0, "lbfgs: %ld frames intersect", lb.frames_hit);
   cr_expect(lb.ymin_end > -0.5, "lbfgs: the sheet ends at y = %g, below the table's top", lb.ymin_end);
   if (!getenv("CB_QUIET"))
-    printf("drop: ipc (newton) ends at y in [%.5f, %.5f], 0 intersecting frames (lbfgs: [%.5f, %.5f], 0); penalty ends at y in [%.4f, %.4f], %ld "
+    printf("drop: ipc (newton) ends at y in [%.5f, %.5f], 0 intersecting frames (lbfgs: [%.5f, %.5f], 0); penalty ends "
+           "at y in [%.4f, %.4f], %ld "
            "intersecting frames (worst %ld table pairs)\n",
-           ipc.ymin_end, ipc.ymax_end, lb.ymin_end, lb.ymax_end, pen.ymin_end, pen.ymax_end, pen.frames_hit, pen.worst_cross);
+           ipc.ymin_end, ipc.ymax_end, lb.ymin_end, lb.ymax_end, pen.ymin_end, pen.ymax_end, pen.frames_hit,
+           pen.worst_cross);
 }

@@ -37,7 +37,7 @@ typedef struct cb_contact_params {
 cb_contact_params cb_contact_params_default(void);
 
 typedef struct cb_contact_type {
-  const char *name;         /* the value of contact.method */
+  const char *name;                /* the value of contact.method */
   const struct cb_param_key *keys; /* its keys `contact.<name>` (into cb_contact_params), ended by a NULL name */
   /* Its energy term on the model, or *out = NULL for none; fails with a message naming the key. */
   int (*term_alloc)(const cb_model *m, const cb_contact_params *p, cb_term **out);
@@ -71,16 +71,16 @@ int cb_contact_term_is(const cb_term *t);
 
 /* What the last evaluation found. */
 typedef struct cb_contact_stats {
-  long candidates;   /* primitive pairs the broad phase gave */
-  long active;       /* pairs within reach (nonzero energy) */
-  long mollified;    /* active edge-edge pairs inside the mollifier's range (c < eps_x; ipc only) */
-  long decoupled;    /* active pairs of the last Hessian whose cross blocks the matrix pattern lacked (block-
-                        diagonal model, docs/contact.md) */
-  double min_dist;   /* smallest distance of a candidate pair, m (inf without one) */
-  long ccd_queries;  /* pairs the last step bound ran CCD on */
-  long ccd_iters;    /* additive-CCD advances those queries took */
-  double max_step;   /* the last step bound, in (0, 1] */
-  long grows;        /* candidate arrays grown past their set-up capacity (allocations outside set-up) */
+  long candidates;  /* primitive pairs the broad phase gave */
+  long active;      /* pairs within reach (nonzero energy) */
+  long mollified;   /* active edge-edge pairs inside the mollifier's range (c < eps_x; ipc only) */
+  long decoupled;   /* active pairs of the last Hessian whose cross blocks the matrix pattern lacked (block-
+                       diagonal model, docs/contact.md) */
+  double min_dist;  /* smallest distance of a candidate pair, m (inf without one) */
+  long ccd_queries; /* pairs the last step bound ran CCD on */
+  long ccd_iters;   /* additive-CCD advances those queries took */
+  double max_step;  /* the last step bound, in (0, 1] */
+  long grows;       /* candidate arrays grown past their set-up capacity (allocations outside set-up) */
 } cb_contact_stats;
 const cb_contact_stats *cb_contact_term_stats(const cb_term *t);
 

@@ -80,7 +80,7 @@ typedef struct cb_scene_def {
   const char *contact;         /* contact.method, a name of cb_contact_names: "penalty" and "ipc" add their
                                   energy term (contact.h). Default "none" */
   cb_contact_params contact_params; /* the response's parameters. Default cb_contact_params_default() */
-  int nresponses;              /* post-step responses, run in this order. Default 0 */
+  int nresponses;                   /* post-step responses, run in this order. Default 0 */
   struct {
     const cb_response_type *type;
     const void *params; /* handed to type->init; read during the build only */

@@ -129,8 +129,9 @@ static const keydef keys_head[] = {
      "every step a free vertex inside is moved to the sphere's surface and its velocity corrected by (x_new - x)/dt; "
      "explicit and implicit integrators); or `mesh`, a kinematic obstacle mesh read from `collider.file`, turning at "
      "`collider.angular_speed` about `collider.axis` through `collider.centre` and moving at `collider.velocity` "
-     "(docs/geometry-distance.md); it has no contact response yet: it is moved every step and written beside the "
-     "cloth (simulate's --obj and --frames). Contacts per step are the `contacts` column of simulate's CSV."},
+     "(docs/geometry-distance.md); it is moved every step and written beside the cloth (simulate's --obj and "
+     "--frames), and `contact.method` names its contact response (docs/contact.md). Sphere contacts per step are the "
+     "`contacts` column of simulate's CSV."},
     {"collider.centre", T_VEC3, O(collider_centre), "0 0 0", "m", -1e9, 1e9, 0, NULL, NULL,
      "Centre c of the sphere at t = 0; for `mesh`, where the OBJ's origin is placed at t = 0: the obstacle turns "
      "about the axis through it, and it moves with `collider.velocity`."},
@@ -215,8 +216,11 @@ static const keydef keys_contact[] = {
      "nearly-parallel-edge mollifier, and a CCD bound on every Newton update so no step crosses a contact (Newton is "
      "its home)."},
 };
-enum { NHEAD = (int)(sizeof keys_head / sizeof keys_head[0]), NTAIL = (int)(sizeof keys_tail / sizeof keys_tail[0]),
-       NCONTACT = (int)(sizeof keys_contact / sizeof keys_contact[0]) };
+enum {
+  NHEAD = (int)(sizeof keys_head / sizeof keys_head[0]),
+  NTAIL = (int)(sizeof keys_tail / sizeof keys_tail[0]),
+  NCONTACT = (int)(sizeof keys_contact / sizeof keys_contact[0])
+};
 enum { MAX_KEYS = (int)(sizeof((cb_config *)0)->where / sizeof((cb_config *)0)->where[0]) };
 enum { SRC_DEFAULT = 0, SRC_FILE = 1, SRC_SET = 2 };
 
@@ -333,8 +337,10 @@ static void build_table(void) {
       }
       if (slots == CB_MAX_TYPE_KEYS || n >= MAX_KEYS) {
         if (!table_error[0])
-          snprintf(table_error, sizeof table_error, "the integrator types and contact responses declare more than %d "
-                   "keys", CB_MAX_TYPE_KEYS);
+          snprintf(table_error, sizeof table_error,
+                   "the integrator types and contact responses declare more than %d "
+                   "keys",
+                   CB_MAX_TYPE_KEYS);
         continue;
       }
       snprintf(type_key_names[slots], sizeof type_key_names[slots], "%s", name);

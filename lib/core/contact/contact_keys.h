@@ -13,8 +13,8 @@
 #define CB_CKEY(field) offsetof(cb_contact_params, field)
 #define CB_KEY_CONTACT_THICKNESS \
   { \
-    .name = "thickness", .kind = CB_PARAM_DOUBLE, .offset = CB_CKEY(thickness), .def = "1e-3", .unit = "m", \
-    .lo = 0, .hi = 1e9, .lo_open = 1, \
+    .name = "thickness", .kind = CB_PARAM_DOUBLE, .offset = CB_CKEY(thickness), .def = "1e-3", .unit = "m", .lo = 0, \
+    .hi = 1e9, .lo_open = 1, \
     .doc = "Contact distance: the penalty acts on pairs closer than it; IPC's barrier activation distance dhat." \
   }
 #define CB_KEY_CONTACT_FRICTION \

@@ -59,7 +59,7 @@
 #include <clothbench/distance.h>
 #include <clothbench/status.h>
 
-#define SAFE_MARGIN 1.01  /* the distance filter before CCD, with 1% for the round-off of d(0) */
+#define SAFE_MARGIN 1.01 /* the distance filter before CCD, with 1% for the round-off of d(0) */
 
 typedef struct {
   cb_term base;
@@ -200,9 +200,7 @@ static double pair_eval(const ct *s, const double *q, int ee, double eps, double
   double f1, f2, f = s->f(&s->p, sq, &f1, &f2);
   double e = 1, ge[12] = {0}, He[144];
   int moll = ee && s->mollify;
-  if (moll) {
-    e = cb_edge_edge_mollifier(q, eps, g || H ? ge : NULL, H ? He : NULL);
-  }
+  if (moll) { e = cb_edge_edge_mollifier(q, eps, g || H ? ge : NULL, H ? He : NULL); }
   if (g)
     for (int k = 0; k < 12; k++) g[k] = e * f1 * gs[k] + f * ge[k];
   if (H)
@@ -513,8 +511,8 @@ const cb_contact_stats *cb_contact_term_stats(const cb_term *t) {
   return cb_contact_term_is(t) ? &as_ct(t)->stats : NULL;
 }
 
-int cb_contact_example(const cb_model *m, int i, const cb_term_type *type, cb_contact_potential f, int mollify,
-                       int ccd, const cb_contact_params *p, cb_term **out) {
+int cb_contact_example(const cb_model *m, int i, const cb_term_type *type, cb_contact_potential f, int mollify, int ccd,
+                       const cb_contact_params *p, cb_term **out) {
   int st = cb_contact_term_alloc(m, type, p, f, p->thickness, mollify, ccd, out);
   if (st || i != 0) return st;
   ct *s = as_ct(*out);

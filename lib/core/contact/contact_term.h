@@ -19,8 +19,8 @@ int cb_contact_indefinite(const cb_term *t, const double *x, int *nelements);
  * turned 0.01 rad about it (point-triangle pairs and nearly parallel edge
  * pairs inside the 0.3 m reach at the test's states); 1, self-contact only,
  * reach 0.3 m (non-adjacent primitives of the small grids come that close). */
-int cb_contact_example(const cb_model *m, int i, const cb_term_type *type, cb_contact_potential f, int mollify,
-                       int ccd, const cb_contact_params *p, cb_term **out);
+int cb_contact_example(const cb_model *m, int i, const cb_term_type *type, cb_contact_potential f, int mollify, int ccd,
+                       const cb_contact_params *p, cb_term **out);
 
 enum { CB_CONTACT_DENSE_MAX = 64 }; /* free vertices up to which the pattern holds every pair */
 

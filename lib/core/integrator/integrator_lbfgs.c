@@ -217,7 +217,7 @@ static int line_search(lbfgs_work *w, const cb_scene *s, int kind, const double 
         *Fn = Ft;
         *alpha = a;
         return CB_OK;
-      }                       /* strong Wolfe */
+      }                                          /* strong Wolfe */
       if (dslope < 0 && a >= amax && amax < 1) { /* going down, but the filter allows no longer step */
         *Fn = Ft;
         *alpha = a;

@@ -613,7 +613,8 @@ int cb_scene_build(const cb_scene_def *d, cb_scene **out, const char **key) {
   cb_scene *s = cb_calloc(1, sizeof *s);
   if (!s) return CB_ENOMEM;
   s->def = *d;
-  s->def.mesh_file = s->def.bend = s->def.bend_hessian = s->def.definiteness = s->def.pins = s->def.collider = s->def.contact = NULL;
+  s->def.mesh_file = s->def.bend = s->def.bend_hessian = s->def.definiteness = s->def.pins = s->def.collider =
+      s->def.contact = NULL;
   s->def.obstacle.file = NULL;
   for (int k = 0; k < d->nresponses; k++) s->def.responses[k].params = NULL;
   s->diverge_ratio = d->diverge_ratio;
