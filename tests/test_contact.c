@@ -255,6 +255,36 @@ Test(contact, ipc_needs_a_filtering_minimiser) {
   cb_scene_free(s);
 }
 
+/* A start state that intersects (a sheet 1 m wide inside the table's 0.8 m deep top crosses its sides): ipc refuses it,
+ * naming contact.method; a start state at distance 0 (the sheet on the top's plane) too; the penalty starts from
+ * either. */
+Test(contact, ipc_refuses_an_intersecting_start) {
+  const char *const heights[] = {"collider.centre=0 0.02 0", "collider.centre=0 0 0"};
+  for (int h = 0; h < 2; h++)
+    for (int m = 0; m < 2; m++) {
+      const char *const sets[] = {"mesh.n=6",
+                                  "mesh.size=1",
+                                  "mesh.plane=xz",
+                                  "scene.pins=none",
+                                  "collider.type=mesh",
+                                  "collider.file=configs/table.obj",
+                                  heights[h],
+                                  m ? "contact.method=penalty" : "contact.method=ipc",
+                                  NULL};
+      cb_config c;
+      test_config(&c, sets);
+      cb_scene *s = NULL;
+      int st = cb_scene_from_config(&c, &s);
+      if (m) {
+        cr_expect_eq(st, CB_OK, "penalty, %s: %s", heights[h], cb_error_message());
+      } else {
+        cr_expect_neq(st, CB_OK, "ipc accepted the start state with %s", heights[h]);
+        cr_expect(strstr(cb_error_message(), "contact.method"), "%s", cb_error_message());
+      }
+      cb_scene_free(s);
+    }
+}
+
 /* ---- the drop ------------------------------------------------------------------------ */
 
 /* Intersecting (cloth triangle, table triangle) pairs, all pairs, exactly. */

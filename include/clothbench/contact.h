@@ -69,6 +69,12 @@ int cb_contact_term_set_obstacle(cb_term *t, const cb_obstacle *o);
 /* Nonzero if t is a contact term (either response). */
 int cb_contact_term_is(const cb_term *t);
 
+/* *count = the triangle pairs that intersect at x (closed triangles, exactly,
+ * intersect.h): the cloth's non-adjacent pairs and cloth against obstacle.
+ * The scene refuses such a start state for a response that bounds its steps
+ * (ipc): its barrier cannot start from it. */
+int cb_contact_term_intersections(const cb_term *t, const double *x, long *count);
+
 /* What the last evaluation found. */
 typedef struct cb_contact_stats {
   long candidates;  /* primitive pairs the broad phase gave */

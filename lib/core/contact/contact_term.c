@@ -57,6 +57,7 @@
 
 #include <clothbench/broadphase.h>
 #include <clothbench/distance.h>
+#include <clothbench/intersect.h>
 #include <clothbench/status.h>
 
 #define SAFE_MARGIN 1.01 /* the distance filter before CCD, with 1% for the round-off of d(0) */
@@ -503,6 +504,40 @@ int cb_contact_term_set_obstacle(cb_term *t, const cb_obstacle *o) {
   ct *s = as_ct(t);
   if (!o) return set_obstacle(s, 0, 0, NULL, NULL, NULL);
   return set_obstacle(s, o->mesh.nv, o->mesh.nt, o->mesh.tri, o->x, o->mesh.x);
+}
+
+typedef struct {
+  const ct *s;
+  const double *x;
+  int cross;
+  long n;
+} ix_ctx;
+
+static int ix_visit(void *vctx, int i, int j) {
+  ix_ctx *c = vctx;
+  const int *a = c->s->tri + 3 * i, *b = (c->cross ? c->s->otri : c->s->tri) + 3 * j;
+  const double *y = c->cross ? c->s->ox : c->x;
+  c->n +=
+      cb_tri_tri_intersect(c->x + 3 * a[0], c->x + 3 * a[1], c->x + 3 * a[2], y + 3 * b[0], y + 3 * b[1], y + 3 * b[2]);
+  return 0;
+}
+
+int cb_contact_term_intersections(const cb_term *t, const double *x, long *count) {
+  *count = 0;
+  if (!cb_contact_term_is(t)) return cb_fail("contact: not a contact term");
+  ct *s = as_ct(t);
+  if (!s->bp) return CB_OK;
+  int st = cb_broadphase_update(s->bp, x, NULL);
+  if (st) return st;
+  ix_ctx c = {s, x, 0, 0};
+  cb_broadphase_self_pairs(s->bp, 1, ix_visit, &c);
+  if (s->bo) {
+    if ((st = cb_broadphase_update(s->bo, s->ox, NULL))) return st;
+    c.cross = 1;
+    cb_broadphase_cross_pairs(s->bp, s->bo, ix_visit, &c);
+  }
+  *count = c.n;
+  return CB_OK;
 }
 
 int cb_contact_term_is(const cb_term *t) { return t && t->type->energy == cb_contact_energy; }

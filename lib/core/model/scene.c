@@ -493,6 +493,13 @@ static int build_contact(cb_scene *s, const char **key) {
   if (!t) return CB_OK;
   int st = contact_error(cb_contact_term_set_obstacle(t, cb_scene_obstacle(s)), key);
   if (st) return st;
+  long nx = 0;
+  if (t->type->max_step && (st = cb_contact_term_intersections(t, s->x0, &nx))) return contact_error(st, key);
+  if (nx > 0)
+    return contact_error(cb_fail("contact.method: %s: the start state intersects (%ld triangle pairs, cloth with "
+                                 "itself or with the obstacle): the barrier cannot start from it",
+                                 t->type->name, nx),
+                         key);
   double E = t->type->energy(t, s->x0, NULL);
   if (!isfinite(E))
     return contact_error(cb_fail("contact.method: %s: the start state has primitives at distance 0 (touching or "
