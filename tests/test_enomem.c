@@ -311,6 +311,25 @@ Test(enomem, every_material_collider_policy) {
   }
 }
 
+/* Every contact response, against a flat obstacle under the sheet (so pairs are active from the start) and with
+ * self-contact: the term, its broad phases and candidate arrays, the step bound. */
+Test(enomem, every_contact_response) {
+  char obstacle[256];
+  snprintf(obstacle, sizeof obstacle, "%s", test_tmpfile(".obj", "v -5 0 -5\nv 0 0 5\nv 5 0 -5\nf 1 2 3\n"));
+  for (int i = 0; cb_contact_names[i]; i++) {
+    run_case rc = {0};
+    case_add(&rc, "contact.method", cb_contact_names[i]);
+    case_add(&rc, "contact.thickness", "0.3");
+    case_add(&rc, "contact.kappa", "1");
+    case_add(&rc, "collider.type", "mesh");
+    case_add(&rc, "collider.file", obstacle);
+    case_add(&rc, "collider.centre", "0 -0.2 0");
+    case_add(&rc, "integrator.line_search", "1");
+    sweep(&rc);
+  }
+  remove(obstacle);
+}
+
 /* The OBJ reader (its growing buffers) on a small file. */
 Test(enomem, obj_mesh) {
   const char *path = test_tmpfile(".obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n");

@@ -600,7 +600,9 @@ Test(integrator, every_type_gets_what_its_flags_ask_for) {
                (unsigned)CB_INTEGRATOR_OWN_ELASTICITY); /* no solver, no Hessian */
   /* what the built-in types declare */
   cr_expect_eq(cb_integrator_type_find("explicit")->flags, 0u);
-  cr_expect_eq(cb_integrator_type_find("newton")->flags, CB_INTEGRATOR_LINEAR_SOLVER | CB_INTEGRATOR_HESSIAN);
+  cr_expect_eq(cb_integrator_type_find("newton")->flags,
+               CB_INTEGRATOR_LINEAR_SOLVER | CB_INTEGRATOR_HESSIAN | CB_INTEGRATOR_STEP_FILTER);
+  cr_expect_eq(cb_integrator_type_find("lbfgs")->flags, CB_INTEGRATOR_LINEAR_SOLVER | CB_INTEGRATOR_STEP_FILTER);
   cr_expect_eq(cb_integrator_type_find("jacobi-nl")->flags, CB_INTEGRATOR_HESSIAN); /* the exact diagonal assembles H */
   cr_expect_eq(cb_integrator_type_find("chebyshev-nl")->flags, CB_INTEGRATOR_HESSIAN);
   cr_expect_eq(cb_integrator_type_find("pd")->flags,

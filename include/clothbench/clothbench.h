@@ -10,6 +10,7 @@
 #define CLOTHBENCH_H
 
 #include "broadphase.h"
+#include "contact.h"
 #include "definiteness.h"
 #include "eigen.h"
 #include "energy.h"

@@ -1,6 +1,7 @@
 /* A sphere collider (the GAMES103 lab's ball), as an energy term (`penalty`)
  * or as a post-step response (`project`), collider.c; or a kinematic obstacle
- * mesh (`mesh`, obstacle.h: moved every step, no contact response yet). A
+ * mesh (`mesh`, obstacle.h: moved every step; contact.method's term meets it,
+ * contact.h). A
  * scene has one only if its definition names one (cb_scene_def.collider).
  *
  * penalty: E = 1/2 k_c (r + thickness - |x_i - c|)^2 summed over the vertices

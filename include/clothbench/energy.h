@@ -109,6 +109,13 @@ typedef struct cb_term_type {
    * gets the term's number of elements. NULL: the type does not count them
    * (cb_term_count_indefinite gives 0 of 0). */
   int (*indefinite)(const cb_term *t, const double *x, int *nelements);
+  /* Optional: the line-search filter (IPC's CCD-limited step, contact.h).
+   * The largest alpha in [0, 1] such that the straight path x -> x + alpha
+   * (x1 - x) keeps the term's energy finite (no contact crossed or
+   * reached); 1 when nothing is in the way, 0 on an error (with a message).
+   * Minimisers call it through cb_system_max_step (system.h), one hook they
+   * share. NULL: no bound. */
+  double (*max_step)(const cb_term *t, const double *x, const double *x1);
 } cb_term_type;
 
 struct cb_term {

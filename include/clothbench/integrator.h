@@ -207,9 +207,12 @@ enum {
                                         caller sharing that matrix knows a step overwrites it */
   CB_INTEGRATOR_OWN_ELASTICITY = 4u, /* ignores the scene's elastic terms (shape matching's goals replace
                                        them): a run's energy bound counts kinetic + gravity only */
-  CB_INTEGRATOR_HISTORY = 8u         /* a step reads what earlier steps left (VBD's adaptive initial guess uses the
+  CB_INTEGRATOR_HISTORY = 8u,        /* a step reads what earlier steps left (VBD's adaptive initial guess uses the
                                         last step's velocity): a fresh integrator's first step is not a typical one,
                                         so a benchmark of one step warms it with an untimed step first */
+  CB_INTEGRATOR_STEP_FILTER = 16u    /* calls the line-search filter (cb_system_max_step, system.h) on every update, so
+                                        a term with a step bound (contact.method = ipc) may be in its scene; the wrapper
+                                        refuses such a scene for the other types */
 };
 
 /* A plug-in (gsl_multiroot_fsolver_type style). The wrapper allocates the

@@ -1,8 +1,9 @@
 /* Kinematic obstacle meshes (obstacle.c): a triangle mesh read from OBJ that
- * moves by a scripted rigid motion, for the contact code to come (issue 33
- * §5). It has no mass, no energy and no response of its own yet: a scene
- * whose collider is `mesh` moves it every step (the collider's post-step
- * response) and programs write it beside the cloth.
+ * moves by a scripted rigid motion (issue 33 §5). It has no mass and no
+ * energy of its own: a scene whose collider is `mesh` moves it every step
+ * (the collider's post-step response), the contact term of contact.method
+ * meets it (contact.h, static at its positions within a step), and programs
+ * write it beside the cloth.
  *
  * Motion: the file's coordinates X_i are the obstacle's own frame, whose
  * origin is placed at the centre c at t = 0 and moves at the velocity v,

@@ -11,6 +11,7 @@
 #include <stddef.h>
 
 #include "collider.h"
+#include "contact.h"
 #include "energy.h"
 #include "material.h"
 #include "mesh.h"
@@ -76,7 +77,10 @@ typedef struct cb_scene_def {
                                   stiffness 10000, velocity 0 0 0 */
   cb_obstacle_params obstacle; /* the `mesh` collider's obstacle (its file read during the build
                                   only). Default cb_obstacle_params_default() */
-  int nresponses;              /* post-step responses, run in this order. Default 0 */
+  const char *contact;         /* contact.method, a name of cb_contact_names: "penalty" and "ipc" add their
+                                  energy term (contact.h). Default "none" */
+  cb_contact_params contact_params; /* the response's parameters. Default cb_contact_params_default() */
+  int nresponses;                   /* post-step responses, run in this order. Default 0 */
   struct {
     const cb_response_type *type;
     const void *params; /* handed to type->init; read during the build only */
@@ -128,6 +132,8 @@ extern const cb_response_type cb_response_obstacle_move;
  * step, or NULL without one. Contact code reads its positions at any time
  * with cb_obstacle_positions. */
 const cb_obstacle *cb_scene_obstacle(const cb_scene *s);
+/* The scene's contact term (contact.method = penalty or ipc), or NULL. */
+const cb_term *cb_scene_contact_term(const cb_scene *s);
 /* Collider contacts: vertices inside a penalty sphere at x, plus the vertices
  * a project response moved in the last step (0 without a collider). */
 int cb_scene_contacts(const cb_scene *s, const double *x);

@@ -38,6 +38,11 @@ double cb_system_energy(const cb_system *s, const double *x, double *grad, doubl
  * the solve's (solver_shift.h), and Choi-Ko is already in the springs. */
 void cb_system_assemble(cb_system *s, const double *x, double mass_scale, cb_definiteness def, double shift);
 
+/* The line-search filter every minimiser shares: the smallest of the terms'
+ * max_step bounds (energy.h) for the step x -> x1 (3*nv each), in [0, 1]; 1
+ * when no term has one. A minimiser starts its line search at that fraction
+ * of its step (Newton, integrator_newton.c). */
+double cb_system_max_step(const cb_system *s, const double *x, const double *x1);
 /* Elastic (non-gravity) part of the energy: the sum over terms with a Hessian. */
 double cb_system_elastic_energy(const cb_system *s, const double *x);
 

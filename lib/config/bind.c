@@ -67,6 +67,22 @@ int cb_scene_def_from_config(const cb_config *c, cb_scene_def *d, char *path, si
   d->obstacle.omega = c->collider_angular_speed;
   memcpy(d->obstacle.velocity, c->collider_velocity, sizeof d->obstacle.velocity);
   d->nresponses = 0; /* the collider's `project` response is added by the scene */
+  d->contact = cb_config_choice(c, "contact.method");
+  if (!d->contact) d->contact = "none";
+  return cb_contact_params_from_config(c, &d->contact_params);
+}
+
+int cb_contact_params_from_config(const cb_config *c, cb_contact_params *p) {
+  *p = cb_contact_params_default();
+  for (int t = 0; cb_contact_types[t]; t++)
+    for (const cb_param_key *k = cb_contact_types[t]->keys; k && k->name; k++) {
+      char key[CB_NAME_LEN + 16];
+      snprintf(key, sizeof key, "contact.%s", k->name);
+      double v;
+      if (cb_config_type_value(c, key, &v)) return cb_fail("%s: not in the config's key table", key);
+      if (k->kind != CB_PARAM_DOUBLE) return cb_fail("%s: a contact key must be a number", key); /* all are today */
+      memcpy((char *)p + k->offset, &v, sizeof v);
+    }
   return CB_OK;
 }
 

@@ -34,6 +34,8 @@ int cb_integrator_params_from_config(const cb_config *c, cb_integrator_params *p
 
 /* The parameters of type t from its keys (t->keys), starting from the
  * type's defaults; params has t->params_size bytes. */
+/* The contact responses' keys (contact.thickness, contact.friction and each response's own, contact.h) into p. */
+int cb_contact_params_from_config(const cb_config *c, cb_contact_params *p);
 int cb_integrator_type_params_from_config(const cb_config *c, const cb_integrator_type *t, void *params);
 
 /* The same for Newton (integrator.max_iters, tol, tol_dx, definiteness,

@@ -11,6 +11,7 @@
 #include <sys/stat.h>
 
 #include <clothbench/collider.h>
+#include <clothbench/contact.h>
 #include <clothbench/energy.h>
 #include <clothbench/integrator.h>
 #include <clothbench/solver.h>
@@ -128,8 +129,9 @@ static const keydef keys_head[] = {
      "every step a free vertex inside is moved to the sphere's surface and its velocity corrected by (x_new - x)/dt; "
      "explicit and implicit integrators); or `mesh`, a kinematic obstacle mesh read from `collider.file`, turning at "
      "`collider.angular_speed` about `collider.axis` through `collider.centre` and moving at `collider.velocity` "
-     "(docs/geometry-distance.md); it has no contact response yet: it is moved every step and written beside the "
-     "cloth (simulate's --obj and --frames). Contacts per step are the `contacts` column of simulate's CSV."},
+     "(docs/geometry-distance.md); it is moved every step and written beside the cloth (simulate's --obj and "
+     "--frames), and `contact.method` names its contact response (docs/contact.md). Sphere contacts per step are the "
+     "`contacts` column of simulate's CSV."},
     {"collider.centre", T_VEC3, O(collider_centre), "0 0 0", "m", -1e9, 1e9, 0, NULL, NULL,
      "Centre c of the sphere at t = 0; for `mesh`, where the OBJ's origin is placed at t = 0: the obstacle turns "
      "about the axis through it, and it moves with `collider.velocity`."},
@@ -204,7 +206,21 @@ static const keydef keys_tail[] = {
      "both settings) or `keep` (IEEE gradual underflow). With THREADS > 1 CHOLMOD's and OpenBLAS's worker threads keep "
      "their own setting. No effect off x86."},
 };
-enum { NHEAD = (int)(sizeof keys_head / sizeof keys_head[0]), NTAIL = (int)(sizeof keys_tail / sizeof keys_tail[0]) };
+/* After the tail: contact.method, then the contact responses' own keys (contact.h; their shared ones defined once in
+ * lib/core/contact/contact_keys.h). */
+static const keydef keys_contact[] = {
+    {"contact.method", T_ENUM, O(contact_method), "none", "-", 0, 0, 0, cb_contact_names, NULL,
+     "Contact response (docs/contact.md): `none`; `penalty`, an energy term k/2 (thickness - d)^2 on every "
+     "point-triangle and edge-edge pair closer than `contact.thickness` (cloth with itself and with the obstacle "
+     "mesh), no CCD; or `ipc`, Li et al. 2020's log barrier with activation distance `contact.thickness`, the "
+     "nearly-parallel-edge mollifier, and a CCD bound on every Newton update so no step crosses a contact (Newton is "
+     "its home)."},
+};
+enum {
+  NHEAD = (int)(sizeof keys_head / sizeof keys_head[0]),
+  NTAIL = (int)(sizeof keys_tail / sizeof keys_tail[0]),
+  NCONTACT = (int)(sizeof keys_contact / sizeof keys_contact[0])
+};
 enum { MAX_KEYS = (int)(sizeof((cb_config *)0)->where / sizeof((cb_config *)0)->where[0]) };
 enum { SRC_DEFAULT = 0, SRC_FILE = 1, SRC_SET = 2 };
 
@@ -294,6 +310,54 @@ static void build_table(void) {
       slots++;
     }
   for (int i = 0; i < NTAIL; i++) keys[n++] = keys_tail[i];
+  for (int i = 0; i < NCONTACT; i++) keys[n++] = keys_contact[i];
+  /* the contact responses' keys: one definition per name (shared keys come from contact_keys.h) */
+  const cb_param_key *first[CB_MAX_TYPE_KEYS] = {NULL};
+  int nfirst = slots;
+  for (int t = 0; cb_contact_types[t]; t++)
+    for (const cb_param_key *p = cb_contact_types[t]->keys; p && p->name; p++) {
+      static const ktype kinds[] = {[CB_PARAM_INT] = T_PINT,
+                                    [CB_PARAM_DOUBLE] = T_PDOUBLE,
+                                    [CB_PARAM_BOOL] = T_PBOOL,
+                                    [CB_PARAM_CHOICE] = T_PCHOICE,
+                                    [CB_PARAM_DOUBLE_AUTO] = T_PAUTO};
+      char name[sizeof type_key_names[0]];
+      snprintf(name, sizeof name, "contact.%s", p->name);
+      int seen = -1;
+      for (int k = nfirst; k < slots; k++)
+        if (strcmp(type_key_names[k], name) == 0) seen = k;
+      if (seen >= 0) {
+        const char *what = key_difference(first[seen], p);
+        if (what && !table_error[0])
+          snprintf(table_error, sizeof table_error,
+                   "%s: contact response %s declares it with another definition (the %s differs); a key two "
+                   "responses share is defined once (lib/core/contact/contact_keys.h)",
+                   name, cb_contact_types[t]->name, what);
+        continue;
+      }
+      if (slots == CB_MAX_TYPE_KEYS || n >= MAX_KEYS) {
+        if (!table_error[0])
+          snprintf(table_error, sizeof table_error,
+                   "the integrator types and contact responses declare more than %d "
+                   "keys",
+                   CB_MAX_TYPE_KEYS);
+        continue;
+      }
+      snprintf(type_key_names[slots], sizeof type_key_names[slots], "%s", name);
+      first[slots] = p;
+      keys[n++] = (keydef){type_key_names[slots],
+                           kinds[p->kind],
+                           O(type_value) + (size_t)slots * sizeof(double),
+                           p->def,
+                           p->unit,
+                           p->lo,
+                           p->hi,
+                           p->lo_open,
+                           p->choices,
+                           NULL,
+                           p->doc};
+      slots++;
+    }
   nkeys = n;
 }
 #undef O
@@ -569,8 +633,8 @@ static const char *nearest_key(const char *key) {
 }
 
 static const char *nearest_section(const char *name) {
-  static const char *const sections[] = {"mesh", "material", "scene", "integrator", "solver"};
-  for (int i = 0; i < 5; i++)
+  static const char *const sections[] = {"mesh", "material", "scene", "integrator", "solver", "collider", "contact"};
+  for (int i = 0; i < 7; i++)
     if (close_enough(edit_distance(name, sections[i]), name)) return sections[i];
   return NULL;
 }

@@ -48,15 +48,16 @@ typedef struct cb_config {
   double initial_scale;   /* initial positions scaled about the centroid */
   double pin_squeeze[3];  /* m/s, pinned vertices driven toward each other */
   /* [collider] */
-  char collider_type[CB_NAME_LEN]; /* none | penalty | project | mesh */
-  double collider_centre[3];       /* m: the sphere's centre, or a point on the mesh's rotation axis */
-  double collider_radius;          /* m */
-  double collider_thickness;       /* m */
-  double collider_stiffness;       /* N/m */
-  double collider_velocity[3];     /* m/s */
-  char collider_file[CB_PATH_LEN]; /* OBJ of a mesh obstacle, resolved against the config's folder */
-  double collider_axis[3];         /* rotation axis of a mesh obstacle */
-  double collider_angular_speed;   /* rad/s */
+  char collider_type[CB_NAME_LEN];  /* none | penalty | project | mesh */
+  char contact_method[CB_NAME_LEN]; /* contact.method: none | penalty | ipc (its keys are type values) */
+  double collider_centre[3];        /* m: the sphere's centre, or a point on the mesh's rotation axis */
+  double collider_radius;           /* m */
+  double collider_thickness;        /* m */
+  double collider_stiffness;        /* N/m */
+  double collider_velocity[3];      /* m/s */
+  char collider_file[CB_PATH_LEN];  /* OBJ of a mesh obstacle, resolved against the config's folder */
+  double collider_axis[3];          /* rotation axis of a mesh obstacle */
+  double collider_angular_speed;    /* rad/s */
   /* [integrator] */
   char method[CB_NAME_LEN]; /* explicit | newton */
   double dt;                /* s */

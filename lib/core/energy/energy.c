@@ -11,14 +11,16 @@
 #include <string.h>
 
 #define CB_TERM_REGISTRY(X) \
-  X(spring)         /* energy_spring.c */ \
-  X(gravity)        /* energy_gravity.c */ \
-  X(fem)            /* energy_fem.c: exact Hessian */ \
-  X(fem_frozen)     /* energy_fem.c: frozen-R constant Hessian */ \
-  X(dihedral)       /* energy_dihedral.c: Gauss-Newton Hessian */ \
-  X(dihedral_exact) /* energy_dihedral.c: exact Hessian, projected */ \
-  X(quadratic)      /* energy_quadratic.c */ \
-  X(sphere)         /* collider.c: the penalty collider */ \
+  X(spring)          /* energy_spring.c */ \
+  X(gravity)         /* energy_gravity.c */ \
+  X(fem)             /* energy_fem.c: exact Hessian */ \
+  X(fem_frozen)      /* energy_fem.c: frozen-R constant Hessian */ \
+  X(dihedral)        /* energy_dihedral.c: Gauss-Newton Hessian */ \
+  X(dihedral_exact)  /* energy_dihedral.c: exact Hessian, projected */ \
+  X(quadratic)       /* energy_quadratic.c */ \
+  X(sphere)          /* collider.c: the penalty collider */ \
+  X(contact_penalty) /* contact/contact_penalty.c: contact.method = penalty */ \
+  X(contact_ipc)     /* contact/contact_ipc.c: contact.method = ipc */ \
   /* one X(id) line per term type, above this line */
 #define CB_TERM_DECLARE(id) extern const cb_term_type cb_term_##id##_type;
 #define CB_TERM_ENTRY(id) &cb_term_##id##_type,

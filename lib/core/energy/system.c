@@ -56,6 +56,17 @@ double cb_system_energy(const cb_system *s, const double *x, double *grad, doubl
   return E;
 }
 
+double cb_system_max_step(const cb_system *s, const double *x, const double *x1) {
+  double alpha = 1.0;
+  for (int k = 0; k < s->nterms; k++)
+    if (s->terms[k]->type->max_step) {
+      double a = s->terms[k]->type->max_step(s->terms[k], x, x1);
+      if (!(a < alpha)) continue; /* NaN is no bound: the callback returns 0 on errors */
+      alpha = a;
+    }
+  return alpha;
+}
+
 double cb_system_elastic_energy(const cb_system *s, const double *x) {
   double E = 0.0;
   for (int k = 0; k < s->nterms; k++)

@@ -104,6 +104,7 @@ typedef struct {
   double *g, *gt, *q, *d; /* 3 nfree: gradient, trial gradient, recursion, direction */
   double *xt;             /* 3 nv: trial iterate */
   double scale_t;         /* S (the size of F's summands) at the last trial */
+  int filtered;           /* a term bounds the step (IPC's CCD): the line search starts at cb_system_max_step */
 } lbfgs_work;
 
 static void lb_free(cb_integrator *it) {
@@ -145,6 +146,7 @@ static int lb_init(cb_integrator *it) {
   w->d = cb_malloc((size_t)nf3 + 1, sizeof(double));
   w->xt = cb_malloc((size_t)nv3 + 1, sizeof(double));
   if (!w->S || !w->Y || !w->rho || !w->a || !w->g || !w->gt || !w->q || !w->d || !w->xt) return CB_ENOMEM;
+  for (int t = 0; t < it->sys->nterms; t++) w->filtered |= it->sys->terms[t]->type->max_step != NULL;
   st = cb_pd_global_init(&w->H0, it, 1, p->matrix); /* once per integrator */
   if (st)
     return cb_fail_status(st, "lbfgs: factorising its initial Hessian M/dt^2 + L failed (%s)", cb_status_name(st));
@@ -192,7 +194,13 @@ static double eval_trial(lbfgs_work *w, const cb_scene *s, const double *x, doub
  * success w->xt, w->gt hold the accepted point, *Fn its F, *alpha its step. */
 static int line_search(lbfgs_work *w, const cb_scene *s, int kind, const double *x, double F, double slope,
                        double scale, int nf3, double *Fn, double *alpha, cb_step_stats *st) {
-  double a = 1.0;
+  double a = 1.0, amax = 1.0;
+  if (w->filtered) { /* the line-search filter (system.h): no trial beyond the fraction no term forbids */
+    trial(s, x, w->d, 1.0, w->xt);
+    amax = cb_system_max_step(&s->sys, x, w->xt);
+    if (!(amax > 0)) return CB_LS_FAILED;
+    a = amax;
+  }
   if (-slope <= LS_FLAT * scale) { /* the decrease is below F's round-off: the full step, untested */
     *Fn = eval_trial(w, s, x, a, st);
     *alpha = a;
@@ -209,7 +217,12 @@ static int line_search(lbfgs_work *w, const cb_scene *s, int kind, const double 
         *Fn = Ft;
         *alpha = a;
         return CB_OK;
-      }                       /* strong Wolfe */
+      }                                          /* strong Wolfe */
+      if (dslope < 0 && a >= amax && amax < 1) { /* going down, but the filter allows no longer step */
+        *Fn = Ft;
+        *alpha = a;
+        return CB_OK;
+      }
       if (dslope < 0) lo = a; /* still going down: longer */
       else hi = a;            /* past the minimum along d: shorter */
     } else {
@@ -219,6 +232,7 @@ static int line_search(lbfgs_work *w, const cb_scene *s, int kind, const double 
     }
     st->ls_backtracks++;
     a = isinf(hi) ? 2.0 * a : 0.5 * (lo + hi);
+    if (amax < 1 && a > amax) a = amax;
   }
   return CB_LS_FAILED;
 }
@@ -231,6 +245,14 @@ static int lb_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
   int nf3 = 3 * s->model.nfree;
   cb_objective_begin(&w->obj, x, v, it->params.dt);
   cb_objective_guess(&w->obj, x, 1); /* x_0 = xhat */
+  if (w->filtered) { /* the predictor filtered as a step: x_0 = x0 + a (xhat - x0) on the free vertices */
+    double a = cb_system_max_step(&s->sys, w->obj.x0, x);
+    if (!(a > 0)) a = 0;
+    for (int b = 0; a < 1 && b < s->model.nfree; b++) {
+      int i = s->free_vertex[b];
+      for (int c = 0; c < 3; c++) x[3 * i + c] = w->obj.x0[3 * i + c] + a * (x[3 * i + c] - w->obj.x0[3 * i + c]);
+    }
+  }
   w->npairs = 0;
   w->newest = w->m - 1;
   double t0 = cb_now_ms(), scale = 0.0;
@@ -322,7 +344,7 @@ static int lb_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
 
 const cb_integrator_type cb_integrator_lbfgs = {
     .name = "lbfgs",
-    .flags = CB_INTEGRATOR_LINEAR_SOLVER,
+    .flags = CB_INTEGRATOR_LINEAR_SOLVER | CB_INTEGRATOR_STEP_FILTER,
     .size = sizeof(lbfgs_work),
     .params_size = sizeof(cb_lbfgs_params),
     .params_default = &lbfgs_defaults,

@@ -34,6 +34,12 @@
  * step at the same dt (A is still assembled, cheaply, for the hooks). This is
  * projective dynamics' prefactorisation.
  *
+ * The line-search filter (system.h): when a term bounds the step (IPC's CCD,
+ * contact.h), the predictor x0 + dt v0 is cut to x0 + a (xhat - x0) and every
+ * update dx to alpha_max dx, alpha_max = cb_system_max_step(x, x + dx); the
+ * line search then halves from alpha_max. No accepted iterate crosses a
+ * contact the filter sees.
+ *
  * F, grad F, the predictor and the velocity update are the shared objective
  * (objective.h). Newton's parameters are cb_newton_params (integrator.h). */
 #include <cblas.h>
@@ -59,6 +65,8 @@ typedef struct {
   cb_shift *shift;     /* workspace of the shift policy */
   int constant_A;      /* every Hessian term is constant and the solver direct */
   double factored_dt;  /* dt of the factorisation kept for a constant A; 0 = none */
+  int filtered;        /* a term bounds the step (max_step, the line-search filter): the predictor and every
+                          update are cut to the bound (cb_system_max_step) */
 } newton_work;
 
 static const cb_newton_params newton_defaults = {
@@ -144,6 +152,7 @@ static int nt_init(cb_integrator *it) {
   for (int k = 0; k < it->sys->nterms; k++) {
     const cb_term_type *t = it->sys->terms[k]->type;
     if (t->hessian && !(t->flags & CB_TERM_CONSTANT_HESSIAN)) w->constant_A = 0;
+    if (t->max_step) w->filtered = 1;
   }
   return cb_shift_alloc((int)nf, NULL, &w->shift);
 }
@@ -166,6 +175,14 @@ static int nt_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
   double dt = it->params.dt;
   cb_objective_begin(&w->obj, x, v, dt); /* x0 = x, xhat = x0 + dt v0 */
   cb_objective_guess(&w->obj, x, p->init_predict);
+  if (w->filtered && p->init_predict) { /* the predictor filtered as a step: x(0) = x0 + a (xhat - x0) */
+    double a = cb_system_max_step(it->sys, w->obj.x0, x);
+    if (!(a > 0)) a = 0;
+    for (int k = 0; a < 1 && k < s->model.nfree; k++) {
+      int i = s->free_vertex[k];
+      for (int c = 0; c < 3; c++) x[3 * i + c] = w->obj.x0[3 * i + c] + a * (x[3 * i + c] - w->obj.x0[3 * i + c]);
+    }
+  }
 
   cb_newton_event ev;
   memset(&ev, 0, sizeof ev);
@@ -253,7 +270,17 @@ static int nt_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
       break;
     }
 
+    /* the line-search filter (system.h): the fraction of dx no term forbids (IPC's CCD bound); 1 without one */
     double alpha = 1.0;
+    if (w->filtered) {
+      move(s, w->xtrial, x, w->dx, 1.0);
+      alpha = cb_system_max_step(it->sys, x, w->xtrial);
+      if (!(alpha > 0)) {
+        status = CB_LS_FAILED;
+        break;
+      }
+    }
+    double alpha_max = alpha;
     if (p->line_search) {
       double slope = cblas_ddot(nf, w->gF, 1, w->dx, 1); /* grad F . dx */
       if (!(slope < 0)) {
@@ -262,7 +289,7 @@ static int nt_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
       }
       int ok = -slope <= LS_FLAT * Fscale; /* decrease below F's round-off: full step */
       memcpy(w->xtrial, x, (size_t)nv3 * sizeof(double));
-      if (ok) move(s, w->xtrial, x, w->dx, 1.0);
+      if (ok) move(s, w->xtrial, x, w->dx, alpha_max);
       for (int h = 0; !ok && h <= LS_MAX_HALVINGS; h++, alpha *= 0.5) {
         move(s, w->xtrial, x, w->dx, alpha);
         double Ft = cb_objective_eval(&w->obj, w->xtrial, NULL, NULL);
@@ -278,7 +305,7 @@ static int nt_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
       }
       memcpy(x, w->xtrial, (size_t)nv3 * sizeof(double));
     } else {
-      move(s, x, x, w->dx, 1.0);
+      move(s, x, x, w->dx, alpha_max);
     }
     double dmax = fabs(w->dx[cblas_idamax(nf, w->dx, 1)]) * alpha;
     ev.step_max = dmax;
@@ -296,7 +323,7 @@ static int nt_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
 
 const cb_integrator_type cb_integrator_newton = {
     .name = "newton",
-    .flags = CB_INTEGRATOR_LINEAR_SOLVER | CB_INTEGRATOR_HESSIAN,
+    .flags = CB_INTEGRATOR_LINEAR_SOLVER | CB_INTEGRATOR_HESSIAN | CB_INTEGRATOR_STEP_FILTER,
     .size = sizeof(newton_work),
     .params_size = sizeof(cb_newton_params),
     .params_default = &newton_defaults,

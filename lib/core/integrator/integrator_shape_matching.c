@@ -38,6 +38,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <clothbench/contact.h>
 #include <clothbench/integrator.h>
 #include <clothbench/polar.h>
 #include <clothbench/status.h>
@@ -89,6 +90,12 @@ static int sm_init(cb_integrator *it) {
       return cb_fail("shape matching replaces the scene's energy terms by goal positions, so it would ignore the "
                      "penalty collider's energy and the cloth would pass through the sphere: set collider.type = "
                      "project (or none) with integrator.method = shape_matching");
+  for (int t = 0; t < s->sys.nterms; t++)
+    if (cb_contact_term_is(s->sys.terms[t]))
+      return cb_fail("shape matching replaces the scene's energy terms by goal positions, so it would ignore the "
+                     "contact term (%s) and the cloth would pass through: contact.method must be none with "
+                     "integrator.method = shape_matching",
+                     s->sys.terms[t]->type->name);
   int nv = s->mesh.nv, ne = s->topo.ne;
   w->nc = nv;
   w->start = cb_calloc((size_t)nv + 1, sizeof(int));

@@ -177,6 +177,8 @@ cb_scene_def cb_scene_def_default(void) {
       .collider = "none",
       .sphere = {.centre = {0, 0, 0}, .radius = 1, .thickness = 0, .stiffness = 10000, .velocity = {0, 0, 0}},
       .obstacle = cb_obstacle_params_default(),
+      .contact = "none",
+      .contact_params = cb_contact_params_default(),
       .nresponses = 0};
   return d;
 }
@@ -457,6 +459,56 @@ static int hessian_choice(const cb_material *mat, const char *given, const char 
   return at_key(cb_fail("%s: unknown Hessian '%s' (%s or %s)", keyname, h, names[0], names[1]), key, keyname);
 }
 
+/* A contact error names its key first ("contact.thickness: ..."): that key. */
+static int contact_error(int st, const char **key) {
+  static const char *const keys[] = {"contact.thickness", "contact.friction", "contact.stiffness", "contact.kappa"};
+  if (st == CB_OK || !key) return st;
+  *key = "contact.method";
+  for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++)
+    if (strncmp(cb_error_message(), keys[k], strlen(keys[k])) == 0) *key = keys[k];
+  return st;
+}
+
+/* The contact response's term (contact.method), if it has one. */
+static int contact_term(const cb_scene_def *d, cb_scene *s, cb_term **term, int *nterms, const char **key) {
+  const char *name = d->contact ? d->contact : "none";
+  const cb_contact_type *ct = cb_contact_type_find(name);
+  if (!ct) return contact_error(cb_fail("contact.method: unknown response '%s'", name), key);
+  if (!ct->term_alloc) return CB_OK;
+  int st = contact_error(ct->term_alloc(&s->model, &d->contact_params, term), key);
+  if (st == CB_OK && *term) (*nterms)++;
+  return st;
+}
+
+const cb_term *cb_scene_contact_term(const cb_scene *s) {
+  for (int k = 0; k < s->sys.nterms; k++)
+    if (cb_contact_term_is(s->sys.terms[k])) return s->sys.terms[k];
+  return NULL;
+}
+
+/* After the responses: the contact term meets the obstacle mesh (collider.type = mesh), and the start state must
+ * give it a finite energy (IPC cannot start from touching or intersecting primitives). */
+static int build_contact(cb_scene *s, const char **key) {
+  cb_term *t = (cb_term *)cb_scene_contact_term(s);
+  if (!t) return CB_OK;
+  int st = contact_error(cb_contact_term_set_obstacle(t, cb_scene_obstacle(s)), key);
+  if (st) return st;
+  long nx = 0;
+  if (t->type->max_step && (st = cb_contact_term_intersections(t, s->x0, &nx))) return contact_error(st, key);
+  if (nx > 0)
+    return contact_error(cb_fail("contact.method: %s: the start state intersects (%ld triangle pairs, cloth with "
+                                 "itself or with the obstacle): the barrier cannot start from it",
+                                 t->type->name, nx),
+                         key);
+  double E = t->type->energy(t, s->x0, NULL);
+  if (!isfinite(E))
+    return contact_error(cb_fail("contact.method: %s: the start state has primitives at distance 0 (touching or "
+                                 "intersecting, smallest distance %g m): the response cannot start from it",
+                                 t->type->name, cb_contact_term_stats(t)->min_dist),
+                         key);
+  return CB_OK;
+}
+
 /* The terms (the stretch material, the bend material, the collider's term,
  * gravity) and the system over them. */
 static int build_terms(const cb_scene_def *d, cb_scene *s, const cb_collider *collider, const char **key) {
@@ -495,6 +547,7 @@ static int build_terms(const cb_scene_def *d, cb_scene *s, const cb_collider *co
     st = collider_error(collider->term_alloc(&s->model, &d->sphere, &terms[nterms]), key);
     if (st == CB_OK) nterms++;
   }
+  if (st == CB_OK) st = contact_term(d, s, &terms[nterms], &nterms, key);
   if (st == CB_OK && (d->gravity[0] != 0 || d->gravity[1] != 0 || d->gravity[2] != 0)) {
     st = cb_gravity_term_alloc(&s->model, d->gravity, &terms[nterms]);
     if (st == CB_OK) nterms++;
@@ -567,7 +620,8 @@ int cb_scene_build(const cb_scene_def *d, cb_scene **out, const char **key) {
   cb_scene *s = cb_calloc(1, sizeof *s);
   if (!s) return CB_ENOMEM;
   s->def = *d;
-  s->def.mesh_file = s->def.bend = s->def.bend_hessian = s->def.definiteness = s->def.pins = s->def.collider = NULL;
+  s->def.mesh_file = s->def.bend = s->def.bend_hessian = s->def.definiteness = s->def.pins = s->def.collider =
+      s->def.contact = NULL;
   s->def.obstacle.file = NULL;
   for (int k = 0; k < d->nresponses; k++) s->def.responses[k].params = NULL;
   s->diverge_ratio = d->diverge_ratio;
@@ -577,6 +631,7 @@ int cb_scene_build(const cb_scene_def *d, cb_scene **out, const char **key) {
   if (st == CB_OK) st = build_terms(d, s, collider, key);
   if (st == CB_OK) st = build_start(d, s, key);
   if (st == CB_OK) st = build_responses(d, s, collider, key);
+  if (st == CB_OK) st = build_contact(s, key);
   if (st) {
     cb_scene_free(s);
     return st;

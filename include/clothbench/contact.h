@@ -1,0 +1,93 @@
+/* Contact responses (issue 34 §1; docs/contact.md). `contact.method` names a
+ * registered response; each is one file in lib/core/contact/ ending with its
+ * cb_contact_type table, plus one line in the registry (contact.c). Its
+ * config keys (`contact.<name>`) are in its own key table, the shared ones
+ * (thickness, friction) defined once in lib/core/contact/contact_keys.h.
+ *
+ * The two responses here are energy terms that stack with the others:
+ *
+ *   penalty  E = sum_pairs k/2 (h - d)^2        for d < h = contact.thickness
+ *   ipc      E = sum_pairs kappa e b(d^2),      b(s) = -(s - sh)^2 ln(s / sh) for s < sh = dhat^2,
+ *            dhat = contact.thickness, e the edge-edge mollifier (1 for point-triangle pairs)
+ *
+ * over the point-triangle and edge-edge pairs (distance.h) of the cloth with
+ * itself (adjacent primitives left out; pinned vertices take part, as
+ * obstacles) and of the cloth with the scene's obstacle mesh (collider.type =
+ * mesh). The pairs are found by the broad phase (broadphase.h) at every
+ * evaluation of the energy, so E is a function of x alone. `ipc` also gives
+ * the minimisers a step bound: the largest fraction of a step that additive
+ * CCD (Li, Kaufman & Jiang 2021) certifies free of contact
+ * (cb_system_max_step, system.h). */
+#ifndef CB_CONTACT_H
+#define CB_CONTACT_H
+
+#include "energy.h"
+#include "obstacle.h"
+
+struct cb_param_key; /* integrator.h */
+
+/* Every response's parameters (each type reads the fields its keys name). */
+typedef struct cb_contact_params {
+  double thickness; /* m, > 0: the penalty's thickness h, IPC's activation distance dhat. Default 1e-3 */
+  double friction;  /* Coulomb mu >= 0; only 0 is implemented (friction is issue 34's next part). Default 0 */
+  double stiffness; /* penalty k, N/m, > 0. Default 1e4 */
+  double kappa;     /* IPC barrier stiffness, J/m^4 (b is in m^4), > 0. Default 1e8 */
+} cb_contact_params;
+
+cb_contact_params cb_contact_params_default(void);
+
+typedef struct cb_contact_type {
+  const char *name;                /* the value of contact.method */
+  const struct cb_param_key *keys; /* its keys `contact.<name>` (into cb_contact_params), ended by a NULL name */
+  /* Its energy term on the model, or *out = NULL for none; fails with a message naming the key. */
+  int (*term_alloc)(const cb_model *m, const cb_contact_params *p, cb_term **out);
+} cb_contact_type;
+
+extern const cb_contact_type *const cb_contact_types[]; /* the registry, NULL-terminated; "none" first */
+extern const char *const cb_contact_names[];            /* their names, NULL-terminated */
+const cb_contact_type *cb_contact_type_find(const char *name);
+
+/* Checks p for method `name`: -> CB_EINVAL with "contact.<key>: ..." (an
+ * unknown method, thickness <= 0 or not finite, friction < 0 or > 0, a
+ * stiffness or kappa <= 0). */
+int cb_contact_params_check(const char *name, const cb_contact_params *p);
+
+/* ---- the pair term both responses are ------------------------------------- */
+
+/* The scalar function of the squared distance s a pair's energy is, with
+ * its first and second derivatives in s. */
+typedef double (*cb_contact_potential)(const cb_contact_params *p, double s, double *ds, double *dss);
+
+/* A contact term on model m: potential f of the squared distance (nonzero
+ * only for s < reach^2), mollified edge-edge pairs if mollify, CCD step
+ * bounds if ccd. type is the registered term type it is. */
+int cb_contact_term_alloc(const cb_model *m, const cb_term_type *type, const cb_contact_params *p,
+                          cb_contact_potential f, double reach, int mollify, int ccd, cb_term **out);
+/* Gives the term the obstacle mesh o (static at its current positions o->x
+ * during a step: its motion is taken between steps), or NULL for none. */
+int cb_contact_term_set_obstacle(cb_term *t, const cb_obstacle *o);
+/* Nonzero if t is a contact term (either response). */
+int cb_contact_term_is(const cb_term *t);
+
+/* *count = the triangle pairs that intersect at x (closed triangles, exactly,
+ * intersect.h): the cloth's non-adjacent pairs and cloth against obstacle.
+ * The scene refuses such a start state for a response that bounds its steps
+ * (ipc): its barrier cannot start from it. */
+int cb_contact_term_intersections(const cb_term *t, const double *x, long *count);
+
+/* What the last evaluation found. */
+typedef struct cb_contact_stats {
+  long candidates;  /* primitive pairs the broad phase gave */
+  long active;      /* pairs within reach (nonzero energy) */
+  long mollified;   /* active edge-edge pairs inside the mollifier's range (c < eps_x; ipc only) */
+  long decoupled;   /* active pairs of the last Hessian whose cross blocks the matrix pattern lacked (block-
+                       diagonal model, docs/contact.md) */
+  double min_dist;  /* smallest distance of a candidate pair, m (inf without one) */
+  long ccd_queries; /* pairs the last step bound ran CCD on */
+  long ccd_iters;   /* additive-CCD advances those queries took */
+  double max_step;  /* the last step bound, in (0, 1] */
+  long grows;       /* candidate arrays grown past their set-up capacity (allocations outside set-up) */
+} cb_contact_stats;
+const cb_contact_stats *cb_contact_term_stats(const cb_term *t);
+
+#endif

@@ -1,0 +1,47 @@
+/* The contact-response registry (contact.h): one X(id) line per response,
+ * each defined in its own file lib/core/contact/contact_<name>.c ending with
+ * `const cb_contact_type cb_contact_<id> = {...}`. */
+#include <clothbench/contact.h>
+
+#include <math.h>
+#include <string.h>
+
+#include <clothbench/status.h>
+
+#define CB_CONTACT_REGISTRY(X) \
+  X(none)    /* no contact response */ \
+  X(penalty) /* contact_penalty.c */ \
+  X(ipc)     /* contact_ipc.c */ \
+  /* one X(id) line per response, above this line */
+#define CB_CONTACT_DECLARE(id) extern const cb_contact_type cb_contact_##id;
+#define CB_CONTACT_ENTRY(id) &cb_contact_##id,
+#define CB_CONTACT_NAME(id) #id,
+CB_CONTACT_REGISTRY(CB_CONTACT_DECLARE)
+const cb_contact_type *const cb_contact_types[] = {CB_CONTACT_REGISTRY(CB_CONTACT_ENTRY) NULL};
+const char *const cb_contact_names[] = {CB_CONTACT_REGISTRY(CB_CONTACT_NAME) NULL};
+
+/* `none`: no keys, no term. */
+const cb_contact_type cb_contact_none = {.name = "none", .keys = NULL, .term_alloc = NULL};
+
+const cb_contact_type *cb_contact_type_find(const char *name) {
+  for (int i = 0; name && cb_contact_types[i]; i++)
+    if (strcmp(cb_contact_types[i]->name, name) == 0) return cb_contact_types[i];
+  return NULL;
+}
+
+cb_contact_params cb_contact_params_default(void) {
+  return (cb_contact_params){.thickness = 1e-3, .friction = 0, .stiffness = 1e4, .kappa = 1e8};
+}
+
+int cb_contact_params_check(const char *name, const cb_contact_params *p) {
+  const cb_contact_type *t = cb_contact_type_find(name);
+  if (!t) return cb_fail("contact.method: unknown response '%s'", name ? name : "(null)");
+  if (!t->term_alloc) return CB_OK;
+  if (!(p->thickness > 0) || !isfinite(p->thickness))
+    return cb_fail("contact.thickness: must be > 0 (m), got %g", p->thickness);
+  if (!(p->friction >= 0) || !isfinite(p->friction))
+    return cb_fail("contact.friction: must be >= 0, got %g", p->friction);
+  if (p->friction > 0)
+    return cb_fail("contact.friction: %g: friction is not implemented yet (only 0 is accepted)", p->friction);
+  return CB_OK;
+}

@@ -1,0 +1,29 @@
+/* The config keys every contact response declares (contact.thickness,
+ * contact.friction), each defined once: a response's key table lists
+ * CB_KEY_CONTACT_THICKNESS, CB_KEY_CONTACT_FRICTION and its own keys. The
+ * config layer refuses one name declared with two definitions. */
+#ifndef CB_CONTACT_KEYS_H
+#define CB_CONTACT_KEYS_H
+
+#include <stddef.h>
+
+#include <clothbench/contact.h>
+#include <clothbench/integrator.h>
+
+#define CB_CKEY(field) offsetof(cb_contact_params, field)
+#define CB_KEY_CONTACT_THICKNESS \
+  { \
+    .name = "thickness", .kind = CB_PARAM_DOUBLE, .offset = CB_CKEY(thickness), .def = "1e-3", .unit = "m", .lo = 0, \
+    .hi = 1e9, .lo_open = 1, \
+    .doc = "Contact distance: the penalty acts on pairs closer than it; IPC's barrier activation distance dhat." \
+  }
+#define CB_KEY_CONTACT_FRICTION \
+  { \
+    .name = "friction", .kind = CB_PARAM_DOUBLE, .offset = CB_CKEY(friction), .def = "0", .unit = "-", .lo = 0, \
+    .hi = 1e9, \
+    .doc = "Coulomb friction coefficient mu >= 0. Friction is not implemented yet: a value above 0 is refused." \
+  }
+#define CB_KEY_CONTACT_END \
+  { .name = NULL }
+
+#endif

@@ -1,0 +1,597 @@
+/* The contact pair term (contact.h): the energy both responses are, a sum
+ * over primitive pairs of a potential of their squared distance.
+ *
+ * Pairs. At every evaluation at x the broad phase (broadphase.h) is refitted
+ * on the static boxes of x grown by the reach h (the thickness), and gives
+ *   self:  vertex-face (v, f), v not a vertex of f; edge-edge (a, b) without a
+ *          shared vertex (the broad phase leaves adjacent pairs out);
+ *   cross: cloth vertex - obstacle face, obstacle vertex - cloth face, cloth
+ *          edge - obstacle edge.
+ * Pinned cloth vertices take part like free ones (their gradient entries are
+ * written, their Hessian rows are eliminated); the obstacle's vertices are
+ * not degrees of freedom. Recomputing the pairs at every evaluation (each
+ * energy, gradient and Hessian call, every line-search trial) makes E a
+ * function of x alone, so a line search compares energies of one function
+ * and finite differences see the pairs that enter and leave; it costs one
+ * refit and one traversal per call (the figures are in docs/contact.md).
+ *
+ * A pair (vertices q_0..q_3, 12 coordinates): s = d^2 of its classified case
+ * (distance.h), gradient g_s and Hessian H_s; the potential f(s) with f', f''
+ * (zero for s >= h^2); for mollified edge-edge pairs the mollifier e(x) with
+ * g_e, H_e (distance.h, eps_x from the rest lengths), else e = 1:
+ *   E_p = e f,
+ *   g_p = e f' g_s + f g_e,
+ *   H_p = e (f'' g_s g_s^T + f' H_s) + f H_e + f' (g_e g_s^T + g_s g_e^T).
+ * H_p is projected (cb_projection_apply, 12 x 12) as the assembly asks.
+ *
+ * The matrix pattern is fixed at set-up (sparse.h), but contacts join
+ * vertices no other term couples. The pattern holds every vertex pair of
+ * every cloth triangle, and: every free-vertex pair when the model has at
+ * most CB_CONTACT_DENSE_MAX free vertices (the conformance examples: exact
+ * Hessians), else the pairs within reach at the rest shape. A pair whose
+ * cross blocks (first primitive's vertices against the second's) are not
+ * all in the pattern adds its two diagonal parts only, [H_AA 0; 0 H_BB]:
+ * principal submatrices of the projected (PSD) H_p, so the sum stays PSD and
+ * Newton's direction a descent direction; such pairs are counted
+ * (cb_contact_stats.decoupled). Cloth-obstacle pairs never need one (the
+ * obstacle has no rows).
+ *
+ * Step bound (the line-search filter, system.h): the broad phase on the swept
+ * boxes of x -> x1 and additive CCD (accd below) on every candidate pair with
+ * a free vertex; the bound is the smallest time of impact, at which every
+ * pair keeps at least a tenth of its gap (ACCD stops there), so no step
+ * reaches or crosses a contact; 1 without a hit. The obstacle is static
+ * during the step. (The inclusion CCD of ccd.h spent its box budget on the
+ * drop test's pairs, cloth edges parallel to the table's and vertices moving
+ * in the plane of its sides: 413 s for one step at its default budget; with
+ * 2e4 boxes a query, 1304 queries in 6 s and a hit at t = 0, a zero step;
+ * docs/contact.md.) A pair
+ * whose distance at x exceeds the sum of its two primitives' largest vertex
+ * displacements (by 1%) cannot meet during the step (every point of a
+ * primitive moves at most as far as its farthest vertex) and skips CCD. */
+#include "contact_term.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <clothbench/broadphase.h>
+#include <clothbench/distance.h>
+#include <clothbench/intersect.h>
+#include <clothbench/status.h>
+
+#define SAFE_MARGIN 1.01 /* the distance filter before CCD, with 1% for the round-off of d(0) */
+
+typedef struct {
+  cb_term base;
+  cb_contact_params p;
+  cb_contact_potential f;
+  double reach;
+  int mollify, ccd;
+  int nv, nt;
+  const int *tri;
+  const int *free_index;
+  int nfree;
+  cb_broadphase *bp; /* the cloth's; NULL without triangles */
+  const int *edges;
+  int ne;
+  double *el2; /* rest squared length of each cloth edge */
+  cb_candidates self, cross;
+  /* the obstacle (NULL bo: none) */
+  cb_broadphase *bo;
+  const double *ox; /* its positions */
+  const int *otri;
+  int onv, ont;
+  const int *oedges;
+  int one;
+  double *oel2;
+  /* an example's own obstacle */
+  double *own_x;
+  int *own_tri;
+  const cb_sparse *A;
+  cb_projection_work *pw;
+  cb_contact_stats stats;
+} ct;
+
+enum { K_SELF_VF, K_SELF_EE, K_CROSS_VF, K_CROSS_FV, K_CROSS_EE, K_COUNT };
+
+static ct *as_ct(const cb_term *t) { return (ct *)t; /* the term's scratch is its own, not its caller's */ }
+
+static int grow(cb_candidates *c) {
+  long vf = c->nvf > c->cap_vf ? 2 * c->nvf : c->cap_vf, fv = c->nfv > c->cap_fv ? 2 * c->nfv : c->cap_fv,
+       ee = c->nee > c->cap_ee ? 2 * c->nee : c->cap_ee;
+  cb_candidates n;
+  int st = cb_candidates_alloc(vf, fv, ee, &n);
+  if (st) return st;
+  cb_candidates_free(c);
+  *c = n;
+  return CB_OK;
+}
+
+/* The candidates at x (x1 NULL: static boxes) or over x -> x1. */
+static int find(ct *s, const double *x, const double *x1) {
+  s->self.nvf = s->self.nee = s->cross.nvf = s->cross.nfv = s->cross.nee = 0;
+  if (!s->bp) return CB_OK;
+  int st = cb_broadphase_update(s->bp, x, x1);
+  if (st) return st;
+  for (int tries = 0;; tries++) {
+    st = cb_broadphase_self_candidates(s->bp, &s->self);
+    if (st != CB_ENOMEM || tries == 4) break;
+    if ((st = grow(&s->self))) return st;
+    s->stats.grows++;
+  }
+  if (st || !s->bo) return st;
+  if ((st = cb_broadphase_update(s->bo, s->ox, NULL))) return st;
+  for (int tries = 0;; tries++) {
+    st = cb_broadphase_cross_candidates(s->bp, s->bo, &s->cross);
+    if (st != CB_ENOMEM || tries == 4) break;
+    if ((st = grow(&s->cross))) return st;
+    s->stats.grows++;
+  }
+  return st;
+}
+
+static long count(const ct *s, int kind) {
+  switch (kind) {
+  case K_SELF_VF: return s->self.nvf;
+  case K_SELF_EE: return s->self.nee;
+  case K_CROSS_VF: return s->cross.nvf;
+  case K_CROSS_FV: return s->cross.nfv;
+  default: return s->cross.nee;
+  }
+}
+
+/* Pair i of a kind: its 12 coordinates at x (x1 != NULL: also at x1), its
+ * cloth vertices (-1: the obstacle's), the edge-edge mollifier threshold
+ * (0 for point-triangle pairs), and whether it is edge-edge. */
+static int gather(const ct *s, int kind, long i, const double *x, const double *x1, double *q, double *q1, int *vid,
+                  double *eps) {
+  const double *src[4];
+  const double *src1[4];
+  int ee = kind == K_SELF_EE || kind == K_CROSS_EE;
+  *eps = 0;
+  if (kind == K_SELF_VF || kind == K_CROSS_VF || kind == K_CROSS_FV) {
+    const int *pr = (kind == K_SELF_VF ? s->self.vf : kind == K_CROSS_VF ? s->cross.vf : s->cross.fv) + 2 * i;
+    int cloth_point = kind != K_CROSS_FV, cloth_face = kind != K_CROSS_VF;
+    const int *f = (cloth_face ? s->tri : s->otri) + 3 * pr[1];
+    vid[0] = cloth_point ? pr[0] : -1;
+    src[0] = (cloth_point ? x : s->ox) + 3 * pr[0];
+    src1[0] = cloth_point && x1 ? x1 + 3 * pr[0] : src[0];
+    for (int a = 0; a < 3; a++) {
+      vid[1 + a] = cloth_face ? f[a] : -1;
+      src[1 + a] = (cloth_face ? x : s->ox) + 3 * f[a];
+      src1[1 + a] = cloth_face && x1 ? x1 + 3 * f[a] : src[1 + a];
+    }
+  } else {
+    const int *pr = (kind == K_SELF_EE ? s->self.ee : s->cross.ee) + 2 * i;
+    int other_cloth = kind == K_SELF_EE;
+    const int *ea = s->edges + 2 * pr[0], *eb = (other_cloth ? s->edges : s->oedges) + 2 * pr[1];
+    for (int a = 0; a < 2; a++) {
+      vid[a] = ea[a];
+      src[a] = x + 3 * ea[a];
+      src1[a] = x1 ? x1 + 3 * ea[a] : src[a];
+      vid[2 + a] = other_cloth ? eb[a] : -1;
+      src[2 + a] = (other_cloth ? x : s->ox) + 3 * eb[a];
+      src1[2 + a] = other_cloth && x1 ? x1 + 3 * eb[a] : src[2 + a];
+    }
+    *eps = CB_MOLLIFIER_SCALE * s->el2[pr[0]] * (other_cloth ? s->el2[pr[1]] : s->oel2[pr[1]]);
+  }
+  for (int a = 0; a < 4; a++)
+    for (int c = 0; c < 3; c++) {
+      q[3 * a + c] = src[a][c];
+      if (q1) q1[3 * a + c] = src1[a][c];
+    }
+  return ee;
+}
+
+/* The pair's energy; g (12) and H (144) unless NULL. Zero (g, H zero) out of reach. */
+static double pair_eval(const ct *s, const double *q, int ee, double eps, double *g, double *H, double *dist2) {
+  double gs[12], Hs[144];
+  cb_distance_case c;
+  int st = ee ? cb_distance_edge_edge_case(q, &c) : cb_distance_point_triangle_case(q, &c);
+  if (g) memset(g, 0, sizeof gs);
+  if (H) memset(H, 0, sizeof Hs);
+  if (st) {
+    *dist2 = NAN;
+    return NAN;
+  }
+  double sq = cb_distance_case_eval(&c, 4, q, g || H ? gs : NULL, H ? Hs : NULL);
+  *dist2 = sq;
+  if (!(sq < s->reach * s->reach)) return 0.0;
+  double f1, f2, f = s->f(&s->p, sq, &f1, &f2);
+  double e = 1, ge[12] = {0}, He[144];
+  int moll = ee && s->mollify;
+  if (moll) { e = cb_edge_edge_mollifier(q, eps, g || H ? ge : NULL, H ? He : NULL); }
+  if (g)
+    for (int k = 0; k < 12; k++) g[k] = e * f1 * gs[k] + f * ge[k];
+  if (H)
+    for (int a = 0; a < 12; a++)
+      for (int b = 0; b < 12; b++) {
+        double h = e * (f2 * gs[a] * gs[b] + f1 * Hs[12 * a + b]);
+        if (moll) h += f * He[12 * a + b] + f1 * (ge[a] * gs[b] + gs[a] * ge[b]);
+        H[12 * a + b] = h;
+      }
+  return e * f;
+}
+
+double cb_contact_energy(const cb_term *t, const double *x, double *grad) {
+  ct *s = as_ct(t);
+  if (find(s, x, NULL)) return NAN;
+  double E = 0, g[12], q[12], eps, d2;
+  int vid[4];
+  s->stats.candidates = s->stats.active = s->stats.mollified = 0;
+  s->stats.min_dist = INFINITY;
+  for (int kind = 0; kind < K_COUNT; kind++)
+    for (long i = 0; i < count(s, kind); i++) {
+      int ee = gather(s, kind, i, x, NULL, q, NULL, vid, &eps);
+      double Ep = pair_eval(s, q, ee, eps, grad ? g : NULL, NULL, &d2);
+      s->stats.candidates++;
+      if (d2 < s->stats.min_dist * s->stats.min_dist) s->stats.min_dist = sqrt(d2);
+      if (Ep == 0 && d2 >= s->reach * s->reach) continue;
+      s->stats.active++;
+      if (ee && s->mollify && cb_edge_edge_cross_squared(q, NULL, NULL) < eps) s->stats.mollified++;
+      E += Ep;
+      if (grad)
+        for (int a = 0; a < 4; a++)
+          if (vid[a] >= 0)
+            for (int c = 0; c < 3; c++) grad[3 * vid[a] + c] += g[3 * a + c];
+    }
+  return E;
+}
+
+static int add_pair_blocks(const ct *s, cb_pattern *p, int a, int b) {
+  return cb_pattern_add(p, s->free_index[a], s->free_index[b]);
+}
+
+int cb_contact_pattern(const cb_term *t, cb_pattern *p) {
+  ct *s = as_ct(t);
+  int st = CB_OK;
+  for (int f = 0; f < s->nt && !st; f++)
+    for (int a = 0; a < 3 && !st; a++) st = add_pair_blocks(s, p, s->tri[3 * f + a], s->tri[3 * f + (a + 1) % 3]);
+  if (st) return st;
+  if (s->nfree <= CB_CONTACT_DENSE_MAX) {
+    for (int a = 0; a < s->nv && !st; a++)
+      for (int b = a + 1; b < s->nv && !st; b++) st = add_pair_blocks(s, p, a, b);
+    return st;
+  }
+  const double *x = s->base.model->mesh->x; /* the pairs within reach at the rest shape */
+  if ((st = find(s, x, NULL))) return st;
+  double q[12], eps, d2;
+  int vid[4];
+  for (int kind = 0; kind < K_COUNT && !st; kind++)
+    for (long i = 0; i < count(s, kind) && !st; i++) {
+      int ee = gather(s, kind, i, x, NULL, q, NULL, vid, &eps);
+      pair_eval(s, q, ee, eps, NULL, NULL, &d2);
+      if (!(d2 < s->reach * s->reach)) continue;
+      for (int a = 0; a < 4 && !st; a++)
+        for (int b = a + 1; b < 4 && !st; b++)
+          if (vid[a] >= 0 && vid[b] >= 0) st = add_pair_blocks(s, p, vid[a], vid[b]);
+    }
+  return st;
+}
+
+int cb_contact_bind(cb_term *t, const cb_sparse *A) {
+  as_ct(t)->A = A;
+  return CB_OK;
+}
+
+void cb_contact_hessian(const cb_term *t, const double *x, cb_projection proj, double *val) {
+  ct *s = as_ct(t);
+  if (find(s, x, NULL)) return;
+  double g[12], H[144], q[12], eps, d2;
+  int vid[4];
+  s->stats.decoupled = 0;
+  for (int kind = 0; kind < K_COUNT; kind++)
+    for (long i = 0; i < count(s, kind); i++) {
+      int ee = gather(s, kind, i, x, NULL, q, NULL, vid, &eps);
+      pair_eval(s, q, ee, eps, NULL, H, &d2);
+      if (!(d2 < s->reach * s->reach)) continue;
+      if (cb_projection_apply(proj, 12, H, s->pw) < 0) continue;
+      int fi[4], slot[16], stride[16], na = ee ? 2 : 1, missing = 0;
+      for (int a = 0; a < 4; a++) fi[a] = vid[a] >= 0 ? s->free_index[vid[a]] : -1;
+      for (int a = 0; a < 4; a++)
+        for (int b = 0; b < 4; b++) {
+          slot[4 * a + b] = -1;
+          if (fi[a] < 0 || fi[b] < 0) continue;
+          cb_sparse_block_slot(s->A, fi[a], fi[b], &slot[4 * a + b], &stride[4 * a + b]);
+          if (slot[4 * a + b] < 0 && (a < na) != (b < na)) missing = 1;
+        }
+      s->stats.decoupled += missing;
+      for (int a = 0; a < 4; a++)
+        for (int b = 0; b < 4; b++) {
+          if (slot[4 * a + b] < 0 || (missing && (a < na) != (b < na))) continue;
+          double B[9];
+          for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++) B[3 * r + c] = H[(3 * a + r) * 12 + 3 * b + c];
+          cb_sparse_add_block(val, slot[4 * a + b], stride[4 * a + b], B, 1.0);
+        }
+    }
+  (void)g;
+}
+
+/* Additive CCD (Li, Kaufman & Jiang 2021, Codim-IPC, Algorithm 1) of one
+ * pair moving linearly q0 -> q1 (12 coordinates each, first primitive na
+ * vertices): the displacements less their mean (the pair's relative motion),
+ * l = max over the first primitive's |D_a| + max over the second's |D_b|, an
+ * upper bound of how fast the distance can shrink per unit t. From t = 0 it
+ * advances by 0.9 d(t) / l (the first advance (1 - ACCD_GAP) d(0) / l), each
+ * advance shorter than the gap allows, so no contact is passed, until the gap
+ * is below ACCD_GAP d(0) (toi = that t) or t passes 1 (no hit: 1).
+ * ACCD_MAX_ITERS advances at most, then the t reached (conservative). */
+#define ACCD_GAP 0.1
+#define ACCD_MAX_ITERS 10000
+static double accd(const ct *s, const double *q0, const double *q1, int ee, long *iters) {
+  double D[12], mean[3] = {0, 0, 0}, lA = 0, lB = 0;
+  int na = ee ? 2 : 1;
+  for (int a = 0; a < 4; a++)
+    for (int c = 0; c < 3; c++) mean[c] += 0.25 * (q1[3 * a + c] - q0[3 * a + c]);
+  for (int a = 0; a < 4; a++) {
+    double n2 = 0;
+    for (int c = 0; c < 3; c++) {
+      D[3 * a + c] = q1[3 * a + c] - q0[3 * a + c] - mean[c];
+      n2 += D[3 * a + c] * D[3 * a + c];
+    }
+    if (a < na) lA = fmax(lA, sqrt(n2));
+    else lB = fmax(lB, sqrt(n2));
+  }
+  double l = lA + lB, q[12], d2;
+  if (!(l > 0)) return 1.0; /* a rigid translation of the pair: its distance does not change */
+  for (int k = 0; k < 12; k++) q[k] = q0[k];
+  pair_eval(s, q, ee, 0, NULL, NULL, &d2);
+  if (!(d2 > 0)) return 0.0; /* touching already (or a NaN) */
+  double d0 = sqrt(d2), t = 0, tl = (1 - ACCD_GAP) * d0 / l;
+  for (int it = 0; it < ACCD_MAX_ITERS; it++) {
+    (*iters)++;
+    for (int k = 0; k < 12; k++) q[k] += tl * D[k];
+    pair_eval(s, q, ee, 0, NULL, NULL, &d2);
+    double d = sqrt(d2);
+    if (!(d2 >= 0)) return t; /* NaN: stop where it was still certain */
+    if (t > 0 && d < ACCD_GAP * d0) return t;
+    t += tl;
+    if (t > 1) return 1.0;
+    tl = 0.9 * d / l;
+  }
+  return t;
+}
+
+double cb_contact_max_step(const cb_term *t, const double *x, const double *x1) {
+  ct *s = as_ct(t);
+  s->stats.ccd_queries = 0;
+  s->stats.ccd_iters = 0;
+  s->stats.max_step = 1.0;
+  if (!s->ccd) return 1.0;
+  if (find(s, x, x1)) return 0.0;
+  double q0[12], q1[12], eps, toi = 1.0;
+  int vid[4];
+  for (int kind = 0; kind < K_COUNT; kind++)
+    for (long i = 0; i < count(s, kind); i++) {
+      int ee = gather(s, kind, i, x, x1, q0, q1, vid, &eps), moving = 0;
+      for (int a = 0; a < 4; a++) moving |= vid[a] >= 0 && s->free_index[vid[a]] >= 0;
+      if (!moving) continue;
+      /* a point of a primitive moves at most its vertices' largest displacement, so the distance at time t is at
+       * least d(0) - t (m_A + m_B): no contact in [0, 1] when d(0) > m_A + m_B (no CCD query needed) */
+      double mA = 0, mB = 0, d2;
+      for (int a = 0; a < 4; a++) {
+        double m2 = 0;
+        for (int c = 0; c < 3; c++) m2 += (q1[3 * a + c] - q0[3 * a + c]) * (q1[3 * a + c] - q0[3 * a + c]);
+        if (a < (ee ? 2 : 1)) mA = fmax(mA, sqrt(m2));
+        else mB = fmax(mB, sqrt(m2));
+      }
+      pair_eval(s, q0, ee, eps, NULL, NULL, &d2);
+      if (sqrt(d2) > SAFE_MARGIN * (mA + mB)) continue;
+      s->stats.ccd_queries++;
+      double tp = accd(s, q0, q1, ee, &s->stats.ccd_iters);
+      if (tp < toi) toi = tp;
+    }
+  s->stats.max_step = toi;
+  return toi;
+}
+
+int cb_contact_indefinite(const cb_term *t, const double *x, int *nelements) {
+  ct *s = as_ct(t);
+  *nelements = 0;
+  if (find(s, x, NULL)) return 0;
+  double H[144], q[12], eps, d2;
+  int vid[4], n = 0;
+  for (int kind = 0; kind < K_COUNT; kind++)
+    for (long i = 0; i < count(s, kind); i++) {
+      int ee = gather(s, kind, i, x, NULL, q, NULL, vid, &eps);
+      pair_eval(s, q, ee, eps, NULL, H, &d2);
+      if (!(d2 < s->reach * s->reach)) continue;
+      (*nelements)++;
+      n += cb_projection_apply(CB_PROJ_CLAMP, 12, H, s->pw) > 0;
+    }
+  return n;
+}
+
+void cb_contact_free(cb_term *t) {
+  ct *s = as_ct(t);
+  if (!s) return;
+  cb_broadphase_free(s->bp);
+  cb_broadphase_free(s->bo);
+  cb_candidates_free(&s->self);
+  cb_candidates_free(&s->cross);
+  cb_projection_work_free(s->pw);
+  free(s->el2);
+  free(s->oel2);
+  free(s->own_x);
+  free(s->own_tri);
+  free(s);
+}
+
+static double *edge_lengths2(const int *edges, int ne, const double *x) {
+  double *l = cb_malloc((size_t)(ne > 0 ? ne : 1), sizeof(double));
+  if (!l) return NULL;
+  for (int e = 0; e < ne; e++) {
+    const double *a = x + 3 * edges[2 * e], *b = x + 3 * edges[2 * e + 1];
+    l[e] = (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
+  }
+  return l;
+}
+
+static cb_broadphase_params bp_params(const ct *s) {
+  cb_broadphase_params bp = cb_broadphase_params_default();
+  bp.thickness = s->reach;
+  return bp;
+}
+
+int cb_contact_term_alloc(const cb_model *m, const cb_term_type *type, const cb_contact_params *p,
+                          cb_contact_potential f, double reach, int mollify, int ccd, cb_term **out) {
+  *out = NULL;
+  if (!(reach > 0) || !isfinite(reach)) return cb_fail("contact.thickness: must be > 0, got %g", reach);
+  ct *s = cb_calloc(1, sizeof *s);
+  if (!s) return CB_ENOMEM;
+  s->base.type = type;
+  s->base.model = m;
+  snprintf(s->base.label, sizeof s->base.label, "contact");
+  s->p = *p;
+  s->f = f;
+  s->reach = reach;
+  s->mollify = mollify;
+  s->ccd = ccd;
+  s->nv = m->mesh->nv;
+  s->nt = m->mesh->nt;
+  s->tri = m->mesh->tri;
+  s->free_index = m->free_index;
+  s->nfree = m->nfree;
+  s->stats.max_step = 1.0;
+  s->stats.min_dist = INFINITY;
+  int st = cb_projection_work_alloc(12, &s->pw);
+  if (!st && s->nt > 0) {
+    cb_broadphase_params bp = bp_params(s);
+    st = cb_broadphase_alloc(s->nv, s->nt, s->tri, &bp, &s->bp);
+    if (!st) {
+      s->edges = cb_broadphase_edges(s->bp, &s->ne);
+      s->el2 = edge_lengths2(s->edges, s->ne, m->mesh->x);
+      if (!s->el2) st = CB_ENOMEM;
+    }
+    long cap = 16L * (s->nv + s->nt) + 64;
+    if (!st) st = cb_candidates_alloc(cap, 0, 2 * cap, &s->self);
+  }
+  if (st) {
+    cb_contact_free(&s->base);
+    return st;
+  }
+  *out = &s->base;
+  return CB_OK;
+}
+
+/* The obstacle of nv vertices at x (positions read at every evaluation) and
+ * nt triangles tri, rest shape xr (for the mollifier's edge lengths). */
+static int set_obstacle(ct *s, int nv, int nt, const int *tri, const double *x, const double *xr) {
+  cb_broadphase_free(s->bo);
+  s->bo = NULL;
+  free(s->oel2);
+  s->oel2 = NULL;
+  cb_candidates_free(&s->cross);
+  if (!s->bp || nt == 0) return CB_OK; /* no cloth triangles: the cloth has no faces or edges to meet it with */
+  cb_broadphase_params bp = bp_params(s);
+  int st = cb_broadphase_alloc(nv, nt, tri, &bp, &s->bo);
+  if (st) return st;
+  s->oedges = cb_broadphase_edges(s->bo, &s->one);
+  s->oel2 = edge_lengths2(s->oedges, s->one, xr);
+  if (!s->oel2) return CB_ENOMEM;
+  s->ox = x;
+  s->otri = tri;
+  s->onv = nv;
+  s->ont = nt;
+  long cap = 16L * (s->nv + s->nt + nv + nt) + 64;
+  return cb_candidates_alloc(cap, cap, 2 * cap, &s->cross);
+}
+
+int cb_contact_term_set_obstacle(cb_term *t, const cb_obstacle *o) {
+  if (!cb_contact_term_is(t)) return cb_fail("contact: not a contact term");
+  ct *s = as_ct(t);
+  if (!o) return set_obstacle(s, 0, 0, NULL, NULL, NULL);
+  return set_obstacle(s, o->mesh.nv, o->mesh.nt, o->mesh.tri, o->x, o->mesh.x);
+}
+
+typedef struct {
+  const ct *s;
+  const double *x;
+  int cross;
+  long n;
+} ix_ctx;
+
+static int ix_visit(void *vctx, int i, int j) {
+  ix_ctx *c = vctx;
+  const int *a = c->s->tri + 3 * i, *b = (c->cross ? c->s->otri : c->s->tri) + 3 * j;
+  const double *y = c->cross ? c->s->ox : c->x;
+  c->n +=
+      cb_tri_tri_intersect(c->x + 3 * a[0], c->x + 3 * a[1], c->x + 3 * a[2], y + 3 * b[0], y + 3 * b[1], y + 3 * b[2]);
+  return 0;
+}
+
+int cb_contact_term_intersections(const cb_term *t, const double *x, long *count) {
+  *count = 0;
+  if (!cb_contact_term_is(t)) return cb_fail("contact: not a contact term");
+  ct *s = as_ct(t);
+  if (!s->bp) return CB_OK;
+  int st = cb_broadphase_update(s->bp, x, NULL);
+  if (st) return st;
+  ix_ctx c = {s, x, 0, 0};
+  cb_broadphase_self_pairs(s->bp, 1, ix_visit, &c);
+  if (s->bo) {
+    if ((st = cb_broadphase_update(s->bo, s->ox, NULL))) return st;
+    c.cross = 1;
+    cb_broadphase_cross_pairs(s->bp, s->bo, ix_visit, &c);
+  }
+  *count = c.n;
+  return CB_OK;
+}
+
+int cb_contact_term_is(const cb_term *t) { return t && t->type->energy == cb_contact_energy; }
+
+const cb_contact_stats *cb_contact_term_stats(const cb_term *t) {
+  return cb_contact_term_is(t) ? &as_ct(t)->stats : NULL;
+}
+
+int cb_contact_example(const cb_model *m, int i, const cb_term_type *type, cb_contact_potential f, int mollify, int ccd,
+                       const cb_contact_params *p, cb_term **out) {
+  int st = cb_contact_term_alloc(m, type, p, f, p->thickness, mollify, ccd, out);
+  if (st || i != 0) return st;
+  ct *s = as_ct(*out);
+  const cb_mesh *mesh = m->mesh;
+  int nv = mesh->nv, nt = mesh->nt;
+  /* the normal: the sum of the triangles' area vectors (z for a chain) and the centroid */
+  double n[3] = {0, 0, 0}, c[3] = {0, 0, 0};
+  for (int k = 0; k < nt; k++) {
+    const double *a = mesh->x + 3 * mesh->tri[3 * k], *b = mesh->x + 3 * mesh->tri[3 * k + 1],
+                 *d = mesh->x + 3 * mesh->tri[3 * k + 2];
+    double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+    n[0] += u[1] * w[2] - u[2] * w[1];
+    n[1] += u[2] * w[0] - u[0] * w[2];
+    n[2] += u[0] * w[1] - u[1] * w[0];
+  }
+  double nn = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  if (!(nn > 0)) {
+    n[0] = n[1] = 0;
+    n[2] = nn = 1;
+  }
+  for (int a = 0; a < 3; a++) n[a] /= nn;
+  for (int k = 0; k < nv; k++)
+    for (int a = 0; a < 3; a++) c[a] += mesh->x[3 * k + a] / nv;
+  s->own_x = cb_malloc((size_t)3 * (nv > 0 ? nv : 1), sizeof(double));
+  s->own_tri = cb_malloc((size_t)3 * (nt > 0 ? nt : 1), sizeof(int));
+  if (!s->own_x || !s->own_tri) {
+    cb_contact_free(*out);
+    *out = NULL;
+    return CB_ENOMEM;
+  }
+  memcpy(s->own_tri, mesh->tri, (size_t)3 * nt * sizeof(int));
+  double th = 0.01, ct_ = cos(th), st_ = sin(th), off = 0.25;
+  for (int k = 0; k < nv; k++) { /* c + R(n, th)(X - c) + off n, Rodrigues */
+    double r[3] = {mesh->x[3 * k] - c[0], mesh->x[3 * k + 1] - c[1], mesh->x[3 * k + 2] - c[2]};
+    double nxr[3] = {n[1] * r[2] - n[2] * r[1], n[2] * r[0] - n[0] * r[2], n[0] * r[1] - n[1] * r[0]};
+    double nr = n[0] * r[0] + n[1] * r[1] + n[2] * r[2];
+    for (int a = 0; a < 3; a++)
+      s->own_x[3 * k + a] = c[a] + r[a] * ct_ + nxr[a] * st_ + n[a] * nr * (1 - ct_) + off * n[a];
+  }
+  st = set_obstacle(s, nv, nt, s->own_tri, s->own_x, s->own_x);
+  if (st) {
+    cb_contact_free(*out);
+    *out = NULL;
+  }
+  return st;
+}
