@@ -5,7 +5,7 @@
 # Arguments name packages that one target needs besides these (make fuzz: clang;
 # make bench: python3-scipy).
 set -u
-PKGS="libgsl-dev libsuitesparse-dev libopenblas-dev libinih-dev libcriterion-dev libgmp-dev libembree-dev gnuplot-nox $*"
+PKGS="libgsl-dev libsuitesparse-dev libopenblas-dev libinih-dev libcriterion-dev libgmp-dev libembree-dev gnuplot-nox libpetsc-real-dev $*"
 missing=""
 for p in $PKGS; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then

@@ -34,6 +34,10 @@ typedef struct cb_solver_params {
   int residual;        /* direct solvers: compute stats.rel_residual = |b - Ax|/|b| after each solve (1, one more
                           product with A inside the solve), or leave it NaN (0: a caller that solves with one
                           constant factor many times a step, pd and lbfgs, and does not read it). Default 1 */
+  char petsc_options[1024]; /* PETSc solvers: options for their KSP and PC, after the preset's (e.g. "-ksp_type cg
+                              -pc_type gamg -pc_gamg_threshold 0.02"). Default "" */
+  int pc_reuse; /* PETSc solvers: the preconditioner is set up at one factorisation in pc_reuse and reused by the
+                   others (1: at every one, i.e. every Newton iteration). Default 1 */
   cb_solver_monitor monitor; /* per-iteration callback; NULL = none. Default NULL */
   void *monitor_ctx;
 } cb_solver_params;
@@ -68,7 +72,10 @@ typedef struct cb_solver cb_solver;
 
 /* What a solver reads from cb_solver_params besides tol and max_iters, so
  * that sweeps and CSVs give alpha and rho only to solvers that use them. */
-enum { CB_SOLVER_DIRECT = 1u, CB_SOLVER_USES_ALPHA = 2u, CB_SOLVER_USES_RHO = 4u };
+/* CB_SOLVER_LIBRARY_HEAP: the solver's library allocates through its own allocator and keeps bookkeeping for the
+ * process that grows as its objects come and go (PETSc): its allocations are not counted by cb_alloc_fail_at and
+ * the heap in use is not the same after a run as before (test_enomem.c). */
+enum { CB_SOLVER_DIRECT = 1u, CB_SOLVER_USES_ALPHA = 2u, CB_SOLVER_USES_RHO = 4u, CB_SOLVER_LIBRARY_HEAP = 8u };
 
 typedef struct cb_solver_type {
   const char *name;

@@ -150,6 +150,8 @@ cb_solver_params cb_solver_params_from_config(const cb_config *c) {
   for (int k = 0; k < 3; k++) p.nrelax[k] = (int)c->solver_nrelax[k]; /* integers: checked by the config */
   p.upper = strcmp(c->solver_storage, "upper") == 0;
   p.flush_denormals = strcmp(c->solver_denormals, "flush") == 0;
+  snprintf(p.petsc_options, sizeof p.petsc_options, "%s", c->solver_petsc); /* the same size: never cut */
+  p.pc_reuse = c->solver_pc_reuse;
   return p;
 }
 

@@ -205,6 +205,15 @@ static const keydef keys_tail[] = {
      "into subnormals, and each costs the CPU a slow microcode assist; the Performance section's choice table measures "
      "both settings) or `keep` (IEEE gradual underflow). With THREADS > 1 CHOLMOD's and OpenBLAS's worker threads keep "
      "their own setting. No effect off x86."},
+    {"solver.petsc", T_PATH, O(solver_petsc), "", "-", 0, 0, 0, NULL, NULL,
+     "PETSc solvers (`petsc`, `petsc-gamg`, `petsc-hypre`, `petsc-ml`, `petsc-icc`): options for their KSP and PC, "
+     "in PETSc's own syntax, applied after the preset's, so they can change any of them (e.g. `-pc_gamg_threshold "
+     "0.02`, or for `petsc` `-ksp_type cg -pc_type sor`). Read by no other solver; PETSc's global options and the "
+     "PETSC_OPTIONS environment variable are not read."},
+    {"solver.pc_reuse", T_INT, O(solver_pc_reuse), "1", "factorisations", 1, 1000000, 0, NULL, NULL,
+     "PETSc solvers: the preconditioner (an AMG hierarchy, an incomplete factor) is set up at one factorisation in "
+     "pc_reuse and reused by the others: 1 sets it up at every Newton iteration; a larger value trades iterations "
+     "for set-up time."},
 };
 /* After the tail: contact.method, then the contact responses' own keys (contact.h; their shared ones defined once in
  * lib/core/contact/contact_keys.h). */

@@ -79,6 +79,8 @@ typedef struct cb_config {
   double solver_nrelax[3];            /* CHOLMOD supernode relaxation (Common->nrelax) */
   char solver_storage[CB_NAME_LEN];   /* what CHOLMOD reads: full | upper */
   char solver_denormals[CB_NAME_LEN]; /* subnormals during CHOLMOD's factorize/solve: flush | keep */
+  char solver_petsc[CB_PATH_LEN];     /* PETSc solvers: KSP/PC options after the preset's */
+  int solver_pc_reuse;                /* PETSc solvers: preconditioner set up once per this many factorisations */
 
   /* Where each key's value came from, for error messages (index = key). */
   struct {

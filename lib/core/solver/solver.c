@@ -21,6 +21,11 @@
   X(pcg) \
   X(sgs) \
   X(nesterov) \
+  X(petsc_generic) \
+  X(petsc_gamg) \
+  X(petsc_hypre) \
+  X(petsc_ml) \
+  X(petsc_icc) \
   /* one X(name) line per solver, above this line */
 #define CB_SOLVER_DECLARE(name) extern const cb_solver_type cb_solver_##name;
 #define CB_SOLVER_ENTRY(name) &cb_solver_##name,
@@ -50,6 +55,8 @@ cb_solver_params cb_solver_params_default(void) {
                         .flush_denormals = 1,
                         .rho_reuse = 1,
                         .residual = 1,
+                        .petsc_options = "",
+                        .pc_reuse = 1,
                         .monitor = NULL,
                         .monitor_ctx = NULL};
   return p;
