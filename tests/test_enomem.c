@@ -208,8 +208,8 @@ static long sweep(const run_case *rc) {
       cr_assert_neq(cb_error_message()[0], '\0', "%s: allocation %ld of %ld failed without a message", rc->label, k, n);
     }
     size_t heap1 = heap_in_use();
-    cr_assert(heap1 == heap0 || library_heap(&c), "%s: allocation %ld of %ld failed, and %zd bytes stayed allocated", rc->label, k, n,
-                 (ssize_t)(heap1 - heap0));
+    cr_assert(heap1 == heap0 || library_heap(&c), "%s: allocation %ld of %ld failed, and %zd bytes stayed allocated",
+              rc->label, k, n, (ssize_t)(heap1 - heap0));
   }
 #ifdef CB_ASAN
   scrub_stack();

@@ -141,9 +141,8 @@ static int petsc_load(void) {
 static int petsc_load_inner(void) {
   void *h = dlopen(CB_PETSC_LIB, RTLD_NOW | RTLD_GLOBAL);
   if (!h) {
-    snprintf(P.why, sizeof P.why,
-             "PETSc solvers: cannot load %s (%s): install libpetsc-real-dev (make deps does)", CB_PETSC_LIB,
-             dlerror());
+    snprintf(P.why, sizeof P.why, "PETSc solvers: cannot load %s (%s): install libpetsc-real-dev (make deps does)",
+             CB_PETSC_LIB, dlerror());
     return cb_fail_status(CB_EINVAL, "%s", P.why);
   }
 #define PETSC_LOOKUP(f) \
@@ -203,13 +202,13 @@ typedef struct {
   Mat A;
   KSP ksp;
   Vec b, x;
-  char prefix[32];  /* cb<k>_: this solver's options in PETSc's database, and nobody else's */
-  char *names;      /* the option names it put there (NUL-separated), cleared when it is freed */
+  char prefix[32]; /* cb<k>_: this solver's options in PETSc's database, and nobody else's */
+  char *names;     /* the option names it put there (NUL-separated), cleared when it is freed */
   size_t names_len;
   PetscInt *rowp, *coli; /* our pattern as PetscInt (a copy only when PetscInt is not int) */
   petsc_monitor_ctx mon;
-  long factors;          /* factorisations so far: the preconditioner is rebuilt when factors % pc_reuse == 0 */
-  double *r;             /* n: the residual b - A x after a solve (allocated at analyze: a step never allocates) */
+  long factors; /* factorisations so far: the preconditioner is rebuilt when factors % pc_reuse == 0 */
+  double *r;    /* n: the residual b - A x after a solve (allocated at analyze: a step never allocates) */
 } petsc_work;
 
 static void petsc_free(cb_solver *s) {
@@ -405,11 +404,15 @@ static int petsc_solve(cb_solver *s, const cb_sparse *A, const double *b, double
     return cb_fail_status(CB_DIVERGED, "PETSc KSP diverged (%s) after %d iterations, relative residual %g",
                           reason_name(why), (int)its, rel);
   if (why == KSP_DIVERGED_INDEFINITE_PC || why == KSP_DIVERGED_INDEFINITE_MAT)
-    return cb_fail_status(CB_INDEFINITE, "PETSc KSP: %s after %d iterations (A or its preconditioner is not "
-                          "positive definite)", reason_name(why), (int)its);
+    return cb_fail_status(CB_INDEFINITE,
+                          "PETSc KSP: %s after %d iterations (A or its preconditioner is not "
+                          "positive definite)",
+                          reason_name(why), (int)its);
   if (rel > s->params.tol)
-    return cb_fail_status(CB_NOT_CONVERGED, "PETSc KSP stopped (%s) after %d iterations at relative residual %g > "
-                          "solver.tol %g", reason_name(why), (int)its, rel, s->params.tol);
+    return cb_fail_status(CB_NOT_CONVERGED,
+                          "PETSc KSP stopped (%s) after %d iterations at relative residual %g > "
+                          "solver.tol %g",
+                          reason_name(why), (int)its, rel, s->params.tol);
   return CB_OK;
 }
 
