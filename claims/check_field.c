@@ -107,7 +107,7 @@ void cb_check_X1(const cb_table *csv, const char *dir, cb_claim_result *out) {
     return;
   }
   const char *sc[MAXS];
-  int ns = distinct(&t, c[0], sc, MAXS), all_x = 1, all_less = 1, nd = 0, unconv = 0;
+  int ns = distinct(&t, c[0], sc, MAXS), all_x = 1, all_less = 1, nd = 0, unconv = 0, n_xok = 0, n_pdep = 0;
   cb_claim_numbers(out, "| scene | method | k_eff/k at convergence over dt: min, max | spread over dt | iterations "
                         "(XPBD's residual converged) | largest residual | k_eff/k over 1-100 iterations: min, max |\n"
                         "|---|---|---|---|---|---|---|\n");
@@ -144,6 +144,8 @@ void cb_check_X1(const cb_table *csv, const char *dir, cb_claim_result *out) {
       continue;
     }
     nd++;
+    if (spread[1] <= 1.1 && dev <= 0.1) n_xok++;
+    if (spread[0] > 1.1) n_pdep++;
     if (!(spread[1] <= 1.1 && dev <= 0.1 && spread[0] > 1.1 && spread[0] > spread[1])) all_x = 0;
     if (!(spread[1] < spread[0])) all_less = 0;
   }
@@ -166,10 +168,11 @@ void cb_check_X1(const cb_table *csv, const char *dir, cb_claim_result *out) {
   cb_claim_reason(out,
                   "Effective stiffness k_eff = k ref_strain/strain (static stretch against the converged static "
                   "state) at the iteration count where XPBD's constraint residual has converged, per scene and "
-                  "dt = 1/30, 1/60, 1/120 s, on %d scenes: XPBD's k_eff/k %s within 10%% of 1 with a spread over dt "
-                  "within 10%% on every scene while PBD's spread is above that, and XPBD's spread %s below PBD's on "
-                  "every scene (table; the 1-100 iteration rows show how fast each approaches it). ",
-                  nd, all_x ? "is" : "is not", all_less ? "is" : "is not");
+                  "dt = 1/30, 1/60, 1/120 s, on %d scenes: XPBD's k_eff/k is within 10%% of 1 with a spread over dt "
+                  "within 10%% on %d of them; PBD's spread over dt is above 10%% on %d of them; XPBD's spread %s "
+                  "below PBD's on every scene. Reproduced needs all three on every scene; partly, the last "
+                  "(table; the 1-100 iteration rows show how fast each approaches it). ",
+                  nd, n_xok, n_pdep, all_less ? "is" : "is not");
   cb_table_free(&t);
 }
 
