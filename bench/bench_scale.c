@@ -34,6 +34,10 @@
  *                       of the nonlinear remainder CHOLMOD's exact solve
  *                       leaves: the two steps are equally accurate to within
  *                       that, and the row records both;
+ *   newton_petsc-gamg_matched, newton_petsc-hypre_matched,
+ *   newton_petsc-ml_matched, newton_petsc-icc_matched
+ *                       the same with the PETSc presets (CG with GAMG,
+ *                       BoomerAMG, ML, ICC; docs/solvers-petsc.md);
  *   pd10                projective dynamics, 10 local/global iterations
  *                       (Liu et al. 2013), CHOLMOD factor once at set-up;
  *   lbfgs32             L-BFGS with pd's matrix as initial Hessian, at most
@@ -106,6 +110,19 @@ static const scale_method METHODS[] = {
      {"integrator.method=newton", "integrator.max_iters=1", "integrator.tol=0", "solver.method=pcg",
       "solver.max_iters=100000", NULL},
      1},
+#define PETSC_MATCHED(preset) \
+  { \
+    "newton_" preset "_matched", "hanging.ini", \
+        {"integrator.method=newton", "integrator.max_iters=1",  "integrator.tol=0", \
+         "solver.method=" preset,    "solver.max_iters=100000", NULL}, \
+        1 \
+  }
+    /* the PETSc family (docs/solvers-petsc.md) at newton_cholmod's accuracy, as newton_pcg_matched */
+    PETSC_MATCHED("petsc-gamg"),
+    PETSC_MATCHED("petsc-hypre"),
+    PETSC_MATCHED("petsc-ml"),
+    PETSC_MATCHED("petsc-icc"),
+#undef PETSC_MATCHED
     {"lab", "lab.ini", {"integrator.method=chebyshev-nl", "integrator.iters=32", NULL}, 0},
     {"pd10", "hanging.ini", {"integrator.method=pd", "integrator.iters=10", "solver.method=cholmod", NULL}, 0},
     {"lbfgs32", "hanging.ini", {"integrator.method=lbfgs", "integrator.iters=32", "solver.method=cholmod", NULL}, 0},
