@@ -10,13 +10,18 @@ BEGIN, END = "<!-- bench-scale:begin -->", "<!-- bench-scale:end -->"
 # an iterative Newton step counts as "as accurate" as CHOLMOD's when its
 # relative |grad F| after the step is at most this multiple of CHOLMOD's
 EQUAL_ACCURACY = 1.25
-ITERATIVE = ("newton_cg32", "newton_cheb32", "newton_pcg_matched")
+ITERATIVE = ("newton_cg32", "newton_cheb32", "newton_pcg_matched", "newton_petsc-gamg_matched",
+             "newton_petsc-hypre_matched", "newton_petsc-ml_matched", "newton_petsc-icc_matched")
 LABELS = {
     "explicit": "explicit (symplectic Euler, dt = 1e-5 s)",
     "newton_cholmod": "Newton, 1 iteration, CHOLMOD",
     "newton_cg32": "Newton, 1 iteration, 32 CG",
     "newton_cheb32": "Newton, 1 iteration, 32 Chebyshev",
     "newton_pcg_matched": "Newton, 1 iteration, PCG to CHOLMOD's accuracy",
+    "newton_petsc-gamg_matched": "Newton, 1 iteration, PETSc CG + GAMG to CHOLMOD's accuracy",
+    "newton_petsc-hypre_matched": "Newton, 1 iteration, PETSc CG + BoomerAMG to CHOLMOD's accuracy",
+    "newton_petsc-ml_matched": "Newton, 1 iteration, PETSc CG + ML to CHOLMOD's accuracy",
+    "newton_petsc-icc_matched": "Newton, 1 iteration, PETSc CG + ICC to CHOLMOD's accuracy",
     "lab": "lab frame (chebyshev-nl, 32 iterations)",
     "pd10": "pd, 10 iterations",
     "lbfgs32": "lbfgs, 32 iterations",
