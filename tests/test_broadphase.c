@@ -12,6 +12,7 @@
 #include "rng.h"
 #include "support.h"
 #include <clothbench/clothbench.h>
+#include <clothbench/distance.h>
 
 static cb_mesh grid(int n, int m, double size) {
   cb_grid_params gp = cb_grid_params_default();
@@ -386,5 +387,112 @@ Test(broadphase, bad_input) {
   free(x);
   cb_broadphase_free(bp);
   cb_broadphase_free(NULL);
+  cb_mesh_free(&m);
+}
+
+/* ---- true contacts: every pair within d at the end of the step is a candidate ---- */
+
+static int has_pair(const int *p, long n, int a, int b, int unordered) {
+  for (long i = 0; i < n; i++)
+    if ((p[2 * i] == a && p[2 * i + 1] == b) || (unordered && p[2 * i] == b && p[2 * i + 1] == a)) return 1;
+  return 0;
+}
+
+/* The pairs of non-adjacent primitives whose distance at x (by the distance
+ * module's classified cases, not by boxes) is below d, against the
+ * candidates c: how many true pairs there are, and how many c lacks. */
+static void true_contacts(const cb_mesh *m, const int *E, int ne, const double *x, double d, const cb_candidates *c,
+                          long *ntrue, long *missing) {
+  *ntrue = *missing = 0;
+  double q[12];
+  cb_distance_case dc;
+  for (int v = 0; v < m->nv; v++)
+    for (int f = 0; f < m->nt; f++) {
+      const int *t = m->tri + 3 * f;
+      if (t[0] == v || t[1] == v || t[2] == v) continue;
+      int id[4] = {v, t[0], t[1], t[2]};
+      for (int k = 0; k < 4; k++) memcpy(q + 3 * k, x + 3 * id[k], 3 * sizeof(double));
+      cr_assert_eq(cb_distance_point_triangle_case(q, &dc), 0);
+      if (cb_distance_case_eval(&dc, 4, q, NULL, NULL) >= d * d) continue;
+      (*ntrue)++;
+      *missing += !has_pair(c->vf, c->nvf, v, f, 0);
+    }
+  for (int a = 0; a < ne; a++)
+    for (int b = a + 1; b < ne; b++) {
+      const int *ea = E + 2 * a, *eb = E + 2 * b;
+      if (ea[0] == eb[0] || ea[0] == eb[1] || ea[1] == eb[0] || ea[1] == eb[1]) continue;
+      int id[4] = {ea[0], ea[1], eb[0], eb[1]};
+      for (int k = 0; k < 4; k++) memcpy(q + 3 * k, x + 3 * id[k], 3 * sizeof(double));
+      cr_assert_eq(cb_distance_edge_edge_case(q, &dc), 0);
+      if (cb_distance_case_eval(&dc, 4, q, NULL, NULL) >= d * d) continue;
+      (*ntrue)++;
+      *missing += !has_pair(c->ee, c->nee, a, b, 1);
+    }
+}
+
+/* A sheet folded over itself: rows below n/2 flat at z = 0, the rows above
+ * turned back over them at height gap (shifted by h/2 in y), jittered. */
+static void fold(cb_rng *g, const cb_mesh *m, int n, double gap, double *x) {
+  double h = 1.0 / (n - 1);
+  for (int j = 0; j < n; j++)
+    for (int i = 0; i < n; i++) {
+      double *p = x + 3 * (j * n + i);
+      int top = j >= n / 2;
+      p[0] = m->x[3 * (j * n + i)] + 0.1 * h * (cb_rng_uniform(g) - 0.5);
+      p[1] = (top ? (n - 1 - j) * h + 0.5 * h : j * h) + 0.1 * h * (cb_rng_uniform(g) - 0.5);
+      p[2] = (top ? gap : 0.0) + 0.1 * h * (cb_rng_uniform(g) - 0.5);
+    }
+}
+
+Test(broadphase, every_true_contact_is_a_candidate_folded_and_random) {
+  const int n = 12;
+  cb_mesh m = grid(n, n, 1.0);
+  double h = 1.0 / (n - 1), *x0 = malloc(sizeof(double) * 3 * (size_t)m.nv),
+         *x1 = malloc(sizeof(double) * 3 * (size_t)m.nv);
+  cb_rng g = cb_rng_seed(21);
+  for (int mesh = 0; mesh < 4; mesh++) {
+    double d;
+    if (mesh < 2) { /* folded: the top layer comes down from 0.5 h to 0.15 h, d = 0.25 h */
+      fold(&g, &m, n, 0.5 * h, x0);
+      for (int v = 0; v < m.nv; v++) {
+        memcpy(x1 + 3 * v, x0 + 3 * v, 3 * sizeof(double));
+        if (v / n >= n / 2) x1[3 * v + 2] -= 0.35 * h;
+      }
+      d = 0.25 * h;
+    } else { /* crumpled at random: crossings and near misses everywhere */
+      crumple(&g, &m, 0.6, x0, x1, 0.1);
+      d = 0.04;
+    }
+    cb_broadphase_params p = cb_broadphase_params_default();
+    p.thickness = d;
+    p.leaf_size = 1 + 3 * (mesh & 1);
+    cb_broadphase *bp;
+    cr_assert_eq(cb_broadphase_alloc(m.nv, m.nt, m.tri, &p, &bp), 0);
+    cr_assert_eq(cb_broadphase_update(bp, x0, x1), 0);
+    int ne;
+    const int *E = cb_broadphase_edges(bp, &ne);
+    cb_candidates c;
+    cr_assert_eq(cb_candidates_alloc(200000, 0, 400000, &c), 0);
+    cr_assert_eq(cb_broadphase_self_candidates(bp, &c), 0, "%s", cb_error_message());
+    long ntrue, missing;
+    true_contacts(&m, E, ne, x1, d, &c, &ntrue, &missing);
+    cr_assert_gt(ntrue, 20, "mesh %d: the fixture should have contacts (%ld)", mesh, ntrue);
+    cr_assert_eq(missing, 0, "mesh %d: %ld of %ld true contacts are not candidates", mesh, missing, ntrue);
+    /* the check's own fixture: a broad phase for a smaller d (the boxes not
+     * grown) lacks some of the pairs within d, and the check says so */
+    cb_broadphase_params p0 = p;
+    p0.thickness = 0.0;
+    cb_broadphase *b0;
+    cr_assert_eq(cb_broadphase_alloc(m.nv, m.nt, m.tri, &p0, &b0), 0);
+    cr_assert_eq(cb_broadphase_update(b0, x0, x1), 0);
+    cr_assert_eq(cb_broadphase_self_candidates(b0, &c), 0);
+    true_contacts(&m, E, ne, x1, d, &c, &ntrue, &missing);
+    cr_assert_gt(missing, 0, "mesh %d: thickness 0 should miss some of the %ld pairs within d", mesh, ntrue);
+    cb_broadphase_free(b0);
+    cb_candidates_free(&c);
+    cb_broadphase_free(bp);
+  }
+  free(x0);
+  free(x1);
   cb_mesh_free(&m);
 }

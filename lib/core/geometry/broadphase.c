@@ -16,9 +16,21 @@ enum { PARAMS_COOKIE = 0x42505048, MAX_DEPTH = 64 };
 
 typedef struct node {
   double lo[3], hi[3];
-  int first; /* leaf: first slot in idx[]; internal: index of the left child (the right one is first + 1) */
-  int count; /* leaf: triangles; internal: 0 */
+  double area; /* half surface area of the box: the descent rule and the SAH cost */
+  int first;   /* leaf: first slot; internal: index of the left child (the right one is first + 1) */
+  int count;   /* leaf: triangles; internal: 0 */
 } node;
+
+/* What the candidate code needs of the triangle in one leaf slot, stored in
+ * slot order so that a leaf's triangles are read from consecutive memory. */
+typedef struct slot_rec {
+  int v[3];  /* its vertices */
+  int ov[3]; /* the vertices it owns (nov of them) */
+  int oe[3]; /* the edges it owns (noe of them) */
+  int t;     /* triangle id */
+  unsigned char nov, noe;
+  unsigned char ek[3]; /* local index k of owned edge oe[m]: it joins v[k] and v[(k + 1) % 3] */
+} slot_rec;
 
 typedef struct pair {
   int a, b;
@@ -31,12 +43,15 @@ struct cb_broadphase {
   int *edge;          /* 2*ne, i < j */
   int *tri_edge;      /* 3*nt: edge k of triangle t joins tri[3t+k] and tri[3t+(k+1)%3] */
   unsigned char *own; /* per triangle: bits 0-2 the vertices it owns, bits 3-5 the edges */
-  double *box;        /* 6*nt: lo[3], hi[3] of each triangle */
+  double *box;        /* 6*nt: each triangle's box, by triangle id (build scratch) */
+  double *sbox;       /* 6*nt: the box of the triangle in each leaf slot (slot order) */
+  slot_rec *rec;      /* nt: the triangle in each leaf slot */
+  int *slot;          /* nt: the slot of each triangle */
   double *vbox;       /* 6*nv: each vertex's swept box, grown by d/2 */
   double *ebox;       /* 6*ne: each edge's */
   int boxed;          /* the boxes are set (cb_broadphase_boxes) */
   double *cen;        /* nt: centroid along the split axis during a build */
-  int *idx;           /* nt: triangle of each leaf slot */
+  int *idx;           /* nt: triangle of each leaf slot (identity before the first build) */
   node *nodes;        /* 2*nt */
   int nnodes;
   pair *stack; /* traversal and build stack */
@@ -125,6 +140,28 @@ static int build_topology(cb_broadphase *b) {
   return CB_OK;
 }
 
+static const int next3[3] = {1, 2, 0};
+
+/* slot[] and rec[] for the current idx[] */
+static void set_slots(cb_broadphase *b) {
+  for (int s = 0; s < b->nt; s++) {
+    int t = b->idx[s];
+    slot_rec *r = b->rec + s;
+    unsigned own = b->own[t];
+    b->slot[t] = s;
+    r->t = t;
+    r->nov = r->noe = 0;
+    for (int k = 0; k < 3; k++) {
+      r->v[k] = b->tri[3 * t + k];
+      if (own & (1u << k)) r->ov[r->nov++] = r->v[k];
+      if (own & (8u << k)) {
+        r->ek[r->noe] = (unsigned char)k;
+        r->oe[r->noe++] = b->tri_edge[3 * t + k];
+      }
+    }
+  }
+}
+
 int cb_broadphase_alloc(int nv, int nt, const int *tri, const cb_broadphase_params *p, cb_broadphase **out) {
   *out = NULL;
   if (!p || p->cookie != PARAMS_COOKIE)
@@ -155,9 +192,13 @@ int cb_broadphase_alloc(int nv, int nt, const int *tri, const cb_broadphase_para
   b->vbox = cb_malloc(nv > 0 ? (size_t)nv : 1, 6 * sizeof(double));
   b->cen = cb_malloc((size_t)nt, sizeof(double));
   b->idx = cb_malloc((size_t)nt, sizeof(int));
+  b->slot = cb_malloc((size_t)nt, sizeof(int));
+  b->sbox = cb_malloc((size_t)nt, 6 * sizeof(double));
+  b->rec = cb_calloc((size_t)nt, sizeof(slot_rec));
   b->nodes = cb_malloc((size_t)2 * nt, sizeof(node));
   b->stack = cb_malloc((size_t)b->stack_cap, sizeof(pair));
-  if (!b->tri || !b->tri_edge || !b->own || !b->box || !b->vbox || !b->cen || !b->idx || !b->nodes || !b->stack) {
+  if (!b->tri || !b->tri_edge || !b->own || !b->box || !b->vbox || !b->cen || !b->idx || !b->nodes || !b->stack ||
+      !b->slot || !b->sbox || !b->rec) {
     cb_broadphase_free(b);
     return CB_ENOMEM;
   }
@@ -167,6 +208,8 @@ int cb_broadphase_alloc(int nv, int nt, const int *tri, const cb_broadphase_para
     cb_broadphase_free(b);
     return rc;
   }
+  for (int t = 0; t < nt; t++) b->idx[t] = t;
+  set_slots(b);
   *out = b;
   return CB_OK;
 }
@@ -182,6 +225,9 @@ void cb_broadphase_free(cb_broadphase *b) {
   free(b->ebox);
   free(b->cen);
   free(b->idx);
+  free(b->slot);
+  free(b->sbox);
+  free(b->rec);
   free(b->nodes);
   free(b->stack);
   free(b);
@@ -201,20 +247,6 @@ const cb_broadphase_stats *cb_broadphase_stats_get(const cb_broadphase *b) { ret
 static double half_area(const double *lo, const double *hi) {
   double dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
   return dx * dy + dy * dz + dz * dx;
-}
-
-static void leaf_bounds(const cb_broadphase *b, node *nd) {
-  for (int k = 0; k < 3; k++) {
-    nd->lo[k] = INFINITY;
-    nd->hi[k] = -INFINITY;
-  }
-  for (int s = nd->first; s < nd->first + nd->count; s++) {
-    const double *bx = b->box + 6 * b->idx[s];
-    for (int k = 0; k < 3; k++) {
-      if (bx[k] < nd->lo[k]) nd->lo[k] = bx[k];
-      if (bx[3 + k] > nd->hi[k]) nd->hi[k] = bx[3 + k];
-    }
-  }
 }
 
 /* Reorders idx[lo, hi) so that idx[mid] has the key of rank mid - lo, keys
@@ -243,17 +275,47 @@ static void select_median(int *idx, const double *key, int lo, int hi, int mid) 
   }
 }
 
-/* The SAH cost (header) of the current boxes, nodes visited in any order. */
-static double sah_cost(const cb_broadphase *b) {
-  double root = half_area(b->nodes[0].lo, b->nodes[0].hi), c = 0.0;
-  for (int i = 0; i < b->nnodes; i++) {
-    const node *nd = b->nodes + i;
-    c += half_area(nd->lo, nd->hi) * (nd->count ? nd->count : 1);
+/* Every node's box and area from the slot boxes, bottom up (children come
+ * after their parent), and the SAH cost (header) of the result. */
+static double fit(cb_broadphase *b) {
+  double c = 0.0;
+  for (int i = b->nnodes - 1; i >= 0; i--) {
+    node *nd = b->nodes + i;
+    double lo[3], hi[3];
+    if (nd->count) {
+      const double *bx = b->sbox + 6 * nd->first;
+      for (int k = 0; k < 3; k++) {
+        lo[k] = bx[k];
+        hi[k] = bx[3 + k];
+      }
+      for (int s = 1; s < nd->count; s++) {
+        bx += 6;
+        for (int k = 0; k < 3; k++) {
+          lo[k] = bx[k] < lo[k] ? bx[k] : lo[k];
+          hi[k] = bx[3 + k] > hi[k] ? bx[3 + k] : hi[k];
+        }
+      }
+    } else {
+      const node *l = b->nodes + nd->first, *r = l + 1;
+      for (int k = 0; k < 3; k++) {
+        lo[k] = l->lo[k] < r->lo[k] ? l->lo[k] : r->lo[k];
+        hi[k] = l->hi[k] > r->hi[k] ? l->hi[k] : r->hi[k];
+      }
+    }
+    for (int k = 0; k < 3; k++) {
+      nd->lo[k] = lo[k];
+      nd->hi[k] = hi[k];
+    }
+    nd->area = half_area(lo, hi);
+    c += nd->area * (nd->count ? nd->count : 1);
   }
+  double root = b->nodes[0].area;
   return root > 0.0 ? c / root : (double)b->nnodes;
 }
 
 static int build(cb_broadphase *b) {
+  /* the boxes by triangle id, then a fresh order */
+  for (int s = 0; s < b->nt; s++) memcpy(b->box + 6 * b->idx[s], b->sbox + 6 * s, 6 * sizeof(double));
   for (int i = 0; i < b->nt; i++) b->idx[i] = i;
   b->nnodes = 1;
   b->nodes[0].first = 0;
@@ -265,7 +327,6 @@ static int build(cb_broadphase *b) {
     pair top = b->stack[--sp];
     node *nd = b->nodes + top.a;
     if (top.b > depth) depth = top.b;
-    leaf_bounds(b, nd);
     if (nd->count <= b->p.leaf_size) continue;
     /* split at the median centroid along the longest axis of the centroids' bounds */
     double clo[3] = {INFINITY, INFINITY, INFINITY}, chi[3] = {-INFINITY, -INFINITY, -INFINITY};
@@ -297,41 +358,17 @@ static int build(cb_broadphase *b) {
     b->stack[sp++] = (pair){c, top.b + 1};
     b->stack[sp++] = (pair){c + 1, top.b + 1};
   }
-  /* internal bounds: children come after their parent */
-  for (int i = b->nnodes - 1; i >= 0; i--) {
-    node *nd = b->nodes + i;
-    if (nd->count) continue;
-    const node *l = b->nodes + nd->first, *r = l + 1;
-    for (int k = 0; k < 3; k++) {
-      nd->lo[k] = l->lo[k] < r->lo[k] ? l->lo[k] : r->lo[k];
-      nd->hi[k] = l->hi[k] > r->hi[k] ? l->hi[k] : r->hi[k];
-    }
-  }
+  /* the slot order of the new tree: boxes and records follow */
+  for (int s = 0; s < b->nt; s++) memcpy(b->sbox + 6 * s, b->box + 6 * b->idx[s], 6 * sizeof(double));
+  set_slots(b);
   b->stats.depth = depth;
   b->stats.nodes = b->nnodes;
   b->stats.rebuilds++;
   b->stats.rebuilt = 1;
-  b->stats.sah_built = b->stats.sah_cost = sah_cost(b);
+  b->stats.sah_built = b->stats.sah_cost = fit(b);
   b->built = 1;
   b->force_rebuild = 0;
   return CB_OK;
-}
-
-static void refit(cb_broadphase *b) {
-  for (int i = b->nnodes - 1; i >= 0; i--) {
-    node *nd = b->nodes + i;
-    if (nd->count) {
-      leaf_bounds(b, nd);
-      continue;
-    }
-    const node *l = b->nodes + nd->first, *r = l + 1;
-    for (int k = 0; k < 3; k++) {
-      nd->lo[k] = l->lo[k] < r->lo[k] ? l->lo[k] : r->lo[k];
-      nd->hi[k] = l->hi[k] > r->hi[k] ? l->hi[k] : r->hi[k];
-    }
-  }
-  b->stats.rebuilt = 0;
-  b->stats.sah_cost = sah_cost(b);
 }
 
 static void union_box(const double *a, const double *b, double *out) {
@@ -357,9 +394,9 @@ int cb_broadphase_boxes(cb_broadphase *b, const double *x0, const double *x1) {
   }
   for (int e = 0; e < b->ne; e++)
     union_box(b->vbox + 6 * b->edge[2 * e], b->vbox + 6 * b->edge[2 * e + 1], b->ebox + 6 * e);
-  for (int t = 0; t < b->nt; t++) {
-    const int *v = b->tri + 3 * t;
-    double *bx = b->box + 6 * t;
+  for (int s = 0; s < b->nt; s++) {
+    const int *v = b->rec[s].v;
+    double *bx = b->sbox + 6 * s;
     union_box(b->vbox + 6 * v[0], b->vbox + 6 * v[1], bx);
     union_box(bx, b->vbox + 6 * v[2], bx);
   }
@@ -371,98 +408,13 @@ int cb_broadphase_update(cb_broadphase *b, const double *x0, const double *x1) {
   int rc = cb_broadphase_boxes(b, x0, x1);
   if (rc) return rc;
   if (!b->built || b->force_rebuild) return build(b);
-  refit(b);
+  b->stats.rebuilt = 0;
+  b->stats.sah_cost = fit(b);
   if (b->stats.sah_cost > b->p.rebuild_ratio * b->stats.sah_built) return build(b);
   return CB_OK;
 }
 
-/* ---- traversal ------------------------------------------------------------ */
-
-static inline int overlap(const double *alo, const double *ahi, const double *blo, const double *bhi) {
-  return alo[0] <= bhi[0] && blo[0] <= ahi[0] && alo[1] <= bhi[1] && blo[1] <= ahi[1] && alo[2] <= bhi[2] &&
-         blo[2] <= ahi[2];
-}
-
-static inline int box_overlap(const double *a, const double *b) { return overlap(a, a + 3, b, b + 3); }
-
-static int share_vertex(const int *a, const int *b) {
-  for (int i = 0; i < 3; i++)
-    for (int j = 0; j < 3; j++)
-      if (a[i] == b[j]) return 1;
-  return 0;
-}
-
-/* Pairs of nodes (a, b), a == b meaning "pairs within a", on an explicit
- * stack. Each pop pushes at most three; descending one side at a time keeps
- * the stack under 3 (depth_a + depth_b) entries. */
-static int traverse(const cb_broadphase *A, const cb_broadphase *B, int skip_adjacent, cb_broadphase_visit visit,
-                    void *ctx) {
-  if (!A->built || !B->built) return cb_fail("broadphase: query before the first update");
-  int self = A == B;
-  pair *st = A->stack;
-  int cap = A->stack_cap, sp = 0;
-  st[sp++] = (pair){0, 0};
-  while (sp) {
-    pair q = st[--sp];
-    const node *na = A->nodes + q.a, *nb = B->nodes + q.b;
-    if (self && q.a == q.b) {
-      if (na->count) {
-        for (int s = na->first; s < na->first + na->count; s++)
-          for (int u = s + 1; u < na->first + na->count; u++) {
-            int i = A->idx[s], j = A->idx[u];
-            if (!box_overlap(A->box + 6 * i, A->box + 6 * j)) continue;
-            if (skip_adjacent && share_vertex(A->tri + 3 * i, A->tri + 3 * j)) continue;
-            int rc = i < j ? visit(ctx, i, j) : visit(ctx, j, i);
-            if (rc) return rc;
-          }
-        continue;
-      }
-      if (sp + 3 > cap) return cb_fail_status(CB_ENOMEM, "broadphase: traversal stack exhausted");
-      st[sp++] = (pair){na->first, na->first};
-      st[sp++] = (pair){na->first + 1, na->first + 1};
-      st[sp++] = (pair){na->first, na->first + 1};
-      continue;
-    }
-    if (!overlap(na->lo, na->hi, nb->lo, nb->hi)) continue;
-    if (na->count && nb->count) {
-      for (int s = na->first; s < na->first + na->count; s++)
-        for (int u = nb->first; u < nb->first + nb->count; u++) {
-          int i = A->idx[s], j = B->idx[u];
-          if (!box_overlap(A->box + 6 * i, B->box + 6 * j)) continue;
-          if (self) {
-            if (skip_adjacent && share_vertex(A->tri + 3 * i, A->tri + 3 * j)) continue;
-            int rc = i < j ? visit(ctx, i, j) : visit(ctx, j, i);
-            if (rc) return rc;
-          } else {
-            int rc = visit(ctx, i, j);
-            if (rc) return rc;
-          }
-        }
-      continue;
-    }
-    if (sp + 2 > cap) return cb_fail_status(CB_ENOMEM, "broadphase: traversal stack exhausted");
-    /* descend the larger box (or the only internal one) */
-    if (nb->count || (!na->count && half_area(na->lo, na->hi) >= half_area(nb->lo, nb->hi))) {
-      st[sp++] = (pair){na->first, q.b};
-      st[sp++] = (pair){na->first + 1, q.b};
-    } else {
-      st[sp++] = (pair){q.a, nb->first};
-      st[sp++] = (pair){q.a, nb->first + 1};
-    }
-  }
-  return CB_OK;
-}
-
-int cb_broadphase_self_pairs(const cb_broadphase *b, int skip_adjacent, cb_broadphase_visit visit, void *ctx) {
-  return traverse(b, b, skip_adjacent, visit, ctx);
-}
-
-int cb_broadphase_cross_pairs(const cb_broadphase *a, const cb_broadphase *b, cb_broadphase_visit visit, void *ctx) {
-  if (a == b) return cb_fail("broadphase: a cross query needs two trees (use cb_broadphase_self_pairs)");
-  return traverse(a, b, 0, visit, ctx);
-}
-
-/* ---- primitive candidates ------------------------------------------------- */
+/* ---- candidates of one triangle pair -------------------------------------- */
 
 int cb_candidates_alloc(long cap_vf, long cap_fv, long cap_ee, cb_candidates *c) {
   memset(c, 0, sizeof *c);
@@ -488,10 +440,14 @@ void cb_candidates_free(cb_candidates *c) {
   memset(c, 0, sizeof *c);
 }
 
-typedef struct cand_ctx {
-  const cb_broadphase *a, *b;
-  cb_candidates *c;
-} cand_ctx;
+static inline int box_overlap(const double *a, const double *b) {
+  return a[0] <= b[3] && b[0] <= a[3] && a[1] <= b[4] && b[1] <= a[4] && a[2] <= b[5] && b[2] <= a[5];
+}
+
+static inline int node_overlap(const node *a, const node *b) {
+  return a->lo[0] <= b->hi[0] && b->lo[0] <= a->hi[0] && a->lo[1] <= b->hi[1] && b->lo[1] <= a->hi[1] &&
+         a->lo[2] <= b->hi[2] && b->lo[2] <= a->hi[2];
+}
 
 static inline void push(int *arr, long *n, long cap, int u, int v) {
   if (*n < cap) {
@@ -501,45 +457,133 @@ static inline void push(int *arr, long *n, long cap, int u, int v) {
   (*n)++;
 }
 
-/* VF pairs (vertices owned by triangle i of mesh P, face j of mesh Q). */
-static void vf_pairs(const cb_broadphase *P, int i, const cb_broadphase *Q, int j, int same_mesh, int *arr, long *n,
-                     long cap) {
-  unsigned own = P->own[i] & 7u;
-  if (!own) return;
-  const int *f = Q->tri + 3 * j;
-  const double *fb = Q->box + 6 * j;
-  for (int k = 0; k < 3; k++) {
-    if (!(own & (1u << k))) continue;
-    int v = P->tri[3 * i + k];
-    if (same_mesh && (v == f[0] || v == f[1] || v == f[2])) continue;
-    if (box_overlap(P->vbox + 6 * v, fb)) push(arr, n, cap, v, j);
+/* The VF and EE candidates of triangles ra (mesh A, box ba) and rb (mesh B,
+ * box bb): the vertices each owns against the other's face, the edges each
+ * owns against the other's (header). self: A and B are one mesh, so adjacent
+ * pairs are left out and both VF lists are c->vf. */
+static inline void pair_cands(const cb_broadphase *A, const slot_rec *ra, const double *ba, const cb_broadphase *B,
+                              const slot_rec *rb, const double *bb, int self, cb_candidates *c) {
+  for (int k = 0; k < ra->nov; k++) {
+    int v = ra->ov[k];
+    if (self && (v == rb->v[0] || v == rb->v[1] || v == rb->v[2])) continue;
+    if (box_overlap(A->vbox + 6 * v, bb)) push(c->vf, &c->nvf, c->cap_vf, v, rb->t);
+  }
+  for (int k = 0; k < rb->nov; k++) {
+    int v = rb->ov[k];
+    if (self && (v == ra->v[0] || v == ra->v[1] || v == ra->v[2])) continue;
+    if (!box_overlap(B->vbox + 6 * v, ba)) continue;
+    if (self) push(c->vf, &c->nvf, c->cap_vf, v, ra->t);
+    else push(c->fv, &c->nfv, c->cap_fv, v, ra->t);
+  }
+  for (int k = 0; k < ra->noe; k++) {
+    int ea = ra->oe[k], a0 = ra->v[ra->ek[k]], a1 = ra->v[next3[ra->ek[k]]];
+    const double *eba = A->ebox + 6 * ea;
+    for (int l = 0; l < rb->noe; l++) {
+      int b0 = rb->v[rb->ek[l]], b1 = rb->v[next3[rb->ek[l]]];
+      if (self && (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1)) continue;
+      if (box_overlap(eba, B->ebox + 6 * rb->oe[l])) push(c->ee, &c->nee, c->cap_ee, ea, rb->oe[l]);
+    }
   }
 }
 
-static int cand_visit(void *vctx, int i, int j) {
-  cand_ctx *x = vctx;
-  const cb_broadphase *A = x->a, *B = x->b;
-  int self = A == B;
-  cb_candidates *c = x->c;
-  vf_pairs(A, i, B, j, self, c->vf, &c->nvf, c->cap_vf);
-  if (self) vf_pairs(A, j, A, i, 1, c->vf, &c->nvf, c->cap_vf);
-  else vf_pairs(B, j, A, i, 0, c->fv, &c->nfv, c->cap_fv);
-  unsigned oa = A->own[i] >> 3, ob = B->own[j] >> 3;
-  if (!oa || !ob) return 0;
-  for (int k = 0; k < 3; k++) {
-    if (!(oa & (1u << k))) continue;
-    int ea = A->tri_edge[3 * i + k];
-    const int *va = A->edge + 2 * ea;
-    const double *ba = A->ebox + 6 * ea;
-    for (int l = 0; l < 3; l++) {
-      if (!(ob & (1u << l))) continue;
-      int eb = B->tri_edge[3 * j + l];
-      const int *vb = B->edge + 2 * eb;
-      if (self && (va[0] == vb[0] || va[0] == vb[1] || va[1] == vb[0] || va[1] == vb[1])) continue;
-      if (box_overlap(ba, B->ebox + 6 * eb)) push(c->ee, &c->nee, c->cap_ee, ea, eb);
+void cb_broadphase_pair_candidates(const cb_broadphase *b, int i, int j, cb_candidates *c) {
+  int s = b->slot[i], u = b->slot[j];
+  pair_cands(b, b->rec + s, b->sbox + 6 * s, b, b->rec + u, b->sbox + 6 * u, 1, c);
+}
+
+/* ---- traversal ------------------------------------------------------------ */
+
+static int share_vertex(const int *a, const int *b) {
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++)
+      if (a[i] == b[j]) return 1;
+  return 0;
+}
+
+/* One overlapping triangle pair (slot s of A, slot u of B): its candidates
+ * (c != NULL) or a call of visit. */
+static inline int emit(const cb_broadphase *A, int s, const cb_broadphase *B, int u, int self, int skip_adjacent,
+                       cb_broadphase_visit visit, void *ctx, cb_candidates *c) {
+  const slot_rec *ra = A->rec + s, *rb = B->rec + u;
+  if (c) {
+    pair_cands(A, ra, A->sbox + 6 * s, B, rb, B->sbox + 6 * u, self, c);
+    return 0;
+  }
+  if (!self) return visit(ctx, ra->t, rb->t);
+  if (skip_adjacent && share_vertex(ra->v, rb->v)) return 0;
+  return ra->t < rb->t ? visit(ctx, ra->t, rb->t) : visit(ctx, rb->t, ra->t);
+}
+
+/* Pairs of nodes (a, b), a == b meaning "pairs within a" (self), on an
+ * explicit stack; a pair is pushed only if its boxes overlap. Each pop pushes
+ * at most three; descending one side at a time keeps the stack under
+ * 3 (depth_a + depth_b) entries. At a pair of leaves, each triangle of one is
+ * first tested against the other leaf's box. Inlined into each query with
+ * constant self and c == NULL or not, so the candidate code is not a call. */
+static inline __attribute__((always_inline)) int traverse(const cb_broadphase *A, const cb_broadphase *B, int self,
+                                                          int skip_adjacent, cb_broadphase_visit visit, void *ctx,
+                                                          cb_candidates *c) {
+  if (!A->built || !B->built) return cb_fail("broadphase: query before the first update");
+  pair *st = A->stack;
+  int cap = A->stack_cap, sp = 0, rc;
+  if (self) st[sp++] = (pair){0, 0};
+  else if (node_overlap(A->nodes, B->nodes)) st[sp++] = (pair){0, 0};
+  while (sp) {
+    pair q = st[--sp];
+    const node *na = A->nodes + q.a, *nb = B->nodes + q.b;
+    if (self && q.a == q.b) {
+      if (na->count) {
+        int end = na->first + na->count;
+        for (int s = na->first; s < end; s++)
+          for (int u = s + 1; u < end; u++)
+            if (box_overlap(A->sbox + 6 * s, A->sbox + 6 * u) &&
+                (rc = emit(A, s, A, u, 1, skip_adjacent, visit, ctx, c)))
+              return rc;
+        continue;
+      }
+      if (sp + 3 > cap) return cb_fail_status(CB_ENOMEM, "broadphase: traversal stack exhausted");
+      int l = na->first;
+      st[sp++] = (pair){l, l};
+      st[sp++] = (pair){l + 1, l + 1};
+      if (node_overlap(A->nodes + l, A->nodes + l + 1)) st[sp++] = (pair){l, l + 1};
+      continue;
+    }
+    /* na and nb overlap */
+    if (na->count && nb->count) {
+      int ea = na->first + na->count, eb = nb->first + nb->count;
+      for (int s = na->first; s < ea; s++) {
+        const double *bs = A->sbox + 6 * s;
+        if (!(bs[0] <= nb->hi[0] && nb->lo[0] <= bs[3] && bs[1] <= nb->hi[1] && nb->lo[1] <= bs[4] &&
+              bs[2] <= nb->hi[2] && nb->lo[2] <= bs[5]))
+          continue;
+        for (int u = nb->first; u < eb; u++)
+          if (box_overlap(bs, B->sbox + 6 * u) && (rc = emit(A, s, B, u, self, skip_adjacent, visit, ctx, c)))
+            return rc;
+      }
+      continue;
+    }
+    if (sp + 2 > cap) return cb_fail_status(CB_ENOMEM, "broadphase: traversal stack exhausted");
+    /* descend the larger box (or the only internal one) */
+    if (nb->count || (!na->count && na->area >= nb->area)) {
+      int l = na->first;
+      if (node_overlap(A->nodes + l, nb)) st[sp++] = (pair){l, q.b};
+      if (node_overlap(A->nodes + l + 1, nb)) st[sp++] = (pair){l + 1, q.b};
+    } else {
+      int l = nb->first;
+      if (node_overlap(na, B->nodes + l)) st[sp++] = (pair){q.a, l};
+      if (node_overlap(na, B->nodes + l + 1)) st[sp++] = (pair){q.a, l + 1};
     }
   }
-  return 0;
+  return CB_OK;
+}
+
+int cb_broadphase_self_pairs(const cb_broadphase *b, int skip_adjacent, cb_broadphase_visit visit, void *ctx) {
+  return traverse(b, b, 1, skip_adjacent, visit, ctx, NULL);
+}
+
+int cb_broadphase_cross_pairs(const cb_broadphase *a, const cb_broadphase *b, cb_broadphase_visit visit, void *ctx) {
+  if (a == b) return cb_fail("broadphase: a cross query needs two trees (use cb_broadphase_self_pairs)");
+  return traverse(a, b, 0, 0, visit, ctx, NULL);
 }
 
 static int finish(const cb_candidates *c, int rc) {
@@ -550,21 +594,14 @@ static int finish(const cb_candidates *c, int rc) {
   return CB_OK;
 }
 
-void cb_broadphase_pair_candidates(const cb_broadphase *b, int i, int j, cb_candidates *c) {
-  cand_ctx x = {b, b, c};
-  cand_visit(&x, i, j);
-}
-
 int cb_broadphase_self_candidates(const cb_broadphase *b, cb_candidates *c) {
   c->nvf = c->nfv = c->nee = 0;
-  cand_ctx x = {b, b, c};
   /* adjacent triangle pairs are visited: their primitives need not be adjacent */
-  return finish(c, traverse(b, b, 0, cand_visit, &x));
+  return finish(c, traverse(b, b, 1, 0, NULL, NULL, c));
 }
 
 int cb_broadphase_cross_candidates(const cb_broadphase *a, const cb_broadphase *b, cb_candidates *c) {
   c->nvf = c->nfv = c->nee = 0;
   if (a == b) return cb_fail("broadphase: a cross query needs two trees (use cb_broadphase_self_candidates)");
-  cand_ctx x = {a, b, c};
-  return finish(c, traverse(a, b, 0, cand_visit, &x));
+  return finish(c, traverse(a, b, 0, 0, NULL, NULL, c));
 }
