@@ -72,6 +72,9 @@ if [ "$exp" = all ]; then # every experiment: N groups of units (scripts/all-run
   rc=0
   seq 1 "$n" | parallel --joblog "$dir/joblog" --resume-failed "$@" \
     "OPENBLAS_NUM_THREADS=$threads OMP_NUM_THREADS=$threads OMP_PROC_BIND=close OMP_PLACES=threads $repo/scripts/all-run.sh group $dir $m {} >$dir/logs/group-{}.log 2>&1" || rc=$?
+  if [ $rc != 0 ]; then
+    for f in "$dir"/logs/group-*.log; do [ -f "$f" ] && { echo "--- $f" >&2; tail -3 "$f" >&2; }; done
+  fi
   [ $rc = 0 ] || die "groups failed (parallel exit $rc; logs $dir/logs/group-<I>.log): run the same command again to rerun them"
   "$repo/scripts/all-run.sh" merge "$dir" "$out" || die "merge failed (above)"
   exit 0

@@ -60,6 +60,7 @@ shift 2
 if [ $# -gt 0 ]; then [ "$1" = -- ] || usage; shift; fi
 if [ "$exp" = all ]; then # every experiment: an array of N groups (scripts/all-run.sh), then one merge, plots, report
   case $n in '' | *[!0-9]* | 0*) die "N '$n': expected a positive whole number" ;; esac
+  case $rerun in failed) die "all: --rerun failed is not supported; give the failed groups' indices (--rerun 2,3)" ;; *[!0-9,]*) die "--rerun '$rerun': expected indices such as 3,7" ;; esac
   [ -z "$rerun" ] || rerun_all=$rerun
   repo=$(cd "$(dirname "$0")/.." && pwd)
   dir=${dir:-results/slurm/all-$n}
