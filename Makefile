@@ -276,7 +276,7 @@ check-quick: $(EXPS) $(TOOLS) $(BUILD)/report
 # (munged, slurmctld, slurmd; needs root), each merged run compared with the
 # one-process run's CSVs
 CLUSTER_PKGS := slurm-wlm munge parallel
-check-cluster: $(BUILD)/topology $(BUILD)/definiteness
+check-cluster: $(EXPS) $(BUILD)/report
 	@BUILD=$(BUILD) tests/parallel.sh
 	@BUILD=$(BUILD) tests/slurm.sh
 

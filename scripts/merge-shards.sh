@@ -156,6 +156,10 @@ for s in "$@"; do
     case $f in *.csv|*.cells|*.tmp.*) continue ;; esac
     dst=${ostem}${f#"$stem"}
     tmp=$dst.merge.$$
+    if [ -f "$tmp" ]; then # two shards wrote it (a file every shard writes): one copy, if they agree
+      cmp -s "$f" "$tmp" || die "$f differs from another shard's file of that name"
+      continue
+    fi
     pending="$pending$nl$tmp"
     cp "$f" "$tmp" || die "$f: cannot copy to $tmp"
     done_list="$done_list$nl$dst"

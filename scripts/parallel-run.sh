@@ -1,6 +1,11 @@
 #!/bin/sh
 # Runs an experiment as N shards under GNU parallel, then merges them:
 #   scripts/parallel-run.sh [OPTIONS] EXPERIMENT N [PARALLEL_OPTIONS...]
+#   scripts/parallel-run.sh [OPTIONS] all N [PARALLEL_OPTIONS...]
+# "all": every experiment, its units balanced into N groups (scripts/all-run.sh;
+# DIR default results/parallel/all-N), job I runs group I; then one merge of
+# every experiment, the plots and the report into OUT (a folder, default
+# results/: results/REPORT.md).
 # Job I runs build/EXPERIMENT --shard I/N --out DIR/shard-I/EXPERIMENT.csv,
 # its output and progress going to DIR/logs/EXPERIMENT-shard-I.log, with
 # OpenBLAS and OpenMP threads equal to --threads (default 1) and OpenMP
@@ -48,6 +53,32 @@ done
 [ $# -ge 2 ] || usage
 exp=$1 n=$2
 shift 2
+if [ "$exp" = all ]; then # every experiment: N groups of units (scripts/all-run.sh), then one merge, plots, report
+  case $n in '' | *[!0-9]* | 0*) die "N '$n': expected a positive whole number" ;; esac
+  command -v parallel >/dev/null 2>&1 || die "GNU parallel not found (Debian package parallel)"
+  repo=$(cd "$(dirname "$0")/.." && pwd)
+  dir=${dir:-results/parallel/all-$n}
+  out=${out:-results}
+  case $dir in /*) ;; *) dir=$repo/$dir ;; esac
+  case $out in /*) ;; *) out=$repo/$out ;; esac
+  case $dir$out in *[!A-Za-z0-9_./+-]*) die "all: DIR and OUT may hold only letters, digits and _ . / + -" ;; esac
+  m=${expopt:--}
+  settings="all $m N=$n threads=$threads"
+  if [ $fresh = 1 ] || { [ -f "$dir/settings" ] && [ "$(cat "$dir/settings")" != "$settings" ]; }; then rm -rf "$dir"; fi
+  mkdir -p "$dir/logs"
+  [ -f "$dir/plan" ] || scripts/all-run.sh plan "$dir" "$m" "$n" || die "no plan (above)"
+  printf '%s\n' "$settings" > "$dir/settings"
+  echo "parallel-run: every experiment as $n groups (plan $dir/plan, joblog $dir/joblog, logs $dir/logs/group-<I>.log)" >&2
+  rc=0
+  seq 1 "$n" | parallel --joblog "$dir/joblog" --resume-failed "$@" \
+    "OPENBLAS_NUM_THREADS=$threads OMP_NUM_THREADS=$threads OMP_PROC_BIND=close OMP_PLACES=threads $repo/scripts/all-run.sh group $dir $m {} >$dir/logs/group-{}.log 2>&1" || rc=$?
+  if [ $rc != 0 ]; then
+    for f in "$dir"/logs/group-*.log; do [ -f "$f" ] && { echo "--- $f" >&2; tail -3 "$f" >&2; }; done
+  fi
+  [ $rc = 0 ] || die "groups failed (parallel exit $rc; logs $dir/logs/group-<I>.log): run the same command again to rerun them"
+  "$repo/scripts/all-run.sh" merge "$dir" "$out" || die "merge failed (above)"
+  exit 0
+fi
 # shellcheck source=scripts/lib/shards.sh
 . "$(dirname "$0")/lib/shards.sh"
 shards_check

@@ -1,6 +1,12 @@
 #!/bin/sh
 # Runs an experiment as a Slurm job array of N shards, then merges them:
 #   scripts/slurm-submit.sh [OPTIONS] EXPERIMENT N [-- SBATCH_OPTIONS...]
+#   scripts/slurm-submit.sh [OPTIONS] all N [-- SBATCH_OPTIONS...]
+# "all": every experiment, its units balanced into N groups (scripts/all-run.sh,
+# planned at submission; DIR default results/slurm/all-N): task I runs group
+# I, then one merge job merges every experiment (merge-shards.sh's checks, one
+# revision across all), draws the plots and writes OUT/REPORT.md (OUT a
+# folder, default results/).
 # Writes two job scripts to DIR/jobs/ and submits them:
 #   - the array job (--array=1-N): task I runs build/EXPERIMENT --shard I/N
 #     --out DIR/shard-I/EXPERIMENT.csv, with OpenBLAS and OpenMP threads equal
@@ -52,6 +58,64 @@ done
 exp=$1 n=$2
 shift 2
 if [ $# -gt 0 ]; then [ "$1" = -- ] || usage; shift; fi
+if [ "$exp" = all ]; then # every experiment: an array of N groups (scripts/all-run.sh), then one merge, plots, report
+  case $n in '' | *[!0-9]* | 0*) die "N '$n': expected a positive whole number" ;; esac
+  case $rerun in failed) die "all: --rerun failed is not supported; give the failed groups' indices (--rerun 2,3)" ;; *[!0-9,]*) die "--rerun '$rerun': expected indices such as 3,7" ;; esac
+  [ -z "$rerun" ] || rerun_all=$rerun
+  repo=$(cd "$(dirname "$0")/.." && pwd)
+  dir=${dir:-results/slurm/all-$n}
+  out=${out:-results}
+  case $dir in /*) ;; *) dir=$repo/$dir ;; esac
+  case $out in /*) ;; *) out=$repo/$out ;; esac
+  case $dir$out in *[!A-Za-z0-9_./+-]*) die "all: DIR and OUT may hold only letters, digits and _ . / + -" ;; esac
+  m=${expopt:--}
+  B=${BUILD:-build}
+  case $B in /*) ;; *) B=$repo/$B ;; esac
+  jobs=$dir/jobs logs=$dir/logs
+  array=${rerun_all:-1-$n}
+  a_script="#!/bin/sh
+#SBATCH --job-name=cb-all
+#SBATCH --array=$array
+#SBATCH --cpus-per-task=1
+#SBATCH --ntasks=1
+#SBATCH --output=$logs/all-%A_%a.log
+# clothbench: group \$SLURM_ARRAY_TASK_ID of $n of the whole run (scripts/slurm-submit.sh all)
+set -eu
+cd $repo
+t=\${SLURM_CPUS_PER_TASK:-1}
+export OPENBLAS_NUM_THREADS=\$t OMP_NUM_THREADS=\$t OMP_PROC_BIND=close OMP_PLACES=threads BUILD=$B
+echo \"clothbench: group \$SLURM_ARRAY_TASK_ID/$n on \$(hostname), \$t thread(s)\" >&2
+exec scripts/all-run.sh group $dir $m \$SLURM_ARRAY_TASK_ID"
+  m_script="#!/bin/sh
+#SBATCH --job-name=cb-all-merge
+#SBATCH --cpus-per-task=1
+#SBATCH --ntasks=1
+#SBATCH --output=$logs/all-merge-%j.log
+# clothbench: merge, plot and report the whole run (scripts/slurm-submit.sh all)
+set -eu
+cd $repo
+BUILD=$B exec scripts/all-run.sh merge $dir $out"
+  if [ $dry = 1 ]; then
+    printf '# ---- %s\n%s\n# ---- %s\n%s\n' "$jobs/array.sh" "$a_script" "$jobs/merge.sh" "$m_script"
+    echo "# ---- would run: scripts/all-run.sh plan $dir $m $n; sbatch --parsable $* $jobs/array.sh; sbatch --parsable --dependency=afterok:<array job> $* $jobs/merge.sh"
+    exit 0
+  fi
+  command -v sbatch >/dev/null 2>&1 || die "sbatch not found (is this a Slurm login node?)"
+  mkdir -p "$jobs" "$logs"
+  if [ -z "$rerun" ]; then
+    rm -rf "$dir/plan" "$dir"/*/shard-* "$dir"/*/whole
+    BUILD=$B scripts/all-run.sh plan "$dir" "$m" "$n" || die "no plan (above)"
+  fi
+  printf '%s\n' "$a_script" > "$jobs/array.sh"
+  printf '%s\n' "$m_script" > "$jobs/merge.sh"
+  aid=$(sbatch --parsable "$@" "$jobs/array.sh") || die "sbatch of the array job failed"
+  aid=${aid%%;*}
+  mid=$(sbatch --parsable --dependency="afterok:$aid" "$@" "$jobs/merge.sh") || die "sbatch of the merge job failed"
+  mid=${mid%%;*}
+  echo "array job $aid (groups $array of $n, logs $logs/all-${aid}_<I>.log)"
+  echo "merge job $mid (after the array succeeds: $out/REPORT.md, log $logs/all-merge-$mid.log)"
+  exit 0
+fi
 # shellcheck source=scripts/lib/shards.sh
 . "$(dirname "$0")/lib/shards.sh"
 shards_check

@@ -74,4 +74,18 @@ BUILD=$B scripts/parallel-run.sh --dir "$w" $mode $x 3 -j2 >"$T/out" 2>&1 || { c
 [ "$(awk 'NR > 1 && $1 == 1' "$w/joblog" | wc -l)" = 1 ] || fail "rerun: shard 1 ran again"
 same $x $mode "$w" "rerun of a failed shard"
 echo "parallel: a failed shard (reported with its log) rerun alone by the same command: the one-process run's CSVs"
+# the whole run: every experiment's unsharded --smoke run and its report (the reference verdicts)
+allref() {
+  mkdir -p "$T/allref"
+  for x in $(ls experiments); do
+    [ -x "$B/$x" ] || fail "$B/$x not built"
+    CB_QUIET=1 OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 "$B/$x" --smoke --out "$T/allref/$x.csv" >/dev/null 2>"$T/err" || { cat "$T/err"; fail "$x --smoke failed"; }
+  done
+  "$B/report" --results "$T/allref" --plots "$T/allref/plots" --out "$T/allref/REPORT.md" >/dev/null 2>"$T/err" || { cat "$T/err"; fail "report on the unsharded run failed"; }
+}
+allref
+CB_QUIET=1 BUILD=$B scripts/parallel-run.sh --dir "$T/w-all" --out "$T/all-out" --smoke all 3 -j2 >"$T/out" 2>&1 || { cat "$T/out"; fail "parallel-run.sh --smoke all 3 failed"; }
+[ "$(awk 'NR > 1 && $7 == 0' "$T/w-all/joblog" | wc -l)" = 3 ] || fail "all: the joblog lacks 3 successful groups"
+out=$(tests/verdicts.sh "$T/allref/REPORT.md" "$T/all-out/REPORT.md") || { echo "$out"; fail "all 3: the verdict table differs from the unsharded run's"; }
+echo "parallel: --smoke all 3 (every experiment in 3 groups, merged, plotted, reported): $out"
 echo "parallel: all passed"

@@ -176,4 +176,22 @@ s=$(wait_job "$m")
 [ -s "$w/logs/$x-${fa}_2.log" ] || fail "rerun: the failed task's log $x-${fa}_2.log is gone"
 out=$(BUILD=$B tests/determinism.sh $mode "$x" "$T/ref" "$w") || { echo "$out"; fail "rerun: merged CSVs differ from the one-process run's"; }
 echo "slurm: a failed task (its log kept, the merge never ran) and --rerun failed (shard 2 alone, job $a; merge job $m) give the one-process run's CSVs"
+# the whole run: every experiment's unsharded --smoke run and its report (the reference verdicts)
+allref() {
+  mkdir -p "$T/allref"
+  for x in $(ls experiments); do
+    [ -x "$B/$x" ] || fail "$B/$x not built"
+    CB_QUIET=1 OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 "$B/$x" --smoke --out "$T/allref/$x.csv" >/dev/null 2>"$T/err" || { cat "$T/err"; fail "$x --smoke failed"; }
+  done
+  "$B/report" --results "$T/allref" --plots "$T/allref/plots" --out "$T/allref/REPORT.md" >/dev/null 2>"$T/err" || { cat "$T/err"; fail "report on the unsharded run failed"; }
+}
+allref
+CB_QUIET=1 BUILD=$B scripts/slurm-submit.sh --dir "$T/w-all" --out "$T/all-out" --smoke all 3 >"$T/submit.out" 2>&1 || { cat "$T/submit.out"; fail "slurm-submit.sh --smoke all 3 failed"; }
+a=$(sed -n 's/^array job \([0-9]*\).*/\1/p' "$T/submit.out")
+m=$(sed -n 's/^merge job \([0-9]*\).*/\1/p' "$T/submit.out")
+[ -n "$a" ] && [ -n "$m" ] || { cat "$T/submit.out"; fail "all: no job ids"; }
+s=$(wait_job "$m")
+[ "$s" = "COMPLETED " ] || { show_logs "$T/w-all"; fail "all: merge job $m ended $s (array job $a: $(wait_job "$a"))"; }
+out=$(tests/verdicts.sh "$T/allref/REPORT.md" "$T/all-out/REPORT.md") || { echo "$out"; fail "all 3: the verdict table differs from the unsharded run's"; }
+echo "slurm: --smoke all 3 (array job $a of 3 groups, merge job $m: merged, plotted, reported): $out"
 echo "slurm: all passed"
