@@ -279,7 +279,7 @@ void cb_check_E2(const cb_table *t, const char *results_dir, cb_claim_result *ou
     x->dtp = cb_table_num(&b, r, c[8]);
     x->err = cb_table_num(&b, r, c[9]);
     x->not_conv = cb_table_num(&b, r, c[10]);
-    x->iters = ci >= 0 && cb_table_num(&b, r, ci) > 0 ? (int)cb_table_num(&b, r, ci) : 0;
+    x->iters = ci >= 0 && cb_table_int(&b, r, ci) > 0 ? cb_table_int(&b, r, ci) : 0;
     unstable += !x->stable;
     cb_claim_repeats_add(&reps, &x->w);
   }

@@ -49,8 +49,8 @@ cb_claim_timing cb_claim_timing_at(const cb_table *t, int r, const char *col) {
     x.min = cb_table_num(t, r, cmin);
     x.max = cb_table_num(t, r, cmax);
     if (x.n == 0 && crep >= 0) {
-      double k = cb_table_num(t, r, crep);
-      x.n = isfinite(k) && k > 0 ? (int)k : 0;
+      int k = cb_table_int(t, r, crep); /* -1 for nan, inf or past 1e9: no count */
+      x.n = k > 0 ? k : 0;
     }
     if (x.n == 0 && has(&x)) x.n = 1; /* a spread without a count: at least one repeat */
   }
