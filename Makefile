@@ -119,7 +119,7 @@ $(BUILD)/version.c: FORCE
 # VECINFO=1 prints what vectorised (-fopt-info-vec).
 # gcc-only flags stay out of clang builds (make fuzz compiles lib/ with clang)
 KERNEL_CFLAGS = -fno-math-errno $(if $(findstring clang,$(CC)),,-fvect-cost-model=dynamic $(if $(filter 1,$(VECINFO)),-fopt-info-vec-optimized))
-$(BUILD)/lib/core/energy/energy_spring.o $(BUILD)/lib/core/integrator/integrator_nljacobi.o $(BUILD)/lib/core/integrator/integrator_pd.o: CFLAGS += $(KERNEL_CFLAGS)
+$(BUILD)/lib/core/energy/energy_spring.o $(BUILD)/lib/core/energy/nl_kernel.o $(BUILD)/lib/core/integrator/integrator_nljacobi.o $(BUILD)/lib/core/integrator/integrator_pd.o: CFLAGS += $(KERNEL_CFLAGS)
 # the PETSc solver family (lib/core/solver/solver_petsc.c) compiles against PETSc's and MPI's headers when they are
 # installed and loads libpetsc at run time (dlopen): programs that solve without PETSc never load it
 PETSC_CFLAGS := $(shell pkg-config --cflags PETSc mpi 2>/dev/null | sed 's/-I/-isystem /g')

@@ -5,7 +5,7 @@
  * quads, 16 641 vertices, the size of Wang 2015's 37 FPS dress) and 256^2
  * vertices, one core:
  *   - the lab's frame (32 iterations and the final gradient), median ms and
- *     frames per second, with the library's kernel (lib/core/integrator/nl_kernel.h) and
+ *     frames per second, with the library's kernel (lib/core/energy/nl_kernel.h) and
  *     with the old one (bench/support/nl_old.c: one spring at a time, its
  *     gradient scattered; gravity, objective and update as separate passes),
  *     in interleaved rounds (new frame, old frame, one triad pass); the ratio
@@ -91,7 +91,7 @@ int main(int argc, char **argv) {
   if (cb_experiment_csv(&e, &csv, NULL,
                         "# frame: the lab's step (chebyshev-nl, 32 iterations, d = m/dt^2 + 4k, rho = 0.995) from a "
                         "state 5 frames in, one core; "
-                        "new kernel (lib/core/integrator/nl_kernel.h) and old kernel (bench/support/nl_old.c), medians "
+                        "new kernel (lib/core/energy/nl_kernel.h) and old kernel (bench/support/nl_old.c), medians "
                         "of "
                         "interleaved rounds (new, old, one triad pass)\n"
                         "# iteration: frame / 32 (an upper bound: the frame also evaluates the final gradient); "

@@ -16,7 +16,7 @@
 
 #include "rng.h"
 #include "support.h"
-#include "../lib/core/integrator/nl_kernel.h" /* the spring kernel's ring (streamed_spring_kernel_...) */
+#include "../lib/core/energy/nl_kernel.h" /* the spring kernel's ring (streamed_spring_kernel_...) */
 
 /* Steps (x, v) = the scene's initial state by n steps of the integrator the sets name. */
 static void run_steps(const char *const *sets, int n, double **xo, double **vo, cb_step_stats *last) {

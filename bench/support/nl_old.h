@@ -1,5 +1,5 @@
 /* The nonlinear iterations' kernel as it was before the structure-of-arrays
- * kernel (lib/core/integrator/nl_kernel.h): kept here, in the bench only, so that
+ * kernel (lib/core/energy/nl_kernel.h): kept here, in the bench only, so that
  * bench_nonlinear can time the old and the new kernel in the same run,
  * interleaved, and check that they agree. */
 #ifndef CB_BENCH_NL_OLD_H

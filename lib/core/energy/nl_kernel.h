@@ -2,7 +2,10 @@
  * and gravity terms expose, beyond the term interface, so that jacobi-nl,
  * chebyshev-nl and pd can fuse the gradient, the objective and the update
  * into one pass over the vertices (integrator_nljacobi.c, integrator_pd.c)
- * with the terms' own arithmetic, in the terms' own order. */
+ * with the terms' own arithmetic, in the terms' own order. It lives in the
+ * energy room, below the integrators that call it, because the spring term's
+ * own energy() runs it too: the spring parts are in nl_kernel.c (over the
+ * term's state, energy_spring.h), the gravity accessor in energy_gravity.c. */
 #ifndef CB_NL_KERNEL_H
 #define CB_NL_KERNEL_H
 
