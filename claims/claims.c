@@ -58,19 +58,9 @@ void cb_claim_reason(cb_claim_result *r, const char *fmt, ...) {
   va_end(ap);
 }
 
-/* The result being decided: cb_claim_timing_side records its deciding
- * numbers there (the report decides one claim at a time). */
-static cb_claim_result *deciding_now;
-
-void cb_claim_record_deciding(const cb_claim_timing *t, double thr, int side) {
-  cb_claim_result *r = deciding_now;
-  if (!r || r->ndeciding >= CB_CLAIM_DECIDING_MAX) return;
-  r->deciding[r->ndeciding++] = (cb_claim_deciding){.med = t->med,
-                                                    .min = cb_claim_timing_has_spread(t) ? t->min : NAN,
-                                                    .max = cb_claim_timing_has_spread(t) ? t->max : NAN,
-                                                    .thr = thr,
-                                                    .side = side};
-}
+/* The result being decided (claims.h): cb_claim_timing_side records its
+ * deciding numbers there (the report decides one claim at a time). */
+cb_claim_result *cb_claim_deciding_now;
 
 void cb_claim_decide(const cb_claim *c, const char *results_dir, cb_claim_result *out) {
   memset(out, 0, sizeof *out);
@@ -91,9 +81,9 @@ void cb_claim_decide(const cb_claim *c, const char *results_dir, cb_claim_result
     cb_claim_reason(out, "%s could not be read: %s", path, cb_error_message());
     return;
   }
-  deciding_now = out;
+  cb_claim_deciding_now = out;
   c->check(&t, results_dir, out);
-  deciding_now = NULL;
+  cb_claim_deciding_now = NULL;
   cb_table_free(&t);
 }
 

@@ -135,9 +135,9 @@ int cb_claim_timing_has_spread(const cb_claim_timing *t);
  * placed by its median (and is never 0 unless med == thr). The one rule every
  * timing verdict uses, so that no verdict flips with the machine's load. */
 int cb_claim_timing_side(const cb_claim_timing *t, double thr);
-/* Records t against thr as a deciding number of the claim being decided
- * (cb_claim_decide); cb_claim_timing_side calls it. */
-void cb_claim_record_deciding(const cb_claim_timing *t, double thr, int side);
+/* The claim being decided (set by cb_claim_decide, NULL between claims): cb_claim_timing_side records
+ * each timing against its threshold there as a deciding number. */
+extern cb_claim_result *cb_claim_deciding_now;
 
 /* The ends over which a timing verdict must hold: [min(min, med), max(max, med)], or [med, med] for a
  * number without a spread (or under cb_claim_verdict_median_only). */

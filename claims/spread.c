@@ -149,6 +149,17 @@ int cb_claim_verdict_median_only = 0;
 
 int cb_claim_timing_has_spread(const cb_claim_timing *t) { return has(t) && varies(t); }
 
+/* t against thr, as a deciding number of the claim being decided */
+static void record_deciding(const cb_claim_timing *t, double thr, int side) {
+  cb_claim_result *r = cb_claim_deciding_now;
+  if (!r || r->ndeciding >= CB_CLAIM_DECIDING_MAX) return;
+  r->deciding[r->ndeciding++] = (cb_claim_deciding){.med = t->med,
+                                                    .min = cb_claim_timing_has_spread(t) ? t->min : NAN,
+                                                    .max = cb_claim_timing_has_spread(t) ? t->max : NAN,
+                                                    .thr = thr,
+                                                    .side = side};
+}
+
 int cb_claim_timing_side(const cb_claim_timing *t, double thr) {
   double lo = t->med, hi = t->med;
   if (!cb_claim_verdict_median_only && cb_claim_timing_has_spread(t)) {
@@ -156,7 +167,7 @@ int cb_claim_timing_side(const cb_claim_timing *t, double thr) {
     hi = fmax(t->max, t->med);
   }
   int side = lo > thr ? 1 : hi < thr ? -1 : 0;
-  cb_claim_record_deciding(t, thr, side);
+  record_deciding(t, thr, side);
   return side;
 }
 

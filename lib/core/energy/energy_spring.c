@@ -35,11 +35,11 @@
 #include <clothbench/status.h>
 #include <clothbench/stencil.h>
 
-#include "energy_spring.h"
+#include "spring_state.h"
 #include "nl_kernel.h"
 
 /* The term's energy() runs the nonlinear iterations' kernel (nl_kernel.c: its loops, the streamed
- * schedule and the push kernel live there, beside the term's state in energy_spring.h). */
+ * schedule and the push kernel live there, beside the term's state in spring_state.h). */
 static double spring_energy(const cb_term *t, const double *x, double *grad) {
   const cb_spring_state *s = (const cb_spring_state *)t;
   cb_spring_gather g;
@@ -177,6 +177,7 @@ static void spring_free(cb_term *t) {
 static int spring_example(const cb_model *m, int i, cb_term **out);
 static int spring_indefinite(const cb_term *t, const double *x, int *nsprings);
 
+extern const cb_term_type cb_term_spring_type; /* registered in energy.c */
 const cb_term_type cb_term_spring_type = {.name = "spring",
                                           .energy = spring_energy,
                                           .pattern = spring_pattern,
@@ -339,4 +340,37 @@ static int spring_example(const cb_model *m, int i, cb_term **out) {
     *out = NULL;
   }
   return st;
+}
+
+/* The kernel's entry points that take a term (nl_kernel.h): they check the type here, so that
+ * nl_kernel.c needs nothing of this file. */
+int cb_spring_term_layout(const cb_term *t, cb_spring_layout *out) {
+  if (!t || t->type != &cb_term_spring_type) return cb_fail("term '%s' is not a spring term", t ? t->label : "(null)");
+  const cb_spring_state *s = (const cb_spring_state *)t;
+  out->ns = s->ns;
+  out->nv = s->nv;
+  out->ei = s->ei;
+  out->ej = s->ej;
+  out->rest = s->rest;
+  out->k = s->k;
+  out->off = s->off;
+  out->inc = s->inc;
+  return CB_OK;
+}
+
+int cb_spring_term_push(const cb_term *t, cb_spring_push *p) {
+  if (!t || t->type != &cb_term_spring_type) return 0;
+  const cb_spring_state *s = (const cb_spring_state *)t;
+  if (!s->push || s->ck || s->ns == 0) return 0;
+  p->nv = s->nv;
+  p->ns = s->ns;
+  p->M = s->pushM;
+  p->cap = s->pushcap;
+  p->first = s->first;
+  p->slot = s->slot;
+  p->f = s->f; /* the term's scratch (4 ns >= 4 cap) */
+  p->acc = s->acc;
+  p->x4 = s->x4;
+  p->t = t;
+  return 1;
 }

@@ -2,8 +2,10 @@
  * spring term's springs that jacobi-nl, chebyshev-nl and pd fuse into their
  * vertex loops (integrator_nljacobi.c, integrator_pd.c), and that the spring
  * term's own energy() runs too (energy_spring.c). It reads the term's arrays
- * (energy_spring.h); the math of a spring is the term's (energy_spring.c's
- * header), and every pass adds the same numbers in the same order. */
+ * and the math of one spring from spring_state.h, and knows nothing else of
+ * the term (the entry points that check a term's type are energy_spring.c's),
+ * so the term depends on the kernel and not the other way round. Every pass
+ * adds the same numbers in the same order. */
 #include <limits.h>
 #include <math.h>
 #include <stdint.h>
@@ -13,8 +15,8 @@
 #include <clothbench/energy.h>
 #include <clothbench/status.h>
 
-#include "energy_spring.h"
 #include "nl_kernel.h"
+#include "spring_state.h"
 
 /* The kernel, in three loops (the gradient, the objective and its terms in
  * one pass over the springs; no scatter):
@@ -180,19 +182,6 @@ void cb_spring_term_forces(const cb_term *t, const double *x, cb_spring_gather *
   }
 }
 
-int cb_spring_term_layout(const cb_term *t, cb_spring_layout *out) {
-  if (!t || t->type != &cb_term_spring_type) return cb_fail("term '%s' is not a spring term", t ? t->label : "(null)");
-  const cb_spring_state *s = (const cb_spring_state *)t;
-  out->ns = s->ns;
-  out->nv = s->nv;
-  out->ei = s->ei;
-  out->ej = s->ej;
-  out->rest = s->rest;
-  out->k = s->k;
-  out->off = s->off;
-  out->inc = s->inc;
-  return CB_OK;
-}
 
 /* The streamed schedule (nl_kernel.h), played once: need[v] (the last spring of vertices <= v, + 1), and the
  * ring: before chunk [v0, v1) gathers, the springs < need[v1 - 1] are computed, and it must still hold the
@@ -256,22 +245,6 @@ int cb_spring_push_setup(cb_spring_state *s) {
   return CB_OK;
 }
 
-int cb_spring_term_push(const cb_term *t, cb_spring_push *p) {
-  if (!t || t->type != &cb_term_spring_type) return 0;
-  const cb_spring_state *s = (const cb_spring_state *)t;
-  if (!s->push || s->ck || s->ns == 0) return 0;
-  p->nv = s->nv;
-  p->ns = s->ns;
-  p->M = s->pushM;
-  p->cap = s->pushcap;
-  p->first = s->first;
-  p->slot = s->slot;
-  p->f = s->f; /* the term's scratch (4 ns >= 4 cap) */
-  p->acc = s->acc;
-  p->x4 = s->x4;
-  p->t = t;
-  return 1;
-}
 
 CB_KERNEL_CLONES void cb_spring_push_positions(const cb_spring_push *p, const double *restrict x, int v0, int v1) {
   double *restrict x4 = p->x4;

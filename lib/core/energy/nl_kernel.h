@@ -5,7 +5,7 @@
  * with the terms' own arithmetic, in the terms' own order. It lives in the
  * energy room, below the integrators that call it, because the spring term's
  * own energy() runs it too: the spring parts are in nl_kernel.c (over the
- * term's state, energy_spring.h), the gravity accessor in energy_gravity.c. */
+ * term's state, spring_state.h), the gravity accessor in energy_gravity.c. */
 #ifndef CB_NL_KERNEL_H
 #define CB_NL_KERNEL_H
 

@@ -3,8 +3,8 @@
  * nonlinear iterations' kernel over it (nl_kernel.c: the streamed schedule,
  * the gather and push passes), so that the kernel can live in a module of its
  * own and still read the springs in the term's own arrays. */
-#ifndef CB_ENERGY_SPRING_H
-#define CB_ENERGY_SPRING_H
+#ifndef CB_SPRING_STATE_H
+#define CB_SPRING_STATE_H
 
 #include <math.h>
 
@@ -58,9 +58,6 @@ static inline double cb_spring_eval(const cb_spring_state *s, int e, const doubl
   }
   return 0.5 * s->k * stretch * stretch; /* E = k/2 (l - L)^2 */
 }
-
-/* The term's type (energy.h's cb_term_spring points at it): the kernel checks a term's type against it. */
-extern const cb_term_type cb_term_spring_type;
 
 /* The kernel's set-up at allocation (nl_kernel.c): the streamed schedule (need, ring, rinc; again after
  * the response changes) and the push kernel's layout (first, acc, x4, i4, j4, slot: CB_ENOMEM if short). */
