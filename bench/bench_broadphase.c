@@ -42,7 +42,10 @@
 #include "intersections.h"
 #include "provenance.h"
 #include "stats.h"
-#include <clothbench/clothbench.h>
+#include <clothbench/broadphase.h>
+#include <clothbench/mesh.h>
+#include <clothbench/status.h>
+#include <clothbench/timer.h>
 #include <clothbench/timer.h>
 
 #define PI 3.14159265358979323846

@@ -40,7 +40,14 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/definiteness.h>
+#include <clothbench/integrator.h>
+#include <clothbench/scene.h>
+#include <clothbench/solver.h>
+#include <clothbench/sparse.h>
+#include <clothbench/status.h>
+#include <clothbench/system.h>
+#include <clothbench/timer.h>
 #include "csv.h"
 #include "bind.h"
 #include "experiment.h"

@@ -32,7 +32,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/energy.h>
+#include <clothbench/integrator.h>
+#include <clothbench/scene.h>
+#include <clothbench/status.h>
+#include <clothbench/timer.h>
 #include <clothbench/timer.h>
 #include "csv.h"
 #include "bind.h"

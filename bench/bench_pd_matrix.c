@@ -25,7 +25,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/integrator.h>
+#include <clothbench/scene.h>
+#include <clothbench/status.h>
 #include <clothbench/timer.h>
 #include "bind.h"
 #include "csv.h"

@@ -44,7 +44,10 @@
 #include <dmumps_c.h>
 #include <slu_ddefs.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/solver.h>
+#include <clothbench/sparse.h>
+#include <clothbench/status.h>
+#include <clothbench/timer.h>
 #include <clothbench/timer.h>
 #include "csv.h"
 #include "experiment.h"

@@ -75,7 +75,10 @@
 
 #include <gsl/gsl_fit.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/integrator.h>
+#include <clothbench/scene.h>
+#include <clothbench/status.h>
+#include <clothbench/timer.h>
 #include <clothbench/timer.h>
 #include "bind.h"
 #include "csv.h"

@@ -15,7 +15,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/sparse.h>
+#include <clothbench/status.h>
+#include <clothbench/timer.h>
 #include "experiment.h"
 #include "provenance.h"
 #include <clothbench/timer.h>

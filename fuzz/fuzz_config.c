@@ -5,7 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/status.h>
 
 #include "bind.h"
 #include "config.h"

@@ -3,7 +3,9 @@
 #include <stdint.h>
 #include <stdlib.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/mesh.h>
+#include <clothbench/status.h>
+#include <clothbench/topology.h>
 
 #include "fuzz_input.h"
 

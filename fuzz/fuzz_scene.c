@@ -35,7 +35,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/definiteness.h>
+#include <clothbench/integrator.h>
+#include <clothbench/material.h>
+#include <clothbench/run.h>
+#include <clothbench/scene.h>
+#include <clothbench/status.h>
 
 #include "bind.h"
 #include "fuzz_input.h"

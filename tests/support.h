@@ -4,7 +4,27 @@
 
 #include <gsl/gsl_matrix.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/broadphase.h>
+#include <clothbench/contact.h>
+#include <clothbench/definiteness.h>
+#include <clothbench/eigen.h>
+#include <clothbench/energy.h>
+#include <clothbench/integrator.h>
+#include <clothbench/intersect.h>
+#include <clothbench/material.h>
+#include <clothbench/mesh.h>
+#include <clothbench/objective.h>
+#include <clothbench/projection.h>
+#include <clothbench/run.h>
+#include <clothbench/scene.h>
+#include <clothbench/solver.h>
+#include <clothbench/solver_shift.h>
+#include <clothbench/sparse.h>
+#include <clothbench/status.h>
+#include <clothbench/stencil.h>
+#include <clothbench/system.h>
+#include <clothbench/timer.h>
+#include <clothbench/topology.h>
 #include "bind.h"
 #include "claims.h"
 #include "experiment.h"

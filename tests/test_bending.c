@@ -18,7 +18,16 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/definiteness.h>
+#include <clothbench/energy.h>
+#include <clothbench/integrator.h>
+#include <clothbench/material.h>
+#include <clothbench/mesh.h>
+#include <clothbench/scene.h>
+#include <clothbench/solver.h>
+#include <clothbench/status.h>
+#include <clothbench/system.h>
+#include <clothbench/topology.h>
 #include <clothbench/collider.h>
 #include "rng.h"
 #include "vec.h"

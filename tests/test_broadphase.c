@@ -11,7 +11,9 @@
 
 #include "rng.h"
 #include "support.h"
-#include <clothbench/clothbench.h>
+#include <clothbench/broadphase.h>
+#include <clothbench/mesh.h>
+#include <clothbench/status.h>
 #include <clothbench/distance.h>
 
 static cb_mesh grid(int n, int m, double size) {

@@ -12,7 +12,16 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/definiteness.h>
+#include <clothbench/eigen.h>
+#include <clothbench/energy.h>
+#include <clothbench/integrator.h>
+#include <clothbench/scene.h>
+#include <clothbench/solver.h>
+#include <clothbench/solver_shift.h>
+#include <clothbench/sparse.h>
+#include <clothbench/status.h>
+#include <clothbench/system.h>
 #include "experiment.h"
 #include "provenance.h"
 #include "newton_trace.h"

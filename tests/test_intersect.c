@@ -19,7 +19,9 @@
 #include "intersections.h"
 #include "rng.h"
 #include "support.h"
-#include <clothbench/clothbench.h>
+#include <clothbench/intersect.h>
+#include <clothbench/mesh.h>
+#include <clothbench/status.h>
 
 #define V(x, y, z) ((const double[3]){(x), (y), (z)})
 

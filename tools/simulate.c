@@ -12,7 +12,10 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/integrator.h>
+#include <clothbench/run.h>
+#include <clothbench/scene.h>
+#include <clothbench/status.h>
 #include "csv.h"
 #include "bind.h"
 #include "blas_kernel.h"

@@ -5,7 +5,14 @@
 #ifndef CB_BENCH_NL_OLD_H
 #define CB_BENCH_NL_OLD_H
 
-#include <clothbench/clothbench.h>
+#include <clothbench/energy.h>
+#include <clothbench/integrator.h>
+#include <clothbench/objective.h>
+#include <clothbench/scene.h>
+#include <clothbench/status.h>
+#include <clothbench/stencil.h>
+#include <clothbench/system.h>
+#include <clothbench/timer.h>
 
 typedef struct {
   const cb_scene *s;

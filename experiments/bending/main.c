@@ -40,7 +40,14 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/energy.h>
+#include <clothbench/integrator.h>
+#include <clothbench/material.h>
+#include <clothbench/mesh.h>
+#include <clothbench/run.h>
+#include <clothbench/scene.h>
+#include <clothbench/status.h>
+#include <clothbench/topology.h>
 #include <clothbench/collider.h>
 #include "rng.h"
 #include "csv.h"

@@ -8,7 +8,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/definiteness.h>
+#include <clothbench/energy.h>
+#include <clothbench/integrator.h>
+#include <clothbench/run.h>
+#include <clothbench/scene.h>
+#include <clothbench/status.h>
+#include <clothbench/system.h>
 #include "csv.h"
 #include "bind.h"
 #include "experiment.h"

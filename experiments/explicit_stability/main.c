@@ -7,7 +7,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/definiteness.h>
+#include <clothbench/integrator.h>
+#include <clothbench/scene.h>
+#include <clothbench/solver.h>
+#include <clothbench/status.h>
 #include "csv.h"
 #include "experiment.h"
 #include "provenance.h"

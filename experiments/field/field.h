@@ -16,7 +16,13 @@
 
 #include <stdio.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/energy.h>
+#include <clothbench/integrator.h>
+#include <clothbench/objective.h>
+#include <clothbench/run.h>
+#include <clothbench/scene.h>
+#include <clothbench/status.h>
+#include <clothbench/timer.h>
 #include "bind.h"
 #include "experiment.h"
 #include "reference.h"

@@ -18,7 +18,9 @@
 
 #include "csv.h"
 #include "capture.h"
-#include <clothbench/clothbench.h>
+#include <clothbench/solver.h>
+#include <clothbench/sparse.h>
+#include <clothbench/status.h>
 #include "experiment.h"
 #include "provenance.h"
 #include "scene_decl.h"

@@ -5,7 +5,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/mesh.h>
+#include <clothbench/scene.h>
+#include <clothbench/status.h>
+#include <clothbench/system.h>
+#include <clothbench/topology.h>
 #include "csv.h"
 #include "rigidity.h"
 #include "stability.h"

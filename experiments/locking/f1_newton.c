@@ -3,7 +3,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/integrator.h>
+#include <clothbench/scene.h>
+#include <clothbench/status.h>
+#include <clothbench/timer.h>
 #include "csv.h"
 #include "bind.h"
 #include "stats.h"

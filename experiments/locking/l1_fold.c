@@ -4,7 +4,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/energy.h>
+#include <clothbench/mesh.h>
+#include <clothbench/scene.h>
+#include <clothbench/status.h>
 #include "csv.h"
 #include "stability.h"
 

@@ -4,7 +4,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/mesh.h>
+#include <clothbench/status.h>
+#include <clothbench/topology.h>
 #include "rng.h"
 #include "csv.h"
 #include "rigidity.h"

@@ -40,7 +40,7 @@
  * --smoke: one small cell per sweep (docs/experiments/locking.md says which). */
 #include <string.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/status.h>
 #include "sweep.h"
 
 #include "locking.h"

@@ -4,7 +4,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/integrator.h>
+#include <clothbench/scene.h>
+#include <clothbench/status.h>
+#include <clothbench/system.h>
+#include <clothbench/timer.h>
 #include <clothbench/polar.h>
 #include "csv.h"
 #include "bind.h"

@@ -4,7 +4,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/mesh.h>
+#include <clothbench/scene.h>
 #include "bind.h"
 #include "rigidity.h"
 

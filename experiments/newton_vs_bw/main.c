@@ -15,7 +15,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/scene.h>
+#include <clothbench/status.h>
 #include "bind.h"
 #include "experiment.h"
 #include "provenance.h"

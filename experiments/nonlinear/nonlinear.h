@@ -11,7 +11,14 @@
 
 #include <stdio.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/definiteness.h>
+#include <clothbench/eigen.h>
+#include <clothbench/integrator.h>
+#include <clothbench/run.h>
+#include <clothbench/scene.h>
+#include <clothbench/sparse.h>
+#include <clothbench/status.h>
+#include <clothbench/system.h>
 #include "bind.h"
 #include "experiment.h"
 #include "reference.h"

@@ -15,7 +15,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/clothbench.h>
+#include <clothbench/mesh.h>
+#include <clothbench/status.h>
+#include <clothbench/topology.h>
 #include "csv.h"
 #include "experiment.h"
 #include "provenance.h"

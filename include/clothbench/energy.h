@@ -15,8 +15,10 @@
 #include "mesh.h"
 #include "projection.h"
 #include "sparse.h"
-#include "stencil.h"
 #include "topology.h"
+
+/* A term's k-vertex elements (stencil.h, which the terms that have them include). */
+typedef struct cb_stencil cb_stencil;
 
 /* Choi & Ko's immediate-buckling response of a spring of rest length L
  * compressed to 0 < l < L, with bending stiffness kb (N m^2): its energy E (J),

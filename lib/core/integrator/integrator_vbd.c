@@ -69,6 +69,7 @@
 #include <clothbench/integrator.h>
 #include <clothbench/objective.h>
 #include <clothbench/projection.h>
+#include <clothbench/stencil.h>
 #include <clothbench/status.h>
 #include <clothbench/timer.h>
 #include "integrator_keys.h"
