@@ -15,7 +15,8 @@
 ##                     verdict differs outside the spreads
 ## make reference     keep the last full run as this CPU's reference (results/reference/<cpu>/, committed)
 ## make bench         the benchmarks (results/bench_core.csv, results/bench_nonlinear.csv, results/bench_broadphase.csv);
-##                     SCALE=1 adds the scaling run to 1024^2 (results/bench_scale.csv, ~15 min)
+##                     SCALE=1 adds the scaling run to 1024^2 (results/bench_scale.csv, ~15 min);
+##                     make experiments SCALE=1 adds J4's 1024^2 size to linear_solvers (about 1.5 h more)
 ## make check         make test without the package step;  make check-quick  check-all's --quick part
 ## make determinism   every experiment's --quick run twice, compared (timing columns aside)
 ## make san           make check under AddressSanitizer + UndefinedBehaviorSanitizer (build/san)

@@ -661,6 +661,35 @@ void cb_check_j4(const cb_table *csv, const char *dir, cb_claim_result *out) {
       lbest = l;
     }
   }
+  /* memory (issue 36): each solver's peak resident memory beyond the captured system, in its first timed solve
+     (a column that older runs lack: then the table is left out) */
+  int cmem = cb_table_col(&t, "mem_peak_mib");
+  if (cmem >= 0) {
+    cb_claim_numbers(out, "\nPeak memory of one solve (MiB resident beyond the captured system; '-': not timed):\n\n"
+                          "| grid | CHOLMOD | best iterative |");
+    for (int q = 0; q < nsolv; q++) cb_claim_numbers(out, " %s |", solv[q]);
+    cb_claim_numbers(out, "\n|---|---|---|");
+    for (int q = 0; q < nsolv; q++) cb_claim_numbers(out, "---|");
+    cb_claim_numbers(out, "\n");
+    for (int k = 0; k < ns; k++) {
+      const j4_size *z = &sz[k];
+      double mc = z->chol >= 0 ? cb_table_num(&t, z->chol, cmem) : NAN;
+      double mb = z->best >= 0 ? cb_table_num(&t, z->best, cmem) : NAN;
+      char a[32] = "-", bb[32] = "-";
+      if (!isnan(mc)) snprintf(a, sizeof a, "%.4g", mc);
+      if (!isnan(mb)) snprintf(bb, sizeof bb, "%.4g", mb);
+      cb_claim_numbers(out, "| %d^2 | %s | %s |", z->grid, a, bb);
+      for (int q = 0; q < nsolv; q++) {
+        double m = NAN;
+        for (int i = 0; i < t.nrows; i++)
+          if (cb_table_int(&t, i, cg) == z->grid && !strcmp(cb_table_str(&t, i, cs), solv[q]))
+            m = cb_table_num(&t, i, cmem);
+        if (isnan(m)) cb_claim_numbers(out, " - |");
+        else cb_claim_numbers(out, " %.4g |", m);
+      }
+      cb_claim_numbers(out, "\n");
+    }
+  }
   char rt[64], last_ratio[128] = "-", margin[1024] = "";
   cb_claim_timing last = cb_claim_timing_value(NAN);
   if (ns > 0 && sz[ns - 1].chol >= 0 && sz[ns - 1].best >= 0) {

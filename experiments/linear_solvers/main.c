@@ -22,6 +22,7 @@
 #include <clothbench/sparse.h>
 #include <clothbench/status.h>
 #include "experiment.h"
+#include "memory.h"
 #include "provenance.h"
 #include "scene_decl.h"
 #include "sweep.h"
@@ -57,11 +58,12 @@ enum { T_MAIN, T_SCENES, T_RUNS, T_NEWTON, T_SCALING }; /* tables, in the order 
 
 /* J4's scaling family: the lab cloth at grid_n^2 vertices, the system of the first Newton iteration of
  * step SCALE_STEP (one Newton iteration per step before it), with a manufactured solution x* (b = A x*).
- * Quick runs stop at 32^2, smoke runs 8^2 alone. */
-static const int scale_n[] = {8, 16, 32, 64, 128, 256};
+ * Quick runs stop at 32^2, smoke runs 8^2 alone, full runs at 512^2; --scale (SCALE=1) adds 1024^2. */
+static const int scale_n[] = {8, 16, 32, 64, 128, 256, 512, 1024};
 #define SCALE_QUICK_MAX 32
-#define SCALE_STEP 1   /* captured step (0-based): the cloth has started to fall */
-#define SCALE_ERR 1e-6 /* the error |x - x*|/|x*| every solver is timed to */
+#define SCALE_FULL_MAX 512 /* 1024^2 (about 1.5 h of this cell alone) only with --scale / SCALE=1 */
+#define SCALE_STEP 1       /* captured step (0-based): the cloth has started to fall */
+#define SCALE_ERR 1e-6     /* the error |x - x*|/|x*| every solver is timed to */
 #define SCALE_BUDGET \
   2.0 /* an iterative solver gets SCALE_BUDGET x CHOLMOD's time + SCALE_FLOOR_MS to reach it: one that \
          needs more is not the best unless all do, and then CHOLMOD is the cheaper either way */
@@ -70,8 +72,9 @@ static const int scale_n[] = {8, 16, 32, 64, 128, 256};
   1000.0 /* --quick (up to 32^2): every solver gets there, so the CSV is the same from run to run */
 #define SCALE_COLUMNS \
   "scene,grid_n,n_dofs,nnz,solver,alpha,rho,iters_to_err,budget_ms,error,analyze_ms,factor_ms,solve_ms," \
-  "wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,capped_wall_ms,nnz_factor,lmax_over_lmin,status"
-enum { SCALE_COLS = 22 };
+  "wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,capped_wall_ms,nnz_factor,lmax_over_lmin,mem_peak_mib," \
+  "status"
+enum { SCALE_COLS = 23 };
 static const double alpha_fracs[] = {0.1, 0.25, 0.5, 0.75, 0.9, 0.98, 1.02, 1.1, 1.5}; /* x alpha_max (J1) */
 static const double rhos[] = {0.90, 0.92, 0.94, 0.95, 0.96, 0.97, 0.98, 0.99, 0.995, 0.999, 0.9999}; /* J3 */
 static const int newton_k[] = {4, 8, 16, 32, 64};
@@ -320,6 +323,7 @@ typedef struct {
   double budget_ms; /* its time budget: SCALE_BUDGET x CHOLMOD's time + the floor */
   cb_timing total;
   double analyze[CB_TIMING_MAX], factor[CB_TIMING_MAX], solve[CB_TIMING_MAX], err, fnnz;
+  double mem_bytes; /* the peak resident memory of its first timed solve beyond what was resident before (memory.h) */
   int status;
 } scale_run;
 
@@ -355,6 +359,7 @@ static int scale_solvers(ctx *c, int grid_n, const char *label, const cb_capture
                       f & CB_SOLVER_USES_RHO ? 0.0 : NAN, 1};
     u->reached = (f & CB_SOLVER_DIRECT) != 0;
     u->iters = 1;
+    u->mem_bytes = NAN;
   }
   /* CHOLMOD's time (one untimed run) sets the iterative solvers' budget */
   double chol_ms = 0;
@@ -413,7 +418,10 @@ static int scale_solvers(ctx *c, int grid_n, const char *label, const cb_capture
       scale_run *u = &runs[i];
       if (!u->reached) continue;
       cb_timed_solve ts;
+      cb_mem_probe mp;
+      if (rounds == 0) cb_mem_probe_begin(&mp); /* outside the timed solve (scale_time times inside) */
       st = scale_time(c, b, xs, u, &ts);
+      if (rounds == 0) u->mem_bytes = cb_mem_probe_end(&mp);
       if (st == CB_OK && cb_timing_warm(ts.total_ms)) st = scale_time(c, b, xs, u, &ts); /* that was its warm-up */
       if (st) break;
       cb_timing_add(&u->total, ts.total_ms);
@@ -457,8 +465,10 @@ static int scale_solvers(ctx *c, int grid_n, const char *label, const cb_capture
     cb_timing_csv(out[T_SCALING], &u->total, 1.0);
     fputc(',', out[T_SCALING]);
     cb_timing_csv_each(out[T_SCALING], &u->total, 1.0);
-    cb_csv_printf(out[T_SCALING], ",%d,%s,%.17g,%.17g,%s\n", nrep, lb, direct ? u->fnnz : cb_csv_na(),
-                  lz->lmax / lz->lmin, status);
+    char mem[32];
+    fmt(mem, sizeof mem, u->reached ? u->mem_bytes / (1024.0 * 1024.0) : NAN);
+    cb_csv_printf(out[T_SCALING], ",%d,%s,%.17g,%.17g,%s,%s\n", nrep, lb, direct ? u->fnnz : cb_csv_na(),
+                  lz->lmax / lz->lmin, mem, status);
   }
   return st;
 }
@@ -507,10 +517,11 @@ static int scale_cell_run(long i, void *vc, FILE *const *out) { return scale_cel
 static double scale_cost(long i, void *vc) {
   (void)vc;
   double g = scale_n[i];
-  /* CHOLMOD and the iterative solves (to 1e-6, timed in rounds) all grow about as N^1.5 = g^3; a quick
-   * run measured ~0.055 g^3 units (0.06, 0.4 and 2.5 s at 8^2, 16^2, 32^2 on a busy machine; the full run's
-   * 64^2 .. 256^2 are this extrapolated) */
-  return 15 + 0.055 * g * g * g;
+  /* A quick run measured ~0.055 g^3 units up to 32^2 (0.06, 0.4 and 2.5 s at 8^2, 16^2, 32^2 on a busy
+   * machine: about 1.4 ms a unit). Past that the cell grows about as g^2: the 512^2 cell took 595 s of CPU
+   * (13.5 min on a shared machine), 17x less than g^3 from 32^2 predicts; the budgets of the solvers that
+   * do not reach 1e-6 are a multiple of CHOLMOD's time, which grows slower than g^3 here. */
+  return g <= 32 ? 15 + 0.055 * g * g * g : (15 + 0.055 * 32 * 32 * 32) * (g / 32) * (g / 32);
 }
 
 /* Cell i: the i-th scene of the mode. */
@@ -586,7 +597,8 @@ int main(int argc, char **argv) {
   for (int i = 0; i < NSCENES; i++)
     if (c.e.smoke ? i == 0 : (scenes[i].when & mode) != 0) c.cell[c.ncells++] = i; /* smoke: small11 alone */
   for (size_t i = 0; i < sizeof scale_n / sizeof *scale_n; i++)
-    if (c.e.smoke ? i == 0 : !c.e.quick || scale_n[i] <= SCALE_QUICK_MAX) c.nscale = (int)i + 1;
+    if (c.e.smoke ? i == 0 : c.e.quick ? scale_n[i] <= SCALE_QUICK_MAX : c.e.scale || scale_n[i] <= SCALE_FULL_MAX)
+      c.nscale = (int)i + 1;
   cb_sweep sw[] = {{"scenes", c.ncells, scene_cell, scene_cost, &c},
                    {"scaling", c.nscale, scale_cell_run, scale_cost, &c}};
   rc = cb_sweep_run(&c.e, sw, 2);

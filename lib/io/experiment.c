@@ -161,15 +161,20 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
   e->configs = "configs";
   const char *q = getenv("QUICK");
   e->quick = q && *q && strcmp(q, "0") != 0;
+  const char *sc = getenv("SCALE");
+  e->scale = sc && *sc && strcmp(sc, "0") != 0;
   e->shard = 0;
   e->nshards = 1;
   int out_given = 0;
   for (int i = 1; i < argc; i++) {
     if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-      printf("usage: %s [--quick | --smoke] [--out PATH] [--configs DIR] [--shard I/N [--shard-mode M]] [--list-cells] "
+      printf("usage: %s [--quick | --smoke | --scale] [--out PATH] [--configs DIR] [--shard I/N [--shard-mode M]] "
+             "[--list-cells] "
              "[--version]\n\n%s\n\n"
              "  --quick        reduced sweep for CI (also QUICK=1 in the environment)\n"
              "  --smoke        the smallest run that writes every table and column (make test)\n"
+             "  --scale        the full run and the sizes past it, where the experiment has them\n"
+             "                 (linear_solvers: J4 at 1024^2, about 1.5 h; also SCALE=1 in the environment)\n"
              "  --out PATH     CSV output (default results/%s.csv); written atomically\n"
              "  --configs DIR  folder with the scene configs (default configs)\n"
              "  --shard I/N    run shard I of N (I = 1..N) only: its share of the cells, balanced by\n"
@@ -191,6 +196,7 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
     }
     if (!strcmp(argv[i], "--quick")) e->quick = 1;
     else if (!strcmp(argv[i], "--smoke")) e->quick = e->smoke = 1;
+    else if (!strcmp(argv[i], "--scale")) e->scale = 1;
     else if (!strcmp(argv[i], "--out") && i + 1 < argc) {
       if (strlen(argv[++i]) >= sizeof e->out - 64) { /* room for the side tables' _<name>.csv and .cells */
         fprintf(stderr, "%s: --out: a path of %zu bytes; at most %zu are allowed\n", name, strlen(argv[i]),

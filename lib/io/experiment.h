@@ -44,6 +44,7 @@ typedef struct cb_experiment {
   const char *name;
   int quick;
   int smoke; /* --smoke: one small cell per sweep (implies quick = 1) */
+  int scale; /* --scale or SCALE=1: the sizes past the full run's too (J4's 1024^2), where an experiment has them */
   char out[2048];
   const char *configs;
   int argc;
