@@ -30,13 +30,20 @@ static int flock_waiting(const cb_experiment *e, int fd, int op, const char *why
 /* The CPU lock in mode op (LOCK_SH or LOCK_EX), through the turnstile: held
  * while waiting, it keeps later arrivals out, so an exclusive waiter is next
  * once the present holders let go (flock alone may let shared holders pass
- * it for ever). Converting a held lock releases it first, through the same
- * turnstile. Returns 1 if it had to wait. */
+ * it for ever). Converting a held lock lets go of it before the turnstile:
+ * no process may wait at the turnstile while it holds the lock, or the
+ * turnstile's holder, waiting for the lock, and it, waiting for the
+ * turnstile, wait for each other for ever (two timed experiments that start
+ * together, each converting its shared lock from cb_experiment_begin,
+ * deadlocked so; tests/test_cpu_lock.c). Returns 1 if it had to wait. */
 static int lock_waiting_say(cb_experiment *e, int op, const char *why, int say) {
   if (e->lock_fd < 0 || e->lock_held == op) return 0;
   int waited = 0;
+  if (e->lock_held) {
+    flock(e->lock_fd, LOCK_UN);
+    e->lock_held = 0;
+  }
   if (e->turn_fd >= 0) waited = flock_waiting(e, e->turn_fd, LOCK_EX, why, say);
-  if (e->lock_held) flock(e->lock_fd, LOCK_UN);
   waited |= flock_waiting(e, e->lock_fd, op, why, say && !waited);
   e->lock_held = op;
   if (e->turn_fd >= 0) flock(e->turn_fd, LOCK_UN);
