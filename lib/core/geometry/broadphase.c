@@ -18,13 +18,6 @@
 
 enum { PARAMS_COOKIE = 0x42505048, MAX_DEPTH = 64 };
 
-typedef struct node {
-  double lo[3], hi[3];
-  double area; /* half surface area of the box: the descent rule and the SAH cost */
-  int first;   /* leaf: first slot; internal: index of the left child (the right one is first + 1) */
-  int count;   /* leaf: triangles; internal: 0 */
-} node;
-
 /* A box in single precision, each coordinate the double one rounded to
  * nearest (lane 3: lo 0, hi 1, so it never decides a test). Rounding to
  * nearest is monotone: fl(a) < fl(b) implies a < b and fl(a) > fl(b) implies
@@ -34,6 +27,25 @@ typedef struct node {
 typedef struct fbox {
   float lo[4], hi[4];
 } __attribute__((aligned(16))) fbox;
+
+/* A tree node as the traversal reads it: its box in float (fbox; for the
+ * pruning, where a tie counts as an overlap, which only visits more), 48
+ * bytes. The double box, for the refit, is in dbox. */
+typedef struct node {
+  fbox fb;
+  double area; /* half surface area of the box: the descent rule and the SAH cost */
+  int first;   /* leaf: first slot; internal: index of the left child (the right one is first + 1) */
+  int count;   /* leaf: triangles; internal: 0 */
+} node;
+
+static void to_fbox(const double *d, fbox *f) {
+  for (int k = 0; k < 3; k++) {
+    f->lo[k] = (float)d[k];
+    f->hi[k] = (float)d[3 + k];
+  }
+  f->lo[3] = 0.0f;
+  f->hi[3] = 1.0f;
+}
 
 /* What the candidate code needs of the triangle in one leaf slot, stored in
  * slot order so that a leaf's triangles are read from consecutive memory. */
@@ -72,6 +84,7 @@ struct cb_broadphase {
   double *cen;        /* nt: centroid along the split axis during a build */
   int *idx;           /* nt: triangle of each leaf slot (identity before the first build) */
   node *nodes;        /* 2*nt */
+  double *dbox;       /* 6 * 2*nt: each node's box in double (fit) */
   int nnodes;
   pair *stack; /* traversal and build stack */
   int stack_cap;
@@ -184,14 +197,6 @@ static void set_slots(cb_broadphase *b) {
   }
 }
 
-static void to_fbox(const double *d, fbox *f) {
-  for (int k = 0; k < 3; k++) {
-    f->lo[k] = (float)d[k];
-    f->hi[k] = (float)d[3 + k];
-  }
-  f->lo[3] = 0.0f;
-  f->hi[3] = 1.0f;
-}
 
 /* The float copies of the slot boxes and of the owned primitives' boxes, in
  * slot order (after the boxes, and after a build reorders the slots). */
@@ -249,10 +254,11 @@ int cb_broadphase_alloc(int nv, int nt, const int *tri, const cb_broadphase_para
   b->stride = (nt + 3) / 4 * 4 + 16;
   b->fsbox = cb_calloc_aligned((size_t)nt, sizeof(fbox));
   b->soa = cb_calloc_aligned((size_t)6 * b->stride, sizeof(float));
-  b->nodes = cb_malloc((size_t)2 * nt, sizeof(node));
+  b->nodes = cb_calloc_aligned((size_t)2 * nt, sizeof(node));
+  b->dbox = cb_malloc((size_t)2 * nt, 6 * sizeof(double));
   b->stack = cb_malloc((size_t)b->stack_cap, sizeof(pair));
   if (!b->tri || !b->tri_edge || !b->own || !b->box || !b->vbox || !b->cen || !b->idx || !b->nodes || !b->stack ||
-      !b->slot || !b->sbox || !b->rec || !b->fsbox || !b->soa) {
+      !b->slot || !b->sbox || !b->rec || !b->fsbox || !b->soa || !b->dbox) {
     cb_broadphase_free(b);
     return CB_ENOMEM;
   }
@@ -294,6 +300,7 @@ void cb_broadphase_free(cb_broadphase *b) {
   free(b->pbox);
   free(b->rec);
   free(b->nodes);
+  free(b->dbox);
   free(b->stack);
   free(b);
 }
@@ -361,16 +368,18 @@ static double fit(cb_broadphase *b) {
         }
       }
     } else {
-      const node *l = b->nodes + nd->first, *r = l + 1;
+      const double *l = b->dbox + 6 * nd->first, *r = l + 6;
       for (int k = 0; k < 3; k++) {
-        lo[k] = l->lo[k] < r->lo[k] ? l->lo[k] : r->lo[k];
-        hi[k] = l->hi[k] > r->hi[k] ? l->hi[k] : r->hi[k];
+        lo[k] = l[k] < r[k] ? l[k] : r[k];
+        hi[k] = l[3 + k] > r[3 + k] ? l[3 + k] : r[3 + k];
       }
     }
+    double *db = b->dbox + 6 * i;
     for (int k = 0; k < 3; k++) {
-      nd->lo[k] = lo[k];
-      nd->hi[k] = hi[k];
+      db[k] = lo[k];
+      db[3 + k] = hi[k];
     }
+    to_fbox(db, &nd->fb);
     nd->area = half_area(lo, hi);
     c += nd->area * (nd->count ? nd->count : 1);
   }
@@ -511,9 +520,19 @@ static inline int box_overlap(const double *a, const double *b) {
   return a[0] <= b[3] && b[0] <= a[3] && a[1] <= b[4] && b[1] <= a[4] && a[2] <= b[5] && b[2] <= a[5];
 }
 
+/* Whether two nodes' float boxes overlap, a tie counting as an overlap: so a
+ * pair of nodes whose double boxes overlap is never pruned (fbox); the answer
+ * is data (0 or 1), for a push without a branch. */
 static inline int node_overlap(const node *a, const node *b) {
-  return a->lo[0] <= b->hi[0] && b->lo[0] <= a->hi[0] && a->lo[1] <= b->hi[1] && b->lo[1] <= a->hi[1] &&
-         a->lo[2] <= b->hi[2] && b->lo[2] <= a->hi[2];
+#if defined(__SSE2__)
+  __m128 alo = _mm_load_ps(a->fb.lo), ahi = _mm_load_ps(a->fb.hi), blo = _mm_load_ps(b->fb.lo),
+         bhi = _mm_load_ps(b->fb.hi);
+  return _mm_movemask_ps(_mm_or_ps(_mm_cmpgt_ps(alo, bhi), _mm_cmpgt_ps(blo, ahi))) == 0;
+#else
+  int gt = 0;
+  for (int k = 0; k < 3; k++) gt |= (a->fb.lo[k] > b->fb.hi[k]) | (b->fb.lo[k] > a->fb.hi[k]);
+  return !gt;
+#endif
 }
 
 /* Box overlap from the float boxes fa, fb, with the double boxes da, db
@@ -688,7 +707,8 @@ static inline __attribute__((always_inline)) int traverse(const cb_broadphase *A
       int l = na->first;
       st[sp++] = (pair){l, l};
       st[sp++] = (pair){l + 1, l + 1};
-      if (node_overlap(A->nodes + l, A->nodes + l + 1)) st[sp++] = (pair){l, l + 1};
+      st[sp] = (pair){l, l + 1}; /* pushed without a branch: kept if the boxes overlap */
+      sp += node_overlap(A->nodes + l, A->nodes + l + 1);
       continue;
     }
     /* na and nb overlap */
@@ -708,12 +728,16 @@ static inline __attribute__((always_inline)) int traverse(const cb_broadphase *A
     /* descend the larger box (or the only internal one) */
     if (nb->count || (!na->count && na->area >= nb->area)) {
       int l = na->first;
-      if (node_overlap(A->nodes + l, nb)) st[sp++] = (pair){l, q.b};
-      if (node_overlap(A->nodes + l + 1, nb)) st[sp++] = (pair){l + 1, q.b};
+      st[sp] = (pair){l, q.b};
+      sp += node_overlap(A->nodes + l, nb);
+      st[sp] = (pair){l + 1, q.b};
+      sp += node_overlap(A->nodes + l + 1, nb);
     } else {
       int l = nb->first;
-      if (node_overlap(na, B->nodes + l)) st[sp++] = (pair){q.a, l};
-      if (node_overlap(na, B->nodes + l + 1)) st[sp++] = (pair){q.a, l + 1};
+      st[sp] = (pair){q.a, l};
+      sp += node_overlap(na, B->nodes + l);
+      st[sp] = (pair){q.a, l + 1};
+      sp += node_overlap(na, B->nodes + l + 1);
     }
   }
   return CB_OK;
