@@ -85,6 +85,14 @@ struct cb_broadphase {
   int *idx;           /* nt: triangle of each leaf slot (identity before the first build) */
   node *nodes;        /* 2*nt */
   double *dbox;       /* 6 * 2*nt: each node's box in double (fit) */
+  int *sv;            /* 3 * stride: the vertices of each slot's triangle, structure of arrays (ring_mask) */
+  /* The ring: the primitive pairs of the triangle pairs that share a vertex
+   * (their boxes always overlap: both hold the shared vertex's box), listed
+   * once at set-up by the ownership rule; a self query tests their boxes in
+   * one pass and its traversal leaves these triangle pairs out. */
+  int *rvf;  /* 2*nrvf: (vertex, triangle) */
+  int *ree;  /* 2*nree: (edge, edge) */
+  long nrvf, nree;
   int nnodes;
   pair *stack; /* traversal and build stack */
   int stack_cap;
@@ -174,6 +182,98 @@ static int build_topology(cb_broadphase *b) {
 
 static const int next3[3] = {1, 2, 0};
 
+typedef struct ilist {
+  int *p;
+  long n, cap; /* pairs */
+} ilist;
+
+static int ilist_add(ilist *l, int u, int v) {
+  if (l->n == l->cap) {
+    long cap = l->cap ? 2 * l->cap : 1024;
+    int *q = cb_realloc(l->p, (size_t)cap, 2 * sizeof(int));
+    if (!q) return CB_ENOMEM;
+    l->p = q;
+    l->cap = cap;
+  }
+  l->p[2 * l->n] = u;
+  l->p[2 * l->n + 1] = v;
+  l->n++;
+  return CB_OK;
+}
+
+static int ring_cmp(const void *a, const void *b) {
+  const int *x = a, *y = b;
+  if (x[0] != y[0]) return x[0] < y[0] ? -1 : 1;
+  return (x[1] > y[1]) - (x[1] < y[1]);
+}
+
+/* The ring lists (struct cb_broadphase): for each pair of triangles A < B
+ * sharing a vertex, found through each vertex's triangles, the non-adjacent
+ * (vertex owned by A, face B), (vertex owned by B, face A) and (edge owned by
+ * A, edge owned by B): what the candidate code makes of the pair, less the box
+ * tests. Sorted, so that a pass reads the boxes in index order. */
+static int build_ring(cb_broadphase *b) {
+  int nv = b->nv, nt = b->nt, rc = CB_OK;
+  int *start = cb_calloc((size_t)nv + 1, sizeof(int)), *inc = cb_malloc((size_t)3 * nt, sizeof(int));
+  int *mark = cb_malloc((size_t)nt, sizeof(int));
+  ilist vf = {0}, ee = {0};
+  if (!start || !inc || !mark) {
+    rc = CB_ENOMEM;
+    goto out;
+  }
+  for (int i = 0; i < 3 * nt; i++) start[b->tri[i] + 1]++;
+  for (int v = 0; v < nv; v++) start[v + 1] += start[v];
+  for (int t = 0; t < nt; t++) {
+    mark[t] = -1;
+    for (int k = 0; k < 3; k++) inc[start[b->tri[3 * t + k]]++] = t;
+  }
+  for (int v = nv; v > 0; v--) start[v] = start[v - 1];
+  start[0] = 0;
+  for (int A = 0; A < nt && !rc; A++) {
+    const int *ta = b->tri + 3 * A;
+    unsigned oa = b->own[A];
+    for (int k = 0; k < 3 && !rc; k++)
+      for (int i = start[ta[k]]; i < start[ta[k] + 1] && !rc; i++) {
+        int B = inc[i];
+        if (B <= A || mark[B] == A) continue;
+        mark[B] = A;
+        const int *tb = b->tri + 3 * B;
+        unsigned ob = b->own[B];
+        for (int m = 0; m < 3 && !rc; m++) {
+          int va = ta[m], vb = tb[m];
+          if ((oa & (1u << m)) && va != tb[0] && va != tb[1] && va != tb[2]) rc = ilist_add(&vf, va, B);
+          if (!rc && (ob & (1u << m)) && vb != ta[0] && vb != ta[1] && vb != ta[2]) rc = ilist_add(&vf, vb, A);
+        }
+        for (int m = 0; m < 3 && !rc; m++) {
+          if (!(oa & (8u << m))) continue;
+          int a0 = ta[m], a1 = ta[next3[m]];
+          for (int l = 0; l < 3 && !rc; l++) {
+            if (!(ob & (8u << l))) continue;
+            int b0 = tb[l], b1 = tb[next3[l]];
+            if (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1) continue;
+            rc = ilist_add(&ee, b->tri_edge[3 * A + m], b->tri_edge[3 * B + l]);
+          }
+        }
+      }
+  }
+  if (!rc) {
+    if (vf.n) qsort(vf.p, (size_t)vf.n, 2 * sizeof(int), ring_cmp);
+    if (ee.n) qsort(ee.p, (size_t)ee.n, 2 * sizeof(int), ring_cmp);
+    b->rvf = vf.p;
+    b->nrvf = vf.n;
+    b->ree = ee.p;
+    b->nree = ee.n;
+    vf.p = ee.p = NULL;
+  }
+out:
+  free(start);
+  free(inc);
+  free(mark);
+  free(vf.p);
+  free(ee.p);
+  return rc;
+}
+
 /* slot[] and rec[] for the current idx[] */
 static void set_slots(cb_broadphase *b) {
   int po = 0;
@@ -194,6 +294,7 @@ static void set_slots(cb_broadphase *b) {
     }
     r->po = po;
     po += r->nov + r->noe;
+    for (int k = 0; k < 3; k++) b->sv[k * b->stride + s] = r->v[k];
   }
 }
 
@@ -256,9 +357,10 @@ int cb_broadphase_alloc(int nv, int nt, const int *tri, const cb_broadphase_para
   b->soa = cb_calloc_aligned((size_t)6 * b->stride, sizeof(float));
   b->nodes = cb_calloc_aligned((size_t)2 * nt, sizeof(node));
   b->dbox = cb_malloc((size_t)2 * nt, 6 * sizeof(double));
+  b->sv = cb_calloc_aligned((size_t)3 * b->stride, sizeof(int));
   b->stack = cb_malloc((size_t)b->stack_cap, sizeof(pair));
   if (!b->tri || !b->tri_edge || !b->own || !b->box || !b->vbox || !b->cen || !b->idx || !b->nodes || !b->stack ||
-      !b->slot || !b->sbox || !b->rec || !b->fsbox || !b->soa || !b->dbox) {
+      !b->slot || !b->sbox || !b->rec || !b->fsbox || !b->soa || !b->dbox || !b->sv) {
     cb_broadphase_free(b);
     return CB_ENOMEM;
   }
@@ -272,9 +374,9 @@ int cb_broadphase_alloc(int nv, int nt, const int *tri, const cb_broadphase_para
   size_t nown = (size_t)b->ne;
   for (int t = 0; t < nt; t++) nown += (b->own[t] & 1u) + (b->own[t] >> 1 & 1u) + (b->own[t] >> 2 & 1u);
   b->pbox = cb_calloc_aligned(nown, sizeof(fbox));
-  if (!b->pbox) {
+  if (!b->pbox || (rc = build_ring(b)) != CB_OK) {
     cb_broadphase_free(b);
-    return CB_ENOMEM;
+    return b->pbox ? rc : CB_ENOMEM;
   }
   for (int t = 0; t < nt; t++) b->idx[t] = t;
   set_slots(b);
@@ -301,6 +403,9 @@ void cb_broadphase_free(cb_broadphase *b) {
   free(b->rec);
   free(b->nodes);
   free(b->dbox);
+  free(b->sv);
+  free(b->rvf);
+  free(b->ree);
   free(b->stack);
   free(b);
 }
@@ -474,6 +579,7 @@ int cb_broadphase_boxes(cb_broadphase *b, const double *x0, const double *x1) {
     double *bx = b->sbox + 6 * s;
     union_box(b->vbox + 6 * v[0], b->vbox + 6 * v[1], bx);
     union_box(bx, b->vbox + 6 * v[2], bx);
+    memcpy(b->box + 6 * b->rec[s].t, bx, 6 * sizeof(double)); /* by triangle id: the ring's VF tests */
   }
   fill_float(b);
   b->boxed = 1;
@@ -659,6 +765,36 @@ static inline unsigned leaf_mask(const cb_broadphase *A, int s, const cb_broadph
   return m;
 }
 
+/* Bit i set: the triangle of slot first + i of A shares a vertex with that
+ * of slot s, i < n <= 16. */
+static inline unsigned ring_mask(const cb_broadphase *A, int s, int first, int n) {
+  unsigned m = 0;
+  const int *v = A->rec[s].v;
+#if defined(__SSE2__)
+  const int *sv = A->sv + first;
+  int st = A->stride;
+  __m128i a0 = _mm_set1_epi32(v[0]), a1 = _mm_set1_epi32(v[1]), a2 = _mm_set1_epi32(v[2]);
+  for (int c = 0; c < n; c += 4) {
+    __m128i eq = _mm_setzero_si128();
+    for (int k = 0; k < 3; k++) {
+      __m128i u = _mm_loadu_si128((const __m128i *)(sv + k * st + c));
+      eq = _mm_or_si128(eq, _mm_or_si128(_mm_or_si128(_mm_cmpeq_epi32(u, a0), _mm_cmpeq_epi32(u, a1)),
+                                         _mm_cmpeq_epi32(u, a2)));
+    }
+    m |= (unsigned)_mm_movemask_ps(_mm_castsi128_ps(eq)) << c;
+  }
+  m &= n >= 32 ? ~0u : (1u << n) - 1u;
+#else
+  for (int i = 0; i < n; i++) {
+    const int *u = A->rec[first + i].v;
+    int sh = 0;
+    for (int k = 0; k < 3; k++) sh |= (u[k] == v[0]) | (u[k] == v[1]) | (u[k] == v[2]);
+    m |= (unsigned)sh << i;
+  }
+#endif
+  return m;
+}
+
 /* One overlapping triangle pair (slot s of A, slot u of B): its candidates
  * (c != NULL) or a call of visit. */
 static inline int emit(const cb_broadphase *A, int s, const cb_broadphase *B, int u, int self, int skip_adjacent,
@@ -695,6 +831,7 @@ static inline __attribute__((always_inline)) int traverse(const cb_broadphase *A
         int f = na->first, n = na->count;
         for (int s = f; s < f + n - 1; s++) {
           unsigned m = leaf_mask(A, s, A, f, n) & ~((2u << (s - f)) - 1u); /* the slots after s */
+          if (c) m &= ~ring_mask(A, s, f, n); /* the ring pass lists these pairs' candidates */
           while (m) {
             int u = f + __builtin_ctz(m);
             m &= m - 1;
@@ -716,6 +853,7 @@ static inline __attribute__((always_inline)) int traverse(const cb_broadphase *A
       int ea = na->first + na->count, f = nb->first, n = nb->count;
       for (int s = na->first; s < ea; s++) {
         unsigned m = leaf_mask(A, s, B, f, n);
+        if (self && c) m &= ~ring_mask(A, s, f, n);
         while (m) {
           int u = f + __builtin_ctz(m);
           m &= m - 1;
@@ -760,10 +898,28 @@ static int finish(const cb_candidates *c, int rc) {
   return CB_OK;
 }
 
+static inline int dbox_overlap(const double *a, const double *b) {
+  return (a[0] <= b[3]) & (b[0] <= a[3]) & (a[1] <= b[4]) & (b[1] <= a[4]) & (a[2] <= b[5]) & (b[2] <= a[5]);
+}
+
+/* The candidates of the triangle pairs that share a vertex: the ring lists'
+ * pairs whose boxes overlap (double boxes by id; no branch on the answer). */
+static void ring_pass(const cb_broadphase *b, cb_candidates *c) {
+  const int *p = b->rvf;
+  for (long k = 0; k < b->nrvf; k++, p += 2)
+    push_if(c->vf, &c->nvf, c->cap_vf, p[0], p[1], dbox_overlap(b->vbox + 6 * p[0], b->box + 6 * p[1]));
+  p = b->ree;
+  for (long k = 0; k < b->nree; k++, p += 2)
+    push_if(c->ee, &c->nee, c->cap_ee, p[0], p[1], dbox_overlap(b->ebox + 6 * p[0], b->ebox + 6 * p[1]));
+}
+
 int cb_broadphase_self_candidates(const cb_broadphase *b, cb_candidates *c) {
   c->nvf = c->nfv = c->nee = 0;
-  /* adjacent triangle pairs are visited: their primitives need not be adjacent */
-  return finish(c, traverse(b, b, 1, 0, NULL, NULL, c));
+  /* triangle pairs sharing a vertex have candidates too (their primitives need
+   * not be adjacent): the ring pass lists them, the traversal the others */
+  int rc = traverse(b, b, 1, 0, NULL, NULL, c);
+  if (!rc) ring_pass(b, c);
+  return finish(c, rc);
 }
 
 int cb_broadphase_cross_candidates(const cb_broadphase *a, const cb_broadphase *b, cb_candidates *c) {
