@@ -54,7 +54,6 @@ typedef struct slot_rec {
   int ov[3]; /* the vertices it owns (nov of them) */
   int oe[3]; /* the edges it owns (noe of them) */
   int t;     /* triangle id */
-  int po;    /* its owned vertices' then edges' float boxes: pbox[po ...] */
   unsigned char nov, noe;
   unsigned char ek[3]; /* local index k of owned edge oe[m]: it joins v[k] and v[(k + 1) % 3] */
 } slot_rec;
@@ -75,7 +74,8 @@ struct cb_broadphase {
   fbox *fsbox;        /* nt: sbox in float (fbox), slot order */
   float *soa;         /* 6 * stride: sbox in float, structure of arrays (lo x, y, z, hi x, y, z), slot order */
   int stride;         /* nt rounded up, plus 16 lanes of padding the 4-wide loads may read */
-  fbox *pbox;         /* the float boxes of the primitives each slot owns (slot_rec.po) */
+  fbox *fvbox;        /* nv: vbox in float */
+  fbox *febox;        /* ne: ebox in float */
   slot_rec *rec;      /* nt: the triangle in each leaf slot */
   int *slot;          /* nt: the slot of each triangle */
   double *vbox;       /* 6*nv: each vertex's swept box, grown by d/2 */
@@ -276,7 +276,6 @@ out:
 
 /* slot[] and rec[] for the current idx[] */
 static void set_slots(cb_broadphase *b) {
-  int po = 0;
   for (int s = 0; s < b->nt; s++) {
     int t = b->idx[s];
     slot_rec *r = b->rec + s;
@@ -292,15 +291,13 @@ static void set_slots(cb_broadphase *b) {
         r->oe[r->noe++] = b->tri_edge[3 * t + k];
       }
     }
-    r->po = po;
-    po += r->nov + r->noe;
     for (int k = 0; k < 3; k++) b->sv[k * b->stride + s] = r->v[k];
   }
 }
 
 
-/* The float copies of the slot boxes and of the owned primitives' boxes, in
- * slot order (after the boxes, and after a build reorders the slots). */
+/* The float copies of the slot boxes, in slot order (after the boxes, and
+ * after a build reorders the slots). */
 static void fill_float(cb_broadphase *b) {
   int st = b->stride;
   float *f = b->soa;
@@ -312,10 +309,6 @@ static void fill_float(cb_broadphase *b) {
       f[k * st + s] = fb->lo[k];
       f[(3 + k) * st + s] = fb->hi[k];
     }
-    const slot_rec *r = b->rec + s;
-    fbox *p = b->pbox + r->po;
-    for (int k = 0; k < r->nov; k++) to_fbox(b->vbox + 6 * r->ov[k], p++);
-    for (int k = 0; k < r->noe; k++) to_fbox(b->ebox + 6 * r->oe[k], p++);
   }
 }
 
@@ -370,13 +363,12 @@ int cb_broadphase_alloc(int nv, int nt, const int *tri, const cb_broadphase_para
     cb_broadphase_free(b);
     return rc;
   }
-  /* every vertex in a triangle and every edge is owned once */
-  size_t nown = (size_t)b->ne;
-  for (int t = 0; t < nt; t++) nown += (b->own[t] & 1u) + (b->own[t] >> 1 & 1u) + (b->own[t] >> 2 & 1u);
-  b->pbox = cb_calloc_aligned(nown, sizeof(fbox));
-  if (!b->pbox || (rc = build_ring(b)) != CB_OK) {
+  b->fvbox = cb_calloc_aligned(nv > 0 ? (size_t)nv : 1, sizeof(fbox));
+  b->febox = cb_calloc_aligned(b->ne > 0 ? (size_t)b->ne : 1, sizeof(fbox));
+  if (!b->fvbox || !b->febox) rc = CB_ENOMEM;
+  if (rc || (rc = build_ring(b)) != CB_OK) {
     cb_broadphase_free(b);
-    return b->pbox ? rc : CB_ENOMEM;
+    return rc;
   }
   for (int t = 0; t < nt; t++) b->idx[t] = t;
   set_slots(b);
@@ -399,7 +391,8 @@ void cb_broadphase_free(cb_broadphase *b) {
   free(b->sbox);
   free(b->fsbox);
   free(b->soa);
-  free(b->pbox);
+  free(b->fvbox);
+  free(b->febox);
   free(b->rec);
   free(b->nodes);
   free(b->dbox);
@@ -571,9 +564,12 @@ int cb_broadphase_boxes(cb_broadphase *b, const double *x0, const double *x1) {
       bx[k] = (a < c ? a : c) - d;
       bx[3 + k] = (a > c ? a : c) + d;
     }
+    to_fbox(bx, b->fvbox + v);
   }
-  for (int e = 0; e < b->ne; e++)
+  for (int e = 0; e < b->ne; e++) {
     union_box(b->vbox + 6 * b->edge[2 * e], b->vbox + 6 * b->edge[2 * e + 1], b->ebox + 6 * e);
+    to_fbox(b->ebox + 6 * e, b->febox + e);
+  }
   for (int s = 0; s < b->nt; s++) {
     const int *v = b->rec[s].v;
     double *bx = b->sbox + 6 * s;
@@ -689,27 +685,27 @@ static inline void pair_cands(const cb_broadphase *A, int s, const cb_broadphase
                               cb_candidates *c) {
   const slot_rec *ra = A->rec + s, *rb = B->rec + u;
   const double *ba = A->sbox + 6 * s, *bb = B->sbox + 6 * u;
-  const fbox *fa = A->fsbox + s, *fb = B->fsbox + u, *pa = A->pbox + ra->po, *pb = B->pbox + rb->po;
+  const fbox *fa = A->fsbox + s, *fb = B->fsbox + u;
   /* adjacency and overlap are data, not branches (push_if) */
   for (int k = 0; k < ra->nov; k++) {
     int v = ra->ov[k];
     int adj = self & ((v == rb->v[0]) | (v == rb->v[1]) | (v == rb->v[2]));
-    push_if(c->vf, &c->nvf, c->cap_vf, v, rb->t, (!adj) & fbox_overlap(pa + k, fb, A->vbox + 6 * v, bb));
+    push_if(c->vf, &c->nvf, c->cap_vf, v, rb->t, (!adj) & fbox_overlap(A->fvbox + v, fb, A->vbox + 6 * v, bb));
   }
   for (int k = 0; k < rb->nov; k++) {
     int v = rb->ov[k];
     int adj = self & ((v == ra->v[0]) | (v == ra->v[1]) | (v == ra->v[2]));
-    int ok = (!adj) & fbox_overlap(pb + k, fa, B->vbox + 6 * v, ba);
+    int ok = (!adj) & fbox_overlap(B->fvbox + v, fa, B->vbox + 6 * v, ba);
     if (self) push_if(c->vf, &c->nvf, c->cap_vf, v, ra->t, ok);
     else push_if(c->fv, &c->nfv, c->cap_fv, v, ra->t, ok);
   }
   for (int k = 0; k < ra->noe; k++) {
     int ea = ra->oe[k], a0 = ra->v[ra->ek[k]], a1 = ra->v[next3[ra->ek[k]]];
-    const fbox *fea = pa + ra->nov + k;
+    const fbox *fea = A->febox + ea;
     for (int l = 0; l < rb->noe; l++) {
       int b0 = rb->v[rb->ek[l]], b1 = rb->v[next3[rb->ek[l]]];
       int adj = self & ((a0 == b0) | (a0 == b1) | (a1 == b0) | (a1 == b1));
-      int ok = (!adj) & fbox_overlap(fea, pb + rb->nov + l, A->ebox + 6 * ea, B->ebox + 6 * rb->oe[l]);
+      int ok = (!adj) & fbox_overlap(fea, B->febox + rb->oe[l], A->ebox + 6 * ea, B->ebox + 6 * rb->oe[l]);
       push_if(c->ee, &c->nee, c->cap_ee, ea, rb->oe[l], ok);
     }
   }
