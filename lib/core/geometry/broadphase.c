@@ -12,7 +12,7 @@
 
 #include <clothbench/status.h>
 
-#if defined(__SSE2__)
+#if defined(__SSE2__) && !defined(CB_BROADPHASE_SCALAR)
 #include <emmintrin.h>
 #endif
 
@@ -626,7 +626,7 @@ static inline int box_overlap(const double *a, const double *b) {
  * pair of nodes whose double boxes overlap is never pruned (fbox); the answer
  * is data (0 or 1), for a push without a branch. */
 static inline int node_overlap(const node *a, const node *b) {
-#if defined(__SSE2__)
+#if defined(__SSE2__) && !defined(CB_BROADPHASE_SCALAR)
   __m128 alo = _mm_load_ps(a->fb.lo), ahi = _mm_load_ps(a->fb.hi), blo = _mm_load_ps(b->fb.lo),
          bhi = _mm_load_ps(b->fb.hi);
   return _mm_movemask_ps(_mm_or_ps(_mm_cmpgt_ps(alo, bhi), _mm_cmpgt_ps(blo, ahi))) == 0;
@@ -640,7 +640,7 @@ static inline int node_overlap(const node *a, const node *b) {
 /* Box overlap from the float boxes fa, fb, with the double boxes da, db
  * deciding a tie (fbox): the answer of box_overlap(da, db). */
 static inline int fbox_overlap(const fbox *fa, const fbox *fb, const double *da, const double *db) {
-#if defined(__SSE2__)
+#if defined(__SSE2__) && !defined(CB_BROADPHASE_SCALAR)
   __m128 alo = _mm_load_ps(fa->lo), ahi = _mm_load_ps(fa->hi), blo = _mm_load_ps(fb->lo), bhi = _mm_load_ps(fb->hi);
   int gt = _mm_movemask_ps(_mm_or_ps(_mm_cmpgt_ps(alo, bhi), _mm_cmpgt_ps(blo, ahi)));
   int eq = _mm_movemask_ps(_mm_or_ps(_mm_cmpeq_ps(alo, bhi), _mm_cmpeq_ps(blo, ahi)));
@@ -730,7 +730,7 @@ static int share_vertex(const int *a, const int *b) {
  * box_overlap's answer exactly. */
 static inline unsigned leaf_mask(const cb_broadphase *A, int s, const cb_broadphase *B, int first, int n) {
   unsigned m = 0;
-#if defined(__SSE2__)
+#if defined(__SSE2__) && !defined(CB_BROADPHASE_SCALAR)
   const fbox *f = A->fsbox + s;
   const float *so = B->soa;
   int st = B->stride;
@@ -766,7 +766,7 @@ static inline unsigned leaf_mask(const cb_broadphase *A, int s, const cb_broadph
 static inline unsigned ring_mask(const cb_broadphase *A, int s, int first, int n) {
   unsigned m = 0;
   const int *v = A->rec[s].v;
-#if defined(__SSE2__)
+#if defined(__SSE2__) && !defined(CB_BROADPHASE_SCALAR)
   const int *sv = A->sv + first;
   int st = A->stride;
   __m128i a0 = _mm_set1_epi32(v[0]), a1 = _mm_set1_epi32(v[1]), a2 = _mm_set1_epi32(v[2]);
