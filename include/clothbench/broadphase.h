@@ -35,7 +35,7 @@
 typedef struct cb_broadphase_params {
   double
       thickness; /* d: pairs closer than d are candidates; boxes grow by d/2 a side, m. Default 0 (touching counts) */
-  int leaf_size; /* triangles a leaf holds at most, 1..16. Default 4 */
+  int leaf_size; /* triangles a leaf holds at most, 1..16. Default 8 */
   double rebuild_ratio; /* rebuild when SAH cost / SAH cost at the last build exceeds it, > 1. Default 1.5 */
   int cookie;           /* set by cb_broadphase_params_default; checked by cb_broadphase_alloc */
 } cb_broadphase_params;

@@ -103,7 +103,7 @@ struct cb_broadphase {
 cb_broadphase_params cb_broadphase_params_default(void) {
   cb_broadphase_params p = {0};
   p.thickness = 0.0;
-  p.leaf_size = 4;
+  p.leaf_size = 8;
   p.rebuild_ratio = 1.5;
   p.cookie = PARAMS_COOKIE;
   return p;
