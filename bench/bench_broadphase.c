@@ -448,7 +448,8 @@ int main(int argc, char **argv) {
       spread(R->narrow_cpu, rounds, &nc, &lo, &hi);
       long contacts = R->cvf + R->cee;
       cb_csv_printf(csv.f,
-                    "folded,%d,%d,%s,%d,%.6f,%.6f,%.6f,%.6f,%.6f,%.17g,%ld,%ld,%ld,%ld,%ld,%.17g,%.17g,,,,%.6f,%.6f,%d,%s\n",
+                    "folded,%d,%d,%s,%d,%.6f,%.6f,%.6f,%.6f,%.6f,%.17g,%ld,%ld,%ld,%ld,%ld,%.17g,%.17g,,,,%.6f,%.6f,%d,"
+                    "%s\n",
                     n, m.nt, method_name[k], rounds, bm, blo, bhi, nm, bm + nm, (bm + nm) * 1e6 / m.nt, R->tri_pairs,
                     R->vf, R->ee, R->cvf, R->cee, contacts ? (double)(R->vf + R->ee) / contacts : cb_csv_na(),
                     k <= BVH_BUILD || k == BVH_OLD ? (double)R->rebuilds : cb_csv_na(), bc, nc, R->same,

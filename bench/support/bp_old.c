@@ -155,8 +155,7 @@ static void set_slots(cb_oldbp *b) {
 
 int cb_oldbp_alloc(int nv, int nt, const int *tri, const cb_broadphase_params *p, cb_oldbp **out) {
   *out = NULL;
-  if (!p || p->cookie != PARAMS_COOKIE)
-    return cb_fail("broadphase: parameters not from cb_oldbp_params_default()");
+  if (!p || p->cookie != PARAMS_COOKIE) return cb_fail("broadphase: parameters not from cb_oldbp_params_default()");
   if (!(p->thickness >= 0.0) || !isfinite(p->thickness))
     return cb_fail("broadphase: thickness %g must be finite and >= 0", p->thickness);
   if (p->leaf_size < 1 || p->leaf_size > 16) return cb_fail("broadphase: leaf_size %d not in 1..16", p->leaf_size);

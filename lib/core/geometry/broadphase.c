@@ -90,8 +90,8 @@ struct cb_broadphase {
    * (their boxes always overlap: both hold the shared vertex's box), listed
    * once at set-up by the ownership rule; a self query tests their boxes in
    * one pass and its traversal leaves these triangle pairs out. */
-  int *rvf;  /* 2*nrvf: (vertex, triangle) */
-  int *ree;  /* 2*nree: (edge, edge) */
+  int *rvf; /* 2*nrvf: (vertex, triangle) */
+  int *ree; /* 2*nree: (edge, edge) */
   long nrvf, nree;
   int nnodes;
   pair *stack; /* traversal and build stack */
@@ -774,8 +774,8 @@ static inline unsigned ring_mask(const cb_broadphase *A, int s, int first, int n
     __m128i eq = _mm_setzero_si128();
     for (int k = 0; k < 3; k++) {
       __m128i u = _mm_loadu_si128((const __m128i *)(sv + k * st + c));
-      eq = _mm_or_si128(eq, _mm_or_si128(_mm_or_si128(_mm_cmpeq_epi32(u, a0), _mm_cmpeq_epi32(u, a1)),
-                                         _mm_cmpeq_epi32(u, a2)));
+      eq = _mm_or_si128(
+          eq, _mm_or_si128(_mm_or_si128(_mm_cmpeq_epi32(u, a0), _mm_cmpeq_epi32(u, a1)), _mm_cmpeq_epi32(u, a2)));
     }
     m |= (unsigned)_mm_movemask_ps(_mm_castsi128_ps(eq)) << c;
   }
