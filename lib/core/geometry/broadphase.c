@@ -658,14 +658,6 @@ static inline int fbox_overlap(const fbox *fa, const fbox *fb, const double *da,
 #endif
 }
 
-static inline void push(int *arr, long *n, long cap, int u, int v) {
-  if (*n < cap) {
-    arr[2 * *n] = u;
-    arr[2 * *n + 1] = v;
-  }
-  (*n)++;
-}
-
 /* push(u, v) if ok (0 or 1), without a branch on ok: the pair is written at
  * the end of the list either way and counted only if ok */
 static inline void push_if(int *arr, long *n, long cap, int u, int v, int ok) {
