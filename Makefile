@@ -195,6 +195,10 @@ $(BUILD)/bench_broadphase: LDLIBS += -lembree3
 
 $(BUILD)/tests/%: $(BUILD)/tests/%.o $(TEST_OBJ) $(REPORT_LIB) $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -lcriterion -o $@
+# the broad phase's test compares the candidate sets with the code before the float boxes (bench/support/bp_old.c)
+$(BUILD)/tests/test_broadphase.o: CPPFLAGS += -Ibench/support
+$(BUILD)/tests/test_broadphase: $(BUILD)/tests/test_broadphase.o $(BUILD)/bench/support/bp_old.o $(TEST_OBJ) $(REPORT_LIB) $(LIB)
+	$(CC) $(LDFLAGS) $^ $(LDLIBS) -lcriterion -o $@
 # the allocation-failure test routes CHOLMOD's allocations (SuiteSparse_config) through the counter
 $(BUILD)/tests/test_enomem: LDLIBS += -lsuitesparseconfig
 

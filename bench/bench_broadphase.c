@@ -18,6 +18,9 @@
  * interleaved rounds on one core:
  *   bvh_refit     our tree refitted (the steady state of a run)
  *   bvh_build     our tree rebuilt every step
+ *   bvh_old_refit the code before the float boxes and the ring lists
+ *                 (bench/support/bp_old.c), refitted: old against new in
+ *                 one run, interleaved
  *   embree_build  an Embree scene of user primitives (the same boxes, rounded
  *                 outwards to float) built every step, build quality low
  *   embree_refit  the same scene committed with build quality refit
@@ -30,12 +33,20 @@
  * through itself (bump 0.7 h: the top half crosses z = 0), at n = 101 (20 000
  * triangles) and at n = 256.
  *
+ * Times: wall clock (broad_ms, narrow_ms) and this thread's CPU time
+ * (broad_cpu_ms, narrow_cpu_ms: leaves out the time the process waits for a
+ * shared core). same_as_old: 1 if the method's VF and EE sets (EE pairs
+ * unordered) equal bvh_old_refit's, compared sorted after the last round.
+ *
  * Output: results/bench_broadphase.csv, one row per (mesh, method). */
 #include <embree3/rtcore.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+
+#include "support/bp_old.h"
 
 #include "csv.h"
 #include "experiment.h"
@@ -256,22 +267,32 @@ static void emb_free(emb *e) {
 
 /* ---- one variant's step ---- */
 
-enum { BVH_REFIT, BVH_BUILD, EMB_BUILD, EMB_REFIT, NMETHOD };
-static const char *method_name[NMETHOD] = {"bvh_refit", "bvh_build", "embree_build", "embree_refit"};
+enum { BVH_REFIT, BVH_BUILD, EMB_BUILD, EMB_REFIT, BVH_OLD, NMETHOD };
+static const char *method_name[NMETHOD] = {"bvh_refit", "bvh_build", "embree_build", "embree_refit", "bvh_old_refit"};
 
 typedef struct result {
-  double broad[32], narrow[32];
+  double broad[32], narrow[32], broad_cpu[32], narrow_cpu[32];
   long vf, ee, cvf, cee, tri_pairs, rebuilds;
-  int status;
+  int status, same; /* same: the candidate sets equal bvh_old_refit's (-1: not compared) */
 } result;
 
+static double cpu_ms(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return 1e3 * (double)t.tv_sec + 1e-6 * (double)t.tv_nsec;
+}
+
 static int run_variant(int method, int round, const cb_mesh *m, const double *x0, const double *x1, double d,
-                       cb_broadphase *bp, emb *e, cb_candidates *c, result *r) {
-  double t0 = cb_now_ms();
+                       cb_broadphase *bp, cb_oldbp *ob, emb *e, cb_candidates *c, result *r) {
+  double t0 = cb_now_ms(), u0 = cpu_ms();
   int rc = 0;
   c->nvf = c->nfv = c->nee = 0;
   long pairs = -1;
-  if (method == BVH_REFIT || method == BVH_BUILD) {
+  if (method == BVH_OLD) {
+    rc = cb_oldbp_update(ob, x0, x1);
+    if (!rc) rc = cb_oldbp_self_candidates(ob, c);
+    r->rebuilds = cb_oldbp_stats_get(ob)->rebuilds;
+  } else if (method == BVH_REFIT || method == BVH_BUILD) {
     if (method == BVH_BUILD) cb_broadphase_invalidate(bp);
     rc = cb_broadphase_update(bp, x0, x1);
     if (!rc) rc = cb_broadphase_self_candidates(bp, c);
@@ -284,15 +305,47 @@ static int run_variant(int method, int round, const cb_mesh *m, const double *x0
     if (!rc && (c->nvf > c->cap_vf || c->nee > c->cap_ee)) rc = CB_ENOMEM;
     pairs = e->pairs;
   }
-  double t1 = cb_now_ms();
+  double t1 = cb_now_ms(), u1 = cpu_ms();
   long cvf = 0, cee = 0;
   int ne;
-  const int *E = cb_broadphase_edges(bp, &ne);
+  const int *E = cb_broadphase_edges(bp, &ne); /* the old code numbers the edges the same way (set-up unchanged) */
   if (!rc) narrow(m, E, c, x1, d, &cvf, &cee);
-  double t2 = cb_now_ms();
+  double t2 = cb_now_ms(), u2 = cpu_ms();
   r->broad[round] = t1 - t0, r->narrow[round] = t2 - t1;
+  r->broad_cpu[round] = u1 - u0, r->narrow_cpu[round] = u2 - u1;
   r->vf = c->nvf, r->ee = c->nee, r->cvf = cvf, r->cee = cee, r->tri_pairs = pairs, r->status = rc;
   return rc;
+}
+
+static int cmp_key(const void *a, const void *b) {
+  long long x = *(const long long *)a, y = *(const long long *)b;
+  return (x > y) - (x < y);
+}
+
+/* the pairs as sorted keys u * 2^32 + v (unordered: the smaller first) */
+static long long *pair_keys(const int *p, long n, int unordered) {
+  long long *k = malloc(sizeof *k * (size_t)(n > 0 ? n : 1));
+  if (!k) return NULL;
+  for (long i = 0; i < n; i++) {
+    long long u = p[2 * i], v = p[2 * i + 1];
+    if (unordered && u > v) {
+      long long t = u;
+      u = v, v = t;
+    }
+    k[i] = u * 4294967296LL + v;
+  }
+  qsort(k, (size_t)n, sizeof *k, cmp_key);
+  return k;
+}
+
+/* 1 if c's VF and EE sets are ref's (keys from pair_keys), 0 if not, -1 if out of memory */
+static int same_sets(const cb_candidates *c, const long long *ref_vf, long nvf, const long long *ref_ee, long nee) {
+  if (c->nvf != nvf || c->nee != nee) return 0;
+  long long *a = pair_keys(c->vf, c->nvf, 0), *b = pair_keys(c->ee, c->nee, 1);
+  int same = a && b ? !memcmp(a, ref_vf, sizeof *a * (size_t)nvf) && !memcmp(b, ref_ee, sizeof *b * (size_t)nee) : -1;
+  free(a);
+  free(b);
+  return same;
 }
 
 typedef struct tri_count {
@@ -329,6 +382,8 @@ int main(int argc, char **argv) {
                         "distances at x1; medians (and min, max) of interleaved rounds\n"
                         "# n_contacts_*: candidates closer than d at x1; candidates_per_contact = (n_vf + n_ee) / "
                         "n_contacts\n"
+                        "# broad_cpu_ms, narrow_cpu_ms: the same in this thread's CPU time (medians); same_as_old: "
+                        "the VF and EE sets equal bvh_old_refit's (the code before the float boxes and ring lists)\n"
                         "# intersect rows: cb_intersections_count (static boxes, exact triangle-triangle test); the "
                         "crossing mesh "
                         "has its top half pressed through the bottom (bump 0.7 h)\n",
@@ -336,7 +391,7 @@ int main(int argc, char **argv) {
                         "total_ns_per_tri,"
                         "n_tri_pairs,n_vf,n_ee,n_contacts_vf,n_contacts_ee,candidates_per_contact,n_rebuilds,"
                         "intersecting_pairs,"
-                        "intersect_tested_pairs,n_exact_calls,status"))
+                        "intersect_tested_pairs,n_exact_calls,broad_cpu_ms,narrow_cpu_ms,same_as_old,status"))
     return 1;
   int sizes_full[] = {64, 128, 256}, sizes_quick[] = {32, 64};
   int *sizes = ex.quick ? sizes_quick : sizes_full, nsizes = ex.quick ? 2 : 3;
@@ -353,41 +408,61 @@ int main(int argc, char **argv) {
     cb_broadphase_params p = cb_broadphase_params_default();
     p.thickness = d;
     cb_broadphase *bp = NULL;
+    cb_oldbp *ob = NULL;
     cb_candidates c = {0};
     emb e;
-    if (cb_broadphase_alloc(m.nv, m.nt, m.tri, &p, &bp) || cb_candidates_alloc(40L * m.nt, 0, 80L * m.nt, &c) ||
-        emb_init(&e, &m, bp, d)) {
+    if (cb_broadphase_alloc(m.nv, m.nt, m.tri, &p, &bp) || cb_oldbp_alloc(m.nv, m.nt, m.tri, &p, &ob) ||
+        cb_candidates_alloc(40L * m.nt, 0, 80L * m.nt, &c) || emb_init(&e, &m, bp, d)) {
       fprintf(stderr, "bench_broadphase: n = %d: set-up failed: %s\n", n, cb_error_message());
       return 1;
     }
+    /* the old code's candidate sets, for same_as_old */
+    if (cb_oldbp_update(ob, m.x, x1) || cb_oldbp_self_candidates(ob, &c)) {
+      fprintf(stderr, "bench_broadphase: n = %d: the old broad phase failed: %s\n", n, cb_error_message());
+      return 1;
+    }
+    long nref_vf = c.nvf, nref_ee = c.nee;
+    long long *ref_vf = pair_keys(c.vf, c.nvf, 0), *ref_ee = pair_keys(c.ee, c.nee, 1);
+    if (!ref_vf || !ref_ee) return 1;
     result res[NMETHOD];
     memset(res, 0, sizeof res);
     for (int q = 0; q < rounds; q++)
       for (int k = 0; k < NMETHOD; k++) {
         int meth = (k + q) % NMETHOD; /* rotate the order between rounds */
-        run_variant(meth, q, &m, m.x, x1, d, bp, &e, &c, &res[meth]);
+        run_variant(meth, q, &m, m.x, x1, d, bp, ob, &e, &c, &res[meth]);
+        if (q == rounds - 1) res[meth].same = same_sets(&c, ref_vf, nref_vf, ref_ee, nref_ee);
       }
+    free(ref_vf);
+    free(ref_ee);
     /* our tree's triangle-pair count, for the Embree rows to compare with */
     tri_count tc = {0};
     cb_broadphase_update(bp, m.x, x1);
     cb_broadphase_self_pairs(bp, 0, count_visit, &tc);
     res[BVH_REFIT].tri_pairs = res[BVH_BUILD].tri_pairs = tc.n;
+    tc.n = 0;
+    cb_oldbp_self_pairs(ob, 0, count_visit, &tc);
+    res[BVH_OLD].tri_pairs = tc.n;
     for (int k = 0; k < NMETHOD; k++) {
       result *R = res + k;
-      double bm, blo, bhi, nm, nlo, nhi;
+      double bm, blo, bhi, nm, nlo, nhi, bc, nc, lo, hi;
       spread(R->broad, rounds, &bm, &blo, &bhi);
       spread(R->narrow, rounds, &nm, &nlo, &nhi);
+      spread(R->broad_cpu, rounds, &bc, &lo, &hi);
+      spread(R->narrow_cpu, rounds, &nc, &lo, &hi);
       long contacts = R->cvf + R->cee;
-      cb_csv_printf(csv.f, "folded,%d,%d,%s,%d,%.6f,%.6f,%.6f,%.6f,%.6f,%.17g,%ld,%ld,%ld,%ld,%ld,%.17g,%.17g,,,,%s\n",
+      cb_csv_printf(csv.f,
+                    "folded,%d,%d,%s,%d,%.6f,%.6f,%.6f,%.6f,%.6f,%.17g,%ld,%ld,%ld,%ld,%ld,%.17g,%.17g,,,,%.6f,%.6f,%d,"
+                    "%s\n",
                     n, m.nt, method_name[k], rounds, bm, blo, bhi, nm, bm + nm, (bm + nm) * 1e6 / m.nt, R->tri_pairs,
                     R->vf, R->ee, R->cvf, R->cee, contacts ? (double)(R->vf + R->ee) / contacts : cb_csv_na(),
-                    k <= BVH_BUILD ? (double)R->rebuilds : cb_csv_na(), cb_status_name(R->status));
+                    k <= BVH_BUILD || k == BVH_OLD ? (double)R->rebuilds : cb_csv_na(), bc, nc, R->same,
+                    cb_status_name(R->status));
       fprintf(stderr,
-              "bench_broadphase: n = %d (%d triangles) %-12s broad %8.2f ms  narrow %7.2f ms  total %8.2f ms "
-              "(%.0f ns/tri)  pairs %ld  vf %ld ee %ld  contacts %ld%s\n",
-              n, m.nt, method_name[k], bm, nm, bm + nm, (bm + nm) * 1e6 / m.nt, R->tri_pairs, R->vf, R->ee, contacts,
-              R->status ? " FAILED" : "");
-      if (R->status) rc_all = 1;
+              "bench_broadphase: n = %d (%d triangles) %-13s broad %8.2f ms  narrow %7.2f ms  total %8.2f ms "
+              "(%.0f ns/tri; CPU %.2f + %.2f ms)  pairs %ld  vf %ld ee %ld  contacts %ld  same as old %d%s\n",
+              n, m.nt, method_name[k], bm, nm, bm + nm, (bm + nm) * 1e6 / m.nt, bc, nc, R->tri_pairs, R->vf, R->ee,
+              contacts, R->same, R->status ? " FAILED" : "");
+      if (R->status || R->same != 1) rc_all = 1;
     }
     if (res[EMB_BUILD].vf != res[BVH_REFIT].vf || res[EMB_BUILD].ee != res[BVH_REFIT].ee)
       fprintf(stderr, "bench_broadphase: n = %d: Embree's candidates (%ld, %ld) differ from the BVH's (%ld, %ld)\n", n,
@@ -397,6 +472,7 @@ int main(int argc, char **argv) {
     emb_free(&e);
     cb_candidates_free(&c);
     cb_broadphase_free(bp);
+    cb_oldbp_free(ob);
     free(x1);
     cb_mesh_free(&m);
     fflush(csv.f);
@@ -420,7 +496,7 @@ int main(int argc, char **argv) {
       }
       double tm, tlo, thi;
       spread(t, rounds, &tm, &tlo, &thi);
-      cb_csv_printf(csv.f, "%s,%d,%d,intersect,%d,,,,,%.6f,%.17g,%ld,,,,,,%.17g,%ld,%ld,%ld,%s\n",
+      cb_csv_printf(csv.f, "%s,%d,%d,intersect,%d,,,,,%.6f,%.17g,%ld,,,,,,%.17g,%ld,%ld,%ld,,,,%s\n",
                     crossing ? "folded_crossing" : "folded", n, m.nt, rounds, tm, tm * 1e6 / m.nt, ix.pairs,
                     (double)cb_broadphase_stats_get(ix.bp)->rebuilds, count, ix.pairs, ix.exact_calls,
                     cb_status_name(st));

@@ -2,13 +2,17 @@
  * its VF/EE candidates against brute-force enumerations that build every
  * primitive's swept box directly from the positions (no tree, no ownership),
  * for self-contact and for two meshes, after builds and after refits; the
- * rebuild rule; no allocation in an update or a query; bad input. */
+ * rebuild rule; no allocation in an update or a query; bad input. The float
+ * boxes' ties (coordinates equal in float, not in double) against brute
+ * force in double, and the candidate sets against the code before the float
+ * boxes and the ring lists (bench/support/bp_old.c, linked in). */
 #include <criterion/criterion.h>
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "bp_old.h"
 #include "rng.h"
 #include "support.h"
 #include <clothbench/broadphase.h>
@@ -496,5 +500,172 @@ Test(broadphase, every_true_contact_is_a_candidate_folded_and_random) {
   }
   free(x0);
   free(x1);
+  cb_mesh_free(&m);
+}
+
+/* ---- float boxes: ties decided in double; the old code's sets ----------- */
+
+/* Two separate triangles, the second shifted along axis k so that its box
+ * starts gap after the first one's ends at 1.0: with gap = +-2^-40 both ends
+ * round to 1.0f (a tie in float), and only the doubles know whether the boxes
+ * overlap (gap < 0) or not (gap > 0). d = 0. */
+Test(broadphase, float_ties_are_decided_in_double) {
+  const double g = 0x1p-40;
+  cr_assert_eq((float)1.0, (float)(1.0 + g), "the fixture: 1 and 1 + 2^-40 tie in float");
+  cr_assert_eq((float)1.0, (float)(1.0 - g), "the fixture: 1 and 1 - 2^-40 tie in float");
+  const int tri[6] = {0, 1, 2, 3, 4, 5};
+  /* a triangle spanning [0, 1] on every axis; the copy spans [1 + gap, 2 + gap] on axis k, [0, 1] on the others */
+  const double base[9] = {0, 0, 0, 1, 0.5, 0.25, 0.5, 1, 1};
+  for (int k = 0; k < 3; k++)
+    for (int sgn = -1; sgn <= 1; sgn += 2) {
+      double x[18];
+      memcpy(x, base, sizeof base);
+      memcpy(x + 9, base, sizeof base);
+      for (int v = 3; v < 6; v++) x[3 * v + k] += 1.0 + sgn * g;
+      cb_broadphase_params p = cb_broadphase_params_default();
+      p.leaf_size = 1;
+      cb_broadphase *bp;
+      cr_assert_eq(cb_broadphase_alloc(6, 2, tri, &p, &bp), 0);
+      cr_assert_eq(cb_broadphase_update(bp, x, NULL), 0);
+      long cap = 16;
+      collect c = {malloc(sizeof(int) * 2 * (size_t)cap), 0, cap};
+      cr_assert_eq(cb_broadphase_self_pairs(bp, 0, collect_visit, &c), 0);
+      cr_assert_eq(c.n, sgn < 0 ? 1 : 0, "axis %d, gap %+g: %ld triangle pairs, want %d", k, sgn * g, c.n, sgn < 0);
+      cb_mesh m = {.nv = 6, .nt = 2, .tri = (int *)tri};
+      check_self(&m, bp, x, x, 0.0);
+      cb_candidates cc;
+      cr_assert_eq(cb_candidates_alloc(16, 0, 16, &cc), 0);
+      cr_assert_eq(cb_broadphase_self_candidates(bp, &cc), 0);
+      /* overlapping by 2^-40: the vertex at 1 + ... of the copy lies in the first box (vertex 3's box starts
+       * at 1 - 2^-40 on axis k and sits inside [0, 1] on the others), so there is at least one candidate */
+      if (sgn < 0) cr_assert_gt(cc.nvf + cc.nee, 0, "axis %d: overlapping boxes gave no candidate", k);
+      else cr_assert_eq(cc.nvf + cc.nee, 0, "axis %d: separate boxes gave %ld candidates", k, cc.nvf + cc.nee);
+      cb_candidates_free(&cc);
+      free(c.p);
+      cb_broadphase_free(bp);
+    }
+}
+
+/* A crumpled sheet squeezed into a few float ulps: coordinates 1 + 2^-19 u,
+ * u in [0, 1) on a 2^-40 grid, so that the floats take a handful of values
+ * per axis and most box comparisons tie in float. Candidates and triangle
+ * pairs against brute force in double; the fixture is checked to be one where
+ * a float-only test would answer differently. */
+Test(broadphase, quantised_coordinates_with_float_ties_match_brute_force) {
+  cb_mesh m = grid(8, 8, 1.0);
+  double *x0 = malloc(sizeof(double) * 3 * (size_t)m.nv), *x1 = malloc(sizeof(double) * 3 * (size_t)m.nv);
+  cb_rng g = cb_rng_seed(77);
+  const double d = 0x1p-22;
+  for (int r = 0; r < 3; r++) {
+    crumple(&g, &m, 0.6, x0, x1, 0.2);
+    for (int i = 0; i < 3 * m.nv; i++) {
+      x0[i] = 1.0 + ldexp(round(ldexp(x0[i] * 0x1p-19, 40)), -40);
+      x1[i] = 1.0 + ldexp(round(ldexp(x1[i] * 0x1p-19, 40)), -40);
+    }
+    /* the fixture: box comparisons (triangle boxes, grown by d/2) that tie in float but not in double */
+    long ties = 0;
+    for (int i = 0; i < m.nt; i++)
+      for (int j = 0; j < m.nt; j++) {
+        double bi[6], bj[6];
+        box(x0, x1, m.tri + 3 * i, 3, 0.5 * d, bi);
+        box(x0, x1, m.tri + 3 * j, 3, 0.5 * d, bj);
+        for (int k = 0; k < 3; k++) ties += bi[k] != bj[3 + k] && (float)bi[k] == (float)bj[3 + k];
+      }
+    cr_assert_gt(ties, 100, "round %d: the fixture should have float ties (%ld)", r, ties);
+    for (int leaf = 1; leaf <= 4; leaf += 3) {
+      cb_broadphase_params p = cb_broadphase_params_default();
+      p.thickness = d;
+      p.leaf_size = leaf;
+      cb_broadphase *bp;
+      cr_assert_eq(cb_broadphase_alloc(m.nv, m.nt, m.tri, &p, &bp), 0);
+      cr_assert_eq(cb_broadphase_update(bp, x0, x1), 0);
+      check_self(&m, bp, x0, x1, d);
+      cb_broadphase_free(bp);
+    }
+  }
+  free(x0);
+  free(x1);
+  cb_mesh_free(&m);
+}
+
+static void same_unordered(const char *what, const int *a, long na, const int *b, long nb) {
+  int *a2 = both_orders(a, na), *b2 = both_orders(b, nb);
+  same_sets(what, a2, 2 * na, b2, 2 * nb);
+  free(a2);
+  free(b2);
+}
+
+/* The candidates, the triangle pairs and the cross candidates of the code
+ * before the float boxes and the ring lists (bench/support/bp_old.c): equal
+ * sets (EE pairs unordered), on a folded sheet pressed together (the bench's
+ * kind of scene, 3 362 triangles) and a crumpled one, after a build and after
+ * refits. */
+Test(broadphase, candidates_equal_the_code_before_float_boxes) {
+  const int n = 42;
+  cb_mesh m = grid(n, n, 1.0);
+  double h = 1.0 / (n - 1), *x0 = malloc(sizeof(double) * 3 * (size_t)m.nv),
+         *x1 = malloc(sizeof(double) * 3 * (size_t)m.nv), *y0 = malloc(sizeof(double) * 3 * (size_t)m.nv),
+         *y1 = malloc(sizeof(double) * 3 * (size_t)m.nv);
+  cb_rng g = cb_rng_seed(4242);
+  cb_broadphase_params p = cb_broadphase_params_default();
+  p.thickness = 0.25 * h;
+  cb_broadphase *nb, *nb2;
+  cb_oldbp *ob, *ob2;
+  cr_assert_eq(cb_broadphase_alloc(m.nv, m.nt, m.tri, &p, &nb), 0);
+  cr_assert_eq(cb_oldbp_alloc(m.nv, m.nt, m.tri, &p, &ob), 0);
+  cr_assert_eq(cb_broadphase_alloc(m.nv, m.nt, m.tri, &p, &nb2), 0);
+  cr_assert_eq(cb_oldbp_alloc(m.nv, m.nt, m.tri, &p, &ob2), 0);
+  cb_candidates cn, co;
+  cr_assert_eq(cb_candidates_alloc(60L * m.nt, 60L * m.nt, 120L * m.nt, &cn), 0);
+  cr_assert_eq(cb_candidates_alloc(60L * m.nt, 60L * m.nt, 120L * m.nt, &co), 0);
+  long total = 0;
+  for (int round = 0; round < 6; round++) {
+    if (round < 3) { /* folded, the top layer coming down */
+      fold(&g, &m, n, 0.5 * h, x0);
+      for (int v = 0; v < m.nv; v++) {
+        memcpy(x1 + 3 * v, x0 + 3 * v, 3 * sizeof(double));
+        if (v / n >= n / 2) x1[3 * v + 2] -= (0.1 + 0.1 * round) * h;
+      }
+    } else {
+      crumple(&g, &m, 3 * h, x0, x1, h);
+    }
+    crumple(&g, &m, 3 * h, y0, y1, h);
+    cr_assert_eq(cb_broadphase_update(nb, x0, x1), 0);
+    cr_assert_eq(cb_oldbp_update(ob, x0, x1), 0);
+    cr_assert_eq(cb_broadphase_update(nb2, y0, y1), 0);
+    cr_assert_eq(cb_oldbp_update(ob2, y0, y1), 0);
+    cr_assert_eq(cb_broadphase_self_candidates(nb, &cn), 0, "%s", cb_error_message());
+    cr_assert_eq(cb_oldbp_self_candidates(ob, &co), 0, "%s", cb_error_message());
+    cr_assert_gt(cn.nvf, 100, "round %d: the fixture should have candidates", round);
+    same_sets("self vf, new against old", cn.vf, cn.nvf, co.vf, co.nvf);
+    same_unordered("self ee, new against old", cn.ee, cn.nee, co.ee, co.nee);
+    total += cn.nvf + cn.nee;
+    for (int skip = 0; skip < 2; skip++) {
+      long cap = 40L * m.nt;
+      collect a = {malloc(sizeof(int) * 2 * (size_t)cap), 0, cap}, b = {malloc(sizeof(int) * 2 * (size_t)cap), 0, cap};
+      cr_assert_eq(cb_broadphase_self_pairs(nb, skip, collect_visit, &a), 0);
+      cr_assert_eq(cb_oldbp_self_pairs(ob, skip, collect_visit, &b), 0);
+      cr_assert_leq(a.n, cap);
+      same_sets("triangle pairs, new against old", a.p, a.n, b.p, b.n);
+      free(a.p);
+      free(b.p);
+    }
+    cr_assert_eq(cb_broadphase_cross_candidates(nb, nb2, &cn), 0, "%s", cb_error_message());
+    cr_assert_eq(cb_oldbp_cross_candidates(ob, ob2, &co), 0, "%s", cb_error_message());
+    same_sets("cross vf, new against old", cn.vf, cn.nvf, co.vf, co.nvf);
+    same_sets("cross fv, new against old", cn.fv, cn.nfv, co.fv, co.nfv);
+    same_sets("cross ee, new against old", cn.ee, cn.nee, co.ee, co.nee);
+  }
+  cr_assert_gt(total, 10000);
+  cb_candidates_free(&cn);
+  cb_candidates_free(&co);
+  cb_broadphase_free(nb);
+  cb_broadphase_free(nb2);
+  cb_oldbp_free(ob);
+  cb_oldbp_free(ob2);
+  free(x0);
+  free(x1);
+  free(y0);
+  free(y1);
   cb_mesh_free(&m);
 }

@@ -28,14 +28,22 @@
  * primitive's own swept box lies in the box of each triangle that contains it,
  * so no pair is lost. Adjacent pairs (a vertex of the face, edges sharing a
  * vertex) are left out, and each remaining pair is kept only if the boxes of
- * its two primitives overlap. */
+ * its two primitives overlap.
+ *
+ * The tests are exact in double precision; they run on float copies of the
+ * boxes (rounded to nearest, so a comparison of two floats is that of the
+ * doubles unless the floats are equal, and then the doubles decide), four
+ * leaf triangles at a time with SSE2. The triangle pairs that share a vertex
+ * (about 70% on a cloth sheet) always overlap; their primitive pairs are
+ * listed once at cb_broadphase_alloc, and a self query tests their boxes in
+ * one pass instead of visiting them in the tree. */
 #ifndef CB_BROADPHASE_H
 #define CB_BROADPHASE_H
 
 typedef struct cb_broadphase_params {
   double
       thickness; /* d: pairs closer than d are candidates; boxes grow by d/2 a side, m. Default 0 (touching counts) */
-  int leaf_size; /* triangles a leaf holds at most, 1..16. Default 4 */
+  int leaf_size; /* triangles a leaf holds at most, 1..16. Default 8 */
   double rebuild_ratio; /* rebuild when SAH cost / SAH cost at the last build exceeds it, > 1. Default 1.5 */
   int cookie;           /* set by cb_broadphase_params_default; checked by cb_broadphase_alloc */
 } cb_broadphase_params;

@@ -12,14 +12,40 @@
 
 #include <clothbench/status.h>
 
+#if defined(__SSE2__) && !defined(CB_BROADPHASE_SCALAR)
+#include <emmintrin.h>
+#endif
+
 enum { PARAMS_COOKIE = 0x42505048, MAX_DEPTH = 64 };
 
+/* A box in single precision, each coordinate the double one rounded to
+ * nearest (lane 3: lo 0, hi 1, so it never decides a test). Rounding to
+ * nearest is monotone: fl(a) < fl(b) implies a < b and fl(a) > fl(b) implies
+ * a > b, so a comparison of two float coordinates is the comparison of the
+ * doubles unless they are equal (a tie), and then the doubles decide. The
+ * float tests therefore give exactly the double tests' answers. */
+typedef struct fbox {
+  float lo[4], hi[4];
+} __attribute__((aligned(16))) fbox;
+
+/* A tree node as the traversal reads it: its box in float (fbox; for the
+ * pruning, where a tie counts as an overlap, which only visits more), 48
+ * bytes. The double box, for the refit, is in dbox. */
 typedef struct node {
-  double lo[3], hi[3];
+  fbox fb;
   double area; /* half surface area of the box: the descent rule and the SAH cost */
   int first;   /* leaf: first slot; internal: index of the left child (the right one is first + 1) */
   int count;   /* leaf: triangles; internal: 0 */
 } node;
+
+static void to_fbox(const double *d, fbox *f) {
+  for (int k = 0; k < 3; k++) {
+    f->lo[k] = (float)d[k];
+    f->hi[k] = (float)d[3 + k];
+  }
+  f->lo[3] = 0.0f;
+  f->hi[3] = 1.0f;
+}
 
 /* What the candidate code needs of the triangle in one leaf slot, stored in
  * slot order so that a leaf's triangles are read from consecutive memory. */
@@ -45,6 +71,11 @@ struct cb_broadphase {
   unsigned char *own; /* per triangle: bits 0-2 the vertices it owns, bits 3-5 the edges */
   double *box;        /* 6*nt: each triangle's box, by triangle id (build scratch) */
   double *sbox;       /* 6*nt: the box of the triangle in each leaf slot (slot order) */
+  fbox *fsbox;        /* nt: sbox in float (fbox), slot order */
+  float *soa;         /* 6 * stride: sbox in float, structure of arrays (lo x, y, z, hi x, y, z), slot order */
+  int stride;         /* nt rounded up, plus 16 lanes of padding the 4-wide loads may read */
+  fbox *fvbox;        /* nv: vbox in float */
+  fbox *febox;        /* ne: ebox in float */
   slot_rec *rec;      /* nt: the triangle in each leaf slot */
   int *slot;          /* nt: the slot of each triangle */
   double *vbox;       /* 6*nv: each vertex's swept box, grown by d/2 */
@@ -53,6 +84,15 @@ struct cb_broadphase {
   double *cen;        /* nt: centroid along the split axis during a build */
   int *idx;           /* nt: triangle of each leaf slot (identity before the first build) */
   node *nodes;        /* 2*nt */
+  double *dbox;       /* 6 * 2*nt: each node's box in double (fit) */
+  int *sv;            /* 3 * stride: the vertices of each slot's triangle, structure of arrays (ring_mask) */
+  /* The ring: the primitive pairs of the triangle pairs that share a vertex
+   * (their boxes always overlap: both hold the shared vertex's box), listed
+   * once at set-up by the ownership rule; a self query tests their boxes in
+   * one pass and its traversal leaves these triangle pairs out. */
+  int *rvf; /* 2*nrvf: (vertex, triangle) */
+  int *ree; /* 2*nree: (edge, edge) */
+  long nrvf, nree;
   int nnodes;
   pair *stack; /* traversal and build stack */
   int stack_cap;
@@ -63,7 +103,7 @@ struct cb_broadphase {
 cb_broadphase_params cb_broadphase_params_default(void) {
   cb_broadphase_params p = {0};
   p.thickness = 0.0;
-  p.leaf_size = 4;
+  p.leaf_size = 8;
   p.rebuild_ratio = 1.5;
   p.cookie = PARAMS_COOKIE;
   return p;
@@ -142,6 +182,98 @@ static int build_topology(cb_broadphase *b) {
 
 static const int next3[3] = {1, 2, 0};
 
+typedef struct ilist {
+  int *p;
+  long n, cap; /* pairs */
+} ilist;
+
+static int ilist_add(ilist *l, int u, int v) {
+  if (l->n == l->cap) {
+    long cap = l->cap ? 2 * l->cap : 1024;
+    int *q = cb_realloc(l->p, (size_t)cap, 2 * sizeof(int));
+    if (!q) return CB_ENOMEM;
+    l->p = q;
+    l->cap = cap;
+  }
+  l->p[2 * l->n] = u;
+  l->p[2 * l->n + 1] = v;
+  l->n++;
+  return CB_OK;
+}
+
+static int ring_cmp(const void *a, const void *b) {
+  const int *x = a, *y = b;
+  if (x[0] != y[0]) return x[0] < y[0] ? -1 : 1;
+  return (x[1] > y[1]) - (x[1] < y[1]);
+}
+
+/* The ring lists (struct cb_broadphase): for each pair of triangles A < B
+ * sharing a vertex, found through each vertex's triangles, the non-adjacent
+ * (vertex owned by A, face B), (vertex owned by B, face A) and (edge owned by
+ * A, edge owned by B): what the candidate code makes of the pair, less the box
+ * tests. Sorted, so that a pass reads the boxes in index order. */
+static int build_ring(cb_broadphase *b) {
+  int nv = b->nv, nt = b->nt, rc = CB_OK;
+  int *start = cb_calloc((size_t)nv + 1, sizeof(int)), *inc = cb_malloc((size_t)3 * nt, sizeof(int));
+  int *mark = cb_malloc((size_t)nt, sizeof(int));
+  ilist vf = {0}, ee = {0};
+  if (!start || !inc || !mark) {
+    rc = CB_ENOMEM;
+    goto out;
+  }
+  for (int i = 0; i < 3 * nt; i++) start[b->tri[i] + 1]++;
+  for (int v = 0; v < nv; v++) start[v + 1] += start[v];
+  for (int t = 0; t < nt; t++) {
+    mark[t] = -1;
+    for (int k = 0; k < 3; k++) inc[start[b->tri[3 * t + k]]++] = t;
+  }
+  for (int v = nv; v > 0; v--) start[v] = start[v - 1];
+  start[0] = 0;
+  for (int A = 0; A < nt && !rc; A++) {
+    const int *ta = b->tri + 3 * A;
+    unsigned oa = b->own[A];
+    for (int k = 0; k < 3 && !rc; k++)
+      for (int i = start[ta[k]]; i < start[ta[k] + 1] && !rc; i++) {
+        int B = inc[i];
+        if (B <= A || mark[B] == A) continue;
+        mark[B] = A;
+        const int *tb = b->tri + 3 * B;
+        unsigned ob = b->own[B];
+        for (int m = 0; m < 3 && !rc; m++) {
+          int va = ta[m], vb = tb[m];
+          if ((oa & (1u << m)) && va != tb[0] && va != tb[1] && va != tb[2]) rc = ilist_add(&vf, va, B);
+          if (!rc && (ob & (1u << m)) && vb != ta[0] && vb != ta[1] && vb != ta[2]) rc = ilist_add(&vf, vb, A);
+        }
+        for (int m = 0; m < 3 && !rc; m++) {
+          if (!(oa & (8u << m))) continue;
+          int a0 = ta[m], a1 = ta[next3[m]];
+          for (int l = 0; l < 3 && !rc; l++) {
+            if (!(ob & (8u << l))) continue;
+            int b0 = tb[l], b1 = tb[next3[l]];
+            if (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1) continue;
+            rc = ilist_add(&ee, b->tri_edge[3 * A + m], b->tri_edge[3 * B + l]);
+          }
+        }
+      }
+  }
+  if (!rc) {
+    if (vf.n) qsort(vf.p, (size_t)vf.n, 2 * sizeof(int), ring_cmp);
+    if (ee.n) qsort(ee.p, (size_t)ee.n, 2 * sizeof(int), ring_cmp);
+    b->rvf = vf.p;
+    b->nrvf = vf.n;
+    b->ree = ee.p;
+    b->nree = ee.n;
+    vf.p = ee.p = NULL;
+  }
+out:
+  free(start);
+  free(inc);
+  free(mark);
+  free(vf.p);
+  free(ee.p);
+  return rc;
+}
+
 /* slot[] and rec[] for the current idx[] */
 static void set_slots(cb_broadphase *b) {
   for (int s = 0; s < b->nt; s++) {
@@ -158,6 +290,24 @@ static void set_slots(cb_broadphase *b) {
         r->ek[r->noe] = (unsigned char)k;
         r->oe[r->noe++] = b->tri_edge[3 * t + k];
       }
+    }
+    for (int k = 0; k < 3; k++) b->sv[k * b->stride + s] = r->v[k];
+  }
+}
+
+
+/* The float copies of the slot boxes, in slot order (after the boxes, and
+ * after a build reorders the slots). */
+static void fill_float(cb_broadphase *b) {
+  int st = b->stride;
+  float *f = b->soa;
+  for (int s = 0; s < b->nt; s++) {
+    const double *bx = b->sbox + 6 * s;
+    fbox *fb = b->fsbox + s;
+    to_fbox(bx, fb);
+    for (int k = 0; k < 3; k++) {
+      f[k * st + s] = fb->lo[k];
+      f[(3 + k) * st + s] = fb->hi[k];
     }
   }
 }
@@ -195,16 +345,28 @@ int cb_broadphase_alloc(int nv, int nt, const int *tri, const cb_broadphase_para
   b->slot = cb_malloc((size_t)nt, sizeof(int));
   b->sbox = cb_malloc((size_t)nt, 6 * sizeof(double));
   b->rec = cb_calloc((size_t)nt, sizeof(slot_rec));
-  b->nodes = cb_malloc((size_t)2 * nt, sizeof(node));
+  b->stride = (nt + 3) / 4 * 4 + 16;
+  b->fsbox = cb_calloc_aligned((size_t)nt, sizeof(fbox));
+  b->soa = cb_calloc_aligned((size_t)6 * b->stride, sizeof(float));
+  b->nodes = cb_calloc_aligned((size_t)2 * nt, sizeof(node));
+  b->dbox = cb_malloc((size_t)2 * nt, 6 * sizeof(double));
+  b->sv = cb_calloc_aligned((size_t)3 * b->stride, sizeof(int));
   b->stack = cb_malloc((size_t)b->stack_cap, sizeof(pair));
   if (!b->tri || !b->tri_edge || !b->own || !b->box || !b->vbox || !b->cen || !b->idx || !b->nodes || !b->stack ||
-      !b->slot || !b->sbox || !b->rec) {
+      !b->slot || !b->sbox || !b->rec || !b->fsbox || !b->soa || !b->dbox || !b->sv) {
     cb_broadphase_free(b);
     return CB_ENOMEM;
   }
   memcpy(b->tri, tri, (size_t)nt * 3 * sizeof(int));
   int rc = build_topology(b);
   if (rc) {
+    cb_broadphase_free(b);
+    return rc;
+  }
+  b->fvbox = cb_calloc_aligned(nv > 0 ? (size_t)nv : 1, sizeof(fbox));
+  b->febox = cb_calloc_aligned(b->ne > 0 ? (size_t)b->ne : 1, sizeof(fbox));
+  if (!b->fvbox || !b->febox) rc = CB_ENOMEM;
+  if (rc || (rc = build_ring(b)) != CB_OK) {
     cb_broadphase_free(b);
     return rc;
   }
@@ -227,8 +389,16 @@ void cb_broadphase_free(cb_broadphase *b) {
   free(b->idx);
   free(b->slot);
   free(b->sbox);
+  free(b->fsbox);
+  free(b->soa);
+  free(b->fvbox);
+  free(b->febox);
   free(b->rec);
   free(b->nodes);
+  free(b->dbox);
+  free(b->sv);
+  free(b->rvf);
+  free(b->ree);
   free(b->stack);
   free(b);
 }
@@ -296,16 +466,18 @@ static double fit(cb_broadphase *b) {
         }
       }
     } else {
-      const node *l = b->nodes + nd->first, *r = l + 1;
+      const double *l = b->dbox + 6 * nd->first, *r = l + 6;
       for (int k = 0; k < 3; k++) {
-        lo[k] = l->lo[k] < r->lo[k] ? l->lo[k] : r->lo[k];
-        hi[k] = l->hi[k] > r->hi[k] ? l->hi[k] : r->hi[k];
+        lo[k] = l[k] < r[k] ? l[k] : r[k];
+        hi[k] = l[3 + k] > r[3 + k] ? l[3 + k] : r[3 + k];
       }
     }
+    double *db = b->dbox + 6 * i;
     for (int k = 0; k < 3; k++) {
-      nd->lo[k] = lo[k];
-      nd->hi[k] = hi[k];
+      db[k] = lo[k];
+      db[3 + k] = hi[k];
     }
+    to_fbox(db, &nd->fb);
     nd->area = half_area(lo, hi);
     c += nd->area * (nd->count ? nd->count : 1);
   }
@@ -361,6 +533,7 @@ static int build(cb_broadphase *b) {
   /* the slot order of the new tree: boxes and records follow */
   for (int s = 0; s < b->nt; s++) memcpy(b->sbox + 6 * s, b->box + 6 * b->idx[s], 6 * sizeof(double));
   set_slots(b);
+  fill_float(b);
   b->stats.depth = depth;
   b->stats.nodes = b->nnodes;
   b->stats.rebuilds++;
@@ -391,15 +564,20 @@ int cb_broadphase_boxes(cb_broadphase *b, const double *x0, const double *x1) {
       bx[k] = (a < c ? a : c) - d;
       bx[3 + k] = (a > c ? a : c) + d;
     }
+    to_fbox(bx, b->fvbox + v);
   }
-  for (int e = 0; e < b->ne; e++)
+  for (int e = 0; e < b->ne; e++) {
     union_box(b->vbox + 6 * b->edge[2 * e], b->vbox + 6 * b->edge[2 * e + 1], b->ebox + 6 * e);
+    to_fbox(b->ebox + 6 * e, b->febox + e);
+  }
   for (int s = 0; s < b->nt; s++) {
     const int *v = b->rec[s].v;
     double *bx = b->sbox + 6 * s;
     union_box(b->vbox + 6 * v[0], b->vbox + 6 * v[1], bx);
     union_box(bx, b->vbox + 6 * v[2], bx);
+    memcpy(b->box + 6 * b->rec[s].t, bx, 6 * sizeof(double)); /* by triangle id: the ring's VF tests */
   }
+  fill_float(b);
   b->boxed = 1;
   return CB_OK;
 }
@@ -444,51 +622,89 @@ static inline int box_overlap(const double *a, const double *b) {
   return a[0] <= b[3] && b[0] <= a[3] && a[1] <= b[4] && b[1] <= a[4] && a[2] <= b[5] && b[2] <= a[5];
 }
 
+/* Whether two nodes' float boxes overlap, a tie counting as an overlap: so a
+ * pair of nodes whose double boxes overlap is never pruned (fbox); the answer
+ * is data (0 or 1), for a push without a branch. */
 static inline int node_overlap(const node *a, const node *b) {
-  return a->lo[0] <= b->hi[0] && b->lo[0] <= a->hi[0] && a->lo[1] <= b->hi[1] && b->lo[1] <= a->hi[1] &&
-         a->lo[2] <= b->hi[2] && b->lo[2] <= a->hi[2];
+#if defined(__SSE2__) && !defined(CB_BROADPHASE_SCALAR)
+  __m128 alo = _mm_load_ps(a->fb.lo), ahi = _mm_load_ps(a->fb.hi), blo = _mm_load_ps(b->fb.lo),
+         bhi = _mm_load_ps(b->fb.hi);
+  return _mm_movemask_ps(_mm_or_ps(_mm_cmpgt_ps(alo, bhi), _mm_cmpgt_ps(blo, ahi))) == 0;
+#else
+  int gt = 0;
+  for (int k = 0; k < 3; k++) gt |= (a->fb.lo[k] > b->fb.hi[k]) | (b->fb.lo[k] > a->fb.hi[k]);
+  return !gt;
+#endif
 }
 
-static inline void push(int *arr, long *n, long cap, int u, int v) {
-  if (*n < cap) {
-    arr[2 * *n] = u;
-    arr[2 * *n + 1] = v;
+/* Box overlap from the float boxes fa, fb, with the double boxes da, db
+ * deciding a tie (fbox): the answer of box_overlap(da, db). */
+static inline int fbox_overlap(const fbox *fa, const fbox *fb, const double *da, const double *db) {
+#if defined(__SSE2__) && !defined(CB_BROADPHASE_SCALAR)
+  __m128 alo = _mm_load_ps(fa->lo), ahi = _mm_load_ps(fa->hi), blo = _mm_load_ps(fb->lo), bhi = _mm_load_ps(fb->hi);
+  int gt = _mm_movemask_ps(_mm_or_ps(_mm_cmpgt_ps(alo, bhi), _mm_cmpgt_ps(blo, ahi)));
+  int eq = _mm_movemask_ps(_mm_or_ps(_mm_cmpeq_ps(alo, bhi), _mm_cmpeq_ps(blo, ahi)));
+  /* no branch on the answer (it is data: about a third of the tests pass); a tie is rare */
+  if (__builtin_expect(eq != 0, 0)) return !gt && box_overlap(da, db);
+  return !gt;
+#else
+  int gt = 0, eq = 0;
+  for (int k = 0; k < 3; k++) {
+    gt |= (fa->lo[k] > fb->hi[k]) | (fb->lo[k] > fa->hi[k]);
+    eq |= (fa->lo[k] == fb->hi[k]) | (fb->lo[k] == fa->hi[k]);
   }
-  (*n)++;
+  if (gt) return 0;
+  return !eq || box_overlap(da, db);
+#endif
+}
+
+/* push(u, v) if ok (0 or 1), without a branch on ok: the pair is written at
+ * the end of the list either way and counted only if ok */
+static inline void push_if(int *arr, long *n, long cap, int u, int v, int ok) {
+  long m = *n;
+  if (__builtin_expect(m < cap, 1)) {
+    arr[2 * m] = u;
+    arr[2 * m + 1] = v;
+  }
+  *n = m + ok;
 }
 
 /* The VF and EE candidates of triangles ra (mesh A, box ba) and rb (mesh B,
  * box bb): the vertices each owns against the other's face, the edges each
  * owns against the other's (header). self: A and B are one mesh, so adjacent
  * pairs are left out and both VF lists are c->vf. */
-static inline void pair_cands(const cb_broadphase *A, const slot_rec *ra, const double *ba, const cb_broadphase *B,
-                              const slot_rec *rb, const double *bb, int self, cb_candidates *c) {
+static inline void pair_cands(const cb_broadphase *A, int s, const cb_broadphase *B, int u, int self,
+                              cb_candidates *c) {
+  const slot_rec *ra = A->rec + s, *rb = B->rec + u;
+  const double *ba = A->sbox + 6 * s, *bb = B->sbox + 6 * u;
+  const fbox *fa = A->fsbox + s, *fb = B->fsbox + u;
+  /* adjacency and overlap are data, not branches (push_if) */
   for (int k = 0; k < ra->nov; k++) {
     int v = ra->ov[k];
-    if (self && (v == rb->v[0] || v == rb->v[1] || v == rb->v[2])) continue;
-    if (box_overlap(A->vbox + 6 * v, bb)) push(c->vf, &c->nvf, c->cap_vf, v, rb->t);
+    int adj = self & ((v == rb->v[0]) | (v == rb->v[1]) | (v == rb->v[2]));
+    push_if(c->vf, &c->nvf, c->cap_vf, v, rb->t, (!adj) & fbox_overlap(A->fvbox + v, fb, A->vbox + 6 * v, bb));
   }
   for (int k = 0; k < rb->nov; k++) {
     int v = rb->ov[k];
-    if (self && (v == ra->v[0] || v == ra->v[1] || v == ra->v[2])) continue;
-    if (!box_overlap(B->vbox + 6 * v, ba)) continue;
-    if (self) push(c->vf, &c->nvf, c->cap_vf, v, ra->t);
-    else push(c->fv, &c->nfv, c->cap_fv, v, ra->t);
+    int adj = self & ((v == ra->v[0]) | (v == ra->v[1]) | (v == ra->v[2]));
+    int ok = (!adj) & fbox_overlap(B->fvbox + v, fa, B->vbox + 6 * v, ba);
+    if (self) push_if(c->vf, &c->nvf, c->cap_vf, v, ra->t, ok);
+    else push_if(c->fv, &c->nfv, c->cap_fv, v, ra->t, ok);
   }
   for (int k = 0; k < ra->noe; k++) {
     int ea = ra->oe[k], a0 = ra->v[ra->ek[k]], a1 = ra->v[next3[ra->ek[k]]];
-    const double *eba = A->ebox + 6 * ea;
+    const fbox *fea = A->febox + ea;
     for (int l = 0; l < rb->noe; l++) {
       int b0 = rb->v[rb->ek[l]], b1 = rb->v[next3[rb->ek[l]]];
-      if (self && (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1)) continue;
-      if (box_overlap(eba, B->ebox + 6 * rb->oe[l])) push(c->ee, &c->nee, c->cap_ee, ea, rb->oe[l]);
+      int adj = self & ((a0 == b0) | (a0 == b1) | (a1 == b0) | (a1 == b1));
+      int ok = (!adj) & fbox_overlap(fea, B->febox + rb->oe[l], A->ebox + 6 * ea, B->ebox + 6 * rb->oe[l]);
+      push_if(c->ee, &c->nee, c->cap_ee, ea, rb->oe[l], ok);
     }
   }
 }
 
 void cb_broadphase_pair_candidates(const cb_broadphase *b, int i, int j, cb_candidates *c) {
-  int s = b->slot[i], u = b->slot[j];
-  pair_cands(b, b->rec + s, b->sbox + 6 * s, b, b->rec + u, b->sbox + 6 * u, 1, c);
+  pair_cands(b, b->slot[i], b, b->slot[j], 1, c);
 }
 
 /* ---- traversal ------------------------------------------------------------ */
@@ -500,13 +716,80 @@ static int share_vertex(const int *a, const int *b) {
   return 0;
 }
 
+/* Bit i set: the box of slot s of A overlaps that of slot first + i of B,
+ * i < n <= 16 (a leaf). Four slots at a time from B's float SoA boxes; a
+ * lane whose floats tie is decided by the doubles (fbox), so the mask is
+ * box_overlap's answer exactly. */
+static inline unsigned leaf_mask(const cb_broadphase *A, int s, const cb_broadphase *B, int first, int n) {
+  unsigned m = 0;
+#if defined(__SSE2__) && !defined(CB_BROADPHASE_SCALAR)
+  const fbox *f = A->fsbox + s;
+  const float *so = B->soa;
+  int st = B->stride;
+  __m128 lo0 = _mm_set1_ps(f->lo[0]), lo1 = _mm_set1_ps(f->lo[1]), lo2 = _mm_set1_ps(f->lo[2]);
+  __m128 hi0 = _mm_set1_ps(f->hi[0]), hi1 = _mm_set1_ps(f->hi[1]), hi2 = _mm_set1_ps(f->hi[2]);
+  for (int c = 0; c < n; c += 4) {
+    const float *q = so + first + c;
+    __m128 blo0 = _mm_loadu_ps(q), blo1 = _mm_loadu_ps(q + st), blo2 = _mm_loadu_ps(q + 2 * st);
+    __m128 bhi0 = _mm_loadu_ps(q + 3 * st), bhi1 = _mm_loadu_ps(q + 4 * st), bhi2 = _mm_loadu_ps(q + 5 * st);
+    __m128 gt = _mm_or_ps(_mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(lo0, bhi0), _mm_cmpgt_ps(blo0, hi0)),
+                                    _mm_or_ps(_mm_cmpgt_ps(lo1, bhi1), _mm_cmpgt_ps(blo1, hi1))),
+                          _mm_or_ps(_mm_cmpgt_ps(lo2, bhi2), _mm_cmpgt_ps(blo2, hi2)));
+    __m128 eq = _mm_or_ps(_mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(lo0, bhi0), _mm_cmpeq_ps(blo0, hi0)),
+                                    _mm_or_ps(_mm_cmpeq_ps(lo1, bhi1), _mm_cmpeq_ps(blo1, hi1))),
+                          _mm_or_ps(_mm_cmpeq_ps(lo2, bhi2), _mm_cmpeq_ps(blo2, hi2)));
+    unsigned lanes = n - c >= 4 ? 15u : (1u << (n - c)) - 1u;
+    unsigned yes = ~(unsigned)_mm_movemask_ps(gt) & lanes, tie = (unsigned)_mm_movemask_ps(eq) & yes;
+    while (__builtin_expect(tie != 0, 0)) {
+      int i = __builtin_ctz(tie);
+      tie &= tie - 1;
+      if (!box_overlap(A->sbox + 6 * s, B->sbox + 6 * (first + c + i))) yes &= ~(1u << i);
+    }
+    m |= yes << c;
+  }
+#else
+  for (int i = 0; i < n; i++) m |= (unsigned)box_overlap(A->sbox + 6 * s, B->sbox + 6 * (first + i)) << i;
+#endif
+  return m;
+}
+
+/* Bit i set: the triangle of slot first + i of A shares a vertex with that
+ * of slot s, i < n <= 16. */
+static inline unsigned ring_mask(const cb_broadphase *A, int s, int first, int n) {
+  unsigned m = 0;
+  const int *v = A->rec[s].v;
+#if defined(__SSE2__) && !defined(CB_BROADPHASE_SCALAR)
+  const int *sv = A->sv + first;
+  int st = A->stride;
+  __m128i a0 = _mm_set1_epi32(v[0]), a1 = _mm_set1_epi32(v[1]), a2 = _mm_set1_epi32(v[2]);
+  for (int c = 0; c < n; c += 4) {
+    __m128i eq = _mm_setzero_si128();
+    for (int k = 0; k < 3; k++) {
+      __m128i u = _mm_loadu_si128((const __m128i *)(sv + k * st + c));
+      eq = _mm_or_si128(
+          eq, _mm_or_si128(_mm_or_si128(_mm_cmpeq_epi32(u, a0), _mm_cmpeq_epi32(u, a1)), _mm_cmpeq_epi32(u, a2)));
+    }
+    m |= (unsigned)_mm_movemask_ps(_mm_castsi128_ps(eq)) << c;
+  }
+  m &= n >= 32 ? ~0u : (1u << n) - 1u;
+#else
+  for (int i = 0; i < n; i++) {
+    const int *u = A->rec[first + i].v;
+    int sh = 0;
+    for (int k = 0; k < 3; k++) sh |= (u[k] == v[0]) | (u[k] == v[1]) | (u[k] == v[2]);
+    m |= (unsigned)sh << i;
+  }
+#endif
+  return m;
+}
+
 /* One overlapping triangle pair (slot s of A, slot u of B): its candidates
  * (c != NULL) or a call of visit. */
 static inline int emit(const cb_broadphase *A, int s, const cb_broadphase *B, int u, int self, int skip_adjacent,
                        cb_broadphase_visit visit, void *ctx, cb_candidates *c) {
   const slot_rec *ra = A->rec + s, *rb = B->rec + u;
   if (c) {
-    pair_cands(A, ra, A->sbox + 6 * s, B, rb, B->sbox + 6 * u, self, c);
+    pair_cands(A, s, B, u, self, c);
     return 0;
   }
   if (!self) return visit(ctx, ra->t, rb->t);
@@ -533,32 +816,37 @@ static inline __attribute__((always_inline)) int traverse(const cb_broadphase *A
     const node *na = A->nodes + q.a, *nb = B->nodes + q.b;
     if (self && q.a == q.b) {
       if (na->count) {
-        int end = na->first + na->count;
-        for (int s = na->first; s < end; s++)
-          for (int u = s + 1; u < end; u++)
-            if (box_overlap(A->sbox + 6 * s, A->sbox + 6 * u) &&
-                (rc = emit(A, s, A, u, 1, skip_adjacent, visit, ctx, c)))
-              return rc;
+        int f = na->first, n = na->count;
+        for (int s = f; s < f + n - 1; s++) {
+          unsigned m = leaf_mask(A, s, A, f, n) & ~((2u << (s - f)) - 1u); /* the slots after s */
+          if (c) m &= ~ring_mask(A, s, f, n); /* the ring pass lists these pairs' candidates */
+          while (m) {
+            int u = f + __builtin_ctz(m);
+            m &= m - 1;
+            if ((rc = emit(A, s, A, u, 1, skip_adjacent, visit, ctx, c))) return rc;
+          }
+        }
         continue;
       }
       if (sp + 3 > cap) return cb_fail_status(CB_ENOMEM, "broadphase: traversal stack exhausted");
       int l = na->first;
       st[sp++] = (pair){l, l};
       st[sp++] = (pair){l + 1, l + 1};
-      if (node_overlap(A->nodes + l, A->nodes + l + 1)) st[sp++] = (pair){l, l + 1};
+      st[sp] = (pair){l, l + 1}; /* pushed without a branch: kept if the boxes overlap */
+      sp += node_overlap(A->nodes + l, A->nodes + l + 1);
       continue;
     }
     /* na and nb overlap */
     if (na->count && nb->count) {
-      int ea = na->first + na->count, eb = nb->first + nb->count;
+      int ea = na->first + na->count, f = nb->first, n = nb->count;
       for (int s = na->first; s < ea; s++) {
-        const double *bs = A->sbox + 6 * s;
-        if (!(bs[0] <= nb->hi[0] && nb->lo[0] <= bs[3] && bs[1] <= nb->hi[1] && nb->lo[1] <= bs[4] &&
-              bs[2] <= nb->hi[2] && nb->lo[2] <= bs[5]))
-          continue;
-        for (int u = nb->first; u < eb; u++)
-          if (box_overlap(bs, B->sbox + 6 * u) && (rc = emit(A, s, B, u, self, skip_adjacent, visit, ctx, c)))
-            return rc;
+        unsigned m = leaf_mask(A, s, B, f, n);
+        if (self && c) m &= ~ring_mask(A, s, f, n);
+        while (m) {
+          int u = f + __builtin_ctz(m);
+          m &= m - 1;
+          if ((rc = emit(A, s, B, u, self, skip_adjacent, visit, ctx, c))) return rc;
+        }
       }
       continue;
     }
@@ -566,12 +854,16 @@ static inline __attribute__((always_inline)) int traverse(const cb_broadphase *A
     /* descend the larger box (or the only internal one) */
     if (nb->count || (!na->count && na->area >= nb->area)) {
       int l = na->first;
-      if (node_overlap(A->nodes + l, nb)) st[sp++] = (pair){l, q.b};
-      if (node_overlap(A->nodes + l + 1, nb)) st[sp++] = (pair){l + 1, q.b};
+      st[sp] = (pair){l, q.b};
+      sp += node_overlap(A->nodes + l, nb);
+      st[sp] = (pair){l + 1, q.b};
+      sp += node_overlap(A->nodes + l + 1, nb);
     } else {
       int l = nb->first;
-      if (node_overlap(na, B->nodes + l)) st[sp++] = (pair){q.a, l};
-      if (node_overlap(na, B->nodes + l + 1)) st[sp++] = (pair){q.a, l + 1};
+      st[sp] = (pair){q.a, l};
+      sp += node_overlap(na, B->nodes + l);
+      st[sp] = (pair){q.a, l + 1};
+      sp += node_overlap(na, B->nodes + l + 1);
     }
   }
   return CB_OK;
@@ -594,10 +886,28 @@ static int finish(const cb_candidates *c, int rc) {
   return CB_OK;
 }
 
+static inline int dbox_overlap(const double *a, const double *b) {
+  return (a[0] <= b[3]) & (b[0] <= a[3]) & (a[1] <= b[4]) & (b[1] <= a[4]) & (a[2] <= b[5]) & (b[2] <= a[5]);
+}
+
+/* The candidates of the triangle pairs that share a vertex: the ring lists'
+ * pairs whose boxes overlap (double boxes by id; no branch on the answer). */
+static void ring_pass(const cb_broadphase *b, cb_candidates *c) {
+  const int *p = b->rvf;
+  for (long k = 0; k < b->nrvf; k++, p += 2)
+    push_if(c->vf, &c->nvf, c->cap_vf, p[0], p[1], dbox_overlap(b->vbox + 6 * p[0], b->box + 6 * p[1]));
+  p = b->ree;
+  for (long k = 0; k < b->nree; k++, p += 2)
+    push_if(c->ee, &c->nee, c->cap_ee, p[0], p[1], dbox_overlap(b->ebox + 6 * p[0], b->ebox + 6 * p[1]));
+}
+
 int cb_broadphase_self_candidates(const cb_broadphase *b, cb_candidates *c) {
   c->nvf = c->nfv = c->nee = 0;
-  /* adjacent triangle pairs are visited: their primitives need not be adjacent */
-  return finish(c, traverse(b, b, 1, 0, NULL, NULL, c));
+  /* triangle pairs sharing a vertex have candidates too (their primitives need
+   * not be adjacent): the ring pass lists them, the traversal the others */
+  int rc = traverse(b, b, 1, 0, NULL, NULL, c);
+  if (!rc) ring_pass(b, c);
+  return finish(c, rc);
 }
 
 int cb_broadphase_cross_candidates(const cb_broadphase *a, const cb_broadphase *b, cb_candidates *c) {

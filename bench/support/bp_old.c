@@ -1,0 +1,573 @@
+/* The broad phase as it was before the float SoA leaf boxes and the static
+ * list of the vertex-sharing triangle pairs (main at 9c1164c,
+ * lib/core/geometry/broadphase.c, symbols renamed cb_oldbp_*): kept in the
+ * bench only, so that bench_broadphase times the old and the new code in the
+ * same run, interleaved, and checks that their candidate sets are equal. */
+#include "bp_old.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <clothbench/status.h>
+
+enum { PARAMS_COOKIE = 0x42505048, MAX_DEPTH = 64 };
+
+typedef struct node {
+  double lo[3], hi[3];
+  double area; /* half surface area of the box: the descent rule and the SAH cost */
+  int first;   /* leaf: first slot; internal: index of the left child (the right one is first + 1) */
+  int count;   /* leaf: triangles; internal: 0 */
+} node;
+
+/* What the candidate code needs of the triangle in one leaf slot, stored in
+ * slot order so that a leaf's triangles are read from consecutive memory. */
+typedef struct slot_rec {
+  int v[3];  /* its vertices */
+  int ov[3]; /* the vertices it owns (nov of them) */
+  int oe[3]; /* the edges it owns (noe of them) */
+  int t;     /* triangle id */
+  unsigned char nov, noe;
+  unsigned char ek[3]; /* local index k of owned edge oe[m]: it joins v[k] and v[(k + 1) % 3] */
+} slot_rec;
+
+typedef struct pair {
+  int a, b;
+} pair;
+
+struct cb_oldbp {
+  cb_broadphase_params p;
+  int nv, nt, ne;
+  int *tri;           /* 3*nt */
+  int *edge;          /* 2*ne, i < j */
+  int *tri_edge;      /* 3*nt: edge k of triangle t joins tri[3t+k] and tri[3t+(k+1)%3] */
+  unsigned char *own; /* per triangle: bits 0-2 the vertices it owns, bits 3-5 the edges */
+  double *box;        /* 6*nt: each triangle's box, by triangle id (build scratch) */
+  double *sbox;       /* 6*nt: the box of the triangle in each leaf slot (slot order) */
+  slot_rec *rec;      /* nt: the triangle in each leaf slot */
+  int *slot;          /* nt: the slot of each triangle */
+  double *vbox;       /* 6*nv: each vertex's swept box, grown by d/2 */
+  double *ebox;       /* 6*ne: each edge's */
+  int boxed;          /* the boxes are set (cb_oldbp_boxes) */
+  double *cen;        /* nt: centroid along the split axis during a build */
+  int *idx;           /* nt: triangle of each leaf slot (identity before the first build) */
+  node *nodes;        /* 2*nt */
+  int nnodes;
+  pair *stack; /* traversal and build stack */
+  int stack_cap;
+  int built, force_rebuild;
+  cb_broadphase_stats stats;
+};
+
+/* ---- set-up ------------------------------------------------------------- */
+
+static int cmp_edge(const void *a, const void *b) {
+  const int *x = a, *y = b;
+  if (x[0] != y[0]) return x[0] < y[0] ? -1 : 1;
+  if (x[1] != y[1]) return x[1] < y[1] ? -1 : 1;
+  return x[2] < y[2] ? -1 : x[2] > y[2];
+}
+
+/* The unique edges, each triangle's three edge ids, and the owner bits:
+ * vertex v and edge e belong to the lowest-numbered triangle containing them. */
+static int build_topology(cb_oldbp *b) {
+  int nt = b->nt;
+  int *trip = cb_malloc((size_t)3 * nt > 0 ? (size_t)3 * nt : 1, 3 * sizeof(int));
+  int *vowner = cb_malloc(b->nv > 0 ? (size_t)b->nv : 1, sizeof(int));
+  if (!trip || !vowner) {
+    free(trip);
+    free(vowner);
+    return CB_ENOMEM;
+  }
+  for (int t = 0; t < nt; t++)
+    for (int k = 0; k < 3; k++) {
+      int i = b->tri[3 * t + k], j = b->tri[3 * t + (k + 1) % 3];
+      int *r = trip + 3 * (3 * t + k);
+      r[0] = i < j ? i : j;
+      r[1] = i < j ? j : i;
+      r[2] = 3 * t + k; /* triangle and local edge */
+    }
+  qsort(trip, (size_t)3 * nt, 3 * sizeof(int), cmp_edge);
+  int ne = 0;
+  for (int r = 0; r < 3 * nt; r++)
+    if (r == 0 || trip[3 * r] != trip[3 * r - 3] || trip[3 * r + 1] != trip[3 * r - 2]) ne++;
+  b->edge = cb_malloc(ne > 0 ? (size_t)ne : 1, 2 * sizeof(int));
+  if (!b->edge) {
+    free(trip);
+    free(vowner);
+    return CB_ENOMEM;
+  }
+  int e = -1;
+  for (int r = 0; r < 3 * nt; r++) {
+    const int *q = trip + 3 * r;
+    int fresh = r == 0 || q[0] != q[-3] || q[1] != q[-2];
+    if (fresh) { /* sorted by (i, j, slot): the first of a run is the lowest triangle */
+      e++;
+      b->edge[2 * e] = q[0];
+      b->edge[2 * e + 1] = q[1];
+      b->own[q[2] / 3] |= (unsigned char)(8u << (q[2] % 3));
+    }
+    b->tri_edge[q[2]] = e;
+  }
+  b->ne = ne;
+  b->ebox = cb_malloc(ne > 0 ? (size_t)ne : 1, 6 * sizeof(double));
+  if (!b->ebox) {
+    free(trip);
+    free(vowner);
+    return CB_ENOMEM;
+  }
+  for (int v = 0; v < b->nv; v++) vowner[v] = -1;
+  for (int t = 0; t < nt; t++)
+    for (int k = 0; k < 3; k++) {
+      int v = b->tri[3 * t + k];
+      if (vowner[v] < 0) {
+        vowner[v] = t;
+        b->own[t] |= (unsigned char)(1u << k);
+      }
+    }
+  free(trip);
+  free(vowner);
+  return CB_OK;
+}
+
+static const int next3[3] = {1, 2, 0};
+
+/* slot[] and rec[] for the current idx[] */
+static void set_slots(cb_oldbp *b) {
+  for (int s = 0; s < b->nt; s++) {
+    int t = b->idx[s];
+    slot_rec *r = b->rec + s;
+    unsigned own = b->own[t];
+    b->slot[t] = s;
+    r->t = t;
+    r->nov = r->noe = 0;
+    for (int k = 0; k < 3; k++) {
+      r->v[k] = b->tri[3 * t + k];
+      if (own & (1u << k)) r->ov[r->nov++] = r->v[k];
+      if (own & (8u << k)) {
+        r->ek[r->noe] = (unsigned char)k;
+        r->oe[r->noe++] = b->tri_edge[3 * t + k];
+      }
+    }
+  }
+}
+
+int cb_oldbp_alloc(int nv, int nt, const int *tri, const cb_broadphase_params *p, cb_oldbp **out) {
+  *out = NULL;
+  if (!p || p->cookie != PARAMS_COOKIE) return cb_fail("broadphase: parameters not from cb_oldbp_params_default()");
+  if (!(p->thickness >= 0.0) || !isfinite(p->thickness))
+    return cb_fail("broadphase: thickness %g must be finite and >= 0", p->thickness);
+  if (p->leaf_size < 1 || p->leaf_size > 16) return cb_fail("broadphase: leaf_size %d not in 1..16", p->leaf_size);
+  if (!(p->rebuild_ratio > 1.0)) return cb_fail("broadphase: rebuild_ratio %g must be > 1", p->rebuild_ratio);
+  if (nv < 0 || nt < 1 || !tri || nt > INT32_MAX / 6)
+    return cb_fail("broadphase: need at least one triangle (nv %d, nt %d)", nv, nt);
+  for (int t = 0; t < nt; t++) {
+    const int *v = tri + 3 * t;
+    for (int k = 0; k < 3; k++)
+      if (v[k] < 0 || v[k] >= nv) return cb_fail("broadphase: triangle %d: vertex %d out of range", t, v[k]);
+    if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2])
+      return cb_fail("broadphase: triangle %d repeats a vertex (%d %d %d)", t, v[0], v[1], v[2]);
+  }
+  cb_oldbp *b = cb_calloc(1, sizeof *b);
+  if (!b) return CB_ENOMEM;
+  b->p = *p;
+  b->nv = nv;
+  b->nt = nt;
+  b->stack_cap = 8 * (MAX_DEPTH + 2);
+  b->tri = cb_malloc((size_t)nt, 3 * sizeof(int));
+  b->tri_edge = cb_malloc((size_t)nt, 3 * sizeof(int));
+  b->own = cb_calloc((size_t)nt, 1);
+  b->box = cb_malloc((size_t)nt, 6 * sizeof(double));
+  b->vbox = cb_malloc(nv > 0 ? (size_t)nv : 1, 6 * sizeof(double));
+  b->cen = cb_malloc((size_t)nt, sizeof(double));
+  b->idx = cb_malloc((size_t)nt, sizeof(int));
+  b->slot = cb_malloc((size_t)nt, sizeof(int));
+  b->sbox = cb_malloc((size_t)nt, 6 * sizeof(double));
+  b->rec = cb_calloc((size_t)nt, sizeof(slot_rec));
+  b->nodes = cb_malloc((size_t)2 * nt, sizeof(node));
+  b->stack = cb_malloc((size_t)b->stack_cap, sizeof(pair));
+  if (!b->tri || !b->tri_edge || !b->own || !b->box || !b->vbox || !b->cen || !b->idx || !b->nodes || !b->stack ||
+      !b->slot || !b->sbox || !b->rec) {
+    cb_oldbp_free(b);
+    return CB_ENOMEM;
+  }
+  memcpy(b->tri, tri, (size_t)nt * 3 * sizeof(int));
+  int rc = build_topology(b);
+  if (rc) {
+    cb_oldbp_free(b);
+    return rc;
+  }
+  for (int t = 0; t < nt; t++) b->idx[t] = t;
+  set_slots(b);
+  *out = b;
+  return CB_OK;
+}
+
+void cb_oldbp_free(cb_oldbp *b) {
+  if (!b) return;
+  free(b->tri);
+  free(b->edge);
+  free(b->tri_edge);
+  free(b->own);
+  free(b->box);
+  free(b->vbox);
+  free(b->ebox);
+  free(b->cen);
+  free(b->idx);
+  free(b->slot);
+  free(b->sbox);
+  free(b->rec);
+  free(b->nodes);
+  free(b->stack);
+  free(b);
+}
+
+const int *cb_oldbp_edges(const cb_oldbp *b, int *ne) {
+  *ne = b->ne;
+  return b->edge;
+}
+
+void cb_oldbp_invalidate(cb_oldbp *b) { b->force_rebuild = 1; }
+
+const cb_broadphase_stats *cb_oldbp_stats_get(const cb_oldbp *b) { return &b->stats; }
+
+/* ---- the tree ------------------------------------------------------------- */
+
+static double half_area(const double *lo, const double *hi) {
+  double dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
+  return dx * dy + dy * dz + dz * dx;
+}
+
+/* Reorders idx[lo, hi) so that idx[mid] has the key of rank mid - lo, keys
+ * before it <= and after it >= (Hoare's selection, median-of-three pivot). */
+static void select_median(int *idx, const double *key, int lo, int hi, int mid) {
+  hi--;
+  while (hi > lo) {
+    int m = lo + (hi - lo) / 2;
+    double a = key[idx[lo]], c = key[idx[m]], d = key[idx[hi]];
+    double piv = a < c ? (c < d ? c : (a < d ? d : a)) : (a < d ? a : (c < d ? d : c));
+    int i = lo, j = hi;
+    while (i <= j) {
+      while (key[idx[i]] < piv) i++;
+      while (key[idx[j]] > piv) j--;
+      if (i <= j) {
+        int t = idx[i];
+        idx[i] = idx[j];
+        idx[j] = t;
+        i++;
+        j--;
+      }
+    }
+    if (mid <= j) hi = j;
+    else if (mid >= i) lo = i;
+    else return;
+  }
+}
+
+/* Every node's box and area from the slot boxes, bottom up (children come
+ * after their parent), and the SAH cost (header) of the result. */
+static double fit(cb_oldbp *b) {
+  double c = 0.0;
+  for (int i = b->nnodes - 1; i >= 0; i--) {
+    node *nd = b->nodes + i;
+    double lo[3], hi[3];
+    if (nd->count) {
+      const double *bx = b->sbox + 6 * nd->first;
+      for (int k = 0; k < 3; k++) {
+        lo[k] = bx[k];
+        hi[k] = bx[3 + k];
+      }
+      for (int s = 1; s < nd->count; s++) {
+        bx += 6;
+        for (int k = 0; k < 3; k++) {
+          lo[k] = bx[k] < lo[k] ? bx[k] : lo[k];
+          hi[k] = bx[3 + k] > hi[k] ? bx[3 + k] : hi[k];
+        }
+      }
+    } else {
+      const node *l = b->nodes + nd->first, *r = l + 1;
+      for (int k = 0; k < 3; k++) {
+        lo[k] = l->lo[k] < r->lo[k] ? l->lo[k] : r->lo[k];
+        hi[k] = l->hi[k] > r->hi[k] ? l->hi[k] : r->hi[k];
+      }
+    }
+    for (int k = 0; k < 3; k++) {
+      nd->lo[k] = lo[k];
+      nd->hi[k] = hi[k];
+    }
+    nd->area = half_area(lo, hi);
+    c += nd->area * (nd->count ? nd->count : 1);
+  }
+  double root = b->nodes[0].area;
+  return root > 0.0 ? c / root : (double)b->nnodes;
+}
+
+static int build(cb_oldbp *b) {
+  /* the boxes by triangle id, then a fresh order */
+  for (int s = 0; s < b->nt; s++) memcpy(b->box + 6 * b->idx[s], b->sbox + 6 * s, 6 * sizeof(double));
+  for (int i = 0; i < b->nt; i++) b->idx[i] = i;
+  b->nnodes = 1;
+  b->nodes[0].first = 0;
+  b->nodes[0].count = b->nt;
+  /* stack of (node, depth); a node's slots are [first, first + count) */
+  int sp = 0, depth = 1;
+  b->stack[sp++] = (pair){0, 1};
+  while (sp) {
+    pair top = b->stack[--sp];
+    node *nd = b->nodes + top.a;
+    if (top.b > depth) depth = top.b;
+    if (nd->count <= b->p.leaf_size) continue;
+    /* split at the median centroid along the longest axis of the centroids' bounds */
+    double clo[3] = {INFINITY, INFINITY, INFINITY}, chi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int s = nd->first; s < nd->first + nd->count; s++) {
+      const double *bx = b->box + 6 * b->idx[s];
+      for (int k = 0; k < 3; k++) {
+        double c = 0.5 * (bx[k] + bx[3 + k]);
+        if (c < clo[k]) clo[k] = c;
+        if (c > chi[k]) chi[k] = c;
+      }
+    }
+    int ax = 0;
+    for (int k = 1; k < 3; k++)
+      if (chi[k] - clo[k] > chi[ax] - clo[ax]) ax = k;
+    for (int s = nd->first; s < nd->first + nd->count; s++) {
+      const double *bx = b->box + 6 * b->idx[s];
+      b->cen[b->idx[s]] = 0.5 * (bx[ax] + bx[3 + ax]);
+    }
+    int first = nd->first, count = nd->count, mid = first + count / 2;
+    select_median(b->idx, b->cen, first, first + count, mid);
+    int c = b->nnodes;
+    b->nnodes += 2;
+    nd->first = c;
+    nd->count = 0;
+    b->nodes[c] = (node){.first = first, .count = mid - first};
+    b->nodes[c + 1] = (node){.first = mid, .count = first + count - mid};
+    if (sp + 2 > b->stack_cap || top.b + 1 > MAX_DEPTH)
+      return cb_fail_status(CB_ENOMEM, "broadphase: build stack exhausted (depth %d)", top.b + 1);
+    b->stack[sp++] = (pair){c, top.b + 1};
+    b->stack[sp++] = (pair){c + 1, top.b + 1};
+  }
+  /* the slot order of the new tree: boxes and records follow */
+  for (int s = 0; s < b->nt; s++) memcpy(b->sbox + 6 * s, b->box + 6 * b->idx[s], 6 * sizeof(double));
+  set_slots(b);
+  b->stats.depth = depth;
+  b->stats.nodes = b->nnodes;
+  b->stats.rebuilds++;
+  b->stats.rebuilt = 1;
+  b->stats.sah_built = b->stats.sah_cost = fit(b);
+  b->built = 1;
+  b->force_rebuild = 0;
+  return CB_OK;
+}
+
+static void union_box(const double *a, const double *b, double *out) {
+  for (int k = 0; k < 3; k++) {
+    out[k] = a[k] < b[k] ? a[k] : b[k];
+    out[3 + k] = a[3 + k] > b[3 + k] ? a[3 + k] : b[3 + k];
+  }
+}
+
+int cb_oldbp_boxes(cb_oldbp *b, const double *x0, const double *x1) {
+  for (int i = 0; i < 3 * b->nv; i++)
+    if (!isfinite(x0[i]) || (x1 && !isfinite(x1[i])))
+      return cb_fail("broadphase: vertex %d: coordinate %d is not finite (%g%s%g)", i / 3, i % 3, x0[i],
+                     x1 ? " -> " : "", x1 ? x1[i] : 0.0);
+  double d = 0.5 * b->p.thickness; /* half on each box: boxes of pairs within d overlap */
+  for (int v = 0; v < b->nv; v++) {
+    double *bx = b->vbox + 6 * v;
+    for (int k = 0; k < 3; k++) {
+      double a = x0[3 * v + k], c = x1 ? x1[3 * v + k] : a;
+      bx[k] = (a < c ? a : c) - d;
+      bx[3 + k] = (a > c ? a : c) + d;
+    }
+  }
+  for (int e = 0; e < b->ne; e++)
+    union_box(b->vbox + 6 * b->edge[2 * e], b->vbox + 6 * b->edge[2 * e + 1], b->ebox + 6 * e);
+  for (int s = 0; s < b->nt; s++) {
+    const int *v = b->rec[s].v;
+    double *bx = b->sbox + 6 * s;
+    union_box(b->vbox + 6 * v[0], b->vbox + 6 * v[1], bx);
+    union_box(bx, b->vbox + 6 * v[2], bx);
+  }
+  b->boxed = 1;
+  return CB_OK;
+}
+
+int cb_oldbp_update(cb_oldbp *b, const double *x0, const double *x1) {
+  int rc = cb_oldbp_boxes(b, x0, x1);
+  if (rc) return rc;
+  if (!b->built || b->force_rebuild) return build(b);
+  b->stats.rebuilt = 0;
+  b->stats.sah_cost = fit(b);
+  if (b->stats.sah_cost > b->p.rebuild_ratio * b->stats.sah_built) return build(b);
+  return CB_OK;
+}
+
+/* ---- candidates of one triangle pair -------------------------------------- */
+
+static inline int box_overlap(const double *a, const double *b) {
+  return a[0] <= b[3] && b[0] <= a[3] && a[1] <= b[4] && b[1] <= a[4] && a[2] <= b[5] && b[2] <= a[5];
+}
+
+static inline int node_overlap(const node *a, const node *b) {
+  return a->lo[0] <= b->hi[0] && b->lo[0] <= a->hi[0] && a->lo[1] <= b->hi[1] && b->lo[1] <= a->hi[1] &&
+         a->lo[2] <= b->hi[2] && b->lo[2] <= a->hi[2];
+}
+
+static inline void push(int *arr, long *n, long cap, int u, int v) {
+  if (*n < cap) {
+    arr[2 * *n] = u;
+    arr[2 * *n + 1] = v;
+  }
+  (*n)++;
+}
+
+/* The VF and EE candidates of triangles ra (mesh A, box ba) and rb (mesh B,
+ * box bb): the vertices each owns against the other's face, the edges each
+ * owns against the other's (header). self: A and B are one mesh, so adjacent
+ * pairs are left out and both VF lists are c->vf. */
+static inline void pair_cands(const cb_oldbp *A, const slot_rec *ra, const double *ba, const cb_oldbp *B,
+                              const slot_rec *rb, const double *bb, int self, cb_candidates *c) {
+  for (int k = 0; k < ra->nov; k++) {
+    int v = ra->ov[k];
+    if (self && (v == rb->v[0] || v == rb->v[1] || v == rb->v[2])) continue;
+    if (box_overlap(A->vbox + 6 * v, bb)) push(c->vf, &c->nvf, c->cap_vf, v, rb->t);
+  }
+  for (int k = 0; k < rb->nov; k++) {
+    int v = rb->ov[k];
+    if (self && (v == ra->v[0] || v == ra->v[1] || v == ra->v[2])) continue;
+    if (!box_overlap(B->vbox + 6 * v, ba)) continue;
+    if (self) push(c->vf, &c->nvf, c->cap_vf, v, ra->t);
+    else push(c->fv, &c->nfv, c->cap_fv, v, ra->t);
+  }
+  for (int k = 0; k < ra->noe; k++) {
+    int ea = ra->oe[k], a0 = ra->v[ra->ek[k]], a1 = ra->v[next3[ra->ek[k]]];
+    const double *eba = A->ebox + 6 * ea;
+    for (int l = 0; l < rb->noe; l++) {
+      int b0 = rb->v[rb->ek[l]], b1 = rb->v[next3[rb->ek[l]]];
+      if (self && (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1)) continue;
+      if (box_overlap(eba, B->ebox + 6 * rb->oe[l])) push(c->ee, &c->nee, c->cap_ee, ea, rb->oe[l]);
+    }
+  }
+}
+
+void cb_oldbp_pair_candidates(const cb_oldbp *b, int i, int j, cb_candidates *c) {
+  int s = b->slot[i], u = b->slot[j];
+  pair_cands(b, b->rec + s, b->sbox + 6 * s, b, b->rec + u, b->sbox + 6 * u, 1, c);
+}
+
+/* ---- traversal ------------------------------------------------------------ */
+
+static int share_vertex(const int *a, const int *b) {
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++)
+      if (a[i] == b[j]) return 1;
+  return 0;
+}
+
+/* One overlapping triangle pair (slot s of A, slot u of B): its candidates
+ * (c != NULL) or a call of visit. */
+static inline int emit(const cb_oldbp *A, int s, const cb_oldbp *B, int u, int self, int skip_adjacent,
+                       cb_broadphase_visit visit, void *ctx, cb_candidates *c) {
+  const slot_rec *ra = A->rec + s, *rb = B->rec + u;
+  if (c) {
+    pair_cands(A, ra, A->sbox + 6 * s, B, rb, B->sbox + 6 * u, self, c);
+    return 0;
+  }
+  if (!self) return visit(ctx, ra->t, rb->t);
+  if (skip_adjacent && share_vertex(ra->v, rb->v)) return 0;
+  return ra->t < rb->t ? visit(ctx, ra->t, rb->t) : visit(ctx, rb->t, ra->t);
+}
+
+/* Pairs of nodes (a, b), a == b meaning "pairs within a" (self), on an
+ * explicit stack; a pair is pushed only if its boxes overlap. Each pop pushes
+ * at most three; descending one side at a time keeps the stack under
+ * 3 (depth_a + depth_b) entries. At a pair of leaves, each triangle of one is
+ * first tested against the other leaf's box. Inlined into each query with
+ * constant self and c == NULL or not, so the candidate code is not a call. */
+static inline __attribute__((always_inline)) int traverse(const cb_oldbp *A, const cb_oldbp *B, int self,
+                                                          int skip_adjacent, cb_broadphase_visit visit, void *ctx,
+                                                          cb_candidates *c) {
+  if (!A->built || !B->built) return cb_fail("broadphase: query before the first update");
+  pair *st = A->stack;
+  int cap = A->stack_cap, sp = 0, rc;
+  if (self) st[sp++] = (pair){0, 0};
+  else if (node_overlap(A->nodes, B->nodes)) st[sp++] = (pair){0, 0};
+  while (sp) {
+    pair q = st[--sp];
+    const node *na = A->nodes + q.a, *nb = B->nodes + q.b;
+    if (self && q.a == q.b) {
+      if (na->count) {
+        int end = na->first + na->count;
+        for (int s = na->first; s < end; s++)
+          for (int u = s + 1; u < end; u++)
+            if (box_overlap(A->sbox + 6 * s, A->sbox + 6 * u) &&
+                (rc = emit(A, s, A, u, 1, skip_adjacent, visit, ctx, c)))
+              return rc;
+        continue;
+      }
+      if (sp + 3 > cap) return cb_fail_status(CB_ENOMEM, "broadphase: traversal stack exhausted");
+      int l = na->first;
+      st[sp++] = (pair){l, l};
+      st[sp++] = (pair){l + 1, l + 1};
+      if (node_overlap(A->nodes + l, A->nodes + l + 1)) st[sp++] = (pair){l, l + 1};
+      continue;
+    }
+    /* na and nb overlap */
+    if (na->count && nb->count) {
+      int ea = na->first + na->count, eb = nb->first + nb->count;
+      for (int s = na->first; s < ea; s++) {
+        const double *bs = A->sbox + 6 * s;
+        if (!(bs[0] <= nb->hi[0] && nb->lo[0] <= bs[3] && bs[1] <= nb->hi[1] && nb->lo[1] <= bs[4] &&
+              bs[2] <= nb->hi[2] && nb->lo[2] <= bs[5]))
+          continue;
+        for (int u = nb->first; u < eb; u++)
+          if (box_overlap(bs, B->sbox + 6 * u) && (rc = emit(A, s, B, u, self, skip_adjacent, visit, ctx, c)))
+            return rc;
+      }
+      continue;
+    }
+    if (sp + 2 > cap) return cb_fail_status(CB_ENOMEM, "broadphase: traversal stack exhausted");
+    /* descend the larger box (or the only internal one) */
+    if (nb->count || (!na->count && na->area >= nb->area)) {
+      int l = na->first;
+      if (node_overlap(A->nodes + l, nb)) st[sp++] = (pair){l, q.b};
+      if (node_overlap(A->nodes + l + 1, nb)) st[sp++] = (pair){l + 1, q.b};
+    } else {
+      int l = nb->first;
+      if (node_overlap(na, B->nodes + l)) st[sp++] = (pair){q.a, l};
+      if (node_overlap(na, B->nodes + l + 1)) st[sp++] = (pair){q.a, l + 1};
+    }
+  }
+  return CB_OK;
+}
+
+int cb_oldbp_self_pairs(const cb_oldbp *b, int skip_adjacent, cb_broadphase_visit visit, void *ctx) {
+  return traverse(b, b, 1, skip_adjacent, visit, ctx, NULL);
+}
+
+int cb_oldbp_cross_pairs(const cb_oldbp *a, const cb_oldbp *b, cb_broadphase_visit visit, void *ctx) {
+  if (a == b) return cb_fail("broadphase: a cross query needs two trees (use cb_oldbp_self_pairs)");
+  return traverse(a, b, 0, 0, visit, ctx, NULL);
+}
+
+static int finish(const cb_candidates *c, int rc) {
+  if (rc) return rc;
+  if (c->nvf > c->cap_vf || c->nfv > c->cap_fv || c->nee > c->cap_ee)
+    return cb_fail_status(CB_ENOMEM, "broadphase: candidates exceed the capacity (vf %ld/%ld, fv %ld/%ld, ee %ld/%ld)",
+                          c->nvf, c->cap_vf, c->nfv, c->cap_fv, c->nee, c->cap_ee);
+  return CB_OK;
+}
+
+int cb_oldbp_self_candidates(const cb_oldbp *b, cb_candidates *c) {
+  c->nvf = c->nfv = c->nee = 0;
+  /* adjacent triangle pairs are visited: their primitives need not be adjacent */
+  return finish(c, traverse(b, b, 1, 0, NULL, NULL, c));
+}
+
+int cb_oldbp_cross_candidates(const cb_oldbp *a, const cb_oldbp *b, cb_candidates *c) {
+  c->nvf = c->nfv = c->nee = 0;
+  if (a == b) return cb_fail("broadphase: a cross query needs two trees (use cb_oldbp_self_candidates)");
+  return finish(c, traverse(a, b, 0, 0, NULL, NULL, c));
+}
