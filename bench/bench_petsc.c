@@ -173,6 +173,8 @@ int main(int argc, char **argv) {
                               "solve), preconditioner reuse (--mode reuse); issue 36, docs/solvers-petsc.md.",
                               nrest, rest);
   if (r) return r > 0 ? 0 : 1;
+  e.argc = argc; /* the CSV's "# command:" line: the whole command, ours included */
+  e.argv = argv;
   cb_experiment_timed(&e);
   cb_runtime_init();
   if (e.smoke) nsizes = 1, sizes[0] = 16, reps = 1, steps = 2;

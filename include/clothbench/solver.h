@@ -42,7 +42,7 @@ typedef struct cb_solver_params {
   int pc_reuse_steps; /* PETSc solvers, CB_PC_REUSE_STEP: set up once in this many time steps. Default 1 */
   int rigid_modes;    /* PETSc solvers: give the matrix the six rigid-body modes of solver->coords as its near-null
                          space (MatSetNearNullSpace; GAMG reads it) when the preconditioner is set up (1), or none
-                         (0). Default 1 */
+                         (0). Default 0 (docs/solvers-petsc.md measures both) */
   cb_solver_monitor monitor; /* per-iteration callback; NULL = none. Default NULL */
   void *monitor_ctx;
 } cb_solver_params;

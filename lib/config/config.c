@@ -219,11 +219,12 @@ static const keydef keys_tail[] = {
     {"solver.pc_reuse_steps", T_INT, O(solver_pc_reuse_steps), "1", "steps", 1, 1000000, 0, NULL, NULL,
      "PETSc solvers with solver.pc_reuse = step: the preconditioner is set up once in this many time steps (1: at "
      "every step)."},
-    {"solver.rigid_modes", T_BOOL, O(solver_rigid_modes), "1", "-", 0, 1, 0, NULL, NULL,
+    {"solver.rigid_modes", T_BOOL, O(solver_rigid_modes), "0", "-", 0, 1, 0, NULL, NULL,
      "PETSc solvers: give the matrix the six rigid-body modes of the step's vertex positions as its near-null space "
-     "(MatNullSpaceCreateRigidBody, MatSetNearNullSpace) at each preconditioner set-up (1), or none (0). GAMG "
-     "(`petsc-gamg`) builds its coarse spaces from them; the other presets do not read them. Collinear vertices "
-     "(a chain) get none."},
+     "(MatNullSpaceCreateRigidBody, MatSetNearNullSpace) at each preconditioner set-up (1), or none (0: GAMG then "
+     "takes the three translations of block size 3). GAMG (`petsc-gamg`) builds its coarse spaces from them; the "
+     "other presets do not read them. Collinear vertices (a chain) get none. Off by default: on the hanging cloth "
+     "the same iterations cost about twice the set-up (docs/solvers-petsc.md)."},
 };
 /* After the tail: contact.method, then the contact responses' own keys (contact.h; their shared ones defined once in
  * lib/core/contact/contact_keys.h). */

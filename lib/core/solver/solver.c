@@ -58,7 +58,7 @@ cb_solver_params cb_solver_params_default(void) {
                         .petsc_options = "",
                         .pc_reuse = CB_PC_REUSE_ITERATION,
                         .pc_reuse_steps = 1,
-                        .rigid_modes = 1,
+                        .rigid_modes = 0,
                         .monitor = NULL,
                         .monitor_ctx = NULL};
   return p;
