@@ -288,9 +288,8 @@ int main(int argc, char **argv) {
         range(sol[k][ch], reps, &vmed, &lo2, &hi2);
         if (reuse) {
           cb_csv_printf(csv.f, "%d,%d,%s,%s,%s,%d,%d,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%d,%d,%.3g,%s\n", n,
-                        (int)it[k][ch]->sys->A.n, vr->name, vr->solver, REUSE[ch].name, steps, reps, med, lo, hi,
-                        smed, vmed, iters[k][ch], newton[k][ch], setups[k][ch], lastg[k][ch],
-                        cb_status_name(stat[k][ch]));
+                        (int)it[k][ch]->sys->A.n, vr->name, vr->solver, REUSE[ch].name, steps, reps, med, lo, hi, smed,
+                        vmed, iters[k][ch], newton[k][ch], setups[k][ch], lastg[k][ch], cb_status_name(stat[k][ch]));
           printf("bench_petsc: %4d^2 %-14s %-9s total %9.1f ms [%9.1f, %9.1f] set-up %9.1f solve %9.1f, %6d Krylov "
                  "its, %3d Newton its, %3d set-ups, last rel grad %.2g, %s\n",
                  n, vr->name, REUSE[ch].name, med, lo, hi, smed, vmed, iters[k][ch], newton[k][ch], setups[k][ch],

@@ -32,9 +32,15 @@ static int step(cb_integrator *it, cb_scene *s, double *x, double *v, cb_step_st
 
 /* One Newton step of a 16^2 hanging cloth with the given solver sets; returns the integrator (x, v advanced). */
 static cb_integrator *one_step(cb_scene *s, const char *const *extra, double *x, double *v, sys_capture *cap) {
-  const char *sets[16] = {"mesh.n=16",        "scene.pins=top-corners", "integrator.method=newton",
-                          "integrator.dt=1/30", "integrator.definiteness=drop", "integrator.max_iters=1",
-                          "integrator.tol=0",   "solver.tol=1e-10",       "solver.max_iters=10000"};
+  const char *sets[16] = {"mesh.n=16",
+                          "scene.pins=top-corners",
+                          "integrator.method=newton",
+                          "integrator.dt=1/30",
+                          "integrator.definiteness=drop",
+                          "integrator.max_iters=1",
+                          "integrator.tol=0",
+                          "solver.tol=1e-10",
+                          "solver.max_iters=10000"};
   int k = 9;
   for (int i = 0; extra && extra[i] && k < 15; i++) sets[k++] = extra[i];
   sets[k] = NULL;
@@ -67,8 +73,7 @@ Test(petsc, rigid_modes_attached) {
     cr_assert_not_null(it->solver->coords);
     /* the coordinates the solver read are the free vertices' at the step's start (the initial state here) */
     for (int k = 0; k < s->model.nfree; k++)
-      for (int a = 0; a < 3; a++)
-        cr_assert_eq(it->solver->coords[3 * k + a], s->x0[3 * s->free_vertex[k] + a]);
+      for (int a = 0; a < 3; a++) cr_assert_eq(it->solver->coords[3 * k + a], s->x0[3 * s->free_vertex[k] + a]);
     cb_integrator_free(it);
   }
   free(x);
@@ -85,9 +90,11 @@ Test(petsc, chain_gets_no_modes) {
   double *x = malloc(n3 * sizeof *x), *v = malloc(n3 * sizeof *v);
   memcpy(x, s->x0, n3 * sizeof *x);
   memcpy(v, s->v0, n3 * sizeof *v);
-  const char *const it_sets[] = {"mesh.type=chain", "mesh.n=12", "material.vertex_mass=1", "scene.pins=0",
-                                 "integrator.method=newton", "integrator.max_iters=1", "integrator.tol=0",
-                                 "solver.method=petsc-gamg", "solver.rigid_modes=1", NULL};
+  const char *const it_sets[] = {"mesh.type=chain",          "mesh.n=12",
+                                 "material.vertex_mass=1",   "scene.pins=0",
+                                 "integrator.method=newton", "integrator.max_iters=1",
+                                 "integrator.tol=0",         "solver.method=petsc-gamg",
+                                 "solver.rigid_modes=1",     NULL};
   cb_integrator *it = test_integrator(it_sets, s, NULL, NULL);
   cb_step_stats st;
   step(it, s, x, v, &st);
@@ -141,8 +148,8 @@ Test(petsc, gamg_with_modes_matches_cholmod) {
   for (int i = 0; i < n; i++) num += (xg[i] - xc[i]) * (xg[i] - xc[i]), den += xc[i] * xc[i];
   cr_assert_gt(den, 0);
   double bound = lmax / lmin * rel;
-  cr_assert_leq(sqrt(num / den), bound * (1 + 1e-6) + 1e-13, "|x - x_cholmod| / |x_cholmod| = %g > %g",
-                sqrt(num / den), bound);
+  cr_assert_leq(sqrt(num / den), bound * (1 + 1e-6) + 1e-13, "|x - x_cholmod| / |x_cholmod| = %g > %g", sqrt(num / den),
+                bound);
   cb_solver_free(chol);
   free(xg);
   free(xc);
@@ -155,13 +162,22 @@ Test(petsc, gamg_with_modes_matches_cholmod) {
 }
 
 /* solver.pc_reuse: the set-ups counted against the integrator's own counts. `iteration`: one per factorisation;
- * `step`: one per step; `step` with pc_reuse_steps = 2 over 4 steps: steps 1 and 3. Newton to 1e-9 takes more than
- * one iteration a step, so a reuse is actually made. */
+ * `step`: one per step; `step` with pc_reuse_steps = 2 over 4 steps: steps 1 and 3; `auto`: the preset's choice
+ * (GAMG every step, ML every 5 steps: steps 1 and 6 of 6, ICC every iteration). Newton to 1e-9 takes more than one
+ * iteration a step, so a reuse is actually made. */
 Test(petsc, pc_reuse_counts) {
-  static const char *const modes[][2] = {{"solver.pc_reuse=iteration", "solver.pc_reuse_steps=1"},
-                                         {"solver.pc_reuse=step", "solver.pc_reuse_steps=1"},
-                                         {"solver.pc_reuse=step", "solver.pc_reuse_steps=2"}};
-  for (int m = 0; m < 3; m++) {
+  static const struct {
+    const char *solver, *mode, *steps;
+    int nsteps, want; /* want: set-ups, or -1 for one per factorisation */
+  } cases[] = {
+      {"solver.method=petsc-gamg", "solver.pc_reuse=iteration", "solver.pc_reuse_steps=1", 4, -1},
+      {"solver.method=petsc-gamg", "solver.pc_reuse=step", "solver.pc_reuse_steps=1", 4, 4},
+      {"solver.method=petsc-gamg", "solver.pc_reuse=step", "solver.pc_reuse_steps=2", 4, 2},
+      {"solver.method=petsc-gamg", "solver.pc_reuse=auto", "solver.pc_reuse_steps=3", 4, 4},
+      {"solver.method=petsc-ml", "solver.pc_reuse=auto", "solver.pc_reuse_steps=1", 6, 2},
+      {"solver.method=petsc-icc", "solver.pc_reuse=auto", "solver.pc_reuse_steps=1", 3, -1},
+  };
+  for (size_t m = 0; m < sizeof cases / sizeof cases[0]; m++) {
     cb_scene *s = sheet();
     size_t n3 = (size_t)3 * s->mesh.nv;
     double *x = malloc(n3 * sizeof *x), *v = malloc(n3 * sizeof *v);
@@ -174,22 +190,22 @@ Test(petsc, pc_reuse_counts) {
                                 "integrator.tol=1e-9",
                                 "solver.tol=1e-8",
                                 "solver.max_iters=10000",
-                                "solver.method=petsc-gamg",
-                                modes[m][0],
-                                modes[m][1],
+                                cases[m].solver,
+                                cases[m].mode,
+                                cases[m].steps,
                                 NULL};
     cb_integrator *it = test_integrator(sets, s, NULL, NULL);
-    int factorizations = 0, nsteps = 4;
+    int factorizations = 0, nsteps = cases[m].nsteps;
     for (int t = 0; t < nsteps; t++) {
       cb_step_stats st;
       int r = step(it, s, x, v, &st);
-      cr_assert_eq(r, CB_OK, "%s: step %d: %s", modes[m][0], t, cb_error_message());
+      cr_assert_eq(r, CB_OK, "%s %s: step %d: %s", cases[m].solver, cases[m].mode, t, cb_error_message());
       cr_assert_gt(st.factorizations, 1, "a step of one Newton iteration tests no reuse");
       factorizations += st.factorizations;
     }
-    int want = m == 0 ? factorizations : m == 1 ? nsteps : nsteps / 2;
-    cr_assert_eq(it->solver->stats.pc_setups, want, "%s %s: %d set-ups, expected %d", modes[m][0], modes[m][1],
-                 it->solver->stats.pc_setups, want);
+    int want = cases[m].want < 0 ? factorizations : cases[m].want;
+    cr_assert_eq(it->solver->stats.pc_setups, want, "%s %s %s: %d set-ups, expected %d", cases[m].solver, cases[m].mode,
+                 cases[m].steps, it->solver->stats.pc_setups, want);
     cr_assert_eq(it->solver->step, nsteps);
     cb_integrator_free(it);
     free(x);

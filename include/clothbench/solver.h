@@ -37,8 +37,9 @@ typedef struct cb_solver_params {
   char petsc_options[1024]; /* PETSc solvers: options for their KSP and PC, after the preset's (e.g. "-ksp_type cg
                               -pc_type gamg -pc_gamg_threshold 0.02"). Default "" */
   int pc_reuse;       /* PETSc solvers: CB_PC_REUSE_ITERATION (the preconditioner set up at every factorisation, i.e.
-                         every Newton iteration) or CB_PC_REUSE_STEP (set up at the first factorisation of a time step
-                         once in pc_reuse_steps steps, reused by the others). Default CB_PC_REUSE_ITERATION */
+                         every Newton iteration), CB_PC_REUSE_STEP (set up at the first factorisation of a time step
+                         once in pc_reuse_steps steps, reused by the others) or CB_PC_REUSE_AUTO (the preset's choice,
+                         solver_petsc.c). Default CB_PC_REUSE_AUTO */
   int pc_reuse_steps; /* PETSc solvers, CB_PC_REUSE_STEP: set up once in this many time steps. Default 1 */
   int rigid_modes;    /* PETSc solvers: give the matrix the six rigid-body modes of solver->coords as its near-null
                          space (MatSetNearNullSpace; GAMG reads it) when the preconditioner is set up (1), or none
@@ -48,7 +49,7 @@ typedef struct cb_solver_params {
 } cb_solver_params;
 
 /* solver.pc_reuse */
-enum { CB_PC_REUSE_ITERATION = 0, CB_PC_REUSE_STEP = 1 };
+enum { CB_PC_REUSE_AUTO = 0, CB_PC_REUSE_ITERATION = 1, CB_PC_REUSE_STEP = 2 };
 
 /* solver.ordering: CHOLMOD's own choice (nmethods = 0), or one method. */
 enum { CB_ORDER_DEFAULT = 0, CB_ORDER_AMD, CB_ORDER_METIS, CB_ORDER_NESDIS };

@@ -8,7 +8,8 @@
  *   factor(values)    the values copied in; the preconditioner is set up again
  *                     at every factorisation (solver.pc_reuse = iteration)
  *                     or at a step's first once in solver.pc_reuse_steps
- *                     steps (step), and reused in between
+ *                     steps (step), or as the preset chose (auto), and
+ *                     reused in between
  *                     (PCSetReusePreconditioner); at each set-up the matrix
  *                     gets the rigid-body modes of the step's vertex
  *                     positions as its near-null space (solver.rigid_modes)
@@ -209,6 +210,8 @@ typedef struct {
 
 typedef struct {
   const char *preset; /* the preset's options, applied before solver.petsc's */
+  int reuse_steps;    /* solver.pc_reuse = auto: the preset's choice, set up once in this many steps (0: at every
+                         factorisation, i.e. every Newton iteration) */
   Mat A;
   KSP ksp;
   Vec b, x;
@@ -218,9 +221,9 @@ typedef struct {
   size_t names_len;
   PetscInt *rowp, *coli; /* our pattern as PetscInt (a copy only when PetscInt is not int) */
   petsc_monitor_ctx mon;
-  long factors;     /* factorisations since analyze (or forget) */
-  long setup_step;  /* solver->step at the last preconditioner set-up */
-  double *r;    /* n: the residual b - A x after a solve (allocated at analyze: a step never allocates) */
+  long factors;    /* factorisations since analyze (or forget) */
+  long setup_step; /* solver->step at the last preconditioner set-up */
+  double *r;       /* n: the residual b - A x after a solve (allocated at analyze: a step never allocates) */
 } petsc_work;
 
 static void petsc_free(cb_solver *s) {
@@ -285,7 +288,7 @@ static int petsc_options(petsc_work *w, const char *text) {
   return CB_OK;
 }
 
-static int petsc_alloc_preset(cb_solver *s, int n, const char *preset) {
+static int petsc_alloc_preset(cb_solver *s, int n, const char *preset, int reuse_steps) {
   (void)n;
   int st = petsc_load();
   if (st) return st;
@@ -293,6 +296,7 @@ static int petsc_alloc_preset(cb_solver *s, int n, const char *preset) {
   if (!w) return CB_ENOMEM;
   s->work = w;
   w->preset = preset;
+  w->reuse_steps = reuse_steps;
   static unsigned long instances; /* a prefix per solver object of the process */
   snprintf(w->prefix, sizeof w->prefix, "cb%lu_", ++instances);
   return CB_OK;
@@ -434,8 +438,12 @@ static int petsc_factor(cb_solver *s, const cb_sparse *A) {
   PCALL(P.KSPGetPC(w->ksp, &pc), "KSPGetPC");
   /* solver.pc_reuse: set up at every factorisation (iteration), or at the first of a step once in pc_reuse_steps
    * steps (step; solver->step is the integrator's count, and stays 0 without one: then set up once) */
-  int steps = s->params.pc_reuse_steps > 0 ? s->params.pc_reuse_steps : 1;
-  int reuse = w->factors > 0 && s->params.pc_reuse == CB_PC_REUSE_STEP && s->step - w->setup_step < steps;
+  int mode = s->params.pc_reuse, steps = s->params.pc_reuse_steps > 0 ? s->params.pc_reuse_steps : 1;
+  if (mode == CB_PC_REUSE_AUTO) { /* the preset's choice (docs/solvers-petsc.md's reuse table) */
+    mode = w->reuse_steps > 0 ? CB_PC_REUSE_STEP : CB_PC_REUSE_ITERATION;
+    steps = w->reuse_steps > 0 ? w->reuse_steps : 1;
+  }
+  int reuse = w->factors > 0 && mode == CB_PC_REUSE_STEP && s->step - w->setup_step < steps;
   PCALL(P.PCSetReusePreconditioner(pc, reuse ? PETSC_TRUE : PETSC_FALSE), "PCSetReusePreconditioner");
   w->factors++;
   if (!reuse) {
@@ -497,18 +505,19 @@ static int petsc_solve(cb_solver *s, const cb_sparse *A, const double *b, double
   return CB_OK;
 }
 
-#define PETSC_PRESET(id, opts) \
-  static int id##_alloc(cb_solver *s, int n) { return petsc_alloc_preset(s, n, opts); }
+#define PETSC_PRESET(id, opts, reuse_steps) \
+  static int id##_alloc(cb_solver *s, int n) { return petsc_alloc_preset(s, n, opts, reuse_steps); }
 #else /* built without PETSc's headers: the names exist, and say what to install */
 static int petsc_missing(void) {
   return cb_fail_status(CB_EINVAL, "PETSc solvers: this build has no PETSc (libpetsc-real-dev was not installed when "
                                    "it was compiled): run make deps, then make clean all");
 }
-#define PETSC_PRESET(id, opts) \
+#define PETSC_PRESET(id, opts, reuse_steps) \
   static int id##_alloc(cb_solver *s, int n) { \
     (void)s; \
     (void)n; \
     (void)opts; \
+    (void)(reuse_steps); \
     return petsc_missing(); \
   }
 static int petsc_analyze(cb_solver *s, const cb_sparse *A) {
@@ -535,11 +544,17 @@ static void petsc_forget(cb_solver *s) { (void)s; }
 #define GAMG_OPTS \
   "-ksp_type cg -pc_type gamg -mg_levels_ksp_type richardson -mg_levels_pc_type sor -mg_levels_pc_sor_diagonal_shift " \
   "1e-12"
-PETSC_PRESET(generic, GAMG_OPTS) /* `petsc`: solver.petsc says what */
-PETSC_PRESET(gamg, GAMG_OPTS)
-PETSC_PRESET(hypre, "-ksp_type cg -pc_type hypre -pc_hypre_type boomeramg -pc_hypre_boomeramg_nodal_coarsen 1")
-PETSC_PRESET(ml, "-ksp_type cg -pc_type ml")
-PETSC_PRESET(icc, "-ksp_type cg -pc_type icc -pc_factor_shift_type positive_definite")
+/* The last number: solver.pc_reuse = auto's choice, measured on the hanging cloth at 128^2 over 10 steps
+ * (docs/solvers-petsc.md): 0 sets the preconditioner up at every Newton iteration, k once in k steps. GAMG: every
+ * step (1.7x faster than every iteration, the same Krylov iterations); BoomerAMG: every iteration (reused, its
+ * iterations grew 1.3x in a step, 3.8x over 5 steps); ML: every 5 steps (its set-up is the costly part, and 5
+ * steps' reuse added 4% of iterations); ICC: every iteration (its set-up is cheap, reuse over 5 steps cost 3x the
+ * iterations). */
+PETSC_PRESET(generic, GAMG_OPTS, 0) /* `petsc`: solver.petsc says what, so no reuse unless asked */
+PETSC_PRESET(gamg, GAMG_OPTS, 1)
+PETSC_PRESET(hypre, "-ksp_type cg -pc_type hypre -pc_hypre_type boomeramg -pc_hypre_boomeramg_nodal_coarsen 1", 0)
+PETSC_PRESET(ml, "-ksp_type cg -pc_type ml", 5)
+PETSC_PRESET(icc, "-ksp_type cg -pc_type icc -pc_factor_shift_type positive_definite", 0)
 
 #define PETSC_TYPE(id, name_) \
   const cb_solver_type cb_solver_petsc_##id = {.name = name_, \
