@@ -242,6 +242,8 @@ struct cb_integrator {
   void *type_params; /* the type's parameters (e.g. cb_newton_params *); NULL if none */
   cb_solver *solver; /* owned; NULL unless the type's flags ask for one */
   void *state;       /* the type's state */
+  double *coords;    /* 3 nfree: the free vertices' positions at the start of the step, for a solver that reads
+                        them (CB_SOLVER_USES_COORDS: solver->coords points here); NULL otherwise */
 };
 
 /* The number of vertex colours of a vbd or vbd-chebyshev integrator (its

@@ -36,11 +36,20 @@ typedef struct cb_solver_params {
                           constant factor many times a step, pd and lbfgs, and does not read it). Default 1 */
   char petsc_options[1024]; /* PETSc solvers: options for their KSP and PC, after the preset's (e.g. "-ksp_type cg
                               -pc_type gamg -pc_gamg_threshold 0.02"). Default "" */
-  int pc_reuse; /* PETSc solvers: the preconditioner is set up at one factorisation in pc_reuse and reused by the
-                   others (1: at every one, i.e. every Newton iteration). Default 1 */
+  int pc_reuse;       /* PETSc solvers: CB_PC_REUSE_ITERATION (the preconditioner set up at every factorisation, i.e.
+                         every Newton iteration), CB_PC_REUSE_STEP (set up at the first factorisation of a time step
+                         once in pc_reuse_steps steps, reused by the others) or CB_PC_REUSE_AUTO (the preset's choice,
+                         solver_petsc.c). Default CB_PC_REUSE_AUTO */
+  int pc_reuse_steps; /* PETSc solvers, CB_PC_REUSE_STEP: set up once in this many time steps. Default 1 */
+  int rigid_modes;    /* PETSc solvers: give the matrix the six rigid-body modes of solver->coords as its near-null
+                         space (MatSetNearNullSpace; GAMG reads it) when the preconditioner is set up (1), or none
+                         (0). Default 0 (docs/solvers-petsc.md measures both) */
   cb_solver_monitor monitor; /* per-iteration callback; NULL = none. Default NULL */
   void *monitor_ctx;
 } cb_solver_params;
+
+/* solver.pc_reuse */
+enum { CB_PC_REUSE_AUTO = 0, CB_PC_REUSE_ITERATION = 1, CB_PC_REUSE_STEP = 2 };
 
 /* solver.ordering: CHOLMOD's own choice (nmethods = 0), or one method. */
 enum { CB_ORDER_DEFAULT = 0, CB_ORDER_AMD, CB_ORDER_METIS, CB_ORDER_NESDIS };
@@ -64,6 +73,10 @@ typedef struct cb_solve_stats {
   double alpha;        /* Jacobi/Chebyshev: the weight used (alpha* with alpha = auto) */
   double factor_nnz;   /* nonzeros of the factor L (direct solvers) */
   double factor_flops; /* floating-point operations of one numeric factorisation (CHOLMOD's Common->fl) */
+  int near_null;       /* PETSc solvers: vectors of the near-null space attached to the matrix at the last
+                          preconditioner set-up, as PETSc reports it back (MatGetNearNullSpace): 6 rigid-body modes,
+                          or 0 */
+  int pc_setups;       /* PETSc solvers: preconditioner set-ups since analyze (the others reused one) */
   int history_len;     /* residuals recorded in history */
   double *history;     /* rel. residual after each iteration (history_cap entries) */
 } cb_solve_stats;
@@ -75,7 +88,14 @@ typedef struct cb_solver cb_solver;
 /* CB_SOLVER_LIBRARY_HEAP: the solver's library allocates through its own allocator and keeps bookkeeping for the
  * process that grows as its objects come and go (PETSc): its allocations are not counted by cb_alloc_fail_at and
  * the heap in use is not the same after a run as before (test_enomem.c). */
-enum { CB_SOLVER_DIRECT = 1u, CB_SOLVER_USES_ALPHA = 2u, CB_SOLVER_USES_RHO = 4u, CB_SOLVER_LIBRARY_HEAP = 8u };
+/* CB_SOLVER_USES_COORDS: the solver reads cb_solver.coords (the integrator that owns it keeps them). */
+enum {
+  CB_SOLVER_DIRECT = 1u,
+  CB_SOLVER_USES_ALPHA = 2u,
+  CB_SOLVER_USES_RHO = 4u,
+  CB_SOLVER_LIBRARY_HEAP = 8u,
+  CB_SOLVER_USES_COORDS = 16u
+};
 
 typedef struct cb_solver_type {
   const char *name;
@@ -103,6 +123,11 @@ struct cb_solver {
   cb_solve_stats stats;
   int n;
   void *work;
+  /* Kept by the integrator that owns the solver (cb_integrator_step), read by solvers that want them; a caller
+   * without an integrator may set them itself. */
+  long step;            /* time steps begun so far (0: none counted) */
+  const double *coords; /* n doubles: the position (x, y, z) of each unknown's vertex at the start of the step, in
+                           the unknowns' order (CB_SOLVER_USES_COORDS); NULL: not known */
 };
 
 /* The registry (lib/core/solver/solver.c): one entry per plug-in file

@@ -151,7 +151,11 @@ cb_solver_params cb_solver_params_from_config(const cb_config *c) {
   p.upper = strcmp(c->solver_storage, "upper") == 0;
   p.flush_denormals = strcmp(c->solver_denormals, "flush") == 0;
   snprintf(p.petsc_options, sizeof p.petsc_options, "%s", c->solver_petsc); /* the same size: never cut */
-  p.pc_reuse = c->solver_pc_reuse;
+  p.pc_reuse = !strcmp(c->solver_pc_reuse, "step")        ? CB_PC_REUSE_STEP
+               : !strcmp(c->solver_pc_reuse, "iteration") ? CB_PC_REUSE_ITERATION
+                                                          : CB_PC_REUSE_AUTO;
+  p.pc_reuse_steps = c->solver_pc_reuse_steps;
+  p.rigid_modes = c->solver_rigid_modes;
   return p;
 }
 

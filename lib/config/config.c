@@ -42,6 +42,7 @@ static const char *const diagonals[] = {"regular", "alternating", NULL};
 static const char *const orderings[] = {"default", "amd", "metis", "nesdis", NULL};
 static const char *const storages[] = {"full", "upper", NULL};
 static const char *const denormal_modes[] = {"flush", "keep", NULL};
+static const char *const pc_reuse_modes[] = {"auto", "iteration", "step", NULL};
 
 typedef struct {
   const char *key; /* section.key */
@@ -210,10 +211,21 @@ static const keydef keys_tail[] = {
      "in PETSc's own syntax, applied after the preset's, so they can change any of them (e.g. `-pc_gamg_threshold "
      "0.02`, or for `petsc` `-ksp_type cg -pc_type sor`). Read by no other solver; PETSc's global options and the "
      "PETSC_OPTIONS environment variable are not read."},
-    {"solver.pc_reuse", T_INT, O(solver_pc_reuse), "1", "factorisations", 1, 1000000, 0, NULL, NULL,
-     "PETSc solvers: the preconditioner (an AMG hierarchy, an incomplete factor) is set up at one factorisation in "
-     "pc_reuse and reused by the others: 1 sets it up at every Newton iteration; a larger value trades iterations "
-     "for set-up time."},
+    {"solver.pc_reuse", T_ENUM, O(solver_pc_reuse), "auto", "-", 0, 0, 0, pc_reuse_modes, NULL,
+     "PETSc solvers: when the preconditioner (an AMG hierarchy, an incomplete factor) is set up: at every Newton "
+     "iteration (`iteration`), at the first Newton iteration of one time step in solver.pc_reuse_steps (`step`) and "
+     "reused by the others (PCSetReusePreconditioner), or as the preset chose from docs/solvers-petsc.md's reuse "
+     "table (`auto`: `petsc-gamg` every step, `petsc-ml` every 5 steps, `petsc-hypre`, `petsc-icc` and `petsc` "
+     "every iteration). Reuse trades Krylov iterations for set-up time."},
+    {"solver.pc_reuse_steps", T_INT, O(solver_pc_reuse_steps), "1", "steps", 1, 1000000, 0, NULL, NULL,
+     "PETSc solvers with solver.pc_reuse = step: the preconditioner is set up once in this many time steps (1: at "
+     "every step). Not read under `auto` (the preset's own count)."},
+    {"solver.rigid_modes", T_BOOL, O(solver_rigid_modes), "0", "-", 0, 1, 0, NULL, NULL,
+     "PETSc solvers: give the matrix the six rigid-body modes of the step's vertex positions as its near-null space "
+     "(MatNullSpaceCreateRigidBody, MatSetNearNullSpace) at each preconditioner set-up (1), or none (0: GAMG then "
+     "takes the three translations of block size 3). GAMG (`petsc-gamg`) builds its coarse spaces from them; the "
+     "other presets do not read them. Collinear vertices (a chain) get none. Off by default: on the hanging cloth "
+     "the same iterations cost about twice the set-up (docs/solvers-petsc.md)."},
 };
 /* After the tail: contact.method, then the contact responses' own keys (contact.h; their shared ones defined once in
  * lib/core/contact/contact_keys.h). */

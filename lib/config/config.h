@@ -80,7 +80,9 @@ typedef struct cb_config {
   char solver_storage[CB_NAME_LEN];   /* what CHOLMOD reads: full | upper */
   char solver_denormals[CB_NAME_LEN]; /* subnormals during CHOLMOD's factorize/solve: flush | keep */
   char solver_petsc[CB_PATH_LEN];     /* PETSc solvers: KSP/PC options after the preset's */
-  int solver_pc_reuse;                /* PETSc solvers: preconditioner set up once per this many factorisations */
+  char solver_pc_reuse[CB_NAME_LEN];  /* PETSc solvers: auto | iteration | step */
+  int solver_pc_reuse_steps;          /* PETSc solvers, pc_reuse = step: set up once in this many steps */
+  int solver_rigid_modes;             /* PETSc solvers: rigid-body modes as the near-null space */
 
   /* Where each key's value came from, for error messages (index = key). */
   struct {

@@ -56,6 +56,13 @@ cb_integrator_params cb_integrator_params_default(void) {
   return p;
 }
 
+/* coords = the free vertices' positions in x, in the unknowns' order (3 per free vertex). */
+static void fill_coords(cb_integrator *it, const double *x) {
+  const cb_scene *s = it->scene;
+  for (int k = 0; k < s->model.nfree; k++)
+    for (int a = 0; a < 3; a++) it->coords[3 * k + a] = x[3 * s->free_vertex[k] + a];
+}
+
 int cb_integrator_alloc(const char *method, cb_scene *scene, const cb_integrator_params *p, const void *type_params,
                         const char *solver, const cb_solver_params *sp, cb_integrator **out) {
   *out = NULL;
@@ -88,6 +95,13 @@ int cb_integrator_alloc(const char *method, cb_scene *scene, const cb_integrator
   if (st == CB_OK && t->size && !(it->state = cb_calloc(1, t->size))) st = CB_ENOMEM;
   if (st == CB_OK && (t->flags & CB_INTEGRATOR_LINEAR_SOLVER)) {
     st = cb_solver_alloc(solver, sp, it->sys->A.n, &it->solver);
+    if (st == CB_OK && (it->solver->type->flags & CB_SOLVER_USES_COORDS)) {
+      if (!(it->coords = cb_malloc((size_t)it->sys->A.n, sizeof *it->coords))) st = CB_ENOMEM;
+      else {
+        fill_coords(it, scene->x0);
+        it->solver->coords = it->coords;
+      }
+    }
     if (st == CB_OK) st = cb_solver_analyze(it->solver, &it->sys->A);
   }
   for (int k = 0; st == CB_OK && !(t->flags & CB_INTEGRATOR_STEP_FILTER) && k < it->sys->nterms; k++)
@@ -103,6 +117,7 @@ int cb_integrator_alloc(const char *method, cb_scene *scene, const cb_integrator
   if (st) {
     if (inited) t->free(it); /* releases what init allocated before it failed */
     cb_solver_free(it->solver);
+    free(it->coords);
     free(it->state);
     free(it->type_params);
     free(it);
@@ -119,6 +134,11 @@ int cb_integrator_step(cb_integrator *it, double *x, double *v, cb_step_stats *s
     const cb_scene *s = it->scene;
     for (int k = 0; k < s->model.nfree; k++)
       for (int a = 0; a < 3; a++) v[3 * s->free_vertex[k] + a] *= it->params.damping;
+  }
+  if (it->solver) { /* the step's number and its starting positions, for a solver that reuses set-ups across steps or
+                      builds from the geometry (solver.pc_reuse, solver.rigid_modes) */
+    it->solver->step++;
+    if (it->coords) fill_coords(it, x);
   }
   int r = it->type->step(it, x, v, st);
   int post = cb_scene_post_step(it->scene, x, v, it->params.dt); /* the scene's post-step responses */
@@ -159,6 +179,7 @@ void cb_integrator_free(cb_integrator *it) {
   if (!it) return;
   it->type->free(it);
   cb_solver_free(it->solver);
+  free(it->coords);
   free(it->state);
   free(it->type_params);
   free(it);

@@ -56,7 +56,9 @@ cb_solver_params cb_solver_params_default(void) {
                         .rho_reuse = 1,
                         .residual = 1,
                         .petsc_options = "",
-                        .pc_reuse = 1,
+                        .pc_reuse = CB_PC_REUSE_AUTO,
+                        .pc_reuse_steps = 1,
+                        .rigid_modes = 0,
                         .monitor = NULL,
                         .monitor_ctx = NULL};
   return p;

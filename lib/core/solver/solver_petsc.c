@@ -6,8 +6,13 @@
  *                     a KSP with its own options database, filled from the
  *                     preset's options and then solver.petsc's (later wins)
  *   factor(values)    the values copied in; the preconditioner is set up again
- *                     every solver.pc_reuse factorisations (1: every one),
- *                     and reused in between (PCSetReusePreconditioner)
+ *                     at every factorisation (solver.pc_reuse = iteration)
+ *                     or at a step's first once in solver.pc_reuse_steps
+ *                     steps (step), or as the preset chose (auto), and
+ *                     reused in between
+ *                     (PCSetReusePreconditioner); at each set-up the matrix
+ *                     gets the rigid-body modes of the step's vertex
+ *                     positions as its near-null space (solver.rigid_modes)
  *   solve(b, x)       KSPSolve from the initial guess x, stopped at the
  *                     relative residual |b - A x| / |b| <= solver.tol (the
  *                     unpreconditioned norm where the Krylov method has it);
@@ -111,6 +116,12 @@
   X(KSPGetConvergedReason) \
   X(KSPDestroy) \
   X(PCSetReusePreconditioner) \
+  X(PCSetUp) \
+  X(MatNullSpaceCreateRigidBody) \
+  X(MatSetNearNullSpace) \
+  X(MatGetNearNullSpace) \
+  X(MatNullSpaceGetVecs) \
+  X(MatNullSpaceDestroy) \
   X(KSPMonitorSet) \
   X(KSPBuildSolution) \
   X(VecGetArrayRead) \
@@ -199,16 +210,20 @@ typedef struct {
 
 typedef struct {
   const char *preset; /* the preset's options, applied before solver.petsc's */
+  int reuse_steps;    /* solver.pc_reuse = auto: the preset's choice, set up once in this many steps (0: at every
+                         factorisation, i.e. every Newton iteration) */
   Mat A;
   KSP ksp;
   Vec b, x;
+  Vec xc;          /* the vertices' coordinates (block size 3) over solver->coords: the rigid-body modes' source */
   char prefix[32]; /* cb<k>_: this solver's options in PETSc's database, and nobody else's */
   char *names;     /* the option names it put there (NUL-separated), cleared when it is freed */
   size_t names_len;
   PetscInt *rowp, *coli; /* our pattern as PetscInt (a copy only when PetscInt is not int) */
   petsc_monitor_ctx mon;
-  long factors; /* factorisations so far: the preconditioner is rebuilt when factors % pc_reuse == 0 */
-  double *r;    /* n: the residual b - A x after a solve (allocated at analyze: a step never allocates) */
+  long factors;    /* factorisations since analyze (or forget) */
+  long setup_step; /* solver->step at the last preconditioner set-up */
+  double *r;       /* n: the residual b - A x after a solve (allocated at analyze: a step never allocates) */
 } petsc_work;
 
 static void petsc_free(cb_solver *s) {
@@ -219,6 +234,7 @@ static void petsc_free(cb_solver *s) {
     if (w->A) P.MatDestroy(&w->A);
     if (w->b) P.VecDestroy(&w->b);
     if (w->x) P.VecDestroy(&w->x);
+    if (w->xc) P.VecDestroy(&w->xc);
     for (size_t k = 0; w->names && k < w->names_len; k += strlen(w->names + k) + 1)
       P.PetscOptionsClearValue(NULL, w->names + k);
   }
@@ -272,7 +288,7 @@ static int petsc_options(petsc_work *w, const char *text) {
   return CB_OK;
 }
 
-static int petsc_alloc_preset(cb_solver *s, int n, const char *preset) {
+static int petsc_alloc_preset(cb_solver *s, int n, const char *preset, int reuse_steps) {
   (void)n;
   int st = petsc_load();
   if (st) return st;
@@ -280,6 +296,7 @@ static int petsc_alloc_preset(cb_solver *s, int n, const char *preset) {
   if (!w) return CB_ENOMEM;
   s->work = w;
   w->preset = preset;
+  w->reuse_steps = reuse_steps;
   static unsigned long instances; /* a prefix per solver object of the process */
   snprintf(w->prefix, sizeof w->prefix, "cb%lu_", ++instances);
   return CB_OK;
@@ -311,6 +328,7 @@ static int petsc_analyze(cb_solver *s, const cb_sparse *A) {
   if (w->A) P.MatDestroy(&w->A);
   if (w->b) P.VecDestroy(&w->b);
   if (w->x) P.VecDestroy(&w->x);
+  if (w->xc) P.VecDestroy(&w->xc);
   if (!w->r && !(w->r = cb_malloc((size_t)A->n, sizeof *w->r))) return CB_ENOMEM;
   if (sizeof(PetscInt) == sizeof(int)) {
     w->rowp = (PetscInt *)A->colp; /* both triangles: the CSC arrays read as CSR */
@@ -339,6 +357,7 @@ static int petsc_analyze(cb_solver *s, const cb_sparse *A) {
   PCALL(P.MatSetOption(w->A, MAT_SYMMETRY_ETERNAL, PETSC_TRUE), "MatSetOption");
   PCALL(P.VecCreateSeqWithArray(P.self, 3, A->n, NULL, &w->b), "VecCreate");
   PCALL(P.VecCreateSeqWithArray(P.self, 3, A->n, NULL, &w->x), "VecCreate");
+  PCALL(P.VecCreateSeqWithArray(P.self, 3, A->n, NULL, &w->xc), "VecCreate");
   PCALL(P.KSPCreate(P.self, &w->ksp), "KSPCreate");
   PCALL(P.KSPSetOptionsPrefix(w->ksp, w->prefix), "options");
   PCALL(P.KSPSetOperators(w->ksp, w->A, w->A), "KSPSetOperators");
@@ -352,6 +371,56 @@ static int petsc_analyze(cb_solver *s, const cb_sparse *A) {
    * residual computed after the solve decides */
   if (P.KSPSetNormType(w->ksp, KSP_NORM_UNPRECONDITIONED)) P.KSPSetFromOptions(w->ksp);
   w->factors = 0;
+  s->stats.pc_setups = 0;
+  s->stats.near_null = 0;
+  return CB_OK;
+}
+
+/* Whether the six rigid-body modes of nv points c are linearly independent, which PETSc's orthonormalisation needs.
+ * The translations always are, and are orthogonal to the rotations about the centroid; the rotations w x (p - g)
+ * have the Gram matrix w^T (tr(S) I - S) w, S = sum (p - g)(p - g)^T, singular only when two of S's eigenvalues
+ * vanish (collinear points, a chain): then the sum of S's principal 2x2 minors, s1 s2 + s1 s3 + s2 s3, vanishes
+ * too. Independent: that sum above 1e-12 tr(S)^2. */
+static int rigid_modes_independent(const double *c, int nv) {
+  if (nv < 3) return 0;
+  double g[3] = {0, 0, 0}, S[3][3] = {{0}};
+  for (int i = 0; i < nv; i++)
+    for (int a = 0; a < 3; a++) g[a] += c[3 * i + a] / nv;
+  for (int i = 0; i < nv; i++)
+    for (int a = 0; a < 3; a++)
+      for (int b = 0; b < 3; b++) S[a][b] += (c[3 * i + a] - g[a]) * (c[3 * i + b] - g[b]);
+  double tr = S[0][0] + S[1][1] + S[2][2];
+  double m2 = S[0][0] * S[1][1] - S[0][1] * S[0][1] + S[0][0] * S[2][2] - S[0][2] * S[0][2] + S[1][1] * S[2][2] -
+              S[1][2] * S[1][2];
+  return isfinite(tr) && tr > 0 && m2 > 1e-12 * tr * tr;
+}
+
+/* The six rigid-body modes of the vertices at solver->coords (three translations, three infinitesimal rotations
+ * about their centroid, orthonormalised by PETSc: MatNullSpaceCreateRigidBody) as the matrix's near-null space,
+ * which GAMG's aggregation interpolates exactly: an elastic solid's Hessian maps them to zero, so the coarse spaces
+ * must carry them or the smoother is left with the slowest modes. Then stats.near_null is what PETSc reports back. */
+static int rigid_modes_independent(const double *c, int nv);
+static int petsc_near_null(cb_solver *s, petsc_work *w) {
+  if (s->params.rigid_modes && s->coords && rigid_modes_independent(s->coords, s->n / 3)) {
+    MatNullSpace nsp = NULL;
+    PCALL(P.VecPlaceArray(w->xc, s->coords), "VecPlaceArray");
+    PetscErrorCode e = P.MatNullSpaceCreateRigidBody(w->xc, &nsp);
+    P.VecResetArray(w->xc);
+    if (e) return petsc_fail(e, "MatNullSpaceCreateRigidBody");
+    e = P.MatSetNearNullSpace(w->A, nsp);
+    P.MatNullSpaceDestroy(&nsp); /* the matrix holds its own reference */
+    if (e) return petsc_fail(e, "MatSetNearNullSpace");
+  } else PCALL(P.MatSetNearNullSpace(w->A, NULL), "MatSetNearNullSpace");
+  MatNullSpace q = NULL;
+  PCALL(P.MatGetNearNullSpace(w->A, &q), "MatGetNearNullSpace");
+  s->stats.near_null = 0;
+  if (q) {
+    PetscBool has_const = PETSC_FALSE;
+    PetscInt nv = 0;
+    const Vec *v = NULL;
+    PCALL(P.MatNullSpaceGetVecs(q, &has_const, &nv, &v), "MatNullSpaceGetVecs");
+    s->stats.near_null = (int)nv + (has_const ? 1 : 0);
+  }
   return CB_OK;
 }
 
@@ -367,14 +436,34 @@ static int petsc_factor(cb_solver *s, const cb_sparse *A) {
   PCALL(P.MatSeqAIJRestoreArray(w->A, &a), "MatSeqAIJRestoreArray");
   PC pc;
   PCALL(P.KSPGetPC(w->ksp, &pc), "KSPGetPC");
-  int reuse = s->params.pc_reuse > 1 && w->factors % s->params.pc_reuse != 0;
+  /* solver.pc_reuse: set up at every factorisation (iteration), or at the first of a step once in pc_reuse_steps
+   * steps (step; solver->step is the integrator's count, and stays 0 without one: then set up once) */
+  int mode = s->params.pc_reuse, steps = s->params.pc_reuse_steps > 0 ? s->params.pc_reuse_steps : 1;
+  if (mode == CB_PC_REUSE_AUTO) { /* the preset's choice (docs/solvers-petsc.md's reuse table) */
+    mode = w->reuse_steps > 0 ? CB_PC_REUSE_STEP : CB_PC_REUSE_ITERATION;
+    steps = w->reuse_steps > 0 ? w->reuse_steps : 1;
+  }
+  int reuse = w->factors > 0 && mode == CB_PC_REUSE_STEP && s->step - w->setup_step < steps;
   PCALL(P.PCSetReusePreconditioner(pc, reuse ? PETSC_TRUE : PETSC_FALSE), "PCSetReusePreconditioner");
   w->factors++;
   if (!reuse) {
+    int st = petsc_near_null(s, w);
+    if (st) return st;
+    /* KSPSetUp sets the PC up only at the first call (or after new operators); PCSetUp itself sees the values
+     * changed (the matrix's state) and builds now, so factor_ms holds the set-up and solve_ms the solve alone */
     PetscErrorCode e = P.KSPSetUp(w->ksp);
+    if (!e) e = P.PCSetUp(pc);
     if (e) return petsc_fail(e, "preconditioner set-up");
+    w->setup_step = s->step;
+    s->stats.pc_setups++;
   }
   return CB_OK;
+}
+
+/* The next factor() sets the preconditioner up, as the first after analyze() (cb_solver_forget). */
+static void petsc_forget(cb_solver *s) {
+  petsc_work *w = s->work;
+  if (w) w->factors = 0;
 }
 
 static const char *reason_name(KSPConvergedReason r) {
@@ -416,18 +505,19 @@ static int petsc_solve(cb_solver *s, const cb_sparse *A, const double *b, double
   return CB_OK;
 }
 
-#define PETSC_PRESET(id, opts) \
-  static int id##_alloc(cb_solver *s, int n) { return petsc_alloc_preset(s, n, opts); }
+#define PETSC_PRESET(id, opts, reuse_steps) \
+  static int id##_alloc(cb_solver *s, int n) { return petsc_alloc_preset(s, n, opts, reuse_steps); }
 #else /* built without PETSc's headers: the names exist, and say what to install */
 static int petsc_missing(void) {
   return cb_fail_status(CB_EINVAL, "PETSc solvers: this build has no PETSc (libpetsc-real-dev was not installed when "
                                    "it was compiled): run make deps, then make clean all");
 }
-#define PETSC_PRESET(id, opts) \
+#define PETSC_PRESET(id, opts, reuse_steps) \
   static int id##_alloc(cb_solver *s, int n) { \
     (void)s; \
     (void)n; \
     (void)opts; \
+    (void)(reuse_steps); \
     return petsc_missing(); \
   }
 static int petsc_analyze(cb_solver *s, const cb_sparse *A) {
@@ -442,25 +532,39 @@ static int petsc_solve(cb_solver *s, const cb_sparse *A, const double *b, double
   return petsc_analyze(s, A);
 }
 static void petsc_free(cb_solver *s) { free(s->work); }
+static void petsc_forget(cb_solver *s) { (void)s; }
 #endif
 
-PETSC_PRESET(generic, "-ksp_type cg -pc_type gamg -mg_levels_ksp_type richardson -mg_levels_pc_type sor") /* `petsc`:
-                                                                                      solver.petsc says what */
 /* GAMG's levels smoothed by SOR: its default Chebyshev-Jacobi smoother, whose eigenvalue estimate falls short,
- * made the preconditioner indefinite on the hanging cloth at 64^2 (step 5: DIVERGED_INDEFINITE_PC) */
-PETSC_PRESET(gamg, "-ksp_type cg -pc_type gamg -mg_levels_ksp_type richardson -mg_levels_pc_type sor")
-PETSC_PRESET(hypre, "-ksp_type cg -pc_type hypre -pc_hypre_type boomeramg -pc_hypre_boomeramg_nodal_coarsen 1")
-PETSC_PRESET(ml, "-ksp_type cg -pc_type ml")
-PETSC_PRESET(icc, "-ksp_type cg -pc_type icc -pc_factor_shift_type positive_definite")
+ * made the preconditioner indefinite on the hanging cloth at 64^2 (step 5: DIVERGED_INDEFINITE_PC), with the
+ * rigid-body modes too. With them, an aggregate of one or two vertices cannot carry six independent modes, so its
+ * surplus coarse unknowns get zero columns of the interpolation and zero rows (and diagonals) on the coarse levels,
+ * on which SOR stopped (zero pivot: DIVERGED_PC_FAILED at 32^2); the shift of 1e-12 added to SOR's diagonal makes
+ * such a row's update 0 / 1e-12 = 0 and is nothing beside the others' (M/dt^2 alone is 900 kg/s^2 per vertex). */
+#define GAMG_OPTS \
+  "-ksp_type cg -pc_type gamg -mg_levels_ksp_type richardson -mg_levels_pc_type sor -mg_levels_pc_sor_diagonal_shift " \
+  "1e-12"
+/* The last number: solver.pc_reuse = auto's choice, measured on the hanging cloth at 128^2 over 10 steps
+ * (docs/solvers-petsc.md): 0 sets the preconditioner up at every Newton iteration, k once in k steps. GAMG: every
+ * step (1.7x faster than every iteration, the same Krylov iterations); BoomerAMG: every iteration (reused, its
+ * iterations grew 1.3x in a step, 3.8x over 5 steps); ML: every 5 steps (its set-up is the costly part, and 5
+ * steps' reuse added 4% of iterations); ICC: every iteration (its set-up is cheap, reuse over 5 steps cost 3x the
+ * iterations). */
+PETSC_PRESET(generic, GAMG_OPTS, 0) /* `petsc`: solver.petsc says what, so no reuse unless asked */
+PETSC_PRESET(gamg, GAMG_OPTS, 1)
+PETSC_PRESET(hypre, "-ksp_type cg -pc_type hypre -pc_hypre_type boomeramg -pc_hypre_boomeramg_nodal_coarsen 1", 0)
+PETSC_PRESET(ml, "-ksp_type cg -pc_type ml", 5)
+PETSC_PRESET(icc, "-ksp_type cg -pc_type icc -pc_factor_shift_type positive_definite", 0)
 
 #define PETSC_TYPE(id, name_) \
   const cb_solver_type cb_solver_petsc_##id = {.name = name_, \
-                                               .flags = CB_SOLVER_LIBRARY_HEAP, \
+                                               .flags = CB_SOLVER_LIBRARY_HEAP | CB_SOLVER_USES_COORDS, \
                                                .alloc = id##_alloc, \
                                                .analyze = petsc_analyze, \
                                                .factor = petsc_factor, \
                                                .solve = petsc_solve, \
-                                               .free = petsc_free};
+                                               .free = petsc_free, \
+                                               .forget = petsc_forget};
 PETSC_TYPE(generic, "petsc")
 PETSC_TYPE(gamg, "petsc-gamg")
 PETSC_TYPE(hypre, "petsc-hypre")
