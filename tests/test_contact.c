@@ -43,8 +43,8 @@ Test(contact, bad_values_name_their_key) {
   expect_error((const char *const[]){"contact.method=penalty", "contact.thickness=-1e-3", NULL}, "contact.thickness");
   expect_error((const char *const[]){"contact.method=ipc", "contact.friction=-0.1", NULL}, "contact.friction");
   expect_error((const char *const[]){"contact.method=penalty", "contact.friction=0.4", NULL}, "contact.friction");
-  expect_error((const char *const[]){"contact.method=ipc", "contact.friction=0.4", "contact.epsv=0", NULL},
-               "contact.epsv");
+  expect_error((const char *const[]){"contact.method=ipc", "contact.friction=0.4", "contact.epsv=0", NULL}, "contact."
+                                                                                                            "epsv");
   expect_error((const char *const[]){"contact.method=ipc", "contact.epsv=-1e-3", NULL}, "contact.epsv");
   expect_error((const char *const[]){"contact.method=bridson", NULL}, "contact.method");
   expect_error((const char *const[]){"contact.method=penalty", "contact.stiffness=0", NULL}, "contact.stiffness");
@@ -91,8 +91,8 @@ Test(contact, registry_and_keys) {
   cb_config_defaults(&c);
   cb_contact_params p, d = cb_contact_params_default();
   cr_assert_eq(cb_contact_params_from_config(&c, &p), CB_OK, "%s", cb_error_message());
-  cr_expect(p.thickness == d.thickness && p.friction == d.friction && p.stiffness == d.stiffness && p.kappa == d.kappa &&
-            p.epsv == d.epsv);
+  cr_expect(p.thickness == d.thickness && p.friction == d.friction && p.stiffness == d.stiffness &&
+            p.kappa == d.kappa && p.epsv == d.epsv);
   cr_assert_eq(cb_config_set(&c, "contact.thickness=2e-3"), CB_OK);
   cr_assert_eq(cb_contact_params_from_config(&c, &p), CB_OK);
   cr_expect_eq(p.thickness, 2e-3);

@@ -45,8 +45,8 @@ Test(slope, holds_at_twice_tan_theta_and_slides_at_half) {
   /* the creep itself: mu lam f1(v dt) = m g sin theta with the total lam = m g cos theta gives f1(y) = tan theta /
    * mu, y = c (1 - sqrt(1 - tan theta / mu)), so v = eps_v (1 - sqrt(1 - 1/2)) here: 0.146 mm in 0.5 s */
   double creep = 0.5 * 1e-3 * (1 - sqrt(0.5));
-  cr_expect(fabs(hold.slide - creep) < 0.1 * creep, "mu = 2 tan theta: crept %g m, the smoothed law's %g m",
-            hold.slide, creep);
+  cr_expect(fabs(hold.slide - creep) < 0.1 * creep, "mu = 2 tan theta: crept %g m, the smoothed law's %g m", hold.slide,
+            creep);
   cr_expect(slide.slide > 0.05, "mu = tan theta / 2: the cloth slid %g m in 0.5 s (closed form %g)", slide.slide, s);
   cr_expect(fabs(slide.slide - s) < 0.1 * s, "mu = tan theta / 2: slid %g m, the sliding block %g m", slide.slide, s);
   cr_expect(fabs(slide.closed_form - s) < 1e-12, "the run's closed form %g, here %g", slide.closed_form, s);
@@ -75,8 +75,7 @@ Test(slope, threshold_is_tan_theta) {
   cr_expect(fabs(th.mu_star / tn - 1) < 0.1, "mu* = %g, tan theta = %g", th.mu_star, tn);
   cr_expect(th.hi - th.lo <= 0.05 * tn && th.slide_lo > 0.01 && th.slide_hi <= 0.01, "bracket [%g, %g]: %g, %g m",
             th.lo, th.hi, th.slide_lo, th.slide_hi);
-  if (!getenv("CB_QUIET"))
-    printf("slope 20 deg: mu* = %.4f (tan theta %.4f), %d runs\n", th.mu_star, tn, th.runs);
+  if (!getenv("CB_QUIET")) printf("slope 20 deg: mu* = %.4f (tan theta %.4f), %d runs\n", th.mu_star, tn, th.runs);
   /* not bracketed: mu_max below tan theta does not hold it */
   cr_assert_eq(cb_slope_find_threshold(c, theta, 1.0, 0.01, 0.5 * tn, 0.05, &th), CB_OK);
   cr_expect(!th.bracketed && isnan(th.mu_star));

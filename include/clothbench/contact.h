@@ -17,7 +17,11 @@
  * evaluation of the energy, so E is a function of x alone. `ipc` also gives
  * the minimisers a step bound: the largest fraction of a step that additive
  * CCD (Li, Kaufman & Jiang 2021) certifies free of contact
- * (cb_system_max_step, system.h). */
+ * (cb_system_max_step, system.h). With contact.friction mu > 0, `ipc` adds
+ * lagged, smoothed Coulomb friction (Li et al. 2020, section 5) over the
+ * pairs within reach at each step's start: sum_pairs mu lam f0(|u|), u the
+ * pair's tangential displacement over the step (the obstacle's motion
+ * included), lam its normal force at the start (contact_term.c, "Friction"). */
 #ifndef CB_CONTACT_H
 #define CB_CONTACT_H
 
@@ -86,16 +90,16 @@ int cb_contact_term_intersections(const cb_term *t, const double *x, long *count
 
 /* What the last evaluation found. */
 typedef struct cb_contact_stats {
-  long candidates;  /* primitive pairs the broad phase gave */
-  long active;      /* pairs within reach (nonzero energy) */
-  long mollified;   /* active edge-edge pairs inside the mollifier's range (c < eps_x; ipc only) */
-  long decoupled;   /* active pairs of the last Hessian whose cross blocks the matrix pattern lacked (block-
-                       diagonal model, docs/contact.md) */
-  double min_dist;  /* smallest distance of a candidate pair, m (inf without one) */
-  long ccd_queries; /* pairs the last step bound ran CCD on */
-  long ccd_iters;   /* additive-CCD advances those queries took */
-  double max_step;  /* the last step bound, in (0, 1] */
-  long grows;       /* candidate or friction arrays grown past their set-up capacity (allocations outside set-up) */
+  long candidates;     /* primitive pairs the broad phase gave */
+  long active;         /* pairs within reach (nonzero energy) */
+  long mollified;      /* active edge-edge pairs inside the mollifier's range (c < eps_x; ipc only) */
+  long decoupled;      /* active pairs of the last Hessian whose cross blocks the matrix pattern lacked (block-
+                          diagonal model, docs/contact.md) */
+  double min_dist;     /* smallest distance of a candidate pair, m (inf without one) */
+  long ccd_queries;    /* pairs the last step bound ran CCD on */
+  long ccd_iters;      /* additive-CCD advances those queries took */
+  double max_step;     /* the last step bound, in (0, 1] */
+  long grows;          /* candidate or friction arrays grown past their set-up capacity (allocations outside set-up) */
   long friction_pairs; /* pairs the last begin_step froze for friction (0 without friction) */
   long sliding;        /* of those, pairs whose tangential displacement |u| >= eps_v dt at the last energy call */
   double friction_energy; /* the friction potential's part of the last energy call, J */

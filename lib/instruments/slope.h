@@ -33,13 +33,13 @@ typedef struct cb_slope_run {
 int cb_slope_slide(const cb_config *c, double theta_deg, double mu, double t_end, cb_slope_run *r);
 
 typedef struct cb_slope_threshold {
-  double mu_star;   /* the stick-slip threshold: the middle of the last bracket; NaN when not bracketed */
-  double lo, hi;    /* the last bracket: slides at lo (slide > s_tol), holds at hi */
-  double slide_lo;  /* m: the slide at lo */
-  double slide_hi;  /* m: the slide at hi (the creep of a holding cloth) */
-  int bracketed;    /* 0: mu = 0 did not slide or mu = mu_max did not hold (then mu_star is NaN) */
-  int runs;         /* cb_slope_slide calls */
-  double wall_ms;   /* their wall time */
+  double mu_star;  /* the stick-slip threshold: the middle of the last bracket; NaN when not bracketed */
+  double lo, hi;   /* the last bracket: slides at lo (slide > s_tol), holds at hi */
+  double slide_lo; /* m: the slide at lo */
+  double slide_hi; /* m: the slide at hi (the creep of a holding cloth) */
+  int bracketed;   /* 0: mu = 0 did not slide or mu = mu_max did not hold (then mu_star is NaN) */
+  int runs;        /* cb_slope_slide calls */
+  double wall_ms;  /* their wall time */
 } cb_slope_threshold;
 
 /* The threshold mu* for theta_deg: bisects mu in [0, mu_max] on slide(mu) >

@@ -13,7 +13,12 @@
  * distance as its code writes it (the paper's b(d) with d^2 and dhat^2 in
  * place of d and dhat). The pair Hessian is projected per pair (12 x 12).
  * At s <= 0 (touching, or a start that already intersects) E = +inf: the line
- * search never accepts such a point, and the CCD bound never leads to one. */
+ * search never accepts such a point, and the CCD bound never leads to one.
+ *
+ * With contact.friction mu > 0 the term also carries lagged, smoothed
+ * Coulomb friction (Li et al. 2020, section 5; contact.epsv the smoothing
+ * velocity eps_v), frozen at every step's start by the type's begin_step:
+ * the formulas are in contact_term.c ("Friction"). */
 #include <math.h>
 
 #include "contact_keys.h"

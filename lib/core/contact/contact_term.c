@@ -48,7 +48,38 @@
  * docs/contact.md.) A pair
  * whose distance at x exceeds the sum of its two primitives' largest vertex
  * displacements (by 1%) cannot meet during the step (every point of a
- * primitive moves at most as far as its farthest vertex) and skips CCD. */
+ * primitive moves at most as far as its farthest vertex) and skips CCD.
+ *
+ * Friction (ipc with mu = contact.friction > 0; Li et al. 2020, section 5:
+ * lagged, smoothed Coulomb friction). At the start of every step
+ * (cb_contact_term_begin_step, the type's begin_step, which the integrator
+ * wrapper calls at x^t) every pair within reach is frozen:
+ *   lam   = -dE_p/dd = -2 d e f'(s): its normal force (the barrier's
+ *           derivative in d = sqrt(s), the mollifier e held fixed),
+ *   gam   its closest-point weights (closest_weights below), so that
+ *           r = sum_a gam_a q_a joins the two closest points,
+ *   P     two orthonormal tangents orthogonal to r (3 x 2),
+ * and the obstacle's displacement over the step, o(t + dt) - o(t), from its
+ * motion's closed form (obstacle.h; zero for a still one). The relative
+ * tangential displacement of the pair over the step is then
+ *   u(x) = P^T sum_a gam_a (x_a - x_a^t)   (obstacle vertices: their displacement),
+ * linear in x: u = P^T sum_{cloth a} gam_a x_a + u0. With c = eps_v dt
+ * (contact.epsv) and y = |u| the pair adds
+ *   D = mu lam f0(y),
+ *   f1(y) = 2y/c - y^2/c^2 (y < c), 1 (y >= c);  f0' = f1, f0(0) = c/3:
+ *   f0(y) = -y^3/(3c^2) + y^2/c + c/3 (y < c), y (y >= c),
+ *   dD/dx_a = mu lam gam_a P (f1(y)/y) u,         f1/y = 2/c - y/c^2, or 1/y,
+ *   d2D/dx_a dx_b = mu lam gam_a gam_b P M P^T,  M = (f1/y) I + w2 u u^T,
+ *   w2 = (f1'(y) y - f1(y))/y^3 = -1/(c^2 y) (y < c), -1/y^3 (y >= c).
+ * M's eigenvalues are f1/y across u and f1/y + w2 y^2 = f1'(y) along it:
+ * 2/c - y/c^2 > 0 and 2(1 - y/c)/c >= 0 below c, 1/y and 0 beyond. So the
+ * lagged Hessian is PSD as it stands (rank 2 at most: the paper's projection
+ * leaves it unchanged); under drop/mirror the eigenvalue along u is clamped at
+ * 0 (or mirrored) anyway, for the round-off at y = c. D is C^1 in x (f1 is
+ * continuous; f1' jumps at y = c). Pairs are frozen with the step's start
+ * pairs: a pair that comes within reach during the step has no friction until
+ * the next. The arrays are sized at set-up and grow (counted in grows) when a
+ * step has more pairs. */
 #include "contact_term.h"
 
 #include <math.h>
@@ -365,8 +396,7 @@ static double fric_eval(const ct *s, const fpair *f, const double *x, cb_project
     for (int a = 0; a < 4; a++)
       for (int b = 0; b < 4; b++)
         for (int r = 0; r < 3; r++)
-          for (int cc = 0; cc < 3; cc++)
-            H[(3 * a + r) * 12 + 3 * b + cc] = ml * f->gam[a] * f->gam[b] * K[3 * r + cc];
+          for (int cc = 0; cc < 3; cc++) H[(3 * a + r) * 12 + 3 * b + cc] = ml * f->gam[a] * f->gam[b] * K[3 * r + cc];
   }
   return ml * f0;
 }
