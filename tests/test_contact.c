@@ -254,6 +254,47 @@ Test(contact, friction_matches_closed_forms) {
   cb_scene_free(f.s);
 }
 
+/* Self-friction: a 3x3 sheet without an obstacle, reach 0.4 m (a vertex is 0.354 m from a non-adjacent diagonal), mu
+ * = 0.5, frozen at the rest shape with eps_v dt = 0.02 m: the frozen pairs are all self pairs, and the term's
+ * gradient at a state 0.01-0.05 m from rest matches central differences of its energy. */
+Test(contact, self_friction_has_pairs_and_its_gradient) {
+  cb_scene *s = test_scene((const char *const[]){"mesh.n=3", "mesh.size=1", "mesh.plane=xy", "scene.pins=none", NULL});
+  cb_contact_params p = cb_contact_params_default();
+  p.thickness = 0.4;
+  p.kappa = 1e4;
+  p.friction = 0.5;
+  p.epsv = 0.2;
+  cb_term *t = NULL;
+  cr_assert_eq(cb_contact_type_find("ipc")->term_alloc(&s->model, &p, &t), CB_OK, "%s", cb_error_message());
+  int n3 = 3 * s->mesh.nv;
+  double *x = malloc((size_t)n3 * sizeof(double)), *g = calloc((size_t)n3, sizeof(double));
+  cr_assert(x && g);
+  cr_assert_eq(cb_contact_term_begin_step(t, s->mesh.x, 0.1), CB_OK, "%s", cb_error_message());
+  long nfr = cb_contact_term_stats(t)->friction_pairs;
+  cr_expect_gt(nfr, 0, "no self-friction pair");
+  for (int i = 0; i < n3; i++) x[i] = s->mesh.x[i] + 0.01 * (1 + i % 5) * (i % 2 ? 1 : -1);
+  double E0 = t->type->energy(t, x, g), err = 0, gmax = 0, h = 1e-6;
+  cr_expect_gt(cb_contact_term_stats(t)->friction_energy, 0);
+  for (int i = 0; i < n3; i++) {
+    double xi = x[i];
+    x[i] = xi + h;
+    double Ep = t->type->energy(t, x, NULL);
+    x[i] = xi - h;
+    double Em = t->type->energy(t, x, NULL);
+    x[i] = xi;
+    err = fmax(err, fabs((Ep - Em) / (2 * h) - g[i]));
+    gmax = fmax(gmax, fabs(g[i]));
+  }
+  cr_expect(err <= 1e-6 * gmax, "self-friction: gradient - FD = %g of %g (E %g, %ld pairs)", err, gmax, E0, nfr);
+  if (!getenv("CB_QUIET"))
+    printf("self-friction: %ld pairs (%ld sliding), friction %.3g J of %.3g J, |grad - FD| %.2g of %.3g\n", nfr,
+           cb_contact_term_stats(t)->sliding, cb_contact_term_stats(t)->friction_energy, E0, err, gmax);
+  free(x);
+  free(g);
+  cb_term_free(t);
+  cb_scene_free(s);
+}
+
 /* The step bound on a straight fall from h through the plane to -h: contact at t = 1/2. ACCD stops with a tenth
  * of the gap left: t in [0.45, 0.5). A fall that stops short, and a sideways slide, are not bounded. */
 Test(contact, step_bound_stops_before_the_crossing) {
