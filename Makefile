@@ -80,7 +80,7 @@ INSTR_SRC := $(sort $(wildcard lib/instruments/*.c))
 IO_SRC    := $(sort $(wildcard lib/io/*.c))
 LIB_OBJ  := $(CORE_SRC:%.c=$(BUILD)/%.o) $(CONFIG_SRC:%.c=$(BUILD)/%.o) $(INSTR_SRC:%.c=$(BUILD)/%.o) $(IO_SRC:%.c=$(BUILD)/%.o) $(BUILD)/version.o
 LIB      := $(BUILD)/libclothbench.a
-TOOLS    := $(BUILD)/simulate $(BUILD)/blas-kernel $(BUILD)/ccd-query
+TOOLS    := $(BUILD)/simulate $(BUILD)/blas-kernel $(BUILD)/ccd-query $(BUILD)/slope-sweep
 CCD_GEN  := $(BUILD)/ccd-gen
 # one program per folder experiments/<name>/ (main.c plus what serves only it)
 EXP_NAMES:= $(sort $(notdir $(patsubst %/,%,$(dir $(wildcard experiments/*/main.c)))))
@@ -166,6 +166,9 @@ $(BUILD)/blas-kernel: $(BUILD)/tools/blas_kernel.o $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
 $(BUILD)/ccd-query: $(BUILD)/tools/ccd_query.o $(LIB)
+	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
+
+$(BUILD)/slope-sweep: $(BUILD)/tools/slope_sweep.o $(LIB)
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
 # the generator of the exact CCD query set tests/ccd/ (docs/geometry-ccd.md): GMP only, no library;

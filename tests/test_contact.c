@@ -42,7 +42,10 @@ Test(contact, bad_values_name_their_key) {
   expect_error((const char *const[]){"contact.method=ipc", "contact.thickness=0", NULL}, "contact.thickness");
   expect_error((const char *const[]){"contact.method=penalty", "contact.thickness=-1e-3", NULL}, "contact.thickness");
   expect_error((const char *const[]){"contact.method=ipc", "contact.friction=-0.1", NULL}, "contact.friction");
-  expect_error((const char *const[]){"contact.method=ipc", "contact.friction=0.4", NULL}, "contact.friction");
+  expect_error((const char *const[]){"contact.method=penalty", "contact.friction=0.4", NULL}, "contact.friction");
+  expect_error((const char *const[]){"contact.method=ipc", "contact.friction=0.4", "contact.epsv=0", NULL}, "contact."
+                                                                                                            "epsv");
+  expect_error((const char *const[]){"contact.method=ipc", "contact.epsv=-1e-3", NULL}, "contact.epsv");
   expect_error((const char *const[]){"contact.method=bridson", NULL}, "contact.method");
   expect_error((const char *const[]){"contact.method=penalty", "contact.stiffness=0", NULL}, "contact.stiffness");
   expect_error((const char *const[]){"contact.method=ipc", "contact.kappa=-1", NULL}, "contact.kappa");
@@ -51,6 +54,17 @@ Test(contact, bad_values_name_their_key) {
   p.thickness = NAN;
   cr_expect_neq(cb_contact_params_check("ipc", &p), CB_OK);
   cr_expect(strstr(cb_error_message(), "contact.thickness"));
+  p = cb_contact_params_default();
+  p.epsv = NAN;
+  cr_expect_neq(cb_contact_params_check("ipc", &p), CB_OK);
+  cr_expect(strstr(cb_error_message(), "contact.epsv"));
+  p = cb_contact_params_default();
+  p.friction = INFINITY;
+  cr_expect_neq(cb_contact_params_check("ipc", &p), CB_OK);
+  cr_expect(strstr(cb_error_message(), "contact.friction"));
+  p = cb_contact_params_default();
+  p.friction = 0.4; /* ipc takes friction */
+  cr_expect_eq(cb_contact_params_check("ipc", &p), CB_OK, "%s", cb_error_message());
   p = cb_contact_params_default();
   cr_expect_neq(cb_contact_params_check("nope", &p), CB_OK);
   cr_expect(strstr(cb_error_message(), "contact.method"));
@@ -77,7 +91,8 @@ Test(contact, registry_and_keys) {
   cb_config_defaults(&c);
   cb_contact_params p, d = cb_contact_params_default();
   cr_assert_eq(cb_contact_params_from_config(&c, &p), CB_OK, "%s", cb_error_message());
-  cr_expect(p.thickness == d.thickness && p.friction == d.friction && p.stiffness == d.stiffness && p.kappa == d.kappa);
+  cr_expect(p.thickness == d.thickness && p.friction == d.friction && p.stiffness == d.stiffness &&
+            p.kappa == d.kappa && p.epsv == d.epsv);
   cr_assert_eq(cb_config_set(&c, "contact.thickness=2e-3"), CB_OK);
   cr_assert_eq(cb_contact_params_from_config(&c, &p), CB_OK);
   cr_expect_eq(p.thickness, 2e-3);
@@ -169,6 +184,117 @@ Test(contact, penalty_and_barrier_match_closed_forms) {
   cb_scene_free(f.s);
 }
 
+/* Friction (contact_term.c, "Friction") on the flat fixture: 4 point-plane pairs at height h, each with normal
+ * force lam = -dE/dd = -2 h kappa b'(h^2) (b' of the barrier, above), frozen at x0. Moving the sheet by delta
+ * in the plane gives every pair u = delta, so the term adds D = 4 mu lam f0(|delta|) and each vertex's tangential
+ * gradient mu lam f1(|delta|) delta/|delta|, with c = eps_v dt:
+ *   f0(y) = -y^3/(3c^2) + y^2/c + c/3, f1(y) = 2y/c - y^2/c^2 for y < c;  f0(y) = y, f1(y) = 1 beyond.
+ * An obstacle moving at v: u = delta - dt v (the cloth's displacement against the obstacle's). */
+Test(contact, friction_matches_closed_forms) {
+  flat f;
+  flat_init(&f);
+  cb_contact_params p = cb_contact_params_default();
+  p.thickness = 0.01;
+  p.kappa = 7;
+  p.friction = 0.3;
+  p.epsv = 0.02;
+  const double dt = 0.05, c = p.epsv * dt, h = 0.004, sh = p.thickness * p.thickness, s = h * h;
+  double db = -2 * (s - sh) * log(s / sh) - (s - sh) * (s - sh) / s, lam = -2 * h * p.kappa * db;
+  double Eb = 4 * p.kappa * -(s - sh) * (s - sh) * log(s / sh), ml = p.friction * lam;
+  cr_assert_gt(lam, 0);
+  cb_term *ipc = flat_term(&f, "ipc", &p);
+  double x0[12], x[12], g[12];
+  at_height(&f, h, x0);
+  cr_assert_eq(cb_contact_term_begin_step(ipc, x0, dt), CB_OK, "%s", cb_error_message());
+  cr_expect_eq(cb_contact_term_stats(ipc)->friction_pairs, 4);
+  const double deltas[] = {0, 3e-4, 0.999e-3, 1.001e-3, 2e-3, 0.05}, phi = 0.7;
+  for (size_t k = 0; k < sizeof deltas / sizeof deltas[0]; k++) {
+    double y = deltas[k], dx = y * cos(phi), dz = y * sin(phi);
+    for (int i = 0; i < 12; i++) x[i] = x0[i] + (i % 3 == 0 ? dx : i % 3 == 2 ? dz : 0);
+    double f0 = y < c ? -y * y * y / (3 * c * c) + y * y / c + c / 3 : y, f1 = y < c ? 2 * y / c - y * y / (c * c) : 1;
+    memset(g, 0, sizeof g);
+    double E = ipc->type->energy(ipc, x, g), Ec = Eb + 4 * ml * f0;
+    cr_expect(fabs(E - Ec) <= 1e-12 * fabs(Ec), "delta = %g: E %.17g, closed form %.17g", y, E, Ec);
+    for (int i = 0; i < 4; i++) {
+      double gx = ml * f1 * cos(phi), gz = ml * f1 * sin(phi);
+      cr_expect(fabs(g[3 * i] - gx) <= 1e-10 * ml && fabs(g[3 * i + 2] - gz) <= 1e-10 * ml,
+                "delta = %g: tangential gradient (%g, %g), closed form (%g, %g)", y, g[3 * i], g[3 * i + 2], gx, gz);
+    }
+    cr_expect_eq(cb_contact_term_stats(ipc)->sliding, y >= c ? 4 : 0, "delta = %g: %ld sliding", y,
+                 cb_contact_term_stats(ipc)->sliding);
+  }
+  /* a moving obstacle: its displacement over the step enters u */
+  const double v[3] = {0.4, 0, 0.1};
+  memcpy(f.o.velocity, v, sizeof v);
+  cr_assert_eq(cb_contact_term_begin_step(ipc, x0, dt), CB_OK, "%s", cb_error_message());
+  for (int i = 0; i < 12; i++) x[i] = x0[i] + dt * v[i % 3]; /* carried along: u = 0, D = f0(0) */
+  memset(g, 0, sizeof g);
+  double E = ipc->type->energy(ipc, x, g);
+  cr_expect(fabs(E - (Eb + 4 * ml * c / 3)) <= 1e-12 * E, "carried: E %.17g", E);
+  for (int i = 0; i < 4; i++) /* the round-off of u (coordinates of 0.1 m: 1e-17 m) times f1/y = 2/c */
+    cr_expect(fabs(g[3 * i]) <= 1e-15 * ml * 2 / c && fabs(g[3 * i + 2]) <= 1e-15 * ml * 2 / c,
+              "carried: gradient (%g, %g) of %g", g[3 * i], g[3 * i + 2], ml);
+  memset(g, 0, sizeof g); /* left behind: u = -dt v, sliding; the force -g drags the sheet along v */
+  E = ipc->type->energy(ipc, x0, g);
+  double vn = sqrt(v[0] * v[0] + v[2] * v[2]);
+  cr_expect(fabs(E - (Eb + 4 * ml * dt * vn)) <= 1e-12 * E, "left behind: E %.17g", E);
+  for (int i = 0; i < 4; i++)
+    cr_expect(fabs(g[3 * i] + ml * v[0] / vn) <= 1e-10 * ml && fabs(g[3 * i + 2] + ml * v[2] / vn) <= 1e-10 * ml,
+              "left behind: gradient (%g, %g)", g[3 * i], g[3 * i + 2]);
+  /* bad dt; mu = 0 freezes nothing */
+  cr_expect_neq(cb_contact_term_begin_step(ipc, x0, 0.0), CB_OK);
+  cr_expect(strstr(cb_error_message(), "contact.friction"));
+  cb_term_free(ipc);
+  p.friction = 0;
+  ipc = flat_term(&f, "ipc", &p);
+  cr_assert_eq(cb_contact_term_begin_step(ipc, x0, dt), CB_OK);
+  cr_expect_eq(cb_contact_term_stats(ipc)->friction_pairs, 0);
+  cr_expect(fabs(ipc->type->energy(ipc, x0, NULL) - Eb) <= 1e-12 * Eb);
+  cb_term_free(ipc);
+  cb_scene_free(f.s);
+}
+
+/* Self-friction: a 3x3 sheet without an obstacle, reach 0.4 m (a vertex is 0.354 m from a non-adjacent diagonal), mu
+ * = 0.5, frozen at the rest shape with eps_v dt = 0.02 m: the frozen pairs are all self pairs, and the term's
+ * gradient at a state 0.01-0.05 m from rest matches central differences of its energy. */
+Test(contact, self_friction_has_pairs_and_its_gradient) {
+  cb_scene *s = test_scene((const char *const[]){"mesh.n=3", "mesh.size=1", "mesh.plane=xy", "scene.pins=none", NULL});
+  cb_contact_params p = cb_contact_params_default();
+  p.thickness = 0.4;
+  p.kappa = 1e4;
+  p.friction = 0.5;
+  p.epsv = 0.2;
+  cb_term *t = NULL;
+  cr_assert_eq(cb_contact_type_find("ipc")->term_alloc(&s->model, &p, &t), CB_OK, "%s", cb_error_message());
+  int n3 = 3 * s->mesh.nv;
+  double *x = malloc((size_t)n3 * sizeof(double)), *g = calloc((size_t)n3, sizeof(double));
+  cr_assert(x && g);
+  cr_assert_eq(cb_contact_term_begin_step(t, s->mesh.x, 0.1), CB_OK, "%s", cb_error_message());
+  long nfr = cb_contact_term_stats(t)->friction_pairs;
+  cr_expect_gt(nfr, 0, "no self-friction pair");
+  for (int i = 0; i < n3; i++) x[i] = s->mesh.x[i] + 0.01 * (1 + i % 5) * (i % 2 ? 1 : -1);
+  double E0 = t->type->energy(t, x, g), err = 0, gmax = 0, h = 1e-6;
+  cr_expect_gt(cb_contact_term_stats(t)->friction_energy, 0);
+  for (int i = 0; i < n3; i++) {
+    double xi = x[i];
+    x[i] = xi + h;
+    double Ep = t->type->energy(t, x, NULL);
+    x[i] = xi - h;
+    double Em = t->type->energy(t, x, NULL);
+    x[i] = xi;
+    err = fmax(err, fabs((Ep - Em) / (2 * h) - g[i]));
+    gmax = fmax(gmax, fabs(g[i]));
+  }
+  cr_expect(err <= 1e-6 * gmax, "self-friction: gradient - FD = %g of %g (E %g, %ld pairs)", err, gmax, E0, nfr);
+  if (!getenv("CB_QUIET"))
+    printf("self-friction: %ld pairs (%ld sliding), friction %.3g J of %.3g J, |grad - FD| %.2g of %.3g\n", nfr,
+           cb_contact_term_stats(t)->sliding, cb_contact_term_stats(t)->friction_energy, E0, err, gmax);
+  free(x);
+  free(g);
+  cb_term_free(t);
+  cb_scene_free(s);
+}
+
 /* The step bound on a straight fall from h through the plane to -h: contact at t = 1/2. ACCD stops with a tenth
  * of the gap left: t in [0.45, 0.5). A fall that stops short, and a sideways slide, are not bounded. */
 Test(contact, step_bound_stops_before_the_crossing) {
@@ -220,6 +346,9 @@ Test(contact, conformance_examples_have_active_contacts) {
       const cb_contact_stats *st = cb_contact_term_stats(t);
       cr_expect_gt(st->active, 0, "%s example %d: no active pair", names[k], ex);
       if (k == 1 && ex == 0) cr_expect_gt(st->mollified, 0, "ipc example 0: no mollified edge pair");
+      if (k == 1 && ex == 2) /* friction: pairs on both sides of eps_v dt */
+        cr_expect(st->friction_pairs > 0 && st->sliding > 0 && st->sliding < st->friction_pairs,
+                  "ipc example 2: %ld friction pairs, %ld sliding", st->friction_pairs, st->sliding);
       cb_term_free(t);
     }
   }

@@ -17,7 +17,11 @@
  * evaluation of the energy, so E is a function of x alone. `ipc` also gives
  * the minimisers a step bound: the largest fraction of a step that additive
  * CCD (Li, Kaufman & Jiang 2021) certifies free of contact
- * (cb_system_max_step, system.h). */
+ * (cb_system_max_step, system.h). With contact.friction mu > 0, `ipc` adds
+ * lagged, smoothed Coulomb friction (Li et al. 2020, section 5) over the
+ * pairs within reach at each step's start: sum_pairs mu lam f0(|u|), u the
+ * pair's tangential displacement over the step (the obstacle's motion
+ * included), lam its normal force at the start (contact_term.c, "Friction"). */
 #ifndef CB_CONTACT_H
 #define CB_CONTACT_H
 
@@ -29,9 +33,10 @@ struct cb_param_key; /* integrator.h */
 /* Every response's parameters (each type reads the fields its keys name). */
 typedef struct cb_contact_params {
   double thickness; /* m, > 0: the penalty's thickness h, IPC's activation distance dhat. Default 1e-3 */
-  double friction;  /* Coulomb mu >= 0; only 0 is implemented (friction is issue 34's next part). Default 0 */
+  double friction;  /* Coulomb mu >= 0 (ipc: lagged smoothed friction; penalty: 0 only). Default 0 */
   double stiffness; /* penalty k, N/m, > 0. Default 1e4 */
   double kappa;     /* IPC barrier stiffness, J/m^4 (b is in m^4), > 0. Default 1e8 */
+  double epsv;      /* IPC friction's static-to-dynamic velocity eps_v, m/s, > 0. Default 1e-3 */
 } cb_contact_params;
 
 cb_contact_params cb_contact_params_default(void);
@@ -48,8 +53,9 @@ extern const char *const cb_contact_names[];            /* their names, NULL-ter
 const cb_contact_type *cb_contact_type_find(const char *name);
 
 /* Checks p for method `name`: -> CB_EINVAL with "contact.<key>: ..." (an
- * unknown method, thickness <= 0 or not finite, friction < 0 or > 0, a
- * stiffness or kappa <= 0). */
+ * unknown method, thickness <= 0 or not finite, friction < 0 or not finite,
+ * epsv <= 0 or not finite; each response checks its own keys: the penalty's
+ * stiffness, refusing friction > 0; ipc's kappa). */
 int cb_contact_params_check(const char *name, const cb_contact_params *p);
 
 /* ---- the pair term both responses are ------------------------------------- */
@@ -66,6 +72,13 @@ int cb_contact_term_alloc(const cb_model *m, const cb_term_type *type, const cb_
 /* Gives the term the obstacle mesh o (static at its current positions o->x
  * during a step: its motion is taken between steps), or NULL for none. */
 int cb_contact_term_set_obstacle(cb_term *t, const cb_obstacle *o);
+/* Lagged friction (ipc with contact.friction > 0; contact_term.c, "Friction"):
+ * freezes, at the step's start state x with time step dt, each active pair's
+ * normal force, tangent basis and closest-point weights, and the obstacle's
+ * displacement over the step (from its motion, cb_obstacle_positions). The
+ * term's type calls it as its begin_step (energy.h); tests call it directly.
+ * A term without friction (mu = 0) keeps no pairs. */
+int cb_contact_term_begin_step(cb_term *t, const double *x, double dt);
 /* Nonzero if t is a contact term (either response). */
 int cb_contact_term_is(const cb_term *t);
 
@@ -77,16 +90,19 @@ int cb_contact_term_intersections(const cb_term *t, const double *x, long *count
 
 /* What the last evaluation found. */
 typedef struct cb_contact_stats {
-  long candidates;  /* primitive pairs the broad phase gave */
-  long active;      /* pairs within reach (nonzero energy) */
-  long mollified;   /* active edge-edge pairs inside the mollifier's range (c < eps_x; ipc only) */
-  long decoupled;   /* active pairs of the last Hessian whose cross blocks the matrix pattern lacked (block-
-                       diagonal model, docs/contact.md) */
-  double min_dist;  /* smallest distance of a candidate pair, m (inf without one) */
-  long ccd_queries; /* pairs the last step bound ran CCD on */
-  long ccd_iters;   /* additive-CCD advances those queries took */
-  double max_step;  /* the last step bound, in (0, 1] */
-  long grows;       /* candidate arrays grown past their set-up capacity (allocations outside set-up) */
+  long candidates;     /* primitive pairs the broad phase gave */
+  long active;         /* pairs within reach (nonzero energy) */
+  long mollified;      /* active edge-edge pairs inside the mollifier's range (c < eps_x; ipc only) */
+  long decoupled;      /* active pairs of the last Hessian whose cross blocks the matrix pattern lacked (block-
+                          diagonal model, docs/contact.md) */
+  double min_dist;     /* smallest distance of a candidate pair, m (inf without one) */
+  long ccd_queries;    /* pairs the last step bound ran CCD on */
+  long ccd_iters;      /* additive-CCD advances those queries took */
+  double max_step;     /* the last step bound, in (0, 1] */
+  long grows;          /* candidate or friction arrays grown past their set-up capacity (allocations outside set-up) */
+  long friction_pairs; /* pairs the last begin_step froze for friction (0 without friction) */
+  long sliding;        /* of those, pairs whose tangential displacement |u| >= eps_v dt at the last energy call */
+  double friction_energy; /* the friction potential's part of the last energy call, J */
 } cb_contact_stats;
 const cb_contact_stats *cb_contact_term_stats(const cb_term *t);
 

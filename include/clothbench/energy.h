@@ -118,6 +118,14 @@ typedef struct cb_term_type {
    * Minimisers call it through cb_system_max_step (system.h), one hook they
    * share. NULL: no bound. */
   double (*max_step)(const cb_term *t, const double *x, const double *x1);
+  /* Optional: called once at the start of every step, at the step's start
+   * state x (3*nv) with its time step dt (s), before the step's first
+   * evaluation, for a term that freezes quantities for the step (IPC's lagged
+   * friction, contact.h). Returns a status (with a message). The term's
+   * energy is a function of x alone between two calls. Minimisers do not call
+   * it: the integrator wrapper does, through cb_system_begin_step (system.h).
+   * NULL: nothing to freeze. */
+  int (*begin_step)(cb_term *t, const double *x, double dt);
 } cb_term_type;
 
 struct cb_term {

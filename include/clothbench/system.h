@@ -43,6 +43,10 @@ void cb_system_assemble(cb_system *s, const double *x, double mass_scale, cb_def
  * when no term has one. A minimiser starts its line search at that fraction
  * of its step (Newton, integrator_newton.c). */
 double cb_system_max_step(const cb_system *s, const double *x, const double *x1);
+/* The start of a step at x (3*nv) with time step dt: every term's begin_step
+ * (energy.h), in order; the first failing status. The integrator wrapper
+ * (cb_integrator_step) calls it before every step of every type. */
+int cb_system_begin_step(const cb_system *s, const double *x, double dt);
 /* Elastic (non-gravity) part of the energy: the sum over terms with a Hessian. */
 double cb_system_elastic_energy(const cb_system *s, const double *x);
 

@@ -2,6 +2,7 @@
  * (cb_scene_build's *key); here they get the key's location in front. */
 #include "bind.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -48,6 +49,11 @@ int cb_scene_def_from_config(const cb_config *c, cb_scene_def *d, char *path, si
   if (def) d->definiteness = def;
   d->buckling_kb = c->buckling_kb;
   memcpy(d->gravity, c->gravity, sizeof d->gravity);
+  if (c->slope != 0) { /* scene.slope: g turned by theta about z */
+    double th = c->slope * 3.14159265358979323846 / 180, cs = cos(th), sn = sin(th);
+    d->gravity[0] = c->gravity[0] * cs - c->gravity[1] * sn;
+    d->gravity[1] = c->gravity[0] * sn + c->gravity[1] * cs;
+  }
   d->pins = c->pins;
   d->initial_scale = c->initial_scale;
   memcpy(d->pin_squeeze, c->pin_squeeze, sizeof d->pin_squeeze);

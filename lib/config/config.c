@@ -111,6 +111,11 @@ static const keydef keys_head[] = {
      "(so the force stays continuous). Needs k > 12 pi^2 k_b / L^3."},
     {"scene.gravity", T_VEC3, O(gravity), "0 -9.8 0", "m/s^2", -1e6, 1e6, 0, NULL, NULL,
      "Gravitational acceleration (3 numbers); `0 0 0` leaves the gravity term out."},
+    {"scene.slope", T_DOUBLE, O(slope), "0", "deg", -90, 90, 0, NULL, NULL,
+     "The frame of a slope tilted by theta: `scene.gravity` is turned by theta about the z axis, g -> (g_x cos theta - "
+     "g_y sin theta, g_x sin theta + g_y cos theta, g_z) (the default becomes 9.8 sin theta, -9.8 cos theta, 0), so a "
+     "horizontal cloth on a horizontal obstacle rests on a plane tilted by theta, downhill along +x "
+     "(configs/slope.ini)."},
     {"scene.pins", T_PINS, O(pins), "top-corners", "-", 0, 0, 0, NULL, NULL,
      "Pinned vertices: `none`, `corners`, `top-corners` (both ends of the top edge), `top-edge`, `halfspace a b c d` "
      "(every vertex whose rest position p has a p_x + b p_y + c p_z <= d, to 1e-9 of the mesh size, so vertices on the "

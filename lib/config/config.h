@@ -44,6 +44,7 @@ typedef struct cb_config {
   double buckling_kb;             /* N m^2, Choi-Ko bending stiffness of a buckled spring */
   /* [scene] */
   double gravity[3];      /* m/s^2 */
+  double slope;           /* degrees: gravity turned about z (a slope's frame) */
   char pins[CB_PINS_LEN]; /* named set or index list */
   double initial_scale;   /* initial positions scaled about the centroid */
   double pin_squeeze[3];  /* m/s, pinned vertices driven toward each other */

@@ -30,7 +30,7 @@ const cb_contact_type *cb_contact_type_find(const char *name) {
 }
 
 cb_contact_params cb_contact_params_default(void) {
-  return (cb_contact_params){.thickness = 1e-3, .friction = 0, .stiffness = 1e4, .kappa = 1e8};
+  return (cb_contact_params){.thickness = 1e-3, .friction = 0, .stiffness = 1e4, .kappa = 1e8, .epsv = 1e-3};
 }
 
 int cb_contact_params_check(const char *name, const cb_contact_params *p) {
@@ -41,7 +41,6 @@ int cb_contact_params_check(const char *name, const cb_contact_params *p) {
     return cb_fail("contact.thickness: must be > 0 (m), got %g", p->thickness);
   if (!(p->friction >= 0) || !isfinite(p->friction))
     return cb_fail("contact.friction: must be >= 0, got %g", p->friction);
-  if (p->friction > 0)
-    return cb_fail("contact.friction: %g: friction is not implemented yet (only 0 is accepted)", p->friction);
+  if (!(p->epsv > 0) || !isfinite(p->epsv)) return cb_fail("contact.epsv: must be > 0 (m/s), got %g", p->epsv);
   return CB_OK;
 }

@@ -13,7 +13,12 @@
  * distance as its code writes it (the paper's b(d) with d^2 and dhat^2 in
  * place of d and dhat). The pair Hessian is projected per pair (12 x 12).
  * At s <= 0 (touching, or a start that already intersects) E = +inf: the line
- * search never accepts such a point, and the CCD bound never leads to one. */
+ * search never accepts such a point, and the CCD bound never leads to one.
+ *
+ * With contact.friction mu > 0 the term also carries lagged, smoothed
+ * Coulomb friction (Li et al. 2020, section 5; contact.epsv the smoothing
+ * velocity eps_v), frozen at every step's start by the type's begin_step:
+ * the formulas are in contact_term.c ("Friction"). */
 #include <math.h>
 
 #include "contact_keys.h"
@@ -42,11 +47,23 @@ static int ipc_alloc(const cb_model *m, const cb_contact_params *p, cb_term **ou
   return cb_contact_term_alloc(m, &cb_term_contact_ipc_type, p, ipc_f, p->thickness, 1, 1, out);
 }
 
+/* Examples 0 and 1 are the pair term's (contact_term.h); 2 is example 0 with friction mu = 0.8, frozen at the
+ * model's rest shape with eps_v dt = 0.1 m (eps_v = 1 m/s, dt = 0.1 s), so that the test's states (0.02-0.15 m
+ * from rest) put pairs on both sides of the smoothing's eps_v dt. */
 static int ipc_example(const cb_model *m, int i, cb_term **out) {
   cb_contact_params p = cb_contact_params_default();
   p.thickness = 0.3;
   p.kappa = 1e4;
-  return cb_contact_example(m, i, &cb_term_contact_ipc_type, ipc_f, 1, 1, &p, out);
+  if (i < 2) return cb_contact_example(m, i, &cb_term_contact_ipc_type, ipc_f, 1, 1, &p, out);
+  p.friction = 0.8;
+  p.epsv = 1;
+  int st = cb_contact_example(m, 0, &cb_term_contact_ipc_type, ipc_f, 1, 1, &p, out);
+  if (!st) st = cb_contact_term_begin_step(*out, m->mesh->x, 0.1);
+  if (st && *out) {
+    cb_term_free(*out);
+    *out = NULL;
+  }
+  return st;
 }
 
 const cb_term_type cb_term_contact_ipc_type = {.name = "contact_ipc",
@@ -56,9 +73,10 @@ const cb_term_type cb_term_contact_ipc_type = {.name = "contact_ipc",
                                                .hessian = cb_contact_hessian,
                                                .free = cb_contact_free,
                                                .max_step = cb_contact_max_step,
-                                               .nexamples = 2,
+                                               .nexamples = 3,
                                                .example = ipc_example,
-                                               .indefinite = cb_contact_indefinite};
+                                               .indefinite = cb_contact_indefinite,
+                                               .begin_step = cb_contact_term_begin_step};
 
 static const cb_param_key ipc_keys[] = {
     CB_KEY_CONTACT_THICKNESS,
@@ -73,6 +91,17 @@ static const cb_param_key ipc_keys[] = {
      .lo_open = 1,
      .doc = "Barrier stiffness kappa of contact.method = ipc: E = kappa b(d^2) per pair closer than the thickness "
             "dhat, b(s) = -(s - dhat^2)^2 ln(s / dhat^2)."},
+    {.name = "epsv",
+     .kind = CB_PARAM_DOUBLE,
+     .offset = CB_CKEY(epsv),
+     .def = "1e-3",
+     .unit = "m/s",
+     .lo = 0,
+     .hi = 1e9,
+     .lo_open = 1,
+     .doc = "Friction's smoothing velocity eps_v of contact.method = ipc (Li et al. 2020, section 5): a contact whose "
+            "tangential displacement over the step is below eps_v dt is in the smoothed, static-like branch of "
+            "f1(y) = 2 y/(eps_v dt) - y^2/(eps_v dt)^2; above it, Coulomb's sliding force mu lambda."},
     CB_KEY_CONTACT_END,
 };
 

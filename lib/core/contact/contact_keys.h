@@ -21,7 +21,9 @@
   { \
     .name = "friction", .kind = CB_PARAM_DOUBLE, .offset = CB_CKEY(friction), .def = "0", .unit = "-", .lo = 0, \
     .hi = 1e9, \
-    .doc = "Coulomb friction coefficient mu >= 0. Friction is not implemented yet: a value above 0 is refused." \
+    .doc = "Coulomb friction coefficient mu >= 0: lagged, smoothed Coulomb friction for `ipc` (Li et al. 2020, " \
+           "section " \
+           "5; docs/contact.md); `penalty` refuses a value above 0." \
   }
 #define CB_KEY_CONTACT_END \
   { .name = NULL }

@@ -37,6 +37,10 @@ static int penalty_alloc(const cb_model *m, const cb_contact_params *p, cb_term 
   if (st) return st;
   if (!(p->stiffness > 0) || !isfinite(p->stiffness))
     return cb_fail("contact.stiffness: must be > 0 (N/m), got %g", p->stiffness);
+  if (p->friction > 0)
+    return cb_fail("contact.friction: %g: the penalty has no friction (only 0 is accepted); contact.method = ipc has "
+                   "lagged Coulomb friction",
+                   p->friction);
   return cb_contact_term_alloc(m, &cb_term_contact_penalty_type, p, penalty_f, p->thickness, 0, 0, out);
 }
 

@@ -48,7 +48,38 @@
  * docs/contact.md.) A pair
  * whose distance at x exceeds the sum of its two primitives' largest vertex
  * displacements (by 1%) cannot meet during the step (every point of a
- * primitive moves at most as far as its farthest vertex) and skips CCD. */
+ * primitive moves at most as far as its farthest vertex) and skips CCD.
+ *
+ * Friction (ipc with mu = contact.friction > 0; Li et al. 2020, section 5:
+ * lagged, smoothed Coulomb friction). At the start of every step
+ * (cb_contact_term_begin_step, the type's begin_step, which the integrator
+ * wrapper calls at x^t) every pair within reach is frozen:
+ *   lam   = -dE_p/dd = -2 d e f'(s): its normal force (the barrier's
+ *           derivative in d = sqrt(s), the mollifier e held fixed),
+ *   gam   its closest-point weights (closest_weights below), so that
+ *           r = sum_a gam_a q_a joins the two closest points,
+ *   P     two orthonormal tangents orthogonal to r (3 x 2),
+ * and the obstacle's displacement over the step, o(t + dt) - o(t), from its
+ * motion's closed form (obstacle.h; zero for a still one). The relative
+ * tangential displacement of the pair over the step is then
+ *   u(x) = P^T sum_a gam_a (x_a - x_a^t)   (obstacle vertices: their displacement),
+ * linear in x: u = P^T sum_{cloth a} gam_a x_a + u0. With c = eps_v dt
+ * (contact.epsv) and y = |u| the pair adds
+ *   D = mu lam f0(y),
+ *   f1(y) = 2y/c - y^2/c^2 (y < c), 1 (y >= c);  f0' = f1, f0(0) = c/3:
+ *   f0(y) = -y^3/(3c^2) + y^2/c + c/3 (y < c), y (y >= c),
+ *   dD/dx_a = mu lam gam_a P (f1(y)/y) u,         f1/y = 2/c - y/c^2, or 1/y,
+ *   d2D/dx_a dx_b = mu lam gam_a gam_b P M P^T,  M = (f1/y) I + w2 u u^T,
+ *   w2 = (f1'(y) y - f1(y))/y^3 = -1/(c^2 y) (y < c), -1/y^3 (y >= c).
+ * M's eigenvalues are f1/y across u and f1/y + w2 y^2 = f1'(y) along it:
+ * 2/c - y/c^2 > 0 and 2(1 - y/c)/c >= 0 below c, 1/y and 0 beyond. So the
+ * lagged Hessian is PSD as it stands (rank 2 at most: the paper's projection
+ * leaves it unchanged); under drop/mirror the eigenvalue along u is clamped at
+ * 0 (or mirrored) anyway, for the round-off at y = c. D is C^1 in x (f1 is
+ * continuous; f1' jumps at y = c). Pairs are frozen with the step's start
+ * pairs: a pair that comes within reach during the step has no friction until
+ * the next. The arrays are sized at set-up and grow (counted in grows) when a
+ * step has more pairs. */
 #include "contact_term.h"
 
 #include <math.h>
@@ -60,8 +91,19 @@
 #include <clothbench/distance.h>
 #include <clothbench/intersect.h>
 #include <clothbench/status.h>
+#include "vec.h"
 
 #define SAFE_MARGIN 1.01 /* the distance filter before CCD, with 1% for the round-off of d(0) */
+
+/* A friction pair frozen at the start of a step (lagged): u(x) = P^T sum_a gam_a x_a + u0 over its cloth vertices. */
+typedef struct {
+  int vid[4];    /* cloth vertices (-1: the obstacle's) */
+  double gam[4]; /* closest-point weights: r = sum_a gam_a q_a joins the two closest points at the start */
+  double P[6];   /* tangent basis, columns P[0..2] and P[3..5]: orthonormal, orthogonal to r */
+  double lam;    /* the pair's normal force at the start, N */
+  double u0[2];  /* -P^T sum_cloth gam_a x_a(start) + P^T sum_obstacle gam_a (obstacle displacement)_a, m */
+  int na;        /* the first primitive's vertices (1 point-triangle, 2 edge-edge) */
+} fpair;
 
 typedef struct {
   cb_term base;
@@ -92,6 +134,12 @@ typedef struct {
   const cb_sparse *A;
   cb_projection_work *pw;
   cb_contact_stats stats;
+  /* friction ("Friction" above): the pairs frozen at the step's start */
+  const cb_obstacle *obs; /* the scene's obstacle, for its motion (NULL: none, or an example's own, static) */
+  double *odx;            /* 3 onv: the obstacle's displacement over the current step, m */
+  double epsvh;           /* eps_v dt of the current step, m */
+  fpair *fr;
+  long nfr, cap_fr;
 } ct;
 
 enum { K_SELF_VF, K_SELF_EE, K_CROSS_VF, K_CROSS_FV, K_CROSS_EE, K_COUNT };
@@ -146,7 +194,7 @@ static long count(const ct *s, int kind) {
  * cloth vertices (-1: the obstacle's), the edge-edge mollifier threshold
  * (0 for point-triangle pairs), and whether it is edge-edge. */
 static int gather(const ct *s, int kind, long i, const double *x, const double *x1, double *q, double *q1, int *vid,
-                  double *eps) {
+                  double *eps, int *oid) {
   const double *src[4];
   const double *src1[4];
   int ee = kind == K_SELF_EE || kind == K_CROSS_EE;
@@ -156,6 +204,10 @@ static int gather(const ct *s, int kind, long i, const double *x, const double *
     int cloth_point = kind != K_CROSS_FV, cloth_face = kind != K_CROSS_VF;
     const int *f = (cloth_face ? s->tri : s->otri) + 3 * pr[1];
     vid[0] = cloth_point ? pr[0] : -1;
+    if (oid) {
+      oid[0] = cloth_point ? -1 : pr[0];
+      for (int a = 0; a < 3; a++) oid[1 + a] = cloth_face ? -1 : f[a];
+    }
     src[0] = (cloth_point ? x : s->ox) + 3 * pr[0];
     src1[0] = cloth_point && x1 ? x1 + 3 * pr[0] : src[0];
     for (int a = 0; a < 3; a++) {
@@ -167,6 +219,11 @@ static int gather(const ct *s, int kind, long i, const double *x, const double *
     const int *pr = (kind == K_SELF_EE ? s->self.ee : s->cross.ee) + 2 * i;
     int other_cloth = kind == K_SELF_EE;
     const int *ea = s->edges + 2 * pr[0], *eb = (other_cloth ? s->edges : s->oedges) + 2 * pr[1];
+    if (oid)
+      for (int a = 0; a < 2; a++) {
+        oid[a] = -1;
+        oid[2 + a] = other_cloth ? -1 : eb[a];
+      }
     for (int a = 0; a < 2; a++) {
       vid[a] = ea[a];
       src[a] = x + 3 * ea[a];
@@ -215,6 +272,201 @@ static double pair_eval(const ct *s, const double *q, int ee, double eps, double
   return e * f;
 }
 
+/* ---- friction ------------------------------------------------------------------ */
+
+/* The closest-point weights of a classified pair: gam (4, by pair vertex) with r = sum_a gam_a q_a the vector
+ * from the second primitive's closest point to the first's. Per form (distance.h):
+ *   point-point (p, q):           r = p - q
+ *   point-line (p, e0, e1):       r = p - ((1 - t) e0 + t e1),          t = (p - e0).(e1 - e0) / |e1 - e0|^2
+ *   point-plane (p, t0, t1, t2):  r = p - (t0 + b1 (t1 - t0) + b2 (t2 - t0)), (b1, b2) the least-squares
+ *                                 coordinates of p - t0 in the triangle's plane (its 2x2 normal equations)
+ *   line-line (a0, a1, b0, b1):   r = (a0 + sa (a1 - a0)) - (b0 + sb (b1 - b0)), (sa, sb) the lines' closest
+ *                                 parameters (the 2x2 normal equations of |a0 - b0 + sa da - sb db|^2)
+ * Returns nonzero for a degenerate form (a zero determinant), which the classifiers never choose. */
+static int closest_weights(const cb_distance_case *c, const double *q, double *gam) {
+  double w[4] = {0, 0, 0, 0};
+  const double *v0 = q + 3 * c->v[0], *v1 = q + 3 * c->v[1], *v2 = q + 3 * c->v[2], *v3 = q + 3 * c->v[3];
+  switch (c->form) {
+  case CB_DIST_POINT_POINT:
+    w[0] = 1;
+    w[1] = -1;
+    break;
+  case CB_DIST_POINT_LINE: {
+    double e[3], r0[3];
+    cb_v3_sub(v2, v1, e);
+    cb_v3_sub(v0, v1, r0);
+    double ee = cb_v3_dot(e, e);
+    if (!(ee > 0)) return 1;
+    double t = cb_v3_dot(r0, e) / ee;
+    w[0] = 1;
+    w[1] = -(1 - t);
+    w[2] = -t;
+    break;
+  }
+  case CB_DIST_POINT_PLANE: {
+    double e1[3], e2[3], r0[3];
+    cb_v3_sub(v2, v1, e1);
+    cb_v3_sub(v3, v1, e2);
+    cb_v3_sub(v0, v1, r0);
+    double a = cb_v3_dot(e1, e1), b = cb_v3_dot(e1, e2), d = cb_v3_dot(e2, e2), det = a * d - b * b;
+    if (!(det > 0)) return 1;
+    double p1 = cb_v3_dot(e1, r0), p2 = cb_v3_dot(e2, r0);
+    double b1 = (d * p1 - b * p2) / det, b2 = (a * p2 - b * p1) / det;
+    w[0] = 1;
+    w[1] = -(1 - b1 - b2);
+    w[2] = -b1;
+    w[3] = -b2;
+    break;
+  }
+  default: { /* line-line */
+    double da[3], db[3], r0[3];
+    cb_v3_sub(v1, v0, da);
+    cb_v3_sub(v3, v2, db);
+    cb_v3_sub(v0, v2, r0);
+    double a = cb_v3_dot(da, da), b = cb_v3_dot(da, db), d = cb_v3_dot(db, db), det = a * d - b * b;
+    if (!(det > 0)) return 1;
+    double p1 = -cb_v3_dot(da, r0), p2 = cb_v3_dot(db, r0);
+    double sa = (d * p1 + b * p2) / det, sb = (b * p1 + a * p2) / det; /* [a -b; -b d] [sa sb] = [p1 p2] */
+    w[0] = 1 - sa;
+    w[1] = sa;
+    w[2] = -(1 - sb);
+    w[3] = -sb;
+    break;
+  }
+  }
+  for (int a = 0; a < 4; a++) gam[a] = 0;
+  for (int k = 0; k < cb_distance_form_nverts(c->form); k++) gam[c->v[k]] += w[k];
+  return 0;
+}
+
+/* Two orthonormal vectors P[0..2], P[3..5] orthogonal to the unit vector n. */
+static void tangent_basis(const double *n, double *P) {
+  int k = fabs(n[0]) <= fabs(n[1]) && fabs(n[0]) <= fabs(n[2]) ? 0 : fabs(n[1]) <= fabs(n[2]) ? 1 : 2;
+  double ax[3] = {0, 0, 0}, e1[3], e2[3];
+  ax[k] = 1;
+  cb_v3_cross(n, ax, e1);
+  double l = cb_v3_norm(e1);
+  for (int c = 0; c < 3; c++) e1[c] /= l;
+  cb_v3_cross(n, e1, e2);
+  for (int c = 0; c < 3; c++) {
+    P[c] = e1[c];
+    P[3 + c] = e2[c];
+  }
+}
+
+/* The pair's friction D = mu lam f0(|u|) at x; g (12) and H (144, the pair's vertices, the 2x2 core projected by
+ * proj) unless NULL; *sliding = |u| >= eps_v dt. Formulas in "Friction" above. */
+static double fric_eval(const ct *s, const fpair *f, const double *x, cb_projection proj, double *g, double *H,
+                        int *sliding) {
+  double u[2] = {f->u0[0], f->u0[1]};
+  for (int a = 0; a < 4; a++)
+    if (f->vid[a] >= 0) {
+      const double *xa = x + 3 * f->vid[a];
+      u[0] += f->gam[a] * cb_v3_dot(f->P, xa);
+      u[1] += f->gam[a] * cb_v3_dot(f->P + 3, xa);
+    }
+  double y = sqrt(u[0] * u[0] + u[1] * u[1]), c = s->epsvh, ml = s->p.friction * f->lam;
+  int slide = y >= c;
+  if (sliding) *sliding = slide;
+  double f0 = slide ? y : -y * y * y / (3 * c * c) + y * y / c + c / 3;
+  double w = slide ? 1 / y : 2 / c - y / (c * c); /* f1(y) / y */
+  if (g) {
+    double t[3];
+    for (int k = 0; k < 3; k++) t[k] = ml * w * (f->P[k] * u[0] + f->P[3 + k] * u[1]); /* mu lam f1/y P u */
+    for (int a = 0; a < 4; a++)
+      for (int k = 0; k < 3; k++) g[3 * a + k] = f->gam[a] * t[k];
+  }
+  if (H) {
+    /* M = w I + w2 u u^T, w2 = (f1' y - f1) / y^3: its eigenvalues w + w2 y^2 (along u) and w (across) */
+    double M[4] = {w, 0, 0, w};
+    if (y > 0) {
+      double w2 = slide ? -1 / (y * y * y) : -1 / (c * c * y), l1 = w + w2 * y * y;
+      if (proj == CB_PROJ_CLAMP) l1 = fmax(l1, 0);
+      else if (proj == CB_PROJ_ABS) l1 = fabs(l1);
+      double uh[2] = {u[0] / y, u[1] / y};
+      for (int i = 0; i < 2; i++)
+        for (int j = 0; j < 2; j++) M[2 * i + j] += (l1 - w) * uh[i] * uh[j];
+    }
+    double K[9]; /* P M P^T */
+    for (int r = 0; r < 3; r++)
+      for (int cc = 0; cc < 3; cc++) {
+        double pr[2] = {f->P[r], f->P[3 + r]}, pc[2] = {f->P[cc], f->P[3 + cc]};
+        K[3 * r + cc] = pr[0] * (M[0] * pc[0] + M[1] * pc[1]) + pr[1] * (M[2] * pc[0] + M[3] * pc[1]);
+      }
+    for (int a = 0; a < 4; a++)
+      for (int b = 0; b < 4; b++)
+        for (int r = 0; r < 3; r++)
+          for (int cc = 0; cc < 3; cc++) H[(3 * a + r) * 12 + 3 * b + cc] = ml * f->gam[a] * f->gam[b] * K[3 * r + cc];
+  }
+  return ml * f0;
+}
+
+static int grow_friction(ct *s) {
+  long cap = s->cap_fr > 0 ? 2 * s->cap_fr : 64;
+  fpair *n = cb_malloc((size_t)cap, sizeof *n);
+  if (!n) return CB_ENOMEM;
+  if (s->nfr > 0) memcpy(n, s->fr, (size_t)s->nfr * sizeof *n);
+  free(s->fr);
+  s->fr = n;
+  s->cap_fr = cap;
+  return CB_OK;
+}
+
+int cb_contact_term_begin_step(cb_term *t, const double *x, double dt) {
+  if (!cb_contact_term_is(t)) return cb_fail("contact: not a contact term");
+  ct *s = as_ct(t);
+  s->nfr = s->stats.friction_pairs = 0;
+  if (!(s->p.friction > 0)) return CB_OK;
+  if (!(dt > 0) || !isfinite(dt)) return cb_fail("contact.friction: needs a time step dt > 0, got %g", dt);
+  s->epsvh = s->p.epsv * dt;
+  if (s->obs) { /* the obstacle's displacement over the step, from its motion's closed form */
+    cb_obstacle_positions(s->obs, s->obs->t + dt, s->odx);
+    for (int k = 0; k < 3 * s->onv; k++) s->odx[k] -= s->ox[k];
+  }
+  int st = find(s, x, NULL);
+  if (st) return st;
+  double q[12], eps;
+  int vid[4], oid[4];
+  for (int kind = 0; kind < K_COUNT; kind++)
+    for (long i = 0; i < count(s, kind); i++) {
+      int ee = gather(s, kind, i, x, NULL, q, NULL, vid, &eps, oid);
+      cb_distance_case c;
+      if ((st = ee ? cb_distance_edge_edge_case(q, &c) : cb_distance_point_triangle_case(q, &c))) return st;
+      double sq = cb_distance_case_eval(&c, 4, q, NULL, NULL);
+      if (!(sq < s->reach * s->reach) || !(sq > 0)) continue;
+      double f1, f2, e = 1;
+      s->f(&s->p, sq, &f1, &f2);
+      if (ee && s->mollify) e = cb_edge_edge_mollifier(q, eps, NULL, NULL);
+      fpair fp;
+      fp.lam = -2 * sqrt(sq) * e * f1; /* -dE_p/dd at fixed mollifier: the pair's normal force */
+      if (!(fp.lam > 0) || !isfinite(fp.lam)) continue;
+      if (closest_weights(&c, q, fp.gam)) continue;
+      double r[3] = {0, 0, 0};
+      for (int a = 0; a < 4; a++)
+        for (int k = 0; k < 3; k++) r[k] += fp.gam[a] * q[3 * a + k];
+      double rn = cb_v3_norm(r);
+      if (!(rn > 0)) continue;
+      for (int k = 0; k < 3; k++) r[k] /= rn;
+      tangent_basis(r, fp.P);
+      fp.u0[0] = fp.u0[1] = 0;
+      fp.na = ee ? 2 : 1;
+      for (int a = 0; a < 4; a++) {
+        fp.vid[a] = vid[a];
+        const double *d = vid[a] >= 0 ? q + 3 * a : s->odx + 3 * oid[a];
+        double sg = vid[a] >= 0 ? -fp.gam[a] : fp.gam[a];
+        fp.u0[0] += sg * cb_v3_dot(fp.P, d);
+        fp.u0[1] += sg * cb_v3_dot(fp.P + 3, d);
+      }
+      if (s->nfr == s->cap_fr) {
+        if ((st = grow_friction(s))) return st;
+        s->stats.grows++;
+      }
+      s->fr[s->nfr++] = fp;
+    }
+  s->stats.friction_pairs = s->nfr;
+  return CB_OK;
+}
+
 double cb_contact_energy(const cb_term *t, const double *x, double *grad) {
   ct *s = as_ct(t);
   if (find(s, x, NULL)) return NAN;
@@ -224,7 +476,7 @@ double cb_contact_energy(const cb_term *t, const double *x, double *grad) {
   s->stats.min_dist = INFINITY;
   for (int kind = 0; kind < K_COUNT; kind++)
     for (long i = 0; i < count(s, kind); i++) {
-      int ee = gather(s, kind, i, x, NULL, q, NULL, vid, &eps);
+      int ee = gather(s, kind, i, x, NULL, q, NULL, vid, &eps, NULL);
       double Ep = pair_eval(s, q, ee, eps, grad ? g : NULL, NULL, &d2);
       s->stats.candidates++;
       if (d2 < s->stats.min_dist * s->stats.min_dist) s->stats.min_dist = sqrt(d2);
@@ -237,7 +489,21 @@ double cb_contact_energy(const cb_term *t, const double *x, double *grad) {
           if (vid[a] >= 0)
             for (int c = 0; c < 3; c++) grad[3 * vid[a] + c] += g[3 * a + c];
     }
-  return E;
+  double Ef = 0; /* the friction pairs frozen at the step's start */
+  long sliding = 0;
+  for (long i = 0; i < s->nfr; i++) {
+    const fpair *f = &s->fr[i];
+    int sl;
+    Ef += fric_eval(s, f, x, CB_PROJ_NONE, grad ? g : NULL, NULL, &sl);
+    sliding += sl;
+    if (grad)
+      for (int a = 0; a < 4; a++)
+        if (f->vid[a] >= 0)
+          for (int c = 0; c < 3; c++) grad[3 * f->vid[a] + c] += g[3 * a + c];
+  }
+  s->stats.sliding = sliding;
+  s->stats.friction_energy = Ef;
+  return E + Ef;
 }
 
 static int add_pair_blocks(const ct *s, cb_pattern *p, int a, int b) {
@@ -261,7 +527,7 @@ int cb_contact_pattern(const cb_term *t, cb_pattern *p) {
   int vid[4];
   for (int kind = 0; kind < K_COUNT && !st; kind++)
     for (long i = 0; i < count(s, kind) && !st; i++) {
-      int ee = gather(s, kind, i, x, NULL, q, NULL, vid, &eps);
+      int ee = gather(s, kind, i, x, NULL, q, NULL, vid, &eps, NULL);
       pair_eval(s, q, ee, eps, NULL, NULL, &d2);
       if (!(d2 < s->reach * s->reach)) continue;
       for (int a = 0; a < 4 && !st; a++)
@@ -276,38 +542,49 @@ int cb_contact_bind(cb_term *t, const cb_sparse *A) {
   return CB_OK;
 }
 
+/* Adds the pair's 12 x 12 H (PSD) to the matrix values: the blocks of its cloth vertices (vid >= 0, free). The
+ * first primitive is vertices 0..na-1; if a cross block (first against second) is missing from the pattern, only
+ * the two diagonal parts are added (principal submatrices: still PSD). Returns 1 then, else 0. */
+static int scatter(const ct *s, const int *vid, int na, const double *H, double *val) {
+  int fi[4], slot[16], stride[16], missing = 0;
+  for (int a = 0; a < 4; a++) fi[a] = vid[a] >= 0 ? s->free_index[vid[a]] : -1;
+  for (int a = 0; a < 4; a++)
+    for (int b = 0; b < 4; b++) {
+      slot[4 * a + b] = -1;
+      if (fi[a] < 0 || fi[b] < 0) continue;
+      cb_sparse_block_slot(s->A, fi[a], fi[b], &slot[4 * a + b], &stride[4 * a + b]);
+      if (slot[4 * a + b] < 0 && (a < na) != (b < na)) missing = 1;
+    }
+  for (int a = 0; a < 4; a++)
+    for (int b = 0; b < 4; b++) {
+      if (slot[4 * a + b] < 0 || (missing && (a < na) != (b < na))) continue;
+      double B[9];
+      for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) B[3 * r + c] = H[(3 * a + r) * 12 + 3 * b + c];
+      cb_sparse_add_block(val, slot[4 * a + b], stride[4 * a + b], B, 1.0);
+    }
+  return missing;
+}
+
 void cb_contact_hessian(const cb_term *t, const double *x, cb_projection proj, double *val) {
   ct *s = as_ct(t);
   if (find(s, x, NULL)) return;
-  double g[12], H[144], q[12], eps, d2;
+  double H[144], q[12], eps, d2;
   int vid[4];
   s->stats.decoupled = 0;
   for (int kind = 0; kind < K_COUNT; kind++)
     for (long i = 0; i < count(s, kind); i++) {
-      int ee = gather(s, kind, i, x, NULL, q, NULL, vid, &eps);
+      int ee = gather(s, kind, i, x, NULL, q, NULL, vid, &eps, NULL);
       pair_eval(s, q, ee, eps, NULL, H, &d2);
       if (!(d2 < s->reach * s->reach)) continue;
       if (cb_projection_apply(proj, 12, H, s->pw) < 0) continue;
-      int fi[4], slot[16], stride[16], na = ee ? 2 : 1, missing = 0;
-      for (int a = 0; a < 4; a++) fi[a] = vid[a] >= 0 ? s->free_index[vid[a]] : -1;
-      for (int a = 0; a < 4; a++)
-        for (int b = 0; b < 4; b++) {
-          slot[4 * a + b] = -1;
-          if (fi[a] < 0 || fi[b] < 0) continue;
-          cb_sparse_block_slot(s->A, fi[a], fi[b], &slot[4 * a + b], &stride[4 * a + b]);
-          if (slot[4 * a + b] < 0 && (a < na) != (b < na)) missing = 1;
-        }
-      s->stats.decoupled += missing;
-      for (int a = 0; a < 4; a++)
-        for (int b = 0; b < 4; b++) {
-          if (slot[4 * a + b] < 0 || (missing && (a < na) != (b < na))) continue;
-          double B[9];
-          for (int r = 0; r < 3; r++)
-            for (int c = 0; c < 3; c++) B[3 * r + c] = H[(3 * a + r) * 12 + 3 * b + c];
-          cb_sparse_add_block(val, slot[4 * a + b], stride[4 * a + b], B, 1.0);
-        }
+      s->stats.decoupled += scatter(s, vid, ee ? 2 : 1, H, val);
     }
-  (void)g;
+  for (long i = 0; i < s->nfr; i++) { /* friction: P M P^T blocks, M's 2x2 core projected in closed form */
+    const fpair *f = &s->fr[i];
+    fric_eval(s, f, x, proj, NULL, H, NULL);
+    s->stats.decoupled += scatter(s, f->vid, f->na, H, val);
+  }
 }
 
 /* Additive CCD (Li, Kaufman & Jiang 2021, Codim-IPC, Algorithm 1) of one
@@ -366,7 +643,7 @@ double cb_contact_max_step(const cb_term *t, const double *x, const double *x1) 
   int vid[4];
   for (int kind = 0; kind < K_COUNT; kind++)
     for (long i = 0; i < count(s, kind); i++) {
-      int ee = gather(s, kind, i, x, x1, q0, q1, vid, &eps), moving = 0;
+      int ee = gather(s, kind, i, x, x1, q0, q1, vid, &eps, NULL), moving = 0;
       for (int a = 0; a < 4; a++) moving |= vid[a] >= 0 && s->free_index[vid[a]] >= 0;
       if (!moving) continue;
       /* a point of a primitive moves at most its vertices' largest displacement, so the distance at time t is at
@@ -396,7 +673,7 @@ int cb_contact_indefinite(const cb_term *t, const double *x, int *nelements) {
   int vid[4], n = 0;
   for (int kind = 0; kind < K_COUNT; kind++)
     for (long i = 0; i < count(s, kind); i++) {
-      int ee = gather(s, kind, i, x, NULL, q, NULL, vid, &eps);
+      int ee = gather(s, kind, i, x, NULL, q, NULL, vid, &eps, NULL);
       pair_eval(s, q, ee, eps, NULL, H, &d2);
       if (!(d2 < s->reach * s->reach)) continue;
       (*nelements)++;
@@ -417,6 +694,8 @@ void cb_contact_free(cb_term *t) {
   free(s->oel2);
   free(s->own_x);
   free(s->own_tri);
+  free(s->odx);
+  free(s->fr);
   free(s);
 }
 
@@ -468,6 +747,11 @@ int cb_contact_term_alloc(const cb_model *m, const cb_term_type *type, const cb_
     }
     long cap = 16L * (s->nv + s->nt) + 64;
     if (!st) st = cb_candidates_alloc(cap, 0, 2 * cap, &s->self);
+    if (!st && p->friction > 0) { /* the friction pairs' set-up capacity */
+      s->fr = cb_malloc((size_t)cap, sizeof *s->fr);
+      s->cap_fr = cap;
+      if (!s->fr) st = CB_ENOMEM;
+    }
   }
   if (st) {
     cb_contact_free(&s->base);
@@ -484,6 +768,10 @@ static int set_obstacle(ct *s, int nv, int nt, const int *tri, const double *x, 
   s->bo = NULL;
   free(s->oel2);
   s->oel2 = NULL;
+  free(s->odx);
+  s->odx = NULL;
+  s->obs = NULL;
+  s->nfr = 0;
   cb_candidates_free(&s->cross);
   if (!s->bp || nt == 0) return CB_OK; /* no cloth triangles: the cloth has no faces or edges to meet it with */
   cb_broadphase_params bp = bp_params(s);
@@ -491,7 +779,8 @@ static int set_obstacle(ct *s, int nv, int nt, const int *tri, const double *x, 
   if (st) return st;
   s->oedges = cb_broadphase_edges(s->bo, &s->one);
   s->oel2 = edge_lengths2(s->oedges, s->one, xr);
-  if (!s->oel2) return CB_ENOMEM;
+  s->odx = cb_calloc((size_t)3 * nv, sizeof(double)); /* zero: static, unless a scene obstacle's motion says */
+  if (!s->oel2 || !s->odx) return CB_ENOMEM;
   s->ox = x;
   s->otri = tri;
   s->onv = nv;
@@ -504,7 +793,9 @@ int cb_contact_term_set_obstacle(cb_term *t, const cb_obstacle *o) {
   if (!cb_contact_term_is(t)) return cb_fail("contact: not a contact term");
   ct *s = as_ct(t);
   if (!o) return set_obstacle(s, 0, 0, NULL, NULL, NULL);
-  return set_obstacle(s, o->mesh.nv, o->mesh.nt, o->mesh.tri, o->x, o->mesh.x);
+  int st = set_obstacle(s, o->mesh.nv, o->mesh.nt, o->mesh.tri, o->x, o->mesh.x);
+  if (!st && s->bo) s->obs = o;
+  return st;
 }
 
 typedef struct {

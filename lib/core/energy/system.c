@@ -67,6 +67,15 @@ double cb_system_max_step(const cb_system *s, const double *x, const double *x1)
   return alpha;
 }
 
+int cb_system_begin_step(const cb_system *s, const double *x, double dt) {
+  for (int k = 0; k < s->nterms; k++)
+    if (s->terms[k]->type->begin_step) {
+      int st = s->terms[k]->type->begin_step(s->terms[k], x, dt);
+      if (st) return st;
+    }
+  return CB_OK;
+}
+
 double cb_system_elastic_energy(const cb_system *s, const double *x) {
   double E = 0.0;
   for (int k = 0; k < s->nterms; k++)

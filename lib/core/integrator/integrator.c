@@ -140,9 +140,13 @@ int cb_integrator_step(cb_integrator *it, double *x, double *v, cb_step_stats *s
     it->solver->step++;
     if (it->coords) fill_coords(it, x);
   }
-  int r = it->type->step(it, x, v, st);
-  int post = cb_scene_post_step(it->scene, x, v, it->params.dt); /* the scene's post-step responses */
-  if (r == CB_OK && post) r = post;
+  /* the terms that freeze quantities for the step (IPC's lagged friction) do so at its start state */
+  int r = cb_system_begin_step(&it->scene->sys, x, it->params.dt);
+  if (r == CB_OK) {
+    r = it->type->step(it, x, v, st);
+    int post = cb_scene_post_step(it->scene, x, v, it->params.dt); /* the scene's post-step responses */
+    if (r == CB_OK && post) r = post;
+  }
   st->wall_ms = cb_now_ms() - t0;
   st->status = r;
   return r;

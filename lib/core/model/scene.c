@@ -461,7 +461,8 @@ static int hessian_choice(const cb_material *mat, const char *given, const char 
 
 /* A contact error names its key first ("contact.thickness: ..."): that key. */
 static int contact_error(int st, const char **key) {
-  static const char *const keys[] = {"contact.thickness", "contact.friction", "contact.stiffness", "contact.kappa"};
+  static const char *const keys[] = {"contact.thickness", "contact.friction", "contact.stiffness", "contact.kappa",
+                                     "contact.epsv"};
   if (st == CB_OK || !key) return st;
   *key = "contact.method";
   for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++)
