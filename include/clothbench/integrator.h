@@ -242,6 +242,7 @@ struct cb_integrator {
   void *type_params; /* the type's parameters (e.g. cb_newton_params *); NULL if none */
   cb_solver *solver; /* owned; NULL unless the type's flags ask for one */
   void *state;       /* the type's state */
+  double *x_start;   /* 3 nv: the positions at the start of the current step, for the post-step responses */
 };
 
 /* The number of vertex colours of a vbd or vbd-chebyshev integrator (its

@@ -21,7 +21,16 @@
   { \
     .name = "friction", .kind = CB_PARAM_DOUBLE, .offset = CB_CKEY(friction), .def = "0", .unit = "-", .lo = 0, \
     .hi = 1e9, \
-    .doc = "Coulomb friction coefficient mu >= 0. Friction is not implemented yet: a value above 0 is refused." \
+    .doc = "Coulomb friction coefficient mu >= 0. Only bridson implements friction: a value above 0 is refused by " \
+           "the others." \
+  }
+#define CB_KEY_CONTACT_STIFFNESS \
+  { \
+    .name = "stiffness", .kind = CB_PARAM_DOUBLE, .offset = CB_CKEY(stiffness), .def = "1e4", .unit = "N/m", .lo = 0, \
+    .hi = 1e15, .lo_open = 1, \
+    .doc = "Contact spring stiffness k: contact.method = penalty's E = k/2 (thickness - d)^2 per pair closer than " \
+           "the " \
+           "thickness; bridson's repulsion impulse dt k (thickness - d), limited as in its paper." \
   }
 #define CB_KEY_CONTACT_END \
   { .name = NULL }

@@ -86,6 +86,8 @@ int cb_integrator_alloc(const char *method, cb_scene *scene, const cb_integrator
     else memset(it->type_params, 0, t->params_size);
   }
   if (st == CB_OK && t->size && !(it->state = cb_calloc(1, t->size))) st = CB_ENOMEM;
+  if (st == CB_OK && !(it->x_start = cb_malloc((size_t)3 * (scene->mesh.nv > 0 ? scene->mesh.nv : 1), sizeof(double))))
+    st = CB_ENOMEM;
   if (st == CB_OK && (t->flags & CB_INTEGRATOR_LINEAR_SOLVER)) {
     st = cb_solver_alloc(solver, sp, it->sys->A.n, &it->solver);
     if (st == CB_OK) st = cb_solver_analyze(it->solver, &it->sys->A);
@@ -105,6 +107,7 @@ int cb_integrator_alloc(const char *method, cb_scene *scene, const cb_integrator
     cb_solver_free(it->solver);
     free(it->state);
     free(it->type_params);
+    free(it->x_start);
     free(it);
     return st;
   }
@@ -120,8 +123,10 @@ int cb_integrator_step(cb_integrator *it, double *x, double *v, cb_step_stats *s
     for (int k = 0; k < s->model.nfree; k++)
       for (int a = 0; a < 3; a++) v[3 * s->free_vertex[k] + a] *= it->params.damping;
   }
+  /* the step's start, for the responses that sweep x_start -> x (contact.method = bridson) */
+  memcpy(it->x_start, x, (size_t)3 * it->scene->mesh.nv * sizeof(double));
   int r = it->type->step(it, x, v, st);
-  int post = cb_scene_post_step(it->scene, x, v, it->params.dt); /* the scene's post-step responses */
+  int post = cb_scene_post_step(it->scene, it->x_start, x, v, it->params.dt); /* the scene's post-step responses */
   if (r == CB_OK && post) r = post;
   st->wall_ms = cb_now_ms() - t0;
   st->status = r;
@@ -161,5 +166,6 @@ void cb_integrator_free(cb_integrator *it) {
   cb_solver_free(it->solver);
   free(it->state);
   free(it->type_params);
+  free(it->x_start);
   free(it);
 }
