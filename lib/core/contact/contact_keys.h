@@ -15,7 +15,8 @@
   { \
     .name = "thickness", .kind = CB_PARAM_DOUBLE, .offset = CB_CKEY(thickness), .def = "1e-3", .unit = "m", .lo = 0, \
     .hi = 1e9, .lo_open = 1, \
-    .doc = "Contact distance: the penalty acts on pairs closer than it; IPC's barrier activation distance dhat." \
+    .doc = "Contact distance: the penalty acts on pairs closer than it; IPC's barrier activation distance dhat; " \
+           "bridson repels pairs closer than it." \
   }
 #define CB_KEY_CONTACT_FRICTION \
   { \
