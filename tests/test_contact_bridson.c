@@ -14,7 +14,8 @@
  *   explicit step intersects in no frame (cloth against table and cloth
  *   against itself, exactly, every frame) and rests on the top; with
  *   contact.method = none it falls through.
- * - Bad keys give errors that name them. */
+ * - Bad keys, and a start state that intersects or touches, give errors
+ *   that name their key. */
 #include <criterion/criterion.h>
 #include <math.h>
 #include <stdio.h>
@@ -309,6 +310,14 @@ Test(bridson, bad_keys_name_themselves) {
                                                                                                                    "met"
                                                                                                                    "ho"
                                                                                                                    "d");
+  /* a start state that intersects the table's top (a sheet 1 m wide inside its 0.8 m deep top crosses its sides) or
+   * touches it (on its plane): the filter cannot undo a crossing */
+  const char *const heights[] = {"collider.centre=0 0.02 0", "collider.centre=0 0 0"};
+  for (int h = 0; h < 2; h++)
+    expect_error((const char *const[]){"contact.method=bridson", "mesh.n=6", "mesh.size=1", "mesh.plane=xz",
+                                       "scene.pins=none", "collider.type=mesh", "collider.file=configs/table.obj",
+                                       heights[h], NULL},
+                 "contact.method");
   /* friction is bridson's: the energy responses still refuse it */
   expect_error((const char *const[]){"contact.method=ipc", "contact.friction=0.4", NULL}, "contact.friction");
   cb_contact_params p = cb_contact_params_default();

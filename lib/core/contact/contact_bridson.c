@@ -81,6 +81,7 @@
 
 #include "contact_keys.h"
 #include <clothbench/broadphase.h>
+#include <clothbench/intersect.h>
 #include <clothbench/scene.h>
 #include <clothbench/status.h>
 #include "vec.h"
@@ -503,6 +504,23 @@ static void bridson_free(cb_response *r) {
   free(b->zfixed);
 }
 
+/* Counts the intersecting triangle pairs at X0 that involve the cloth (the obstacle's own pairs, e.g. a table's legs
+ * touching its top, are not the filter's business). */
+typedef struct {
+  const bridson_state *b;
+  int cloth_nt;
+  long n;
+} start_ctx;
+
+static int start_visit(void *vctx, int i, int j) {
+  start_ctx *c = vctx;
+  if (i >= c->cloth_nt && j >= c->cloth_nt) return 0;
+  const int *p = c->b->tri + 3 * i, *q = c->b->tri + 3 * j;
+  const double *X = c->b->X0;
+  c->n += cb_tri_tri_intersect(X + 3 * p[0], X + 3 * p[1], X + 3 * p[2], X + 3 * q[0], X + 3 * q[1], X + 3 * q[2]);
+  return 0;
+}
+
 static int bridson_init(cb_response *r, const cb_scene *s, const void *params) {
   bridson_state *b = r->state;
   if (!params) return cb_fail("contact.method: bridson needs its parameters");
@@ -547,7 +565,20 @@ static int bridson_init(cb_response *r, const cb_scene *s, const void *params) {
   if ((st = cb_broadphase_alloc(b->N, b->T, b->tri, &bp, &b->bp))) return st;
   b->edges = cb_broadphase_edges(b->bp, &b->ne);
   long cap = 16L * (b->N + b->T) + 64;
-  return cb_candidates_alloc(cap, 0, 2 * cap, &b->cand);
+  if ((st = cb_candidates_alloc(cap, 0, 2 * cap, &b->cand))) return st;
+  /* the start state: the filter keeps crossings from being made, it does not undo one (closed triangles: touching
+   * counts, as for the exact check every frame) */
+  memcpy(b->X0, s->x0, (size_t)3 * b->nv * sizeof(double));
+  if (b->ob) cb_obstacle_positions(b->ob, 0, b->X0 + 3 * b->nv);
+  if ((st = cb_broadphase_update(b->bp, b->X0, NULL)))
+    return cb_fail("contact.method: bridson: the start state has a coordinate that is not finite");
+  start_ctx c = {b, s->mesh.nt, 0};
+  cb_broadphase_self_pairs(b->bp, 1, start_visit, &c);
+  if (c.n > 0)
+    return cb_fail("contact.method: bridson: the start state intersects (%ld triangle pairs, cloth with itself or with "
+                   "the obstacle; touching counts): the filter keeps crossings from being made and cannot undo one",
+                   c.n);
+  return CB_OK;
 }
 
 static int bridson_apply(cb_response *r, const cb_scene *s, const double *x_start, double *x, double *v, double h) {
