@@ -56,9 +56,13 @@
  *     (the paper turns it by exp(t h [omega]x); the straight line is what the
  *     CCD checks), whose singular values are 1 and sqrt(1 + (t h |omega|)^2):
  *     no distance inside a zone shrinks, so a zone never collides with
- *     itself. A zone pass whose hits are all inside zones (only possible when
- *     prescribed vertices move non-rigidly) cannot progress: the filter stops
- *     and the step's status is CB_NOT_CONVERGED (cb_bridson_stats.unresolved).
+ *     itself: the zone passes skip the pairs inside a zone of free vertices
+ *     only (for any omega: the field is rigid whatever its omega). A zone
+ *     pass whose hits are all inside zones (only possible when prescribed
+ *     vertices move non-rigidly, or ACCD's advance budget runs out on a gap
+ *     far smaller than the motion, a conservative hit) cannot progress: the
+ *     filter stops and the step's status is CB_NOT_CONVERGED
+ *     (cb_bridson_stats.unresolved).
  *
  * CCD: additive CCD (Li, Kaufman & Jiang 2021, the method contact_term.c uses
  * for IPC's step bound), here with a minimum separation eta: the gap
@@ -108,7 +112,9 @@ typedef struct {
   int *parent;                    /* N: the impact zones (union-find) */
   double *zm, *zx, *zu, *zL, *zI; /* N, 3N, 3N, 3N, 9N: per zone root: weight, sum w x, sum w u, L, I */
   int *zfixed;                    /* N: per root, 1 if the zone has an infinite-mass vertex */
-  double t;                       /* s, time reached */
+  int *zrigid; /* N: the zone each vertex moved rigidly in at the last rigid_zones (its root), -1 for none: a zone of
+                  two or more vertices, all free */
+  double t;    /* s, time reached */
   cb_bridson_stats stats;
 } bridson_state;
 
@@ -364,6 +370,9 @@ static int ccd_pass(bridson_state *b, double h, int zones, long *hits, long *mer
   for (long i = 0; i < n; i++) {
     int idx[4], ee = pair_vertices(b, i, idx);
     if (all_fixed(b, idx)) continue;
+    int z = b->zrigid[idx[0]];
+    if (z >= 0 && b->zrigid[idx[1]] == z && b->zrigid[idx[2]] == z && b->zrigid[idx[3]] == z)
+      continue; /* inside a rigidly moving zone: no distance shrinks (the header) */
     double q0[12], D[12], mA = 0, mB = 0, alpha[4], r[3];
     for (int a = 0; a < 4; a++) {
       for (int c = 0; c < 3; c++) {
@@ -470,6 +479,7 @@ static void rigid_zones(bridson_state *b) {
   for (int i = 0; i < N; i++) {
     int z = uf_find(b->parent, i);
     if (z == i && b->zm[z] > 1) nz++;
+    b->zrigid[i] = b->zm[z] > 1 && !b->zfixed[z] ? z : -1;
     if (b->zm[z] < 2 || b->winv[i] == 0) continue;
     nzv += i < b->nv;
     double r[3], wxr[3];
@@ -502,6 +512,7 @@ static void bridson_free(cb_response *r) {
   free(b->zL);
   free(b->zI);
   free(b->zfixed);
+  free(b->zrigid);
 }
 
 /* Counts the intersecting triangle pairs at X0 that involve the cloth (the obstacle's own pairs, e.g. a table's legs
@@ -550,8 +561,9 @@ static int bridson_init(cb_response *r, const cb_scene *s, const void *params) {
   b->zL = cb_malloc(3 * N, sizeof(double));
   b->zI = cb_malloc(9 * N, sizeof(double));
   b->zfixed = cb_malloc(N, sizeof(int));
-  if (!b->tri || !b->winv || !b->mass || !b->X0 || !b->X1 || !b->U || !b->U0 || !b->parent || !b->zm || !b->zx ||
-      !b->zu || !b->zL || !b->zI || !b->zfixed)
+  b->zrigid = cb_malloc(N, sizeof(int));
+  if (!b->zrigid || !b->tri || !b->winv || !b->mass || !b->X0 || !b->X1 || !b->U || !b->U0 || !b->parent || !b->zm ||
+      !b->zx || !b->zu || !b->zL || !b->zI || !b->zfixed)
     return CB_ENOMEM;
   memcpy(b->tri, s->mesh.tri, (size_t)3 * s->mesh.nt * sizeof(int));
   for (int k = 0; k < 3 * ont; k++) b->tri[3 * s->mesh.nt + k] = b->ob->mesh.tri[k] + b->nv;
@@ -599,6 +611,7 @@ static int bridson_apply(cb_response *r, const cb_scene *s, const double *x_star
     for (int i = 3 * nv; i < N3; i++) b->U[i] = (b->X1[i] - b->X0[i]) / h;
   }
   memcpy(b->U0, b->U, (size_t)N3 * sizeof(double));
+  for (int i = 0; i < b->N; i++) b->zrigid[i] = -1;
   int st = repulsion(b, h);
   long hits = 1, merged = 0;
   for (int pass = 0; st == CB_OK && pass < b->p.bridson_iters && hits > 0; pass++) {
