@@ -265,7 +265,7 @@ Test(bending, project_leaves_no_vertex_inside_and_corrects_velocity) {
     inside += s->free_index[i] >= 0 && cb_v3_dot(dd, dd) < R * R;
   }
   cr_assert_gt(inside, 0, "the test needs vertices inside the sphere");
-  cr_assert_eq(cb_scene_post_step(s, x, v, dt), CB_OK);
+  cr_assert_eq(cb_scene_post_step(s, x0, x, v, dt), CB_OK);
   cr_expect_eq(cb_scene_contacts(s, x), inside);
   for (int i = 0; i < nv; i++) {
     double dd[3];

@@ -46,7 +46,7 @@ Test(contact, bad_values_name_their_key) {
   expect_error((const char *const[]){"contact.method=ipc", "contact.friction=0.4", "contact.epsv=0", NULL}, "contact."
                                                                                                             "epsv");
   expect_error((const char *const[]){"contact.method=ipc", "contact.epsv=-1e-3", NULL}, "contact.epsv");
-  expect_error((const char *const[]){"contact.method=bridson", NULL}, "contact.method");
+  expect_error((const char *const[]){"contact.method=vbd", NULL}, "contact.method");
   expect_error((const char *const[]){"contact.method=penalty", "contact.stiffness=0", NULL}, "contact.stiffness");
   expect_error((const char *const[]){"contact.method=ipc", "contact.kappa=-1", NULL}, "contact.kappa");
   /* the core checks without a config too */
@@ -76,7 +76,7 @@ Test(contact, registry_and_keys) {
   for (int i = 0; cb_contact_types[i]; i++, n++) {
     cr_expect(cb_contact_type_find(cb_contact_types[i]->name) == cb_contact_types[i]);
     cr_expect_str_eq(cb_contact_names[i], cb_contact_types[i]->name);
-    if (!cb_contact_types[i]->term_alloc) continue;
+    if (!cb_contact_types[i]->term_alloc && !cb_contact_types[i]->response) continue;
     int thick = 0, fric = 0;
     for (const cb_param_key *k = cb_contact_types[i]->keys; k && k->name; k++) {
       thick += !strcmp(k->name, "thickness");
@@ -84,15 +84,15 @@ Test(contact, registry_and_keys) {
     }
     cr_expect(thick == 1 && fric == 1, "%s: declares thickness and friction once each", cb_contact_types[i]->name);
   }
-  cr_expect_eq(n, 3);
-  cr_expect_null(cb_contact_type_find("bridson"));
+  cr_expect_eq(n, 4);
+  cr_expect_null(cb_contact_type_find("vbd"));
   /* the keys' defaults give cb_contact_params_default */
   cb_config c;
   cb_config_defaults(&c);
   cb_contact_params p, d = cb_contact_params_default();
   cr_assert_eq(cb_contact_params_from_config(&c, &p), CB_OK, "%s", cb_error_message());
   cr_expect(p.thickness == d.thickness && p.friction == d.friction && p.stiffness == d.stiffness &&
-            p.kappa == d.kappa && p.epsv == d.epsv);
+            p.kappa == d.kappa && p.epsv == d.epsv && p.bridson_iters == d.bridson_iters);
   cr_assert_eq(cb_config_set(&c, "contact.thickness=2e-3"), CB_OK);
   cr_assert_eq(cb_contact_params_from_config(&c, &p), CB_OK);
   cr_expect_eq(p.thickness, 2e-3);

@@ -336,15 +336,29 @@ Test(enomem, every_contact_response) {
     case_add(&rc, "integrator.line_search", "1");
     sweep(&rc);
   }
-  run_case rc = {0}; /* ipc's friction: its pairs frozen at every step's start */
-  case_add(&rc, "contact.method", "ipc");
+  {
+    /* ipc's friction: its pairs frozen at every step's start */
+    run_case rc = {0};
+    case_add(&rc, "contact.method", "ipc");
+    case_add(&rc, "contact.thickness", "0.3");
+    case_add(&rc, "contact.kappa", "1");
+    case_add(&rc, "contact.friction", "0.5");
+    case_add(&rc, "collider.type", "mesh");
+    case_add(&rc, "collider.file", obstacle);
+    case_add(&rc, "collider.centre", "0 -0.2 0");
+    case_add(&rc, "integrator.line_search", "1");
+    sweep(&rc);
+  }
+  /* bridson with friction, straight to its rigid impact zones (no impulse passes), under the explicit step */
+  run_case rc = {0};
+  case_add(&rc, "contact.method", "bridson");
   case_add(&rc, "contact.thickness", "0.3");
-  case_add(&rc, "contact.kappa", "1");
-  case_add(&rc, "contact.friction", "0.5");
+  case_add(&rc, "contact.friction", "0.4");
+  case_add(&rc, "contact.bridson_iters", "0");
   case_add(&rc, "collider.type", "mesh");
   case_add(&rc, "collider.file", obstacle);
   case_add(&rc, "collider.centre", "0 -0.2 0");
-  case_add(&rc, "integrator.line_search", "1");
+  case_add(&rc, "integrator.method", "explicit");
   sweep(&rc);
   remove(obstacle);
 }

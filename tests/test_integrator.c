@@ -653,7 +653,8 @@ static int scale_init(cb_response *r, const cb_scene *s, const void *params) {
   w->freed = p->freed;
   return CB_OK;
 }
-static int scale_apply(cb_response *r, const cb_scene *s, double *x, double *v, double dt) {
+static int scale_apply(cb_response *r, const cb_scene *s, const double *x_start, double *x, double *v, double dt) {
+  (void)x_start;
   (void)x;
   (void)dt;
   scale_state *w = r->state;

@@ -139,7 +139,7 @@ int cb_old_lab_step(cb_old_lab *o, double *x, double *v, double *Fout, double *r
     (void)d2;
   }
   cb_objective_velocity(&o->obj, x, v);
-  int post = cb_scene_post_step(s, x, v, o->dt);
+  int post = cb_scene_post_step(s, o->obj.x0, x, v, o->dt); /* the step's start, kept by the objective */
   return status == CB_OK && post ? post : status;
 }
 

@@ -21,22 +21,30 @@
  * lagged, smoothed Coulomb friction (Li et al. 2020, section 5) over the
  * pairs within reach at each step's start: sum_pairs mu lam f0(|u|), u the
  * pair's tangential displacement over the step (the obstacle's motion
- * included), lam its normal force at the start (contact_term.c, "Friction"). */
+ * included), lam its normal force at the start (contact_term.c, "Friction").
+ *
+ * `bridson` (Bridson, Fedkiw & Anderson 2002; contact_bridson.c) is no
+ * energy: it is a post-step response (scene.h) that filters every step
+ * x_start -> x of every integrator: repulsion impulses for close pairs
+ * (with Coulomb friction), CCD impulses iterated, rigid impact zones as the
+ * fail-safe. */
 #ifndef CB_CONTACT_H
 #define CB_CONTACT_H
 
 #include "energy.h"
 #include "obstacle.h"
 
-struct cb_param_key; /* integrator.h */
+struct cb_param_key;     /* integrator.h */
+struct cb_response_type; /* scene.h */
 
 /* Every response's parameters (each type reads the fields its keys name). */
 typedef struct cb_contact_params {
-  double thickness; /* m, > 0: the penalty's thickness h, IPC's activation distance dhat. Default 1e-3 */
-  double friction;  /* Coulomb mu >= 0 (ipc: lagged smoothed friction; penalty: 0 only). Default 0 */
-  double stiffness; /* penalty k, N/m, > 0. Default 1e4 */
-  double kappa;     /* IPC barrier stiffness, J/m^4 (b is in m^4), > 0. Default 1e8 */
-  double epsv;      /* IPC friction's static-to-dynamic velocity eps_v, m/s, > 0. Default 1e-3 */
+  double thickness;  /* m, > 0: the penalty's thickness h, IPC's activation distance dhat. Default 1e-3 */
+  double friction;   /* Coulomb mu >= 0; above 0 only for a response with friction (ipc, bridson). Default 0 */
+  double stiffness;  /* penalty k, and bridson's repulsion spring, N/m, > 0. Default 1e4 */
+  double kappa;      /* IPC barrier stiffness, J/m^4 (b is in m^4), > 0. Default 1e8 */
+  double epsv;       /* IPC friction's static-to-dynamic velocity eps_v, m/s, > 0. Default 1e-3 */
+  int bridson_iters; /* bridson: CCD impulse passes before the rigid impact zones, >= 0. Default 10 */
 } cb_contact_params;
 
 cb_contact_params cb_contact_params_default(void);
@@ -44,8 +52,12 @@ cb_contact_params cb_contact_params_default(void);
 typedef struct cb_contact_type {
   const char *name;                /* the value of contact.method */
   const struct cb_param_key *keys; /* its keys `contact.<name>` (into cb_contact_params), ended by a NULL name */
-  /* Its energy term on the model, or *out = NULL for none; fails with a message naming the key. */
+  /* Its energy term on the model, or *out = NULL for none (NULL: no term); fails with a message naming the key. */
   int (*term_alloc)(const cb_model *m, const cb_contact_params *p, cb_term **out);
+  /* Its post-step response (scene.h), or NULL: the scene runs it after every step of every integrator, after the
+   * collider's, with the cb_contact_params as its init's params. */
+  const struct cb_response_type *response;
+  int friction; /* 1 if it implements contact.friction > 0 (else a mu above 0 is refused) */
 } cb_contact_type;
 
 extern const cb_contact_type *const cb_contact_types[]; /* the registry, NULL-terminated; "none" first */
@@ -53,9 +65,9 @@ extern const char *const cb_contact_names[];            /* their names, NULL-ter
 const cb_contact_type *cb_contact_type_find(const char *name);
 
 /* Checks p for method `name`: -> CB_EINVAL with "contact.<key>: ..." (an
- * unknown method, thickness <= 0 or not finite, friction < 0 or not finite,
- * epsv <= 0 or not finite; each response checks its own keys: the penalty's
- * stiffness, refusing friction > 0; ipc's kappa). */
+ * unknown method, thickness <= 0 or not finite, friction < 0, or > 0 for a
+ * response without friction, epsv <= 0 or not finite, a stiffness or kappa
+ * <= 0, bridson_iters < 0). */
 int cb_contact_params_check(const char *name, const cb_contact_params *p);
 
 /* ---- the pair term both responses are ------------------------------------- */
@@ -105,5 +117,22 @@ typedef struct cb_contact_stats {
   double friction_energy; /* the friction potential's part of the last energy call, J */
 } cb_contact_stats;
 const cb_contact_stats *cb_contact_term_stats(const cb_term *t);
+
+/* ---- bridson ---------------------------------------------------------------- */
+
+/* What the last step's bridson filter did (contact_bridson.c). */
+typedef struct cb_bridson_stats {
+  long close;        /* pairs closer than the thickness at the step's start (repulsion stage) */
+  long repulsions;   /* of them, pairs that received an impulse */
+  long ccd_queries;  /* CCD queries over all passes */
+  long collisions;   /* CCD hits that received an impulse, over all passes */
+  int passes;        /* CCD passes run (the last found nothing, unless zone_passes > 0) */
+  int zone_passes;   /* rigid-impact-zone passes (0: the impulses sufficed) */
+  int zones;         /* impact zones of two or more vertices at the end */
+  int zone_vertices; /* cloth vertices in those zones */
+  int unresolved;    /* 1 if the zone passes hit their cap with CCD still finding collisions */
+  double min_dist;   /* smallest distance of a close pair at the step's start, m (inf: none) */
+  long grows;        /* candidate arrays grown past their set-up capacity (allocations inside a step) */
+} cb_bridson_stats;
 
 #endif

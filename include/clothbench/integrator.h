@@ -244,6 +244,7 @@ struct cb_integrator {
   void *state;       /* the type's state */
   double *coords;    /* 3 nfree: the free vertices' positions at the start of the step, for a solver that reads
                         them (CB_SOLVER_USES_COORDS: solver->coords points here); NULL otherwise */
+  double *x_start;   /* 3 nv: the positions at the start of the current step, for the post-step responses */
 };
 
 /* The number of vertex colours of a vbd or vbd-chebyshev integrator (its

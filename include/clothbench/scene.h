@@ -32,9 +32,11 @@ typedef struct cb_response_type {
   const char *name;
   size_t size;                                                        /* bytes of state, allocated by the scene */
   int (*init)(cb_response *r, const cb_scene *s, const void *params); /* may be NULL */
-  /* Changes (x, v) (3*nv each) after a step of length dt; returns a status
-   * (a positive one becomes the step's status if the step was ok). */
-  int (*apply)(cb_response *r, const cb_scene *s, double *x, double *v, double dt);
+  /* Changes (x, v) (3*nv each) after a step of length dt that started at the
+   * positions x_start (3*nv, read only: the collision responses sweep
+   * x_start -> x); returns a status (a positive one becomes the step's status
+   * if the step was ok). */
+  int (*apply)(cb_response *r, const cb_scene *s, const double *x_start, double *x, double *v, double dt);
   void (*free)(cb_response *r); /* frees what init allocated; may be NULL */
 } cb_response_type;
 struct cb_response {
@@ -119,8 +121,9 @@ void cb_scene_free(cb_scene *s);
 /* Sum of the vertex masses, kg. */
 double cb_scene_total_mass(const cb_scene *s);
 
-/* Runs the post-step responses on (x, v); returns the first nonzero status. */
-int cb_scene_post_step(const cb_scene *s, double *x, double *v, double dt);
+/* Runs the post-step responses on (x, v) after a step x_start -> x of
+ * length dt; returns the first nonzero status. */
+int cb_scene_post_step(const cb_scene *s, const double *x_start, double *x, double *v, double dt);
 
 /* The collider's post-step responses: the sphere's projection (collider.c;
  * its params a cb_sphere) and the obstacle mesh's motion (obstacle.c; its
@@ -134,6 +137,8 @@ extern const cb_response_type cb_response_obstacle_move;
 const cb_obstacle *cb_scene_obstacle(const cb_scene *s);
 /* The scene's contact term (contact.method = penalty or ipc), or NULL. */
 const cb_term *cb_scene_contact_term(const cb_scene *s);
+/* What the last step's bridson filter did (contact.method = bridson), or NULL. */
+const cb_bridson_stats *cb_scene_bridson_stats(const cb_scene *s);
 /* Collider contacts: vertices inside a penalty sphere at x, plus the vertices
  * a project response moved in the last step (0 without a collider). */
 int cb_scene_contacts(const cb_scene *s, const double *x);

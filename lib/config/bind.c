@@ -86,7 +86,12 @@ int cb_contact_params_from_config(const cb_config *c, cb_contact_params *p) {
       snprintf(key, sizeof key, "contact.%s", k->name);
       double v;
       if (cb_config_type_value(c, key, &v)) return cb_fail("%s: not in the config's key table", key);
-      if (k->kind != CB_PARAM_DOUBLE) return cb_fail("%s: a contact key must be a number", key); /* all are today */
+      if (k->kind == CB_PARAM_INT) { /* range-checked by the config layer */
+        int iv = (int)v;
+        memcpy((char *)p + k->offset, &iv, sizeof iv);
+        continue;
+      }
+      if (k->kind != CB_PARAM_DOUBLE) return cb_fail("%s: a contact key must be a number", key);
       memcpy((char *)p + k->offset, &v, sizeof v);
     }
   return CB_OK;

@@ -240,7 +240,9 @@ static const keydef keys_contact[] = {
      "point-triangle and edge-edge pair closer than `contact.thickness` (cloth with itself and with the obstacle "
      "mesh), no CCD; or `ipc`, Li et al. 2020's log barrier with activation distance `contact.thickness`, the "
      "nearly-parallel-edge mollifier, and a CCD bound on every Newton update so no step crosses a contact (Newton is "
-     "its home)."},
+     "its home); or `bridson`, Bridson, Fedkiw & Anderson 2002's post-step filter for any integrator: repulsion and "
+     "friction impulses for pairs closer than `contact.thickness`, CCD impulses iterated `contact.bridson_iters` "
+     "times, then rigid impact zones."},
 };
 enum {
   NHEAD = (int)(sizeof keys_head / sizeof keys_head[0]),

@@ -12,6 +12,7 @@
   X(none)    /* no contact response */ \
   X(penalty) /* contact_penalty.c */ \
   X(ipc)     /* contact_ipc.c */ \
+  X(bridson) /* contact_bridson.c */ \
   /* one X(id) line per response, above this line */
 #define CB_CONTACT_DECLARE(id) extern const cb_contact_type cb_contact_##id;
 #define CB_CONTACT_ENTRY(id) &cb_contact_##id,
@@ -30,17 +31,25 @@ const cb_contact_type *cb_contact_type_find(const char *name) {
 }
 
 cb_contact_params cb_contact_params_default(void) {
-  return (cb_contact_params){.thickness = 1e-3, .friction = 0, .stiffness = 1e4, .kappa = 1e8, .epsv = 1e-3};
+  return (cb_contact_params){
+      .thickness = 1e-3, .friction = 0, .stiffness = 1e4, .kappa = 1e8, .epsv = 1e-3, .bridson_iters = 10};
 }
 
 int cb_contact_params_check(const char *name, const cb_contact_params *p) {
   const cb_contact_type *t = cb_contact_type_find(name);
   if (!t) return cb_fail("contact.method: unknown response '%s'", name ? name : "(null)");
-  if (!t->term_alloc) return CB_OK;
+  if (!t->term_alloc && !t->response) return CB_OK;
   if (!(p->thickness > 0) || !isfinite(p->thickness))
     return cb_fail("contact.thickness: must be > 0 (m), got %g", p->thickness);
   if (!(p->friction >= 0) || !isfinite(p->friction))
     return cb_fail("contact.friction: must be >= 0, got %g", p->friction);
   if (!(p->epsv > 0) || !isfinite(p->epsv)) return cb_fail("contact.epsv: must be > 0 (m/s), got %g", p->epsv);
+  if (p->friction > 0 && !t->friction)
+    return cb_fail("contact.friction: %g: contact.method = %s has no friction yet (only 0 is accepted; ipc and bridson "
+                   "have it)",
+                   p->friction, t->name);
+  if (!(p->stiffness > 0) || !isfinite(p->stiffness))
+    return cb_fail("contact.stiffness: must be > 0 (N/m), got %g", p->stiffness);
+  if (p->bridson_iters < 0) return cb_fail("contact.bridson_iters: must be >= 0, got %d", p->bridson_iters);
   return CB_OK;
 }

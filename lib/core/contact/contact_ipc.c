@@ -105,4 +105,4 @@ static const cb_param_key ipc_keys[] = {
     CB_KEY_CONTACT_END,
 };
 
-const cb_contact_type cb_contact_ipc = {.name = "ipc", .keys = ipc_keys, .term_alloc = ipc_alloc};
+const cb_contact_type cb_contact_ipc = {.name = "ipc", .keys = ipc_keys, .term_alloc = ipc_alloc, .friction = 1};

@@ -64,16 +64,7 @@ const cb_term_type cb_term_contact_penalty_type = {.name = "contact_penalty",
 static const cb_param_key penalty_keys[] = {
     CB_KEY_CONTACT_THICKNESS,
     CB_KEY_CONTACT_FRICTION,
-    {.name = "stiffness",
-     .kind = CB_PARAM_DOUBLE,
-     .offset = CB_CKEY(stiffness),
-     .def = "1e4",
-     .unit = "N/m",
-     .lo = 0,
-     .hi = 1e15,
-     .lo_open = 1,
-     .doc = "Penalty stiffness k of contact.method = penalty: E = k/2 (thickness - d)^2 per pair closer than the "
-            "thickness."},
+    CB_KEY_CONTACT_STIFFNESS,
     CB_KEY_CONTACT_END,
 };
 

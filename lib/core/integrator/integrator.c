@@ -93,6 +93,8 @@ int cb_integrator_alloc(const char *method, cb_scene *scene, const cb_integrator
     else memset(it->type_params, 0, t->params_size);
   }
   if (st == CB_OK && t->size && !(it->state = cb_calloc(1, t->size))) st = CB_ENOMEM;
+  if (st == CB_OK && !(it->x_start = cb_malloc((size_t)3 * (scene->mesh.nv > 0 ? scene->mesh.nv : 1), sizeof(double))))
+    st = CB_ENOMEM;
   if (st == CB_OK && (t->flags & CB_INTEGRATOR_LINEAR_SOLVER)) {
     st = cb_solver_alloc(solver, sp, it->sys->A.n, &it->solver);
     if (st == CB_OK && (it->solver->type->flags & CB_SOLVER_USES_COORDS)) {
@@ -120,6 +122,7 @@ int cb_integrator_alloc(const char *method, cb_scene *scene, const cb_integrator
     free(it->coords);
     free(it->state);
     free(it->type_params);
+    free(it->x_start);
     free(it);
     return st;
   }
@@ -140,11 +143,13 @@ int cb_integrator_step(cb_integrator *it, double *x, double *v, cb_step_stats *s
     it->solver->step++;
     if (it->coords) fill_coords(it, x);
   }
+  /* the step's start, for the responses that sweep x_start -> x (contact.method = bridson) */
+  memcpy(it->x_start, x, (size_t)3 * it->scene->mesh.nv * sizeof(double));
   /* the terms that freeze quantities for the step (IPC's lagged friction) do so at its start state */
   int r = cb_system_begin_step(&it->scene->sys, x, it->params.dt);
   if (r == CB_OK) {
     r = it->type->step(it, x, v, st);
-    int post = cb_scene_post_step(it->scene, x, v, it->params.dt); /* the scene's post-step responses */
+    int post = cb_scene_post_step(it->scene, it->x_start, x, v, it->params.dt); /* the scene's post-step responses */
     if (r == CB_OK && post) r = post;
   }
   st->wall_ms = cb_now_ms() - t0;
@@ -186,5 +191,6 @@ void cb_integrator_free(cb_integrator *it) {
   free(it->coords);
   free(it->state);
   free(it->type_params);
+  free(it->x_start);
   free(it);
 }

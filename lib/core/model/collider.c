@@ -222,7 +222,8 @@ static int project_init(cb_response *r, const cb_scene *s, const void *params) {
   return CB_OK;
 }
 
-static int project_apply(cb_response *r, const cb_scene *s, double *x, double *v, double dt) {
+static int project_apply(cb_response *r, const cb_scene *s, const double *x_start, double *x, double *v, double dt) {
+  (void)x_start; /* the lab's projection reads the end of the step only */
   project_state *p = r->state;
   p->t += dt;
   double c[3], R = p->sp.radius + p->sp.thickness;

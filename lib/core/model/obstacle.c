@@ -133,8 +133,8 @@ static int move_init(cb_response *r, const cb_scene *s, const void *params) {
   return cb_obstacle_alloc(params, &m->ob);
 }
 
-static int move_apply(cb_response *r, const cb_scene *s, double *x, double *v, double dt) {
-  (void)s, (void)x, (void)v;
+static int move_apply(cb_response *r, const cb_scene *s, const double *x_start, double *x, double *v, double dt) {
+  (void)s, (void)x_start, (void)x, (void)v;
   move_state *m = r->state;
   m->t += dt;
   cb_obstacle_advance(m->ob, m->t);

@@ -183,11 +183,11 @@ cb_scene_def cb_scene_def_default(void) {
   return d;
 }
 
-int cb_scene_post_step(const cb_scene *s, double *x, double *v, double dt) {
+int cb_scene_post_step(const cb_scene *s, const double *x_start, double *x, double *v, double dt) {
   int st = CB_OK;
   for (int k = 0; k < s->nresponses; k++) {
     cb_response *r = (cb_response *)&s->responses[k]; /* a response's state is its own, not the scene's */
-    int rs = r->type->apply(r, s, x, v, dt);
+    int rs = r->type->apply(r, s, x_start, x, v, dt);
     if (rs && !st) st = rs;
   }
   return st;
@@ -345,7 +345,8 @@ static int check_def(const cb_scene_def *d, const cb_collider **collider, const 
     return cb_fail("scene: bend, definiteness, pins and collider must be set (start from cb_scene_def_default())");
   *collider = cb_collider_find(d->collider);
   if (!*collider) return at_key(cb_fail("collider.type: unknown collider '%s'", d->collider), key, "collider.type");
-  int extra = (*collider)->response != NULL;
+  const cb_contact_type *ct = cb_contact_type_find(d->contact ? d->contact : "none");
+  int extra = ((*collider)->response != NULL) + (ct && ct->response != NULL);
   if (d->nresponses + extra > CB_MAX_RESPONSES)
     return cb_fail("scene: %d post-step responses (at most %d)", d->nresponses + extra, CB_MAX_RESPONSES);
   if (d->nresponses < 0 || d->nresponses > CB_MAX_RESPONSES)
@@ -461,8 +462,8 @@ static int hessian_choice(const cb_material *mat, const char *given, const char 
 
 /* A contact error names its key first ("contact.thickness: ..."): that key. */
 static int contact_error(int st, const char **key) {
-  static const char *const keys[] = {"contact.thickness", "contact.friction", "contact.stiffness", "contact.kappa",
-                                     "contact.epsv"};
+  static const char *const keys[] = {"contact.thickness", "contact.friction", "contact.stiffness",
+                                     "contact.kappa",     "contact.epsv",     "contact.bridson_iters"};
   if (st == CB_OK || !key) return st;
   *key = "contact.method";
   for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++)
@@ -603,13 +604,26 @@ static int build_responses(const cb_scene_def *d, cb_scene *s, const cb_collider
       if (st) return st;
     }
   }
-  if (!collider->response) return CB_OK;
+  if (collider->response) {
+    cb_response *r = &s->responses[s->nresponses];
+    r->type = collider->response;
+    r->state = r->type->size ? cb_calloc(1, r->type->size) : NULL;
+    if (r->type->size && !r->state) return CB_ENOMEM;
+    s->nresponses++;
+    int st = r->type->init ? collider_error(r->type->init(r, s, collider->params(d)), key) : CB_OK;
+    if (st) return st;
+  }
+  /* the contact response's (contact.method = bridson), last: it sees the collider's obstacle */
+  const cb_contact_type *ct = cb_contact_type_find(d->contact ? d->contact : "none");
+  if (!ct || !ct->response) return CB_OK;
+  int st = contact_error(cb_contact_params_check(ct->name, &d->contact_params), key);
+  if (st) return st;
   cb_response *r = &s->responses[s->nresponses];
-  r->type = collider->response;
+  r->type = ct->response;
   r->state = r->type->size ? cb_calloc(1, r->type->size) : NULL;
   if (r->type->size && !r->state) return CB_ENOMEM;
   s->nresponses++;
-  return r->type->init ? collider_error(r->type->init(r, s, collider->params(d)), key) : CB_OK;
+  return r->type->init ? contact_error(r->type->init(r, s, &d->contact_params), key) : CB_OK;
 }
 
 int cb_scene_build(const cb_scene_def *d, cb_scene **out, const char **key) {
