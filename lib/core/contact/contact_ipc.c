@@ -58,7 +58,11 @@ const cb_term_type cb_term_contact_ipc_type = {.name = "contact_ipc",
                                                .max_step = cb_contact_max_step,
                                                .nexamples = 2,
                                                .example = ipc_example,
-                                               .indefinite = cb_contact_indefinite};
+                                               .indefinite = cb_contact_indefinite,
+                                               .vertex_collect = cb_contact_vertex_collect,
+                                               .vertex_blocks = cb_contact_vertex_blocks,
+                                               .vertex_bound = cb_contact_vertex_bound,
+                                               .intersections = cb_contact_term_intersections};
 
 static const cb_param_key ipc_keys[] = {
     CB_KEY_CONTACT_THICKNESS,
