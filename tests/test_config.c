@@ -1155,8 +1155,8 @@ Test(bind, every_types_keys_are_config_keys_and_their_defaults_are_the_types) {
               t->name);
     free(p);
   }
-  cr_expect_eq(nkeys, 42); /* newton 6, jacobi-nl 4, chebyshev-nl 6, pd 2, pd-chebyshev 4, pbd 3, xpbd 2, lbfgs 6,
-                              vbd 3, vbd-chebyshev 5, shape_matching 1 */
+  cr_expect_eq(nkeys, 44); /* newton 6, jacobi-nl 4, chebyshev-nl 6, pd 2, pd-chebyshev 4, pbd 3, xpbd 2, lbfgs 6,
+                              vbd 4, vbd-chebyshev 6, shape_matching 1 */
 }
 
 /* The binding reads a type's keys into its struct: Newton from a file. */

@@ -356,7 +356,7 @@ Test(contact, conformance_examples_have_active_contacts) {
   cb_scene_free(s);
 }
 
-/* ipc needs the line-search filter: the types that do not call it refuse its scene, naming the key. */
+/* ipc needs the line-search filter or vertex bounds: the types that keep neither refuse its scene, naming the key. */
 Test(contact, ipc_needs_a_filtering_minimiser) {
   const char *const sets[] = {"mesh.n=3", "contact.method=ipc", NULL};
   cb_scene *s = test_scene(sets);
@@ -365,7 +365,7 @@ Test(contact, ipc_needs_a_filtering_minimiser) {
     const cb_integrator_type *t = cb_integrator_types[i];
     cb_integrator *it = NULL;
     int st = cb_integrator_alloc(t->name, s, &p, NULL, "cholmod", NULL, &it);
-    if (t->flags & CB_INTEGRATOR_STEP_FILTER) {
+    if (t->flags & (CB_INTEGRATOR_STEP_FILTER | CB_INTEGRATOR_VERTEX_BOUNDS)) { /* the filter, or vbd's bounds */
       cr_expect_eq(st, CB_OK, "%s: %s", t->name, cb_error_message());
     } else {
       cr_expect_neq(st, CB_OK, "%s accepted an ipc scene", t->name);

@@ -363,6 +363,27 @@ Test(enomem, every_contact_response) {
   remove(obstacle);
 }
 
+/* Vertex block descent with each energy response (docs/contact.md, VBD): the collect's trees, pair lists and
+ * bounds allocated at its set-up, its start-state check, and the steps (with a collect before every sweep), with
+ * active obstacle and self pairs. */
+Test(enomem, vbd_contact) {
+  char obstacle[256];
+  snprintf(obstacle, sizeof obstacle, "%s", test_tmpfile(".obj", "v -5 0 -5\nv 0 0 5\nv 5 0 -5\nf 1 2 3\n"));
+  const char *const methods[] = {"penalty", "ipc"};
+  for (int i = 0; i < 2; i++) {
+    run_case rc = {0};
+    case_add(&rc, "integrator.method", "vbd");
+    case_add(&rc, "contact.method", methods[i]);
+    case_add(&rc, "contact.thickness", "0.3");
+    case_add(&rc, "contact.kappa", "1");
+    case_add(&rc, "collider.type", "mesh");
+    case_add(&rc, "collider.file", obstacle);
+    case_add(&rc, "collider.centre", "0 -0.2 0");
+    sweep(&rc);
+  }
+  remove(obstacle);
+}
+
 /* The OBJ reader (its growing buffers) on a small file. */
 Test(enomem, obj_mesh) {
   const char *path = test_tmpfile(".obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n");

@@ -83,6 +83,9 @@ int cb_broadphase_update(cb_broadphase *b, const double *x0, const double *x1);
 int cb_broadphase_boxes(cb_broadphase *b, const double *x0, const double *x1);
 /* Forces a rebuild at the next update. */
 void cb_broadphase_invalidate(cb_broadphase *b);
+/* The thickness d of the next updates (the tree is kept: the next update refits it to the new boxes, or rebuilds
+ * it by the SAH rule). -> CB_EINVAL if d < 0 or not finite. */
+int cb_broadphase_set_thickness(cb_broadphase *b, double thickness);
 const cb_broadphase_stats *cb_broadphase_stats_get(const cb_broadphase *b);
 
 /* Triangle pairs (i < j for a self query) whose boxes overlap, reported to

@@ -126,6 +126,32 @@ typedef struct cb_term_type {
    * it: the integrator wrapper does, through cb_system_begin_step (system.h).
    * NULL: nothing to freeze. */
   int (*begin_step)(cb_term *t, const double *x, double dt);
+  /* Optional: per-vertex access to a term whose elements change with x (the
+   * contact pairs the broad phase finds), which a fixed stencil cannot hold;
+   * vertex block descent reads it (integrator_vbd.c, docs/contact.md).
+   * vertex_collect gathers the term's elements near x (within the term's
+   * query radius, widened so that a vertex with nothing near may move
+   * `move` m: the largest move the caller expects of a vertex before the
+   * next collect, 0 for the term's smallest radius) and keeps them, with
+   * each vertex's list, in the term (no allocation, except past its set-up
+   * capacity, counted like the contact term's other grows); it returns a
+   * status. Until the next collect:
+   * vertex_blocks gives, at any x, the energy of the collected elements
+   * vertex v takes part in and, unless NULL, v's gradient block g (3) and
+   * diagonal Hessian block H (3x3 row-major), each element's block
+   * projected by proj (3x3); vertex_bound gives v's conservative
+   * displacement bound (m): while every vertex stays within its bound of
+   * where it was at the collect, no element of the term reaches its
+   * singular configuration (two primitives touching) on any straight path
+   * between such states, and the collected set holds every element with
+   * nonzero energy there (so vertex_blocks is the term's own gradient
+   * block). intersections counts, exactly, the primitive pairs that
+   * intersect at x: such a start state is one the bounds cannot keep.
+   * NULL: the term has none (a type gives all four or none). */
+  int (*vertex_collect)(const cb_term *t, const double *x, double move);
+  double (*vertex_blocks)(const cb_term *t, int v, const double *x, cb_projection proj, double *g, double *H);
+  double (*vertex_bound)(const cb_term *t, int v);
+  int (*intersections)(const cb_term *t, const double *x, long *count);
 } cb_term_type;
 
 struct cb_term {

@@ -160,6 +160,8 @@ typedef struct cb_vbd_params {
   int line_search; /* backtracking on each vertex's own objective. Default 0 (the paper's update) */
   double rho;      /* vbd-chebyshev's rho in [0, 1), or CB_PARAM_AUTO. Default 0.995 (0 for vbd) */
   int rho_iters;   /* plain sweeps of the `auto` estimate, run once. Default 64 */
+  int collect;     /* sweeps between two collects of a term's moving elements (contact pairs) and their vertices'
+                      displacement bounds (energy.h vertex_collect), >= 1. Default 1 */
 } cb_vbd_params;
 cb_vbd_params cb_vbd_params_default(void);    /* vbd-chebyshev's */
 extern const char *const cb_vbd_init_names[]; /* "inertia", "previous", "adaptive", NULL */
@@ -210,9 +212,13 @@ enum {
   CB_INTEGRATOR_HISTORY = 8u,        /* a step reads what earlier steps left (VBD's adaptive initial guess uses the
                                         last step's velocity): a fresh integrator's first step is not a typical one,
                                         so a benchmark of one step warms it with an untimed step first */
-  CB_INTEGRATOR_STEP_FILTER = 16u    /* calls the line-search filter (cb_system_max_step, system.h) on every update, so
+  CB_INTEGRATOR_STEP_FILTER = 16u,   /* calls the line-search filter (cb_system_max_step, system.h) on every update, so
                                         a term with a step bound (contact.method = ipc) may be in its scene; the wrapper
                                         refuses such a scene for the other types */
+  CB_INTEGRATOR_VERTEX_BOUNDS = 32u  /* keeps every vertex within the conservative displacement bounds of the terms
+                                        that give them (cb_term_type.vertex_bound, energy.h), so no move reaches a
+                                        contact: a term with a step bound that also gives vertex bounds may be in
+                                        its scene without the line-search filter (vbd, vbd-chebyshev) */
 };
 
 /* A plug-in (gsl_multiroot_fsolver_type style). The wrapper allocates the
@@ -250,6 +256,9 @@ struct cb_integrator {
 /* The number of vertex colours of a vbd or vbd-chebyshev integrator (its
  * Gauss-Seidel order, computed once per scene), or -1 for another type. */
 int cb_vbd_colors(const cb_integrator *it);
+/* The vertex updates of its last step that a displacement bound shortened (contact: docs/contact.md), or -1 for
+ * another type. */
+long cb_vbd_truncated(const cb_integrator *it);
 
 /* The registry (lib/core/integrator/integrator.c, one X(id) line per type), NULL-terminated;
  * a type is reached by its name (cb_integrator_type_find), never by a symbol. */

@@ -76,7 +76,11 @@ const cb_term_type cb_term_contact_ipc_type = {.name = "contact_ipc",
                                                .nexamples = 3,
                                                .example = ipc_example,
                                                .indefinite = cb_contact_indefinite,
-                                               .begin_step = cb_contact_term_begin_step};
+                                               .begin_step = cb_contact_term_begin_step,
+                                               .vertex_collect = cb_contact_vertex_collect,
+                                               .vertex_blocks = cb_contact_vertex_blocks,
+                                               .vertex_bound = cb_contact_vertex_bound,
+                                               .intersections = cb_contact_term_intersections};
 
 static const cb_param_key ipc_keys[] = {
     CB_KEY_CONTACT_THICKNESS,

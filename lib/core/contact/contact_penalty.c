@@ -59,7 +59,11 @@ const cb_term_type cb_term_contact_penalty_type = {.name = "contact_penalty",
                                                    .free = cb_contact_free,
                                                    .nexamples = 2,
                                                    .example = penalty_example,
-                                                   .indefinite = cb_contact_indefinite};
+                                                   .indefinite = cb_contact_indefinite,
+                                                   .vertex_collect = cb_contact_vertex_collect,
+                                                   .vertex_blocks = cb_contact_vertex_blocks,
+                                                   .vertex_bound = cb_contact_vertex_bound,
+                                                   .intersections = cb_contact_term_intersections};
 
 static const cb_param_key penalty_keys[] = {
     CB_KEY_CONTACT_THICKNESS,

@@ -104,6 +104,7 @@ typedef struct {
   double u0[2];  /* -P^T sum_cloth gam_a x_a(start) + P^T sum_obstacle gam_a (obstacle displacement)_a, m */
   int na;        /* the first primitive's vertices (1 point-triangle, 2 edge-edge) */
 } fpair;
+typedef struct cb_vpairs cb_vpairs; /* below, with vertex_collect */
 
 typedef struct {
   cb_term base;
@@ -140,6 +141,7 @@ typedef struct {
   double epsvh;           /* eps_v dt of the current step, m */
   fpair *fr;
   long nfr, cap_fr;
+  cb_vpairs *vq; /* vertex block descent's collected pairs (vertex_collect; NULL until the first) */
 } ct;
 
 enum { K_SELF_VF, K_SELF_EE, K_CROSS_VF, K_CROSS_FV, K_CROSS_EE, K_COUNT };
@@ -682,6 +684,8 @@ int cb_contact_indefinite(const cb_term *t, const double *x, int *nelements) {
   return n;
 }
 
+static void vpairs_free(cb_vpairs *q);
+
 void cb_contact_free(cb_term *t) {
   ct *s = as_ct(t);
   if (!s) return;
@@ -690,6 +694,7 @@ void cb_contact_free(cb_term *t) {
   cb_candidates_free(&s->self);
   cb_candidates_free(&s->cross);
   cb_projection_work_free(s->pw);
+  vpairs_free(s->vq);
   free(s->el2);
   free(s->oel2);
   free(s->own_x);
@@ -885,4 +890,221 @@ int cb_contact_example(const cb_model *m, int i, const cb_term_type *type, cb_co
     *out = NULL;
   }
   return st;
+}
+
+/* ---- vertex block descent's per-vertex access (energy.h: vertex_collect, vertex_blocks, vertex_bound,
+ * intersections; docs/contact.md, "VBD") ----
+ *
+ * Collect at x_c: the pairs within the query radius r_q = max(reach / (1 - 2 gamma), move / gamma), gamma =
+ * CB_CONTACT_VBD_GAMMA, move the largest move the caller expects of a vertex (so that a vertex with nothing within
+ * r_q is not held back), found by two trees of their own (cloth and obstacle, boxes grown by r_q; the term's trees
+ * keep the reach), each with its distance d_p at x_c, and each cloth vertex's list of the pairs it is in. The bound
+ * of vertex v is
+ *   b_v = gamma min(r_q, min over the collected pairs p that contain v of d_p).
+ * Why it is conservative (the Offset Geometric Contact argument, Chen et al. 2025): let every vertex stay within
+ * b_v of its place at x_c. A point of a primitive (a vertex, or a convex combination of an edge's or a face's
+ * vertices) then stays within the largest b of that primitive's vertices of where it was, so a pair's distance
+ * shrinks by at most b_A + b_B (its two primitives' largest bounds; 0 for the obstacle, static during a step):
+ *   - a collected pair: every vertex of it has b <= gamma d_p, so d >= (1 - 2 gamma) d_p > 0 for gamma < 1/2;
+ *   - a pair not collected: d_p >= r_q at x_c (the broad phase is conservative) and every b <= gamma r_q, so
+ *     d >= (1 - 2 gamma) r_q = reach: the pair stays out of reach, its energy 0.
+ * The balls |x_v - x_v(c)| <= b_v are convex, so this holds on every straight path between two such states (all
+ * vertices moving at once, or one at a time): no contact is reached, none crossed, without CCD; and the collected
+ * set holds every pair with nonzero energy there, so vertex_blocks is the term's own gradient block (the energy of
+ * the pairs v is in) and the pairs' energies sum to E (each counted once per vertex that asks). gamma = 0.4 leaves
+ * every collected pair at least 0.2 d_p apart, every other 1 reach; r_q >= 5 reach.
+ *
+ * vertex_blocks(v, x): over v's collected pairs, the pair's energy E_p at x (the obstacle's coordinates from x_c),
+ * its gradient g_p (12) and Hessian H_p (12 x 12) as the term computes them (pair_eval: e f, e f' g_s + f g_e, ...),
+ * and v's parts: g += (g_p)_a, H += P((H_p)_aa), a = v's place in the pair, P the 3x3 projection asked for (clamp:
+ * each pair's diagonal block made PSD, so that the sum with the inertia M/dt^2 stays SPD; for a point-plane pair
+ * the vertex's exact block (4 s f'' + 2 f') n n^T is already PSD for both responses, since the penalty and the
+ * barrier are convex in d). */
+#define VBD_QUERY_FACTOR (1.0 / (1.0 - 2.0 * CB_CONTACT_VBD_GAMMA))
+
+typedef struct {
+  int vid[4];    /* cloth vertices, -1 for the obstacle's */
+  int ee;        /* edge-edge */
+  double eps;    /* the mollifier's threshold (edge-edge) */
+  double q0[12]; /* the pair at the collect (the obstacle's coordinates are read from here) */
+} vpair;
+
+struct cb_vpairs {
+  double radius;          /* r_q, m */
+  cb_broadphase *bp, *bo; /* the cloth's and the obstacle's trees, boxes grown by r_q */
+  const double *bo_x;     /* the obstacle positions bo was built for (a new obstacle rebuilds it) */
+  int bo_nv, bo_nt;
+  long npairs, cap;
+  vpair *pairs;
+  int *ptr, *list;         /* nv + 1; 4 cap: 4 j + a for pair j's vertex a */
+  double *bound;           /* nv, m */
+  cb_projection_work *pw3; /* 3x3 projection */
+};
+
+static void vpairs_free(cb_vpairs *q) {
+  if (!q) return;
+  cb_broadphase_free(q->bp);
+  cb_broadphase_free(q->bo);
+  free(q->pairs);
+  free(q->ptr);
+  free(q->list);
+  free(q->bound);
+  cb_projection_work_free(q->pw3);
+  free(q);
+}
+
+/* The collect's structures: allocated at the first collect (vertex block descent's set-up calls it once), the
+ * obstacle's tree again when the term's obstacle has changed. */
+static int vpairs_ready(ct *s) {
+  int st = CB_OK;
+  if (!s->vq) {
+    cb_vpairs *q = cb_calloc(1, sizeof *q);
+    if (!q) return CB_ENOMEM;
+    q->radius = VBD_QUERY_FACTOR * s->reach;
+    q->cap = 16L * (s->nv + s->nt) + 64;
+    q->pairs = cb_malloc((size_t)q->cap, sizeof(vpair));
+    q->list = cb_malloc(4 * (size_t)q->cap, sizeof(int));
+    q->ptr = cb_calloc((size_t)s->nv + 1, sizeof(int));
+    q->bound = cb_malloc((size_t)s->nv + 1, sizeof(double));
+    if (!q->pairs || !q->list || !q->ptr || !q->bound) st = CB_ENOMEM;
+    if (!st) st = cb_projection_work_alloc(3, &q->pw3);
+    if (!st && s->nt > 0) {
+      cb_broadphase_params bp = cb_broadphase_params_default();
+      bp.thickness = q->radius;
+      st = cb_broadphase_alloc(s->nv, s->nt, s->tri, &bp, &q->bp);
+    }
+    if (st) {
+      vpairs_free(q);
+      return st;
+    }
+    s->vq = q;
+  }
+  cb_vpairs *q = s->vq;
+  if (s->bo && (q->bo_x != s->ox || q->bo_nv != s->onv || q->bo_nt != s->ont || !q->bo)) {
+    cb_broadphase_free(q->bo);
+    q->bo = NULL;
+    cb_broadphase_params bp = cb_broadphase_params_default();
+    bp.thickness = q->radius;
+    if ((st = cb_broadphase_alloc(s->onv, s->ont, s->otri, &bp, &q->bo))) return st;
+    q->bo_x = s->ox;
+    q->bo_nv = s->onv;
+    q->bo_nt = s->ont;
+  }
+  return CB_OK;
+}
+
+/* The candidates at x within r_q, into the term's scratch (self, cross; every evaluation refills it). */
+static int vpairs_find(ct *s, const double *x) {
+  cb_vpairs *q = s->vq;
+  s->self.nvf = s->self.nee = s->cross.nvf = s->cross.nfv = s->cross.nee = 0;
+  int st = cb_broadphase_update(q->bp, x, NULL);
+  for (int tries = 0; !st; tries++) {
+    st = cb_broadphase_self_candidates(q->bp, &s->self);
+    if (st != CB_ENOMEM || tries == 4) break;
+    if ((st = grow(&s->self))) return st;
+    s->stats.grows++;
+  }
+  if (st || !s->bo) return st;
+  if ((st = cb_broadphase_update(q->bo, s->ox, NULL))) return st;
+  for (int tries = 0;; tries++) {
+    st = cb_broadphase_cross_candidates(q->bp, q->bo, &s->cross);
+    if (st != CB_ENOMEM || tries == 4) break;
+    if ((st = grow(&s->cross))) return st;
+    s->stats.grows++;
+  }
+  return st;
+}
+
+static int vpairs_grow(cb_vpairs *q) {
+  long cap = 2 * q->cap;
+  vpair *p = cb_realloc(q->pairs, (size_t)cap, sizeof(vpair));
+  if (!p) return CB_ENOMEM;
+  q->pairs = p;
+  int *l = cb_realloc(q->list, 4 * (size_t)cap, sizeof(int));
+  if (!l) return CB_ENOMEM;
+  q->list = l;
+  q->cap = cap;
+  return CB_OK;
+}
+
+int cb_contact_vertex_collect(const cb_term *t, const double *x, double move) {
+  ct *s = as_ct(t);
+  if (s->p.friction > 0) /* the per-vertex blocks carry the barrier or penalty only: never a silent frictionless run */
+    return cb_fail_status(CB_EINVAL,
+                          "contact.friction: %g: vertex block descent's contact blocks have no friction yet (only 0 "
+                          "is accepted with integrator.method = vbd; Newton with ipc has it)",
+                          s->p.friction);
+  int st = vpairs_ready(s);
+  if (st) return st;
+  cb_vpairs *q = s->vq;
+  q->npairs = 0;
+  q->radius = VBD_QUERY_FACTOR * s->reach;
+  if (move / CB_CONTACT_VBD_GAMMA > q->radius && isfinite(move)) q->radius = move / CB_CONTACT_VBD_GAMMA;
+  if (q->bp && (st = cb_broadphase_set_thickness(q->bp, q->radius))) return st;
+  if (q->bo && (st = cb_broadphase_set_thickness(q->bo, q->radius))) return st;
+  for (int v = 0; v < s->nv; v++) q->bound[v] = CB_CONTACT_VBD_GAMMA * q->radius;
+  memset(q->ptr, 0, ((size_t)s->nv + 1) * sizeof(int));
+  if (s->nt > 0 && (st = vpairs_find(s, x))) return st;
+  double r2 = q->radius * q->radius;
+  for (int kind = 0; kind < K_COUNT; kind++)
+    for (long i = 0; i < count(s, kind); i++) {
+      vpair p;
+      double d2;
+      p.ee = gather(s, kind, i, x, NULL, p.q0, NULL, p.vid, &p.eps, NULL);
+      int moving = 0;
+      for (int a = 0; a < 4; a++) moving |= p.vid[a] >= 0 && s->free_index[p.vid[a]] >= 0;
+      if (!moving) continue;
+      pair_eval(s, p.q0, p.ee, p.eps, NULL, NULL, &d2);
+      if (d2 >= r2) continue;
+      double d = d2 > 0 ? sqrt(d2) : 0; /* a NaN distance (a degenerate primitive) freezes the pair's vertices */
+      if (q->npairs == q->cap) {
+        if ((st = vpairs_grow(q))) return st;
+        s->stats.grows++;
+      }
+      q->pairs[q->npairs++] = p;
+      for (int a = 0; a < 4; a++)
+        if (p.vid[a] >= 0) {
+          q->bound[p.vid[a]] = fmin(q->bound[p.vid[a]], CB_CONTACT_VBD_GAMMA * d);
+          q->ptr[p.vid[a] + 1]++;
+        }
+    }
+  for (int v = 0; v < s->nv; v++) q->ptr[v + 1] += q->ptr[v];
+  for (long j = 0; j < q->npairs; j++) /* fill, then shift back: ptr[v] is v's start again after the loop */
+    for (int a = 0; a < 4; a++)
+      if (q->pairs[j].vid[a] >= 0) q->list[q->ptr[q->pairs[j].vid[a]]++] = (int)(4 * j + a);
+  for (int v = s->nv; v > 0; v--) q->ptr[v] = q->ptr[v - 1];
+  q->ptr[0] = 0;
+  return CB_OK;
+}
+
+double cb_contact_vertex_blocks(const cb_term *t, int v, const double *x, cb_projection proj, double *g, double *H) {
+  ct *s = as_ct(t);
+  const cb_vpairs *q = s->vq;
+  double E = 0, gp[12], Hp[144], qq[12], d2;
+  if (g) memset(g, 0, 3 * sizeof(double));
+  if (H) memset(H, 0, 9 * sizeof(double));
+  if (!q || v < 0 || v >= s->nv) return 0.0;
+  for (int r = q->ptr[v]; r < q->ptr[v + 1]; r++) {
+    const vpair *p = &q->pairs[q->list[r] / 4];
+    int a = q->list[r] % 4;
+    for (int b = 0; b < 4; b++)
+      for (int c = 0; c < 3; c++) qq[3 * b + c] = p->vid[b] >= 0 ? x[3 * p->vid[b] + c] : p->q0[3 * b + c];
+    E += pair_eval(s, qq, p->ee, p->eps, g ? gp : NULL, H ? Hp : NULL, &d2);
+    if (g)
+      for (int c = 0; c < 3; c++) g[c] += gp[3 * a + c];
+    if (H) {
+      double B[9];
+      for (int c = 0; c < 3; c++)
+        for (int e = 0; e < 3; e++) B[3 * c + e] = Hp[(3 * a + c) * 12 + 3 * a + e];
+      if (proj != CB_PROJ_NONE) cb_projection_apply(proj, 3, B, q->pw3);
+      for (int c = 0; c < 9; c++) H[c] += B[c];
+    }
+  }
+  return E;
+}
+
+double cb_contact_vertex_bound(const cb_term *t, int v) {
+  const ct *s = as_ct(t);
+  if (!s->vq || v < 0 || v >= s->nv) return 0.0; /* nothing collected: no move is known safe */
+  return s->vq->bound[v];
 }

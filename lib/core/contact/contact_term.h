@@ -22,6 +22,15 @@ int cb_contact_indefinite(const cb_term *t, const double *x, int *nelements);
 int cb_contact_example(const cb_model *m, int i, const cb_term_type *type, cb_contact_potential f, int mollify, int ccd,
                        const cb_contact_params *p, cb_term **out);
 
+/* Vertex block descent's per-vertex access (energy.h; the math is in contact_term.c): the pairs within the query
+ * radius max(reach / (1 - 2 gamma), move / gamma) collected at x, each vertex's pairs' energy, gradient and diagonal
+ * Hessian block, its conservative displacement bound gamma min(query radius, distance of its nearest collected pair);
+ * and the exact intersection count (cb_contact_term_intersections) as the type's `intersections`. */
+#define CB_CONTACT_VBD_GAMMA 0.4
+int cb_contact_vertex_collect(const cb_term *t, const double *x, double move);
+double cb_contact_vertex_blocks(const cb_term *t, int v, const double *x, cb_projection proj, double *g, double *H);
+double cb_contact_vertex_bound(const cb_term *t, int v);
+
 enum { CB_CONTACT_DENSE_MAX = 64 }; /* free vertices up to which the pattern holds every pair */
 
 #endif

@@ -410,6 +410,13 @@ const int *cb_broadphase_edges(const cb_broadphase *b, int *ne) {
 
 void cb_broadphase_invalidate(cb_broadphase *b) { b->force_rebuild = 1; }
 
+int cb_broadphase_set_thickness(cb_broadphase *b, double thickness) {
+  if (!(thickness >= 0.0) || !isfinite(thickness))
+    return cb_fail("broadphase: thickness %g must be finite and >= 0", thickness);
+  b->p.thickness = thickness;
+  return CB_OK;
+}
+
 const cb_broadphase_stats *cb_broadphase_stats_get(const cb_broadphase *b) { return &b->stats; }
 
 /* ---- the tree ------------------------------------------------------------- */

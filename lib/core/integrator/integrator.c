@@ -107,9 +107,11 @@ int cb_integrator_alloc(const char *method, cb_scene *scene, const cb_integrator
     if (st == CB_OK) st = cb_solver_analyze(it->solver, &it->sys->A);
   }
   for (int k = 0; st == CB_OK && !(t->flags & CB_INTEGRATOR_STEP_FILTER) && k < it->sys->nterms; k++)
-    if (it->sys->terms[k]->type->max_step)
+    if (it->sys->terms[k]->type->max_step &&
+        !((t->flags & CB_INTEGRATOR_VERTEX_BOUNDS) && it->sys->terms[k]->type->vertex_bound))
       st = cb_fail("integrator.method: %s: the scene's term '%s' (%s) bounds every step by CCD (the line-search "
-                   "filter, system.h), which %s does not call; newton and lbfgs do (docs/contact.md)",
+                   "filter, system.h), which %s does not call; newton and lbfgs do, and vbd keeps its vertex bounds "
+                   "(docs/contact.md)",
                    t->name, it->sys->terms[k]->label, it->sys->terms[k]->type->name, t->name);
   int inited = 0;
   if (st == CB_OK) {

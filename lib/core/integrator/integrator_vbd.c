@@ -54,6 +54,24 @@
  * Chebyshev's blend at the plain rate can diverge (Wang 2015 tunes rho down
  * for Gauss-Seidel by hand). The paper starts the acceleration at iteration 2.
  *
+ * Contact (docs/contact.md, "VBD"; Chen et al. 2024 sections 3.5-3.7, and the conservative bounds of Offset
+ * Geometric Contact, Chen et al. 2025). A term whose elements move with x (the contact pairs: cb_term_type
+ * vertex_collect, vertex_blocks, vertex_bound) cannot be a fixed stencil; it is read vertex by vertex:
+ *   - collect: at the step's start, at x_c = x0 with the pins at their prescribed places, for the initial guess's
+ *     largest move, and again before every integrator.vbd_collect-th sweep at the current x, for twice the last
+ *     span's largest move (the term widens its query radius to let a vertex with nothing near move that far);
+ *     each free vertex gets its bound b_v, the smallest the terms give;
+ *   - f_i and H_i gain the term's blocks of vertex i (each pair's diagonal block projected to PSD), F_i its pairs'
+ *     energy;
+ *   - every move keeps |x_i - x_i(c)| <= b_v: the initial guess is clamped onto the ball (radially), a sweep's
+ *     step truncated where it leaves it (x_i + a dx, a the largest in [0, 1] inside; the line search then starts
+ *     from that a), vbd-chebyshev's blend clamped back onto it. The balls are convex, so every straight path
+ *     between such states keeps every pair apart (the term's argument, contact_term.c): no contact is reached
+ *     or crossed, without CCD, and a term with a step bound (ipc) is accepted (CB_INTEGRATOR_VERTEX_BOUNDS).
+ * The colouring does not see the pairs: two vertices of one colour may share a pair, and the sweep, sequential,
+ * updates them one after the other (a Gauss-Seidel order still; a parallel sweep would need the pairs coloured).
+ * A start state that intersects (the term's `intersections`, exact) is refused at set-up.
+ *
  * Pinned vertices keep their prescribed positions. Step stats: newton_iters
  * = sweeps, rel_grad = |grad F(x_K)|/|grad F(x_init)|, rel_grad_hat =
  * |grad F(x_K)|/|grad F(xhat)|, assemble_ms the objective evaluations,
@@ -80,9 +98,9 @@ enum { MAXK = 4 }; /* vertices per element at most (a hinge) */
 const char *const cb_vbd_init_names[] = {"inertia", "previous", "adaptive", NULL};
 
 static const cb_vbd_params vbd_defaults = {
-    .iters = 32, .init = INIT_ADAPTIVE, .line_search = 0, .rho = 0.0, .rho_iters = 64};
+    .iters = 32, .init = INIT_ADAPTIVE, .line_search = 0, .rho = 0.0, .rho_iters = 64, .collect = 1};
 static const cb_vbd_params vbdc_defaults = {
-    .iters = 32, .init = INIT_ADAPTIVE, .line_search = 0, .rho = 0.995, .rho_iters = 64};
+    .iters = 32, .init = INIT_ADAPTIVE, .line_search = 0, .rho = 0.995, .rho_iters = 64, .collect = 1};
 
 cb_vbd_params cb_vbd_params_default(void) { return vbdc_defaults; }
 
@@ -101,14 +119,18 @@ cb_vbd_params cb_vbd_params_default(void) { return vbdc_defaults; }
     .doc = "vbd, vbd-chebyshev: backtracking (Armijo) on each vertex's own objective, so that no sweep raises F (0 " \
            "or 1; the paper's update is 0)." \
   }
+#define KEY_COLLECT \
+  { \
+    .name = "vbd_collect", .kind = CB_PARAM_INT, .offset = VP(collect), .def = "1", .unit = "-", .lo = 1, .hi = 1e6, \
+    .doc = "vbd, vbd-chebyshev: sweeps between two collects of the contact pairs and of each vertex's conservative " \
+           "displacement bound (docs/contact.md, VBD); 1 collects before every sweep." \
+  }
 static const cb_param_key vbd_keys[] = {
-    CB_KEY_ITERS(VP(iters)),
-    KEY_INIT,
-    KEY_LS,
-    CB_KEY_END,
+    CB_KEY_ITERS(VP(iters)), KEY_INIT, KEY_LS, KEY_COLLECT, CB_KEY_END,
 };
 static const cb_param_key vbdc_keys[] = {
-    CB_KEY_ITERS(VP(iters)), KEY_INIT, KEY_LS, CB_KEY_RHO(VP(rho)), CB_KEY_RHO_ITERS(VP(rho_iters)), CB_KEY_END,
+    CB_KEY_ITERS(VP(iters)),         KEY_INIT,    KEY_LS,     CB_KEY_RHO(VP(rho)),
+    CB_KEY_RHO_ITERS(VP(rho_iters)), KEY_COLLECT, CB_KEY_END,
 };
 #undef VP
 
@@ -134,6 +156,12 @@ typedef struct {
   double grav[3];         /* m/s^2, zero without a gravity term */
   double rho;             /* in use; CB_PARAM_AUTO until estimated */
   cb_projection_work *pw; /* 3x3 projection */
+  /* the terms whose elements move (contact pairs: cb_term_type.vertex_collect), read vertex by vertex */
+  int ndyn;
+  const cb_term *dyn[CB_MAX_TERMS];
+  double *anchor; /* 3 nv: x at the last collect */
+  double *bound;  /* nv: each free vertex's displacement bound from anchor, m (the smallest the terms give) */
+  long truncated; /* vertex updates the bounds shortened, this step */
 } vbd_work;
 
 static void vbd_free(cb_integrator *it) {
@@ -147,6 +175,8 @@ static void vbd_free(cb_integrator *it) {
   free(w->xprev);
   free(w->vprev);
   free(w->dnorm);
+  free(w->anchor);
+  free(w->bound);
   cb_projection_work_free(w->pw);
 }
 
@@ -236,10 +266,18 @@ static int vbd_init(cb_integrator *it) {
   if (!(p->rho == CB_PARAM_AUTO || (p->rho >= 0 && p->rho < 1)))
     return cb_fail("%s: rho must be in [0, 1) or auto, got %g", name, p->rho);
   if (p->rho == CB_PARAM_AUTO && p->rho_iters < 4) return cb_fail("%s: rho_iters must be >= 4", name);
+  if (p->collect < 1) return cb_fail("%s: vbd_collect must be >= 1, got %d", name, p->collect);
   for (int t = 0; t < s->sys.nterms; t++) {
     const cb_term *term = s->sys.terms[t];
     if (term->type == cb_term_gravity) { /* its force m_i g is read from the scene */
       memcpy(w->grav, s->gravity, sizeof w->grav);
+      continue;
+    }
+    if (term->type->vertex_blocks) { /* moving elements: read vertex by vertex, collected during the step */
+      if (!term->type->vertex_collect || !term->type->vertex_bound)
+        return cb_fail("%s: the energy term '%s' (%s) gives vertex blocks without vertex_collect and vertex_bound",
+                       name, term->label, term->type->name);
+      w->dyn[w->ndyn++] = term;
       continue;
     }
     if (!term->type->element || !term->type->stencil)
@@ -264,7 +302,80 @@ static int vbd_init(cb_integrator *it) {
   if ((st = cb_projection_work_alloc(3, &w->pw))) return st;
   if (p->rho == CB_PARAM_AUTO && !(w->dnorm = cb_malloc(2 * (size_t)p->rho_iters, sizeof(double)))) return CB_ENOMEM;
   w->rho = p->rho;
+  if (w->ndyn) {
+    w->anchor = cb_malloc(3 * (size_t)nv + 1, sizeof(double));
+    w->bound = cb_malloc((size_t)nv + 1, sizeof(double));
+    if (!w->anchor || !w->bound) return CB_ENOMEM;
+  }
+  for (int t = 0; t < w->ndyn; t++) { /* the bounds keep a state free of intersections: they cannot start from one */
+    const cb_term *term = w->dyn[t];
+    long nx = 0;
+    if (term->type->intersections && (st = term->type->intersections(term, s->x0, &nx))) return st;
+    if (nx > 0)
+      return cb_fail("%s: the start state intersects (%ld triangle pairs of the term '%s' (%s)): the displacement "
+                     "bounds keep a state free of intersections, they cannot start from one",
+                     name, nx, term->label, term->type->name);
+    if ((st = term->type->vertex_collect(term, s->x0, 0.0))) return st; /* the collect's structures, at set-up */
+  }
   return CB_OK;
+}
+
+/* Collects the moving elements of every such term at x, which becomes the anchor, and each free vertex's bound
+ * (the smallest the terms give); move: the largest move expected of a vertex before the next collect. */
+static int collect(vbd_work *w, const cb_scene *s, const double *x, double move) {
+  if (!w->ndyn) return CB_OK;
+  if (x != w->anchor) memcpy(w->anchor, x, 3 * (size_t)s->mesh.nv * sizeof(double));
+  for (int b = 0; b < s->model.nfree; b++) w->bound[s->free_vertex[b]] = INFINITY;
+  for (int t = 0; t < w->ndyn; t++) {
+    const cb_term *term = w->dyn[t];
+    int st = term->type->vertex_collect(term, x, move);
+    if (st) return st;
+    for (int b = 0; b < s->model.nfree; b++) {
+      int i = s->free_vertex[b];
+      w->bound[i] = fmin(w->bound[i], term->type->vertex_bound(term, i));
+    }
+  }
+  return CB_OK;
+}
+
+/* The largest t in [0, 1] with |x_i + t dx - anchor_i| <= b_i (x_i inside the ball): the positive root of
+ * |p + t dx|^2 = b^2, p = x_i - anchor_i, in the form without cancellation. */
+static double ball_fraction(const vbd_work *w, int i, const double *x, const double dx[3]) {
+  double p[3], a = 0, pb = 0, c = 0, b = w->bound[i], e = 0;
+  for (int k = 0; k < 3; k++) {
+    p[k] = x[3 * i + k] - w->anchor[3 * i + k];
+    a += dx[k] * dx[k];
+    pb += p[k] * dx[k];
+    c += p[k] * p[k];
+    e += (p[k] + dx[k]) * (p[k] + dx[k]);
+  }
+  if (!(a > 0) || e <= b * b) return 1.0;
+  c -= b * b;
+  if (!(c < 0)) return 0.0; /* on the sphere already (or a bound of 0) */
+  double r = sqrt(pb * pb - a * c), t = pb >= 0 ? -c / (pb + r) : (r - pb) / a;
+  return t < 0 ? 0.0 : t > 1 ? 1.0 : t;
+}
+
+/* The largest distance of a free vertex of x from the anchor, m. */
+static double largest_move(const vbd_work *w, const cb_scene *s, const double *x) {
+  double m2 = 0;
+  for (int b = 0; b < s->model.nfree; b++) {
+    int i = s->free_vertex[b];
+    double d2 = 0;
+    for (int k = 0; k < 3; k++) d2 += (x[3 * i + k] - w->anchor[3 * i + k]) * (x[3 * i + k] - w->anchor[3 * i + k]);
+    m2 = fmax(m2, d2);
+  }
+  return sqrt(m2);
+}
+
+/* Moves vertex i back onto its ball (radially), if it is outside. */
+static void clamp_ball(vbd_work *w, int i, double *x) {
+  double n2 = 0, b = w->bound[i];
+  for (int k = 0; k < 3; k++) n2 += (x[3 * i + k] - w->anchor[3 * i + k]) * (x[3 * i + k] - w->anchor[3 * i + k]);
+  if (n2 <= b * b) return;
+  double f = b / sqrt(n2);
+  for (int k = 0; k < 3; k++) x[3 * i + k] = w->anchor[3 * i + k] + f * (x[3 * i + k] - w->anchor[3 * i + k]);
+  w->truncated++;
 }
 
 extern const cb_integrator_type cb_integrator_vbd, cb_integrator_vbd_chebyshev; /* below */
@@ -272,6 +383,11 @@ extern const cb_integrator_type cb_integrator_vbd, cb_integrator_vbd_chebyshev; 
 int cb_vbd_colors(const cb_integrator *it) {
   if (!it || (it->type != &cb_integrator_vbd && it->type != &cb_integrator_vbd_chebyshev)) return -1;
   return ((const vbd_work *)it->state)->ncolors;
+}
+
+long cb_vbd_truncated(const cb_integrator *it) {
+  if (!it || (it->type != &cb_integrator_vbd && it->type != &cb_integrator_vbd_chebyshev)) return -1;
+  return ((const vbd_work *)it->state)->truncated;
 }
 
 /* Solves H dx = f (3x3 SPD); returns 0, or -1 if H is not SPD. */
@@ -329,6 +445,7 @@ static double inertia_F(const vbd_work *w, const cb_scene *s, double dt, const d
 static double local_F(vbd_work *w, const cb_scene *s, double dt, const double *x, int i, double *g_e, double *H_e) {
   double F = inertia_F(w, s, dt, x, i);
   for (int r = w->inc_ptr[i]; r < w->inc_ptr[i + 1]; r++) F += vertex_element(w, &w->inc[r], x, NULL, NULL, g_e, H_e);
+  for (int t = 0; t < w->ndyn; t++) F += w->dyn[t]->type->vertex_blocks(w->dyn[t], i, x, CB_PROJ_CLAMP, NULL, NULL);
   return F;
 }
 
@@ -351,6 +468,14 @@ static double sweep(vbd_work *w, const cb_scene *s, double dt, int line_search, 
         for (int d = 0; d < 3; d++) H[3 * c + d] += H_ii[3 * c + d]; /* H_i += (H_e)_ii */
       }
     }
+    for (int t = 0; t < w->ndyn; t++) { /* the moving elements (contact pairs), each pair's block made PSD */
+      double g_i[3], H_ii[9];
+      F0 += w->dyn[t]->type->vertex_blocks(w->dyn[t], i, x, CB_PROJ_CLAMP, g_i, H_ii);
+      for (int c = 0; c < 3; c++) {
+        f[c] -= g_i[c];
+        for (int d = 0; d < 3; d++) H[3 * c + d] += H_ii[3 * c + d];
+      }
+    }
     double dx[3];
     if (chol3_solve(H, f, dx)) { /* not SPD: project (eigenvalues clamped at 0), skip if near singular */
       cb_projection_apply(CB_PROJ_CLAMP, 3, H, w->pw);
@@ -362,11 +487,16 @@ static double sweep(vbd_work *w, const cb_scene *s, double dt, int line_search, 
       chol3_solve(H, f, dx);
     }
     double alpha = 1.0;
+    if (w->ndyn) { /* the displacement bound: the step truncated where it leaves the vertex's ball */
+      alpha = ball_fraction(w, i, x, dx);
+      if (alpha < 1.0) w->truncated++;
+      if (!(alpha > 0)) continue;
+    }
     if (line_search) { /* Armijo on F_i: F_i(x_i + a dx) <= F_i(x_i) - 1e-4 a f.dx */
       double slope = -(f[0] * dx[0] + f[1] * dx[1] + f[2] * dx[2]);
       double xi[3] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
       int ok = 0;
-      for (int h = 0; h <= 30 && !ok; h++, alpha *= 0.5) {
+      for (int h = 0; h <= 30 && !ok; h++, alpha *= 0.5) { /* from the bound's alpha down */
         for (int c = 0; c < 3; c++) x[3 * i + c] = xi[c] + alpha * dx[c];
         ok = local_F(w, s, dt, x, i, g_e, H_e) <= F0 + 1e-4 * alpha * slope;
         if (ok) break;
@@ -397,6 +527,10 @@ static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnor
     if (k == K || nf3 == 0) break;
     double t0 = cb_now_ms();
     double d;
+    if (w->ndyn && k > 0 && k % ((const cb_vbd_params *)it->type_params)->collect == 0) { /* the pairs again, the */
+      int cs = collect(w, s, x, 2.0 * largest_move(w, s, x)); /* radius for twice the last span's largest move */
+      if (cs) return cs;
+    }
     if (rho > 0) { /* x_{k+1} = omega x^_{k+1} + (1 - omega) x_{k-1}: the sweep first, then the blend */
       omega = cb_chebyshev_omega(k, rho, omega);
       double *tmp = w->gF; /* scratch: x_k's free DOFs, before the sweep */
@@ -412,6 +546,14 @@ static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnor
           w->xprev[3 * i + a] = xk;
           x[3 * i + a] = xn;
         }
+        if (w->ndyn) { /* the blend extrapolates: back into the ball, and the update norm from there */
+          double xn[3] = {x[3 * i], x[3 * i + 1], x[3 * i + 2]};
+          clamp_ball(w, i, x);
+          for (int a = 0; a < 3; a++) {
+            double xk = w->xprev[3 * i + a];
+            d2 += (x[3 * i + a] - xk) * (x[3 * i + a] - xk) - (xn[a] - xk) * (xn[a] - xk);
+          }
+        }
       }
       d = sqrt(d2);
     } else {
@@ -424,19 +566,27 @@ static int iterate(cb_integrator *it, double *x, int K, double rho, double *dnor
   return CB_OK;
 }
 
-/* The initial guess (vbd_init) into x, from the step's (x0, v0). */
-static void initial_guess(vbd_work *w, const cb_scene *s, const cb_vbd_params *p, double dt, const double *v,
-                          double *x) {
+/* The initial guess (vbd_init) into x, from the step's (x0, v0). With moving elements (contact), they are
+ * collected at x0 with the pins at their prescribed places (the anchor), for the guess's largest move, and the
+ * guess is clamped into the bounds. */
+static int initial_guess(vbd_work *w, const cb_scene *s, const cb_vbd_params *p, double dt, const double *v,
+                         double *x) {
   cb_objective_guess(&w->obj, x, p->init != INIT_PREVIOUS); /* xhat, or x0 (pins at xhat either way) */
   double gl = sqrt(s->gravity[0] * s->gravity[0] + s->gravity[1] * s->gravity[1] + s->gravity[2] * s->gravity[2]);
-  if (p->init != INIT_ADAPTIVE || !w->have_vprev || !(gl > 0)) return;
-  for (int b = 0; b < s->model.nfree; b++) {
-    int i = s->free_vertex[b];
-    double ag = 0.0; /* a_prev . g^ */
-    for (int a = 0; a < 3; a++) ag += (v[3 * i + a] - w->vprev[3 * i + a]) / dt * s->gravity[a] / gl;
-    ag = ag < 0 ? 0 : ag > gl ? gl : ag; /* clamp to [0, |g|] */
-    for (int a = 0; a < 3; a++) x[3 * i + a] += dt * dt * ag * s->gravity[a] / gl;
-  }
+  if (p->init == INIT_ADAPTIVE && w->have_vprev && gl > 0)
+    for (int b = 0; b < s->model.nfree; b++) {
+      int i = s->free_vertex[b];
+      double ag = 0.0; /* a_prev . g^ */
+      for (int a = 0; a < 3; a++) ag += (v[3 * i + a] - w->vprev[3 * i + a]) / dt * s->gravity[a] / gl;
+      ag = ag < 0 ? 0 : ag > gl ? gl : ag; /* clamp to [0, |g|] */
+      for (int a = 0; a < 3; a++) x[3 * i + a] += dt * dt * ag * s->gravity[a] / gl;
+    }
+  if (!w->ndyn) return CB_OK;
+  cb_objective_guess(&w->obj, w->anchor, 0); /* x0, pins at xhat */
+  int st = collect(w, s, w->anchor, largest_move(w, s, x));
+  if (st) return st;
+  for (int b = 0; b < s->model.nfree; b++) clamp_ball(w, s->free_vertex[b], x);
+  return CB_OK;
 }
 
 static int vbd_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
@@ -456,8 +606,8 @@ static int vbd_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) 
     t0 = cb_now_ms();
     cb_step_stats scratch;
     memset(&scratch, 0, sizeof scratch);
-    initial_guess(w, s, p, dt, v, x);
-    int n = p->rho_iters, r = iterate(it, x, n, 0.0, w->dnorm, &scratch, 0, g_hat);
+    int n = p->rho_iters, r = initial_guess(w, s, p, dt, v, x);
+    if (r == CB_OK) r = iterate(it, x, n, 0.0, w->dnorm, &scratch, 0, g_hat);
     double rho = r == CB_OK ? cb_rho_from_updates(w->dnorm, n) : 0.0, d_plain = w->dnorm[n - 1];
     /* Safe for Gauss-Seidel: the estimate is the plain sweeps' decay rate, but a Gauss-Seidel sweep's
        iteration matrix is not symmetric (its eigenvalues may be complex), so Chebyshev's blend with that
@@ -466,9 +616,9 @@ static int vbd_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) 
        last one and below its own halfway (still decaying); else 1 - rho doubles, at most 8 times, then
        rho = 0 (plain sweeps). */
     for (int trial = 0; rho > 0; trial++) {
-      initial_guess(w, s, p, dt, v, x);
       memset(&scratch, 0, sizeof scratch);
-      r = iterate(it, x, 2 * n, rho, w->dnorm, &scratch, 0, g_hat);
+      r = initial_guess(w, s, p, dt, v, x);
+      if (r == CB_OK) r = iterate(it, x, 2 * n, rho, w->dnorm, &scratch, 0, g_hat);
       double d_end = w->dnorm[2 * n - 1], d_half = w->dnorm[n - 1];
       if (r == CB_OK && isfinite(d_end) && d_end <= d_plain && d_end < d_half) break;
       rho = trial < 8 ? 1.0 - 2.0 * (1.0 - rho) : 0.0; /* 1 - rho doubled */
@@ -478,8 +628,10 @@ static int vbd_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) 
     st->factor_ms += cb_now_ms() - t0;
   }
   st->rho = w->rho;
-  initial_guess(w, s, p, dt, v, x);
-  int status = iterate(it, x, p->iters, w->rho, NULL, st, 1, g_hat);
+  w->truncated = 0;
+  int status = initial_guess(w, s, p, dt, v, x);
+  if (status) return status;
+  status = iterate(it, x, p->iters, w->rho, NULL, st, 1, g_hat);
   memcpy(w->vprev, v, (size_t)nv3 * sizeof(double));
   w->have_vprev = 1;
   cb_objective_velocity(&w->obj, x, v);
@@ -488,7 +640,7 @@ static int vbd_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) 
 
 const cb_integrator_type cb_integrator_vbd = {
     .name = "vbd",
-    .flags = CB_INTEGRATOR_HISTORY, /* the adaptive initial guess */
+    .flags = CB_INTEGRATOR_HISTORY | CB_INTEGRATOR_VERTEX_BOUNDS, /* the adaptive initial guess; contact's bounds */
     .size = sizeof(vbd_work),
     .params_size = sizeof(cb_vbd_params),
     .params_default = &vbd_defaults,
@@ -500,7 +652,7 @@ const cb_integrator_type cb_integrator_vbd = {
 
 const cb_integrator_type cb_integrator_vbd_chebyshev = {
     .name = "vbd-chebyshev",
-    .flags = CB_INTEGRATOR_HISTORY,
+    .flags = CB_INTEGRATOR_HISTORY | CB_INTEGRATOR_VERTEX_BOUNDS,
     .size = sizeof(vbd_work),
     .params_size = sizeof(cb_vbd_params),
     .params_default = &vbdc_defaults,
