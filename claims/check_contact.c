@@ -41,10 +41,17 @@ static int fatal(const char *status) { return strcmp(status, "ok") && strcmp(sta
 
 void cb_check_C1(const cb_table *t, const char *results_dir, cb_claim_result *out) {
   (void)results_dir;
-  static const char *const names[] = {"scene",          "response", "dt_s",   "speed_m_per_s",
-                                      "frame",          "status",   "self_intersections",
-                                      "obstacle_intersections",     "intersections",
-                                      "min_separation_m",           "contacts"};
+  static const char *const names[] = {"scene",
+                                      "response",
+                                      "dt_s",
+                                      "speed_m_per_s",
+                                      "frame",
+                                      "status",
+                                      "self_intersections",
+                                      "obstacle_intersections",
+                                      "intersections",
+                                      "min_separation_m",
+                                      "contacts"};
   enum { NC = sizeof names / sizeof names[0] };
   int c[NC];
   if (cb_claim_columns(t, names, c, NC, "contact.csv", out)) return;
@@ -108,8 +115,9 @@ void cb_check_C1(const cb_table *t, const char *results_dir, cb_claim_result *ou
   if (pen_hits > 0)
     cb_claim_reason(out, "; the penalty intersects at %ld of its %ld frames (at worst %.0f pairs).", pen_hits,
                     pen_frames, pen_worst);
-  else cb_claim_reason(out, "; the penalty never intersects at a frame (%ld frames): the contrast is not shown.",
-                       pen_frames);
+  else
+    cb_claim_reason(out, "; the penalty never intersects at a frame (%ld frames): the contrast is not shown.",
+                    pen_frames);
   if (ipc_failed > 0)
     cb_claim_reason(out, " %ld ipc cell%s stopped early (failed step or refused start): not every frame was checked.",
                     ipc_failed, ipc_failed == 1 ? "" : "s");

@@ -14,8 +14,8 @@ static cb_claim_result res;
 
 /* One cell: frames 0..n-1 of (scene, response) with the given per-frame intersection counts (self, obstacle);
  * the last frame's status is last_status. */
-static size_t cell(char *buf, size_t cap, const char *scene, const char *resp, int n, const int *self,
-                   const int *obst, const char *last_status) {
+static size_t cell(char *buf, size_t cap, const char *scene, const char *resp, int n, const int *self, const int *obst,
+                   const char *last_status) {
   size_t u = 0;
   for (int k = 0; k < n; k++) {
     int w = snprintf(buf + u, cap - u, "%s,64,%s,newton,0.033,0,%d,%g,%d,%d,%d,0.004,%d,5,1.0,%s\n", scene, resp, k,
@@ -78,6 +78,6 @@ Test(claims_contact, C1_not_run_without_ipc_or_penalty_frames_or_columns) {
   cell(rows, sizeof rows, "sheet_on_table", "penalty", 4, HIT, Z, "ok");
   cr_expect_eq(test_decide_rows(cb_check_C1, header, rows, &res), CB_NOT_RUN, "%s", res.reason);
   cr_expect(strstr(res.reason, "no checked frame of ipc"), "%s", res.reason);
-  cr_expect_eq(test_decide_rows(cb_check_C1, "# test\nscene,response,frame,status\n", "a,ipc,0,ok\n", &res),
-               CB_NOT_RUN, "%s", res.reason);
+  cr_expect_eq(test_decide_rows(cb_check_C1, "# test\nscene,response,frame,status\n", "a,ipc,0,ok\n", &res), CB_NOT_RUN,
+               "%s", res.reason);
 }

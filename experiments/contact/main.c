@@ -130,8 +130,7 @@ static long obstacle_intersections(const cb_mesh *m, const double *x, const cb_m
     }
     for (int b = 0; b < om->nt; b++) {
       const double *bx = obox + 6 * b;
-      if (bx[0] > hi[0] || bx[3] < lo[0] || bx[1] > hi[1] || bx[4] < lo[1] || bx[2] > hi[2] || bx[5] < lo[2])
-        continue;
+      if (bx[0] > hi[0] || bx[3] < lo[0] || bx[1] > hi[1] || bx[4] < lo[1] || bx[2] > hi[2] || bx[5] < lo[2]) continue;
       const int *q = om->tri + 3 * b;
       n += cb_tri_tri_intersect(x + 3 * p[0], x + 3 * p[1], x + 3 * p[2], y + 3 * q[0], y + 3 * q[1], y + 3 * q[2]);
     }
