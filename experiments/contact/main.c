@@ -22,6 +22,15 @@
  *     integrator accepts gets one row with status `refused`. A step that fails keeps its row with its
  *     status (and the frame's counts when the positions are finite) and ends the cell; a scene that
  *     cannot be built (ipc refuses a start that intersects) is one row with its status.
+ * C3  results/contact_c3.csv (the start of C3; no verdict yet): per scene, the state after W frames of
+ *     ipc under Newton (the scene's config, dt = 1/30 s, no drop speed: W = 12, --quick 6, --smoke 2),
+ *     then one step from it by each method that takes ipc, at a ladder of iteration counts (Newton:
+ *     integrator.max_iters 1..32 with tol = tol_dx = 0; L-BFGS: integrator.iters 1..64), against IPC's
+ *     converged step x* (Newton from the same state, at most 500 iterations, tol 1e-10): step_error =
+ *     |x - x*| / |x* - x_W| (2-norms over all coordinates), the step's wall time, and the exact
+ *     intersection count of its result. VBD refuses a term that bounds its steps (it has no contact
+ *     yet): its row records status `refused` and the reason. Each trial warms up its own scene (the same
+ *     config and steps, so the same start state, checked bit for bit against the reference's).
  * --quick: mesh.n = 12, two dt and two speeds, 0.5 s. --smoke: mesh.n = 8, one dt and one speed, 3
  * steps, both scenes and every response (seconds). */
 #include <math.h>
@@ -79,6 +88,7 @@ typedef struct {
   int smoke_steps;
   int mesh_n; /* 0: the config's */
   long nv[NSCENES];
+  int c3_warm; /* C3: frames of ipc Newton before the compared step */
 } plan;
 
 typedef struct {
@@ -254,6 +264,167 @@ static int run_cell(long i, void *ctx, FILE *const *out) {
   return CB_OK;
 }
 
+/* ---- C3: one step from a contact-rich state, error against IPC's converged step against wall time ---- */
+
+typedef struct {
+  const char *method; /* integrator.method */
+  const char *key;    /* its iteration key */
+  int max_iters;      /* the ladder 1, 2, 4, ... up to this (0: one trial, the method may refuse) */
+} c3_method;
+static const c3_method C3_METHODS[] = {
+    {"newton", "integrator.max_iters", 32},
+    {"lbfgs", "integrator.iters", 64},
+    {"vbd", "integrator.iters", 0},
+};
+enum { NC3 = sizeof C3_METHODS / sizeof C3_METHODS[0] };
+
+/* The cell's scene after `warm` frames of ipc under the config's Newton, and a second integrator on it from the
+ * config with `trial` (NULL-terminated) on top. *x, *v: the state (3 nv, allocated). */
+static int c3_start(const plan *p, int scene, const char *const *trial, int warm, cb_scene **s, cb_integrator **it,
+                    double **x, double **v) {
+  char sn[32];
+  snprintf(sn, sizeof sn, "mesh.n=%d", p->mesh_n);
+  const cb_scene_decl *d = &SCENES[p->scene[scene]].scene;
+  const char *base[] = {"contact.method=ipc", p->mesh_n > 0 ? sn : NULL, NULL};
+  const char *more[16] = {base[0], base[1]};
+  int m = base[1] ? 2 : 1;
+  for (int k = 0; trial[k] && m < 15; k++) more[m++] = trial[k];
+  more[m] = NULL;
+  static cb_config c0, c1;
+  *s = NULL, *it = NULL, *x = NULL, *v = NULL;
+  cb_integrator *w = NULL;
+  int st = cb_scene_decl_build(p->e, d, base, &c0, s);
+  if (st == CB_OK) st = cb_integrator_from_config(&c0, *s, NULL, &w);
+  if (st == CB_OK) st = cb_scene_decl_config(p->e, d, more, &c1);
+  if (st == CB_OK) st = cb_integrator_from_config(&c1, *s, NULL, it);
+  if (st) {
+    cb_integrator_free(w);
+    return st;
+  }
+  int n3 = 3 * (*s)->mesh.nv;
+  *x = malloc((size_t)n3 * sizeof **x), *v = malloc((size_t)n3 * sizeof **v);
+  if (!*x || !*v) {
+    cb_integrator_free(w);
+    return CB_ENOMEM;
+  }
+  memcpy(*x, (*s)->x0, (size_t)n3 * sizeof **x);
+  memcpy(*v, (*s)->v0, (size_t)n3 * sizeof **v);
+  for (int k = 0; k < warm && st == CB_OK; k++) {
+    cb_step_stats ss;
+    memset(&ss, 0, sizeof ss);
+    st = cb_integrator_step(w, *x, *v, &ss);
+    if (!cb_status_is_fatal(st)) st = CB_OK;
+  }
+  cb_integrator_free(w);
+  return st;
+}
+
+static void c3_free(cb_scene *s, cb_integrator *it, double *x, double *v) {
+  free(x);
+  free(v);
+  cb_integrator_free(it);
+  cb_scene_free(s);
+}
+
+static double dist2(const double *a, const double *b, int n) {
+  double q = 0;
+  for (int i = 0; i < n; i++) q += (a[i] - b[i]) * (a[i] - b[i]);
+  return sqrt(q);
+}
+
+static int c3_cell(long i, void *ctx, FILE *const *out) {
+  const plan *p = ctx;
+  FILE *f = out[1];
+  const char *label = SCENES[p->scene[i]].scene.label;
+  int warm = p->c3_warm;
+  /* the reference: Newton from the warm state to convergence */
+  static const char *const ref_sets[] = {"integrator.method=newton", "integrator.max_iters=500", "integrator.tol=1e-10",
+                                         "integrator.tol_dx=1e-12", NULL};
+  cb_scene *s = NULL;
+  cb_integrator *it = NULL;
+  double *x = NULL, *v = NULL;
+  int st = c3_start(p, (int)i, ref_sets, warm, &s, &it, &x, &v);
+  if (st) {
+    cb_csv_printf(f, "%s,,reference,newton,,,%d,,,,,,%s\n", label, warm, cb_status_name(st));
+    c3_free(s, it, x, v);
+    return CB_OK;
+  }
+  int nv = s->mesh.nv, n3 = 3 * nv;
+  cb_scene_size sz;
+  double dt = cb_sweep_scene_size(p->e, &SCENES[p->scene[i]].scene, &sz) == CB_OK ? sz.dt : cb_csv_na();
+  double *xw = malloc((size_t)n3 * sizeof *xw), *xref = malloc((size_t)n3 * sizeof *xref);
+  if (!xw || !xref) {
+    free(xw), free(xref);
+    c3_free(s, it, x, v);
+    return CB_ENOMEM;
+  }
+  memcpy(xw, x, (size_t)n3 * sizeof *xw);
+  cb_step_stats rs;
+  memset(&rs, 0, sizeof rs);
+  int rst = cb_integrator_step(it, x, v, &rs);
+  memcpy(xref, x, (size_t)n3 * sizeof *xref);
+  double scale = dist2(xref, xw, n3);
+  cb_intersections self;
+  int have_self = cb_intersections_init(&self, &s->mesh) == CB_OK;
+  long nref = 0;
+  if (have_self && all_finite(xref, n3)) (void)cb_intersections_count(&self, xref, &nref);
+  cb_csv_printf(f, "%s,%d,reference,newton,%d,%.17g,%d,0,%.6f,%ld,%.17g,,%s\n", label, nv, rs.newton_iters, dt, warm,
+                rs.wall_ms, nref, scale, cb_status_name(rst));
+  /* the reference's scene stays until the end: self counts on its mesh (the trials' meshes are the same) */
+  cb_scene *ref_s = s;
+  cb_integrator *ref_it = it;
+  free(x), free(v);
+  for (int m = 0; m < NC3; m++) {
+    const c3_method *cm = &C3_METHODS[m];
+    for (int k = 1; k == 1 || k <= cm->max_iters; k *= 2) {
+      char sm[64], sk[64];
+      snprintf(sm, sizeof sm, "integrator.method=%s", cm->method);
+      snprintf(sk, sizeof sk, "%s=%d", cm->key, k);
+      const char *sets[] = {sm, sk, "integrator.tol=0", "integrator.tol_dx=0", NULL};
+      if (strcmp(cm->method, "newton")) sets[2] = NULL;
+      st = c3_start(p, (int)i, sets, warm, &s, &it, &x, &v);
+      if (st) {
+        /* the method refuses the scene (VBD and ipc's step bound): its reason, commas replaced */
+        char note[512];
+        snprintf(note, sizeof note, "%s", cb_error_message());
+        for (char *q = note; *q; q++)
+          if (*q == ',' || *q == '\n') *q = ';';
+        cb_csv_printf(f, "%s,%d,%s,%s,%d,%.17g,%d,,,,,%s,%s\n", label, nv, cm->method, cm->method, k, dt, warm, note,
+                      st == CB_EINVAL ? "refused" : cb_status_name(st));
+        c3_free(s, it, x, v);
+        break;
+      }
+      /* the same start as the reference's, bit for bit (the same config and steps) */
+      if (memcmp(x, xw, (size_t)n3 * sizeof *x)) {
+        cb_csv_printf(f, "%s,%d,%s,%s,%d,%.17g,%d,,,,,start differs from the reference's,invalid\n", label, nv,
+                      cm->method, cm->method, k, dt, warm);
+        c3_free(s, it, x, v);
+        break;
+      }
+      cb_step_stats ss;
+      memset(&ss, 0, sizeof ss);
+      int tst = cb_integrator_step(it, x, v, &ss);
+      double err = all_finite(x, n3) ? dist2(x, xref, n3) / scale : NAN;
+      long nint = -1;
+      if (have_self && all_finite(x, n3)) (void)cb_intersections_count(&self, x, &nint);
+      const cb_obstacle *o = cb_scene_obstacle(s);
+      double *obox = o ? malloc((size_t)6 * (size_t)o->mesh.nt * sizeof *obox) : NULL;
+      if (nint >= 0 && o && obox) nint += obstacle_intersections(&s->mesh, x, &o->mesh, o->x, obox);
+      else if (o) nint = -1;
+      free(obox);
+      cb_csv_printf(f, "%s,%d,%s,%s,%d,%.17g,%d,%.17g,%.6f,%.17g,,,%s\n", label, nv, cm->method, cm->method, k, dt,
+                    warm, err, ss.wall_ms, nint < 0 ? cb_csv_na() : (double)nint, cb_status_name(tst));
+      c3_free(s, it, x, v);
+      if (cm->max_iters == 0) break;
+    }
+  }
+  if (have_self) cb_intersections_free(&self);
+  c3_free(ref_s, ref_it, NULL, NULL);
+  free(xw);
+  free(xref);
+  return CB_OK;
+}
+
 int main(int argc, char **argv) {
   cb_experiment e;
   int b = cb_experiment_begin(&e, "contact", ABOUT, argc, argv);
@@ -265,11 +436,11 @@ int main(int argc, char **argv) {
   for (int k = 0; cb_contact_names[k] && p.nresp < MAXRESP; k++)
     if (strcmp(cb_contact_names[k], "none")) p.resp[p.nresp++] = cb_contact_names[k];
   if (e.smoke) {
-    p.dt = DT_SMOKE, p.ndt = 1, p.speed = SPEED_SMOKE, p.nspeed = 1, p.smoke_steps = 3, p.mesh_n = 8;
+    p.dt = DT_SMOKE, p.ndt = 1, p.speed = SPEED_SMOKE, p.nspeed = 1, p.smoke_steps = 3, p.mesh_n = 8, p.c3_warm = 2;
   } else if (e.quick) {
-    p.dt = DT_QUICK, p.ndt = 2, p.speed = SPEED_QUICK, p.nspeed = 2, p.duration = 0.5, p.mesh_n = 12;
+    p.dt = DT_QUICK, p.ndt = 2, p.speed = SPEED_QUICK, p.nspeed = 2, p.duration = 0.5, p.mesh_n = 12, p.c3_warm = 6;
   } else {
-    p.dt = DT_FULL, p.ndt = 3, p.speed = SPEED_FULL, p.nspeed = 3, p.duration = 1.0;
+    p.dt = DT_FULL, p.ndt = 3, p.speed = SPEED_FULL, p.nspeed = 3, p.duration = 1.0, p.c3_warm = 12;
   }
   for (int k = 0; k < p.nscenes; k++) {
     cb_scene_size sz;
@@ -289,8 +460,18 @@ int main(int argc, char **argv) {
                           "obstacle_intersections,intersections,min_separation_m,contacts,newton_iters,wall_ms,"
                           "status") != 0)
     return cb_experiment_end(&e, CB_EIO), 2;
-  const cb_sweep sweeps[] = {{"C1", (long)p.nscenes * p.nresp * p.ndt * p.nspeed, run_cell, cost, &p}};
-  int st = cb_sweep_run(&e, sweeps, 1);
+  if (cb_experiment_table(&e, "c3",
+                          "# c3: one step from the state after the warm-up frames of ipc under Newton (column frame); "
+                          "step_error = |x - x*| / |x* - x_start| (2-norms), x* = the reference row's step (Newton, "
+                          "<= 500 iterations, tol 1e-10); ref_step_m = |x* - x_start|; iters = the method's iteration "
+                          "cap (Newton: max_iters with tol = tol_dx = 0; lbfgs, vbd: integrator.iters); the reference "
+                          "row's iters are the iterations it took\n",
+                          "scene,vertices,method,integrator,iters,dt_s,frame,step_error,wall_ms,intersections,"
+                          "ref_step_m,note,status") != 1)
+    return cb_experiment_end(&e, CB_EIO), 2;
+  const cb_sweep sweeps[] = {{"C1", (long)p.nscenes * p.nresp * p.ndt * p.nspeed, run_cell, cost, &p},
+                             {"C3", p.nscenes, c3_cell, NULL, &p}};
+  int st = cb_sweep_run(&e, sweeps, 2);
   st = cb_experiment_end(&e, st);
   return st == CB_OK ? 0 : st == CB_EIO ? 2 : 1;
 }
