@@ -21,7 +21,7 @@ set logscale x
 set xlabel 'dt (s)'
 set ylabel 'worst intersecting pairs over the frames of a cell'
 set yrange [-1:*]
-set key left top
+set key below horizontal maxrows 2
 do for [s in SC] {
   set title s noenhanced
   plot for [r in R] for [sp in SP] cells(s, r, sp) using 3:5 \
