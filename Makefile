@@ -227,7 +227,7 @@ test: deps
 SMOKE_DIR := $(BUILD)/smoke
 QUICK_DIR := $(BUILD)/quick
 # experiment shard-count: the shard tests (main and side tables merged back)
-SHARDS := topology:3 definiteness:2 nonlinear:2 newton_vs_bw:2
+SHARDS := topology:3 definiteness:2 nonlinear:2 newton_vs_bw:2 contact:2
 shard_tests = @set -e; for s in $(SHARDS); do BUILD=$(BUILD) UNSHARDED_DIR=$(2) tests/shard.sh $(1) $${s%%:*} $${s\#\#*:}; done
 
 check: $(TESTS) $(TOOLS) $(EXPS) $(BUILD)/report

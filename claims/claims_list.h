@@ -180,6 +180,16 @@
     "to the cloth's size) recovers without divergence (its excess strain decays); |grad F| against iterations and " \
     "wall time, VBD and vbd-chebyshev against jacobi-nl, chebyshev-nl and pd-chebyshev.", \
     "field_v1.png field.png") \
+  X(cb_check_C1, "C1", "contact", \
+    "Incremental potential contact (Li et al. 2020; codimensional, Li, Kaufman & Jiang 2021) keeps cloth " \
+    "intersection-free at every step, for any dt and speed, where a penalty without continuous collision detection " \
+    "tunnels.", \
+    "Over a sweep of dt and drop speed on the sheet falling onto a table (folding over itself) and the cloth on a " \
+    "rotating sphere: the exact count of intersecting non-adjacent triangle pairs at every frame, the smallest " \
+    "separation and the contact count, for every registered response (ipc and penalty under Newton today). " \
+    "Reproduced if IPC has 0 intersections at every frame of every cell and the penalty has some; the contrast not " \
+    "shown (penalty never tunnels) is partly.", \
+    "contact.png") \
   /* one X(...) entry per claim, above this line */
 
 #endif

@@ -9,12 +9,17 @@
  *   differs       they differ and no deciding timing explains it (a
  *                 deterministic number moved, or the spreads are apart);
  *   not compared  either run lacks the claim's CSV, or either verdict is
- *                 undecided (a run that cannot decide contradicts nothing).
+ *                 undecided (a run that cannot decide contradicts nothing);
+ *   new claim, no reference
+ *                 this run decides a claim whose experiment's CSV the
+ *                 reference run does not have (an experiment added since
+ *                 the reference was stored, e.g. contact): not a difference.
  * Deciding numbers are paired in the order the checker decided them, which
  * is the same for two runs of the same sweep. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 #include "claims.h"
 #include "report.h"
@@ -50,6 +55,7 @@ static const char *kind_name(cb_compare_kind k) {
   case CB_COMPARE_SAME: return "same";
   case CB_COMPARE_WITHIN: return "differs within the spreads";
   case CB_COMPARE_DIFFERS: return "DIFFERS outside the spreads";
+  case CB_COMPARE_NEW: return "new claim, no reference";
   default: return "not compared";
   }
 }
@@ -63,7 +69,7 @@ int cb_report_compare(FILE *f, const char *ours_dir, const char *ref_dir) {
     fprintf(stderr, "report: out of memory\n");
     return 2;
   }
-  int count[4] = {0};
+  int count[5] = {0};
   fprintf(f, "# This run (%s/) against the reference (%s/)\n\n", ours_dir, ref_dir);
   fprintf(f, "| claim | reference | this run | comparison | deciding timings: this run / reference "
              "(threshold) |\n|---|---|---|---|---|\n");
@@ -71,6 +77,11 @@ int cb_report_compare(FILE *f, const char *ours_dir, const char *ref_dir) {
     cb_claim_decide(&cb_claims[i], ours_dir, &ours[i]);
     cb_claim_decide(&cb_claims[i], ref_dir, &ref[i]);
     cb_compare_kind k = cb_report_compare_claim(&ours[i], &ref[i]);
+    if (k == CB_COMPARE_NOT_COMPARED && ours[i].verdict != CB_NOT_RUN && cb_claims[i].experiment) {
+      char path[4096];
+      int w = snprintf(path, sizeof path, "%s/%s.csv", ref_dir, cb_claims[i].experiment);
+      if (w > 0 && (size_t)w < sizeof path && access(path, F_OK) != 0) k = CB_COMPARE_NEW;
+    }
     count[k]++;
     fprintf(f, "| %s | %s | %s | %s | ", cb_claims[i].id, cb_verdict_name(ref[i].verdict),
             cb_verdict_name(ours[i].verdict), kind_name(k));
@@ -88,8 +99,10 @@ int cb_report_compare(FILE *f, const char *ours_dir, const char *ref_dir) {
     }
     fputs(" |\n", f);
   }
-  fprintf(f, "\n%d same, %d differ within the spreads, %d differ outside them, %d not compared.\n",
-          count[CB_COMPARE_SAME], count[CB_COMPARE_WITHIN], count[CB_COMPARE_DIFFERS], count[CB_COMPARE_NOT_COMPARED]);
+  fprintf(f, "\n%d same, %d differ within the spreads, %d differ outside them, %d not compared", count[CB_COMPARE_SAME],
+          count[CB_COMPARE_WITHIN], count[CB_COMPARE_DIFFERS], count[CB_COMPARE_NOT_COMPARED]);
+  if (count[CB_COMPARE_NEW]) fprintf(f, ", %d new (no reference)", count[CB_COMPARE_NEW]);
+  fputs(".\n", f);
   free(ours);
   free(ref);
   return count[CB_COMPARE_DIFFERS] ? 1 : 0;

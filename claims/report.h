@@ -32,6 +32,8 @@ typedef enum {
   CB_COMPARE_WITHIN,       /* another verdict, explained by overlapping spreads of a deciding timing */
   CB_COMPARE_DIFFERS,      /* another verdict that no deciding timing's spread explains */
   CB_COMPARE_NOT_COMPARED, /* either run lacks the claim, or either verdict is undecided */
+  CB_COMPARE_NEW,          /* this run decides a claim whose experiment the reference run has no CSV of (a claim
+                              newer than the reference): "new claim, no reference", never a failure */
 } cb_compare_kind;
 cb_compare_kind cb_report_compare_claim(const cb_claim_result *ours, const cb_claim_result *ref);
 /* Decides every claim in both directories and writes the comparison table to

@@ -9,10 +9,15 @@
             (default 1.2 m) along z, centred on the origin: N (default 24)
             vertices around each end circle, the sides as 2N triangles, each
             end cap a fan of N triangles about its centre vertex.
+  sphere    a UV sphere of radius R (default 0.3 m, Codim-IPC's sphere1K_0.3)
+            centred on the origin, poles on the y axis (so a turn about y
+            keeps the poles in place): N (default 32) segments around, M
+            (default 16) rings from pole to pole, (M - 1) N + 2 vertices.
 
 Triangles are counter-clockwise seen from outside (outward normals).
 Usage: scripts/gen-obstacle-obj.py table > configs/table.obj
-       scripts/gen-obstacle-obj.py cylinder [R] [L] [N] > configs/cylinder.obj"""
+       scripts/gen-obstacle-obj.py cylinder [R] [L] [N] > configs/cylinder.obj
+       scripts/gen-obstacle-obj.py sphere [R] [N] [M] > configs/sphere.obj"""
 import math
 import sys
 
@@ -62,6 +67,28 @@ def cylinder(R=0.1, L=1.2, N=24):
     return "a closed cylinder along z: radius %g m, length %g m, %d segments" % (R, L, N), verts, tris
 
 
+def sphere(R=0.3, N=32, M=16):
+    verts, tris = [(0.0, R, 0.0)], []  # vertex 0: the north pole (+y)
+    for i in range(1, M):  # rings of N vertices at polar angle pi i / M
+        th = math.pi * i / M
+        for k in range(N):
+            a = 2 * math.pi * k / N
+            verts.append((R * math.sin(th) * math.cos(a), R * math.cos(th), -R * math.sin(th) * math.sin(a)))
+    verts.append((0.0, -R, 0.0))
+    south = len(verts) - 1
+
+    def ring(i, k):
+        return 1 + (i - 1) * N + k % N
+
+    for k in range(N):  # outward: counter-clockwise seen from outside (the angle a turns counter-clockwise about +y)
+        tris.append((0, ring(1, k), ring(1, k + 1)))
+        tris.append((south, ring(M - 1, k + 1), ring(M - 1, k)))
+        for i in range(1, M - 1):
+            a, b, c, d = ring(i, k), ring(i + 1, k), ring(i + 1, k + 1), ring(i, k + 1)
+            tris += [(a, b, c), (a, c, d)]
+    return "a UV sphere: radius %g m, %d segments, %d rings, poles on y" % (R, N, M), verts, tris
+
+
 def main():
     what = sys.argv[1] if len(sys.argv) > 1 else ""
     if what == "table":
@@ -69,8 +96,11 @@ def main():
     elif what == "cylinder":
         args = [float(a) for a in sys.argv[2:4]] + [int(a) for a in sys.argv[4:5]]
         title, v, t = cylinder(*args)
+    elif what == "sphere":
+        args = [float(a) for a in sys.argv[2:3]] + [int(a) for a in sys.argv[3:5]]
+        title, v, t = sphere(*args)
     else:
-        sys.exit("usage: gen-obstacle-obj.py table | cylinder [R] [L] [N]")
+        sys.exit("usage: gen-obstacle-obj.py table | cylinder [R] [L] [N] | sphere [R] [N] [M]")
     out = ["# %s (scripts/gen-obstacle-obj.py %s)" % (title, " ".join(sys.argv[1:])),
            "# %d vertices, %d triangles" % (len(v), len(t))]
     out += ["v %.9g %.9g %.9g" % p for p in v]

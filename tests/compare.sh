@@ -28,6 +28,15 @@ ok "a flipped verdict exits $st, not 1" test $st -eq 1
 ok "the flipped claim is not named" grep -q '^| T1 | not reproduced | reproduced | DIFFERS outside the spreads |' "$T/flip.out"
 ok "T2 (unchanged data) is not 'same'" grep -q '^| T2 | reproduced | reproduced | same |' "$T/flip.out"
 
+# a reference older than an experiment (no contact.csv, as results/reference/ before issue 34): its claims are
+# "new claim, no reference", and that alone is no failure
+mkdir -p "$T/old"
+cp "$S"/*.csv "$T/old/" && rm -f "$T/old/contact.csv"
+"$B/report" --compare "$T/old" --results "$T/ours" >"$T/old.out" 2>"$T/old.err"
+ok "a reference without contact.csv exits $?, not 0" test $? -eq 0
+ok "C1 against a reference without contact.csv is not 'new claim, no reference'" grep -q '^| C1 | not run | [a-z ]* | new claim, no reference |' "$T/old.out"
+ok "the count line does not count the new claim" grep -q ', 1 new (no reference)\.' "$T/old.out"
+
 # scripts/compare.sh: no reference for the CPU -> a clear message and exit 2
 mkdir -p "$T/empty"
 REFERENCE_ROOT="$T/empty" BUILD=$B scripts/compare.sh "$T/ours" >"$T/none.out" 2>&1
