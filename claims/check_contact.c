@@ -123,3 +123,78 @@ void cb_check_C1(const cb_table *t, const char *results_dir, cb_claim_result *ou
                     ipc_failed, ipc_failed == 1 ? "" : "s");
   out->verdict = pen_hits > 0 && ipc_failed == 0 ? CB_REPRODUCED : CB_PARTLY;
 }
+
+/* C2 from results/contact_c2.csv (experiments/contact/c2.c): ipc's lagged, smoothed friction reproduces
+ * Coulomb's stick-slip threshold on the slope. Per angle theta, the threshold row's mu* against tan theta:
+ *   reproduced      every angle's mu* within C2_TOL of tan theta (at least two angles);
+ *   partly          some angles within, some not (or one angle alone, within);
+ *   not reproduced  no angle within (or a threshold not bracketed: mu = 0 holds, or 3 tan theta slides);
+ *   not run         no threshold row.
+ * Reported beside it: the slides against the sliding block, the creep below the threshold (the slide at
+ * mu = 1.5 tan theta, which the smoothing eps_v allows), and VBD's row (its contact has no friction yet). */
+#define C2_TOL 0.10
+
+void cb_check_C2(const cb_table *csv, const char *dir, cb_claim_result *out) {
+  (void)csv;
+  cb_table t;
+  if (cb_claim_side_table(dir, "contact", "c2", &t, out)) return;
+  static const char *const names[] = {"kind",          "integrator", "theta_deg", "tan_theta", "mu_over_tan", "slide_m",
+                                      "closed_form_m", "mu_star",    "creep_m",   "note",      "status"};
+  enum { NC = sizeof names / sizeof names[0] };
+  int c[NC];
+  if (cb_claim_columns(&t, names, c, NC, "contact_c2.csv", out)) {
+    cb_table_free(&t);
+    return;
+  }
+  int n = 0, within = 0, unbracketed = 0;
+  double worst = 0;
+  char vbd[160] = "";
+  cb_claim_numbers(out, "| theta | tan theta | mu* | mu* / tan theta | slide at 0.5 tan (block) | slide at 0.9 tan "
+                        "(block) | creep at 1.5 tan | creep at 2 tan |\n|---|---|---|---|---|---|---|---|\n");
+  for (int r = 0; r < t.nrows; r++) {
+    const char *kind = cb_table_str(&t, r, c[0]), *integ = cb_table_str(&t, r, c[1]);
+    if (!strcmp(integ, "vbd")) {
+      if (!vbd[0]) snprintf(vbd, sizeof vbd, "%s", cb_table_str(&t, r, c[10]));
+      continue;
+    }
+    if (strcmp(kind, "threshold")) continue;
+    double th = cb_table_num(&t, r, c[2]), tn = cb_table_num(&t, r, c[3]), ms = cb_table_num(&t, r, c[7]);
+    double q = ms / tn;
+    n++;
+    if (!isfinite(q)) unbracketed++;
+    else {
+      within += fabs(q - 1) <= C2_TOL;
+      worst = fmax(worst, fabs(q - 1));
+    }
+    /* the same angle's slide rows */
+    double s05 = NAN, b05 = NAN, s09 = NAN, b09 = NAN, s15 = NAN, s20 = NAN;
+    for (int k = 0; k < t.nrows; k++) {
+      if (strcmp(cb_table_str(&t, k, c[0]), "slide") || strcmp(cb_table_str(&t, k, c[1]), integ) ||
+          cb_table_num(&t, k, c[2]) != th)
+        continue;
+      double f = cb_table_num(&t, k, c[4]), s = cb_table_num(&t, k, c[5]), b = cb_table_num(&t, k, c[6]);
+      if (fabs(f - 0.5) < 1e-9) s05 = s, b05 = b;
+      if (fabs(f - 0.9) < 1e-9) s09 = s, b09 = b;
+      if (fabs(f - 1.5) < 1e-9) s15 = s;
+      if (fabs(f - 2.0) < 1e-9) s20 = s;
+    }
+    cb_claim_numbers(out, "| %g deg | %.4f | %.4f | %.3f | %.4g m (%.4g) | %.4g m (%.4g) | %.3g m | %.3g m |\n", th, tn,
+                     ms, q, s05, b05, s09, b09, s15, s20);
+  }
+  cb_table_free(&t);
+  if (n == 0) {
+    cb_claim_reason(out, "contact_c2.csv has no threshold row.");
+    return;
+  }
+  cb_claim_reason(out,
+                  "The stick-slip threshold mu* of ipc's friction lies within %.0f%% of tan theta at %d of %d angles "
+                  "(worst |mu*/tan theta - 1| = %.3f)",
+                  100 * C2_TOL, within, n, worst);
+  if (unbracketed) cb_claim_reason(out, "; at %d the threshold was not bracketed", unbracketed);
+  cb_claim_reason(out, ". VBD: %s.",
+                  vbd[0] ? (!strcmp(vbd, "refused") ? "refused (its contact blocks carry no friction "
+                                                      "yet), so its half of C2 is not measured"
+                                                    : vbd)
+                         : "no row");
+  out->verdict = within == n && n >= 2 ? CB_REPRODUCED : within > 0 ? CB_PARTLY : CB_NOT_REPRODUCED;
+}

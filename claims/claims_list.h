@@ -190,6 +190,12 @@
     "Reproduced if IPC has 0 intersections at every frame of every cell and the penalty has some; the contrast not " \
     "shown (penalty never tunnels) is partly.", \
     "contact.png") \
+  X(cb_check_C2, "C2", "contact", \
+    "Lagged, smoothed Coulomb friction (Li et al. 2020) reproduces Coulomb's stick-slip threshold: cloth on a slope " \
+    "of angle theta stays put when mu > tan theta and slides when mu < tan theta.", \
+    "Sliding distance after 1 s against mu for several theta, for ipc and VBD's contact; the measured threshold mu* " \
+    "against tan theta (within 10%), and the creep below it (slide at mu = 1.5 tan theta, against eps_v).", \
+    "contact_c2.png") \
   /* one X(...) entry per claim, above this line */
 
 #endif

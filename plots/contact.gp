@@ -28,3 +28,28 @@ do for [s in SC] {
        with linespoints lc rgb pcolor(R, r) pt (wordpos(SP, sp) + 4) ps 1.0 title r.', drop '.sp.' m/s'
 }
 unset multiplot
+
+# C2: ipc's friction on the slope (results/contact_c2.csv): the slide after the run's time against mu / tan theta,
+# one line per angle, the sliding block's closed form dashed, and each angle's measured threshold mu* / tan theta
+# as a vertical mark (Coulomb's law puts it at 1).
+c2 = results.'/contact_c2.csv'
+if (system("test -f '".c2."' && echo y") eq "y") {
+  TH = distinct(c2, 'theta_deg', 'v("kind") == "slide" && v("integrator") != "vbd" && v("slide_m") != ""')
+  slides(th) = "< awk -F, '".AWK_HEAD."v(\"kind\") == \"slide\" && v(\"integrator\") != \"vbd\" && v(\"slide_m\") != \"\" && v(\"theta_deg\") == \"".th."\" { print v(\"mu_over_tan\"), v(\"slide_m\"), v(\"closed_form_m\") }' '".c2."' | sort -g"
+  thr(th) = "< awk -F, '".AWK_HEAD."v(\"kind\") == \"threshold\" && v(\"mu_over_tan\") != \"\" && v(\"theta_deg\") == \"".th."\" { print v(\"mu_over_tan\"), 1e-6; print v(\"mu_over_tan\"), 1 }' '".c2."'"
+  set output out.'/contact_c2.'.ext
+  if (ext eq 'svg') { set terminal svg size 900,600 dynamic enhanced font 'sans,12' background rgb 'white' } \
+  else { set terminal pngcairo size 900,600 enhanced font 'sans,11' }
+  set datafile separator whitespace
+  unset logscale
+  set logscale y
+  set xrange [0:*]
+  set yrange [1e-6:1]
+  set xlabel 'mu / tan theta'
+  set ylabel 'slide along the slope (m)'
+  set title 'C2: ipc friction on the slope: slide against mu, sliding block dashed, measured threshold mu* vertical'
+  set key top right
+  plot for [th in TH] slides(th) using 1:2 with linespoints lc rgb pcolor(TH, th) pt 7 title 'theta = '.th.' deg', \
+       for [th in TH] slides(th) using 1:($3 > 0 ? $3 : NaN) with lines dt 2 lc rgb pcolor(TH, th) notitle, \
+       for [th in TH] thr(th) using 1:2 with lines lw 2 lc rgb pcolor(TH, th) notitle
+}

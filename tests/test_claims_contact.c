@@ -1,7 +1,10 @@
-/* Verdict logic of claims/check_contact.c (C1) on small constructed CSVs: one fixture per verdict. */
+/* Verdict logic of claims/check_contact.c (C1, C2) on small constructed CSVs: one fixture per verdict. */
 #include <criterion/criterion.h>
+#include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "claims.h"
 #include "support.h"
@@ -80,4 +83,63 @@ Test(claims_contact, C1_not_run_without_ipc_or_penalty_frames_or_columns) {
   cr_expect(strstr(res.reason, "no checked frame of ipc"), "%s", res.reason);
   cr_expect_eq(test_decide_rows(cb_check_C1, "# test\nscene,response,frame,status\n", "a,ipc,0,ok\n", &res), CB_NOT_RUN,
                "%s", res.reason);
+}
+
+/* ---- C2: the stick-slip threshold (contact_c2.csv) ---------------------------------------------------------- */
+
+/* A contact_c2.csv in a fresh folder with one threshold row per angle, mu* = q[k] tan theta[k] (NaN: not
+ * bracketed), the slide rows of f = 0.5 and 1.5, and VBD's refused row; then C2's verdict. */
+static cb_verdict decide_c2(int n, const double *theta, const double *q) {
+  static char dir[] = "/tmp/cbc2XXXXXX";
+  strcpy(dir, "/tmp/cbc2XXXXXX");
+  cr_assert_not_null(mkdtemp(dir));
+  char path[256], main_csv[256];
+  snprintf(path, sizeof path, "%s/contact_c2.csv", dir);
+  snprintf(main_csv, sizeof main_csv, "%s/contact.csv", dir);
+  FILE *f = fopen(path, "w");
+  cr_assert_not_null(f);
+  fputs("# test\nkind,integrator,theta_deg,tan_theta,mu,mu_over_tan,slide_m,closed_form_m,drift_m,steps,not_"
+        "converged,mu_star,mu_lo,mu_hi,creep_m,runs,wall_ms,note,status\n",
+        f);
+  for (int k = 0; k < n; k++) {
+    double tn = tan(theta[k] * 3.14159265358979323846 / 180);
+    fprintf(f, "slide,newton,%g,%.17g,%.17g,0.5,0.08,0.08,0,100,0,,,,,1,10,,ok\n", theta[k], tn, 0.5 * tn);
+    fprintf(f, "slide,newton,%g,%.17g,%.17g,1.5,0.0004,0,0,100,0,,,,,1,10,,ok\n", theta[k], tn, 1.5 * tn);
+    fprintf(f, "threshold,newton,%g,%.17g,,%.17g,0.02,,,,,%.17g,,,0.0003,8,80,,%s\n", theta[k], tn, q[k], q[k] * tn,
+            isnan(q[k]) ? "not_bracketed" : "ok");
+    fprintf(f, "slide,vbd,%g,%.17g,%.17g,0.5,,,,,,,,,,1,,no friction,refused\n", theta[k], tn, 0.5 * tn);
+  }
+  cr_assert_eq(fclose(f), 0);
+  f = fopen(main_csv, "w");
+  cr_assert_not_null(f);
+  fputs(header, f);
+  cr_assert_eq(fclose(f), 0);
+  cb_verdict v = test_decide_check(cb_check_C2, main_csv, dir, &res);
+  unlink(path);
+  unlink(main_csv);
+  rmdir(dir);
+  return v;
+}
+
+Test(claims_contact, C2_reproduced_when_every_threshold_is_near_tan_theta) {
+  const double th[] = {10, 20, 30}, q[] = {0.99, 1.05, 0.92};
+  cr_expect_eq(decide_c2(3, th, q), CB_REPRODUCED, "%s", res.reason);
+  cr_expect(strstr(res.reason, "at 3 of 3 angles (worst |mu*/tan theta - 1| = 0.080)"), "%s", res.reason);
+  cr_expect(strstr(res.reason, "VBD: refused"), "%s", res.reason);
+  cr_expect(strstr(res.numbers, "| 20 deg | 0.3640 | 0.3822 | 1.050 |"), "%s", res.numbers);
+}
+
+Test(claims_contact, C2_not_reproduced_when_no_threshold_is_near) {
+  const double th[] = {10, 20, 30}, q[] = {1.3, 0.7, 1.15};
+  cr_expect_eq(decide_c2(3, th, q), CB_NOT_REPRODUCED, "%s", res.reason);
+  const double q2[] = {NAN, NAN, NAN};
+  cr_expect_eq(decide_c2(3, th, q2), CB_NOT_REPRODUCED, "%s", res.reason);
+  cr_expect(strstr(res.reason, "at 3 the threshold was not bracketed"), "%s", res.reason);
+}
+
+Test(claims_contact, C2_partly_when_some_angles_miss_or_one_angle_alone) {
+  const double th[] = {10, 20, 30}, q[] = {0.99, 1.25, 1.0};
+  cr_expect_eq(decide_c2(3, th, q), CB_PARTLY, "%s", res.reason);
+  const double one[] = {1.0};
+  cr_expect_eq(decide_c2(1, th, one), CB_PARTLY, "%s", res.reason);
 }

@@ -22,6 +22,8 @@
  *     integrator accepts gets one row with status `refused`. A step that fails keeps its row with its
  *     status (and the frame's counts when the positions are finite) and ends the cell; a scene that
  *     cannot be built (ipc refuses a start that intersects) is one row with its status.
+ * C2  results/contact_c2.csv: the stick-slip threshold of ipc's friction on configs/slope.ini against tan theta
+ *     (experiments/contact/c2.c).
  * C3  results/contact_c3.csv (the start of C3; no verdict yet): per scene, the state after W frames of
  *     ipc under Newton (the scene's config, dt = 1/30 s, no drop speed: W = 12, --quick 6, --smoke 2),
  *     then one step from it by each method that takes ipc, at a ladder of iteration counts (Newton:
@@ -47,6 +49,7 @@
 #include <clothbench/scene.h>
 #include <clothbench/status.h>
 #include "bind.h"
+#include "c2.h"
 #include "csv.h"
 #include "intersections.h"
 #include "sweep.h"
@@ -425,6 +428,14 @@ static int c3_cell(long i, void *ctx, FILE *const *out) {
   return CB_OK;
 }
 
+/* C2's theta list by run kind (degrees) and its simulated time per run (s) */
+static const double C2_THETA_FULL[] = {10, 20, 30}, C2_THETA_QUICK[] = {10, 30}, C2_THETA_SMOKE[] = {20};
+static contact_c2_plan c2_plan;
+static int c2_cell(long i, void *ctx, FILE *const *out) {
+  (void)ctx;
+  return contact_c2_cell(&c2_plan, i, out[2]);
+}
+
 int main(int argc, char **argv) {
   cb_experiment e;
   int b = cb_experiment_begin(&e, "contact", ABOUT, argc, argv);
@@ -469,9 +480,28 @@ int main(int argc, char **argv) {
                           "scene,vertices,method,integrator,iters,dt_s,frame,step_error,wall_ms,intersections,"
                           "ref_step_m,note,status") != 1)
     return cb_experiment_end(&e, CB_EIO), 2;
+  c2_plan = (contact_c2_plan){.e = &e,
+                              .theta = e.smoke   ? C2_THETA_SMOKE
+                                       : e.quick ? C2_THETA_QUICK
+                                                 : C2_THETA_FULL,
+                              .ntheta = e.smoke   ? 1
+                                        : e.quick ? 2
+                                                  : 3,
+                              .t_end = e.smoke   ? 0.1
+                                       : e.quick ? 0.5
+                                                 : 1.0};
+  char c2_extra[512];
+  u = snprintf(c2_extra, sizeof c2_extra,
+               "# c2: configs/slope.ini (ipc, Newton), %.3g s a run; slide rows at mu = f tan theta, f in {0.5, 0.9, "
+               "1.1, 1.5, 2}; the threshold row: mu* by bisection on slide > 1 cm (t_end / 1 s)^2, to 2%% of tan "
+               "theta; creep_m = the slide at the holding end of the last bracket; a vbd row at mu = 0.5 tan theta\n",
+               c2_plan.t_end);
+  if (u < 0 || (size_t)u >= sizeof c2_extra) return cb_experiment_end(&e, CB_EINVAL), 1;
+  if (cb_experiment_table(&e, "c2", c2_extra, CONTACT_C2_COLUMNS) != 2) return cb_experiment_end(&e, CB_EIO), 2;
   const cb_sweep sweeps[] = {{"C1", (long)p.nscenes * p.nresp * p.ndt * p.nspeed, run_cell, cost, &p},
-                             {"C3", p.nscenes, c3_cell, NULL, &p}};
-  int st = cb_sweep_run(&e, sweeps, 2);
+                             {"C3", p.nscenes, c3_cell, NULL, &p},
+                             {"C2", c2_plan.ntheta, c2_cell, NULL, &p}};
+  int st = cb_sweep_run(&e, sweeps, 3);
   st = cb_experiment_end(&e, st);
   return st == CB_OK ? 0 : st == CB_EIO ? 2 : 1;
 }
