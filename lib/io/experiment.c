@@ -180,7 +180,8 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
              "                 lists the shard's cells with their hints and measured seconds\n"
              "  --shard-mode M balanced (default) or modulo: the cells with index %% N == I - 1\n"
              "  --list-cells   print every cell: index, sweep group, sweep, index in it, cost hint and\n"
-             "                 shard (under --shard I/N, of N); run none, write nothing\n"
+             "                 shard (under --shard I/N, of N), and 1 if it is timed (runs alone under\n"
+             "                 the CPU lock), 0 if not; run none, write nothing\n"
              "Progress goes to stderr (CB_QUIET=1 silences it); data goes to the CSV only.\n",
              name, about, name, name);
       return 1;

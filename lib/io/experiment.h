@@ -18,8 +18,9 @@
  *                  merges the shards' CSVs into the unsharded ones.
  *   --shard-mode balanced|modulo
  *   --list-cells   prints every cell (global index, sweep group, sweep, index
- *                  in the sweep, cost hint, shard under --shard ./N) and
- *                  exits 0 without running a cell or writing a file
+ *                  in the sweep, cost hint, shard under --shard ./N, and 1
+ *                  if the cell is timed, 0 if not: see
+ *                  cb_experiment_timed_cells) and exits 0 without running a cell or writing a file
  *   --help         usage and what the experiment decides
  *
  * Tables: an experiment opens every CSV it writes with cb_experiment_table
