@@ -288,6 +288,17 @@ Test(sweep, per_cell_lock_timed_cells_alone_untimed_shared) {
   /* the split counts the 4 timed cells' seconds as timed and the 4 others' as untimed: all non-negative */
   const char *s = slurp(split);
   cr_assert(strstr(s, "timed_cells_s: ") && strstr(s, "untimed_cells_s: ") && strstr(s, "cell_locks: 1\n"), "%s", s);
+  /* and one line per cell: its global index, its kind (as above), its seconds and its sweep */
+  static const int kind[8] = {0, 1, 0, 1, 0, 0, 1, 1};
+  const char *line = s;
+  for (int g = 0; g < 8; g++) {
+    char want[32];
+    snprintf(want, sizeof want, "cell %d %d ", g, kind[g]);
+    line = strstr(line, want);
+    cr_assert_not_null(line, "no line '%s' in order in %s", want, s);
+    line += strlen(want);
+  }
+  cr_assert(strstr(s, " named_untimed\n") && strstr(s, " by_cell\n"), "%s", s);
   remove(split);
   remove(out);
   remove(lock);

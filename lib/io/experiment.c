@@ -374,6 +374,11 @@ static int write_cells(cb_experiment *e, cb_outfile *o) {
 
 static void drop_cells(cb_experiment *e) {
   if (e->cells) fclose(e->cells);
+  if (e->times) fclose(e->times);
+  free(e->times_log);
+  e->times = NULL;
+  e->times_log = NULL;
+  e->times_len = 0;
   free(e->cells_log);
   free(e->shard_load);
   e->shard_load = NULL;
@@ -383,8 +388,10 @@ static void drop_cells(cb_experiment *e) {
 }
 
 /* <out>.split: the wall seconds this process spent in timed and in untimed
- * cells (make experiments adds them to results/<name>.runtime, and the
- * report's run-time table shows what a run on every core could save). */
+ * cells, then one line per cell it ran, "cell <global index> <1 timed, 0
+ * not> <seconds> <sweep>" (make experiments adds them to
+ * results/<name>.runtime; scripts/timed-split.py tabulates them and
+ * scripts/lib/all-plan.py --times balances a cluster's groups by them). */
 static int write_split(const cb_experiment *e) {
   char path[sizeof e->out + 8];
   snprintf(path, sizeof path, "%s.split", e->out);
@@ -396,6 +403,7 @@ static int write_split(const cb_experiment *e) {
     untimed = e->timed ? 0 : e->cell_s[0] + e->cell_s[1];
   }
   fprintf(o.f, "timed_cells_s: %.3f\nuntimed_cells_s: %.3f\ncell_locks: %d\n", timed, untimed, e->cell_locks);
+  if (e->times && fflush(e->times) == 0 && e->times_len) fwrite(e->times_log, 1, e->times_len, o.f);
   return cb_outfile_commit(&o) ? CB_EIO : CB_OK;
 }
 

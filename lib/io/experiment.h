@@ -75,6 +75,10 @@ typedef struct cb_experiment {
   char *cells_log;
   size_t cells_len;
   FILE *cells;
+  /* every cell this process ran, sharded or not: "cell <global> <timed> <seconds> <sweep>" lines of <out>.split */
+  char *times_log;
+  size_t times_len;
+  FILE *times;
 } cb_experiment;
 
 /* Returns 0 to go on, 1 when --help or --version was printed (exit 0),

@@ -42,6 +42,14 @@ static int run_one(cb_experiment *e, const cb_sweep *s, long i, long global, dou
     secs = now_s() - t0;
     cb_experiment_cell_unlock(e);
     e->cell_s[timed] += secs;
+    /* the cell's kind as the lock saw it: with one lock for the whole process, the process's kind */
+    int kind = e->cell_locks ? timed : e->timed;
+    if (!e->times) e->times = open_memstream(&e->times_log, &e->times_len); /* none: <out>.split lacks the lines */
+    if (e->times) {
+      fprintf(e->times, "cell %ld %d %.6f ", global, kind, secs);
+      for (const char *c = s->name; *c; c++) fputc(*c == ' ' || *c == '\t' || *c == '\n' ? '_' : *c, e->times);
+      fputc('\n', e->times);
+    }
     if (st) {
       char msg[1024];
       snprintf(msg, sizeof msg, "%s", cb_error_message());
