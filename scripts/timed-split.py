@@ -12,7 +12,8 @@ holds it shared (lib/io/experiment.h, cb_experiment_timed_cells).
 
 Per experiment: timed = the seconds of its timed cells; untimed = those of
 its untimed cells plus the time outside cells (process start, set-up, writing
-the CSVs), which holds no exclusive lock. An experiment that locks as a whole
+the CSVs), which holds no exclusive lock; the seconds it waited for the lock
+("lock_wait_s:") are not work and count for neither. An experiment that locks as a whole
 (bending; or any experiment in a run made before it locked per cell) counts
 its whole wall time as timed (or, holding the lock shared, as untimed).
 
@@ -95,7 +96,7 @@ def table(results, cores, shares):
             rows.append((x, wall, wall, 0.0, "no split recorded: all counted timed"))
             continue
         t, u, cells, per_cell = sp
-        outside = max(wall - cells, 0.0)
+        outside = max(wall - cells - r.get("lock_wait_s", 0.0), 0.0)  # waiting for the lock is not work
         src = "recorded per cell" if per_cell else "locks as a whole"
         if not per_cell and shares:
             q = read_runtime(os.path.join(shares, x + ".runtime"))

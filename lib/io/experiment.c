@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "provenance.h"
 #include <clothbench/status.h>
@@ -34,12 +35,16 @@ static int flock_waiting(const cb_experiment *e, int fd, int op, const char *why
  * turnstile. Returns 1 if it had to wait. */
 static int lock_waiting_say(cb_experiment *e, int op, const char *why, int say) {
   if (e->lock_fd < 0 || e->lock_held == op) return 0;
+  struct timespec t0, t1;
+  clock_gettime(CLOCK_MONOTONIC, &t0);
   int waited = 0;
   if (e->turn_fd >= 0) waited = flock_waiting(e, e->turn_fd, LOCK_EX, why, say);
   if (e->lock_held) flock(e->lock_fd, LOCK_UN);
   waited |= flock_waiting(e, e->lock_fd, op, why, say && !waited);
   e->lock_held = op;
   if (e->turn_fd >= 0) flock(e->turn_fd, LOCK_UN);
+  clock_gettime(CLOCK_MONOTONIC, &t1);
+  e->lock_wait_s += (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
   return waited;
 }
 
@@ -388,7 +393,7 @@ static void drop_cells(cb_experiment *e) {
 }
 
 /* <out>.split: the wall seconds this process spent in timed and in untimed
- * cells, then one line per cell it ran, "cell <global index> <1 timed, 0
+ * cells, the seconds it waited for the CPU lock, then one line per cell it ran, "cell <global index> <1 timed, 0
  * not> <seconds> <sweep>" (make experiments adds them to
  * results/<name>.runtime; scripts/timed-split.py tabulates them and
  * scripts/lib/all-plan.py --times balances a cluster's groups by them). */
@@ -402,7 +407,8 @@ static int write_split(const cb_experiment *e) {
     timed = e->timed ? e->cell_s[0] + e->cell_s[1] : 0;
     untimed = e->timed ? 0 : e->cell_s[0] + e->cell_s[1];
   }
-  fprintf(o.f, "timed_cells_s: %.3f\nuntimed_cells_s: %.3f\ncell_locks: %d\n", timed, untimed, e->cell_locks);
+  fprintf(o.f, "timed_cells_s: %.3f\nuntimed_cells_s: %.3f\ncell_locks: %d\nlock_wait_s: %.3f\n", timed, untimed,
+          e->cell_locks, e->lock_wait_s);
   if (e->times && fflush(e->times) == 0 && e->times_len) fwrite(e->times_log, 1, e->times_len, o.f);
   return cb_outfile_commit(&o) ? CB_EIO : CB_OK;
 }

@@ -59,6 +59,7 @@ typedef struct cb_experiment {
   int lock_held;              /* the lock this process holds now: 0 none, LOCK_SH or LOCK_EX */
   int waited_msg;             /* the "waiting for" message was printed once for cells */
   double cell_s[2];           /* wall seconds in this process's cells: [0] untimed, [1] timed */
+  double lock_wait_s;         /* wall seconds spent waiting for the CPU lock (and its turnstile) */
   const char *const *untimed; /* cb_experiment_timed_cells: the sweeps whose cells time nothing */
   unsigned untimed_seen;      /* bit k: untimed[k] named a sweep that ran */
   cb_outfile csv;             /* for programs that write one CSV themselves (bench) */
@@ -99,9 +100,11 @@ void cb_experiment_timed(cb_experiment *e);
 /* The finer alternative to cb_experiment_timed, for an experiment whose every
  * wall time is measured inside sweep cells: the lock is taken per cell, not
  * for the whole process. untimed names the sweeps whose cells measure no
- * wall time (NULL-terminated; at most 32; a name that matches no sweep of
- * the run is an error at cb_experiment_end, so a typo cannot pass). A cell
- * of any other sweep (the safe default) holds the lock exclusively while it
+ * wall time that a claim compares (NULL-terminated, or NULL for none; at
+ * most 32; a name that matches no sweep of the run is an error at
+ * cb_experiment_end, so a typo cannot pass). A sweep with a timed() callback
+ * (sweep.h) decides per cell instead. A cell of any other sweep (the safe
+ * default) holds the lock exclusively while it
  * runs; a cell of an untimed sweep holds it shared, beside other untimed
  * cells and experiments. So under
  * `make experiments JOBS=2` the untimed cells fill the other core and never
