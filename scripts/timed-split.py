@@ -22,13 +22,13 @@ cell while DIR's run locked it per cell, its cell seconds are split by DIR's
 untimed share of cell seconds instead (an estimate; the row says so).
 
 The bound. make experiments runs each experiment as one process (its cells one
-after another) and at most C at a time. A timed cell has the machine to itself,
-so the T seconds of timed cells occupy the whole machine; the U seconds of
-untimed work fit on the C cores in the rest of the time, at best evenly:
-wall >= T + U / C. An experiment is one process: wall >= its own timed plus
-untimed seconds, for the longest one. So
+after another) and at most C at a time. A timed cell has the machine to
+itself, so during the T seconds of timed cells nothing else runs, and all
+untimed work (U seconds in all) happens in the other wall - T seconds: on at
+most C cores, so U <= C (wall - T), and one experiment's untimed seconds u
+one after another, so u <= wall - T. So
 
-  wall >= max(T + U / C, max over experiments of (timed + untimed)).
+  wall >= T + max(U / C, the largest u of one experiment).
 
 It assumes untimed work is no slower beside other work than alone (two cores
 share caches and memory bandwidth: it is a little slower), so it is a lower
@@ -116,17 +116,16 @@ def table(results, cores, shares):
         die("%s: no <experiment>.runtime files" % results)
     T = sum(r[2] for r in rows)
     U = sum(r[3] for r in rows)
-    longest = max(rows, key=lambda r: r[2] + r[3])
-    b1, b2 = T + U / cores, longest[2] + longest[3]
+    longest = max(rows, key=lambda r: r[3])
+    b = T + max(U / cores, longest[3])
     out = ["| experiment | wall time | timed | untimed | source |", "|---|---|---|---|---|"]
     for x, wall, t, u, src in rows:
         out.append("| %s | %s | %s | %s | %s |" % (x, fmt(wall), fmt(t), fmt(u), src))
     out.append("| all, one after another | %s | %s | %s | |" % (fmt(sum(r[1] for r in rows)), fmt(T), fmt(U)))
     out.append("")
-    out.append("Lower bound on %d cores: max(timed + untimed/%d, the longest experiment) = max(%s + %s, %s (%s)) = "
-               "**%s**%s." % (cores, cores, fmt(T), fmt(U / cores), fmt(b2), longest[0], fmt(max(b1, b2)),
-                              "" if b1 >= b2 else ": the longest experiment sets it"))
-    return "\n".join(out) + "\n", max(b1, b2)
+    out.append("Lower bound on %d cores: timed + max(untimed/%d, one experiment's untimed) = %s + max(%s, %s (%s)) "
+               "= **%s**." % (cores, cores, fmt(T), fmt(U / cores), fmt(longest[3]), longest[0], fmt(b)))
+    return "\n".join(out) + "\n", b
 
 
 def main():
