@@ -166,6 +166,13 @@ $TS "$S" >"$T/ts.out" 2>&1
 ok "timed-split.py accepted a run-time file that is not one" test $? -eq 2
 ok "timed-split.py: the bad file not named: $(cat "$T/ts.out")" grep -q 'locking.runtime: not a run-time file' "$T/ts.out"
 
+# ---- a program without cells (bending) lists none and runs nothing under --list-cells (all-plan.py asks every
+#      experiment; bending used to run whole there) ----
+"$B/bending" --smoke --list-cells --out "$T/bl.csv" >"$T/bl.out" 2>&1
+ok "bending --list-cells: exit $?" test $? -eq 0
+ok "bending --list-cells printed: $(cat "$T/bl.out")" test ! -s "$T/bl.out"
+ok "bending --list-cells wrote its CSV" test ! -e "$T/bl.csv"
+
 # ---- all-plan.py --times: a recorded run balances by its cell times, not by hints x wall time ----
 # topology's --smoke cells, recorded: cell 0 takes 100 s, the others 1 s each; the plan's topology units then
 # cost the recorded seconds (their sum is the recorded total), and a recorded run of another mode is refused

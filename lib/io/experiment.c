@@ -338,6 +338,11 @@ int cb_experiment_csv(cb_experiment *e, cb_outfile *o, const char *path, const c
             e->name, e->shard, e->nshards);
     exit(1);
   }
+  if (e->list_cells) { /* --list-cells: no cells to list; nothing runs, nothing is written (it ran the whole
+                        * program before: scripts/lib/all-plan.py lists every experiment's cells) */
+    fflush(stdout);
+    exit(0);
+  }
   return open_csv(e, o, path, extra, header);
 }
 

@@ -129,7 +129,8 @@ void cb_experiment_cells_start(cb_experiment *e);
  * "# experiment:", "# quick:", the caller's extra "# ..." lines (may be
  * NULL), then the header row. For programs that do not use the sweep runner:
  * under --shard (such a program cannot be sharded) it prints why and exits
- * with the usage code 1, before anything is written. */
+ * with the usage code 1, and under --list-cells (it has no cells to list) it
+ * exits 0, before anything is written. */
 int cb_experiment_csv(cb_experiment *e, cb_outfile *o, const char *path, const char *extra, const char *header);
 
 /* Opens table number e->ntables: the main CSV (name NULL) or the side table
