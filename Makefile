@@ -357,6 +357,7 @@ experiments: deps
 	@tests/csv_convention.sh --results results
 ifneq ($(QUICK),1)
 	@$(EXP_ENV) $(BUILD)/report --results results --fill-only $(addprefix --fill ,$(DOC_FILL))
+	@$(PYTHON) scripts/timed-split.py --doc docs/running.md results
 endif
 
 # JOBS experiments at a time (default: the cores), longest first: the CPU lock

@@ -5,7 +5,9 @@
 #                                         every experiment cut into units (its own
 #                                         --shard j/k; bending whole), the units balanced
 #                                         into N groups by their hints times the
-#                                         experiment's recorded wall time
+#                                         experiment's recorded wall time, or with
+#                                         CB_ALL_TIMES=DIR (a recorded run of the same
+#                                         mode) by its recorded cell times
 #   scripts/all-run.sh group DIR MODE I   runs group I's units one after another:
 #                                         DIR/<experiment>/shard-j/<experiment>.csv, or
 #                                         DIR/<experiment>/whole/<experiment>.csv
@@ -32,7 +34,10 @@ plan)
   case $n in '' | *[!0-9]* | 0*) die "N '$n': expected a positive whole number" ;; esac
   [ "$mode" != - ] || mode=""
   mkdir -p "$dir"
-  python3 scripts/lib/all-plan.py "$B" "$mode" "$n" docs/running.md > "$dir/plan.tmp.$$" || { rm -f "$dir/plan.tmp.$$"; die "no plan (above)"; }
+  # CB_ALL_TIMES=DIR: a recorded run of the same mode; its cell times balance the groups (all-plan.py --times)
+  set -- "$B" "$mode" "$n" docs/running.md
+  [ -z "${CB_ALL_TIMES:-}" ] || set -- "$@" --times "$CB_ALL_TIMES"
+  python3 scripts/lib/all-plan.py "$@" > "$dir/plan.tmp.$$" || { rm -f "$dir/plan.tmp.$$"; die "no plan (above)"; }
   mv "$dir/plan.tmp.$$" "$dir/plan"
   printf '%s\n' "${mode:--}" > "$dir/mode"
   ;;

@@ -1,7 +1,8 @@
 #!/bin/sh
 # The CPU lock (lib/io/experiment.c): an untimed experiment waits while a
 # timed one runs, a timed one waits while any other runs, an experiment that
-# locks per cell takes the lock exclusively for its timed cells only, a waiting
+# locks per cell takes the lock exclusively for its timed cells only (by sweep or, through cb_sweep.timed, by
+# cell), every experiment that runs cells locks per cell, a waiting
 # timed cell is not passed by newcomers, and each CSV says which lock it held. The lock file is a temporary one (CB_CPU_LOCK).
 set -u
 B=${BUILD:-build}
@@ -50,10 +51,11 @@ release s
 wait $holder
 ok "untimed: no waiting message" "! grep -q waiting '$T/t2.err'"
 
-# 3. a timed experiment (explicit_stability) waits for a shared holder, then records exclusive
+# 3. a timed experiment (bending, which does not run its work as cells) waits for a shared holder, then
+#    records exclusive
 hold -s d
 release_when d "$T/d.err" 'waiting for other experiments to finish'
-env -u CB_QUIET CB_CPU_LOCK=$L OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 "$B/explicit_stability" --smoke --out "$T/d.csv" >/dev/null 2>"$T/d.err"
+env -u CB_QUIET CB_CPU_LOCK=$L OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 "$B/bending" --smoke --out "$T/d.csv" >/dev/null 2>"$T/d.err"
 ok "timed: waited for the shared holder" "test -e '$T/d.released'"
 wait $holder
 ok "timed: said it was waiting for the others" "grep -q 'waiting for other experiments to finish' '$T/d.err'"
@@ -83,5 +85,26 @@ ok "turnstile: a shared newcomer passed a waiting timed cell" "test ! -e '$T/w2.
 release w
 wait $holder $dpid $tpid
 ok "turnstile: both ran once the holder let go" "test -s '$T/w.csv' -a -s '$T/w2.csv'"
+# 6. a sweep whose cells are of several kinds (explicit_stability's map: cb_sweep.timed per cell): its
+#    explicit and Newton cells run beside a shared holder, its E2 cell waits for it, and the run records
+#    seconds of both kinds
+hold -s m
+release_when m "$T/m.err" 'a timed cell runs alone'
+env -u CB_QUIET CB_CPU_LOCK=$L OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1 "$B/explicit_stability" --smoke --out "$T/m.csv" >/dev/null 2>"$T/m.err"
+ok "per cell (map): the timed E2 cell waited for the shared holder" "test -e '$T/m.released'"
+wait $holder
+ok "per cell (map): it said a timed cell was waiting" "grep -q 'a timed cell runs alone' '$T/m.err'"
+ok "per cell (map): its CSV records the per-cell lock" "grep -q '^# cpu_lock: per cell' '$T/m.csv'"
+ok "per cell (map): seconds in timed and in untimed cells" "awk '/^timed_cells_s:/ { t = \$2 > 0 } /^untimed_cells_s:/ { u = \$2 > 0 } END { exit !(t && u) }' '$T/m.csv.split'"
+ok "per cell (map): --list-cells marks the E2 cell timed and the explicit sweep untimed" "'$B/explicit_stability' --smoke --list-cells --out '$T/l.csv' | awk '\$3 == \"map\" { k[\$7]++ } END { exit !(k[0] >= 1 && k[1] >= 1) }'"
+
+# 7. every experiment that runs its work as sweep cells locks per cell (cb_experiment_timed_cells), so
+#    its untimed cells fill the other cores; only a program without cells (bending) locks as a whole
+for f in experiments/*/main.c; do
+  if grep -q 'cb_sweep_run' "$f"; then
+    ok "$f: runs cells but locks the whole process (cb_experiment_timed)" "! grep -q 'cb_experiment_timed(' '$f'"
+  fi
+done
+
 [ $fail = 0 ] && echo "lock: ok ($n checks)"
 exit $fail

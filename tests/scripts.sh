@@ -1,7 +1,8 @@
 #!/bin/sh
 # End-to-end checks of the shell scripts a user runs after the experiments:
 # scripts/merge-shards.sh (issue 21, defects 7, 8, 9; issue 23: the cell
-# lists), scripts/calibrate-hints (issue 23), scripts/plots.sh and
+# lists), scripts/calibrate-hints (issue 23), scripts/timed-split.py and
+# scripts/lib/all-plan.py --times (issue 37), scripts/plots.sh and
 # scripts/movies.sh (defects 10, 17: paths are data, never code).
 # Run from the repository root (make check does: BUILD=<dir> tests/scripts.sh).
 set -u
@@ -143,6 +144,51 @@ ok "readme-peers.py accepted CSVs of two builds" test $? -ne 0
 printf 'no markers\n' >"$P/README.md"
 ${PYTHON:-/usr/bin/python3} scripts/readme-peers.py "$P" "$P/README.md" 2>"$T/peers.err"
 ok "readme-peers.py accepted a README without the markers" test $? -ne 0
+
+# ---- timed-split.py: the split and the bound on a fixture (numbers worked by hand) ----
+# explicit_stability locks per cell: 60 s timed, 40 s untimed cells, 10 s outside cells (counted untimed);
+# locking locks as a whole: its 100 s are timed. T = 160, U = 50: 160 + max(50/2, 50) = 210 s.
+S=$T/split
+mkdir -p "$S/share"
+printf 'wall_s: 110.0\nquick: 0\ntimed_cells_s: 60.000\nuntimed_cells_s: 40.000\ncell_locks: 1\ncell 0 1 60.0 map\ncell 1 0 40.0 map\n' >"$S/explicit_stability.runtime"
+printf 'wall_s: 100.0\nquick: 0\ntimed_cells_s: 95.000\nuntimed_cells_s: 0.000\ncell_locks: 0\n' >"$S/locking.runtime"
+TS="${PYTHON:-/usr/bin/python3} scripts/timed-split.py"
+$TS "$S" >"$T/ts.out" 2>&1
+ok "timed-split.py on a fixture: $(cat "$T/ts.out")" grep -q '= 2 min 40 s + max(25.0 s, 50.0 s (explicit_stability)) = \*\*3 min 30 s\*\*' "$T/ts.out"
+# --shares: locking's 95 cell seconds split by a per-cell run's share (70 % untimed): 28.5 timed, 66.5 + 5 untimed;
+# T = 88.5, U = 121.5: 88.5 + max(60.75, 71.5) = 160 s
+printf 'wall_s: 10.0\nquick: 1\ntimed_cells_s: 3.000\nuntimed_cells_s: 7.000\ncell_locks: 1\n' >"$S/share/locking.runtime"
+$TS --shares "$S/share" "$S" >"$T/ts.out" 2>&1
+ok "timed-split.py --shares: $(cat "$T/ts.out")" grep -q '= 1 min 28 s + max(1 min 01 s, 1 min 12 s (locking)) = \*\*2 min 40 s\*\*' "$T/ts.out"
+ok "timed-split.py --shares: the estimate not said" grep -q 'locking | 1 min 40 s | 28.5 s | 1 min 12 s | estimated: 70 % untimed' "$T/ts.out"
+printf 'wall_s: ten\n' >"$S/locking.runtime"
+$TS "$S" >"$T/ts.out" 2>&1
+ok "timed-split.py accepted a run-time file that is not one" test $? -eq 2
+ok "timed-split.py: the bad file not named: $(cat "$T/ts.out")" grep -q 'locking.runtime: not a run-time file' "$T/ts.out"
+
+# ---- a program without cells (bending) lists none and runs nothing under --list-cells (all-plan.py asks every
+#      experiment; bending used to run whole there) ----
+"$B/bending" --smoke --list-cells --out "$T/bl.csv" >"$T/bl.out" 2>&1
+ok "bending --list-cells: exit $?" test $? -eq 0
+ok "bending --list-cells printed: $(cat "$T/bl.out")" test ! -s "$T/bl.out"
+ok "bending --list-cells wrote its CSV" test ! -e "$T/bl.csv"
+
+# ---- all-plan.py --times: a recorded run balances by its cell times, not by hints x wall time ----
+# topology's --smoke cells, recorded: cell 0 takes 100 s, the others 1 s each; the plan's topology units then
+# cost the recorded seconds (their sum is the recorded total), and a recorded run of another mode is refused
+R=$T/rec
+mkdir -p "$R"
+"$B/topology" --smoke --list-cells --out "$T/l.csv" >"$T/cells.txt"
+{ printf 'wall_s: 200.0\nquick: 1\ntimed_cells_s: 0\nuntimed_cells_s: 0\ncell_locks: 0\n'
+  awk '{ printf "cell %d 0 %s %s\n", $1, $1 == 0 ? "100.0" : "1.0", $3 }' "$T/cells.txt"; } >"$R/topology.runtime"
+want=$(awk 'END { print 100 + NR - 1 }' "$T/cells.txt")
+${PYTHON:-/usr/bin/python3} scripts/lib/all-plan.py "$B" --smoke 2 docs/running.md --times "$R" >"$T/plan" 2>"$T/plan.err"
+ok "all-plan.py --times failed: $(cat "$T/plan.err")" test $? -eq 0
+got=$(awk '$2 == "topology" { s += $5 } END { printf "%g", s }' "$T/plan")
+ok "all-plan.py --times: topology's units cost $got s, not the recorded $want s" test "$got" = "$want"
+ok "all-plan.py --times: the 100 s cell is not a unit of its own" awk '$2 == "topology" && $5 == 100 { f = 1 } END { exit !f }' "$T/plan"
+${PYTHON:-/usr/bin/python3} scripts/lib/all-plan.py "$B" "" 2 docs/running.md --times "$R" >/dev/null 2>"$T/plan.err"
+ok "all-plan.py --times accepted a quick run's times for a full plan" test $? -ne 0
 
 [ $fail = 0 ] && echo "scripts: ok ($n checks)"
 exit $fail

@@ -1,11 +1,14 @@
 /* The scene declarations (lib/io/scene_decl.c) and the sweep runner with
  * --shard (lib/io/sweep.c): overrides in order, errors that name the scene,
  * rows in cell order, which cells a shard runs (modulo and balanced) and its
- * cell list. */
+ * cell list, and the lock each cell holds. */
 #include <criterion/criterion.h>
+#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
+#include <unistd.h>
 
 #include "scene_decl.h"
 #include "support.h"
@@ -135,7 +138,7 @@ Test(sweep, rows_in_cell_order_and_a_shard_runs_every_nth_cell) {
     cr_assert_eq(cb_experiment_table(&e, NULL, NULL, "i,r"), 0);
     cr_assert_eq(cb_experiment_table(&e, "side", NULL, "i"), 1);
     long ran[5] = {0}, ran2[3] = {0};
-    cb_sweep sw[] = {{"first", 5, cell, NULL, ran}, {"second", 3, cell, NULL, ran2}};
+    cb_sweep sw[] = {{"first", 5, cell, NULL, ran, NULL}, {"second", 3, cell, NULL, ran2, NULL}};
     cr_assert_eq(cb_sweep_run(&e, sw, 2), CB_OK);
     cr_assert_eq(cb_experiment_end(&e, CB_OK), CB_OK);
     if (!sharded) {
@@ -186,7 +189,7 @@ Test(sweep, balanced_shards_follow_the_longest_processing_time_rule) {
     snprintf(shard, sizeof shard, "%d/3", k + 1);
     cb_experiment e = begin(out, shard);
     cr_assert_eq(cb_experiment_table(&e, NULL, NULL, "i"), 0);
-    cb_sweep sw = {"lpt", 7, quiet_cell, hint, ran[k]};
+    cb_sweep sw = {"lpt", 7, quiet_cell, hint, ran[k], NULL};
     cr_assert_eq(cb_sweep_run(&e, &sw, 1), CB_OK);
     cr_assert_eq(cb_experiment_end(&e, CB_OK), CB_OK);
     char got[32] = "";
@@ -210,7 +213,7 @@ Test(sweep, a_failing_cell_is_named_and_drops_the_tables) {
   cr_assert_eq(cb_experiment_table(&e, NULL, NULL, "i,r"), 0);
   cr_assert_eq(cb_experiment_table(&e, "side", NULL, "i"), 1);
   long ran[100] = {0};
-  cb_sweep sw = {"failing", 100, cell, NULL, ran};
+  cb_sweep sw = {"failing", 100, cell, NULL, ran, NULL};
   cr_assert_eq(cb_sweep_run(&e, &sw, 1), CB_EINVAL);
   cr_assert(strstr(cb_error_message(), "failing cell 99: cell 99 fails"), "%s", cb_error_message());
   cr_assert_eq(cb_experiment_end(&e, CB_EINVAL), CB_EINVAL);
@@ -232,4 +235,75 @@ Test(sweep, bad_shard_options_are_refused) {
   cb_experiment e;
   cr_assert_eq(cb_experiment_begin(&e, "test_sweep", "", 3, argv), 0);
   cr_assert_str_eq(e.out, "results/shard-3of3/test_sweep.csv");
+}
+
+/* The per-cell lock (cb_experiment_timed_cells and cb_sweep.timed), seen from outside the runner: inside each
+ * cell, a second open file description of the lock file asks for it without blocking. A timed cell holds it
+ * exclusively, so even a shared request fails; an untimed cell holds it shared, so a shared request passes and
+ * an exclusive one fails. Cell i's kind: the sweep's timed() when it has one (odd cells timed), else its name. */
+typedef struct {
+  const char *lock;
+  int kind[8]; /* per cell: 2 held exclusively, 1 held shared, 0 neither (no lock held) */
+} probe;
+
+static int probe_cell(long i, void *ctx, FILE *const *out) {
+  (void)out;
+  probe *p = ctx;
+  int fd = open(p->lock, O_RDWR);
+  if (fd < 0) return CB_EIO;
+  int sh = flock(fd, LOCK_SH | LOCK_NB) == 0;
+  if (sh) flock(fd, LOCK_UN);
+  int ex = flock(fd, LOCK_EX | LOCK_NB) == 0;
+  close(fd);
+  p->kind[i] = !sh ? 2 : !ex ? 1 : 0;
+  return CB_OK;
+}
+
+static int odd_timed(long i, void *ctx) {
+  (void)ctx;
+  return (int)(i & 1);
+}
+
+Test(sweep, per_cell_lock_timed_cells_alone_untimed_shared) {
+  char dir[] = "/tmp/cbsweepXXXXXX", out[128], lock[128], split[160];
+  cr_assert_not_null(mkdtemp(dir));
+  snprintf(out, sizeof out, "%s/p.csv", dir);
+  snprintf(lock, sizeof lock, "%s/cpu.lock", dir);
+  snprintf(split, sizeof split, "%s.split", out);
+  setenv("CB_CPU_LOCK", lock, 1);
+  cb_experiment e = begin(out, NULL);
+  cb_experiment_timed_cells(&e, (const char *const[]){"named untimed", NULL});
+  probe a = {lock, {0}}, b = {lock, {0}}, c = {lock, {0}};
+  cb_sweep sw[] = {{"by cell", 4, probe_cell, NULL, &a, odd_timed},
+                   {"named untimed", 2, probe_cell, NULL, &b, NULL},
+                   {"timed by default", 2, probe_cell, NULL, &c, NULL}};
+  cr_assert_eq(cb_sweep_run(&e, sw, 3), CB_OK, "%s", cb_error_message());
+  cr_assert_eq(cb_experiment_end(&e, CB_OK), CB_OK, "%s", cb_error_message());
+  unsetenv("CB_CPU_LOCK");
+  for (int i = 0; i < 4; i++) cr_assert_eq(a.kind[i], i & 1 ? 2 : 1, "by cell %d: lock kind %d", i, a.kind[i]);
+  for (int i = 0; i < 2; i++) {
+    cr_assert_eq(b.kind[i], 1, "named untimed %d: lock kind %d", i, b.kind[i]);
+    cr_assert_eq(c.kind[i], 2, "timed by default %d: lock kind %d", i, c.kind[i]);
+  }
+  /* the split counts the 4 timed cells' seconds as timed and the 4 others' as untimed: all non-negative */
+  const char *s = slurp(split);
+  cr_assert(strstr(s, "timed_cells_s: ") && strstr(s, "untimed_cells_s: ") && strstr(s, "cell_locks: 1\n"), "%s", s);
+  /* and one line per cell: its global index, its kind (as above), its seconds and its sweep */
+  static const int kind[8] = {0, 1, 0, 1, 0, 0, 1, 1};
+  const char *line = s;
+  for (int g = 0; g < 8; g++) {
+    char want[32];
+    snprintf(want, sizeof want, "cell %d %d ", g, kind[g]);
+    line = strstr(line, want);
+    cr_assert_not_null(line, "no line '%s' in order in %s", want, s);
+    line += strlen(want);
+  }
+  cr_assert(strstr(s, " named_untimed\n") && strstr(s, " by_cell\n"), "%s", s);
+  remove(split);
+  remove(out);
+  remove(lock);
+  char turn[160];
+  snprintf(turn, sizeof turn, "%s.turn", lock);
+  remove(turn);
+  remove(dir);
 }

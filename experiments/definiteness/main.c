@@ -336,8 +336,8 @@ int main(int argc, char **argv) {
                           "dim,policy,buckling_kb_n_m2,ratio,min_eig_h_n_per_m,min_eig_a_n_per_m,"
                           "predicted_min_eig_a_n_per_m,spd") != T_PAIR)
     return cb_experiment_end(&e, CB_EIO), 2;
-  const cb_sweep sweeps[] = {{"trajectory", pl.ntraj, traj_cell, traj_cost, &pl},
-                             {"static pair", (long)pl.nstat * (e.smoke ? 1 : NPAIR), static_cell, NULL, &pl}};
+  const cb_sweep sweeps[] = {{"trajectory", pl.ntraj, traj_cell, traj_cost, &pl, NULL},
+                             {"static pair", (long)pl.nstat * (e.smoke ? 1 : NPAIR), static_cell, NULL, &pl, NULL}};
   st = cb_sweep_run(&e, sweeps, 2);
   st = cb_experiment_end(&e, st);
   return st == CB_OK ? 0 : st == CB_EIO ? 2 : 1;

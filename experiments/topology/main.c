@@ -104,7 +104,7 @@ int main(int argc, char **argv) {
                                "kind,mesh,i,j,vertices,triangles,edges,boundary_edges,predicted_edges,boundary_loops,"
                                "components,free_dofs,predicted_dofs,status");
   if (st < 0) return cb_experiment_end(&e, st), 2;
-  cb_sweep sw = {"meshes", 1 + 2L * p.ngrids + p.nrings, cell, NULL, &p};
+  cb_sweep sw = {"meshes", 1 + 2L * p.ngrids + p.nrings, cell, NULL, &p, NULL};
   st = cb_sweep_run(&e, &sw, 1);
   st = cb_experiment_end(&e, st);
   return st == CB_OK ? 0 : st == CB_EIO ? 2 : 1;

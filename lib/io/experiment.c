@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "provenance.h"
 #include <clothbench/status.h>
@@ -38,6 +39,8 @@ static int flock_waiting(const cb_experiment *e, int fd, int op, const char *why
  * deadlocked so; tests/test_cpu_lock.c). Returns 1 if it had to wait. */
 static int lock_waiting_say(cb_experiment *e, int op, const char *why, int say) {
   if (e->lock_fd < 0 || e->lock_held == op) return 0;
+  struct timespec t0, t1;
+  clock_gettime(CLOCK_MONOTONIC, &t0);
   int waited = 0;
   if (e->lock_held) {
     flock(e->lock_fd, LOCK_UN);
@@ -47,6 +50,8 @@ static int lock_waiting_say(cb_experiment *e, int op, const char *why, int say) 
   waited |= flock_waiting(e, e->lock_fd, op, why, say && !waited);
   e->lock_held = op;
   if (e->turn_fd >= 0) flock(e->turn_fd, LOCK_UN);
+  clock_gettime(CLOCK_MONOTONIC, &t1);
+  e->lock_wait_s += (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
   return waited;
 }
 
@@ -192,7 +197,8 @@ int cb_experiment_begin(cb_experiment *e, const char *name, const char *about, i
              "                 lists the shard's cells with their hints and measured seconds\n"
              "  --shard-mode M balanced (default) or modulo: the cells with index %% N == I - 1\n"
              "  --list-cells   print every cell: index, sweep group, sweep, index in it, cost hint and\n"
-             "                 shard (under --shard I/N, of N); run none, write nothing\n"
+             "                 shard (under --shard I/N, of N), and 1 if it is timed (runs alone under\n"
+             "                 the CPU lock), 0 if not; run none, write nothing\n"
              "Progress goes to stderr (CB_QUIET=1 silences it); data goes to the CSV only.\n",
              name, about, name, name);
       return 1;
@@ -345,6 +351,11 @@ int cb_experiment_csv(cb_experiment *e, cb_outfile *o, const char *path, const c
             e->name, e->shard, e->nshards);
     exit(1);
   }
+  if (e->list_cells) { /* --list-cells: no cells to list; nothing runs, nothing is written (it ran the whole
+                        * program before: scripts/lib/all-plan.py lists every experiment's cells) */
+    fflush(stdout);
+    exit(0);
+  }
   return open_csv(e, o, path, extra, header);
 }
 
@@ -386,6 +397,11 @@ static int write_cells(cb_experiment *e, cb_outfile *o) {
 
 static void drop_cells(cb_experiment *e) {
   if (e->cells) fclose(e->cells);
+  if (e->times) fclose(e->times);
+  free(e->times_log);
+  e->times = NULL;
+  e->times_log = NULL;
+  e->times_len = 0;
   free(e->cells_log);
   free(e->shard_load);
   e->shard_load = NULL;
@@ -395,8 +411,10 @@ static void drop_cells(cb_experiment *e) {
 }
 
 /* <out>.split: the wall seconds this process spent in timed and in untimed
- * cells (make experiments adds them to results/<name>.runtime, and the
- * report's run-time table shows what a run on every core could save). */
+ * cells, the seconds it waited for the CPU lock, then one line per cell it ran, "cell <global index> <1 timed, 0
+ * not> <seconds> <sweep>" (make experiments adds them to
+ * results/<name>.runtime; scripts/timed-split.py tabulates them and
+ * scripts/lib/all-plan.py --times balances a cluster's groups by them). */
 static int write_split(const cb_experiment *e) {
   char path[sizeof e->out + 8];
   snprintf(path, sizeof path, "%s.split", e->out);
@@ -407,7 +425,9 @@ static int write_split(const cb_experiment *e) {
     timed = e->timed ? e->cell_s[0] + e->cell_s[1] : 0;
     untimed = e->timed ? 0 : e->cell_s[0] + e->cell_s[1];
   }
-  fprintf(o.f, "timed_cells_s: %.3f\nuntimed_cells_s: %.3f\ncell_locks: %d\n", timed, untimed, e->cell_locks);
+  fprintf(o.f, "timed_cells_s: %.3f\nuntimed_cells_s: %.3f\ncell_locks: %d\nlock_wait_s: %.3f\n", timed, untimed,
+          e->cell_locks, e->lock_wait_s);
+  if (e->times && fflush(e->times) == 0 && e->times_len) fwrite(e->times_log, 1, e->times_len, o.f);
   return cb_outfile_commit(&o) ? CB_EIO : CB_OK;
 }
 

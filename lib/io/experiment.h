@@ -18,8 +18,9 @@
  *                  merges the shards' CSVs into the unsharded ones.
  *   --shard-mode balanced|modulo
  *   --list-cells   prints every cell (global index, sweep group, sweep, index
- *                  in the sweep, cost hint, shard under --shard ./N) and
- *                  exits 0 without running a cell or writing a file
+ *                  in the sweep, cost hint, shard under --shard ./N, and 1
+ *                  if the cell is timed, 0 if not: see
+ *                  cb_experiment_timed_cells) and exits 0 without running a cell or writing a file
  *   --help         usage and what the experiment decides
  *
  * Tables: an experiment opens every CSV it writes with cb_experiment_table
@@ -59,6 +60,7 @@ typedef struct cb_experiment {
   int lock_held;              /* the lock this process holds now: 0 none, LOCK_SH or LOCK_EX */
   int waited_msg;             /* the "waiting for" message was printed once for cells */
   double cell_s[2];           /* wall seconds in this process's cells: [0] untimed, [1] timed */
+  double lock_wait_s;         /* wall seconds spent waiting for the CPU lock (and its turnstile) */
   const char *const *untimed; /* cb_experiment_timed_cells: the sweeps whose cells time nothing */
   unsigned untimed_seen;      /* bit k: untimed[k] named a sweep that ran */
   cb_outfile csv;             /* for programs that write one CSV themselves (bench) */
@@ -75,6 +77,10 @@ typedef struct cb_experiment {
   char *cells_log;
   size_t cells_len;
   FILE *cells;
+  /* every cell this process ran, sharded or not: "cell <global> <timed> <seconds> <sweep>" lines of <out>.split */
+  char *times_log;
+  size_t times_len;
+  FILE *times;
 } cb_experiment;
 
 /* Returns 0 to go on, 1 when --help or --version was printed (exit 0),
@@ -95,9 +101,11 @@ void cb_experiment_timed(cb_experiment *e);
 /* The finer alternative to cb_experiment_timed, for an experiment whose every
  * wall time is measured inside sweep cells: the lock is taken per cell, not
  * for the whole process. untimed names the sweeps whose cells measure no
- * wall time (NULL-terminated; at most 32; a name that matches no sweep of
- * the run is an error at cb_experiment_end, so a typo cannot pass). A cell
- * of any other sweep (the safe default) holds the lock exclusively while it
+ * wall time that a claim compares (NULL-terminated, or NULL for none; at
+ * most 32; a name that matches no sweep of the run is an error at
+ * cb_experiment_end, so a typo cannot pass). A sweep with a timed() callback
+ * (sweep.h) decides per cell instead. A cell of any other sweep (the safe
+ * default) holds the lock exclusively while it
  * runs; a cell of an untimed sweep holds it shared, beside other untimed
  * cells and experiments. So under
  * `make experiments JOBS=2` the untimed cells fill the other core and never
@@ -122,7 +130,8 @@ void cb_experiment_cells_start(cb_experiment *e);
  * "# experiment:", "# quick:", the caller's extra "# ..." lines (may be
  * NULL), then the header row. For programs that do not use the sweep runner:
  * under --shard (such a program cannot be sharded) it prints why and exits
- * with the usage code 1, before anything is written. */
+ * with the usage code 1, and under --list-cells (it has no cells to list) it
+ * exits 0, before anything is written. */
 int cb_experiment_csv(cb_experiment *e, cb_outfile *o, const char *path, const char *extra, const char *header);
 
 /* Opens table number e->ntables: the main CSV (name NULL) or the side table

@@ -11,6 +11,11 @@ static double cell_cost(const cb_sweep *s, long i) {
   return c > 0 ? c : 0;
 }
 
+/* 1 if cell i of s is timed: its sweep's own answer, else by the sweep's name */
+static int cell_timed(cb_experiment *e, const cb_sweep *s, long i) {
+  return s->timed ? s->timed(i, s->ctx) != 0 : !cb_experiment_sweep_untimed(e, s->name);
+}
+
 static double now_s(void) {
   struct timespec t;
   clock_gettime(CLOCK_MONOTONIC, &t);
@@ -30,13 +35,21 @@ static int run_one(cb_experiment *e, const cb_sweep *s, long i, long global, dou
   for (int t = 0; st == CB_OK && t < e->ntables; t++)
     if (!(out[t] = open_memstream(&buf[t], &len[t]))) st = cb_fail_status(CB_ENOMEM, "out of memory for cell rows");
   if (st == CB_OK) {
-    int timed = !cb_experiment_sweep_untimed(e, s->name);
+    int timed = cell_timed(e, s, i);
     cb_experiment_cell_lock(e, timed);
     double t0 = now_s();
     st = s->run_cell(i, s->ctx, out);
     secs = now_s() - t0;
     cb_experiment_cell_unlock(e);
     e->cell_s[timed] += secs;
+    /* the cell's kind as the lock saw it: with one lock for the whole process, the process's kind */
+    int kind = e->cell_locks ? timed : e->timed;
+    if (!e->times) e->times = open_memstream(&e->times_log, &e->times_len); /* none: <out>.split lacks the lines */
+    if (e->times) {
+      fprintf(e->times, "cell %ld %d %.6f ", global, kind, secs);
+      for (const char *c = s->name; *c; c++) fputc(*c == ' ' || *c == '\t' || *c == '\n' ? '_' : *c, e->times);
+      fputc('\n', e->times);
+    }
     if (st) {
       char msg[1024];
       snprintf(msg, sizeof msg, "%s", cb_error_message());
@@ -129,7 +142,8 @@ int cb_sweep_run(cb_experiment *e, const cb_sweep *sweeps, int nsweeps) {
       for (long i = 0; i < sweeps[k].ncells; i++, g++) {
         printf("%ld %d ", e->ncells + g, e->nsweep_runs);
         for (const char *c = sweeps[k].name; *c; c++) putchar(*c == ' ' || *c == '\t' || *c == '\n' ? '_' : *c);
-        printf(" %ld %.17g %d\n", i, cell_cost(&sweeps[k], i), owner ? owner[g] + 1 : 1);
+        printf(" %ld %.17g %d %d\n", i, cell_cost(&sweeps[k], i), owner ? owner[g] + 1 : 1,
+               e->cell_locks ? cell_timed(e, &sweeps[k], i) : e->timed);
       }
     e->ncells += total;
     e->nsweep_runs++;

@@ -41,6 +41,14 @@ typedef struct cb_sweep {
   int (*run_cell)(long i, void *ctx, FILE *const *out);
   double (*cost)(long i, void *ctx); /* relative cost hint of cell i; NULL = 1 for every cell */
   void *ctx;
+  /* Per cell, under cb_experiment_timed_cells: 1 if cell i measures a wall
+   * time that a claim compares (it holds the CPU lock exclusively: nothing
+   * runs beside it), 0 if it does not (shared: it runs beside other untimed
+   * cells and experiments). NULL: every cell of the sweep is timed unless
+   * the sweep is named in cb_experiment_timed_cells' untimed list. For a
+   * sweep whose cells are of several kinds (explicit_stability's map: an
+   * explicit sweep, Newton runs, E2 timings). */
+  int (*timed)(long i, void *ctx);
 } cb_sweep;
 
 /* Runs the sweeps in order (the cells of this shard), with one progress line
