@@ -116,3 +116,34 @@ void test_lumped_masses(const cb_mesh *m, double density, double *mass) {
     for (int k = 0; k < 3; k++) mass[v[k]] += density * area / 3.0;
   }
 }
+
+void test_expect_config_error(const char *const *sets, const char *key) {
+  cb_config c;
+  cb_config_defaults(&c);
+  for (int i = 0; sets[i]; i++)
+    if (cb_config_set(&c, sets[i])) {
+      cr_expect(strstr(cb_error_message(), key), "%s: the error does not name %s: %s", sets[i], key,
+                cb_error_message());
+      return;
+    }
+  cb_scene *s = NULL;
+  int st = cb_scene_from_config(&c, &s);
+  cr_expect_neq(st, CB_OK, "%s: accepted", sets[0]);
+  if (st == CB_OK) {
+    cb_scene_free(s);
+    return;
+  }
+  cr_expect(strstr(cb_error_message(), key), "the error does not name %s: %s", key, cb_error_message());
+}
+
+long test_cross_intersections(const cb_scene *s, const double *x) {
+  const cb_obstacle *o = cb_scene_obstacle(s);
+  long n = 0;
+  for (int a = 0; a < s->mesh.nt; a++)
+    for (int b = 0; b < o->mesh.nt; b++) {
+      const int *p = s->mesh.tri + 3 * a, *q = o->mesh.tri + 3 * b;
+      n += cb_tri_tri_intersect(x + 3 * p[0], x + 3 * p[1], x + 3 * p[2], o->x + 3 * q[0], o->x + 3 * q[1],
+                                o->x + 3 * q[2]);
+    }
+  return n;
+}

@@ -78,4 +78,10 @@ cb_verdict test_decide_claim(const char *id, const char *experiment, const char 
 /* Dense copy of a cb_sparse (caller frees with gsl_matrix_free). */
 gsl_matrix *test_dense(const cb_sparse *A);
 
+/* The config sets fail, at a set or when the scene is built, with a message naming key (a Criterion
+ * expectation each). */
+void test_expect_config_error(const char *const *sets, const char *key);
+/* Intersecting (cloth triangle, obstacle triangle) pairs of s at x, every pair, exactly (cb_tri_tri_intersect). */
+long test_cross_intersections(const cb_scene *s, const double *x);
+
 #endif

@@ -18,37 +18,24 @@
 
 /* ---- the seam ----------------------------------------------------------------- */
 
-/* The sets fail (at a set or when the scene is built) with a message naming key. */
-static void expect_error(const char *const *sets, const char *key) {
-  cb_config c;
-  cb_config_defaults(&c);
-  for (int i = 0; sets[i]; i++)
-    if (cb_config_set(&c, sets[i])) {
-      cr_expect(strstr(cb_error_message(), key), "%s: the error does not name %s: %s", sets[i], key,
-                cb_error_message());
-      return;
-    }
-  cb_scene *s = NULL;
-  int st = cb_scene_from_config(&c, &s);
-  cr_expect_neq(st, CB_OK, "%s: accepted", sets[0]);
-  if (st == CB_OK) {
-    cb_scene_free(s);
-    return;
-  }
-  cr_expect(strstr(cb_error_message(), key), "the error does not name %s: %s", key, cb_error_message());
-}
-
 Test(contact, bad_values_name_their_key) {
-  expect_error((const char *const[]){"contact.method=ipc", "contact.thickness=0", NULL}, "contact.thickness");
-  expect_error((const char *const[]){"contact.method=penalty", "contact.thickness=-1e-3", NULL}, "contact.thickness");
-  expect_error((const char *const[]){"contact.method=ipc", "contact.friction=-0.1", NULL}, "contact.friction");
-  expect_error((const char *const[]){"contact.method=penalty", "contact.friction=0.4", NULL}, "contact.friction");
-  expect_error((const char *const[]){"contact.method=ipc", "contact.friction=0.4", "contact.epsv=0", NULL}, "contact."
-                                                                                                            "epsv");
-  expect_error((const char *const[]){"contact.method=ipc", "contact.epsv=-1e-3", NULL}, "contact.epsv");
-  expect_error((const char *const[]){"contact.method=vbd", NULL}, "contact.method");
-  expect_error((const char *const[]){"contact.method=penalty", "contact.stiffness=0", NULL}, "contact.stiffness");
-  expect_error((const char *const[]){"contact.method=ipc", "contact.kappa=-1", NULL}, "contact.kappa");
+  test_expect_config_error((const char *const[]){"contact.method=ipc", "contact.thickness=0", NULL}, "contact."
+                                                                                                     "thickness");
+  test_expect_config_error((const char *const[]){"contact.method=penalty", "contact.thickness=-1e-3", NULL}, "contact."
+                                                                                                             "thicknes"
+                                                                                                             "s");
+  test_expect_config_error((const char *const[]){"contact.method=ipc", "contact.friction=-0.1", NULL}, "contact."
+                                                                                                       "friction");
+  test_expect_config_error((const char *const[]){"contact.method=penalty", "contact.friction=0.4", NULL}, "contact."
+                                                                                                          "friction");
+  test_expect_config_error((const char *const[]){"contact.method=ipc", "contact.friction=0.4", "contact.epsv=0", NULL},
+                           "contact."
+                           "epsv");
+  test_expect_config_error((const char *const[]){"contact.method=ipc", "contact.epsv=-1e-3", NULL}, "contact.epsv");
+  test_expect_config_error((const char *const[]){"contact.method=vbd", NULL}, "contact.method");
+  test_expect_config_error((const char *const[]){"contact.method=penalty", "contact.stiffness=0", NULL}, "contact."
+                                                                                                         "stiffness");
+  test_expect_config_error((const char *const[]){"contact.method=ipc", "contact.kappa=-1", NULL}, "contact.kappa");
   /* the core checks without a config too */
   cb_contact_params p = cb_contact_params_default();
   p.thickness = NAN;
@@ -416,19 +403,6 @@ Test(contact, ipc_refuses_an_intersecting_start) {
 
 /* ---- the drop ------------------------------------------------------------------------ */
 
-/* Intersecting (cloth triangle, table triangle) pairs, all pairs, exactly. */
-static long cross_intersections(const cb_scene *s, const double *x) {
-  const cb_obstacle *o = cb_scene_obstacle(s);
-  long n = 0;
-  for (int a = 0; a < s->mesh.nt; a++)
-    for (int b = 0; b < o->mesh.nt; b++) {
-      const int *p = s->mesh.tri + 3 * a, *q = o->mesh.tri + 3 * b;
-      n += cb_tri_tri_intersect(x + 3 * p[0], x + 3 * p[1], x + 3 * p[2], o->x + 3 * q[0], o->x + 3 * q[1],
-                                o->x + 3 * q[2]);
-    }
-  return n;
-}
-
 typedef struct {
   long worst_cross, worst_self, frames_hit;
   double ymin_end, ymax_end;
@@ -472,7 +446,7 @@ static drop_result drop(const char *method, const char *integrator, int steps) {
     memset(&st, 0, sizeof st);
     int rc = cb_integrator_step(it, x, v, &st);
     r.failed_steps += rc != CB_OK && rc != CB_NOT_CONVERGED;
-    long nself = 0, ncross = cross_intersections(s, x);
+    long nself = 0, ncross = test_cross_intersections(s, x);
     cr_assert_eq(cb_intersections_count(&self, x, &nself), CB_OK);
     r.worst_cross = ncross > r.worst_cross ? ncross : r.worst_cross;
     r.worst_self = nself > r.worst_self ? nself : r.worst_self;

@@ -177,20 +177,6 @@ Test(bridson, rigid_impact_zone_keeps_momentum_and_moves_rigidly) {
   }
 }
 
-/* ---- the sheet on the table ---------------------------------------------------------- */
-
-static long cross_intersections(const cb_scene *s, const double *x) {
-  const cb_obstacle *o = cb_scene_obstacle(s);
-  long n = 0;
-  for (int a = 0; a < s->mesh.nt; a++)
-    for (int b = 0; b < o->mesh.nt; b++) {
-      const int *p = s->mesh.tri + 3 * a, *q = o->mesh.tri + 3 * b;
-      n += cb_tri_tri_intersect(x + 3 * p[0], x + 3 * p[1], x + 3 * p[2], o->x + 3 * q[0], o->x + 3 * q[1],
-                                o->x + 3 * q[2]);
-    }
-  return n;
-}
-
 typedef struct {
   long frames_hit, worst;
   double ymin, ymax;
@@ -232,7 +218,7 @@ static drop_result drop(const char *method, const char *integrator, const char *
     r.bad_steps += rc != CB_OK;
     const cb_bridson_stats *bs = cb_scene_bridson_stats(s);
     r.zone_steps += bs && bs->zone_passes > 0;
-    long nself = 0, ncross = cross_intersections(s, x);
+    long nself = 0, ncross = test_cross_intersections(s, x);
     cr_assert_eq(cb_intersections_count(&self, x, &nself), CB_OK);
     r.frames_hit += ncross + nself > 0;
     if (ncross + nself > r.worst) r.worst = ncross + nself;
@@ -274,52 +260,39 @@ Test(bridson, sheet_on_the_table_never_intersects, .timeout = 600) {
   }
 }
 
-/* ---- bad input ------------------------------------------------------------------------ */
-
-static void expect_error(const char *const *sets, const char *key) {
-  cb_config c;
-  cb_config_defaults(&c);
-  for (int i = 0; sets[i]; i++)
-    if (cb_config_set(&c, sets[i])) {
-      cr_expect(strstr(cb_error_message(), key), "%s: the error does not name %s: %s", sets[i], key,
-                cb_error_message());
-      return;
-    }
-  cb_scene *s = NULL;
-  int st = cb_scene_from_config(&c, &s);
-  cr_expect_neq(st, CB_OK, "%s: accepted", sets[1]);
-  if (st == CB_OK) {
-    cb_scene_free(s);
-    return;
-  }
-  cr_expect(strstr(cb_error_message(), key), "the error does not name %s: %s", key, cb_error_message());
-}
-
 Test(bridson, bad_keys_name_themselves) {
-  expect_error((const char *const[]){"contact.method=bridson", "contact.bridson_iters=-1", NULL}, "contact.bridson_"
-                                                                                                  "iters");
-  expect_error((const char *const[]){"contact.method=bridson", "contact.bridson_iters=2.5", NULL}, "contact.bridson_"
-                                                                                                   "iters");
-  expect_error((const char *const[]){"contact.method=bridson", "contact.thickness=0", NULL}, "contact.thickness");
-  expect_error((const char *const[]){"contact.method=bridson", "contact.friction=-0.2", NULL}, "contact.friction");
-  expect_error((const char *const[]){"contact.method=bridson", "contact.stiffness=0", NULL}, "contact.stiffness");
+  test_expect_config_error((const char *const[]){"contact.method=bridson", "contact.bridson_iters=-1", NULL}, "contact."
+                                                                                                              "bridson_"
+                                                                                                              "iters");
+  test_expect_config_error((const char *const[]){"contact.method=bridson", "contact.bridson_iters=2.5", NULL}, "contact"
+                                                                                                               ".bridso"
+                                                                                                               "n_"
+                                                                                                               "iters");
+  test_expect_config_error((const char *const[]){"contact.method=bridson", "contact.thickness=0", NULL}, "contact."
+                                                                                                         "thickness");
+  test_expect_config_error((const char *const[]){"contact.method=bridson", "contact.friction=-0.2", NULL}, "contact."
+                                                                                                           "friction");
+  test_expect_config_error((const char *const[]){"contact.method=bridson", "contact.stiffness=0", NULL}, "contact."
+                                                                                                         "stiffness");
   /* a chain has no triangles to collide */
-  expect_error((const char *const[]){"contact.method=bridson", "mesh.type=chain", "material.vertex_mass=1", NULL}, "con"
-                                                                                                                   "tac"
-                                                                                                                   "t."
-                                                                                                                   "met"
-                                                                                                                   "ho"
-                                                                                                                   "d");
+  test_expect_config_error(
+      (const char *const[]){"contact.method=bridson", "mesh.type=chain", "material.vertex_mass=1", NULL}, "con"
+                                                                                                          "tac"
+                                                                                                          "t."
+                                                                                                          "met"
+                                                                                                          "ho"
+                                                                                                          "d");
   /* a start state that intersects the table's top (a sheet 1 m wide inside its 0.8 m deep top crosses its sides) or
    * touches it (on its plane): the filter cannot undo a crossing */
   const char *const heights[] = {"collider.centre=0 0.02 0", "collider.centre=0 0 0"};
   for (int h = 0; h < 2; h++)
-    expect_error((const char *const[]){"contact.method=bridson", "mesh.n=6", "mesh.size=1", "mesh.plane=xz",
-                                       "scene.pins=none", "collider.type=mesh", "collider.file=configs/table.obj",
-                                       heights[h], NULL},
-                 "contact.method");
+    test_expect_config_error((const char *const[]){"contact.method=bridson", "mesh.n=6", "mesh.size=1", "mesh.plane=xz",
+                                                   "scene.pins=none", "collider.type=mesh",
+                                                   "collider.file=configs/table.obj", heights[h], NULL},
+                             "contact.method");
   /* friction is bridson's and ipc's: the penalty still refuses it */
-  expect_error((const char *const[]){"contact.method=penalty", "contact.friction=0.4", NULL}, "contact.friction");
+  test_expect_config_error((const char *const[]){"contact.method=penalty", "contact.friction=0.4", NULL}, "contact."
+                                                                                                          "friction");
   cb_contact_params p = cb_contact_params_default();
   p.friction = 0.4;
   cr_expect_eq(cb_contact_params_check("bridson", &p), CB_OK, "%s", cb_error_message());

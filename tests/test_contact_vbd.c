@@ -167,19 +167,6 @@ Test(contact_vbd, point_plane_block_is_the_closed_form) {
 
 /* ---- drops ------------------------------------------------------------------------------------------ */
 
-/* Intersecting (cloth triangle, table triangle) pairs, all pairs, exactly. */
-static long cross_intersections(const cb_scene *s, const double *x) {
-  const cb_obstacle *o = cb_scene_obstacle(s);
-  long n = 0;
-  for (int a = 0; a < s->mesh.nt; a++)
-    for (int b = 0; b < o->mesh.nt; b++) {
-      const int *p = s->mesh.tri + 3 * a, *q = o->mesh.tri + 3 * b;
-      n += cb_tri_tri_intersect(x + 3 * p[0], x + 3 * p[1], x + 3 * p[2], o->x + 3 * q[0], o->x + 3 * q[1],
-                                o->x + 3 * q[2]);
-    }
-  return n;
-}
-
 typedef struct {
   long frames_hit, worst_cross, worst_self, truncated;
   int failed_steps;
@@ -204,7 +191,7 @@ static drop_result run_drop(const char *const *sets, int steps, cb_scene **out) 
     int rc = cb_integrator_step(it, x, v, &st);
     r.failed_steps += rc != CB_OK && rc != CB_NOT_CONVERGED;
     r.truncated += cb_vbd_truncated(it);
-    long nself = 0, ncross = cross_intersections(s, x);
+    long nself = 0, ncross = test_cross_intersections(s, x);
     cr_assert_eq(cb_intersections_count(&self, x, &nself), CB_OK);
     r.worst_cross = ncross > r.worst_cross ? ncross : r.worst_cross;
     r.worst_self = nself > r.worst_self ? nself : r.worst_self;
