@@ -145,6 +145,20 @@ static int remove_frames(const char *dir, char *first, char *last, size_t n) {
   return count;
 }
 
+/* Removes the temporary files of frames (frame_NNNNNN.obj.tmp.XXXXXX) a dead run left in its stage. */
+static void remove_frame_temps(const char *stage) {
+  DIR *d = opendir(stage);
+  if (!d) return;
+  for (struct dirent *de; (de = readdir(d));) {
+    char path[4096];
+    struct stat st;
+    if (strncmp(de->d_name, "frame_", 6) != 0 || !strstr(de->d_name, ".tmp.")) continue;
+    if (snprintf(path, sizeof path, "%s/%s", stage, de->d_name) >= (int)sizeof path) continue;
+    if (lstat(path, &st) == 0 && S_ISREG(st.st_mode)) unlink(path);
+  }
+  closedir(d);
+}
+
 /* The folder frames are written to while the run lasts:
  * DIR/.incomplete-frames.<pid> (the name says what its content is). */
 static void stage_name(const char *dir, long pid, char *out, size_t n) {
@@ -164,6 +178,7 @@ static void remove_stale_stages(const char *dir) {
     char stage[4096], a[256], b[256];
     stage_name(dir, pid, stage, sizeof stage);
     remove_frames(stage, a, b, sizeof a);
+    remove_frame_temps(stage);
     rmdir(stage);
   }
   closedir(d);

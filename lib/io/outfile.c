@@ -137,12 +137,21 @@ int cb_outfile_open(cb_outfile *o, const char *path) {
   int st = cb_make_parent_dirs(path);
   if (st) return st;
   snprintf(o->tmp, sizeof o->tmp, "%s.tmp.XXXXXX", path);
+  /* no signal between creating the temporary file and registering it, or a SIGTERM there leaves it behind
+   * (seen: an interrupted simulate --frames whose staging folder could then not be removed) */
+  sigset_t block, old;
+  sigemptyset(&block);
+  sigaddset(&block, SIGINT);
+  sigaddset(&block, SIGTERM);
+  sigaddset(&block, SIGHUP);
+  sigprocmask(SIG_BLOCK, &block, &old);
   int fd = mkstemp(o->tmp);
+  if (fd >= 0) track(o);
+  sigprocmask(SIG_SETMASK, &old, NULL);
   if (fd < 0) {
     o->tmp[0] = '\0';
     return cb_fail_status(CB_EIO, "%s: cannot create temporary file: %s", path, strerror(errno));
   }
-  track(o);
   fchmod(fd, 0644);
   o->f = fdopen(fd, "w");
   if (!o->f) {
