@@ -10,7 +10,9 @@
 # Timing columns: names ending in _ms, or containing wall, time or speedup
 # (the naming convention for every wall-clock-derived column, the spread
 # columns of repeated timings included: wall_min_ms, wall_each_ms_per_s,
-# step_max_ms, wall_repeats, ...; see README and lib/instruments/stats.h).
+# step_max_ms, wall_repeats, ...; see README and lib/instruments/stats.h),
+# and measured memory, names ending in _mib (the resident set depends on the
+# allocator's state and the machine: J4's mem_peak_mib).
 set -u
 B=${BUILD:-build}
 mode=--quick
@@ -24,7 +26,7 @@ strip() { # drop '# date:' and '# command:' lines; blank timing columns
   awk -F, -v OFS=, '
     /^# (date|command|git_revision|cflags|cpu|cores|cpu_lock):/ { next }
     /^#/ { print; next }
-    !hdr { hdr = 1; for (i = 1; i <= NF; i++) if ($i ~ /_ms$|wall|time|speedup/) t[i] = 1; print; next }
+    !hdr { hdr = 1; for (i = 1; i <= NF; i++) if ($i ~ /_ms$|_mib$|wall|time|speedup/) t[i] = 1; print; next }
     { for (i in t) $i = "-"; print }' "$1"
 }
 runs="1 2"
