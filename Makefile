@@ -29,7 +29,8 @@
 ##
 ## knobs: WERROR=1 (warnings are errors), QUICK=1 (reduced sweeps), JOBS=n (experiments at a time; default the cores),
 ##        THREADS=n (threads of OpenBLAS and of CHOLMOD's OpenMP regions, for
-##        experiments and bench; default 1)
+##        experiments and bench; default 1), RUN_SHARDS="name:N ..." (experiments that
+##        make experiments runs as N processes, merged; default locking:JOBS)
 
 CC      ?= gcc
 OPT     ?= -O2
@@ -367,6 +368,32 @@ endif
 JOBS ?= $(CHECK_JOBS)
 run-experiments: $(EXPS) $(BLAS_KERNEL)
 	@$(MAKE) --no-print-directory -j$(JOBS) $(QUICK_ORDER:%=results/%.csv.run)
+
+# Experiments run as several processes, EXPERIMENT:N each (default: locking as
+# JOBS processes when JOBS > 1): their --shard I/N runs go to results/shards/
+# as jobs of their own, and scripts/merge-shards.sh merges them into
+# results/<name>.csv, the CSVs of the unsharded run (tests/shard.sh). Locking's
+# untimed cells (F1's anisotropy sweep: 24 of its 25 minutes) run one after
+# another in one process, and that alone set the whole run's lower bound on 2
+# cores (docs/running.md, "The split and the bound"). RUN_SHARDS= runs every
+# experiment whole.
+RUN_SHARDS ?= $(if $(filter-out 0 1,$(JOBS)),locking:$(JOBS))
+quick_flag = $(if $(filter 1,$(QUICK)),--quick)
+define run_sharded
+results/$(1).csv.run: $(foreach i,$(shell seq 1 $(2)),results/shards/$(1)-$(i)of$(2).run)
+	@echo "scripts/merge-shards.sh results/$(1).csv $$(^:.run=.csv)"
+	@scripts/merge-shards.sh results/$(1).csv $$(^:.run=.csv)
+	@scripts/shard-runtime.sh $(if $(filter 1,$(QUICK)),1,0) $$^ > results/$(1).runtime.tmp && mv results/$(1).runtime.tmp results/$(1).runtime
+
+results/shards/$(1)-%of$(2).run: $(BUILD)/$(1) $(BLAS_KERNEL) FORCE
+	@mkdir -p results/shards
+	@t0=$$$$(date +%s.%N); \
+	echo "$(EXP_ENV) $(BUILD)/$(1) $(quick_flag) --shard $$*/$(2) --out results/shards/$(1)-$$*of$(2).csv"; \
+	$(EXP_ENV) $(BUILD)/$(1) $(quick_flag) --shard $$*/$(2) --out results/shards/$(1)-$$*of$(2).csv || exit $$$$?; \
+	t1=$$$$(date +%s.%N); \
+	{ echo "start_s: $$$$t0"; echo "end_s: $$$$t1"; cat results/shards/$(1)-$$*of$(2).csv.split; } > $$@.tmp && mv $$@.tmp $$@
+endef
+$(foreach s,$(RUN_SHARDS),$(eval $(call run_sharded,$(word 1,$(subst :, ,$(s))),$(word 2,$(subst :, ,$(s))))))
 
 # each run records its wall time in results/<name>.runtime (for the report's run-time table)
 results/%.csv.run: $(BUILD)/% $(BLAS_KERNEL)

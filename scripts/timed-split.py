@@ -22,11 +22,13 @@ cell while DIR's run locked it per cell, its cell seconds are split by DIR's
 untimed share of cell seconds instead (an estimate; the row says so).
 
 The bound. make experiments runs each experiment as one process (its cells one
-after another) and at most C at a time. A timed cell has the machine to
+after another), or as several (RUN_SHARDS: its .runtime then records
+"processes:", "untimed_work_s:" over all of them and "longest_untimed_s:", one
+process's share), and at most C processes at a time. A timed cell has the machine to
 itself, so during the T seconds of timed cells nothing else runs, and all
 untimed work (U seconds in all) happens in the other wall - T seconds: on at
-most C cores, so U <= C (wall - T), and one experiment's untimed seconds u
-one after another, so u <= wall - T. So
+most C cores, so U <= C (wall - T), and one process's untimed seconds u
+run one after another, so u <= wall - T. So
 
   wall >= T + max(U / C, the largest u of one experiment).
 
@@ -93,9 +95,14 @@ def table(results, cores, shares):
             continue
         wall, sp = r["wall_s"], split(r)
         if sp is None:  # no split recorded: the whole wall time, of unknown kind, counted timed (the safe side)
-            rows.append((x, wall, wall, 0.0, "no split recorded: all counted timed"))
+            rows.append((x, wall, wall, 0.0, "no split recorded: all counted timed", 0.0))
             continue
         t, u, cells, per_cell = sp
+        if "untimed_work_s" in r:  # run as several processes (scripts/shard-runtime.sh)
+            n = int(r.get("processes", 1))
+            rows.append((x, wall, t, r["untimed_work_s"], "recorded per cell, %d processes" % n,
+                         r.get("longest_untimed_s", r["untimed_work_s"])))
+            continue
         outside = max(wall - cells - r.get("lock_wait_s", 0.0), 0.0)  # waiting for the lock is not work
         src = "recorded per cell" if per_cell else "locks as a whole"
         if not per_cell and shares:
@@ -107,24 +114,24 @@ def table(results, cores, shares):
                 per_cell = 1
                 src = "estimated: %.0f %% untimed, the share in %s" % (100 * share, os.path.basename(os.path.normpath(shares)))
         if per_cell:
-            rows.append((x, wall, t, u + outside, src))
+            rows.append((x, wall, t, u + outside, src, u + outside))
         elif t > 0:  # one exclusive lock for the whole process
-            rows.append((x, wall, wall, 0.0, src + " (timed)"))
+            rows.append((x, wall, wall, 0.0, src + " (timed)", 0.0))
         else:
-            rows.append((x, wall, 0.0, wall, src + " (untimed)"))
+            rows.append((x, wall, 0.0, wall, src + " (untimed)", wall))
     if not rows:
         die("%s: no <experiment>.runtime files" % results)
     T = sum(r[2] for r in rows)
     U = sum(r[3] for r in rows)
-    longest = max(rows, key=lambda r: r[3])
-    b = T + max(U / cores, longest[3])
+    longest = max(rows, key=lambda r: r[5])
+    b = T + max(U / cores, longest[5])
     out = ["| experiment | wall time | timed | untimed | source |", "|---|---|---|---|---|"]
-    for x, wall, t, u, src in rows:
+    for x, wall, t, u, src, _ in rows:
         out.append("| %s | %s | %s | %s | %s |" % (x, fmt(wall), fmt(t), fmt(u), src))
     out.append("| all, one after another | %s | %s | %s | |" % (fmt(sum(r[1] for r in rows)), fmt(T), fmt(U)))
     out.append("")
-    out.append("Lower bound on %d cores: timed + max(untimed/%d, one experiment's untimed) = %s + max(%s, %s (%s)) "
-               "= **%s**." % (cores, cores, fmt(T), fmt(U / cores), fmt(longest[3]), longest[0], fmt(b)))
+    out.append("Lower bound on %d cores: timed + max(untimed/%d, one process's untimed) = %s + max(%s, %s (%s)) "
+               "= **%s**." % (cores, cores, fmt(T), fmt(U / cores), fmt(longest[5]), longest[0], fmt(b)))
     return "\n".join(out) + "\n", b
 
 

@@ -161,6 +161,26 @@ printf 'wall_s: 10.0\nquick: 1\ntimed_cells_s: 3.000\nuntimed_cells_s: 7.000\nce
 $TS --shares "$S/share" "$S" >"$T/ts.out" 2>&1
 ok "timed-split.py --shares: $(cat "$T/ts.out")" grep -q '= 1 min 28 s + max(1 min 01 s, 1 min 12 s (locking)) = \*\*2 min 40 s\*\*' "$T/ts.out"
 ok "timed-split.py --shares: the estimate not said" grep -q 'locking | 1 min 40 s | 28.5 s | 1 min 12 s | estimated: 70 % untimed' "$T/ts.out"
+# shard-runtime.sh: locking run as two processes (make experiments' RUN_SHARDS). Shard 1 ran 80 s: 10 s timed,
+# 5 s waiting, so 65 s untimed work; shard 2 ran 31 s, all untimed. Summed: T = 60 + 10 = 70, U = 50 + 96 = 146,
+# and one process's longest untimed share is 65 s (not 96): 70 + max(73, 65) = 143 s
+now=$(date +%s)
+printf 'start_s: %d\nend_s: %d\ntimed_cells_s: 10.000\nuntimed_cells_s: 60.000\ncell_locks: 1\nlock_wait_s: 5.000\ncell 2 1 10.0 F1\ncell 0 0 60.0 L2\n' \
+  $((now - 80)) "$now" >"$S/l1.run"
+printf 'start_s: %d\nend_s: %d\ntimed_cells_s: 0.000\nuntimed_cells_s: 29.000\ncell_locks: 1\nlock_wait_s: 0.000\ncell 1 0 29.0 L2\n' \
+  $((now - 79)) $((now - 48)) >"$S/l2.run"
+scripts/shard-runtime.sh 0 "$S/l1.run" "$S/l2.run" >"$S/locking.runtime" 2>"$T/sr.err"
+ok "shard-runtime.sh failed: $(cat "$T/sr.err")" test $? -eq 0
+ok "shard-runtime.sh: sums and cell order: $(tr '\n' ' ' <"$S/locking.runtime")" \
+  awk '/^processes:/ && $2 == 2 { a++ } /^untimed_work_s:/ && $2 == 96 { a++ } /^longest_untimed_s:/ && $2 == 65 { a++ }
+       /^timed_cells_s:/ && $2 == 10 { a++ } /^cell / { o = o $2 } END { exit !(a == 4 && o == "012") }' "$S/locking.runtime"
+$TS "$S" >"$T/ts.out" 2>&1
+ok "timed-split.py on a run of two processes: $(cat "$T/ts.out")" \
+  grep -q '= 1 min 10 s + max(1 min 13 s, 1 min 05 s (locking)) = \*\*2 min 23 s\*\*' "$T/ts.out"
+printf 'start_s: 1\ntimed_cells_s: 0.000\n' >"$S/l3.run"
+scripts/shard-runtime.sh 0 "$S/l1.run" "$S/l3.run" >"$T/sr.out" 2>"$T/sr.err"
+ok "shard-runtime.sh accepted a shard record without its end" test $? -ne 0
+ok "shard-runtime.sh: the bad record not named: $(cat "$T/sr.err")" grep -q 'l3.run: no start_s or end_s' "$T/sr.err"
 printf 'wall_s: ten\n' >"$S/locking.runtime"
 $TS "$S" >"$T/ts.out" 2>&1
 ok "timed-split.py accepted a run-time file that is not one" test $? -eq 2
