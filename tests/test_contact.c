@@ -491,3 +491,84 @@ Test(contact, ipc_never_intersects_where_penalty_tunnels, .timeout = 600) {
            ipc.ymin_end, ipc.ymax_end, lb.ymin_end, lb.ymax_end, pen.ymin_end, pen.ymax_end, pen.frames_hit,
            pen.worst_cross);
 }
+
+/* ---- the phase timers (cb_contact_stats' broad_ms, ccd_ms, barrier_ms; cb_step_stats' contact_*_ms) ---------- */
+
+/* A 6x6 sheet 0.5 m wide falls onto the table from 5 cm above it (it lands within the 8 steps). Per step: the three
+ * phase times are >= 0, and with the linear solve (factor + solve, disjoint from them) add up to no more than the
+ * step's wall time (the phases are disjoint intervals inside the step: the 1e-9 ms allows the round-off of summing
+ * doubles, not a timing margin); their sums over the steps are the term's running totals' growth over them (the
+ * wrapper takes differences); ipc's pairs made the timers run (broad and barrier > 0 in some step, ccd > 0 in some
+ * step); the penalty has no step bound: its ccd is exactly 0; without contact (contact.method = none) all three are
+ * exactly 0. No timing threshold. */
+static void timed_drop(const char *method, double *sum, double *grew, int *steps_with) {
+  const char *const sets[] = {"mesh.n=6",
+                              "mesh.size=0.5",
+                              "mesh.plane=xz",
+                              "material.density=0.2",
+                              "material.stretch_k=500",
+                              "scene.pins=none",
+                              "integrator.method=newton",
+                              "integrator.dt=1/30",
+                              "integrator.line_search=1",
+                              "integrator.tol_dx=1e-7",
+                              "collider.type=mesh",
+                              "collider.file=configs/table.obj",
+                              "collider.centre=0 -0.05 0",
+                              method,
+                              "contact.thickness=5e-3",
+                              "contact.kappa=1e6",
+                              "contact.stiffness=1e4",
+                              NULL};
+  cb_scene *s = test_scene(sets);
+  cb_integrator *it = test_integrator(sets, s, NULL, NULL);
+  const cb_term *term = cb_scene_contact_term(s);
+  const cb_contact_stats *cs = term ? cb_contact_term_stats(term) : NULL;
+  double before[3] = {0, 0, 0};
+  if (cs) before[0] = cs->broad_ms, before[1] = cs->ccd_ms, before[2] = cs->barrier_ms;
+  int n3 = 3 * s->mesh.nv;
+  double *x = malloc((size_t)n3 * sizeof(double)), *v = malloc((size_t)n3 * sizeof(double));
+  cr_assert(x && v);
+  memcpy(x, s->x0, (size_t)n3 * sizeof(double));
+  memcpy(v, s->v0, (size_t)n3 * sizeof(double));
+  for (int a = 0; a < 3; a++) sum[a] = 0, steps_with[a] = 0;
+  for (int k = 0; k < 8; k++) {
+    cb_step_stats st;
+    int rc = cb_integrator_step(it, x, v, &st);
+    cr_expect(rc == CB_OK || rc == CB_NOT_CONVERGED, "%s, step %d: %s", method, k, cb_status_name(rc));
+    double ph[3] = {st.contact_broad_ms, st.contact_ccd_ms, st.contact_barrier_ms};
+    for (int a = 0; a < 3; a++) {
+      cr_expect_geq(ph[a], 0.0, "%s, step %d: phase %d took %g ms", method, k, a, ph[a]);
+      sum[a] += ph[a];
+      steps_with[a] += ph[a] > 0;
+    }
+    double parts = ph[0] + ph[1] + ph[2] + st.factor_ms + st.solve_ms;
+    cr_expect_leq(parts, st.wall_ms + 1e-9,
+                  "%s, step %d: broad %g + ccd %g + barrier %g + factor %g + solve %g ms > wall %g", method, k, ph[0],
+                  ph[1], ph[2], st.factor_ms, st.solve_ms, st.wall_ms);
+  }
+  grew[0] = cs ? cs->broad_ms - before[0] : 0;
+  grew[1] = cs ? cs->ccd_ms - before[1] : 0;
+  grew[2] = cs ? cs->barrier_ms - before[2] : 0;
+  free(x);
+  free(v);
+  cb_integrator_free(it);
+  cb_scene_free(s);
+}
+
+Test(contact, phase_timers_add_up_within_the_step) {
+  double sum[3], grew[3];
+  int with[3];
+  timed_drop("contact.method=ipc", sum, grew, with);
+  for (int a = 0; a < 3; a++) {
+    cr_expect(with[a] > 0, "ipc: phase %d never ran", a);
+    cr_expect(fabs(sum[a] - grew[a]) <= 1e-9 * (1 + grew[a]), "ipc: phase %d: steps %.17g ms, term's total grew %.17g",
+              a, sum[a], grew[a]);
+  }
+  timed_drop("contact.method=penalty", sum, grew, with);
+  cr_expect(with[0] > 0 && with[2] > 0, "penalty: broad phase in %d steps, barrier in %d", with[0], with[2]);
+  cr_expect_eq(sum[1], 0.0, "penalty: no step bound, yet ccd took %g ms", sum[1]);
+  cr_expect_eq(grew[1], 0.0);
+  timed_drop("contact.method=none", sum, grew, with);
+  for (int a = 0; a < 3; a++) cr_expect_eq(sum[a], 0.0, "none: phase %d took %g ms", a, sum[a]);
+}

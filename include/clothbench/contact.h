@@ -115,6 +115,16 @@ typedef struct cb_contact_stats {
   long friction_pairs; /* pairs the last begin_step froze for friction (0 without friction) */
   long sliding;        /* of those, pairs whose tangential displacement |u| >= eps_v dt at the last energy call */
   double friction_energy; /* the friction potential's part of the last energy call, J */
+  /* Phase timers (CLOCK_MONOTONIC, cb_now_ms), ms, accumulated since the term was allocated and never reset: a
+   * reader takes differences (cb_integrator_step does, into cb_step_stats' contact_*_ms). Disjoint:
+   *   broad_ms    the broad phase (refit and traversal, static or swept boxes) of every evaluation, step bound,
+   *               friction freeze and vertex block descent's collect;
+   *   ccd_ms      the step bound's narrow phase (the distance filter and additive CCD of the candidates);
+   *   barrier_ms  the pairs' value, gradient and Hessian (and friction's: its freeze and its pairs), with the
+   *               Hessian's projection and scatter: the energy and Hessian calls less their broad phase.
+   * Two clock reads per call (tens of ns against a broad phase of microseconds); vertex block descent's per-vertex
+   * blocks are not timed (they are called per vertex). */
+  double broad_ms, ccd_ms, barrier_ms;
 } cb_contact_stats;
 const cb_contact_stats *cb_contact_term_stats(const cb_term *t);
 

@@ -53,6 +53,11 @@ typedef struct cb_step_stats {
                                x, y and z as one 3-column right-hand side) or CB_GLOBAL_BLOCK (3n x 3n P (x) I_3);
                                CB_GLOBAL_NONE for the other methods */
   double global_factor_nnz; /* nonzeros of that matrix's factor (CHOLMOD), 0 = none */
+  /* The contact term's phases in this step (cb_contact_stats' timers, differences over the step as the wrapper
+   * measures it, begin_step included; 0 without a contact term), ms: broad phase, the step bound's CCD, the
+   * barrier's pairs (value, gradient, Hessian). Parts of wall_ms; the Hessian's pairs are also inside assemble_ms,
+   * and factor_ms + solve_ms are the linear solve (docs/performance.md, "Contact"). */
+  double contact_broad_ms, contact_ccd_ms, contact_barrier_ms;
 } cb_step_stats;
 
 enum { CB_GLOBAL_NONE = 0, CB_GLOBAL_SCALAR = 1, CB_GLOBAL_BLOCK = 2 };

@@ -91,6 +91,7 @@
 #include <clothbench/distance.h>
 #include <clothbench/intersect.h>
 #include <clothbench/status.h>
+#include <clothbench/timer.h>
 #include "vec.h"
 
 #define SAFE_MARGIN 1.01 /* the distance filter before CCD, with 1% for the round-off of d(0) */
@@ -159,8 +160,8 @@ static int grow(cb_candidates *c) {
   return CB_OK;
 }
 
-/* The candidates at x (x1 NULL: static boxes) or over x -> x1. */
-static int find(ct *s, const double *x, const double *x1) {
+/* The candidates at x (x1 NULL: static boxes) or over x -> x1 (find: timed as the broad phase). */
+static int find_untimed(ct *s, const double *x, const double *x1) {
   s->self.nvf = s->self.nee = s->cross.nvf = s->cross.nfv = s->cross.nee = 0;
   if (!s->bp) return CB_OK;
   int st = cb_broadphase_update(s->bp, x, x1);
@@ -179,6 +180,13 @@ static int find(ct *s, const double *x, const double *x1) {
     if ((st = grow(&s->cross))) return st;
     s->stats.grows++;
   }
+  return st;
+}
+
+static int find(ct *s, const double *x, const double *x1) {
+  double t0 = cb_now_ms();
+  int st = find_untimed(s, x, x1);
+  s->stats.broad_ms += cb_now_ms() - t0;
   return st;
 }
 
@@ -427,13 +435,13 @@ int cb_contact_term_begin_step(cb_term *t, const double *x, double dt) {
   }
   int st = find(s, x, NULL);
   if (st) return st;
-  double q[12], eps;
+  double q[12], eps, t0 = cb_now_ms();
   int vid[4], oid[4];
-  for (int kind = 0; kind < K_COUNT; kind++)
+  for (int kind = 0; kind < K_COUNT && !st; kind++)
     for (long i = 0; i < count(s, kind); i++) {
       int ee = gather(s, kind, i, x, NULL, q, NULL, vid, &eps, oid);
       cb_distance_case c;
-      if ((st = ee ? cb_distance_edge_edge_case(q, &c) : cb_distance_point_triangle_case(q, &c))) return st;
+      if ((st = ee ? cb_distance_edge_edge_case(q, &c) : cb_distance_point_triangle_case(q, &c))) break;
       double sq = cb_distance_case_eval(&c, 4, q, NULL, NULL);
       if (!(sq < s->reach * s->reach) || !(sq > 0)) continue;
       double f1, f2, e = 1;
@@ -460,11 +468,13 @@ int cb_contact_term_begin_step(cb_term *t, const double *x, double dt) {
         fp.u0[1] += sg * cb_v3_dot(fp.P + 3, d);
       }
       if (s->nfr == s->cap_fr) {
-        if ((st = grow_friction(s))) return st;
+        if ((st = grow_friction(s))) break;
         s->stats.grows++;
       }
       s->fr[s->nfr++] = fp;
     }
+  s->stats.barrier_ms += cb_now_ms() - t0;
+  if (st) return st;
   s->stats.friction_pairs = s->nfr;
   return CB_OK;
 }
@@ -472,7 +482,7 @@ int cb_contact_term_begin_step(cb_term *t, const double *x, double dt) {
 double cb_contact_energy(const cb_term *t, const double *x, double *grad) {
   ct *s = as_ct(t);
   if (find(s, x, NULL)) return NAN;
-  double E = 0, g[12], q[12], eps, d2;
+  double E = 0, g[12], q[12], eps, d2, t0 = cb_now_ms();
   int vid[4];
   s->stats.candidates = s->stats.active = s->stats.mollified = 0;
   s->stats.min_dist = INFINITY;
@@ -505,6 +515,7 @@ double cb_contact_energy(const cb_term *t, const double *x, double *grad) {
   }
   s->stats.sliding = sliding;
   s->stats.friction_energy = Ef;
+  s->stats.barrier_ms += cb_now_ms() - t0;
   return E + Ef;
 }
 
@@ -571,7 +582,7 @@ static int scatter(const ct *s, const int *vid, int na, const double *H, double 
 void cb_contact_hessian(const cb_term *t, const double *x, cb_projection proj, double *val) {
   ct *s = as_ct(t);
   if (find(s, x, NULL)) return;
-  double H[144], q[12], eps, d2;
+  double H[144], q[12], eps, d2, t0 = cb_now_ms();
   int vid[4];
   s->stats.decoupled = 0;
   for (int kind = 0; kind < K_COUNT; kind++)
@@ -587,6 +598,7 @@ void cb_contact_hessian(const cb_term *t, const double *x, cb_projection proj, d
     fric_eval(s, f, x, proj, NULL, H, NULL);
     s->stats.decoupled += scatter(s, f->vid, f->na, H, val);
   }
+  s->stats.barrier_ms += cb_now_ms() - t0;
 }
 
 /* Additive CCD (Li, Kaufman & Jiang 2021, Codim-IPC, Algorithm 1) of one
@@ -641,7 +653,7 @@ double cb_contact_max_step(const cb_term *t, const double *x, const double *x1) 
   s->stats.max_step = 1.0;
   if (!s->ccd) return 1.0;
   if (find(s, x, x1)) return 0.0;
-  double q0[12], q1[12], eps, toi = 1.0;
+  double q0[12], q1[12], eps, toi = 1.0, t0 = cb_now_ms();
   int vid[4];
   for (int kind = 0; kind < K_COUNT; kind++)
     for (long i = 0; i < count(s, kind); i++) {
@@ -663,6 +675,7 @@ double cb_contact_max_step(const cb_term *t, const double *x, const double *x1) 
       double tp = accd(s, q0, q1, ee, &s->stats.ccd_iters);
       if (tp < toi) toi = tp;
     }
+  s->stats.ccd_ms += cb_now_ms() - t0;
   s->stats.max_step = toi;
   return toi;
 }
@@ -994,7 +1007,7 @@ static int vpairs_ready(ct *s) {
 }
 
 /* The candidates at x within r_q, into the term's scratch (self, cross; every evaluation refills it). */
-static int vpairs_find(ct *s, const double *x) {
+static int vpairs_find_untimed(ct *s, const double *x) {
   cb_vpairs *q = s->vq;
   s->self.nvf = s->self.nee = s->cross.nvf = s->cross.nfv = s->cross.nee = 0;
   int st = cb_broadphase_update(q->bp, x, NULL);
@@ -1012,6 +1025,13 @@ static int vpairs_find(ct *s, const double *x) {
     if ((st = grow(&s->cross))) return st;
     s->stats.grows++;
   }
+  return st;
+}
+
+static int vpairs_find(ct *s, const double *x) {
+  double t0 = cb_now_ms();
+  int st = vpairs_find_untimed(s, x);
+  s->stats.broad_ms += cb_now_ms() - t0;
   return st;
 }
 

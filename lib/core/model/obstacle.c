@@ -149,6 +149,24 @@ static void move_free(cb_response *r) {
 const cb_response_type cb_response_obstacle_move = {
     .name = "obstacle-move", .size = sizeof(move_state), .init = move_init, .apply = move_apply, .free = move_free};
 
+static move_state *scene_move(const cb_scene *s) {
+  for (int k = 0; k < s->nresponses; k++)
+    if (s->responses[k].type == &cb_response_obstacle_move) return s->responses[k].state;
+  return NULL;
+}
+
+double cb_scene_obstacle_time(const cb_scene *s) {
+  const move_state *m = scene_move(s);
+  return m ? m->t : 0.0;
+}
+
+void cb_scene_obstacle_set_time(cb_scene *s, double t) {
+  move_state *m = scene_move(s);
+  if (!m) return;
+  m->t = t;
+  cb_obstacle_advance(m->ob, t);
+}
+
 const cb_obstacle *cb_scene_obstacle(const cb_scene *s) {
   for (int k = 0; k < s->nresponses; k++)
     if (s->responses[k].type == &cb_response_obstacle_move) return ((const move_state *)s->responses[k].state)->ob;
