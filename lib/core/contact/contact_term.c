@@ -263,9 +263,13 @@ static double pair_eval(const ct *s, const double *q, int ee, double eps, double
     *dist2 = NAN;
     return NAN;
   }
-  double sq = cb_distance_case_eval(&c, 4, q, g || H ? gs : NULL, H ? Hs : NULL);
+  /* the distance alone first: most candidates are out of reach, and their derivatives (the 12 x 12 pull-back of
+   * the distance's Hessian) would be thrown away; within reach, the same case evaluated again with them (the value
+   * is computed the same way with or without derivatives, distance.c) */
+  double sq = cb_distance_case_eval(&c, 4, q, NULL, NULL);
   *dist2 = sq;
   if (!(sq < s->reach * s->reach)) return 0.0;
+  if (g || H) sq = cb_distance_case_eval(&c, 4, q, gs, H ? Hs : NULL);
   double f1, f2, f = s->f(&s->p, sq, &f1, &f2);
   double e = 1, ge[12] = {0}, He[144];
   int moll = ee && s->mollify;
