@@ -14,7 +14,7 @@
 ##                     claim by claim, both verdicts and the deciding timings with their spreads; fails when a
 ##                     verdict differs outside the spreads
 ## make reference     keep the last full run as this CPU's reference (results/reference/<cpu>/, committed)
-## make bench         the benchmarks (results/bench_core.csv, results/bench_nonlinear.csv, results/bench_broadphase.csv);
+## make bench         the benchmarks (results/bench_core.csv, bench_nonlinear.csv, bench_broadphase.csv, bench_contact.csv);
 ##                     SCALE=1 adds the scaling run to 1024^2 (results/bench_scale.csv, ~15 min);
 ##                     make experiments SCALE=1 adds J4's 1024^2 size to linear_solvers (about 1.5 h more)
 ## make check         make test without the package step;  make check-quick  check-all's --quick part
@@ -442,6 +442,8 @@ bench: deps
 	$(PYTHON) scripts/readme-bench-nonlinear.py results docs/performance.md
 	$(EXP_ENV) $(BUILD)/bench_pd_matrix $(if $(filter 1,$(QUICK)),--quick) --out results/bench_pd_matrix.csv
 	$(EXP_ENV) $(BUILD)/bench_broadphase $(if $(filter 1,$(QUICK)),--quick) --out results/bench_broadphase.csv
+	$(EXP_ENV) $(BUILD)/bench_contact $(if $(filter 1,$(QUICK)),--quick) --out results/bench_contact.csv
+	$(PYTHON) scripts/readme-bench-contact.py results docs/performance.md
 ifeq ($(SCALE),1)
 	$(EXP_ENV) $(BUILD)/bench_scale --out results/bench_scale.csv
 	$(PYTHON) scripts/readme-bench-scale.py results docs/performance.md

@@ -59,9 +59,9 @@ typedef struct side {
   cb_integrator *it;
   /* per repeat: the mean per step of the repeat's steps */
   cb_timing wall, broad, ccd, barrier, solve, assemble, rest;
-  double iters, contacts, candidates, ccd_queries; /* sums over every timed step */
-  long nsteps;                                     /* timed steps */
-  int status;                                      /* worst status of the timed steps (fatal first) */
+  double iters, contacts, candidates; /* sums over every timed step */
+  long nsteps;                        /* timed steps */
+  int status;                         /* worst status of the timed steps (fatal first) */
 } side;
 
 enum { T_MAIN, T_STEPS };
@@ -78,11 +78,12 @@ static int load(cb_experiment *ex, int n, int none, cb_scene **s, cb_integrator 
   return st;
 }
 
-static long active_pairs(const cb_scene *s, long *candidates, long *ccd_queries) {
+/* The pairs within d-hat at the last energy evaluation (the step's end state), and the broad phase's candidates
+ * there. */
+static long active_pairs(const cb_scene *s, long *candidates) {
   const cb_term *t = cb_scene_contact_term(s);
   const cb_contact_stats *cs = t ? cb_contact_term_stats(t) : NULL;
   *candidates = cs ? cs->candidates : 0;
-  *ccd_queries = cs ? cs->ccd_queries : 0;
   return cs ? cs->active : 0;
 }
 
@@ -93,11 +94,10 @@ static double rest_ms(const cb_step_stats *st) {
 
 static void step_row(FILE *f, int n, int nv, const char *method, const char *kind, int rep, int step, double t,
                      const cb_scene *s, const cb_step_stats *st, int status) {
-  long cand, q, a = active_pairs(s, &cand, &q);
-  cb_csv_printf(f, "%d,%d,%s,%s,%d,%d,%.17g,%ld,%ld,%ld,%d,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%s\n", n, nv, method,
-                kind, rep, step, t, a, cand, q, st->newton_iters, st->wall_ms, st->contact_broad_ms,
-                st->contact_ccd_ms, st->contact_barrier_ms, solve_ms(st), st->assemble_ms, rest_ms(st),
-                cb_status_name(status));
+  long cand, a = active_pairs(s, &cand);
+  cb_csv_printf(f, "%d,%d,%s,%s,%d,%d,%.17g,%ld,%ld,%d,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%s\n", n, nv, method, kind,
+                rep, step, t, a, cand, st->newton_iters, st->wall_ms, st->contact_broad_ms, st->contact_ccd_ms,
+                st->contact_barrier_ms, solve_ms(st), st->assemble_ms, rest_ms(st), cb_status_name(status));
 }
 
 /* worse of two step statuses: a fatal one first, else a nonzero one */
@@ -118,7 +118,7 @@ static double repeat(side *k, const char *method, int n, int rep, const double *
     memcpy(x, xs, (size_t)nv3 * sizeof *x);
     memcpy(v, vs, (size_t)nv3 * sizeof *v);
     cb_scene_obstacle_set_time(k->s, ts);
-    double it = 0, ct = 0, cd = 0, cq = 0;
+    double it = 0, ct = 0, cd = 0;
     int status = CB_OK;
     for (int j = 0; j < steps; j++) {
       cb_step_stats st;
@@ -126,10 +126,10 @@ static double repeat(side *k, const char *method, int n, int rep, const double *
       status = worse(status, r);
       sum[0] += st.wall_ms, sum[1] += st.contact_broad_ms, sum[2] += st.contact_ccd_ms;
       sum[3] += st.contact_barrier_ms, sum[4] += solve_ms(&st), sum[5] += st.assemble_ms, sum[6] += rest_ms(&st);
-      long cand, q, a = active_pairs(k->s, &cand, &q);
-      it += st.newton_iters, ct += (double)a, cd += (double)cand, cq += (double)q;
-      if (rows && !again) step_row(rows, n, k->s->mesh.nv, method, "timed", rep, warm_steps + j + 1, ts + (j + 1) * dt,
-                                   k->s, &st, r);
+      long cand, a = active_pairs(k->s, &cand);
+      it += st.newton_iters, ct += (double)a, cd += (double)cand;
+      if (rows && !again)
+        step_row(rows, n, k->s->mesh.nv, method, "timed", rep, warm_steps + j + 1, ts + (j + 1) * dt, k->s, &st, r);
       if (cb_status_is_fatal(r)) break;
     }
     total = sum[0];
@@ -141,7 +141,7 @@ static double repeat(side *k, const char *method, int n, int rep, const double *
       cb_timing_add(&k->solve, sum[4] / steps);
       cb_timing_add(&k->assemble, sum[5] / steps);
       cb_timing_add(&k->rest, sum[6] / steps);
-      k->iters += it, k->contacts += ct, k->candidates += cd, k->ccd_queries += cq;
+      k->iters += it, k->contacts += ct, k->candidates += cd;
       k->nsteps += steps;
       k->status = worse(k->status, status);
       break;
@@ -177,9 +177,9 @@ int main(int argc, char **argv) {
   if (cb_experiment_table(&ex, NULL, extra,
                           "n,vertices,method,warmup_steps,steps_timed,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,"
                           "wall_repeats,broad_ms,ccd_ms,barrier_ms,solve_ms,rest_ms,assemble_ms,newton_iters,contacts,"
-                          "n_candidates,n_ccd_queries,ratio,min_ratio,max_ratio,target_ratio,status") != T_MAIN ||
+                          "n_candidates,ratio,min_ratio,max_ratio,target_ratio,status") != T_MAIN ||
       cb_experiment_table(&ex, "steps", NULL,
-                          "n,vertices,method,kind,rep,step,t_s,contacts,n_candidates,n_ccd_queries,newton_iters,"
+                          "n,vertices,method,kind,rep,step,t_s,contacts,n_candidates,newton_iters,"
                           "wall_ms,broad_ms,ccd_ms,barrier_ms,solve_ms,assemble_ms,rest_ms,status") != T_STEPS)
     return cb_experiment_end(&ex, CB_EIO), 2;
   FILE *fm = ex.table[T_MAIN].f, *fs = ex.table[T_STEPS].f;
@@ -241,10 +241,10 @@ int main(int argc, char **argv) {
       int status = cb_status_is_fatal(wst) ? wst : d->status;
       cb_csv_printf(fm, "%d,%d,%s,%d,%d,", n, nv, side_name[k], warm, steps);
       cb_timing_csv_repeats(fm, d->wall.n ? &d->wall : NULL);
-      cb_csv_printf(fm, ",%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.17g,%.17g,%.17g,%.17g,", cb_timing_median(&d->broad),
+      cb_csv_printf(fm, ",%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.17g,%.17g,%.17g,", cb_timing_median(&d->broad),
                     cb_timing_median(&d->ccd), cb_timing_median(&d->barrier), cb_timing_median(&d->solve),
                     cb_timing_median(&d->rest), cb_timing_median(&d->assemble), d->iters / ns, d->contacts / ns,
-                    d->candidates / ns, d->ccd_queries / ns);
+                    d->candidates / ns);
       if (k == IPC) cb_csv_printf(fm, "%.17g,%.17g,%.17g,%.17g", rmed, rlo, rhi, TARGET_RATIO);
       else fputs(",,,", fm);
       fprintf(fm, ",%s\n", cb_status_name(status));
