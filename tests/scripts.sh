@@ -3,7 +3,8 @@
 # scripts/merge-shards.sh (issue 21, defects 7, 8, 9; issue 23: the cell
 # lists), scripts/calibrate-hints (issue 23), scripts/timed-split.py and
 # scripts/lib/all-plan.py --times (issue 37), scripts/plots.sh and
-# scripts/movies.sh (defects 10, 17: paths are data, never code).
+# scripts/movies.sh (defects 10, 17: paths are data, never code), scripts/readme-peers.py and
+# scripts/readme-bench-contact.py (fixtures).
 # Run from the repository root (make check does: BUILD=<dir> tests/scripts.sh).
 set -u
 B=${BUILD:-build}
@@ -144,6 +145,33 @@ ok "readme-peers.py accepted CSVs of two builds" test $? -ne 0
 printf 'no markers\n' >"$P/README.md"
 ${PYTHON:-/usr/bin/python3} scripts/readme-peers.py "$P" "$P/README.md" 2>"$T/peers.err"
 ok "readme-peers.py accepted a README without the markers" test $? -ne 0
+
+# ---- readme-bench-contact.py: the contact block and its verdict on issue 34's 10x target, from a fixture ----
+C="$T/bcontact"
+mkdir -p "$C"
+chdr="n,vertices,method,warmup_steps,steps_timed,wall_ms,wall_min_ms,wall_max_ms,wall_each_ms,wall_repeats,broad_ms,ccd_ms,barrier_ms,solve_ms,rest_ms,assemble_ms,newton_iters,contacts,n_candidates,ratio,min_ratio,max_ratio,target_ratio,status"
+contact_csv() { # $1: the 64^2 ratio (empty: not measured)
+  { printf '# program: bench_contact\n# git_revision: abc123\n# quick: 0\n# blas_kernel: Haswell\n# blas_kernel_choice: chosen (fixture)\n%s\n' "$chdr"
+    echo "64,4096,ipc,8,3,400,380,420,400;380;420,3,40,20,100,200,40,150,40,500,30000,$1,3,5,10,ok"
+    echo "64,4096,none,8,3,80,78,90,80;78;90,3,0,0,0,70,10,5,17,0,0,,,,,ok"; } >"$C/bench_contact.csv"
+}
+contact_csv 5
+printf 'head\n<!-- bench-contact:begin -->\nold\n<!-- bench-contact:end -->\ntail\n' >"$C/perf.md"
+${PYTHON:-/usr/bin/python3} scripts/readme-bench-contact.py "$C" "$C/perf.md" 2>"$T/bc.err"
+ok "readme-bench-contact.py on a fixture failed: $(cat "$T/bc.err")" test $? -eq 0
+ok "readme-bench-contact.py: the ipc row (step, shares of it)" grep -q '| 64² (4096 vertices) | ipc | 400 ms (380–420) | 40 ms (10%) | 20 ms (5%) | 100 ms (25%) | 200 ms (50%) | 40 ms (10%) | 40 | 500 | 30000 | ok |' "$C/perf.md"
+ok "readme-bench-contact.py: 5x within 10x not reported met" grep -q '64²: ipc / none = 5× (3–5× over 3 paired repeats); target at 64²: at most 10×: \*\*met\*\*; the largest phase: linear solve (50% of the step)' "$C/perf.md"
+ok "readme-bench-contact.py: the old block or the text around it" sh -c "! grep -q '^old$' '$C/perf.md' && grep -q '^tail$' '$C/perf.md'"
+contact_csv 12
+${PYTHON:-/usr/bin/python3} scripts/readme-bench-contact.py "$C" "$C/perf.md" 2>"$T/bc.err"
+ok "readme-bench-contact.py: 12x passed the 10x target" grep -q 'at most 10×: \*\*not met\*\*' "$C/perf.md"
+contact_csv ""
+${PYTHON:-/usr/bin/python3} scripts/readme-bench-contact.py "$C" "$C/perf.md" 2>"$T/bc.err"
+ok "readme-bench-contact.py: a missing ratio is not 'not measured'" grep -q 'at most 10×: \*\*not measured\*\*' "$C/perf.md"
+printf 'no markers\n' >"$C/perf.md"
+${PYTHON:-/usr/bin/python3} scripts/readme-bench-contact.py "$C" "$C/perf.md" 2>"$T/bc.err"
+ok "readme-bench-contact.py accepted a page without the markers" test $? -ne 0
+ok "readme-bench-contact.py changed a page without the markers" grep -qx 'no markers' "$C/perf.md"
 
 # ---- timed-split.py: the split and the bound on a fixture (numbers worked by hand) ----
 # explicit_stability locks per cell: 60 s timed, 40 s untimed cells, 10 s outside cells (counted untimed);
