@@ -255,9 +255,12 @@ static double pair_eval(const ct *s, const double *q, int ee, double eps, double
     *dist2 = NAN;
     return NAN;
   }
-  double sq = cb_distance_case_eval(&c, 4, q, g || H ? gs : NULL, H ? Hs : NULL);
+  /* the distance first: a pair out of reach has energy 0 and zero derivatives, so they are computed only within
+   * it (vertex block descent's collected pairs are mostly out of reach: its query radius is >= 5 reach) */
+  double sq = cb_distance_case_eval(&c, 4, q, NULL, NULL);
   *dist2 = sq;
   if (!(sq < s->reach * s->reach)) return 0.0;
+  if (g || H) sq = cb_distance_case_eval(&c, 4, q, gs, H ? Hs : NULL);
   double f1, f2, f = s->f(&s->p, sq, &f1, &f2);
   double e = 1, ge[12] = {0}, He[144];
   int moll = ee && s->mollify;
@@ -1090,6 +1093,7 @@ double cb_contact_vertex_blocks(const cb_term *t, int v, const double *x, cb_pro
     for (int b = 0; b < 4; b++)
       for (int c = 0; c < 3; c++) qq[3 * b + c] = p->vid[b] >= 0 ? x[3 * p->vid[b] + c] : p->q0[3 * b + c];
     E += pair_eval(s, qq, p->ee, p->eps, g ? gp : NULL, H ? Hp : NULL, &d2);
+    if (!(d2 < s->reach * s->reach)) continue; /* out of reach: zero energy and blocks (a NaN distance: pair_eval's NaN) */
     if (g)
       for (int c = 0; c < 3; c++) g[c] += gp[3 * a + c];
     if (H) {
