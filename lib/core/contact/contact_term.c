@@ -901,7 +901,8 @@ int cb_contact_example(const cb_model *m, int i, const cb_term_type *type, cb_co
  * Collect at x_c: the pairs within the query radius r_q = max(reach / (1 - 2 gamma), move / gamma), gamma =
  * CB_CONTACT_VBD_GAMMA, move the largest move the caller expects of a vertex (so that a vertex with nothing within
  * r_q is not held back), found by two trees of their own (cloth and obstacle, boxes grown by r_q; the term's trees
- * keep the reach), each with its distance d_p at x_c, and each cloth vertex's list of the pairs it is in. The bound
+ * keep the reach), each with its distance d_p at x_c, and each cloth vertex's list of the pairs it is in that can
+ * come within reach, (1 - 2 gamma) d_p <= reach (the others only bound; they stay out of reach, below). The bound
  * of vertex v is
  *   b_v = gamma min(r_q, min over the collected pairs p that contain v of d_p).
  * Why it is conservative (the Offset Geometric Contact argument, Chen et al. 2025): let every vertex stay within
@@ -1060,16 +1061,19 @@ int cb_contact_vertex_collect(const cb_term *t, const double *x, double move) {
       pair_eval(s, p.q0, p.ee, p.eps, NULL, NULL, &d2);
       if (d2 >= r2) continue;
       double d = d2 > 0 ? sqrt(d2) : 0; /* a NaN distance (a degenerate primitive) freezes the pair's vertices */
+      for (int a = 0; a < 4; a++)
+        if (p.vid[a] >= 0) q->bound[p.vid[a]] = fmin(q->bound[p.vid[a]], CB_CONTACT_VBD_GAMMA * d);
+      /* a pair with (1 - 2 gamma) d_p above the reach stays out of reach while every vertex keeps its bound (the
+       * argument above): it lowers the bounds but has no energy, so vertex_blocks need not visit it (a large move
+       * widens r_q, and most pairs are then of this kind); the margin 1e-6 keeps rounding on the safe side */
+      if ((1.0 - 2.0 * CB_CONTACT_VBD_GAMMA) * d > s->reach * (1.0 + 1e-6)) continue;
       if (q->npairs == q->cap) {
         if ((st = vpairs_grow(q))) return st;
         s->stats.grows++;
       }
       q->pairs[q->npairs++] = p;
       for (int a = 0; a < 4; a++)
-        if (p.vid[a] >= 0) {
-          q->bound[p.vid[a]] = fmin(q->bound[p.vid[a]], CB_CONTACT_VBD_GAMMA * d);
-          q->ptr[p.vid[a] + 1]++;
-        }
+        if (p.vid[a] >= 0) q->ptr[p.vid[a] + 1]++;
     }
   for (int v = 0; v < s->nv; v++) q->ptr[v + 1] += q->ptr[v];
   for (long j = 0; j < q->npairs; j++) /* fill, then shift back: ptr[v] is v's start again after the loop */
