@@ -135,6 +135,10 @@ extern const cb_response_type cb_response_obstacle_move;
  * step, or NULL without one. Contact code reads its positions at any time
  * with cb_obstacle_positions. */
 const cb_obstacle *cb_scene_obstacle(const cb_scene *s);
+/* Sets the clock of the scene's obstacle (the time its move response has reached) to t, and the obstacle
+ * there: a step repeated from a saved state (x, v and this time) then sees the obstacle where the first run
+ * saw it, bit for bit. No-op without an obstacle. */
+void cb_scene_obstacle_rewind(cb_scene *s, double t);
 /* The scene's contact term (contact.method = penalty or ipc), or NULL. */
 const cb_term *cb_scene_contact_term(const cb_scene *s);
 /* What the last step's bridson filter did (contact.method = bridson), or NULL. */

@@ -141,6 +141,15 @@ static int move_apply(cb_response *r, const cb_scene *s, const double *x_start, 
   return CB_OK;
 }
 
+void cb_scene_obstacle_rewind(cb_scene *s, double t) {
+  for (int k = 0; k < s->nresponses; k++)
+    if (s->responses[k].type == &cb_response_obstacle_move) {
+      move_state *m = s->responses[k].state;
+      m->t = t;
+      cb_obstacle_advance(m->ob, t);
+    }
+}
+
 static void move_free(cb_response *r) {
   move_state *m = r->state;
   if (m) cb_obstacle_free(m->ob);
