@@ -222,19 +222,19 @@ enum { C3_NT = 2, C3_NM = 3, C3_MAXSC = 8 };
 static const char *const C3_METHOD[C3_NM] = {"newton", "lbfgs", "vbd"};
 
 typedef struct {
-  int row;                          /* the fastest row reaching the target, -1: not reached */
-  int iters;                        /* its iteration cap */
-  cb_claim_timing t;                /* its wall time */
+  int row;           /* the fastest row reaching the target, -1: not reached */
+  int iters;         /* its iteration cap */
+  cb_claim_timing t; /* its wall time */
 } c3_best;
 
 typedef struct {
   char name[64];
-  int rows[C3_NM];                  /* rows of each method */
-  int hit_rows[C3_NM];              /* of them with intersections > 0 */
-  double worst[C3_NM];              /* the largest intersection count */
-  int unchecked[C3_NM];             /* rows whose intersections were not counted */
-  double least_err[C3_NM];          /* the smallest step_error of a valid row (NaN: none) */
-  int least_iters[C3_NM];           /* its iteration cap */
+  int rows[C3_NM];         /* rows of each method */
+  int hit_rows[C3_NM];     /* of them with intersections > 0 */
+  double worst[C3_NM];     /* the largest intersection count */
+  int unchecked[C3_NM];    /* rows whose intersections were not counted */
+  double least_err[C3_NM]; /* the smallest step_error of a valid row (NaN: none) */
+  int least_iters[C3_NM];  /* its iteration cap */
   c3_best best[C3_NT][C3_NM];
 } c3_scene;
 
@@ -313,15 +313,18 @@ void cb_check_C3(const cb_table *csv, const char *dir, cb_claim_result *out) {
     vbd_hits += sc[s].hit_rows[2], vbd_unchecked += sc[s].unchecked[2];
   }
   if (nv == 0 || nn == 0) {
-    cb_claim_reason(out, "contact_c3.csv has no %s row.", nv == 0 && nn == 0 ? "VBD or Newton" : nv == 0 ? "VBD" : "Newton");
+    cb_claim_reason(out, "contact_c3.csv has no %s row.",
+                    nv == 0 && nn == 0 ? "VBD or Newton"
+                    : nv == 0          ? "VBD"
+                                       : "Newton");
     return;
   }
-  cb_claim_numbers(out,
-                   "One step from the same contact-rich state, error against IPC's converged step: each method's time "
-                   "to reach the error is its fastest ladder row with step_error at or below it (in brackets the "
-                   "fastest and slowest of the interleaved repeats; ratios paired repeat by repeat).\n\n"
-                   "| scene | error | Newton | L-BFGS | VBD | VBD / Newton | VBD / L-BFGS |\n"
-                   "|---|---|---|---|---|---|---|\n");
+  cb_claim_numbers(out, "One step from the same contact-rich state, error against IPC's converged step: each method's "
+                        "time "
+                        "to reach the error is its fastest ladder row with step_error at or below it (in brackets the "
+                        "fastest and slowest of the interleaved repeats; ratios paired repeat by repeat).\n\n"
+                        "| scene | error | Newton | L-BFGS | VBD | VBD / Newton | VBD / L-BFGS |\n"
+                        "|---|---|---|---|---|---|---|\n");
   int won = 0, lost = 0, undecided = 0;
   char wins[1024] = "", losses[2048] = "", undec[1024] = "";
   for (int s = 0; s < ns; s++)
@@ -363,8 +366,8 @@ void cb_check_C3(const cb_table *csv, const char *dir, cb_claim_result *out) {
                   side == -2 ? "Newton does not reach it" : rn);
       } else if (side == 0) {
         undecided++;
-        c3_append(undec, sizeof undec, "%s%s %.0e (VBD / Newton %s)", undec[0] ? "; " : "", sc[s].name,
-                  C3_TARGETS[i], rn);
+        c3_append(undec, sizeof undec, "%s%s %.0e (VBD / Newton %s)", undec[0] ? "; " : "", sc[s].name, C3_TARGETS[i],
+                  rn);
       } else {
         lost++;
         if (side == 2)
@@ -393,8 +396,7 @@ void cb_check_C3(const cb_table *csv, const char *dir, cb_claim_result *out) {
     if (won) cb_claim_reason(out, " (It is faster than Newton at: %s.)", wins);
     return;
   }
-  cb_claim_reason(out, "VBD's rows have no intersecting pair%s. ",
-                  vbd_unchecked ? " where counted" : "");
+  cb_claim_reason(out, "VBD's rows have no intersecting pair%s. ", vbd_unchecked ? " where counted" : "");
   if (vbd_unchecked) cb_claim_reason(out, "(%d VBD rows not counted: no finite result.) ", vbd_unchecked);
   if (won) cb_claim_reason(out, "VBD reaches the error faster than Newton at: %s. ", wins);
   if (lost) cb_claim_reason(out, "Not at: %s. ", losses);

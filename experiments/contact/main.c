@@ -24,15 +24,14 @@
  *     cannot be built (ipc refuses a start that intersects) is one row with its status.
  * C2  results/contact_c2.csv: the stick-slip threshold of ipc's friction on configs/slope.ini against tan theta
  *     (experiments/contact/c2.c).
- * C3  results/contact_c3.csv (the start of C3; no verdict yet): per scene, the state after W frames of
- *     ipc under Newton (the scene's config, dt = 1/30 s, no drop speed: W = 12, --quick 6, --smoke 2),
- *     then one step from it by each method that takes ipc, at a ladder of iteration counts (Newton:
- *     integrator.max_iters 1..32 with tol = tol_dx = 0; L-BFGS: integrator.iters 1..64), against IPC's
- *     converged step x* (Newton from the same state, at most 500 iterations, tol 1e-10): step_error =
- *     |x - x*| / |x* - x_W| (2-norms over all coordinates), the step's wall time, and the exact
- *     intersection count of its result. VBD refuses a term that bounds its steps (it has no contact
- *     yet): its row records status `refused` and the reason. Each trial warms up its own scene (the same
- *     config and steps, so the same start state, checked bit for bit against the reference's).
+ * C3  results/contact_c3.csv: per scene, the state after W frames of ipc under Newton (the scene's config,
+ *     dt = 1/30 s, no drop speed: W = 12, --quick 6, --smoke 2), then one step from it by each method, at a
+ *     ladder of iteration caps (Newton: integrator.max_iters 1..32 with tol = tol_dx = 0; L-BFGS: integrator.iters
+ *     1..64; VBD with its contact bounds: integrator.iters 1..1024, --quick 512), against IPC's converged step x*
+ *     (Newton from the same state, at most 500 iterations, tol 1e-10): step_error = |x - x*| / |x* - x_W| (2-norms
+ *     over all coordinates), the step's wall time (median of interleaved repeats, with min, max, each and their
+ *     count: c3_cell) and the exact intersection count of its result. One warm scene per scene; every step starts
+ *     from its saved state with the obstacle's clock rewound. Decided by cb_check_C3 (claims/check_contact.c).
  * --quick: mesh.n = 12, two dt and two speeds, 0.5 s. --smoke: mesh.n = 8, one dt and one speed, 3
  * steps, both scenes and every response (seconds). */
 #include <math.h>
@@ -422,7 +421,10 @@ static int c3_cell(long i, void *ctx, FILE *const *out) {
   double scale = st ? NAN : dist2(xref, xw, n3);
   if (st || cb_status_is_fatal(rst) || !(scale > 0)) {
     cb_csv_printf(f, "%s,%d,reference,newton,%d,%.17g,%d,,%.6f,,,,,,,,%s\n", label, nv, rs.newton_iters, dt, warm,
-                  rs.wall_ms, st ? cb_status_name(st) : !(scale > 0) ? "invalid" : cb_status_name(rst));
+                  rs.wall_ms,
+                  st             ? cb_status_name(st)
+                  : !(scale > 0) ? "invalid"
+                                 : cb_status_name(rst));
     goto done;
   }
   cb_csv_printf(f, "%s,%d,reference,newton,%d,%.17g,%d,0,%.6f,,,,,%.17g,%.17g,,%s\n", label, nv, rs.newton_iters, dt,

@@ -1097,7 +1097,8 @@ double cb_contact_vertex_blocks(const cb_term *t, int v, const double *x, cb_pro
     for (int b = 0; b < 4; b++)
       for (int c = 0; c < 3; c++) qq[3 * b + c] = p->vid[b] >= 0 ? x[3 * p->vid[b] + c] : p->q0[3 * b + c];
     E += pair_eval(s, qq, p->ee, p->eps, g ? gp : NULL, H ? Hp : NULL, &d2);
-    if (!(d2 < s->reach * s->reach)) continue; /* out of reach: zero energy and blocks (a NaN distance: pair_eval's NaN) */
+    if (!(d2 < s->reach * s->reach))
+      continue; /* out of reach: zero energy and blocks (a NaN distance: pair_eval's NaN) */
     if (g)
       for (int c = 0; c < 3; c++) g[c] += gp[3 * a + c];
     if (H) {
