@@ -371,8 +371,8 @@ void cb_check_C3(const cb_table *csv, const char *dir, cb_claim_result *out) {
       } else {
         lost++;
         if (side == 2)
-          c3_append(losses, sizeof losses, "%s%s %.0e: VBD does not reach it within %d rows (Newton: %s)",
-                    losses[0] ? "; " : "", sc[s].name, C3_TARGETS[i], sc[s].rows[2], cell[0]);
+          c3_append(losses, sizeof losses, "%s%s %.0e: VBD does not reach it within %d rows (%s; Newton: %s)",
+                    losses[0] ? "; " : "", sc[s].name, C3_TARGETS[i], sc[s].rows[2], cell[2], cell[0]);
         else
           c3_append(losses, sizeof losses, "%s%s %.0e: VBD %s against Newton's %s, VBD / Newton %s",
                     losses[0] ? "; " : "", sc[s].name, C3_TARGETS[i], cell[2], cell[0], rn);
