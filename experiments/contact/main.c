@@ -273,9 +273,10 @@ typedef struct {
   const char *key;    /* its iteration key */
   int max_iters[3];   /* the ladder 1, 2, 4, ... up to this: full run, --quick, --smoke */
 } c3_method;
-/* VBD's cap, from a measurement (docs/experiments/contact.md, C3; --quick, 12^2): its error falls by about 0.5 per
- * doubling of the sweeps on the sphere and 0.8 on the fold (0.018 and 0.11 at 512 sweeps, 1.3 s and 0.3 s), so 1e-3
- * would take some 10^4 sweeps there: the full run stops at 1024 (where the sphere crosses 1e-2), --quick at 512 */
+/* VBD's cap, from a measurement (docs/experiments/contact.md, C3): its error falls by about 0.5 per doubling of the
+ * sweeps on the sphere and 0.8 on the fold at 12^2 (--quick: 0.018 and 0.11 at 512 sweeps, 1.3-2.6 s and 0.3-0.9 s),
+ * slower at 16^2 (full run: 0.19 and 0.41 at 1024 sweeps, 9.8 s and 2.0 s), so 1e-3, even 1e-2, would take some 10^4
+ * sweeps or more: the full run stops at 1024, --quick at 512 (a longer ladder adds seconds, not a verdict) */
 static const c3_method C3_METHODS[] = {
     {"newton", "integrator.max_iters", {32, 32, 2}},
     {"lbfgs", "integrator.iters", {64, 64, 2}},
