@@ -11,6 +11,7 @@
  *   not run         no ipc frame was checked, or no penalty frame.
  * A cell is (scene, response, dt, speed); its status is the last row's. */
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -197,4 +198,216 @@ void cb_check_C2(const cb_table *csv, const char *dir, cb_claim_result *out) {
                                                     : vbd)
                          : "no row");
   out->verdict = within == n && n >= 2 ? CB_REPRODUCED : within > 0 ? CB_PARTLY : CB_NOT_REPRODUCED;
+}
+
+/* C3 from results/contact_c3.csv (experiments/contact/main.c, c3_cell): VBD with its per-vertex contact bounds
+ * (Chen et al. 2024) reaches a given accuracy on contact-rich scenes faster than IPC's Newton, free of intersections.
+ * Per scene, one step from the same warm state by each method at a ladder of iteration caps, each row with its
+ * step_error against IPC's converged step, its wall time (median of interleaved repeats, with the spread) and the
+ * exact intersection count of its result. For each scene and target error (C3_TARGETS), each method's time to reach
+ * it is its fastest row (least median) with step_error <= target and a valid status (ok or max_iters), or "not
+ * reached". A comparison (scene, target) is won by VBD when it reaches the target and Newton does not, or both do
+ * and the paired spread of VBD's time over Newton's lies below 1 (cb_claim_timing_side, the shared timing rule);
+ * lost when VBD does not reach it, or the spread lies above 1; undecided when the spread straddles 1.
+ *   not reproduced  some VBD row intersects, or VBD wins no comparison;
+ *   reproduced      VBD wins every comparison, on both claim scenes (the rotating sphere and the fold), and none of
+ *                   its rows intersects;
+ *   partly          VBD wins some comparisons and not others (the reason names which), or every comparison but a
+ *                   claim scene has no rows;
+ *   undecided       the verdict turns on a comparison whose spread straddles 1;
+ *   not run         no contact_c3.csv, a column missing, or no VBD or Newton row.
+ * L-BFGS with the barrier is reported beside (VBD's time over its own where both reach). */
+static const double C3_TARGETS[] = {1e-2, 1e-3};
+enum { C3_NT = 2, C3_NM = 3, C3_MAXSC = 8 };
+static const char *const C3_METHOD[C3_NM] = {"newton", "lbfgs", "vbd"};
+
+typedef struct {
+  int row;           /* the fastest row reaching the target, -1: not reached */
+  int iters;         /* its iteration cap */
+  cb_claim_timing t; /* its wall time */
+} c3_best;
+
+typedef struct {
+  char name[64];
+  int rows[C3_NM];         /* rows of each method */
+  int hit_rows[C3_NM];     /* of them with intersections > 0 */
+  double worst[C3_NM];     /* the largest intersection count */
+  int unchecked[C3_NM];    /* rows whose intersections were not counted */
+  double least_err[C3_NM]; /* the smallest step_error of a valid row (NaN: none) */
+  int least_iters[C3_NM];  /* its iteration cap */
+  c3_best best[C3_NT][C3_NM];
+} c3_scene;
+
+/* printf-style text appended to buf (cut at its end) */
+static void c3_append(char *buf, size_t cap, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static void c3_append(char *buf, size_t cap, const char *fmt, ...) {
+  size_t u = strlen(buf);
+  if (u + 1 >= cap) return;
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(buf + u, cap - u, fmt, ap);
+  va_end(ap);
+}
+
+static int c3_valid(const char *status) { return !strcmp(status, "ok") || !strcmp(status, "max_iters"); }
+
+void cb_check_C3(const cb_table *csv, const char *dir, cb_claim_result *out) {
+  (void)csv;
+  cb_table t;
+  if (cb_claim_side_table(dir, "contact", "c3", &t, out)) return;
+  static const char *const names[] = {"scene", "method", "iters", "step_error", "wall_ms", "intersections", "status"};
+  enum { NC = sizeof names / sizeof names[0] };
+  int c[NC];
+  if (cb_claim_columns(&t, names, c, NC, "contact_c3.csv", out)) {
+    cb_table_free(&t);
+    return;
+  }
+  static c3_scene sc[C3_MAXSC];
+  int ns = 0;
+  memset(sc, 0, sizeof sc);
+  for (int r = 0; r < t.nrows; r++) {
+    const char *scene = cb_table_str(&t, r, c[0]), *method = cb_table_str(&t, r, c[1]);
+    int m = -1;
+    for (int k = 0; k < C3_NM; k++)
+      if (!strcmp(method, C3_METHOD[k])) m = k;
+    if (m < 0) continue; /* the reference row */
+    int s = 0;
+    while (s < ns && strcmp(sc[s].name, scene)) s++;
+    if (s == ns) {
+      if (ns == C3_MAXSC) continue;
+      snprintf(sc[ns].name, sizeof sc[ns].name, "%s", scene);
+      for (int k = 0; k < C3_NM; k++) {
+        sc[ns].least_err[k] = NAN;
+        for (int i = 0; i < C3_NT; i++) sc[ns].best[i][k].row = -1;
+      }
+      ns++;
+    }
+    c3_scene *x = &sc[s];
+    x->rows[m]++;
+    double nint = cb_table_num(&t, r, c[5]);
+    if (isnan(nint)) x->unchecked[m]++;
+    else {
+      x->hit_rows[m] += nint > 0;
+      x->worst[m] = fmax(x->worst[m], nint);
+    }
+    double err = cb_table_num(&t, r, c[3]);
+    cb_claim_timing w = cb_claim_timing_at(&t, r, "wall_ms");
+    if (!c3_valid(cb_table_str(&t, r, c[6])) || !isfinite(err) || !isfinite(w.med)) continue;
+    if (!(x->least_err[m] <= err)) {
+      x->least_err[m] = err;
+      x->least_iters[m] = cb_table_int(&t, r, c[2]);
+    }
+    for (int i = 0; i < C3_NT; i++) {
+      c3_best *b = &x->best[i][m];
+      if (err <= C3_TARGETS[i] && (b->row < 0 || w.med < b->t.med)) {
+        b->row = r;
+        b->iters = cb_table_int(&t, r, c[2]);
+        b->t = w;
+      }
+    }
+  }
+  cb_table_free(&t);
+  int nv = 0, nn = 0, vbd_hits = 0, vbd_unchecked = 0;
+  for (int s = 0; s < ns; s++) {
+    nv += sc[s].rows[2], nn += sc[s].rows[0];
+    vbd_hits += sc[s].hit_rows[2], vbd_unchecked += sc[s].unchecked[2];
+  }
+  if (nv == 0 || nn == 0) {
+    cb_claim_reason(out, "contact_c3.csv has no %s row.",
+                    nv == 0 && nn == 0 ? "VBD or Newton"
+                    : nv == 0          ? "VBD"
+                                       : "Newton");
+    return;
+  }
+  cb_claim_numbers(out, "One step from the same contact-rich state, error against IPC's converged step: each method's "
+                        "time "
+                        "to reach the error is its fastest ladder row with step_error at or below it (in brackets the "
+                        "fastest and slowest of the interleaved repeats; ratios paired repeat by repeat).\n\n"
+                        "| scene | error | Newton | L-BFGS | VBD | VBD / Newton | VBD / L-BFGS |\n"
+                        "|---|---|---|---|---|---|---|\n");
+  int won = 0, lost = 0, undecided = 0;
+  char wins[1024] = "", losses[2048] = "", undec[1024] = "";
+  for (int s = 0; s < ns; s++)
+    for (int i = 0; i < C3_NT; i++) {
+      const c3_best *b = sc[s].best[i];
+      char cell[C3_NM][160], rn[160] = "-", rl[160] = "-";
+      for (int k = 0; k < C3_NM; k++) {
+        if (b[k].row < 0) {
+          if (!sc[s].rows[k]) snprintf(cell[k], sizeof cell[k], "no rows");
+          else if (isnan(sc[s].least_err[k])) snprintf(cell[k], sizeof cell[k], "not reached (no valid row)");
+          else
+            snprintf(cell[k], sizeof cell[k], "not reached (least %.2g, %d it.)", sc[s].least_err[k],
+                     sc[s].least_iters[k]);
+          continue;
+        }
+        char sp[128];
+        snprintf(cell[k], sizeof cell[k], "%d it.: %s", b[k].iters,
+                 cb_claim_spread(sp, sizeof sp, "%.3g", &b[k].t, " ms"));
+      }
+      /* the comparison with Newton: -1 VBD faster, +1 slower, 0 undecided, 2 VBD not reached, -2 Newton not */
+      int side;
+      cb_claim_timing ratio;
+      if (b[2].row < 0) side = 2;
+      else if (b[0].row < 0) side = -2;
+      else {
+        ratio = cb_claim_timing_ratio(&b[2].t, &b[0].t);
+        side = cb_claim_timing_side(&ratio, 1.0);
+        cb_claim_spread_long(rn, sizeof rn, "%.3g", &ratio, "x");
+      }
+      if (b[2].row >= 0 && b[1].row >= 0) {
+        cb_claim_timing rl_t = cb_claim_timing_ratio(&b[2].t, &b[1].t);
+        cb_claim_spread_long(rl, sizeof rl, "%.3g", &rl_t, "x");
+      }
+      cb_claim_numbers(out, "| %s | %.0e | %s | %s | %s | %s | %s |\n", sc[s].name, C3_TARGETS[i], cell[0], cell[1],
+                       cell[2], rn, rl);
+      if (side < 0) {
+        won++;
+        c3_append(wins, sizeof wins, "%s%s %.0e (%s)", wins[0] ? "; " : "", sc[s].name, C3_TARGETS[i],
+                  side == -2 ? "Newton does not reach it" : rn);
+      } else if (side == 0) {
+        undecided++;
+        c3_append(undec, sizeof undec, "%s%s %.0e (VBD / Newton %s)", undec[0] ? "; " : "", sc[s].name, C3_TARGETS[i],
+                  rn);
+      } else {
+        lost++;
+        if (side == 2)
+          c3_append(losses, sizeof losses, "%s%s %.0e: VBD does not reach it within %d rows (%s; Newton: %s)",
+                    losses[0] ? "; " : "", sc[s].name, C3_TARGETS[i], sc[s].rows[2], cell[2], cell[0]);
+        else
+          c3_append(losses, sizeof losses, "%s%s %.0e: VBD %s against Newton's %s, VBD / Newton %s",
+                    losses[0] ? "; " : "", sc[s].name, C3_TARGETS[i], cell[2], cell[0], rn);
+      }
+    }
+  cb_claim_numbers(out, "\n| scene | method | rows | rows intersecting | worst intersections | rows not counted |\n"
+                        "|---|---|---|---|---|---|\n");
+  for (int s = 0; s < ns; s++)
+    for (int k = 0; k < C3_NM; k++)
+      if (sc[s].rows[k])
+        cb_claim_numbers(out, "| %s | %s | %d | %d | %.0f | %d |\n", sc[s].name, C3_METHOD[k], sc[s].rows[k],
+                         sc[s].hit_rows[k], sc[s].worst[k], sc[s].unchecked[k]);
+  int have_sphere = 0, have_fold = 0;
+  for (int s = 0; s < ns; s++) {
+    have_sphere |= !strcmp(sc[s].name, "rotating_sphere") && sc[s].rows[2] > 0;
+    have_fold |= !strcmp(sc[s].name, "sheet_on_table") && sc[s].rows[2] > 0;
+  }
+  if (vbd_hits > 0) {
+    out->verdict = CB_NOT_REPRODUCED;
+    cb_claim_reason(out, "VBD intersects: %d of its rows end with intersecting triangle pairs.", vbd_hits);
+    if (won) cb_claim_reason(out, " (It is faster than Newton at: %s.)", wins);
+    return;
+  }
+  cb_claim_reason(out, "VBD's rows have no intersecting pair%s. ", vbd_unchecked ? " where counted" : "");
+  if (vbd_unchecked) cb_claim_reason(out, "(%d VBD rows not counted: no finite result.) ", vbd_unchecked);
+  if (won) cb_claim_reason(out, "VBD reaches the error faster than Newton at: %s. ", wins);
+  if (lost) cb_claim_reason(out, "Not at: %s. ", losses);
+  if (undecided) cb_claim_reason(out, "Undecided within the spread at: %s. ", undec);
+  if (!have_sphere || !have_fold)
+    cb_claim_reason(out, "The %s has no VBD rows. ", !have_sphere ? "rotating sphere" : "fold (sheet_on_table)");
+  /* the verdict with the undecided comparisons lost, and won: the same, or undecided */
+  cb_verdict v[2];
+  for (int e = 0; e < 2; e++) {
+    int w = won + (e ? undecided : 0), l = lost + (e ? 0 : undecided);
+    v[e] = w == 0 ? CB_NOT_REPRODUCED : l > 0 || !have_sphere || !have_fold ? CB_PARTLY : CB_REPRODUCED;
+  }
+  out->verdict = cb_claim_verdict_either(v[0], v[1]);
 }

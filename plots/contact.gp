@@ -53,3 +53,34 @@ if (system("test -f '".c2."' && echo y") eq "y") {
        for [th in TH] slides(th) using 1:($3 > 0 ? $3 : NaN) with lines dt 2 lc rgb pcolor(TH, th) notitle, \
        for [th in TH] thr(th) using 1:2 with lines lw 2 lc rgb pcolor(TH, th) notitle
 }
+
+# C3: error against time (results/contact_c3.csv): one step from the same contact-rich state, each method's ladder
+# of iteration caps as a line (log-log), step_error against IPC's converged step against the step's wall time
+# (median of the interleaved repeats, the bar from the fastest to the slowest repeat), colour per method, point
+# type per scene; the targets 1e-2 and 1e-3 dashed; a row whose result intersects circled.
+c3 = results.'/contact_c3.csv'
+if (system("test -f '".c3."' && echo y") eq "y") {
+  SC3 = distinct(c3, 'scene', 'v("method") != "reference" && v("step_error") != ""')
+  M3 = distinct(c3, 'method', 'v("method") != "reference" && v("step_error") != ""')
+  ladder(s, m) = "< awk -F, '".AWK_HEAD."v(\"scene\") == \"".s."\" && v(\"method\") == \"".m."\" && v(\"step_error\") + 0 > 0 && v(\"wall_ms\") != \"\" && (v(\"status\") == \"ok\" || v(\"status\") == \"max_iters\") { lo = v(\"wall_min_ms\"); hi = v(\"wall_max_ms\"); if (lo == \"\") lo = v(\"wall_ms\"); if (hi == \"\") hi = v(\"wall_ms\"); print v(\"wall_ms\"), v(\"step_error\"), lo, hi, v(\"intersections\") + 0 }' '".c3."' | sort -g"
+  set output out.'/contact_c3.'.ext
+  if (ext eq 'svg') { set terminal svg size 1000,720 dynamic enhanced font 'sans,12' background rgb 'white' } \
+  else { set terminal pngcairo size 1000,720 enhanced font 'sans,11' }
+  set datafile separator whitespace
+  unset logscale
+  unset xrange
+  unset yrange
+  set logscale xy
+  set xrange [*:*]
+  set yrange [*:*]
+  set format y '10^{%T}'
+  set xlabel 'wall time of the step (ms; median of the repeats, bar: fastest to slowest)'
+  set ylabel 'step error |x - x*| / |x* - x_{start}|'
+  set title 'C3: error against time for one step from a contact-rich state (x* = IPC Newton, converged)'
+  set key below horizontal maxrows 3 width 2
+  plot 1e-2 with lines dt 2 lc rgb 'gray40' title 'target 1e-2', \
+       1e-3 with lines dt 3 lc rgb 'gray40' title 'target 1e-3', \
+       for [s in SC3] for [m in M3] ladder(s, m) using 1:2:3:4 with xerrorbars lc rgb pcolor(M3, m) pt (wordpos(SC3, s) + 4) ps 0.9 notitle, \
+       for [s in SC3] for [m in M3] ladder(s, m) using 1:2 with lines lc rgb pcolor(M3, m) dt wordpos(SC3, s) title m.', '.s noenhanced, \
+       for [s in SC3] for [m in M3] ladder(s, m) using 1:($5 > 0 ? $2 : NaN) with points pt 6 ps 2.5 lw 2 lc rgb 'red' notitle
+}

@@ -173,6 +173,65 @@ Test(obstacle, moved_every_step_and_no_response) {
   cb_scene_free(s0);
 }
 
+/* cb_scene_obstacle_set_time: the obstacle back at an earlier time (the closed form of the motion test above), and the
+ * next step moves it on from there by dt, as the first time; a scene without an obstacle ignores it. */
+Test(obstacle, rewind_repeats_a_step) {
+  char obj[256], sfile[300];
+  snprintf(obj, sizeof obj, "%s", test_tmpfile(".obj", TETRA));
+  snprintf(sfile, sizeof sfile, "collider.file=%s", obj);
+  const char *with[] = {"mesh.n=5",
+                        "mesh.size=1",
+                        "collider.type=mesh",
+                        sfile,
+                        "collider.centre=0 -2 0",
+                        "collider.axis=0 0 1",
+                        "collider.angular_speed=3",
+                        "integrator.dt=0.01",
+                        NULL};
+  cb_scene *s = test_scene(with);
+  remove(obj);
+  const cb_obstacle *o = cb_scene_obstacle(s);
+  cr_assert_not_null(o);
+  cb_integrator *it = test_integrator(with, s, NULL, NULL);
+  int n = 3 * s->mesh.nv;
+  double *x = malloc(n * sizeof(double)), *v = malloc(n * sizeof(double));
+  double *xs = malloc(n * sizeof(double)), *vs = malloc(n * sizeof(double)), *x1 = malloc(n * sizeof(double));
+  double o1[12];
+  memcpy(x, s->x0, n * sizeof(double));
+  memcpy(v, s->v0, n * sizeof(double));
+  cb_step_stats st;
+  cr_assert_eq(cb_integrator_step(it, x, v, &st), CB_OK);
+  double t1 = o->t; /* the state after one step: saved */
+  memcpy(xs, x, n * sizeof(double));
+  memcpy(vs, v, n * sizeof(double));
+  cr_assert_eq(cb_integrator_step(it, x, v, &st), CB_OK);
+  memcpy(x1, x, n * sizeof(double));
+  memcpy(o1, o->x, sizeof o1);
+  for (int k = 0; k < 3; k++) cr_assert_eq(cb_integrator_step(it, x, v, &st), CB_OK);
+  cb_scene_obstacle_set_time(s, t1);
+  cr_assert_eq(o->t, t1);
+  for (int i = 0; i < 4; i++) { /* R(z, 3 t1) X_i + c, written out */
+    const double *X = o->mesh.x + 3 * i;
+    cr_assert(fabs(o->x[3 * i] - (cos(3 * t1) * X[0] - sin(3 * t1) * X[1])) < 1e-14);
+    cr_assert(fabs(o->x[3 * i + 1] - (-2 + sin(3 * t1) * X[0] + cos(3 * t1) * X[1])) < 1e-14);
+  }
+  /* the second step again from the saved state: the same cloth and the same obstacle, bit for bit */
+  memcpy(x, xs, n * sizeof(double));
+  memcpy(v, vs, n * sizeof(double));
+  cr_assert_eq(cb_integrator_step(it, x, v, &st), CB_OK);
+  cr_assert_arr_eq(x, x1, n * sizeof(double));
+  cr_assert_arr_eq(o->x, o1, sizeof o1);
+  cr_assert_eq(o->t, t1 + 0.01);
+  const char *without[] = {"mesh.n=5", "mesh.size=1", NULL};
+  cb_scene *s0 = test_scene(without);
+  cb_scene_obstacle_set_time(s0, 1.0); /* no obstacle: nothing to do */
+  cr_assert_null(cb_scene_obstacle(s0));
+  free(x), free(v), free(xs), free(vs), free(x1);
+  cb_integrator_free(it);
+  cb_scene_free(s);
+  cb_scene_free(s0);
+}
+
 Test(obstacle, shipped_meshes_load) {
   static const struct {
     const char *file;

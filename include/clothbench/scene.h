@@ -136,8 +136,8 @@ extern const cb_response_type cb_response_obstacle_move;
  * with cb_obstacle_positions. */
 const cb_obstacle *cb_scene_obstacle(const cb_scene *s);
 /* The time of the obstacle's motion, s (the sum of the steps taken; 0 without an obstacle), and its reset: the
- * obstacle moved to time t as if the steps so far had summed to t (a program that restarts steps from a saved cloth
- * state, bench_contact, restores the obstacle with it). */
+ * obstacle moved to time t as if the steps so far had summed to t, bit for bit (a program that repeats steps from a
+ * saved cloth state, bench_contact and contact's C3, restores the obstacle with it). No-op without an obstacle. */
 double cb_scene_obstacle_time(const cb_scene *s);
 void cb_scene_obstacle_set_time(cb_scene *s, double t);
 /* The scene's contact term (contact.method = penalty or ipc), or NULL. */

@@ -264,8 +264,9 @@ static double pair_eval(const ct *s, const double *q, int ee, double eps, double
     return NAN;
   }
   /* the distance alone first: most candidates are out of reach, and their derivatives (the 12 x 12 pull-back of
-   * the distance's Hessian) would be thrown away; within reach, the same case evaluated again with them (the value
-   * is computed the same way with or without derivatives, distance.c) */
+   * the distance's Hessian) would be thrown away (vertex block descent's collected pairs are mostly out of reach: its
+   * query radius is >= 5 reach); within reach, the same case evaluated again with them (the value is computed the same
+   * way with or without derivatives, distance.c) */
   double sq = cb_distance_case_eval(&c, 4, q, NULL, NULL);
   *dist2 = sq;
   if (!(sq < s->reach * s->reach)) return 0.0;
@@ -915,7 +916,8 @@ int cb_contact_example(const cb_model *m, int i, const cb_term_type *type, cb_co
  * Collect at x_c: the pairs within the query radius r_q = max(reach / (1 - 2 gamma), move / gamma), gamma =
  * CB_CONTACT_VBD_GAMMA, move the largest move the caller expects of a vertex (so that a vertex with nothing within
  * r_q is not held back), found by two trees of their own (cloth and obstacle, boxes grown by r_q; the term's trees
- * keep the reach), each with its distance d_p at x_c, and each cloth vertex's list of the pairs it is in. The bound
+ * keep the reach), each with its distance d_p at x_c, and each cloth vertex's list of the pairs it is in that can
+ * come within reach, (1 - 2 gamma) d_p <= reach (the others only bound; they stay out of reach, below). The bound
  * of vertex v is
  *   b_v = gamma min(r_q, min over the collected pairs p that contain v of d_p).
  * Why it is conservative (the Offset Geometric Contact argument, Chen et al. 2025): let every vertex stay within
@@ -1081,16 +1083,19 @@ int cb_contact_vertex_collect(const cb_term *t, const double *x, double move) {
       pair_eval(s, p.q0, p.ee, p.eps, NULL, NULL, &d2);
       if (d2 >= r2) continue;
       double d = d2 > 0 ? sqrt(d2) : 0; /* a NaN distance (a degenerate primitive) freezes the pair's vertices */
+      for (int a = 0; a < 4; a++)
+        if (p.vid[a] >= 0) q->bound[p.vid[a]] = fmin(q->bound[p.vid[a]], CB_CONTACT_VBD_GAMMA * d);
+      /* a pair with (1 - 2 gamma) d_p above the reach stays out of reach while every vertex keeps its bound (the
+       * argument above): it lowers the bounds but has no energy, so vertex_blocks need not visit it (a large move
+       * widens r_q, and most pairs are then of this kind); the margin 1e-6 keeps rounding on the safe side */
+      if ((1.0 - 2.0 * CB_CONTACT_VBD_GAMMA) * d > s->reach * (1.0 + 1e-6)) continue;
       if (q->npairs == q->cap) {
         if ((st = vpairs_grow(q))) return st;
         s->stats.grows++;
       }
       q->pairs[q->npairs++] = p;
       for (int a = 0; a < 4; a++)
-        if (p.vid[a] >= 0) {
-          q->bound[p.vid[a]] = fmin(q->bound[p.vid[a]], CB_CONTACT_VBD_GAMMA * d);
-          q->ptr[p.vid[a] + 1]++;
-        }
+        if (p.vid[a] >= 0) q->ptr[p.vid[a] + 1]++;
     }
   for (int v = 0; v < s->nv; v++) q->ptr[v + 1] += q->ptr[v];
   for (long j = 0; j < q->npairs; j++) /* fill, then shift back: ptr[v] is v's start again after the loop */
@@ -1114,6 +1119,8 @@ double cb_contact_vertex_blocks(const cb_term *t, int v, const double *x, cb_pro
     for (int b = 0; b < 4; b++)
       for (int c = 0; c < 3; c++) qq[3 * b + c] = p->vid[b] >= 0 ? x[3 * p->vid[b] + c] : p->q0[3 * b + c];
     E += pair_eval(s, qq, p->ee, p->eps, g ? gp : NULL, H ? Hp : NULL, &d2);
+    if (!(d2 < s->reach * s->reach))
+      continue; /* out of reach: zero energy and blocks (a NaN distance: pair_eval's NaN) */
     if (g)
       for (int c = 0; c < 3; c++) g[c] += gp[3 * a + c];
     if (H) {

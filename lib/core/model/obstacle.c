@@ -168,7 +168,6 @@ void cb_scene_obstacle_set_time(cb_scene *s, double t) {
 }
 
 const cb_obstacle *cb_scene_obstacle(const cb_scene *s) {
-  for (int k = 0; k < s->nresponses; k++)
-    if (s->responses[k].type == &cb_response_obstacle_move) return ((const move_state *)s->responses[k].state)->ob;
-  return NULL;
+  const move_state *m = scene_move(s);
+  return m ? m->ob : NULL;
 }
