@@ -57,7 +57,10 @@ static const char *const ABOUT =
     "Runs every registered contact response (contact.method) on the sheet falling onto a table and the sheet\n"
     "dropped on a rotating sphere, over a sweep of dt and drop speed, and counts at every frame, exactly, the\n"
     "intersecting non-adjacent triangle pairs (cloth-cloth and cloth-obstacle), the smallest separation and\n"
-    "the contact count: C1 (IPC stays intersection-free where a penalty without CCD tunnels).";
+    "the contact count: C1 (IPC stays intersection-free where a penalty without CCD tunnels). C2: the stick-slip\n"
+    "threshold of IPC's friction on a slope against tan theta. C3: one step from a contact-rich state by VBD with\n"
+    "contact, IPC's Newton and L-BFGS at a ladder of iteration counts, error against IPC's converged step against\n"
+    "wall time (timed), every result checked for intersections.";
 
 /* Scenes. Role "c1": C1's sweep. level: 2 in --smoke too, 1 in --quick too, 0 full run only. */
 typedef struct {
