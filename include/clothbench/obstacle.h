@@ -55,4 +55,18 @@ void cb_obstacle_velocities(const cb_obstacle *o, double t, double *v);
 /* Moves o to time t: o->x = positions at t, o->t = t. */
 void cb_obstacle_advance(cb_obstacle *o, double t);
 
+/* The `mesh` collider's post-step response (obstacle.c; its params a
+ * cb_obstacle_params): it owns the obstacle and moves it to the run's time
+ * after every step. cb_obstacle_of is its obstacle at the time of the last
+ * step, or NULL if r is another response. */
+struct cb_response;
+struct cb_response_type;
+extern const struct cb_response_type cb_response_obstacle_move;
+const cb_obstacle *cb_obstacle_of(const struct cb_response *r);
+/* The time of the obstacle's motion, s, if r is that response (else NaN); and
+ * its reset: the obstacle moved to time t (returns 1, or 0 if r is another
+ * response). The scene's cb_scene_obstacle_time / _set_time use them. */
+double cb_obstacle_time_of(const struct cb_response *r);
+int cb_obstacle_set_time_of(struct cb_response *r, double t);
+
 #endif

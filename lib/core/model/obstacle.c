@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/scene.h>
+#include <clothbench/response.h>
 #include <clothbench/status.h>
 #include "vec.h"
 
@@ -126,14 +126,15 @@ typedef struct {
   double t; /* s, time reached */
 } move_state;
 
-static int move_init(cb_response *r, const cb_scene *s, const void *params) {
+static int move_init(cb_response *r, const cb_response_view *s, const void *params) {
   (void)s;
   if (!params) return cb_fail("collider: the mesh response needs its obstacle's parameters");
   move_state *m = r->state;
   return cb_obstacle_alloc(params, &m->ob);
 }
 
-static int move_apply(cb_response *r, const cb_scene *s, const double *x_start, double *x, double *v, double dt) {
+static int move_apply(cb_response *r, const cb_response_view *s, const double *x_start, double *x, double *v,
+                      double dt) {
   (void)s, (void)x_start, (void)x, (void)v;
   move_state *m = r->state;
   m->t += dt;
@@ -149,26 +150,18 @@ static void move_free(cb_response *r) {
 const cb_response_type cb_response_obstacle_move = {
     .name = "obstacle-move", .size = sizeof(move_state), .init = move_init, .apply = move_apply, .free = move_free};
 
-static move_state *scene_move(const cb_scene *s) {
-  for (int k = 0; k < s->nresponses; k++)
-    if (s->responses[k].type == &cb_response_obstacle_move) return s->responses[k].state;
-  return NULL;
+const cb_obstacle *cb_obstacle_of(const cb_response *r) {
+  return r->type == &cb_response_obstacle_move ? ((const move_state *)r->state)->ob : NULL;
 }
 
-double cb_scene_obstacle_time(const cb_scene *s) {
-  const move_state *m = scene_move(s);
-  return m ? m->t : 0.0;
+double cb_obstacle_time_of(const cb_response *r) {
+  return r->type == &cb_response_obstacle_move ? ((const move_state *)r->state)->t : NAN;
 }
 
-void cb_scene_obstacle_set_time(cb_scene *s, double t) {
-  move_state *m = scene_move(s);
-  if (!m) return;
+int cb_obstacle_set_time_of(cb_response *r, double t) {
+  if (r->type != &cb_response_obstacle_move) return 0;
+  move_state *m = r->state;
   m->t = t;
   cb_obstacle_advance(m->ob, t);
-}
-
-const cb_obstacle *cb_scene_obstacle(const cb_scene *s) {
-  for (int k = 0; k < s->nresponses; k++)
-    if (s->responses[k].type == &cb_response_obstacle_move) return ((const move_state *)s->responses[k].state)->ob;
-  return NULL;
+  return 1;
 }
