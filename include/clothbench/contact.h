@@ -34,7 +34,7 @@
 #include "energy.h"
 #include "obstacle.h"
 
-struct cb_param_key;     /* integrator.h */
+struct cb_param_key;     /* params.h */
 struct cb_response;      /* response.h */
 struct cb_response_type; /* response.h */
 

@@ -27,6 +27,7 @@
 
 #include "energy.h"
 #include "objective.h"
+#include "params.h"
 #include "scene.h"
 #include "solver.h"
 
@@ -116,7 +117,7 @@ typedef struct cb_nljacobi_params {
   int diagonal;                 /* D: 0 lab (m/dt^2 + 4k), 1 valence (m/dt^2 + k n_i), 2 exact (3x3 blocks of
                                    M/dt^2 + H). Default 0 (lab) */
   double alpha;                 /* step weight x <- x - alpha D^-1 g (Wang's gamma). Default 1 */
-  double rho;                   /* Chebyshev rho in [0, 1), or CB_PARAM_AUTO. Default 0.995 (chebyshev-nl),
+  double rho;                   /* Chebyshev rho in [0, 1), or CB_AUTO. Default 0.995 (chebyshev-nl),
                                    0 and not a key (jacobi-nl) */
   int rho_iters;                /* plain iterations of the `auto` estimate, run once. Default 64 */
   cb_definiteness definiteness; /* Hessian policy of the exact diagonal. Default drop */
@@ -127,7 +128,7 @@ extern const char *const cb_nljacobi_diagonal_names[]; /* "lab", "valence", "exa
 /* Projective dynamics' parameters (pd, pd-chebyshev; integrator_pd.c). */
 typedef struct cb_pd_params {
   int iters;     /* local/global iterations per step (Liu et al. 2013: 10). Default 32 */
-  double rho;    /* pd-chebyshev's rho in [0, 1), or CB_PARAM_AUTO. Default 0.995 (0 for pd) */
+  double rho;    /* pd-chebyshev's rho in [0, 1), or CB_AUTO. Default 0.995 (0 for pd) */
   int rho_iters; /* plain iterations of the `auto` estimate, run once. Default 64 */
   int matrix;    /* CB_PD_MATRIX_AUTO (the n x n P where it can) or CB_PD_MATRIX_BLOCK. Default auto */
 } cb_pd_params;
@@ -163,7 +164,7 @@ typedef struct cb_vbd_params {
   int iters;       /* sweeps over every vertex colour per step. Default 32 */
   int init;        /* initial guess: 0 inertia, 1 previous, 2 adaptive (cb_vbd_init_names). Default 2 */
   int line_search; /* backtracking on each vertex's own objective. Default 0 (the paper's update) */
-  double rho;      /* vbd-chebyshev's rho in [0, 1), or CB_PARAM_AUTO. Default 0.995 (0 for vbd) */
+  double rho;      /* vbd-chebyshev's rho in [0, 1), or CB_AUTO. Default 0.995 (0 for vbd) */
   int rho_iters;   /* plain sweeps of the `auto` estimate, run once. Default 64 */
   int collect;     /* sweeps between two collects of a term's moving elements (contact pairs) and their vertices'
                       displacement bounds (energy.h vertex_collect), >= 1. Default 1 */
@@ -180,32 +181,7 @@ cb_shape_matching_params cb_shape_matching_params_default(void);
 
 typedef struct cb_integrator cb_integrator;
 
-/* One of a type's parameters as a config key, `integrator.<name>`. The
- * core only describes it; the config layer (lib/config/) parses, checks,
- * documents (`simulate --help-config`) and binds it into the type's
- * parameter struct, so a type's keys live in the type's file. Two types may
- * share a key by declaring the same name with the same definition. */
-typedef enum {
-  CB_PARAM_INT,
-  CB_PARAM_DOUBLE,
-  CB_PARAM_BOOL,
-  CB_PARAM_CHOICE,
-  CB_PARAM_DOUBLE_AUTO /* a double, or `auto`, stored as CB_PARAM_AUTO */
-} cb_param_kind;
-#define CB_PARAM_AUTO (-1.0) /* the value of a CB_PARAM_DOUBLE_AUTO key set to `auto` (its range must exclude it) */
-typedef struct cb_param_key {
-  const char *name; /* key in [integrator]; NULL ends a type's list */
-  cb_param_kind kind;
-  size_t offset;   /* of the field in the params struct: int (INT, BOOL, CHOICE; an enum is
-                      int-sized) or double (DOUBLE, DOUBLE_AUTO) */
-  const char *def; /* default, as a config writes it; must give the type's params_default */
-  const char *unit;
-  double lo, hi;              /* accepted range of INT and DOUBLE values (inclusive) ... */
-  int lo_open;                /* ... but lo excluded when 1 */
-  const char *const *choices; /* CHOICE: the names, NULL-terminated */
-  const int *values;          /* CHOICE: the field's value for each name; NULL = the name's index */
-  const char *doc;
-} cb_param_key;
+/* A type's config keys, `integrator.<name>`, are cb_param_key tables (params.h). */
 
 /* What a type needs from the wrapper. */
 enum {

@@ -9,6 +9,7 @@
 #ifndef CB_SOLVER_H
 #define CB_SOLVER_H
 
+#include "params.h"
 #include "sparse.h"
 
 /* Optional per-iteration callback of the iterative solvers: called after the
@@ -21,8 +22,10 @@ typedef void (*cb_solver_monitor)(void *ctx, int k, double rel_residual, const d
 typedef struct cb_solver_params {
   double tol;          /* relative residual |b - Ax| / |b| to stop at (iterative). Default 1e-8 */
   int max_iters;       /* iterations at most (iterative). Default 1000 */
-  double alpha;        /* Jacobi weight; 0 = auto, 2/(lambda_min + lambda_max) of D^-1 A (Chebyshev only). Default 1 */
-  double rho;          /* Chebyshev spectral radius; 0 = estimate at run time. Default 0 */
+  double alpha;        /* Jacobi and Chebyshev weight, > 0, or CB_AUTO: alpha* = 2/(lambda_min + lambda_max) of
+                          D^-1 A, estimated at run time. Default CB_AUTO (as solver.alpha's; until issue 32 the C
+                          default was 1, vanilla Jacobi, which diverges where lambda_max(D^-1 A) >= 2) */
+  double rho;          /* Chebyshev spectral radius in (0, 1), or CB_AUTO: estimated at run time. Default CB_AUTO */
   int history_cap;     /* residuals kept per solve (0 = none). Default 0 */
   int ordering;        /* CHOLMOD: CB_ORDER_*. Default CB_ORDER_NESDIS (bench_core_cholmod.csv) */
   int nrelax[3];       /* CHOLMOD supernode relaxation (Common->nrelax). Default {16, 64, 128} (CHOLMOD's: 4, 16, 48) */

@@ -46,8 +46,8 @@ const char *cb_order_name(int ordering) {
 cb_solver_params cb_solver_params_default(void) {
   cb_solver_params p = {.tol = 1e-8,
                         .max_iters = 1000,
-                        .alpha = 1.0,
-                        .rho = 0.0,
+                        .alpha = CB_AUTO,
+                        .rho = CB_AUTO,
                         .history_cap = 0,
                         .ordering = CB_ORDER_NESDIS,
                         .nrelax = {16, 64, 128},
