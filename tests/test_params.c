@@ -305,3 +305,90 @@ Test(params, auto_is_one_value) {
   cr_expect_eq(cb_solver_alloc("chebyshev", &p, 1, &s), CB_EINVAL, "chebyshev accepted rho = 0");
   cb_solver_free(s);
 }
+
+/* ---- the cookie ------------------------------------------------------------------ */
+
+/* A struct that skipped its _default() (zeroed, or the garbage of the
+ * stack) is refused by its consumer with a message naming the function to
+ * start from; the same struct from its _default() is accepted. */
+Test(params, a_struct_without_its_defaults_is_refused) {
+  unsigned char fills[] = {0x00, 0x5a, 0xff};
+  for (size_t f = 0; f < sizeof fills; f++) {
+    /* the scene */
+    cb_scene_def d;
+    memset(&d, fills[f], sizeof d);
+    cb_scene *s = NULL;
+    cr_expect_eq(cb_scene_build(&d, &s, NULL), CB_EINVAL, "fill %#x: a scene from no defaults was built", fills[f]);
+    cr_expect_null(s);
+    cr_expect(strstr(cb_error_message(), "cb_scene_def_default()") != NULL, "%s", cb_error_message());
+    d = cb_scene_def_default();
+    memset(&d.contact_params, fills[f], sizeof d.contact_params);
+    cr_expect_eq(cb_scene_build(&d, &s, NULL), CB_EINVAL);
+    cr_expect(strstr(cb_error_message(), "cb_contact_params_default()") != NULL, "%s", cb_error_message());
+    cb_contact_params cp;
+    memset(&cp, fills[f], sizeof cp);
+    cr_expect_eq(cb_contact_params_check("penalty", &cp), CB_EINVAL);
+
+    /* the solver */
+    cb_solver_params sp;
+    memset(&sp, fills[f], sizeof sp);
+    cb_solver *sv = NULL;
+    cr_expect_eq(cb_solver_alloc("cg", &sp, 3, &sv), CB_EINVAL);
+    cr_expect_null(sv);
+    cr_expect(strstr(cb_error_message(), "cb_solver_params_default()") != NULL, "%s", cb_error_message());
+  }
+  /* the same structs from their defaults are accepted */
+  cb_scene_def d = cb_scene_def_default();
+  d.grid.n = d.grid.m = 4;
+  cb_scene *s = NULL;
+  cr_assert_eq(cb_scene_build(&d, &s, NULL), CB_OK, "%s", cb_error_message());
+  cb_contact_params cp = cb_contact_params_default();
+  cr_expect_eq(cb_contact_params_check("penalty", &cp), CB_OK, "%s", cb_error_message());
+  cb_solver_params sp = cb_solver_params_default();
+  cb_solver *sv = NULL;
+  cr_expect_eq(cb_solver_alloc("cg", &sp, 3, &sv), CB_OK, "%s", cb_error_message());
+  cb_solver_free(sv);
+
+  /* the integrator: its generic parameters, its type's, and the solver's it is given */
+  cb_integrator_params ip = cb_integrator_params_default();
+  cb_newton_params np = cb_newton_params_default();
+  cb_integrator *it = NULL;
+  cr_assert_eq(cb_integrator_alloc("newton", s, &ip, &np, "cholmod", &sp, &it), CB_OK, "%s", cb_error_message());
+  cb_integrator_free(it);
+  it = NULL;
+  cb_integrator_params zip;
+  memset(&zip, 0, sizeof zip);
+  zip.dt = ip.dt;
+  zip.damping = ip.damping; /* every field right but the cookie: still refused */
+  cr_expect_eq(cb_integrator_alloc("newton", s, &zip, &np, "cholmod", &sp, &it), CB_EINVAL);
+  cr_expect(strstr(cb_error_message(), "cb_integrator_params_default()") != NULL, "%s", cb_error_message());
+  cr_expect_null(it);
+  cb_newton_params znp;
+  memset(&znp, 0, sizeof znp);
+  cr_expect_eq(cb_integrator_alloc("newton", s, &ip, &znp, "cholmod", &sp, &it), CB_EINVAL);
+  cr_expect(strstr(cb_error_message(), "newton:") != NULL, "%s", cb_error_message());
+  cr_expect_null(it);
+  cb_solver_params zsp;
+  memset(&zsp, 0, sizeof zsp);
+  cr_expect_eq(cb_integrator_alloc("newton", s, &ip, &np, "cholmod", &zsp, &it), CB_EINVAL);
+  cr_expect_null(it);
+  /* a NULL type or solver struct still means the defaults */
+  cr_expect_eq(cb_integrator_alloc("newton", s, &ip, NULL, "cholmod", NULL, &it), CB_OK, "%s", cb_error_message());
+  cb_integrator_free(it);
+  cb_scene_free(s);
+}
+
+/* Every registered type's params_default carries the cookie (its first field), so the
+ * wrapper accepts a copy of it. */
+Test(params, every_types_defaults_carry_the_cookie) {
+  for (int i = 0; cb_integrator_types[i]; i++) {
+    const cb_integrator_type *t = cb_integrator_types[i];
+    if (!t->params_size) continue;
+    cr_assert_not_null(t->params_default, "%s", t->name);
+    cr_expect_eq(*(const int *)t->params_default, CB_PARAMS_COOKIE, "%s: params_default has no cookie", t->name);
+  }
+  cr_expect_eq(cb_scene_def_default().cookie, CB_PARAMS_COOKIE);
+  cr_expect_eq(cb_contact_params_default().cookie, CB_PARAMS_COOKIE);
+  cr_expect_eq(cb_integrator_params_default().cookie, CB_PARAMS_COOKIE);
+  cr_expect_eq(cb_solver_params_default().cookie, CB_PARAMS_COOKIE);
+}

@@ -33,6 +33,7 @@
 
 #include "energy.h"
 #include "obstacle.h"
+#include "params.h"
 
 struct cb_param_key;     /* params.h */
 struct cb_response;      /* response.h */
@@ -40,6 +41,8 @@ struct cb_response_type; /* response.h */
 
 /* Every response's parameters (each type reads the fields its keys name). */
 typedef struct cb_contact_params {
+  int cookie; /* CB_PARAMS_COOKIE, set by cb_contact_params_default() and checked by cb_contact_params_check (params.h)
+               */
   double thickness;  /* m, > 0: the penalty's thickness h, IPC's activation distance dhat. Default 1e-3 */
   double friction;   /* Coulomb mu >= 0; above 0 only for a response with friction (ipc, bridson). Default 0 */
   double stiffness;  /* penalty k, and bridson's repulsion spring, N/m, > 0. Default 1e4 */

@@ -87,7 +87,9 @@ typedef void (*cb_newton_hook)(void *ctx, int event, const cb_newton_event *ev);
 
 /* Parameters every integrator reads. */
 typedef struct cb_integrator_params {
-  double dt;           /* time step, s. Default 1/30 */
+  int cookie; /* CB_PARAMS_COOKIE, set by cb_integrator_params_default() and checked by cb_integrator_alloc (params.h)
+               */
+  double dt;  /* time step, s. Default 1/30 */
   double damping;      /* velocity damping: v <- damping v on the free vertices at the start of
                           every step, before the predictor (the GAMES103 lab's 0.99), for every
                           type; in [0, 1], 1 = none. Default 1 */
@@ -99,9 +101,10 @@ cb_integrator_params cb_integrator_params_default(void);
 
 /* Newton's own parameters (the newton type's params_size). */
 typedef struct cb_newton_params {
-  int max_iters;                /* linear solves per step at most; 1 = Baraff-Witkin. Default 50 */
-  double tol;                   /* relative |grad F| to stop at. Default 1e-8 */
-  double tol_dx;                /* max |dx| to stop at, m; 0 = off. Default 0 */
+  int cookie;    /* CB_PARAMS_COOKIE, set by cb_newton_params_default() and checked by cb_integrator_alloc (params.h) */
+  int max_iters; /* linear solves per step at most; 1 = Baraff-Witkin. Default 50 */
+  double tol;    /* relative |grad F| to stop at. Default 1e-8 */
+  double tol_dx; /* max |dx| to stop at, m; 0 = off. Default 0 */
   int init_predict;             /* initial guess: 1 = x0 + dt v0, 0 = x0. Default 1 */
   int line_search;              /* backtracking Armijo line search. Default 0 */
   cb_definiteness definiteness; /* compressed-spring treatment; must match the scene's springs
@@ -113,7 +116,8 @@ cb_newton_params cb_newton_params_default(void);
 /* The nonlinear Jacobi iterations' parameters (jacobi-nl, chebyshev-nl;
  * integrator_nljacobi.c has the formulas). */
 typedef struct cb_nljacobi_params {
-  int iters;                    /* iterations per step (the lab: 32). Default 32 */
+  int cookie; /* CB_PARAMS_COOKIE, set by cb_nljacobi_params_default() and checked by cb_integrator_alloc (params.h) */
+  int iters;  /* iterations per step (the lab: 32). Default 32 */
   int diagonal;                 /* D: 0 lab (m/dt^2 + 4k), 1 valence (m/dt^2 + k n_i), 2 exact (3x3 blocks of
                                    M/dt^2 + H). Default 0 (lab) */
   double alpha;                 /* step weight x <- x - alpha D^-1 g (Wang's gamma). Default 1 */
@@ -127,6 +131,7 @@ extern const char *const cb_nljacobi_diagonal_names[]; /* "lab", "valence", "exa
 
 /* Projective dynamics' parameters (pd, pd-chebyshev; integrator_pd.c). */
 typedef struct cb_pd_params {
+  int cookie;    /* CB_PARAMS_COOKIE, set by cb_pd_params_default() and checked by cb_integrator_alloc (params.h) */
   int iters;     /* local/global iterations per step (Liu et al. 2013: 10). Default 32 */
   double rho;    /* pd-chebyshev's rho in [0, 1), or CB_AUTO. Default 0.995 (0 for pd) */
   int rho_iters; /* plain iterations of the `auto` estimate, run once. Default 64 */
@@ -141,18 +146,20 @@ cb_pd_params cb_pd_params_default(void);       /* pd-chebyshev's */
 
 /* Position-based dynamics' parameters (pbd, xpbd; integrator_xpbd.c). */
 typedef struct cb_xpbd_params {
-  int iters;        /* constraint sweeps per substep. Default 32 */
-  int substeps;     /* substeps per step (Macklin et al. 2019's small steps). Default 1 */
+  int cookie;   /* CB_PARAMS_COOKIE, set by cb_xpbd_params_default() and checked by cb_integrator_alloc (params.h) */
+  int iters;    /* constraint sweeps per substep. Default 32 */
+  int substeps; /* substeps per step (Macklin et al. 2019's small steps). Default 1 */
   double stiffness; /* pbd's stiffness factor s in (0, 1] (xpbd uses material k). Default 1 */
 } cb_xpbd_params;
 cb_xpbd_params cb_xpbd_params_default(void);
 
 /* L-BFGS's parameters (lbfgs; integrator_lbfgs.c). */
 typedef struct cb_lbfgs_params {
-  int iters;       /* iterations per step at most. Default 32 */
-  double tol;      /* relative |grad F| to stop at (Newton's tol). Default 1e-8 */
-  double tol_dx;   /* max |alpha d| to stop at, m (Newton's tol_dx); 0 = off. Default 0 */
-  int window;      /* (s, y) pairs kept, m. Default 5 */
+  int cookie;    /* CB_PARAMS_COOKIE, set by cb_lbfgs_params_default() and checked by cb_integrator_alloc (params.h) */
+  int iters;     /* iterations per step at most. Default 32 */
+  double tol;    /* relative |grad F| to stop at (Newton's tol). Default 1e-8 */
+  double tol_dx; /* max |alpha d| to stop at, m (Newton's tol_dx); 0 = off. Default 0 */
+  int window;    /* (s, y) pairs kept, m. Default 5 */
   int line_search; /* 0 armijo, 1 wolfe (cb_lbfgs_line_search_names). Default 0 */
   int matrix;      /* H0's storage, as cb_pd_params.matrix. Default auto */
 } cb_lbfgs_params;
@@ -161,6 +168,7 @@ extern const char *const cb_lbfgs_line_search_names[]; /* "armijo", "wolfe", NUL
 
 /* Vertex block descent's parameters (vbd, vbd-chebyshev; integrator_vbd.c). */
 typedef struct cb_vbd_params {
+  int cookie;      /* CB_PARAMS_COOKIE, set by cb_vbd_params_default() and checked by cb_integrator_alloc (params.h) */
   int iters;       /* sweeps over every vertex colour per step. Default 32 */
   int init;        /* initial guess: 0 inertia, 1 previous, 2 adaptive (cb_vbd_init_names). Default 2 */
   int line_search; /* backtracking on each vertex's own objective. Default 0 (the paper's update) */
@@ -174,6 +182,8 @@ extern const char *const cb_vbd_init_names[]; /* "inertia", "previous", "adaptiv
 
 /* Shape matching's parameters (shape_matching, integrator_shape_matching.c). */
 typedef struct cb_shape_matching_params {
+  int cookie;   /* CB_PARAMS_COOKIE, set by cb_shape_matching_params_default() and checked by cb_integrator_alloc
+                   (params.h) */
   double alpha; /* pull toward the goals, in (0, 1]. Default 1 */
 } cb_shape_matching_params;
 

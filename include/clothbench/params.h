@@ -17,6 +17,24 @@
 
 #define CB_AUTO (-1.0) /* `auto`: the code chooses the value (see each field's comment for how) */
 
+/* The cookie (Box2D's habit: b2DefaultWorldDef() sets def.internalValue to
+ * a secret cookie that b2CreateWorld checks). Every parameter struct of the
+ * core's API has an int `cookie` that its _default() sets to
+ * CB_PARAMS_COOKIE and its consumer checks, so a struct that skipped its
+ * defaults (zeroed, or stack garbage) is refused with a message naming the
+ * function to start from, instead of running on zeros. Start from the
+ * _default() and change fields; never build one from nothing.
+ *   cb_scene_def          cb_scene_def_default()          cb_scene_build
+ *   cb_contact_params     cb_contact_params_default()     cb_scene_build, cb_contact_params_check
+ *   cb_integrator_params  cb_integrator_params_default()  cb_integrator_alloc
+ *   cb_<type>_params      cb_<type>_params_default()      cb_integrator_alloc (its first field)
+ *   cb_solver_params      cb_solver_params_default()      cb_solver_alloc */
+#define CB_PARAMS_COOKIE 0x63627031 /* "cbp1" */
+
+/* CB_OK if cookie is CB_PARAMS_COOKIE; otherwise CB_EINVAL with "<what>:
+ * not set up by <default_fn>() ...". */
+int cb_params_check(int cookie, const char *what, const char *default_fn);
+
 /* One of a plug-in's parameters as a config key, `<section>.<name>`. The
  * core only describes it; the config layer (lib/config/) parses, checks,
  * documents (`simulate --help-config`) and binds it into the plug-in's

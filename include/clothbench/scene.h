@@ -16,6 +16,7 @@
 #include "material.h"
 #include "mesh.h"
 #include "obstacle.h"
+#include "params.h"
 #include "response.h"
 #include "system.h"
 #include "topology.h"
@@ -32,6 +33,7 @@ typedef enum { CB_MESH_GRID = 0, CB_MESH_CHAIN = 1, CB_MESH_OBJ = 2 } cb_mesh_ki
 /* Everything a scene is built from. Strings are read during cb_scene_build
  * only (the scene's copy, cb_scene.def, has them NULL). */
 typedef struct cb_scene_def {
+  int cookie;        /* CB_PARAMS_COOKIE, set by cb_scene_def_default() and checked by cb_scene_build (params.h) */
   cb_mesh_kind mesh; /* Default grid */
   cb_grid_params
       grid; /* grid: all fields; chain: n, size[0] (its length, m), plane. Default cb_grid_params_default() */

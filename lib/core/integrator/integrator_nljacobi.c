@@ -56,10 +56,20 @@
 
 enum { DIAG_LAB = 0, DIAG_VALENCE = 1, DIAG_EXACT = 2 };
 
-static const cb_nljacobi_params jacobi_defaults = {
-    .iters = 32, .diagonal = DIAG_LAB, .alpha = 1.0, .rho = 0.0, .rho_iters = 64, .definiteness = CB_DEF_DROP};
-static const cb_nljacobi_params chebyshev_defaults = {
-    .iters = 32, .diagonal = DIAG_LAB, .alpha = 1.0, .rho = 0.995, .rho_iters = 64, .definiteness = CB_DEF_DROP};
+static const cb_nljacobi_params jacobi_defaults = {.cookie = CB_PARAMS_COOKIE,
+                                                   .iters = 32,
+                                                   .diagonal = DIAG_LAB,
+                                                   .alpha = 1.0,
+                                                   .rho = 0.0,
+                                                   .rho_iters = 64,
+                                                   .definiteness = CB_DEF_DROP};
+static const cb_nljacobi_params chebyshev_defaults = {.cookie = CB_PARAMS_COOKIE,
+                                                      .iters = 32,
+                                                      .diagonal = DIAG_LAB,
+                                                      .alpha = 1.0,
+                                                      .rho = 0.995,
+                                                      .rho_iters = 64,
+                                                      .definiteness = CB_DEF_DROP};
 
 cb_nljacobi_params cb_nljacobi_params_default(void) { return chebyshev_defaults; }
 

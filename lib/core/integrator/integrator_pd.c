@@ -60,8 +60,10 @@
 enum { RHO_DOUBLINGS = 5 }; /* the auto estimate runs at most rho_iters << RHO_DOUBLINGS plain iterations */
 #define RHO_ROUNDOFF 1e-12  /* updates below this fraction of the first are round-off */
 
-static const cb_pd_params pd_defaults = {.iters = 32, .rho = 0.0, .rho_iters = 64, .matrix = CB_PD_MATRIX_AUTO};
-static const cb_pd_params pdc_defaults = {.iters = 32, .rho = 0.995, .rho_iters = 64, .matrix = CB_PD_MATRIX_AUTO};
+static const cb_pd_params pd_defaults = {
+    .cookie = CB_PARAMS_COOKIE, .iters = 32, .rho = 0.0, .rho_iters = 64, .matrix = CB_PD_MATRIX_AUTO};
+static const cb_pd_params pdc_defaults = {
+    .cookie = CB_PARAMS_COOKIE, .iters = 32, .rho = 0.995, .rho_iters = 64, .matrix = CB_PD_MATRIX_AUTO};
 
 cb_pd_params cb_pd_params_default(void) { return pdc_defaults; }
 

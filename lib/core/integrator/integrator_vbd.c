@@ -97,10 +97,20 @@ enum { MAXK = 4 }; /* vertices per element at most (a hinge) */
 
 const char *const cb_vbd_init_names[] = {"inertia", "previous", "adaptive", NULL};
 
-static const cb_vbd_params vbd_defaults = {
-    .iters = 32, .init = INIT_ADAPTIVE, .line_search = 0, .rho = 0.0, .rho_iters = 64, .collect = 1};
-static const cb_vbd_params vbdc_defaults = {
-    .iters = 32, .init = INIT_ADAPTIVE, .line_search = 0, .rho = 0.995, .rho_iters = 64, .collect = 1};
+static const cb_vbd_params vbd_defaults = {.cookie = CB_PARAMS_COOKIE,
+                                           .iters = 32,
+                                           .init = INIT_ADAPTIVE,
+                                           .line_search = 0,
+                                           .rho = 0.0,
+                                           .rho_iters = 64,
+                                           .collect = 1};
+static const cb_vbd_params vbdc_defaults = {.cookie = CB_PARAMS_COOKIE,
+                                            .iters = 32,
+                                            .init = INIT_ADAPTIVE,
+                                            .line_search = 0,
+                                            .rho = 0.995,
+                                            .rho_iters = 64,
+                                            .collect = 1};
 
 cb_vbd_params cb_vbd_params_default(void) { return vbdc_defaults; }
 

@@ -152,6 +152,7 @@ double cb_scene_total_mass(const cb_scene *s) {
 
 cb_scene_def cb_scene_def_default(void) {
   cb_scene_def d = {
+      .cookie = CB_PARAMS_COOKIE,
       .mesh = CB_MESH_GRID,
       .grid = cb_grid_params_default(),
       .mesh_file = NULL,
@@ -375,6 +376,9 @@ static int build_mesh(const cb_scene_def *d, cb_mesh *mesh, const char **key) {
 
 /* The definition's names and responses, before anything is allocated. */
 static int check_def(const cb_scene_def *d, const cb_collider **collider, const char **key) {
+  int st = cb_params_check(d->cookie, "scene", "cb_scene_def_default");
+  if (st == CB_OK) st = cb_params_check(d->contact_params.cookie, "scene: contact_params", "cb_contact_params_default");
+  if (st) return st;
   if (!d->bend || !d->definiteness || !d->pins ||
       !d->collider) /* e.g. a copy of cb_scene.def, whose strings are NULL */
     return cb_fail("scene: bend, definiteness, pins and collider must be set (start from cb_scene_def_default())");
