@@ -391,4 +391,32 @@ Test(params, every_types_defaults_carry_the_cookie) {
   cr_expect_eq(cb_contact_params_default().cookie, CB_PARAMS_COOKIE);
   cr_expect_eq(cb_integrator_params_default().cookie, CB_PARAMS_COOKIE);
   cr_expect_eq(cb_solver_params_default().cookie, CB_PARAMS_COOKIE);
+  cr_expect_eq(cb_grid_params_default().cookie, CB_PARAMS_COOKIE);
+  cr_expect_eq(cb_obstacle_params_default().cookie, CB_PARAMS_COOKIE);
+}
+
+/* The mesh and obstacle parameters: a zeroed struct is refused, its default accepted. */
+Test(params, grid_and_obstacle_without_their_defaults_are_refused) {
+  cb_grid_params g;
+  memset(&g, 0, sizeof g);
+  g.n = g.m = 3;
+  g.size[0] = g.size[1] = 1; /* every field valid but the cookie */
+  cb_mesh m;
+  cr_expect_eq(cb_mesh_grid(&g, &m), CB_EINVAL);
+  cr_expect(strstr(cb_error_message(), "cb_grid_params_default()") != NULL, "%s", cb_error_message());
+  g = cb_grid_params_default();
+  g.n = g.m = 3;
+  cr_assert_eq(cb_mesh_grid(&g, &m), CB_OK, "%s", cb_error_message());
+  cb_mesh_free(&m);
+  cb_scene_def d = cb_scene_def_default();
+  memset(&d.grid, 0, sizeof d.grid);
+  cb_scene *s = NULL;
+  cr_expect_eq(cb_scene_build(&d, &s, NULL), CB_EINVAL);
+  cr_expect_null(s);
+  cb_obstacle_params op;
+  memset(&op, 0, sizeof op);
+  cb_obstacle *o = NULL;
+  cr_expect_eq(cb_obstacle_alloc(&op, &o), CB_EINVAL);
+  cr_expect_null(o);
+  cr_expect(strstr(cb_error_message(), "cb_obstacle_params_default()") != NULL, "%s", cb_error_message());
 }

@@ -19,8 +19,10 @@
 #define CB_OBSTACLE_H
 
 #include "mesh.h"
+#include "params.h"
 
 typedef struct cb_obstacle_params {
+  int cookie;         /* CB_PARAMS_COOKIE, set by cb_obstacle_params_default() and checked by cb_obstacle_alloc */
   const char *file;   /* OBJ path (read by cb_obstacle_alloc only). Default NULL: required */
   double centre[3];   /* m, where the file's origin is at t = 0 (on the rotation axis). Default 0 0 0 */
   double axis[3];     /* rotation axis, any length > 0 (normalised); may be 0 0 0 if omega = 0. Default 0 1 0 */

@@ -28,7 +28,9 @@
  *   cb_contact_params     cb_contact_params_default()     cb_scene_build, cb_contact_params_check
  *   cb_integrator_params  cb_integrator_params_default()  cb_integrator_alloc
  *   cb_<type>_params      cb_<type>_params_default()      cb_integrator_alloc (its first field)
- *   cb_solver_params      cb_solver_params_default()      cb_solver_alloc */
+ *   cb_solver_params      cb_solver_params_default()      cb_solver_alloc
+ *   cb_grid_params        cb_grid_params_default()        cb_mesh_grid
+ *   cb_obstacle_params    cb_obstacle_params_default()    cb_obstacle_alloc */
 #define CB_PARAMS_COOKIE 0x63627031 /* "cbp1" */
 
 /* CB_OK if cookie is CB_PARAMS_COOKIE; otherwise CB_EINVAL with "<what>:

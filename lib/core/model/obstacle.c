@@ -17,7 +17,12 @@
 #include "vec.h"
 
 cb_obstacle_params cb_obstacle_params_default(void) {
-  return (cb_obstacle_params){.file = NULL, .centre = {0, 0, 0}, .axis = {0, 1, 0}, .omega = 0, .velocity = {0, 0, 0}};
+  return (cb_obstacle_params){.cookie = CB_PARAMS_COOKIE,
+                              .file = NULL,
+                              .centre = {0, 0, 0},
+                              .axis = {0, 1, 0},
+                              .omega = 0,
+                              .velocity = {0, 0, 0}};
 }
 
 static int check_vec(const double *a, const char *key) {
@@ -48,7 +53,9 @@ void cb_obstacle_free(cb_obstacle *o) {
 
 int cb_obstacle_alloc(const cb_obstacle_params *p, cb_obstacle **out) {
   *out = NULL;
-  int st = check_params(p);
+  int st = cb_params_check(p->cookie, "collider: obstacle", "cb_obstacle_params_default");
+  if (st) return st;
+  st = check_params(p);
   if (st) return st;
   cb_obstacle *o = cb_calloc(1, sizeof *o);
   if (!o) return CB_ENOMEM;
