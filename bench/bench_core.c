@@ -326,9 +326,9 @@ static void bench_steps(FILE *f, int n, cb_scene *s, const cb_integrator_params 
     np.tol_dx = 0;
     cb_solver_params sp = cb_solver_params_default();
     sp.max_iters = 32;
-    sp.tol = 1e-300; /* the cut, not the tolerance, ends every solve */
-    sp.alpha = m->alpha;
-    sp.rho = 0;
+    sp.tol = 1e-300;                               /* the cut, not the tolerance, ends every solve */
+    sp.alpha = m->alpha == 0 ? CB_AUTO : m->alpha; /* the table's 0: auto */
+    sp.rho = CB_AUTO;
     sp.rho_reuse = m->reuse;
     cb_integrator *it = NULL;
     int status = cb_integrator_alloc("newton", s, &ip, &np, m->solver, &sp, &it);

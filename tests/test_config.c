@@ -154,8 +154,8 @@ Test(defaults, documented_values) {
   cr_expect_str_eq(c.solver, "cholmod");
   cr_expect_eq(c.solver_tol, 1e-8);
   cr_expect_eq(c.solver_max_iters, 1000);
-  cr_expect_eq(c.solver_alpha, 0.0, "alpha = auto is stored as 0");
-  cr_expect_eq(c.solver_rho, 0.0, "rho = auto is stored as 0");
+  cr_expect_eq(c.solver_alpha, CB_AUTO, "alpha = auto is stored as CB_AUTO");
+  cr_expect_eq(c.solver_rho, CB_AUTO, "rho = auto is stored as CB_AUTO");
   cr_expect_str_eq(c.solver_ordering, "nesdis");
   cr_expect(c.solver_nrelax[0] == 16 && c.solver_nrelax[1] == 64 && c.solver_nrelax[2] == 128);
   cr_expect_str_eq(c.solver_storage, "upper");
@@ -340,7 +340,7 @@ Test(load, gravity_forms) {
 Test(load, rho_auto_and_number) {
   cb_config c;
   load_ok("[solver]\nrho = auto\n", &c);
-  cr_expect_eq(c.solver_rho, 0.0);
+  cr_expect_eq(c.solver_rho, CB_AUTO);
   load_ok("[solver]\nrho = 0.25\n", &c);
   cr_expect_eq(c.solver_rho, 0.25);
   load_ok("[solver]\nrho = 99/100\n", &c);

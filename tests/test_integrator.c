@@ -645,7 +645,7 @@ typedef struct {
   double c;
   int *freed;
 } scale_params;
-static int scale_init(cb_response *r, const cb_scene *s, const void *params) {
+static int scale_init(cb_response *r, const cb_response_view *s, const void *params) {
   (void)s;
   scale_state *w = r->state;
   const scale_params *p = params;
@@ -653,12 +653,13 @@ static int scale_init(cb_response *r, const cb_scene *s, const void *params) {
   w->freed = p->freed;
   return CB_OK;
 }
-static int scale_apply(cb_response *r, const cb_scene *s, const double *x_start, double *x, double *v, double dt) {
+static int scale_apply(cb_response *r, const cb_response_view *s, const double *x_start, double *x, double *v,
+                       double dt) {
   (void)x_start;
   (void)x;
   (void)dt;
   scale_state *w = r->state;
-  for (int i = 0; i < 3 * s->mesh.nv; i++) v[i] *= w->c;
+  for (int i = 0; i < 3 * s->mesh->nv; i++) v[i] *= w->c;
   w->applied++;
   return w->c < 0 ? CB_DIVERGED : CB_OK; /* a negative factor: report a numerical event */
 }

@@ -131,6 +131,7 @@ Test(solvers_iterative, every_solver_matches_dense_gsl_on_dd_matrix) {
   /* strictly diagonally dominant: rho(I - D^-1 A) < 1, so vanilla alpha = 1 converges */
   for (int i = 0; cb_solver_types[i]; i++) {
     cb_solver_params p = cb_solver_params_default();
+    p.alpha = 1; /* vanilla Jacobi (the default is auto) */
     p.tol = 1e-13;
     p.max_iters = 5000;
     int st = solve(cb_solver_types[i]->name, &p, &A, b, x, NULL, NULL);
@@ -252,6 +253,7 @@ Test(solvers_iterative, jacobi_divergence_is_a_status, .init = newton_setup, .fi
   dense_jacobi_spectrum(A, &lmin, &lmax);
   cr_assert_gt(fabs(1 - lmax), 1, "vanilla Jacobi should diverge here: rho(I - D^-1 A) = %g", fabs(1 - lmax));
   cb_solver_params p = cb_solver_params_default();
+  p.alpha = 1; /* vanilla Jacobi (the default, auto, converges here) */
   p.max_iters = 100000;
   int iters;
   cr_expect_eq(solve("jacobi", &p, A, newton_case.b, x, &iters, NULL), CB_DIVERGED);
@@ -440,8 +442,8 @@ Test(iterative, amortised_rho_estimate_reuses_and_stays_safe) {
   int n = A->n, nv3 = 3 * sc->mesh.nv;
   cb_system_assemble(&sc->sys, sc->x0, 900.0, CB_DEF_DROP, 0.0);
   cb_solver_params p = cb_solver_params_default();
-  p.alpha = 0; /* auto */
-  p.rho = 0;
+  p.alpha = CB_AUTO;
+  p.rho = CB_AUTO;
   p.tol = 1e-10;
   p.max_iters = 20000;
   cb_solver *s = NULL;

@@ -110,7 +110,7 @@ static int trace_one(ctx *c, const run_spec *r, cb_trace *t) {
   p.tol = TOL;
   p.max_iters = r->max_iters;
   p.alpha = isnan(r->alpha) ? 1.0 : r->alpha;
-  p.rho = isnan(r->rho) ? 0.0 : r->rho;
+  p.rho = isnan(r->rho) || r->rho == 0 ? CB_AUTO : r->rho; /* the spec's rho 0: auto */
   return cb_trace_solve(r->solver, &p, &c->cap->A, c->cap->b, c->xref, NULL, NULL, t);
 }
 
@@ -333,7 +333,7 @@ static int scale_time(const ctx *c, const double *b, const double *xs, scale_run
   p.tol = 0; /* run exactly max_iters iterations (direct solvers ignore both) */
   p.max_iters = u->iters > 0 ? u->iters : 1;
   p.alpha = isnan(u->r.alpha) ? 1.0 : u->r.alpha;
-  p.rho = isnan(u->r.rho) ? 0.0 : u->r.rho;
+  p.rho = isnan(u->r.rho) || u->r.rho == 0 ? CB_AUTO : u->r.rho; /* the spec's rho 0: auto */
   return cb_trace_timed_solve(u->r.solver, &p, &c->cap->A, b, xs, ts);
 }
 
@@ -384,7 +384,7 @@ static int scale_solvers(ctx *c, int grid_n, const char *label, const cb_capture
     p.tol = 1e-15;
     p.max_iters = u->cap;
     p.alpha = isnan(u->r.alpha) ? 1.0 : u->r.alpha;
-    p.rho = isnan(u->r.rho) ? 0.0 : u->r.rho;
+    p.rho = isnan(u->r.rho) || u->r.rho == 0 ? CB_AUTO : u->r.rho; /* the spec's rho 0: auto */
     cb_trace_params tp = cb_trace_params_default();
     tp.keep_all = 0;
     tp.growth = 2;

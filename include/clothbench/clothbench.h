@@ -20,6 +20,7 @@
 #include "mesh.h"
 #include "objective.h"
 #include "projection.h"
+#include "response.h"
 #include "run.h"
 #include "scene.h"
 #include "solver.h"

@@ -16,6 +16,8 @@
 #define CB_COLLIDER_H
 
 #include "energy.h"
+#include "obstacle.h"
+#include "response.h"
 
 typedef struct cb_sphere {
   double centre[3];   /* m, at t = 0 */
@@ -28,20 +30,23 @@ typedef struct cb_sphere {
 /* The colliders collider.type names, one X line each in collider.c: what
  * each adds to a scene, an energy term or a post-step response (or
  * nothing); a scene builds what its definition's row gives. */
-struct cb_response_type;
-struct cb_scene_def;
 typedef struct cb_collider {
   const char *name;
   int (*term_alloc)(const cb_model *m, const cb_sphere *sp, cb_term **out); /* its term, or NULL */
-  const struct cb_response_type *response;                                  /* its post-step response, or NULL */
-  /* The parameters its response's init gets, from the scene's definition
-   * (the cb_sphere, or the cb_obstacle_params); NULL if no response. */
-  const void *(*params)(const struct cb_scene_def *d);
+  const cb_response_type *response;                                         /* its post-step response, or NULL */
+  /* The parameters its response's init gets, from the definition's sphere and
+   * obstacle (cb_scene_def.sphere, .obstacle): one of the two; NULL if no response. */
+  const void *(*params)(const cb_sphere *sp, const cb_obstacle_params *ob);
 } cb_collider;
 extern const cb_collider cb_colliders[];      /* ended by a NULL name */
 extern const char *const cb_collider_names[]; /* "none", "penalty", "project", "mesh"; NULL-terminated */
 /* The collider called name, or NULL. */
 const cb_collider *cb_collider_find(const char *name);
+
+/* The sphere's projection (`project`; its params a cb_sphere), and the
+ * vertices it moved in the last step: 0 if r is another response. */
+extern const cb_response_type cb_response_sphere_project;
+int cb_sphere_project_contacts(const cb_response *r);
 
 /* The penalty term of sphere sp on every vertex of the model; fails on a
  * non-positive radius, negative thickness or stiffness, or a moving sphere. */

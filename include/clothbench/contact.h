@@ -33,12 +33,16 @@
 
 #include "energy.h"
 #include "obstacle.h"
+#include "params.h"
 
-struct cb_param_key;     /* integrator.h */
-struct cb_response_type; /* scene.h */
+struct cb_param_key;     /* params.h */
+struct cb_response;      /* response.h */
+struct cb_response_type; /* response.h */
 
 /* Every response's parameters (each type reads the fields its keys name). */
 typedef struct cb_contact_params {
+  int cookie; /* CB_PARAMS_COOKIE, set by cb_contact_params_default() and checked by cb_contact_params_check (params.h)
+               */
   double thickness;  /* m, > 0: the penalty's thickness h, IPC's activation distance dhat. Default 1e-3 */
   double friction;   /* Coulomb mu >= 0; above 0 only for a response with friction (ipc, bridson). Default 0 */
   double stiffness;  /* penalty k, and bridson's repulsion spring, N/m, > 0. Default 1e4 */
@@ -54,7 +58,7 @@ typedef struct cb_contact_type {
   const struct cb_param_key *keys; /* its keys `contact.<name>` (into cb_contact_params), ended by a NULL name */
   /* Its energy term on the model, or *out = NULL for none (NULL: no term); fails with a message naming the key. */
   int (*term_alloc)(const cb_model *m, const cb_contact_params *p, cb_term **out);
-  /* Its post-step response (scene.h), or NULL: the scene runs it after every step of every integrator, after the
+  /* Its post-step response (response.h), or NULL: the scene runs it after every step of every integrator, after the
    * collider's, with the cb_contact_params as its init's params. */
   const struct cb_response_type *response;
   int friction; /* 1 if it implements contact.friction > 0 (else a mu above 0 is refused) */
@@ -144,5 +148,7 @@ typedef struct cb_bridson_stats {
   double min_dist;   /* smallest distance of a close pair at the step's start, m (inf: none) */
   long grows;        /* candidate arrays grown past their set-up capacity (allocations inside a step) */
 } cb_bridson_stats;
+/* Those of r, or NULL if r is not the bridson response. */
+const cb_bridson_stats *cb_bridson_stats_of(const struct cb_response *r);
 
 #endif

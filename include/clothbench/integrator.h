@@ -27,6 +27,7 @@
 
 #include "energy.h"
 #include "objective.h"
+#include "params.h"
 #include "scene.h"
 #include "solver.h"
 
@@ -86,7 +87,9 @@ typedef void (*cb_newton_hook)(void *ctx, int event, const cb_newton_event *ev);
 
 /* Parameters every integrator reads. */
 typedef struct cb_integrator_params {
-  double dt;           /* time step, s. Default 1/30 */
+  int cookie; /* CB_PARAMS_COOKIE, set by cb_integrator_params_default() and checked by cb_integrator_alloc (params.h)
+               */
+  double dt;  /* time step, s. Default 1/30 */
   double damping;      /* velocity damping: v <- damping v on the free vertices at the start of
                           every step, before the predictor (the GAMES103 lab's 0.99), for every
                           type; in [0, 1], 1 = none. Default 1 */
@@ -98,9 +101,10 @@ cb_integrator_params cb_integrator_params_default(void);
 
 /* Newton's own parameters (the newton type's params_size). */
 typedef struct cb_newton_params {
-  int max_iters;                /* linear solves per step at most; 1 = Baraff-Witkin. Default 50 */
-  double tol;                   /* relative |grad F| to stop at. Default 1e-8 */
-  double tol_dx;                /* max |dx| to stop at, m; 0 = off. Default 0 */
+  int cookie;    /* CB_PARAMS_COOKIE, set by cb_newton_params_default() and checked by cb_integrator_alloc (params.h) */
+  int max_iters; /* linear solves per step at most; 1 = Baraff-Witkin. Default 50 */
+  double tol;    /* relative |grad F| to stop at. Default 1e-8 */
+  double tol_dx; /* max |dx| to stop at, m; 0 = off. Default 0 */
   int init_predict;             /* initial guess: 1 = x0 + dt v0, 0 = x0. Default 1 */
   int line_search;              /* backtracking Armijo line search. Default 0 */
   cb_definiteness definiteness; /* compressed-spring treatment; must match the scene's springs
@@ -112,11 +116,12 @@ cb_newton_params cb_newton_params_default(void);
 /* The nonlinear Jacobi iterations' parameters (jacobi-nl, chebyshev-nl;
  * integrator_nljacobi.c has the formulas). */
 typedef struct cb_nljacobi_params {
-  int iters;                    /* iterations per step (the lab: 32). Default 32 */
+  int cookie; /* CB_PARAMS_COOKIE, set by cb_nljacobi_params_default() and checked by cb_integrator_alloc (params.h) */
+  int iters;  /* iterations per step (the lab: 32). Default 32 */
   int diagonal;                 /* D: 0 lab (m/dt^2 + 4k), 1 valence (m/dt^2 + k n_i), 2 exact (3x3 blocks of
                                    M/dt^2 + H). Default 0 (lab) */
   double alpha;                 /* step weight x <- x - alpha D^-1 g (Wang's gamma). Default 1 */
-  double rho;                   /* Chebyshev rho in [0, 1), or CB_PARAM_AUTO. Default 0.995 (chebyshev-nl),
+  double rho;                   /* Chebyshev rho in [0, 1), or CB_AUTO. Default 0.995 (chebyshev-nl),
                                    0 and not a key (jacobi-nl) */
   int rho_iters;                /* plain iterations of the `auto` estimate, run once. Default 64 */
   cb_definiteness definiteness; /* Hessian policy of the exact diagonal. Default drop */
@@ -126,8 +131,9 @@ extern const char *const cb_nljacobi_diagonal_names[]; /* "lab", "valence", "exa
 
 /* Projective dynamics' parameters (pd, pd-chebyshev; integrator_pd.c). */
 typedef struct cb_pd_params {
+  int cookie;    /* CB_PARAMS_COOKIE, set by cb_pd_params_default() and checked by cb_integrator_alloc (params.h) */
   int iters;     /* local/global iterations per step (Liu et al. 2013: 10). Default 32 */
-  double rho;    /* pd-chebyshev's rho in [0, 1), or CB_PARAM_AUTO. Default 0.995 (0 for pd) */
+  double rho;    /* pd-chebyshev's rho in [0, 1), or CB_AUTO. Default 0.995 (0 for pd) */
   int rho_iters; /* plain iterations of the `auto` estimate, run once. Default 64 */
   int matrix;    /* CB_PD_MATRIX_AUTO (the n x n P where it can) or CB_PD_MATRIX_BLOCK. Default auto */
 } cb_pd_params;
@@ -140,18 +146,20 @@ cb_pd_params cb_pd_params_default(void);       /* pd-chebyshev's */
 
 /* Position-based dynamics' parameters (pbd, xpbd; integrator_xpbd.c). */
 typedef struct cb_xpbd_params {
-  int iters;        /* constraint sweeps per substep. Default 32 */
-  int substeps;     /* substeps per step (Macklin et al. 2019's small steps). Default 1 */
+  int cookie;   /* CB_PARAMS_COOKIE, set by cb_xpbd_params_default() and checked by cb_integrator_alloc (params.h) */
+  int iters;    /* constraint sweeps per substep. Default 32 */
+  int substeps; /* substeps per step (Macklin et al. 2019's small steps). Default 1 */
   double stiffness; /* pbd's stiffness factor s in (0, 1] (xpbd uses material k). Default 1 */
 } cb_xpbd_params;
 cb_xpbd_params cb_xpbd_params_default(void);
 
 /* L-BFGS's parameters (lbfgs; integrator_lbfgs.c). */
 typedef struct cb_lbfgs_params {
-  int iters;       /* iterations per step at most. Default 32 */
-  double tol;      /* relative |grad F| to stop at (Newton's tol). Default 1e-8 */
-  double tol_dx;   /* max |alpha d| to stop at, m (Newton's tol_dx); 0 = off. Default 0 */
-  int window;      /* (s, y) pairs kept, m. Default 5 */
+  int cookie;    /* CB_PARAMS_COOKIE, set by cb_lbfgs_params_default() and checked by cb_integrator_alloc (params.h) */
+  int iters;     /* iterations per step at most. Default 32 */
+  double tol;    /* relative |grad F| to stop at (Newton's tol). Default 1e-8 */
+  double tol_dx; /* max |alpha d| to stop at, m (Newton's tol_dx); 0 = off. Default 0 */
+  int window;    /* (s, y) pairs kept, m. Default 5 */
   int line_search; /* 0 armijo, 1 wolfe (cb_lbfgs_line_search_names). Default 0 */
   int matrix;      /* H0's storage, as cb_pd_params.matrix. Default auto */
 } cb_lbfgs_params;
@@ -160,10 +168,11 @@ extern const char *const cb_lbfgs_line_search_names[]; /* "armijo", "wolfe", NUL
 
 /* Vertex block descent's parameters (vbd, vbd-chebyshev; integrator_vbd.c). */
 typedef struct cb_vbd_params {
+  int cookie;      /* CB_PARAMS_COOKIE, set by cb_vbd_params_default() and checked by cb_integrator_alloc (params.h) */
   int iters;       /* sweeps over every vertex colour per step. Default 32 */
   int init;        /* initial guess: 0 inertia, 1 previous, 2 adaptive (cb_vbd_init_names). Default 2 */
   int line_search; /* backtracking on each vertex's own objective. Default 0 (the paper's update) */
-  double rho;      /* vbd-chebyshev's rho in [0, 1), or CB_PARAM_AUTO. Default 0.995 (0 for vbd) */
+  double rho;      /* vbd-chebyshev's rho in [0, 1), or CB_AUTO. Default 0.995 (0 for vbd) */
   int rho_iters;   /* plain sweeps of the `auto` estimate, run once. Default 64 */
   int collect;     /* sweeps between two collects of a term's moving elements (contact pairs) and their vertices'
                       displacement bounds (energy.h vertex_collect), >= 1. Default 1 */
@@ -173,6 +182,8 @@ extern const char *const cb_vbd_init_names[]; /* "inertia", "previous", "adaptiv
 
 /* Shape matching's parameters (shape_matching, integrator_shape_matching.c). */
 typedef struct cb_shape_matching_params {
+  int cookie;   /* CB_PARAMS_COOKIE, set by cb_shape_matching_params_default() and checked by cb_integrator_alloc
+                   (params.h) */
   double alpha; /* pull toward the goals, in (0, 1]. Default 1 */
 } cb_shape_matching_params;
 
@@ -180,32 +191,7 @@ cb_shape_matching_params cb_shape_matching_params_default(void);
 
 typedef struct cb_integrator cb_integrator;
 
-/* One of a type's parameters as a config key, `integrator.<name>`. The
- * core only describes it; the config layer (lib/config/) parses, checks,
- * documents (`simulate --help-config`) and binds it into the type's
- * parameter struct, so a type's keys live in the type's file. Two types may
- * share a key by declaring the same name with the same definition. */
-typedef enum {
-  CB_PARAM_INT,
-  CB_PARAM_DOUBLE,
-  CB_PARAM_BOOL,
-  CB_PARAM_CHOICE,
-  CB_PARAM_DOUBLE_AUTO /* a double, or `auto`, stored as CB_PARAM_AUTO */
-} cb_param_kind;
-#define CB_PARAM_AUTO (-1.0) /* the value of a CB_PARAM_DOUBLE_AUTO key set to `auto` (its range must exclude it) */
-typedef struct cb_param_key {
-  const char *name; /* key in [integrator]; NULL ends a type's list */
-  cb_param_kind kind;
-  size_t offset;   /* of the field in the params struct: int (INT, BOOL, CHOICE; an enum is
-                      int-sized) or double (DOUBLE, DOUBLE_AUTO) */
-  const char *def; /* default, as a config writes it; must give the type's params_default */
-  const char *unit;
-  double lo, hi;              /* accepted range of INT and DOUBLE values (inclusive) ... */
-  int lo_open;                /* ... but lo excluded when 1 */
-  const char *const *choices; /* CHOICE: the names, NULL-terminated */
-  const int *values;          /* CHOICE: the field's value for each name; NULL = the name's index */
-  const char *doc;
-} cb_param_key;
+/* A type's config keys, `integrator.<name>`, are cb_param_key tables (params.h). */
 
 /* What a type needs from the wrapper. */
 enum {

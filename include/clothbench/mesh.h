@@ -3,6 +3,8 @@
 #ifndef CB_MESH_H
 #define CB_MESH_H
 
+#include "params.h"
+
 #include <stdio.h>
 
 typedef struct cb_mesh {
@@ -30,6 +32,7 @@ typedef enum { CB_PLANE_XY = 0, CB_PLANE_XZ = 1, CB_PLANE_YZ = 2 } cb_plane;
 typedef enum { CB_DIAG_REGULAR = 0, CB_DIAG_ALTERNATING = 1 } cb_diagonal;
 
 typedef struct cb_grid_params {
+  int cookie;           /* CB_PARAMS_COOKIE, set by cb_grid_params_default() and checked by cb_mesh_grid (params.h) */
   int n;                /* vertices along the first axis; >= 2. Default 21 */
   int m;                /* vertices along the second axis; >= 2. Default 21 */
   double size[2];       /* side lengths along the two axes, m. Default 10 x 10 */

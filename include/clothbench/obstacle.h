@@ -19,8 +19,10 @@
 #define CB_OBSTACLE_H
 
 #include "mesh.h"
+#include "params.h"
 
 typedef struct cb_obstacle_params {
+  int cookie;         /* CB_PARAMS_COOKIE, set by cb_obstacle_params_default() and checked by cb_obstacle_alloc */
   const char *file;   /* OBJ path (read by cb_obstacle_alloc only). Default NULL: required */
   double centre[3];   /* m, where the file's origin is at t = 0 (on the rotation axis). Default 0 0 0 */
   double axis[3];     /* rotation axis, any length > 0 (normalised); may be 0 0 0 if omega = 0. Default 0 1 0 */
@@ -54,5 +56,19 @@ void cb_obstacle_positions(const cb_obstacle *o, double t, double *x);
 void cb_obstacle_velocities(const cb_obstacle *o, double t, double *v);
 /* Moves o to time t: o->x = positions at t, o->t = t. */
 void cb_obstacle_advance(cb_obstacle *o, double t);
+
+/* The `mesh` collider's post-step response (obstacle.c; its params a
+ * cb_obstacle_params): it owns the obstacle and moves it to the run's time
+ * after every step. cb_obstacle_of is its obstacle at the time of the last
+ * step, or NULL if r is another response. */
+struct cb_response;
+struct cb_response_type;
+extern const struct cb_response_type cb_response_obstacle_move;
+const cb_obstacle *cb_obstacle_of(const struct cb_response *r);
+/* The time of the obstacle's motion, s, if r is that response (else NaN); and
+ * its reset: the obstacle moved to time t (returns 1, or 0 if r is another
+ * response). The scene's cb_scene_obstacle_time / _set_time use them. */
+double cb_obstacle_time_of(const struct cb_response *r);
+int cb_obstacle_set_time_of(struct cb_response *r, double t);
 
 #endif

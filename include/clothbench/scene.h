@@ -16,34 +16,16 @@
 #include "material.h"
 #include "mesh.h"
 #include "obstacle.h"
+#include "params.h"
+#include "response.h"
 #include "system.h"
 #include "topology.h"
 
 typedef struct cb_scene cb_scene;
 
-/* ---- post-step responses -------------------------------------------------
- * A response changes the state after every step of every integrator, in the
- * order the scene lists them (cb_integrator_step runs them): a collision
- * projection, a velocity damping. Plug-ins as a type table: the scene
- * allocates each response's state from the type's `size` (zeroed) and calls
- * init with the parameters the definition gives. */
-typedef struct cb_response cb_response;
-typedef struct cb_response_type {
-  const char *name;
-  size_t size;                                                        /* bytes of state, allocated by the scene */
-  int (*init)(cb_response *r, const cb_scene *s, const void *params); /* may be NULL */
-  /* Changes (x, v) (3*nv each) after a step of length dt that started at the
-   * positions x_start (3*nv, read only: the collision responses sweep
-   * x_start -> x); returns a status (a positive one becomes the step's status
-   * if the step was ok). */
-  int (*apply)(cb_response *r, const cb_scene *s, const double *x_start, double *x, double *v, double dt);
-  void (*free)(cb_response *r); /* frees what init allocated; may be NULL */
-} cb_response_type;
-struct cb_response {
-  const cb_response_type *type;
-  void *state;
-};
-enum { CB_MAX_RESPONSES = 8 };
+/* The post-step responses (response.h): the scene owns them and runs them
+ * after every step, in order, each seeing the scene through a
+ * cb_response_view. */
 
 /* ---- definition ------------------------------------------------------------ */
 typedef enum { CB_MESH_GRID = 0, CB_MESH_CHAIN = 1, CB_MESH_OBJ = 2 } cb_mesh_kind;
@@ -51,6 +33,7 @@ typedef enum { CB_MESH_GRID = 0, CB_MESH_CHAIN = 1, CB_MESH_OBJ = 2 } cb_mesh_ki
 /* Everything a scene is built from. Strings are read during cb_scene_build
  * only (the scene's copy, cb_scene.def, has them NULL). */
 typedef struct cb_scene_def {
+  int cookie;        /* CB_PARAMS_COOKIE, set by cb_scene_def_default() and checked by cb_scene_build (params.h) */
   cb_mesh_kind mesh; /* Default grid */
   cb_grid_params
       grid; /* grid: all fields; chain: n, size[0] (its length, m), plane. Default cb_grid_params_default() */
@@ -125,12 +108,6 @@ double cb_scene_total_mass(const cb_scene *s);
  * length dt; returns the first nonzero status. */
 int cb_scene_post_step(const cb_scene *s, const double *x_start, double *x, double *v, double dt);
 
-/* The collider's post-step responses: the sphere's projection (collider.c;
- * its params a cb_sphere) and the obstacle mesh's motion (obstacle.c; its
- * params a cb_obstacle_params: it owns the obstacle and moves it to the run's
- * time after every step). */
-extern const cb_response_type cb_response_sphere_project;
-extern const cb_response_type cb_response_obstacle_move;
 /* The scene's obstacle mesh (collider.type = mesh) at the time of the last
  * step, or NULL without one. Contact code reads its positions at any time
  * with cb_obstacle_positions. */

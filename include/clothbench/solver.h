@@ -9,6 +9,7 @@
 #ifndef CB_SOLVER_H
 #define CB_SOLVER_H
 
+#include "params.h"
 #include "sparse.h"
 
 /* Optional per-iteration callback of the iterative solvers: called after the
@@ -19,21 +20,24 @@
 typedef void (*cb_solver_monitor)(void *ctx, int k, double rel_residual, const double *x);
 
 typedef struct cb_solver_params {
-  double tol;          /* relative residual |b - Ax| / |b| to stop at (iterative). Default 1e-8 */
-  int max_iters;       /* iterations at most (iterative). Default 1000 */
-  double alpha;        /* Jacobi weight; 0 = auto, 2/(lambda_min + lambda_max) of D^-1 A (Chebyshev only). Default 1 */
-  double rho;          /* Chebyshev spectral radius; 0 = estimate at run time. Default 0 */
-  int history_cap;     /* residuals kept per solve (0 = none). Default 0 */
-  int ordering;        /* CHOLMOD: CB_ORDER_*. Default CB_ORDER_NESDIS (bench_core_cholmod.csv) */
-  int nrelax[3];       /* CHOLMOD supernode relaxation (Common->nrelax). Default {16, 64, 128} (CHOLMOD's: 4, 16, 48) */
-  int upper;           /* CHOLMOD reads a copy of the upper triangle (1) or the full matrix (0). Default 1 */
-  int flush_denormals; /* CHOLMOD: subnormal numbers read and produced as zero (x86 FTZ/DAZ) on the calling
-                          thread during factorize and solve (1), or kept (0). Default 1 (bench_core_cholmod.csv) */
-  int rho_reuse;       /* rho = auto / alpha = auto: reuse the last estimate while D stays put (1), or estimate at
-                          every factor (0, the behaviour before the estimate was amortised). Default 1 */
-  int residual;        /* direct solvers: compute stats.rel_residual = |b - Ax|/|b| after each solve (1, one more
-                          product with A inside the solve), or leave it NaN (0: a caller that solves with one
-                          constant factor many times a step, pd and lbfgs, and does not read it). Default 1 */
+  int cookie;      /* CB_PARAMS_COOKIE, set by cb_solver_params_default() and checked by cb_solver_alloc (params.h) */
+  double tol;      /* relative residual |b - Ax| / |b| to stop at (iterative). Default 1e-8 */
+  int max_iters;   /* iterations at most (iterative). Default 1000 */
+  double alpha;    /* Jacobi and Chebyshev weight, > 0, or CB_AUTO: alpha* = 2/(lambda_min + lambda_max) of
+                      D^-1 A, estimated at run time. Default CB_AUTO (as solver.alpha's; until issue 32 the C
+                      default was 1, vanilla Jacobi, which diverges where lambda_max(D^-1 A) >= 2) */
+  double rho;      /* Chebyshev spectral radius in (0, 1), or CB_AUTO: estimated at run time. Default CB_AUTO */
+  int history_cap; /* residuals kept per solve (0 = none). Default 0 */
+  int ordering;    /* CHOLMOD: CB_ORDER_*. Default CB_ORDER_NESDIS (bench_core_cholmod.csv) */
+  int nrelax[3];   /* CHOLMOD supernode relaxation (Common->nrelax). Default {16, 64, 128} (CHOLMOD's: 4, 16, 48) */
+  int upper;       /* CHOLMOD reads a copy of the upper triangle (1) or the full matrix (0). Default 1 */
+  int flush_denormals;      /* CHOLMOD: subnormal numbers read and produced as zero (x86 FTZ/DAZ) on the calling
+                               thread during factorize and solve (1), or kept (0). Default 1 (bench_core_cholmod.csv) */
+  int rho_reuse;            /* rho = auto / alpha = auto: reuse the last estimate while D stays put (1), or estimate at
+                               every factor (0, the behaviour before the estimate was amortised). Default 1 */
+  int residual;             /* direct solvers: compute stats.rel_residual = |b - Ax|/|b| after each solve (1, one more
+                               product with A inside the solve), or leave it NaN (0: a caller that solves with one
+                               constant factor many times a step, pd and lbfgs, and does not read it). Default 1 */
   char petsc_options[1024]; /* PETSc solvers: options for their KSP and PC, after the preset's (e.g. "-ksp_type cg
                               -pc_type gamg -pc_gamg_threshold 0.02"). Default "" */
   int pc_reuse;       /* PETSc solvers: CB_PC_REUSE_ITERATION (the preconditioner set up at every factorisation, i.e.

@@ -543,7 +543,7 @@ static int assign(cb_config *c, const keydef *k, const char *value, char *why, s
   case T_PAUTO: {
     double v;
     if (strcmp(value, "auto") == 0) {
-      *(double *)field = CB_PARAM_AUTO;
+      *(double *)field = CB_AUTO;
       return 0;
     }
     if (cb_parse_double(value, &v)) {
@@ -560,7 +560,7 @@ static int assign(cb_config *c, const keydef *k, const char *value, char *why, s
   case T_AUTO: {
     double v;
     if (strcmp(value, "auto") == 0) {
-      *(double *)field = 0;
+      *(double *)field = CB_AUTO;
       return 0;
     }
     if (cb_parse_double(value, &v)) {
@@ -577,7 +577,7 @@ static int assign(cb_config *c, const keydef *k, const char *value, char *why, s
   case T_RHO: {
     double v;
     if (strcmp(value, "auto") == 0) {
-      *(double *)field = 0;
+      *(double *)field = CB_AUTO;
       return 0;
     }
     if (cb_parse_double(value, &v) || !in_range(k, v) || v >= 1) {
@@ -897,7 +897,7 @@ static void write_value(const cb_config *c, const keydef *k, FILE *f) {
   case T_PBOOL: fprintf(f, "%d", (int)*(const double *)field); break;
   case T_PDOUBLE: fprintf(f, "%.17g", *(const double *)field); break;
   case T_PAUTO:
-    if (*(const double *)field == CB_PARAM_AUTO) fputs("auto", f);
+    if (*(const double *)field == CB_AUTO) fputs("auto", f);
     else fprintf(f, "%.17g", *(const double *)field);
     break;
   case T_PCHOICE: fputs(choice_at(k, (int)*(const double *)field), f); break;
@@ -908,7 +908,7 @@ static void write_value(const cb_config *c, const keydef *k, FILE *f) {
     break;
   case T_RHO:
   case T_AUTO:
-    if (*(const double *)field == 0) fputs("auto", f);
+    if (*(const double *)field == CB_AUTO) fputs("auto", f);
     else fprintf(f, "%.17g", *(const double *)field);
     break;
   default: fputs(field, f); break;

@@ -74,8 +74,8 @@ typedef struct cb_config {
   char solver[CB_NAME_LEN]; /* cholmod | ... */
   double solver_tol;        /* relative residual */
   int solver_max_iters;
-  double solver_alpha;                /* Jacobi weight; 0 = auto */
-  double solver_rho;                  /* Chebyshev spectral radius; 0 = auto */
+  double solver_alpha;                /* Jacobi weight, or CB_AUTO */
+  double solver_rho;                  /* Chebyshev spectral radius, or CB_AUTO */
   char solver_ordering[CB_NAME_LEN];  /* CHOLMOD fill-reducing ordering: default | amd | metis | nesdis */
   double solver_nrelax[3];            /* CHOLMOD supernode relaxation (Common->nrelax) */
   char solver_storage[CB_NAME_LEN];   /* what CHOLMOD reads: full | upper */

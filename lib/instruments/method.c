@@ -26,7 +26,7 @@ int cb_method_make(int K, int line_search, const char *inner, cb_method *m) {
   } else if (!strcmp(inner, "cheb32") || !strcmp(inner, "cheb_tol") || !strcmp(inner, "cheb32_alpha1")) {
     snprintf(m->solver, sizeof m->solver, "chebyshev");
     m->sp.alpha = strcmp(inner, "cheb32_alpha1") ? CB_METHOD_CHEB_ALPHA : 1.0;
-    m->sp.rho = 0; /* auto: Lanczos, amortised over factorisations (solver_jacobi.c) */
+    m->sp.rho = CB_AUTO; /* auto: Lanczos, amortised over factorisations (solver_jacobi.c) */
   } else {
     return cb_fail("method: unknown inner solve '%s'", inner);
   }

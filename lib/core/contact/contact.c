@@ -31,11 +31,18 @@ const cb_contact_type *cb_contact_type_find(const char *name) {
 }
 
 cb_contact_params cb_contact_params_default(void) {
-  return (cb_contact_params){
-      .thickness = 1e-3, .friction = 0, .stiffness = 1e4, .kappa = 1e8, .epsv = 1e-3, .bridson_iters = 10};
+  return (cb_contact_params){.cookie = CB_PARAMS_COOKIE,
+                             .thickness = 1e-3,
+                             .friction = 0,
+                             .stiffness = 1e4,
+                             .kappa = 1e8,
+                             .epsv = 1e-3,
+                             .bridson_iters = 10};
 }
 
 int cb_contact_params_check(const char *name, const cb_contact_params *p) {
+  int st = cb_params_check(p->cookie, "contact", "cb_contact_params_default");
+  if (st) return st;
   const cb_contact_type *t = cb_contact_type_find(name);
   if (!t) return cb_fail("contact.method: unknown response '%s'", name ? name : "(null)");
   if (!t->term_alloc && !t->response) return CB_OK;

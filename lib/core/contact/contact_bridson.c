@@ -86,7 +86,7 @@
 #include "contact_keys.h"
 #include <clothbench/broadphase.h>
 #include <clothbench/intersect.h>
-#include <clothbench/scene.h>
+#include <clothbench/response.h>
 #include <clothbench/status.h>
 #include "vec.h"
 
@@ -532,20 +532,20 @@ static int start_visit(void *vctx, int i, int j) {
   return 0;
 }
 
-static int bridson_init(cb_response *r, const cb_scene *s, const void *params) {
+static int bridson_init(cb_response *r, const cb_response_view *s, const void *params) {
   bridson_state *b = r->state;
   if (!params) return cb_fail("contact.method: bridson needs its parameters");
   b->p = *(const cb_contact_params *)params;
   int st = cb_contact_params_check("bridson", &b->p);
   if (st) return st;
-  if (s->mesh.nt == 0)
+  if (s->mesh->nt == 0)
     return cb_fail("contact.method: bridson needs a triangle mesh (the cloth has no triangles: no faces or edges to "
                    "collide)");
-  b->ob = cb_scene_obstacle(s);
+  b->ob = s->obstacle;
   int onv = b->ob ? b->ob->mesh.nv : 0, ont = b->ob ? b->ob->mesh.nt : 0;
-  b->nv = s->mesh.nv;
+  b->nv = s->mesh->nv;
   b->N = b->nv + onv;
-  b->T = s->mesh.nt + ont;
+  b->T = s->mesh->nt + ont;
   size_t N = (size_t)b->N;
   b->tri = cb_malloc((size_t)3 * b->T, sizeof(int));
   b->winv = cb_calloc(N, sizeof(double));
@@ -565,8 +565,8 @@ static int bridson_init(cb_response *r, const cb_scene *s, const void *params) {
   if (!b->zrigid || !b->tri || !b->winv || !b->mass || !b->X0 || !b->X1 || !b->U || !b->U0 || !b->parent || !b->zm ||
       !b->zx || !b->zu || !b->zL || !b->zI || !b->zfixed)
     return CB_ENOMEM;
-  memcpy(b->tri, s->mesh.tri, (size_t)3 * s->mesh.nt * sizeof(int));
-  for (int k = 0; k < 3 * ont; k++) b->tri[3 * s->mesh.nt + k] = b->ob->mesh.tri[k] + b->nv;
+  memcpy(b->tri, s->mesh->tri, (size_t)3 * s->mesh->nt * sizeof(int));
+  for (int k = 0; k < 3 * ont; k++) b->tri[3 * s->mesh->nt + k] = b->ob->mesh.tri[k] + b->nv;
   for (int i = 0; i < b->nv; i++)
     if (s->free_index[i] >= 0) {
       b->mass[i] = s->mass[i];
@@ -584,7 +584,7 @@ static int bridson_init(cb_response *r, const cb_scene *s, const void *params) {
   if (b->ob) cb_obstacle_positions(b->ob, 0, b->X0 + 3 * b->nv);
   if ((st = cb_broadphase_update(b->bp, b->X0, NULL)))
     return cb_fail("contact.method: bridson: the start state has a coordinate that is not finite");
-  start_ctx c = {b, s->mesh.nt, 0};
+  start_ctx c = {b, s->mesh->nt, 0};
   cb_broadphase_self_pairs(b->bp, 1, start_visit, &c);
   if (c.n > 0)
     return cb_fail("contact.method: bridson: the start state intersects (%ld triangle pairs, cloth with itself or with "
@@ -593,7 +593,8 @@ static int bridson_init(cb_response *r, const cb_scene *s, const void *params) {
   return CB_OK;
 }
 
-static int bridson_apply(cb_response *r, const cb_scene *s, const double *x_start, double *x, double *v, double h) {
+static int bridson_apply(cb_response *r, const cb_response_view *s, const double *x_start, double *x, double *v,
+                         double h) {
   bridson_state *b = r->state;
   int nv = b->nv, N3 = 3 * b->N;
   double t0 = b->t;
@@ -649,10 +650,8 @@ static const cb_response_type bridson_response = {.name = "contact-bridson",
                                                   .apply = bridson_apply,
                                                   .free = bridson_free};
 
-const cb_bridson_stats *cb_scene_bridson_stats(const cb_scene *s) {
-  for (int k = 0; k < s->nresponses; k++)
-    if (s->responses[k].type == &bridson_response) return &((const bridson_state *)s->responses[k].state)->stats;
-  return NULL;
+const cb_bridson_stats *cb_bridson_stats_of(const cb_response *r) {
+  return r->type == &bridson_response ? &((const bridson_state *)r->state)->stats : NULL;
 }
 
 static const cb_param_key bridson_keys[] = {

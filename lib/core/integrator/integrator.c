@@ -9,6 +9,7 @@
 
 #include <float.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -52,8 +53,17 @@ const cb_integrator_type *cb_integrator_type_find(const char *name) {
   return NULL;
 }
 
+/* A type's parameters start with their cookie: the wrapper checks it without knowing the type's struct. */
+_Static_assert(offsetof(cb_newton_params, cookie) == 0, "cookie first");
+_Static_assert(offsetof(cb_nljacobi_params, cookie) == 0, "cookie first");
+_Static_assert(offsetof(cb_pd_params, cookie) == 0, "cookie first");
+_Static_assert(offsetof(cb_xpbd_params, cookie) == 0, "cookie first");
+_Static_assert(offsetof(cb_lbfgs_params, cookie) == 0, "cookie first");
+_Static_assert(offsetof(cb_vbd_params, cookie) == 0, "cookie first");
+_Static_assert(offsetof(cb_shape_matching_params, cookie) == 0, "cookie first");
+
 cb_integrator_params cb_integrator_params_default(void) {
-  cb_integrator_params p = {.dt = 1.0 / 30, .damping = 1.0, .hook = NULL, .hook_ctx = NULL};
+  cb_integrator_params p = {.cookie = CB_PARAMS_COOKIE, .dt = 1.0 / 30, .damping = 1.0, .hook = NULL, .hook_ctx = NULL};
   return p;
 }
 
@@ -69,6 +79,10 @@ int cb_integrator_alloc(const char *method, cb_scene *scene, const cb_integrator
   *out = NULL;
   const cb_integrator_type *t = cb_integrator_type_find(method);
   if (!t) return cb_fail("unknown integrator '%s'", method);
+  int ck = cb_params_check(p->cookie, "integrator", "cb_integrator_params_default");
+  if (ck == CB_OK && type_params && t->params_size) /* a type's parameters start with their cookie */
+    ck = cb_params_check(*(const int *)type_params, t->name, "its type's cb_<type>_params_default");
+  if (ck) return ck;
   if (!(p->dt > 0)) return cb_fail("integrator: dt must be > 0, got %g", p->dt);
   double mmax = 0;
   for (int i = 0; i < scene->mesh.nv; i++) mmax = fmax(mmax, scene->mass[i]);

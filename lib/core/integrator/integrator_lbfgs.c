@@ -62,8 +62,13 @@ enum { LS_MAX_TRIALS = 40 };
 #define C1 1e-4       /* Armijo's sufficient decrease */
 #define C2 0.9        /* Wolfe's curvature (Nocedal and Wright's value for quasi-Newton methods) */
 
-static const cb_lbfgs_params lbfgs_defaults = {
-    .iters = 32, .tol = 1e-8, .tol_dx = 0, .window = 5, .line_search = LS_ARMIJO, .matrix = CB_PD_MATRIX_AUTO};
+static const cb_lbfgs_params lbfgs_defaults = {.cookie = CB_PARAMS_COOKIE,
+                                               .iters = 32,
+                                               .tol = 1e-8,
+                                               .tol_dx = 0,
+                                               .window = 5,
+                                               .line_search = LS_ARMIJO,
+                                               .matrix = CB_PD_MATRIX_AUTO};
 
 cb_lbfgs_params cb_lbfgs_params_default(void) { return lbfgs_defaults; }
 

@@ -69,8 +69,13 @@ typedef struct {
                           update are cut to the bound (cb_system_max_step) */
 } newton_work;
 
-static const cb_newton_params newton_defaults = {
-    .max_iters = 50, .tol = 1e-8, .tol_dx = 0, .init_predict = 1, .line_search = 0, .definiteness = CB_DEF_DROP};
+static const cb_newton_params newton_defaults = {.cookie = CB_PARAMS_COOKIE,
+                                                 .max_iters = 50,
+                                                 .tol = 1e-8,
+                                                 .tol_dx = 0,
+                                                 .init_predict = 1,
+                                                 .line_search = 0,
+                                                 .definiteness = CB_DEF_DROP};
 
 cb_newton_params cb_newton_params_default(void) { return newton_defaults; }
 

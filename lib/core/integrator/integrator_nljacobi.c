@@ -56,10 +56,20 @@
 
 enum { DIAG_LAB = 0, DIAG_VALENCE = 1, DIAG_EXACT = 2 };
 
-static const cb_nljacobi_params jacobi_defaults = {
-    .iters = 32, .diagonal = DIAG_LAB, .alpha = 1.0, .rho = 0.0, .rho_iters = 64, .definiteness = CB_DEF_DROP};
-static const cb_nljacobi_params chebyshev_defaults = {
-    .iters = 32, .diagonal = DIAG_LAB, .alpha = 1.0, .rho = 0.995, .rho_iters = 64, .definiteness = CB_DEF_DROP};
+static const cb_nljacobi_params jacobi_defaults = {.cookie = CB_PARAMS_COOKIE,
+                                                   .iters = 32,
+                                                   .diagonal = DIAG_LAB,
+                                                   .alpha = 1.0,
+                                                   .rho = 0.0,
+                                                   .rho_iters = 64,
+                                                   .definiteness = CB_DEF_DROP};
+static const cb_nljacobi_params chebyshev_defaults = {.cookie = CB_PARAMS_COOKIE,
+                                                      .iters = 32,
+                                                      .diagonal = DIAG_LAB,
+                                                      .alpha = 1.0,
+                                                      .rho = 0.995,
+                                                      .rho_iters = 64,
+                                                      .definiteness = CB_DEF_DROP};
 
 cb_nljacobi_params cb_nljacobi_params_default(void) { return chebyshev_defaults; }
 
@@ -150,16 +160,16 @@ static int nlj_init(cb_integrator *it) {
                    it->type->name);
   if (!(p->alpha > 0 && p->alpha <= 2)) return cb_fail("%s: alpha must be in (0, 2], got %g", it->type->name, p->alpha);
   if (p->iters < 1) return cb_fail("%s: iters must be >= 1, got %d", it->type->name, p->iters);
-  if (!(p->rho == CB_PARAM_AUTO || (p->rho >= 0 && p->rho < 1)))
+  if (!(p->rho == CB_AUTO || (p->rho >= 0 && p->rho < 1)))
     return cb_fail("%s: rho must be in [0, 1) or auto, got %g", it->type->name, p->rho);
-  if (p->rho == CB_PARAM_AUTO && p->rho_iters < 4) return cb_fail("%s: rho_iters must be >= 4", it->type->name);
+  if (p->rho == CB_AUTO && p->rho_iters < 4) return cb_fail("%s: rho_iters must be >= 4", it->type->name);
   int st = cb_objective_init(&w->obj, s);
   if (st) return st;
   w->gF = cb_malloc((size_t)3 * nf + 1, sizeof(double));
   w->xprev = cb_malloc((size_t)3 * s->mesh.nv, sizeof(double));
   w->dinv = cb_malloc((size_t)nf + 1, sizeof(double));
   if (!w->gF || !w->xprev || !w->dinv) return CB_ENOMEM;
-  if (p->rho == CB_PARAM_AUTO && !(w->dnorm = cb_malloc((size_t)p->rho_iters, sizeof(double)))) return CB_ENOMEM;
+  if (p->rho == CB_AUTO && !(w->dnorm = cb_malloc((size_t)p->rho_iters, sizeof(double)))) return CB_ENOMEM;
   w->rho = p->rho;
   double dt = it->params.dt, k = s->def.stretch_k;
   if (p->diagonal == DIAG_EXACT) {
@@ -587,7 +597,7 @@ static int nlj_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) 
   nlj_work *w = it->state;
   const cb_nljacobi_params *p = it->type_params;
   cb_objective_begin(&w->obj, x, v, it->params.dt); /* x0 = x, xhat = x0 + dt v0 */
-  if (w->rho == CB_PARAM_AUTO) { /* Wang's estimate, once: the decay of rho_iters plain updates of this step */
+  if (w->rho == CB_AUTO) { /* Wang's estimate, once: the decay of rho_iters plain updates of this step */
     double t0 = cb_now_ms();
     cb_step_stats scratch;
     memset(&scratch, 0, sizeof scratch);

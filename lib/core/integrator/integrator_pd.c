@@ -60,8 +60,10 @@
 enum { RHO_DOUBLINGS = 5 }; /* the auto estimate runs at most rho_iters << RHO_DOUBLINGS plain iterations */
 #define RHO_ROUNDOFF 1e-12  /* updates below this fraction of the first are round-off */
 
-static const cb_pd_params pd_defaults = {.iters = 32, .rho = 0.0, .rho_iters = 64, .matrix = CB_PD_MATRIX_AUTO};
-static const cb_pd_params pdc_defaults = {.iters = 32, .rho = 0.995, .rho_iters = 64, .matrix = CB_PD_MATRIX_AUTO};
+static const cb_pd_params pd_defaults = {
+    .cookie = CB_PARAMS_COOKIE, .iters = 32, .rho = 0.0, .rho_iters = 64, .matrix = CB_PD_MATRIX_AUTO};
+static const cb_pd_params pdc_defaults = {
+    .cookie = CB_PARAMS_COOKIE, .iters = 32, .rho = 0.995, .rho_iters = 64, .matrix = CB_PD_MATRIX_AUTO};
 
 cb_pd_params cb_pd_params_default(void) { return pdc_defaults; }
 
@@ -93,7 +95,7 @@ typedef struct {
   double *dnorm;        /* rho_iters << RHO_DOUBLINGS */
   cb_spring_layout lay; /* the springs as structure of arrays, and each vertex's springs */
   double *p;            /* 4*ns: the local step's d_e (x, y, z blocks), then |x_ij|^2 */
-  double rho;           /* in use; CB_PARAM_AUTO until estimated */
+  double rho;           /* in use; CB_AUTO until estimated */
 } pd_work;
 
 static void pd_free(cb_integrator *it) {
@@ -163,9 +165,9 @@ static int pd_init(cb_integrator *it) {
   const cb_scene *s = it->scene;
   const char *name = it->type->name;
   if (p->iters < 1) return cb_fail("%s: iters must be >= 1, got %d", name, p->iters);
-  if (!(p->rho == CB_PARAM_AUTO || (p->rho >= 0 && p->rho < 1)))
+  if (!(p->rho == CB_AUTO || (p->rho >= 0 && p->rho < 1)))
     return cb_fail("%s: rho must be in [0, 1) or auto, got %g", name, p->rho);
-  if (p->rho == CB_PARAM_AUTO && p->rho_iters < 4) return cb_fail("%s: rho_iters must be >= 4", name);
+  if (p->rho == CB_AUTO && p->rho_iters < 4) return cb_fail("%s: rho_iters must be >= 4", name);
   for (int t = 0; t < s->sys.nterms; t++) {
     const cb_term *term = s->sys.terms[t];
     if (term->type == cb_term_gravity) {
@@ -198,7 +200,7 @@ static int pd_init(cb_integrator *it) {
   w->xprev = cb_malloc((size_t)3 * nv, sizeof(double));
   w->p = cb_malloc((size_t)4 * w->ns + 1, sizeof(double));
   if (!w->c || !w->b || !w->y || !w->gF || !w->xprev || !w->p) return CB_ENOMEM;
-  if (p->rho == CB_PARAM_AUTO && !(w->dnorm = cb_malloc((size_t)p->rho_iters << RHO_DOUBLINGS, sizeof(double))))
+  if (p->rho == CB_AUTO && !(w->dnorm = cb_malloc((size_t)p->rho_iters << RHO_DOUBLINGS, sizeof(double))))
     return CB_ENOMEM;
   w->rho = p->rho;
   st = cb_pd_global_init(&w->g, it, 0, p->matrix); /* P = M/dt^2 + sum_e k A_e A_e^T, factorised once per scene */
@@ -253,7 +255,7 @@ static int pd_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
   pd_work *w = it->state;
   const cb_pd_params *p = it->type_params;
   cb_objective_begin(&w->obj, x, v, it->params.dt);
-  if (w->rho == CB_PARAM_AUTO) { /* Wang's estimate, once, from the first step's plain iterations (top of the file) */
+  if (w->rho == CB_AUTO) { /* Wang's estimate, once, from the first step's plain iterations (top of the file) */
     double t0 = cb_now_ms(), rho = 0.0, prev = -1.0;
     cb_step_stats scratch;
     memset(&scratch, 0, sizeof scratch);

@@ -43,7 +43,7 @@
 #include <clothbench/polar.h>
 #include <clothbench/status.h>
 
-static const cb_shape_matching_params sm_defaults = {.alpha = 1.0};
+static const cb_shape_matching_params sm_defaults = {.cookie = CB_PARAMS_COOKIE, .alpha = 1.0};
 cb_shape_matching_params cb_shape_matching_params_default(void) { return sm_defaults; }
 
 static const cb_param_key sm_keys[] = {

@@ -97,10 +97,20 @@ enum { MAXK = 4 }; /* vertices per element at most (a hinge) */
 
 const char *const cb_vbd_init_names[] = {"inertia", "previous", "adaptive", NULL};
 
-static const cb_vbd_params vbd_defaults = {
-    .iters = 32, .init = INIT_ADAPTIVE, .line_search = 0, .rho = 0.0, .rho_iters = 64, .collect = 1};
-static const cb_vbd_params vbdc_defaults = {
-    .iters = 32, .init = INIT_ADAPTIVE, .line_search = 0, .rho = 0.995, .rho_iters = 64, .collect = 1};
+static const cb_vbd_params vbd_defaults = {.cookie = CB_PARAMS_COOKIE,
+                                           .iters = 32,
+                                           .init = INIT_ADAPTIVE,
+                                           .line_search = 0,
+                                           .rho = 0.0,
+                                           .rho_iters = 64,
+                                           .collect = 1};
+static const cb_vbd_params vbdc_defaults = {.cookie = CB_PARAMS_COOKIE,
+                                            .iters = 32,
+                                            .init = INIT_ADAPTIVE,
+                                            .line_search = 0,
+                                            .rho = 0.995,
+                                            .rho_iters = 64,
+                                            .collect = 1};
 
 cb_vbd_params cb_vbd_params_default(void) { return vbdc_defaults; }
 
@@ -154,7 +164,7 @@ typedef struct {
   int have_vprev;
   double *dnorm;          /* rho_iters */
   double grav[3];         /* m/s^2, zero without a gravity term */
-  double rho;             /* in use; CB_PARAM_AUTO until estimated */
+  double rho;             /* in use; CB_AUTO until estimated */
   cb_projection_work *pw; /* 3x3 projection */
   /* the terms whose elements move (contact pairs: cb_term_type.vertex_collect), read vertex by vertex */
   int ndyn;
@@ -263,9 +273,9 @@ static int vbd_init(cb_integrator *it) {
   const char *name = it->type->name;
   if (p->iters < 1) return cb_fail("%s: iters must be >= 1, got %d", name, p->iters);
   if (p->init < INIT_INERTIA || p->init > INIT_ADAPTIVE) return cb_fail("%s: unknown vbd_init %d", name, p->init);
-  if (!(p->rho == CB_PARAM_AUTO || (p->rho >= 0 && p->rho < 1)))
+  if (!(p->rho == CB_AUTO || (p->rho >= 0 && p->rho < 1)))
     return cb_fail("%s: rho must be in [0, 1) or auto, got %g", name, p->rho);
-  if (p->rho == CB_PARAM_AUTO && p->rho_iters < 4) return cb_fail("%s: rho_iters must be >= 4", name);
+  if (p->rho == CB_AUTO && p->rho_iters < 4) return cb_fail("%s: rho_iters must be >= 4", name);
   if (p->collect < 1) return cb_fail("%s: vbd_collect must be >= 1, got %d", name, p->collect);
   for (int t = 0; t < s->sys.nterms; t++) {
     const cb_term *term = s->sys.terms[t];
@@ -300,7 +310,7 @@ static int vbd_init(cb_integrator *it) {
   w->vprev = cb_malloc(3 * (size_t)nv + 1, sizeof(double));
   if (!w->gF || !w->xprev || !w->vprev) return CB_ENOMEM;
   if ((st = cb_projection_work_alloc(3, &w->pw))) return st;
-  if (p->rho == CB_PARAM_AUTO && !(w->dnorm = cb_malloc(2 * (size_t)p->rho_iters, sizeof(double)))) return CB_ENOMEM;
+  if (p->rho == CB_AUTO && !(w->dnorm = cb_malloc(2 * (size_t)p->rho_iters, sizeof(double)))) return CB_ENOMEM;
   w->rho = p->rho;
   if (w->ndyn) {
     w->anchor = cb_malloc(3 * (size_t)nv + 1, sizeof(double));
@@ -602,7 +612,7 @@ static int vbd_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) 
   cb_objective_eval(&w->obj, w->xprev, w->gF, NULL);
   double g_hat = cblas_dnrm2(nf3, w->gF, 1);
   st->assemble_ms += cb_now_ms() - t0;
-  if (w->rho == CB_PARAM_AUTO) { /* Wang's estimate, once, from the first step's sweeps, made safe */
+  if (w->rho == CB_AUTO) { /* Wang's estimate, once, from the first step's sweeps, made safe */
     t0 = cb_now_ms();
     cb_step_stats scratch;
     memset(&scratch, 0, sizeof scratch);

@@ -63,7 +63,7 @@
 #include "integrator_keys.h"
 #include "vec.h"
 
-static const cb_xpbd_params xpbd_defaults = {.iters = 32, .substeps = 1, .stiffness = 1.0};
+static const cb_xpbd_params xpbd_defaults = {.cookie = CB_PARAMS_COOKIE, .iters = 32, .substeps = 1, .stiffness = 1.0};
 
 cb_xpbd_params cb_xpbd_params_default(void) { return xpbd_defaults; }
 

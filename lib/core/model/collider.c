@@ -19,14 +19,20 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/scene.h>
+#include <clothbench/response.h>
 #include <clothbench/status.h>
 #include <clothbench/stencil.h>
 #include "vec.h"
 
 /* The parameters of each collider's response, from the definition. */
-static const void *sphere_params(const cb_scene_def *d) { return &d->sphere; }
-static const void *obstacle_params(const cb_scene_def *d) { return &d->obstacle; }
+static const void *sphere_params(const cb_sphere *sp, const cb_obstacle_params *ob) {
+  (void)ob;
+  return sp;
+}
+static const void *obstacle_params(const cb_sphere *sp, const cb_obstacle_params *ob) {
+  (void)sp;
+  return ob;
+}
 
 /* The colliders: X(name, its term's alloc, its post-step response, the
  * response's parameters), one line each, in the order of collider.type's
@@ -212,7 +218,7 @@ typedef struct {
   int contacts; /* vertices moved by the last step */
 } project_state;
 
-static int project_init(cb_response *r, const cb_scene *s, const void *params) {
+static int project_init(cb_response *r, const cb_response_view *s, const void *params) {
   (void)s;
   if (!params) return cb_fail("collider: the project response needs its sphere");
   int st = sphere_check(params);
@@ -222,14 +228,15 @@ static int project_init(cb_response *r, const cb_scene *s, const void *params) {
   return CB_OK;
 }
 
-static int project_apply(cb_response *r, const cb_scene *s, const double *x_start, double *x, double *v, double dt) {
+static int project_apply(cb_response *r, const cb_response_view *s, const double *x_start, double *x, double *v,
+                         double dt) {
   (void)x_start; /* the lab's projection reads the end of the step only */
   project_state *p = r->state;
   p->t += dt;
   double c[3], R = p->sp.radius + p->sp.thickness;
   for (int a = 0; a < 3; a++) c[a] = p->sp.centre[a] + p->t * p->sp.velocity[a];
   int n = 0;
-  for (int i = 0; i < s->mesh.nv; i++) {
+  for (int i = 0; i < s->mesh->nv; i++) {
     if (s->free_index[i] < 0) continue; /* pins are prescribed */
     double *xi = x + 3 * i, d[3] = {xi[0] - c[0], xi[1] - c[1], xi[2] - c[2]};
     double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
@@ -254,11 +261,6 @@ const cb_response_type cb_response_sphere_project = {.name = "sphere-project",
                                                      .apply = project_apply,
                                                      .free = NULL};
 
-int cb_scene_contacts(const cb_scene *s, const double *x) {
-  int n = 0;
-  for (int k = 0; k < s->sys.nterms; k++) n += cb_sphere_term_count_contacts(s->sys.terms[k], x);
-  for (int k = 0; k < s->nresponses; k++)
-    if (s->responses[k].type == &cb_response_sphere_project)
-      n += ((const project_state *)s->responses[k].state)->contacts;
-  return n;
+int cb_sphere_project_contacts(const cb_response *r) {
+  return r->type == &cb_response_sphere_project ? ((const project_state *)r->state)->contacts : 0;
 }

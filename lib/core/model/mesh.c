@@ -11,7 +11,12 @@
 #include <clothbench/status.h>
 
 cb_grid_params cb_grid_params_default(void) {
-  cb_grid_params p = {.n = 21, .m = 21, .size = {10.0, 10.0}, .plane = CB_PLANE_XZ, .diagonal = CB_DIAG_REGULAR};
+  cb_grid_params p = {.cookie = CB_PARAMS_COOKIE,
+                      .n = 21,
+                      .m = 21,
+                      .size = {10.0, 10.0},
+                      .plane = CB_PLANE_XZ,
+                      .diagonal = CB_DIAG_REGULAR};
   return p;
 }
 
@@ -64,6 +69,8 @@ double cb_mesh_triangle_area(const cb_mesh *m, const double *x, int t) {
 
 int cb_mesh_grid(const cb_grid_params *p, cb_mesh *out) {
   memset(out, 0, sizeof *out);
+  int st = cb_params_check(p->cookie, "grid", "cb_grid_params_default");
+  if (st) return st;
   if (p->n < 2 || p->m < 2) return cb_fail("grid needs at least 2x2 vertices, got %dx%d", p->n, p->m);
   if ((long)p->n * p->m > 50000000L) return cb_fail("grid %dx%d is too large", p->n, p->m);
   if (!(p->size[0] > 0) || !(p->size[1] > 0) || !isfinite(p->size[0]) || !isfinite(p->size[1]))

@@ -12,12 +12,17 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <clothbench/scene.h>
+#include <clothbench/response.h>
 #include <clothbench/status.h>
 #include "vec.h"
 
 cb_obstacle_params cb_obstacle_params_default(void) {
-  return (cb_obstacle_params){.file = NULL, .centre = {0, 0, 0}, .axis = {0, 1, 0}, .omega = 0, .velocity = {0, 0, 0}};
+  return (cb_obstacle_params){.cookie = CB_PARAMS_COOKIE,
+                              .file = NULL,
+                              .centre = {0, 0, 0},
+                              .axis = {0, 1, 0},
+                              .omega = 0,
+                              .velocity = {0, 0, 0}};
 }
 
 static int check_vec(const double *a, const char *key) {
@@ -48,7 +53,9 @@ void cb_obstacle_free(cb_obstacle *o) {
 
 int cb_obstacle_alloc(const cb_obstacle_params *p, cb_obstacle **out) {
   *out = NULL;
-  int st = check_params(p);
+  int st = cb_params_check(p->cookie, "collider: obstacle", "cb_obstacle_params_default");
+  if (st) return st;
+  st = check_params(p);
   if (st) return st;
   cb_obstacle *o = cb_calloc(1, sizeof *o);
   if (!o) return CB_ENOMEM;
@@ -126,14 +133,15 @@ typedef struct {
   double t; /* s, time reached */
 } move_state;
 
-static int move_init(cb_response *r, const cb_scene *s, const void *params) {
+static int move_init(cb_response *r, const cb_response_view *s, const void *params) {
   (void)s;
   if (!params) return cb_fail("collider: the mesh response needs its obstacle's parameters");
   move_state *m = r->state;
   return cb_obstacle_alloc(params, &m->ob);
 }
 
-static int move_apply(cb_response *r, const cb_scene *s, const double *x_start, double *x, double *v, double dt) {
+static int move_apply(cb_response *r, const cb_response_view *s, const double *x_start, double *x, double *v,
+                      double dt) {
   (void)s, (void)x_start, (void)x, (void)v;
   move_state *m = r->state;
   m->t += dt;
@@ -149,25 +157,18 @@ static void move_free(cb_response *r) {
 const cb_response_type cb_response_obstacle_move = {
     .name = "obstacle-move", .size = sizeof(move_state), .init = move_init, .apply = move_apply, .free = move_free};
 
-static move_state *scene_move(const cb_scene *s) {
-  for (int k = 0; k < s->nresponses; k++)
-    if (s->responses[k].type == &cb_response_obstacle_move) return s->responses[k].state;
-  return NULL;
+const cb_obstacle *cb_obstacle_of(const cb_response *r) {
+  return r->type == &cb_response_obstacle_move ? ((const move_state *)r->state)->ob : NULL;
 }
 
-double cb_scene_obstacle_time(const cb_scene *s) {
-  const move_state *m = scene_move(s);
-  return m ? m->t : 0.0;
+double cb_obstacle_time_of(const cb_response *r) {
+  return r->type == &cb_response_obstacle_move ? ((const move_state *)r->state)->t : NAN;
 }
 
-void cb_scene_obstacle_set_time(cb_scene *s, double t) {
-  move_state *m = scene_move(s);
-  if (!m) return;
+int cb_obstacle_set_time_of(cb_response *r, double t) {
+  if (r->type != &cb_response_obstacle_move) return 0;
+  move_state *m = r->state;
   m->t = t;
   cb_obstacle_advance(m->ob, t);
-}
-
-const cb_obstacle *cb_scene_obstacle(const cb_scene *s) {
-  const move_state *m = scene_move(s);
-  return m ? m->ob : NULL;
+  return 1;
 }

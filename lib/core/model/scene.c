@@ -131,11 +131,7 @@ int cb_pins_resolve(const char *spec, const cb_mesh *m, int **out, int *n) {
 
 void cb_scene_free(cb_scene *s) {
   if (!s) return;
-  for (int k = 0; k < s->nresponses; k++) {
-    cb_response *r = &s->responses[k];
-    if (r->type->free) r->type->free(r);
-    free(r->state);
-  }
+  for (int k = 0; k < s->nresponses; k++) cb_response_free(&s->responses[k]);
   cb_system_free(&s->sys);
   cb_mesh_free(&s->mesh);
   cb_topology_free(&s->topo);
@@ -156,6 +152,7 @@ double cb_scene_total_mass(const cb_scene *s) {
 
 cb_scene_def cb_scene_def_default(void) {
   cb_scene_def d = {
+      .cookie = CB_PARAMS_COOKIE,
       .mesh = CB_MESH_GRID,
       .grid = cb_grid_params_default(),
       .mesh_file = NULL,
@@ -183,14 +180,53 @@ cb_scene_def cb_scene_def_default(void) {
   return d;
 }
 
-int cb_scene_post_step(const cb_scene *s, const double *x_start, double *x, double *v, double dt) {
-  int st = CB_OK;
+/* What the responses see of s (response.h): the obstacle is that of the
+ * responses built so far. */
+static cb_response_view response_view(const cb_scene *s) {
+  return (cb_response_view){
+      .mesh = &s->mesh, .mass = s->mass, .free_index = s->free_index, .x0 = s->x0, .obstacle = cb_scene_obstacle(s)};
+}
+
+const cb_obstacle *cb_scene_obstacle(const cb_scene *s) {
   for (int k = 0; k < s->nresponses; k++) {
-    cb_response *r = (cb_response *)&s->responses[k]; /* a response's state is its own, not the scene's */
-    int rs = r->type->apply(r, s, x_start, x, v, dt);
-    if (rs && !st) st = rs;
+    const cb_obstacle *o = cb_obstacle_of(&s->responses[k]);
+    if (o) return o;
   }
-  return st;
+  return NULL;
+}
+
+double cb_scene_obstacle_time(const cb_scene *s) {
+  for (int k = 0; k < s->nresponses; k++) {
+    double t = cb_obstacle_time_of(&s->responses[k]);
+    if (!isnan(t)) return t;
+  }
+  return 0.0;
+}
+
+void cb_scene_obstacle_set_time(cb_scene *s, double t) {
+  for (int k = 0; k < s->nresponses; k++)
+    if (cb_obstacle_set_time_of(&s->responses[k], t)) return;
+}
+
+const cb_bridson_stats *cb_scene_bridson_stats(const cb_scene *s) {
+  for (int k = 0; k < s->nresponses; k++) {
+    const cb_bridson_stats *b = cb_bridson_stats_of(&s->responses[k]);
+    if (b) return b;
+  }
+  return NULL;
+}
+
+int cb_scene_contacts(const cb_scene *s, const double *x) {
+  int n = 0;
+  for (int k = 0; k < s->sys.nterms; k++) n += cb_sphere_term_count_contacts(s->sys.terms[k], x);
+  for (int k = 0; k < s->nresponses; k++) n += cb_sphere_project_contacts(&s->responses[k]);
+  return n;
+}
+
+int cb_scene_post_step(const cb_scene *s, const double *x_start, double *x, double *v, double dt) {
+  cb_response_view view = response_view(s);
+  /* a response's state is its own, not the scene's: the stage runs on a const scene */
+  return cb_response_apply_all((cb_response *)s->responses, s->nresponses, &view, x_start, x, v, dt);
 }
 
 double cb_scene_kinetic(const cb_scene *s, const double *v) {
@@ -340,6 +376,9 @@ static int build_mesh(const cb_scene_def *d, cb_mesh *mesh, const char **key) {
 
 /* The definition's names and responses, before anything is allocated. */
 static int check_def(const cb_scene_def *d, const cb_collider **collider, const char **key) {
+  int st = cb_params_check(d->cookie, "scene", "cb_scene_def_default");
+  if (st == CB_OK) st = cb_params_check(d->contact_params.cookie, "scene: contact_params", "cb_contact_params_default");
+  if (st) return st;
   if (!d->bend || !d->definiteness || !d->pins ||
       !d->collider) /* e.g. a copy of cb_scene.def, whose strings are NULL */
     return cb_fail("scene: bend, definiteness, pins and collider must be set (start from cb_scene_def_default())");
@@ -590,27 +629,30 @@ static int build_start(const cb_scene_def *d, cb_scene *s, const char **key) {
   return check_finite(s, d, key);
 }
 
-/* The post-step stage: each response's state from its type's size, the
- * definition's own first, then the collider's. */
+/* Appends a response of type t to s's stage and initialises it with params
+ * (seeing the responses built so far); an error of its init goes through
+ * `error` (NULL: as it is). A response whose state was allocated is counted,
+ * so cb_scene_free releases it even if its init failed. */
+static int add_response(cb_scene *s, const cb_response_type *t, const void *params,
+                        int (*error)(int st, const char **key), const char **key) {
+  cb_response *r = &s->responses[s->nresponses];
+  int st = cb_response_alloc(r, t);
+  if (st) return st;
+  s->nresponses++;
+  cb_response_view view = response_view(s);
+  st = t->init ? t->init(r, &view, params) : CB_OK;
+  return error ? error(st, key) : st;
+}
+
+/* The post-step stage: the definition's own responses first, then the
+ * collider's, then the contact response's. */
 static int build_responses(const cb_scene_def *d, cb_scene *s, const cb_collider *collider, const char **key) {
   for (int k = 0; k < d->nresponses; k++) {
-    cb_response *r = &s->responses[k];
-    r->type = d->responses[k].type;
-    r->state = r->type->size ? cb_calloc(1, r->type->size) : NULL;
-    if (r->type->size && !r->state) return CB_ENOMEM;
-    s->nresponses++;
-    if (r->type->init) {
-      int st = r->type->init(r, s, d->responses[k].params);
-      if (st) return st;
-    }
+    int st = add_response(s, d->responses[k].type, d->responses[k].params, NULL, key);
+    if (st) return st;
   }
   if (collider->response) {
-    cb_response *r = &s->responses[s->nresponses];
-    r->type = collider->response;
-    r->state = r->type->size ? cb_calloc(1, r->type->size) : NULL;
-    if (r->type->size && !r->state) return CB_ENOMEM;
-    s->nresponses++;
-    int st = r->type->init ? collider_error(r->type->init(r, s, collider->params(d)), key) : CB_OK;
+    int st = add_response(s, collider->response, collider->params(&d->sphere, &d->obstacle), collider_error, key);
     if (st) return st;
   }
   /* the contact response's (contact.method = bridson), last: it sees the collider's obstacle */
@@ -618,12 +660,7 @@ static int build_responses(const cb_scene_def *d, cb_scene *s, const cb_collider
   if (!ct || !ct->response) return CB_OK;
   int st = contact_error(cb_contact_params_check(ct->name, &d->contact_params), key);
   if (st) return st;
-  cb_response *r = &s->responses[s->nresponses];
-  r->type = ct->response;
-  r->state = r->type->size ? cb_calloc(1, r->type->size) : NULL;
-  if (r->type->size && !r->state) return CB_ENOMEM;
-  s->nresponses++;
-  return r->type->init ? contact_error(r->type->init(r, s, &d->contact_params), key) : CB_OK;
+  return add_response(s, ct->response, &d->contact_params, contact_error, key);
 }
 
 int cb_scene_build(const cb_scene_def *d, cb_scene **out, const char **key) {

@@ -44,10 +44,11 @@ const char *cb_order_name(int ordering) {
 }
 
 cb_solver_params cb_solver_params_default(void) {
-  cb_solver_params p = {.tol = 1e-8,
+  cb_solver_params p = {.cookie = CB_PARAMS_COOKIE,
+                        .tol = 1e-8,
                         .max_iters = 1000,
-                        .alpha = 1.0,
-                        .rho = 0.0,
+                        .alpha = CB_AUTO,
+                        .rho = CB_AUTO,
                         .history_cap = 0,
                         .ordering = CB_ORDER_NESDIS,
                         .nrelax = {16, 64, 128},
@@ -74,6 +75,10 @@ int cb_solver_alloc(const char *name, const cb_solver_params *p, int n, cb_solve
   *out = NULL;
   const cb_solver_type *t = cb_solver_type_find(name);
   if (!t) return cb_fail("unknown linear solver '%s'", name);
+  if (p) {
+    int st = cb_params_check(p->cookie, "solver", "cb_solver_params_default");
+    if (st) return st;
+  }
   cb_solver *s = cb_calloc(1, sizeof *s);
   if (!s) return CB_ENOMEM;
   s->type = t;

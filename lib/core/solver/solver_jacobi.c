@@ -44,7 +44,7 @@
  * initial guess, so an underestimate is never left to fail. bench_core
  * measures what the rule saves and what it costs in residual.
  *
- * solver.alpha = auto (params.alpha = 0) takes the weight from the same
+ * solver.alpha = auto (params.alpha = CB_AUTO) takes the weight from the same
  * bounds: alpha* = 2 / (lo + hi) minimises max |1 - alpha lambda| over
  * [lo, hi], giving rho = (hi - lo) / (hi + lo) < 1 for any SPD A. */
 #include <math.h>
@@ -95,13 +95,14 @@ static int jw_alloc(cb_solver *s, int n, int accelerated) {
   w->x0 = cb_malloc((size_t)n, sizeof(double));
   s->work = w;
   if (!w->dinv || !w->dhalf || !w->r || !w->last || !w->work || !w->x0) return CB_ENOMEM;
-  w->estimate = (accelerated && s->params.rho == 0) || s->params.alpha == 0;
+  w->estimate = (accelerated && s->params.rho == CB_AUTO) || s->params.alpha == CB_AUTO;
   if (w->estimate) {
     cb_lanczos_params lp = rho_lanczos_params();
     int st = cb_lanczos_workspace_alloc(&w->lanczos, n, &lp);
     if (st) return st;
   }
-  if (!(s->params.alpha >= 0)) return cb_fail("%s: solver.alpha must be > 0 or auto", s->type->name);
+  if (!(s->params.alpha > 0 || s->params.alpha == CB_AUTO))
+    return cb_fail("%s: solver.alpha must be > 0 or auto, got %g", s->type->name, s->params.alpha);
   return CB_OK;
 }
 
@@ -128,7 +129,7 @@ static int jacobi_alloc(cb_solver *s, int n) {
 
 static int chebyshev_alloc(cb_solver *s, int n) {
   int st = jw_alloc(s, n, 1);
-  if (st == CB_OK && s->params.rho != 0 && !(s->params.rho > 0 && s->params.rho < 1))
+  if (st == CB_OK && s->params.rho != CB_AUTO && !(s->params.rho > 0 && s->params.rho < 1))
     st = cb_fail("chebyshev: solver.rho must be in (0, 1) or auto, got %g", s->params.rho);
   if (st) jw_free(s);
   return st;
@@ -319,8 +320,8 @@ static int jw_factor(cb_solver *s, const cb_sparse *A) {
   s->stats.rho_steps = 0;
   s->stats.rho_estimates = 0;
   s->stats.rho_ms = 0;
-  w->alpha = s->stats.alpha = s->params.alpha;
-  w->rho = s->params.rho;
+  w->alpha = s->stats.alpha = s->params.alpha == CB_AUTO ? 0 : s->params.alpha; /* 0 until estimated */
+  w->rho = s->params.rho == CB_AUTO ? 0 : s->params.rho;
   if (!w->estimate) {
     if (w->accelerated) s->stats.rho = w->rho;
     return CB_OK;
