@@ -278,6 +278,7 @@ static int nt_step(cb_integrator *it, double *x, double *v, cb_step_stats *st) {
     /* the line-search filter (system.h): the fraction of dx no term forbids (IPC's CCD bound); 1 without one */
     double alpha = 1.0;
     if (w->filtered) {
+      memcpy(w->xtrial, x, (size_t)nv3 * sizeof(double)); /* the pins stay where x has them (move sets the free) */
       move(s, w->xtrial, x, w->dx, 1.0);
       alpha = cb_system_max_step(it->sys, x, w->xtrial);
       if (!(alpha > 0)) {
